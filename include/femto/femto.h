@@ -1,0 +1,128 @@
+/// @file femto.h
+/// femto: real-time finite-element soft bodies. The whole public API.
+///
+/// @code
+/// fmTetMesh mesh;
+/// fmLoadTetGen("house2.node", "house2.ele", &mesh, NULL);
+/// fmWorldId world = fmCreateWorld(&(fmWorldDef){...fmDefaultWorldDef()});
+/// fmBodyDef bodyDef = fmDefaultBodyDef();
+/// bodyDef.mesh = &mesh;
+/// fmBodyId body;
+/// fmCreateBody(world, &bodyDef, &body, NULL);
+/// fmWorld_Step(world, 1.0 / 60.0, 10);
+/// @endcode
+#pragma once
+
+#include "base.h"
+#include "fm_math.h"
+#include "mesh.h"
+#include "types.h"
+
+FM_C_BEGIN
+
+/// Create a world. Returns a null id (index1 == 0) if the def is invalid or memory is short.
+FM_API fmWorldId fmCreateWorld(const fmWorldDef* def);
+
+/// Check a world def; the diagnostic says which field is wrong and what would work.
+FM_API fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag);
+
+/// Destroy a world and all its bodies.
+FM_API void fmDestroyWorld(fmWorldId worldId);
+
+/// True if the id refers to a live world.
+FM_API bool fmWorld_IsValid(fmWorldId worldId);
+
+/// Advance by @p timeStep seconds (a frame), split into @p subStepCount equal steps.
+/// On numerical failure (NaN, Inf, runaway energy) every body keeps its state from before the
+/// call, the step returns fm_errNumerical and fmWorld_GetLastError() says which body and tets.
+FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
+
+/// The diagnostic of the last failed step.
+FM_API const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId);
+
+/// Counters of the last step.
+FM_API fmStepStats fmWorld_GetStepStats(fmWorldId worldId);
+
+/// Change gravity (m/s^2).
+FM_API void fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity);
+
+/// Change the floor.
+FM_API void fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor);
+
+/// Estimated largest stable explicit step (s) for the bodies in the world (CFL-like bound from
+/// the smallest tet, its stiffness and mass). Returns 0 for an empty world.
+FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
+
+/// Create a body from a def with a mesh. Tets are reoriented positive; degenerate tets are
+/// rejected (fm_errDegenerate with the tet index in @p diag).
+FM_API fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
+							 fmDiagnostic* diag);
+
+/// Check a body def (material, mass, damping ranges, mesh) without creating anything.
+FM_API fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag);
+
+/// Destroy a body.
+FM_API void fmDestroyBody(fmBodyId bodyId);
+
+/// True if the id refers to a live body.
+FM_API bool fmBody_IsValid(fmBodyId bodyId);
+
+/// Number of vertices (the mesh's nodes, same order).
+FM_API int fmBody_GetVertexCount(fmBodyId bodyId);
+
+/// Number of tets.
+FM_API int fmBody_GetTetCount(fmBodyId bodyId);
+
+/// Current positions: 3 * vertexCount doubles, valid until the next step or destroy.
+FM_API const double* fmBody_GetPositions(fmBodyId bodyId);
+
+/// Current velocities: 3 * vertexCount doubles.
+FM_API const double* fmBody_GetVelocities(fmBodyId bodyId);
+
+/// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state.
+FM_API void fmBody_SetPositions(fmBodyId bodyId, const double* positions);
+
+/// Overwrite velocities (3 * vertexCount).
+FM_API void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities);
+
+/// Vertex masses (kg), vertexCount doubles.
+FM_API const double* fmBody_GetMasses(fmBodyId bodyId);
+
+/// Tets of the body (4 per tet, 0-based, after orientation).
+FM_API const int* fmBody_GetTets(fmBodyId bodyId);
+
+/// Outward surface triangles (3 per triangle); @p triangleCount gets the count.
+FM_API const int* fmBody_GetSurface(fmBodyId bodyId, int* triangleCount);
+
+/// Add @p deltaVelocity (m/s) to every free vertex: the seeds' space-bar jump.
+FM_API void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity);
+
+/// Add @p deltaVelocity to one vertex (kicks, dragging).
+FM_API void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity);
+
+/// Pin every vertex inside the box [min, max] (inclusive) at its current position.
+/// Returns how many were pinned (0 means the box catches nothing).
+FM_API int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max);
+
+/// Pin or release one vertex. A pinned vertex never moves.
+FM_API void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned);
+
+/// Whether a vertex is pinned.
+FM_API bool fmBody_IsPinned(fmBodyId bodyId, int vertex);
+
+/// Energies, lowest point, inverted tets.
+FM_API fmBodyStats fmBody_GetStats(fmBodyId bodyId);
+
+/// Change the material (validated; the rest shape is kept).
+FM_API fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag);
+
+/// Elastic forces (N) at the current positions into @p forces (3 * vertexCount); returns the
+/// elastic energy (J). Used by tests and tools; the step does not need it.
+FM_API double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces);
+
+/// Solve for static equilibrium under gravity with the body's pins (Newton with line search and
+/// load stepping). The floor is ignored. @p residual gets |f| / |m g| reached.
+FM_API fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations,
+								   double* residual, fmDiagnostic* diag);
+
+FM_C_END

@@ -1,0 +1,234 @@
+/// @file types.h
+/// femto value types: result codes, diagnostics, materials and the definition structs
+/// (fill one with its fmDefault*() function, change what you need, pass it to a create call).
+#pragma once
+
+#include "base.h"
+#include "fm_math.h"
+
+#include <stdbool.h>
+
+FM_C_BEGIN
+
+/// Every result code, from one list: X(name, message).
+#define FM_RESULT_LIST(X)                                                                          \
+	X(fm_ok, "success")                                                                            \
+	X(fm_errIo, "cannot open, read or write the file")                                             \
+	X(fm_errSyntax, "malformed input")                                                             \
+	X(fm_errRange, "value out of range")                                                           \
+	X(fm_errCount, "count does not match the data")                                                \
+	X(fm_errLimit, "size exceeds a limit")                                                         \
+	X(fm_errIndex, "reference out of range")                                                       \
+	X(fm_errDegenerate, "degenerate element")                                                      \
+	X(fm_errEmpty, "nothing to simulate")                                                          \
+	X(fm_errParameter, "invalid parameter")                                                        \
+	X(fm_errOutOfMemory, "out of memory")                                                          \
+	X(fm_errNumerical, "numerical failure")                                                        \
+	X(fm_errNotConverged, "solver did not converge")                                               \
+	X(fm_errInvalidId, "invalid or stale id")
+
+#define FM_RESULT_ENUM(name, message) name,
+/// Result of every call that can fail on bad input or numerical trouble.
+typedef enum fmResult
+{
+	FM_RESULT_LIST(FM_RESULT_ENUM) fm_resultCount
+} fmResult;
+#undef FM_RESULT_ENUM
+
+/// The identifier of a result code, e.g. "fm_errSyntax".
+FM_API const char* fmResultName(fmResult result);
+
+/// A short English description of a result code.
+FM_API const char* fmResultMessage(fmResult result);
+
+/// Where and why an input was rejected. Optional everywhere (pass NULL); filled on failure,
+/// and its warning fields are filled on success when the input was accepted with a doubt.
+typedef struct fmDiagnostic
+{
+	fmResult result;	  ///< the code the call returned
+	char file[256];		  ///< file (or scene JSON path) the problem is in; empty if none
+	int line;			  ///< 1-based line, 0 if not applicable
+	int column;			  ///< 1-based column, 0 if not applicable
+	char message[512];	  ///< what was found and what was expected
+	int warningCount;	  ///< warnings issued (each also goes to the log hook)
+	char warning[512];	  ///< the first warning, with file and line
+} fmDiagnostic;
+
+/// Write "file:line:column: message" (the parts that are set) into @p buffer. Returns @p buffer.
+FM_API const char* fmDiagnostic_Format(const fmDiagnostic* diag, char* buffer, size_t size);
+
+/// Constitutive models. See docs/materials.md.
+typedef enum fmMaterialModel
+{
+	fm_linear,			///< small-strain linear elasticity (not rotation invariant)
+	fm_corotated,		///< linear elasticity in the rotated frame of F (polar decomposition)
+	fm_stvk,			///< St. Venant-Kirchhoff, the seeds' model
+	fm_neoHookean,		///< compressible Neo-Hookean, defined for inverted tets
+	fm_mooneyRivlin,	///< compressible Mooney-Rivlin
+	fm_stretchEnergy,	///< user energy of the principal stretches (fmMaterial.stretchEnergy)
+	fm_invariantEnergy, ///< user energy of the invariants I1, I2, J (fmMaterial.invariantEnergy)
+	fm_materialModelCount
+} fmMaterialModel;
+
+/// User energy density of the signed principal stretches s[0..2] (Pa). Write psi, its gradient
+/// dpsi[i] = d psi / d s_i, and, when @p d2psi is not NULL, the Hessian d2psi[3 * i + j].
+/// Must be symmetric in its arguments (isotropy) and zero with zero gradient at s = (1,1,1).
+typedef void fmStretchEnergyFcn(const double s[3], const void* params, double* psi, double dpsi[3],
+								double* d2psi);
+
+/// User energy density of the invariants v = {I1 = tr(F^T F), I2 = ((tr C)^2 - tr(C^2))/2,
+/// J = det F}. Write psi, dpsi[i] = d psi / d v_i and, when @p d2psi is not NULL, d2psi[3i+j].
+typedef void fmInvariantEnergyFcn(const double v[3], const void* params, double* psi, double dpsi[3],
+								  double* d2psi);
+
+/// An isotropic hyperelastic material. Make one with fmMakeMaterial() or fmMakeMaterialLame().
+typedef struct fmMaterial
+{
+	fmMaterialModel model; ///< constitutive model
+	double lambda;		   ///< first Lame constant, Pa, > -2/3 mu
+	double mu;			   ///< shear modulus (second Lame constant), Pa, > 0
+	double c01;			   ///< Mooney-Rivlin second constant, Pa, in [0, mu/2]; C10 = mu/2 - c01
+	fmStretchEnergyFcn* stretchEnergy;	   ///< for fm_stretchEnergy
+	fmInvariantEnergyFcn* invariantEnergy; ///< for fm_invariantEnergy
+	const void* userParams;				   ///< passed to the user energy
+} fmMaterial;
+
+/// A material from Young's modulus @p youngsModulus (Pa, > 0) and Poisson ratio
+/// @p poissonRatio (in (-1, 0.5)): lambda = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)).
+/// Mooney-Rivlin gets the default split c01 = mu / 8 (a quarter of the shear from I2).
+FM_API fmMaterial fmMakeMaterial(fmMaterialModel model, double youngsModulus, double poissonRatio);
+
+/// A material from the Lame constants directly (the seeds give lambda = 20000, mu = 5000).
+FM_API fmMaterial fmMakeMaterialLame(fmMaterialModel model, double lambda, double mu);
+
+/// Check a material; on failure the diagnostic says which parameter and what would work.
+FM_API fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag);
+
+/// The model's scene name ("linear", "corotated", "stvk", "neohookean", "mooney-rivlin", ...).
+FM_API const char* fmMaterialModelName(fmMaterialModel model);
+
+/// Look a model up by scene name. Returns false if unknown.
+FM_API bool fmMaterialModelFromName(const char* name, fmMaterialModel* model);
+
+/// How energy becomes vertex forces (docs/force-models.md).
+typedef enum fmForceModel
+{
+	fm_fem,		   ///< finite elements: f = -V0 P Dm^-T
+	fm_fvm,		   ///< finite volumes: stress on area-weighted face normals (Teran et al. 2003)
+	fm_massSpring, ///< springs on the tet edges, stiffness from E
+	fm_forceModelCount
+} fmForceModel;
+
+/// Scene name of a force model ("fem", "fvm", "mass-spring").
+FM_API const char* fmForceModelName(fmForceModel model);
+
+/// Look a force model up by scene name. Returns false if unknown.
+FM_API bool fmForceModelFromName(const char* name, fmForceModel* model);
+
+/// Time integrators.
+typedef enum fmIntegrator
+{
+	fm_explicit, ///< symplectic Euler, as the seeds (needs small steps)
+	fm_implicit, ///< backward Euler by Newton on the incremental potential
+} fmIntegrator;
+
+/// Floor friction behaviour.
+typedef enum fmFloorFriction
+{
+	fm_floorStick,	 ///< the seeds: tangential velocity zeroed on contact
+	fm_floorCoulomb, ///< Coulomb friction with a coefficient and restitution
+} fmFloorFriction;
+
+/// A horizontal floor plane y = height; bodies stay above it.
+typedef struct fmFloorDef
+{
+	bool enabled;			  ///< false: no floor
+	double height;			  ///< m
+	fmFloorFriction friction; ///< stick or Coulomb
+	double frictionCoefficient; ///< Coulomb coefficient, >= 0
+	double restitution;		  ///< normal restitution, in [0, 1]
+} fmFloorDef;
+
+/// World definition. Get one from fmDefaultWorldDef().
+typedef struct fmWorldDef
+{
+	fmVec3 gravity;			 ///< m/s^2, default (0, -9.8, 0): y is up
+	fmFloorDef floor;		 ///< default: enabled at y = -3, stick (the seeds)
+	fmIntegrator integrator; ///< default fm_explicit
+	int newtonIterations;	 ///< implicit: maximum Newton iterations a step, >= 1 (default 20)
+	double tolerance;		 ///< implicit: residual / force scale to stop at, > 0 (default 1e-6)
+	int cgIterations;		 ///< implicit: maximum CG iterations a Newton step, >= 1 (default 500)
+	int maxBodies;			 ///< capacity, >= 1 (default 64)
+	int internalValue;		 ///< set by fmDefaultWorldDef; create calls check it
+} fmWorldDef;
+
+/// The default world: the seeds' gravity and floor, explicit integration.
+FM_API fmWorldDef fmDefaultWorldDef(void);
+
+/// How vertex masses are found.
+typedef enum fmMassMode
+{
+	fm_massFromDensity, ///< lumped: each tet gives density * V0 / 4 to each of its nodes
+	fm_massPerParticle, ///< every vertex has particleMass (the seeds: 1 kg)
+} fmMassMode;
+
+struct fmTetMesh;
+
+/// Body definition. Get one from fmDefaultBodyDef().
+typedef struct fmBodyDef
+{
+	const struct fmTetMesh* mesh; ///< rest shape (copied; the caller keeps ownership)
+	fmMaterial material;		  ///< default: the seeds' StVK, lambda 20000 Pa, mu 5000 Pa
+	fmForceModel forceModel;	  ///< default fm_fem
+	fmMassMode massMode;		  ///< default fm_massPerParticle (the seeds)
+	double density;				  ///< kg/m^3, > 0, for fm_massFromDensity (default 1000)
+	double particleMass;		  ///< kg, > 0, for fm_massPerParticle (default 1)
+	double damping;				  ///< velocity factor per step, in (0, 1]; 1 = none (default 0.999)
+	double smoothing;			  ///< Laplacian velocity blend per step, in [0, 1] (default 0.1)
+	double rayleighMass;		  ///< Rayleigh alpha, 1/s, >= 0 (default 0)
+	double rayleighStiffness;	  ///< Rayleigh beta, s, >= 0 (default 0)
+	double springDamping;		  ///< mass-spring: damping ratio of each spring, >= 0 (default 0.1)
+	int internalValue;			  ///< set by fmDefaultBodyDef; create calls check it
+} fmBodyDef;
+
+/// The default body: the seeds' bouncy house parameters (no mesh).
+FM_API fmBodyDef fmDefaultBodyDef(void);
+
+/// World handle. Zero-initialised means null.
+typedef struct fmWorldId
+{
+	uint16_t index1;	 ///< 1-based slot
+	uint16_t generation; ///< catches stale ids
+} fmWorldId;
+
+/// Body handle. Zero-initialised means null.
+typedef struct fmBodyId
+{
+	int32_t index1;		 ///< 1-based slot in the world
+	uint16_t world0;	 ///< world slot
+	uint16_t generation; ///< catches stale ids
+} fmBodyId;
+
+/// Health of a body after a step.
+typedef struct fmBodyStats
+{
+	double kineticEnergy; ///< J
+	double elasticEnergy; ///< J
+	double gravityEnergy; ///< J, m g.(-x) summed (relative to the origin)
+	fmVec3 centerOfMass;  ///< m
+	double lowestY;		  ///< m, lowest vertex
+	int invertedTets;	  ///< tets with det F <= 0
+} fmBodyStats;
+
+/// Counters of the last world step.
+typedef struct fmStepStats
+{
+	int steps;			  ///< substeps taken
+	int newtonIterations; ///< implicit: total Newton iterations
+	int cgIterations;	  ///< implicit: total CG iterations
+	double residual;	  ///< implicit: last relative residual reached
+	int invertedTets;	  ///< all bodies, after the step
+	int contacts;		  ///< vertices on the floor after the step
+} fmStepStats;
+
+FM_C_END

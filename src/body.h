@@ -1,0 +1,58 @@
+// A soft body: rest shape (precomputed per tet), material, per-vertex state.
+#pragma once
+
+#include <femto/femto.h>
+
+#include <stdint.h>
+
+typedef struct fmBody
+{
+	uint16_t generation;
+	int vertexCount;
+	int tetCount;
+	int firstIndex; // numbering of the source mesh, for export
+
+	// per-vertex state, packed xyz
+	double* x;	// positions (m)
+	double* v;	// velocities (m/s)
+	double* f;	// force accumulator (N)
+	double* x0; // rest positions
+	double* mass;	 // kg
+	double* invMass; // 1/kg, 0 for pinned vertices
+	uint8_t* pinned;
+
+	// per-tet rest data
+	int* tets;			  // 4 per tet, positively oriented
+	fmMat3* DmInv;		  // inverse reference edge matrix [X1-X0, X2-X0, X3-X0]^-1
+	double* restVolume;	  // V0 (m^3), > 0
+
+	// surface, for rendering and export
+	int* surface;
+	int triangleCount;
+
+	// Laplacian smoothing: 1 / (4 * number of tets around each vertex)
+	double* smoothWeight;
+	double* scratch; // 3 * vertexCount temporaries
+
+	// mass-spring force model (edges of the tets)
+	int edgeCount;
+	int* edges;		   // 2 per edge
+	double* restLength; // m
+	double* springK;	// N/m
+
+	// last good state, restored on numerical failure
+	double* xGood;
+	double* vGood;
+
+	fmMaterial material;
+	fmForceModel forceModel;
+	double damping;
+	double smoothing;
+	double rayleighMass;
+	double rayleighStiffness;
+	double springDamping;
+	double totalMass;
+} fmBody;
+
+// Resolve an id; NULL if stale.
+fmBody* fmGetBody(fmBodyId id);

@@ -1,0 +1,17 @@
+// Time integrators. Each advances one body by one step of length dt; the world calls them in
+// order for every substep. Both return fm_ok or fm_errNumerical (the world restores the state).
+#pragma once
+
+#include "world.h"
+
+// Symplectic Euler with the seeds' damping factor and Laplacian velocity smoothing, then the
+// floor (explicit.c).
+fmResult fmExplicitStep(const fmWorld* world, fmBody* body, double dt);
+
+// Backward Euler: Newton on the incremental potential with projected Hessians, PCG and a
+// backtracking line search; pins exact, floor as constraints (implicit.c).
+fmResult fmImplicitStep(const fmWorld* world, fmBody* body, double dt, fmStepStats* stats);
+
+// Floor response for explicit integration: positions projected to the plane, velocities by the
+// floor's friction mode (contact.c). Returns the number of vertices in contact.
+int fmApplyFloor(const fmFloorDef* floor, fmBody* body, double dt);

@@ -1,0 +1,14 @@
+// Constitutive models: pure functions of the deformation gradient F (docs/materials.md).
+// dP/dF is a 9x9 row-major matrix: dPdF[9 * (3 * i + j) + (3 * k + l)] = d P_ij / d F_kl,
+// with P_ij = P.m[3 * i + j]. It is symmetric (P is a gradient).
+#pragma once
+
+#include <femto/types.h>
+
+// Energy density psi(F) (J/m^3). Every pointer output may be NULL to skip it:
+// P = d psi / dF (Pa), dPdF (Pa). Returns psi.
+double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF);
+
+// Project a symmetric 9x9 matrix onto the positive semi-definite cone (clamp negative eigenvalues
+// to zero) in place.
+void fmProjectPSD9(double* A);

@@ -1,0 +1,15 @@
+// Robust 3x3 singular value decomposition for elasticity (Irving, Teran, Fedkiw 2004):
+// F = U diag(s) V^T with U, V proper rotations (det = +1). When det F < 0 the smallest
+// singular value carries the sign, so an inverted tet has s[2] < 0.
+#pragma once
+
+#include <femto/fm_math.h>
+
+// s sorted by decreasing magnitude, s[0] >= s[1] >= |s[2]|; s[2] < 0 iff det F < 0.
+void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V);
+
+// Symmetric eigen-decomposition of a 3x3 matrix A = Q diag(w) Q^T (cyclic Jacobi).
+void fmSymEigen3(const fmMat3* A, fmVec3* w, fmMat3* Q);
+
+// Polar decomposition F = R S with R a rotation (from the SVD; R = U V^T).
+fmMat3 fmPolarRotation(const fmMat3* F);

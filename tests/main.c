@@ -1,0 +1,92 @@
+// Test runner: `femto_tests SUITE` runs the tests registered from tests/test_SUITE.c;
+// `femto_tests` alone runs everything. Exit code = number of failed tests (capped).
+#include "test.h"
+
+#include <femto/femto.h>
+#include <stdlib.h>
+
+#define MAX_TESTS 1024
+
+typedef struct TestEntry
+{
+	char suite[64];
+	const char* name;
+	fmTestFcn* fcn;
+} TestEntry;
+
+static TestEntry s_tests[MAX_TESTS];
+static int s_testCount;
+static unsigned long long s_rng = 0x9E3779B97F4A7C15ull;
+
+void fmRegisterTest(const char* file, const char* name, fmTestFcn* fcn)
+{
+	if (s_testCount >= MAX_TESTS)
+	{
+		fprintf(stderr, "too many tests\n");
+		exit(2);
+	}
+	const char* base = strrchr(file, '/');
+	base = base ? base + 1 : file;
+	if (strncmp(base, "test_", 5) == 0)
+		base += 5;
+	TestEntry* e = &s_tests[s_testCount++];
+	snprintf(e->suite, sizeof e->suite, "%s", base);
+	char* dot = strrchr(e->suite, '.');
+	if (dot)
+		*dot = 0;
+	e->name = name;
+	e->fcn = fcn;
+}
+
+void fmTestSeed(unsigned long long seed) { s_rng = seed ? seed : 0x9E3779B97F4A7C15ull; }
+
+double fmTestRandom(double lo, double hi)
+{
+	s_rng ^= s_rng >> 12;
+	s_rng ^= s_rng << 25;
+	s_rng ^= s_rng >> 27;
+	unsigned long long r = s_rng * 2685821657736338717ull;
+	return lo + (hi - lo) * (double)(r >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static int s_assertCount;
+static int countingAssert(const char* condition, const char* file, int line)
+{
+	fprintf(stderr, "  femto assert: %s at %s:%d\n", condition, file, line);
+	++s_assertCount;
+	return 0;
+}
+
+int main(int argc, char** argv)
+{
+	const char* suite = argc > 1 ? argv[1] : NULL;
+	const char* only = argc > 2 ? argv[2] : NULL;
+	fmSetAssertFcn(countingAssert);
+	int run = 0, failed = 0;
+	for (int i = 0; i < s_testCount; ++i)
+	{
+		TestEntry* e = &s_tests[i];
+		if (suite && strcmp(suite, e->suite) != 0)
+			continue;
+		if (only && strcmp(only, e->name) != 0)
+			continue;
+		int failures = 0;
+		int asserts = s_assertCount;
+		fmTestSeed(0x1234567ull + (unsigned long long)i);
+		e->fcn(&failures);
+		if (s_assertCount != asserts)
+			++failures;
+		++run;
+		if (failures)
+			++failed;
+		printf("%s %s.%s\n", failures ? "FAIL" : "ok  ", e->suite, e->name);
+		fflush(stdout);
+	}
+	if (run == 0)
+	{
+		fprintf(stderr, "no test matches '%s'\n", suite ? suite : "");
+		return 2;
+	}
+	printf("%d passed, %d failed\n", run - failed, failed);
+	return failed > 100 ? 100 : failed;
+}
