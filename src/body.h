@@ -52,6 +52,8 @@ typedef struct fmBody
 	double rayleighStiffness;
 	double springDamping;
 	double totalMass;
+
+	void* implicitCache; // solver buffers owned by implicit.c (fmImplicitCacheFree)
 } fmBody;
 
 // Resolve an id; NULL if stale.

@@ -15,3 +15,6 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* body, double dt, fmStepSta
 // Floor response for explicit integration: positions projected to the plane, velocities by the
 // floor's friction mode (contact.c). Returns the number of vertices in contact.
 int fmApplyFloor(const fmFloorDef* floor, fmBody* body, double dt);
+
+// Release the implicit solver's per-body buffers (body->implicitCache). NULL is fine.
+void fmImplicitCacheFree(void* cache);
