@@ -43,6 +43,7 @@ typedef struct fmBody
 	// last good state, restored on numerical failure
 	double* xGood;
 	double* vGood;
+	double energyGood; // kinetic + elastic energy of the good state (runaway check)
 
 	fmMaterial material;
 	fmForceModel forceModel;
@@ -58,3 +59,9 @@ typedef struct fmBody
 
 // Resolve an id; NULL if stale.
 fmBody* fmGetBody(fmBodyId id);
+
+// Free every array of a body (keeps its generation); safe on a partly built body.
+void fmBodyRelease(fmBody* body);
+
+// Tets with det F <= 0 at the current positions.
+int fmBodyCountInverted(const fmBody* body);

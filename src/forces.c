@@ -1,0 +1,178 @@
+// Elastic forces by the finite element method (the seeds' derivation) and their derivatives.
+//
+// Per tet: F = Ds Dm^-1 with Ds = [x1-x0, x2-x0, x3-x0]; energy V0 psi(F); the force on node a
+// is -V0 P(F) g_a, where g_a (a = 1..3) are the rows of Dm^-1 and g_0 = -(g_1 + g_2 + g_3), i.e.
+// the columns of -V0 P Dm^-T, and node 0 gets minus the sum (the seeds' formula).
+#include "forces.h"
+
+#include "material.h"
+
+#include <string.h>
+
+// Gradients of the linear shape functions: dF_ij / dx_{a,i} = g[a][j].
+static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
+{
+	for (int a = 1; a < 4; ++a)
+		g[a] = fmMakeVec3(DmInv->m[3 * (a - 1)], DmInv->m[3 * (a - 1) + 1], DmInv->m[3 * (a - 1) + 2]);
+	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
+}
+
+fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
+{
+	const int* n = body->tets + 4 * t;
+	fmVec3 x0 = fmLoad(x, n[0]);
+	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
+								  fmSub(fmLoad(x, n[3]), x0));
+	return fmMatMul(&Ds, &body->DmInv[t]);
+}
+
+static double fmAddFemForces(const fmBody* body, const double* x, double* f)
+{
+	double energy = 0.0;
+	for (int t = 0; t < body->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(body, x, t);
+		fmMat3 P;
+		double V0 = body->restVolume[t];
+		energy += V0 * fmMaterial_Evaluate(&body->material, &F, &P, NULL);
+
+		// H = -V0 P Dm^-T: column a-1 is the force on node a; node 0 balances them.
+		fmMat3 H = fmMatMulT(&P, &body->DmInv[t]);
+		const int* n = body->tets + 4 * t;
+		fmVec3 sum = {0, 0, 0};
+		for (int a = 1; a < 4; ++a)
+		{
+			fmVec3 fa = fmScale(-V0, fmColumn(&H, a - 1));
+			sum = fmAdd(sum, fa);
+			fmStore(f, n[a], fmAdd(fmLoad(f, n[a]), fa));
+		}
+		fmStore(f, n[0], fmSub(fmLoad(f, n[0]), sum));
+	}
+	return energy;
+}
+
+double fmAddElasticForces(const fmBody* body, const double* x, double* f)
+{
+	switch (body->forceModel)
+	{
+	case fm_fvm:
+		return fmAddFvmForces(body, x, f);
+	case fm_massSpring:
+		return fmAddSpringForces(body, x, f);
+	default:
+		return fmAddFemForces(body, x, f);
+	}
+}
+
+double fmElasticEnergy(const fmBody* body, const double* x)
+{
+	double energy = 0.0;
+	if (body->forceModel == fm_massSpring)
+	{
+		// The spring energy comes with the forces; use the scratch buffer as a sink.
+		memset(body->scratch, 0, sizeof(double) * 3 * (size_t)body->vertexCount);
+		return fmAddSpringForces(body, x, body->scratch);
+	}
+	for (int t = 0; t < body->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(body, x, t);
+		energy += body->restVolume[t] * fmMaterial_Evaluate(&body->material, &F, NULL, NULL);
+	}
+	return energy;
+}
+
+void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int project)
+{
+	fmMat3 F = fmTetDeformation(body, x, t);
+	double dPdF[81];
+	fmMaterial_Evaluate(&body->material, &F, NULL, dPdF);
+	if (project)
+		fmProjectPSD9(dPdF);
+	fmVec3 g[4];
+	fmShapeGradients(&body->DmInv[t], g);
+	const double V0 = body->restVolume[t];
+	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K
+	// because K = V0 B^T (dP/dF) B.
+	for (int a = 0; a < 4; ++a)
+	{
+		const double ga[3] = {g[a].x, g[a].y, g[a].z};
+		for (int b = 0; b < 4; ++b)
+		{
+			const double gb[3] = {g[b].x, g[b].y, g[b].z};
+			for (int c = 0; c < 3; ++c)
+				for (int d = 0; d < 3; ++d)
+				{
+					double s = 0.0;
+					for (int j = 0; j < 3; ++j)
+						for (int l = 0; l < 3; ++l)
+							s += dPdF[9 * (3 * c + j) + (3 * d + l)] * ga[j] * gb[l];
+					K[12 * (3 * a + c) + (3 * b + d)] = V0 * s;
+				}
+		}
+	}
+}
+
+void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, double* out,
+						 int project)
+{
+	if (body->forceModel == fm_massSpring)
+	{
+		double K[36];
+		for (int e = 0; e < body->edgeCount; ++e)
+		{
+			const int* n = body->edges + 2 * e;
+			fmSpringHessian(body, x, e, K, project);
+			double u[6], y[6] = {0};
+			for (int k = 0; k < 3; ++k)
+			{
+				u[k] = dx[3 * n[0] + k];
+				u[3 + k] = dx[3 * n[1] + k];
+			}
+			for (int r = 0; r < 6; ++r)
+				for (int c = 0; c < 6; ++c)
+					y[r] += K[6 * r + c] * u[c];
+			for (int k = 0; k < 3; ++k)
+			{
+				out[3 * n[0] + k] += y[k];
+				out[3 * n[1] + k] += y[3 + k];
+			}
+		}
+		return;
+	}
+	for (int t = 0; t < body->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(body, x, t);
+		double dPdF[81];
+		fmMaterial_Evaluate(&body->material, &F, NULL, dPdF);
+		if (project)
+			fmProjectPSD9(dPdF);
+		fmVec3 g[4];
+		fmShapeGradients(&body->DmInv[t], g);
+		const int* n = body->tets + 4 * t;
+		// dF = sum_a dx_a g_a^T; dP = dPdF : dF; out_a += V0 dP g_a.
+		fmMat3 dF = fmZero3();
+		for (int a = 0; a < 4; ++a)
+		{
+			fmVec3 u = fmLoad(dx, n[a]);
+			const double ga[3] = {g[a].x, g[a].y, g[a].z};
+			const double ua[3] = {u.x, u.y, u.z};
+			for (int i = 0; i < 3; ++i)
+				for (int j = 0; j < 3; ++j)
+					dF.m[3 * i + j] += ua[i] * ga[j];
+		}
+		fmMat3 dP;
+		for (int r = 0; r < 9; ++r)
+		{
+			double s = 0.0;
+			for (int c = 0; c < 9; ++c)
+				s += dPdF[9 * r + c] * dF.m[c];
+			dP.m[r] = s;
+		}
+		const double V0 = body->restVolume[t];
+		for (int a = 0; a < 4; ++a)
+		{
+			fmVec3 y = fmScale(V0, fmMatVec(&dP, g[a]));
+			fmStore(out, n[a], fmAdd(fmLoad(out, n[a]), y));
+		}
+	}
+}

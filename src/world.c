@@ -1,0 +1,358 @@
+// Worlds: creation, the frame step (substeps over bodies), health checks and state restore.
+#include "world.h"
+
+#include "core.h"
+#include "forces.h"
+#include "integrator.h"
+
+#include <math.h>
+#include <string.h>
+
+#define FM_MAX_WORLDS 128
+
+static fmWorld s_worlds[FM_MAX_WORLDS];
+
+fmWorldDef fmDefaultWorldDef(void)
+{
+	fmWorldDef def;
+	memset(&def, 0, sizeof def);
+	def.gravity = fmMakeVec3(0.0, -9.8, 0.0);
+	def.floor.enabled = true;
+	def.floor.height = -3.0;
+	def.floor.friction = fm_floorStick;
+	def.floor.frictionCoefficient = 0.5;
+	def.floor.restitution = 0.0;
+	def.integrator = fm_explicit;
+	def.newtonIterations = 20;
+	def.tolerance = 1e-6;
+	def.cgIterations = 500;
+	def.maxBodies = 64;
+	def.internalValue = FM_DEF_MAGIC;
+	return def;
+}
+
+static bool fmIsFiniteVec(fmVec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
+{
+	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "world def not initialised: start from fmDefaultWorldDef()");
+	if (!fmIsFiniteVec(def->gravity))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "gravity must be finite");
+	const fmFloorDef* floor = &def->floor;
+	if (floor->enabled && !isfinite(floor->height))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "floor height must be finite");
+	if (floor->enabled && floor->friction != fm_floorStick && floor->friction != fm_floorCoulomb)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown floor friction mode");
+	if (floor->enabled && !(floor->frictionCoefficient >= 0.0 && isfinite(floor->frictionCoefficient)))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "floor friction coefficient must be >= 0 (0.5 is rubber on wood), got %g",
+						   floor->frictionCoefficient);
+	if (floor->enabled && !(floor->restitution >= 0.0 && floor->restitution <= 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "floor restitution must be in [0, 1], got %g", floor->restitution);
+	if (def->integrator != fm_explicit && def->integrator != fm_implicit)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown integrator %d", (int)def->integrator);
+	if (def->newtonIterations < 1 || def->cgIterations < 1)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "newton and CG iteration limits must be >= 1 (defaults 20 and 500)");
+	if (!(def->tolerance > 0.0 && def->tolerance < 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "tolerance must be in (0, 1) (a relative residual; default 1e-6), got %g",
+						   def->tolerance);
+	if (def->maxBodies < 1 || def->maxBodies > (1 << 20))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "maxBodies must be in [1, 2^20], got %d",
+						   def->maxBodies);
+	return fm_ok;
+}
+
+fmWorldId fmCreateWorld(const fmWorldDef* def)
+{
+	fmWorldId id = {0, 0};
+	if (fmWorldDef_Validate(def, NULL) != fm_ok)
+		return id;
+	for (int i = 0; i < FM_MAX_WORLDS; ++i)
+	{
+		fmWorld* w = &s_worlds[i];
+		if (w->inUse)
+			continue;
+		uint16_t generation = (uint16_t)(w->generation + 1);
+		memset(w, 0, sizeof *w);
+		w->bodies = FM_ALLOC_ZERO(fmBody, def->maxBodies);
+		if (w->bodies == NULL)
+			return id;
+		w->generation = generation;
+		w->inUse = true;
+		w->def = *def;
+		w->bodyCapacity = def->maxBodies;
+		id.index1 = (uint16_t)(i + 1);
+		id.generation = generation;
+		return id;
+	}
+	return id;
+}
+
+fmWorld* fmGetWorld(fmWorldId id)
+{
+	if (id.index1 < 1 || id.index1 > FM_MAX_WORLDS)
+		return NULL;
+	fmWorld* w = &s_worlds[id.index1 - 1];
+	return (w->inUse && w->generation == id.generation) ? w : NULL;
+}
+
+fmWorld* fmGetWorldOfBody(fmBodyId id)
+{
+	if (id.world0 >= FM_MAX_WORLDS)
+		return NULL;
+	fmWorld* w = &s_worlds[id.world0];
+	return w->inUse ? w : NULL;
+}
+
+static fmWorld* fmWorldOrAssert(fmWorldId id)
+{
+	fmWorld* w = fmGetWorld(id);
+	FM_ASSERT(w != NULL);
+	return w;
+}
+
+void fmDestroyWorld(fmWorldId worldId)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w == NULL)
+		return;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x)
+			fmBodyRelease(&w->bodies[i]);
+	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
+	uint16_t generation = w->generation;
+	memset(w, 0, sizeof *w);
+	w->generation = generation;
+}
+
+bool fmWorld_IsValid(fmWorldId worldId) { return fmGetWorld(worldId) != NULL; }
+
+const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	return w ? &w->lastError : NULL;
+}
+
+fmStepStats fmWorld_GetStepStats(fmWorldId worldId)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	fmStepStats none;
+	memset(&none, 0, sizeof none);
+	return w ? w->stats : none;
+}
+
+void fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	FM_ASSERT(fmIsFiniteVec(gravity));
+	if (w)
+		w->def.gravity = gravity;
+}
+
+void fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w && floor)
+		w->def.floor = *floor;
+}
+
+// Largest stable symplectic Euler step: 2 / omega_max, with omega_max^2 bounded (Gershgorin)
+// by the largest row sum of M^-1 K. Per tet, the stiffness seen by node a is about
+// (lambda + 2 mu) V0 |g_a|^2 (the P-wave modulus times the shape-gradient norm), and the row
+// sum is at most twice the diagonal for a node's star. Springs use k_e directly.
+static double fmBodyExplicitStep(const fmBody* b)
+{
+	double* diag = b->scratch;
+	memset(diag, 0, sizeof(double) * (size_t)b->vertexCount);
+	double modulus = b->material.lambda + 2.0 * b->material.mu;
+	if (b->forceModel == fm_massSpring)
+	{
+		for (int e = 0; e < b->edgeCount; ++e)
+			for (int k = 0; k < 2; ++k)
+				diag[b->edges[2 * e + k]] += b->springK[e];
+	}
+	else
+	{
+		for (int t = 0; t < b->tetCount; ++t)
+		{
+			const fmMat3* D = &b->DmInv[t];
+			fmVec3 g[4];
+			for (int a = 1; a < 4; ++a)
+				g[a] = fmMakeVec3(D->m[3 * (a - 1)], D->m[3 * (a - 1) + 1], D->m[3 * (a - 1) + 2]);
+			g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
+			for (int a = 0; a < 4; ++a)
+				diag[b->tets[4 * t + a]] += modulus * b->restVolume[t] * fmDot(g[a], g[a]);
+		}
+	}
+	double omega2 = 0.0;
+	for (int i = 0; i < b->vertexCount; ++i)
+		omega2 = fmax(omega2, 2.0 * diag[i] * b->invMass[i]);
+	memset(diag, 0, sizeof(double) * (size_t)b->vertexCount);
+	return omega2 > 0.0 ? 2.0 / sqrt(omega2) : INFINITY;
+}
+
+double fmWorld_EstimateExplicitStep(fmWorldId worldId)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w == NULL)
+		return 0.0;
+	double dt = INFINITY;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x)
+			dt = fmin(dt, fmBodyExplicitStep(&w->bodies[i]));
+	return isfinite(dt) ? dt : 0.0;
+}
+
+// Kinetic plus elastic energy, the measure of a runaway.
+static double fmBodyEnergy(const fmBody* b)
+{
+	double kinetic = 0.0;
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		fmVec3 v = fmLoad(b->v, i);
+		kinetic += 0.5 * b->mass[i] * fmDot(v, v);
+	}
+	return kinetic + fmElasticEnergy(b, b->x);
+}
+
+// Why a body went bad: non-finite state, or energy far beyond what the frame could add.
+static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double frameTime)
+{
+	const fmBody* b = &w->bodies[index];
+	int badVertex = -1;
+	for (int k = 0; k < 3 * b->vertexCount && badVertex < 0; ++k)
+		if (!isfinite(b->x[k]) || !isfinite(b->v[k]))
+			badVertex = k / 3;
+	double energy = badVertex < 0 ? fmBodyEnergy(b) : NAN;
+	// Gravity can add at most M |g| (fall height) + M |g|^2 T^2 in a frame; a stable elastic
+	// body does not multiply its energy by 1000 on top of that.
+	double g = fmLength(w->def.gravity);
+	fmVec3 lo = fmLoad(b->x0, 0), hi = lo;
+	for (int i = 1; i < b->vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(b->x0, i);
+		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+	}
+	double size = fmLength(fmSub(hi, lo));
+	double bound = 1000.0 * (energyBefore + b->totalMass * g * (size + g * frameTime * frameTime)) +
+				   1e-6 * b->totalMass * size * size;
+	if (badVertex < 0 && energy <= bound)
+		return fm_ok;
+
+	// Name the tets that went bad: non-finite or inverted deformation.
+	char list[160] = "";
+	int count = 0, length = 0;
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(b, b->x, t);
+		double J = fmDet(&F);
+		if (isfinite(J) && J > 0.0)
+			continue;
+		if (count < 8 && length < (int)sizeof list - 16)
+			length += snprintf(list + length, sizeof list - (size_t)length, "%s%d", count ? ", " : "",
+							   t + b->firstIndex);
+		++count;
+	}
+	if (badVertex >= 0)
+		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+					"body %d: non-finite position or velocity at vertex %d; %d bad tets (%s%s); "
+					"state restored to the start of the frame; try a smaller dt or the implicit "
+					"integrator",
+					index, badVertex + b->firstIndex, count, list, count > 8 ? ", ..." : "");
+	else
+		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+					"body %d: energy ran away (%.3g J after %.3g J); %d inverted tets (%s%s); state "
+					"restored to the start of the frame; try a smaller dt or the implicit integrator",
+					index, energy, energyBefore, count, list, count > 8 ? ", ..." : "");
+	fmLog(fm_logError, "%s", w->lastError.message);
+	return fm_errNumerical;
+}
+
+static void fmRestoreAll(fmWorld* w)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+		memcpy(b->x, b->xGood, bytes);
+		memcpy(b->v, b->vGood, bytes);
+	}
+}
+
+fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w == NULL)
+		return fm_errInvalidId;
+	memset(&w->stats, 0, sizeof w->stats);
+	fmDiagClear(&w->lastError);
+	if (!(timeStep > 0.0 && isfinite(timeStep)) || subStepCount < 1)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+						   "time step must be > 0 and substeps >= 1, got %g and %d", timeStep,
+						   subStepCount);
+
+	// Stage 1: remember the last good state and its energy.
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+		memcpy(b->xGood, b->x, bytes);
+		memcpy(b->vGood, b->v, bytes);
+		b->energyGood = fmBodyEnergy(b);
+	}
+
+	// Stage 2: substeps, every body advanced by the chosen integrator.
+	const double dt = timeStep / subStepCount;
+	for (int s = 0; s < subStepCount; ++s)
+	{
+		for (int i = 0; i < w->bodyCapacity; ++i)
+		{
+			fmBody* b = &w->bodies[i];
+			if (b->x == NULL)
+				continue;
+			fmResult r = w->def.integrator == fm_implicit ? fmImplicitStep(w, b, dt, &w->stats)
+														  : fmExplicitStep(w, b, dt);
+			if (r != fm_ok)
+			{
+				if (w->lastError.result == fm_ok)
+					fmDiagError(&w->lastError, r, "", 0, 0,
+								"body %d: the %s step failed (%s); state restored to the start of "
+								"the frame",
+								i, w->def.integrator == fm_implicit ? "implicit" : "explicit",
+								fmResultMessage(r));
+				fmRestoreAll(w);
+				return r;
+			}
+		}
+		w->stats.steps += 1;
+	}
+
+	// Stage 3: health checks; a failure restores every body.
+	w->stats.contacts = 0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		if (fmCheckBody(w, i, b->energyGood, timeStep) != fm_ok)
+		{
+			fmRestoreAll(w);
+			return fm_errNumerical;
+		}
+		w->stats.invertedTets += fmBodyCountInverted(b);
+		if (w->def.floor.enabled)
+			for (int k = 0; k < b->vertexCount; ++k)
+				w->stats.contacts += b->x[3 * k + 1] <= w->def.floor.height + 1e-9;
+	}
+	return fm_ok;
+}
