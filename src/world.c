@@ -6,6 +6,7 @@
 #include "integrator.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define FM_MAX_WORLDS 128
