@@ -91,6 +91,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->edges, int, 2 * (size_t)b->edgeCount);
 	FM_FREE_ARRAY(b->restLength, double, b->edgeCount);
 	FM_FREE_ARRAY(b->springK, double, b->edgeCount);
+	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
 	fmFree(b->surface);
 	fmImplicitCacheFree(b->implicitCache);
 	uint16_t generation = b->generation;
@@ -190,6 +191,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory extracting the surface");
 	if (r == fm_ok && b->forceModel == fm_massSpring && fmBuildSprings(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
+	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
+		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
 	fmFreeTetMesh(&mesh);
 	return r;
 }

@@ -40,6 +40,9 @@ typedef struct fmBody
 	double* restLength; // m
 	double* springK;	// N/m
 
+	// finite volume force model: 4 per tet, 1/3 of the area-weighted rest normals at each node
+	fmVec3* fvmNormals;
+
 	// last good state, restored on numerical failure
 	double* xGood;
 	double* vGood;
