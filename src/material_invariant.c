@@ -1,0 +1,76 @@
+// The user's energy of the invariants v = (I1, I2, J), differentiated by the chain rule:
+//   I1 = F:F                         dI1/dF = 2 F
+//   I2 = ((tr C)^2 - C:C) / 2        dI2/dF = 2 (I1 F - F C),  C = F^T F
+//   J  = det F                       dJ/dF  = cof F
+// P = sum_a psi_a dv_a/dF and dP/dF = sum_ab psi_ab dv_a/dF (dv_b/dF)^T + sum_a psi_a d2v_a/dF2.
+#include "material.h"
+#include "material_models.h"
+
+#include <string.h>
+
+// Levi-Civita sign of a permutation (a, b, c) of (0, 1, 2).
+static double fmPermutationSign(int a, int b) { return (b - a + 3) % 3 == 1 ? 1.0 : -1.0; }
+
+// d2v/dF2 for the three invariants, added with weights w[0..2] to dPdF.
+static void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3], double* dPdF)
+{
+	const double* f = F->m;
+	fmMat3 C = fmMatTMul(F, F), B = fmMatMulT(F, F);
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			for (int k = 0; k < 3; ++k)
+				for (int l = 0; l < 3; ++l)
+				{
+					int ik = i == k, jl = j == l;
+					// d2 I1 = 2 d_ik d_jl
+					double h1 = 2.0 * ik * jl;
+					// d2 I2 = 2 (2 F_ij F_kl + I1 d_ik d_jl - d_ik C_lj - F_il F_kj - B_ik d_jl)
+					double h2 = 2.0 * (2.0 * f[3 * i + j] * f[3 * k + l] + I1 * ik * jl -
+									   ik * C.m[3 * l + j] - f[3 * i + l] * f[3 * k + j] - B.m[3 * i + k] * jl);
+					// d2 J / dF_ij dF_kl = eps_ikq eps_jls F_qs
+					double h3 = 0.0;
+					if (i != k && j != l)
+						h3 = fmPermutationSign(i, k) * fmPermutationSign(j, l) *
+							 f[3 * (3 - i - k) + (3 - j - l)];
+					dPdF[9 * (3 * i + j) + (3 * k + l)] += w[0] * h1 + w[1] * h2 + w[2] * h3;
+				}
+}
+
+double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)
+{
+	fmMat3 C = fmMatTMul(F, F);
+	double I1 = fmTrace(&C);
+	double v[3] = {I1, 0.5 * (I1 * I1 - fmDDot(&C, &C)), fmDet(F)};
+	double psi = 0.0, g[3] = {0, 0, 0}, H[9];
+	if (dPdF)
+		memset(H, 0, sizeof H);
+	material->invariantEnergy(v, material->userParams, &psi, g, dPdF ? H : NULL);
+	if (!P && !dPdF)
+		return psi;
+
+	fmMat3 FC = fmMatMul(F, &C);
+	fmMat3 d[3];
+	d[0] = fmMatScale(2.0, F);
+	d[1] = fmMatMulAdd(&FC, -I1, F);
+	d[1] = fmMatScale(-2.0, &d[1]); // 2 (I1 F - F C)
+	d[2] = fmCofactor(F);
+	if (P)
+		for (int e = 0; e < 9; ++e)
+			P->m[e] = g[0] * d[0].m[e] + g[1] * d[1].m[e] + g[2] * d[2].m[e];
+	if (dPdF)
+	{
+		memset(dPdF, 0, 81 * sizeof(double));
+		for (int a = 0; a < 3; ++a)
+			for (int b = 0; b < 3; ++b)
+			{
+				double w = H[3 * a + b];
+				if (w == 0.0)
+					continue;
+				for (int r = 0; r < 9; ++r)
+					for (int c = 0; c < 9; ++c)
+						dPdF[9 * r + c] += w * d[a].m[r] * d[b].m[c];
+			}
+		fmAddInvariantCurvature(F, I1, g, dPdF);
+	}
+	return psi;
+}
