@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Build the libFuzzer targets with clang + ASan + UBSan and run each for a bounded time on its
+# committed seed corpus (fuzz/corpus/<name>). New crashes fail the check; the crashing input is
+# kept in build-fuzz/crashes/ to be turned into a regression test (tests/data/fuzz/).
+# FEMTO_FUZZ_SECONDS (default 60) sets the time per target.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${FEMTO_FUZZ_SECONDS:-60}
+if ! command -v clang >/dev/null; then
+  echo "check-fuzz: clang not found (scripts/install-deps.sh installs it)" >&2
+  exit 1
+fi
+CC=clang cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-O1 -g" \
+  -DFEMTO_SANITIZE=ON -DFEMTO_BUILD_FUZZERS=ON -DFEMTO_BUILD_TESTS=OFF >/dev/null
+cmake --build build-fuzz -j"$(nproc 2>/dev/null || echo 2)" >/dev/null
+mkdir -p build-fuzz/crashes
+for target in build-fuzz/fuzz/fuzz_*; do
+  [ -x "$target" ] || continue
+  name=$(basename "$target" | sed 's/^fuzz_//')
+  work="build-fuzz/corpus-$name"
+  mkdir -p "$work"
+  echo "check-fuzz: $name for ${seconds}s"
+  # The seed corpus is read-only input; new inputs go to the scratch corpus in build-fuzz/.
+  "$target" "$work" "fuzz/corpus/$name" -max_total_time="$seconds" -max_len=65536 \
+    -rss_limit_mb=2048 -timeout=10 -artifact_prefix=build-fuzz/crashes/"$name"- \
+    -print_final_stats=1 2>"build-fuzz/$name.log" || {
+      tail -n 40 "build-fuzz/$name.log" >&2
+      echo "check-fuzz: $name FAILED; input in build-fuzz/crashes/" >&2
+      exit 1
+    }
+  grep -E "stat::number_of_executed_units|cov:" "build-fuzz/$name.log" | tail -n 2 || true
+done
+echo "check-fuzz: all fuzzers clean"
