@@ -1,0 +1,73 @@
+// Sparse symmetric block matrices (3x3 blocks, one block row per vertex) and a preconditioned
+// conjugate gradient for the implicit and static solvers (docs/implicit.md).
+#pragma once
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+// Block compressed sparse rows: the sparsity pattern of a tet mesh's stiffness matrix, built
+// once from the connectivity; the values are refilled every Newton iteration.
+typedef struct fmBsrMatrix
+{
+	int rows;	   // block rows = vertices
+	int blocks;	   // stored 3x3 blocks
+	int* rowStart; // rows + 1: blocks of row i are rowStart[i] .. rowStart[i + 1] - 1
+	int* columns;  // blocks: block column, sorted ascending within a row
+	int* diagonal; // rows: the slot of block (i, i)
+} fmBsrMatrix;
+
+// Build the pattern of every vertex pair that shares a tet (4 ints per tet). Returns false when
+// memory is short (the matrix is left freed).
+bool fmBsr_Build(fmBsrMatrix* matrix, int vertexCount, const int* tets, int tetCount);
+
+// Release the pattern. Safe on a zeroed matrix.
+void fmBsr_Free(fmBsrMatrix* matrix);
+
+// Slot of block (row, column), or -1 if the pattern does not hold it.
+int fmBsr_Find(const fmBsrMatrix* matrix, int row, int column);
+
+// y = A x with A's values (9 per block, row-major); rows summed in a fixed order.
+void fmBsr_Multiply(const fmBsrMatrix* matrix, const double* values, const double* x, double* y);
+
+// Preconditioner choice for fmPcg_Solve.
+typedef enum fmPreconditioner
+{
+	fm_precondJacobi,	   // inverse of the diagonal entries
+	fm_precondBlockJacobi, // inverse of the 3x3 diagonal blocks
+} fmPreconditioner;
+
+// y = A x for the CG (the operator must be symmetric positive semi-definite on the free DOFs).
+typedef void fmLinearOperator(void* context, const double* x, double* y);
+
+// Scratch for the CG: four vectors of n doubles, given by the caller (no allocation).
+typedef struct fmPcgWork
+{
+	double* r;
+	double* z;
+	double* p;
+	double* q;
+} fmPcgWork;
+
+// Result of a CG solve.
+typedef struct fmPcgResult
+{
+	int iterations;
+	double residual; // |b - A x| reached (2-norm over free DOFs)
+	bool converged;	 // residual <= the requested tolerance
+} fmPcgResult;
+
+// Solve A x = b over the DOFs with fixed[k] == 0 (x and every vector stay 0 on fixed DOFs),
+// starting from x = 0, until |b - A x| <= tolerance or maxIterations. @p blockInverse holds
+// 9 doubles per vertex (the preconditioner, already inverted and restricted to free DOFs).
+// Stops early at a direction of non-positive curvature (returns what it has). Deterministic:
+// every reduction is summed in index order.
+fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double* blockInverse,
+						const uint8_t* fixed, const double* b, double* x, double tolerance,
+						int maxIterations, const fmPcgWork* work);
+
+// Invert the 3x3 diagonal blocks @p diagBlocks (9 per vertex) into @p blockInverse for the
+// preconditioner @p kind, with fixed DOFs replaced by identity rows and columns. A block that
+// is not positive definite falls back to its (positive part of the) diagonal.
+void fmPcg_BuildPreconditioner(int vertexCount, const double* diagBlocks, const uint8_t* fixed,
+							   fmPreconditioner kind, double* blockInverse);

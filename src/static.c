@@ -1,0 +1,111 @@
+// Static equilibrium: minimise Psi(x) - M g . x over the free vertices (docs/implicit.md).
+// The same Newton minimiser as the implicit step without the inertia term; when Newton stalls
+// (line search fails, or the iteration budget runs out) the load is ramped: gravity is applied
+// in fractions that are halved until each one converges from the last equilibrium.
+#include "core.h"
+#include "forces.h"
+#include "newton.h"
+#include "world.h"
+
+#include <math.h>
+#include <string.h>
+
+// Smallest load fraction increment before giving up.
+#define FM_MIN_LOAD_STEP (1.0 / 256.0)
+
+// |M g| over the free vertices, or |f_elastic| at the start when there is no gravity (a solve
+// driven by displaced pins).
+static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
+{
+	const double g[3] = {gravity.x, gravity.y, gravity.z};
+	double weight = 0.0, elastic = 0.0;
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	fmAddElasticForces(b, b->x, c->forces);
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+	{
+		if (b->pinned[k / 3])
+			continue;
+		double m = b->mass[k / 3];
+		weight += m * m * g[k % 3] * g[k % 3];
+		elastic += c->forces[k] * c->forces[k];
+	}
+	return weight > 0.0 ? sqrt(weight) : sqrt(elastic);
+}
+
+fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations, double* residual,
+							fmDiagnostic* diag)
+{
+	fmDiagClear(diag);
+	fmBody* b = fmGetBody(bodyId);
+	fmWorld* world = fmGetWorldOfBody(bodyId);
+	if (b == NULL || world == NULL)
+		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
+	if (!(tolerance > 0.0 && tolerance < 1.0) || maxIterations < 1)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "static solve needs a tolerance in (0, 1) (e.g. 1e-8) and at least one "
+						   "iteration, got %g and %d",
+						   tolerance, maxIterations);
+	int pins = 0;
+	for (int i = 0; i < b->vertexCount; ++i)
+		pins += b->pinned[i] != 0;
+	fmVec3 gravity = world->def.gravity;
+	if (pins == 0 && fmLength(gravity) > 0.0)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+						   "the body has no pinned vertex, so under gravity it has no equilibrium "
+						   "(it would fall forever): pin something (fmBody_PinBox) first");
+	fmImplicitCache* c = fmImplicit_GetCache(b);
+	if (c == NULL)
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for the static solver");
+
+	const int n3 = 3 * b->vertexCount;
+	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
+	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
+	fmNewtonProblem pb;
+	memset(&pb, 0, sizeof pb);
+	pb.tolerance = tolerance;
+	pb.scale = fmStaticForceScale(b, c, gravity);
+	pb.maxNewton = maxIterations;
+	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
+	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
+	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+
+	// Load stepping: from the last converged fraction `done`, try `done + step`; halve the step
+	// on failure, double it again after a success.
+	double done = 0.0, step = 1.0;
+	int iterations = 0;
+	fmNewtonResult r = {0, 0, 0.0, true, true};
+	if (pb.scale <= 0.0) // nothing pulls: already at equilibrium
+		done = 1.0;
+	while (done < 1.0)
+	{
+		double load = fmin(1.0, done + step);
+		pb.gravity = fmScale(load, gravity);
+		memcpy(c->trial, b->x, sizeof(double) * (size_t)n3);
+		r = fmNewton_Solve(b, c, &pb);
+		iterations += r.iterations;
+		if (r.converged)
+		{
+			done = load;
+			step = fmin(1.0, 2.0 * step);
+			continue;
+		}
+		memcpy(b->x, c->trial, sizeof(double) * (size_t)n3); // back to the last equilibrium
+		step *= 0.5;
+		if (step < FM_MIN_LOAD_STEP || !r.finite)
+			break;
+	}
+	if (residual)
+		*residual = r.residual;
+	if (done < 1.0)
+	{
+		memcpy(b->x, c->xStart, sizeof(double) * (size_t)n3);
+		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
+						   "static solve did not converge: equilibrium reached up to %.3g of the "
+						   "load; the last attempt stopped at residual %.3g (tolerance %.3g) after "
+						   "%d Newton iterations in all; the body was left as it was. Try more "
+						   "iterations, a looser tolerance, more pins or a stiffer material",
+						   done, r.residual, tolerance, iterations);
+	}
+	memset(b->v, 0, sizeof(double) * (size_t)n3);
+	return fm_ok;
+}
