@@ -17,6 +17,7 @@
 typedef struct fmSectionHeader
 {
 	const char* kind;  // "point", "tet", "face": used in messages
+	const char* countName; // "point count", ...
 	int count;		   // records declared
 	int line;		   // line of the header
 	int nodes;		   // node references per record (tets: 4 or 10, faces: 3; points: 0)
@@ -46,7 +47,7 @@ static fmResult fmReadHeaderRecord(fmTextReader* r, int minFields, int maxFields
 static fmResult fmReadCount(fmTextReader* r, fmSectionHeader* h, int limit)
 {
 	int n;
-	fmResult result = fmReader_Int(r, 0, INT_MIN, INT_MAX, "record count", &n);
+	fmResult result = fmReader_Int(r, 0, INT_MIN, INT_MAX, h->countName, &n);
 	if (result != fm_ok)
 		return result;
 	if (n < 0)
@@ -97,12 +98,16 @@ static fmResult fmReadNodeHeader(fmTextReader* r, fmSectionHeader* h)
 {
 	memset(h, 0, sizeof *h);
 	h->kind = "point";
+	h->countName = "point count";
 	const char* layout = "<#points> <dimension (3)> <#attributes> <boundary markers (0 or 1)>";
 	fmResult result = fmReadHeaderRecord(r, 2, 4, layout);
 	h->line = r->line;
 	int dimension = 0;
 	if (result == fm_ok)
-		result = fmReader_Int(r, 1, 3, 3, "dimension", &dimension);
+		result = fmReader_Int(r, 1, INT_MIN, INT_MAX, "dimension", &dimension);
+	if (result == fm_ok && dimension != 3)
+		result = fmReader_Error(r, fm_errRange, 1,
+								"dimension is %d: expected 3 (femto reads 3D meshes only)", dimension);
 	if (result == fm_ok)
 		result = fmReadHeaderTail(r, h, 2, true);
 	if (result == fm_ok)
@@ -115,6 +120,7 @@ static fmResult fmReadTetHeader(fmTextReader* r, fmSectionHeader* h)
 {
 	memset(h, 0, sizeof *h);
 	h->kind = "tet";
+	h->countName = "tet count";
 	h->nodes = 4;
 	fmResult result = fmReadHeaderRecord(r, 1, 3, "<#tetrahedra> <nodes per tet (4 or 10)> <#attributes>");
 	h->line = r->line;
@@ -137,6 +143,7 @@ static fmResult fmReadFaceHeader(fmTextReader* r, fmSectionHeader* h)
 {
 	memset(h, 0, sizeof *h);
 	h->kind = "face";
+	h->countName = "face count";
 	h->nodes = 3;
 	fmResult result = fmReadHeaderRecord(r, 1, 2, "<#faces> <boundary marker (0 or 1)>");
 	h->line = r->line;

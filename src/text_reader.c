@@ -119,7 +119,11 @@ int fmReader_Column(const fmTextReader* r, int field)
 		return 0;
 	if (field < r->fieldCount && field < FM_READER_MAX_FIELDS)
 		return (int)(r->field[field] - r->lineStart) + 1;
-	return r->lineLength + 1;
+	// A missing field: just after the last one (before any trailing comment).
+	int last = r->fieldCount < FM_READER_MAX_FIELDS ? r->fieldCount - 1 : FM_READER_MAX_FIELDS - 1;
+	if (last < 0)
+		return 1;
+	return (int)(r->field[last] + r->fieldLength[last] - r->lineStart) + 1;
 }
 
 fmResult fmReader_Error(const fmTextReader* r, fmResult result, int field, const char* format, ...)
