@@ -1,6 +1,6 @@
 // Materials: parameters, validation, names, the cheap polynomial models (linear, StVK) and the
-// PSD projection of dP/dF. The SVD-based models live in material_stretch.c and the user
-// invariant energy in material_invariant.c. Formulas: docs/materials.md.
+// PSD projection of dP/dF. The SVD-based models live in material_stretch.c, Neo-Hookean,
+// Mooney-Rivlin and the user invariant energy in material_invariant.c. Formulas: docs/materials.md.
 #include "material.h"
 
 #include "core.h"
@@ -189,10 +189,10 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 	case fm_stvk:
 		return fmStvk_Evaluate(material, F, P, dPdF);
 	case fm_corotated:
-	case fm_neoHookean:
-	case fm_mooneyRivlin:
 	case fm_stretchEnergy:
 		return fmStretchModel_Evaluate(material, F, P, dPdF);
+	case fm_neoHookean:
+	case fm_mooneyRivlin:
 	case fm_invariantEnergy:
 		return fmInvariantModel_Evaluate(material, F, P, dPdF);
 	default:

@@ -1,4 +1,5 @@
-// The user's energy of the invariants v = (I1, I2, J), differentiated by the chain rule:
+// Energies of the invariants v = (I1, I2, J): compressible Neo-Hookean and Mooney-Rivlin (with
+// ln J continued below FM_LOG_J_CLAMP) and the user's invariant energy. By the chain rule:
 //   I1 = F:F                         dI1/dF = 2 F
 //   I2 = ((tr C)^2 - C:C) / 2        dI2/dF = 2 (I1 F - F C),  C = F^T F
 //   J  = det F                       dJ/dF  = cof F
@@ -36,15 +37,69 @@ static void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3
 				}
 }
 
+// ln J for J >= FM_LOG_J_CLAMP, continued below by its second-order Taylor polynomial at the
+// clamp: C2, finite for J <= 0, increasing and concave there, so -mu lnJ + lambda/2 lnJ^2 keeps
+// growing as a tet collapses and inverts and its gradient (along cof F) pushes it back.
+// out = {l, l', l''}.
+static void fmClampedLogJ(double J, double out[3])
+{
+	const double c = FM_LOG_J_CLAMP;
+	if (J >= c)
+	{
+		out[0] = log(J);
+		out[1] = 1.0 / J;
+		out[2] = -1.0 / (J * J);
+		return;
+	}
+	double d = J - c;
+	out[0] = log(c) + d / c - d * d / (2.0 * c * c);
+	out[1] = 1.0 / c - d / (c * c);
+	out[2] = -1.0 / (c * c);
+}
+
+// Compressible Mooney-Rivlin (docs/materials.md), params = {lambda, mu, c01}:
+// psi = C10 (I1 - 3) + C01 (I2 - 3) - (mu + 2 C01) l(J) + (lambda - 4 C01)/2 l(J)^2,
+// C10 = mu/2 - C01. Linear elasticity with (lambda, mu) at small strain; C01 = 0 is the
+// classic compressible Neo-Hookean mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2.
+static void fmMooneyRivlinEnergy(const double v[3], const void* params, double* psi, double dpsi[3],
+								 double* d2psi)
+{
+	const double* p = (const double*)params;
+	double lambda = p[0], mu = p[1], c01 = p[2];
+	double c10 = 0.5 * mu - c01, a = mu + 2.0 * c01, b = lambda - 4.0 * c01;
+	double l[3];
+	fmClampedLogJ(v[2], l);
+	*psi = c10 * (v[0] - 3.0) + c01 * (v[1] - 3.0) - a * l[0] + 0.5 * b * l[0] * l[0];
+	dpsi[0] = c10;
+	dpsi[1] = c01;
+	dpsi[2] = (b * l[0] - a) * l[1];
+	if (d2psi)
+	{
+		memset(d2psi, 0, 9 * sizeof(double));
+		d2psi[8] = b * l[1] * l[1] + (b * l[0] - a) * l[2];
+	}
+}
+
 double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)
 {
+	fmInvariantEnergyFcn* energy = material->invariantEnergy;
+	const void* params = material->userParams;
+	double builtin[3] = {material->lambda, material->mu, 0.0};
+	if (material->model != fm_invariantEnergy)
+	{
+		if (material->model == fm_mooneyRivlin)
+			builtin[2] = material->c01;
+		energy = fmMooneyRivlinEnergy;
+		params = builtin;
+	}
+
 	fmMat3 C = fmMatTMul(F, F);
 	double I1 = fmTrace(&C);
 	double v[3] = {I1, 0.5 * (I1 * I1 - fmDDot(&C, &C)), fmDet(F)};
 	double psi = 0.0, g[3] = {0, 0, 0}, H[9];
 	if (dPdF)
 		memset(H, 0, sizeof H);
-	material->invariantEnergy(v, material->userParams, &psi, g, dPdF ? H : NULL);
+	energy(v, params, &psi, g, dPdF ? H : NULL);
 	if (!P && !dPdF)
 		return psi;
 

@@ -4,16 +4,17 @@
 
 #include <femto/types.h>
 
-// Below this principal stretch the logarithm in the Neo-Hookean and Mooney-Rivlin energies is
-// continued by its second-order Taylor polynomial (invertible FEM, Irving et al. 2004), so the
-// energy stays finite and restoring for J <= 0.
-#define FM_STRETCH_CLAMP 0.2
+// Below this volume ratio J = det F the ln J of the Neo-Hookean and Mooney-Rivlin energies is
+// continued by its second-order Taylor polynomial (the invertible-FEM idea of Irving et al.
+// 2004 applied to J), so the energy stays finite, C2 and restoring for J <= 0.
+#define FM_LOG_J_CLAMP 0.2
 
-// Energies of the principal stretches (SVD, docs/materials.md): fixed corotated,
-// clamped Neo-Hookean, clamped Mooney-Rivlin, and the user's fmStretchEnergyFcn.
+// Energies of the principal stretches (SVD, docs/materials.md): fixed corotated and the user's
+// fmStretchEnergyFcn.
 double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P,
 							   double* dPdF);
 
-// The user's fmInvariantEnergyFcn of (I1, I2, J) by the chain rule.
+// Energies of the invariants (I1, I2, J) by the chain rule: Neo-Hookean and Mooney-Rivlin with the
+// clamped ln J, and the user's fmInvariantEnergyFcn.
 double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P,
 								 double* dPdF);

@@ -1,6 +1,5 @@
 // Isotropic energies written in the signed principal stretches s = (s0, s1, s2) of F = U diag(s)
-// V^T (fmSvd3; s2 < 0 for an inverted tet): fixed corotated, clamped Neo-Hookean, clamped
-// Mooney-Rivlin and the user's stretch energy. One assembly turns psi(s), its gradient and
+// V^T (fmSvd3; s2 < 0 for an inverted tet): fixed corotated and the user's stretch energy. One assembly turns psi(s), its gradient and
 // Hessian into P and dP/dF (Irving, Teran, Fedkiw 2004; Teran, Sifakis, Irving, Fedkiw 2005):
 //   P = U diag(dpsi) V^T,
 //   dP/dF = sum_ab d2psi_ab (u_a v_a^T)(u_b v_b^T)^T                      (stretch block)
@@ -16,25 +15,6 @@
 // Relative gap below which two stretches count as equal in q_ij (the difference quotient
 // becomes its limit). sqrt(machine epsilon) balances cancellation against truncation.
 #define FM_STRETCH_GAP 1e-8
-
-// ln(s) for s >= FM_STRETCH_CLAMP, continued below by its second-order Taylor polynomial at the
-// clamp: C2, finite for s <= 0, concave and increasing there (so energies built on it keep
-// pushing inverted elements back). out = {L, L', L''}.
-static void fmClampedLog(double s, double out[3])
-{
-	const double c = FM_STRETCH_CLAMP;
-	if (s >= c)
-	{
-		out[0] = log(s);
-		out[1] = 1.0 / s;
-		out[2] = -1.0 / (s * s);
-		return;
-	}
-	double d = s - c;
-	out[0] = log(c) + d / c - d * d / (2.0 * c * c);
-	out[1] = 1.0 / c - d / (c * c);
-	out[2] = -1.0 / (c * c);
-}
 
 // Fixed corotated (Stomakhin et al. 2012): psi = mu sum (s_i - 1)^2 + lambda/2 (J - 1)^2, i.e.
 // mu |F - R|^2 + lambda/2 (det F - 1)^2.
@@ -62,44 +42,6 @@ static double fmCorotatedStretch(const fmMaterial* m, const double s[3], double 
 	return psi;
 }
 
-// Compressible Mooney-Rivlin in I1, I2 and the clamped log J (docs/materials.md):
-// psi = C10 (I1 - 3) + C01 (I2 - 3) - (mu + 2 C01) lnJ + (lambda - 4 C01)/2 lnJ^2, C10 = mu/2 - C01,
-// which is linear elasticity with (lambda, mu) at small strain. C01 = 0 is Neo-Hookean:
-// psi = mu/2 (I1 - 3) - mu lnJ + lambda/2 lnJ^2. lnJ = sum_i L(s_i) with L the clamped log.
-static double fmMooneyRivlinStretch(double lambda, double mu, double c01, const double s[3],
-									double g[3], double* H)
-{
-	double c10 = 0.5 * mu - c01;
-	double a = mu + 2.0 * c01, b = lambda - 4.0 * c01;
-	double L[3][3], lnJ = 0.0, sq[3], I1 = 0.0;
-	for (int i = 0; i < 3; ++i)
-	{
-		fmClampedLog(s[i], L[i]);
-		lnJ += L[i][0];
-		sq[i] = s[i] * s[i];
-		I1 += sq[i];
-	}
-	double I2 = sq[0] * sq[1] + sq[0] * sq[2] + sq[1] * sq[2];
-	double psi = c10 * (I1 - 3.0) + c01 * (I2 - 3.0) - a * lnJ + 0.5 * b * lnJ * lnJ;
-	for (int i = 0; i < 3; ++i)
-	{
-		double others = I1 - sq[i]; // s_j^2 + s_k^2
-		g[i] = 2.0 * c10 * s[i] + 2.0 * c01 * s[i] * others + (b * lnJ - a) * L[i][1];
-	}
-	if (H)
-		for (int i = 0; i < 3; ++i)
-			for (int j = 0; j < 3; ++j)
-			{
-				double v = b * L[i][1] * L[j][1];
-				if (i == j)
-					v += 2.0 * c10 + 2.0 * c01 * (I1 - sq[i]) + (b * lnJ - a) * L[i][2];
-				else
-					v += 4.0 * c01 * s[i] * s[j];
-				H[3 * i + j] = v;
-			}
-	return psi;
-}
-
 // psi(s), gradient and (when H is not NULL) Hessian of the material's stretch energy.
 static double fmStretchEnergy(const fmMaterial* m, const double s[3], double g[3], double* H)
 {
@@ -107,10 +49,6 @@ static double fmStretchEnergy(const fmMaterial* m, const double s[3], double g[3
 	{
 	case fm_corotated:
 		return fmCorotatedStretch(m, s, g, H);
-	case fm_neoHookean:
-		return fmMooneyRivlinStretch(m->lambda, m->mu, 0.0, s, g, H);
-	case fm_mooneyRivlin:
-		return fmMooneyRivlinStretch(m->lambda, m->mu, m->c01, s, g, H);
 	default:
 	{
 		double psi = 0.0;
