@@ -193,6 +193,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
 	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
+	if (r == fm_ok)
+		b->explicitLimit = fmBodyExplicitStepLimit(b);
 	fmFreeTetMesh(&mesh);
 	return r;
 }
@@ -381,9 +383,15 @@ fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagn
 	if (b == NULL)
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
 	fmResult r = fmMaterial_Validate(material, diag);
-	if (r == fm_ok)
-		b->material = *material;
-	return r;
+	if (r != fm_ok)
+		return r;
+	// Spring stiffness is proportional to Young's modulus (force_spring.c).
+	double ratio = fmYoungsModulus(material) / fmYoungsModulus(&b->material);
+	for (int e = 0; e < b->edgeCount; ++e)
+		b->springK[e] *= ratio;
+	b->material = *material;
+	b->explicitLimit = fmBodyExplicitStepLimit(b);
+	return fm_ok;
 }
 
 double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces)

@@ -56,6 +56,7 @@ typedef struct fmBody
 	double rayleighStiffness;
 	double springDamping;
 	double totalMass;
+	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
 	void* implicitCache; // solver buffers owned by implicit.c (fmImplicitCacheFree)
 } fmBody;

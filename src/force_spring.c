@@ -30,8 +30,7 @@ static int fmCompareEdges(const void* p, const void* q)
 	return (e->tet > f->tet) - (e->tet < f->tet);
 }
 
-// Young's modulus of the body's material from its Lame constants.
-static double fmYoungsModulus(const fmMaterial* m)
+double fmYoungsModulus(const fmMaterial* m)
 {
 	return m->mu * (3.0 * m->lambda + 2.0 * m->mu) / (m->lambda + m->mu);
 }

@@ -31,6 +31,8 @@ double fmAddSpringForces(const fmBody* body, const double* x, double* f);
 void fmAddSpringDamping(const fmBody* body, const double* x, const double* v, double* f);
 // Mass-spring edge Hessian (6x6, PSD-projected if @p project) of edge e.
 void fmSpringHessian(const fmBody* body, const double* x, int e, double* K, int project);
+// Young's modulus of a material from its Lame constants: mu (3 lambda + 2 mu) / (lambda + mu).
+double fmYoungsModulus(const fmMaterial* m);
 // Rest-face normals for the FVM model (force_fvm.c); 0 on success.
 int fmBuildFvmNormals(fmBody* body);
 // Build the edge list and spring stiffness from the tets and material (called by fmCreateBody).

@@ -12,7 +12,11 @@ typedef struct fmWorld
 	fmBody* bodies;	  // bodyCapacity slots; a slot is live when its x != NULL
 	fmStepStats stats;
 	fmDiagnostic lastError;
+	bool warnedStep; // the explicit step-size warning was given
 } fmWorld;
+
+// Estimated largest stable explicit step of a body at rest (s); INFINITY if unconstrained.
+double fmBodyExplicitStepLimit(const fmBody* b);
 
 // Resolve ids; NULL if stale.
 fmWorld* fmGetWorld(fmWorldId id);

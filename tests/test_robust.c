@@ -1,0 +1,222 @@
+// Robustness of the simulation API: parameter validation with useful messages, numerical
+// failure detected and rolled back to the last good state, determinism.
+#include "support.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static void checkBodyDefRejected(int* failures_, fmBodyDef def, const char* expected)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(1, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
+	def.mesh = &mesh;
+	fmDiagnostic diag;
+	CHECK(fmBodyDef_Validate(&def, &diag) != fm_ok);
+	CHECK_STR_CONTAINS(diag.message, expected);
+	fmWorldDef wdef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyId body;
+	CHECK(fmCreateBody(world, &def, &body, &diag) != fm_ok);
+	CHECK(body.index1 == 0);
+	fmDestroyWorld(world);
+	fmFreeTetMesh(&mesh);
+}
+
+TEST(bad_body_parameters_are_rejected_with_what_would_work)
+{
+	fmBodyDef def = fmDefaultBodyDef();
+	def.massMode = fm_massFromDensity;
+	def.density = 0.0;
+	checkBodyDefRejected(failures_, def, "density");
+	def = fmDefaultBodyDef();
+	def.particleMass = -1.0;
+	checkBodyDefRejected(failures_, def, "mass");
+	def = fmDefaultBodyDef();
+	def.damping = 1.5;
+	checkBodyDefRejected(failures_, def, "damping");
+	def = fmDefaultBodyDef();
+	def.smoothing = NAN;
+	checkBodyDefRejected(failures_, def, "smoothing");
+	def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_stvk, -5.0, 0.3);
+	checkBodyDefRejected(failures_, def, "");
+	def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.5);
+	checkBodyDefRejected(failures_, def, "");
+	def = fmDefaultBodyDef();
+	def.mesh = NULL;
+	fmDiagnostic diag;
+	CHECK(fmBodyDef_Validate(&def, &diag) != fm_ok);
+}
+
+TEST(bad_world_parameters_are_rejected)
+{
+	fmDiagnostic diag;
+	fmWorldDef def = fmDefaultWorldDef();
+	def.gravity.y = INFINITY;
+	CHECK_INT(fmWorldDef_Validate(&def, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "gravity");
+	CHECK(fmCreateWorld(&def).index1 == 0);
+	def = fmDefaultWorldDef();
+	def.floor.restitution = 2.0;
+	CHECK_INT(fmWorldDef_Validate(&def, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "restitution");
+	def = fmDefaultWorldDef();
+	def.tolerance = 0.0;
+	CHECK_INT(fmWorldDef_Validate(&def, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "tolerance");
+	fmWorldDef raw;
+	memset(&raw, 0, sizeof raw);
+	CHECK_INT(fmWorldDef_Validate(&raw, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "fmDefaultWorldDef");
+}
+
+TEST(bad_step_sizes_are_rejected_and_huge_ones_warned)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, NULL, NULL);
+	CHECK(fmBody_IsValid(body));
+	CHECK_INT(fmWorld_Step(world, 0.0, 10), fm_errParameter);
+	CHECK_INT(fmWorld_Step(world, -0.03, 10), fm_errParameter);
+	CHECK_INT(fmWorld_Step(world, NAN, 10), fm_errParameter);
+	CHECK_INT(fmWorld_Step(world, 0.03, 0), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "substeps");
+	// The seeds' step is accepted silently.
+	CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+	CHECK_INT(fmWorld_GetLastError(world)->warningCount, 0);
+	double limit = fmWorld_EstimateExplicitStep(world);
+	CHECK(limit > 0.0 && limit < 0.003);
+	// Ten times the limit: warned with the limit and a substep count that would work.
+	fmWorld_Step(world, 10 * limit, 1);
+	const fmDiagnostic* d = fmWorld_GetLastError(world);
+	CHECK_INT(d->warningCount, 1);
+	CHECK_STR_CONTAINS(d->warning, "stability limit");
+	CHECK_STR_CONTAINS(d->warning, "substeps");
+	fmDestroyWorld(world);
+}
+
+static double* snapshot(fmBodyId body)
+{
+	size_t n3 = 3 * (size_t)fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * n3);
+	memcpy(x, fmBody_GetPositions(body), sizeof(double) * n3);
+	return x;
+}
+
+// A vertex set to NaN between frames: the step fails, names the vertex, and the body is back
+// at the last state that passed the checks; the simulation goes on from there.
+TEST(nan_injection_is_reported_and_rolled_back)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, NULL, NULL);
+	for (int frame = 0; frame < 10; ++frame)
+		CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+	double* good = snapshot(body);
+	double* bad = snapshot(body);
+	bad[3 * 17 + 1] = NAN;
+	fmBody_SetPositions(body, bad);
+	CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_errNumerical);
+	const fmDiagnostic* d = fmWorld_GetLastError(world);
+	CHECK_INT(d->result, fm_errNumerical);
+	CHECK_STR_CONTAINS(d->message, "body 0");
+	CHECK_STR_CONTAINS(d->message, "vertex");
+	CHECK_STR_CONTAINS(d->message, "restored");
+	CHECK(memcmp(good, fmBody_GetPositions(body), sizeof(double) * 3 * 400) == 0);
+	CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+	free(good);
+	free(bad);
+	fmDestroyWorld(world);
+}
+
+// A step far beyond the stability limit explodes: the runaway is caught within the frame, the
+// error names the inverted tets, and the state is the one before the frame.
+TEST(explosion_is_reported_with_bad_tets_and_rolled_back)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, NULL, NULL);
+	for (int frame = 0; frame < 5; ++frame)
+		CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+	double* good = snapshot(body);
+	fmResult r = fm_ok;
+	for (int frame = 0; frame < 20 && r == fm_ok; ++frame)
+	{
+		free(good);
+		good = snapshot(body);
+		r = fmWorld_Step(world, 0.3, 10); // dt = 0.03: ten times the seeds' step
+	}
+	CHECK_INT(r, fm_errNumerical);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "tets");
+	CHECK(memcmp(good, fmBody_GetPositions(body), sizeof(double) * 3 * 400) == 0);
+	fmBodyStats s = fmBody_GetStats(body);
+	CHECK(isfinite(s.kineticEnergy) && isfinite(s.elasticEnergy));
+	free(good);
+	fmDestroyWorld(world);
+}
+
+// A tet crushed flat (its apex on the opposite face) with Neo-Hookean: no NaN, it recovers.
+TEST(crushed_tet_recovers_without_nan)
+{
+	fmBodyDef bdef = fmDefaultBodyDef();
+	bdef.material = fmMakeMaterialLame(fm_neoHookean, 20000, 5000);
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, NULL, &bdef);
+	const int* tets = fmBody_GetTets(body);
+	double* x = snapshot(body);
+	// Move node 0 of tet 100 onto the centroid of its opposite face.
+	int a = tets[400], b = tets[401], c = tets[402], d = tets[403];
+	for (int k = 0; k < 3; ++k)
+		x[3 * a + k] = (x[3 * b + k] + x[3 * c + k] + x[3 * d + k]) / 3.0;
+	fmBody_SetPositions(body, x);
+	CHECK(fmBody_GetStats(body).invertedTets >= 1);
+	for (int frame = 0; frame < 60; ++frame)
+		CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+	fmBodyStats s = fmBody_GetStats(body);
+	CHECK_INT(s.invertedTets, 0);
+	CHECK(isfinite(s.elasticEnergy));
+	free(x);
+	fmDestroyWorld(world);
+}
+
+static double* runHouse(fmIntegrator integrator, int frames)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = integrator;
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, &wdef, NULL);
+	for (int frame = 0; frame < frames; ++frame)
+	{
+		if (frame == frames / 2)
+			fmBody_ApplyImpulse(body, fmMakeVec3(0.3, 3.0, 0.0));
+		if (integrator == fm_explicit)
+			fmWorld_Step(world, 0.03, 10);
+		else
+			fmWorld_Step(world, 1.0 / 60.0, 1);
+	}
+	double* x = snapshot(body);
+	fmDestroyWorld(world);
+	return x;
+}
+
+// The same scene gives bit-identical results run after run.
+TEST(runs_are_bit_identical)
+{
+	for (int k = 0; k < 2; ++k)
+	{
+		fmIntegrator integrator = k == 0 ? fm_explicit : fm_implicit;
+		double* first = runHouse(integrator, 40);
+		double* second = runHouse(integrator, 40);
+		CHECK(memcmp(first, second, sizeof(double) * 3 * 400) == 0);
+		free(first);
+		free(second);
+	}
+}
+
+TEST(pin_box_reports_what_it_caught)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), fmMakeMaterial(fm_stvk, 1e4, 0.3), fm_fem);
+	CHECK_INT(fmBody_PinBox(body, fmMakeVec3(5, 5, 5), fmMakeVec3(6, 6, 6)), 0);
+	CHECK_INT(fmBody_PinBox(body, fmMakeVec3(-0.1, -0.1, -0.1), fmMakeVec3(0.1, 1.1, 1.1)), 9);
+	fmDestroyWorld(world);
+}
