@@ -1,7 +1,9 @@
 # Turn text files into a C source of byte arrays so the femto binary carries its own demo mesh
 # and runs from any working directory.
 #
-#   cmake -DOUTPUT=out.c -DNAMES="a;b" -DFILES="a.node;b.ele" -P embed_file.cmake
+#   cmake -DOUTPUT=out.c -DNAMES="a|b" -DFILES="a.node|b.ele" -P embed_file.cmake
+#
+# ('|' separates the entries: a ';' does not survive a custom command's argument quoting.)
 #
 # For each NAME/FILE pair the source defines
 #   const unsigned char NAME[];   (the bytes, not NUL-terminated)
@@ -11,6 +13,8 @@ cmake_minimum_required(VERSION 3.22)
 if(NOT OUTPUT OR NOT NAMES OR NOT FILES)
   message(FATAL_ERROR "embed_file.cmake: OUTPUT, NAMES and FILES are required")
 endif()
+string(REPLACE "|" ";" NAMES "${NAMES}")
+string(REPLACE "|" ";" FILES "${FILES}")
 list(LENGTH NAMES name_count)
 list(LENGTH FILES file_count)
 if(NOT name_count EQUAL file_count)

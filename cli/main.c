@@ -1,17 +1,60 @@
-// femto: the command-line tool. Dispatches to the commands.
-#include <femto/femto.h>
+// femto: the command-line tool. Dispatches to the commands (docs/cli.md).
+#include "cli.h"
+#include "commands.h"
 
 #include <stdio.h>
 #include <string.h>
 
+static const char* const cliMainHelp =
+	"usage: femto <command> [options]\n"
+	"\n"
+	"Real-time finite-element soft bodies.\n"
+	"\n"
+	"commands:\n"
+	"  run [SCENE.json]     simulate a scene (default: the built-in bouncy house)\n"
+	"  info MESH.node       mesh statistics: counts, volumes, angles, quality, bad tets\n"
+	"  static SCENE.json    static equilibrium under gravity and pins\n"
+	"  bench                explicit and implicit step timings\n"
+	"\n"
+	"  femto <command> --help   options of a command\n"
+	"  femto --version          version of the tool and library\n"
+	"\n"
+	"Exit status: 0 ok, 1 bad input, I/O error or numerical failure, 2 usage error.\n"
+	"Scene files: docs/scene-format.md. The tool: docs/cli.md.\n";
+
 int main(int argc, char** argv)
 {
-	if (argc >= 2 && strcmp(argv[1], "--version") == 0)
+	cliInstallLogHook();
+	if (argc < 2)
+	{
+		fputs(cliMainHelp, stderr);
+		return cli_exitUsage;
+	}
+	const char* command = argv[1];
+	if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0 ||
+		strcmp(command, "help") == 0)
+	{
+		fputs(cliMainHelp, stdout);
+		return cli_exitOk;
+	}
+	if (strcmp(command, "--version") == 0)
 	{
 		fmVersion v = fmGetVersion();
-		printf("femto %d.%d.%d\n", v.major, v.minor, v.patch);
-		return 0;
+		printf("femto %d.%d.%d (library %d.%d.%d)\n", FM_VERSION_MAJOR, FM_VERSION_MINOR,
+			   FM_VERSION_PATCH, v.major, v.minor, v.patch);
+		return cli_exitOk;
 	}
-	fprintf(stderr, "usage: femto <run|info|static|bench> [options]\n");
-	return 2;
+	// Each command sees its own name as argv[0].
+	if (strcmp(command, "run") == 0)
+		return cliRun(argc - 1, argv + 1);
+	if (strcmp(command, "info") == 0)
+		return cliInfo(argc - 1, argv + 1);
+	if (strcmp(command, "static") == 0)
+		return cliStatic(argc - 1, argv + 1);
+	if (strcmp(command, "bench") == 0)
+		return cliBench(argc - 1, argv + 1);
+	if (command[0] == '-')
+		return cliUsageError(NULL, "unknown option '%s'", command);
+	return cliUsageError(NULL, "unknown command '%s' (commands: run, info, static, bench)",
+						 command);
 }

@@ -1,0 +1,351 @@
+// `femto run`: step a scene frame by frame, show progress, write a VTK series, print a summary.
+#include "commands.h"
+#include "output.h"
+#include "scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char* const cliRunHelp =
+	"usage: femto run [SCENE.json] [options]\n"
+	"\n"
+	"Simulate a scene (docs/scene-format.md); without SCENE, the built-in bouncy house.\n"
+	"\n"
+	"options:\n"
+	"  --seconds S        simulate S seconds (rounded up to whole frames)\n"
+	"  --frames N         simulate N frames (a frame is dt * substeps of the scene)\n"
+	"  --out DIR          write DIR/NAME.pvd and DIR/NAME_NNNNNN.vtu (created if missing)\n"
+	"  --every N          with --out: write every Nth frame (default 1)\n"
+	"  --obj              with --out: also write DIR/NAME_NNNNNN.obj surfaces\n"
+	"  --export-node FILE write the final positions as a TetGen .node (FILE_B.node per body\n"
+	"                     B when the scene has several bodies)\n"
+	"  --impulse-at T     at the first frame boundary at or after T seconds, add an upward\n"
+	"                     velocity to every free vertex (the seeds' space-bar jump); repeatable\n"
+	"  --impulse-speed V  the jump's velocity in m/s (default 0.2, the seeds' value)\n"
+	"  --quiet            no progress line\n"
+	"  --help             this text\n"
+	"\n"
+	"Exit status: 0 ok, 1 bad scene/file, I/O error or numerical failure, 2 usage error.\n";
+
+#define CLI_MAX_IMPULSES 64
+
+typedef struct cliRunOptions
+{
+	const char* scenePath;
+	double seconds;
+	int frames;
+	const char* outDir;
+	int every;
+	bool obj;
+	const char* exportNode;
+	double impulseTimes[CLI_MAX_IMPULSES];
+	int impulseCount;
+	double impulseSpeed;
+	bool quiet;
+} cliRunOptions;
+
+// Parse the options; returns -1 to go on, or an exit code.
+static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
+{
+	memset(o, 0, sizeof *o);
+	o->every = 1;
+	o->impulseSpeed = 0.2;
+	bool hasSeconds = false, hasFrames = false;
+	for (int i = 1; i < argc; ++i)
+	{
+		const char* arg = argv[i];
+		const char* value = NULL;
+		if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)
+		{
+			fputs(cliRunHelp, stdout);
+			return cli_exitOk;
+		}
+		else if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0)
+			o->quiet = true;
+		else if (strcmp(arg, "--obj") == 0)
+			o->obj = true;
+		else if (strcmp(arg, "--seconds") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseDouble(value, &o->seconds) || !(o->seconds > 0.0) || o->seconds > 1e6)
+				return cliUsageError("run", "--seconds: expected a number in (0, 1e6], got '%s'",
+									 value);
+			hasSeconds = true;
+		}
+		else if (strcmp(arg, "--frames") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseInt(value, &o->frames) || o->frames < 0)
+				return cliUsageError("run", "--frames: expected an integer >= 0, got '%s'", value);
+			hasFrames = true;
+		}
+		else if (strcmp(arg, "--every") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseInt(value, &o->every) || o->every < 1)
+				return cliUsageError("run", "--every: expected an integer >= 1, got '%s'", value);
+		}
+		else if (strcmp(arg, "--out") == 0)
+		{
+			if ((o->outDir = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+		}
+		else if (strcmp(arg, "--export-node") == 0)
+		{
+			if ((o->exportNode = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+		}
+		else if (strcmp(arg, "--impulse-at") == 0)
+		{
+			double t = 0;
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseDouble(value, &t) || t < 0.0)
+				return cliUsageError("run", "--impulse-at: expected a time >= 0 s, got '%s'",
+									 value);
+			if (o->impulseCount == CLI_MAX_IMPULSES)
+				return cliUsageError("run", "--impulse-at: at most %d impulses", CLI_MAX_IMPULSES);
+			o->impulseTimes[o->impulseCount++] = t;
+		}
+		else if (strcmp(arg, "--impulse-speed") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseDouble(value, &o->impulseSpeed))
+				return cliUsageError("run", "--impulse-speed: expected a number (m/s), got '%s'",
+									 value);
+		}
+		else if (arg[0] == '-' && arg[1] != 0)
+			return cliUsageError("run", "unknown option '%s'", arg);
+		else if (o->scenePath == NULL)
+			o->scenePath = arg;
+		else
+			return cliUsageError("run", "more than one scene ('%s' and '%s')", o->scenePath, arg);
+	}
+	if (hasSeconds && hasFrames)
+		return cliUsageError("run", "give --seconds or --frames, not both");
+	if (o->obj && o->outDir == NULL)
+		return cliUsageError("run", "--obj needs --out DIR");
+	if (!hasSeconds && !hasFrames)
+		o->seconds = -1.0; // the scene decides
+	return -1;
+}
+
+// Frames to run: the command line, then the scene, then 5 s.
+static int cliFrameCount(const cliRunOptions* o, const cliScene* scene)
+{
+	double frameTime = cliScene_FrameTime(scene);
+	double seconds = o->seconds;
+	if (seconds < 0.0)
+	{
+		if (o->frames > 0 || scene->frames > 0)
+			return o->frames > 0 ? o->frames : scene->frames;
+		seconds = scene->seconds > 0.0 ? scene->seconds : 5.0;
+	}
+	else if (seconds == 0.0)
+		return o->frames;
+	// A tiny allowance so 10 s of 0.03 s frames is 334 frames, not 335 from rounding noise.
+	double frames = ceil(seconds / frameTime - 1e-9);
+	return frames > 1e8 ? 100000000 : (int)frames;
+}
+
+// The series name: the scene file's stem, "house" for the built-in.
+static void cliSeriesName(const char* scenePath, char* name, size_t size)
+{
+	if (scenePath == NULL)
+	{
+		snprintf(name, size, "house");
+		return;
+	}
+	const char* base = strrchr(scenePath, '/');
+	base = base ? base + 1 : scenePath;
+	size_t length = strcspn(base, ".");
+	if (length == 0)
+		length = strlen(base);
+	snprintf(name, size, "%.*s", (int)length, base);
+}
+
+typedef struct cliTotals
+{
+	double kinetic;
+	double elastic;
+	double lowestY;
+	int inverted;
+	int tets;
+} cliTotals;
+
+static cliTotals cliSumStats(const cliSimulation* sim)
+{
+	cliTotals totals = {0.0, 0.0, INFINITY, 0, 0};
+	for (int b = 0; b < sim->bodyCount; ++b)
+	{
+		fmBodyStats stats = fmBody_GetStats(sim->bodies[b]);
+		totals.kinetic += stats.kineticEnergy;
+		totals.elastic += stats.elasticEnergy;
+		totals.lowestY = fmin(totals.lowestY, stats.lowestY);
+		totals.inverted += stats.invertedTets;
+		totals.tets += fmBody_GetTetCount(sim->bodies[b]);
+	}
+	return totals;
+}
+
+static bool cliExportNodes(const char* path, const cliSimulation* sim)
+{
+	for (int b = 0; b < sim->bodyCount; ++b)
+	{
+		char bodyPath[CLI_MAX_PATH];
+		if (sim->bodyCount == 1)
+			snprintf(bodyPath, sizeof bodyPath, "%s", path);
+		else
+		{
+			// "out.node" -> "out_1.node" for body 1.
+			size_t length = strlen(path);
+			size_t stem = length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
+			snprintf(bodyPath, sizeof bodyPath, "%.*s_%d.node", (int)stem, path, b);
+		}
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
+		if (fmWriteTetGenNode(bodyPath, &sim->meshes[b], fmBody_GetPositions(sim->bodies[b]),
+							  &diag) != fm_ok)
+		{
+			cliPrintDiagnostic(NULL, &diag);
+			return false;
+		}
+	}
+	return true;
+}
+
+static void cliPrintProgress(int frame, int frames, double time, const cliSimulation* sim)
+{
+	cliTotals totals = cliSumStats(sim);
+	fprintf(stderr, "\rframe %d/%d  t = %.2f s  lowest y = %.3f m  KE = %.4g J  inverted = %d   ",
+			frame, frames, time, totals.lowestY, totals.kinetic, totals.inverted);
+	fflush(stderr);
+}
+
+// Step @p frames frames with impulses, progress and output. Returns an exit code.
+static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
+						cliSeries* series, int frames, double* stepSeconds)
+{
+	double frameTime = cliScene_FrameTime(scene);
+	bool progress = !o->quiet && cliStderrIsTty();
+	bool applied[CLI_MAX_IMPULSES] = {false};
+	double lastProgress = -1.0;
+	*stepSeconds = 0.0;
+	for (int frame = 0; frame < frames; ++frame)
+	{
+		double time = frame * frameTime;
+		for (int k = 0; k < o->impulseCount; ++k)
+		{
+			// The first frame boundary at or after the requested time (tolerating rounding).
+			if (applied[k] || o->impulseTimes[k] > time + 1e-9 * frameTime)
+				continue;
+			applied[k] = true;
+			for (int b = 0; b < sim->bodyCount; ++b)
+				fmBody_ApplyImpulse(sim->bodies[b], fmMakeVec3(0.0, o->impulseSpeed, 0.0));
+		}
+		double start = cliNow();
+		fmResult result = fmWorld_Step(sim->world, frameTime, scene->substeps);
+		*stepSeconds += cliNow() - start;
+		if (result != fm_ok)
+		{
+			if (progress)
+				fputc('\n', stderr);
+			const fmDiagnostic* diag = fmWorld_GetLastError(sim->world);
+			char text[1024];
+			fmDiagnostic_Format(diag, text, sizeof text);
+			cliError("%s: step failed in frame %d (t = %.4g s): %s: %s", scene->name, frame + 1,
+					 time, fmResultName(result), text);
+			return cli_exitInput;
+		}
+		if (series != NULL && (frame + 1) % o->every == 0 &&
+			!cliSeries_WriteFrame(series, sim, frame + 1, time + frameTime))
+			return cli_exitInput;
+		double now = cliNow();
+		if (progress && (now - lastProgress > 0.2 || frame + 1 == frames))
+		{
+			lastProgress = now;
+			cliPrintProgress(frame + 1, frames, time + frameTime, sim);
+		}
+	}
+	if (progress && frames > 0)
+		fputc('\n', stderr);
+	for (int k = 0; k < o->impulseCount; ++k)
+		if (!applied[k])
+			cliWarn("--impulse-at %g: after the end of the run (%g s); not applied",
+					o->impulseTimes[k], frames * frameTime);
+	return cli_exitOk;
+}
+
+static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int frames,
+							double wallSeconds, double stepSeconds, const cliSeries* series)
+{
+	cliTotals totals = cliSumStats(sim);
+	double steps = (double)frames * scene->substeps;
+	double simulated = frames * cliScene_FrameTime(scene);
+	printf("scene            %s (%d bod%s, %d tets, %s)\n", scene->name, sim->bodyCount,
+		   sim->bodyCount == 1 ? "y" : "ies", totals.tets,
+		   scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
+	printf("frames           %d (%d substeps of %g s each)\n", frames, scene->substeps, scene->dt);
+	printf("simulated time   %.6g s\n", simulated);
+	printf("wall time        %.3f s (stepping %.3f s, %.2fx real time)\n", wallSeconds,
+		   stepSeconds, stepSeconds > 0.0 ? simulated / stepSeconds : 0.0);
+	printf("steps per second %.0f\n", stepSeconds > 0.0 ? steps / stepSeconds : 0.0);
+	printf("lowest vertex y  %.6g m\n", totals.lowestY);
+	printf("kinetic energy   %.6g J\n", totals.kinetic);
+	printf("elastic energy   %.6g J\n", totals.elastic);
+	printf("inverted tets    %d\n", totals.inverted);
+	if (series != NULL)
+		printf("output           %s (%d frames)\n", series->pvdPath, series->written);
+}
+
+int cliRun(int argc, char** argv)
+{
+	cliRunOptions o;
+	int code = cliParseRunOptions(argc, argv, &o);
+	if (code >= 0)
+		return code;
+	double wallStart = cliNow();
+	cliScene scene;
+	if (o.scenePath == NULL)
+		cliScene_MakeHouse(&scene);
+	else if (!cliScene_Load(o.scenePath, &scene))
+		return cli_exitInput;
+	cliSimulation sim;
+	if (scene.bodies == NULL || !cliSimulation_Create(&scene, false, &sim))
+	{
+		cliScene_Free(&scene);
+		return cli_exitInput;
+	}
+	int frames = cliFrameCount(&o, &scene);
+	cliSeries series;
+	cliSeries* seriesPtr = NULL;
+	code = cli_exitOk;
+	if (o.outDir != NULL)
+	{
+		char name[256];
+		cliSeriesName(o.scenePath, name, sizeof name);
+		seriesPtr = &series;
+		if (!cliSeries_Open(&series, o.outDir, name, o.obj) ||
+			!cliSeries_WriteFrame(&series, &sim, 0, 0.0))
+			code = cli_exitInput;
+	}
+	double stepSeconds = 0.0;
+	if (code == cli_exitOk)
+		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds);
+	// The collection is closed even after a failure so the frames already written stay readable.
+	if (seriesPtr != NULL && !cliSeries_Close(&series))
+		code = cli_exitInput;
+	if (code == cli_exitOk && o.exportNode != NULL && !cliExportNodes(o.exportNode, &sim))
+		code = cli_exitInput;
+	if (code == cli_exitOk)
+		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, seriesPtr);
+	cliSimulation_Destroy(&sim);
+	cliScene_Free(&scene);
+	return code;
+}

@@ -1,0 +1,131 @@
+// `femto static`: the equilibrium shape of every body of a scene under gravity and its pins.
+#include "commands.h"
+#include "scene.h"
+
+#include <stdio.h>
+#include <string.h>
+
+const char* const cliStaticHelp =
+	"usage: femto static SCENE.json [--export-node FILE] [options]\n"
+	"\n"
+	"Solve every body of the scene for static equilibrium under gravity with its pins (the\n"
+	"floor is ignored; an unpinned body has no equilibrium). Prints the residual |f| / |m g|\n"
+	"reached and writes the positions as TetGen .node (the input numbering).\n"
+	"\n"
+	"options:\n"
+	"  --export-node FILE  write the equilibrium positions (FILE_B.node per body B when the\n"
+	"                      scene has several bodies)\n"
+	"  --tolerance T       relative residual to reach (default 1e-8)\n"
+	"  --max-iterations N  Newton iterations at most (default 200)\n"
+	"  --help              this text\n"
+	"\n"
+	"Exit status: 0 converged, 1 bad scene/file, I/O error or no convergence, 2 usage error.\n";
+
+static bool cliWriteBodyNode(const char* path, const cliSimulation* sim, int body)
+{
+	char bodyPath[CLI_MAX_PATH];
+	if (sim->bodyCount == 1)
+		snprintf(bodyPath, sizeof bodyPath, "%s", path);
+	else
+	{
+		size_t length = strlen(path);
+		size_t stem = length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
+		snprintf(bodyPath, sizeof bodyPath, "%.*s_%d.node", (int)stem, path, body);
+	}
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (fmWriteTetGenNode(bodyPath, &sim->meshes[body], fmBody_GetPositions(sim->bodies[body]),
+						  &diag) != fm_ok)
+	{
+		cliPrintDiagnostic(NULL, &diag);
+		return false;
+	}
+	printf("wrote            %s\n", bodyPath);
+	return true;
+}
+
+int cliStatic(int argc, char** argv)
+{
+	const char* scenePath = NULL;
+	const char* exportNode = NULL;
+	double tolerance = 1e-8;
+	int maxIterations = 200;
+	for (int i = 1; i < argc; ++i)
+	{
+		const char* arg = argv[i];
+		const char* value = NULL;
+		if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)
+		{
+			fputs(cliStaticHelp, stdout);
+			return cli_exitOk;
+		}
+		else if (strcmp(arg, "--export-node") == 0)
+		{
+			if ((exportNode = cliOptionValue("static", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+		}
+		else if (strcmp(arg, "--tolerance") == 0)
+		{
+			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseDouble(value, &tolerance) || !(tolerance > 0.0))
+				return cliUsageError("static", "--tolerance: expected a number > 0, got '%s'",
+									 value);
+		}
+		else if (strcmp(arg, "--max-iterations") == 0)
+		{
+			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseInt(value, &maxIterations) || maxIterations < 1)
+				return cliUsageError("static",
+									 "--max-iterations: expected an integer >= 1, got '%s'", value);
+		}
+		else if (arg[0] == '-' && arg[1] != 0)
+			return cliUsageError("static", "unknown option '%s'", arg);
+		else if (scenePath == NULL)
+			scenePath = arg;
+		else
+			return cliUsageError("static", "more than one scene ('%s' and '%s')", scenePath, arg);
+	}
+	if (scenePath == NULL)
+		return cliUsageError("static", "missing SCENE.json");
+
+	cliScene scene;
+	if (!cliScene_Load(scenePath, &scene))
+		return cli_exitInput;
+	cliSimulation sim;
+	if (!cliSimulation_Create(&scene, true, &sim))
+	{
+		cliScene_Free(&scene);
+		return cli_exitInput;
+	}
+	int code = cli_exitOk;
+	for (int b = 0; b < sim.bodyCount && code == cli_exitOk; ++b)
+	{
+		double residual = 0.0;
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
+		double start = cliNow();
+		fmResult result =
+			fmBody_SolveStatic(sim.bodies[b], tolerance, maxIterations, &residual, &diag);
+		double seconds = cliNow() - start;
+		fmBodyStats stats = fmBody_GetStats(sim.bodies[b]);
+		printf("body %d           residual %.3g (tolerance %.3g) in %.3f s, %s\n", b, residual,
+			   tolerance, seconds, result == fm_ok ? "converged" : fmResultName(result));
+		printf("                 elastic energy %.6g J, lowest y %.6g m, inverted tets %d\n",
+			   stats.elasticEnergy, stats.lowestY, stats.invertedTets);
+		if (result != fm_ok)
+		{
+			char prefix[CLI_MAX_PATH + 32];
+			snprintf(prefix, sizeof prefix, "%s: bodies[%d]", scene.name, b);
+			cliPrintDiagnostic(prefix, &diag);
+			code = cli_exitInput;
+		}
+	}
+	for (int b = 0; b < sim.bodyCount && code == cli_exitOk && exportNode != NULL; ++b)
+		if (!cliWriteBodyNode(exportNode, &sim, b))
+			code = cli_exitInput;
+	cliSimulation_Destroy(&sim);
+	cliScene_Free(&scene);
+	return code;
+}

@@ -1,0 +1,20 @@
+// The femto commands; each returns the process exit code (cli_exit*).
+#pragma once
+
+/// `femto run [SCENE] [options]`: simulate and write results.
+int cliRun(int argc, char** argv);
+
+/// `femto info MESH.node [MESH.ele]`: mesh statistics.
+int cliInfo(int argc, char** argv);
+
+/// `femto static SCENE [options]`: static equilibrium of every body.
+int cliStatic(int argc, char** argv);
+
+/// `femto bench [options]`: timings of explicit and implicit steps.
+int cliBench(int argc, char** argv);
+
+/// Help texts, printed by `femto CMD --help`.
+extern const char* const cliRunHelp;
+extern const char* const cliInfoHelp;
+extern const char* const cliStaticHelp;
+extern const char* const cliBenchHelp;

@@ -1,0 +1,775 @@
+// JSON scenes (docs/scene-format.md): every key checked for type and range, every error named
+// by its JSON path ("bodies[0].material.youngs_modulus") and, when it can be found, its line.
+#include "scene.h"
+
+#include <cjson/cJSON.h>
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// Parse state: the file name and text (for line numbers) and the scene's folder (for paths).
+typedef struct cliJson
+{
+	const char* file;
+	const char* text;
+	size_t size;
+	char folder[CLI_MAX_PATH];
+} cliJson;
+
+// A numeric range; open ends exclude the bound, infinite bounds mean "unbounded".
+typedef struct cliRange
+{
+	double lo;
+	double hi;
+	bool loOpen;
+	bool hiOpen;
+} cliRange;
+
+static const cliRange cliAnyFinite = {-INFINITY, INFINITY, true, true};
+static const cliRange cliPositive = {0.0, INFINITY, true, true};
+static const cliRange cliNonNegative = {0.0, INFINITY, false, true};
+static const cliRange cliUnit = {0.0, 1.0, false, false};
+
+// Largest generated box, cells per axis (6 tets a cell; 400^3 cells is already 384M tets).
+#define CLI_MAX_BOX_CELLS 1000
+
+// ---- messages -------------------------------------------------------------------------------
+
+// 1-based line and column of byte @p offset in @p text.
+static void cliLineColumn(const char* text, size_t offset, int* line, int* column)
+{
+	*line = 1;
+	*column = 1;
+	for (size_t i = 0; i < offset && text[i] != 0; ++i)
+	{
+		if (text[i] == '\n')
+		{
+			*line += 1;
+			*column = 1;
+		}
+		else
+			*column += 1;
+	}
+}
+
+// cJSON keeps no positions: find the key the path ends with in the text, and trust the line
+// only when that key occurs exactly once.
+static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* column)
+{
+	const char* key = strrchr(path, '.');
+	key = key ? key + 1 : path;
+	char name[128];
+	size_t length = strcspn(key, "[");
+	if (length == 0 || length + 3 > sizeof name)
+		return false;
+	snprintf(name, sizeof name, "\"%.*s\"", (int)length, key);
+	const char* found = NULL;
+	int count = 0;
+	for (const char* at = strstr(j->text, name); at != NULL; at = strstr(at + 1, name))
+	{
+		// A key is followed by a colon; the same word as a string value is not the key.
+		const char* after = at + strlen(name);
+		while (*after == ' ' || *after == '\t' || *after == '\r' || *after == '\n')
+			++after;
+		if (*after != ':')
+			continue;
+		found = at;
+		++count;
+	}
+	if (count != 1)
+		return false;
+	cliLineColumn(j->text, (size_t)(found - j->text), line, column);
+	return true;
+}
+
+// Print "file[:line:column]: path: message[, got VALUE]" and return false.
+static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format,
+						...) __attribute__((format(printf, 4, 5)));
+static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format, ...)
+{
+	int line = 0, column = 0;
+	if (path[0] != 0 && cliFindKeyLine(j, path, &line, &column))
+		fprintf(stderr, "%s:%d:%d: ", j->file, line, column);
+	else
+		fprintf(stderr, "%s: ", j->file);
+	if (path[0] != 0)
+		fprintf(stderr, "%s: ", path);
+	va_list args;
+	va_start(args, format);
+	vfprintf(stderr, format, args);
+	va_end(args);
+	if (got != NULL)
+	{
+		char* printed = cJSON_PrintUnformatted(got);
+		if (printed != NULL)
+		{
+			size_t length = strlen(printed);
+			if (length > 60)
+				fprintf(stderr, ", got %.57s...", printed);
+			else
+				fprintf(stderr, ", got %s", printed);
+			cJSON_free(printed);
+		}
+	}
+	fputc('\n', stderr);
+	return false;
+}
+
+// "parent.key" (or "key" at the top); a path too long for the buffer is cut, which only
+// shortens a message.
+static void cliJoinKey(char* out, size_t size, const char* parent, const char* key)
+{
+	int written = parent[0] == 0 ? snprintf(out, size, "%s", key)
+								 : snprintf(out, size, "%s.%s", parent, key);
+	if (written < 0)
+		out[0] = 0;
+}
+
+static void cliDescribeRange(cliRange range, char* out, size_t size)
+{
+	bool hasLo = isfinite(range.lo), hasHi = isfinite(range.hi);
+	if (!hasLo && !hasHi)
+		snprintf(out, size, "a finite number");
+	else if (!hasHi)
+		snprintf(out, size, "a number %s %g", range.loOpen ? ">" : ">=", range.lo);
+	else if (!hasLo)
+		snprintf(out, size, "a number %s %g", range.hiOpen ? "<" : "<=", range.hi);
+	else
+		snprintf(out, size, "a number in %c%g, %g%c", range.loOpen ? '(' : '[', range.lo, range.hi,
+				 range.hiOpen ? ')' : ']');
+}
+
+static bool cliInRange(double value, cliRange range)
+{
+	if (!isfinite(value))
+		return false;
+	if (range.loOpen ? !(value > range.lo) : !(value >= range.lo))
+		return false;
+	if (range.hiOpen ? !(value < range.hi) : !(value <= range.hi))
+		return false;
+	return true;
+}
+
+// ---- typed getters: absent keys leave the value alone ----------------------------------------
+
+// Reject keys not in @p allowed (NULL-terminated) and repeated keys.
+static bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* parent,
+						 const char* const* allowed)
+{
+	for (const cJSON* item = object->child; item != NULL; item = item->next)
+	{
+		char path[256];
+		cliJoinKey(path, sizeof path, parent, item->string);
+		bool known = false;
+		for (int i = 0; allowed[i] != NULL; ++i)
+			known = known || strcmp(item->string, allowed[i]) == 0;
+		if (!known)
+		{
+			char list[512] = "";
+			for (int i = 0; allowed[i] != NULL; ++i)
+			{
+				strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
+				strncat(list, allowed[i], sizeof list - strlen(list) - 1);
+			}
+			return cliJsonFail(j, path, NULL, "unknown key (expected one of: %s)", list);
+		}
+		for (const cJSON* other = item->next; other != NULL; other = other->next)
+			if (strcmp(other->string, item->string) == 0)
+				return cliJsonFail(j, path, NULL, "key given twice");
+	}
+	return true;
+}
+
+static bool cliGetNumber(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+						 cliRange range, double* value, bool* present)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (present != NULL)
+		*present = item != NULL;
+	if (item == NULL)
+		return true;
+	char path[256], expected[96];
+	cliJoinKey(path, sizeof path, parent, key);
+	cliDescribeRange(range, expected, sizeof expected);
+	if (!cJSON_IsNumber(item) || !cliInRange(item->valuedouble, range))
+		return cliJsonFail(j, path, item, "expected %s", expected);
+	*value = item->valuedouble;
+	return true;
+}
+
+static bool cliGetInt(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+					  int lo, int hi, int* value, bool* present)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (present != NULL)
+		*present = item != NULL;
+	if (item == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	double number = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+	if (!(number >= lo && number <= hi) || number != floor(number))
+		return cliJsonFail(j, path, item, "expected an integer in [%d, %d]", lo, hi);
+	*value = (int)number;
+	return true;
+}
+
+static bool cliGetBool(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+					   bool* value)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (item == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	if (!cJSON_IsBool(item))
+		return cliJsonFail(j, path, item, "expected true or false");
+	*value = cJSON_IsTrue(item);
+	return true;
+}
+
+static bool cliGetString(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+						 const char** value)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (item == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	if (!cJSON_IsString(item) || item->valuestring == NULL)
+		return cliJsonFail(j, path, item, "expected a string");
+	*value = item->valuestring;
+	return true;
+}
+
+static bool cliGetVec3(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+					   fmVec3* value, bool* present)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (present != NULL)
+		*present = item != NULL;
+	if (item == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	double xyz[3];
+	if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 3)
+		return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
+	for (int i = 0; i < 3; ++i)
+	{
+		const cJSON* element = cJSON_GetArrayItem(item, i);
+		if (!cJSON_IsNumber(element) || !isfinite(element->valuedouble))
+			return cliJsonFail(j, path, item, "expected an array of 3 finite numbers [x, y, z]");
+		xyz[i] = element->valuedouble;
+	}
+	*value = fmMakeVec3(xyz[0], xyz[1], xyz[2]);
+	return true;
+}
+
+// An optional object member: NULL if absent; fails on a non-object.
+static bool cliGetObject(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+						 const cJSON** value)
+{
+	*value = NULL;
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (item == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	if (!cJSON_IsObject(item))
+		return cliJsonFail(j, path, item, "expected an object {...}");
+	*value = item;
+	return true;
+}
+
+// ---- bodies ---------------------------------------------------------------------------------
+
+static bool cliFileReadable(const char* path)
+{
+	FILE* file = fopen(path, "rb");
+	if (file == NULL)
+		return false;
+	fclose(file);
+	return true;
+}
+
+// "box:nx,ny,nz" -> cell counts.
+static bool cliParseBoxSpec(const char* spec, int cells[3])
+{
+	const char* at = spec + 4;
+	for (int axis = 0; axis < 3; ++axis)
+	{
+		char* end = NULL;
+		long count = strtol(at, &end, 10);
+		if (end == at || count < 1 || count > CLI_MAX_BOX_CELLS)
+			return false;
+		cells[axis] = (int)count;
+		if (axis < 2 && *end != ',')
+			return false;
+		at = end + (axis < 2 ? 1 : 0);
+		if (axis == 2 && *end != 0)
+			return false;
+	}
+	return true;
+}
+
+static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent, cliBodySpec* spec)
+{
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "mesh");
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(body, "mesh");
+	if (item == NULL)
+		return cliJsonFail(j, parent, NULL,
+						   "missing \"mesh\" (a .node path, \"builtin:house2\" or \"box:nx,ny,nz\")");
+	if (!cJSON_IsString(item) || item->valuestring == NULL || item->valuestring[0] == 0)
+		return cliJsonFail(j, path, item,
+						   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
+	const char* text = item->valuestring;
+	bool hasMin = false, hasMax = false;
+	spec->boxMin = fmMakeVec3(0, 0, 0);
+	spec->boxMax = fmMakeVec3(1, 1, 1);
+	if (!cliGetVec3(j, body, parent, "box_min", &spec->boxMin, &hasMin) ||
+		!cliGetVec3(j, body, parent, "box_max", &spec->boxMax, &hasMax))
+		return false;
+	if (strncmp(text, "box:", 4) == 0)
+	{
+		spec->meshSource = cli_meshBox;
+		if (!cliParseBoxSpec(text, spec->boxCells))
+			return cliJsonFail(j, path, item, "expected \"box:nx,ny,nz\" with counts in [1, %d]",
+							   CLI_MAX_BOX_CELLS);
+		double tets = 6.0 * spec->boxCells[0] * spec->boxCells[1] * spec->boxCells[2];
+		if (tets > (double)FM_MAX_TETS)
+			return cliJsonFail(j, path, item, "box of %.0f tets exceeds the %d tet limit", tets,
+							   FM_MAX_TETS);
+		if (!(spec->boxMin.x < spec->boxMax.x && spec->boxMin.y < spec->boxMax.y &&
+			  spec->boxMin.z < spec->boxMax.z))
+			return cliJsonFail(j, parent, NULL, "box_min must be below box_max on every axis");
+		return true;
+	}
+	if (hasMin || hasMax)
+		return cliJsonFail(j, parent, NULL, "box_min and box_max only go with a \"box:\" mesh");
+	if (strcmp(text, "builtin:house2") == 0)
+	{
+		spec->meshSource = cli_meshHouse;
+		return true;
+	}
+	if (strncmp(text, "builtin:", 8) == 0)
+		return cliJsonFail(j, path, item, "unknown built-in mesh (the one there is: builtin:house2)");
+	size_t length = strlen(text);
+	if (length < 5 || strcmp(text + length - 5, ".node") != 0)
+		return cliJsonFail(j, path, item,
+						   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
+	spec->meshSource = cli_meshFile;
+	// Relative paths are relative to the scene file's folder, so scenes can be run from anywhere.
+	int written = text[0] == '/' ? snprintf(spec->nodePath, sizeof spec->nodePath, "%s", text)
+								 : snprintf(spec->nodePath, sizeof spec->nodePath, "%s%s",
+											j->folder, text);
+	if (written < 0 || (size_t)written >= sizeof spec->nodePath)
+		return cliJsonFail(j, path, item, "path too long");
+	memcpy(spec->elePath, spec->nodePath, sizeof spec->elePath);
+	memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
+	if (!cliFileReadable(spec->nodePath))
+		return cliJsonFail(j, path, item, "cannot open %s", spec->nodePath);
+	if (!cliFileReadable(spec->elePath))
+		return cliJsonFail(j, path, item, "cannot open %s (the .ele beside the .node)",
+						   spec->elePath);
+	return true;
+}
+
+static bool cliParseTransform(const cliJson* j, const cJSON* body, const char* parent,
+							  cliBodySpec* spec)
+{
+	static const char* const keys[] = {"scale", "center", "swap_yz", "translate", NULL};
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "transform");
+	const cJSON* transform = NULL;
+	spec->transform = fmDefaultMeshTransform();
+	if (!cliGetObject(j, body, parent, "transform", &transform))
+		return false;
+	if (transform == NULL)
+		return true;
+	return cliCheckKeys(j, transform, path, keys) &&
+		   cliGetNumber(j, transform, path, "scale", cliPositive, &spec->transform.scale, NULL) &&
+		   cliGetBool(j, transform, path, "center", &spec->transform.center) &&
+		   cliGetBool(j, transform, path, "swap_yz", &spec->transform.swapYZ) &&
+		   cliGetVec3(j, transform, path, "translate", &spec->transform.translate, NULL);
+}
+
+static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* parent,
+							 cliBodySpec* spec)
+{
+	static const char* const keys[] = {"model",	  "youngs_modulus", "poisson_ratio", "lambda",
+									   "mu",	  "mooney_c01",		"density",		 "particle_mass",
+									   NULL};
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "material");
+	const cJSON* material = NULL;
+	if (!cliGetObject(j, body, parent, "material", &material))
+		return false;
+	if (material == NULL)
+		return true; // the default body's material (the seeds' StVK)
+	if (!cliCheckKeys(j, material, path, keys))
+		return false;
+
+	fmMaterialModel model = spec->def.material.model;
+	const char* modelName = NULL;
+	if (!cliGetString(j, material, path, "model", &modelName))
+		return false;
+	if (modelName != NULL && !fmMaterialModelFromName(modelName, &model))
+	{
+		char modelPath[256];
+		cliJoinKey(modelPath, sizeof modelPath, path, "model");
+		return cliJsonFail(j, modelPath, cJSON_GetObjectItemCaseSensitive(material, "model"),
+						   "expected \"linear\", \"corotated\", \"stvk\", \"neohookean\" or "
+						   "\"mooney-rivlin\"");
+	}
+
+	double youngs = 0, poisson = 0, lambda = 0, mu = 0;
+	bool hasE = false, hasNu = false, hasLambda = false, hasMu = false;
+	const cliRange poissonRange = {-1.0, 0.5, true, true};
+	if (!cliGetNumber(j, material, path, "youngs_modulus", cliPositive, &youngs, &hasE) ||
+		!cliGetNumber(j, material, path, "poisson_ratio", poissonRange, &poisson, &hasNu) ||
+		!cliGetNumber(j, material, path, "lambda", cliAnyFinite, &lambda, &hasLambda) ||
+		!cliGetNumber(j, material, path, "mu", cliPositive, &mu, &hasMu))
+		return false;
+	bool engineering = hasE || hasNu, lame = hasLambda || hasMu;
+	if (engineering && lame)
+		return cliJsonFail(j, path, NULL,
+						   "give youngs_modulus + poisson_ratio or lambda + mu, not both pairs");
+	if (engineering && !(hasE && hasNu))
+		return cliJsonFail(j, path, NULL, "youngs_modulus and poisson_ratio go together");
+	if (lame && !(hasLambda && hasMu))
+		return cliJsonFail(j, path, NULL, "lambda and mu go together");
+	if (engineering)
+		spec->def.material = fmMakeMaterial(model, youngs, poisson);
+	else if (lame)
+		spec->def.material = fmMakeMaterialLame(model, lambda, mu);
+	else
+		spec->def.material = fmMakeMaterialLame(model, spec->def.material.lambda,
+												spec->def.material.mu);
+
+	bool hasC01 = false;
+	if (!cliGetNumber(j, material, path, "mooney_c01", cliNonNegative, &spec->def.material.c01,
+					  &hasC01))
+		return false;
+	if (hasC01 && model != fm_mooneyRivlin)
+		return cliJsonFail(j, path, NULL, "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (fmMaterial_Validate(&spec->def.material, &diag) != fm_ok)
+		return cliJsonFail(j, path, NULL, "%s", diag.message[0] ? diag.message : "invalid material");
+
+	bool hasDensity = false, hasParticleMass = false;
+	if (!cliGetNumber(j, material, path, "density", cliPositive, &spec->def.density, &hasDensity) ||
+		!cliGetNumber(j, material, path, "particle_mass", cliPositive, &spec->def.particleMass,
+					  &hasParticleMass))
+		return false;
+	if (hasDensity && hasParticleMass)
+		return cliJsonFail(j, path, NULL, "give density or particle_mass, not both");
+	if (hasDensity)
+		spec->def.massMode = fm_massFromDensity;
+	if (hasParticleMass)
+		spec->def.massMode = fm_massPerParticle;
+	return true;
+}
+
+static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent, cliBodySpec* spec)
+{
+	static const char* const keys[] = {"min", "max", NULL};
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "pin");
+	const cJSON* pins = cJSON_GetObjectItemCaseSensitive(body, "pin");
+	if (pins == NULL)
+		return true;
+	if (!cJSON_IsArray(pins))
+		return cliJsonFail(j, path, pins, "expected a list of {\"min\": [x,y,z], \"max\": [x,y,z]}");
+	int count = cJSON_GetArraySize(pins);
+	spec->pins = calloc((size_t)(count > 0 ? count : 1), sizeof *spec->pins);
+	if (spec->pins == NULL)
+		return cliJsonFail(j, path, NULL, "out of memory");
+	for (int i = 0; i < count; ++i)
+	{
+		const cJSON* box = cJSON_GetArrayItem(pins, i);
+		char boxPath[256];
+		if (snprintf(boxPath, sizeof boxPath, "%s[%d]", path, i) < 0)
+			boxPath[0] = 0;
+		if (!cJSON_IsObject(box))
+			return cliJsonFail(j, boxPath, box, "expected {\"min\": [x,y,z], \"max\": [x,y,z]}");
+		bool hasMin = false, hasMax = false;
+		cliPinBox* pin = &spec->pins[i];
+		if (!cliCheckKeys(j, box, boxPath, keys) ||
+			!cliGetVec3(j, box, boxPath, "min", &pin->min, &hasMin) ||
+			!cliGetVec3(j, box, boxPath, "max", &pin->max, &hasMax))
+			return false;
+		if (!hasMin || !hasMax)
+			return cliJsonFail(j, boxPath, NULL, "a pin box needs both \"min\" and \"max\"");
+		if (!(pin->min.x <= pin->max.x && pin->min.y <= pin->max.y && pin->min.z <= pin->max.z))
+			return cliJsonFail(j, boxPath, NULL, "min must not exceed max on any axis");
+		spec->pinCount = i + 1;
+	}
+	return true;
+}
+
+static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
+{
+	static const char* const keys[] = {
+		"mesh",		  "box_min",  "box_max",	  "transform",		"material",
+		"force_model", "damping", "smoothing", "rayleigh",		"spring_damping",
+		"pin",		  "initial_velocity", NULL};
+	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
+	char path[64];
+	snprintf(path, sizeof path, "bodies[%d]", index);
+	if (!cJSON_IsObject(body))
+		return cliJsonFail(j, path, body, "expected a body object {\"mesh\": ...}");
+	spec->def = fmDefaultBodyDef();
+	spec->initialVelocity = fmMakeVec3(0, 0, 0);
+	if (!cliCheckKeys(j, body, path, keys) || !cliParseMesh(j, body, path, spec) ||
+		!cliParseTransform(j, body, path, spec) || !cliParseMaterial(j, body, path, spec))
+		return false;
+
+	const char* forceModel = NULL;
+	if (!cliGetString(j, body, path, "force_model", &forceModel))
+		return false;
+	if (forceModel != NULL && !fmForceModelFromName(forceModel, &spec->def.forceModel))
+	{
+		char itemPath[128];
+		cliJoinKey(itemPath, sizeof itemPath, path, "force_model");
+		return cliJsonFail(j, itemPath, cJSON_GetObjectItemCaseSensitive(body, "force_model"),
+						   "expected \"fem\", \"fvm\" or \"mass-spring\"");
+	}
+	const cliRange dampingRange = {0.0, 1.0, true, false};
+	const cJSON* rayleigh = NULL;
+	char rayleighPath[128];
+	cliJoinKey(rayleighPath, sizeof rayleighPath, path, "rayleigh");
+	if (!cliGetNumber(j, body, path, "damping", dampingRange, &spec->def.damping, NULL) ||
+		!cliGetNumber(j, body, path, "smoothing", cliUnit, &spec->def.smoothing, NULL) ||
+		!cliGetNumber(j, body, path, "spring_damping", cliNonNegative, &spec->def.springDamping,
+					  NULL) ||
+		!cliGetObject(j, body, path, "rayleigh", &rayleigh))
+		return false;
+	if (rayleigh != NULL &&
+		(!cliCheckKeys(j, rayleigh, rayleighPath, rayleighKeys) ||
+		 !cliGetNumber(j, rayleigh, rayleighPath, "mass", cliNonNegative, &spec->def.rayleighMass,
+					   NULL) ||
+		 !cliGetNumber(j, rayleigh, rayleighPath, "stiffness", cliNonNegative,
+					   &spec->def.rayleighStiffness, NULL)))
+		return false;
+	return cliParsePins(j, body, path, spec) &&
+		   cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL);
+}
+
+// ---- the world ------------------------------------------------------------------------------
+
+static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floorDef)
+{
+	static const char* const keys[] = {"height", "friction", "restitution", NULL};
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "floor");
+	if (item == NULL)
+		return true;
+	if (cJSON_IsFalse(item))
+	{
+		floorDef->enabled = false;
+		return true;
+	}
+	if (!cJSON_IsObject(item))
+		return cliJsonFail(j, "floor", item, "expected an object {\"height\": ...} or false");
+	floorDef->enabled = true;
+	if (!cliCheckKeys(j, item, "floor", keys) ||
+		!cliGetNumber(j, item, "floor", "height", cliAnyFinite, &floorDef->height, NULL) ||
+		!cliGetNumber(j, item, "floor", "restitution", cliUnit, &floorDef->restitution, NULL))
+		return false;
+	const cJSON* friction = cJSON_GetObjectItemCaseSensitive(item, "friction");
+	if (friction == NULL)
+		return true;
+	if (cJSON_IsString(friction) && strcmp(friction->valuestring, "stick") == 0)
+	{
+		floorDef->friction = fm_floorStick;
+		return true;
+	}
+	if (!cJSON_IsNumber(friction) || !cliInRange(friction->valuedouble, cliNonNegative))
+		return cliJsonFail(j, "floor.friction", friction,
+						   "expected \"stick\" or a Coulomb coefficient >= 0");
+	floorDef->friction = fm_floorCoulomb;
+	floorDef->frictionCoefficient = friction->valuedouble;
+	return true;
+}
+
+static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
+{
+	fmWorldDef* def = &scene->worldDef;
+	const cliRange dtRange = {0.0, 10.0, true, false};
+	const cliRange secondsRange = {0.0, 1e6, true, false};
+	bool hasFrames = false, hasSeconds = false;
+	const char* integrator = NULL;
+	if (!cliGetVec3(j, root, "", "gravity", &def->gravity, NULL) ||
+		!cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
+		!cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
+		!cliGetInt(j, root, "", "frames", 1, 100000000, &scene->frames, &hasFrames) ||
+		!cliGetNumber(j, root, "", "seconds", secondsRange, &scene->seconds, &hasSeconds) ||
+		!cliGetString(j, root, "", "integrator", &integrator) ||
+		!cliGetInt(j, root, "", "newton_iterations", 1, 10000, &def->newtonIterations, NULL) ||
+		!cliGetNumber(j, root, "", "tolerance", cliPositive, &def->tolerance, NULL) ||
+		!cliGetInt(j, root, "", "cg_iterations", 1, 1000000, &def->cgIterations, NULL) ||
+		!cliParseFloor(j, root, &def->floor))
+		return false;
+	if (hasFrames && hasSeconds)
+		return cliJsonFail(j, "seconds", NULL, "give frames or seconds, not both");
+	if (integrator != NULL)
+	{
+		if (strcmp(integrator, "explicit") == 0)
+			def->integrator = fm_explicit;
+		else if (strcmp(integrator, "implicit") == 0)
+			def->integrator = fm_implicit;
+		else
+			return cliJsonFail(j, "integrator",
+							   cJSON_GetObjectItemCaseSensitive(root, "integrator"),
+							   "expected \"explicit\" or \"implicit\"");
+	}
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (fmWorldDef_Validate(def, &diag) != fm_ok)
+		return cliJsonFail(j, "", NULL, "%s", diag.message);
+	return true;
+}
+
+static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
+{
+	static const char* const keys[] = {
+		"description", "gravity",	"dt",			 "substeps",	  "frames", "seconds",
+		"integrator", "newton_iterations", "tolerance", "cg_iterations", "floor",	"bodies",
+		NULL};
+	if (!cJSON_IsObject(root))
+		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
+	const char* description = NULL;
+	if (!cliCheckKeys(j, root, "", keys) || !cliGetString(j, root, "", "description", &description) ||
+		!cliParseWorld(j, root, scene))
+		return false;
+	const cJSON* bodies = cJSON_GetObjectItemCaseSensitive(root, "bodies");
+	if (bodies == NULL)
+		return cliJsonFail(j, "", NULL, "missing \"bodies\": a scene needs at least one body");
+	if (!cJSON_IsArray(bodies) || cJSON_GetArraySize(bodies) < 1)
+		return cliJsonFail(j, "bodies", bodies, "expected a non-empty list of bodies");
+	int count = cJSON_GetArraySize(bodies);
+	if (count > scene->worldDef.maxBodies)
+		return cliJsonFail(j, "bodies", NULL, "%d bodies, at most %d", count,
+						   scene->worldDef.maxBodies);
+	scene->bodies = calloc((size_t)count, sizeof *scene->bodies);
+	if (scene->bodies == NULL)
+		return cliJsonFail(j, "bodies", NULL, "out of memory");
+	for (int i = 0; i < count; ++i)
+	{
+		scene->bodyCount = i + 1; // so cliScene_Free releases what was parsed
+		if (!cliParseBody(j, cJSON_GetArrayItem(bodies, i), i, &scene->bodies[i]))
+			return false;
+	}
+	return true;
+}
+
+// ---- public ---------------------------------------------------------------------------------
+
+static void cliSceneDefaults(cliScene* scene, const char* name)
+{
+	memset(scene, 0, sizeof *scene);
+	snprintf(scene->name, sizeof scene->name, "%s", name);
+	scene->worldDef = fmDefaultWorldDef();
+	scene->dt = 0.003;
+	scene->substeps = 10;
+}
+
+void cliScene_MakeHouse(cliScene* scene)
+{
+	cliSceneDefaults(scene, "builtin:house");
+	scene->seconds = 5.0;
+	// Every value spelled out, so a change of library defaults cannot change the demo.
+	fmWorldDef* world = &scene->worldDef;
+	world->gravity = fmMakeVec3(0.0, -9.8, 0.0);
+	world->integrator = fm_explicit;
+	world->floor.enabled = true;
+	world->floor.height = -3.0;
+	world->floor.friction = fm_floorStick;
+	scene->bodies = calloc(1, sizeof *scene->bodies);
+	if (scene->bodies == NULL)
+		return;
+	scene->bodyCount = 1;
+	cliBodySpec* body = &scene->bodies[0];
+	body->meshSource = cli_meshHouse;
+	body->transform = fmDefaultMeshTransform();
+	body->transform.scale = 0.4;
+	body->transform.center = true;
+	body->transform.swapYZ = true;
+	body->def = fmDefaultBodyDef();
+	body->def.material = fmMakeMaterialLame(fm_stvk, 20000.0, 5000.0);
+	body->def.forceModel = fm_fem;
+	body->def.massMode = fm_massPerParticle;
+	body->def.particleMass = 1.0;
+	body->def.damping = 0.999;
+	body->def.smoothing = 0.1;
+	body->def.rayleighMass = 0.0;
+	body->def.rayleighStiffness = 0.0;
+	body->initialVelocity = fmMakeVec3(0, 0, 0);
+}
+
+bool cliScene_Load(const char* path, cliScene* scene)
+{
+	cliSceneDefaults(scene, path);
+	size_t size = 0;
+	char* text = cliReadFile(path, &size);
+	if (text == NULL)
+		return false;
+	cliJson j;
+	j.file = path;
+	j.text = text;
+	j.size = size;
+	// The folder of the scene, with its trailing slash ("" for the current directory).
+	const char* slash = strrchr(path, '/');
+	size_t folderLength = slash ? (size_t)(slash - path) + 1 : 0;
+	if (folderLength >= sizeof j.folder)
+	{
+		fprintf(stderr, "%s: path too long\n", path);
+		free(text);
+		return false;
+	}
+	memcpy(j.folder, path, folderLength);
+	j.folder[folderLength] = 0;
+
+	if (strlen(text) != size)
+	{
+		int line, column;
+		cliLineColumn(text, strlen(text), &line, &column);
+		fprintf(stderr, "%s:%d:%d: NUL byte in a JSON file\n", path, line, column);
+		free(text);
+		return false;
+	}
+	const char* end = NULL;
+	cJSON* root = cJSON_ParseWithLengthOpts(text, size, &end, false);
+	if (root == NULL)
+	{
+		// cJSON reports where it stopped; turn the offset into a line and column.
+		size_t offset = end != NULL && end >= text ? (size_t)(end - text) : 0;
+		int line, column;
+		cliLineColumn(text, offset, &line, &column);
+		fprintf(stderr, "%s:%d:%d: JSON syntax error\n", path, line, column);
+		free(text);
+		return false;
+	}
+	bool ok = cliParseScene(&j, root, scene);
+	cJSON_Delete(root);
+	free(text);
+	if (!ok)
+		cliScene_Free(scene);
+	return ok;
+}
+
+void cliScene_Free(cliScene* scene)
+{
+	for (int i = 0; i < scene->bodyCount; ++i)
+		free(scene->bodies[i].pins);
+	free(scene->bodies);
+	scene->bodies = NULL;
+	scene->bodyCount = 0;
+}
+
+double cliScene_FrameTime(const cliScene* scene) { return scene->dt * scene->substeps; }

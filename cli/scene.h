@@ -1,0 +1,81 @@
+// Scenes: what `femto run` and `femto static` simulate. Read from JSON (docs/scene-format.md)
+// or made in code (the built-in bouncy house), then turned into a femto world.
+#pragma once
+
+#include "cli.h"
+
+/// Where a body's rest mesh comes from.
+typedef enum cliMeshSource
+{
+	cli_meshFile,  ///< a TetGen .node/.ele pair on disk
+	cli_meshHouse, ///< the bouncy house embedded in the binary ("builtin:house2")
+	cli_meshBox,   ///< a generated box ("box:nx,ny,nz")
+} cliMeshSource;
+
+/// A pin box in scene coordinates (after the body's transform).
+typedef struct cliPinBox
+{
+	fmVec3 min; ///< m
+	fmVec3 max; ///< m
+} cliPinBox;
+
+/// One body of a scene, before it exists in a world.
+typedef struct cliBodySpec
+{
+	cliMeshSource meshSource;
+	char nodePath[CLI_MAX_PATH]; ///< cli_meshFile: resolved .node path
+	char elePath[CLI_MAX_PATH];	 ///< cli_meshFile: resolved .ele path
+	int boxCells[3];			 ///< cli_meshBox: cells along x, y, z
+	fmVec3 boxMin;				 ///< cli_meshBox: m
+	fmVec3 boxMax;				 ///< cli_meshBox: m
+	fmMeshTransform transform;	 ///< placement of the loaded mesh
+	fmBodyDef def;				 ///< material, masses, damping (mesh set when built)
+	cliPinBox* pins;			 ///< malloc'd, pinCount boxes
+	int pinCount;
+	fmVec3 initialVelocity; ///< m/s
+} cliBodySpec;
+
+/// A whole scene.
+typedef struct cliScene
+{
+	char name[CLI_MAX_PATH]; ///< the scene file as given, or "builtin:house"
+	fmWorldDef worldDef;	 ///< gravity, floor, integrator settings
+	double dt;				 ///< s, one substep
+	int substeps;			 ///< substeps a frame (a frame is dt * substeps)
+	int frames;				 ///< default frame count for run, 0 if not given
+	double seconds;			 ///< default duration for run, 0 if not given
+	cliBodySpec* bodies;	 ///< malloc'd
+	int bodyCount;
+} cliScene;
+
+/// A scene turned into a world: the ids and the meshes (kept for .node export).
+typedef struct cliSimulation
+{
+	fmWorldId world;
+	int bodyCount;
+	fmBodyId* bodies;	 ///< malloc'd
+	fmTetMesh* meshes; ///< malloc'd, the placed rest meshes, input numbering
+} cliSimulation;
+
+/// The built-in bouncy house: data/house2 scaled 0.4, centred, y/z swapped, floor y = -3
+/// (stick), StVK lambda 20000 mu 5000, particle mass 1, dt 3 ms, 10 substeps, 5 s.
+void cliScene_MakeHouse(cliScene* scene);
+
+/// Read and validate a JSON scene. Prints "file:line: path: message" and returns false on error.
+bool cliScene_Load(const char* path, cliScene* scene);
+
+/// Release what a scene holds.
+void cliScene_Free(cliScene* scene);
+
+/// Seconds of one frame.
+double cliScene_FrameTime(const cliScene* scene);
+
+/// Load meshes, create the world and bodies, pin, set initial velocities. Warns (unless
+/// @p quiet) when an explicit dt exceeds the estimated stable step. Prints errors, returns false.
+bool cliSimulation_Create(const cliScene* scene, bool quiet, cliSimulation* sim);
+
+/// Destroy the world and free the meshes.
+void cliSimulation_Destroy(cliSimulation* sim);
+
+/// Load the embedded bouncy house mesh (untransformed).
+fmResult cliLoadHouseMesh(fmTetMesh* mesh, fmDiagnostic* diag);
