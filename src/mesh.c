@@ -45,9 +45,9 @@ void fmFreeTetMesh(fmTetMesh* mesh)
 	size_t m = (size_t)(mesh->tetCount > 0 ? mesh->tetCount : 0);
 	FM_FREE_ARRAY(mesh->positions, double, 3 * n);
 	FM_FREE_ARRAY(mesh->tets, int, 4 * m);
-	FM_FREE_ARRAY(mesh->nodeAttributes, double, n * (size_t)mesh->nodeAttributeCount);
+	FM_FREE_ARRAY(mesh->nodeAttributes, double, n*(size_t)mesh->nodeAttributeCount);
 	FM_FREE_ARRAY(mesh->nodeMarkers, int, n);
-	FM_FREE_ARRAY(mesh->tetAttributes, double, m * (size_t)mesh->tetAttributeCount);
+	FM_FREE_ARRAY(mesh->tetAttributes, double, m*(size_t)mesh->tetAttributeCount);
 	memset(mesh, 0, sizeof *mesh);
 }
 
@@ -70,13 +70,14 @@ fmResult fmCopyTetMesh(const fmTetMesh* source, fmTetMesh* copy)
 	size_t n = (size_t)source->nodeCount, m = (size_t)source->tetCount;
 	bool ok = fmDuplicate(source->positions, sizeof(double) * 3 * n, (void**)&c.positions);
 	ok = fmDuplicate(source->tets, sizeof(int) * 4 * m, (void**)&c.tets) && ok;
-	ok = fmDuplicate(source->nodeAttributes, sizeof(double) * n * (size_t)source->nodeAttributeCount,
-					 (void**)&c.nodeAttributes) &&
-		 ok;
+	ok =
+	    fmDuplicate(source->nodeAttributes, sizeof(double) * n * (size_t)source->nodeAttributeCount,
+	                (void**)&c.nodeAttributes) &&
+	    ok;
 	ok = fmDuplicate(source->nodeMarkers, sizeof(int) * n, (void**)&c.nodeMarkers) && ok;
 	ok = fmDuplicate(source->tetAttributes, sizeof(double) * m * (size_t)source->tetAttributeCount,
-					 (void**)&c.tetAttributes) &&
-		 ok;
+	                 (void**)&c.tetAttributes) &&
+	     ok;
 	if (!ok)
 	{
 		fmFreeTetMesh(&c);
@@ -166,13 +167,13 @@ static fmResult fmCheckTetNodes(const fmTetMesh* mesh, fmDiagnostic* diag)
 		{
 			if (v[k] < 0 || v[k] >= mesh->nodeCount)
 				return fmDiagError(diag, fm_errIndex, "", 0, 0,
-								   "tet %d refers to node %d: expected 0 to %d (0-based)",
-								   t + mesh->firstIndex, v[k], mesh->nodeCount - 1);
+				                   "tet %d refers to node %d: expected 0 to %d (0-based)",
+				                   t + mesh->firstIndex, v[k], mesh->nodeCount - 1);
 			for (int j = 0; j < k; ++j)
 				if (v[j] == v[k])
 					return fmDiagError(diag, fm_errIndex, "", 0, 0,
-									   "tet %d repeats node %d: expected 4 distinct nodes",
-									   t + mesh->firstIndex, v[k] + mesh->firstIndex);
+					                   "tet %d repeats node %d: expected 4 distinct nodes",
+					                   t + mesh->firstIndex, v[k] + mesh->firstIndex);
 		}
 	}
 	return fm_ok;
@@ -191,9 +192,9 @@ fmResult fmTetMesh_Orient(fmTetMesh* mesh, int* flipped, fmDiagnostic* diag)
 		double six = fmTetSixVolume(mesh->positions, mesh->tets + 4 * (size_t)t, &edge);
 		if (fmIsDegenerate(six, edge))
 			result = fmDiagError(diag, fm_errDegenerate, "", 0, 0,
-								 "tet %d (in the file's numbering) has zero volume: 6V = %.3g with "
-								 "longest edge %.3g, expected |6V| > %.0e * edge^3",
-								 t + mesh->firstIndex, six, edge, FM_DEGENERATE_RATIO);
+			                     "tet %d (in the file's numbering) has zero volume: 6V = %.3g with "
+			                     "longest edge %.3g, expected |6V| > %.0e * edge^3",
+			                     t + mesh->firstIndex, six, edge, FM_DEGENERATE_RATIO);
 	}
 	if (result != fm_ok)
 		return result;
@@ -365,13 +366,14 @@ static fmTetQuality fmMeasureTet(const double* x, const int* tet)
 	}
 	fmDihedralRange(n, &q.minDihedral, &q.maxDihedral);
 	fmVec3 a = fmSub(p[1], p[0]), b = fmSub(p[2], p[0]), c = fmSub(p[3], p[0]);
-	fmVec3 r = fmAdd(fmAdd(fmScale(fmDot(a, a), fmCross(b, c)), fmScale(fmDot(b, b), fmCross(c, a))),
-					 fmScale(fmDot(c, c), fmCross(a, b)));
+	fmVec3 r =
+	    fmAdd(fmAdd(fmScale(fmDot(a, a), fmCross(b, c)), fmScale(fmDot(b, b), fmCross(c, a))),
+	          fmScale(fmDot(c, c), fmCross(a, b)));
 	double six = fabs(q.sixVolume);
 	q.radiusRatio = 0.0;
 	if (!fmIsDegenerate(q.sixVolume, q.longestEdge) && area2 > 0.0)
 	{
-		double rIn = six / area2;			 // 3V / A with A = area2 / 2 and V = six / 6
+		double rIn = six / area2;                 // 3V / A with A = area2 / 2 and V = six / 6
 		double rCirc = fmLength(r) / (2.0 * six); // |r| / (12 V)
 		q.radiusRatio = fmin(1.0, 3.0 * rIn / rCirc);
 	}
@@ -403,12 +405,14 @@ static void fmInfoNodes(const fmTetMesh* mesh, fmMeshInfo* info, unsigned char* 
 	{
 		fmVec3 p = fmLoad(mesh->positions, i);
 		info->unreferencedNodes += !used[i];
-		info->boundsMin = i == 0 ? p : fmMakeVec3(fmin(info->boundsMin.x, p.x),
-												 fmin(info->boundsMin.y, p.y),
-												 fmin(info->boundsMin.z, p.z));
-		info->boundsMax = i == 0 ? p : fmMakeVec3(fmax(info->boundsMax.x, p.x),
-												 fmax(info->boundsMax.y, p.y),
-												 fmax(info->boundsMax.z, p.z));
+		info->boundsMin =
+		    i == 0 ? p
+		           : fmMakeVec3(fmin(info->boundsMin.x, p.x), fmin(info->boundsMin.y, p.y),
+		                        fmin(info->boundsMin.z, p.z));
+		info->boundsMax =
+		    i == 0 ? p
+		           : fmMakeVec3(fmax(info->boundsMax.x, p.x), fmax(info->boundsMax.y, p.y),
+		                        fmax(info->boundsMax.z, p.z));
 	}
 }
 
@@ -427,7 +431,8 @@ fmResult fmTetMesh_GetInfo(const fmTetMesh* mesh, fmMeshInfo* info)
 	}
 	unsigned char* used = FM_ALLOC_ZERO(unsigned char, mesh->nodeCount > 0 ? mesh->nodeCount : 1);
 	int* triangles = NULL;
-	if (used == NULL || fmTetMesh_ExtractSurface(mesh, &triangles, &info->surfaceTriangleCount) != fm_ok)
+	if (used == NULL ||
+	    fmTetMesh_ExtractSurface(mesh, &triangles, &info->surfaceTriangleCount) != fm_ok)
 	{
 		FM_FREE_ARRAY(used, unsigned char, mesh->nodeCount > 0 ? mesh->nodeCount : 1);
 		return fm_errOutOfMemory;
@@ -446,12 +451,12 @@ fmResult fmTetMesh_GetInfo(const fmTetMesh* mesh, fmMeshInfo* info)
 // bits are x = 1, y = 2, z = 4; node order is chosen so each tet is positively oriented (odd
 // permutations have their middle nodes exchanged).
 static const int s_kuhnTets[6][4] = {
-	{0, 1, 3, 7}, // x, y, z
-	{0, 3, 2, 7}, // y, x, z (odd)
-	{0, 2, 6, 7}, // y, z, x
-	{0, 6, 4, 7}, // z, y, x (odd)
-	{0, 4, 5, 7}, // z, x, y
-	{0, 5, 1, 7}, // x, z, y (odd)
+    {0, 1, 3, 7}, // x, y, z
+    {0, 3, 2, 7}, // y, x, z (odd)
+    {0, 2, 6, 7}, // y, z, x
+    {0, 6, 4, 7}, // z, y, x (odd)
+    {0, 4, 5, 7}, // z, x, y
+    {0, 5, 1, 7}, // x, z, y (odd)
 };
 
 static fmResult fmCheckBoxParameters(int nx, int ny, int nz, fmVec3 min, fmVec3 max)
@@ -461,7 +466,7 @@ static fmResult fmCheckBoxParameters(int nx, int ny, int nz, fmVec3 min, fmVec3 
 	if (!(min.x < max.x && min.y < max.y && min.z < max.z))
 		return fm_errParameter; // also rejects NaN
 	if (!isfinite(min.x) || !isfinite(min.y) || !isfinite(min.z) || !isfinite(max.x) ||
-		!isfinite(max.y) || !isfinite(max.z))
+	    !isfinite(max.y) || !isfinite(max.z))
 		return fm_errParameter;
 	long long cubes = (long long)nx * ny * nz;
 	if (cubes > FM_MAX_TETS / 6)
@@ -480,9 +485,9 @@ static void fmFillBoxNodes(fmTetMesh* mesh, int nx, int ny, int nz, fmVec3 min, 
 			for (int i = 0; i <= nx; ++i)
 			{
 				// Exact ends: the last node lands on max, not on min + n * h.
-				fmVec3 p = fmMakeVec3(min.x + (max.x - min.x) * i / nx,
-									  min.y + (max.y - min.y) * j / ny,
-									  min.z + (max.z - min.z) * k / nz);
+				fmVec3 p =
+				    fmMakeVec3(min.x + (max.x - min.x) * i / nx, min.y + (max.y - min.y) * j / ny,
+				               min.z + (max.z - min.z) * k / nz);
 				fmStore(mesh->positions, n++, p);
 			}
 }
@@ -496,8 +501,8 @@ static void fmFillBoxTets(fmTetMesh* mesh, int nx, int ny, int nz)
 			{
 				int corner[8];
 				for (int c = 0; c < 8; ++c)
-					corner[c] = (i + (c & 1)) + (nx + 1) * ((j + ((c >> 1) & 1)) +
-															(ny + 1) * (k + ((c >> 2) & 1)));
+					corner[c] = (i + (c & 1)) +
+					            (nx + 1) * ((j + ((c >> 1) & 1)) + (ny + 1) * (k + ((c >> 2) & 1)));
 				for (int s = 0; s < 6; ++s, ++t)
 					for (int a = 0; a < 4; ++a)
 						mesh->tets[4 * (size_t)t + (size_t)a] = corner[s_kuhnTets[s][a]];

@@ -16,29 +16,30 @@
 // What a section header (first record of a .node, .ele or .face file) declares.
 typedef struct fmSectionHeader
 {
-	const char* kind;  // "point", "tet", "face": used in messages
+	const char* kind;      // "point", "tet", "face": used in messages
 	const char* countName; // "point count", ...
-	int count;		   // records declared
-	int line;		   // line of the header
-	int nodes;		   // node references per record (tets: 4 or 10, faces: 3; points: 0)
-	int attributes;	   // attributes per record
-	int markers;	   // 1 if each record ends with a boundary marker
-	int fields;		   // fields per record, index column included
-	char layout[128];  // the record layout, for messages
-	bool warnedIndex;  // the index-column warning was given
+	int count;             // records declared
+	int line;              // line of the header
+	int nodes;             // node references per record (tets: 4 or 10, faces: 3; points: 0)
+	int attributes;        // attributes per record
+	int markers;           // 1 if each record ends with a boundary marker
+	int fields;            // fields per record, index column included
+	char layout[128];      // the record layout, for messages
+	bool warnedIndex;      // the index-column warning was given
 } fmSectionHeader;
 
 // ---- headers ----------------------------------------------------------------------------------
 
 // The first record must exist and have @p minFields to @p maxFields fields.
-static fmResult fmReadHeaderRecord(fmTextReader* r, int minFields, int maxFields, const char* layout)
+static fmResult fmReadHeaderRecord(fmTextReader* r, int minFields, int maxFields,
+                                   const char* layout)
 {
 	fmReadStatus status = fmReader_Next(r);
 	if (status == fm_readError)
 		return r->diag ? r->diag->result : fm_errLimit;
 	if (status == fm_readEnd)
-		return fmDiagError(r->diag, fm_errEmpty, r->name, r->line, 0,
-						   "no header: expected \"%s\"", layout);
+		return fmDiagError(r->diag, fm_errEmpty, r->name, r->line, 0, "no header: expected \"%s\"",
+		                   layout);
 	return fmReader_ExpectFields(r, minFields, maxFields, layout);
 }
 
@@ -52,20 +53,21 @@ static fmResult fmReadCount(fmTextReader* r, fmSectionHeader* h, int limit)
 		return result;
 	if (n < 0)
 		return fmReader_Error(r, fm_errRange, 0, "negative %s count %d: expected a count >= 1",
-							  h->kind, n);
+		                      h->kind, n);
 	if (n == 0)
 		return fmReader_Error(r, fm_errEmpty, 0, "the header declares 0 %ss: expected at least 1",
-							  h->kind);
+		                      h->kind);
 	if (n > limit)
-		return fmReader_Error(r, fm_errLimit, 0, "%d %ss exceed the limit of %d", n, h->kind, limit);
+		return fmReader_Error(r, fm_errLimit, 0, "%d %ss exceed the limit of %d", n, h->kind,
+		                      limit);
 	// Each record is at least its fields, one byte each, and a separator after each field.
 	unsigned long long need = (unsigned long long)n * 2u * (unsigned long long)h->fields - 1u;
 	unsigned long long left = fmReader_Remaining(r);
 	if (need > left)
 		return fmReader_Error(r, fm_errCount, 0,
-							  "the header declares %d %ss but only %llu bytes follow: expected at "
-							  "least %llu bytes (%d fields per %s)",
-							  n, h->kind, left, need, h->fields, h->kind);
+		                      "the header declares %d %ss but only %llu bytes follow: expected at "
+		                      "least %llu bytes (%d fields per %s)",
+		                      n, h->kind, left, need, h->fields, h->kind);
 	h->count = n;
 	return fm_ok;
 }
@@ -87,7 +89,7 @@ static fmResult fmReadHeaderTail(fmTextReader* r, fmSectionHeader* h, int field,
 		n += snprintf(h->layout + n, sizeof h->layout - (size_t)n, " <x> <y> <z>");
 	if (h->attributes > 0)
 		n += snprintf(h->layout + n, sizeof h->layout - (size_t)n, " <%d attributes>",
-					  h->attributes);
+		              h->attributes);
 	if (h->markers)
 		snprintf(h->layout + n, sizeof h->layout - (size_t)n, " <boundary marker>");
 	return result;
@@ -106,8 +108,9 @@ static fmResult fmReadNodeHeader(fmTextReader* r, fmSectionHeader* h)
 	if (result == fm_ok)
 		result = fmReader_Int(r, 1, INT_MIN, INT_MAX, "dimension", &dimension);
 	if (result == fm_ok && dimension != 3)
-		result = fmReader_Error(r, fm_errRange, 1,
-								"dimension is %d: expected 3 (femto reads 3D meshes only)", dimension);
+		result =
+		    fmReader_Error(r, fm_errRange, 1,
+		                   "dimension is %d: expected 3 (femto reads 3D meshes only)", dimension);
 	if (result == fm_ok)
 		result = fmReadHeaderTail(r, h, 2, true);
 	if (result == fm_ok)
@@ -122,7 +125,8 @@ static fmResult fmReadTetHeader(fmTextReader* r, fmSectionHeader* h)
 	h->kind = "tet";
 	h->countName = "tet count";
 	h->nodes = 4;
-	fmResult result = fmReadHeaderRecord(r, 1, 3, "<#tetrahedra> <nodes per tet (4 or 10)> <#attributes>");
+	fmResult result =
+	    fmReadHeaderRecord(r, 1, 3, "<#tetrahedra> <nodes per tet (4 or 10)> <#attributes>");
 	h->line = r->line;
 	if (result == fm_ok && r->fieldCount > 1)
 		result = fmReader_Int(r, 1, 4, 10, "nodes per tet", &h->nodes);
@@ -134,7 +138,7 @@ static fmResult fmReadTetHeader(fmTextReader* r, fmSectionHeader* h)
 		result = fmReadCount(r, h, FM_MAX_TETS);
 	if (result == fm_ok && h->nodes == 10)
 		fmDiagWarn(r->diag, r->name, h->line,
-				   "10-node (quadratic) tets: only the 4 corner nodes are used");
+		           "10-node (quadratic) tets: only the 4 corner nodes are used");
 	return result;
 }
 
@@ -164,9 +168,9 @@ static fmResult fmReadRecord(fmTextReader* r, const fmSectionHeader* h, int inde
 		return r->diag ? r->diag->result : fm_errLimit;
 	if (status == fm_readEnd)
 		return fmDiagError(r->diag, fm_errCount, r->name, r->line, 0,
-						   "unexpected end of file: expected %s %d of the %d the header on line %d "
-						   "declares",
-						   h->kind, index + 1, h->count, h->line);
+		                   "unexpected end of file: expected %s %d of the %d the header on line %d "
+		                   "declares",
+		                   h->kind, index + 1, h->count, h->line);
 	return fmReader_ExpectFields(r, h->fields, h->fields, h->layout);
 }
 
@@ -180,9 +184,9 @@ static fmResult fmCheckIndexColumn(fmTextReader* r, fmSectionHeader* h, int expe
 	{
 		h->warnedIndex = true;
 		fmDiagWarn(r->diag, r->name, r->line,
-				   "%s number %d where %d was expected: the index column is ignored, %ss are "
-				   "numbered by their order in the file",
-				   h->kind, index, expected, h->kind);
+		           "%s number %d where %d was expected: the index column is ignored, %ss are "
+		           "numbered by their order in the file",
+		           h->kind, index, expected, h->kind);
 	}
 	return result;
 }
@@ -206,9 +210,9 @@ static fmResult fmReadPoint(fmTextReader* r, fmSectionHeader* h, int i, fmTetMes
 	{
 		result = fmReader_Int(r, 0, INT_MIN, INT_MAX, "first point number", &m->firstIndex);
 		if (result == fm_ok && m->firstIndex != 0 && m->firstIndex != 1)
-			result = fmReader_Error(r, fm_errRange, 0,
-									"first point number is %d: expected 0 or 1 (the numbering base)",
-									m->firstIndex);
+			result = fmReader_Error(
+			    r, fm_errRange, 0, "first point number is %d: expected 0 or 1 (the numbering base)",
+			    m->firstIndex);
 	}
 	else if (result == fm_ok)
 		result = fmCheckIndexColumn(r, h, m->firstIndex + i);
@@ -217,17 +221,17 @@ static fmResult fmReadPoint(fmTextReader* r, fmSectionHeader* h, int i, fmTetMes
 		result = fmReader_Double(r, 1 + k, axes[k], m->positions + 3 * (size_t)i + k);
 	if (result == fm_ok)
 		result = fmReadDoubles(r, 4, h->attributes, "point attribute",
-							   m->nodeAttributes + (size_t)i * (size_t)h->attributes);
+		                       m->nodeAttributes + (size_t)i * (size_t)h->attributes);
 	if (result == fm_ok && h->markers)
 		result = fmReader_Int(r, 4 + h->attributes, INT_MIN, INT_MAX, "boundary marker",
-							  m->nodeMarkers + i);
+		                      m->nodeMarkers + i);
 	return result;
 }
 
 // Node references of the current record, 0-based into @p out (the first @p keep of them),
 // checked against the node count and for repeats among the kept ones.
-static fmResult fmReadNodeRefs(fmTextReader* r, const fmSectionHeader* h, int record,
-							   int nodeCount, int firstIndex, int keep, int* out)
+static fmResult fmReadNodeRefs(fmTextReader* r, const fmSectionHeader* h, int record, int nodeCount,
+                               int firstIndex, int keep, int* out)
 {
 	for (int k = 0; k < h->nodes; ++k)
 	{
@@ -237,17 +241,17 @@ static fmResult fmReadNodeRefs(fmTextReader* r, const fmSectionHeader* h, int re
 			return result;
 		if (v < firstIndex || v - firstIndex >= nodeCount)
 			return fmReader_Error(r, fm_errIndex, 1 + k,
-								  "node number %d is out of range: expected %d to %d (%d points "
-								  "numbered from %d)",
-								  v, firstIndex, firstIndex + nodeCount - 1, nodeCount, firstIndex);
+			                      "node number %d is out of range: expected %d to %d (%d points "
+			                      "numbered from %d)",
+			                      v, firstIndex, firstIndex + nodeCount - 1, nodeCount, firstIndex);
 		if (k >= keep)
 			continue;
 		out[k] = v - firstIndex;
 		for (int j = 0; j < k; ++j)
 			if (out[j] == out[k])
 				return fmReader_Error(r, fm_errIndex, 1 + k,
-									  "%s %d repeats node %d: expected %d distinct nodes", h->kind,
-									  record + firstIndex, v, keep);
+				                      "%s %d repeats node %d: expected %d distinct nodes", h->kind,
+				                      record + firstIndex, v, keep);
 	}
 	return fm_ok;
 }
@@ -261,7 +265,7 @@ static fmResult fmReadTet(fmTextReader* r, fmSectionHeader* h, int t, fmTetMesh*
 		result = fmReadNodeRefs(r, h, t, m->nodeCount, m->firstIndex, 4, m->tets + 4 * (size_t)t);
 	if (result == fm_ok)
 		result = fmReadDoubles(r, 1 + h->nodes, h->attributes, "tet attribute",
-							   m->tetAttributes + (size_t)t * (size_t)h->attributes);
+		                       m->tetAttributes + (size_t)t * (size_t)h->attributes);
 	lines[t] = r->line;
 	return result;
 }
@@ -276,15 +280,15 @@ static fmResult fmExpectEnd(fmTextReader* r, const fmSectionHeader* h)
 	if (status == fm_readEnd)
 		return fm_ok;
 	return fmReader_Error(r, fm_errCount, 0,
-						  "data after the last of the %d %ss the header on line %d declares: "
-						  "expected the end of the file (or only comments)",
-						  h->count, h->kind, h->line);
+	                      "data after the last of the %d %ss the header on line %d declares: "
+	                      "expected the end of the file (or only comments)",
+	                      h->count, h->kind, h->line);
 }
 
 // ---- sections ---------------------------------------------------------------------------------
 
 static fmResult fmParseNodes(const char* text, size_t size, const char* name, fmTetMesh* m,
-							 fmDiagnostic* diag)
+                             fmDiagnostic* diag)
 {
 	fmTextReader r;
 	fmSectionHeader h;
@@ -297,12 +301,12 @@ static fmResult fmParseNodes(const char* text, size_t size, const char* name, fm
 	m->nodeAttributeCount = h.attributes;
 	m->positions = FM_ALLOC_ARRAY(double, 3 * (size_t)h.count);
 	if (h.attributes > 0)
-		m->nodeAttributes = FM_ALLOC_ARRAY(double, (size_t)h.count * (size_t)h.attributes);
+		m->nodeAttributes = FM_ALLOC_ARRAY(double, (size_t)h.count*(size_t)h.attributes);
 	if (h.markers)
 		m->nodeMarkers = FM_ALLOC_ARRAY(int, h.count);
 	if (!m->positions || (h.attributes > 0 && !m->nodeAttributes) || (h.markers && !m->nodeMarkers))
 		return fmDiagError(diag, fm_errOutOfMemory, name, h.line, 0, "out of memory for %d points",
-						   h.count);
+		                   h.count);
 	for (int i = 0; i < h.count && result == fm_ok; ++i)
 		result = fmReadPoint(&r, &h, i, m);
 	return result == fm_ok ? fmExpectEnd(&r, &h) : result;
@@ -339,12 +343,12 @@ static void fmSort4(int* v)
 // Two tets on the same four nodes would double that element's mass and stiffness and hide
 // their faces from the surface: an error naming both lines.
 static fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const char* name,
-									 fmDiagnostic* diag)
+                                     fmDiagnostic* diag)
 {
 	fmTetKey* keys = FM_ALLOC_ARRAY(fmTetKey, m->tetCount);
 	if (keys == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, name, 0, 0, "out of memory checking %d tets",
-						   m->tetCount);
+		                   m->tetCount);
 	for (int t = 0; t < m->tetCount; ++t)
 	{
 		memcpy(keys[t].v, m->tets + 4 * (size_t)t, sizeof keys[t].v);
@@ -359,30 +363,30 @@ static fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const
 			continue;
 		int first = keys[k - 1].tet, second = keys[k].tet;
 		result = fmDiagError(diag, fm_errIndex, name, lines[second], 0,
-							 "tet %d has the same nodes as tet %d on line %d: expected each tet "
-							 "once",
-							 second + m->firstIndex, first + m->firstIndex, lines[first]);
+		                     "tet %d has the same nodes as tet %d on line %d: expected each tet "
+		                     "once",
+		                     second + m->firstIndex, first + m->firstIndex, lines[first]);
 	}
 	FM_FREE_ARRAY(keys, fmTetKey, m->tetCount);
 	return result;
 }
 
 static fmResult fmAllocTets(fmTetMesh* m, const fmSectionHeader* h, const char* name,
-							fmDiagnostic* diag)
+                            fmDiagnostic* diag)
 {
 	m->tetCount = h->count;
 	m->tetAttributeCount = h->attributes;
 	m->tets = FM_ALLOC_ARRAY(int, 4 * (size_t)h->count);
 	if (h->attributes > 0)
-		m->tetAttributes = FM_ALLOC_ARRAY(double, (size_t)h->count * (size_t)h->attributes);
+		m->tetAttributes = FM_ALLOC_ARRAY(double, (size_t)h->count*(size_t)h->attributes);
 	if (m->tets && (h->attributes == 0 || m->tetAttributes))
 		return fm_ok;
 	return fmDiagError(diag, fm_errOutOfMemory, name, h->line, 0, "out of memory for %d tets",
-					   h->count);
+	                   h->count);
 }
 
 static fmResult fmParseTets(const char* text, size_t size, const char* name, fmTetMesh* m,
-							fmDiagnostic* diag)
+                            fmDiagnostic* diag)
 {
 	fmTextReader r;
 	fmSectionHeader h;
@@ -396,7 +400,7 @@ static fmResult fmParseTets(const char* text, size_t size, const char* name, fmT
 	int* lines = FM_ALLOC_ARRAY(int, h.count);
 	if (lines == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, name, h.line, 0, "out of memory for %d tets",
-						   h.count);
+		                   h.count);
 	for (int t = 0; t < h.count && result == fm_ok; ++t)
 		result = fmReadTet(&r, &h, t, m, lines);
 	if (result == fm_ok)
@@ -421,15 +425,15 @@ static void fmWarnUnreferenced(const fmTetMesh* m, const char* name, fmDiagnosti
 			first = i;
 	if (unused > 0)
 		fmDiagWarn(diag, name, 0,
-				   "%d of %d points are used by no tet (the first is point %d); they are kept and "
-				   "will not move",
-				   unused, m->nodeCount, first + m->firstIndex);
+		           "%d of %d points are used by no tet (the first is point %d); they are kept and "
+		           "will not move",
+		           unused, m->nodeCount, first + m->firstIndex);
 	FM_FREE_ARRAY(used, unsigned char, m->nodeCount);
 }
 
 fmResult fmLoadTetGenFromMemory(const char* nodeText, size_t nodeSize, const char* nodeName,
-								const char* eleText, size_t eleSize, const char* eleName,
-								fmTetMesh* mesh, fmDiagnostic* diag)
+                                const char* eleText, size_t eleSize, const char* eleName,
+                                fmTetMesh* mesh, fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	if (mesh == NULL)
@@ -474,7 +478,7 @@ static fmResult fmReadWholeFile(const char* path, fmFileText* t, fmDiagnostic* d
 	FILE* f = path ? fopen(path, "rb") : NULL;
 	if (f == NULL)
 		return fmDiagError(diag, fm_errIo, path ? path : "", 0, 0, "cannot open: %s",
-						   path ? strerror(errno) : "no path given");
+		                   path ? strerror(errno) : "no path given");
 	fmResult result = fm_ok;
 	for (;;)
 	{
@@ -485,7 +489,7 @@ static fmResult fmReadWholeFile(const char* path, fmFileText* t, fmDiagnostic* d
 			if (grown == NULL)
 			{
 				result = fmDiagError(diag, fm_errOutOfMemory, path, 0, 0,
-									 "out of memory reading %zu bytes", capacity);
+				                     "out of memory reading %zu bytes", capacity);
 				break;
 			}
 			if (t->size)
@@ -508,7 +512,7 @@ static fmResult fmReadWholeFile(const char* path, fmFileText* t, fmDiagnostic* d
 }
 
 fmResult fmLoadTetGen(const char* nodePath, const char* elePath, fmTetMesh* mesh,
-					  fmDiagnostic* diag)
+                      fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	if (mesh)
@@ -520,8 +524,8 @@ fmResult fmLoadTetGen(const char* nodePath, const char* elePath, fmTetMesh* mesh
 	result = fmReadWholeFile(elePath, &ele, diag);
 	if (result == fm_ok)
 	{
-		result = fmLoadTetGenFromMemory(node.data, node.size, nodePath, ele.data, ele.size,
-										elePath, mesh, diag);
+		result = fmLoadTetGenFromMemory(node.data, node.size, nodePath, ele.data, ele.size, elePath,
+		                                mesh, diag);
 		fmFileText_Free(&ele);
 	}
 	fmFileText_Free(&node);
@@ -531,7 +535,7 @@ fmResult fmLoadTetGen(const char* nodePath, const char* elePath, fmTetMesh* mesh
 // ---- .face ------------------------------------------------------------------------------------
 
 static fmResult fmParseFaces(fmTextReader* r, fmSectionHeader* h, int nodeCount, int firstIndex,
-							 int* out)
+                             int* out)
 {
 	fmResult result = fm_ok;
 	for (int f = 0; f < h->count && result == fm_ok; ++f)
@@ -549,14 +553,14 @@ static fmResult fmParseFaces(fmTextReader* r, fmSectionHeader* h, int nodeCount,
 }
 
 fmResult fmLoadTetGenFaceFromMemory(const char* text, size_t size, const char* name, int nodeCount,
-									int firstIndex, int** triangles, int* triangleCount,
-									fmDiagnostic* diag)
+                                    int firstIndex, int** triangles, int* triangleCount,
+                                    fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	if (triangles == NULL || triangleCount == NULL || nodeCount <= 0 ||
-		(firstIndex != 0 && firstIndex != 1))
+	    (firstIndex != 0 && firstIndex != 1))
 		return fmDiagError(diag, fm_errParameter, name ? name : "", 0, 0,
-						   "expected output pointers, nodeCount >= 1 and firstIndex 0 or 1");
+		                   "expected output pointers, nodeCount >= 1 and firstIndex 0 or 1");
 	*triangles = NULL;
 	*triangleCount = 0;
 	name = name ? name : "<face text>";
@@ -570,7 +574,7 @@ fmResult fmLoadTetGenFaceFromMemory(const char* text, size_t size, const char* n
 	int* out = fmAllocUser(fmMulSize(3 * sizeof(int), (size_t)h.count));
 	if (out == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, name, h.line, 0, "out of memory for %d faces",
-						   h.count);
+		                   h.count);
 	result = fmParseFaces(&r, &h, nodeCount, firstIndex, out);
 	if (result != fm_ok)
 	{
@@ -586,14 +590,16 @@ fmResult fmLoadTetGenFaceFromMemory(const char* text, size_t size, const char* n
 
 static bool fmWriteNodeLines(FILE* f, const fmTetMesh* m, const double* x)
 {
-	bool ok = fprintf(f, "%d 3 %d %d\n", m->nodeCount, m->nodeAttributeCount,
-					  m->nodeMarkers ? 1 : 0) > 0;
+	bool ok =
+	    fprintf(f, "%d 3 %d %d\n", m->nodeCount, m->nodeAttributeCount, m->nodeMarkers ? 1 : 0) > 0;
 	for (int i = 0; i < m->nodeCount && ok; ++i)
 	{
 		ok = fprintf(f, "%d %.17g %.17g %.17g", i + m->firstIndex, x[3 * (size_t)i],
-					 x[3 * (size_t)i + 1], x[3 * (size_t)i + 2]) > 0;
+		             x[3 * (size_t)i + 1], x[3 * (size_t)i + 2]) > 0;
 		for (int a = 0; a < m->nodeAttributeCount && ok; ++a)
-			ok = fprintf(f, " %.17g", m->nodeAttributes[(size_t)i * (size_t)m->nodeAttributeCount + (size_t)a]) > 0;
+			ok = fprintf(f, " %.17g",
+			             m->nodeAttributes[(size_t)i * (size_t)m->nodeAttributeCount + (size_t)a]) >
+			     0;
 		if (ok && m->nodeMarkers)
 			ok = fprintf(f, " %d", m->nodeMarkers[i]) > 0;
 		ok = ok && fputc('\n', f) != EOF;
@@ -603,30 +609,30 @@ static bool fmWriteNodeLines(FILE* f, const fmTetMesh* m, const double* x)
 
 // A file the reader would reject is not written: coordinates and attributes must be finite.
 static fmResult fmCheckWritable(const char* path, const fmTetMesh* m, const double* x,
-								fmDiagnostic* diag)
+                                fmDiagnostic* diag)
 {
 	for (size_t k = 0; k < 3 * (size_t)m->nodeCount; ++k)
 		if (!isfinite(x[k]))
 			return fmDiagError(diag, fm_errRange, path, 0, 0,
-							   "point %d has a non-finite coordinate: expected finite positions",
-							   (int)(k / 3) + m->firstIndex);
+			                   "point %d has a non-finite coordinate: expected finite positions",
+			                   (int)(k / 3) + m->firstIndex);
 	size_t attributes = (size_t)m->nodeCount * (size_t)m->nodeAttributeCount;
 	for (size_t k = 0; k < attributes; ++k)
 		if (!isfinite(m->nodeAttributes[k]))
 			return fmDiagError(diag, fm_errRange, path, 0, 0,
-							   "point %d has a non-finite attribute: expected finite values",
-							   (int)(k / (size_t)m->nodeAttributeCount) + m->firstIndex);
+			                   "point %d has a non-finite attribute: expected finite values",
+			                   (int)(k / (size_t)m->nodeAttributeCount) + m->firstIndex);
 	return fm_ok;
 }
 
 fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double* positions,
-						   fmDiagnostic* diag)
+                           fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	if (path == NULL || mesh == NULL || mesh->nodeCount <= 0 ||
-		(mesh->nodeAttributeCount > 0 && mesh->nodeAttributes == NULL))
+	    (mesh->nodeAttributeCount > 0 && mesh->nodeAttributes == NULL))
 		return fmDiagError(diag, fm_errParameter, path ? path : "", 0, 0,
-						   "expected a path and a mesh with points");
+		                   "expected a path and a mesh with points");
 	const double* x = positions ? positions : mesh->positions;
 	fmResult result = fmCheckWritable(path, mesh, x, diag);
 	if (result != fm_ok)
@@ -634,7 +640,7 @@ fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double
 	FILE* f = fopen(path, "w");
 	if (f == NULL)
 		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open for writing: %s",
-						   strerror(errno));
+		                   strerror(errno));
 	bool ok = fmWriteNodeLines(f, mesh, x);
 	int savedErrno = errno;
 	if (fclose(f) != 0 && ok)

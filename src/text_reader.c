@@ -31,7 +31,7 @@ static void fmReaderLocate(const char* text, size_t offset, int* line, int* colu
 }
 
 fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const char* name,
-					   fmDiagnostic* diag)
+                       fmDiagnostic* diag)
 {
 	memset(r, 0, sizeof *r);
 	r->text = text;
@@ -45,7 +45,7 @@ fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const cha
 	int line, column;
 	fmReaderLocate(text, (size_t)(nul - text), &line, &column);
 	return fmDiagError(diag, fm_errSyntax, r->name, line, column,
-					   "NUL byte in the text: expected a TetGen text file, not binary data");
+	                   "NUL byte in the text: expected a TetGen text file, not binary data");
 }
 
 static bool fmIsSpace(char c)
@@ -94,8 +94,8 @@ fmReadStatus fmReader_Next(fmTextReader* r)
 		if (length > FM_MAX_LINE)
 		{
 			fmDiagError(r->diag, fm_errLimit, r->name, r->line, FM_MAX_LINE + 1,
-						"line is %zu bytes long: expected at most %d bytes per line", length,
-						FM_MAX_LINE);
+			            "line is %zu bytes long: expected at most %d bytes per line", length,
+			            FM_MAX_LINE);
 			return fm_readError;
 		}
 		r->lineStart = start;
@@ -111,7 +111,10 @@ fmReadStatus fmReader_Next(fmTextReader* r)
 	return fm_readEnd;
 }
 
-size_t fmReader_Remaining(const fmTextReader* r) { return r->size - r->pos; }
+size_t fmReader_Remaining(const fmTextReader* r)
+{
+	return r->size - r->pos;
+}
 
 int fmReader_Column(const fmTextReader* r, int field)
 {
@@ -137,7 +140,7 @@ fmResult fmReader_Error(const fmTextReader* r, fmResult result, int field, const
 }
 
 fmResult fmReader_ExpectFields(const fmTextReader* r, int minCount, int maxCount,
-							   const char* layout)
+                               const char* layout)
 {
 	int n = r->fieldCount;
 	if (n >= minCount && n <= maxCount)
@@ -148,13 +151,13 @@ fmResult fmReader_ExpectFields(const fmTextReader* r, int minCount, int maxCount
 	else
 		snprintf(count, sizeof count, "%d to %d", minCount, maxCount);
 	if (n < minCount)
-		return fmReader_Error(r, fm_errSyntax, n, "missing field: expected %s fields (%s), found %d",
-							  count, layout, n);
+		return fmReader_Error(r, fm_errSyntax, n,
+		                      "missing field: expected %s fields (%s), found %d", count, layout, n);
 	int extra = maxCount < FM_READER_MAX_FIELDS ? maxCount : FM_READER_MAX_FIELDS - 1;
 	int shown = r->fieldLength[extra] < 40 ? r->fieldLength[extra] : 40;
 	return fmReader_Error(r, fm_errSyntax, extra,
-						  "extra field \"%.*s\": expected %s fields (%s), found %d", shown,
-						  r->field[extra], count, layout, n);
+	                      "extra field \"%.*s\": expected %s fields (%s), found %d", shown,
+	                      r->field[extra], count, layout, n);
 }
 
 // Copy field @p field into @p buffer as a C string; fails if it is too long to be a number.
@@ -163,8 +166,8 @@ static fmResult fmReaderCopy(const fmTextReader* r, int field, const char* what,
 	int length = r->fieldLength[field];
 	if (length > FM_READER_MAX_NUMBER)
 		return fmReader_Error(r, fm_errSyntax, field,
-							  "%s is %d characters long: expected a number of at most %d", what,
-							  length, FM_READER_MAX_NUMBER);
+		                      "%s is %d characters long: expected a number of at most %d", what,
+		                      length, FM_READER_MAX_NUMBER);
 	memcpy(buffer, r->field[field], (size_t)length);
 	buffer[length] = 0;
 	return fm_ok;
@@ -203,14 +206,15 @@ fmResult fmReader_Int(const fmTextReader* r, int field, int lo, int hi, const ch
 	long long value = 0;
 	bool overflow = false;
 	if (!fmParseInt(buffer, &value, &overflow))
-		return fmReader_Error(r, fm_errSyntax, field, "expected %s (an integer), found \"%s\"", what,
-							  buffer);
+		return fmReader_Error(r, fm_errSyntax, field, "expected %s (an integer), found \"%s\"",
+		                      what, buffer);
 	if (overflow || value < INT_MIN || value > INT_MAX)
-		return fmReader_Error(r, fm_errRange, field, "%s \"%s\" overflows an int: expected %d to %d",
-							  what, buffer, lo, hi);
+		return fmReader_Error(r, fm_errRange, field,
+		                      "%s \"%s\" overflows an int: expected %d to %d", what, buffer, lo,
+		                      hi);
 	if (value < lo || value > hi)
 		return fmReader_Error(r, fm_errRange, field, "%s %lld is out of range: expected %d to %d",
-							  what, value, lo, hi);
+		                      what, value, lo, hi);
 	*out = (int)value;
 	return fm_ok;
 }
@@ -226,10 +230,10 @@ fmResult fmReader_Double(const fmTextReader* r, int field, const char* what, dou
 	double value = strtod(buffer, &end);
 	if (end == buffer || *end != 0)
 		return fmReader_Error(r, fm_errSyntax, field, "expected %s (a number), found \"%s\"", what,
-							  buffer);
+		                      buffer);
 	if (isnan(value) || (isinf(value) && errno != ERANGE))
 		return fmReader_Error(r, fm_errRange, field, "%s is \"%s\": expected a finite number", what,
-							  buffer);
+		                      buffer);
 	// ERANGE also flags underflow; a value that rounds to (sub)normal or zero is kept.
 	if (errno == ERANGE && fabs(value) > DBL_MIN)
 		return fmReader_Error(r, fm_errRange, field, "%s \"%s\" overflows a double", what, buffer);

@@ -14,16 +14,16 @@
 
 typedef struct fmTextReader
 {
-	const char* text;	// not NUL-terminated
+	const char* text; // not NUL-terminated
 	size_t size;
-	size_t pos;			// start of the next unread line
-	const char* name;	// file name for diagnostics
+	size_t pos;         // start of the next unread line
+	const char* name;   // file name for diagnostics
 	fmDiagnostic* diag; // may be NULL
-	int line;			// 1-based line of the current record
-	int nextLine;		// 1-based line number of the next unread line
+	int line;           // 1-based line of the current record
+	int nextLine;       // 1-based line number of the next unread line
 	const char* lineStart;
-	int lineLength;	 // bytes of the current line without its line end
-	int fieldCount;	 // fields on the current record (may exceed FM_READER_MAX_FIELDS)
+	int lineLength; // bytes of the current line without its line end
+	int fieldCount; // fields on the current record (may exceed FM_READER_MAX_FIELDS)
 	const char* field[FM_READER_MAX_FIELDS];
 	int fieldLength[FM_READER_MAX_FIELDS];
 } fmTextReader;
@@ -32,13 +32,13 @@ typedef struct fmTextReader
 typedef enum fmReadStatus
 {
 	fm_readRecord, // a record with at least one field
-	fm_readEnd,	   // end of text (only blank and comment lines were left)
+	fm_readEnd,    // end of text (only blank and comment lines were left)
 	fm_readError,  // a line over FM_MAX_LINE bytes; the diagnostic is filled
 } fmReadStatus;
 
 // Start reading @p text; fails with fm_errSyntax naming the line and column of a NUL byte.
 fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const char* name,
-					   fmDiagnostic* diag);
+                       fmDiagnostic* diag);
 
 // Advance to the next record (skipping blank and comment lines) and split it into fields.
 fmReadStatus fmReader_Next(fmTextReader* r);
@@ -52,7 +52,7 @@ int fmReader_Column(const fmTextReader* r, int field);
 // Fail unless the record has between @p minCount and @p maxCount fields; @p layout names them,
 // e.g. "<point #> <x> <y> <z>".
 fmResult fmReader_ExpectFields(const fmTextReader* r, int minCount, int maxCount,
-							   const char* layout);
+                               const char* layout);
 
 // Parse field @p field as an integer in [lo, hi]; @p what names it in messages.
 fmResult fmReader_Int(const fmTextReader* r, int field, int lo, int hi, const char* what, int* out);
@@ -62,4 +62,4 @@ fmResult fmReader_Double(const fmTextReader* r, int field, const char* what, dou
 
 // An error at field @p field of the current record (field < 0: no column).
 fmResult fmReader_Error(const fmTextReader* r, fmResult result, int field, const char* format, ...)
-	__attribute__((format(printf, 4, 5)));
+    __attribute__((format(printf, 4, 5)));

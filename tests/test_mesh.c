@@ -75,7 +75,7 @@ static bool surfaceIsClosedAndConsistent(const int* tri, int count)
 	{
 		Edge reverse = {edges[k].b, edges[k].a};
 		ok = (k == 0 || compareEdges(&edges[k - 1], &edges[k]) != 0) &&
-			 bsearch(&reverse, edges, 3 * (size_t)count, sizeof *edges, compareEdges) != NULL;
+		     bsearch(&reverse, edges, 3 * (size_t)count, sizeof *edges, compareEdges) != NULL;
 	}
 	free(edges);
 	return ok;
@@ -238,7 +238,8 @@ TEST(box_mesh_parameters)
 	CHECK_INT(fmMakeBoxMesh(1, 1, 1, lo, fmMakeVec3(1, 0, 1), &mesh), fm_errParameter);
 	CHECK_INT(fmMakeBoxMesh(1, 1, 1, lo, fmMakeVec3(1, NAN, 1), &mesh), fm_errParameter);
 	CHECK_INT(fmMakeBoxMesh(1000, 1000, 1000, lo, hi, &mesh), fm_errLimit);
-	CHECK_INT(fmMakeBoxMesh(65536, 65536, 65536, lo, hi, &mesh), fm_errLimit); // product overflows int
+	CHECK_INT(fmMakeBoxMesh(65536, 65536, 65536, lo, hi, &mesh),
+	          fm_errLimit); // product overflows int
 	CHECK(mesh.positions == NULL && mesh.nodeCount == 0);
 }
 
@@ -290,7 +291,8 @@ TEST(info_counts_bad_tets)
 {
 	// One good tet, one inverted copy, one flat tet, one sliver of 2 degrees, an unused node.
 	double sliverHeight = tan(2.0 * s_pi / 180.0) * 0.5;
-	const double x[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 0.5, 0.5, sliverHeight, 9, 9, 9};
+	const double x[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 0, 0.5, 0.5, sliverHeight,
+	                    9, 9, 9};
 	const int tets[] = {0, 1, 2, 3, 0, 2, 1, 3, 0, 1, 4, 2, 0, 1, 4, 5};
 	fmTetMesh mesh = makeMesh(x, 7, tets, 4);
 	fmMeshInfo info;
@@ -390,8 +392,8 @@ TEST(copy_free_and_sized_deallocation)
 	size_t before = fmGetAllocatedBytes();
 	fmTetMesh mesh;
 	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/cube_full.node", FEMTO_TEST_DATA "/cube_full.ele",
-						   &mesh, NULL),
-			  fm_ok);
+	                       &mesh, NULL),
+	          fm_ok);
 	fmTetMesh copy;
 	CHECK_INT(fmCopyTetMesh(&mesh, &copy), fm_ok);
 	CHECK(copy.positions != mesh.positions && copy.nodeMarkers != mesh.nodeMarkers);

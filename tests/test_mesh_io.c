@@ -12,7 +12,7 @@ static const char s_node4[] = "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
 static const char s_ele1[] = "1 4 0\n1 1 2 3 4\n";
 
 static fmResult loadTexts(const char* node, size_t nodeSize, const char* ele, size_t eleSize,
-						  fmTetMesh* mesh, fmDiagnostic* diag)
+                          fmTetMesh* mesh, fmDiagnostic* diag)
 {
 	return fmLoadTetGenFromMemory(node, nodeSize, "t.node", ele, eleSize, "t.ele", mesh, diag);
 }
@@ -20,14 +20,14 @@ static fmResult loadTexts(const char* node, size_t nodeSize, const char* ele, si
 static bool meshIsZero(const fmTetMesh* m)
 {
 	return m->nodeCount == 0 && m->tetCount == 0 && m->positions == NULL && m->tets == NULL &&
-		   m->nodeAttributes == NULL && m->nodeMarkers == NULL && m->tetAttributes == NULL;
+	       m->nodeAttributes == NULL && m->nodeMarkers == NULL && m->tetAttributes == NULL;
 }
 
 // Load the texts, expect @p expected at file:line[:column] with @p message in the text; the mesh
 // must be left zeroed and nothing leaked.
 static void expectLoadError(int* failures_, int callerLine, const char* node, size_t nodeSize,
-							const char* ele, size_t eleSize, fmResult expected, const char* file,
-							int line, int column, const char* message)
+                            const char* ele, size_t eleSize, fmResult expected, const char* file,
+                            int line, int column, const char* message)
 {
 	size_t before = fmGetAllocatedBytes();
 	fmTetMesh mesh;
@@ -36,22 +36,22 @@ static void expectLoadError(int* failures_, int callerLine, const char* node, si
 	char text[1024];
 	fmDiagnostic_Format(&diag, text, sizeof text);
 	bool ok = r == expected && diag.result == expected && strcmp(diag.file, file) == 0 &&
-			  diag.line == line && (column == 0 || diag.column == column) &&
-			  strstr(diag.message, message) != NULL && meshIsZero(&mesh) &&
-			  fmGetAllocatedBytes() == before;
+	          diag.line == line && (column == 0 || diag.column == column) &&
+	          strstr(diag.message, message) != NULL && meshIsZero(&mesh) &&
+	          fmGetAllocatedBytes() == before;
 	if (!ok)
 		FAIL_AT("case at line %d: got %s \"%s\" (line %d, column %d); expected %s at %s:%d:%d "
-				"containing \"%s\"",
-				callerLine, fmResultName(r), text, diag.line, diag.column, fmResultName(expected),
-				file, line, column, message);
+		        "containing \"%s\"",
+		        callerLine, fmResultName(r), text, diag.line, diag.column, fmResultName(expected),
+		        file, line, column, message);
 }
 
 #define EXPECT_NODE_ERROR(nodeText, result, line, column, message)                                 \
 	expectLoadError(failures_, __LINE__, TEXT(nodeText), TEXT(s_ele1), result, "t.node", line,     \
-					column, message)
+	                column, message)
 #define EXPECT_ELE_ERROR(eleText, result, line, column, message)                                   \
 	expectLoadError(failures_, __LINE__, TEXT(s_node4), TEXT(eleText), result, "t.ele", line,      \
-					column, message)
+	                column, message)
 
 // ---- good input -------------------------------------------------------------------------------
 
@@ -59,8 +59,8 @@ TEST(house2)
 {
 	fmTetMesh mesh;
 	fmDiagnostic diag;
-	fmResult r = fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh,
-							  &diag);
+	fmResult r =
+	    fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, &diag);
 	CHECK_INT(r, fm_ok);
 	CHECK_INT(mesh.nodeCount, 400);
 	CHECK_INT(mesh.tetCount, 1389);
@@ -89,8 +89,8 @@ TEST(every_optional_field)
 	fmTetMesh mesh;
 	fmDiagnostic diag;
 	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/cube_full.node", FEMTO_TEST_DATA "/cube_full.ele",
-						   &mesh, &diag),
-			  fm_ok);
+	                       &mesh, &diag),
+	          fm_ok);
 	CHECK_INT(diag.warningCount, 0);
 	CHECK_INT(mesh.nodeCount, 8);
 	CHECK_INT(mesh.tetCount, 6);
@@ -120,8 +120,9 @@ TEST(quadratic_tets_zero_based)
 {
 	fmTetMesh mesh;
 	fmDiagnostic diag;
-	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/tet10.node", FEMTO_TEST_DATA "/tet10.ele", &mesh, &diag),
-			  fm_ok);
+	CHECK_INT(
+	    fmLoadTetGen(FEMTO_TEST_DATA "/tet10.node", FEMTO_TEST_DATA "/tet10.ele", &mesh, &diag),
+	    fm_ok);
 	CHECK_INT(mesh.firstIndex, 0);
 	CHECK_INT(mesh.tetCount, 1);
 	CHECK(mesh.nodeMarkers == NULL && mesh.nodeAttributes == NULL && mesh.tetAttributes == NULL);
@@ -137,7 +138,7 @@ TEST(quadratic_tets_zero_based)
 TEST(comments_blank_lines_crlf)
 {
 	const char node[] = "# header follows\r\n\r\n4 3 0 0 # trailing comment\r\n"
-						"1 0 0 0\r\n   \t\r\n2 1 0 0#glued comment\r\n3 0 1 0\r\n4 0 0 1";
+	                    "1 0 0 0\r\n   \t\r\n2 1 0 0#glued comment\r\n3 0 1 0\r\n4 0 0 1";
 	const char ele[] = "1 4 0\r\n#\r\n1 1 2 3 4\r\n# end\r\n\r\n";
 	fmTetMesh mesh;
 	fmDiagnostic diag;
@@ -172,7 +173,7 @@ TEST(unreferenced_nodes_warn)
 	CHECK_INT(mesh.nodeCount, 5);
 	CHECK_INT(diag.warningCount, 1);
 	CHECK_STR_CONTAINS(diag.warning, "t.node: warning: 1 of 5 points are used by no tet (the first "
-									 "is point 5)");
+	                                 "is point 5)");
 	fmFreeTetMesh(&mesh);
 }
 
@@ -189,26 +190,27 @@ TEST(error_missing_or_unreadable_file)
 	CHECK(meshIsZero(&mesh));
 	// The .ele is named when it is the one missing.
 	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/cube_full.node", FEMTO_TEST_DATA "/no_such.ele", &mesh,
-						   &diag),
-			  fm_errIo);
+	                       &diag),
+	          fm_errIo);
 	CHECK_STR_CONTAINS(diag.file, "no_such.ele");
 	// A directory opens but cannot be read.
-	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA, FEMTO_TEST_DATA "/cube_full.ele", &mesh, &diag), fm_errIo);
+	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA, FEMTO_TEST_DATA "/cube_full.ele", &mesh, &diag),
+	          fm_errIo);
 	CHECK_STR_CONTAINS(diag.message, "cannot read");
 	CHECK_INT(fmGetAllocatedBytes(), 0);
 }
 
 TEST(error_truncated)
 {
-	EXPECT_NODE_ERROR("4 3 0 0\n1 0.000 0.000 0.000\n2 1.000 0.000 0.000\n3 0.000 1.000 0.000\n",
-					  fm_errCount, 5, 0,
-					  "unexpected end of file: expected point 4 of the 4 the header on line 1 declares");
+	EXPECT_NODE_ERROR(
+	    "4 3 0 0\n1 0.000 0.000 0.000\n2 1.000 0.000 0.000\n3 0.000 1.000 0.000\n", fm_errCount, 5,
+	    0, "unexpected end of file: expected point 4 of the 4 the header on line 1 declares");
 	// On disk: the file is named with its path and the line after the last.
 	fmTetMesh mesh;
 	fmDiagnostic diag;
 	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/cube_full.node", FEMTO_TEST_DATA "/bad_truncated.ele",
-						   &mesh, &diag),
-			  fm_errCount);
+	                       &mesh, &diag),
+	          fm_errCount);
 	CHECK_STR_CONTAINS(diag.file, "bad_truncated.ele");
 	CHECK_INT(diag.line, 5);
 	CHECK_STR_CONTAINS(diag.message, "expected tet 3 of the 3 the header on line 2 declares");
@@ -218,7 +220,7 @@ TEST(error_nul_byte)
 {
 	const char node[] = "4 3 0 0\n1 0\0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
 	expectLoadError(failures_, __LINE__, node, sizeof node - 1, TEXT(s_ele1), fm_errSyntax,
-					"t.node", 2, 4, "NUL byte");
+	                "t.node", 2, 4, "NUL byte");
 }
 
 TEST(error_overlong_line)
@@ -229,33 +231,33 @@ TEST(error_overlong_line)
 	n += FM_MAX_LINE;
 	n += snprintf(node + n, sizeof node - (size_t)n, "\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
 	expectLoadError(failures_, __LINE__, node, (size_t)n, TEXT(s_ele1), fm_errLimit, "t.node", 3,
-					FM_MAX_LINE + 1, "line is 4097 bytes long: expected at most 4096");
+	                FM_MAX_LINE + 1, "line is 4097 bytes long: expected at most 4096");
 }
 
 TEST(error_number_overflow)
 {
 	EXPECT_NODE_ERROR("4 3 0 0\n1 0 0 0\n2 1 1e999 0\n3 0 1 0\n4 0 0 1\n", fm_errRange, 3, 5,
-					  "y coordinate \"1e999\" overflows a double");
+	                  "y coordinate \"1e999\" overflows a double");
 	EXPECT_NODE_ERROR("99999999999 3 0 0\n1 0 0 0\n", fm_errRange, 1, 1,
-					  "point count \"99999999999\" overflows an int");
+	                  "point count \"99999999999\" overflows an int");
 	EXPECT_ELE_ERROR("1 4 0\n1 1 2 3 -4294967297\n", fm_errRange, 2, 9,
-					 "node number \"-4294967297\" overflows an int");
+	                 "node number \"-4294967297\" overflows an int");
 	char longNumber[200] = "4 3 0 0\n1 0 0 ";
 	size_t n = strlen(longNumber);
 	memset(longNumber + n, '1', 130);
 	snprintf(longNumber + n + 130, sizeof longNumber - n - 130, "\n");
 	expectLoadError(failures_, __LINE__, longNumber, strlen(longNumber), TEXT(s_ele1), fm_errSyntax,
-					"t.node", 2, 7, "z coordinate is 130 characters long");
+	                "t.node", 2, 7, "z coordinate is 130 characters long");
 }
 
 TEST(error_nan_inf)
 {
 	EXPECT_NODE_ERROR("4 3 0 0\n1 nan 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n", fm_errRange, 2, 3,
-					  "x coordinate is \"nan\": expected a finite number");
+	                  "x coordinate is \"nan\": expected a finite number");
 	EXPECT_NODE_ERROR("4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 -Infinity\n", fm_errRange, 5, 7,
-					  "z coordinate is \"-Infinity\": expected a finite number");
+	                  "z coordinate is \"-Infinity\": expected a finite number");
 	EXPECT_NODE_ERROR("4 3 1 0\n1 0 0 0 inf\n2 1 0 0 0\n3 0 1 0 0\n4 0 0 1 0\n", fm_errRange, 2, 9,
-					  "point attribute is \"inf\"");
+	                  "point attribute is \"inf\"");
 }
 
 TEST(error_negative_counts)
@@ -263,7 +265,7 @@ TEST(error_negative_counts)
 	EXPECT_NODE_ERROR("-4 3 0 0\n1 0 0 0\n", fm_errRange, 1, 1, "negative point count -4");
 	EXPECT_ELE_ERROR("-1 4 0\n1 1 2 3 4\n", fm_errRange, 1, 1, "negative tet count -1");
 	EXPECT_NODE_ERROR("4 3 -1 0\n1 0 0 0\n", fm_errRange, 1, 5,
-					  "attribute count -1 is out of range: expected 0 to 64");
+	                  "attribute count -1 is out of range: expected 0 to 64");
 }
 
 // Records the largest request, to prove oversized headers are rejected before allocating.
@@ -285,14 +287,15 @@ TEST(error_counts_larger_than_the_file)
 	fmSetAllocator(recordingAlloc, recordingFree);
 	s_largestRequest = 0;
 	EXPECT_NODE_ERROR("100000000 3 0 0\n1 0 0 0\n", fm_errLimit, 1, 1,
-					  "100000000 points exceed the limit of 67108864");
+	                  "100000000 points exceed the limit of 67108864");
 	EXPECT_NODE_ERROR("1000000 3 0 0\n1 0 0 0\n2 1 0 0\n", fm_errCount, 1, 1,
-					  "the header declares 1000000 points but only 16 bytes follow");
+	                  "the header declares 1000000 points but only 16 bytes follow");
 	EXPECT_ELE_ERROR("200000000 4 0\n1 1 2 3 4\n", fm_errLimit, 1, 1,
-					 "200000000 tets exceed the limit of 134217728");
+	                 "200000000 tets exceed the limit of 134217728");
 	EXPECT_ELE_ERROR("50000000 10 64\n1 1 2 3 4\n", fm_errCount, 1, 1,
-					 "expected at least 7499999999 bytes (75 fields per tet)");
-	EXPECT_NODE_ERROR("4 3 65 0\n1 0 0 0\n", fm_errRange, 1, 5, "attribute count 65 is out of range");
+	                 "expected at least 7499999999 bytes (75 fields per tet)");
+	EXPECT_NODE_ERROR("4 3 65 0\n1 0 0 0\n", fm_errRange, 1, 5,
+	                  "attribute count 65 is out of range");
 	fmSetAllocator(NULL, NULL);
 	CHECK(s_largestRequest < 100000); // only the small node arrays of s_node4 were allocated
 }
@@ -300,40 +303,41 @@ TEST(error_counts_larger_than_the_file)
 TEST(error_extra_or_missing_fields)
 {
 	EXPECT_NODE_ERROR("4 3 0 0\n1 0 0 0\n2 1 0 0 7\n3 0 1 0\n4 0 0 1\n", fm_errSyntax, 3, 9,
-					  "extra field \"7\": expected 4 fields (<point #> <x> <y> <z>), found 5");
-	EXPECT_NODE_ERROR("4 3 0 1\n1 0 0 0 1\n2 1 0 0  # no marker\n3 0 1 0 1\n4 0 0 1 1\n", fm_errSyntax, 3, 8,
-					  "missing field: expected 5 fields (<point #> <x> <y> <z> <boundary marker>), "
-					  "found 4");
+	                  "extra field \"7\": expected 4 fields (<point #> <x> <y> <z>), found 5");
+	EXPECT_NODE_ERROR("4 3 0 1\n1 0 0 0 1\n2 1 0 0  # no marker\n3 0 1 0 1\n4 0 0 1 1\n",
+	                  fm_errSyntax, 3, 8,
+	                  "missing field: expected 5 fields (<point #> <x> <y> <z> <boundary marker>), "
+	                  "found 4");
 	EXPECT_NODE_ERROR("4 3 0 0 9\n1 0 0 0\n", fm_errSyntax, 1, 9, "extra field \"9\"");
 	EXPECT_ELE_ERROR("1 4 1\n1 1 2 3 4   # no attribute\n", fm_errSyntax, 2, 10,
-					 "expected 6 fields (<tet #> <4 node numbers> <1 attributes>), found 5");
+	                 "expected 6 fields (<tet #> <4 node numbers> <1 attributes>), found 5");
 	EXPECT_NODE_ERROR("4 3 0 0\n1 0 abc 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n", fm_errSyntax, 2, 5,
-					  "expected y coordinate (a number), found \"abc\"");
+	                  "expected y coordinate (a number), found \"abc\"");
 	EXPECT_ELE_ERROR("1 4 0\n1 1 2 3 4.0\n", fm_errSyntax, 2, 9,
-					 "expected node number (an integer), found \"4.0\"");
+	                 "expected node number (an integer), found \"4.0\"");
 }
 
 TEST(error_node_reference_out_of_range)
 {
 	EXPECT_ELE_ERROR("1 4 0\n1 1 2 3 5\n", fm_errIndex, 2, 9,
-					 "node number 5 is out of range: expected 1 to 4");
+	                 "node number 5 is out of range: expected 1 to 4");
 	EXPECT_ELE_ERROR("1 4 0\n1 0 1 2 3\n", fm_errIndex, 2, 3,
-					 "node number 0 is out of range: expected 1 to 4 (4 points numbered from 1)");
+	                 "node number 0 is out of range: expected 1 to 4 (4 points numbered from 1)");
 	// On disk, with the full formatted diagnostic.
 	fmTetMesh mesh;
 	fmDiagnostic diag;
 	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/cube_full.node", FEMTO_TEST_DATA "/bad_range.ele",
-						   &mesh, &diag),
-			  fm_errIndex);
+	                       &mesh, &diag),
+	          fm_errIndex);
 	char text[1024];
 	CHECK_STR_CONTAINS(fmDiagnostic_Format(&diag, text, sizeof text),
-					   "bad_range.ele:3:10: node number 9 is out of range: expected 1 to 8");
+	                   "bad_range.ele:3:10: node number 9 is out of range: expected 1 to 8");
 }
 
 TEST(error_repeated_nodes)
 {
 	EXPECT_ELE_ERROR("1 4 0\n1 1 2 2 4\n", fm_errIndex, 2, 7,
-					 "tet 1 repeats node 2: expected 4 distinct nodes");
+	                 "tet 1 repeats node 2: expected 4 distinct nodes");
 }
 
 TEST(error_duplicate_tets)
@@ -341,7 +345,7 @@ TEST(error_duplicate_tets)
 	const char node[] = "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n";
 	const char ele[] = "3 4 0\n1 1 2 3 4\n2 2 3 4 5\n3 4 3 2 1\n";
 	expectLoadError(failures_, __LINE__, TEXT(node), TEXT(ele), fm_errIndex, "t.ele", 4, 0,
-					"tet 3 has the same nodes as tet 1 on line 2");
+	                "tet 3 has the same nodes as tet 1 on line 2");
 }
 
 TEST(error_zero_volume_from_orient)
@@ -376,21 +380,22 @@ TEST(error_wrong_dimension)
 TEST(error_marker_flag)
 {
 	EXPECT_NODE_ERROR("4 3 0 2\n1 0 0 0 1\n", fm_errRange, 1, 7,
-					  "boundary marker flag 2 is out of range: expected 0 to 1");
+	                  "boundary marker flag 2 is out of range: expected 0 to 1");
 }
 
 TEST(error_trailing_data)
 {
 	EXPECT_NODE_ERROR("4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n# ok\n5 1 1 1\n", fm_errCount,
-					  7, 0, "data after the last of the 4 points the header on line 1 declares");
+	                  7, 0, "data after the last of the 4 points the header on line 1 declares");
 	EXPECT_ELE_ERROR("1 4 0\n1 1 2 3 4\nend\n", fm_errCount, 3, 0, "expected the end of the file");
 }
 
 TEST(error_other_header_values)
 {
 	EXPECT_NODE_ERROR("4 3 0 0\n2 0 0 0\n3 1 0 0\n4 0 1 0\n5 0 0 1\n", fm_errRange, 2, 1,
-					  "first point number is 2: expected 0 or 1");
-	EXPECT_ELE_ERROR("1 6 0\n1 1 2 3 4 1 2\n", fm_errRange, 1, 3, "6 nodes per tet: expected 4 or 10");
+	                  "first point number is 2: expected 0 or 1");
+	EXPECT_ELE_ERROR("1 6 0\n1 1 2 3 4 1 2\n", fm_errRange, 1, 3,
+	                 "6 nodes per tet: expected 4 or 10");
 }
 
 // ---- the .face reader -------------------------------------------------------------------------
@@ -399,12 +404,12 @@ TEST(face_file)
 {
 	size_t before = fmGetAllocatedBytes();
 	const char text[] = "# the four faces of a tet\n4 1\n1 1 3 2 -1\n2 1 2 4 -1\n3 1 4 3 -1\n"
-						"4 2 3 4 -1 # last\n";
+	                    "4 2 3 4 -1 # last\n";
 	int* triangles = NULL;
 	int count = 0;
 	fmDiagnostic diag;
 	CHECK_INT(fmLoadTetGenFaceFromMemory(TEXT(text), "t.face", 4, 1, &triangles, &count, &diag),
-			  fm_ok);
+	          fm_ok);
 	CHECK_INT(count, 4);
 	if (triangles)
 	{
@@ -416,7 +421,7 @@ TEST(face_file)
 	CHECK_INT(fmGetAllocatedBytes(), before);
 	const char bad[] = "2 0\n1 1 2 3\n2 1 2 7\n";
 	CHECK_INT(fmLoadTetGenFaceFromMemory(TEXT(bad), "t.face", 4, 1, &triangles, &count, &diag),
-			  fm_errIndex);
+	          fm_errIndex);
 	CHECK_INT(diag.line, 3);
 	CHECK_STR_CONTAINS(diag.message, "node number 7 is out of range: expected 1 to 4");
 	CHECK(triangles == NULL && count == 0);
@@ -450,7 +455,7 @@ static void roundTrip(int* failures_, const char* nodePath, const char* elePath)
 	CHECK_INT(back.nodeAttributeCount, mesh.nodeAttributeCount);
 	CHECK(sameBits(back.positions, moved, sizeof(double) * n3));
 	CHECK(sameBits(back.nodeAttributes, mesh.nodeAttributes,
-				   sizeof(double) * (size_t)mesh.nodeCount * (size_t)mesh.nodeAttributeCount));
+	               sizeof(double) * (size_t)mesh.nodeCount * (size_t)mesh.nodeAttributeCount));
 	CHECK(sameBits(back.nodeMarkers, mesh.nodeMarkers, sizeof(int) * (size_t)mesh.nodeCount));
 	remove(out);
 	free(moved);
