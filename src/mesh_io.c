@@ -219,7 +219,8 @@ static fmResult fmReadPoint(fmTextReader* r, fmSectionHeader* h, int i, fmTetMes
 	static const char* const axes[3] = {"x coordinate", "y coordinate", "z coordinate"};
 	for (int k = 0; k < 3 && result == fm_ok; ++k)
 		result = fmReader_Double(r, 1 + k, axes[k], m->positions + 3 * (size_t)i + k);
-	if (result == fm_ok)
+	// Pointer arithmetic on a NULL array is undefined even with a zero offset.
+	if (result == fm_ok && h->attributes > 0)
 		result = fmReadDoubles(r, 4, h->attributes, "point attribute",
 		                       m->nodeAttributes + (size_t)i * (size_t)h->attributes);
 	if (result == fm_ok && h->markers)
@@ -471,7 +472,22 @@ static void fmFileText_Free(fmFileText* t)
 	memset(t, 0, sizeof *t);
 }
 
-// Read a whole file (regular or not) into memory, doubling the buffer as it grows.
+// Double the buffer (64 KiB first); false when out of memory.
+static bool fmFileText_Grow(fmFileText* t)
+{
+	size_t capacity = t->capacity ? 2 * t->capacity : 65536;
+	char* grown = fmAlloc(capacity);
+	if (grown == NULL)
+		return false;
+	if (t->size)
+		memcpy(grown, t->data, t->size);
+	fmDealloc(t->data, t->capacity);
+	t->data = grown;
+	t->capacity = capacity;
+	return true;
+}
+
+// Read a whole file into memory; works for pipes and other files without a known size.
 static fmResult fmReadWholeFile(const char* path, fmFileText* t, fmDiagnostic* diag)
 {
 	memset(t, 0, sizeof *t);
@@ -480,28 +496,14 @@ static fmResult fmReadWholeFile(const char* path, fmFileText* t, fmDiagnostic* d
 		return fmDiagError(diag, fm_errIo, path ? path : "", 0, 0, "cannot open: %s",
 		                   path ? strerror(errno) : "no path given");
 	fmResult result = fm_ok;
-	for (;;)
+	size_t got = 1;
+	while (got > 0 && result == fm_ok)
 	{
-		if (t->size == t->capacity)
-		{
-			size_t capacity = t->capacity ? 2 * t->capacity : 65536;
-			char* grown = fmAlloc(capacity);
-			if (grown == NULL)
-			{
-				result = fmDiagError(diag, fm_errOutOfMemory, path, 0, 0,
-				                     "out of memory reading %zu bytes", capacity);
-				break;
-			}
-			if (t->size)
-				memcpy(grown, t->data, t->size);
-			fmDealloc(t->data, t->capacity);
-			t->data = grown;
-			t->capacity = capacity;
-		}
-		size_t got = fread(t->data + t->size, 1, t->capacity - t->size, f);
+		if (t->size == t->capacity && !fmFileText_Grow(t))
+			result = fmDiagError(diag, fm_errOutOfMemory, path, 0, 0,
+			                     "out of memory reading %zu bytes", 2 * t->capacity);
+		got = result == fm_ok ? fread(t->data + t->size, 1, t->capacity - t->size, f) : 0;
 		t->size += got;
-		if (got == 0)
-			break;
 	}
 	if (result == fm_ok && ferror(f))
 		result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));

@@ -492,3 +492,35 @@ TEST(write_errors)
 	CHECK(fopen("mesh_io_never_written.node", "r") == NULL);
 	fmFreeTetMesh(&mesh);
 }
+
+TEST(large_generated_mesh_round_trip)
+{
+	// Large enough (about 1 MB) that the file reader grows its buffer several times.
+	fmTetMesh box, back;
+	CHECK_INT(fmMakeBoxMesh(20, 20, 20, fmMakeVec3(-1, -2, -3), fmMakeVec3(1, 0.5, 3), &box),
+	          fm_ok);
+	box.firstIndex = 1;
+	const char* nodePath = "mesh_io_box.node";
+	const char* elePath = "mesh_io_box.ele";
+	CHECK_INT(fmWriteTetGenNode(nodePath, &box, NULL, NULL), fm_ok);
+	FILE* f = fopen(elePath, "w");
+	CHECK(f != NULL);
+	if (f == NULL)
+		return;
+	fprintf(f, "%d 4 0\n", box.tetCount);
+	for (int t = 0; t < box.tetCount; ++t)
+		fprintf(f, "%d %d %d %d %d\n", t + 1, box.tets[4 * t] + 1, box.tets[4 * t + 1] + 1,
+		        box.tets[4 * t + 2] + 1, box.tets[4 * t + 3] + 1);
+	fclose(f);
+	fmDiagnostic diag;
+	CHECK_INT(fmLoadTetGen(nodePath, elePath, &back, &diag), fm_ok);
+	CHECK_INT(diag.warningCount, 0);
+	CHECK_INT(back.nodeCount, box.nodeCount);
+	CHECK_INT(back.tetCount, box.tetCount);
+	CHECK(sameBits(back.positions, box.positions, sizeof(double) * 3 * (size_t)box.nodeCount));
+	CHECK(sameBits(back.tets, box.tets, sizeof(int) * 4 * (size_t)box.tetCount));
+	remove(nodePath);
+	remove(elePath);
+	fmFreeTetMesh(&box);
+	fmFreeTetMesh(&back);
+}
