@@ -264,7 +264,7 @@ static fmResult fmReadTet(fmTextReader* r, fmSectionHeader* h, int t, fmTetMesh*
 		result = fmCheckIndexColumn(r, h, m->firstIndex + t);
 	if (result == fm_ok)
 		result = fmReadNodeRefs(r, h, t, m->nodeCount, m->firstIndex, 4, m->tets + 4 * (size_t)t);
-	if (result == fm_ok)
+	if (result == fm_ok && h->attributes > 0)
 		result = fmReadDoubles(r, 1 + h->nodes, h->attributes, "tet attribute",
 		                       m->tetAttributes + (size_t)t * (size_t)h->attributes);
 	lines[t] = r->line;
