@@ -179,23 +179,31 @@ static fmResult fmCheckTetNodes(const fmTetMesh* mesh, fmDiagnostic* diag)
 	return fm_ok;
 }
 
+// Every tet must have a volume that is not zero relative to its size.
+static fmResult fmCheckTetVolumes(const fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	for (int t = 0; t < mesh->tetCount; ++t)
+	{
+		double edge;
+		double six = fmTetSixVolume(mesh->positions, mesh->tets + 4 * (size_t)t, &edge);
+		if (fmIsDegenerate(six, edge))
+			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
+			                   "tet %d (in the file's numbering) has zero volume: 6V = %.3g with "
+			                   "longest edge %.3g, expected |6V| > %.0e * edge^3",
+			                   t + mesh->firstIndex, six, edge, FM_DEGENERATE_RATIO);
+	}
+	return fm_ok;
+}
+
 fmResult fmTetMesh_Orient(fmTetMesh* mesh, int* flipped, fmDiagnostic* diag)
 {
 	FM_ASSERT(mesh != NULL);
 	if (flipped)
 		*flipped = 0;
+	// Check everything first, so a failing mesh is left untouched.
 	fmResult result = fmCheckTetNodes(mesh, diag);
-	// First pass only checks, so a failing mesh is left untouched.
-	for (int t = 0; t < mesh->tetCount && result == fm_ok; ++t)
-	{
-		double edge;
-		double six = fmTetSixVolume(mesh->positions, mesh->tets + 4 * (size_t)t, &edge);
-		if (fmIsDegenerate(six, edge))
-			result = fmDiagError(diag, fm_errDegenerate, "", 0, 0,
-			                     "tet %d (in the file's numbering) has zero volume: 6V = %.3g with "
-			                     "longest edge %.3g, expected |6V| > %.0e * edge^3",
-			                     t + mesh->firstIndex, six, edge, FM_DEGENERATE_RATIO);
-	}
+	if (result == fm_ok)
+		result = fmCheckTetVolumes(mesh, diag);
 	if (result != fm_ok)
 		return result;
 	int count = 0;
@@ -397,23 +405,25 @@ static void fmInfoAddTet(fmMeshInfo* info, const fmTetQuality* q, bool first)
 	info->badTets += degenerate || inverted || minDeg < 5.0;
 }
 
-static void fmInfoNodes(const fmTetMesh* mesh, fmMeshInfo* info, unsigned char* used)
+// Unreferenced nodes and bounds; false when out of memory.
+static bool fmInfoNodes(const fmTetMesh* mesh, fmMeshInfo* info)
 {
+	size_t n = (size_t)mesh->nodeCount;
+	unsigned char* used = FM_ALLOC_ZERO(unsigned char, n);
+	if (used == NULL && n > 0)
+		return false;
 	for (size_t k = 0; k < 4 * (size_t)mesh->tetCount; ++k)
 		used[mesh->tets[k]] = 1;
 	for (int i = 0; i < mesh->nodeCount; ++i)
 	{
 		fmVec3 p = fmLoad(mesh->positions, i);
+		fmVec3 lo = i == 0 ? p : info->boundsMin, hi = i == 0 ? p : info->boundsMax;
 		info->unreferencedNodes += !used[i];
-		info->boundsMin =
-		    i == 0 ? p
-		           : fmMakeVec3(fmin(info->boundsMin.x, p.x), fmin(info->boundsMin.y, p.y),
-		                        fmin(info->boundsMin.z, p.z));
-		info->boundsMax =
-		    i == 0 ? p
-		           : fmMakeVec3(fmax(info->boundsMax.x, p.x), fmax(info->boundsMax.y, p.y),
-		                        fmax(info->boundsMax.z, p.z));
+		info->boundsMin = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+		info->boundsMax = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
 	}
+	FM_FREE_ARRAY(used, unsigned char, n);
+	return true;
 }
 
 fmResult fmTetMesh_GetInfo(const fmTetMesh* mesh, fmMeshInfo* info)
@@ -429,18 +439,11 @@ fmResult fmTetMesh_GetInfo(const fmTetMesh* mesh, fmMeshInfo* info)
 		fmTetQuality q = fmMeasureTet(mesh->positions, mesh->tets + 4 * (size_t)t);
 		fmInfoAddTet(info, &q, t == 0);
 	}
-	unsigned char* used = FM_ALLOC_ZERO(unsigned char, mesh->nodeCount > 0 ? mesh->nodeCount : 1);
 	int* triangles = NULL;
-	if (used == NULL ||
-	    fmTetMesh_ExtractSurface(mesh, &triangles, &info->surfaceTriangleCount) != fm_ok)
-	{
-		FM_FREE_ARRAY(used, unsigned char, mesh->nodeCount > 0 ? mesh->nodeCount : 1);
+	if (fmTetMesh_ExtractSurface(mesh, &triangles, &info->surfaceTriangleCount) != fm_ok)
 		return fm_errOutOfMemory;
-	}
 	fmFree(triangles);
-	fmInfoNodes(mesh, info, used);
-	FM_FREE_ARRAY(used, unsigned char, mesh->nodeCount > 0 ? mesh->nodeCount : 1);
-	return fm_ok;
+	return fmInfoNodes(mesh, info) ? fm_ok : fm_errOutOfMemory;
 }
 
 // ---- box meshes -------------------------------------------------------------------------------
