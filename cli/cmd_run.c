@@ -172,6 +172,7 @@ static void cliSeriesName(const char* scenePath, char* name, size_t size)
 
 typedef struct cliTotals
 {
+	double lowestReached; // over the whole run, after every frame
 	double kinetic;
 	double elastic;
 	double lowestY;
@@ -181,7 +182,7 @@ typedef struct cliTotals
 
 static cliTotals cliSumStats(const cliSimulation* sim)
 {
-	cliTotals totals = {0.0, 0.0, INFINITY, 0, 0};
+	cliTotals totals = {INFINITY, 0.0, 0.0, INFINITY, 0, 0};
 	for (int b = 0; b < sim->bodyCount; ++b)
 	{
 		fmBodyStats stats = fmBody_GetStats(sim->bodies[b]);
@@ -228,10 +229,24 @@ static void cliPrintProgress(int frame, int frames, double time, const cliSimula
 	fflush(stderr);
 }
 
+static double cliLowestY(const cliSimulation* sim)
+{
+	double lowest = INFINITY;
+	for (int b = 0; b < sim->bodyCount; ++b)
+	{
+		const double* x = fmBody_GetPositions(sim->bodies[b]);
+		int count = fmBody_GetVertexCount(sim->bodies[b]);
+		for (int i = 0; i < count; ++i)
+			lowest = fmin(lowest, x[3 * i + 1]);
+	}
+	return lowest;
+}
+
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
-						cliSeries* series, int frames, double* stepSeconds)
+						cliSeries* series, int frames, double* stepSeconds, double* lowestReached)
 {
+	*lowestReached = cliLowestY(sim);
 	double frameTime = cliScene_FrameTime(scene);
 	bool progress = !o->quiet && cliStderrIsTty();
 	bool applied[CLI_MAX_IMPULSES] = {false};
@@ -252,6 +267,7 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 		double start = cliNow();
 		fmResult result = fmWorld_Step(sim->world, frameTime, scene->substeps);
 		*stepSeconds += cliNow() - start;
+		*lowestReached = fmin(*lowestReached, cliLowestY(sim));
 		if (result != fm_ok)
 		{
 			if (progress)
@@ -283,7 +299,8 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 }
 
 static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int frames,
-							double wallSeconds, double stepSeconds, const cliSeries* series)
+							double wallSeconds, double stepSeconds, double lowestReached,
+							const cliSeries* series)
 {
 	cliTotals totals = cliSumStats(sim);
 	double steps = (double)frames * scene->substeps;
@@ -291,12 +308,14 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	printf("scene            %s (%d bod%s, %d tets, %s)\n", scene->name, sim->bodyCount,
 		   sim->bodyCount == 1 ? "y" : "ies", totals.tets,
 		   scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
-	printf("frames           %d (%d substeps of %g s each)\n", frames, scene->substeps, scene->dt);
+	printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
+		   scene->substeps == 1 ? "" : "s", scene->dt);
 	printf("simulated time   %.6g s\n", simulated);
 	printf("wall time        %.3f s (stepping %.3f s, %.2fx real time)\n", wallSeconds,
 		   stepSeconds, stepSeconds > 0.0 ? simulated / stepSeconds : 0.0);
 	printf("steps per second %.0f\n", stepSeconds > 0.0 ? steps / stepSeconds : 0.0);
 	printf("lowest vertex y  %.6g m\n", totals.lowestY);
+	printf("lowest y reached %.6g m (after any frame)\n", lowestReached);
 	printf("kinetic energy   %.6g J\n", totals.kinetic);
 	printf("elastic energy   %.6g J\n", totals.elastic);
 	printf("inverted tets    %d\n", totals.inverted);
@@ -335,16 +354,17 @@ int cliRun(int argc, char** argv)
 			!cliSeries_WriteFrame(&series, &sim, 0, 0.0))
 			code = cli_exitInput;
 	}
-	double stepSeconds = 0.0;
+	double stepSeconds = 0.0, lowestReached = 0.0;
 	if (code == cli_exitOk)
-		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds);
+		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds, &lowestReached);
 	// The collection is closed even after a failure so the frames already written stay readable.
 	if (seriesPtr != NULL && !cliSeries_Close(&series))
 		code = cli_exitInput;
 	if (code == cli_exitOk && o.exportNode != NULL && !cliExportNodes(o.exportNode, &sim))
 		code = cli_exitInput;
 	if (code == cli_exitOk)
-		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, seriesPtr);
+		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, lowestReached,
+						seriesPtr);
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;

@@ -372,9 +372,10 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	memcpy(spec->elePath, spec->nodePath, sizeof spec->elePath);
 	memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
 	if (!cliFileReadable(spec->nodePath))
-		return cliJsonFail(j, path, item, "cannot open %s", spec->nodePath);
+		return cliJsonFail(j, path, NULL, "cannot open %s (\"%s\" is relative to the scene's folder)",
+						   spec->nodePath, text);
 	if (!cliFileReadable(spec->elePath))
-		return cliJsonFail(j, path, item, "cannot open %s (the .ele beside the .node)",
+		return cliJsonFail(j, path, NULL, "cannot open %s (the .ele beside the .node)",
 						   spec->elePath);
 	return true;
 }

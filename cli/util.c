@@ -226,7 +226,8 @@ static struct
 static void cliLog(fmLogLevel level, const char* message, void* context)
 {
 	(void)context;
-	if (level == fm_logInfo || cliLogState.muted)
+	// Errors come back as result codes with a diagnostic the commands print themselves.
+	if (level != fm_logWarning || cliLogState.muted)
 		return;
 	if (cliLogState.explicitStepWarned && strstr(message, "stability limit") != NULL)
 		return;

@@ -1,0 +1,123 @@
+# Tests of the femto command-line tool: they run the built binary on scenes, meshes and bad
+# inputs and check exit codes, messages and the files written. Included by tests/CMakeLists.txt.
+set(FEMTO_CLI_DATA ${CMAKE_CURRENT_SOURCE_DIR}/cli)
+set(FEMTO_CLI_WORK ${CMAKE_CURRENT_BINARY_DIR}/cli_work)
+set(FEMTO_EXPECT ${CMAKE_COMMAND} -P ${FEMTO_CLI_DATA}/expect.cmake)
+file(MAKE_DIRECTORY ${FEMTO_CLI_WORK})
+
+# femto_cli_test(NAME ARGS "a|b|c" [CODE n] [REGEX re] [REJECT re] [FILES "x|y"] [NO_FILES "z"]
+#                [CLEAN dir])
+function(femto_cli_test name)
+  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN" "" ${ARGN})
+  set(defs "-DCOMMAND=$<TARGET_FILE:femto>|${T_ARGS}")
+  if(DEFINED T_CODE)
+    list(APPEND defs "-DEXPECT_CODE=${T_CODE}")
+  endif()
+  foreach(pair "REGEX;EXPECT_REGEX" "REJECT;REJECT_REGEX" "FILES;EXPECT_FILES"
+               "NO_FILES;REJECT_FILES" "CLEAN;CLEAN")
+    list(GET pair 0 key)
+    list(GET pair 1 var)
+    if(DEFINED T_${key})
+      list(APPEND defs "-D${var}=${T_${key}}")
+    endif()
+  endforeach()
+  add_test(NAME cli_${name} COMMAND ${CMAKE_COMMAND} ${defs} -P ${FEMTO_CLI_DATA}/expect.cmake)
+  set_tests_properties(cli_${name} PROPERTIES TIMEOUT 120 LABELS cli)
+endfunction()
+
+# --- the command line itself -------------------------------------------------------------------
+femto_cli_test(version ARGS "--version" CODE 0 REGEX "femto [0-9]+\\.[0-9]+\\.[0-9]+")
+femto_cli_test(help ARGS "--help" CODE 0 REGEX "run \\[SCENE.json\\].*info.*static.*bench")
+femto_cli_test(run_help ARGS "run|--help" CODE 0 REGEX "--impulse-at T")
+femto_cli_test(no_command ARGS "" CODE 2 REGEX "usage: femto")
+femto_cli_test(unknown_command ARGS "jump" CODE 2 REGEX "unknown command 'jump'.*femto --help")
+femto_cli_test(unknown_option ARGS "run|--fast" CODE 2 REGEX "unknown option '--fast'.*femto run --help")
+femto_cli_test(bad_option_value ARGS "run|--frames|ten" CODE 2 REGEX "--frames: expected an integer")
+femto_cli_test(missing_option_value ARGS "run|--out" CODE 2 REGEX "--out needs a value")
+femto_cli_test(seconds_and_frames ARGS "run|--seconds|1|--frames|3" CODE 2 REGEX "not both")
+
+# --- run -------------------------------------------------------------------------------------
+# The built-in house falls 1 m onto the stick floor at y = -3 within 1.2 s, touches it exactly,
+# bounces and stays upright.
+femto_cli_test(run_default ARGS "run|--frames|40|--quiet" CODE 0
+  REGEX "frames +40 \\(10 substeps of 0.003 s.*simulated time +1.2 s.*lowest vertex y +-2\\.[0-9]+ m.*lowest y reached +-3 m.*inverted tets +0"
+  REJECT "warning")
+femto_cli_test(run_missing_scene ARGS "run|${FEMTO_CLI_WORK}/no_such_scene.json" CODE 1
+  REGEX "no_such_scene.json: cannot open")
+
+# scenes/house.json is the built-in demo: bit-identical positions, and so is the same scene read
+# from data/house2.node on disk. A run one frame shorter must differ (the comparison can fail).
+foreach(run "builtin|--frames|50" "scene|${PROJECT_SOURCE_DIR}/scenes/house.json|--frames|50"
+            "file|${FEMTO_CLI_DATA}/house_file.json|--frames|50" "short|--frames|49")
+  string(REGEX MATCH "^[a-z]+" tag "${run}")
+  string(REGEX REPLACE "^[a-z]+\\|" "" args "${run}")
+  femto_cli_test(export_${tag} ARGS "run|${args}|--quiet|--export-node|${FEMTO_CLI_WORK}/house_${tag}.node"
+    CODE 0 FILES "${FEMTO_CLI_WORK}/house_${tag}.node")
+  set_tests_properties(cli_export_${tag} PROPERTIES FIXTURES_SETUP cli_house_nodes)
+endforeach()
+add_test(NAME cli_house_scene_identical COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/house_builtin.node ${FEMTO_CLI_WORK}/house_scene.node)
+add_test(NAME cli_house_file_identical COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/house_builtin.node ${FEMTO_CLI_WORK}/house_file.node)
+add_test(NAME cli_house_shorter_run_differs COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/house_builtin.node ${FEMTO_CLI_WORK}/house_short.node)
+set_tests_properties(cli_house_scene_identical cli_house_file_identical cli_house_shorter_run_differs
+  PROPERTIES FIXTURES_REQUIRED cli_house_nodes LABELS cli)
+set_tests_properties(cli_house_shorter_run_differs PROPERTIES WILL_FAIL TRUE)
+
+# --out: a .pvd collection with the initial state and every frame, OBJ surfaces with --obj.
+femto_cli_test(run_out ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series/a|--obj" CODE 0
+  CLEAN "${FEMTO_CLI_WORK}/series"
+  REGEX "output +.*house.pvd \\(4 frames\\)"
+  FILES "${FEMTO_CLI_WORK}/series/a/house.pvd|${FEMTO_CLI_WORK}/series/a/house_000000.vtu|${FEMTO_CLI_WORK}/series/a/house_000003.vtu|${FEMTO_CLI_WORK}/series/a/house_000003.obj"
+  NO_FILES "${FEMTO_CLI_WORK}/series/a/house_000004.vtu")
+femto_cli_test(run_out_unwritable ARGS "run|--frames|1|--quiet|--out|/proc/femto_cannot_write"
+  CODE 1 REGEX "/proc/femto_cannot_write")
+# The jump: 400 particles of 1 kg given 0.2 m/s upward carry 0.5 * 400 * 0.2^2 = 8 J, and
+# without gravity, floor or damping the house keeps it (a rigid translation stores no energy).
+femto_cli_test(run_impulse ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet|--impulse-at|0.05|--impulse-at|99"
+  CODE 0 REGEX "kinetic energy +8 J.*elastic energy +[0-9.]+e-[0-9]+ J.*--impulse-at 99: after the end of the run")
+femto_cli_test(run_no_impulse ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet"
+  CODE 0 REGEX "kinetic energy +([0-9.]+e-[0-9][0-9]|0) J")
+
+# An explicit step ten times too large: a warning first, then the numerical failure with its
+# diagnostic, exit 1, and no frames after the failure.
+femto_cli_test(run_explodes ARGS "run|${FEMTO_CLI_DATA}/explode.json|--frames|100|--quiet|--out|${FEMTO_CLI_WORK}/explode"
+  CLEAN "${FEMTO_CLI_WORK}/explode" CODE 1
+  REGEX "more than twice the estimated explicit stability limit.*step failed in frame [0-9]+.*fm_errNumerical"
+  NO_FILES "${FEMTO_CLI_WORK}/explode/explode_000100.vtu")
+
+# --- bad scenes: exit 1 and a message naming the file, line and JSON path -----------------------
+femto_cli_test(scene_unknown_key ARGS "run|${FEMTO_CLI_DATA}/unknown_key.json" CODE 1
+  REGEX "unknown_key.json:4:[0-9]+: bodies\\[0\\].dampnig: unknown key")
+femto_cli_test(scene_wrong_type ARGS "run|${FEMTO_CLI_DATA}/wrong_type.json" CODE 1
+  REGEX "wrong_type.json:5:[0-9]+: bodies\\[0\\].material.youngs_modulus: expected a number > 0, got \"abc\"")
+femto_cli_test(scene_missing_mesh ARGS "run|${FEMTO_CLI_DATA}/missing_mesh.json" CODE 1
+  REGEX "missing_mesh.json:2:[0-9]+: bodies\\[0\\].mesh: cannot open .*no_such_mesh.node")
+femto_cli_test(scene_bad_poisson ARGS "run|${FEMTO_CLI_DATA}/bad_poisson.json" CODE 1
+  REGEX "bodies\\[0\\].material.poisson_ratio: expected a number in \\(-1, 0.5\\), got 0.5")
+femto_cli_test(scene_bad_dt ARGS "run|${FEMTO_CLI_DATA}/bad_dt.json" CODE 1
+  REGEX "bad_dt.json:2:[0-9]+: dt: expected a number in \\(0, 10\\], got -0.001")
+femto_cli_test(scene_syntax ARGS "run|${FEMTO_CLI_DATA}/syntax_error.json" CODE 1
+  REGEX "syntax_error.json:4:[0-9]+: JSON syntax error")
+femto_cli_test(scene_both_pairs ARGS "run|${FEMTO_CLI_DATA}/both_pairs.json" CODE 1
+  REGEX "not both pairs")
+femto_cli_test(scene_pin_misses ARGS "run|${FEMTO_CLI_DATA}/pin_misses.json" CODE 1
+  REGEX "pin\\[0\\]: box .* catches no vertex; the body spans \\[0 0 0\\]..\\[1 0.25 0.25\\]")
+
+# --- info --------------------------------------------------------------------------------------
+femto_cli_test(info_house ARGS "info|${PROJECT_SOURCE_DIR}/data/house2.node" CODE 0
+  REGEX "nodes +400 \\(0 unreferenced\\).*tets +1389.*bounds +\\[0 0 0\\] to \\[10 10 10\\]")
+femto_cli_test(info_builtin ARGS "info|builtin:house2" CODE 0 REGEX "nodes +400.*tets +1389")
+femto_cli_test(info_missing ARGS "info|${FEMTO_CLI_WORK}/house3.node" CODE 1 REGEX "house3.node")
+
+# --- static --------------------------------------------------------------------------------------
+femto_cli_test(static_beam ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--export-node|${FEMTO_CLI_WORK}/beam.node"
+  CODE 0 REGEX "residual [0-9.e+-]+ \\(tolerance 1e-08\\).*converged"
+  FILES "${FEMTO_CLI_WORK}/beam.node")
+
+# --- bench ---------------------------------------------------------------------------------------
+femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--repeats|1" CODE 0
+  REGEX "house2 +1389 +[0-9.]+ +[0-9]+.*box 1k +1080 " REJECT "failed|box 10k")
+femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
+  REGEX "box 1k +1080 +[0-9.]+ +[0-9.]+ +[0-9.]+" REJECT "failed|house2")
