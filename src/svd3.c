@@ -157,27 +157,35 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 	}
 
 	// One-sided Jacobi sweeps: rotate column pairs until they are orthogonal to working
-	// precision relative to their own lengths.
+	// precision relative to their own lengths. Norms are recomputed, not updated, so a column
+	// that is only rounding noise (rank-deficient F) is still judged against its own length.
 	static const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+	const double tol2 = (4.0 * DBL_EPSILON) * (4.0 * DBL_EPSILON);
 	for (int sweep = 0; sweep < 20; ++sweep)
 	{
-		int rotated = 0;
+		// Largest cos^2 between two columns and largest tan of a rotation in this sweep.
+		double worstCos2 = 0.0, worstTan = 0.0;
 		for (int k = 0; k < 3; ++k)
 		{
 			int p = pairs[k][0], q = pairs[k][1];
 			double alpha = fmDot(b[p], b[p]), beta = fmDot(b[q], b[q]), gamma = fmDot(b[p], b[q]);
-			if (gamma == 0.0 || fabs(gamma) <= 4.0 * DBL_EPSILON * sqrt(alpha) * sqrt(beta))
+			double ab = alpha * beta;
+			if (gamma * gamma <= tol2 * ab)
 				continue;
+			worstCos2 = fmax(worstCos2, gamma * gamma / ab);
 			double c, sn;
 			fmJacobiRotation(alpha, beta, gamma, &c, &sn);
+			worstTan = fmax(worstTan, fabs(sn / c));
 			fmVec3 bp = b[p], vp = v[p];
 			b[p] = fmSub(fmScale(c, bp), fmScale(sn, b[q]));
 			b[q] = fmAdd(fmScale(sn, bp), fmScale(c, b[q]));
 			v[p] = fmSub(fmScale(c, vp), fmScale(sn, v[q]));
 			v[q] = fmAdd(fmScale(sn, vp), fmScale(c, v[q]));
-			rotated = 1;
 		}
-		if (!rotated)
+		// Small angles between nearly orthogonal columns: each rotation disturbs the other
+		// pairs only to second order, so they are now orthogonal to rounding and the checking
+		// sweep can be skipped. (Clustered columns rotate by large angles and keep iterating.)
+		if (worstCos2 < 1e-20 && worstTan < 1e-8)
 			break;
 	}
 
