@@ -190,7 +190,7 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 		return fmStvk_Evaluate(material, F, P, dPdF);
 	case fm_corotated:
 	case fm_stretchEnergy:
-		return fmStretchModel_Evaluate(material, F, P, dPdF);
+		return fmStretchModel_Evaluate(material, F, P, dPdF, false);
 	case fm_neoHookean:
 	case fm_mooneyRivlin:
 	case fm_invariantEnergy:
@@ -202,6 +202,30 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 		if (dPdF)
 			memset(dPdF, 0, 81 * sizeof(double));
 		return NAN;
+	}
+}
+
+double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F, fmMat3* P,
+									double* dPdF)
+{
+	switch (material->model)
+	{
+	case fm_linear:
+		// Eigenvalues 2 mu (deviatoric), 0 (rotations) and 2 mu + 3 lambda (volume): already PSD
+		// for every valid material.
+		return fmLinear_Evaluate(material, F, P, dPdF);
+	case fm_corotated:
+	case fm_neoHookean:
+	case fm_mooneyRivlin:
+	case fm_stretchEnergy:
+		return fmStretchModel_Evaluate(material, F, P, dPdF, true);
+	default:
+	{
+		double psi = fmMaterial_Evaluate(material, F, P, dPdF);
+		if (dPdF)
+			fmProjectPSD9(dPdF);
+		return psi;
+	}
 	}
 }
 

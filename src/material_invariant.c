@@ -41,7 +41,7 @@ static void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3
 // clamp: C2, finite for J <= 0, increasing and concave there, so -mu lnJ + lambda/2 lnJ^2 keeps
 // growing as a tet collapses and inverts and its gradient (along cof F) pushes it back.
 // out = {l, l', l''}.
-static void fmClampedLogJ(double J, double out[3])
+void fmClampedLogJ(double J, double out[3])
 {
 	const double c = FM_LOG_J_CLAMP;
 	if (J >= c)

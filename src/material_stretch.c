@@ -1,5 +1,7 @@
 // Isotropic energies written in the signed principal stretches s = (s0, s1, s2) of F = U diag(s)
-// V^T (fmSvd3; s2 < 0 for an inverted tet): fixed corotated and the user's stretch energy. One assembly turns psi(s), its gradient and
+// V^T (fmSvd3; s2 < 0 for an inverted tet): fixed corotated and the user's stretch energy, and
+// Neo-Hookean / Mooney-Rivlin when a projected tangent is wanted (their eigen-structure is
+// explicit here). One assembly turns psi(s), its gradient and
 // Hessian into P and dP/dF (Irving, Teran, Fedkiw 2004; Teran, Sifakis, Irving, Fedkiw 2005):
 //   P = U diag(dpsi) V^T,
 //   dP/dF = sum_ab d2psi_ab (u_a v_a^T)(u_b v_b^T)^T                      (stretch block)
@@ -12,52 +14,127 @@
 
 #include <string.h>
 
-// Relative gap below which two stretches count as equal in q_ij (the difference quotient
-// becomes its limit). sqrt(machine epsilon) balances cancellation against truncation.
-#define FM_STRETCH_GAP 1e-8
+// What a stretch energy gives the assembly: psi, gradient g, Hessian H and, when hasModes, the
+// flip and twist eigenvalues q_ij = (g_i - g_j)/(s_i - s_j), r_ij = (g_i + g_j)/(s_i + s_j) in
+// closed form (pairs 01, 02, 12), free of cancellation and of the guards needed otherwise.
+typedef struct fmStretchDerivs
+{
+	double psi, g[3], H[9], q[3], r[3];
+	bool hasModes;
+} fmStretchDerivs;
+
+static const int s_pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 
 // Fixed corotated (Stomakhin et al. 2012): psi = mu sum (s_i - 1)^2 + lambda/2 (J - 1)^2, i.e.
 // mu |F - R|^2 + lambda/2 (det F - 1)^2.
-static double fmCorotatedStretch(const fmMaterial* m, const double s[3], double g[3], double* H)
+static void fmCorotatedStretch(const fmMaterial* m, const double s[3], bool hessian, fmStretchDerivs* d)
 {
 	double J = s[0] * s[1] * s[2];
 	double dJ[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]};
-	double psi = 0.5 * m->lambda * (J - 1.0) * (J - 1.0);
+	d->psi = 0.5 * m->lambda * (J - 1.0) * (J - 1.0);
 	for (int i = 0; i < 3; ++i)
 	{
-		psi += m->mu * (s[i] - 1.0) * (s[i] - 1.0);
-		g[i] = 2.0 * m->mu * (s[i] - 1.0) + m->lambda * (J - 1.0) * dJ[i];
+		d->psi += m->mu * (s[i] - 1.0) * (s[i] - 1.0);
+		d->g[i] = 2.0 * m->mu * (s[i] - 1.0) + m->lambda * (J - 1.0) * dJ[i];
 	}
-	if (H)
-		for (int i = 0; i < 3; ++i)
-			for (int j = 0; j < 3; ++j)
-			{
-				double v = m->lambda * dJ[i] * dJ[j];
-				if (i == j)
-					v += 2.0 * m->mu;
-				else
-					v += m->lambda * (J - 1.0) * s[3 - i - j]; // d2J/ds_i ds_j = the third stretch
-				H[3 * i + j] = v;
-			}
-	return psi;
+	if (!hessian)
+		return;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+		{
+			double v = m->lambda * dJ[i] * dJ[j];
+			if (i == j)
+				v += 2.0 * m->mu;
+			else
+				v += m->lambda * (J - 1.0) * s[3 - i - j]; // d2J/ds_i ds_j = the third stretch
+			d->H[3 * i + j] = v;
+		}
+	for (int k = 0; k < 3; ++k)
+	{
+		int i = s_pairs[k][0], j = s_pairs[k][1];
+		double sk = s[3 - i - j];
+		d->q[k] = 2.0 * m->mu - m->lambda * (J - 1.0) * sk;
+		// -4 mu / (s_i + s_j) is the rotation's own singularity (s_i = -s_j); bounded there.
+		d->r[k] = 2.0 * m->mu + m->lambda * (J - 1.0) * sk -
+				  4.0 * m->mu / fmax(s[i] + s[j], FM_STRETCH_GAP * fmax(fabs(s[0]), 1e-150));
+	}
+	d->hasModes = true;
 }
 
-// psi(s), gradient and (when H is not NULL) Hessian of the material's stretch energy.
-static double fmStretchEnergy(const fmMaterial* m, const double s[3], double g[3], double* H)
+// The Neo-Hookean / Mooney-Rivlin energy of material_invariant.c written in the stretches
+// (I1 = sum s^2, I2 = sum_{i<j} s_i^2 s_j^2, J = s0 s1 s2), for the analytic PSD projection:
+// psi = C10 (I1 - 3) + C01 (I2 - 3) - a l(J) + b/2 l(J)^2.
+static void fmMooneyRivlinStretch(const fmMaterial* m, const double s[3], bool hessian,
+								  fmStretchDerivs* d)
 {
+	double c01 = m->model == fm_mooneyRivlin ? m->c01 : 0.0;
+	double c10 = 0.5 * m->mu - c01, a = m->mu + 2.0 * c01, b = m->lambda - 4.0 * c01;
+	double J = s[0] * s[1] * s[2];
+	double dJ[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]};
+	double l[3], sq[3] = {s[0] * s[0], s[1] * s[1], s[2] * s[2]};
+	fmClampedLogJ(J, l);
+	double I1 = sq[0] + sq[1] + sq[2];
+	double I2 = sq[0] * sq[1] + sq[0] * sq[2] + sq[1] * sq[2];
+	double kappa = (b * l[0] - a) * l[1];						// d psi / dJ
+	double kappa2 = b * l[1] * l[1] + (b * l[0] - a) * l[2]; // d2 psi / dJ2
+	d->psi = c10 * (I1 - 3.0) + c01 * (I2 - 3.0) - a * l[0] + 0.5 * b * l[0] * l[0];
+	for (int i = 0; i < 3; ++i)
+		d->g[i] = 2.0 * c10 * s[i] + 2.0 * c01 * s[i] * (I1 - sq[i]) + kappa * dJ[i];
+	if (!hessian)
+		return;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+		{
+			double v = kappa2 * dJ[i] * dJ[j];
+			if (i == j)
+				v += 2.0 * c10 + 2.0 * c01 * (I1 - sq[i]);
+			else
+				v += 4.0 * c01 * s[i] * s[j] + kappa * s[3 - i - j];
+			d->H[3 * i + j] = v;
+		}
+	for (int k = 0; k < 3; ++k)
+	{
+		int i = s_pairs[k][0], j = s_pairs[k][1];
+		double sk = s[3 - i - j];
+		d->q[k] = 2.0 * c10 + 2.0 * c01 * (sk * sk - s[i] * s[j]) - kappa * sk;
+		d->r[k] = 2.0 * c10 + 2.0 * c01 * (sk * sk + s[i] * s[j]) + kappa * sk;
+	}
+	d->hasModes = true;
+}
+
+static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian, fmStretchDerivs* d)
+{
+	memset(d, 0, sizeof *d);
 	switch (m->model)
 	{
 	case fm_corotated:
-		return fmCorotatedStretch(m, s, g, H);
+		fmCorotatedStretch(m, s, hessian, d);
+		break;
+	case fm_neoHookean:
+	case fm_mooneyRivlin:
+		fmMooneyRivlinStretch(m, s, hessian, d);
+		break;
 	default:
-	{
-		double psi = 0.0;
-		g[0] = g[1] = g[2] = 0.0;
-		if (H)
-			memset(H, 0, 9 * sizeof(double));
-		m->stretchEnergy(s, m->userParams, &psi, g, H);
-		return psi;
+		m->stretchEnergy(s, m->userParams, &d->psi, d->g, hessian ? d->H : NULL);
+		break;
 	}
+}
+
+// Flip and twist eigenvalues from the gradient where the energy has no closed form for them.
+static void fmGuardedModes(const double s[3], fmStretchDerivs* d)
+{
+	double gap = FM_STRETCH_GAP * fmax(fabs(s[0]), 1e-150); // s[0] has the largest magnitude
+	const double* g = d->g;
+	const double* H = d->H;
+	for (int k = 0; k < 3; ++k)
+	{
+		int i = s_pairs[k][0], j = s_pairs[k][1];
+		// Flip: q -> d2psi_ii - d2psi_ij as s_i -> s_j (psi is symmetric).
+		d->q[k] = s[i] - s[j] > gap ? (g[i] - g[j]) / (s[i] - s[j])
+									: 0.5 * (H[3 * i + i] + H[3 * j + j]) - H[3 * i + j];
+		// Twist: s_i + s_j >= 0 by the ordering; it vanishes only where the rotation of F is
+		// undefined (s_i = -s_j), where the bounded denominator keeps dP/dF finite.
+		d->r[k] = (g[i] + g[j]) / fmax(s[i] + s[j], gap);
 	}
 }
 
@@ -82,29 +159,38 @@ static void fmDyad(const fmMat3* U, const fmMat3* V, int a, int b, double* q)
 			q[3 * i + j] = U->m[3 * i + a] * V->m[3 * j + b];
 }
 
-static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const double s[3],
-									 const double g[3], const double H[9], double* dPdF)
+// dP/dF from its eigen-structure; with project, every mode's eigenvalue is clamped at zero,
+// which is exactly the nearest PSD matrix because the modes are orthonormal.
+static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmStretchDerivs* d,
+									 bool project, double* dPdF)
 {
 	memset(dPdF, 0, 81 * sizeof(double));
-	double d[3][9];
+	double H[9];
+	memcpy(H, d->H, sizeof H);
+	if (project)
+	{
+		fmMat3 A, Q;
+		fmVec3 w;
+		memcpy(A.m, H, sizeof H);
+		fmSymEigen3(&A, &w, &Q);
+		double wc[3] = {fmax(w.x, 0.0), fmax(w.y, 0.0), fmax(w.z, 0.0)};
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j)
+				H[3 * i + j] = Q.m[3 * i] * wc[0] * Q.m[3 * j] + Q.m[3 * i + 1] * wc[1] * Q.m[3 * j + 1] +
+							   Q.m[3 * i + 2] * wc[2] * Q.m[3 * j + 2];
+	}
+	double D[3][9];
 	for (int a = 0; a < 3; ++a)
-		fmDyad(U, V, a, a, d[a]);
+		fmDyad(U, V, a, a, D[a]);
 	for (int a = 0; a < 3; ++a)
 		for (int b = 0; b < 3; ++b)
-			fmAddOuter9(dPdF, H[3 * a + b], d[a], d[b]);
+			fmAddOuter9(dPdF, H[3 * a + b], D[a], D[b]);
 
-	double scale = fmax(fabs(s[0]), 1e-150); // s[0] has the largest magnitude
-	double gap = FM_STRETCH_GAP * scale;
-	static const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 	for (int k = 0; k < 3; ++k)
 	{
-		int i = pairs[k][0], j = pairs[k][1];
-		// Flip mode: q -> d2psi_ii - d2psi_ij as s_i -> s_j (psi is symmetric).
-		double q = s[i] - s[j] > gap ? (g[i] - g[j]) / (s[i] - s[j])
-									 : 0.5 * (H[3 * i + i] + H[3 * j + j]) - H[3 * i + j];
-		// Twist mode: s_i + s_j >= 0 by the ordering; it vanishes only where the rotation of F is
-		// undefined (s_i = -s_j), where the bounded denominator keeps dP/dF finite.
-		double r = (g[i] + g[j]) / fmax(s[i] + s[j], gap);
+		int i = s_pairs[k][0], j = s_pairs[k][1];
+		double q = project ? fmax(d->q[k], 0.0) : d->q[k];
+		double r = project ? fmax(d->r[k], 0.0) : d->r[k];
 		double ij[9], ji[9], f[9], t[9];
 		fmDyad(U, V, i, j, ij);
 		fmDyad(U, V, j, i, ji);
@@ -118,20 +204,25 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const dou
 	}
 }
 
-double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)
+double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
+							   bool project)
 {
 	fmMat3 U, V;
 	fmVec3 sv;
 	fmSvd3(F, &U, &sv, &V);
 	const double s[3] = {sv.x, sv.y, sv.z};
-	double g[3], H[9];
-	double psi = fmStretchEnergy(material, s, g, dPdF ? H : NULL);
+	fmStretchDerivs d;
+	fmStretchEnergy(material, s, dPdF != NULL, &d);
 	if (P)
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
-				P->m[3 * i + j] = U.m[3 * i] * g[0] * V.m[3 * j] + U.m[3 * i + 1] * g[1] * V.m[3 * j + 1] +
-								  U.m[3 * i + 2] * g[2] * V.m[3 * j + 2];
+				P->m[3 * i + j] = U.m[3 * i] * d.g[0] * V.m[3 * j] + U.m[3 * i + 1] * d.g[1] * V.m[3 * j + 1] +
+								  U.m[3 * i + 2] * d.g[2] * V.m[3 * j + 2];
 	if (dPdF)
-		fmAssembleStretchHessian(&U, &V, s, g, H, dPdF);
-	return psi;
+	{
+		if (!d.hasModes)
+			fmGuardedModes(s, &d);
+		fmAssembleStretchHessian(&U, &V, &d, project, dPdF);
+	}
+	return d.psi;
 }
