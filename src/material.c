@@ -215,6 +215,7 @@ double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F,
 		// for every valid material.
 		return fmLinear_Evaluate(material, F, P, dPdF);
 	case fm_corotated:
+	case fm_stvk:
 	case fm_neoHookean:
 	case fm_mooneyRivlin:
 	case fm_stretchEnergy:
@@ -268,7 +269,7 @@ void fmProjectPSD9(double* A)
 	// A = Q diag(w) Q^T; the nearest PSD matrix (Frobenius) keeps Q and clamps w at 0.
 	double a[81], w[9], Q[81];
 	memcpy(a, A, sizeof a);
-	fmSymEigenN(a, 9, w, Q);
+	fmSymEigenN(a, 9, 1e-12, w, Q); // eigenvalues to ~1e-12 relative: ample for a Newton matrix
 	for (int e = 0; e < 9; ++e)
 		w[e] = fmax(w[e], 0.0);
 	for (int i = 0; i < 9; ++i)

@@ -11,8 +11,8 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 
 // Like fmMaterial_Evaluate, but dPdF (not NULL) comes back projected onto the positive
 // semi-definite cone: the same matrix as fmProjectPSD9 of the exact dP/dF, computed in closed
-// form for corotated, Neo-Hookean, Mooney-Rivlin and stretch energies (no 9x9 eigen-solve) and
-// by fmProjectPSD9 for the others. For the implicit integrator's Newton steps.
+// form for every model but the user invariant energy (no 9x9 eigen-solve; that one uses
+// fmProjectPSD9). For the implicit integrator's Newton steps.
 double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F, fmMat3* P,
 									double* dPdF);
 

@@ -18,7 +18,7 @@
 void fmClampedLogJ(double J, double out[3]);
 
 // Energies of the principal stretches (SVD, docs/materials.md): fixed corotated, the user's
-// fmStretchEnergyFcn, and Neo-Hookean / Mooney-Rivlin. With project, dPdF is projected onto the
+// fmStretchEnergyFcn, and StVK / Neo-Hookean / Mooney-Rivlin. With project, dPdF is projected onto the
 // PSD cone analytically (its eigenvectors are known in closed form).
 double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
 							   bool project);

@@ -1,6 +1,6 @@
 // Isotropic energies written in the signed principal stretches s = (s0, s1, s2) of F = U diag(s)
 // V^T (fmSvd3; s2 < 0 for an inverted tet): fixed corotated and the user's stretch energy, and
-// Neo-Hookean / Mooney-Rivlin when a projected tangent is wanted (their eigen-structure is
+// Neo-Hookean / Mooney-Rivlin / StVK when a projected tangent is wanted (their eigen-structure is
 // explicit here). One assembly turns psi(s), its gradient and
 // Hessian into P and dP/dF (Irving, Teran, Fedkiw 2004; Teran, Sifakis, Irving, Fedkiw 2005):
 //   P = U diag(dpsi) V^T,
@@ -102,6 +102,34 @@ static void fmMooneyRivlinStretch(const fmMaterial* m, const double s[3], bool h
 	d->hasModes = true;
 }
 
+// St. Venant-Kirchhoff in the stretches (G = diag(s_i^2 - 1)/2), for the analytic projection:
+// psi = mu/4 sum (s_i^2 - 1)^2 + lambda/8 (I1 - 3)^2.
+static void fmStvkStretch(const fmMaterial* m, const double s[3], bool hessian, fmStretchDerivs* d)
+{
+	double sq[3] = {s[0] * s[0], s[1] * s[1], s[2] * s[2]};
+	double trG2 = sq[0] + sq[1] + sq[2] - 3.0; // 2 tr G
+	d->psi = 0.125 * m->lambda * trG2 * trG2;
+	for (int i = 0; i < 3; ++i)
+	{
+		d->psi += 0.25 * m->mu * (sq[i] - 1.0) * (sq[i] - 1.0);
+		d->g[i] = m->mu * s[i] * (sq[i] - 1.0) + 0.5 * m->lambda * trG2 * s[i];
+	}
+	if (!hessian)
+		return;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			d->H[3 * i + j] = m->lambda * s[i] * s[j] +
+							  (i == j ? m->mu * (3.0 * sq[i] - 1.0) + 0.5 * m->lambda * trG2 : 0.0);
+	for (int k = 0; k < 3; ++k)
+	{
+		int i = s_pairs[k][0], j = s_pairs[k][1];
+		double common = m->mu * (sq[i] + sq[j] - 1.0) + 0.5 * m->lambda * trG2;
+		d->q[k] = common + m->mu * s[i] * s[j];
+		d->r[k] = common - m->mu * s[i] * s[j];
+	}
+	d->hasModes = true;
+}
+
 static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian, fmStretchDerivs* d)
 {
 	memset(d, 0, sizeof *d);
@@ -113,6 +141,9 @@ static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian
 	case fm_neoHookean:
 	case fm_mooneyRivlin:
 		fmMooneyRivlinStretch(m, s, hessian, d);
+		break;
+	case fm_stvk:
+		fmStvkStretch(m, s, hessian, d);
 		break;
 	default:
 		m->stretchEnergy(s, m->userParams, &d->psi, d->g, hessian ? d->H : NULL);

@@ -25,7 +25,7 @@ static void fmJacobiRotation(double a, double b, double g, double* c, double* s)
 	*s = t * *c;
 }
 
-void fmSymEigenN(double* A, int n, double* w, double* Q)
+void fmSymEigenN(double* A, int n, double tolerance, double* w, double* Q)
 {
 	for (int i = 0; i < n * n; ++i)
 		Q[i] = 0.0;
@@ -41,7 +41,7 @@ void fmSymEigenN(double* A, int n, double* w, double* Q)
 			for (int j = i + 1; j < n; ++j)
 				off += A[i * n + j] * A[i * n + j];
 		}
-		if (off <= 1e-32 * diag || off == 0.0)
+		if (off <= tolerance * tolerance * diag || off == 0.0)
 			break;
 		for (int p = 0; p < n - 1; ++p)
 			for (int q = p + 1; q < n; ++q)
@@ -84,7 +84,7 @@ void fmSymEigen3(const fmMat3* A, fmVec3* w, fmMat3* Q)
 	double a[9], q[9], e[3];
 	for (int k = 0; k < 9; ++k)
 		a[k] = 0.5 * (A->m[k] + A->m[3 * (k % 3) + k / 3]); // symmetric part
-	fmSymEigenN(a, 3, e, q);
+	fmSymEigenN(a, 3, 1e-16, e, q);
 	// Sort eigenvalues in decreasing order, columns of Q with them.
 	int order[3] = {0, 1, 2};
 	for (int i = 0; i < 2; ++i)

@@ -11,10 +11,11 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V);
 // Symmetric eigen-decomposition of a 3x3 matrix A = Q diag(w) Q^T (cyclic Jacobi).
 void fmSymEigen3(const fmMat3* A, fmVec3* w, fmMat3* Q);
 
-// Symmetric eigen-decomposition of an n x n row-major matrix (n <= 9) by cyclic Jacobi: A is
-// overwritten (it ends near diagonal), w gets the n eigenvalues (unsorted), Q (n x n, row-major)
-// the eigenvectors as columns, A_in = Q diag(w) Q^T.
-void fmSymEigenN(double* A, int n, double* w, double* Q);
+// Symmetric eigen-decomposition of an n x n row-major matrix by cyclic Jacobi: A is overwritten
+// (it ends near diagonal), w gets the n eigenvalues (unsorted), Q (n x n, row-major) the
+// eigenvectors as columns, A_in = Q diag(w) Q^T. Sweeps stop when the off-diagonal norm is below
+// tolerance times the diagonal norm (1e-16: full precision).
+void fmSymEigenN(double* A, int n, double tolerance, double* w, double* Q);
 
 // Polar decomposition F = R S with R a rotation (from the SVD; R = U V^T).
 fmMat3 fmPolarRotation(const fmMat3* F);
