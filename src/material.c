@@ -36,44 +36,49 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 	if (m == NULL)
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "material is NULL");
 	if ((int)m->model < 0 || m->model >= fm_materialModelCount)
-		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "material model %d is unknown; use one of fm_linear .. fm_invariantEnergy "
-						   "(\"linear\", \"corotated\", \"stvk\", \"neohookean\", \"mooney-rivlin\", "
-						   "\"stretch-energy\", \"invariant-energy\")",
-						   (int)m->model);
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "material model %d is unknown; use one of fm_linear .. fm_invariantEnergy "
+		    "(\"linear\", \"corotated\", \"stvk\", \"neohookean\", \"mooney-rivlin\", "
+		    "\"stretch-energy\", \"invariant-energy\")",
+		    (int)m->model);
 	if (!isfinite(m->lambda) || !isfinite(m->mu) || !isfinite(m->c01))
-		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "material constants must be finite (lambda = %g, mu = %g, c01 = %g Pa); a "
-						   "Poisson ratio of exactly 0.5 or -1 gives infinite lambda: use e.g. 0.49",
-						   m->lambda, m->mu, m->c01);
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "material constants must be finite (lambda = %g, mu = %g, c01 = %g Pa); a "
+		    "Poisson ratio of exactly 0.5 or -1 gives infinite lambda: use e.g. 0.49",
+		    m->lambda, m->mu, m->c01);
 	if (!(m->mu > 0.0))
-		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "shear modulus mu = %g Pa must be > 0 (Young's modulus E > 0 and Poisson "
-						   "ratio in (-1, 0.5) give mu = E / (2 (1 + nu)) > 0)",
-						   m->mu);
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "shear modulus mu = %g Pa must be > 0 (Young's modulus E > 0 and Poisson "
+		    "ratio in (-1, 0.5) give mu = E / (2 (1 + nu)) > 0)",
+		    m->mu);
 	if (!(m->lambda > -2.0 / 3.0 * m->mu))
-		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "lambda = %g Pa must be > -2/3 mu = %g Pa (a positive bulk modulus; Poisson "
-						   "ratio in (-1, 0.5), e.g. 0.3)",
-						   m->lambda, -2.0 / 3.0 * m->mu);
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "lambda = %g Pa must be > -2/3 mu = %g Pa (a positive bulk modulus; Poisson "
+		    "ratio in (-1, 0.5), e.g. 0.3)",
+		    m->lambda, -2.0 / 3.0 * m->mu);
 	if (m->model == fm_mooneyRivlin && !(m->c01 >= 0.0 && m->c01 <= 0.5 * m->mu))
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "Mooney-Rivlin c01 = %g Pa must be in [0, mu/2] = [0, %g] Pa (0 is "
-						   "Neo-Hookean; the default is mu/8 = %g)",
-						   m->c01, 0.5 * m->mu, m->mu / 8.0);
+		                   "Mooney-Rivlin c01 = %g Pa must be in [0, mu/2] = [0, %g] Pa (0 is "
+		                   "Neo-Hookean; the default is mu/8 = %g)",
+		                   m->c01, 0.5 * m->mu, m->mu / 8.0);
 	if (m->model == fm_stretchEnergy && m->stretchEnergy == NULL)
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "model stretch-energy needs material.stretchEnergy, a function of the "
-						   "principal stretches (docs/materials.md has an example)");
+		                   "model stretch-energy needs material.stretchEnergy, a function of the "
+		                   "principal stretches (docs/materials.md has an example)");
 	if (m->model == fm_invariantEnergy && m->invariantEnergy == NULL)
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
-						   "model invariant-energy needs material.invariantEnergy, a function of "
-						   "(I1, I2, J) (docs/materials.md has an example)");
+		                   "model invariant-energy needs material.invariantEnergy, a function of "
+		                   "(I1, I2, J) (docs/materials.md has an example)");
 	return fm_ok;
 }
 
 static const char* const s_modelNames[fm_materialModelCount] = {
-	"linear", "corotated", "stvk", "neohookean", "mooney-rivlin", "stretch-energy", "invariant-energy",
+    "linear",         "corotated",        "stvk", "neohookean", "mooney-rivlin",
+    "stretch-energy", "invariant-energy",
 };
 
 const char* fmMaterialModelName(fmMaterialModel model)
@@ -169,7 +174,8 @@ static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, d
 				for (int k = 0; k < 3; ++k)
 					for (int l = 0; l < 3; ++l)
 					{
-						double v = m->mu * f[3 * i + l] * f[3 * k + j] + m->lambda * f[3 * i + j] * f[3 * k + l];
+						double v = m->mu * f[3 * i + l] * f[3 * k + j] +
+						           m->lambda * f[3 * i + j] * f[3 * k + l];
 						if (i == k)
 							v += S.m[3 * l + j];
 						if (j == l)
@@ -206,7 +212,7 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 }
 
 double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F, fmMat3* P,
-									double* dPdF)
+                                    double* dPdF)
 {
 	switch (material->model)
 	{

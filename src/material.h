@@ -14,7 +14,7 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 // form for every model but the user invariant energy (no 9x9 eigen-solve; that one uses
 // fmProjectPSD9). For the implicit integrator's Newton steps.
 double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F, fmMat3* P,
-									double* dPdF);
+                                    double* dPdF);
 
 // Project a symmetric 9x9 matrix onto the positive semi-definite cone (clamp negative eigenvalues
 // to zero) in place.

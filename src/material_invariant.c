@@ -10,7 +10,10 @@
 #include <string.h>
 
 // Levi-Civita sign of a permutation (a, b, c) of (0, 1, 2).
-static double fmPermutationSign(int a, int b) { return (b - a + 3) % 3 == 1 ? 1.0 : -1.0; }
+static double fmPermutationSign(int a, int b)
+{
+	return (b - a + 3) % 3 == 1 ? 1.0 : -1.0;
+}
 
 // d2v/dF2 for the three invariants, added with weights w[0..2] to dPdF.
 static void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3], double* dPdF)
@@ -27,12 +30,13 @@ static void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3
 					double h1 = 2.0 * ik * jl;
 					// d2 I2 = 2 (2 F_ij F_kl + I1 d_ik d_jl - d_ik C_lj - F_il F_kj - B_ik d_jl)
 					double h2 = 2.0 * (2.0 * f[3 * i + j] * f[3 * k + l] + I1 * ik * jl -
-									   ik * C.m[3 * l + j] - f[3 * i + l] * f[3 * k + j] - B.m[3 * i + k] * jl);
+					                   ik * C.m[3 * l + j] - f[3 * i + l] * f[3 * k + j] -
+					                   B.m[3 * i + k] * jl);
 					// d2 J / dF_ij dF_kl = eps_ikq eps_jls F_qs
 					double h3 = 0.0;
 					if (i != k && j != l)
 						h3 = fmPermutationSign(i, k) * fmPermutationSign(j, l) *
-							 f[3 * (3 - i - k) + (3 - j - l)];
+						     f[3 * (3 - i - k) + (3 - j - l)];
 					dPdF[9 * (3 * i + j) + (3 * k + l)] += w[0] * h1 + w[1] * h2 + w[2] * h3;
 				}
 }
@@ -62,7 +66,7 @@ void fmClampedLogJ(double J, double out[3])
 // C10 = mu/2 - C01. Linear elasticity with (lambda, mu) at small strain; C01 = 0 is the
 // classic compressible Neo-Hookean mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2.
 static void fmMooneyRivlinEnergy(const double v[3], const void* params, double* psi, double dpsi[3],
-								 double* d2psi)
+                                 double* d2psi)
 {
 	const double* p = (const double*)params;
 	double lambda = p[0], mu = p[1], c01 = p[2];
@@ -80,7 +84,8 @@ static void fmMooneyRivlinEnergy(const double v[3], const void* params, double* 
 	}
 }
 
-double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)
+double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P,
+                                 double* dPdF)
 {
 	fmInvariantEnergyFcn* energy = material->invariantEnergy;
 	const void* params = material->userParams;

@@ -18,12 +18,12 @@
 void fmClampedLogJ(double J, double out[3]);
 
 // Energies of the principal stretches (SVD, docs/materials.md): fixed corotated, the user's
-// fmStretchEnergyFcn, and StVK / Neo-Hookean / Mooney-Rivlin. With project, dPdF is projected onto the
-// PSD cone analytically (its eigenvectors are known in closed form).
+// fmStretchEnergyFcn, and StVK / Neo-Hookean / Mooney-Rivlin. With project, dPdF is projected onto
+// the PSD cone analytically (its eigenvectors are known in closed form).
 double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
-							   bool project);
+                               bool project);
 
 // Energies of the invariants (I1, I2, J) by the chain rule: Neo-Hookean and Mooney-Rivlin with the
 // clamped ln J, and the user's fmInvariantEnergyFcn.
 double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P,
-								 double* dPdF);
+                                 double* dPdF);

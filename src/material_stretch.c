@@ -27,7 +27,8 @@ static const int s_pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 
 // Fixed corotated (Stomakhin et al. 2012): psi = mu sum (s_i - 1)^2 + lambda/2 (J - 1)^2, i.e.
 // mu |F - R|^2 + lambda/2 (det F - 1)^2.
-static void fmCorotatedStretch(const fmMaterial* m, const double s[3], bool hessian, fmStretchDerivs* d)
+static void fmCorotatedStretch(const fmMaterial* m, const double s[3], bool hessian,
+                               fmStretchDerivs* d)
 {
 	double J = s[0] * s[1] * s[2];
 	double dJ[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]};
@@ -56,7 +57,7 @@ static void fmCorotatedStretch(const fmMaterial* m, const double s[3], bool hess
 		d->q[k] = 2.0 * m->mu - m->lambda * (J - 1.0) * sk;
 		// -4 mu / (s_i + s_j) is the rotation's own singularity (s_i = -s_j); bounded there.
 		d->r[k] = 2.0 * m->mu + m->lambda * (J - 1.0) * sk -
-				  4.0 * m->mu / fmax(s[i] + s[j], FM_STRETCH_GAP * fmax(fabs(s[0]), 1e-150));
+		          4.0 * m->mu / fmax(s[i] + s[j], FM_STRETCH_GAP * fmax(fabs(s[0]), 1e-150));
 	}
 	d->hasModes = true;
 }
@@ -65,7 +66,7 @@ static void fmCorotatedStretch(const fmMaterial* m, const double s[3], bool hess
 // (I1 = sum s^2, I2 = sum_{i<j} s_i^2 s_j^2, J = s0 s1 s2), for the analytic PSD projection:
 // psi = C10 (I1 - 3) + C01 (I2 - 3) - a l(J) + b/2 l(J)^2.
 static void fmMooneyRivlinStretch(const fmMaterial* m, const double s[3], bool hessian,
-								  fmStretchDerivs* d)
+                                  fmStretchDerivs* d)
 {
 	double c01 = m->model == fm_mooneyRivlin ? m->c01 : 0.0;
 	double c10 = 0.5 * m->mu - c01, a = m->mu + 2.0 * c01, b = m->lambda - 4.0 * c01;
@@ -75,7 +76,7 @@ static void fmMooneyRivlinStretch(const fmMaterial* m, const double s[3], bool h
 	fmClampedLogJ(J, l);
 	double I1 = sq[0] + sq[1] + sq[2];
 	double I2 = sq[0] * sq[1] + sq[0] * sq[2] + sq[1] * sq[2];
-	double kappa = (b * l[0] - a) * l[1];						// d psi / dJ
+	double kappa = (b * l[0] - a) * l[1];                    // d psi / dJ
 	double kappa2 = b * l[1] * l[1] + (b * l[0] - a) * l[2]; // d2 psi / dJ2
 	d->psi = c10 * (I1 - 3.0) + c01 * (I2 - 3.0) - a * l[0] + 0.5 * b * l[0] * l[0];
 	for (int i = 0; i < 3; ++i)
@@ -119,7 +120,7 @@ static void fmStvkStretch(const fmMaterial* m, const double s[3], bool hessian, 
 	for (int i = 0; i < 3; ++i)
 		for (int j = 0; j < 3; ++j)
 			d->H[3 * i + j] = m->lambda * s[i] * s[j] +
-							  (i == j ? m->mu * (3.0 * sq[i] - 1.0) + 0.5 * m->lambda * trG2 : 0.0);
+			                  (i == j ? m->mu * (3.0 * sq[i] - 1.0) + 0.5 * m->lambda * trG2 : 0.0);
 	for (int k = 0; k < 3; ++k)
 	{
 		int i = s_pairs[k][0], j = s_pairs[k][1];
@@ -130,7 +131,8 @@ static void fmStvkStretch(const fmMaterial* m, const double s[3], bool hessian, 
 	d->hasModes = true;
 }
 
-static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian, fmStretchDerivs* d)
+static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian,
+                            fmStretchDerivs* d)
 {
 	memset(d, 0, sizeof *d);
 	switch (m->model)
@@ -162,7 +164,7 @@ static void fmGuardedModes(const double s[3], fmStretchDerivs* d)
 		int i = s_pairs[k][0], j = s_pairs[k][1];
 		// Flip: q -> d2psi_ii - d2psi_ij as s_i -> s_j (psi is symmetric).
 		d->q[k] = s[i] - s[j] > gap ? (g[i] - g[j]) / (s[i] - s[j])
-									: 0.5 * (H[3 * i + i] + H[3 * j + j]) - H[3 * i + j];
+		                            : 0.5 * (H[3 * i + i] + H[3 * j + j]) - H[3 * i + j];
 		// Twist: s_i + s_j >= 0 by the ordering; it vanishes only where the rotation of F is
 		// undefined (s_i = -s_j), where the bounded denominator keeps dP/dF finite.
 		d->r[k] = (g[i] + g[j]) / fmax(s[i] + s[j], gap);
@@ -193,7 +195,7 @@ static void fmDyad(const fmMat3* U, const fmMat3* V, int a, int b, double* q)
 // dP/dF from its eigen-structure; with project, every mode's eigenvalue is clamped at zero,
 // which is exactly the nearest PSD matrix because the modes are orthonormal.
 static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmStretchDerivs* d,
-									 bool project, double* dPdF)
+                                     bool project, double* dPdF)
 {
 	memset(dPdF, 0, 81 * sizeof(double));
 	double H[9];
@@ -207,8 +209,9 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 		double wc[3] = {fmax(w.x, 0.0), fmax(w.y, 0.0), fmax(w.z, 0.0)};
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
-				H[3 * i + j] = Q.m[3 * i] * wc[0] * Q.m[3 * j] + Q.m[3 * i + 1] * wc[1] * Q.m[3 * j + 1] +
-							   Q.m[3 * i + 2] * wc[2] * Q.m[3 * j + 2];
+				H[3 * i + j] = Q.m[3 * i] * wc[0] * Q.m[3 * j] +
+				               Q.m[3 * i + 1] * wc[1] * Q.m[3 * j + 1] +
+				               Q.m[3 * i + 2] * wc[2] * Q.m[3 * j + 2];
 	}
 	double D[3][9];
 	for (int a = 0; a < 3; ++a)
@@ -236,7 +239,7 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 }
 
 double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
-							   bool project)
+                               bool project)
 {
 	fmMat3 U, V;
 	fmVec3 sv;
@@ -247,8 +250,9 @@ double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMa
 	if (P)
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
-				P->m[3 * i + j] = U.m[3 * i] * d.g[0] * V.m[3 * j] + U.m[3 * i + 1] * d.g[1] * V.m[3 * j + 1] +
-								  U.m[3 * i + 2] * d.g[2] * V.m[3 * j + 2];
+				P->m[3 * i + j] = U.m[3 * i] * d.g[0] * V.m[3 * j] +
+				                  U.m[3 * i + 1] * d.g[1] * V.m[3 * j + 1] +
+				                  U.m[3 * i + 2] * d.g[2] * V.m[3 * j + 2];
 	if (dPdF)
 	{
 		if (!d.hasModes)

@@ -26,8 +26,8 @@ static fmMat3 randomRotation(void)
 	n = sqrt(n);
 	double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
 	fmMat3 R = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-				 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-				 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+	             2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+	             2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
 	return R;
 }
 
@@ -42,49 +42,54 @@ static fmMat3 withStretches(double a, double b, double c)
 
 enum
 {
-	kGeneral,	   // stretches in [0.6, 1.6]
+	kGeneral,      // stretches in [0.6, 1.6]
 	kNearSingular, // det ~ 1e-3
-	kInverted,	   // det < 0
-	kLarge,		   // stretches up to 3
+	kInverted,     // det < 0
+	kLarge,        // stretches up to 3
 	kKindCount
 };
-static const char* const s_kindNames[kKindCount] = {"general", "near-singular", "inverted", "large"};
+static const char* const s_kindNames[kKindCount] = {"general", "near-singular", "inverted",
+                                                    "large"};
 
 static fmMat3 randomF(int kind)
 {
 	switch (kind)
 	{
 	case kNearSingular:
-		return withStretches(fmTestRandom(1.0, 1.5), fmTestRandom(0.6, 0.9), fmTestRandom(1e-3, 2e-3));
+		return withStretches(fmTestRandom(1.0, 1.5), fmTestRandom(0.6, 0.9),
+		                     fmTestRandom(1e-3, 2e-3));
 	case kInverted:
-		return withStretches(fmTestRandom(1.1, 1.5), fmTestRandom(0.6, 1.0), -fmTestRandom(0.05, 0.5));
+		return withStretches(fmTestRandom(1.1, 1.5), fmTestRandom(0.6, 1.0),
+		                     -fmTestRandom(0.05, 0.5));
 	case kLarge:
-		return withStretches(fmTestRandom(2.0, 3.0), fmTestRandom(1.2, 1.8), fmTestRandom(0.4, 0.8));
+		return withStretches(fmTestRandom(2.0, 3.0), fmTestRandom(1.2, 1.8),
+		                     fmTestRandom(0.4, 0.8));
 	default:
-		return withStretches(fmTestRandom(1.1, 1.6), fmTestRandom(0.85, 1.05), fmTestRandom(0.6, 0.8));
+		return withStretches(fmTestRandom(1.1, 1.6), fmTestRandom(0.85, 1.05),
+		                     fmTestRandom(0.6, 0.8));
 	}
 }
 
 // Neo-Hookean written by a user, as a function of the principal stretches (needs s > 0).
-static void userNeoHookeanStretch(const double s[3], const void* params, double* psi, double dpsi[3],
-								  double* d2psi)
+static void userNeoHookeanStretch(const double s[3], const void* params, double* psi,
+                                  double dpsi[3], double* d2psi)
 {
 	const double* lm = (const double*)params; // lambda, mu
 	double lnJ = log(s[0]) + log(s[1]) + log(s[2]);
 	*psi = 0.5 * lm[1] * (s[0] * s[0] + s[1] * s[1] + s[2] * s[2] - 3.0) - lm[1] * lnJ +
-		   0.5 * lm[0] * lnJ * lnJ;
+	       0.5 * lm[0] * lnJ * lnJ;
 	for (int i = 0; i < 3; ++i)
 		dpsi[i] = lm[1] * s[i] + (lm[0] * lnJ - lm[1]) / s[i];
 	if (d2psi)
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
 				d2psi[3 * i + j] = lm[0] / (s[i] * s[j]) +
-								   (i == j ? lm[1] + (lm[1] - lm[0] * lnJ) / (s[i] * s[i]) : 0.0);
+				                   (i == j ? lm[1] + (lm[1] - lm[0] * lnJ) / (s[i] * s[i]) : 0.0);
 }
 
 // The same Neo-Hookean as a function of the invariants (I1, I2, J) (needs J > 0).
-static void userNeoHookeanInvariant(const double v[3], const void* params, double* psi, double dpsi[3],
-									double* d2psi)
+static void userNeoHookeanInvariant(const double v[3], const void* params, double* psi,
+                                    double dpsi[3], double* d2psi)
 {
 	const double* lm = (const double*)params;
 	double lnJ = log(v[2]);
@@ -162,13 +167,13 @@ TEST(stress_is_energy_gradient)
 					Fp.m[e] += h;
 					Fm.m[e] -= h;
 					double fd = (fmMaterial_Evaluate(&m, &Fp, NULL, NULL) -
-								 fmMaterial_Evaluate(&m, &Fm, NULL, NULL)) /
-								(2.0 * h);
+					             fmMaterial_Evaluate(&m, &Fm, NULL, NULL)) /
+					            (2.0 * h);
 					worst = fmax(worst, fabs(fd - P.m[e]) / scale);
 				}
 				if (!(worst < 1e-6))
 					FAIL_AT("%s on %s F: P differs from d psi/dF by %.3g (relative)",
-							fmMaterialModelName(m.model), s_kindNames[kind], worst);
+					        fmMaterialModelName(m.model), s_kindNames[kind], worst);
 			}
 		}
 }
@@ -203,10 +208,10 @@ TEST(tangent_is_stress_derivative_and_symmetric)
 				}
 				if (!(worst < 1e-6))
 					FAIL_AT("%s on %s F: dP/dF differs from finite differences by %.3g",
-							fmMaterialModelName(m.model), s_kindNames[kind], worst);
+					        fmMaterialModelName(m.model), s_kindNames[kind], worst);
 				if (!(asym < 1e-12))
 					FAIL_AT("%s on %s F: dP/dF asymmetric by %.3g", fmMaterialModelName(m.model),
-							s_kindNames[kind], asym);
+					        s_kindNames[kind], asym);
 			}
 		}
 }
@@ -246,7 +251,8 @@ TEST(rotation_invariance_and_isotropy)
 				double tol = 1e-10 * (fabs(psi) + m.mu);
 				if (model == fm_linear)
 				{
-					// Small-strain elasticity is not rotation invariant: a rigid rotation strains it.
+					// Small-strain elasticity is not rotation invariant: a rigid rotation strains
+					// it.
 					CHECK(fabs(psiRF - psi) > 1e-3 * m.mu);
 					continue;
 				}
@@ -335,7 +341,8 @@ TEST(corotated_is_fixed_corotated)
 		expected = fmMatMulAdd(&expected, m.lambda * (J - 1.0), &C);
 		for (int e = 0; e < 9; ++e)
 			CHECK_NEAR(P.m[e], expected.m[e], 1e-10 * (maxAbs(expected.m, 9) + m.mu));
-		CHECK_REL(psi, m.mu * fmDDot(&FR, &FR) + 0.5 * m.lambda * (J - 1) * (J - 1), 1e-10, m.mu * 1e-6);
+		CHECK_REL(psi, m.mu * fmDDot(&FR, &FR) + 0.5 * m.lambda * (J - 1) * (J - 1), 1e-10,
+		          m.mu * 1e-6);
 	}
 }
 
@@ -348,15 +355,15 @@ TEST(mooney_rivlin_without_c01_is_neohookean)
 	{
 		fmMat3 F = randomF(trial % kKindCount), P1, P2;
 		CHECK_REL(fmMaterial_Evaluate(&mr, &F, &P1, NULL), fmMaterial_Evaluate(&nh, &F, &P2, NULL),
-				  1e-13, 1.0);
+		          1e-13, 1.0);
 		for (int e = 0; e < 9; ++e)
 			CHECK_NEAR(P1.m[e], P2.m[e], 1e-10 * (maxAbs(P2.m, 9) + 1.0));
 	}
 	// The I2 part changes large-strain behaviour: uniaxial stretch costs a different energy.
 	fmMaterial mrDefault = fmMakeMaterial(fm_mooneyRivlin, 1e5, 0.4);
 	fmMat3 F = {{2, 0, 0, 0, 1, 0, 0, 0, 1}};
-	CHECK(fabs(fmMaterial_Evaluate(&mrDefault, &F, NULL, NULL) - fmMaterial_Evaluate(&nh, &F, NULL, NULL)) >
-		  1e-3 * mr.mu);
+	CHECK(fabs(fmMaterial_Evaluate(&mrDefault, &F, NULL, NULL) -
+	           fmMaterial_Evaluate(&nh, &F, NULL, NULL)) > 1e-3 * mr.mu);
 }
 
 TEST(user_energies_match_neohookean)
@@ -367,7 +374,8 @@ TEST(user_energies_match_neohookean)
 	for (int trial = 0; trial < 60; ++trial)
 	{
 		// J above FM_LOG_J_CLAMP, where the built-in model is the plain Neo-Hookean.
-		fmMat3 F = trial % 3 == 0 ? withStretches(1.2, 1.2, 0.9) : randomF(trial % 2 ? kGeneral : kLarge);
+		fmMat3 F =
+		    trial % 3 == 0 ? withStretches(1.2, 1.2, 0.9) : randomF(trial % 2 ? kGeneral : kLarge);
 		fmMat3 P0, P1, P2;
 		double A0[81], A1[81], A2[81];
 		double psi0 = fmMaterial_Evaluate(&nh, &F, &P0, A0);
@@ -406,13 +414,14 @@ TEST(inverted_elements_are_pushed_back)
 			CHECK(isfinite(psi));
 			if (!(P.m[8] < 0.0))
 				FAIL_AT("%s: P_zz = %g at t = %g does not push back", fmMaterialModelName(m.model),
-						P.m[8], ts[i]);
+				        P.m[8], ts[i]);
 			CHECK(psi < prev);
 			prev = psi;
 		}
 		// Continuity of the stress across the clamp.
 		const double c = FM_LOG_J_CLAMP, h = 1e-9;
-		fmMat3 Fa = {{1, 0, 0, 0, 1, 0, 0, 0, c - h}}, Fb = {{1, 0, 0, 0, 1, 0, 0, 0, c + h}}, Pa, Pb;
+		fmMat3 Fa = {{1, 0, 0, 0, 1, 0, 0, 0, c - h}}, Fb = {{1, 0, 0, 0, 1, 0, 0, 0, c + h}}, Pa,
+		       Pb;
 		fmMaterial_Evaluate(&m, &Fa, &Pa, NULL);
 		fmMaterial_Evaluate(&m, &Fb, &Pb, NULL);
 		CHECK_NEAR(Pa.m[8], Pb.m[8], 1e-6 * m.mu);
@@ -423,9 +432,9 @@ TEST(degenerate_deformations_stay_finite)
 {
 	// Flattened and collapsed tets (rank 2, rank 1, zero F) give finite energy, stress, tangent.
 	fmMat3 cases[] = {{{1, 0, 0, 0, 1, 0, 0, 0, 0}},
-					  {{1, 2, 3, 2, 4, 6, -1, -2, -3}},
-					  {{0, 0, 0, 0, 0, 0, 0, 0, 0}},
-					  {{1, 0, 0, 0, -1, 0, 0, 0, 1e-12}}};
+	                  {{1, 2, 3, 2, 4, 6, -1, -2, -3}},
+	                  {{0, 0, 0, 0, 0, 0, 0, 0, 0}},
+	                  {{1, 0, 0, 0, -1, 0, 0, 0, 1e-12}}};
 	for (int model = 0; model < fm_materialModelCount; ++model)
 	{
 		if (!supportsInversion((fmMaterialModel)model))
@@ -548,8 +557,8 @@ TEST(analytic_projection_matches_numerical_projection)
 					worst = fmax(worst, fabs(A[e] - B[e]) / scale);
 			}
 			if (!(worst < 1e-7))
-				FAIL_AT("%s on %s F: projected tangents differ by %.3g", fmMaterialModelName(m.model),
-						s_kindNames[kind], worst);
+				FAIL_AT("%s on %s F: projected tangents differ by %.3g",
+				        fmMaterialModelName(m.model), s_kindNames[kind], worst);
 		}
 }
 

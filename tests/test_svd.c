@@ -19,8 +19,8 @@ static fmMat3 randomRotation(void)
 	n = sqrt(n);
 	double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
 	fmMat3 R = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-				 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-				 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+	             2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+	             2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
 	return R;
 }
 
@@ -38,7 +38,10 @@ static fmMat3 composeRandom(double a, double b, double c)
 	return fmMatMul(&T, &R2);
 }
 
-static double frobenius(const fmMat3* A) { return sqrt(fmDDot(A, A)); }
+static double frobenius(const fmMat3* A)
+{
+	return sqrt(fmDDot(A, A));
+}
 
 // Distance of Q^T Q from the identity.
 static double orthoError(const fmMat3* Q)
@@ -92,9 +95,9 @@ TEST(random_matrices_reconstruct_to_1e13)
 TEST(singular_values_match_construction)
 {
 	// Known singular values, random rotations: well separated, graded, clustered, inverted.
-	const double cases[][3] = {{3, 2, 1},		{1, 1e-4, 1e-8}, {5 + 1e-9, 5, 5 - 1e-9},
-							   {2, 1, -0.5},	{1, 1, -1},		 {1e3, 1, 1e-3},
-							   {1.5, 1.5, 1.5}, {2, 2, 1},		 {1, 0.5, -1e-6}};
+	const double cases[][3] = {{3, 2, 1},       {1, 1e-4, 1e-8}, {5 + 1e-9, 5, 5 - 1e-9},
+	                           {2, 1, -0.5},    {1, 1, -1},      {1e3, 1, 1e-3},
+	                           {1.5, 1.5, 1.5}, {2, 2, 1},       {1, 0.5, -1e-6}};
 	for (int c = 0; c < (int)(sizeof cases / sizeof cases[0]); ++c)
 		for (int trial = 0; trial < 50; ++trial)
 		{
@@ -116,19 +119,19 @@ TEST(special_matrices)
 {
 	fmMat3 R = randomRotation();
 	fmMat3 cases[] = {
-		fmIdentity3(),
-		R,
-		diag3(2, 2, 1),
-		diag3(1, 1, -1),   // reflection
-		diag3(-1, -1, -1), // point inversion: s = (1, 1, -1)
-		diag3(-2, 3, 1),
-		diag3(2, 1, 0),	   // rank 2
-		diag3(0, 3, 0),	   // rank 1
-		fmZero3(),
-		{{1, 2, 3, 2, 4, 6, -1, -2, -3}},	   // rank 1, non-diagonal
-		{{1, 0, 0, 0, 1, 0, 0, 0, 1e-300}},	   // nearly flat
-		{{0, 1, 0, 1, 0, 0, 0, 0, 1}},		   // swap: det -1
-		{{1, 1e-12, 0, 0, 1, 1e-12, 0, 0, 1}}, // nearly identity, tiny shear
+	    fmIdentity3(),
+	    R,
+	    diag3(2, 2, 1),
+	    diag3(1, 1, -1),   // reflection
+	    diag3(-1, -1, -1), // point inversion: s = (1, 1, -1)
+	    diag3(-2, 3, 1),
+	    diag3(2, 1, 0), // rank 2
+	    diag3(0, 3, 0), // rank 1
+	    fmZero3(),
+	    {{1, 2, 3, 2, 4, 6, -1, -2, -3}},      // rank 1, non-diagonal
+	    {{1, 0, 0, 0, 1, 0, 0, 0, 1e-300}},    // nearly flat
+	    {{0, 1, 0, 1, 0, 0, 0, 0, 1}},         // swap: det -1
+	    {{1, 1e-12, 0, 0, 1, 1e-12, 0, 0, 1}}, // nearly identity, tiny shear
 	};
 	for (int c = 0; c < (int)(sizeof cases / sizeof cases[0]); ++c)
 		checkSvd(&cases[c], 1e-15 * 10, failures_);
@@ -204,7 +207,8 @@ TEST(polar_rotation)
 	for (int n = 0; n < 500; ++n)
 	{
 		fmMat3 R0 = randomRotation();
-		fmMat3 S = {{fmTestRandom(0.5, 2), 0, 0, 0, fmTestRandom(0.5, 2), 0, 0, 0, fmTestRandom(0.5, 2)}};
+		fmMat3 S = {
+		    {fmTestRandom(0.5, 2), 0, 0, 0, fmTestRandom(0.5, 2), 0, 0, 0, fmTestRandom(0.5, 2)}};
 		fmMat3 Q = randomRotation();
 		// F = R0 (Q S Q^T): its polar rotation is R0.
 		fmMat3 QS = fmMatMul(&Q, &S);
