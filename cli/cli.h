@@ -9,9 +9,9 @@
 /// Exit codes of every command (docs/cli.md).
 enum
 {
-	cli_exitOk = 0,		  ///< success
-	cli_exitInput = 1,	  ///< bad file or scene, I/O error, numerical failure
-	cli_exitUsage = 2,	  ///< unknown command or option, bad option value
+	cli_exitOk = 0,    ///< success
+	cli_exitInput = 1, ///< bad file or scene, I/O error, numerical failure
+	cli_exitUsage = 2, ///< unknown command or option, bad option value
 };
 
 /// Longest path the tool handles.
@@ -28,7 +28,7 @@ void cliWarn(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 /// Print a usage error for @p command ("femto COMMAND --help" hint) and return cli_exitUsage.
 int cliUsageError(const char* command, const char* format, ...)
-	__attribute__((format(printf, 2, 3)));
+    __attribute__((format(printf, 2, 3)));
 
 /// Print a library diagnostic as "file:line:column: message" (with @p prefix if not NULL).
 void cliPrintDiagnostic(const char* prefix, const fmDiagnostic* diag);

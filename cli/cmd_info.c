@@ -6,13 +6,13 @@
 #include <string.h>
 
 const char* const cliInfoHelp =
-	"usage: femto info MESH.node [MESH.ele]\n"
-	"       femto info builtin:house2\n"
-	"\n"
-	"Print node and tet counts, volumes, dihedral angles, quality, surface, bad tets and\n"
-	"bounds of a TetGen mesh. The .ele defaults to the one beside the .node.\n"
-	"\n"
-	"Exit status: 0 ok, 1 unreadable or malformed mesh, 2 usage error.\n";
+    "usage: femto info MESH.node [MESH.ele]\n"
+    "       femto info builtin:house2\n"
+    "\n"
+    "Print node and tet counts, volumes, dihedral angles, quality, surface, bad tets and\n"
+    "bounds of a TetGen mesh. The .ele defaults to the one beside the .node.\n"
+    "\n"
+    "Exit status: 0 ok, 1 unreadable or malformed mesh, 2 usage error.\n";
 
 static void cliPrintMeshInfo(const fmMeshInfo* info)
 {
@@ -20,19 +20,19 @@ static void cliPrintMeshInfo(const fmMeshInfo* info)
 	printf("tets             %d\n", info->tetCount);
 	printf("surface          %d triangles\n", info->surfaceTriangleCount);
 	printf("volume           %.6g m^3 total, tets from %.6g to %.6g m^3\n", info->totalVolume,
-		   info->minVolume, info->maxVolume);
+	       info->minVolume, info->maxVolume);
 	printf("dihedral angles  %.3f to %.3f degrees\n", info->minDihedralDeg, info->maxDihedralDeg);
 	printf("min quality      %.4f (radius ratio 3 r_in / r_circ, 1 = regular)\n", info->minQuality);
 	printf("inverted tets    %d\n", info->invertedTets);
 	if (info->invertedTets == info->tetCount && info->tetCount > 0)
 		printf("                 (every tet is wound the other way: bodies reorient them, so\n"
-			   "                 this is harmless; swap_yz in a scene flips them back too)\n");
+		       "                 this is harmless; swap_yz in a scene flips them back too)\n");
 	printf("degenerate tets  %d\n", info->degenerateTets);
 	printf("bad tets         %d (min dihedral < 5 degrees, inverted or degenerate)\n",
-		   info->badTets);
+	       info->badTets);
 	printf("bounds           [%.6g %.6g %.6g] to [%.6g %.6g %.6g] m\n", info->boundsMin.x,
-		   info->boundsMin.y, info->boundsMin.z, info->boundsMax.x, info->boundsMax.y,
-		   info->boundsMax.z);
+	       info->boundsMin.y, info->boundsMin.z, info->boundsMax.x, info->boundsMax.y,
+	       info->boundsMax.z);
 }
 
 int cliInfo(int argc, char** argv)
@@ -71,11 +71,10 @@ int cliInfo(int argc, char** argv)
 		if (pathCount == 2)
 			snprintf(elePath, sizeof elePath, "%s", paths[1]);
 		else if (length >= 5 && strcmp(paths[0] + length - 5, ".node") == 0 &&
-				 length < sizeof elePath)
+		         length < sizeof elePath)
 			snprintf(elePath, sizeof elePath, "%.*s.ele", (int)(length - 5), paths[0]);
 		else
-			return cliUsageError("info", "'%s' does not end in .node: name the .ele too",
-								 paths[0]);
+			return cliUsageError("info", "'%s' does not end in .node: name the .ele too", paths[0]);
 		result = fmLoadTetGen(paths[0], elePath, &mesh, &diag);
 	}
 	if (result != fm_ok)

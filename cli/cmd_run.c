@@ -9,25 +9,25 @@
 #include <string.h>
 
 const char* const cliRunHelp =
-	"usage: femto run [SCENE.json] [options]\n"
-	"\n"
-	"Simulate a scene (docs/scene-format.md); without SCENE, the built-in bouncy house.\n"
-	"\n"
-	"options:\n"
-	"  --seconds S        simulate S seconds (rounded up to whole frames)\n"
-	"  --frames N         simulate N frames (a frame is dt * substeps of the scene)\n"
-	"  --out DIR          write DIR/NAME.pvd and DIR/NAME_NNNNNN.vtu (created if missing)\n"
-	"  --every N          with --out: write every Nth frame (default 1)\n"
-	"  --obj              with --out: also write DIR/NAME_NNNNNN.obj surfaces\n"
-	"  --export-node FILE write the final positions as a TetGen .node (FILE_B.node per body\n"
-	"                     B when the scene has several bodies)\n"
-	"  --impulse-at T     at the first frame boundary at or after T seconds, add an upward\n"
-	"                     velocity to every free vertex (the seeds' space-bar jump); repeatable\n"
-	"  --impulse-speed V  the jump's velocity in m/s (default 0.2, the seeds' value)\n"
-	"  --quiet            no progress line\n"
-	"  --help             this text\n"
-	"\n"
-	"Exit status: 0 ok, 1 bad scene/file, I/O error or numerical failure, 2 usage error.\n";
+    "usage: femto run [SCENE.json] [options]\n"
+    "\n"
+    "Simulate a scene (docs/scene-format.md); without SCENE, the built-in bouncy house.\n"
+    "\n"
+    "options:\n"
+    "  --seconds S        simulate S seconds (rounded up to whole frames)\n"
+    "  --frames N         simulate N frames (a frame is dt * substeps of the scene)\n"
+    "  --out DIR          write DIR/NAME.pvd and DIR/NAME_NNNNNN.vtu (created if missing)\n"
+    "  --every N          with --out: write every Nth frame (default 1)\n"
+    "  --obj              with --out: also write DIR/NAME_NNNNNN.obj surfaces\n"
+    "  --export-node FILE write the final positions as a TetGen .node (FILE_B.node per body\n"
+    "                     B when the scene has several bodies)\n"
+    "  --impulse-at T     at the first frame boundary at or after T seconds, add an upward\n"
+    "                     velocity to every free vertex (the seeds' space-bar jump); repeatable\n"
+    "  --impulse-speed V  the jump's velocity in m/s (default 0.2, the seeds' value)\n"
+    "  --quiet            no progress line\n"
+    "  --help             this text\n"
+    "\n"
+    "Exit status: 0 ok, 1 bad scene/file, I/O error or numerical failure, 2 usage error.\n";
 
 #define CLI_MAX_IMPULSES 64
 
@@ -72,7 +72,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 				return cli_exitUsage;
 			if (!cliParseDouble(value, &o->seconds) || !(o->seconds > 0.0) || o->seconds > 1e6)
 				return cliUsageError("run", "--seconds: expected a number in (0, 1e6], got '%s'",
-									 value);
+				                     value);
 			hasSeconds = true;
 		}
 		else if (strcmp(arg, "--frames") == 0)
@@ -107,7 +107,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 				return cli_exitUsage;
 			if (!cliParseDouble(value, &t) || t < 0.0)
 				return cliUsageError("run", "--impulse-at: expected a time >= 0 s, got '%s'",
-									 value);
+				                     value);
 			if (o->impulseCount == CLI_MAX_IMPULSES)
 				return cliUsageError("run", "--impulse-at: at most %d impulses", CLI_MAX_IMPULSES);
 			o->impulseTimes[o->impulseCount++] = t;
@@ -118,7 +118,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 				return cli_exitUsage;
 			if (!cliParseDouble(value, &o->impulseSpeed))
 				return cliUsageError("run", "--impulse-speed: expected a number (m/s), got '%s'",
-									 value);
+				                     value);
 		}
 		else if (arg[0] == '-' && arg[1] != 0)
 			return cliUsageError("run", "unknown option '%s'", arg);
@@ -206,13 +206,14 @@ static bool cliExportNodes(const char* path, const cliSimulation* sim)
 		{
 			// "out.node" -> "out_1.node" for body 1.
 			size_t length = strlen(path);
-			size_t stem = length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
+			size_t stem =
+			    length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
 			snprintf(bodyPath, sizeof bodyPath, "%.*s_%d.node", (int)stem, path, b);
 		}
 		fmDiagnostic diag;
 		memset(&diag, 0, sizeof diag);
 		if (fmWriteTetGenNode(bodyPath, &sim->meshes[b], fmBody_GetPositions(sim->bodies[b]),
-							  &diag) != fm_ok)
+		                      &diag) != fm_ok)
 		{
 			cliPrintDiagnostic(NULL, &diag);
 			return false;
@@ -225,7 +226,7 @@ static void cliPrintProgress(int frame, int frames, double time, const cliSimula
 {
 	cliTotals totals = cliSumStats(sim);
 	fprintf(stderr, "\rframe %d/%d  t = %.2f s  lowest y = %.3f m  KE = %.4g J  inverted = %d   ",
-			frame, frames, time, totals.lowestY, totals.kinetic, totals.inverted);
+	        frame, frames, time, totals.lowestY, totals.kinetic, totals.inverted);
 	fflush(stderr);
 }
 
@@ -244,7 +245,7 @@ static double cliLowestY(const cliSimulation* sim)
 
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
-						cliSeries* series, int frames, double* stepSeconds, double* lowestReached)
+                        cliSeries* series, int frames, double* stepSeconds, double* lowestReached)
 {
 	*lowestReached = cliLowestY(sim);
 	double frameTime = cliScene_FrameTime(scene);
@@ -276,11 +277,11 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 			char text[1024];
 			fmDiagnostic_Format(diag, text, sizeof text);
 			cliError("%s: step failed in frame %d (t = %.4g s): %s: %s", scene->name, frame + 1,
-					 time, fmResultName(result), text);
+			         time, fmResultName(result), text);
 			return cli_exitInput;
 		}
 		if (series != NULL && (frame + 1) % o->every == 0 &&
-			!cliSeries_WriteFrame(series, sim, frame + 1, time + frameTime))
+		    !cliSeries_WriteFrame(series, sim, frame + 1, time + frameTime))
 			return cli_exitInput;
 		double now = cliNow();
 		if (progress && (now - lastProgress > 0.2 || frame + 1 == frames))
@@ -294,25 +295,25 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 	for (int k = 0; k < o->impulseCount; ++k)
 		if (!applied[k])
 			cliWarn("--impulse-at %g: after the end of the run (%g s); not applied",
-					o->impulseTimes[k], frames * frameTime);
+			        o->impulseTimes[k], frames * frameTime);
 	return cli_exitOk;
 }
 
 static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int frames,
-							double wallSeconds, double stepSeconds, double lowestReached,
-							const cliSeries* series)
+                            double wallSeconds, double stepSeconds, double lowestReached,
+                            const cliSeries* series)
 {
 	cliTotals totals = cliSumStats(sim);
 	double steps = (double)frames * scene->substeps;
 	double simulated = frames * cliScene_FrameTime(scene);
 	printf("scene            %s (%d bod%s, %d tets, %s)\n", scene->name, sim->bodyCount,
-		   sim->bodyCount == 1 ? "y" : "ies", totals.tets,
-		   scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
+	       sim->bodyCount == 1 ? "y" : "ies", totals.tets,
+	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
 	printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
-		   scene->substeps == 1 ? "" : "s", scene->dt);
+	       scene->substeps == 1 ? "" : "s", scene->dt);
 	printf("simulated time   %.6g s\n", simulated);
-	printf("wall time        %.3f s (stepping %.3f s, %.2fx real time)\n", wallSeconds,
-		   stepSeconds, stepSeconds > 0.0 ? simulated / stepSeconds : 0.0);
+	printf("wall time        %.3f s (stepping %.3f s, %.2fx real time)\n", wallSeconds, stepSeconds,
+	       stepSeconds > 0.0 ? simulated / stepSeconds : 0.0);
 	printf("steps per second %.0f\n", stepSeconds > 0.0 ? steps / stepSeconds : 0.0);
 	printf("lowest vertex y  %.6g m\n", totals.lowestY);
 	printf("lowest y reached %.6g m (after any frame)\n", lowestReached);
@@ -351,7 +352,7 @@ int cliRun(int argc, char** argv)
 		cliSeriesName(o.scenePath, name, sizeof name);
 		seriesPtr = &series;
 		if (!cliSeries_Open(&series, o.outDir, name, o.obj) ||
-			!cliSeries_WriteFrame(&series, &sim, 0, 0.0))
+		    !cliSeries_WriteFrame(&series, &sim, 0, 0.0))
 			code = cli_exitInput;
 	}
 	double stepSeconds = 0.0, lowestReached = 0.0;
@@ -364,7 +365,7 @@ int cliRun(int argc, char** argv)
 		code = cli_exitInput;
 	if (code == cli_exitOk)
 		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, lowestReached,
-						seriesPtr);
+		                seriesPtr);
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;

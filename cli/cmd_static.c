@@ -6,20 +6,20 @@
 #include <string.h>
 
 const char* const cliStaticHelp =
-	"usage: femto static SCENE.json [--export-node FILE] [options]\n"
-	"\n"
-	"Solve every body of the scene for static equilibrium under gravity with its pins (the\n"
-	"floor is ignored; an unpinned body has no equilibrium). Prints the residual |f| / |m g|\n"
-	"reached and writes the positions as TetGen .node (the input numbering).\n"
-	"\n"
-	"options:\n"
-	"  --export-node FILE  write the equilibrium positions (FILE_B.node per body B when the\n"
-	"                      scene has several bodies)\n"
-	"  --tolerance T       relative residual to reach (default 1e-8)\n"
-	"  --max-iterations N  Newton iterations at most (default 200)\n"
-	"  --help              this text\n"
-	"\n"
-	"Exit status: 0 converged, 1 bad scene/file, I/O error or no convergence, 2 usage error.\n";
+    "usage: femto static SCENE.json [--export-node FILE] [options]\n"
+    "\n"
+    "Solve every body of the scene for static equilibrium under gravity with its pins (the\n"
+    "floor is ignored; an unpinned body has no equilibrium). Prints the residual |f| / |m g|\n"
+    "reached and writes the positions as TetGen .node (the input numbering).\n"
+    "\n"
+    "options:\n"
+    "  --export-node FILE  write the equilibrium positions (FILE_B.node per body B when the\n"
+    "                      scene has several bodies)\n"
+    "  --tolerance T       relative residual to reach (default 1e-8)\n"
+    "  --max-iterations N  Newton iterations at most (default 200)\n"
+    "  --help              this text\n"
+    "\n"
+    "Exit status: 0 converged, 1 bad scene/file, I/O error or no convergence, 2 usage error.\n";
 
 static bool cliWriteBodyNode(const char* path, const cliSimulation* sim, int body)
 {
@@ -35,7 +35,7 @@ static bool cliWriteBodyNode(const char* path, const cliSimulation* sim, int bod
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	if (fmWriteTetGenNode(bodyPath, &sim->meshes[body], fmBody_GetPositions(sim->bodies[body]),
-						  &diag) != fm_ok)
+	                      &diag) != fm_ok)
 	{
 		cliPrintDiagnostic(NULL, &diag);
 		return false;
@@ -70,7 +70,7 @@ int cliStatic(int argc, char** argv)
 				return cli_exitUsage;
 			if (!cliParseDouble(value, &tolerance) || !(tolerance > 0.0))
 				return cliUsageError("static", "--tolerance: expected a number > 0, got '%s'",
-									 value);
+				                     value);
 		}
 		else if (strcmp(arg, "--max-iterations") == 0)
 		{
@@ -78,7 +78,7 @@ int cliStatic(int argc, char** argv)
 				return cli_exitUsage;
 			if (!cliParseInt(value, &maxIterations) || maxIterations < 1)
 				return cliUsageError("static",
-									 "--max-iterations: expected an integer >= 1, got '%s'", value);
+				                     "--max-iterations: expected an integer >= 1, got '%s'", value);
 		}
 		else if (arg[0] == '-' && arg[1] != 0)
 			return cliUsageError("static", "unknown option '%s'", arg);
@@ -107,13 +107,13 @@ int cliStatic(int argc, char** argv)
 		memset(&diag, 0, sizeof diag);
 		double start = cliNow();
 		fmResult result =
-			fmBody_SolveStatic(sim.bodies[b], tolerance, maxIterations, &residual, &diag);
+		    fmBody_SolveStatic(sim.bodies[b], tolerance, maxIterations, &residual, &diag);
 		double seconds = cliNow() - start;
 		fmBodyStats stats = fmBody_GetStats(sim.bodies[b]);
 		printf("body %d           residual %.3g (tolerance %.3g) in %.3f s, %s\n", b, residual,
-			   tolerance, seconds, result == fm_ok ? "converged" : fmResultName(result));
+		       tolerance, seconds, result == fm_ok ? "converged" : fmResultName(result));
 		printf("                 elastic energy %.6g J, lowest y %.6g m, inverted tets %d\n",
-			   stats.elasticEnergy, stats.lowestY, stats.invertedTets);
+		       stats.elasticEnergy, stats.lowestY, stats.invertedTets);
 		if (result != fm_ok)
 		{
 			char prefix[CLI_MAX_PATH + 32];

@@ -6,21 +6,21 @@
 #include <string.h>
 
 static const char* const cliMainHelp =
-	"usage: femto <command> [options]\n"
-	"\n"
-	"Real-time finite-element soft bodies.\n"
-	"\n"
-	"commands:\n"
-	"  run [SCENE.json]     simulate a scene (default: the built-in bouncy house)\n"
-	"  info MESH.node       mesh statistics: counts, volumes, angles, quality, bad tets\n"
-	"  static SCENE.json    static equilibrium under gravity and pins\n"
-	"  bench                explicit and implicit step timings\n"
-	"\n"
-	"  femto <command> --help   options of a command\n"
-	"  femto --version          version of the tool and library\n"
-	"\n"
-	"Exit status: 0 ok, 1 bad input, I/O error or numerical failure, 2 usage error.\n"
-	"Scene files: docs/scene-format.md. The tool: docs/cli.md.\n";
+    "usage: femto <command> [options]\n"
+    "\n"
+    "Real-time finite-element soft bodies.\n"
+    "\n"
+    "commands:\n"
+    "  run [SCENE.json]     simulate a scene (default: the built-in bouncy house)\n"
+    "  info MESH.node       mesh statistics: counts, volumes, angles, quality, bad tets\n"
+    "  static SCENE.json    static equilibrium under gravity and pins\n"
+    "  bench                explicit and implicit step timings\n"
+    "\n"
+    "  femto <command> --help   options of a command\n"
+    "  femto --version          version of the tool and library\n"
+    "\n"
+    "Exit status: 0 ok, 1 bad input, I/O error or numerical failure, 2 usage error.\n"
+    "Scene files: docs/scene-format.md. The tool: docs/cli.md.\n";
 
 int main(int argc, char** argv)
 {
@@ -32,7 +32,7 @@ int main(int argc, char** argv)
 	}
 	const char* command = argv[1];
 	if (strcmp(command, "--help") == 0 || strcmp(command, "-h") == 0 ||
-		strcmp(command, "help") == 0)
+	    strcmp(command, "help") == 0)
 	{
 		fputs(cliMainHelp, stdout);
 		return cli_exitOk;
@@ -41,7 +41,7 @@ int main(int argc, char** argv)
 	{
 		fmVersion v = fmGetVersion();
 		printf("femto %d.%d.%d (library %d.%d.%d)\n", FM_VERSION_MAJOR, FM_VERSION_MINOR,
-			   FM_VERSION_PATCH, v.major, v.minor, v.patch);
+		       FM_VERSION_PATCH, v.major, v.minor, v.patch);
 		return cli_exitOk;
 	}
 	// Each command sees its own name as argv[0].
@@ -56,5 +56,5 @@ int main(int argc, char** argv)
 	if (command[0] == '-')
 		return cliUsageError(NULL, "unknown option '%s'", command);
 	return cliUsageError(NULL, "unknown command '%s' (commands: run, info, static, bench)",
-						 command);
+	                     command);
 }

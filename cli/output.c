@@ -40,20 +40,20 @@ static void cliWriteVtuPiece(FILE* file, fmBodyId body)
 	const int* tets = fmBody_GetTets(body);
 	fprintf(file, "<Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n", vertexCount, tetCount);
 	fprintf(file, "<PointData Vectors=\"velocity\">\n"
-				  "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
-				  "format=\"ascii\">\n");
+	              "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
+	              "format=\"ascii\">\n");
 	for (int i = 0; i < vertexCount; ++i)
 		fprintf(file, "%.9g %.9g %.9g\n", v[3 * i], v[3 * i + 1], v[3 * i + 2]);
 	fprintf(file, "</DataArray>\n</PointData>\n<Points>\n"
-				  "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
+	              "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n");
 	// 17 significant digits: the positions round-trip exactly.
 	for (int i = 0; i < vertexCount; ++i)
 		fprintf(file, "%.17g %.17g %.17g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
 	fprintf(file, "</DataArray>\n</Points>\n<Cells>\n"
-				  "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
+	              "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
 	for (int t = 0; t < tetCount; ++t)
 		fprintf(file, "%d %d %d %d\n", tets[4 * t], tets[4 * t + 1], tets[4 * t + 2],
-				tets[4 * t + 3]);
+		        tets[4 * t + 3]);
 	fprintf(file, "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
 	for (int t = 0; t < tetCount; ++t)
 		fprintf(file, "%d\n", 4 * (t + 1));
@@ -68,9 +68,10 @@ bool cliWriteVtu(const char* path, const cliSimulation* sim)
 	FILE* file = cliOpenForWriting(path);
 	if (file == NULL)
 		return false;
-	fprintf(file, "<?xml version=\"1.0\"?>\n"
-				  "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-				  "<UnstructuredGrid>\n");
+	fprintf(file,
+	        "<?xml version=\"1.0\"?>\n"
+	        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+	        "<UnstructuredGrid>\n");
 	for (int b = 0; b < sim->bodyCount; ++b)
 		cliWriteVtuPiece(file, sim->bodies[b]);
 	fprintf(file, "</UnstructuredGrid>\n</VTKFile>\n");
@@ -96,7 +97,7 @@ bool cliWriteObj(const char* path, const cliSimulation* sim)
 			fprintf(file, "v %.9g %.9g %.9g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
 		for (int t = 0; t < triangleCount; ++t)
 			fprintf(file, "f %d %d %d\n", triangles[3 * t] + vertexBase,
-					triangles[3 * t + 1] + vertexBase, triangles[3 * t + 2] + vertexBase);
+			        triangles[3 * t + 1] + vertexBase, triangles[3 * t + 2] + vertexBase);
 		vertexBase += vertexCount;
 	}
 	return cliFinishFile(file, path);
@@ -111,14 +112,15 @@ bool cliSeries_Open(cliSeries* series, const char* directory, const char* name, 
 	char fileName[300];
 	snprintf(fileName, sizeof fileName, "%s.pvd", name);
 	if (!cliMakeDirectories(directory) ||
-		!cliJoinPath(series->pvdPath, sizeof series->pvdPath, directory, fileName))
+	    !cliJoinPath(series->pvdPath, sizeof series->pvdPath, directory, fileName))
 		return false;
 	series->pvd = cliOpenForWriting(series->pvdPath);
 	if (series->pvd == NULL)
 		return false;
-	fprintf(series->pvd, "<?xml version=\"1.0\"?>\n"
-						 "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-						 "<Collection>\n");
+	fprintf(series->pvd,
+	        "<?xml version=\"1.0\"?>\n"
+	        "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+	        "<Collection>\n");
 	return true;
 }
 
@@ -130,7 +132,7 @@ bool cliSeries_WriteFrame(cliSeries* series, const cliSimulation* sim, int frame
 		return false;
 	// Relative file names keep the folder movable.
 	fprintf(series->pvd, "<DataSet timestep=\"%.9g\" group=\"\" part=\"0\" file=\"%s\"/>\n", time,
-			fileName);
+	        fileName);
 	fflush(series->pvd);
 	series->written += 1;
 	if (series->obj)

@@ -87,8 +87,9 @@ static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* c
 
 // Print "file[:line:column]: path: message[, got VALUE]" and return false.
 static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format,
-						...) __attribute__((format(printf, 4, 5)));
-static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format, ...)
+                        ...) __attribute__((format(printf, 4, 5)));
+static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format,
+                        ...)
 {
 	int line = 0, column = 0;
 	if (path[0] != 0 && cliFindKeyLine(j, path, &line, &column))
@@ -122,8 +123,8 @@ static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, co
 // shortens a message.
 static void cliJoinKey(char* out, size_t size, const char* parent, const char* key)
 {
-	int written = parent[0] == 0 ? snprintf(out, size, "%s", key)
-								 : snprintf(out, size, "%s.%s", parent, key);
+	int written =
+	    parent[0] == 0 ? snprintf(out, size, "%s", key) : snprintf(out, size, "%s.%s", parent, key);
 	if (written < 0)
 		out[0] = 0;
 }
@@ -139,7 +140,7 @@ static void cliDescribeRange(cliRange range, char* out, size_t size)
 		snprintf(out, size, "a number %s %g", range.hiOpen ? "<" : "<=", range.hi);
 	else
 		snprintf(out, size, "a number in %c%g, %g%c", range.loOpen ? '(' : '[', range.lo, range.hi,
-				 range.hiOpen ? ')' : ']');
+		         range.hiOpen ? ')' : ']');
 }
 
 static bool cliInRange(double value, cliRange range)
@@ -157,7 +158,7 @@ static bool cliInRange(double value, cliRange range)
 
 // Reject keys not in @p allowed (NULL-terminated) and repeated keys.
 static bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* parent,
-						 const char* const* allowed)
+                         const char* const* allowed)
 {
 	for (const cJSON* item = object->child; item != NULL; item = item->next)
 	{
@@ -184,7 +185,7 @@ static bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* pare
 }
 
 static bool cliGetNumber(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-						 cliRange range, double* value, bool* present)
+                         cliRange range, double* value, bool* present)
 {
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
 	if (present != NULL)
@@ -201,7 +202,7 @@ static bool cliGetNumber(const cliJson* j, const cJSON* object, const char* pare
 }
 
 static bool cliGetInt(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-					  int lo, int hi, int* value, bool* present)
+                      int lo, int hi, int* value, bool* present)
 {
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
 	if (present != NULL)
@@ -218,7 +219,7 @@ static bool cliGetInt(const cliJson* j, const cJSON* object, const char* parent,
 }
 
 static bool cliGetBool(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-					   bool* value)
+                       bool* value)
 {
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
 	if (item == NULL)
@@ -232,7 +233,7 @@ static bool cliGetBool(const cliJson* j, const cJSON* object, const char* parent
 }
 
 static bool cliGetString(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-						 const char** value)
+                         const char** value)
 {
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
 	if (item == NULL)
@@ -246,7 +247,7 @@ static bool cliGetString(const cliJson* j, const cJSON* object, const char* pare
 }
 
 static bool cliGetVec3(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-					   fmVec3* value, bool* present)
+                       fmVec3* value, bool* present)
 {
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
 	if (present != NULL)
@@ -271,7 +272,7 @@ static bool cliGetVec3(const cliJson* j, const cJSON* object, const char* parent
 
 // An optional object member: NULL if absent; fails on a non-object.
 static bool cliGetObject(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-						 const cJSON** value)
+                         const cJSON** value)
 {
 	*value = NULL;
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
@@ -322,30 +323,31 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	cliJoinKey(path, sizeof path, parent, "mesh");
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(body, "mesh");
 	if (item == NULL)
-		return cliJsonFail(j, parent, NULL,
-						   "missing \"mesh\" (a .node path, \"builtin:house2\" or \"box:nx,ny,nz\")");
+		return cliJsonFail(
+		    j, parent, NULL,
+		    "missing \"mesh\" (a .node path, \"builtin:house2\" or \"box:nx,ny,nz\")");
 	if (!cJSON_IsString(item) || item->valuestring == NULL || item->valuestring[0] == 0)
 		return cliJsonFail(j, path, item,
-						   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
+		                   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
 	const char* text = item->valuestring;
 	bool hasMin = false, hasMax = false;
 	spec->boxMin = fmMakeVec3(0, 0, 0);
 	spec->boxMax = fmMakeVec3(1, 1, 1);
 	if (!cliGetVec3(j, body, parent, "box_min", &spec->boxMin, &hasMin) ||
-		!cliGetVec3(j, body, parent, "box_max", &spec->boxMax, &hasMax))
+	    !cliGetVec3(j, body, parent, "box_max", &spec->boxMax, &hasMax))
 		return false;
 	if (strncmp(text, "box:", 4) == 0)
 	{
 		spec->meshSource = cli_meshBox;
 		if (!cliParseBoxSpec(text, spec->boxCells))
 			return cliJsonFail(j, path, item, "expected \"box:nx,ny,nz\" with counts in [1, %d]",
-							   CLI_MAX_BOX_CELLS);
+			                   CLI_MAX_BOX_CELLS);
 		double tets = 6.0 * spec->boxCells[0] * spec->boxCells[1] * spec->boxCells[2];
 		if (tets > (double)FM_MAX_TETS)
 			return cliJsonFail(j, path, item, "box of %.0f tets exceeds the %d tet limit", tets,
-							   FM_MAX_TETS);
+			                   FM_MAX_TETS);
 		if (!(spec->boxMin.x < spec->boxMax.x && spec->boxMin.y < spec->boxMax.y &&
-			  spec->boxMin.z < spec->boxMax.z))
+		      spec->boxMin.z < spec->boxMax.z))
 			return cliJsonFail(j, parent, NULL, "box_min must be below box_max on every axis");
 		return true;
 	}
@@ -357,31 +359,33 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 		return true;
 	}
 	if (strncmp(text, "builtin:", 8) == 0)
-		return cliJsonFail(j, path, item, "unknown built-in mesh (the one there is: builtin:house2)");
+		return cliJsonFail(j, path, item,
+		                   "unknown built-in mesh (the one there is: builtin:house2)");
 	size_t length = strlen(text);
 	if (length < 5 || strcmp(text + length - 5, ".node") != 0)
 		return cliJsonFail(j, path, item,
-						   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
+		                   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
 	spec->meshSource = cli_meshFile;
 	// Relative paths are relative to the scene file's folder, so scenes can be run from anywhere.
-	int written = text[0] == '/' ? snprintf(spec->nodePath, sizeof spec->nodePath, "%s", text)
-								 : snprintf(spec->nodePath, sizeof spec->nodePath, "%s%s",
-											j->folder, text);
+	int written = text[0] == '/'
+	                  ? snprintf(spec->nodePath, sizeof spec->nodePath, "%s", text)
+	                  : snprintf(spec->nodePath, sizeof spec->nodePath, "%s%s", j->folder, text);
 	if (written < 0 || (size_t)written >= sizeof spec->nodePath)
 		return cliJsonFail(j, path, item, "path too long");
 	memcpy(spec->elePath, spec->nodePath, sizeof spec->elePath);
 	memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
 	if (!cliFileReadable(spec->nodePath))
-		return cliJsonFail(j, path, NULL, "cannot open %s (\"%s\" is relative to the scene's folder)",
-						   spec->nodePath, text);
+		return cliJsonFail(j, path, NULL,
+		                   "cannot open %s (\"%s\" is relative to the scene's folder)",
+		                   spec->nodePath, text);
 	if (!cliFileReadable(spec->elePath))
 		return cliJsonFail(j, path, NULL, "cannot open %s (the .ele beside the .node)",
-						   spec->elePath);
+		                   spec->elePath);
 	return true;
 }
 
 static bool cliParseTransform(const cliJson* j, const cJSON* body, const char* parent,
-							  cliBodySpec* spec)
+                              cliBodySpec* spec)
 {
 	static const char* const keys[] = {"scale", "center", "swap_yz", "translate", NULL};
 	char path[256];
@@ -393,18 +397,18 @@ static bool cliParseTransform(const cliJson* j, const cJSON* body, const char* p
 	if (transform == NULL)
 		return true;
 	return cliCheckKeys(j, transform, path, keys) &&
-		   cliGetNumber(j, transform, path, "scale", cliPositive, &spec->transform.scale, NULL) &&
-		   cliGetBool(j, transform, path, "center", &spec->transform.center) &&
-		   cliGetBool(j, transform, path, "swap_yz", &spec->transform.swapYZ) &&
-		   cliGetVec3(j, transform, path, "translate", &spec->transform.translate, NULL);
+	       cliGetNumber(j, transform, path, "scale", cliPositive, &spec->transform.scale, NULL) &&
+	       cliGetBool(j, transform, path, "center", &spec->transform.center) &&
+	       cliGetBool(j, transform, path, "swap_yz", &spec->transform.swapYZ) &&
+	       cliGetVec3(j, transform, path, "translate", &spec->transform.translate, NULL);
 }
 
 static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* parent,
-							 cliBodySpec* spec)
+                             cliBodySpec* spec)
 {
-	static const char* const keys[] = {"model",	  "youngs_modulus", "poisson_ratio", "lambda",
-									   "mu",	  "mooney_c01",		"density",		 "particle_mass",
-									   NULL};
+	static const char* const keys[] = {"model", "youngs_modulus", "poisson_ratio", "lambda",
+	                                   "mu",    "mooney_c01",     "density",       "particle_mass",
+	                                   NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
 	const cJSON* material = NULL;
@@ -424,22 +428,22 @@ static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* pa
 		char modelPath[256];
 		cliJoinKey(modelPath, sizeof modelPath, path, "model");
 		return cliJsonFail(j, modelPath, cJSON_GetObjectItemCaseSensitive(material, "model"),
-						   "expected \"linear\", \"corotated\", \"stvk\", \"neohookean\" or "
-						   "\"mooney-rivlin\"");
+		                   "expected \"linear\", \"corotated\", \"stvk\", \"neohookean\" or "
+		                   "\"mooney-rivlin\"");
 	}
 
 	double youngs = 0, poisson = 0, lambda = 0, mu = 0;
 	bool hasE = false, hasNu = false, hasLambda = false, hasMu = false;
 	const cliRange poissonRange = {-1.0, 0.5, true, true};
 	if (!cliGetNumber(j, material, path, "youngs_modulus", cliPositive, &youngs, &hasE) ||
-		!cliGetNumber(j, material, path, "poisson_ratio", poissonRange, &poisson, &hasNu) ||
-		!cliGetNumber(j, material, path, "lambda", cliAnyFinite, &lambda, &hasLambda) ||
-		!cliGetNumber(j, material, path, "mu", cliPositive, &mu, &hasMu))
+	    !cliGetNumber(j, material, path, "poisson_ratio", poissonRange, &poisson, &hasNu) ||
+	    !cliGetNumber(j, material, path, "lambda", cliAnyFinite, &lambda, &hasLambda) ||
+	    !cliGetNumber(j, material, path, "mu", cliPositive, &mu, &hasMu))
 		return false;
 	bool engineering = hasE || hasNu, lame = hasLambda || hasMu;
 	if (engineering && lame)
 		return cliJsonFail(j, path, NULL,
-						   "give youngs_modulus + poisson_ratio or lambda + mu, not both pairs");
+		                   "give youngs_modulus + poisson_ratio or lambda + mu, not both pairs");
 	if (engineering && !(hasE && hasNu))
 		return cliJsonFail(j, path, NULL, "youngs_modulus and poisson_ratio go together");
 	if (lame && !(hasLambda && hasMu))
@@ -449,24 +453,26 @@ static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* pa
 	else if (lame)
 		spec->def.material = fmMakeMaterialLame(model, lambda, mu);
 	else
-		spec->def.material = fmMakeMaterialLame(model, spec->def.material.lambda,
-												spec->def.material.mu);
+		spec->def.material =
+		    fmMakeMaterialLame(model, spec->def.material.lambda, spec->def.material.mu);
 
 	bool hasC01 = false;
 	if (!cliGetNumber(j, material, path, "mooney_c01", cliNonNegative, &spec->def.material.c01,
-					  &hasC01))
+	                  &hasC01))
 		return false;
 	if (hasC01 && model != fm_mooneyRivlin)
-		return cliJsonFail(j, path, NULL, "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
+		return cliJsonFail(j, path, NULL,
+		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	if (fmMaterial_Validate(&spec->def.material, &diag) != fm_ok)
-		return cliJsonFail(j, path, NULL, "%s", diag.message[0] ? diag.message : "invalid material");
+		return cliJsonFail(j, path, NULL, "%s",
+		                   diag.message[0] ? diag.message : "invalid material");
 
 	bool hasDensity = false, hasParticleMass = false;
 	if (!cliGetNumber(j, material, path, "density", cliPositive, &spec->def.density, &hasDensity) ||
-		!cliGetNumber(j, material, path, "particle_mass", cliPositive, &spec->def.particleMass,
-					  &hasParticleMass))
+	    !cliGetNumber(j, material, path, "particle_mass", cliPositive, &spec->def.particleMass,
+	                  &hasParticleMass))
 		return false;
 	if (hasDensity && hasParticleMass)
 		return cliJsonFail(j, path, NULL, "give density or particle_mass, not both");
@@ -486,7 +492,8 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 	if (pins == NULL)
 		return true;
 	if (!cJSON_IsArray(pins))
-		return cliJsonFail(j, path, pins, "expected a list of {\"min\": [x,y,z], \"max\": [x,y,z]}");
+		return cliJsonFail(j, path, pins,
+		                   "expected a list of {\"min\": [x,y,z], \"max\": [x,y,z]}");
 	int count = cJSON_GetArraySize(pins);
 	spec->pins = calloc((size_t)(count > 0 ? count : 1), sizeof *spec->pins);
 	if (spec->pins == NULL)
@@ -502,8 +509,8 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 		bool hasMin = false, hasMax = false;
 		cliPinBox* pin = &spec->pins[i];
 		if (!cliCheckKeys(j, box, boxPath, keys) ||
-			!cliGetVec3(j, box, boxPath, "min", &pin->min, &hasMin) ||
-			!cliGetVec3(j, box, boxPath, "max", &pin->max, &hasMax))
+		    !cliGetVec3(j, box, boxPath, "min", &pin->min, &hasMin) ||
+		    !cliGetVec3(j, box, boxPath, "max", &pin->max, &hasMax))
 			return false;
 		if (!hasMin || !hasMax)
 			return cliJsonFail(j, boxPath, NULL, "a pin box needs both \"min\" and \"max\"");
@@ -516,10 +523,10 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 
 static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
 {
-	static const char* const keys[] = {
-		"mesh",		  "box_min",  "box_max",	  "transform",		"material",
-		"force_model", "damping", "smoothing", "rayleigh",		"spring_damping",
-		"pin",		  "initial_velocity", NULL};
+	static const char* const keys[] = {"mesh",     "box_min",        "box_max", "transform",
+	                                   "material", "force_model",    "damping", "smoothing",
+	                                   "rayleigh", "spring_damping", "pin",     "initial_velocity",
+	                                   NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
@@ -528,7 +535,7 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 	spec->def = fmDefaultBodyDef();
 	spec->initialVelocity = fmMakeVec3(0, 0, 0);
 	if (!cliCheckKeys(j, body, path, keys) || !cliParseMesh(j, body, path, spec) ||
-		!cliParseTransform(j, body, path, spec) || !cliParseMaterial(j, body, path, spec))
+	    !cliParseTransform(j, body, path, spec) || !cliParseMaterial(j, body, path, spec))
 		return false;
 
 	const char* forceModel = NULL;
@@ -539,27 +546,26 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 		char itemPath[128];
 		cliJoinKey(itemPath, sizeof itemPath, path, "force_model");
 		return cliJsonFail(j, itemPath, cJSON_GetObjectItemCaseSensitive(body, "force_model"),
-						   "expected \"fem\", \"fvm\" or \"mass-spring\"");
+		                   "expected \"fem\", \"fvm\" or \"mass-spring\"");
 	}
 	const cliRange dampingRange = {0.0, 1.0, true, false};
 	const cJSON* rayleigh = NULL;
 	char rayleighPath[128];
 	cliJoinKey(rayleighPath, sizeof rayleighPath, path, "rayleigh");
 	if (!cliGetNumber(j, body, path, "damping", dampingRange, &spec->def.damping, NULL) ||
-		!cliGetNumber(j, body, path, "smoothing", cliUnit, &spec->def.smoothing, NULL) ||
-		!cliGetNumber(j, body, path, "spring_damping", cliNonNegative, &spec->def.springDamping,
-					  NULL) ||
-		!cliGetObject(j, body, path, "rayleigh", &rayleigh))
+	    !cliGetNumber(j, body, path, "smoothing", cliUnit, &spec->def.smoothing, NULL) ||
+	    !cliGetNumber(j, body, path, "spring_damping", cliNonNegative, &spec->def.springDamping,
+	                  NULL) ||
+	    !cliGetObject(j, body, path, "rayleigh", &rayleigh))
 		return false;
-	if (rayleigh != NULL &&
-		(!cliCheckKeys(j, rayleigh, rayleighPath, rayleighKeys) ||
-		 !cliGetNumber(j, rayleigh, rayleighPath, "mass", cliNonNegative, &spec->def.rayleighMass,
-					   NULL) ||
-		 !cliGetNumber(j, rayleigh, rayleighPath, "stiffness", cliNonNegative,
-					   &spec->def.rayleighStiffness, NULL)))
+	if (rayleigh != NULL && (!cliCheckKeys(j, rayleigh, rayleighPath, rayleighKeys) ||
+	                         !cliGetNumber(j, rayleigh, rayleighPath, "mass", cliNonNegative,
+	                                       &spec->def.rayleighMass, NULL) ||
+	                         !cliGetNumber(j, rayleigh, rayleighPath, "stiffness", cliNonNegative,
+	                                       &spec->def.rayleighStiffness, NULL)))
 		return false;
 	return cliParsePins(j, body, path, spec) &&
-		   cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL);
+	       cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL);
 }
 
 // ---- the world ------------------------------------------------------------------------------
@@ -579,8 +585,8 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 		return cliJsonFail(j, "floor", item, "expected an object {\"height\": ...} or false");
 	floorDef->enabled = true;
 	if (!cliCheckKeys(j, item, "floor", keys) ||
-		!cliGetNumber(j, item, "floor", "height", cliAnyFinite, &floorDef->height, NULL) ||
-		!cliGetNumber(j, item, "floor", "restitution", cliUnit, &floorDef->restitution, NULL))
+	    !cliGetNumber(j, item, "floor", "height", cliAnyFinite, &floorDef->height, NULL) ||
+	    !cliGetNumber(j, item, "floor", "restitution", cliUnit, &floorDef->restitution, NULL))
 		return false;
 	const cJSON* friction = cJSON_GetObjectItemCaseSensitive(item, "friction");
 	if (friction == NULL)
@@ -592,7 +598,7 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 	}
 	if (!cJSON_IsNumber(friction) || !cliInRange(friction->valuedouble, cliNonNegative))
 		return cliJsonFail(j, "floor.friction", friction,
-						   "expected \"stick\" or a Coulomb coefficient >= 0");
+		                   "expected \"stick\" or a Coulomb coefficient >= 0");
 	floorDef->friction = fm_floorCoulomb;
 	floorDef->frictionCoefficient = friction->valuedouble;
 	return true;
@@ -606,15 +612,15 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	bool hasFrames = false, hasSeconds = false;
 	const char* integrator = NULL;
 	if (!cliGetVec3(j, root, "", "gravity", &def->gravity, NULL) ||
-		!cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
-		!cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
-		!cliGetInt(j, root, "", "frames", 1, 100000000, &scene->frames, &hasFrames) ||
-		!cliGetNumber(j, root, "", "seconds", secondsRange, &scene->seconds, &hasSeconds) ||
-		!cliGetString(j, root, "", "integrator", &integrator) ||
-		!cliGetInt(j, root, "", "newton_iterations", 1, 10000, &def->newtonIterations, NULL) ||
-		!cliGetNumber(j, root, "", "tolerance", cliPositive, &def->tolerance, NULL) ||
-		!cliGetInt(j, root, "", "cg_iterations", 1, 1000000, &def->cgIterations, NULL) ||
-		!cliParseFloor(j, root, &def->floor))
+	    !cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
+	    !cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
+	    !cliGetInt(j, root, "", "frames", 1, 100000000, &scene->frames, &hasFrames) ||
+	    !cliGetNumber(j, root, "", "seconds", secondsRange, &scene->seconds, &hasSeconds) ||
+	    !cliGetString(j, root, "", "integrator", &integrator) ||
+	    !cliGetInt(j, root, "", "newton_iterations", 1, 10000, &def->newtonIterations, NULL) ||
+	    !cliGetNumber(j, root, "", "tolerance", cliPositive, &def->tolerance, NULL) ||
+	    !cliGetInt(j, root, "", "cg_iterations", 1, 1000000, &def->cgIterations, NULL) ||
+	    !cliParseFloor(j, root, &def->floor))
 		return false;
 	if (hasFrames && hasSeconds)
 		return cliJsonFail(j, "seconds", NULL, "give frames or seconds, not both");
@@ -626,8 +632,8 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 			def->integrator = fm_implicit;
 		else
 			return cliJsonFail(j, "integrator",
-							   cJSON_GetObjectItemCaseSensitive(root, "integrator"),
-							   "expected \"explicit\" or \"implicit\"");
+			                   cJSON_GetObjectItemCaseSensitive(root, "integrator"),
+			                   "expected \"explicit\" or \"implicit\"");
 	}
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
@@ -639,14 +645,14 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 {
 	static const char* const keys[] = {
-		"description", "gravity",	"dt",			 "substeps",	  "frames", "seconds",
-		"integrator", "newton_iterations", "tolerance", "cg_iterations", "floor",	"bodies",
-		NULL};
+	    "description", "gravity",           "dt",        "substeps",      "frames", "seconds",
+	    "integrator",  "newton_iterations", "tolerance", "cg_iterations", "floor",  "bodies",
+	    NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
 	const char* description = NULL;
-	if (!cliCheckKeys(j, root, "", keys) || !cliGetString(j, root, "", "description", &description) ||
-		!cliParseWorld(j, root, scene))
+	if (!cliCheckKeys(j, root, "", keys) ||
+	    !cliGetString(j, root, "", "description", &description) || !cliParseWorld(j, root, scene))
 		return false;
 	const cJSON* bodies = cJSON_GetObjectItemCaseSensitive(root, "bodies");
 	if (bodies == NULL)
@@ -656,7 +662,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	int count = cJSON_GetArraySize(bodies);
 	if (count > scene->worldDef.maxBodies)
 		return cliJsonFail(j, "bodies", NULL, "%d bodies, at most %d", count,
-						   scene->worldDef.maxBodies);
+		                   scene->worldDef.maxBodies);
 	scene->bodies = calloc((size_t)count, sizeof *scene->bodies);
 	if (scene->bodies == NULL)
 		return cliJsonFail(j, "bodies", NULL, "out of memory");
@@ -773,4 +779,7 @@ void cliScene_Free(cliScene* scene)
 	scene->bodyCount = 0;
 }
 
-double cliScene_FrameTime(const cliScene* scene) { return scene->dt * scene->substeps; }
+double cliScene_FrameTime(const cliScene* scene)
+{
+	return scene->dt * scene->substeps;
+}

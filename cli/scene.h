@@ -24,13 +24,13 @@ typedef struct cliBodySpec
 {
 	cliMeshSource meshSource;
 	char nodePath[CLI_MAX_PATH]; ///< cli_meshFile: resolved .node path
-	char elePath[CLI_MAX_PATH];	 ///< cli_meshFile: resolved .ele path
-	int boxCells[3];			 ///< cli_meshBox: cells along x, y, z
-	fmVec3 boxMin;				 ///< cli_meshBox: m
-	fmVec3 boxMax;				 ///< cli_meshBox: m
-	fmMeshTransform transform;	 ///< placement of the loaded mesh
-	fmBodyDef def;				 ///< material, masses, damping (mesh set when built)
-	cliPinBox* pins;			 ///< malloc'd, pinCount boxes
+	char elePath[CLI_MAX_PATH];  ///< cli_meshFile: resolved .ele path
+	int boxCells[3];             ///< cli_meshBox: cells along x, y, z
+	fmVec3 boxMin;               ///< cli_meshBox: m
+	fmVec3 boxMax;               ///< cli_meshBox: m
+	fmMeshTransform transform;   ///< placement of the loaded mesh
+	fmBodyDef def;               ///< material, masses, damping (mesh set when built)
+	cliPinBox* pins;             ///< malloc'd, pinCount boxes
 	int pinCount;
 	fmVec3 initialVelocity; ///< m/s
 } cliBodySpec;
@@ -39,12 +39,12 @@ typedef struct cliBodySpec
 typedef struct cliScene
 {
 	char name[CLI_MAX_PATH]; ///< the scene file as given, or "builtin:house"
-	fmWorldDef worldDef;	 ///< gravity, floor, integrator settings
-	double dt;				 ///< s, one substep
-	int substeps;			 ///< substeps a frame (a frame is dt * substeps)
-	int frames;				 ///< default frame count for run, 0 if not given
-	double seconds;			 ///< default duration for run, 0 if not given
-	cliBodySpec* bodies;	 ///< malloc'd
+	fmWorldDef worldDef;     ///< gravity, floor, integrator settings
+	double dt;               ///< s, one substep
+	int substeps;            ///< substeps a frame (a frame is dt * substeps)
+	int frames;              ///< default frame count for run, 0 if not given
+	double seconds;          ///< default duration for run, 0 if not given
+	cliBodySpec* bodies;     ///< malloc'd
 	int bodyCount;
 } cliScene;
 
@@ -53,7 +53,7 @@ typedef struct cliSimulation
 {
 	fmWorldId world;
 	int bodyCount;
-	fmBodyId* bodies;	 ///< malloc'd
+	fmBodyId* bodies;  ///< malloc'd
 	fmTetMesh* meshes; ///< malloc'd, the placed rest meshes, input numbering
 } cliSimulation;
 

@@ -17,8 +17,8 @@ fmResult cliLoadHouseMesh(fmTetMesh* mesh, fmDiagnostic* diag)
 	// house2.ele numbers its tets oddly (the loader warns and ignores the column): known, muted.
 	cliMuteLibraryWarnings(true);
 	fmResult result = fmLoadTetGenFromMemory((const char*)fmCliHouse2Node, fmCliHouse2Node_size,
-								  "builtin:house2.node", (const char*)fmCliHouse2Ele,
-								  fmCliHouse2Ele_size, "builtin:house2.ele", mesh, diag);
+	                                         "builtin:house2.node", (const char*)fmCliHouse2Ele,
+	                                         fmCliHouse2Ele_size, "builtin:house2.ele", mesh, diag);
 	cliMuteLibraryWarnings(false);
 	return result;
 }
@@ -39,10 +39,10 @@ static bool cliLoadBodyMesh(const cliScene* scene, int index, fmTetMesh* mesh)
 		break;
 	case cli_meshBox:
 		result = fmMakeBoxMesh(spec->boxCells[0], spec->boxCells[1], spec->boxCells[2],
-							   spec->boxMin, spec->boxMax, mesh);
+		                       spec->boxMin, spec->boxMax, mesh);
 		if (result != fm_ok)
 			snprintf(diag.message, sizeof diag.message, "cannot make the box mesh: %s",
-					 fmResultMessage(result));
+			         fmResultMessage(result));
 		break;
 	}
 	if (result != fm_ok)
@@ -98,10 +98,10 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 			fmVec3 lo, hi;
 			cliMeshBounds(mesh, &lo, &hi);
 			fprintf(stderr,
-					"%s: bodies[%d].pin[%d]: box [%g %g %g]..[%g %g %g] catches no vertex; the "
-					"body spans [%g %g %g]..[%g %g %g] (scene coordinates, after the transform)\n",
-					scene->name, index, p, box->min.x, box->min.y, box->min.z, box->max.x,
-					box->max.y, box->max.z, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
+			        "%s: bodies[%d].pin[%d]: box [%g %g %g]..[%g %g %g] catches no vertex; the "
+			        "body spans [%g %g %g]..[%g %g %g] (scene coordinates, after the transform)\n",
+			        scene->name, index, p, box->min.x, box->min.y, box->min.z, box->max.x,
+			        box->max.y, box->max.z, lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
 			return false;
 		}
 	}
@@ -154,9 +154,9 @@ bool cliSimulation_Create(const cliScene* scene, bool quiet, cliSimulation* sim)
 		if (limit > 0.0 && scene->dt > 2.0 * limit)
 		{
 			cliWarn("%s: dt = %g s is more than twice the estimated explicit stability limit "
-					"%g s; expect a numerical failure (dt <= %g s, or \"integrator\": "
-					"\"implicit\")",
-					scene->name, scene->dt, limit, 2.0 * limit);
+			        "%g s; expect a numerical failure (dt <= %g s, or \"integrator\": "
+			        "\"implicit\")",
+			        scene->name, scene->dt, limit, 2.0 * limit);
 			cliNoteExplicitStepWarned();
 		}
 	}

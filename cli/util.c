@@ -106,10 +106,10 @@ char* cliReadFile(const char* path, size_t* size)
 	// Refuse absurd files before reading them (a scene is a few kilobytes).
 	struct stat info;
 	if (fstat(fileno(file), &info) == 0 && S_ISREG(info.st_mode) &&
-		(uint64_t)info.st_size > (uint64_t)CLI_MAX_FILE_BYTES)
+	    (uint64_t)info.st_size > (uint64_t)CLI_MAX_FILE_BYTES)
 	{
 		fprintf(stderr, "%s: file is %lld bytes, more than the %zu MiB limit\n", path,
-				(long long)info.st_size, CLI_MAX_FILE_BYTES >> 20);
+		        (long long)info.st_size, CLI_MAX_FILE_BYTES >> 20);
 		fclose(file);
 		return NULL;
 	}
@@ -122,7 +122,7 @@ char* cliReadFile(const char* path, size_t* size)
 			if (capacity >= CLI_MAX_FILE_BYTES)
 			{
 				fprintf(stderr, "%s: file exceeds the %zu MiB limit\n", path,
-						CLI_MAX_FILE_BYTES >> 20);
+				        CLI_MAX_FILE_BYTES >> 20);
 				free(buffer);
 				fclose(file);
 				return NULL;
@@ -214,7 +214,10 @@ double cliNow(void)
 	return (double)now.tv_sec + 1e-9 * (double)now.tv_nsec;
 }
 
-bool cliStderrIsTty(void) { return isatty(fileno(stderr)) != 0; }
+bool cliStderrIsTty(void)
+{
+	return isatty(fileno(stderr)) != 0;
+}
 
 static struct
 {
@@ -239,8 +242,17 @@ static void cliLog(fmLogLevel level, const char* message, void* context)
 		fprintf(stderr, "femto: further library warnings not shown\n");
 }
 
-void cliInstallLogHook(void) { fmSetLogFcn(cliLog, NULL); }
+void cliInstallLogHook(void)
+{
+	fmSetLogFcn(cliLog, NULL);
+}
 
-void cliMuteLibraryWarnings(bool mute) { cliLogState.muted = mute; }
+void cliMuteLibraryWarnings(bool mute)
+{
+	cliLogState.muted = mute;
+}
 
-void cliNoteExplicitStepWarned(void) { cliLogState.explicitStepWarned = true; }
+void cliNoteExplicitStepWarned(void)
+{
+	cliLogState.explicitStepWarned = true;
+}
