@@ -152,7 +152,9 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 	fmVec3 b[3], v[3];
 	for (int j = 0; j < 3; ++j)
 	{
-		b[j] = fmScale(1.0 / scale, fmColumn(F, j));
+		// Divide rather than multiply by 1 / scale, which overflows for subnormal scales.
+		fmVec3 col = fmColumn(F, j);
+		b[j] = fmMakeVec3(col.x / scale, col.y / scale, col.z / scale);
 		v[j] = fmMakeVec3(j == 0, j == 1, j == 2);
 	}
 
