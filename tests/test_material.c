@@ -583,6 +583,37 @@ TEST(make_material_round_trips_youngs_modulus_and_poisson_ratio)
 	CHECK(seeds.lambda == 20000 && seeds.mu == 5000 && seeds.model == fm_stvk);
 }
 
+TEST(uniaxial_tension_recovers_youngs_modulus_and_poisson_ratio)
+{
+	// A bar pulled along x with free sides: find the lateral strain t with P_yy = P_zz = 0, then
+	// stress / strain is E and -t / e is nu, for every model, at small strain.
+	const double E = 1e5, nu = 0.3, e = 1e-6;
+	for (int model = 0; model < fm_materialModelCount; ++model)
+	{
+		fmMaterial m = testMaterial((fmMaterialModel)model);
+		if (model != fm_stretchEnergy && model != fm_invariantEnergy)
+			m = fmMakeMaterial((fmMaterialModel)model, E, nu);
+		double Eexp = m.mu * (3 * m.lambda + 2 * m.mu) / (m.lambda + m.mu);
+		double nuExp = m.lambda / (2 * (m.lambda + m.mu));
+		double t = 0.0;
+		fmMat3 P;
+		for (int it = 0; it < 20; ++it)
+		{
+			fmMat3 F = {{1 + e, 0, 0, 0, 1 + t, 0, 0, 0, 1 + t}};
+			double A[81];
+			fmMaterial_Evaluate(&m, &F, &P, A);
+			// d P_yy / dt = dP_yy/dF_yy + dP_yy/dF_zz
+			t -= P.m[4] / (A[9 * 4 + 4] + A[9 * 4 + 8]);
+		}
+		fmMat3 F = {{1 + e, 0, 0, 0, 1 + t, 0, 0, 0, 1 + t}};
+		fmMaterial_Evaluate(&m, &F, &P, NULL);
+		CHECK_NEAR(P.m[4], 0.0, 1e-9 * Eexp * e);
+		CHECK_NEAR(P.m[8], 0.0, 1e-6 * Eexp * e);
+		CHECK_REL(P.m[0] / e, Eexp, 1e-4, 0.0);
+		CHECK_REL(-t / e, nuExp, 1e-4, 0.0);
+	}
+}
+
 static void expectInvalid(const fmMaterial* m, const char* hint, int* failures_)
 {
 	fmDiagnostic diag;
