@@ -171,15 +171,16 @@ static void fmGuardedModes(const double s[3], fmStretchDerivs* d)
 	}
 }
 
-// Adds w * a b^T to the 9x9 matrix A (a, b as vec of 3x3 row-major matrices).
-static void fmAddOuter9(double* A, double w, const double* a, const double* b)
+// Adds w * a b^T to the upper triangle (c >= r) of the 9x9 matrix A (a, b as vec of 3x3
+// row-major matrices). The assembled dP/dF is symmetric, so the lower half is mirrored at the end.
+static void fmAddOuter9Upper(double* A, double w, const double* a, const double* b)
 {
 	if (w == 0.0)
 		return;
 	for (int r = 0; r < 9; ++r)
 	{
 		double wa = w * a[r];
-		for (int c = 0; c < 9; ++c)
+		for (int c = r; c < 9; ++c)
 			A[9 * r + c] += wa * b[c];
 	}
 }
@@ -198,14 +199,16 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
                                      bool project, double* dPdF)
 {
 	memset(dPdF, 0, 81 * sizeof(double));
-	double H[9];
-	memcpy(H, d->H, sizeof H);
-	if (project)
+	fmMat3 Hm;
+	memcpy(Hm.m, d->H, sizeof Hm.m);
+	double* H = Hm.m;
+	// Sylvester's criterion: a positive definite stretch block needs no eigen-decomposition.
+	bool positive = H[0] > 0.0 && H[0] * H[4] - H[1] * H[3] > 0.0 && fmDet(&Hm) > 0.0;
+	if (project && !positive)
 	{
-		fmMat3 A, Q;
+		fmMat3 Q;
 		fmVec3 w;
-		memcpy(A.m, H, sizeof H);
-		fmSymEigen3(&A, &w, &Q);
+		fmSymEigen3(&Hm, &w, &Q);
 		double wc[3] = {fmax(w.x, 0.0), fmax(w.y, 0.0), fmax(w.z, 0.0)};
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
@@ -218,7 +221,7 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 		fmDyad(U, V, a, a, D[a]);
 	for (int a = 0; a < 3; ++a)
 		for (int b = 0; b < 3; ++b)
-			fmAddOuter9(dPdF, H[3 * a + b], D[a], D[b]);
+			fmAddOuter9Upper(dPdF, H[3 * a + b], D[a], D[b]);
 
 	for (int k = 0; k < 3; ++k)
 	{
@@ -233,9 +236,12 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 			f[e] = (ij[e] + ji[e]) * 0.70710678118654752440;
 			t[e] = (ij[e] - ji[e]) * 0.70710678118654752440;
 		}
-		fmAddOuter9(dPdF, q, f, f);
-		fmAddOuter9(dPdF, r, t, t);
+		fmAddOuter9Upper(dPdF, q, f, f);
+		fmAddOuter9Upper(dPdF, r, t, t);
 	}
+	for (int r = 1; r < 9; ++r)
+		for (int c = 0; c < r; ++c)
+			dPdF[9 * r + c] = dPdF[9 * c + r];
 }
 
 double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
