@@ -6,15 +6,16 @@ set(FEMTO_EXPECT ${CMAKE_COMMAND} -P ${FEMTO_CLI_DATA}/expect.cmake)
 file(MAKE_DIRECTORY ${FEMTO_CLI_WORK})
 
 # femto_cli_test(NAME ARGS "a|b|c" [CODE n] [REGEX re] [REJECT re] [FILES "x|y"] [NO_FILES "z"]
-#                [CLEAN dir])
+#                [CLEAN dir] [CHECK_FILE f CHECK_FILE_REGEX re])
 function(femto_cli_test name)
-  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN" "" ${ARGN})
+  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN;CHECK_FILE;CHECK_FILE_REGEX"
+    "" ${ARGN})
   set(defs "-DCOMMAND=$<TARGET_FILE:femto>|${T_ARGS}")
   if(DEFINED T_CODE)
     list(APPEND defs "-DEXPECT_CODE=${T_CODE}")
   endif()
   foreach(pair "REGEX;EXPECT_REGEX" "REJECT;REJECT_REGEX" "FILES;EXPECT_FILES"
-               "NO_FILES;REJECT_FILES" "CLEAN;CLEAN")
+               "NO_FILES;REJECT_FILES" "CLEAN;CLEAN" "CHECK_FILE;CHECK_FILE" "CHECK_FILE_REGEX;CHECK_FILE_REGEX")
     list(GET pair 0 key)
     list(GET pair 1 var)
     if(DEFINED T_${key})
@@ -71,6 +72,14 @@ femto_cli_test(run_out ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/seri
   REGEX "output +.*house.pvd \\(4 frames\\)"
   FILES "${FEMTO_CLI_WORK}/series/a/house.pvd|${FEMTO_CLI_WORK}/series/a/house_000000.vtu|${FEMTO_CLI_WORK}/series/a/house_000003.vtu|${FEMTO_CLI_WORK}/series/a/house_000003.obj"
   NO_FILES "${FEMTO_CLI_WORK}/series/a/house_000004.vtu")
+# The collection lists the 4 frames at their times; a frame holds the house's 400 points and
+# 1389 tets of VTK type 10 and its velocities.
+femto_cli_test(run_out_pvd ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series/b" CODE 0
+  CLEAN "${FEMTO_CLI_WORK}/series/b" CHECK_FILE "${FEMTO_CLI_WORK}/series/b/house.pvd"
+  CHECK_FILE_REGEX "type=\"Collection\".*timestep=\"0\".*house_000000.vtu.*timestep=\"0.03\".*timestep=\"0.06\".*timestep=\"0.09\" group=\"\" part=\"0\" file=\"house_000003.vtu\"/>.*</Collection>")
+femto_cli_test(run_out_vtu ARGS "run|--frames|1|--quiet|--out|${FEMTO_CLI_WORK}/series/c" CODE 0
+  CLEAN "${FEMTO_CLI_WORK}/series/c" CHECK_FILE "${FEMTO_CLI_WORK}/series/c/house_000001.vtu"
+  CHECK_FILE_REGEX "type=\"UnstructuredGrid\".*NumberOfPoints=\"400\" NumberOfCells=\"1389\".*Name=\"velocity\" NumberOfComponents=\"3\".*Name=\"connectivity\".*Name=\"offsets\"[^<]*\n4\n8\n.*\n5556\n</DataArray>.*Name=\"types\"[^<]*\n10\n10\n")
 femto_cli_test(run_out_unwritable ARGS "run|--frames|1|--quiet|--out|/proc/femto_cannot_write"
   CODE 1 REGEX "/proc/femto_cannot_write")
 # The jump: 400 particles of 1 kg given 0.2 m/s upward carry 0.5 * 400 * 0.2^2 = 8 J, and

@@ -1,7 +1,8 @@
 # Run one command and check its exit code, its output and the files it should (not) leave.
 #
 #   cmake -DCOMMAND="prog|arg1|arg2" [-DEXPECT_CODE=N] [-DEXPECT_REGEX=re] [-DREJECT_REGEX=re]
-#         [-DEXPECT_FILES="a|b"] [-DREJECT_FILES="c|d"] [-DCLEAN=dir] -P expect.cmake
+#         [-DEXPECT_FILES="a|b"] [-DREJECT_FILES="c|d"] [-DCLEAN=dir]
+#         [-DCHECK_FILE=f -DCHECK_FILE_REGEX=re] -P expect.cmake
 #
 # '|' separates list entries (a ';' does not survive add_test's argument quoting).
 # EXPECT_REGEX and REJECT_REGEX apply to stdout and stderr together. CLEAN is removed first.
@@ -38,6 +39,16 @@ if(DEFINED REJECT_FILES)
       string(APPEND failures "unexpected file ${f}\n")
     endif()
   endforeach()
+endif()
+if(DEFINED CHECK_FILE)
+  if(EXISTS "${CHECK_FILE}")
+    file(READ "${CHECK_FILE}" content)
+    if(NOT content MATCHES "${CHECK_FILE_REGEX}")
+      string(APPEND failures "${CHECK_FILE} does not match '${CHECK_FILE_REGEX}'\n")
+    endif()
+  else()
+    string(APPEND failures "missing file ${CHECK_FILE}\n")
+  endif()
 endif()
 if(NOT failures STREQUAL "")
   message(FATAL_ERROR "${COMMAND}\n${failures}--- output ---\n${all}")
