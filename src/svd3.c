@@ -25,6 +25,18 @@ static void fmJacobiRotation(double a, double b, double g, double* c, double* s)
 	*s = t * *c;
 }
 
+// The same rotation for the one-sided SVD, where a, b <= 3 after scaling: written without the
+// quotient zeta, one division fewer on the critical path. Needs g^2 > 0 (the caller skips
+// pairs whose g^2 underflows), so h >= 2 |g| > 0.
+static void fmColumnRotation(double a, double b, double g, double* c, double* s)
+{
+	double d = b - a;
+	double h = sqrt(d * d + 4.0 * g * g);
+	double t = (d >= 0.0 ? 2.0 * g : -2.0 * g) / (fabs(d) + h);
+	*c = 1.0 / sqrt(1.0 + t * t);
+	*s = t * *c;
+}
+
 void fmSymEigenN(double* A, int n, double tolerance, double* w, double* Q)
 {
 	for (int i = 0; i < n * n; ++i)
@@ -176,7 +188,7 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 				continue;
 			worstCos2 = fmax(worstCos2, gamma * gamma / ab);
 			double c, sn;
-			fmJacobiRotation(alpha, beta, gamma, &c, &sn);
+			fmColumnRotation(alpha, beta, gamma, &c, &sn);
 			worstTan = fmax(worstTan, fabs(sn / c));
 			fmVec3 bp = b[p], vp = v[p];
 			b[p] = fmSub(fmScale(c, bp), fmScale(sn, b[q]));
