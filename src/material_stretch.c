@@ -1,8 +1,8 @@
 // Isotropic energies written in the signed principal stretches s = (s0, s1, s2) of F = U diag(s)
 // V^T (fmSvd3; s2 < 0 for an inverted tet): fixed corotated and the user's stretch energy, and
 // Neo-Hookean / Mooney-Rivlin / StVK when a projected tangent is wanted (their eigen-structure is
-// explicit here). One assembly turns psi(s), its gradient and
-// Hessian into P and dP/dF (Irving, Teran, Fedkiw 2004; Teran, Sifakis, Irving, Fedkiw 2005):
+// explicit here). One assembly turns psi(s), its gradient and Hessian into P and dP/dF
+// (Irving, Teran, Fedkiw 2004; Teran, Sifakis, Irving, Fedkiw 2005):
 //   P = U diag(dpsi) V^T,
 //   dP/dF = sum_ab d2psi_ab (u_a v_a^T)(u_b v_b^T)^T                      (stretch block)
 //         + sum_{i<j} q_ij f_ij f_ij^T + r_ij t_ij t_ij^T                   (flip and twist)
