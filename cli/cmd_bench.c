@@ -89,7 +89,7 @@ static bool cliBenchWorld(const cliBenchMesh* bench, fmIntegrator integrator, cl
 		body->def.density = 1000.0;
 		body->def.material = fmMakeMaterial(fm_stvk, 1e6, 0.3);
 	}
-	bool ok = cliSimulation_Create(&scene, true, sim);
+	bool ok = cliSimulation_Create(&scene, cli_stepCheckOff, sim);
 	cliScene_Free(&scene);
 	return ok;
 }

@@ -337,7 +337,8 @@ int cliRun(int argc, char** argv)
 	else if (!cliScene_Load(o.scenePath, &scene))
 		return cli_exitInput;
 	cliSimulation sim;
-	if (scene.bodies == NULL || !cliSimulation_Create(&scene, false, &sim))
+	if (scene.bodies == NULL ||
+	    !cliSimulation_Create(&scene, o.quiet ? cli_stepCheckWarnings : cli_stepCheckAll, &sim))
 	{
 		cliScene_Free(&scene);
 		return cli_exitInput;

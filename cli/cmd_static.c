@@ -94,7 +94,7 @@ int cliStatic(int argc, char** argv)
 	if (!cliScene_Load(scenePath, &scene))
 		return cli_exitInput;
 	cliSimulation sim;
-	if (!cliSimulation_Create(&scene, true, &sim))
+	if (!cliSimulation_Create(&scene, cli_stepCheckOff, &sim))
 	{
 		cliScene_Free(&scene);
 		return cli_exitInput;

@@ -70,9 +70,17 @@ void cliScene_Free(cliScene* scene);
 /// Seconds of one frame.
 double cliScene_FrameTime(const cliScene* scene);
 
-/// Load meshes, create the world and bodies, pin, set initial velocities. Warns (unless
-/// @p quiet) when an explicit dt exceeds the estimated stable step. Prints errors, returns false.
-bool cliSimulation_Create(const cliScene* scene, bool quiet, cliSimulation* sim);
+/// What cliSimulation_Create says about an explicit dt above the estimated stable step.
+typedef enum cliStepCheck
+{
+	cli_stepCheckOff,      ///< nothing (static solves, benchmarks with their own dt)
+	cli_stepCheckWarnings, ///< only the warning beyond twice the estimate (run --quiet)
+	cli_stepCheckAll,      ///< also a note between the estimate and twice it
+} cliStepCheck;
+
+/// Load meshes, create the world and bodies, pin, set initial velocities, check the explicit
+/// step as @p check says. Prints errors, returns false.
+bool cliSimulation_Create(const cliScene* scene, cliStepCheck check, cliSimulation* sim);
 
 /// Destroy the world and free the meshes.
 void cliSimulation_Destroy(cliSimulation* sim);
