@@ -10,6 +10,9 @@
 #include "newton.h"
 
 #include <float.h>
+#ifdef FM_NEWTON_TRACE
+#include <stdio.h>
+#endif
 #include <math.h>
 #include <string.h>
 
@@ -78,6 +81,8 @@ fmImplicitCache* fmImplicit_GetCache(fmBody* b)
 	c->vertexCount = b->vertexCount;
 	c->tetCount = b->tetCount;
 	c->edgeCount = b->forceModel == fm_massSpring ? b->edgeCount : 0;
+	for (int t = 0; t < b->tetCount; ++t)
+		c->volume += b->restVolume[t];
 	size_t n3 = 3 * (size_t)b->vertexCount;
 	bool ok = fmBsr_Build(&c->pattern, b->vertexCount, b->tets, b->tetCount);
 	if (!ok)
@@ -173,6 +178,9 @@ static void fmAddSpringDampingMatrix(const fmBody* b, const fmImplicitCache* c, 
 	}
 }
 
+// Residual reduction per Newton iteration below which a kept matrix is still good enough.
+#define FM_REUSE_RATIO 0.25
+
 // ---- the minimiser -------------------------------------------------------------------------
 
 typedef struct fmNewtonContext
@@ -212,14 +220,16 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 	double damping = 0.0;
 	if (pb->useDamping)
 	{
+		double* moved = c->work; // the CG's vectors are free outside the CG
+		double* pushed = c->work + n3;
 		for (int k = 0; k < n3; ++k)
-			c->trial[k] = x[k] - c->xStart[k];
-		fmBsr_Multiply(&c->pattern, c->damping, c->trial, c->temp);
+			moved[k] = x[k] - c->xStart[k];
+		fmBsr_Multiply(&c->pattern, c->damping, moved, pushed);
 		for (int k = 0; k < n3; ++k)
 		{
-			damping += 0.5 * c->trial[k] * c->temp[k];
+			damping += 0.5 * moved[k] * pushed[k];
 			if (gradient)
-				gradient[k] += c->temp[k];
+				gradient[k] += pushed[k];
 		}
 	}
 	if (magnitude)
@@ -338,7 +348,7 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 
 // Newton direction: solve H d = -gradient over the free DOFs.
 static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-									 double gradientNorm, double residual)
+									 double gradientNorm, double residual, bool refresh)
 {
 	const int n3 = 3 * b->vertexCount;
 	fmNewtonContext ctx = {b, c, pb};
@@ -352,7 +362,8 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	}
 	else
 	{
-		fmAssembleNewtonMatrix(b, c, pb);
+		if (refresh)
+			fmAssembleNewtonMatrix(b, c, pb);
 		for (int i = 0; i < b->vertexCount; ++i)
 			memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
 				   9 * sizeof(double));
@@ -364,7 +375,7 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	// Inexact Newton (Eisenstat-Walker flavour): a loose CG far from the solution, tighter
 	// near it; a quadratic energy is solved tightly in one Newton step.
 	double floorTolerance = 0.1 * pb->tolerance * pb->scale;
-	double forcing = pb->quadratic ? 0.0 : fmin(0.5, sqrt(residual));
+	double forcing = pb->quadratic ? 0.0 : fmin(0.1, residual);
 	double tolerance = fmax(forcing * gradientNorm, floorTolerance);
 	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
 	return fmPcg_Solve(n3, op, &ctx, c->blockInverse, c->fixed, c->temp, c->direction, tolerance,
@@ -384,14 +395,19 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 			out[3 * i + 1] = pb->floor->height;
 }
 
-// Backtracking line search (Armijo, c = 1e-4) on E along the projected path. Round-off guard:
-// near the solution E changes by less than its own rounding error; a step is then accepted if
-// it does not raise E beyond that error. Returns false if no step length is accepted.
+// Backtracking line search (Armijo, c = 1e-4) on E along the projected path.
+// Round-off: the elastic energy is a sum of per-tet densities of size (mu + lambda) times the
+// volume that cancel to a small total, so E is only known to about 1e-13 of that; near the
+// solution of a stiff body the decrease a Newton step makes is smaller than this noise. Within
+// the noise a step is accepted when it lowers the gradient norm instead. Returns false if no
+// step length is accepted.
 static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
-						 double magnitude)
+						 double magnitude, double gradientNorm)
 {
 	const int n3 = 3 * b->vertexCount;
-	double* trial = c->forces; // free until the next gradient evaluation
+	const double noise = 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+	double* trial = c->trial;
+	double* trialGradient = c->work + 2 * n3;
 	double alpha = 1.0;
 	for (int attempt = 0; attempt < 40; ++attempt, alpha *= 0.5)
 	{
@@ -400,7 +416,13 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 		for (int k = 0; k < n3; ++k)
 			slope += c->gradient[k] * (trial[k] - b->x[k]);
 		double value = fmNewtonEnergy(b, c, pb, trial, NULL, NULL);
-		if (value <= energy + 1e-4 * slope + 1e-13 * magnitude)
+		bool accept = value <= energy + 1e-4 * slope;
+		if (!accept && fabs(value - energy) <= noise)
+		{
+			fmNewtonEnergy(b, c, pb, trial, trialGradient, NULL);
+			accept = fmFreeNorm(n3, trialGradient, c->fixed) < (1.0 - 1e-4 * alpha) * gradientNorm;
+		}
+		if (accept)
 		{
 			memcpy(b->x, trial, sizeof(double) * (size_t)n3);
 			return true;
@@ -433,6 +455,16 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	fmNewtonResult result = {0, 0, INFINITY, false, true};
 	const int n3 = 3 * b->vertexCount;
 	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
+	// Lazy Hessian: per-element projected Hessians dominate the cost of an iteration, so the
+	// assembled matrix is reused (within a step and across steps: a body at rest hardly
+	// changes it) as long as it still cuts the residual by FM_REUSE_RATIO per iteration; any
+	// SPD matrix gives a descent direction, so a stale one only costs speed, never safety.
+	// A quadratic energy has a constant Hessian. The matrix-free path has no matrix to keep.
+	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
+					 c->hessianMassDamping == pb->massDamping && c->hessianDamping == pb->useDamping;
+	bool stale = !sameTerms;
+	double lastResidual = INFINITY;
+	bool lastFresh = false;
 	for (;;)
 	{
 		double magnitude;
@@ -452,11 +484,36 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		}
 		if (result.iterations >= pb->maxNewton)
 			break;
-		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual);
+		bool slow = result.residual > FM_REUSE_RATIO * lastResidual;
+		// (A fresh exact Hessian of a quadratic energy cannot do better; only the floor's active
+		// set makes such a step slow.)
+		bool refresh = stale || (slow && !(pb->quadratic && lastFresh)) ||
+					   s_options.product == fm_productMatrixFree;
+		if (refresh)
+		{
+			c->hessianValid = true;
+			c->hessianInertia = pb->inertia;
+			c->hessianMassDamping = pb->massDamping;
+			c->hessianDamping = pb->useDamping;
+			stale = false;
+		}
+		lastResidual = result.residual;
+		lastFresh = refresh;
+		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
 		result.cgIterations += cg.iterations;
 		result.iterations += 1;
 		fmEnsureDescent(b, c);
-		if (!fmLineSearch(b, c, pb, energy, magnitude))
+#ifdef FM_NEWTON_TRACE
+		{
+			int nf = 0;
+			for (int k = 1; k < n3; k += 3)
+				nf += c->fixed[k] && !b->pinned[k / 3];
+			fprintf(stderr, "  it %d res %.3e refresh %d cg %d (%.2e) floorfixed %d E %.17g mag %.3g\n",
+					result.iterations, result.residual, refresh, cg.iterations, cg.residual, nf,
+					energy, magnitude);
+		}
+#endif
+		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm))
 			break;
 	}
 	return result;

@@ -13,6 +13,7 @@ typedef struct fmImplicitCache
 	int vertexCount;
 	int tetCount;
 	int edgeCount;
+	double volume; // rest volume of the body (m^3)
 	fmBsrMatrix pattern; // vertex pairs sharing a tet
 	int* tetSlot;		 // 16 per tet: slot of block (a, b) of its nodes
 	int* edgeSlot;		 // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
@@ -28,6 +29,12 @@ typedef struct fmImplicitCache
 	double* temp;		  // 3n
 	double* work;		  // 4 * 3n: CG vectors
 	uint8_t* fixed;		  // 3n: DOF held by a pin or the floor
+	// The Newton matrix is kept between iterations and steps and refreshed when it stops
+	// paying (see fmNewton_Solve); these say what it was built with.
+	bool hessianValid;
+	double hessianInertia;
+	double hessianMassDamping;
+	bool hessianDamping;
 } fmImplicitCache;
 
 // How Hessian-vector products are formed (measured in docs/implicit.md).
