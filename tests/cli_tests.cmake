@@ -43,6 +43,10 @@ femto_cli_test(seconds_and_frames ARGS "run|--seconds|1|--frames|3" CODE 2 REGEX
 femto_cli_test(run_default ARGS "run|--frames|40|--quiet" CODE 0
   REGEX "frames +40 \\(10 substeps of 0.003 s.*simulated time +1.2 s.*lowest vertex y +-2\\.[0-9]+ m.*lowest y reached +-3 m.*inverted tets +0"
   REJECT "warning")
+# The seeds' dt is 1.58 times the conservative explicit estimate: a note, not a warning.
+femto_cli_test(run_step_note ARGS "run|--frames|1" CODE 0
+  REGEX "note: builtin:house: dt = 0.003 s is 1.58 times the conservative explicit stability estimate"
+  REJECT "warning")
 femto_cli_test(run_missing_scene ARGS "run|${FEMTO_CLI_WORK}/no_such_scene.json" CODE 1
   REGEX "no_such_scene.json: cannot open")
 
