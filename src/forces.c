@@ -81,13 +81,21 @@ double fmElasticEnergy(const fmBody* body, const double* x)
 	return energy;
 }
 
+// dP/dF of the body's material at F, projected to PSD when asked (in the SVD frame where the
+// material allows: ~7x cheaper than the 9x9 eigen-solver).
+static void fmTetStressDerivative(const fmBody* body, const fmMat3* F, double* dPdF, int project)
+{
+	if (project)
+		fmMaterial_EvaluateProjected(&body->material, F, NULL, dPdF);
+	else
+		fmMaterial_Evaluate(&body->material, F, NULL, dPdF);
+}
+
 void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int project)
 {
 	fmMat3 F = fmTetDeformation(body, x, t);
 	double dPdF[81];
-	fmMaterial_Evaluate(&body->material, &F, NULL, dPdF);
-	if (project)
-		fmProjectPSD9(dPdF);
+	fmTetStressDerivative(body, &F, dPdF, project);
 	fmVec3 g[4];
 	fmShapeGradients(&body->DmInv[t], g);
 	const double V0 = body->restVolume[t];
@@ -143,9 +151,7 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
 		double dPdF[81];
-		fmMaterial_Evaluate(&body->material, &F, NULL, dPdF);
-		if (project)
-			fmProjectPSD9(dPdF);
+		fmTetStressDerivative(body, &F, dPdF, project);
 		fmVec3 g[4];
 		fmShapeGradients(&body->DmInv[t], g);
 		const int* n = body->tets + 4 * t;
