@@ -1,0 +1,224 @@
+// Static equilibrium: cantilever against Euler-Bernoulli under refinement, patch tests,
+// error reporting.
+#include "support.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+// A box body in a world with gravity (-9.8 y) and no floor.
+static fmBodyId makeBeam(fmWorldId* world, int nx, int ny, int nz, fmVec3 size, fmMaterial material)
+{
+	fmBodyId body = fmTestMakeBox(world, nx, ny, nz, size, material, fm_fem);
+	if (fmBody_IsValid(body))
+		fmWorld_SetGravity(*world, fmMakeVec3(0, -9.8, 0));
+	return body;
+}
+
+// Mean y displacement of the vertices on the free end x = L.
+static double tipDeflection(fmBodyId body, const double* rest, double length)
+{
+	const double* x = fmBody_GetPositions(body);
+	double sum = 0.0;
+	int count = 0;
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		if (rest[3 * i] > length - 1e-9)
+		{
+			sum += x[3 * i + 1] - rest[3 * i + 1];
+			++count;
+		}
+	return count ? sum / count : 0.0;
+}
+
+// A cantilever of length L = 2 m and square section h = 0.2 m (L/h = 10) of a linear material
+// with nu = 0 sags under its weight q = rho g A by delta = q L^4 / (8 E I), I = h^4 / 12
+// (Euler-Bernoulli; shear adds 4 E I / (kappa G A L^2) = 0.8% for this beam). Linear tets are
+// too stiff in bending (they lock), so the error must fall as the mesh is refined. The
+// tolerance 1e-8 is near the round-off floor of the forces of so stiff a beam.
+TEST(cantilever_converges_to_euler_bernoulli)
+{
+	const double L = 2.0, h = 0.2, E = 1e9, rho = 1000.0, g = 9.8;
+	const double I = h * h * h * h / 12.0;
+	const double exact = rho * g * h * h * L * L * L * L / (8.0 * E * I);
+	const int levels[3] = {1, 2, 4};
+	double errors[3];
+	for (int level = 0; level < 3; ++level)
+	{
+		int k = levels[level];
+		fmWorldId world;
+		fmBodyId body = makeBeam(&world, 10 * k, k, k, fmMakeVec3(L, h, h),
+								 fmMakeMaterial(fm_linear, E, 0.0));
+		CHECK(fmBody_IsValid(body));
+		if (!fmBody_IsValid(body))
+			return;
+		CHECK_INT(fmBody_PinBox(body, fmMakeVec3(-1, -1, -1), fmMakeVec3(1e-9, 1, 1)), (k + 1) * (k + 1));
+		int n = fmBody_GetVertexCount(body);
+		double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+		memcpy(rest, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
+		double residual = 1.0;
+		fmDiagnostic diag;
+		fmResult r = fmBody_SolveStatic(body, 1e-8, 20, &residual, &diag);
+		CHECK_INT(r, fm_ok);
+		CHECK(residual <= 1e-8);
+		double delta = -tipDeflection(body, rest, L);
+		errors[level] = fabs(delta - exact) / exact;
+		printf("  %2dx%dx%d cubes (%5d tets): tip deflection %.6e m, Euler-Bernoulli %.6e m, "
+			   "error %.2f%%, residual %.2g\n",
+			   10 * k, k, k, fmBody_GetTetCount(body), delta, exact, 100.0 * errors[level], residual);
+		free(rest);
+		fmDestroyWorld(world);
+	}
+	CHECK(errors[1] < errors[0]);
+	CHECK(errors[2] < 0.5 * errors[1]);
+	// Six-tet cubes lock badly in bending: 4 cubes through the thickness still miss ~17%.
+	CHECK(errors[2] < 0.2);
+}
+
+// Patch test: the boundary of a cube is moved by an affine map x = A X; the interior nodes,
+// solved for statically, must follow the same map to solver tolerance (a uniform deformation
+// is in equilibrium for any material).
+static void patchTest(fmMaterialModel model, int* failures_)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1),
+								  fmMakeMaterial(model, 1e6, 0.3), fm_fem);
+	CHECK(fmBody_IsValid(body));
+	if (!fmBody_IsValid(body))
+		return;
+	const double A[9] = {0.97, 0.02, 0.0, 0.0, 1.01, -0.015, 0.01, 0.0, 1.004};
+	int n = fmBody_GetVertexCount(body);
+	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+	double* target = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(rest, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
+	int interior = 0;
+	for (int i = 0; i < n; ++i)
+	{
+		const double* X = rest + 3 * i;
+		for (int r = 0; r < 3; ++r)
+			target[3 * i + r] = A[3 * r] * X[0] + A[3 * r + 1] * X[1] + A[3 * r + 2] * X[2];
+		bool inside = true;
+		for (int r = 0; r < 3; ++r)
+			inside = inside && X[r] > 1e-9 && X[r] < 1.0 - 1e-9;
+		interior += inside;
+		// Boundary nodes go to the map and are pinned; interior nodes stay at rest.
+		if (!inside)
+			memcpy(rest + 3 * i, target + 3 * i, sizeof(double) * 3);
+	}
+	CHECK_INT(interior, 8);
+	fmBody_SetPositions(body, rest);
+	for (int i = 0; i < n; ++i)
+	{
+		const double* X = target + 3 * i;
+		(void)X;
+		if (memcmp(rest + 3 * i, target + 3 * i, sizeof(double) * 3) == 0)
+			fmBody_SetPinned(body, i, true);
+	}
+	double residual = 1.0;
+	fmResult r = fmBody_SolveStatic(body, 1e-12, 30, &residual, NULL);
+	CHECK_INT(r, fm_ok);
+	const double* x = fmBody_GetPositions(body);
+	double worst = 0.0;
+	for (int k = 0; k < 3 * n; ++k)
+		worst = fmax(worst, fabs(x[k] - target[k]));
+	printf("  %-10s: residual %.2g, largest distance from the affine map %.2e m\n",
+		   fmMaterialModelName(model), residual, worst);
+	CHECK(residual <= 1e-12);
+	CHECK(worst < 1e-11);
+	free(rest);
+	free(target);
+	fmDestroyWorld(world);
+}
+
+TEST(patch_test_affine_boundary_linear)
+{
+	patchTest(fm_linear, failures_);
+}
+
+TEST(patch_test_affine_boundary_nonlinear)
+{
+	patchTest(fm_corotated, failures_);
+	patchTest(fm_neoHookean, failures_);
+	patchTest(fm_stvk, failures_);
+}
+
+// A heavy soft beam bends far (nonlinear): Newton needs the line search and maybe load steps,
+// and the result is an equilibrium: the elastic forces balance gravity at every free vertex.
+TEST(nonlinear_cantilever_balances_gravity)
+{
+	fmWorldId world;
+	fmBodyId body = makeBeam(&world, 8, 2, 2, fmMakeVec3(1.0, 0.1, 0.1),
+							 fmMakeMaterial(fm_neoHookean, 2e5, 0.3));
+	CHECK(fmBody_IsValid(body));
+	if (!fmBody_IsValid(body))
+		return;
+	fmBody_PinBox(body, fmMakeVec3(-1, -1, -1), fmMakeVec3(1e-9, 1, 1));
+	int n = fmBody_GetVertexCount(body);
+	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(rest, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
+	double residual = 1.0;
+	fmDiagnostic diag;
+	fmResult r = fmBody_SolveStatic(body, 1e-9, 50, &residual, &diag);
+	CHECK_INT(r, fm_ok);
+	double drop = -tipDeflection(body, rest, 1.0);
+	// Independent check of equilibrium: |f_elastic + m g| over free vertices vs |m g|.
+	double* f = malloc(sizeof(double) * 3 * (size_t)n);
+	fmBody_ComputeElasticForces(body, f);
+	const double* m = fmBody_GetMasses(body);
+	double unbalanced = 0.0, weight = 0.0;
+	for (int i = 0; i < n; ++i)
+	{
+		if (fmBody_IsPinned(body, i))
+			continue;
+		f[3 * i + 1] -= m[i] * 9.8;
+		unbalanced += f[3 * i] * f[3 * i] + f[3 * i + 1] * f[3 * i + 1] + f[3 * i + 2] * f[3 * i + 2];
+		weight += m[i] * m[i] * 9.8 * 9.8;
+	}
+	printf("  tip drop %.4f m of a 1 m beam, residual %.2g, independent |f + m g| / |m g| = %.2g\n",
+		   drop, residual, sqrt(unbalanced / weight));
+	CHECK(drop > 0.1); // large deflection: the nonlinear regime
+	CHECK(sqrt(unbalanced / weight) < 1e-8);
+	for (int i = 0; i < n; ++i)
+		if (fmBody_IsPinned(body, i))
+			CHECK(memcmp(fmBody_GetPositions(body) + 3 * i, rest + 3 * i, 3 * sizeof(double)) == 0);
+	free(f);
+	free(rest);
+	fmDestroyWorld(world);
+}
+
+TEST(unpinned_body_under_gravity_is_rejected)
+{
+	fmWorldId world;
+	fmBodyId body = makeBeam(&world, 2, 1, 1, fmMakeVec3(1, 0.5, 0.5), fmMakeMaterial(fm_linear, 1e6, 0.3));
+	CHECK(fmBody_IsValid(body));
+	if (!fmBody_IsValid(body))
+		return;
+	fmDiagnostic diag;
+	CHECK_INT(fmBody_SolveStatic(body, 1e-8, 10, NULL, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "pin");
+	CHECK_INT(fmBody_SolveStatic(body, 0.0, 10, NULL, &diag), fm_errParameter);
+	fmDestroyWorld(world);
+}
+
+// One Newton iteration cannot bend a soft nonlinear beam to 1e-12: the call reports
+// fm_errNotConverged and leaves the body as it was.
+TEST(not_converged_is_reported_and_state_kept)
+{
+	fmWorldId world;
+	fmBodyId body = makeBeam(&world, 6, 1, 1, fmMakeVec3(1.0, 0.1, 0.1),
+							 fmMakeMaterial(fm_neoHookean, 1e5, 0.3));
+	CHECK(fmBody_IsValid(body));
+	if (!fmBody_IsValid(body))
+		return;
+	fmBody_PinBox(body, fmMakeVec3(-1, -1, -1), fmMakeVec3(1e-9, 1, 1));
+	int n = fmBody_GetVertexCount(body);
+	double* before = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(before, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
+	fmDiagnostic diag;
+	double residual = 0.0;
+	CHECK_INT(fmBody_SolveStatic(body, 1e-12, 1, &residual, &diag), fm_errNotConverged);
+	CHECK(residual > 1e-12);
+	CHECK_STR_CONTAINS(diag.message, "did not converge");
+	CHECK(memcmp(before, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n) == 0);
+	free(before);
+	fmDestroyWorld(world);
+}
