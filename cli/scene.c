@@ -726,45 +726,67 @@ bool cliScene_Load(const char* path, cliScene* scene)
 	char* text = cliReadFile(path, &size);
 	if (text == NULL)
 		return false;
-	cliJson j;
-	j.file = path;
-	j.text = text;
-	j.size = size;
-	// The folder of the scene, with its trailing slash ("" for the current directory).
-	const char* slash = strrchr(path, '/');
-	size_t folderLength = slash ? (size_t)(slash - path) + 1 : 0;
-	if (folderLength >= sizeof j.folder)
+	bool ok = cliScene_LoadText(path, text, size, scene);
+	free(text);
+	return ok;
+}
+
+bool cliScene_LoadText(const char* name, const char* text, size_t size, cliScene* scene)
+{
+	cliSceneDefaults(scene, name);
+	if (size > CLI_MAX_FILE_BYTES)
 	{
-		fprintf(stderr, "%s: path too long\n", path);
-		free(text);
+		fprintf(stderr, "%s: %zu bytes, more than the %zu MiB limit\n", name, size,
+		        CLI_MAX_FILE_BYTES >> 20);
 		return false;
 	}
-	memcpy(j.folder, path, folderLength);
-	j.folder[folderLength] = 0;
-
-	if (strlen(text) != size)
+	const char* nul = memchr(text, 0, size);
+	if (nul != NULL)
 	{
 		int line, column;
-		cliLineColumn(text, strlen(text), &line, &column);
-		fprintf(stderr, "%s:%d:%d: NUL byte in a JSON file\n", path, line, column);
-		free(text);
+		cliLineColumn(text, (size_t)(nul - text), &line, &column);
+		fprintf(stderr, "%s:%d:%d: NUL byte in a JSON file\n", name, line, column);
 		return false;
 	}
+	cliJson j;
+	j.file = name;
+	j.size = size;
+	// The folder of the scene, with its trailing slash ("" for the current directory).
+	const char* slash = strrchr(name, '/');
+	size_t folderLength = slash ? (size_t)(slash - name) + 1 : 0;
+	if (folderLength >= sizeof j.folder)
+	{
+		fprintf(stderr, "%s: path too long\n", name);
+		return false;
+	}
+	memcpy(j.folder, name, folderLength);
+	j.folder[folderLength] = 0;
+	// A NUL-terminated copy: the line finder searches the text with strstr.
+	char* copy = malloc(size + 1);
+	if (copy == NULL)
+	{
+		fprintf(stderr, "%s: out of memory\n", name);
+		return false;
+	}
+	memcpy(copy, text, size);
+	copy[size] = 0;
+	j.text = copy;
+
 	const char* end = NULL;
-	cJSON* root = cJSON_ParseWithLengthOpts(text, size, &end, false);
+	cJSON* root = cJSON_ParseWithLengthOpts(copy, size, &end, false);
 	if (root == NULL)
 	{
 		// cJSON reports where it stopped; turn the offset into a line and column.
-		size_t offset = end != NULL && end >= text ? (size_t)(end - text) : 0;
+		size_t offset = end != NULL && end >= copy ? (size_t)(end - copy) : 0;
 		int line, column;
-		cliLineColumn(text, offset, &line, &column);
-		fprintf(stderr, "%s:%d:%d: JSON syntax error\n", path, line, column);
-		free(text);
+		cliLineColumn(copy, offset, &line, &column);
+		fprintf(stderr, "%s:%d:%d: JSON syntax error\n", name, line, column);
+		free(copy);
 		return false;
 	}
 	bool ok = cliParseScene(&j, root, scene);
 	cJSON_Delete(root);
-	free(text);
+	free(copy);
 	if (!ok)
 		cliScene_Free(scene);
 	return ok;

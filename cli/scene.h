@@ -64,6 +64,10 @@ void cliScene_MakeHouse(cliScene* scene);
 /// Read and validate a JSON scene. Prints "file:line: path: message" and returns false on error.
 bool cliScene_Load(const char* path, cliScene* scene);
 
+/// Same as cliScene_Load() from text in memory (need not be NUL-terminated); @p name is used in
+/// messages and its folder resolves relative mesh paths.
+bool cliScene_LoadText(const char* name, const char* text, size_t size, cliScene* scene);
+
 /// Release what a scene holds.
 void cliScene_Free(cliScene* scene);
 

@@ -1,0 +1,15 @@
+// libFuzzer entry for the JSON scene parser of the femto tool (cli/scene.c): any bytes must give
+// a scene or an error message, never a crash, leak or undefined behaviour.
+#include "scene.h"
+
+#include <stdint.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+	cliScene scene;
+	if (cliScene_LoadText("fuzz.json", (const char*)data, size, &scene))
+		cliScene_Free(&scene);
+	return 0;
+}
