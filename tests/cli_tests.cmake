@@ -115,6 +115,15 @@ femto_cli_test(scene_syntax ARGS "run|${FEMTO_CLI_DATA}/syntax_error.json" CODE 
   REGEX "syntax_error.json:4:[0-9]+: JSON syntax error")
 femto_cli_test(scene_both_pairs ARGS "run|${FEMTO_CLI_DATA}/both_pairs.json" CODE 1
   REGEX "not both pairs")
+# Absurd files are refused before reading (a sparse 65 MiB file costs no disk).
+find_program(FEMTO_TRUNCATE truncate)
+if(FEMTO_TRUNCATE)
+  add_test(NAME cli_scene_huge_setup COMMAND ${FEMTO_TRUNCATE} -s 65M ${FEMTO_CLI_WORK}/huge.json)
+  set_tests_properties(cli_scene_huge_setup PROPERTIES FIXTURES_SETUP cli_huge LABELS cli)
+  femto_cli_test(scene_huge ARGS "run|${FEMTO_CLI_WORK}/huge.json" CODE 1
+    REGEX "huge.json: file is 68157440 bytes, more than the 64 MiB limit")
+  set_tests_properties(cli_scene_huge PROPERTIES FIXTURES_REQUIRED cli_huge)
+endif()
 femto_cli_test(scene_pin_misses ARGS "run|${FEMTO_CLI_DATA}/pin_misses.json" CODE 1
   REGEX "pin\\[0\\]: box .* catches no vertex; the body spans \\[0 0 0\\]..\\[1 0.25 0.25\\]")
 
@@ -122,6 +131,12 @@ femto_cli_test(scene_pin_misses ARGS "run|${FEMTO_CLI_DATA}/pin_misses.json" COD
 femto_cli_test(info_house ARGS "info|${PROJECT_SOURCE_DIR}/data/house2.node" CODE 0
   REGEX "nodes +400 \\(0 unreferenced\\).*tets +1389.*bounds +\\[0 0 0\\] to \\[10 10 10\\]")
 femto_cli_test(info_builtin ARGS "info|builtin:house2" CODE 0 REGEX "nodes +400.*tets +1389")
+# The unit corner tet: volume 1/6, dihedral angles arccos(1/sqrt 3) = 54.736 and 90 degrees,
+# radius ratio 3 r_in / r_circ = 3 (1 / (3 + sqrt 3)) / (sqrt 3 / 2) = 0.7321.
+femto_cli_test(info_corner_tet ARGS "info|${FEMTO_CLI_DATA}/tet.node|${FEMTO_CLI_DATA}/tet.ele" CODE 0
+  REGEX "nodes +4 .*tets +1\n.*surface +4 triangles.*volume +0.166667 m\\^3 total.*dihedral angles +54.736 to 90.000 degrees.*min quality +0.7321.*bad tets +0")
+femto_cli_test(info_truncated ARGS "info|${FEMTO_CLI_DATA}/truncated.node" CODE 1
+  REGEX "truncated.node:1:1: the header declares 4 points")
 femto_cli_test(info_missing ARGS "info|${FEMTO_CLI_WORK}/house3.node" CODE 1 REGEX "house3.node")
 
 # --- static --------------------------------------------------------------------------------------
