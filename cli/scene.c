@@ -1,6 +1,7 @@
 // JSON scenes (docs/scene-format.md): every key checked for type and range, every error named
 // by its JSON path ("bodies[0].material.youngs_modulus") and, when it can be found, its line.
 #include "scene.h"
+#include "json_locate.h"
 
 #include <cjson/cJSON.h>
 
@@ -55,33 +56,13 @@ static void cliLineColumn(const char* text, size_t offset, int* line, int* colum
 	}
 }
 
-// cJSON keeps no positions: find the key the path ends with in the text, and trust the line
-// only when that key occurs exactly once.
+// cJSON keeps no positions: walk the text to the path's key.
 static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* column)
 {
-	const char* key = strrchr(path, '.');
-	key = key ? key + 1 : path;
-	char name[128];
-	size_t length = strcspn(key, "[");
-	if (length == 0 || length + 3 > sizeof name)
+	size_t offset = 0;
+	if (!cliJsonLocate(j->text, j->size, path, &offset))
 		return false;
-	snprintf(name, sizeof name, "\"%.*s\"", (int)length, key);
-	const char* found = NULL;
-	int count = 0;
-	for (const char* at = strstr(j->text, name); at != NULL; at = strstr(at + 1, name))
-	{
-		// A key is followed by a colon; the same word as a string value is not the key.
-		const char* after = at + strlen(name);
-		while (*after == ' ' || *after == '\t' || *after == '\r' || *after == '\n')
-			++after;
-		if (*after != ':')
-			continue;
-		found = at;
-		++count;
-	}
-	if (count != 1)
-		return false;
-	cliLineColumn(j->text, (size_t)(found - j->text), line, column);
+	cliLineColumn(j->text, offset, line, column);
 	return true;
 }
 

@@ -124,6 +124,9 @@ if(FEMTO_TRUNCATE)
     REGEX "huge.json: file is 68157440 bytes, more than the 64 MiB limit")
   set_tests_properties(cli_scene_huge PROPERTIES FIXTURES_REQUIRED cli_huge)
 endif()
+# With two bodies the same key occurs twice: the message still finds the second body's line.
+femto_cli_test(scene_second_body ARGS "run|${FEMTO_CLI_DATA}/second_body.json" CODE 1
+  REGEX "second_body.json:13:36: bodies\\[1\\].pin\\[1\\].max: expected an array of 3 numbers")
 femto_cli_test(scene_pin_misses ARGS "run|${FEMTO_CLI_DATA}/pin_misses.json" CODE 1
   REGEX "pin\\[0\\]: box .* catches no vertex; the body spans \\[0 0 0\\]..\\[1 0.25 0.25\\]")
 
