@@ -16,7 +16,7 @@
 #include <math.h>
 #include <string.h>
 
-static fmImplicitOptions s_options = {fm_productAssembled, fm_precondBlockJacobi};
+static fmImplicitOptions s_options = {fm_productAssembled, fm_precondJacobi};
 
 fmImplicitOptions fmImplicit_GetOptions(void) { return s_options; }
 
