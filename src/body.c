@@ -153,8 +153,8 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 		b->smoothWeight[i] = tetsAround[i] > 0 ? 1.0 / (4.0 * tetsAround[i]) : 0.0;
 		// A node no tet uses has no elastic tie to the body: keep it where it is.
 		if (tetsAround[i] == 0)
-			b->pinned[i] = 1;
-		b->invMass[i] = b->pinned[i] ? 0.0 : 1.0 / b->mass[i];
+			b->pinned[i] = FM_PIN_ALL;
+		b->invMass[i] = b->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[i];
 		b->totalMass += b->mass[i];
 	}
 	memset(b->scratch, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
@@ -319,7 +319,10 @@ void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 	if (b == NULL || velocities == NULL)
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
-		fmStore(b->v, i, b->pinned[i] ? fmMakeVec3(0, 0, 0) : fmLoad(velocities, i));
+	{
+		fmStore(b->v, i, fmLoad(velocities, i));
+		fmZeroPinnedAxes(b, i, b->v + 3 * i);
+	}
 }
 
 void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
@@ -328,16 +331,21 @@ void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
 	if (b == NULL)
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
-		if (!b->pinned[i])
-			fmStore(b->v, i, fmAdd(fmLoad(b->v, i), deltaVelocity));
+	{
+		fmStore(b->v, i, fmAdd(fmLoad(b->v, i), deltaVelocity));
+		fmZeroPinnedAxes(b, i, b->v + 3 * i);
+	}
 }
 
 void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
-	if (b && vertex >= 0 && vertex < b->vertexCount && !b->pinned[vertex])
+	if (b && vertex >= 0 && vertex < b->vertexCount)
+	{
 		fmStore(b->v, vertex, fmAdd(fmLoad(b->v, vertex), deltaVelocity));
+		fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
+	}
 }
 
 void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
@@ -346,16 +354,24 @@ void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
 	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
 		return;
-	b->pinned[vertex] = pinned ? 1 : 0;
-	b->invMass[vertex] = pinned ? 0.0 : 1.0 / b->mass[vertex];
-	if (pinned)
-		fmStore(b->v, vertex, fmMakeVec3(0, 0, 0));
+	fmBody_SetPinnedAxes(bodyId, vertex, pinned ? FM_PIN_ALL : 0u);
+}
+
+void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
+{
+	fmBody* b = fmBodyOrAssert(bodyId);
+	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
+	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
+		return;
+	b->pinned[vertex] = (uint8_t)(axes & FM_PIN_ALL);
+	b->invMass[vertex] = b->pinned[vertex] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[vertex];
+	fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
 }
 
 bool fmBody_IsPinned(fmBodyId bodyId, int vertex)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	return b && vertex >= 0 && vertex < b->vertexCount && b->pinned[vertex];
+	return b && vertex >= 0 && vertex < b->vertexCount && b->pinned[vertex] == FM_PIN_ALL;
 }
 
 int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)

@@ -19,7 +19,7 @@ typedef struct fmBody
 	double* x0; // rest positions
 	double* mass;	 // kg
 	double* invMass; // 1/kg, 0 for pinned vertices
-	uint8_t* pinned;
+	uint8_t* pinned; // axes held fixed: bit 0 x, 1 y, 2 z; FM_PIN_ALL = pinned vertex
 
 	// per-tet rest data
 	int* tets;			  // 4 per tet, positively oriented
@@ -60,6 +60,18 @@ typedef struct fmBody
 
 	void* implicitCache; // solver buffers owned by implicit.c (fmImplicitCacheFree)
 } fmBody;
+
+// body->pinned value of a vertex held on every axis (fmBody_SetPinned); other non-zero values
+// are rollers (fmBody_SetPinnedAxes), free along the axes whose bit is clear.
+#define FM_PIN_ALL 7u
+
+// Zero the components of a velocity (3 doubles) along the axes the vertex is pinned on.
+static inline void fmZeroPinnedAxes(const fmBody* body, int vertex, double* v)
+{
+	for (int k = 0; k < 3; ++k)
+		if (body->pinned[vertex] & (1u << k))
+			v[k] = 0.0;
+}
 
 // Resolve an id; NULL if stale.
 fmBody* fmGetBody(fmBodyId id);

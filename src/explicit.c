@@ -22,10 +22,11 @@ static void fmSmoothVelocities(fmBody* b, double blend)
 	}
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		if (b->pinned[i])
+		if (b->pinned[i] == FM_PIN_ALL)
 			continue;
 		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(sum, i));
 		fmStore(b->v, i, fmAdd(fmScale(1.0 - blend, fmLoad(b->v, i)), fmScale(blend, average)));
+		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
 }
 
@@ -60,10 +61,11 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
 	// 2. Velocities: v = (v + dt f / m) * damping. Pinned vertices stay at rest.
 	for (int i = 0; i < n; ++i)
 	{
-		if (b->pinned[i])
+		if (b->pinned[i] == FM_PIN_ALL)
 			continue;
 		fmVec3 v = fmMulAdd(fmLoad(b->v, i), dt * b->invMass[i], fmLoad(b->f, i));
 		fmStore(b->v, i, fmScale(b->damping, v));
+		fmZeroPinnedAxes(b, i, b->v + 3 * i); // rollers: free only along their open axes
 	}
 
 	// 3. Laplacian smoothing of the velocities against high-frequency oscillation.
@@ -72,7 +74,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
 
 	// 4. Positions, then the floor.
 	for (int i = 0; i < n; ++i)
-		if (!b->pinned[i])
+		if (b->pinned[i] != FM_PIN_ALL)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), dt, fmLoad(b->v, i)));
 	fmApplyFloor(&world->def.floor, b, dt);
 	return fm_ok;

@@ -244,13 +244,13 @@ static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 {
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		uint8_t pin = b->pinned[i] ? 1 : 0;
-		uint8_t onFloor = pb->floor && !pin && x[3 * i + 1] <= pb->floor->height &&
-						  c->gradient[3 * i + 1] > 0.0;
+		unsigned pin = b->pinned[i];
+		bool onFloor = pb->floor && !(pin & 2u) && x[3 * i + 1] <= pb->floor->height &&
+					   c->gradient[3 * i + 1] > 0.0;
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
-		c->fixed[3 * i] = pin || stick;
-		c->fixed[3 * i + 1] = pin || onFloor;
-		c->fixed[3 * i + 2] = pin || stick;
+		c->fixed[3 * i] = (pin & 1u) || stick;
+		c->fixed[3 * i + 1] = (pin & 2u) || onFloor;
+		c->fixed[3 * i + 2] = (pin & 4u) || stick;
 	}
 }
 
@@ -391,7 +391,7 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	if (pb->floor == NULL)
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
-		if (!b->pinned[i] && out[3 * i + 1] < pb->floor->height)
+		if (!(b->pinned[i] & 2u) && out[3 * i + 1] < pb->floor->height)
 			out[3 * i + 1] = pb->floor->height;
 }
 
@@ -507,7 +507,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		{
 			int nf = 0;
 			for (int k = 1; k < n3; k += 3)
-				nf += c->fixed[k] && !b->pinned[k / 3];
+				nf += c->fixed[k] && !(b->pinned[k / 3] & 2u);
 			fprintf(stderr, "  it %d res %.3e refresh %d cg %d (%.2e) floorfixed %d E %.17g mag %.3g\n",
 					result.iterations, result.residual, refresh, cg.iterations, cg.residual, nf,
 					energy, magnitude);
@@ -535,11 +535,12 @@ static void fmSmoothVelocities(fmBody* b, double* sum)
 	}
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		if (b->pinned[i])
+		if (b->pinned[i] == FM_PIN_ALL)
 			continue;
 		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(sum, i));
 		fmStore(b->v, i,
 				fmAdd(fmScale(1.0 - b->smoothing, fmLoad(b->v, i)), fmScale(b->smoothing, average)));
+		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
 }
 
@@ -554,7 +555,7 @@ static int fmFloorVelocities(const fmFloorDef* floor, fmBody* b, const fmImplici
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* v = b->v + 3 * i;
-		if (b->pinned[i] || b->x[3 * i + 1] > floor->height)
+		if ((b->pinned[i] & 2u) || b->x[3 * i + 1] > floor->height)
 			continue;
 		++contacts;
 		double impulse = fmax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push
@@ -588,7 +589,7 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, do
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
-		if (b->pinned[k / 3])
+		if (b->pinned[k / 3] & (1u << (k % 3)))
 			continue;
 		double m = b->mass[k / 3];
 		weight += m * m * g[k % 3] * g[k % 3];
@@ -626,11 +627,11 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	const int n3 = 3 * b->vertexCount;
 	const fmFloorDef* floor = world->def.floor.enabled ? &world->def.floor : NULL;
 
-	// 1. Start state, inertial prediction (pinned vertices stay put) and the first guess:
+	// 1. Start state, inertial prediction (pinned axes stay put) and the first guess:
 	//    the prediction held above the floor.
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
-		c->xPred[k] = b->pinned[k / 3] ? b->x[k] : b->x[k] + h * b->v[k];
+		c->xPred[k] = (b->pinned[k / 3] & (1u << (k % 3))) ? b->x[k] : b->x[k] + h * b->v[k];
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
@@ -645,7 +646,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
 	memcpy(b->x, c->xPred, sizeof(double) * (size_t)n3);
 	for (int i = 0; floor && i < b->vertexCount; ++i)
-		if (!b->pinned[i] && b->x[3 * i + 1] < floor->height)
+		if (!(b->pinned[i] & 2u) && b->x[3 * i + 1] < floor->height)
 			b->x[3 * i + 1] = floor->height;
 
 	// 2. Newton on the incremental potential.
@@ -662,7 +663,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	for (int k = 0; k < n3; ++k)
-		b->v[k] = b->pinned[k / 3] ? 0.0 : (b->x[k] - c->xStart[k]) / h * b->damping;
+		b->v[k] = (b->pinned[k / 3] & (1u << (k % 3))) ? 0.0
+													   : (b->x[k] - c->xStart[k]) / h * b->damping;
 	if (b->smoothing > 0.0)
 		fmSmoothVelocities(b, c->temp);
 

@@ -23,7 +23,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 	fmAddElasticForces(b, b->x, c->forces);
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
-		if (b->pinned[k / 3])
+		if (b->pinned[k / 3] & (1u << (k % 3)))
 			continue;
 		double m = b->mass[k / 3];
 		weight += m * m * g[k % 3] * g[k % 3];
@@ -47,7 +47,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 						   tolerance, maxIterations);
 	int pins = 0;
 	for (int i = 0; i < b->vertexCount; ++i)
-		pins += b->pinned[i] != 0;
+		pins += b->pinned[i] != 0; // rollers count: a well-posed set of them holds the body
 	fmVec3 gravity = world->def.gravity;
 	if (pins == 0 && fmLength(gravity) > 0.0)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,

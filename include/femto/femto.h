@@ -107,6 +107,12 @@ FM_API int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max);
 /// Pin or release one vertex. A pinned vertex never moves.
 FM_API void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned);
 
+/// Hold one vertex on some axes only (a roller): bit 0 of @p axes fixes x, bit 1 y, bit 2 z;
+/// 7 is the same as fmBody_SetPinned(true), 0 releases it. The vertex keeps its coordinates on
+/// the fixed axes and moves freely along the others; its velocity on fixed axes is zeroed.
+/// fmBody_IsPinned() is true only for all three axes.
+FM_API void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes);
+
 /// Whether a vertex is pinned.
 FM_API bool fmBody_IsPinned(fmBodyId bodyId, int vertex);
 
