@@ -10,9 +10,6 @@
 #include "newton.h"
 
 #include <float.h>
-#ifdef FM_NEWTON_TRACE
-#include <stdio.h>
-#endif
 #include <math.h>
 #include <string.h>
 
@@ -503,16 +500,6 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		result.cgIterations += cg.iterations;
 		result.iterations += 1;
 		fmEnsureDescent(b, c);
-#ifdef FM_NEWTON_TRACE
-		{
-			int nf = 0;
-			for (int k = 1; k < n3; k += 3)
-				nf += c->fixed[k] && !(b->pinned[k / 3] & 2u);
-			fprintf(stderr, "  it %d res %.3e refresh %d cg %d (%.2e) floorfixed %d E %.17g mag %.3g\n",
-					result.iterations, result.residual, refresh, cg.iterations, cg.residual, nf,
-					energy, magnitude);
-		}
-#endif
 		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm))
 			break;
 	}
