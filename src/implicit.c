@@ -115,14 +115,14 @@ fmImplicitCache* fmImplicit_GetCache(fmBody* b)
 
 // values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order.
 static void fmAddStiffness(const fmBody* b, const fmImplicitCache* c, const double* x, double scale,
-						   double* values)
+						   int project, double* values)
 {
 	if (b->forceModel == fm_massSpring)
 	{
 		double K[36];
 		for (int e = 0; e < c->edgeCount; ++e)
 		{
-			fmSpringHessian(b, x, e, K, 1);
+			fmSpringHessian(b, x, e, K, project);
 			for (int p = 0; p < 2; ++p)
 				for (int q = 0; q < 2; ++q)
 				{
@@ -137,7 +137,7 @@ static void fmAddStiffness(const fmBody* b, const fmImplicitCache* c, const doub
 	double K[144];
 	for (int t = 0; t < b->tetCount; ++t)
 	{
-		fmTetHessian(b, x, t, K, 1);
+		fmTetHessian(b, x, t, K, project);
 		for (int p = 0; p < 4; ++p)
 			for (int q = 0; q < 4; ++q)
 			{
@@ -268,7 +268,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
 		memset(c->hessian, 0, sizeof(double) * values);
-	fmAddStiffness(b, c, b->x, 1.0, c->hessian);
+	fmAddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian);
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
@@ -290,7 +290,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 		double K[36];
 		for (int e = 0; e < c->edgeCount; ++e)
 		{
-			fmSpringHessian(b, b->x, e, K, 1);
+			fmSpringHessian(b, b->x, e, K, pb->exactHessian ? 0 : 1);
 			for (int p = 0; p < 2; ++p)
 				for (int r = 0; r < 9; ++r)
 					blocks[9 * (size_t)b->edges[2 * e + p] + r] +=
@@ -302,7 +302,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 		double K[144];
 		for (int t = 0; t < b->tetCount; ++t)
 		{
-			fmTetHessian(b, b->x, t, K, 1);
+			fmTetHessian(b, b->x, t, K, pb->exactHessian ? 0 : 1);
 			for (int p = 0; p < 4; ++p)
 				for (int r = 0; r < 9; ++r)
 					blocks[9 * (size_t)b->tets[4 * t + p] + r] +=
@@ -338,7 +338,7 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 		fmBsr_Multiply(&ctx->cache->pattern, ctx->cache->damping, x, y);
 	else
 		memset(y, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmAddHessianProduct(b, b->x, x, y, 1);
+	fmAddHessianProduct(b, b->x, x, y, pb->exactHessian ? 0 : 1);
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		y[k] += (pb->inertia + pb->massDamping) * b->mass[k / 3] * x[k];
 }
@@ -449,7 +449,7 @@ static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
 
 fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
-	fmNewtonResult result = {0, 0, INFINITY, false, true};
+	fmNewtonResult result = {0, 0, INFINITY, false, true, false};
 	const int n3 = 3 * b->vertexCount;
 	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
 	// Lazy Hessian: per-element projected Hessians dominate the cost of an iteration, so the
@@ -458,7 +458,8 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	// SPD matrix gives a descent direction, so a stale one only costs speed, never safety.
 	// A quadratic energy has a constant Hessian. The matrix-free path has no matrix to keep.
 	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
-					 c->hessianMassDamping == pb->massDamping && c->hessianDamping == pb->useDamping;
+					 c->hessianMassDamping == pb->massDamping && c->hessianDamping == pb->useDamping &&
+					 c->hessianExact == pb->exactHessian;
 	bool stale = !sameTerms;
 	double lastResidual = INFINITY;
 	bool lastFresh = false;
@@ -492,12 +493,19 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 			c->hessianInertia = pb->inertia;
 			c->hessianMassDamping = pb->massDamping;
 			c->hessianDamping = pb->useDamping;
+			c->hessianExact = pb->exactHessian;
 			stale = false;
 		}
 		lastResidual = result.residual;
 		lastFresh = refresh;
 		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
 		result.cgIterations += cg.iterations;
+		if (cg.indefinite && pb->exactHessian)
+		{
+			// The true Hessian is not positive definite here: project from now on.
+			result.projected = true;
+			break;
+		}
 		result.iterations += 1;
 		fmEnsureDescent(b, c);
 		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm))
@@ -600,7 +608,7 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
 		return false;
 	memset(c->damping, 0, sizeof(double) * values);
 	if (b->rayleighStiffness > 0.0)
-		fmAddStiffness(b, c, c->xStart, b->rayleighStiffness / h, c->damping);
+		fmAddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping);
 	if (springs)
 		fmAddSpringDampingMatrix(b, c, c->xStart, 1.0 / h, c->damping);
 	return true;

@@ -35,6 +35,7 @@ typedef struct fmImplicitCache
 	double hessianInertia;
 	double hessianMassDamping;
 	bool hessianDamping;
+	bool hessianExact;
 } fmImplicitCache;
 
 // How Hessian-vector products are formed (measured in docs/implicit.md).
@@ -67,6 +68,7 @@ typedef struct fmNewtonProblem
 	int maxNewton;
 	int maxCg;
 	bool quadratic; // Psi is quadratic (linear material): solve each Newton system tightly
+	bool exactHessian; // unprojected element Hessians (statics); stop if CG finds them indefinite
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult
@@ -76,6 +78,7 @@ typedef struct fmNewtonResult
 	double residual; // |gradient over free DOFs| / scale at the end
 	bool converged;
 	bool finite; // false: the energy or gradient went non-finite
+	bool projected; // exactHessian was requested but the Hessian turned out indefinite
 } fmNewtonResult;
 
 // The cache of @p body, allocated if needed; NULL when memory is short.

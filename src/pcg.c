@@ -173,7 +173,7 @@ fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double
 						const uint8_t* fixed, const double* b, double* x, double tolerance,
 						int maxIterations, const fmPcgWork* w)
 {
-	fmPcgResult result = {0, 0.0, false};
+	fmPcgResult result = {0, 0.0, false, false};
 	for (int k = 0; k < n; ++k)
 	{
 		x[k] = 0.0;
@@ -197,7 +197,10 @@ fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double
 		double pq = fmDotN(n, w->p, w->q);
 		// A (projected) PSD operator can still be singular: no curvature means no information.
 		if (!(pq > 0.0))
+		{
+			result.indefinite = true;
 			break;
+		}
 		double alpha = rz / pq;
 		for (int k = 0; k < n; ++k)
 		{

@@ -55,6 +55,7 @@ typedef struct fmPcgResult
 	int iterations;
 	double residual; // |b - A x| reached (2-norm over free DOFs)
 	bool converged;	 // residual <= the requested tolerance
+	bool indefinite; // stopped at a direction of non-positive curvature
 } fmPcgResult;
 
 // Solve A x = b over the DOFs with fixed[k] == 0 (x and every vector stay 0 on fixed DOFs),

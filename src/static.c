@@ -68,12 +68,16 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+	// Without inertia, projected element Hessians (which drop the negative curvature of
+	// compressed elements and springs) slow Newton to linear convergence; the exact Hessian
+	// keeps it quadratic as long as it stays positive definite, which CG detects.
+	pb.exactHessian = true;
 
 	// Load stepping: from the last converged fraction `done`, try `done + step`; halve the step
 	// on failure, double it again after a success.
 	double done = 0.0, step = 1.0;
 	int iterations = 0;
-	fmNewtonResult r = {0, 0, 0.0, true, true};
+	fmNewtonResult r = {0, 0, 0.0, true, true, false};
 	if (pb.scale <= 0.0) // nothing pulls: already at equilibrium
 		done = 1.0;
 	while (done < 1.0)
@@ -83,6 +87,14 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		memcpy(c->trial, b->x, sizeof(double) * (size_t)n3);
 		r = fmNewton_Solve(b, c, &pb);
 		iterations += r.iterations;
+		if (r.projected)
+		{
+			// The true Hessian went indefinite (buckling-like states, compressed springs):
+			// continue from here with per-element projected Hessians, always descent.
+			pb.exactHessian = false;
+			r = fmNewton_Solve(b, c, &pb);
+			iterations += r.iterations;
+		}
 		if (r.converged)
 		{
 			done = load;
