@@ -15,9 +15,15 @@
 
 static fmImplicitOptions s_options = {fm_productAssembled, fm_precondJacobi};
 
-fmImplicitOptions fmImplicit_GetOptions(void) { return s_options; }
+fmImplicitOptions fmImplicit_GetOptions(void)
+{
+	return s_options;
+}
 
-void fmImplicit_SetOptions(fmImplicitOptions options) { s_options = options; }
+void fmImplicit_SetOptions(fmImplicitOptions options)
+{
+	s_options = options;
+}
 
 // ---- cache ---------------------------------------------------------------------------------
 
@@ -53,7 +59,7 @@ static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
 		for (int a = 0; a < 4; ++a)
 			for (int d = 0; d < 4; ++d)
 				c->tetSlot[16 * t + 4 * a + d] =
-					fmBsr_Find(&c->pattern, b->tets[4 * t + a], b->tets[4 * t + d]);
+				    fmBsr_Find(&c->pattern, b->tets[4 * t + a], b->tets[4 * t + d]);
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
 		int p = b->edges[2 * e], q = b->edges[2 * e + 1];
@@ -98,8 +104,8 @@ fmImplicitCache* fmImplicit_GetCache(fmBody* b)
 	c->work = FM_ALLOC_ZERO(double, 4 * n3);
 	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
 	ok = ok && c->tetSlot && (c->edgeSlot || c->edgeCount == 0) && c->hessian && c->blockInverse &&
-		 c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
-		 c->work && c->fixed;
+	     c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
+	     c->work && c->fixed;
 	if (ok)
 		ok = fmBuildSlots(b, c);
 	if (!ok)
@@ -115,7 +121,7 @@ fmImplicitCache* fmImplicit_GetCache(fmBody* b)
 
 // values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order.
 static void fmAddStiffness(const fmBody* b, const fmImplicitCache* c, const double* x, double scale,
-						   int project, double* values)
+                           int project, double* values)
 {
 	if (b->forceModel == fm_massSpring)
 	{
@@ -152,7 +158,7 @@ static void fmAddStiffness(const fmBody* b, const fmImplicitCache* c, const doub
 // Spring damping as a matrix: each spring resists the rate of change of its length with
 // c = 2 zeta sqrt(k / (1/ma + 1/mb)) (force_spring.c), i.e. the block c n n^T on [a, b].
 static void fmAddSpringDampingMatrix(const fmBody* b, const fmImplicitCache* c, const double* x,
-									 double scale, double* values)
+                                     double scale, double* values)
 {
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
@@ -190,7 +196,7 @@ typedef struct fmNewtonContext
 // Energy at x, and its gradient when @p gradient is not NULL. @p magnitude gets the sum of the
 // absolute sizes of the terms (the scale of round-off in E).
 static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-							 const double* x, double* gradient, double* magnitude)
+                             const double* x, double* gradient, double* magnitude)
 {
 	const int n3 = 3 * b->vertexCount;
 	double psi;
@@ -212,7 +218,8 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 		external -= m * g[k % 3] * moved;
 		size += fabs(m * g[k % 3] * moved);
 		if (gradient)
-			gradient[k] = m * (pb->inertia * toPred + pb->massDamping * moved - g[k % 3]) - c->forces[k];
+			gradient[k] =
+			    m * (pb->inertia * toPred + pb->massDamping * moved - g[k % 3]) - c->forces[k];
 	}
 	double damping = 0.0;
 	if (pb->useDamping)
@@ -237,13 +244,13 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
 // floor whose energy gradient points down is held; one the energy pulls up is released).
 static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-						const double* x)
+                        const double* x)
 {
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		unsigned pin = b->pinned[i];
 		bool onFloor = pb->floor && !(pin & 2u) && x[3 * i + 1] <= pb->floor->height &&
-					   c->gradient[3 * i + 1] > 0.0;
+		               c->gradient[3 * i + 1] > 0.0;
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
 		c->fixed[3 * i] = (pin & 1u) || stick;
 		c->fixed[3 * i + 1] = (pin & 2u) || onFloor;
@@ -282,7 +289,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
 // 9 n entries, used as plain per-vertex storage).
 static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-									   double* blocks)
+                                       double* blocks)
 {
 	memset(blocks, 0, sizeof(double) * 9 * (size_t)b->vertexCount);
 	if (b->forceModel == fm_massSpring)
@@ -294,7 +301,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 			for (int p = 0; p < 2; ++p)
 				for (int r = 0; r < 9; ++r)
 					blocks[9 * (size_t)b->edges[2 * e + p] + r] +=
-						K[6 * (3 * p + r / 3) + (3 * p + r % 3)];
+					    K[6 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
 	}
 	else
@@ -306,7 +313,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 			for (int p = 0; p < 4; ++p)
 				for (int r = 0; r < 9; ++r)
 					blocks[9 * (size_t)b->tets[4 * t + p] + r] +=
-						K[12 * (3 * p + r / 3) + (3 * p + r % 3)];
+					    K[12 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
 	}
 	for (int i = 0; i < b->vertexCount; ++i)
@@ -345,7 +352,7 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 
 // Newton direction: solve H d = -gradient over the free DOFs.
 static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-									 double gradientNorm, double residual, bool refresh)
+                                     double gradientNorm, double residual, bool refresh)
 {
 	const int n3 = 3 * b->vertexCount;
 	fmNewtonContext ctx = {b, c, pb};
@@ -354,7 +361,7 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	{
 		fmDiagonalBlocksMatrixFree(b, c, pb, c->work); // blocks in the CG's scratch, used below
 		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, s_options.preconditioner,
-								  c->blockInverse);
+		                          c->blockInverse);
 		op = fmMatrixFreeProduct;
 	}
 	else
@@ -363,9 +370,9 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 			fmAssembleNewtonMatrix(b, c, pb);
 		for (int i = 0; i < b->vertexCount; ++i)
 			memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
-				   9 * sizeof(double));
+			       9 * sizeof(double));
 		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, s_options.preconditioner,
-								  c->blockInverse);
+		                          c->blockInverse);
 	}
 	for (int k = 0; k < n3; ++k)
 		c->temp[k] = -c->gradient[k];
@@ -376,12 +383,12 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	double tolerance = fmax(forcing * gradientNorm, floorTolerance);
 	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
 	return fmPcg_Solve(n3, op, &ctx, c->blockInverse, c->fixed, c->temp, c->direction, tolerance,
-					   pb->maxCg, &work);
+	                   pb->maxCg, &work);
 }
 
 // Positions after a step of length alpha along the direction, held above the floor.
 static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-						 double alpha, double* out)
+                         double alpha, double* out)
 {
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		out[k] = b->x[k] + alpha * c->direction[k];
@@ -399,10 +406,11 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 // the noise a step is accepted when it lowers the gradient norm instead. Returns false if no
 // step length is accepted.
 static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
-						 double magnitude, double gradientNorm)
+                         double magnitude, double gradientNorm)
 {
 	const int n3 = 3 * b->vertexCount;
-	const double noise = 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+	const double noise =
+	    1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
 	double alpha = 1.0;
@@ -443,7 +451,9 @@ static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
 		const double* g = c->gradient + 3 * (size_t)i;
 		for (int r = 0; r < 3; ++r)
 			c->direction[3 * i + r] =
-				c->fixed[3 * i + r] ? 0.0 : -(B[3 * r] * g[0] + B[3 * r + 1] * g[1] + B[3 * r + 2] * g[2]);
+			    c->fixed[3 * i + r]
+			        ? 0.0
+			        : -(B[3 * r] * g[0] + B[3 * r + 1] * g[1] + B[3 * r + 2] * g[2]);
 	}
 }
 
@@ -458,8 +468,8 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	// SPD matrix gives a descent direction, so a stale one only costs speed, never safety.
 	// A quadratic energy has a constant Hessian. The matrix-free path has no matrix to keep.
 	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
-					 c->hessianMassDamping == pb->massDamping && c->hessianDamping == pb->useDamping &&
-					 c->hessianExact == pb->exactHessian;
+	                 c->hessianMassDamping == pb->massDamping &&
+	                 c->hessianDamping == pb->useDamping && c->hessianExact == pb->exactHessian;
 	bool stale = !sameTerms;
 	double lastResidual = INFINITY;
 	bool lastFresh = false;
@@ -486,7 +496,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		// (A fresh exact Hessian of a quadratic energy cannot do better; only the floor's active
 		// set makes such a step slow.)
 		bool refresh = stale || (slow && !(pb->quadratic && lastFresh)) ||
-					   s_options.product == fm_productMatrixFree;
+		               s_options.product == fm_productMatrixFree;
 		if (refresh)
 		{
 			c->hessianValid = true;
@@ -524,7 +534,7 @@ static void fmSmoothVelocities(fmBody* b, double* sum)
 	{
 		const int* n = b->tets + 4 * t;
 		fmVec3 s = fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
-						 fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
+		                 fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
 		for (int a = 0; a < 4; ++a)
 			fmStore(sum, n[a], fmAdd(fmLoad(sum, n[a]), s));
 	}
@@ -533,8 +543,9 @@ static void fmSmoothVelocities(fmBody* b, double* sum)
 		if (b->pinned[i] == FM_PIN_ALL)
 			continue;
 		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(sum, i));
-		fmStore(b->v, i,
-				fmAdd(fmScale(1.0 - b->smoothing, fmLoad(b->v, i)), fmScale(b->smoothing, average)));
+		fmStore(
+		    b->v, i,
+		    fmAdd(fmScale(1.0 - b->smoothing, fmLoad(b->v, i)), fmScale(b->smoothing, average)));
 		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
 }
@@ -567,8 +578,9 @@ static int fmFloorVelocities(const fmFloorDef* floor, fmBody* b, const fmImplici
 			continue;
 		}
 		double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
-		double keep = vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
-							   : 0.0;
+		double keep =
+		    vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
+		             : 0.0;
 		v[0] *= keep;
 		v[2] *= keep;
 	}
@@ -658,8 +670,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	for (int k = 0; k < n3; ++k)
-		b->v[k] = (b->pinned[k / 3] & (1u << (k % 3))) ? 0.0
-													   : (b->x[k] - c->xStart[k]) / h * b->damping;
+		b->v[k] =
+		    (b->pinned[k / 3] & (1u << (k % 3))) ? 0.0 : (b->x[k] - c->xStart[k]) / h * b->damping;
 	if (b->smoothing > 0.0)
 		fmSmoothVelocities(b, c->temp);
 

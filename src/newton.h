@@ -13,22 +13,22 @@ typedef struct fmImplicitCache
 	int vertexCount;
 	int tetCount;
 	int edgeCount;
-	double volume; // rest volume of the body (m^3)
-	fmBsrMatrix pattern; // vertex pairs sharing a tet
-	int* tetSlot;		 // 16 per tet: slot of block (a, b) of its nodes
-	int* edgeSlot;		 // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
-	double* hessian;	 // 9 per block: the Newton matrix
-	double* damping;	 // 9 per block: lagged damping matrix D (allocated when needed)
+	double volume;        // rest volume of the body (m^3)
+	fmBsrMatrix pattern;  // vertex pairs sharing a tet
+	int* tetSlot;         // 16 per tet: slot of block (a, b) of its nodes
+	int* edgeSlot;        // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
+	double* hessian;      // 9 per block: the Newton matrix
+	double* damping;      // 9 per block: lagged damping matrix D (allocated when needed)
 	double* blockInverse; // 9 per vertex: preconditioner
-	double* xPred;		  // 3n: inertial target
-	double* xStart;		  // 3n: positions at the start of the step
-	double* gradient;	  // 3n
-	double* direction;	  // 3n
-	double* trial;		  // 3n
-	double* forces;		  // 3n
-	double* temp;		  // 3n
-	double* work;		  // 4 * 3n: CG vectors
-	uint8_t* fixed;		  // 3n: DOF held by a pin or the floor
+	double* xPred;        // 3n: inertial target
+	double* xStart;       // 3n: positions at the start of the step
+	double* gradient;     // 3n
+	double* direction;    // 3n
+	double* trial;        // 3n
+	double* forces;       // 3n
+	double* temp;         // 3n
+	double* work;         // 4 * 3n: CG vectors
+	uint8_t* fixed;       // 3n: DOF held by a pin or the floor
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
@@ -58,16 +58,16 @@ void fmImplicit_SetOptions(fmImplicitOptions options);
 // One minimisation problem.
 typedef struct fmNewtonProblem
 {
-	double inertia;		 // 1/h^2, 0 for statics
-	double massDamping;	 // alpha / h
-	bool useDamping;	 // the cache's damping matrix D (already divided by h) takes part
-	fmVec3 gravity;		 // m/s^2 (times the load factor in statics)
+	double inertia;          // 1/h^2, 0 for statics
+	double massDamping;      // alpha / h
+	bool useDamping;         // the cache's damping matrix D (already divided by h) takes part
+	fmVec3 gravity;          // m/s^2 (times the load factor in statics)
 	const fmFloorDef* floor; // NULL: no floor
-	double tolerance;	 // stop at |gradient over free DOFs| <= tolerance * scale
-	double scale;		 // force scale (N)
+	double tolerance;        // stop at |gradient over free DOFs| <= tolerance * scale
+	double scale;            // force scale (N)
 	int maxNewton;
 	int maxCg;
-	bool quadratic; // Psi is quadratic (linear material): solve each Newton system tightly
+	bool quadratic;    // Psi is quadratic (linear material): solve each Newton system tightly
 	bool exactHessian; // unprojected element Hessians (statics); stop if CG finds them indefinite
 } fmNewtonProblem;
 
@@ -77,7 +77,7 @@ typedef struct fmNewtonResult
 	int cgIterations;
 	double residual; // |gradient over free DOFs| / scale at the end
 	bool converged;
-	bool finite; // false: the energy or gradient went non-finite
+	bool finite;    // false: the energy or gradient went non-finite
 	bool projected; // exactHessian was requested but the Hessian turned out indefinite
 } fmNewtonResult;
 

@@ -59,7 +59,7 @@ static bool fmVertexTets(int n, const int* tets, int tetCount, int** start, int*
 
 // Count (columns == NULL) or write the sorted neighbour lists of every vertex.
 static int fmGatherRows(int n, const int* tets, const int* start, const int* list, int* scratch,
-						int* rowStart, int* columns)
+                        int* rowStart, int* columns)
 {
 	int total = 0;
 	for (int i = 0; i < n; ++i)
@@ -170,8 +170,8 @@ static void fmApplyBlocks(int n, const double* blockInverse, const double* r, do
 }
 
 fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double* blockInverse,
-						const uint8_t* fixed, const double* b, double* x, double tolerance,
-						int maxIterations, const fmPcgWork* w)
+                        const uint8_t* fixed, const double* b, double* x, double tolerance,
+                        int maxIterations, const fmPcgWork* w)
 {
 	fmPcgResult result = {0, 0.0, false, false};
 	for (int k = 0; k < n; ++k)
@@ -230,7 +230,7 @@ static bool fmInvertSpd3(const double* A, double* out)
 {
 	double d1 = A[0], d2 = A[0] * A[4] - A[1] * A[3];
 	double det = A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
-				 A[2] * (A[3] * A[7] - A[4] * A[6]);
+	             A[2] * (A[3] * A[7] - A[4] * A[6]);
 	if (!(d1 > 0.0 && d2 > 0.0 && det > 0.0))
 		return false;
 	double inv = 1.0 / det;
@@ -247,7 +247,7 @@ static bool fmInvertSpd3(const double* A, double* out)
 }
 
 void fmPcg_BuildPreconditioner(int vertexCount, const double* diagBlocks, const uint8_t* fixed,
-							   fmPreconditioner kind, double* blockInverse)
+                               fmPreconditioner kind, double* blockInverse)
 {
 	for (int i = 0; i < vertexCount; ++i)
 	{
@@ -256,8 +256,8 @@ void fmPcg_BuildPreconditioner(int vertexCount, const double* diagBlocks, const 
 		for (int r = 0; r < 3; ++r)
 			for (int c = 0; c < 3; ++c)
 			{
-				bool cut = fixed[3 * i + r] || fixed[3 * i + c] ||
-						   (kind == fm_precondJacobi && r != c);
+				bool cut =
+				    fixed[3 * i + r] || fixed[3 * i + c] || (kind == fm_precondJacobi && r != c);
 				if (cut)
 					A[3 * r + c] = (r == c) ? 1.0 : 0.0;
 			}

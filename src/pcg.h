@@ -10,8 +10,8 @@
 // once from the connectivity; the values are refilled every Newton iteration.
 typedef struct fmBsrMatrix
 {
-	int rows;	   // block rows = vertices
-	int blocks;	   // stored 3x3 blocks
+	int rows;      // block rows = vertices
+	int blocks;    // stored 3x3 blocks
 	int* rowStart; // rows + 1: blocks of row i are rowStart[i] .. rowStart[i + 1] - 1
 	int* columns;  // blocks: block column, sorted ascending within a row
 	int* diagonal; // rows: the slot of block (i, i)
@@ -33,7 +33,7 @@ void fmBsr_Multiply(const fmBsrMatrix* matrix, const double* values, const doubl
 // Preconditioner choice for fmPcg_Solve.
 typedef enum fmPreconditioner
 {
-	fm_precondJacobi,	   // inverse of the diagonal entries
+	fm_precondJacobi,      // inverse of the diagonal entries
 	fm_precondBlockJacobi, // inverse of the 3x3 diagonal blocks
 } fmPreconditioner;
 
@@ -54,7 +54,7 @@ typedef struct fmPcgResult
 {
 	int iterations;
 	double residual; // |b - A x| reached (2-norm over free DOFs)
-	bool converged;	 // residual <= the requested tolerance
+	bool converged;  // residual <= the requested tolerance
 	bool indefinite; // stopped at a direction of non-positive curvature
 } fmPcgResult;
 
@@ -64,11 +64,11 @@ typedef struct fmPcgResult
 // Stops early at a direction of non-positive curvature (returns what it has). Deterministic:
 // every reduction is summed in index order.
 fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double* blockInverse,
-						const uint8_t* fixed, const double* b, double* x, double tolerance,
-						int maxIterations, const fmPcgWork* work);
+                        const uint8_t* fixed, const double* b, double* x, double tolerance,
+                        int maxIterations, const fmPcgWork* work);
 
 // Invert the 3x3 diagonal blocks @p diagBlocks (9 per vertex) into @p blockInverse for the
 // preconditioner @p kind, with fixed DOFs replaced by identity rows and columns. A block that
 // is not positive definite falls back to its (positive part of the) diagonal.
 void fmPcg_BuildPreconditioner(int vertexCount, const double* diagBlocks, const uint8_t* fixed,
-							   fmPreconditioner kind, double* blockInverse);
+                               fmPreconditioner kind, double* blockInverse);

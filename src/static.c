@@ -33,7 +33,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 }
 
 fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations, double* residual,
-							fmDiagnostic* diag)
+                            fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	fmBody* b = fmGetBody(bodyId);
@@ -42,20 +42,21 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
 	if (!(tolerance > 0.0 && tolerance < 1.0) || maxIterations < 1)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "static solve needs a tolerance in (0, 1) (e.g. 1e-8) and at least one "
-						   "iteration, got %g and %d",
-						   tolerance, maxIterations);
+		                   "static solve needs a tolerance in (0, 1) (e.g. 1e-8) and at least one "
+		                   "iteration, got %g and %d",
+		                   tolerance, maxIterations);
 	int pins = 0;
 	for (int i = 0; i < b->vertexCount; ++i)
 		pins += b->pinned[i] != 0; // rollers count: a well-posed set of them holds the body
 	fmVec3 gravity = world->def.gravity;
 	if (pins == 0 && fmLength(gravity) > 0.0)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "the body has no pinned vertex, so under gravity it has no equilibrium "
-						   "(it would fall forever): pin something (fmBody_PinBox) first");
+		                   "the body has no pinned vertex, so under gravity it has no equilibrium "
+		                   "(it would fall forever): pin something (fmBody_PinBox) first");
 	fmImplicitCache* c = fmImplicit_GetCache(b);
 	if (c == NULL)
-		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for the static solver");
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the static solver");
 
 	const int n3 = 3 * b->vertexCount;
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
@@ -112,11 +113,11 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	{
 		memcpy(b->x, c->xStart, sizeof(double) * (size_t)n3);
 		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
-						   "static solve did not converge: equilibrium reached up to %.3g of the "
-						   "load; the last attempt stopped at residual %.3g (tolerance %.3g) after "
-						   "%d Newton iterations in all; the body was left as it was. Try more "
-						   "iterations, a looser tolerance, more pins or a stiffer material",
-						   done, r.residual, tolerance, iterations);
+		                   "static solve did not converge: equilibrium reached up to %.3g of the "
+		                   "load; the last attempt stopped at residual %.3g (tolerance %.3g) after "
+		                   "%d Newton iterations in all; the body was left as it was. Try more "
+		                   "iterations, a looser tolerance, more pins or a stiffer material",
+		                   done, r.residual, tolerance, iterations);
 	}
 	memset(b->v, 0, sizeof(double) * (size_t)n3);
 	return fm_ok;

@@ -25,7 +25,7 @@ static void setIntegrator(fmWorldId world, fmIntegrator integrator)
 static fmBodyId makeSwingingBeam(fmWorldId* world, fmIntegrator integrator)
 {
 	fmBodyId body = fmTestMakeBox(world, 8, 2, 2, fmMakeVec3(1.0, 0.1, 0.1),
-								  fmMakeMaterial(fm_corotated, 2e5, 0.3), fm_fem);
+	                              fmMakeMaterial(fm_corotated, 2e5, 0.3), fm_fem);
 	if (!fmBody_IsValid(body))
 		return body;
 	fmWorld_SetGravity(*world, fmMakeVec3(0, -9.8, 0));
@@ -80,13 +80,14 @@ TEST(small_steps_follow_the_explicit_trajectory)
 		{
 			CHECK_INT(fmWorld_Step(world, T / stepCounts[k], 1), fm_ok);
 			fmStepStats stats = fmWorld_GetStepStats(world);
-			worstNewton = stats.newtonIterations > worstNewton ? stats.newtonIterations : worstNewton;
+			worstNewton =
+			    stats.newtonIterations > worstNewton ? stats.newtonIterations : worstNewton;
 			worstResidual = fmax(worstResidual, stats.residual);
 		}
 		gaps[k] = fmLength(fmSub(tipPosition(body), reference));
 		printf("  h = %.4f s: tip %.5f m from explicit (travel %.4f m); Newton <= %d iterations a "
-			   "step, residual <= %.2g\n",
-			   T / stepCounts[k], gaps[k], travel, worstNewton, worstResidual);
+		       "step, residual <= %.2g\n",
+		       T / stepCounts[k], gaps[k], travel, worstNewton, worstResidual);
 		CHECK(worstNewton <= 10);
 		CHECK(worstResidual <= 1e-6);
 		fmDestroyWorld(world);
@@ -118,8 +119,8 @@ TEST(pinned_vertices_are_exact)
 		CHECK(stats.residual <= 1e-6);
 	}
 	printf("  1 s of a swinging soft beam at 1/60 s: at most %d Newton iterations a step, tip at "
-		   "y = %.3f m\n",
-		   worstNewton, tipPosition(body).y);
+	       "y = %.3f m\n",
+	       worstNewton, tipPosition(body).y);
 	CHECK(worstNewton <= 10);
 	const double* x = fmBody_GetPositions(body);
 	const double* v = fmBody_GetVelocities(body);
@@ -143,7 +144,7 @@ static void energyNeverIncreases(fmMaterialModel model, double stretch, int* fai
 {
 	fmWorldId world;
 	fmBodyId body = fmTestMakeBox(&world, 3, 2, 2, fmMakeVec3(1.5, 1, 1),
-								  fmMakeMaterial(model, 1e5, 0.3), fm_fem);
+	                              fmMakeMaterial(model, 1e5, 0.3), fm_fem);
 	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
@@ -164,8 +165,8 @@ static void energyNeverIncreases(fmMaterialModel model, double stretch, int* fai
 		previous = e;
 	}
 	printf("  %-10s stretch %.2f: energy %.4g J -> %.4g J in 60 steps of 1/60 s; largest rise "
-		   "%.2g J\n",
-		   fmMaterialModelName(model), stretch, e0, previous, worstRise);
+	       "%.2g J\n",
+	       fmMaterialModelName(model), stretch, e0, previous, worstRise);
 	CHECK(e0 > 0.0);
 	CHECK(worstRise <= 1e-9 * e0); // Newton tolerance, nothing more
 	CHECK(previous < e0);
@@ -209,8 +210,8 @@ TEST(solver_variants_agree)
 {
 	fmImplicitOptions saved = fmImplicit_GetOptions();
 	const fmImplicitOptions variants[3] = {{fm_productAssembled, fm_precondJacobi},
-										   {fm_productAssembled, fm_precondBlockJacobi},
-										   {fm_productMatrixFree, fm_precondJacobi}};
+	                                       {fm_productAssembled, fm_precondBlockJacobi},
+	                                       {fm_productMatrixFree, fm_precondJacobi}};
 	fmVec3 tips[3];
 	for (int k = 0; k < 3; ++k)
 	{
@@ -238,7 +239,7 @@ TEST(solver_variants_agree)
 TEST(bouncy_house_at_one_sixtieth_every_material)
 {
 	const fmMaterialModel models[5] = {fm_linear, fm_corotated, fm_stvk, fm_neoHookean,
-									   fm_mooneyRivlin};
+	                                   fm_mooneyRivlin};
 	const double stiffness[3] = {1e4, 1e6, 1e8};
 	for (int e = 0; e < 3; ++e)
 		for (int m = 0; m < 5; ++m)
@@ -268,11 +269,11 @@ TEST(bouncy_house_at_one_sixtieth_every_material)
 			}
 			fmBodyStats end = fmBody_GetStats(body);
 			printf("  E %.0e %-13s: Newton %.1f/step (residual <= %.1g), lowest y %.9f, KE %.2g J "
-				   "(peak %.3g J), inverted %d\n",
-				   stiffness[e], fmMaterialModelName(models[m]), (double)newton / frames,
-				   worstResidual, lowest, end.kineticEnergy, peakKinetic, end.invertedTets);
+			       "(peak %.3g J), inverted %d\n",
+			       stiffness[e], fmMaterialModelName(models[m]), (double)newton / frames,
+			       worstResidual, lowest, end.kineticEnergy, peakKinetic, end.invertedTets);
 			CHECK_INT(failures, 0);
-			CHECK(lowest >= -3.0);		// exact: the solver projects onto the floor
+			CHECK(lowest >= -3.0); // exact: the solver projects onto the floor
 			if (stiffness[e] >= 1e6)
 				CHECK_NEAR(end.lowestY, -3.0, 1e-9); // it rests on the floor
 			CHECK(end.kineticEnergy < (stiffness[e] >= 1e6 ? 1e-3 : 0.4 * peakKinetic));
@@ -336,8 +337,8 @@ TEST(floor_friction_modes)
 	double coulomb = slideDistance(fm_floorCoulomb, mu, &decel);
 	double expected = 2.0 * 2.0 / (2.0 * mu * g); // v^2 / (2 mu g)
 	printf("  Coulomb mu = %.1f: deceleration %.3f m/s^2 (mu g = %.3f), slid %.3f m (rigid block "
-		   "%.3f m)\n",
-		   mu, decel, mu * g, coulomb, expected);
+	       "%.3f m)\n",
+	       mu, decel, mu * g, coulomb, expected);
 	CHECK_REL(decel, mu * g, 0.15, 0.0);
 	CHECK_REL(coulomb, expected, 0.15, 0.0);
 	double stick = slideDistance(fm_floorStick, mu, &decel);
@@ -378,7 +379,7 @@ TEST(rayleigh_damping_dissipates)
 		fmDestroyWorld(world);
 	}
 	printf("  energy kept after 1/8 s: none %.3f, alpha = 2/s %.3f, beta = 0.01 s %.3f\n", ends[0],
-		   ends[1], ends[2]);
+	       ends[1], ends[2]);
 	CHECK(ends[1] < 0.9 * ends[0]);
 	CHECK(ends[2] < 0.9 * ends[0]);
 }
@@ -417,7 +418,7 @@ TEST(rollers_hold_one_axis_and_free_the_others)
 	{
 		fmWorldId world;
 		fmBodyId body = fmTestMakeBox(&world, 2, 1, 2, fmMakeVec3(0.4, 0.1, 0.4),
-									  fmMakeMaterial(fm_corotated, 1e5, 0.3), fm_fem);
+		                              fmMakeMaterial(fm_corotated, 1e5, 0.3), fm_fem);
 		CHECK(fmBody_IsValid(body));
 		if (!fmBody_IsValid(body))
 			return;
@@ -446,9 +447,10 @@ TEST(rollers_hold_one_axis_and_free_the_others)
 			else
 				sag = fmax(sag, rest[3 * i + 1] - x[3 * i + 1]);
 		}
-		printf("  %s: the roller face slid %.4f m along x (0.1 m for a rigid block), the top sagged "
-			   "%.2e m\n",
-			   integrator == 0 ? "explicit" : "implicit", slide, sag);
+		printf(
+		    "  %s: the roller face slid %.4f m along x (0.1 m for a rigid block), the top sagged "
+		    "%.2e m\n",
+		    integrator == 0 ? "explicit" : "implicit", slide, sag);
 		CHECK_NEAR(slide, 0.1, 0.02);
 		CHECK(sag > 0.0);
 		free(rest);

@@ -46,12 +46,13 @@ TEST(cantilever_converges_to_euler_bernoulli)
 	{
 		int k = levels[level];
 		fmWorldId world;
-		fmBodyId body = makeBeam(&world, 10 * k, k, k, fmMakeVec3(L, h, h),
-								 fmMakeMaterial(fm_linear, E, 0.0));
+		fmBodyId body =
+		    makeBeam(&world, 10 * k, k, k, fmMakeVec3(L, h, h), fmMakeMaterial(fm_linear, E, 0.0));
 		CHECK(fmBody_IsValid(body));
 		if (!fmBody_IsValid(body))
 			return;
-		CHECK_INT(fmBody_PinBox(body, fmMakeVec3(-1, -1, -1), fmMakeVec3(1e-9, 1, 1)), (k + 1) * (k + 1));
+		CHECK_INT(fmBody_PinBox(body, fmMakeVec3(-1, -1, -1), fmMakeVec3(1e-9, 1, 1)),
+		          (k + 1) * (k + 1));
 		int n = fmBody_GetVertexCount(body);
 		double* rest = malloc(sizeof(double) * 3 * (size_t)n);
 		memcpy(rest, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
@@ -63,8 +64,9 @@ TEST(cantilever_converges_to_euler_bernoulli)
 		double delta = -tipDeflection(body, rest, L);
 		errors[level] = fabs(delta - exact) / exact;
 		printf("  %2dx%dx%d cubes (%5d tets): tip deflection %.6e m, Euler-Bernoulli %.6e m, "
-			   "error %.2f%%, residual %.2g\n",
-			   10 * k, k, k, fmBody_GetTetCount(body), delta, exact, 100.0 * errors[level], residual);
+		       "error %.2f%%, residual %.2g\n",
+		       10 * k, k, k, fmBody_GetTetCount(body), delta, exact, 100.0 * errors[level],
+		       residual);
 		free(rest);
 		fmDestroyWorld(world);
 	}
@@ -81,7 +83,7 @@ static void patchTest(fmMaterialModel model, int* failures_)
 {
 	fmWorldId world;
 	fmBodyId body = fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1),
-								  fmMakeMaterial(model, 1e6, 0.3), fm_fem);
+	                              fmMakeMaterial(model, 1e6, 0.3), fm_fem);
 	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
@@ -121,7 +123,7 @@ static void patchTest(fmMaterialModel model, int* failures_)
 	for (int k = 0; k < 3 * n; ++k)
 		worst = fmax(worst, fabs(x[k] - target[k]));
 	printf("  %-10s: residual %.2g, largest distance from the affine map %.2e m\n",
-		   fmMaterialModelName(model), residual, worst);
+	       fmMaterialModelName(model), residual, worst);
 	CHECK(residual <= 1e-12);
 	CHECK(worst < 1e-11);
 	free(rest);
@@ -147,7 +149,7 @@ TEST(nonlinear_cantilever_balances_gravity)
 {
 	fmWorldId world;
 	fmBodyId body = makeBeam(&world, 8, 2, 2, fmMakeVec3(1.0, 0.1, 0.1),
-							 fmMakeMaterial(fm_neoHookean, 2e5, 0.3));
+	                         fmMakeMaterial(fm_neoHookean, 2e5, 0.3));
 	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
@@ -170,11 +172,12 @@ TEST(nonlinear_cantilever_balances_gravity)
 		if (fmBody_IsPinned(body, i))
 			continue;
 		f[3 * i + 1] -= m[i] * 9.8;
-		unbalanced += f[3 * i] * f[3 * i] + f[3 * i + 1] * f[3 * i + 1] + f[3 * i + 2] * f[3 * i + 2];
+		unbalanced +=
+		    f[3 * i] * f[3 * i] + f[3 * i + 1] * f[3 * i + 1] + f[3 * i + 2] * f[3 * i + 2];
 		weight += m[i] * m[i] * 9.8 * 9.8;
 	}
 	printf("  tip drop %.4f m of a 1 m beam, residual %.2g, independent |f + m g| / |m g| = %.2g\n",
-		   drop, residual, sqrt(unbalanced / weight));
+	       drop, residual, sqrt(unbalanced / weight));
 	CHECK(drop > 0.1); // large deflection: the nonlinear regime
 	CHECK(sqrt(unbalanced / weight) < 1e-8);
 	for (int i = 0; i < n; ++i)
@@ -188,7 +191,8 @@ TEST(nonlinear_cantilever_balances_gravity)
 TEST(unpinned_body_under_gravity_is_rejected)
 {
 	fmWorldId world;
-	fmBodyId body = makeBeam(&world, 2, 1, 1, fmMakeVec3(1, 0.5, 0.5), fmMakeMaterial(fm_linear, 1e6, 0.3));
+	fmBodyId body =
+	    makeBeam(&world, 2, 1, 1, fmMakeVec3(1, 0.5, 0.5), fmMakeMaterial(fm_linear, 1e6, 0.3));
 	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
@@ -205,7 +209,7 @@ TEST(not_converged_is_reported_and_state_kept)
 {
 	fmWorldId world;
 	fmBodyId body = makeBeam(&world, 6, 1, 1, fmMakeVec3(1.0, 0.1, 0.1),
-							 fmMakeMaterial(fm_neoHookean, 1e5, 0.3));
+	                         fmMakeMaterial(fm_neoHookean, 1e5, 0.3));
 	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
@@ -233,8 +237,8 @@ static void rollerCompression(fmMaterialModel model, int* failures_)
 {
 	const double eps = 0.02, nu = 0.3;
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1),
-								  fmMakeMaterial(model, 1e6, nu), fm_fem);
+	fmBodyId body =
+	    fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1), fmMakeMaterial(model, 1e6, nu), fm_fem);
 	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
@@ -274,8 +278,8 @@ static void rollerCompression(fmMaterialModel model, int* failures_)
 		worst = fmax(worst, fabs(p[3 * i + 2] - a * rest[3 * i + 2]));
 	}
 	printf("  %-10s: lateral stretch %.9f (linear theory %.9f), residual %.2g, largest distance "
-		   "from the homogeneous map %.2e m\n",
-		   fmMaterialModelName(model), a, 1.0 + nu * eps, residual, worst);
+	       "from the homogeneous map %.2e m\n",
+	       fmMaterialModelName(model), a, 1.0 + nu * eps, residual, worst);
 	CHECK(residual <= 1e-12);
 	CHECK(worst < 1e-11);
 	if (model == fm_linear)
@@ -303,8 +307,9 @@ TEST(every_force_model_reaches_equilibrium)
 	for (int model = 0; model < 3; ++model)
 	{
 		fmWorldId world;
-		fmBodyId body = fmTestMakeBox(&world, 8, 2, 2, fmMakeVec3(1.0, 0.1, 0.1),
-									  fmMakeMaterial(fm_neoHookean, 1e6, 0.25), (fmForceModel)model);
+		fmBodyId body =
+		    fmTestMakeBox(&world, 8, 2, 2, fmMakeVec3(1.0, 0.1, 0.1),
+		                  fmMakeMaterial(fm_neoHookean, 1e6, 0.25), (fmForceModel)model);
 		CHECK(fmBody_IsValid(body));
 		if (!fmBody_IsValid(body))
 			return;
@@ -318,7 +323,7 @@ TEST(every_force_model_reaches_equilibrium)
 			printf("  %s\n", diag.message);
 		tips[model] = fmBody_GetStats(body).centerOfMass.y - 0.05;
 		printf("  %-11s: centre of mass dropped %.6f m, residual %.2g\n",
-			   fmForceModelName((fmForceModel)model), -tips[model], residual);
+		       fmForceModelName((fmForceModel)model), -tips[model], residual);
 		fmDestroyWorld(world);
 	}
 	CHECK_REL(tips[1], tips[0], 1e-6, 0.0);
