@@ -526,30 +526,6 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 
 // ---- the implicit step -----------------------------------------------------------------------
 
-// The seeds' Laplacian velocity smoothing (GAMES103 Smooth_V), as in the explicit step.
-static void fmSmoothVelocities(fmBody* b, double* sum)
-{
-	memset(sum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	for (int t = 0; t < b->tetCount; ++t)
-	{
-		const int* n = b->tets + 4 * t;
-		fmVec3 s = fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
-		                 fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
-		for (int a = 0; a < 4; ++a)
-			fmStore(sum, n[a], fmAdd(fmLoad(sum, n[a]), s));
-	}
-	for (int i = 0; i < b->vertexCount; ++i)
-	{
-		if (b->pinned[i] == FM_PIN_ALL)
-			continue;
-		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(sum, i));
-		fmStore(
-		    b->v, i,
-		    fmAdd(fmScale(1.0 - b->smoothing, fmLoad(b->v, i)), fmScale(b->smoothing, average)));
-		fmZeroPinnedAxes(b, i, b->v + 3 * i);
-	}
-}
-
 // Floor response on velocities after the solve, for vertices resting on the floor. The solve
 // already stopped them at the floor (perfectly inelastic positions); here the approach velocity
 // is removed (or reflected by the restitution), and friction acts on the tangential velocity:
@@ -670,10 +646,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	for (int k = 0; k < n3; ++k)
-		b->v[k] =
-		    (b->pinned[k / 3] & (1u << (k % 3))) ? 0.0 : (b->x[k] - c->xStart[k]) / h * b->damping;
-	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, c->temp);
+		b->v[k] = (b->pinned[k / 3] & (1u << (k % 3))) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
+	fmFilterVelocities(b, h);
 
 	// 4. Floor: restitution and friction on the velocities of vertices on it.
 	if (floor)

@@ -12,6 +12,10 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* body, double dt);
 // backtracking line search; pins exact, floor as constraints (implicit.c).
 fmResult fmImplicitStep(const fmWorld* world, fmBody* body, double dt, fmStepStats* stats);
 
+// The seeds' velocity damping factor and Laplacian smoothing, scaled from their 3 ms step to dt
+// so that damping per second does not depend on the step (velocity_filter.c).
+void fmFilterVelocities(fmBody* body, double dt);
+
 // Floor response for explicit integration: positions projected to the plane, velocities by the
 // floor's friction mode (contact.c). Returns the number of vertices in contact.
 int fmApplyFloor(const fmFloorDef* floor, fmBody* body, double dt);

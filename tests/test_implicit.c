@@ -235,7 +235,9 @@ TEST(solver_variants_agree)
 // The seeds' bouncy house at dt = 1/60 s, one implicit step a frame, for every material model
 // and three decades of stiffness: it falls, lands, never goes below the floor, never produces a
 // NaN, and settles: stiff houses stop within the second; the softest (the seeds' stiffness) is
-// a real bouncy house that keeps bouncing for seconds, but loses most of its energy.
+// a real bouncy house that wobbles for seconds: within 5 s it has lost 99.95% of its peak
+// kinetic energy (the seeds' damping and smoothing are rates, the same per second at 1/60 s as
+// at 3 ms: velocity_filter.c).
 TEST(bouncy_house_at_one_sixtieth_every_material)
 {
 	const fmMaterialModel models[5] = {fm_linear, fm_corotated, fm_stvk, fm_neoHookean,
@@ -255,7 +257,8 @@ TEST(bouncy_house_at_one_sixtieth_every_material)
 				return;
 			double lowest = INFINITY, peakKinetic = 0.0, worstResidual = 0.0;
 			int newton = 0, failures = 0;
-			const int frames = 60;
+			// The soft house (the seeds' stiffness) wobbles longer: give it 5 s.
+			const int frames = stiffness[e] >= 1e6 ? 60 : 300;
 			for (int frame = 0; frame < frames; ++frame)
 			{
 				failures += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
@@ -276,7 +279,7 @@ TEST(bouncy_house_at_one_sixtieth_every_material)
 			CHECK(lowest >= -3.0); // exact: the solver projects onto the floor
 			if (stiffness[e] >= 1e6)
 				CHECK_NEAR(end.lowestY, -3.0, 1e-9); // it rests on the floor
-			CHECK(end.kineticEnergy < (stiffness[e] >= 1e6 ? 1e-3 : 0.4 * peakKinetic));
+			CHECK(end.kineticEnergy < (stiffness[e] >= 1e6 ? 1e-3 : 5e-4 * peakKinetic));
 			CHECK(worstResidual <= 1e-5);
 			fmDestroyWorld(world);
 		}

@@ -183,8 +183,9 @@ typedef struct fmBodyDef
 	fmMassMode massMode;		  ///< default fm_massPerParticle (the seeds)
 	double density;				  ///< kg/m^3, > 0, for fm_massFromDensity (default 1000)
 	double particleMass;		  ///< kg, > 0, for fm_massPerParticle (default 1)
-	double damping;				  ///< velocity factor per step, in (0, 1]; 1 = none (default 0.999)
-	double smoothing;			  ///< Laplacian velocity blend per step, in [0, 1] (default 0.1)
+	double damping;	   ///< velocity factor per 3 ms (the seeds' step; other steps get the same
+					   ///< rate per second), in (0, 1]; 1 = none (default 0.999)
+	double smoothing;  ///< Laplacian velocity blend per 3 ms, in [0, 1] (default 0.1)
 	double rayleighMass;		  ///< Rayleigh alpha, 1/s, >= 0 (default 0)
 	double rayleighStiffness;	  ///< Rayleigh beta, s, >= 0 (default 0)
 	double springDamping;		  ///< mass-spring: damping ratio of each spring, >= 0 (default 0.1)
