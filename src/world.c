@@ -155,6 +155,17 @@ void fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity)
 		w->def.gravity = gravity;
 }
 
+void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	FM_ASSERT(integrator == fm_explicit || integrator == fm_implicit);
+	if (w && (integrator == fm_explicit || integrator == fm_implicit))
+	{
+		w->def.integrator = integrator;
+		w->warnedStep = false;
+	}
+}
+
 void fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);

@@ -49,6 +49,10 @@ FM_API void fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity);
 /// Change the floor.
 FM_API void fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor);
 
+/// Switch the integrator between frames (e.g. a game going from a cutscene to gameplay).
+/// Positions and velocities carry over; the implicit solver's caches are rebuilt as needed.
+FM_API void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator);
+
 /// Estimated largest stable explicit step (s) for the bodies in the world (CFL-like bound from
 /// the smallest tet, its stiffness and mass). Returns 0 for an empty world.
 FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
