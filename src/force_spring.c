@@ -104,6 +104,18 @@ double fmAddSpringForces(const fmBody* body, const double* x, double* f)
 
 // Critical damping of a spring between masses ma and mb is 2 sqrt(k m_eff), m_eff the reduced
 // mass; springDamping is the fraction of it. Pinned ends have infinite mass.
+double fmSpringDashpot(const fmBody* body, const double* x, int e, fmVec3* direction)
+{
+	int a = body->edges[2 * e], b = body->edges[2 * e + 1];
+	double invSum = body->invMass[a] + body->invMass[b];
+	fmVec3 d = fmSub(fmLoad(x, b), fmLoad(x, a));
+	double length = fmLength(d);
+	if (invSum <= 0.0 || length <= 0.0)
+		return 0.0;
+	*direction = fmScale(1.0 / length, d);
+	return 2.0 * body->springDamping * sqrt(body->springK[e] / invSum);
+}
+
 void fmAddSpringDamping(const fmBody* body, const double* x, const double* v, double* f)
 {
 	if (body->springDamping <= 0.0)
@@ -111,13 +123,10 @@ void fmAddSpringDamping(const fmBody* body, const double* x, const double* v, do
 	for (int e = 0; e < body->edgeCount; ++e)
 	{
 		int a = body->edges[2 * e], b = body->edges[2 * e + 1];
-		double invSum = body->invMass[a] + body->invMass[b];
-		fmVec3 d = fmSub(fmLoad(x, b), fmLoad(x, a));
-		double length = fmLength(d);
-		if (invSum <= 0.0 || length <= 0.0)
+		fmVec3 n;
+		double c = fmSpringDashpot(body, x, e, &n);
+		if (c <= 0.0)
 			continue;
-		fmVec3 n = fmScale(1.0 / length, d);
-		double c = 2.0 * body->springDamping * sqrt(body->springK[e] / invSum);
 		double rate = fmDot(fmSub(fmLoad(v, b), fmLoad(v, a)), n);
 		fmVec3 fb = fmScale(-c * rate, n);
 		fmStore(f, b, fmAdd(fmLoad(f, b), fb));

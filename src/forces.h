@@ -27,6 +27,8 @@ double fmAddFvmForces(const fmBody* body, const double* x, double* f);
 
 // Mass-spring forces (force_spring.c): add into f, return energy. Builds nothing.
 double fmAddSpringForces(const fmBody* body, const double* x, double* f);
+// Dashpot coefficient of spring e (N s/m) and its unit direction at x; 0 if it has none.
+double fmSpringDashpot(const fmBody* body, const double* x, int e, fmVec3* direction);
 // Mass-spring damping forces on relative edge velocities: add into f.
 void fmAddSpringDamping(const fmBody* body, const double* x, const double* v, double* f);
 // Mass-spring edge Hessian (6x6, PSD-projected if @p project) of edge e.

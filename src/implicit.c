@@ -162,14 +162,11 @@ static void fmAddSpringDampingMatrix(const fmBody* b, const fmImplicitCache* c, 
 {
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
-		int p = b->edges[2 * e], q = b->edges[2 * e + 1];
-		double invSum = b->invMass[p] + b->invMass[q];
-		fmVec3 d = fmSub(fmLoad(x, q), fmLoad(x, p));
-		double length = fmLength(d);
-		if (invSum <= 0.0 || length <= 0.0)
+		fmVec3 direction;
+		double coefficient = fmSpringDashpot(b, x, e, &direction);
+		if (coefficient <= 0.0)
 			continue;
-		double coefficient = 2.0 * b->springDamping * sqrt(b->springK[e] / invSum);
-		const double n[3] = {d.x / length, d.y / length, d.z / length};
+		const double n[3] = {direction.x, direction.y, direction.z};
 		for (int k = 0; k < 4; ++k)
 		{
 			double sign = (k == 1 || k == 2) ? -1.0 : 1.0;
