@@ -402,7 +402,8 @@ static void fmInfoAddTet(fmMeshInfo* info, const fmTetQuality* q, bool first)
 	bool inverted = !degenerate && q->sixVolume < 0.0;
 	info->degenerateTets += degenerate;
 	info->invertedTets += inverted;
-	info->badTets += degenerate || inverted || minDeg < 5.0;
+	// Winding is not quality: the loader's Orient fixes it, so an inverted tet is not bad.
+	info->badTets += degenerate || minDeg < 5.0;
 }
 
 // Unreferenced nodes and bounds; false when out of memory.

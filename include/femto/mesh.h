@@ -100,7 +100,7 @@ typedef struct fmMeshInfo
 	double minQuality;		  ///< smallest radius ratio 3 r_in / r_circ in [0, 1]
 	int invertedTets;		  ///< tets with negative volume
 	int degenerateTets;		  ///< tets with (near) zero volume
-	int badTets;			  ///< tets with min dihedral below 5 degrees or inverted/degenerate
+	int badTets;			  ///< degenerate tets and slivers (a dihedral angle below 5 degrees)
 	fmVec3 boundsMin;		  ///< m
 	fmVec3 boundsMax;		  ///< m
 } fmMeshInfo;
