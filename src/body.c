@@ -194,7 +194,10 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
 	if (r == fm_ok)
+	{
 		b->explicitLimit = fmBodyExplicitStepLimit(b);
+		b->energyStale = true;
+	}
 	fmFreeTetMesh(&mesh);
 	return r;
 }
@@ -407,6 +410,7 @@ fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagn
 		b->springK[e] *= ratio;
 	b->material = *material;
 	b->explicitLimit = fmBodyExplicitStepLimit(b);
+	b->energyStale = true;
 	return fm_ok;
 }
 

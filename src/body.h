@@ -47,6 +47,7 @@ typedef struct fmBody
 	double* xGood;
 	double* vGood;
 	double energyGood; // kinetic + elastic energy of the good state (runaway check)
+	bool energyStale;  // energyGood must be recomputed (new body, new material)
 
 	fmMaterial material;
 	fmForceModel forceModel;

@@ -253,7 +253,8 @@ static double fmBodyEnergy(const fmBody* b)
 }
 
 // Why a body went bad: non-finite state, or energy far beyond what the frame could add.
-static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double frameTime)
+static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double frameTime,
+							double* energyAfter)
 {
 	const fmBody* b = &w->bodies[index];
 	int badVertex = -1;
@@ -261,6 +262,7 @@ static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double f
 		if (!isfinite(b->x[k]) || !isfinite(b->v[k]))
 			badVertex = k / 3;
 	double energy = badVertex < 0 ? fmBodyEnergy(b) : NAN;
+	*energyAfter = energy;
 	// Gravity can add at most M |g| (fall height) + M |g|^2 T^2 in a frame; a stable elastic
 	// body does not multiply its energy by 1000 on top of that.
 	double g = fmLength(w->def.gravity);
@@ -316,6 +318,7 @@ static void fmRestoreAll(fmWorld* w)
 		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 		memcpy(b->x, b->xGood, bytes);
 		memcpy(b->v, b->vGood, bytes);
+		b->energyStale = true; // energyGood may belong to a state the caller had set
 	}
 }
 
@@ -356,9 +359,16 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	// Stage 1: the energy before the frame bounds what the frame may produce. The state to fall
 	// back on (xGood, vGood) is the last one that passed the checks, kept from the previous
 	// frame: a state the user set to NaN or Inf between steps is not "good".
+	// The energy of the good state is kept from the last check: recompute it only when the
+	// caller changed the state or the material since (an elastic energy pass saved per frame).
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
-			w->bodies[i].energyGood = fmBodyEnergy(&w->bodies[i]);
+	{
+		fmBody* b = &w->bodies[i];
+		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+		if (b->x && (b->energyStale || memcmp(b->x, b->xGood, bytes) != 0 ||
+					 memcmp(b->v, b->vGood, bytes) != 0))
+			b->energyGood = fmBodyEnergy(b);
+	}
 	const double dt = timeStep / subStepCount;
 	fmWarnExplicitStep(w, timeStep, subStepCount);
 
@@ -394,7 +404,8 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		fmBody* b = &w->bodies[i];
 		if (b->x == NULL)
 			continue;
-		if (fmCheckBody(w, i, b->energyGood, timeStep) != fm_ok)
+		double energy;
+		if (fmCheckBody(w, i, b->energyGood, timeStep, &energy) != fm_ok)
 		{
 			fmRestoreAll(w);
 			return fm_errNumerical;
@@ -402,6 +413,8 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 		memcpy(b->xGood, b->x, bytes);
 		memcpy(b->vGood, b->v, bytes);
+		b->energyGood = energy;
+		b->energyStale = false;
 		w->stats.invertedTets += fmBodyCountInverted(b);
 		if (w->def.floor.enabled)
 			for (int k = 0; k < b->vertexCount; ++k)
