@@ -153,12 +153,24 @@ static double fmLinear_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P,
 // St. Venant-Kirchhoff, the seeds' model: G = (F^T F - I)/2, S = 2 mu G + lambda tr(G) I,
 // P = F S, psi = mu G:G + lambda/2 tr(G)^2. Differentiating P = F S:
 // dP_ij/dF_kl = d_ik S_lj + mu (F_il F_kj + (F F^T)_ik d_jl) + lambda F_ij F_kl.
+// Green strain G = (F^T F - I) / 2, written out: it is symmetric, so 6 entries, not 9. This is
+// the explicit solver's inner loop (one call per tet per step).
+static fmMat3 fmGreenStrain(const fmMat3* F)
+{
+	const double* f = F->m;
+	double g00 = 0.5 * (f[0] * f[0] + f[3] * f[3] + f[6] * f[6] - 1.0);
+	double g11 = 0.5 * (f[1] * f[1] + f[4] * f[4] + f[7] * f[7] - 1.0);
+	double g22 = 0.5 * (f[2] * f[2] + f[5] * f[5] + f[8] * f[8] - 1.0);
+	double g01 = 0.5 * (f[0] * f[1] + f[3] * f[4] + f[6] * f[7]);
+	double g02 = 0.5 * (f[0] * f[2] + f[3] * f[5] + f[6] * f[8]);
+	double g12 = 0.5 * (f[1] * f[2] + f[4] * f[5] + f[7] * f[8]);
+	fmMat3 G = {{g00, g01, g02, g01, g11, g12, g02, g12, g22}};
+	return G;
+}
+
 static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
 {
-	fmMat3 G = fmMatTMul(F, F);
-	for (int i = 0; i < 3; ++i)
-		G.m[4 * i] -= 1.0;
-	G = fmMatScale(0.5, &G);
+	fmMat3 G = fmGreenStrain(F);
 	double tr = fmTrace(&G);
 	fmMat3 S = fmMatScale(2.0 * m->mu, &G);
 	for (int i = 0; i < 3; ++i)
