@@ -1,6 +1,9 @@
 #include "support.h"
+#include "test.h"
 
 #include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
 
 fmWorldDef fmTestFreeWorldDef(void)
 {
@@ -52,4 +55,70 @@ fmBodyId fmTestMakeBox(fmWorldId* world, int nx, int ny, int nz, fmVec3 size, fm
 	fmResult r = fmCreateBody(*world, &bdef, &body, NULL);
 	fmFreeTetMesh(&mesh);
 	return r == fm_ok ? body : none;
+}
+
+fmMat3 fmTestRandomRotation(void)
+{
+	double q[4], n;
+	do
+	{
+		n = 0.0;
+		for (int k = 0; k < 4; ++k)
+		{
+			q[k] = fmTestRandom(-1, 1);
+			n += q[k] * q[k];
+		}
+	} while (n < 1e-3 || n > 1.0);
+	n = sqrt(n);
+	double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
+	fmMat3 R = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+				 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+				 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+	return R;
+}
+
+static double fmTestEnergyAt(fmBodyId body, const double* x, double* work)
+{
+	fmBody_SetPositions(body, x);
+	return fmBody_ComputeElasticForces(body, work);
+}
+
+void fmTestCheckForcesAreMinusGradient(int* failures_, fmBodyId body, int stride, double tolerance)
+{
+	int n3 = 3 * fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * (size_t)n3);
+	double* f = malloc(sizeof(double) * (size_t)n3);
+	double* work = malloc(sizeof(double) * (size_t)n3);
+	memcpy(x, fmBody_GetPositions(body), sizeof(double) * (size_t)n3);
+	fmBody_ComputeElasticForces(body, f);
+	double scale = 0.0;
+	for (int k = 0; k < n3; ++k)
+		scale = fmax(scale, fabs(f[k]));
+	CHECK(scale > 0.0);
+	const double h = 1e-6;
+	for (int k = 0; k < n3; k += stride)
+	{
+		double saved = x[k];
+		x[k] = saved + h;
+		double ep = fmTestEnergyAt(body, x, work);
+		x[k] = saved - h;
+		double em = fmTestEnergyAt(body, x, work);
+		x[k] = saved;
+		CHECK_NEAR(f[k], -(ep - em) / (2 * h), tolerance * scale);
+	}
+	fmBody_SetPositions(body, x);
+	free(x);
+	free(f);
+	free(work);
+}
+
+void fmTestPerturb(fmBodyId body, double amplitude)
+{
+	int n3 = 3 * fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * (size_t)n3);
+	memcpy(x, fmBody_GetPositions(body), sizeof(double) * (size_t)n3);
+	for (int k = 0; k < n3; ++k)
+		x[k] += fmTestRandom(-amplitude, amplitude);
+	fmBody_SetPositions(body, x);
+	free(x);
 }

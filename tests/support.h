@@ -13,3 +13,14 @@ fmBodyId fmTestMakeBox(fmWorldId* world, int nx, int ny, int nz, fmVec3 size, fm
 
 // A world def with no gravity, no floor.
 fmWorldDef fmTestFreeWorldDef(void);
+
+// A uniformly distributed random rotation (from a random unit quaternion, by rejection).
+fmMat3 fmTestRandomRotation(void);
+
+// Check the body's elastic forces at its current positions against minus the central finite
+// difference (step 1e-6) of its elastic energy, every @p stride-th coordinate, within
+// @p tolerance times the largest force. Restores the positions. Counts failures like CHECK.
+void fmTestCheckForcesAreMinusGradient(int* failures_, fmBodyId body, int stride, double tolerance);
+
+// Move every vertex by uniform noise in [-amplitude, amplitude) per coordinate.
+void fmTestPerturb(fmBodyId body, double amplitude);

@@ -12,24 +12,6 @@ static const fmMaterialModel s_models[] = {fm_stvk, fm_corotated, fm_neoHookean,
 
 static fmMaterial testMaterial(fmMaterialModel model) { return fmMakeMaterial(model, 1e5, 0.3); }
 
-// Random deformation: x = X + amplitude * noise.
-static void perturb(fmBodyId body, double amplitude)
-{
-	int n = fmBody_GetVertexCount(body);
-	double* x = malloc(sizeof(double) * 3 * (size_t)n);
-	memcpy(x, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
-	for (int k = 0; k < 3 * n; ++k)
-		x[k] += fmTestRandom(-amplitude, amplitude);
-	fmBody_SetPositions(body, x);
-	free(x);
-}
-
-static double energyAt(fmBodyId body, const double* x, double* work)
-{
-	fmBody_SetPositions(body, x);
-	return fmBody_ComputeElasticForces(body, work);
-}
-
 TEST(forces_are_minus_energy_gradient)
 {
 	for (int m = 0; m < MODEL_COUNT; ++m)
@@ -39,31 +21,8 @@ TEST(forces_are_minus_energy_gradient)
 		CHECK(fmBody_IsValid(body));
 		if (!fmBody_IsValid(body))
 			return;
-		perturb(body, 0.08);
-		int n = fmBody_GetVertexCount(body);
-		double* x = malloc(sizeof(double) * 3 * (size_t)n);
-		double* f = malloc(sizeof(double) * 3 * (size_t)n);
-		double* work = malloc(sizeof(double) * 3 * (size_t)n);
-		memcpy(x, fmBody_GetPositions(body), sizeof(double) * 3 * (size_t)n);
-		fmBody_ComputeElasticForces(body, f);
-		double fmaxAbs = 0.0;
-		for (int k = 0; k < 3 * n; ++k)
-			fmaxAbs = fmax(fmaxAbs, fabs(f[k]));
-		const double h = 1e-6;
-		for (int k = 0; k < 3 * n; k += 5)
-		{
-			double saved = x[k];
-			x[k] = saved + h;
-			double ep = energyAt(body, x, work);
-			x[k] = saved - h;
-			double em = energyAt(body, x, work);
-			x[k] = saved;
-			double fd = -(ep - em) / (2 * h);
-			CHECK_NEAR(f[k], fd, 1e-5 * fmaxAbs);
-		}
-		free(x);
-		free(f);
-		free(work);
+		fmTestPerturb(body, 0.08);
+		fmTestCheckForcesAreMinusGradient(failures_, body, 5, 1e-5);
 		fmDestroyWorld(world);
 	}
 }
@@ -125,7 +84,7 @@ TEST(internal_forces_balance_and_have_no_torque)
 			CHECK(0);
 			return;
 		}
-		perturb(body, 0.1);
+		fmTestPerturb(body, 0.1);
 		int n = fmBody_GetVertexCount(body);
 		double* f = malloc(sizeof(double) * 3 * (size_t)n);
 		fmBody_ComputeElasticForces(body, f);
@@ -205,7 +164,7 @@ TEST(hessian_matches_force_differences)
 			CHECK(0);
 			return;
 		}
-		perturb(id, 0.05);
+		fmTestPerturb(id, 0.05);
 		const fmBody* body = fmGetBody(id);
 		int n = body->vertexCount;
 		size_t bytes = sizeof(double) * 3 * (size_t)n;
@@ -257,7 +216,7 @@ TEST(stvk_matches_the_seed_formula)
 		CHECK(0);
 		return;
 	}
-	perturb(id, 0.2);
+	fmTestPerturb(id, 0.2);
 	const fmBody* b = fmGetBody(id);
 	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 	double *f = calloc(1, bytes), *seed = calloc(1, bytes);

@@ -22,16 +22,6 @@ static double* copyPositions(fmBodyId body)
 	return x;
 }
 
-// x = X + amplitude * noise, applied to the body.
-static void perturb(fmBodyId body, double amplitude)
-{
-	double* x = copyPositions(body);
-	for (int k = 0; k < 3 * fmBody_GetVertexCount(body); ++k)
-		x[k] += fmTestRandom(-amplitude, amplitude);
-	fmBody_SetPositions(body, x);
-	free(x);
-}
-
 static double maxAbs(const double* a, int n)
 {
 	double m = 0.0;
@@ -50,7 +40,7 @@ TEST(fvm_matches_fem_to_roundoff)
 		fmBodyId fvm = fmTestMakeBox(&w2, 3, 2, 2, fmMakeVec3(1.5, 1, 1), material, fm_fvm);
 		CHECK(fmBody_IsValid(fem) && fmBody_IsValid(fvm));
 		fmTestSeed(7 + (unsigned)m);
-		perturb(fem, 0.1);
+		fmTestPerturb(fem, 0.1);
 		fmBody_SetPositions(fvm, fmBody_GetPositions(fem));
 		int n3 = 3 * fmBody_GetVertexCount(fem);
 		double* f1 = calloc((size_t)n3, sizeof(double));
@@ -76,29 +66,8 @@ TEST(spring_forces_are_minus_energy_gradient)
 								  fmMakeMaterial(fm_stvk, 1e4, 0.25), fm_massSpring);
 	CHECK(fmBody_IsValid(body));
 	fmTestSeed(3);
-	perturb(body, 0.1);
-	int n3 = 3 * fmBody_GetVertexCount(body);
-	double* x = copyPositions(body);
-	double* f = calloc((size_t)n3, sizeof(double));
-	double* work = calloc((size_t)n3, sizeof(double));
-	fmBody_ComputeElasticForces(body, f);
-	double scale = maxAbs(f, n3);
-	const double h = 1e-6;
-	for (int k = 0; k < n3; ++k)
-	{
-		double saved = x[k];
-		x[k] = saved + h;
-		fmBody_SetPositions(body, x);
-		double ep = fmBody_ComputeElasticForces(body, work);
-		x[k] = saved - h;
-		fmBody_SetPositions(body, x);
-		double em = fmBody_ComputeElasticForces(body, work);
-		x[k] = saved;
-		CHECK_NEAR(f[k], -(ep - em) / (2 * h), 1e-6 * scale);
-	}
-	free(x);
-	free(f);
-	free(work);
+	fmTestPerturb(body, 0.1);
+	fmTestCheckForcesAreMinusGradient(failures_, body, 1, 1e-6);
 	fmDestroyWorld(world);
 }
 
@@ -108,7 +77,7 @@ TEST(spring_hessian_matches_force_differences)
 	fmBodyId id = fmTestMakeBox(&world, 1, 2, 1, fmMakeVec3(1, 1, 1),
 								fmMakeMaterial(fm_stvk, 1e4, 0.25), fm_massSpring);
 	fmTestSeed(5);
-	perturb(id, 0.15);
+	fmTestPerturb(id, 0.15);
 	const fmBody* body = fmGetBody(id);
 	int n3 = 3 * body->vertexCount;
 	double* dx = calloc((size_t)n3, sizeof(double));

@@ -5,36 +5,17 @@
 #include "material.h"
 #include "material_models.h"
 #include "svd3.h"
+#include "support.h"
 #include "test.h"
 
 #include <string.h>
 
 // ---- helpers -----------------------------------------------------------------------------------
 
-static fmMat3 randomRotation(void)
-{
-	double q[4], n;
-	do
-	{
-		n = 0.0;
-		for (int k = 0; k < 4; ++k)
-		{
-			q[k] = fmTestRandom(-1, 1);
-			n += q[k] * q[k];
-		}
-	} while (n < 1e-3 || n > 1.0);
-	n = sqrt(n);
-	double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
-	fmMat3 R = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-	             2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-	             2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
-	return R;
-}
-
 // R1 diag(a, b, c) R2 with random rotations.
 static fmMat3 withStretches(double a, double b, double c)
 {
-	fmMat3 R1 = randomRotation(), R2 = randomRotation();
+	fmMat3 R1 = fmTestRandomRotation(), R2 = fmTestRandomRotation();
 	fmMat3 D = {{a, 0, 0, 0, b, 0, 0, 0, c}};
 	fmMat3 T = fmMatMul(&R1, &D);
 	return fmMatMul(&T, &R2);
@@ -244,7 +225,7 @@ TEST(rotation_invariance_and_isotropy)
 			fmMaterial m = testMaterial((fmMaterialModel)model);
 			for (int trial = 0; trial < 10; ++trial)
 			{
-				fmMat3 F = randomF(kind), R = randomRotation(), P, PR;
+				fmMat3 F = randomF(kind), R = fmTestRandomRotation(), P, PR;
 				double psi = fmMaterial_Evaluate(&m, &F, &P, NULL);
 				fmMat3 RF = fmMatMul(&R, &F), FR = fmMatMul(&F, &R);
 				double psiRF = fmMaterial_Evaluate(&m, &RF, &PR, NULL);

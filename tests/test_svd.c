@@ -2,27 +2,8 @@
 // factors, reconstruction, ordering and the inversion sign, on random, repeated, rank-deficient,
 // reflected and extreme-scale matrices.
 #include "svd3.h"
+#include "support.h"
 #include "test.h"
-
-static fmMat3 randomRotation(void)
-{
-	double q[4], n = 0.0;
-	do
-	{
-		n = 0.0;
-		for (int k = 0; k < 4; ++k)
-		{
-			q[k] = fmTestRandom(-1, 1);
-			n += q[k] * q[k];
-		}
-	} while (n < 1e-3 || n > 1.0);
-	n = sqrt(n);
-	double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
-	fmMat3 R = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-	             2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-	             2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
-	return R;
-}
 
 static fmMat3 diag3(double a, double b, double c)
 {
@@ -33,7 +14,7 @@ static fmMat3 diag3(double a, double b, double c)
 // R1 diag(s) R2
 static fmMat3 composeRandom(double a, double b, double c)
 {
-	fmMat3 R1 = randomRotation(), R2 = randomRotation(), D = diag3(a, b, c);
+	fmMat3 R1 = fmTestRandomRotation(), R2 = fmTestRandomRotation(), D = diag3(a, b, c);
 	fmMat3 T = fmMatMul(&R1, &D);
 	return fmMatMul(&T, &R2);
 }
@@ -117,7 +98,7 @@ TEST(singular_values_match_construction)
 
 TEST(special_matrices)
 {
-	fmMat3 R = randomRotation();
+	fmMat3 R = fmTestRandomRotation();
 	fmMat3 cases[] = {
 	    fmIdentity3(),
 	    R,
@@ -210,10 +191,10 @@ TEST(polar_rotation)
 {
 	for (int n = 0; n < 500; ++n)
 	{
-		fmMat3 R0 = randomRotation();
+		fmMat3 R0 = fmTestRandomRotation();
 		fmMat3 S = {
 		    {fmTestRandom(0.5, 2), 0, 0, 0, fmTestRandom(0.5, 2), 0, 0, 0, fmTestRandom(0.5, 2)}};
-		fmMat3 Q = randomRotation();
+		fmMat3 Q = fmTestRandomRotation();
 		// F = R0 (Q S Q^T): its polar rotation is R0.
 		fmMat3 QS = fmMatMul(&Q, &S);
 		fmMat3 Sym = fmMatMulT(&QS, &Q);
@@ -247,7 +228,7 @@ TEST(symmetric_eigen3)
 				A.m[3 * i + j] = A.m[3 * j + i] = fmTestRandom(-3, 3);
 		if (n % 5 == 0) // a repeated eigenvalue: Q diag(2, 2, -1) Q^T
 		{
-			fmMat3 Q = randomRotation(), D = diag3(2, 2, -1);
+			fmMat3 Q = fmTestRandomRotation(), D = diag3(2, 2, -1);
 			fmMat3 QD = fmMatMul(&Q, &D);
 			A = fmMatMulT(&QD, &Q);
 		}
