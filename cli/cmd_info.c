@@ -28,8 +28,7 @@ static void cliPrintMeshInfo(const fmMeshInfo* info)
 		printf("                 (every tet is wound the other way: bodies reorient them, so\n"
 		       "                 this is harmless; swap_yz in a scene flips them back too)\n");
 	printf("degenerate tets  %d\n", info->degenerateTets);
-	printf("bad tets         %d (degenerate, or a dihedral angle < 5 degrees)\n",
-	       info->badTets);
+	printf("bad tets         %d (degenerate, or a dihedral angle < 5 degrees)\n", info->badTets);
 	printf("bounds           [%.6g %.6g %.6g] to [%.6g %.6g %.6g] m\n", info->boundsMin.x,
 	       info->boundsMin.y, info->boundsMin.z, info->boundsMax.x, info->boundsMax.y,
 	       info->boundsMax.z);

@@ -26,8 +26,8 @@ static void fmFuzzMesh(const char* node, size_t nodeSize, const char* ele, size_
 {
 	fmTetMesh mesh;
 	fmDiagnostic diag;
-	if (fmLoadTetGenFromMemory(node, nodeSize, "fuzz.node", ele, eleSize, "fuzz.ele", &mesh, &diag) !=
-		fm_ok)
+	if (fmLoadTetGenFromMemory(node, nodeSize, "fuzz.node", ele, eleSize, "fuzz.ele", &mesh,
+	                           &diag) != fm_ok)
 		return;
 	fmMeshInfo info;
 	fmTetMesh_GetInfo(&mesh, &info);
@@ -44,7 +44,7 @@ void fmFuzzTetGen(const uint8_t* data, size_t size)
 	const char* text = (const char*)data;
 	for (size_t i = 0; i + 3 <= size; ++i)
 		if (text[i] == '%' && text[i + 1] == '%' && text[i + 2] == '\n' &&
-			(i == 0 || text[i - 1] == '\n'))
+		    (i == 0 || text[i - 1] == '\n'))
 		{
 			fmFuzzMesh(text, i, text + i + 3, size - i - 3);
 			return;
@@ -60,7 +60,7 @@ void fmFuzzFace(const uint8_t* data, size_t size)
 		int* triangles = NULL;
 		int count = 0;
 		if (fmLoadTetGenFaceFromMemory((const char*)data, size, "fuzz.face", 100, first, &triangles,
-									   &count, NULL) == fm_ok)
+		                               &count, NULL) == fm_ok)
 			fmFree(triangles);
 	}
 }

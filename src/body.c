@@ -27,46 +27,55 @@ fmBodyDef fmDefaultBodyDef(void)
 	return def;
 }
 
-static bool fmIsFinitePositive(double value) { return isfinite(value) && value > 0.0; }
+static bool fmIsFinitePositive(double value)
+{
+	return isfinite(value) && value > 0.0;
+}
 
 fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "body def not initialised: start from fmDefaultBodyDef()");
+		                   "body def not initialised: start from fmDefaultBodyDef()");
 	if (def->mesh == NULL || def->mesh->nodeCount <= 0 || def->mesh->tetCount <= 0)
-		return fmDiagError(diag, fm_errEmpty, "", 0, 0, "body def has no mesh, or the mesh has no tets");
+		return fmDiagError(diag, fm_errEmpty, "", 0, 0,
+		                   "body def has no mesh, or the mesh has no tets");
 	fmResult r = fmMaterial_Validate(&def->material, diag);
 	if (r != fm_ok)
 		return r;
 	if ((unsigned)def->forceModel >= (unsigned)fm_forceModelCount)
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown force model %d", (int)def->forceModel);
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown force model %d",
+		                   (int)def->forceModel);
 	if (def->massMode == fm_massFromDensity && !fmIsFinitePositive(def->density))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "density must be > 0 kg/m^3 (water is 1000), got %g", def->density);
+		                   "density must be > 0 kg/m^3 (water is 1000), got %g", def->density);
 	if (def->massMode == fm_massPerParticle && !fmIsFinitePositive(def->particleMass))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "particle mass must be > 0 kg (the seeds use 1), got %g", def->particleMass);
+		                   "particle mass must be > 0 kg (the seeds use 1), got %g",
+		                   def->particleMass);
 	if (def->massMode != fm_massFromDensity && def->massMode != fm_massPerParticle)
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown mass mode %d", (int)def->massMode);
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown mass mode %d",
+		                   (int)def->massMode);
 	if (!(def->damping > 0.0 && def->damping <= 1.0))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "damping is a velocity factor per step and must be in (0, 1] (1 = none, the "
-						   "seeds use 0.999), got %g",
-						   def->damping);
+		return fmDiagError(
+		    diag, fm_errParameter, "", 0, 0,
+		    "damping is a velocity factor per step and must be in (0, 1] (1 = none, the "
+		    "seeds use 0.999), got %g",
+		    def->damping);
 	if (!(def->smoothing >= 0.0 && def->smoothing <= 1.0))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "smoothing must be in [0, 1] (0 = none, the seeds use 0.1), got %g",
-						   def->smoothing);
+		                   "smoothing must be in [0, 1] (0 = none, the seeds use 0.1), got %g",
+		                   def->smoothing);
 	if (!(def->rayleighMass >= 0.0 && isfinite(def->rayleighMass)) ||
-		!(def->rayleighStiffness >= 0.0 && isfinite(def->rayleighStiffness)))
+	    !(def->rayleighStiffness >= 0.0 && isfinite(def->rayleighStiffness)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "Rayleigh damping coefficients must be finite and >= 0, got mass %g, "
-						   "stiffness %g",
-						   def->rayleighMass, def->rayleighStiffness);
+		                   "Rayleigh damping coefficients must be finite and >= 0, got mass %g, "
+		                   "stiffness %g",
+		                   def->rayleighMass, def->rayleighStiffness);
 	if (!(def->springDamping >= 0.0 && isfinite(def->springDamping)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "spring damping ratio must be finite and >= 0, got %g", def->springDamping);
+		                   "spring damping ratio must be finite and >= 0, got %g",
+		                   def->springDamping);
 	return fm_ok;
 }
 
@@ -118,12 +127,12 @@ static bool fmBodyAllocate(fmBody* b, int n, int m)
 	b->DmInv = FM_ALLOC_ARRAY(fmMat3, m);
 	b->restVolume = FM_ALLOC_ARRAY(double, m);
 	return b->x && b->v && b->f && b->x0 && b->xGood && b->vGood && b->scratch && b->mass &&
-		   b->invMass && b->smoothWeight && b->pinned && b->tets && b->DmInv && b->restVolume;
+	       b->invMass && b->smoothWeight && b->pinned && b->tets && b->DmInv && b->restVolume;
 }
 
 // Reference edge matrices, volumes, masses and smoothing weights from the oriented mesh.
 static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
-								 fmDiagnostic* diag)
+                                 fmDiagnostic* diag)
 {
 	int* tetsAround = (int*)b->scratch; // reuse as a counter: 3n doubles hold n ints
 	memset(tetsAround, 0, sizeof(int) * (size_t)b->vertexCount);
@@ -131,12 +140,14 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 	{
 		const int* n = b->tets + 4 * t;
 		fmVec3 X0 = fmLoad(b->x0, n[0]);
-		fmMat3 Dm = fmMat3FromColumns(fmSub(fmLoad(b->x0, n[1]), X0), fmSub(fmLoad(b->x0, n[2]), X0),
-									  fmSub(fmLoad(b->x0, n[3]), X0));
+		fmMat3 Dm =
+		    fmMat3FromColumns(fmSub(fmLoad(b->x0, n[1]), X0), fmSub(fmLoad(b->x0, n[2]), X0),
+		                      fmSub(fmLoad(b->x0, n[3]), X0));
 		double volume = fmDet(&Dm) / 6.0;
 		if (!(volume > 0.0) || !fmInverse(&Dm, &b->DmInv[t]))
 			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
-							   "tet %d (in the mesh's numbering) has zero volume", t + mesh->firstIndex);
+			                   "tet %d (in the mesh's numbering) has zero volume",
+			                   t + mesh->firstIndex);
 		b->restVolume[t] = volume;
 		for (int a = 0; a < 4; ++a)
 		{
@@ -168,8 +179,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory copying the mesh");
 	fmResult r = fmTetMesh_Orient(&mesh, NULL, diag);
 	if (r == fm_ok && !fmBodyAllocate(b, mesh.nodeCount, mesh.tetCount))
-		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory creating a body of %d tets",
-						mesh.tetCount);
+		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                "out of memory creating a body of %d tets", mesh.tetCount);
 	if (r == fm_ok)
 	{
 		b->firstIndex = mesh.firstIndex;
@@ -218,8 +229,8 @@ fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
 		if (world->bodies[i].x == NULL)
 			slot = i;
 	if (slot < 0)
-		return fmDiagError(diag, fm_errLimit, "", 0, 0, "the world holds %d bodies already (maxBodies)",
-						   world->bodyCapacity);
+		return fmDiagError(diag, fm_errLimit, "", 0, 0,
+		                   "the world holds %d bodies already (maxBodies)", world->bodyCapacity);
 	fmBody* b = &world->bodies[slot];
 	b->generation += 1;
 	r = fmBodyInit(b, def, diag);
@@ -263,7 +274,10 @@ void fmDestroyBody(fmBodyId bodyId)
 		fmBodyRelease(b);
 }
 
-bool fmBody_IsValid(fmBodyId bodyId) { return fmGetBody(bodyId) != NULL; }
+bool fmBody_IsValid(fmBodyId bodyId)
+{
+	return fmGetBody(bodyId) != NULL;
+}
 
 int fmBody_GetVertexCount(fmBodyId bodyId)
 {
@@ -387,7 +401,7 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 	{
 		fmVec3 p = fmLoad(b->x, i);
 		if (p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z &&
-			p.z <= max.z)
+		    p.z <= max.z)
 		{
 			fmBody_SetPinned(bodyId, i, true);
 			++count;

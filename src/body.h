@@ -13,18 +13,18 @@ typedef struct fmBody
 	int firstIndex; // numbering of the source mesh, for export
 
 	// per-vertex state, packed xyz
-	double* x;	// positions (m)
-	double* v;	// velocities (m/s)
-	double* f;	// force accumulator (N)
-	double* x0; // rest positions
-	double* mass;	 // kg
+	double* x;       // positions (m)
+	double* v;       // velocities (m/s)
+	double* f;       // force accumulator (N)
+	double* x0;      // rest positions
+	double* mass;    // kg
 	double* invMass; // 1/kg, 0 for pinned vertices
 	uint8_t* pinned; // axes held fixed: bit 0 x, 1 y, 2 z; FM_PIN_ALL = pinned vertex
 
 	// per-tet rest data
-	int* tets;			  // 4 per tet, positively oriented
-	fmMat3* DmInv;		  // inverse reference edge matrix [X1-X0, X2-X0, X3-X0]^-1
-	double* restVolume;	  // V0 (m^3), > 0
+	int* tets;          // 4 per tet, positively oriented
+	fmMat3* DmInv;      // inverse reference edge matrix [X1-X0, X2-X0, X3-X0]^-1
+	double* restVolume; // V0 (m^3), > 0
 
 	// surface, for rendering and export
 	int* surface;
@@ -36,9 +36,9 @@ typedef struct fmBody
 
 	// mass-spring force model (edges of the tets)
 	int edgeCount;
-	int* edges;		   // 2 per edge
+	int* edges;         // 2 per edge
 	double* restLength; // m
-	double* springK;	// N/m
+	double* springK;    // N/m
 
 	// finite volume force model: 4 per tet, 1/3 of the area-weighted rest normals at each node
 	fmVec3* fvmNormals;

@@ -33,8 +33,8 @@ int fmBuildFvmNormals(fmBody* body)
 		fmVec3 an[4];
 		for (int o = 0; o < 4; ++o)
 			an[o] = fmFaceAreaNormal(fmLoad(body->x0, n[s_faces[o][0]]),
-									 fmLoad(body->x0, n[s_faces[o][1]]),
-									 fmLoad(body->x0, n[s_faces[o][2]]));
+			                         fmLoad(body->x0, n[s_faces[o][1]]),
+			                         fmLoad(body->x0, n[s_faces[o][2]]));
 		// Vertex a touches every face but the one opposite it.
 		for (int a = 0; a < 4; ++a)
 		{

@@ -46,7 +46,8 @@ static void fmEmitSprings(fmBody* body, const fmEdgeKey* keys, size_t keyCount)
 			e += 1;
 			body->edges[2 * e] = keys[k].a;
 			body->edges[2 * e + 1] = keys[k].b;
-			body->restLength[e] = fmLength(fmSub(fmLoad(body->x0, keys[k].b), fmLoad(body->x0, keys[k].a)));
+			body->restLength[e] =
+			    fmLength(fmSub(fmLoad(body->x0, keys[k].b), fmLoad(body->x0, keys[k].a)));
 			body->springK[e] = 0.0;
 		}
 		body->springK[e] += body->restVolume[keys[k].tet];

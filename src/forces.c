@@ -13,7 +13,8 @@
 static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 {
 	for (int a = 1; a < 4; ++a)
-		g[a] = fmMakeVec3(DmInv->m[3 * (a - 1)], DmInv->m[3 * (a - 1) + 1], DmInv->m[3 * (a - 1) + 2]);
+		g[a] =
+		    fmMakeVec3(DmInv->m[3 * (a - 1)], DmInv->m[3 * (a - 1) + 1], DmInv->m[3 * (a - 1) + 2]);
 	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
 }
 
@@ -22,7 +23,7 @@ fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
 	const int* n = body->tets + 4 * t;
 	fmVec3 x0 = fmLoad(x, n[0]);
 	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
-								  fmSub(fmLoad(x, n[3]), x0));
+	                              fmSub(fmLoad(x, n[3]), x0));
 	return fmMatMul(&Ds, &body->DmInv[t]);
 }
 
@@ -121,7 +122,7 @@ void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int pro
 }
 
 void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, double* out,
-						 int project)
+                         int project)
 {
 	if (body->forceModel == fm_massSpring)
 	{

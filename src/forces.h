@@ -16,7 +16,7 @@ double fmElasticEnergy(const fmBody* body, const double* x);
 // Add the product of the (PSD-projected if @p project) elastic Hessian at x with dx into out:
 // out += K(x) dx. Used by the implicit solver (matrix-free path) and by tests.
 void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, double* out,
-						 int project);
+                         int project);
 
 // Element stiffness matrix of tet t (12x12 row-major, node-major xyz; d^2 E / dx dx), projected
 // to PSD if @p project.

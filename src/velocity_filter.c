@@ -23,7 +23,7 @@ static void fmSmoothVelocities(fmBody* b, double blend)
 	{
 		const int* n = b->tets + 4 * t;
 		fmVec3 s = fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
-						 fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
+		                 fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
 		for (int a = 0; a < 4; ++a)
 			fmStore(sum, n[a], fmAdd(fmLoad(sum, n[a]), s));
 	}

@@ -32,13 +32,16 @@ fmWorldDef fmDefaultWorldDef(void)
 	return def;
 }
 
-static bool fmIsFiniteVec(fmVec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+static bool fmIsFiniteVec(fmVec3 v)
+{
+	return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
 
 fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "world def not initialised: start from fmDefaultWorldDef()");
+		                   "world def not initialised: start from fmDefaultWorldDef()");
 	if (!fmIsFiniteVec(def->gravity))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0, "gravity must be finite");
 	const fmFloorDef* floor = &def->floor;
@@ -46,25 +49,29 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0, "floor height must be finite");
 	if (floor->enabled && floor->friction != fm_floorStick && floor->friction != fm_floorCoulomb)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown floor friction mode");
-	if (floor->enabled && !(floor->frictionCoefficient >= 0.0 && isfinite(floor->frictionCoefficient)))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "floor friction coefficient must be >= 0 (0.5 is rubber on wood), got %g",
-						   floor->frictionCoefficient);
+	if (floor->enabled &&
+	    !(floor->frictionCoefficient >= 0.0 && isfinite(floor->frictionCoefficient)))
+		return fmDiagError(
+		    diag, fm_errParameter, "", 0, 0,
+		    "floor friction coefficient must be >= 0 (0.5 is rubber on wood), got %g",
+		    floor->frictionCoefficient);
 	if (floor->enabled && !(floor->restitution >= 0.0 && floor->restitution <= 1.0))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "floor restitution must be in [0, 1], got %g", floor->restitution);
+		                   "floor restitution must be in [0, 1], got %g", floor->restitution);
 	if (def->integrator != fm_explicit && def->integrator != fm_implicit)
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown integrator %d", (int)def->integrator);
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown integrator %d",
+		                   (int)def->integrator);
 	if (def->newtonIterations < 1 || def->cgIterations < 1)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "newton and CG iteration limits must be >= 1 (defaults 20 and 500)");
+		                   "newton and CG iteration limits must be >= 1 (defaults 20 and 500)");
 	if (!(def->tolerance > 0.0 && def->tolerance < 1.0))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-						   "tolerance must be in (0, 1) (a relative residual; default 1e-6), got %g",
-						   def->tolerance);
+		return fmDiagError(
+		    diag, fm_errParameter, "", 0, 0,
+		    "tolerance must be in (0, 1) (a relative residual; default 1e-6), got %g",
+		    def->tolerance);
 	if (def->maxBodies < 1 || def->maxBodies > (1 << 20))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "maxBodies must be in [1, 2^20], got %d",
-						   def->maxBodies);
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "maxBodies must be in [1, 2^20], got %d", def->maxBodies);
 	return fm_ok;
 }
 
@@ -131,7 +138,10 @@ void fmDestroyWorld(fmWorldId worldId)
 	w->generation = generation;
 }
 
-bool fmWorld_IsValid(fmWorldId worldId) { return fmGetWorld(worldId) != NULL; }
+bool fmWorld_IsValid(fmWorldId worldId)
+{
+	return fmGetWorld(worldId) != NULL;
+}
 
 const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId)
 {
@@ -196,7 +206,8 @@ static void fmAddTetRowSums(const fmBody* b, int t, double* rowSum)
 			double dot = fmDot(g[a], g[c]);
 			for (int i = 0; i < 3; ++i)
 				for (int j = 0; j < 3; ++j)
-					sums[i] += fabs(lambda * ga[i] * gb[j] + mu * gb[i] * ga[j] + (i == j ? mu * dot : 0.0));
+					sums[i] += fabs(lambda * ga[i] * gb[j] + mu * gb[i] * ga[j] +
+					                (i == j ? mu * dot : 0.0));
 		}
 		int node = b->tets[4 * t + a];
 		for (int i = 0; i < 3; ++i)
@@ -254,7 +265,7 @@ static double fmBodyEnergy(const fmBody* b)
 
 // Why a body went bad: non-finite state, or energy far beyond what the frame could add.
 static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double frameTime,
-							double* energyAfter)
+                            double* energyAfter)
 {
 	const fmBody* b = &w->bodies[index];
 	int badVertex = -1;
@@ -275,7 +286,7 @@ static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double f
 	}
 	double size = fmLength(fmSub(hi, lo));
 	double bound = 1000.0 * (energyBefore + b->totalMass * g * (size + g * frameTime * frameTime)) +
-				   1e-6 * b->totalMass * size * size;
+	               1e-6 * b->totalMass * size * size;
 	if (badVertex < 0 && energy <= bound)
 		return fm_ok;
 
@@ -289,21 +300,22 @@ static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double f
 		if (isfinite(J) && J > 0.0)
 			continue;
 		if (count < 8 && length < (int)sizeof list - 16)
-			length += snprintf(list + length, sizeof list - (size_t)length, "%s%d", count ? ", " : "",
-							   t + b->firstIndex);
+			length += snprintf(list + length, sizeof list - (size_t)length, "%s%d",
+			                   count ? ", " : "", t + b->firstIndex);
 		++count;
 	}
 	if (badVertex >= 0)
 		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
-					"body %d: non-finite position or velocity at vertex %d; %d bad tets (%s%s); "
-					"state restored to the start of the frame; try a smaller dt or the implicit "
-					"integrator",
-					index, badVertex + b->firstIndex, count, list, count > 8 ? ", ..." : "");
+		            "body %d: non-finite position or velocity at vertex %d; %d bad tets (%s%s); "
+		            "state restored to the start of the frame; try a smaller dt or the implicit "
+		            "integrator",
+		            index, badVertex + b->firstIndex, count, list, count > 8 ? ", ..." : "");
 	else
-		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
-					"body %d: energy ran away (%.3g J after %.3g J); %d inverted tets (%s%s); state "
-					"restored to the start of the frame; try a smaller dt or the implicit integrator",
-					index, energy, energyBefore, count, list, count > 8 ? ", ..." : "");
+		fmDiagError(
+		    &w->lastError, fm_errNumerical, "", 0, 0,
+		    "body %d: energy ran away (%.3g J after %.3g J); %d inverted tets (%s%s); state "
+		    "restored to the start of the frame; try a smaller dt or the implicit integrator",
+		    index, energy, energyBefore, count, list, count > 8 ? ", ..." : "");
 	fmLog(fm_logError, "%s", w->lastError.message);
 	return fm_errNumerical;
 }
@@ -338,10 +350,10 @@ static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 		return;
 	w->warnedStep = true;
 	fmDiagWarn(&w->lastError, "", 0,
-			   "explicit step %.3g s is more than twice the estimated stability limit %.3g s: "
-			   "expect an explosion; use at least %d substeps per frame of %.3g s, or the implicit "
-			   "integrator",
-			   dt, limit, (int)ceil(frameTime / limit), frameTime);
+	           "explicit step %.3g s is more than twice the estimated stability limit %.3g s: "
+	           "expect an explosion; use at least %d substeps per frame of %.3g s, or the implicit "
+	           "integrator",
+	           dt, limit, (int)ceil(frameTime / limit), frameTime);
 }
 
 fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
@@ -353,8 +365,8 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	fmDiagClear(&w->lastError);
 	if (!(timeStep > 0.0 && isfinite(timeStep)) || subStepCount < 1)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-						   "time step must be > 0 and substeps >= 1, got %g and %d", timeStep,
-						   subStepCount);
+		                   "time step must be > 0 and substeps >= 1, got %g and %d", timeStep,
+		                   subStepCount);
 
 	// Stage 1: the energy before the frame bounds what the frame may produce. The state to fall
 	// back on (xGood, vGood) is the last one that passed the checks, kept from the previous
@@ -366,7 +378,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		fmBody* b = &w->bodies[i];
 		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 		if (b->x && (b->energyStale || memcmp(b->x, b->xGood, bytes) != 0 ||
-					 memcmp(b->v, b->vGood, bytes) != 0))
+		             memcmp(b->v, b->vGood, bytes) != 0))
 			b->energyGood = fmBodyEnergy(b);
 	}
 	const double dt = timeStep / subStepCount;
@@ -381,15 +393,15 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 			if (b->x == NULL)
 				continue;
 			fmResult r = w->def.integrator == fm_implicit ? fmImplicitStep(w, b, dt, &w->stats)
-														  : fmExplicitStep(w, b, dt);
+			                                              : fmExplicitStep(w, b, dt);
 			if (r != fm_ok)
 			{
 				if (w->lastError.result == fm_ok)
 					fmDiagError(&w->lastError, r, "", 0, 0,
-								"body %d: the %s step failed (%s); state restored to the start of "
-								"the frame",
-								i, w->def.integrator == fm_implicit ? "implicit" : "explicit",
-								fmResultMessage(r));
+					            "body %d: the %s step failed (%s); state restored to the start of "
+					            "the frame",
+					            i, w->def.integrator == fm_implicit ? "implicit" : "explicit",
+					            fmResultMessage(r));
 				fmRestoreAll(w);
 				return r;
 			}

@@ -9,7 +9,7 @@ typedef struct fmWorld
 	bool inUse;
 	fmWorldDef def;
 	int bodyCapacity;
-	fmBody* bodies;	  // bodyCapacity slots; a slot is live when its x != NULL
+	fmBody* bodies; // bodyCapacity slots; a slot is live when its x != NULL
 	fmStepStats stats;
 	fmDiagnostic lastError;
 	bool warnedStep; // the explicit step-size warning was given

@@ -17,7 +17,8 @@ fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmB
 {
 	fmBodyId none = {0, 0, 0};
 	fmTetMesh mesh;
-	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, NULL) != fm_ok)
+	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, NULL) !=
+	    fm_ok)
 		return none;
 	fmMeshTransform placement = fmDefaultMeshTransform();
 	placement.scale = 0.4;
@@ -35,7 +36,7 @@ fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmB
 }
 
 fmBodyId fmTestMakeBox(fmWorldId* world, int nx, int ny, int nz, fmVec3 size, fmMaterial material,
-					   fmForceModel forceModel)
+                       fmForceModel forceModel)
 {
 	fmBodyId none = {0, 0, 0};
 	fmTetMesh mesh;
@@ -72,8 +73,8 @@ fmMat3 fmTestRandomRotation(void)
 	n = sqrt(n);
 	double w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
 	fmMat3 R = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-				 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-				 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+	             2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+	             2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
 	return R;
 }
 

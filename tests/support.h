@@ -9,7 +9,7 @@ fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmB
 
 // A box body [0,sx]x[0,sy]x[0,sz] in nx*ny*nz cubes; world without gravity and floor.
 fmBodyId fmTestMakeBox(fmWorldId* world, int nx, int ny, int nz, fmVec3 size, fmMaterial material,
-					   fmForceModel forceModel);
+                       fmForceModel forceModel);
 
 // A world def with no gravity, no floor.
 fmWorldDef fmTestFreeWorldDef(void);

@@ -16,7 +16,8 @@ static double totalEnergy(fmBodyId body)
 TEST(undamped_energy_stays_in_a_band)
 {
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 3, 2, 2, fmMakeVec3(1.5, 1, 1), fmMakeMaterial(fm_stvk, 1e5, 0.3), fm_fem);
+	fmBodyId body = fmTestMakeBox(&world, 3, 2, 2, fmMakeVec3(1.5, 1, 1),
+	                              fmMakeMaterial(fm_stvk, 1e5, 0.3), fm_fem);
 	if (!fmBody_IsValid(body))
 	{
 		CHECK(0);
@@ -45,8 +46,8 @@ TEST(undamped_energy_stays_in_a_band)
 		firstMean += frame < 100 ? e / 100 : 0.0;
 		lastMean += frame >= 400 ? e / 100 : 0.0;
 	}
-	printf("  energy band over 5000 steps: [%.6g, %.6g] J around %.6g J (%.3f%%), drift %.3g%%\n", lo,
-		   hi, e0, 100.0 * (hi - lo) / e0, 100.0 * (lastMean - firstMean) / e0);
+	printf("  energy band over 5000 steps: [%.6g, %.6g] J around %.6g J (%.3f%%), drift %.3g%%\n",
+	       lo, hi, e0, 100.0 * (hi - lo) / e0, 100.0 * (lastMean - firstMean) / e0);
 	CHECK(fabs(lastMean - firstMean) < 0.005 * e0);
 	CHECK((hi - lo) < 0.02 * e0);
 	fmDestroyWorld(world);
@@ -85,9 +86,11 @@ TEST(bouncy_house_falls_bounces_and_rests)
 			bounceFrame = frame;
 	}
 	fmBodyStats end = fmBody_GetStats(body);
-	printf("  touched at frame %d, rebound at frame %d, lowest y %.6f, end: com y %.4f (start %.4f), "
-		   "KE %.3g J, inverted %d\n",
-		   touchFrame, bounceFrame, lowest, end.centerOfMass.y, startY, end.kineticEnergy, end.invertedTets);
+	printf(
+	    "  touched at frame %d, rebound at frame %d, lowest y %.6f, end: com y %.4f (start %.4f), "
+	    "KE %.3g J, inverted %d\n",
+	    touchFrame, bounceFrame, lowest, end.centerOfMass.y, startY, end.kineticEnergy,
+	    end.invertedTets);
 	CHECK(touchFrame > 0);
 	CHECK(bounceFrame > touchFrame);
 	CHECK(lowest >= -3.0 - 1e-9);
@@ -112,7 +115,8 @@ TEST(bouncy_house_falls_bounces_and_rests)
 TEST(pinned_vertices_stay)
 {
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 4, 1, 1, fmMakeVec3(2, 0.5, 0.5), fmMakeMaterial(fm_stvk, 2e5, 0.3), fm_fem);
+	fmBodyId body = fmTestMakeBox(&world, 4, 1, 1, fmMakeVec3(2, 0.5, 0.5),
+	                              fmMakeMaterial(fm_stvk, 2e5, 0.3), fm_fem);
 	if (!fmBody_IsValid(body))
 	{
 		CHECK(0);
@@ -146,7 +150,8 @@ TEST(pinned_vertices_stay)
 TEST(coulomb_floor_decelerates_at_mu_g)
 {
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 2, 1, 2, fmMakeVec3(0.4, 0.1, 0.4), fmMakeMaterial(fm_corotated, 1e6, 0.3), fm_fem);
+	fmBodyId body = fmTestMakeBox(&world, 2, 1, 2, fmMakeVec3(0.4, 0.1, 0.4),
+	                              fmMakeMaterial(fm_corotated, 1e6, 0.3), fm_fem);
 	if (!fmBody_IsValid(body))
 	{
 		CHECK(0);
@@ -173,7 +178,8 @@ TEST(coulomb_floor_decelerates_at_mu_g)
 		mass += m[i];
 	}
 	double expected = v0 - 0.4 * 9.8 * t;
-	printf("  mean vx after %.3f s: %.4f m/s, rigid-block Coulomb %.4f m/s\n", t, p / mass, expected);
+	printf("  mean vx after %.3f s: %.4f m/s, rigid-block Coulomb %.4f m/s\n", t, p / mass,
+	       expected);
 	CHECK_NEAR(p / mass, expected, 0.05 * v0);
 	fmDestroyWorld(world);
 }

@@ -10,14 +10,18 @@
 static const fmMaterialModel s_models[] = {fm_stvk, fm_corotated, fm_neoHookean, fm_mooneyRivlin};
 #define MODEL_COUNT ((int)(sizeof s_models / sizeof s_models[0]))
 
-static fmMaterial testMaterial(fmMaterialModel model) { return fmMakeMaterial(model, 1e5, 0.3); }
+static fmMaterial testMaterial(fmMaterialModel model)
+{
+	return fmMakeMaterial(model, 1e5, 0.3);
+}
 
 TEST(forces_are_minus_energy_gradient)
 {
 	for (int m = 0; m < MODEL_COUNT; ++m)
 	{
 		fmWorldId world;
-		fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), testMaterial(s_models[m]), fm_fem);
+		fmBodyId body =
+		    fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), testMaterial(s_models[m]), fm_fem);
 		CHECK(fmBody_IsValid(body));
 		if (!fmBody_IsValid(body))
 			return;
@@ -32,9 +36,11 @@ static fmMat3 rotation(fmVec3 axis, double a)
 {
 	axis = fmScale(1.0 / fmLength(axis), axis);
 	double c = cos(a), s = sin(a), t = 1 - c;
-	fmMat3 R = {{t * axis.x * axis.x + c, t * axis.x * axis.y - s * axis.z, t * axis.x * axis.z + s * axis.y,
-				 t * axis.x * axis.y + s * axis.z, t * axis.y * axis.y + c, t * axis.y * axis.z - s * axis.x,
-				 t * axis.x * axis.z - s * axis.y, t * axis.y * axis.z + s * axis.x, t * axis.z * axis.z + c}};
+	fmMat3 R = {{t * axis.x * axis.x + c, t * axis.x * axis.y - s * axis.z,
+	             t * axis.x * axis.z + s * axis.y, t * axis.x * axis.y + s * axis.z,
+	             t * axis.y * axis.y + c, t * axis.y * axis.z - s * axis.x,
+	             t * axis.x * axis.z - s * axis.y, t * axis.y * axis.z + s * axis.x,
+	             t * axis.z * axis.z + c}};
 	return R;
 }
 
@@ -43,7 +49,8 @@ TEST(zero_force_at_rest_and_under_rigid_motion)
 	for (int m = 0; m < MODEL_COUNT; ++m)
 	{
 		fmWorldId world;
-		fmBodyId body = fmTestMakeBox(&world, 2, 3, 2, fmMakeVec3(1, 2, 1), testMaterial(s_models[m]), fm_fem);
+		fmBodyId body =
+		    fmTestMakeBox(&world, 2, 3, 2, fmMakeVec3(1, 2, 1), testMaterial(s_models[m]), fm_fem);
 		if (!fmBody_IsValid(body))
 		{
 			CHECK(0);
@@ -78,7 +85,8 @@ TEST(internal_forces_balance_and_have_no_torque)
 	for (int m = 0; m < MODEL_COUNT; ++m)
 	{
 		fmWorldId world;
-		fmBodyId body = fmTestMakeBox(&world, 3, 2, 2, fmMakeVec3(1.5, 1, 1), testMaterial(s_models[m]), fm_fem);
+		fmBodyId body = fmTestMakeBox(&world, 3, 2, 2, fmMakeVec3(1.5, 1, 1),
+		                              testMaterial(s_models[m]), fm_fem);
 		if (!fmBody_IsValid(body))
 		{
 			CHECK(0);
@@ -112,7 +120,8 @@ TEST(patch_test_uniform_deformation)
 	for (int m = 0; m < 5; ++m)
 	{
 		fmWorldId world;
-		fmBodyId body = fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1), testMaterial(models[m]), fm_fem);
+		fmBodyId body =
+		    fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1), testMaterial(models[m]), fm_fem);
 		if (!fmBody_IsValid(body))
 		{
 			CHECK(0);
@@ -137,8 +146,8 @@ TEST(patch_test_uniform_deformation)
 		for (int i = 0; i < n; ++i)
 		{
 			fmVec3 p = fmLoad(rest, i);
-			bool inside = p.x > 1e-9 && p.x < 1 - 1e-9 && p.y > 1e-9 && p.y < 1 - 1e-9 && p.z > 1e-9 &&
-						  p.z < 1 - 1e-9;
+			bool inside = p.x > 1e-9 && p.x < 1 - 1e-9 && p.y > 1e-9 && p.y < 1 - 1e-9 &&
+			              p.z > 1e-9 && p.z < 1 - 1e-9;
 			if (!inside)
 				continue;
 			++interior;
@@ -158,7 +167,8 @@ TEST(hessian_matches_force_differences)
 	for (int m = 0; m < MODEL_COUNT; ++m)
 	{
 		fmWorldId world;
-		fmBodyId id = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), testMaterial(s_models[m]), fm_fem);
+		fmBodyId id =
+		    fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), testMaterial(s_models[m]), fm_fem);
 		if (!fmBody_IsValid(id))
 		{
 			CHECK(0);
@@ -168,7 +178,8 @@ TEST(hessian_matches_force_differences)
 		const fmBody* body = fmGetBody(id);
 		int n = body->vertexCount;
 		size_t bytes = sizeof(double) * 3 * (size_t)n;
-		double *dx = malloc(bytes), *kdx = calloc(1, bytes), *xp = malloc(bytes), *xm = malloc(bytes);
+		double *dx = malloc(bytes), *kdx = calloc(1, bytes), *xp = malloc(bytes),
+		       *xm = malloc(bytes);
 		double *fp = calloc(1, bytes), *fm = calloc(1, bytes);
 		for (int k = 0; k < 3 * n; ++k)
 			dx[k] = fmTestRandom(-1, 1);
@@ -210,7 +221,8 @@ TEST(hessian_matches_force_differences)
 TEST(stvk_matches_the_seed_formula)
 {
 	fmWorldId world;
-	fmBodyId id = fmTestMakeBox(&world, 1, 1, 1, fmMakeVec3(1, 1, 1), fmMakeMaterialLame(fm_stvk, 20000, 5000), fm_fem);
+	fmBodyId id = fmTestMakeBox(&world, 1, 1, 1, fmMakeVec3(1, 1, 1),
+	                            fmMakeMaterialLame(fm_stvk, 20000, 5000), fm_fem);
 	if (!fmBody_IsValid(id))
 	{
 		CHECK(0);

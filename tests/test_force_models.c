@@ -11,7 +11,7 @@
 #include <string.h>
 
 static const fmMaterialModel s_models[] = {fm_linear, fm_corotated, fm_stvk, fm_neoHookean,
-										   fm_mooneyRivlin};
+                                           fm_mooneyRivlin};
 #define MODEL_COUNT ((int)(sizeof s_models / sizeof s_models[0]))
 
 static double* copyPositions(fmBodyId body)
@@ -63,7 +63,7 @@ TEST(spring_forces_are_minus_energy_gradient)
 {
 	fmWorldId world;
 	fmBodyId body = fmTestMakeBox(&world, 2, 2, 1, fmMakeVec3(1, 1, 0.5),
-								  fmMakeMaterial(fm_stvk, 1e4, 0.25), fm_massSpring);
+	                              fmMakeMaterial(fm_stvk, 1e4, 0.25), fm_massSpring);
 	CHECK(fmBody_IsValid(body));
 	fmTestSeed(3);
 	fmTestPerturb(body, 0.1);
@@ -75,7 +75,7 @@ TEST(spring_hessian_matches_force_differences)
 {
 	fmWorldId world;
 	fmBodyId id = fmTestMakeBox(&world, 1, 2, 1, fmMakeVec3(1, 1, 1),
-								fmMakeMaterial(fm_stvk, 1e4, 0.25), fm_massSpring);
+	                            fmMakeMaterial(fm_stvk, 1e4, 0.25), fm_massSpring);
 	fmTestSeed(5);
 	fmTestPerturb(id, 0.15);
 	const fmBody* body = fmGetBody(id);
@@ -122,7 +122,7 @@ TEST(spring_stiffness_rule_matches_bulk_modulus_at_quarter_poisson)
 	const double E = 2e4, eps = 1e-3;
 	fmWorldId world;
 	fmBodyId body = fmTestMakeBox(&world, 3, 2, 2, fmMakeVec3(1.5, 1, 1),
-								  fmMakeMaterial(fm_stvk, E, 0.25), fm_massSpring);
+	                              fmMakeMaterial(fm_stvk, E, 0.25), fm_massSpring);
 	double* x = copyPositions(body);
 	for (int k = 0; k < 3 * fmBody_GetVertexCount(body); ++k)
 		x[k] *= 1.0 + eps;
@@ -212,7 +212,8 @@ static double lateralStrain(fmBodyId body, const double* rest, double ex, double
 	const double g = 0.5 * (sqrt(5.0) - 1.0);
 	double a = -ex, b = ex;
 	double c = b - g * (b - a), d = a + g * (b - a);
-	double fc = stretchedEnergy(body, rest, ex, c, work), fd = stretchedEnergy(body, rest, ex, d, work);
+	double fc = stretchedEnergy(body, rest, ex, c, work),
+	       fd = stretchedEnergy(body, rest, ex, d, work);
 	for (int it = 0; it < 80; ++it)
 	{
 		if (fc < fd)
@@ -242,7 +243,7 @@ TEST(uniaxial_pull_measures_youngs_modulus_and_poisson_ratio)
 		{
 			fmWorldId world;
 			fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1),
-										  fmMakeMaterial(s_models[m], E, nu), forceModels[k]);
+			                              fmMakeMaterial(s_models[m], E, nu), forceModels[k]);
 			double* rest = copyPositions(body);
 			double* work = calloc(3 * (size_t)fmBody_GetVertexCount(body), sizeof(double));
 			double t = lateralStrain(body, rest, eps, work);
@@ -251,8 +252,8 @@ TEST(uniaxial_pull_measures_youngs_modulus_and_poisson_ratio)
 			double tm = lateralStrain(body, rest, eps - h, work);
 			// dW/d eps along the relaxed path = axial force * length = sigma * V (V = 1).
 			double sigma = (stretchedEnergy(body, rest, eps + h, tp, work) -
-							stretchedEnergy(body, rest, eps - h, tm, work)) /
-						   (2 * h);
+			                stretchedEnergy(body, rest, eps - h, tm, work)) /
+			               (2 * h);
 			CHECK_REL(sigma / eps, E, 1e-3, 0.0);
 			CHECK_REL(-t / eps, nu, 1e-3, 0.0);
 			free(rest);
@@ -269,8 +270,8 @@ static void checkInversionRecovery(int* failures_, fmMaterialModel model, fmForc
 {
 	fmTetMesh mesh;
 	CHECK_INT(fmLoadTetGenFromMemory(s_tetNode, sizeof s_tetNode - 1, "tet.node", s_tetEle,
-									 sizeof s_tetEle - 1, "tet.ele", &mesh, NULL),
-			  fm_ok);
+	                                 sizeof s_tetEle - 1, "tet.ele", &mesh, NULL),
+	          fm_ok);
 	fmWorldDef wdef = fmTestFreeWorldDef();
 	fmWorldId world = fmCreateWorld(&wdef);
 	fmBodyDef bdef = fmDefaultBodyDef();
@@ -293,7 +294,7 @@ static void checkInversionRecovery(int* failures_, fmMaterialModel model, fmForc
 		if (r != fm_ok)
 		{
 			FAIL_AT("%s step %d: %s", fmMaterialModelName(model), step,
-					fmWorld_GetLastError(world)->message);
+			        fmWorld_GetLastError(world)->message);
 			break;
 		}
 	}
@@ -332,7 +333,8 @@ TEST(house_is_stable_with_every_model_and_force_model)
 				if (r != fm_ok)
 				{
 					FAIL_AT("%s/%s frame %d: %s", fmMaterialModelName(s_models[m]),
-							fmForceModelName(forceModels[k]), frame, fmWorld_GetLastError(world)->message);
+					        fmForceModelName(forceModels[k]), frame,
+					        fmWorld_GetLastError(world)->message);
 					break;
 				}
 				lowest = fmin(lowest, fmBody_GetStats(body).lowestY);

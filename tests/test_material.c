@@ -4,8 +4,8 @@
 // inversion response; the PSD projection; parameters, validation and names.
 #include "material.h"
 #include "material_models.h"
-#include "svd3.h"
 #include "support.h"
+#include "svd3.h"
 #include "test.h"
 
 #include <string.h>

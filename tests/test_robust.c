@@ -251,7 +251,8 @@ TEST(runs_are_bit_identical)
 TEST(pin_box_reports_what_it_caught)
 {
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), fmMakeMaterial(fm_stvk, 1e4, 0.3), fm_fem);
+	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1),
+	                              fmMakeMaterial(fm_stvk, 1e4, 0.3), fm_fem);
 	CHECK_INT(fmBody_PinBox(body, fmMakeVec3(5, 5, 5), fmMakeVec3(6, 6, 6)), 0);
 	CHECK_INT(fmBody_PinBox(body, fmMakeVec3(-0.1, -0.1, -0.1), fmMakeVec3(0.1, 1.1, 1.1)), 9);
 	fmDestroyWorld(world);

@@ -1,8 +1,8 @@
 // 3x3 SVD (fmSvd3), polar rotation and symmetric eigen-decomposition: orthonormal proper
 // factors, reconstruction, ordering and the inversion sign, on random, repeated, rank-deficient,
 // reflected and extreme-scale matrices.
-#include "svd3.h"
 #include "support.h"
+#include "svd3.h"
 #include "test.h"
 
 static fmMat3 diag3(double a, double b, double c)

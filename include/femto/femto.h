@@ -60,7 +60,7 @@ FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
 /// Create a body from a def with a mesh. Tets are reoriented positive; degenerate tets are
 /// rejected (fm_errDegenerate with the tet index in @p diag).
 FM_API fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
-							 fmDiagnostic* diag);
+                             fmDiagnostic* diag);
 
 /// Check a body def (material, mass, damping ranges, mesh) without creating anything.
 FM_API fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag);
@@ -133,6 +133,6 @@ FM_API double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces);
 /// Solve for static equilibrium under gravity with the body's pins (Newton with line search and
 /// load stepping). The floor is ignored. @p residual gets |f| / |m g| reached.
 FM_API fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations,
-								   double* residual, fmDiagnostic* diag);
+                                   double* residual, fmDiagnostic* diag);
 
 FM_C_END

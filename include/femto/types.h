@@ -45,13 +45,13 @@ FM_API const char* fmResultMessage(fmResult result);
 /// and its warning fields are filled on success when the input was accepted with a doubt.
 typedef struct fmDiagnostic
 {
-	fmResult result;	  ///< the code the call returned
-	char file[256];		  ///< file (or scene JSON path) the problem is in; empty if none
-	int line;			  ///< 1-based line, 0 if not applicable
-	int column;			  ///< 1-based column, 0 if not applicable
-	char message[512];	  ///< what was found and what was expected
-	int warningCount;	  ///< warnings issued (each also goes to the log hook)
-	char warning[512];	  ///< the first warning, with file and line
+	fmResult result;   ///< the code the call returned
+	char file[256];    ///< file (or scene JSON path) the problem is in; empty if none
+	int line;          ///< 1-based line, 0 if not applicable
+	int column;        ///< 1-based column, 0 if not applicable
+	char message[512]; ///< what was found and what was expected
+	int warningCount;  ///< warnings issued (each also goes to the log hook)
+	char warning[512]; ///< the first warning, with file and line
 } fmDiagnostic;
 
 /// Write "file:line:column: message" (the parts that are set) into @p buffer. Returns @p buffer.
@@ -60,12 +60,12 @@ FM_API const char* fmDiagnostic_Format(const fmDiagnostic* diag, char* buffer, s
 /// Constitutive models. See docs/materials.md.
 typedef enum fmMaterialModel
 {
-	fm_linear,			///< small-strain linear elasticity (not rotation invariant)
-	fm_corotated,		///< linear elasticity in the rotated frame of F (polar decomposition)
-	fm_stvk,			///< St. Venant-Kirchhoff, the seeds' model
-	fm_neoHookean,		///< compressible Neo-Hookean, defined for inverted tets
-	fm_mooneyRivlin,	///< compressible Mooney-Rivlin
-	fm_stretchEnergy,	///< user energy of the principal stretches (fmMaterial.stretchEnergy)
+	fm_linear,          ///< small-strain linear elasticity (not rotation invariant)
+	fm_corotated,       ///< linear elasticity in the rotated frame of F (polar decomposition)
+	fm_stvk,            ///< St. Venant-Kirchhoff, the seeds' model
+	fm_neoHookean,      ///< compressible Neo-Hookean, defined for inverted tets
+	fm_mooneyRivlin,    ///< compressible Mooney-Rivlin
+	fm_stretchEnergy,   ///< user energy of the principal stretches (fmMaterial.stretchEnergy)
 	fm_invariantEnergy, ///< user energy of the invariants I1, I2, J (fmMaterial.invariantEnergy)
 	fm_materialModelCount
 } fmMaterialModel;
@@ -74,23 +74,23 @@ typedef enum fmMaterialModel
 /// dpsi[i] = d psi / d s_i, and, when @p d2psi is not NULL, the Hessian d2psi[3 * i + j].
 /// Must be symmetric in its arguments (isotropy) and zero with zero gradient at s = (1,1,1).
 typedef void fmStretchEnergyFcn(const double s[3], const void* params, double* psi, double dpsi[3],
-								double* d2psi);
+                                double* d2psi);
 
 /// User energy density of the invariants v = {I1 = tr(F^T F), I2 = ((tr C)^2 - tr(C^2))/2,
 /// J = det F}. Write psi, dpsi[i] = d psi / d v_i and, when @p d2psi is not NULL, d2psi[3i+j].
-typedef void fmInvariantEnergyFcn(const double v[3], const void* params, double* psi, double dpsi[3],
-								  double* d2psi);
+typedef void fmInvariantEnergyFcn(const double v[3], const void* params, double* psi,
+                                  double dpsi[3], double* d2psi);
 
 /// An isotropic hyperelastic material. Make one with fmMakeMaterial() or fmMakeMaterialLame().
 typedef struct fmMaterial
 {
 	fmMaterialModel model; ///< constitutive model
-	double lambda;		   ///< first Lame constant, Pa, > -2/3 mu
-	double mu;			   ///< shear modulus (second Lame constant), Pa, > 0
-	double c01;			   ///< Mooney-Rivlin second constant, Pa, in [0, mu/2]; C10 = mu/2 - c01
-	fmStretchEnergyFcn* stretchEnergy;	   ///< for fm_stretchEnergy
+	double lambda;         ///< first Lame constant, Pa, > -2/3 mu
+	double mu;             ///< shear modulus (second Lame constant), Pa, > 0
+	double c01;            ///< Mooney-Rivlin second constant, Pa, in [0, mu/2]; C10 = mu/2 - c01
+	fmStretchEnergyFcn* stretchEnergy;     ///< for fm_stretchEnergy
 	fmInvariantEnergyFcn* invariantEnergy; ///< for fm_invariantEnergy
-	const void* userParams;				   ///< passed to the user energy
+	const void* userParams;                ///< passed to the user energy
 } fmMaterial;
 
 /// A material from Young's modulus @p youngsModulus (Pa, > 0) and Poisson ratio
@@ -113,8 +113,8 @@ FM_API bool fmMaterialModelFromName(const char* name, fmMaterialModel* model);
 /// How energy becomes vertex forces (docs/force-models.md).
 typedef enum fmForceModel
 {
-	fm_fem,		   ///< finite elements: f = -V0 P Dm^-T
-	fm_fvm,		   ///< finite volumes: stress on area-weighted face normals (Teran et al. 2003)
+	fm_fem,        ///< finite elements: f = -V0 P Dm^-T
+	fm_fvm,        ///< finite volumes: stress on area-weighted face normals (Teran et al. 2003)
 	fm_massSpring, ///< springs on the tet edges, stiffness from E
 	fm_forceModelCount
 } fmForceModel;
@@ -135,31 +135,31 @@ typedef enum fmIntegrator
 /// Floor friction behaviour.
 typedef enum fmFloorFriction
 {
-	fm_floorStick,	 ///< the seeds: tangential velocity zeroed on contact
+	fm_floorStick,   ///< the seeds: tangential velocity zeroed on contact
 	fm_floorCoulomb, ///< Coulomb friction with a coefficient and restitution
 } fmFloorFriction;
 
 /// A horizontal floor plane y = height; bodies stay above it.
 typedef struct fmFloorDef
 {
-	bool enabled;			  ///< false: no floor
-	double height;			  ///< m
-	fmFloorFriction friction; ///< stick or Coulomb
+	bool enabled;               ///< false: no floor
+	double height;              ///< m
+	fmFloorFriction friction;   ///< stick or Coulomb
 	double frictionCoefficient; ///< Coulomb coefficient, >= 0
-	double restitution;		  ///< normal restitution, in [0, 1]
+	double restitution;         ///< normal restitution, in [0, 1]
 } fmFloorDef;
 
 /// World definition. Get one from fmDefaultWorldDef().
 typedef struct fmWorldDef
 {
-	fmVec3 gravity;			 ///< m/s^2, default (0, -9.8, 0): y is up
-	fmFloorDef floor;		 ///< default: enabled at y = -3, stick (the seeds)
+	fmVec3 gravity;          ///< m/s^2, default (0, -9.8, 0): y is up
+	fmFloorDef floor;        ///< default: enabled at y = -3, stick (the seeds)
 	fmIntegrator integrator; ///< default fm_explicit
-	int newtonIterations;	 ///< implicit: maximum Newton iterations a step, >= 1 (default 20)
-	double tolerance;		 ///< implicit: residual / force scale to stop at, > 0 (default 1e-6)
-	int cgIterations;		 ///< implicit: maximum CG iterations a Newton step, >= 1 (default 500)
-	int maxBodies;			 ///< capacity, >= 1 (default 64)
-	int internalValue;		 ///< set by fmDefaultWorldDef; create calls check it
+	int newtonIterations;    ///< implicit: maximum Newton iterations a step, >= 1 (default 20)
+	double tolerance;        ///< implicit: residual / force scale to stop at, > 0 (default 1e-6)
+	int cgIterations;        ///< implicit: maximum CG iterations a Newton step, >= 1 (default 500)
+	int maxBodies;           ///< capacity, >= 1 (default 64)
+	int internalValue;       ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;
 
 /// The default world: the seeds' gravity and floor, explicit integration.
@@ -178,18 +178,18 @@ struct fmTetMesh;
 typedef struct fmBodyDef
 {
 	const struct fmTetMesh* mesh; ///< rest shape (copied; the caller keeps ownership)
-	fmMaterial material;		  ///< default: the seeds' StVK, lambda 20000 Pa, mu 5000 Pa
-	fmForceModel forceModel;	  ///< default fm_fem
-	fmMassMode massMode;		  ///< default fm_massPerParticle (the seeds)
-	double density;				  ///< kg/m^3, > 0, for fm_massFromDensity (default 1000)
-	double particleMass;		  ///< kg, > 0, for fm_massPerParticle (default 1)
-	double damping;	   ///< velocity factor per 3 ms (the seeds' step; other steps get the same
-					   ///< rate per second), in (0, 1]; 1 = none (default 0.999)
-	double smoothing;  ///< Laplacian velocity blend per 3 ms, in [0, 1] (default 0.1)
-	double rayleighMass;		  ///< Rayleigh alpha, 1/s, >= 0 (default 0)
-	double rayleighStiffness;	  ///< Rayleigh beta, s, >= 0 (default 0)
-	double springDamping;		  ///< mass-spring: damping ratio of each spring, >= 0 (default 0.1)
-	int internalValue;			  ///< set by fmDefaultBodyDef; create calls check it
+	fmMaterial material;          ///< default: the seeds' StVK, lambda 20000 Pa, mu 5000 Pa
+	fmForceModel forceModel;      ///< default fm_fem
+	fmMassMode massMode;          ///< default fm_massPerParticle (the seeds)
+	double density;               ///< kg/m^3, > 0, for fm_massFromDensity (default 1000)
+	double particleMass;          ///< kg, > 0, for fm_massPerParticle (default 1)
+	double damping;      ///< velocity factor per 3 ms (the seeds' step; other steps get the same
+	                     ///< rate per second), in (0, 1]; 1 = none (default 0.999)
+	double smoothing;    ///< Laplacian velocity blend per 3 ms, in [0, 1] (default 0.1)
+	double rayleighMass; ///< Rayleigh alpha, 1/s, >= 0 (default 0)
+	double rayleighStiffness; ///< Rayleigh beta, s, >= 0 (default 0)
+	double springDamping;     ///< mass-spring: damping ratio of each spring, >= 0 (default 0.1)
+	int internalValue;        ///< set by fmDefaultBodyDef; create calls check it
 } fmBodyDef;
 
 /// The default body: the seeds' bouncy house parameters (no mesh).
@@ -198,15 +198,15 @@ FM_API fmBodyDef fmDefaultBodyDef(void);
 /// World handle. Zero-initialised means null.
 typedef struct fmWorldId
 {
-	uint16_t index1;	 ///< 1-based slot
+	uint16_t index1;     ///< 1-based slot
 	uint16_t generation; ///< catches stale ids
 } fmWorldId;
 
 /// Body handle. Zero-initialised means null.
 typedef struct fmBodyId
 {
-	int32_t index1;		 ///< 1-based slot in the world
-	uint16_t world0;	 ///< world slot
+	int32_t index1;      ///< 1-based slot in the world
+	uint16_t world0;     ///< world slot
 	uint16_t generation; ///< catches stale ids
 } fmBodyId;
 
@@ -217,19 +217,19 @@ typedef struct fmBodyStats
 	double elasticEnergy; ///< J
 	double gravityEnergy; ///< J, m g.(-x) summed (relative to the origin)
 	fmVec3 centerOfMass;  ///< m
-	double lowestY;		  ///< m, lowest vertex
-	int invertedTets;	  ///< tets with det F <= 0
+	double lowestY;       ///< m, lowest vertex
+	int invertedTets;     ///< tets with det F <= 0
 } fmBodyStats;
 
 /// Counters of the last world step.
 typedef struct fmStepStats
 {
-	int steps;			  ///< substeps taken
+	int steps;            ///< substeps taken
 	int newtonIterations; ///< implicit: total Newton iterations
-	int cgIterations;	  ///< implicit: total CG iterations
-	double residual;	  ///< implicit: last relative residual reached
-	int invertedTets;	  ///< all bodies, after the step
-	int contacts;		  ///< vertices on the floor after the step
+	int cgIterations;     ///< implicit: total CG iterations
+	double residual;      ///< implicit: last relative residual reached
+	int invertedTets;     ///< all bodies, after the step
+	int contacts;         ///< vertices on the floor after the step
 } fmStepStats;
 
 FM_C_END
