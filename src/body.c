@@ -157,8 +157,12 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 		}
 	}
 	b->totalMass = 0.0;
+	fmVec3 lo = fmLoad(b->x0, 0), hi = lo;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
+		fmVec3 p = fmLoad(b->x0, i);
+		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
 		if (def->massMode == fm_massPerParticle)
 			b->mass[i] = def->particleMass;
 		b->smoothWeight[i] = tetsAround[i] > 0 ? 1.0 / (4.0 * tetsAround[i]) : 0.0;
@@ -168,6 +172,7 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 		b->invMass[i] = b->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[i];
 		b->totalMass += b->mass[i];
 	}
+	b->restSize = fmLength(fmSub(hi, lo));
 	memset(b->scratch, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
 	return fm_ok;
 }

@@ -57,6 +57,7 @@ typedef struct fmBody
 	double rayleighStiffness;
 	double springDamping;
 	double totalMass;
+	double restSize; // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
 	void* implicitCache; // solver buffers owned by implicit.c (fmImplicitCacheFree)

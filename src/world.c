@@ -277,14 +277,7 @@ static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double f
 	// Gravity can add at most M |g| (fall height) + M |g|^2 T^2 in a frame; a stable elastic
 	// body does not multiply its energy by 1000 on top of that.
 	double g = fmLength(w->def.gravity);
-	fmVec3 lo = fmLoad(b->x0, 0), hi = lo;
-	for (int i = 1; i < b->vertexCount; ++i)
-	{
-		fmVec3 p = fmLoad(b->x0, i);
-		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-	}
-	double size = fmLength(fmSub(hi, lo));
+	double size = b->restSize;
 	double bound = 1000.0 * (energyBefore + b->totalMass * g * (size + g * frameTime * frameTime)) +
 	               1e-6 * b->totalMass * size * size;
 	if (badVertex < 0 && energy <= bound)
