@@ -57,7 +57,7 @@ typedef struct fmBody
 	double rayleighStiffness;
 	double springDamping;
 	double totalMass;
-	double restSize; // diagonal of the rest shape's bounding box (m)
+	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
 	void* implicitCache; // solver buffers owned by implicit.c (fmImplicitCacheFree)
@@ -66,12 +66,20 @@ typedef struct fmBody
 // body->pinned value of a vertex held on every axis (fmBody_SetPinned); other non-zero values
 // are rollers (fmBody_SetPinnedAxes), free along the axes whose bit is clear.
 #define FM_PIN_ALL 7u
+// The pin bit of the y axis (the floor's normal).
+#define FM_PIN_Y 2u
+
+// Whether degree of freedom @p dof (3 * vertex + axis) is pinned.
+static inline bool fmIsDofPinned(const fmBody* body, int dof)
+{
+	return (body->pinned[dof / 3] >> (dof % 3)) & 1u;
+}
 
 // Zero the components of a velocity (3 doubles) along the axes the vertex is pinned on.
 static inline void fmZeroPinnedAxes(const fmBody* body, int vertex, double* v)
 {
 	for (int k = 0; k < 3; ++k)
-		if (body->pinned[vertex] & (1u << k))
+		if (fmIsDofPinned(body, 3 * vertex + k))
 			v[k] = 0.0;
 }
 

@@ -13,7 +13,7 @@ int fmApplyFloor(const fmFloorDef* floor, fmBody* b, double dt)
 	{
 		double* x = b->x + 3 * i;
 		double* v = b->v + 3 * i;
-		if ((b->pinned[i] & 2u) || x[1] >= h) // a vertex held in y does not touch
+		if ((b->pinned[i] & FM_PIN_Y) || x[1] >= h) // a vertex held in y does not touch
 			continue;
 		++contacts;
 		if (floor->friction == fm_floorStick)

@@ -246,11 +246,11 @@ static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		unsigned pin = b->pinned[i];
-		bool onFloor = pb->floor && !(pin & 2u) && x[3 * i + 1] <= pb->floor->height &&
+		bool onFloor = pb->floor && !(pin & FM_PIN_Y) && x[3 * i + 1] <= pb->floor->height &&
 		               c->gradient[3 * i + 1] > 0.0;
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
 		c->fixed[3 * i] = (pin & 1u) || stick;
-		c->fixed[3 * i + 1] = (pin & 2u) || onFloor;
+		c->fixed[3 * i + 1] = (pin & FM_PIN_Y) || onFloor;
 		c->fixed[3 * i + 2] = (pin & 4u) || stick;
 	}
 }
@@ -392,7 +392,7 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	if (pb->floor == NULL)
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & 2u) && out[3 * i + 1] < pb->floor->height)
+		if (!(b->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < pb->floor->height)
 			out[3 * i + 1] = pb->floor->height;
 }
 
@@ -534,7 +534,7 @@ static int fmFloorVelocities(const fmFloorDef* floor, fmBody* b, const fmImplici
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* v = b->v + 3 * i;
-		if ((b->pinned[i] & 2u) || b->x[3 * i + 1] > floor->height)
+		if ((b->pinned[i] & FM_PIN_Y) || b->x[3 * i + 1] > floor->height)
 			continue;
 		++contacts;
 		double impulse = fmax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push
@@ -569,7 +569,7 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, do
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
-		if (b->pinned[k / 3] & (1u << (k % 3)))
+		if (fmIsDofPinned(b, k))
 			continue;
 		double m = b->mass[k / 3];
 		weight += m * m * g[k % 3] * g[k % 3];
@@ -611,7 +611,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	//    the prediction held above the floor.
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
-		c->xPred[k] = (b->pinned[k / 3] & (1u << (k % 3))) ? b->x[k] : b->x[k] + h * b->v[k];
+		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
@@ -626,7 +626,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
 	memcpy(b->x, c->xPred, sizeof(double) * (size_t)n3);
 	for (int i = 0; floor && i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & 2u) && b->x[3 * i + 1] < floor->height)
+		if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < floor->height)
 			b->x[3 * i + 1] = floor->height;
 
 	// 2. Newton on the incremental potential.
@@ -643,7 +643,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	for (int k = 0; k < n3; ++k)
-		b->v[k] = (b->pinned[k / 3] & (1u << (k % 3))) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
+		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(b, h);
 
 	// 4. Floor: restitution and friction on the velocities of vertices on it.

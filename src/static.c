@@ -23,7 +23,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 	fmAddElasticForces(b, b->x, c->forces);
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
-		if (b->pinned[k / 3] & (1u << (k % 3)))
+		if (fmIsDofPinned(b, k))
 			continue;
 		double m = b->mass[k / 3];
 		weight += m * m * g[k % 3] * g[k % 3];
