@@ -476,5 +476,7 @@ fmBodyStats fmBody_GetStats(fmBodyId bodyId)
 	s.centerOfMass = fmScale(1.0 / b->totalMass, moment);
 	s.elasticEnergy = fmElasticEnergy(b, b->x);
 	s.invertedTets = fmBodyCountInverted(b);
+	s.work = b->ledger.work;
+	s.initialEnergy = b->ledger.initialEnergy;
 	return s;
 }

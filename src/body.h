@@ -3,6 +3,8 @@
 
 #include <femto/femto.h>
 
+#include "energy_ledger.h"
+
 #include <stdint.h>
 
 typedef struct fmBody
@@ -46,8 +48,10 @@ typedef struct fmBody
 	// last good state, restored on numerical failure
 	double* xGood;
 	double* vGood;
-	double energyGood; // kinetic + elastic energy of the good state (runaway check)
-	bool energyStale;  // energyGood must be recomputed (new body, new material)
+	double energyGood;     // kinetic + elastic energy of the good state (runaway check)
+	bool energyStale;      // energyGood must be recomputed (new body, new material)
+	double energyAfter;    // kinetic + elastic energy at the end of the frame being checked
+	fmEnergyLedger ledger; // work done on the body: the runaway bound (energy_ledger.h)
 
 	fmMaterial material;
 	fmForceModel forceModel;

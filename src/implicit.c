@@ -47,6 +47,8 @@ void fmImplicitCacheFree(void* memory)
 	FM_FREE_ARRAY(c->temp, double, n3);
 	FM_FREE_ARRAY(c->work, double, 4 * n3);
 	FM_FREE_ARRAY(c->fixed, uint8_t, n3);
+	FM_FREE_ARRAY(c->floorBound, double, (size_t)c->vertexCount);
+	FM_FREE_ARRAY(c->best, double, n3);
 	fmBsr_Free(&c->pattern);
 	FM_FREE_ARRAY(c, fmImplicitCache, 1);
 }
@@ -103,9 +105,11 @@ fmImplicitCache* fmImplicit_GetCache(fmBody* b)
 	c->temp = FM_ALLOC_ZERO(double, n3);
 	c->work = FM_ALLOC_ZERO(double, 4 * n3);
 	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
+	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->vertexCount);
+	c->best = FM_ALLOC_ZERO(double, n3);
 	ok = ok && c->tetSlot && (c->edgeSlot || c->edgeCount == 0) && c->hessian && c->blockInverse &&
 	     c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
-	     c->work && c->fixed;
+	     c->work && c->fixed && c->floorBound && c->best;
 	if (ok)
 		ok = fmBuildSlots(b, c);
 	if (!ok)
@@ -246,7 +250,7 @@ static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		unsigned pin = b->pinned[i];
-		bool onFloor = pb->floor && !(pin & FM_PIN_Y) && x[3 * i + 1] <= pb->floor->height &&
+		bool onFloor = pb->floor && !(pin & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i] &&
 		               c->gradient[3 * i + 1] > 0.0;
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
 		c->fixed[3 * i] = (pin & 1u) || stick;
@@ -392,8 +396,8 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	if (pb->floor == NULL)
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < pb->floor->height)
-			out[3 * i + 1] = pb->floor->height;
+		if (!(b->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
+			out[3 * i + 1] = c->floorBound[i];
 }
 
 // Backtracking line search (Armijo, c = 1e-4) on E along the projected path.
@@ -403,7 +407,7 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 // the noise a step is accepted when it lowers the gradient norm instead. Returns false if no
 // step length is accepted.
 static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
-                         double magnitude, double gradientNorm)
+                         double magnitude, double gradientNorm, bool* inNoise)
 {
 	const int n3 = 3 * b->vertexCount;
 	const double noise =
@@ -426,6 +430,7 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 		}
 		if (accept)
 		{
+			*inNoise = fabs(value - energy) <= noise;
 			memcpy(b->x, trial, sizeof(double) * (size_t)n3);
 			return true;
 		}
@@ -456,8 +461,14 @@ static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
 
 fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
-	fmNewtonResult result = {0, 0, INFINITY, false, true, false};
+	fmNewtonResult result;
+	memset(&result, 0, sizeof result);
+	result.residual = INFINITY;
+	result.finite = true;
 	const int n3 = 3 * b->vertexCount;
+	double bestResidual = INFINITY, keptResidual = INFINITY;
+	int sinceBest = 0;
+	bool inNoise = false; // the last step changed the energy by less than its round-off
 	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
 	// Lazy Hessian: per-element projected Hessians dominate the cost of an iteration, so the
 	// assembled matrix is reused (within a step and across steps: a body at rest hardly
@@ -482,6 +493,11 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 			break;
 		}
 		result.residual = gradientNorm / scale;
+		if (pb->keepBest && result.residual < keptResidual)
+		{
+			keptResidual = result.residual;
+			memcpy(c->best, b->x, sizeof(double) * (size_t)n3);
+		}
 		if (result.residual <= pb->tolerance)
 		{
 			result.converged = true;
@@ -489,6 +505,17 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		}
 		if (result.iterations >= pb->maxNewton)
 			break;
+		// Stagnation: steps that change the energy by less than its round-off and no longer
+		// improve the residual. (Far from the solution the residual may rise for many
+		// iterations while the energy falls; that is progress.)
+		bool improved = result.residual < 0.9 * bestResidual;
+		bestResidual = improved ? result.residual : bestResidual;
+		sinceBest = improved || !inNoise ? 0 : sinceBest + 1;
+		if (sinceBest >= FM_NEWTON_STAGNATION)
+		{
+			result.stagnated = true;
+			break;
+		}
 		bool slow = result.residual > FM_REUSE_RATIO * lastResidual;
 		// (A fresh exact Hessian of a quadratic energy cannot do better; only the floor's active
 		// set makes such a step slow.)
@@ -515,8 +542,16 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		}
 		result.iterations += 1;
 		fmEnsureDescent(b, c);
-		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm))
+		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm, &inNoise))
+		{
+			result.stalled = true;
 			break;
+		}
+	}
+	if (pb->keepBest && result.finite && !result.converged && keptResidual < result.residual)
+	{
+		memcpy(b->x, c->best, sizeof(double) * (size_t)n3);
+		result.residual = keptResidual;
 	}
 	return result;
 }
@@ -534,7 +569,7 @@ static int fmFloorVelocities(const fmFloorDef* floor, fmBody* b, const fmImplici
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* v = b->v + 3 * i;
-		if ((b->pinned[i] & FM_PIN_Y) || b->x[3 * i + 1] > floor->height)
+		if ((b->pinned[i] & FM_PIN_Y) || b->x[3 * i + 1] > c->floorBound[i])
 			continue;
 		++contacts;
 		double impulse = fmax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push
@@ -599,16 +634,42 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
 	return true;
 }
 
-fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* stats)
+// Lowest y of every vertex this step: the floor, except for a vertex deep below it, which may
+// rise by at most the depenetration speed times h (a body that starts below the floor is lifted
+// out, not catapulted; docs/robustness.md).
+static void fmSetFloorBounds(const fmFloorDef* floor, const fmBody* b, fmImplicitCache* c, double h)
 {
+	for (int i = 0; i < b->vertexCount; ++i)
+		c->floorBound[i] =
+		    fmin(floor->height, c->xStart[3 * i + 1] + floor->maxDepenetrationSpeed * h);
+}
+
+// Work the floor did on the body in the step (J): its push (the energy gradient it holds back)
+// times how far it lifted each vertex.
+static double fmFloorWork(const fmBody* b, const fmImplicitCache* c)
+{
+	double work = 0.0;
+	for (int i = 0; i < b->vertexCount; ++i)
+		if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] <= c->floorBound[i])
+			work += fmax(0.0, c->gradient[3 * i + 1]) *
+			        fmax(0.0, b->x[3 * i + 1] - c->xStart[3 * i + 1]);
+	return work;
+}
+
+fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve)
+{
+	memset(solve, 0, sizeof *solve);
 	fmImplicitCache* c = fmImplicit_GetCache(b);
 	if (c == NULL)
 		return fm_errOutOfMemory;
 	const int n3 = 3 * b->vertexCount;
 	const fmFloorDef* floor = world->def.floor.enabled ? &world->def.floor : NULL;
+	const double g[3] = {world->def.gravity.x, world->def.gravity.y, world->def.gravity.z};
 
-	// 1. Start state, inertial prediction (pinned axes stay put) and the first guess:
-	//    the prediction held above the floor.
+	// 1. Start state and inertial prediction (pinned axes stay put). The first guess is the
+	//    free flight x + h v + h^2 g held above the floor: a body in free fall is then solved
+	//    before the first iteration, however stiff or light it is (E / density of 1e17 and
+	//    more leaves the rigid motion to round-off in the elastic forces otherwise).
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
 		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
@@ -624,20 +685,19 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 	pb.maxNewton = world->def.newtonIterations;
 	pb.maxCg = world->def.cgIterations;
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
-	memcpy(b->x, c->xPred, sizeof(double) * (size_t)n3);
-	for (int i = 0; floor && i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < floor->height)
-			b->x[3 * i + 1] = floor->height;
+	for (int k = 0; k < n3; ++k)
+		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
+	if (floor)
+	{
+		fmSetFloorBounds(floor, b, c, h);
+		for (int i = 0; i < b->vertexCount; ++i)
+			if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < c->floorBound[i])
+				b->x[3 * i + 1] = c->floorBound[i];
+	}
 
 	// 2. Newton on the incremental potential.
-	fmNewtonResult r = fmNewton_Solve(b, c, &pb);
-	if (stats)
-	{
-		stats->newtonIterations += r.iterations;
-		stats->cgIterations += r.cgIterations;
-		stats->residual = r.residual;
-	}
-	if (!r.finite)
+	*solve = fmNewton_Solve(b, c, &pb);
+	if (!solve->finite)
 		return fm_errNumerical;
 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
@@ -646,8 +706,12 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmStepStats* 
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(b, h);
 
-	// 4. Floor: restitution and friction on the velocities of vertices on it.
+	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
+	//    vertices on it.
 	if (floor)
+	{
+		fmLedger_AddContactWork(b, fmFloorWork(b, c));
 		fmFloorVelocities(floor, b, c, h);
+	}
 	return fm_ok;
 }

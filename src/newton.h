@@ -29,6 +29,9 @@ typedef struct fmImplicitCache
 	double* temp;         // 3n
 	double* work;         // 4 * 3n: CG vectors
 	uint8_t* fixed;       // 3n: DOF held by a pin or the floor
+	double* floorBound;   // n: lowest y each vertex may take this step (the floor, or less
+	                      // while a deep vertex is lifted at the depenetration speed)
+	double* best;         // 3n: the state of smallest residual (fmNewtonProblem.keepBest)
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
@@ -62,13 +65,14 @@ typedef struct fmNewtonProblem
 	double massDamping;      // alpha / h
 	bool useDamping;         // the cache's damping matrix D (already divided by h) takes part
 	fmVec3 gravity;          // m/s^2 (times the load factor in statics)
-	const fmFloorDef* floor; // NULL: no floor
+	const fmFloorDef* floor; // NULL: no floor; else cache->floorBound holds the bounds on y
 	double tolerance;        // stop at |gradient over free DOFs| <= tolerance * scale
 	double scale;            // force scale (N)
 	int maxNewton;
 	int maxCg;
 	bool quadratic;    // Psi is quadratic (linear material): solve each Newton system tightly
 	bool exactHessian; // unprojected element Hessians (statics); stop if CG finds them indefinite
+	bool keepBest;     // end at the iterate of smallest residual, not the last (statics)
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult
@@ -79,7 +83,14 @@ typedef struct fmNewtonResult
 	bool converged;
 	bool finite;    // false: the energy or gradient went non-finite
 	bool projected; // exactHessian was requested but the Hessian turned out indefinite
+	bool stagnated; // stopped: FM_NEWTON_STAGNATION steps within the energy's round-off that
+	                // did not improve the residual by 10%
+	bool stalled;   // stopped: the line search found no step that lowers the energy
 } fmNewtonResult;
+
+// Newton steps within the energy's round-off and without a 10% better residual after which a
+// solve has stagnated at round-off: it stops and says so instead of spinning.
+#define FM_NEWTON_STAGNATION 8
 
 // The cache of @p body, allocated if needed; NULL when memory is short.
 fmImplicitCache* fmImplicit_GetCache(fmBody* body);

@@ -12,6 +12,8 @@
 
 // Smallest load fraction increment before giving up.
 #define FM_MIN_LOAD_STEP (1.0 / 256.0)
+// A solve that stagnates within this factor of the tolerance has met round-off.
+#define FM_STATIC_ROUND_OFF_FACTOR 100.0
 
 // |M g| over the free vertices, or |f_elastic| at the start when there is no gravity (a solve
 // driven by displaced pins).
@@ -59,6 +61,11 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		                   "out of memory for the static solver");
 
 	const int n3 = 3 * b->vertexCount;
+	// The last equilibrium reached, to go back to when a load increment fails.
+	double* equilibrium = FM_ALLOC_ARRAY(double, (size_t)n3);
+	if (equilibrium == NULL)
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the static solver");
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
 	fmNewtonProblem pb;
@@ -74,18 +81,25 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	// keeps it quadratic as long as it stays positive definite, which CG detects.
 	pb.exactHessian = true;
 
+	pb.keepBest = true;
+
 	// Load stepping: from the last converged fraction `done`, try `done + step`; halve the step
-	// on failure, double it again after a success.
+	// on failure, double it again after a success. A solve that stagnates close to the
+	// tolerance has met round-off, which a smaller load does not cure: its load level is kept
+	// (at its best state) and the result says how close it got.
 	double done = 0.0, step = 1.0;
 	int iterations = 0;
-	fmNewtonResult r = {0, 0, 0.0, true, true, false};
+	fmNewtonResult r;
+	memset(&r, 0, sizeof r);
+	r.converged = true;
+	r.finite = true;
 	if (pb.scale <= 0.0) // nothing pulls: already at equilibrium
 		done = 1.0;
 	while (done < 1.0)
 	{
 		double load = fmin(1.0, done + step);
 		pb.gravity = fmScale(load, gravity);
-		memcpy(c->trial, b->x, sizeof(double) * (size_t)n3);
+		memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
 		r = fmNewton_Solve(b, c, &pb);
 		iterations += r.iterations;
 		if (r.projected)
@@ -96,29 +110,44 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 			r = fmNewton_Solve(b, c, &pb);
 			iterations += r.iterations;
 		}
-		if (r.converged)
+		bool roundOff = r.finite && (r.stagnated || r.stalled) &&
+		                r.residual <= fmax(FM_STATIC_ROUND_OFF_FACTOR * tolerance, 1e-6);
+		if (r.converged || roundOff)
 		{
 			done = load;
 			step = fmin(1.0, 2.0 * step);
 			continue;
 		}
-		memcpy(b->x, c->trial, sizeof(double) * (size_t)n3); // back to the last equilibrium
+		// An attempt that ran out of iterations while still converging has moved towards the
+		// equilibrium of every load near it: go on from there. One that went wrong (stalled,
+		// stagnated far from the answer, non-finite) goes back to the last equilibrium.
+		bool progressing = r.finite && !r.stalled && !r.stagnated;
+		if (!progressing)
+			memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
 		step *= 0.5;
 		if (step < FM_MIN_LOAD_STEP || !r.finite)
 			break;
 	}
+	if (done < 1.0)
+		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
+	FM_FREE_ARRAY(equilibrium, double, (size_t)n3);
 	if (residual)
 		*residual = r.residual;
+	memset(b->v, 0, sizeof(double) * (size_t)n3);
 	if (done < 1.0)
-	{
-		memcpy(b->x, c->xStart, sizeof(double) * (size_t)n3);
 		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
 		                   "static solve did not converge: equilibrium reached up to %.3g of the "
-		                   "load; the last attempt stopped at residual %.3g (tolerance %.3g) after "
-		                   "%d Newton iterations in all; the body was left as it was. Try more "
+		                   "load (the body is left there); the last attempt stopped at residual "
+		                   "%.3g (tolerance %.3g) after %d Newton iterations in all. Try more "
 		                   "iterations, a looser tolerance, more pins or a stiffer material",
 		                   done, r.residual, tolerance, iterations);
-	}
-	memset(b->v, 0, sizeof(double) * (size_t)n3);
+	if (!r.converged)
+		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
+		                   "static solve stopped at residual %.3g, above the tolerance %.3g: the "
+		                   "full load is applied, but after %d Newton iterations in all the "
+		                   "residual stagnated (round-off in double precision limits this body to "
+		                   "about that). The best state reached is kept; a tolerance of %.1g "
+		                   "converges",
+		                   r.residual, tolerance, iterations, 2.0 * r.residual);
 	return fm_ok;
 }

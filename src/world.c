@@ -13,16 +13,26 @@
 
 static fmWorld s_worlds[FM_MAX_WORLDS];
 
+fmFloorDef fmDefaultFloorDef(void)
+{
+	fmFloorDef floor;
+	memset(&floor, 0, sizeof floor);
+	floor.enabled = true;
+	floor.height = 0.0;
+	floor.friction = fm_floorStick;
+	floor.frictionCoefficient = 0.5;
+	floor.restitution = 0.0;
+	floor.maxDepenetrationSpeed = 1.0;
+	return floor;
+}
+
 fmWorldDef fmDefaultWorldDef(void)
 {
 	fmWorldDef def;
 	memset(&def, 0, sizeof def);
 	def.gravity = fmMakeVec3(0.0, -9.8, 0.0);
-	def.floor.enabled = true;
+	def.floor = fmDefaultFloorDef();
 	def.floor.height = -3.0;
-	def.floor.friction = fm_floorStick;
-	def.floor.frictionCoefficient = 0.5;
-	def.floor.restitution = 0.0;
 	def.integrator = fm_explicit;
 	def.newtonIterations = 20;
 	def.tolerance = 1e-6;
@@ -37,38 +47,73 @@ static bool fmIsFiniteVec(fmVec3 v)
 	return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
 }
 
+// Gravity beyond about 1000 g is no game's and no lab's; it only drives bodies through
+// everything (1e30 m/s^2 inverts every tet in one step).
+#define FM_MAX_GRAVITY 1e4
+
+static fmResult fmValidateGravity(fmVec3 gravity, fmDiagnostic* diag)
+{
+	if (!fmIsFiniteVec(gravity) || !(fmLength(gravity) <= FM_MAX_GRAVITY))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "gravity must be finite with |g| <= %g m/s^2 (Earth: 9.8), got "
+		                   "(%g, %g, %g)",
+		                   FM_MAX_GRAVITY, gravity.x, gravity.y, gravity.z);
+	return fm_ok;
+}
+
+fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag)
+{
+	if (floor == NULL)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "floor def is NULL");
+	if (!floor->enabled)
+		return fm_ok;
+	if (!isfinite(floor->height))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "floor height must be finite");
+	if (floor->friction != fm_floorStick && floor->friction != fm_floorCoulomb)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown floor friction mode %d",
+		                   (int)floor->friction);
+	if (!(floor->frictionCoefficient >= 0.0 && isfinite(floor->frictionCoefficient)))
+		return fmDiagError(
+		    diag, fm_errParameter, "", 0, 0,
+		    "floor friction coefficient must be >= 0 (0.5 is rubber on wood), got %g",
+		    floor->frictionCoefficient);
+	if (!(floor->restitution >= 0.0 && floor->restitution <= 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "floor restitution must be in [0, 1], got %g", floor->restitution);
+	if (!(floor->maxDepenetrationSpeed > 0.0 && isfinite(floor->maxDepenetrationSpeed)))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "floor maxDepenetrationSpeed must be finite and > 0 m/s (default 1; "
+		                   "start from fmDefaultFloorDef()), got %g",
+		                   floor->maxDepenetrationSpeed);
+	return fm_ok;
+}
+
 fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "world def not initialised: start from fmDefaultWorldDef()");
-	if (!fmIsFiniteVec(def->gravity))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "gravity must be finite");
-	const fmFloorDef* floor = &def->floor;
-	if (floor->enabled && !isfinite(floor->height))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "floor height must be finite");
-	if (floor->enabled && floor->friction != fm_floorStick && floor->friction != fm_floorCoulomb)
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown floor friction mode");
-	if (floor->enabled &&
-	    !(floor->frictionCoefficient >= 0.0 && isfinite(floor->frictionCoefficient)))
-		return fmDiagError(
-		    diag, fm_errParameter, "", 0, 0,
-		    "floor friction coefficient must be >= 0 (0.5 is rubber on wood), got %g",
-		    floor->frictionCoefficient);
-	if (floor->enabled && !(floor->restitution >= 0.0 && floor->restitution <= 1.0))
-		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "floor restitution must be in [0, 1], got %g", floor->restitution);
+	fmResult r = fmValidateGravity(def->gravity, diag);
+	if (r == fm_ok)
+		r = fmFloorDef_Validate(&def->floor, diag);
+	if (r != fm_ok)
+		return r;
 	if (def->integrator != fm_explicit && def->integrator != fm_implicit)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0, "unknown integrator %d",
 		                   (int)def->integrator);
-	if (def->newtonIterations < 1 || def->cgIterations < 1)
+	if (def->newtonIterations < 1 || def->newtonIterations > FM_MAX_NEWTON_ITERATIONS)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "newton and CG iteration limits must be >= 1 (defaults 20 and 500)");
-	if (!(def->tolerance > 0.0 && def->tolerance < 1.0))
-		return fmDiagError(
-		    diag, fm_errParameter, "", 0, 0,
-		    "tolerance must be in (0, 1) (a relative residual; default 1e-6), got %g",
-		    def->tolerance);
+		                   "newtonIterations must be in [1, %d] (default 20), got %d",
+		                   FM_MAX_NEWTON_ITERATIONS, def->newtonIterations);
+	if (def->cgIterations < 1 || def->cgIterations > FM_MAX_CG_ITERATIONS)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "cgIterations must be in [1, %d] (default 500), got %d",
+		                   FM_MAX_CG_ITERATIONS, def->cgIterations);
+	if (!(def->tolerance >= FM_MIN_TOLERANCE && def->tolerance < 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "tolerance must be in [%g, 1) (a relative residual, default 1e-6; "
+		                   "double precision cannot reach below %g), got %g",
+		                   FM_MIN_TOLERANCE, FM_MIN_TOLERANCE, def->tolerance);
 	if (def->maxBodies < 1 || def->maxBodies > (1 << 20))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "maxBodies must be in [1, 2^20], got %d", def->maxBodies);
@@ -157,12 +202,15 @@ fmStepStats fmWorld_GetStepStats(fmWorldId worldId)
 	return w ? w->stats : none;
 }
 
-void fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity)
+fmResult fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
-	FM_ASSERT(fmIsFiniteVec(gravity));
-	if (w)
+	if (w == NULL)
+		return fm_errInvalidId;
+	fmResult r = fmValidateGravity(gravity, &w->lastError);
+	if (r == fm_ok)
 		w->def.gravity = gravity;
+	return r;
 }
 
 void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator)
@@ -176,11 +224,15 @@ void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator)
 	}
 }
 
-void fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
+fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
-	if (w && floor)
+	if (w == NULL)
+		return fm_errInvalidId;
+	fmResult r = fmFloorDef_Validate(floor, &w->lastError);
+	if (r == fm_ok)
 		w->def.floor = *floor;
+	return r;
 }
 
 // Largest stable symplectic Euler step: 2 / omega_max, with omega_max^2 bounded by
@@ -251,66 +303,83 @@ double fmWorld_EstimateExplicitStep(fmWorldId worldId)
 	return isfinite(dt) ? dt : 0.0;
 }
 
-// Kinetic plus elastic energy, the measure of a runaway.
-static double fmBodyEnergy(const fmBody* b)
+// Up to eight tets of a body that went bad (non-finite or inverted), in the mesh's numbering,
+// into @p list; returns how many there are in all.
+static int fmListBadTets(const fmBody* b, char* list, size_t size)
 {
-	double kinetic = 0.0;
-	for (int i = 0; i < b->vertexCount; ++i)
-	{
-		fmVec3 v = fmLoad(b->v, i);
-		kinetic += 0.5 * b->mass[i] * fmDot(v, v);
-	}
-	return kinetic + fmElasticEnergy(b, b->x);
-}
-
-// Why a body went bad: non-finite state, or energy far beyond what the frame could add.
-static fmResult fmCheckBody(fmWorld* w, int index, double energyBefore, double frameTime,
-                            double* energyAfter)
-{
-	const fmBody* b = &w->bodies[index];
-	int badVertex = -1;
-	for (int k = 0; k < 3 * b->vertexCount && badVertex < 0; ++k)
-		if (!isfinite(b->x[k]) || !isfinite(b->v[k]))
-			badVertex = k / 3;
-	double energy = badVertex < 0 ? fmBodyEnergy(b) : NAN;
-	*energyAfter = energy;
-	// Gravity can add at most M |g| (fall height) + M |g|^2 T^2 in a frame; a stable elastic
-	// body does not multiply its energy by 1000 on top of that.
-	double g = fmLength(w->def.gravity);
-	double size = b->restSize;
-	double bound = 1000.0 * (energyBefore + b->totalMass * g * (size + g * frameTime * frameTime)) +
-	               1e-6 * b->totalMass * size * size;
-	if (badVertex < 0 && energy <= bound)
-		return fm_ok;
-
-	// Name the tets that went bad: non-finite or inverted deformation.
-	char list[160] = "";
-	int count = 0, length = 0;
+	int count = 0;
+	size_t length = 0;
+	list[0] = '\0';
 	for (int t = 0; t < b->tetCount; ++t)
 	{
 		fmMat3 F = fmTetDeformation(b, b->x, t);
 		double J = fmDet(&F);
 		if (isfinite(J) && J > 0.0)
 			continue;
-		if (count < 8 && length < (int)sizeof list - 16)
-			length += snprintf(list + length, sizeof list - (size_t)length, "%s%d",
-			                   count ? ", " : "", t + b->firstIndex);
+		if (count < 8 && length + 16 < size)
+			length += (size_t)snprintf(list + length, size - length, "%s%d", count ? ", " : "",
+			                           t + b->firstIndex);
 		++count;
 	}
-	if (badVertex >= 0)
+	if (count > 8 && length + 6 < size)
+		snprintf(list + length, size - length, ", ...");
+	return count;
+}
+
+// What to try after a failure, by integrator.
+static const char* fmFailureAdvice(const fmWorld* w)
+{
+	return w->def.integrator == fm_implicit
+	           ? "try more substeps (a smaller dt), a tighter tolerance or more Newton iterations"
+	           : "try a smaller dt (more substeps) or the implicit integrator";
+}
+
+// The first vertex with a non-finite position or velocity, or -1.
+static int fmFirstNonFiniteVertex(const fmBody* b)
+{
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		if (!isfinite(b->x[k]) || !isfinite(b->v[k]))
+			return k / 3;
+	return -1;
+}
+
+// Say why body @p index went bad (non-finite state or energy beyond its ledger) in the world's
+// last error, naming the vertex and tets; @p detail adds what the solver knew (may be "").
+static fmResult fmReportBadBody(fmWorld* w, int index, double energy, double bound,
+                                const char* detail)
+{
+	const fmBody* b = &w->bodies[index];
+	char list[160];
+	int bad = fmListBadTets(b, list, sizeof list);
+	int vertex = fmFirstNonFiniteVertex(b);
+	if (vertex >= 0)
 		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
-		            "body %d: non-finite position or velocity at vertex %d; %d bad tets (%s%s); "
-		            "state restored to the start of the frame; try a smaller dt or the implicit "
-		            "integrator",
-		            index, badVertex + b->firstIndex, count, list, count > 8 ? ", ..." : "");
+		            "body %d: non-finite position or velocity at vertex %d; %d bad tets (%s)%s; "
+		            "state restored to the last good frame; %s",
+		            index, vertex + b->firstIndex, bad, list, detail, fmFailureAdvice(w));
 	else
-		fmDiagError(
-		    &w->lastError, fm_errNumerical, "", 0, 0,
-		    "body %d: energy ran away (%.3g J after %.3g J); %d inverted tets (%s%s); state "
-		    "restored to the start of the frame; try a smaller dt or the implicit integrator",
-		    index, energy, energyBefore, count, list, count > 8 ? ", ..." : "");
+		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+		            "body %d: energy ran away: %.3g J (kinetic + elastic) is more than the %.3g J "
+		            "its ledger allows (%.3g J at the start plus %.3g J of work done on it, "
+		            "docs/robustness.md); %d inverted tets (%s)%s; state restored to the last "
+		            "good frame; %s",
+		            index, energy, bound, b->ledger.initialEnergy, b->ledger.work, bad, list,
+		            detail, fmFailureAdvice(w));
 	fmLog(fm_logError, "%s", w->lastError.message);
 	return fm_errNumerical;
+}
+
+// Health of a body after a frame: finite state, and energy within the ledger's bound.
+static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double* energyAfter)
+{
+	fmBody* b = &w->bodies[index];
+	double energy =
+	    fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep) : NAN;
+	double bound = 0.0;
+	*energyAfter = energy;
+	if (isfinite(energy) && fmLedger_Check(b, w->def.gravity, energy, &bound))
+		return fm_ok;
+	return fmReportBadBody(w, index, energy, bound, "");
 }
 
 static void fmRestoreAll(fmWorld* w)
@@ -349,6 +418,72 @@ static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 	           dt, limit, (int)ceil(frameTime / limit), frameTime);
 }
 
+// A frame the integrators can take: 1 to FM_MAX_SUBSTEPS substeps of FM_MIN_SUBSTEP to
+// FM_MAX_SUBSTEP seconds. (A step of 1e300 s makes the inertia term 1/h^2 vanish: the implicit
+// solve would be a static one without pins and nothing would move.)
+static fmResult fmCheckFrame(fmWorld* w, double timeStep, int subStepCount)
+{
+	if (!(timeStep > 0.0 && isfinite(timeStep)) || subStepCount < 1 ||
+	    subStepCount > FM_MAX_SUBSTEPS)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "time step must be finite and > 0 and substeps in [1, %d], got %g and "
+		                   "%d",
+		                   FM_MAX_SUBSTEPS, timeStep, subStepCount);
+	double h = timeStep / subStepCount;
+	if (!(h >= FM_MIN_SUBSTEP && h <= FM_MAX_SUBSTEP))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "a substep of %g s is outside what the integrators can take (%g to %g "
+		                   "s); for an equilibrium use fmBody_SolveStatic",
+		                   h, FM_MIN_SUBSTEP, FM_MAX_SUBSTEP);
+	return fm_ok;
+}
+
+// Book an implicit step's solver counters; a step that ended above the tolerance is a warning
+// (once a frame) or, with notConvergedIsError, an error.
+static fmResult fmBookImplicitStep(fmWorld* w, int index, const fmNewtonResult* r)
+{
+	w->stats.newtonIterations += r->iterations;
+	w->stats.cgIterations += r->cgIterations;
+	w->stats.residual = r->residual;
+	w->stats.maxResidual = fmax(w->stats.maxResidual, r->residual);
+	if (r->converged)
+		return fm_ok;
+	w->stats.unconvergedSteps += 1;
+	const char* why = r->stagnated ? "it stagnated at round-off"
+	                  : r->stalled ? "the line search found no decrease"
+	                               : "it hit the Newton iteration limit";
+	const char* format = "body %d: the implicit step ended at relative residual %.3g, above the "
+	                     "tolerance %.3g, after %d Newton and %d CG iterations (%s)";
+	if (w->def.notConvergedIsError)
+		return fmDiagError(&w->lastError, fm_errNotConverged, "", 0, 0, format, index, r->residual,
+		                   w->def.tolerance, r->iterations, r->cgIterations, why);
+	if (w->stats.unconvergedSteps == 1)
+		fmDiagWarn(&w->lastError, "", 0, format, index, r->residual, w->def.tolerance,
+		           r->iterations, r->cgIterations, why);
+	return fm_ok;
+}
+
+// Advance body @p index by one substep of the world's integrator.
+static fmResult fmStepBody(fmWorld* w, int index, double h)
+{
+	fmBody* b = &w->bodies[index];
+	if (w->def.integrator != fm_implicit)
+		return fmExplicitStep(w, b, h);
+	fmNewtonResult solve;
+	fmResult r = fmImplicitStep(w, b, h, &solve);
+	if (r == fm_errNumerical)
+	{
+		char detail[96];
+		snprintf(detail, sizeof detail, "; the implicit solve's last relative residual was %.3g",
+		         solve.residual);
+		return fmReportBadBody(w, index, NAN, NAN, detail);
+	}
+	if (r != fm_ok)
+		return fmDiagError(&w->lastError, r, "", 0, 0, "body %d: the implicit step failed (%s)",
+		                   index, fmResultMessage(r));
+	return fmBookImplicitStep(w, index, &solve);
+}
+
 fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
@@ -356,25 +491,18 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		return fm_errInvalidId;
 	memset(&w->stats, 0, sizeof w->stats);
 	fmDiagClear(&w->lastError);
-	if (!(timeStep > 0.0 && isfinite(timeStep)) || subStepCount < 1)
-		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-		                   "time step must be > 0 and substeps >= 1, got %g and %d", timeStep,
-		                   subStepCount);
+	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
+	if (r != fm_ok)
+		return r;
 
-	// Stage 1: the energy before the frame bounds what the frame may produce. The state to fall
-	// back on (xGood, vGood) is the last one that passed the checks, kept from the previous
-	// frame: a state the user set to NaN or Inf between steps is not "good".
-	// The energy of the good state is kept from the last check: recompute it only when the
-	// caller changed the state or the material since (an elastic energy pass saved per frame).
-	for (int i = 0; i < w->bodyCapacity; ++i)
-	{
-		fmBody* b = &w->bodies[i];
-		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
-		if (b->x && (b->energyStale || memcmp(b->x, b->xGood, bytes) != 0 ||
-		             memcmp(b->v, b->vGood, bytes) != 0))
-			b->energyGood = fmBodyEnergy(b);
-	}
+	// Stage 1: open every body's energy ledger. The state to fall back on (xGood, vGood) is the
+	// last one that passed the checks, kept from the previous frame: a state the user set to
+	// NaN or Inf between steps is not "good". What the caller changed since is booked as work.
 	const double dt = timeStep / subStepCount;
+	const double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x)
+			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep);
 	fmWarnExplicitStep(w, timeStep, subStepCount);
 
 	// Stage 2: substeps, every body advanced by the chosen integrator.
@@ -382,19 +510,11 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	{
 		for (int i = 0; i < w->bodyCapacity; ++i)
 		{
-			fmBody* b = &w->bodies[i];
-			if (b->x == NULL)
+			if (w->bodies[i].x == NULL)
 				continue;
-			fmResult r = w->def.integrator == fm_implicit ? fmImplicitStep(w, b, dt, &w->stats)
-			                                              : fmExplicitStep(w, b, dt);
+			r = fmStepBody(w, i, dt);
 			if (r != fm_ok)
 			{
-				if (w->lastError.result == fm_ok)
-					fmDiagError(&w->lastError, r, "", 0, 0,
-					            "body %d: the %s step failed (%s); state restored to the start of "
-					            "the frame",
-					            i, w->def.integrator == fm_implicit ? "implicit" : "explicit",
-					            fmResultMessage(r));
 				fmRestoreAll(w);
 				return r;
 			}
@@ -402,23 +522,28 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		w->stats.steps += 1;
 	}
 
-	// Stage 3: health checks; a failure restores every body.
+	// Stage 3: health checks against the ledgers; a failure restores every body. Only when
+	// every body passed are the frame's work booked and the good states moved forward.
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x && fmCheckBody(w, i, shadowStep, &b->energyAfter) != fm_ok)
+		{
+			fmRestoreAll(w);
+			return fm_errNumerical;
+		}
+	}
 	w->stats.contacts = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
 		if (b->x == NULL)
 			continue;
-		double energy;
-		if (fmCheckBody(w, i, b->energyGood, timeStep, &energy) != fm_ok)
-		{
-			fmRestoreAll(w);
-			return fm_errNumerical;
-		}
+		fmLedger_Commit(b);
 		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 		memcpy(b->xGood, b->x, bytes);
 		memcpy(b->vGood, b->v, bytes);
-		b->energyGood = energy;
+		b->energyGood = b->energyAfter;
 		b->energyStale = false;
 		w->stats.invertedTets += fmBodyCountInverted(b);
 		if (w->def.floor.enabled)

@@ -157,9 +157,11 @@ TEST(coulomb_floor_decelerates_at_mu_g)
 		CHECK(0);
 		return;
 	}
-	fmFloorDef floor = {true, 0.0, fm_floorCoulomb, 0.4, 0.0};
-	fmWorld_SetFloor(world, &floor);
-	fmWorld_SetGravity(world, fmMakeVec3(0, -9.8, 0));
+	fmFloorDef floor = fmDefaultFloorDef();
+	floor.friction = fm_floorCoulomb;
+	floor.frictionCoefficient = 0.4;
+	CHECK_INT(fmWorld_SetFloor(world, &floor), fm_ok);
+	CHECK_INT(fmWorld_SetGravity(world, fmMakeVec3(0, -9.8, 0)), fm_ok);
 	fmBody_ApplyImpulse(body, fmMakeVec3(2.0, 0, 0));
 	double dt = 0.5 * fmWorld_EstimateExplicitStep(world);
 	double t = 0.0, v0 = 2.0;

@@ -284,7 +284,9 @@ static double slideDistance(fmFloorFriction friction, double mu, double* deceler
 {
 	fmWorldDef worldDef = fmDefaultWorldDef();
 	worldDef.integrator = fm_implicit;
-	worldDef.floor = (fmFloorDef){true, 0.0, friction, mu, 0.0};
+	worldDef.floor = fmDefaultFloorDef();
+	worldDef.floor.friction = friction;
+	worldDef.floor.frictionCoefficient = mu;
 	fmWorldId world = fmCreateWorld(&worldDef);
 	fmTetMesh mesh;
 	fmMakeBoxMesh(2, 1, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(0.4, 0.1, 0.4), &mesh);

@@ -32,9 +32,14 @@ FM_API void fmDestroyWorld(fmWorldId worldId);
 /// True if the id refers to a live world.
 FM_API bool fmWorld_IsValid(fmWorldId worldId);
 
-/// Advance by @p timeStep seconds (a frame), split into @p subStepCount equal steps.
-/// On numerical failure (NaN, Inf, runaway energy) every body keeps its state from before the
-/// call, the step returns fm_errNumerical and fmWorld_GetLastError() says which body and tets.
+/// Advance by @p timeStep seconds (a frame), split into @p subStepCount equal steps
+/// (1 to FM_MAX_SUBSTEPS, each of FM_MIN_SUBSTEP to FM_MAX_SUBSTEP seconds, else
+/// fm_errParameter and nothing moves).
+/// On numerical failure (NaN, Inf, or energy beyond the body's ledger: initial energy plus the
+/// work done on it) every body keeps its state from before the call, the step returns
+/// fm_errNumerical and fmWorld_GetLastError() says which body, vertices and tets. An implicit
+/// step that ends above the tolerance is a warning in the last error's warning fields, counted
+/// in fmStepStats.unconvergedSteps, or fm_errNotConverged with fmWorldDef.notConvergedIsError.
 FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
 
 /// The diagnostic of the last failed step.
@@ -43,11 +48,13 @@ FM_API const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId);
 /// Counters of the last step.
 FM_API fmStepStats fmWorld_GetStepStats(fmWorldId worldId);
 
-/// Change gravity (m/s^2).
-FM_API void fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity);
+/// Change gravity (m/s^2), validated as in fmWorldDef_Validate: on fm_errParameter gravity is
+/// unchanged and fmWorld_GetLastError() says why.
+FM_API fmResult fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity);
 
-/// Change the floor.
-FM_API void fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor);
+/// Change the floor, validated by fmFloorDef_Validate: on fm_errParameter the floor is
+/// unchanged and fmWorld_GetLastError() says why.
+FM_API fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor);
 
 /// Switch the integrator between frames (e.g. a game going from a cutscene to gameplay).
 /// Positions and velocities carry over; the implicit solver's caches are rebuilt as needed.

@@ -147,19 +147,47 @@ typedef struct fmFloorDef
 	fmFloorFriction friction;   ///< stick or Coulomb
 	double frictionCoefficient; ///< Coulomb coefficient, >= 0
 	double restitution;         ///< normal restitution, in [0, 1]
+	/// m/s, > 0 (default 1): the fastest a vertex found below the floor is pushed out. A body
+	/// that starts (or is dragged) deep below the floor rises at this speed instead of being
+	/// catapulted; penetration that the step's own motion explains is removed at once (as
+	/// PhysX's max depenetration velocity). See docs/robustness.md.
+	double maxDepenetrationSpeed;
 } fmFloorDef;
+
+/// The default floor: enabled at y = 0, the seeds' stick friction, depenetration at 1 m/s.
+FM_API fmFloorDef fmDefaultFloorDef(void);
+
+/// Check a floor; the diagnostic says which field is wrong.
+FM_API fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag);
+
+/// Largest fmWorldDef.newtonIterations: beyond it a solve has stagnated, not converged.
+#define FM_MAX_NEWTON_ITERATIONS 1000
+/// Largest fmWorldDef.cgIterations.
+#define FM_MAX_CG_ITERATIONS 100000
+/// Smallest fmWorldDef.tolerance: relative residuals below it are round-off in double.
+#define FM_MIN_TOLERANCE 1e-12
+/// Most substeps fmWorld_Step takes in one call.
+#define FM_MAX_SUBSTEPS 100000
+/// Longest substep (s) fmWorld_Step takes: beyond it use fmBody_SolveStatic for equilibrium.
+#define FM_MAX_SUBSTEP 1000.0
+/// Shortest substep (s) fmWorld_Step takes.
+#define FM_MIN_SUBSTEP 1e-12
 
 /// World definition. Get one from fmDefaultWorldDef().
 typedef struct fmWorldDef
 {
-	fmVec3 gravity;          ///< m/s^2, default (0, -9.8, 0): y is up
+	fmVec3 gravity;          ///< m/s^2, |g| <= 1e4 (about 1000 g), default (0, -9.8, 0): y is up
 	fmFloorDef floor;        ///< default: enabled at y = -3, stick (the seeds)
 	fmIntegrator integrator; ///< default fm_explicit
-	int newtonIterations;    ///< implicit: maximum Newton iterations a step, >= 1 (default 20)
-	double tolerance;        ///< implicit: residual / force scale to stop at, > 0 (default 1e-6)
-	int cgIterations;        ///< implicit: maximum CG iterations a Newton step, >= 1 (default 500)
-	int maxBodies;           ///< capacity, >= 1 (default 64)
-	int internalValue;       ///< set by fmDefaultWorldDef; create calls check it
+	int newtonIterations;    ///< implicit: maximum Newton iterations a step, in [1, 1000] (20)
+	/// implicit: relative residual to stop at, in [1e-12, 1) (default 1e-6), see docs/implicit.md
+	double tolerance;
+	int cgIterations; ///< implicit: maximum CG iterations a Newton step, in [1, 100000] (500)
+	/// implicit: a step that ends above the tolerance is an error (fm_errNotConverged, state
+	/// restored) instead of a warning counted in fmStepStats.unconvergedSteps (default false)
+	bool notConvergedIsError;
+	int maxBodies;     ///< capacity, >= 1 (default 64)
+	int internalValue; ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;
 
 /// The default world: the seeds' gravity and floor, explicit integration.
@@ -219,6 +247,11 @@ typedef struct fmBodyStats
 	fmVec3 centerOfMass;  ///< m
 	double lowestY;       ///< m, lowest vertex
 	int invertedTets;     ///< tets with det F <= 0
+	/// J, the body's energy ledger: work done on it since creation by gravity, contacts
+	/// (depenetration) and the caller (impulses, set positions or velocities). Kinetic plus
+	/// elastic energy never exceeds its initial value plus this work (docs/robustness.md).
+	double work;
+	double initialEnergy; ///< J, kinetic plus elastic energy when the body was created
 } fmBodyStats;
 
 /// Counters of the last world step.
@@ -228,6 +261,8 @@ typedef struct fmStepStats
 	int newtonIterations; ///< implicit: total Newton iterations
 	int cgIterations;     ///< implicit: total CG iterations
 	double residual;      ///< implicit: last relative residual reached
+	double maxResidual;   ///< implicit: largest relative residual a step of the frame ended at
+	int unconvergedSteps; ///< implicit: steps that ended above the tolerance (warning given)
 	int invertedTets;     ///< all bodies, after the step
 	int contacts;         ///< vertices on the floor after the step
 } fmStepStats;

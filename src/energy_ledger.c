@@ -1,0 +1,132 @@
+// The energy ledger (energy_ledger.h): E <= E0 + W + 1% (E0 + W_in) + floor.
+#include "energy_ledger.h"
+
+#include "body.h"
+#include "forces.h"
+
+#include <math.h>
+#include <string.h>
+
+// Relative tolerance of the ledger: symplectic Euler's energy oscillates within a band around
+// the conserved one, and contacts change elastic energy in ways the ledger does not book.
+#define FM_LEDGER_RELATIVE 0.01
+
+double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep)
+{
+	double kinetic = 0.0, shadow = 0.0, elastic;
+	if (shadowStep > 0.0)
+	{
+		double* f = b->scratch;
+		memset(f, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+		elastic = fmAddElasticForces(b, b->x, f);
+		for (int i = 0; i < b->vertexCount; ++i)
+		{
+			fmVec3 force = fmMulAdd(fmLoad(f, i), b->mass[i], gravity);
+			shadow += fmDot(fmLoad(b->v, i), force);
+		}
+		memset(f, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	}
+	else
+		elastic = fmElasticEnergy(b, b->x);
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		fmVec3 v = fmLoad(b->v, i);
+		kinetic += 0.5 * b->mass[i] * fmDot(v, v);
+	}
+	return kinetic + elastic + 0.5 * shadowStep * shadow;
+}
+
+// Sum of m g . x: gravity's work over a frame is its change.
+static double fmGravityPotential(const fmBody* b, fmVec3 gravity)
+{
+	double sum = 0.0;
+	for (int i = 0; i < b->vertexCount; ++i)
+		sum += b->mass[i] * fmDot(gravity, fmLoad(b->x, i));
+	return sum;
+}
+
+// Absolute tolerance, for a body that starts at rest with nothing pushing it: a thousandth of
+// the work of lifting it by its own size, plus a millionth of its shear modulus times its
+// volume (the elastic energy of a strain of about 1e-3).
+static double fmLedgerFloor(const fmBody* b, fmVec3 gravity)
+{
+	double volume = 0.0;
+	for (int t = 0; t < b->tetCount; ++t)
+		volume += b->restVolume[t];
+	return 1e-3 * b->totalMass * fmLength(gravity) * b->restSize + 1e-6 * b->material.mu * volume;
+}
+
+static void fmLedgerBook(fmEnergyLedger* ledger, double work)
+{
+	ledger->work += work;
+	if (work > 0.0)
+		ledger->workIn += work;
+}
+
+void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
+{
+	fmEnergyLedger* ledger = &b->ledger;
+	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+	if (!ledger->started)
+	{
+		b->energyGood = fmBodyEnergy(b, gravity, shadowStep);
+		ledger->measureStep = shadowStep;
+		ledger->started = true;
+		ledger->initialEnergy = b->energyGood;
+		ledger->floor = fmLedgerFloor(b, gravity);
+	}
+	else if (b->energyStale || memcmp(b->x, b->xGood, bytes) != 0 ||
+	         memcmp(b->v, b->vGood, bytes) != 0)
+	{
+		// The caller changed the state (or the material) since the last good frame: the energy
+		// difference is work the caller did.
+		// A state set to NaN or Inf books nothing: the frame fails on it and restores.
+		double energy = fmBodyEnergy(b, gravity, shadowStep);
+		if (isfinite(energy))
+		{
+			fmLedgerBook(ledger, energy - b->energyGood);
+			b->energyGood = energy;
+			ledger->measureStep = shadowStep;
+		}
+	}
+	else if (shadowStep != ledger->measureStep)
+	{
+		// Same state, another step or integrator: only the shadow term changed. Its change is
+		// neither work nor a runaway; re-measure without counting it as work done.
+		double energy = fmBodyEnergy(b, gravity, shadowStep);
+		ledger->work += energy - b->energyGood;
+		b->energyGood = energy;
+		ledger->measureStep = shadowStep;
+	}
+	ledger->gravityStart = fmGravityPotential(b, gravity);
+	ledger->frameContactWork = 0.0;
+}
+
+void fmLedger_AddContactWork(fmBody* b, double work)
+{
+	if (work > 0.0)
+		b->ledger.frameContactWork += work;
+}
+
+bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double* bound)
+{
+	fmEnergyLedger* ledger = &b->ledger;
+	ledger->frameGravityWork = fmGravityPotential(b, gravity) - ledger->gravityStart;
+	double frameWork = ledger->frameGravityWork + ledger->frameContactWork;
+	double frameWorkIn = fmax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork;
+	double allowed =
+	    ledger->initialEnergy + ledger->work + frameWork +
+	    FM_LEDGER_RELATIVE * (fabs(ledger->initialEnergy) + ledger->workIn + frameWorkIn) +
+	    ledger->floor;
+	*bound = allowed;
+	return energy <= allowed;
+}
+
+void fmLedger_Commit(fmBody* b)
+{
+	fmEnergyLedger* ledger = &b->ledger;
+	fmLedgerBook(ledger, ledger->frameGravityWork);
+	fmLedgerBook(ledger, ledger->frameContactWork);
+	ledger->frameGravityWork = 0.0;
+	ledger->frameContactWork = 0.0;
+}

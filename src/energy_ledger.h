@@ -1,0 +1,50 @@
+// The energy ledger of a body: the work done on it, against which a runaway is judged.
+//
+// A body's kinetic plus elastic energy can never exceed what it started with plus the work
+// done on it since: by gravity, by contacts (depenetration) and by the caller (impulses, state
+// set between frames, a material change). Every source of work feeds the ledger; a frame whose
+// energy ends above E0 + W + 1% of (E0 + W_in) + a floor (docs/robustness.md) is a numerical
+// failure, however slowly the energy crept up.
+#pragma once
+
+#include <femto/types.h>
+
+#include <stdbool.h>
+
+struct fmBody;
+
+typedef struct fmEnergyLedger
+{
+	bool started;            // the first frame has set initialEnergy
+	double initialEnergy;    // J, kinetic + elastic energy at the first step (E0)
+	double work;             // J, net work done on the body since (W)
+	double workIn;           // J, the positive contributions to W (sets the tolerance)
+	double floor;            // J, absolute tolerance for bodies that start at rest
+	double gravityStart;     // J, sum of m g . x at the start of the frame
+	double frameContactWork; // J, positive work of contacts during the frame being stepped
+	double frameGravityWork; // J, gravity's work over the frame (set by fmLedger_Check)
+	double measureStep;      // s, the shadow step energyGood was measured with
+} fmEnergyLedger;
+
+// Kinetic plus elastic energy of the body's current state (J), as the integrator conserves it.
+// Symplectic Euler with step h does not conserve E = T + Psi - M g . x but, to O(h^2), the
+// shadow energy E + (h/2) v . f(x) (f the conservative forces: elastic and gravity), whose
+// difference from E swings by several percent at steps near the stability limit. Explicit
+// frames measure with @p shadowStep = h, implicit ones (dissipative) with 0. The gravity part
+// of the correction is included; the potential -M g . x itself is booked as gravity's work.
+double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep);
+
+// Start a frame measured with @p shadowStep (fmBodyEnergy): on the first frame record E0;
+// otherwise book what the caller changed since the last good state (impulses, set positions or
+// velocities, material) as work. Updates body->energyGood.
+void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep);
+
+// Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor.
+void fmLedger_AddContactWork(struct fmBody* body, double work);
+
+// Check the end of a frame whose final energy is @p energy (J): true if it is within the
+// ledger's bound. @p bound gets the energy allowed. Books nothing.
+bool fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energy, double* bound);
+
+// Book the frame's work (after every body of the world passed fmLedger_Check).
+void fmLedger_Commit(struct fmBody* body);
