@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "scene.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -12,15 +13,27 @@ const char* const cliInfoHelp =
     "Print node and tet counts, volumes, dihedral angles, quality, surface, bad tets and\n"
     "bounds of a TetGen mesh. The .ele defaults to the one beside the .node.\n"
     "\n"
-    "Exit status: 0 ok, 1 unreadable or malformed mesh, 2 usage error.\n";
+    "Angles, quality and degeneracy are measured scale-free (any units work); a volume that\n"
+    "a double cannot hold is reported as out of range.\n"
+    "\n"
+    "Exit status: 0 ok; 1 unreadable or malformed mesh, degenerate tets (listed) or volumes\n"
+    "out of range; 2 usage error.\n";
+
+// Degenerate tets listed in the file's numbering, at most this many.
+#define CLI_MAX_LISTED_TETS 20
 
 static void cliPrintMeshInfo(const fmMeshInfo* info)
 {
 	printf("nodes            %d (%d unreferenced)\n", info->nodeCount, info->unreferencedNodes);
 	printf("tets             %d\n", info->tetCount);
 	printf("surface          %d triangles\n", info->surfaceTriangleCount);
-	printf("volume           %.6g m^3 total, tets from %.6g to %.6g m^3\n", info->totalVolume,
-	       info->minVolume, info->maxVolume);
+	if (info->volumeOutOfRangeTets > 0 || !isfinite(info->totalVolume))
+		printf("volume           out of the range of a double: %d tets have volumes beyond\n"
+		       "                 1e-308 to 1e308 m^3 (are the coordinates in metres?)\n",
+		       info->volumeOutOfRangeTets);
+	else
+		printf("volume           %.6g m^3 total, tets from %.6g to %.6g m^3\n", info->totalVolume,
+		       info->minVolume, info->maxVolume);
 	printf("dihedral angles  %.3f to %.3f degrees\n", info->minDihedralDeg, info->maxDihedralDeg);
 	printf("min quality      %.4f (radius ratio 3 r_in / r_circ, 1 = regular)\n", info->minQuality);
 	printf("inverted tets    %d\n", info->invertedTets);
@@ -32,6 +45,25 @@ static void cliPrintMeshInfo(const fmMeshInfo* info)
 	printf("bounds           [%.6g %.6g %.6g] to [%.6g %.6g %.6g] m\n", info->boundsMin.x,
 	       info->boundsMin.y, info->boundsMin.z, info->boundsMax.x, info->boundsMax.y,
 	       info->boundsMax.z);
+}
+
+// "degenerate at    tets 5 7 12 ..." in the file's numbering, the first CLI_MAX_LISTED_TETS.
+static void cliListDegenerateTets(const fmTetMesh* mesh, int count)
+{
+	printf("degenerate at    tets");
+	int listed = 0;
+	for (int t = 0; t < mesh->tetCount && listed < CLI_MAX_LISTED_TETS; ++t)
+	{
+		fmTetQuality quality;
+		if (fmTetMesh_GetTetQuality(mesh, t, &quality) == fm_ok && quality.degenerate)
+		{
+			printf(" %d", t + mesh->firstIndex);
+			++listed;
+		}
+	}
+	if (count > listed)
+		printf(" (and %d more)", count - listed);
+	printf(" (numbered as in the file)\n");
 }
 
 int cliInfo(int argc, char** argv)
@@ -91,6 +123,22 @@ int cliInfo(int argc, char** argv)
 	}
 	printf("mesh             %s, %s\n", paths[0], elePath);
 	cliPrintMeshInfo(&info);
+	int code = cli_exitOk;
+	if (info.degenerateTets > 0)
+	{
+		cliListDegenerateTets(&mesh, info.degenerateTets);
+		cliError("%s: %d degenerate tets (zero volume relative to their size): a body cannot be "
+		         "made from this mesh",
+		         paths[0], info.degenerateTets);
+		code = cli_exitInput;
+	}
+	if (info.volumeOutOfRangeTets > 0)
+	{
+		cliError("%s: %d tets have volumes out of the range of a double: a body cannot be made "
+		         "from this mesh",
+		         paths[0], info.volumeOutOfRangeTets);
+		code = cli_exitInput;
+	}
 	fmFreeTetMesh(&mesh);
-	return cli_exitOk;
+	return code;
 }

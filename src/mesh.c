@@ -3,7 +3,9 @@
 #include "core.h"
 #include "mesh_internal.h"
 
+#include <float.h>
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -63,9 +65,24 @@ static bool fmDuplicate(const void* source, size_t count, void** copy)
 	return *copy != NULL;
 }
 
+// Counts and arrays agree (a mesh built by hand may not): anything else is a programmer error.
+static bool fmMeshIsConsistent(const fmTetMesh* m)
+{
+	return m != NULL && m->nodeCount >= 0 && m->tetCount >= 0 &&
+	       (m->nodeCount == 0 || m->positions != NULL) && (m->tetCount == 0 || m->tets != NULL) &&
+	       m->nodeAttributeCount >= 0 && m->nodeAttributeCount <= FM_MAX_ATTRIBUTES &&
+	       m->tetAttributeCount >= 0 && m->tetAttributeCount <= FM_MAX_ATTRIBUTES &&
+	       (m->nodeAttributeCount == 0 || m->nodeCount == 0 || m->nodeAttributes != NULL) &&
+	       (m->tetAttributeCount == 0 || m->tetCount == 0 || m->tetAttributes != NULL);
+}
+
 fmResult fmCopyTetMesh(const fmTetMesh* source, fmTetMesh* copy)
 {
-	FM_ASSERT(source != NULL && copy != NULL);
+	FM_ASSERT(fmMeshIsConsistent(source) && copy != NULL);
+	if (copy != NULL)
+		memset(copy, 0, sizeof *copy);
+	if (!fmMeshIsConsistent(source) || copy == NULL)
+		return fm_errParameter;
 	fmTetMesh c = *source;
 	size_t n = (size_t)source->nodeCount, m = (size_t)source->tetCount;
 	bool ok = fmDuplicate(source->positions, sizeof(double) * 3 * n, (void**)&c.positions);
@@ -81,7 +98,6 @@ fmResult fmCopyTetMesh(const fmTetMesh* source, fmTetMesh* copy)
 	if (!ok)
 	{
 		fmFreeTetMesh(&c);
-		memset(copy, 0, sizeof *copy);
 		return fm_errOutOfMemory;
 	}
 	*copy = c;
@@ -100,9 +116,18 @@ fmMeshTransform fmDefaultMeshTransform(void)
 	return t;
 }
 
+static bool fmIsFiniteVec3(fmVec3 v)
+{
+	return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+
 void fmTetMesh_Transform(fmTetMesh* mesh, const fmMeshTransform* transform)
 {
-	FM_ASSERT(mesh != NULL && transform != NULL && transform->scale > 0.0);
+	bool valid = fmMeshIsConsistent(mesh) && transform != NULL && transform->scale > 0.0 &&
+	             isfinite(transform->scale) && fmIsFiniteVec3(transform->translate);
+	FM_ASSERT(valid);
+	if (!valid)
+		return;
 	int n = mesh->nodeCount;
 	double* x = mesh->positions;
 	for (size_t k = 0; k < 3 * (size_t)n; ++k)
@@ -123,41 +148,114 @@ void fmTetMesh_Transform(fmTetMesh* mesh, const fmMeshTransform* transform)
 	}
 }
 
+// ---- shape of one tet -------------------------------------------------------------------------
+
+// A tet scaled by a power of two so that its longest edge lies in [0.5, 1). Scaling by a power
+// of two is exact, so signs and ratios are those of the coordinates as given, and no product of
+// edges can overflow or underflow whatever the mesh's units (1e300 m or 1e-100 m). Lengths in
+// metres are the scaled ones times 2^exponent, volumes times 2^(3 exponent).
+typedef struct fmTetShape
+{
+	fmVec3 p[4];      // scaled nodes, translated so that p[0] is the origin
+	double longest;   // scaled longest edge: in [0.5, 1), or 0 when the four nodes coincide
+	double sixVolume; // scaled 6 V = p1 . (p2 x p3), in [-1, 1]
+	int exponent;
+	bool finite; // false when a coordinate is inf or NaN (nothing else is set)
+} fmTetShape;
+
+static fmVec3 fmLdexpVec3(fmVec3 v, int exponent)
+{
+	return fmMakeVec3(ldexp(v.x, exponent), ldexp(v.y, exponent), ldexp(v.z, exponent));
+}
+
+static fmTetShape fmMakeTetShape(const double* x, const int* tet)
+{
+	fmTetShape s;
+	memset(&s, 0, sizeof s);
+	fmVec3 q[4];
+	double largest = 0.0;
+	for (int k = 0; k < 4; ++k)
+	{
+		q[k] = fmLoad(x, tet[k]);
+		if (!fmIsFiniteVec3(q[k]))
+			return s;
+		largest = fmax(largest, fmax(fabs(q[k].x), fmax(fabs(q[k].y), fabs(q[k].z))));
+	}
+	s.finite = true;
+	// First bring the coordinates below 1 so the differences cannot overflow ...
+	int e1 = 0;
+	(void)frexp(largest, &e1);
+	double l2 = 0.0;
+	for (int k = 0; k < 4; ++k)
+		q[k] = fmLdexpVec3(q[k], -e1);
+	for (int i = 0; i < 4; ++i)
+		for (int j = i + 1; j < 4; ++j)
+		{
+			fmVec3 e = fmSub(q[j], q[i]);
+			l2 = fmax(l2, fmDot(e, e));
+		}
+	if (l2 == 0.0)
+		return s;
+	// ... then bring the longest edge into [0.5, 1).
+	int e2 = 0;
+	(void)frexp(sqrt(l2), &e2);
+	for (int k = 1; k < 4; ++k)
+		s.p[k] = fmLdexpVec3(fmSub(q[k], q[0]), -e2);
+	s.longest = ldexp(sqrt(l2), -e2);
+	s.exponent = e1 + e2;
+	s.sixVolume = fmDot(s.p[1], fmCross(s.p[2], s.p[3]));
+	return s;
+}
+
+// |6 V| <= FM_DEGENERATE_RATIO * (longest edge)^3, decided on the scaled tet: scale-free.
+static bool fmShapeIsDegenerate(const fmTetShape* s)
+{
+	return !(fabs(s->sixVolume) > FM_DEGENERATE_RATIO * s->longest * s->longest * s->longest);
+}
+
+// The volume in m^3: +-inf or 0 (or subnormal) when it lies beyond the range of a double.
+static double fmShapeVolume(const fmTetShape* s)
+{
+	return ldexp(s->sixVolume / 6.0, 3 * s->exponent);
+}
+
+// A well-shaped tet whose volume in m^3 a double cannot hold (edges beyond about 1e102 m or
+// below about 1e-102 m): its mass and stiffness would be inf or 0.
+static bool fmShapeVolumeOutOfRange(const fmTetShape* s)
+{
+	double v = fabs(fmShapeVolume(s));
+	return !fmShapeIsDegenerate(s) && !(v >= DBL_MIN && v <= DBL_MAX);
+}
+
 // ---- orientation and volume -------------------------------------------------------------------
 
-double fmTetSixVolume(const double* positions, const int* tet, double* longestEdge)
+// Node references in range and distinct (a mesh may be built by hand).
+static bool fmTetNodesValid(const fmTetMesh* mesh, const int* v)
 {
-	fmVec3 p[4];
 	for (int k = 0; k < 4; ++k)
-		p[k] = fmLoad(positions, tet[k]);
-	fmVec3 a = fmSub(p[1], p[0]), b = fmSub(p[2], p[0]), c = fmSub(p[3], p[0]);
-	if (longestEdge)
 	{
-		double l2 = 0.0;
-		for (int i = 0; i < 4; ++i)
-			for (int j = i + 1; j < 4; ++j)
-			{
-				fmVec3 e = fmSub(p[j], p[i]);
-				l2 = fmax(l2, fmDot(e, e));
-			}
-		*longestEdge = sqrt(l2);
+		if (v[k] < 0 || v[k] >= mesh->nodeCount)
+			return false;
+		for (int j = 0; j < k; ++j)
+			if (v[j] == v[k])
+				return false;
 	}
-	return fmDot(a, fmCross(b, c));
+	return true;
 }
 
 double fmTetMesh_TetVolume(const fmTetMesh* mesh, const double* positions, int tet)
 {
-	FM_ASSERT(mesh != NULL && tet >= 0 && tet < mesh->tetCount);
+	bool valid = fmMeshIsConsistent(mesh) && tet >= 0 && tet < mesh->tetCount &&
+	             fmTetNodesValid(mesh, mesh->tets + 4 * (size_t)tet);
+	FM_ASSERT(valid);
+	if (!valid)
+		return NAN;
 	const double* x = positions ? positions : mesh->positions;
-	return fmTetSixVolume(x, mesh->tets + 4 * (size_t)tet, NULL) / 6.0;
+	fmTetShape shape = fmMakeTetShape(x, mesh->tets + 4 * (size_t)tet);
+	return shape.finite ? fmShapeVolume(&shape) : NAN;
 }
 
-static bool fmIsDegenerate(double sixVolume, double longestEdge)
-{
-	return !(fabs(sixVolume) > FM_DEGENERATE_RATIO * longestEdge * longestEdge * longestEdge);
-}
-
-// Node references in range and distinct, for every tet (a mesh may be built by hand).
+// Node references in range and distinct, for every tet.
 static fmResult fmCheckTetNodes(const fmTetMesh* mesh, fmDiagnostic* diag)
 {
 	for (int t = 0; t < mesh->tetCount; ++t)
@@ -179,38 +277,51 @@ static fmResult fmCheckTetNodes(const fmTetMesh* mesh, fmDiagnostic* diag)
 	return fm_ok;
 }
 
-// Every tet must have a volume that is not zero relative to its size.
-static fmResult fmCheckTetVolumes(const fmTetMesh* mesh, fmDiagnostic* diag)
+// What is wrong with tet @p t's shape, if anything: a non-finite coordinate, a volume that is
+// zero relative to the tet's size, or a volume a double cannot hold.
+static fmResult fmCheckTetShape(const fmTetMesh* mesh, int t, fmDiagnostic* diag)
 {
-	for (int t = 0; t < mesh->tetCount; ++t)
-	{
-		double edge;
-		double six = fmTetSixVolume(mesh->positions, mesh->tets + 4 * (size_t)t, &edge);
-		if (fmIsDegenerate(six, edge))
-			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
-			                   "tet %d (in the file's numbering) has zero volume: 6V = %.3g with "
-			                   "longest edge %.3g, expected |6V| > %.0e * edge^3",
-			                   t + mesh->firstIndex, six, edge, FM_DEGENERATE_RATIO);
-	}
+	fmTetShape s = fmMakeTetShape(mesh->positions, mesh->tets + 4 * (size_t)t);
+	int number = t + mesh->firstIndex;
+	if (!s.finite)
+		return fmDiagError(diag, fm_errRange, "", 0, 0,
+		                   "tet %d (in the file's numbering) has a node with a non-finite "
+		                   "coordinate (inf or NaN): expected finite positions",
+		                   number);
+	double six = ldexp(s.sixVolume, 3 * s.exponent), edge = ldexp(s.longest, s.exponent);
+	if (fmShapeIsDegenerate(&s))
+		return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
+		                   "tet %d (in the file's numbering) has zero volume: 6V = %.3g with "
+		                   "longest edge %.3g, expected |6V| > %.0e * edge^3",
+		                   number, six, edge, FM_DEGENERATE_RATIO);
+	if (fmShapeVolumeOutOfRange(&s))
+		return fmDiagError(diag, fm_errRange, "", 0, 0,
+		                   "tet %d (in the file's numbering) is well shaped but its volume is out "
+		                   "of the range of a double: 6V = %.3g with longest edge %.3g m, expected "
+		                   "edges between about 1e-102 and 1e102 m (coordinates in metres)",
+		                   number, six, edge);
 	return fm_ok;
 }
 
 fmResult fmTetMesh_Orient(fmTetMesh* mesh, int* flipped, fmDiagnostic* diag)
 {
-	FM_ASSERT(mesh != NULL);
 	if (flipped)
 		*flipped = 0;
+	FM_ASSERT(fmMeshIsConsistent(mesh));
+	if (!fmMeshIsConsistent(mesh))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "expected a mesh whose counts and arrays agree");
 	// Check everything first, so a failing mesh is left untouched.
 	fmResult result = fmCheckTetNodes(mesh, diag);
-	if (result == fm_ok)
-		result = fmCheckTetVolumes(mesh, diag);
+	for (int t = 0; t < mesh->tetCount && result == fm_ok; ++t)
+		result = fmCheckTetShape(mesh, t, diag);
 	if (result != fm_ok)
 		return result;
 	int count = 0;
 	for (int t = 0; t < mesh->tetCount; ++t)
 	{
 		int* v = mesh->tets + 4 * (size_t)t;
-		if (fmTetSixVolume(mesh->positions, v, NULL) > 0.0)
+		if (fmMakeTetShape(mesh->positions, v).sixVolume > 0.0)
 			continue;
 		// Exchanging two nodes negates the determinant.
 		int s = v[2];
@@ -297,9 +408,16 @@ static int fmFindBoundaryFaces(const fmTetMesh* mesh, int** faces)
 
 fmResult fmTetMesh_ExtractSurface(const fmTetMesh* mesh, int** triangles, int* triangleCount)
 {
-	FM_ASSERT(mesh != NULL && triangles != NULL && triangleCount != NULL);
-	*triangles = NULL;
-	*triangleCount = 0;
+	FM_ASSERT(fmMeshIsConsistent(mesh) && triangles != NULL && triangleCount != NULL);
+	if (triangles != NULL)
+		*triangles = NULL;
+	if (triangleCount != NULL)
+		*triangleCount = 0;
+	if (!fmMeshIsConsistent(mesh) || triangles == NULL || triangleCount == NULL)
+		return fm_errParameter;
+	// Out-of-range nodes would be read as positions below.
+	if (fmCheckTetNodes(mesh, NULL) != fm_ok)
+		return fm_errIndex;
 	int* faces = NULL;
 	int count = fmFindBoundaryFaces(mesh, &faces);
 	if (count < 0)
@@ -312,7 +430,7 @@ fmResult fmTetMesh_ExtractSurface(const fmTetMesh* mesh, int** triangles, int* t
 			int t = faces[k] / 4, f = faces[k] % 4;
 			const int* v = mesh->tets + 4 * (size_t)t;
 			// An inverted tet's faces point inwards: reverse them so the surface faces out.
-			bool reverse = fmTetSixVolume(mesh->positions, v, NULL) < 0.0;
+			bool reverse = fmMakeTetShape(mesh->positions, v).sixVolume < 0.0;
 			out[3 * k] = v[s_tetFaces[f][0]];
 			out[3 * k + 1] = v[s_tetFaces[f][reverse ? 2 : 1]];
 			out[3 * k + 2] = v[s_tetFaces[f][reverse ? 1 : 2]];
@@ -327,16 +445,6 @@ fmResult fmTetMesh_ExtractSurface(const fmTetMesh* mesh, int** triangles, int* t
 }
 
 // ---- statistics -------------------------------------------------------------------------------
-
-// Quality measures of one tet.
-typedef struct fmTetQuality
-{
-	double sixVolume;
-	double longestEdge;
-	double minDihedral; // radians
-	double maxDihedral;
-	double radiusRatio; // 3 r_in / r_circ, 1 for the regular tet, 0 when degenerate
-} fmTetQuality;
 
 // Dihedral angles from the face normals n_k (face opposite node k, all outward or all inward):
 // the angle at the edge shared by faces k and l is pi - angle(n_k, n_l).
@@ -355,15 +463,18 @@ static void fmDihedralRange(const fmVec3* n, double* minAngle, double* maxAngle)
 		}
 }
 
-// r_in = 3V / (total face area); r_circ = |a^2 (b x c) + b^2 (c x a) + c^2 (a x b)| / (12 V)
-// with a, b, c the edges from node 0 (the circumcentre offset formula).
-static fmTetQuality fmMeasureTet(const double* x, const int* tet)
+// Measured on the scaled tet (longest edge in [0.5, 1)), so angles and the radius ratio do not
+// depend on the units: r_in = 3V / (total face area); r_circ = |a^2 (b x c) + b^2 (c x a) +
+// c^2 (a x b)| / (12 V) with a, b, c the edges from node 0 (the circumcentre offset formula).
+static fmTetQuality fmMeasureShape(const fmTetShape* s)
 {
 	fmTetQuality q;
-	q.sixVolume = fmTetSixVolume(x, tet, &q.longestEdge);
-	fmVec3 p[4];
-	for (int k = 0; k < 4; ++k)
-		p[k] = fmLoad(x, tet[k]);
+	memset(&q, 0, sizeof q);
+	q.volume = fmShapeVolume(s);
+	q.longestEdge = ldexp(s->longest, s->exponent);
+	q.degenerate = fmShapeIsDegenerate(s);
+	q.volumeOutOfRange = fmShapeVolumeOutOfRange(s);
+	const fmVec3* p = s->p;
 	fmVec3 n[4];
 	double area2 = 0.0; // twice the total face area
 	for (int f = 0; f < 4; ++f)
@@ -372,14 +483,16 @@ static fmTetQuality fmMeasureTet(const double* x, const int* tet)
 		n[f] = fmCross(fmSub(b, a), fmSub(c, a));
 		area2 += fmLength(n[f]);
 	}
-	fmDihedralRange(n, &q.minDihedral, &q.maxDihedral);
-	fmVec3 a = fmSub(p[1], p[0]), b = fmSub(p[2], p[0]), c = fmSub(p[3], p[0]);
+	double minAngle, maxAngle;
+	fmDihedralRange(n, &minAngle, &maxAngle);
+	q.minDihedralDeg = minAngle * (180.0 / FM_PI);
+	q.maxDihedralDeg = maxAngle * (180.0 / FM_PI);
+	fmVec3 a = p[1], b = p[2], c = p[3];
 	fmVec3 r =
 	    fmAdd(fmAdd(fmScale(fmDot(a, a), fmCross(b, c)), fmScale(fmDot(b, b), fmCross(c, a))),
 	          fmScale(fmDot(c, c), fmCross(a, b)));
-	double six = fabs(q.sixVolume);
-	q.radiusRatio = 0.0;
-	if (!fmIsDegenerate(q.sixVolume, q.longestEdge) && area2 > 0.0)
+	double six = fabs(s->sixVolume);
+	if (!q.degenerate && area2 > 0.0)
 	{
 		double rIn = six / area2;                 // 3V / A with A = area2 / 2 and V = six / 6
 		double rCirc = fmLength(r) / (2.0 * six); // |r| / (12 V)
@@ -388,22 +501,40 @@ static fmTetQuality fmMeasureTet(const double* x, const int* tet)
 	return q;
 }
 
+fmResult fmTetMesh_GetTetQuality(const fmTetMesh* mesh, int tet, fmTetQuality* quality)
+{
+	bool valid = fmMeshIsConsistent(mesh) && tet >= 0 && tet < mesh->tetCount && quality != NULL;
+	FM_ASSERT(valid);
+	if (quality != NULL)
+		memset(quality, 0, sizeof *quality);
+	if (!valid)
+		return fm_errParameter;
+	const int* v = mesh->tets + 4 * (size_t)tet;
+	if (!fmTetNodesValid(mesh, v))
+		return fm_errIndex;
+	fmTetShape shape = fmMakeTetShape(mesh->positions, v);
+	if (!shape.finite)
+		return fm_errRange;
+	*quality = fmMeasureShape(&shape);
+	return fm_ok;
+}
+
 static void fmInfoAddTet(fmMeshInfo* info, const fmTetQuality* q, bool first)
 {
-	double volume = q->sixVolume / 6.0;
-	double minDeg = q->minDihedral * (180.0 / FM_PI), maxDeg = q->maxDihedral * (180.0 / FM_PI);
-	info->totalVolume += fabs(volume);
-	info->minVolume = first ? volume : fmin(info->minVolume, volume);
-	info->maxVolume = first ? volume : fmax(info->maxVolume, volume);
-	info->minDihedralDeg = first ? minDeg : fmin(info->minDihedralDeg, minDeg);
-	info->maxDihedralDeg = first ? maxDeg : fmax(info->maxDihedralDeg, maxDeg);
+	info->totalVolume += fabs(q->volume);
+	info->minVolume = first ? q->volume : fmin(info->minVolume, q->volume);
+	info->maxVolume = first ? q->volume : fmax(info->maxVolume, q->volume);
+	info->minDihedralDeg =
+	    first ? q->minDihedralDeg : fmin(info->minDihedralDeg, q->minDihedralDeg);
+	info->maxDihedralDeg =
+	    first ? q->maxDihedralDeg : fmax(info->maxDihedralDeg, q->maxDihedralDeg);
 	info->minQuality = first ? q->radiusRatio : fmin(info->minQuality, q->radiusRatio);
-	bool degenerate = fmIsDegenerate(q->sixVolume, q->longestEdge);
-	bool inverted = !degenerate && q->sixVolume < 0.0;
-	info->degenerateTets += degenerate;
+	bool inverted = !q->degenerate && q->volume < 0.0;
+	info->degenerateTets += q->degenerate;
 	info->invertedTets += inverted;
+	info->volumeOutOfRangeTets += q->volumeOutOfRange;
 	// Winding is not quality: the loader's Orient fixes it, so an inverted tet is not bad.
-	info->badTets += degenerate || minDeg < 5.0;
+	info->badTets += q->degenerate || q->minDihedralDeg < 5.0;
 }
 
 // Unreferenced nodes and bounds; false when out of memory.
@@ -429,15 +560,22 @@ static bool fmInfoNodes(const fmTetMesh* mesh, fmMeshInfo* info)
 
 fmResult fmTetMesh_GetInfo(const fmTetMesh* mesh, fmMeshInfo* info)
 {
-	FM_ASSERT(mesh != NULL && info != NULL);
-	memset(info, 0, sizeof *info);
+	FM_ASSERT(fmMeshIsConsistent(mesh) && info != NULL);
+	if (info != NULL)
+		memset(info, 0, sizeof *info);
+	if (!fmMeshIsConsistent(mesh) || info == NULL)
+		return fm_errParameter;
 	if (fmCheckTetNodes(mesh, NULL) != fm_ok)
 		return fm_errIndex;
+	for (size_t k = 0; k < 3 * (size_t)mesh->nodeCount; ++k)
+		if (!isfinite(mesh->positions[k]))
+			return fm_errRange;
 	info->nodeCount = mesh->nodeCount;
 	info->tetCount = mesh->tetCount;
 	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		fmTetQuality q = fmMeasureTet(mesh->positions, mesh->tets + 4 * (size_t)t);
+		fmTetShape shape = fmMakeTetShape(mesh->positions, mesh->tets + 4 * (size_t)t);
+		fmTetQuality q = fmMeasureShape(&shape);
 		fmInfoAddTet(info, &q, t == 0);
 	}
 	int* triangles = NULL;
@@ -472,10 +610,18 @@ static fmResult fmCheckBoxParameters(int nx, int ny, int nz, fmVec3 min, fmVec3 
 	if (!isfinite(min.x) || !isfinite(min.y) || !isfinite(min.z) || !isfinite(max.x) ||
 	    !isfinite(max.y) || !isfinite(max.z))
 		return fm_errParameter;
-	long long cubes = (long long)nx * ny * nz;
-	if (cubes > FM_MAX_TETS / 6)
+	// Step by step, each product bounded before the next: nx * ny * nz overflows even a long long
+	// and nx + 1 overflows an int for nx = INT_MAX.
+	const long long maxCubes = FM_MAX_TETS / 6;
+	long long cubes = nx;
+	if (cubes > maxCubes || ny > maxCubes / cubes)
 		return fm_errLimit;
-	long long nodes = (long long)(nx + 1) * (ny + 1) * (nz + 1);
+	cubes *= ny;
+	if (nz > maxCubes / cubes)
+		return fm_errLimit;
+	cubes *= nz;
+	// At most 8 nodes per cube, so this product stays far below LLONG_MAX.
+	long long nodes = ((long long)nx + 1) * ((long long)ny + 1) * ((long long)nz + 1);
 	if (nodes > FM_MAX_NODES)
 		return fm_errLimit;
 	return fm_ok;
@@ -516,6 +662,8 @@ static void fmFillBoxTets(fmTetMesh* mesh, int nx, int ny, int nz)
 fmResult fmMakeBoxMesh(int nx, int ny, int nz, fmVec3 min, fmVec3 max, fmTetMesh* mesh)
 {
 	FM_ASSERT(mesh != NULL);
+	if (mesh == NULL)
+		return fm_errParameter;
 	memset(mesh, 0, sizeof *mesh);
 	fmResult result = fmCheckBoxParameters(nx, ny, nz, min, max);
 	if (result != fm_ok)

@@ -13,6 +13,3 @@ void* fmAllocUser(size_t size);
 // A tet is degenerate when |6 V| <= FM_DEGENERATE_RATIO * (longest edge)^3: relative to its own
 // size, so the test does not depend on units. A regular tet has 6 V / L^3 = 0.707.
 #define FM_DEGENERATE_RATIO 1e-12
-
-// 6 * signed volume of the tet (a, b, c, d) and its longest edge.
-double fmTetSixVolume(const double* positions, const int* tet, double* longestEdge);

@@ -2,16 +2,22 @@
 // Every count in a header is checked against the limits and against the bytes left in the text
 // before anything is allocated; every field is parsed with overflow checks; every failure names
 // the file, line, column and what was expected. Loading never reorients: fmTetMesh_Orient does.
+// POSIX for open, fstat and read: the file is checked through its descriptor before reading.
+#define _POSIX_C_SOURCE 200809L
+
 #include "core.h"
 #include "mesh_internal.h"
 #include "text_reader.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 // What a section header (first record of a .node, .ele or .face file) declares.
 typedef struct fmSectionHeader
@@ -36,15 +42,21 @@ static fmResult fmReadHeaderRecord(fmTextReader* r, int minFields, int maxFields
 {
 	fmReadStatus status = fmReader_Next(r);
 	if (status == fm_readError)
-		return r->diag ? r->diag->result : fm_errLimit;
+		return r->error;
 	if (status == fm_readEnd)
 		return fmDiagError(r->diag, fm_errEmpty, r->name, r->line, 0, "no header: expected \"%s\"",
 		                   layout);
 	return fmReader_ExpectFields(r, minFields, maxFields, layout);
 }
 
-// A record count: >= 0 (0 means nothing to simulate), within @p limit, and small enough that
-// the rest of the text can hold that many records of h->fields fields.
+// A header count is compared with the bytes that follow only when the arrays it asks for would
+// exceed this: the comparison exists to refuse a huge allocation for a small file, and below this
+// size the records are simply read, so a short file is reported where it ends (at the line with
+// the missing field or record) instead of at the header.
+#define FM_TRUSTED_HEADER_BYTES ((unsigned long long)1 << 20)
+
+// A record count: >= 1, within @p limit, and, when it asks for much memory, small enough that the
+// rest of the text can hold that many records of h->fields fields.
 static fmResult fmReadCount(fmTextReader* r, fmSectionHeader* h, int limit)
 {
 	int n;
@@ -60,10 +72,12 @@ static fmResult fmReadCount(fmTextReader* r, fmSectionHeader* h, int limit)
 	if (n > limit)
 		return fmReader_Error(r, fm_errLimit, 0, "%d %ss exceed the limit of %d", n, h->kind,
 		                      limit);
+	// At most 8 bytes of arrays per field and a few more per record (line numbers, sort keys).
+	unsigned long long memory = (unsigned long long)n * (8u * (unsigned long long)h->fields + 32u);
 	// Each record is at least its fields, one byte each, and a separator after each field.
 	unsigned long long need = (unsigned long long)n * 2u * (unsigned long long)h->fields - 1u;
 	unsigned long long left = fmReader_Remaining(r);
-	if (need > left)
+	if (memory > FM_TRUSTED_HEADER_BYTES && need > left)
 		return fmReader_Error(r, fm_errCount, 0,
 		                      "the header declares %d %ss but only %llu bytes follow: expected at "
 		                      "least %llu bytes (%d fields per %s)",
@@ -165,7 +179,7 @@ static fmResult fmReadRecord(fmTextReader* r, const fmSectionHeader* h, int inde
 {
 	fmReadStatus status = fmReader_Next(r);
 	if (status == fm_readError)
-		return r->diag ? r->diag->result : fm_errLimit;
+		return r->error;
 	if (status == fm_readEnd)
 		return fmDiagError(r->diag, fm_errCount, r->name, r->line, 0,
 		                   "unexpected end of file: expected %s %d of the %d the header on line %d "
@@ -277,7 +291,7 @@ static fmResult fmExpectEnd(fmTextReader* r, const fmSectionHeader* h)
 {
 	fmReadStatus status = fmReader_Next(r);
 	if (status == fm_readError)
-		return r->diag ? r->diag->result : fm_errLimit;
+		return r->error;
 	if (status == fm_readEnd)
 		return fm_ok;
 	return fmReader_Error(r, fm_errCount, 0,
@@ -437,6 +451,7 @@ fmResult fmLoadTetGenFromMemory(const char* nodeText, size_t nodeSize, const cha
                                 fmTetMesh* mesh, fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
+	FM_ASSERT(mesh != NULL);
 	if (mesh == NULL)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0, "no mesh to load into");
 	memset(mesh, 0, sizeof *mesh);
@@ -459,11 +474,21 @@ fmResult fmLoadTetGenFromMemory(const char* nodeText, size_t nodeSize, const cha
 
 // ---- files ------------------------------------------------------------------------------------
 
+fmMeshLoadDef fmDefaultMeshLoadDef(void)
+{
+	fmMeshLoadDef def;
+	memset(&def, 0, sizeof def);
+	def.maxFileBytes = FM_DEFAULT_MESH_FILE_LIMIT;
+	def.internalValue = FM_DEF_MAGIC;
+	return def;
+}
+
+// A whole file in one allocation of exactly its size.
 typedef struct fmFileText
 {
 	char* data;
-	size_t size;
-	size_t capacity;
+	size_t size;     // bytes read
+	size_t capacity; // bytes allocated (the size the file had when it was opened)
 } fmFileText;
 
 static void fmFileText_Free(fmFileText* t)
@@ -472,66 +497,148 @@ static void fmFileText_Free(fmFileText* t)
 	memset(t, 0, sizeof *t);
 }
 
-// Double the buffer (64 KiB first); false when out of memory.
-static bool fmFileText_Grow(fmFileText* t)
+// What a non-regular file is, for the message that refuses it.
+static const char* fmFileKind(mode_t mode)
 {
-	size_t capacity = t->capacity ? 2 * t->capacity : 65536;
-	char* grown = fmAlloc(capacity);
-	if (grown == NULL)
-		return false;
-	if (t->size)
-		memcpy(grown, t->data, t->size);
-	fmDealloc(t->data, t->capacity);
-	t->data = grown;
-	t->capacity = capacity;
-	return true;
+	if (S_ISDIR(mode))
+		return "a directory";
+	if (S_ISFIFO(mode))
+		return "a FIFO (named pipe)";
+	if (S_ISCHR(mode))
+		return "a character device";
+	if (S_ISBLK(mode))
+		return "a block device";
+	if (S_ISSOCK(mode))
+		return "a socket";
+	return "not a regular file";
 }
 
-// Read a whole file into memory; works for pipes and other files without a known size.
-static fmResult fmReadWholeFile(const char* path, fmFileText* t, fmDiagnostic* diag)
+// Only regular files, of at most @p limit bytes: a device such as /dev/zero never ends and a
+// FIFO may never deliver; their size is unknown, so neither can be checked before reading.
+static fmResult fmCheckFile(int fd, const char* path, size_t limit, size_t* size,
+                            fmDiagnostic* diag)
+{
+	struct stat info;
+	if (fstat(fd, &info) != 0)
+		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
+	if (!S_ISREG(info.st_mode))
+		return fmDiagError(diag, fm_errIo, path, 0, 0,
+		                   "is %s, not a regular file: expected a mesh file on disk",
+		                   fmFileKind(info.st_mode));
+	unsigned long long bytes = info.st_size > 0 ? (unsigned long long)info.st_size : 0u;
+	if (bytes > (unsigned long long)limit)
+		return fmDiagError(diag, fm_errLimit, path, 0, 0,
+		                   "file is %llu bytes, more than the limit of %zu bytes "
+		                   "(fmMeshLoadDef.maxFileBytes)",
+		                   bytes, limit);
+	*size = (size_t)bytes;
+	return fm_ok;
+}
+
+// Read the @p t->capacity bytes the file had when it was checked. A file that shrank meanwhile is
+// read as far as it goes; one that grew is refused (its size would escape the limit).
+static fmResult fmReadAll(int fd, const char* path, fmFileText* t, fmDiagnostic* diag)
+{
+	while (t->size < t->capacity)
+	{
+		size_t chunk = t->capacity - t->size < (1u << 30) ? t->capacity - t->size : (1u << 30);
+		ssize_t got = read(fd, t->data + t->size, chunk);
+		if (got < 0 && errno == EINTR)
+			continue;
+		if (got < 0)
+			return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
+		if (got == 0)
+			return fm_ok;
+		t->size += (size_t)got;
+	}
+	char probe;
+	ssize_t more;
+	do
+		more = read(fd, &probe, 1);
+	while (more < 0 && errno == EINTR);
+	if (more > 0)
+		return fmDiagError(diag, fm_errIo, path, 0, 0,
+		                   "the file grew while it was read (it was %zu bytes): expected a file "
+		                   "that is not being written",
+		                   t->capacity);
+	return fm_ok;
+}
+
+// Read a whole regular file of at most @p limit bytes into one buffer of its size: the size is
+// checked before anything is allocated, and a large file is never held twice (no growing buffer).
+// O_NONBLOCK: opening a FIFO without a writer would otherwise block forever before the check.
+static fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagnostic* diag)
 {
 	memset(t, 0, sizeof *t);
-	FILE* f = path ? fopen(path, "rb") : NULL;
-	if (f == NULL)
-		return fmDiagError(diag, fm_errIo, path ? path : "", 0, 0, "cannot open: %s",
-		                   path ? strerror(errno) : "no path given");
-	fmResult result = fm_ok;
-	size_t got = 1;
-	while (got > 0 && result == fm_ok)
+	int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+	if (fd < 0)
+		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open: %s", strerror(errno));
+	fmResult result = fmCheckFile(fd, path, limit, &t->capacity, diag);
+	if (result == fm_ok && t->capacity > 0)
 	{
-		if (t->size == t->capacity && !fmFileText_Grow(t))
+		t->data = fmAlloc(t->capacity);
+		if (t->data == NULL)
 			result = fmDiagError(diag, fm_errOutOfMemory, path, 0, 0,
-			                     "out of memory reading %zu bytes", 2 * t->capacity);
-		got = result == fm_ok ? fread(t->data + t->size, 1, t->capacity - t->size, f) : 0;
-		t->size += got;
+			                     "out of memory reading %zu bytes", t->capacity);
 	}
-	if (result == fm_ok && ferror(f))
-		result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
-	fclose(f);
+	if (result == fm_ok)
+		result = fmReadAll(fd, path, t, diag);
+	close(fd);
 	if (result != fm_ok)
 		fmFileText_Free(t);
 	return result;
 }
 
+// Read and parse one file with @p parse, then release its text before the next file is read.
+static fmResult fmLoadFile(const char* path, size_t limit,
+                           fmResult (*parse)(const char*, size_t, const char*, fmTetMesh*,
+                                             fmDiagnostic*),
+                           fmTetMesh* m, fmDiagnostic* diag)
+{
+	fmFileText text;
+	fmResult result = fmReadWholeFile(path, limit, &text, diag);
+	if (result == fm_ok)
+		result = parse(text.data, text.size, path, m, diag);
+	fmFileText_Free(&text);
+	return result;
+}
+
+fmResult fmLoadTetGenWithDef(const char* nodePath, const char* elePath, const fmMeshLoadDef* def,
+                             fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	fmDiagClear(diag);
+	FM_ASSERT(mesh != NULL && def != NULL && def->internalValue == FM_DEF_MAGIC);
+	if (mesh == NULL)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0, "no mesh to load into");
+	memset(mesh, 0, sizeof *mesh);
+	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "mesh load def not initialised: start from fmDefaultMeshLoadDef()");
+	if (nodePath == NULL || elePath == NULL)
+		return fmDiagError(diag, fm_errIo, nodePath ? nodePath : "", 0, 0,
+		                   "cannot open: no path given for the %s file",
+		                   nodePath ? ".ele" : ".node");
+	fmTetMesh m;
+	memset(&m, 0, sizeof m);
+	// One file in memory at a time: the .node text is gone before the .ele is read.
+	fmResult result = fmLoadFile(nodePath, def->maxFileBytes, fmParseNodes, &m, diag);
+	if (result == fm_ok)
+		result = fmLoadFile(elePath, def->maxFileBytes, fmParseTets, &m, diag);
+	if (result != fm_ok)
+	{
+		fmFreeTetMesh(&m);
+		return result;
+	}
+	fmWarnUnreferenced(&m, nodePath, diag);
+	*mesh = m;
+	return fm_ok;
+}
+
 fmResult fmLoadTetGen(const char* nodePath, const char* elePath, fmTetMesh* mesh,
                       fmDiagnostic* diag)
 {
-	fmDiagClear(diag);
-	if (mesh)
-		memset(mesh, 0, sizeof *mesh);
-	fmFileText node, ele;
-	fmResult result = fmReadWholeFile(nodePath, &node, diag);
-	if (result != fm_ok)
-		return result;
-	result = fmReadWholeFile(elePath, &ele, diag);
-	if (result == fm_ok)
-	{
-		result = fmLoadTetGenFromMemory(node.data, node.size, nodePath, ele.data, ele.size, elePath,
-		                                mesh, diag);
-		fmFileText_Free(&ele);
-	}
-	fmFileText_Free(&node);
-	return result;
+	fmMeshLoadDef def = fmDefaultMeshLoadDef();
+	return fmLoadTetGenWithDef(nodePath, elePath, &def, mesh, diag);
 }
 
 // ---- .face ------------------------------------------------------------------------------------
@@ -559,6 +666,8 @@ fmResult fmLoadTetGenFaceFromMemory(const char* text, size_t size, const char* n
                                     fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
+	FM_ASSERT(triangles != NULL && triangleCount != NULL && nodeCount > 0 &&
+	          (firstIndex == 0 || firstIndex == 1));
 	if (triangles == NULL || triangleCount == NULL || nodeCount <= 0 ||
 	    (firstIndex != 0 && firstIndex != 1))
 		return fmDiagError(diag, fm_errParameter, name ? name : "", 0, 0,
@@ -631,8 +740,12 @@ fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double
                            fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
-	if (path == NULL || mesh == NULL || mesh->nodeCount <= 0 ||
-	    (mesh->nodeAttributeCount > 0 && mesh->nodeAttributes == NULL))
+	bool valid = path != NULL && mesh != NULL && mesh->nodeCount > 0 &&
+	             (positions != NULL || mesh->positions != NULL) && mesh->nodeAttributeCount >= 0 &&
+	             mesh->nodeAttributeCount <= FM_MAX_ATTRIBUTES &&
+	             (mesh->nodeAttributeCount == 0 || mesh->nodeAttributes != NULL);
+	FM_ASSERT(valid);
+	if (!valid)
 		return fmDiagError(diag, fm_errParameter, path ? path : "", 0, 0,
 		                   "expected a path and a mesh with points");
 	const double* x = positions ? positions : mesh->positions;

@@ -34,6 +34,12 @@ fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const cha
                        fmDiagnostic* diag)
 {
 	memset(r, 0, sizeof *r);
+	// Editors on Windows may start a UTF-8 file with the byte-order mark EF BB BF; it is not data.
+	if (text != NULL && size >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0)
+	{
+		text += 3;
+		size -= 3;
+	}
 	r->text = text;
 	r->size = text ? size : 0;
 	r->name = name ? name : "";
@@ -91,11 +97,21 @@ fmReadStatus fmReader_Next(fmTextReader* r)
 		r->line = r->nextLine++;
 		if (length > 0 && start[length - 1] == '\r')
 			--length;
+		// A CR that does not end the line: CR-only line ends (classic Mac OS) would otherwise read
+		// as one long line of spaces and fail as "extra field" or "line too long".
+		const char* cr = memchr(start, '\r', length < FM_MAX_LINE + 1 ? length : FM_MAX_LINE + 1);
+		if (cr != NULL)
+		{
+			r->error = fmDiagError(r->diag, fm_errSyntax, r->name, r->line, (int)(cr - start) + 1,
+			                       "carriage return inside a line: the file has CR-only (old Mac) "
+			                       "line ends; expected LF or CRLF line ends");
+			return fm_readError;
+		}
 		if (length > FM_MAX_LINE)
 		{
-			fmDiagError(r->diag, fm_errLimit, r->name, r->line, FM_MAX_LINE + 1,
-			            "line is %zu bytes long: expected at most %d bytes per line", length,
-			            FM_MAX_LINE);
+			r->error = fmDiagError(r->diag, fm_errLimit, r->name, r->line, FM_MAX_LINE + 1,
+			                       "line is %zu bytes long: expected at most %d bytes per line",
+			                       length, FM_MAX_LINE);
 			return fm_readError;
 		}
 		r->lineStart = start;

@@ -1,6 +1,8 @@
 // Line tokenizer shared by the TetGen readers (.node, .ele, .face): a record is a line of
 // whitespace-separated fields; '#' starts a comment (whole line or trailing); blank lines are
-// skipped; CRLF line ends are accepted. Every error names the file, line and column.
+// skipped; LF and CRLF line ends are accepted, a carriage return anywhere else in a line (a file
+// with CR-only line ends) is an error; a UTF-8 byte-order mark at the start is skipped. Every
+// error names the file, line and column.
 #pragma once
 
 #include <femto/mesh.h>
@@ -23,6 +25,7 @@ typedef struct fmTextReader
 	int nextLine;       // 1-based line number of the next unread line
 	const char* lineStart;
 	int lineLength; // bytes of the current line without its line end
+	fmResult error; // why fmReader_Next returned fm_readError (also in diag when there is one)
 	int fieldCount; // fields on the current record (may exceed FM_READER_MAX_FIELDS)
 	const char* field[FM_READER_MAX_FIELDS];
 	int fieldLength[FM_READER_MAX_FIELDS];
@@ -33,10 +36,11 @@ typedef enum fmReadStatus
 {
 	fm_readRecord, // a record with at least one field
 	fm_readEnd,    // end of text (only blank and comment lines were left)
-	fm_readError,  // a line over FM_MAX_LINE bytes; the diagnostic is filled
+	fm_readError,  // a line over FM_MAX_LINE bytes or a bare CR: r->error and the diagnostic say
 } fmReadStatus;
 
-// Start reading @p text; fails with fm_errSyntax naming the line and column of a NUL byte.
+// Start reading @p text (after a UTF-8 byte-order mark, if any); fails with fm_errSyntax naming
+// the line and column of a NUL byte.
 fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const char* name,
                        fmDiagnostic* diag);
 

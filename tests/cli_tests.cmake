@@ -138,8 +138,40 @@ femto_cli_test(info_builtin ARGS "info|builtin:house2" CODE 0 REGEX "nodes +400.
 # radius ratio 3 r_in / r_circ = 3 (1 / (3 + sqrt 3)) / (sqrt 3 / 2) = 0.7321.
 femto_cli_test(info_corner_tet ARGS "info|${FEMTO_CLI_DATA}/tet.node|${FEMTO_CLI_DATA}/tet.ele" CODE 0
   REGEX "nodes +4 .*tets +1\n.*surface +4 triangles.*volume +0.166667 m\\^3 total.*dihedral angles +54.736 to 90.000 degrees.*min quality +0.7321.*bad tets +0")
+# A short file is reported where it ends, a missing field on its line (not as a header problem).
 femto_cli_test(info_truncated ARGS "info|${FEMTO_CLI_DATA}/truncated.node" CODE 1
-  REGEX "truncated.node:1:1: the header declares 4 points")
+  REGEX "truncated.node:5: unexpected end of file: expected point 4 of the 4 the header on line 1 declares")
+femto_cli_test(info_missing_coordinate ARGS "info|${FEMTO_CLI_DATA}/missing_coordinate.node" CODE 1
+  REGEX "missing_coordinate.node:3:6: missing field: expected 4 fields \\(<point #> <x> <y> <z>\\), found 3"
+  REJECT "header declares")
+# A UTF-8 byte-order mark is accepted; CR-only line ends are named.
+femto_cli_test(info_bom ARGS "info|${FEMTO_CLI_DATA}/bom.node" CODE 0 REGEX "nodes +4 .*tets +1\n")
+femto_cli_test(info_cr_only ARGS "info|${FEMTO_CLI_DATA}/cr_only.node" CODE 1
+  REGEX "cr_only.node:1:8: carriage return inside a line: the file has CR-only \\(old Mac\\) line ends; expected LF or CRLF line ends")
+# Degenerate tets: listed in the file's numbering, exit 1 so scripts can use `femto info` as a check.
+femto_cli_test(info_degenerate ARGS "info|${FEMTO_CLI_DATA}/degenerate.node" CODE 1
+  REGEX "degenerate tets +1\n.*degenerate at +tets 2 \\(numbered as in the file\\).*degenerate.node: 1 degenerate tets \\(zero volume relative to their size\\)")
+# Scale-free measures: the corner tet scaled by 1e300 and by 1e-100 has the quality of the unit one;
+# a volume a double cannot hold is said to be out of range (never nan), and exits 1.
+femto_cli_test(info_huge_scale ARGS "info|${FEMTO_CLI_DATA}/huge_scale.node" CODE 1
+  REGEX "volume +out of the range of a double: 1 tets.*dihedral angles +54.736 to 90.000 degrees.*min quality +0.7321.*bad tets +0.*1 tets have volumes out of the range of a double"
+  REJECT "nan| inf")
+femto_cli_test(info_tiny_scale ARGS "info|${FEMTO_CLI_DATA}/tiny_scale.node" CODE 0
+  REGEX "volume +1.66667e-301 m\\^3 total.*min quality +0.7321.*degenerate tets +0.*bad tets +0"
+  REJECT "nan")
+# Not a regular file: refused at once (it used to be read until memory ran out).
+if(EXISTS /dev/zero)
+  femto_cli_test(info_device ARGS "info|/dev/zero|${FEMTO_CLI_DATA}/tet.ele" CODE 1
+    REGEX "/dev/zero: is a character device, not a regular file")
+endif()
+# A 2 GiB sparse .node (no disk used) is refused before reading, by the 1 GiB default limit.
+if(FEMTO_TRUNCATE)
+  add_test(NAME cli_info_huge_file_setup COMMAND ${FEMTO_TRUNCATE} -s 2G ${FEMTO_CLI_WORK}/huge_file.node)
+  set_tests_properties(cli_info_huge_file_setup PROPERTIES FIXTURES_SETUP cli_huge_mesh LABELS cli)
+  femto_cli_test(info_huge_file ARGS "info|${FEMTO_CLI_WORK}/huge_file.node|${FEMTO_CLI_DATA}/tet.ele" CODE 1
+    REGEX "huge_file.node: file is 2147483648 bytes, more than the limit of 1073741824 bytes")
+  set_tests_properties(cli_info_huge_file PROPERTIES FIXTURES_REQUIRED cli_huge_mesh TIMEOUT 20)
+endif()
 femto_cli_test(info_missing ARGS "info|${FEMTO_CLI_WORK}/house3.node" CODE 1 REGEX "house3.node")
 
 # --- static --------------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 #include "test.h"
 
 #include <femto/femto.h>
+#include <limits.h>
 #include <stdlib.h>
 
 static const double s_pi = 3.14159265358979323846;
@@ -412,4 +413,171 @@ TEST(copy_free_and_sized_deallocation)
 	fmSetAllocator(NULL, NULL);
 	CHECK_INT(s_sizeMismatches, 0);
 	CHECK_INT(fmGetAllocatedBytes(), before);
+}
+
+// ---- scale-free measures ----------------------------------------------------------------------
+
+// The regular tet of info_regular_tet (alternate cube corners, positive) scaled by @p scale.
+static fmTetMesh regularTet(double scale)
+{
+	const double x[] = {0, 0, 0, 1, 1, 0, 1, 0, 1, 0, 1, 1};
+	const int tet[] = {0, 1, 3, 2};
+	double scaled[12];
+	for (int k = 0; k < 12; ++k)
+		scaled[k] = scale * x[k];
+	return makeMesh(scaled, 4, tet, 1);
+}
+
+TEST(measures_do_not_depend_on_scale)
+{
+	double dihedral = acos(1.0 / 3.0) * 180.0 / s_pi;
+	const double scales[] = {1e-150, 1e-100, 1e-30, 1.0, 1e30, 1e100, 1e300};
+	for (int i = 0; i < 7; ++i)
+	{
+		fmTetMesh mesh = regularTet(scales[i]);
+		fmMeshInfo info;
+		CHECK_INT(fmTetMesh_GetInfo(&mesh, &info), fm_ok);
+		CHECK_NEAR(info.minQuality, 1.0, 1e-12);
+		CHECK_NEAR(info.minDihedralDeg, dihedral, 1e-9);
+		CHECK_NEAR(info.maxDihedralDeg, dihedral, 1e-9);
+		CHECK_INT(info.badTets + info.degenerateTets + info.invertedTets, 0);
+		fmTetQuality q;
+		CHECK_INT(fmTetMesh_GetTetQuality(&mesh, 0, &q), fm_ok);
+		CHECK_NEAR(q.radiusRatio, 1.0, 1e-12);
+		CHECK(!q.degenerate);
+		CHECK_REL(q.longestEdge, sqrt(2.0) * scales[i], 1e-15, 0.0);
+		fmFreeTetMesh(&mesh);
+	}
+	// Volumes a double holds are exact to rounding, the others are out of range (not NaN).
+	fmTetMesh small = regularTet(1e-100), huge = regularTet(1e300), tiny = regularTet(1e-150);
+	fmMeshInfo info;
+	CHECK_INT(fmTetMesh_GetInfo(&small, &info), fm_ok);
+	CHECK_REL(info.totalVolume, 1e-300 / 3.0, 1e-14, 0.0);
+	CHECK_INT(info.volumeOutOfRangeTets, 0);
+	CHECK_INT(fmTetMesh_GetInfo(&huge, &info), fm_ok);
+	CHECK_INT(info.volumeOutOfRangeTets, 1);
+	CHECK(isinf(info.totalVolume) && info.maxVolume > 0.0);
+	CHECK(isinf(fmTetMesh_TetVolume(&huge, NULL, 0)));
+	CHECK_INT(fmTetMesh_GetInfo(&tiny, &info), fm_ok);
+	CHECK_INT(info.volumeOutOfRangeTets, 1);
+	CHECK_INT(info.degenerateTets, 0);
+	fmFreeTetMesh(&small);
+	fmFreeTetMesh(&huge);
+	fmFreeTetMesh(&tiny);
+}
+
+TEST(orient_names_overflow_not_zero_volume)
+{
+	fmTetMesh huge = regularTet(1e300), far = regularTet(1.0);
+	fmDiagnostic diag;
+	CHECK_INT(fmTetMesh_Orient(&huge, NULL, &diag), fm_errRange);
+	CHECK_STR_CONTAINS(diag.message, "tet 0 (in the file's numbering) is well shaped but its "
+	                                 "volume is out of the range of a double: 6V = inf");
+	// A unit tet far from the origin is fine: only differences matter.
+	for (int k = 0; k < 12; ++k)
+		far.positions[k] += 1e15;
+	CHECK_INT(fmTetMesh_Orient(&far, NULL, &diag), fm_ok);
+	far.positions[5] = NAN;
+	CHECK_INT(fmTetMesh_Orient(&far, NULL, &diag), fm_errRange);
+	CHECK_STR_CONTAINS(diag.message, "non-finite coordinate");
+	fmMeshInfo info;
+	CHECK_INT(fmTetMesh_GetInfo(&far, &info), fm_errRange);
+	fmFreeTetMesh(&huge);
+	fmFreeTetMesh(&far);
+}
+
+// ---- arguments --------------------------------------------------------------------------------
+
+static int s_asserts;
+static int recordAssert(const char* condition, const char* file, int line)
+{
+	(void)condition;
+	(void)file;
+	(void)line;
+	++s_asserts;
+	return 0;
+}
+
+// Debug builds route argument errors through the assert hook; release builds only return.
+#if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
+#define CHECK_ASSERTED(before) CHECK(s_asserts > (before))
+#else
+#define CHECK_ASSERTED(before) CHECK_INT(s_asserts, (before))
+#endif
+
+TEST(null_and_out_of_range_arguments)
+{
+	s_asserts = 0;
+	fmSetAssertFcn(recordAssert);
+	fmTetMesh mesh = regularTet(1.0);
+	fmMeshTransform transform = fmDefaultMeshTransform();
+	fmMeshInfo info;
+	int* triangles = (int*)&mesh;
+	int count = 7;
+	fmTetQuality quality;
+	int before = s_asserts;
+	fmTetMesh_Transform(NULL, &transform);
+	fmTetMesh_Transform(&mesh, NULL);
+	transform.scale = NAN;
+	fmTetMesh_Transform(&mesh, &transform);
+	CHECK_NEAR(mesh.positions[3], 1.0, 0.0); // unchanged
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK_INT(fmTetMesh_Orient(NULL, &count, NULL), fm_errParameter);
+	CHECK_INT(count, 0);
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK_INT(fmTetMesh_GetInfo(NULL, &info), fm_errParameter);
+	CHECK_INT(fmTetMesh_GetInfo(&mesh, NULL), fm_errParameter);
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK_INT(fmTetMesh_ExtractSurface(NULL, &triangles, &count), fm_errParameter);
+	CHECK(triangles == NULL && count == 0);
+	CHECK_INT(fmTetMesh_ExtractSurface(&mesh, NULL, &count), fm_errParameter);
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK_INT(fmCopyTetMesh(NULL, NULL), fm_errParameter);
+	CHECK_INT(fmCopyTetMesh(&mesh, NULL), fm_errParameter);
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK(isnan(fmTetMesh_TetVolume(&mesh, NULL, -1)));
+	CHECK(isnan(fmTetMesh_TetVolume(&mesh, NULL, 1)));
+	CHECK(isnan(fmTetMesh_TetVolume(NULL, NULL, 0)));
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK_INT(fmTetMesh_GetTetQuality(&mesh, -1, &quality), fm_errParameter);
+	CHECK_INT(fmTetMesh_GetTetQuality(&mesh, 0, NULL), fm_errParameter);
+	CHECK_ASSERTED(before);
+	before = s_asserts;
+	CHECK_INT(fmMakeBoxMesh(1, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), NULL),
+	          fm_errParameter);
+	CHECK_ASSERTED(before);
+	// An inconsistent mesh built by hand (a count without its array).
+	fmTetMesh broken = mesh;
+	broken.tets = NULL;
+	before = s_asserts;
+	CHECK_INT(fmTetMesh_Orient(&broken, NULL, NULL), fm_errParameter);
+	CHECK_ASSERTED(before);
+	// Node references out of range are bad data, not a crash: an error code, no assert.
+	before = s_asserts;
+	mesh.tets[2] = 99;
+	CHECK_INT(fmTetMesh_ExtractSurface(&mesh, &triangles, &count), fm_errIndex);
+	CHECK_INT(fmTetMesh_GetTetQuality(&mesh, 0, &quality), fm_errIndex);
+	CHECK_INT(s_asserts, before);
+	// The test runner's counting hook is not reachable from here: restore the default.
+	fmSetAssertFcn(NULL);
+	fmFreeTetMesh(&mesh);
+}
+
+TEST(box_mesh_limits_without_overflow)
+{
+	fmTetMesh mesh;
+	fmVec3 lo = fmMakeVec3(0, 0, 0), hi = fmMakeVec3(1, 1, 1);
+	CHECK_INT(fmMakeBoxMesh(INT_MAX, 1, 1, lo, hi, &mesh), fm_errLimit);
+	CHECK_INT(fmMakeBoxMesh(1, INT_MAX, 1, lo, hi, &mesh), fm_errLimit);
+	CHECK_INT(fmMakeBoxMesh(1, 1, INT_MAX, lo, hi, &mesh), fm_errLimit);
+	CHECK_INT(fmMakeBoxMesh(INT_MAX, INT_MAX, INT_MAX, lo, hi, &mesh), fm_errLimit);
+	// 2^21 * 2^21 * 4 wraps a long long product of three ints to 0 when computed as one.
+	CHECK_INT(fmMakeBoxMesh(1 << 21, 1 << 21, 1 << 22, lo, hi, &mesh), fm_errLimit);
+	CHECK(mesh.positions == NULL && mesh.nodeCount == 0);
 }

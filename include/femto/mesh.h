@@ -14,6 +14,9 @@ FM_C_BEGIN
 #define FM_MAX_ATTRIBUTES 64
 /// Longest line a reader accepts, in bytes.
 #define FM_MAX_LINE 4096
+/// Default of fmMeshLoadDef::maxFileBytes: 1 GiB, about 14 million points written with full
+/// precision. A file is read into one buffer of its size, so this bounds the text held in memory.
+#define FM_DEFAULT_MESH_FILE_LIMIT ((size_t)1 << 30)
 
 /// A tetrahedral mesh: plain data the user owns; release with fmFreeTetMesh().
 typedef struct fmTetMesh
@@ -30,35 +33,60 @@ typedef struct fmTetMesh
 	double* tetAttributes;  ///< tetCount * tetAttributeCount, or NULL
 } fmTetMesh;
 
-/// Load a TetGen mesh from @p nodePath and @p elePath (.node and .ele). On failure @p mesh is
-/// left zeroed and @p diag (optional) names the file, line and what was expected.
+/// Options of fmLoadTetGenWithDef(); start from fmDefaultMeshLoadDef().
+typedef struct fmMeshLoadDef
+{
+	/// Bytes; a .node or .ele file larger than this is refused (fm_errLimit) before anything is
+	/// read or allocated. Default FM_DEFAULT_MESH_FILE_LIMIT (1 GiB); SIZE_MAX leaves only memory
+	/// as the limit.
+	size_t maxFileBytes;
+	int internalValue; ///< set by fmDefaultMeshLoadDef; load calls check it
+} fmMeshLoadDef;
+
+/// The defaults: files up to FM_DEFAULT_MESH_FILE_LIMIT bytes.
+FM_API fmMeshLoadDef fmDefaultMeshLoadDef(void);
+
+/// Load a TetGen mesh from @p nodePath and @p elePath (.node and .ele) with @p def's limits.
+/// Only regular files are read (a FIFO, device or directory is refused with fm_errIo without
+/// waiting on it); a file over def->maxFileBytes is refused with fm_errLimit before reading.
+/// Each file is read into one buffer of its size and released before the next one is read.
+/// On failure @p mesh is left zeroed and @p diag (optional) names the file, line and what was
+/// expected. A NULL @p mesh or an uninitialised @p def is fm_errParameter (and an assert).
+FM_API fmResult fmLoadTetGenWithDef(const char* nodePath, const char* elePath,
+                                    const fmMeshLoadDef* def, fmTetMesh* mesh, fmDiagnostic* diag);
+
+/// fmLoadTetGenWithDef() with fmDefaultMeshLoadDef(): files up to 1 GiB.
 FM_API fmResult fmLoadTetGen(const char* nodePath, const char* elePath, fmTetMesh* mesh,
                              fmDiagnostic* diag);
 
 /// Same as fmLoadTetGen() from text in memory; the names are used in diagnostics.
-/// The texts need not be NUL-terminated; embedded NUL bytes are errors.
+/// The texts need not be NUL-terminated; embedded NUL bytes are errors. A NULL @p mesh is
+/// fm_errParameter (and an assert).
 FM_API fmResult fmLoadTetGenFromMemory(const char* nodeText, size_t nodeSize, const char* nodeName,
                                        const char* eleText, size_t eleSize, const char* eleName,
                                        fmTetMesh* mesh, fmDiagnostic* diag);
 
 /// Load a TetGen .face file (boundary triangles) into @p triangles (3 per face, 0-based using
-/// @p firstIndex and checked against @p nodeCount). Free with fmFree().
+/// @p firstIndex and checked against @p nodeCount). Free with fmFree(). NULL outputs,
+/// nodeCount < 1 or firstIndex not 0 or 1 are fm_errParameter (and an assert).
 FM_API fmResult fmLoadTetGenFaceFromMemory(const char* text, size_t size, const char* name,
                                            int nodeCount, int firstIndex, int** triangles,
                                            int* triangleCount, fmDiagnostic* diag);
 
 /// Write @p positions (3 * mesh->nodeCount, or NULL for the mesh's own) as a TetGen .node file
-/// with the mesh's numbering, attributes and markers.
+/// with the mesh's numbering, attributes and markers. A NULL path, a mesh without points or
+/// whose attribute array is missing is fm_errParameter (and an assert).
 FM_API fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double* positions,
                                   fmDiagnostic* diag);
 
-/// Release the arrays of a mesh and zero it. Safe on a zeroed mesh.
+/// Release the arrays of a mesh and zero it. Safe on a zeroed mesh and on NULL.
 FM_API void fmFreeTetMesh(fmTetMesh* mesh);
 
-/// Release memory returned by femto (e.g. a surface array).
+/// Release memory returned by femto (e.g. a surface array). Safe on NULL.
 FM_API void fmFree(void* memory);
 
-/// Deep copy. Returns fm_errOutOfMemory on failure.
+/// Deep copy. Returns fm_errOutOfMemory on failure; fm_errParameter (and an assert) for NULL or
+/// a @p source whose counts and arrays disagree. @p copy (when not NULL) is zeroed on failure.
 FM_API fmResult fmCopyTetMesh(const fmTetMesh* source, fmTetMesh* copy);
 
 /// A placement applied in this order: scale, center (move the node centroid to the origin),
@@ -74,15 +102,21 @@ typedef struct fmMeshTransform
 /// The identity transform.
 FM_API fmMeshTransform fmDefaultMeshTransform(void);
 
-/// Apply a transform to the node positions.
+/// Apply a transform to the node positions. A NULL or inconsistent mesh, a NULL transform, a
+/// scale that is not finite and > 0 or a non-finite translation asserts and changes nothing.
 FM_API void fmTetMesh_Transform(fmTetMesh* mesh, const fmMeshTransform* transform);
 
 /// Make every tet positively oriented (swap two nodes of tets with negative volume).
 /// Returns fm_errDegenerate naming the first tet whose volume is zero (relative to its edges),
-/// fm_errIndex for out-of-range or repeated nodes. @p flipped (optional) gets the count.
+/// fm_errIndex for out-of-range or repeated nodes, fm_errRange for a non-finite coordinate or a
+/// well-shaped tet whose volume a double cannot hold (edges beyond about 1e102 m or below about
+/// 1e-102 m). The tests are scale-free. @p flipped (optional) gets the count. A NULL or
+/// inconsistent mesh is fm_errParameter (and an assert). A failing mesh is left untouched.
 FM_API fmResult fmTetMesh_Orient(fmTetMesh* mesh, int* flipped, fmDiagnostic* diag);
 
-/// Signed volume of tet @p tet at @p positions (or the mesh's own if NULL).
+/// Signed volume of tet @p tet at @p positions (or the mesh's own if NULL), in m^3; +-inf or 0
+/// when it lies beyond the range of a double. NaN (and an assert) for a NULL mesh, a tet out of
+/// range or a tet with invalid node references; NaN for a non-finite coordinate.
 FM_API double fmTetMesh_TetVolume(const fmTetMesh* mesh, const double* positions, int tet);
 
 /// Statistics of a mesh for `femto info`.
@@ -101,19 +135,45 @@ typedef struct fmMeshInfo
 	int invertedTets;         ///< tets with negative volume
 	int degenerateTets;       ///< tets with (near) zero volume
 	int badTets;              ///< degenerate tets and slivers (a dihedral angle below 5 degrees)
+	int volumeOutOfRangeTets; ///< well-shaped tets whose volume overflows or underflows a double
 	fmVec3 boundsMin;         ///< m
 	fmVec3 boundsMax;         ///< m
 } fmMeshInfo;
 
-/// Compute mesh statistics (does not modify the mesh).
+/// Shape of one tet. Angles, the radius ratio and degeneracy are measured after scaling the tet
+/// so its longest edge is about 1: they do not depend on the mesh's units or scale.
+typedef struct fmTetQuality
+{
+	double volume;         ///< m^3, signed; +-inf or 0 when beyond the range of a double
+	double longestEdge;    ///< m; inf when beyond the range of a double
+	double minDihedralDeg; ///< smallest dihedral angle, degrees
+	double maxDihedralDeg; ///< largest dihedral angle, degrees
+	double radiusRatio;    ///< 3 r_in / r_circ in [0, 1]: 1 regular, 0 degenerate
+	bool degenerate;       ///< |6 V| <= 1e-12 (longest edge)^3: zero volume relative to its size
+	bool volumeOutOfRange; ///< not degenerate, but the volume overflows or underflows a double
+} fmTetQuality;
+
+/// Measure tet @p tet (0-based). fm_errIndex for invalid node references, fm_errRange for a
+/// non-finite coordinate; fm_errParameter (and an assert) for NULL pointers, an inconsistent
+/// mesh or a tet out of range. @p quality is zeroed on failure.
+FM_API fmResult fmTetMesh_GetTetQuality(const fmTetMesh* mesh, int tet, fmTetQuality* quality);
+
+/// Compute mesh statistics (does not modify the mesh); scale-free like fmTetMesh_GetTetQuality.
+/// fm_errIndex for invalid node references, fm_errRange for a non-finite coordinate;
+/// fm_errParameter (and an assert) for NULL pointers or an inconsistent mesh.
 FM_API fmResult fmTetMesh_GetInfo(const fmTetMesh* mesh, fmMeshInfo* info);
 
 /// Boundary triangles (faces used by one tet), wound counter-clockwise seen from outside
 /// (normals point out of the body for positively oriented tets). Free with fmFree().
+/// fm_errIndex for invalid node references; fm_errParameter (and an assert) for NULL pointers
+/// or an inconsistent mesh. The outputs (when not NULL) are NULL and 0 on failure.
 FM_API fmResult fmTetMesh_ExtractSurface(const fmTetMesh* mesh, int** triangles,
                                          int* triangleCount);
 
 /// A box [min, max] split into nx * ny * nz cubes of 6 tets each (conforming, positive).
+/// fm_errParameter for counts < 1 or a box that is empty or not finite, fm_errLimit when the
+/// counts exceed FM_MAX_TETS or FM_MAX_NODES (any int is safe), fm_errParameter (and an assert)
+/// for a NULL @p mesh.
 FM_API fmResult fmMakeBoxMesh(int nx, int ny, int nz, fmVec3 min, fmVec3 max, fmTetMesh* mesh);
 
 FM_C_END
