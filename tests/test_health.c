@@ -1,0 +1,322 @@
+// Simulation health (issue 8): the energy ledger catches slow runaways, non-convergence is
+// reported, stiff and light bodies still fall, bodies below the floor are lifted out without
+// being catapulted, and steps the integrators cannot take are refused.
+#include "support.h"
+#include "test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// A body on a box mesh from @p lo to @p hi in a world made from @p worldDef.
+static fmBodyId makeBody(fmWorldId* world, const fmWorldDef* worldDef, int nx, int ny, int nz,
+                         fmVec3 lo, fmVec3 hi, fmMaterial material, double density)
+{
+	fmBodyId none = {0, 0, 0};
+	fmTetMesh mesh;
+	if (fmMakeBoxMesh(nx, ny, nz, lo, hi, &mesh) != fm_ok)
+		return none;
+	*world = fmCreateWorld(worldDef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = material;
+	def.massMode = fm_massFromDensity;
+	def.density = density;
+	def.damping = 1.0;
+	def.smoothing = 0.0;
+	fmBodyId body;
+	fmResult r = fmCreateBody(*world, &def, &body, NULL);
+	fmFreeTetMesh(&mesh);
+	return r == fm_ok ? body : none;
+}
+
+// The audit's slow runaway: one Newton iteration a step lets a StVK bar on a Coulomb floor gain
+// energy over many frames, each frame within the old per-frame factor. The ledger (energy <=
+// initial energy + work done + tolerance) stops it, with the state of the last good frame.
+static int slowRunaway(int* failures_, int newtonIterations, int frames, char* message)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.newtonIterations = newtonIterations;
+	wdef.floor.height = -0.5;
+	wdef.floor.friction = fm_floorCoulomb;
+	wdef.floor.frictionCoefficient = 0.5;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 20, 5, 5, fmMakeVec3(-2, 0, -0.5),
+	                         fmMakeVec3(2, 1, 0.5), fmMakeMaterial(fm_stvk, 1e5, 0.3), 1000.0);
+	CHECK(fmBody_IsValid(body));
+	int failedAt = -1;
+	for (int frame = 0; frame < frames && failedAt < 0; ++frame)
+	{
+		fmResult r = fmWorld_Step(world, 1.0 / 60.0, 1);
+		if (r == fm_ok)
+			continue;
+		CHECK_INT(r, fm_errNumerical);
+		failedAt = frame;
+		snprintf(message, 512, "%s", fmWorld_GetLastError(world)->message);
+		// The body is back at the last good frame: within its ledger.
+		fmBodyStats s = fmBody_GetStats(body);
+		CHECK(s.kineticEnergy + s.elasticEnergy <= 1.02 * (s.initialEnergy + s.work) + 1.0);
+	}
+	fmDestroyWorld(world);
+	return failedAt;
+}
+
+TEST(slow_runaway_is_caught_by_the_energy_ledger)
+{
+	char message[512] = "";
+	int failedAt = slowRunaway(failures_, 1, 240, message);
+	printf("  one Newton iteration a step: failure at frame %d: %s\n", failedAt, message);
+	CHECK(failedAt > 0);
+	CHECK_STR_CONTAINS(message, "ran away");
+	CHECK_STR_CONTAINS(message, "work done");
+	CHECK_STR_CONTAINS(message, "inverted tets");
+	// Not advice to switch to the integrator it already uses.
+	CHECK(strstr(message, "implicit integrator") == NULL);
+	// The same scene solved properly never trips the ledger.
+	CHECK_INT(slowRunaway(failures_, 20, 240, message), -1);
+}
+
+// Kinetic plus elastic energy never exceeds E0 + W (up to the ledger's tolerance) on healthy
+// scenes, and every kind of work is booked: gravity, impulses, set velocities.
+TEST(ledger_books_gravity_impulses_and_set_state)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.enabled = false;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1),
+	                         fmMakeMaterial(fm_neoHookean, 1e5, 0.3), 100.0);
+	CHECK(fmBody_IsValid(body));
+	const double dt = 0.5 * fmWorld_EstimateExplicitStep(world);
+	double mass = 100.0;
+	// Free fall for 10 frames: the work is gravity's, M g times the drop.
+	fmBodyStats before = fmBody_GetStats(body);
+	for (int frame = 0; frame < 10; ++frame)
+		CHECK_INT(fmWorld_Step(world, 10 * dt, 10), fm_ok);
+	fmBodyStats after = fmBody_GetStats(body);
+	double drop = before.centerOfMass.y - after.centerOfMass.y;
+	CHECK_REL(after.work, mass * 9.8 * drop, 1e-9, 0.0);
+	// Symplectic Euler's free fall: gravity's work exceeds the kinetic energy by g^2 dt^2 / 2
+	// per step and unit mass (a relative 1 / steps).
+	CHECK(after.kineticEnergy <= after.work);
+	CHECK(after.kineticEnergy >= 0.95 * after.work);
+	// An impulse is the caller's work, booked at the next step.
+	fmBody_ApplyImpulse(body, fmMakeVec3(3.0, 0, 0));
+	CHECK_INT(fmWorld_Step(world, 10 * dt, 10), fm_ok);
+	fmBodyStats kicked = fmBody_GetStats(body);
+	CHECK(kicked.work > after.work + 0.5 * mass * 9.0 * 0.99);
+	// Velocities set by the caller are work too (a drag), never a runaway.
+	int n = fmBody_GetVertexCount(body);
+	double* v = calloc(3 * (size_t)n, sizeof(double));
+	for (int i = 0; i < n; ++i)
+		v[3 * i + 1] = 50.0;
+	fmBody_SetVelocities(body, v);
+	CHECK_INT(fmWorld_Step(world, 10 * dt, 10), fm_ok);
+	// Booked: the kinetic energy set, less gravity's work while it rose in the frame.
+	fmBodyStats dragged = fmBody_GetStats(body);
+	double rise = dragged.centerOfMass.y - kicked.centerOfMass.y;
+	CHECK_REL(dragged.work - kicked.work, 0.5 * mass * (2500.0 - 9.0) - mass * 9.8 * rise, 0.02,
+	          0.0);
+	free(v);
+	fmDestroyWorld(world);
+}
+
+// Backward Euler free fall from rest: after n steps of h the drop is g h^2 n (n + 1) / 2.
+static double implicitFallDrop(int steps, double h)
+{
+	return 9.8 * h * h * steps * (steps + 1) / 2.0;
+}
+
+// Bodies with E / density of 1e17 and beyond (and very thin ones) leave the rigid motion to
+// round-off in the elastic forces. They must still fall as rigid bodies, and a step that ends
+// above its tolerance says so.
+static void checkFalls(int* failures_, const char* name, fmVec3 lo, fmVec3 hi, double youngs,
+                       double density)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 2, 2, 2, lo, hi,
+	                         fmMakeMaterial(fm_neoHookean, youngs, 0.3), density);
+	CHECK(fmBody_IsValid(body));
+	double y0 = fmBody_GetStats(body).centerOfMass.y;
+	int unconverged = 0;
+	for (int frame = 0; frame < 20; ++frame)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		fmStepStats stats = fmWorld_GetStepStats(world);
+		unconverged += stats.unconvergedSteps;
+		if (stats.unconvergedSteps > 0)
+		{
+			// Said: a warning with the residual, and counted.
+			CHECK(fmWorld_GetLastError(world)->warningCount > 0);
+			CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->warning, "residual");
+			CHECK(stats.maxResidual > wdef.tolerance);
+		}
+	}
+	double drop = y0 - fmBody_GetStats(body).centerOfMass.y;
+	printf("  %-22s drop %.6f m (backward Euler free fall %.6f m), %d unconverged steps\n", name,
+	       drop, implicitFallDrop(20, 1.0 / 60.0), unconverged);
+	CHECK_REL(drop, implicitFallDrop(20, 1.0 / 60.0), 1e-3, 0.0);
+	fmDestroyWorld(world);
+}
+
+TEST(stiff_light_and_thin_bodies_fall)
+{
+	checkFalls(failures_, "E = 1e20 Pa", fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), 1e20, 1000.0);
+	checkFalls(failures_, "density 1e-20 kg/m^3", fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), 1e5,
+	           1e-20);
+	checkFalls(failures_, "1e-11 m thin", fmMakeVec3(0, 1, 0), fmMakeVec3(1, 1 + 1e-11, 1), 1e5,
+	           1000.0);
+}
+
+// With notConvergedIsError, a step above its tolerance is an error that restores the state.
+TEST(not_converged_can_be_an_error)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.newtonIterations = 1;
+	wdef.notConvergedIsError = true;
+	wdef.floor.height = 0.0;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 4, 2, 2, fmMakeVec3(0, 0.1, 0), fmMakeVec3(2, 0.6, 0.5),
+	                         fmMakeMaterial(fm_neoHookean, 1e5, 0.3), 1000.0);
+	CHECK(fmBody_IsValid(body));
+	fmResult r = fm_ok;
+	for (int frame = 0; frame < 60 && r == fm_ok; ++frame)
+		r = fmWorld_Step(world, 1.0 / 60.0, 1);
+	CHECK_INT(r, fm_errNotConverged);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "residual");
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "Newton");
+	fmDestroyWorld(world);
+}
+
+// A body that starts 4 m below the floor rises out at the depenetration speed, with at most
+// that speed's kinetic energy, instead of being catapulted (the audit: lowest vertex at +8.25 m
+// after 0.3 s with 1.8e5 J).
+static void checkLiftedOut(int* failures_, fmIntegrator integrator, fmFloorFriction friction)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = integrator;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = friction;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 4, 2, 4, fmMakeVec3(-1, -5, -1), fmMakeVec3(1, -4, 1),
+	                         fmMakeMaterial(fm_neoHookean, 1e6, 0.3), 1000.0);
+	CHECK(fmBody_IsValid(body));
+	double dt = integrator == fm_explicit ? 0.5 * fmWorld_EstimateExplicitStep(world) : 0.01;
+	int substeps = (int)ceil(0.01 / dt);
+	double mass = 1000.0 * 2 * 1 * 2, speed = wdef.floor.maxDepenetrationSpeed;
+	double highest = -INFINITY, maxKinetic = 0.0;
+	for (int frame = 0; frame < 700; ++frame)
+	{
+		CHECK_INT(fmWorld_Step(world, 0.01, substeps), fm_ok);
+		fmBodyStats s = fmBody_GetStats(body);
+		highest = fmax(highest, s.lowestY);
+		maxKinetic = fmax(maxKinetic, s.kineticEnergy);
+		if (frame == 29)
+		{
+			// After 0.3 s: risen by at most the depenetration speed times the time.
+			CHECK(s.lowestY <= -5.0 + 1.05 * speed * 0.3 + 0.01);
+			CHECK(s.lowestY > -5.0 + 0.5 * speed * 0.3);
+		}
+	}
+	fmBodyStats s = fmBody_GetStats(body);
+	printf("  %s %s: lowest y %.4f m after 7 s, highest lowest-y %.4f m, max KE %.4g J (bound "
+	       "%.4g J)\n",
+	       integrator == fm_explicit ? "explicit" : "implicit",
+	       friction == fm_floorStick ? "stick  " : "coulomb", s.lowestY, highest, maxKinetic,
+	       0.5 * mass * speed * speed);
+	// Rising at the limit the body has 0.5 M speed^2; where it comes out of the floor the
+	// elastic energy of the lift is released too (measured up to 1.22 times that).
+	CHECK(maxKinetic <= 0.5 * mass * (1.25 * speed) * (1.25 * speed));
+	// Never thrown into the air: out of the floor at the depenetration speed, the body hops by
+	// at most speed^2 / 2g (5 cm at 1 m/s).
+	CHECK(highest < 1.5 * speed * speed / (2 * 9.8));
+	CHECK(s.lowestY > -0.02);
+	fmDestroyWorld(world);
+}
+
+TEST(body_below_the_floor_is_lifted_out_not_catapulted)
+{
+	checkLiftedOut(failures_, fm_explicit, fm_floorStick);
+	checkLiftedOut(failures_, fm_explicit, fm_floorCoulomb);
+	checkLiftedOut(failures_, fm_implicit, fm_floorStick);
+	checkLiftedOut(failures_, fm_implicit, fm_floorCoulomb);
+}
+
+TEST(gravity_and_floor_are_validated_in_the_setters)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&wdef);
+	CHECK_INT(fmWorld_SetGravity(world, fmMakeVec3(0, NAN, 0)), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "gravity");
+	CHECK_INT(fmWorld_SetGravity(world, fmMakeVec3(0, -1e30, 0)), fm_errParameter);
+	CHECK_INT(fmWorld_SetGravity(world, fmMakeVec3(0, -20, 0)), fm_ok);
+	fmFloorDef floor = fmDefaultFloorDef();
+	floor.restitution = 5.0;
+	CHECK_INT(fmWorld_SetFloor(world, &floor), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "restitution");
+	floor = fmDefaultFloorDef();
+	floor.maxDepenetrationSpeed = 0.0;
+	CHECK_INT(fmWorld_SetFloor(world, &floor), fm_errParameter);
+	CHECK_INT(fmWorld_SetFloor(world, NULL), fm_errParameter);
+	wdef.gravity = fmMakeVec3(1e30, 0, 0);
+	fmDiagnostic diag;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "|g| <=");
+	fmDestroyWorld(world);
+}
+
+// Steps no integrator can take are refused and move nothing; absurd solver options too.
+TEST(steps_and_options_the_integrators_cannot_take_are_refused)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 1, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1),
+	                         fmMakeMaterial(fm_neoHookean, 1e5, 0.3), 1000.0);
+	CHECK_INT(fmWorld_Step(world, 1e300, 1), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "substep");
+	CHECK_INT(fmWorld_Step(world, 1e-300, 1), fm_errParameter);
+	CHECK_INT(fmWorld_Step(world, 0.01, FM_MAX_SUBSTEPS + 1), fm_errParameter);
+	CHECK_NEAR(fmBody_GetStats(body).centerOfMass.y, 0.5, 1e-15);
+	CHECK_INT(fmWorld_Step(world, 0.01, 1), fm_ok);
+	fmDestroyWorld(world);
+	fmDiagnostic diag;
+	wdef.tolerance = 1e-300;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	wdef = fmDefaultWorldDef();
+	wdef.newtonIterations = 10000;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	wdef = fmDefaultWorldDef();
+	wdef.cgIterations = 1000000;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+}
+
+// The largest allowed options on a problem they cannot meet stop on stagnation, not after
+// FM_MAX_NEWTON_ITERATIONS iterations: a stiff cube at the smallest tolerance.
+TEST(absurd_solver_options_stop_on_stagnation)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.tolerance = FM_MIN_TOLERANCE;
+	wdef.newtonIterations = FM_MAX_NEWTON_ITERATIONS;
+	wdef.cgIterations = FM_MAX_CG_ITERATIONS;
+	wdef.floor.height = 0.0;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 3, 3, 3, fmMakeVec3(0, 0.05, 0), fmMakeVec3(1, 1.05, 1),
+	                         fmMakeMaterial(fm_neoHookean, 1e12, 0.45), 1000.0);
+	CHECK(fmBody_IsValid(body));
+	int newton = 0;
+	for (int frame = 0; frame < 10; ++frame)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		newton += fmWorld_GetStepStats(world).newtonIterations;
+	}
+	printf("  %d Newton iterations in 10 frames at tolerance %g\n", newton, FM_MIN_TOLERANCE);
+	CHECK(newton < 10 * 100);
+	fmDestroyWorld(world);
+}
