@@ -25,15 +25,9 @@ void fmSetAllocator(fmAllocFcn* allocFcn, fmFreeFcn* freeFcn)
 	s_freeFcn = freeFcn;
 }
 
-size_t fmGetAllocatedBytes(void)
-{
-	return s_allocatedBytes;
-}
+size_t fmGetAllocatedBytes(void) { return s_allocatedBytes; }
 
-void fmSetAssertFcn(fmAssertFcn* assertFcn)
-{
-	s_assertFcn = assertFcn;
-}
+void fmSetAssertFcn(fmAssertFcn* assertFcn) { s_assertFcn = assertFcn; }
 
 void fmSetLogFcn(fmLogFcn* logFcn, void* context)
 {
@@ -130,7 +124,7 @@ void fmDiagClear(fmDiagnostic* diag)
 }
 
 fmResult fmDiagError(fmDiagnostic* diag, fmResult result, const char* file, int line, int column,
-                     const char* format, ...)
+					 const char* format, ...)
 {
 	if (diag == NULL)
 		return result;
