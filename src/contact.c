@@ -12,21 +12,23 @@
 #include <math.h>
 
 // Lift vertex @p i out of the floor by at most the depenetration limit; returns the work done
-// against the step's forces b->f (J). The step moved the vertex by v dt already: the lift undoes a
+// against gravity (J). The step moved the vertex by v dt already: the lift undoes a
 // downward move and adds what an upward one lacks of the limit, so that the vertex rises by at most
 // max(limit, v) dt in the step.
-static double fmLiftOutOfFloor(const fmFloorDef* floor, fmBody* b, int i, double dt)
+static double fmLiftOutOfFloor(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int i, double dt)
 {
 	double* x = b->x + 3 * i;
 	double penetration = floor->height - x[1], vIn = b->v[3 * i + 1];
 	double reach = (fmax(floor->maxDepenetrationSpeed, vIn) - vIn) * dt;
 	double lift = penetration <= reach ? penetration : reach;
 	x[1] = penetration <= reach ? floor->height : x[1] + lift;
-	// Work against the forces of the step (gravity, elastic, damping) that hold it down.
-	return -b->f[3 * i + 1] * lift;
+	// Work against gravity only: the elastic forces of a body that is blowing up would
+	// otherwise book its explosion as work done on it. A deep vertex rises by its velocity
+	// (set by the callers below), not by this lift.
+	return -b->mass[i] * gravity.y * lift;
 }
 
-int fmApplyFloor(const fmFloorDef* floor, fmBody* b, double dt)
+int fmApplyFloor(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt)
 {
 	if (!floor->enabled)
 		return 0;
@@ -42,7 +44,7 @@ int fmApplyFloor(const fmFloorDef* floor, fmBody* b, double dt)
 			continue;
 		++contacts;
 		double penetration = h - x[1], vIn = v[1];
-		work += fmLiftOutOfFloor(floor, b, i, dt);
+		work += fmLiftOutOfFloor(floor, gravity, b, i, dt);
 		if (floor->friction == fm_floorStick)
 		{
 			// GAMES103 HW3 1.1: tangential velocity zeroed; the penetration depth is turned into

@@ -51,6 +51,6 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
 	for (int i = 0; i < n; ++i)
 		if (b->pinned[i] != FM_PIN_ALL)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), dt, fmLoad(b->v, i)));
-	fmApplyFloor(&world->def.floor, b, dt);
+	fmApplyFloor(&world->def.floor, world->def.gravity, b, dt);
 	return fm_ok;
 }

@@ -644,13 +644,16 @@ static void fmSetFloorBounds(const fmFloorDef* floor, const fmBody* b, fmImplici
 		    fmin(floor->height, c->xStart[3 * i + 1] + floor->maxDepenetrationSpeed * h);
 }
 
-// Work the floor did on the body in the step (J): its push (the energy gradient it holds back)
-// times how far it lifted each vertex.
-static double fmFloorWork(const fmBody* b, const fmImplicitCache* c)
+// Work the floor did on the body in the step (J), for the energy ledger: its push (the energy
+// gradient it holds back) times the lift, on the vertices it lifts out from below its plane (at
+// most the depenetration speed times h each). Stopping a vertex that comes from above is an
+// inelastic impact: no work is booked for it.
+static double fmFloorWork(const fmBody* b, const fmImplicitCache* c, double floorHeight)
 {
 	double work = 0.0;
 	for (int i = 0; i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] <= c->floorBound[i])
+		if (!(b->pinned[i] & FM_PIN_Y) && c->floorBound[i] < floorHeight &&
+		    b->x[3 * i + 1] <= c->floorBound[i])
 			work += fmax(0.0, c->gradient[3 * i + 1]) *
 			        fmax(0.0, b->x[3 * i + 1] - c->xStart[3 * i + 1]);
 	return work;
@@ -710,7 +713,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    vertices on it.
 	if (floor)
 	{
-		fmLedger_AddContactWork(b, fmFloorWork(b, c));
+		fmLedger_AddContactWork(b, fmFloorWork(b, c, floor->height));
 		fmFloorVelocities(floor, b, c, h);
 	}
 	return fm_ok;

@@ -20,10 +20,10 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* body, double dt, fmNewtonR
 void fmFilterVelocities(fmBody* body, double dt);
 
 // Floor response for explicit integration: positions lifted to the plane (at most at the
-// floor's depenetration speed), velocities by the floor's friction mode; push-out work against
-// the step's forces body->f goes to the body's energy ledger (contact.c). Returns the number of
-// vertices in contact.
-int fmApplyFloor(const fmFloorDef* floor, fmBody* body, double dt);
+// floor's depenetration speed), velocities by the floor's friction mode; push-out work (against
+// gravity, and the normal kinetic energy it adds) goes to the body's energy ledger (contact.c).
+// Returns the number of vertices in contact.
+int fmApplyFloor(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, double dt);
 
 // Release the implicit solver's per-body buffers (body->implicitCache). NULL is fine.
 void fmImplicitCacheFree(void* cache);

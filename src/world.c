@@ -352,7 +352,12 @@ static fmResult fmReportBadBody(fmWorld* w, int index, double energy, double bou
 	char list[160];
 	int bad = fmListBadTets(b, list, sizeof list);
 	int vertex = fmFirstNonFiniteVertex(b);
-	if (vertex >= 0)
+	if (vertex < 0 && !isfinite(energy))
+		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+		            "body %d: its energy overflowed (positions and velocities beyond what a double "
+		            "holds squared); %d bad tets (%s)%s; state restored to the last good frame; %s",
+		            index, bad, list, detail, fmFailureAdvice(w));
+	else if (vertex >= 0)
 		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
 		            "body %d: non-finite position or velocity at vertex %d; %d bad tets (%s)%s; "
 		            "state restored to the last good frame; %s",
