@@ -5,6 +5,7 @@
 
 #include <cjson/cJSON.h>
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -297,16 +298,29 @@ static bool cliFileReadable(const char* path)
 	return true;
 }
 
-// "box:nx,ny,nz" -> cell counts.
-static bool cliParseBoxSpec(const char* spec, int cells[3])
+// "box:nx,ny,nz" -> cell counts. On failure @p problem says what was wrong.
+static bool cliParseBoxSpec(const char* spec, int cells[3], char* problem, size_t size)
 {
 	const char* at = spec + 4;
+	snprintf(problem, size, "expected \"box:nx,ny,nz\" with counts in [1, %d]", CLI_MAX_BOX_CELLS);
 	for (int axis = 0; axis < 3; ++axis)
 	{
 		char* end = NULL;
+		errno = 0;
 		long count = strtol(at, &end, 10);
-		if (end == at || count < 1 || count > CLI_MAX_BOX_CELLS)
+		if (end == at)
 			return false;
+		if (errno == ERANGE || count > CLI_MAX_BOX_CELLS)
+		{
+			snprintf(problem, size, "box cell count %.*s is too large (at most %d)",
+			         (int)(end - at > 24 ? 24 : end - at), at, CLI_MAX_BOX_CELLS);
+			return false;
+		}
+		if (count < 1)
+		{
+			snprintf(problem, size, "box cell count %ld is too small (at least 1)", count);
+			return false;
+		}
 		cells[axis] = (int)count;
 		if (axis < 2 && *end != ',')
 			return false;
@@ -339,9 +353,9 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	if (strncmp(text, "box:", 4) == 0)
 	{
 		spec->meshSource = cli_meshBox;
-		if (!cliParseBoxSpec(text, spec->boxCells))
-			return cliJsonFail(j, path, item, "expected \"box:nx,ny,nz\" with counts in [1, %d]",
-			                   CLI_MAX_BOX_CELLS);
+		char problem[128];
+		if (!cliParseBoxSpec(text, spec->boxCells, problem, sizeof problem))
+			return cliJsonFail(j, path, item, "%s", problem);
 		double tets = 6.0 * spec->boxCells[0] * spec->boxCells[1] * spec->boxCells[2];
 		if (tets > (double)FM_MAX_TETS)
 			return cliJsonFail(j, path, item, "box of %.0f tets exceeds the %d tet limit", tets,

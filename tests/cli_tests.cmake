@@ -187,6 +187,8 @@ femto_cli_test(scene_too_deep ARGS "run|${FEMTO_CLI_WORK}/deep.json" CODE 1
 # Integer keys beyond their range say which end they passed.
 femto_cli_test(scene_int_too_large ARGS "run|${FEMTO_CLI_DATA}/int_too_large.json" CODE 1
   REGEX "int_too_large.json:2:3: substeps: too large \\(at most 100000\\), got 99999999999")
+femto_cli_test(scene_box_too_large ARGS "run|${FEMTO_CLI_DATA}/box_too_large.json" CODE 1
+  REGEX "box_too_large.json:2:15: bodies\\[0\\].mesh: box cell count 99999999999 is too large \\(at most 1000\\)")
 femto_cli_test(scene_too_many_frames ARGS "run|${FEMTO_CLI_DATA}/too_many_frames.json" CODE 1
   REGEX "too_many_frames.json: 1e\\+06 s is too long: 1e\\+12 frames of 1e-06 s, more than the 100000000 frame limit")
 # 100000 pin boxes are read in one linear walk (quadratic list indexing took 23 s).
