@@ -17,6 +17,9 @@ enum
 /// Longest path the tool handles.
 #define CLI_MAX_PATH 1024
 
+/// Most frames one run simulates (the scene's "frames", --frames, --seconds rounded up).
+#define CLI_MAX_FRAMES 100000000
+
 /// Scene and mesh files larger than this are refused before reading (64 MiB).
 #define CLI_MAX_FILE_BYTES ((size_t)64 << 20)
 
@@ -38,6 +41,12 @@ bool cliParseDouble(const char* text, double* value);
 
 /// Parse a whole string as an int. False on junk or overflow.
 bool cliParseInt(const char* text, int* value);
+
+/// Parse the value of integer option @p option of @p command, which must lie in [lo, hi].
+/// On failure prints a usage error that says what was wrong ("--frames: 99999999999 is too
+/// large (at most 100000000)"; "expected an integer" for junk) and returns false.
+bool cliParseIntOption(const char* command, const char* option, const char* text, int lo, int hi,
+                       int* value);
 
 /// Fetch the value of option @p argv[*index] (e.g. "--frames 10"); advances *index.
 /// Prints a usage error and returns NULL when the value is missing.

@@ -3,6 +3,7 @@
 #include "output.h"
 #include "scene.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,9 +22,10 @@ const char* const cliRunHelp =
     "  --obj              with --out: also write DIR/NAME_NNNNNN.obj surfaces\n"
     "  --export-node FILE write the final positions as a TetGen .node (FILE_B.node per body\n"
     "                     B when the scene has several bodies)\n"
-    "  --impulse-at T     at the first frame boundary at or after T seconds, add an upward\n"
-    "                     velocity to every free vertex (the seeds' space-bar jump); repeatable\n"
-    "  --impulse-speed V  the jump's velocity in m/s (default 0.2, the seeds' value)\n"
+    "  --impulse-at T     the seeds' space-bar jump in the first frame that starts at or after\n"
+    "                     T seconds: 0.2 m/s upward added to every free vertex before each\n"
+    "                     substep of that frame (2 m/s over the house's 10); repeatable\n"
+    "  --impulse-speed V  a custom jump instead: V m/s added once at that frame's start\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -42,7 +44,8 @@ typedef struct cliRunOptions
 	const char* exportNode;
 	double impulseTimes[CLI_MAX_IMPULSES];
 	int impulseCount;
-	double impulseSpeed;
+	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
+	bool hasImpulseSpeed;
 	bool quiet;
 } cliRunOptions;
 
@@ -51,7 +54,6 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 {
 	memset(o, 0, sizeof *o);
 	o->every = 1;
-	o->impulseSpeed = 0.2;
 	bool hasSeconds = false, hasFrames = false;
 	for (int i = 1; i < argc; ++i)
 	{
@@ -79,16 +81,16 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 		{
 			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseInt(value, &o->frames) || o->frames < 0)
-				return cliUsageError("run", "--frames: expected an integer >= 0, got '%s'", value);
+			if (!cliParseIntOption("run", "--frames", value, 0, CLI_MAX_FRAMES, &o->frames))
+				return cli_exitUsage;
 			hasFrames = true;
 		}
 		else if (strcmp(arg, "--every") == 0)
 		{
 			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseInt(value, &o->every) || o->every < 1)
-				return cliUsageError("run", "--every: expected an integer >= 1, got '%s'", value);
+			if (!cliParseIntOption("run", "--every", value, 1, INT_MAX, &o->every))
+				return cli_exitUsage;
 		}
 		else if (strcmp(arg, "--out") == 0)
 		{
@@ -119,6 +121,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 			if (!cliParseDouble(value, &o->impulseSpeed))
 				return cliUsageError("run", "--impulse-speed: expected a number (m/s), got '%s'",
 				                     value);
+			o->hasImpulseSpeed = true;
 		}
 		else if (arg[0] == '-' && arg[1] != 0)
 			return cliUsageError("run", "unknown option '%s'", arg);
@@ -136,7 +139,8 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 	return -1;
 }
 
-// Frames to run: the command line, then the scene, then 5 s.
+// Frames to run: the command line, then the scene, then 5 s. -1 (with a message) when a
+// duration is more frames than CLI_MAX_FRAMES.
 static int cliFrameCount(const cliRunOptions* o, const cliScene* scene)
 {
 	double frameTime = cliScene_FrameTime(scene);
@@ -151,7 +155,13 @@ static int cliFrameCount(const cliRunOptions* o, const cliScene* scene)
 		return o->frames;
 	// A tiny allowance so 10 s of 0.03 s frames is 334 frames, not 335 from rounding noise.
 	double frames = ceil(seconds / frameTime - 1e-9);
-	return frames > 1e8 ? 100000000 : (int)frames;
+	if (frames > CLI_MAX_FRAMES)
+	{
+		cliError("%s: %g s is too long: %.6g frames of %g s, more than the %d frame limit",
+		         scene->name, seconds, frames, frameTime, CLI_MAX_FRAMES);
+		return -1;
+	}
+	return (int)frames;
 }
 
 // The series name: the scene file's stem, "house" for the built-in.
@@ -195,39 +205,30 @@ static cliTotals cliSumStats(const cliSimulation* sim)
 	return totals;
 }
 
-static bool cliExportNodes(const char* path, const cliSimulation* sim)
-{
-	for (int b = 0; b < sim->bodyCount; ++b)
-	{
-		char bodyPath[CLI_MAX_PATH];
-		if (sim->bodyCount == 1)
-			snprintf(bodyPath, sizeof bodyPath, "%s", path);
-		else
-		{
-			// "out.node" -> "out_1.node" for body 1.
-			size_t length = strlen(path);
-			size_t stem =
-			    length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
-			snprintf(bodyPath, sizeof bodyPath, "%.*s_%d.node", (int)stem, path, b);
-		}
-		fmDiagnostic diag;
-		memset(&diag, 0, sizeof diag);
-		if (fmWriteTetGenNode(bodyPath, &sim->meshes[b], fmBody_GetPositions(sim->bodies[b]),
-		                      &diag) != fm_ok)
-		{
-			cliPrintDiagnostic(NULL, &diag);
-			return false;
-		}
-	}
-	return true;
-}
-
 static void cliPrintProgress(int frame, int frames, double time, const cliSimulation* sim)
 {
 	cliTotals totals = cliSumStats(sim);
 	fprintf(stderr, "\rframe %d/%d  t = %.2f s  lowest y = %.3f m  KE = %.4g J  inverted = %d   ",
 	        frame, frames, time, totals.lowestY, totals.kinetic, totals.inverted);
 	fflush(stderr);
+}
+
+// Mass-weighted mean height of all bodies (m).
+static double cliCenterOfMassY(const cliSimulation* sim)
+{
+	double mass = 0.0, moment = 0.0;
+	for (int b = 0; b < sim->bodyCount; ++b)
+	{
+		const double* x = fmBody_GetPositions(sim->bodies[b]);
+		const double* m = fmBody_GetMasses(sim->bodies[b]);
+		int count = fmBody_GetVertexCount(sim->bodies[b]);
+		for (int i = 0; i < count; ++i)
+		{
+			mass += m[i];
+			moment += m[i] * x[3 * i + 1];
+		}
+	}
+	return mass > 0.0 ? moment / mass : 0.0;
 }
 
 static double cliLowestY(const cliSimulation* sim)
@@ -243,6 +244,36 @@ static double cliLowestY(const cliSimulation* sim)
 	return lowest;
 }
 
+// The seeds' jump, in m/s added per substep: their space-bar check sits inside the substep loop
+// (PhysicsStep/_Update, called 10 times per Update), and Input.GetKeyDown stays true for the
+// whole frame of the press, so a press adds 0.2 m/s before each of the 10 substeps: 2 m/s.
+#define CLI_SEEDS_JUMP_SPEED 0.2
+
+// Step one frame. @p jumps impulses start in it: the seeds' jump steps the substeps one at a
+// time with CLI_SEEDS_JUMP_SPEED added before each (the same dt as a whole frame); a custom
+// --impulse-speed adds its velocity once at the start.
+static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
+                             int jumps)
+{
+	double frameTime = cliScene_FrameTime(scene);
+	if (jumps == 0 || o->hasImpulseSpeed)
+	{
+		for (int b = 0; b < sim->bodyCount && jumps > 0; ++b)
+			fmBody_ApplyImpulse(sim->bodies[b], fmMakeVec3(0.0, jumps * o->impulseSpeed, 0.0));
+		return fmWorld_Step(sim->world, frameTime, scene->substeps);
+	}
+	double dt = frameTime / scene->substeps; // what fmWorld_Step divides a frame into
+	for (int s = 0; s < scene->substeps; ++s)
+	{
+		for (int b = 0; b < sim->bodyCount; ++b)
+			fmBody_ApplyImpulse(sim->bodies[b], fmMakeVec3(0.0, jumps * CLI_SEEDS_JUMP_SPEED, 0.0));
+		fmResult result = fmWorld_Step(sim->world, dt, 1);
+		if (result != fm_ok)
+			return result;
+	}
+	return fm_ok;
+}
+
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
                         cliSeries* series, int frames, double* stepSeconds, double* lowestReached)
@@ -256,17 +287,17 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 	for (int frame = 0; frame < frames; ++frame)
 	{
 		double time = frame * frameTime;
+		int jumps = 0;
 		for (int k = 0; k < o->impulseCount; ++k)
 		{
 			// The first frame boundary at or after the requested time (tolerating rounding).
 			if (applied[k] || o->impulseTimes[k] > time + 1e-9 * frameTime)
 				continue;
 			applied[k] = true;
-			for (int b = 0; b < sim->bodyCount; ++b)
-				fmBody_ApplyImpulse(sim->bodies[b], fmMakeVec3(0.0, o->impulseSpeed, 0.0));
+			jumps += 1;
 		}
 		double start = cliNow();
-		fmResult result = fmWorld_Step(sim->world, frameTime, scene->substeps);
+		fmResult result = cliStepFrame(o, scene, sim, jumps);
 		*stepSeconds += cliNow() - start;
 		*lowestReached = fmin(*lowestReached, cliLowestY(sim));
 		if (result != fm_ok)
@@ -317,6 +348,7 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	printf("steps per second %.0f\n", stepSeconds > 0.0 ? steps / stepSeconds : 0.0);
 	printf("lowest vertex y  %.6g m\n", totals.lowestY);
 	printf("lowest y reached %.6g m (after any frame)\n", lowestReached);
+	printf("centre of mass y %.6g m\n", cliCenterOfMassY(sim));
 	printf("kinetic energy   %.6g J\n", totals.kinetic);
 	printf("elastic energy   %.6g J\n", totals.elastic);
 	printf("inverted tets    %d\n", totals.inverted);
@@ -346,23 +378,30 @@ int cliRun(int argc, char** argv)
 	int frames = cliFrameCount(&o, &scene);
 	cliSeries series;
 	cliSeries* seriesPtr = NULL;
-	code = cli_exitOk;
-	if (o.outDir != NULL)
+	code = frames >= 0 ? cli_exitOk : cli_exitInput;
+	if (o.outDir != NULL && code == cli_exitOk)
 	{
 		char name[256];
 		cliSeriesName(o.scenePath, name, sizeof name);
 		seriesPtr = &series;
-		if (!cliSeries_Open(&series, o.outDir, name, o.obj) ||
-		    !cliSeries_WriteFrame(&series, &sim, 0, 0.0))
+		if (!cliSeries_Open(&series, o.outDir, name, o.obj))
+			code = cli_exitInput;
+		else if (series.removed > 0 && !o.quiet)
+			fprintf(stderr,
+			        "femto: note: removed %d file%s of an earlier '%s' series from %s (%s.pvd, "
+			        "%s_NNNNNN.vtu/.obj)\n",
+			        series.removed, series.removed == 1 ? "" : "s", name, o.outDir, name, name);
+		if (code == cli_exitOk && !cliSeries_WriteFrame(&series, &sim, 0, 0.0))
 			code = cli_exitInput;
 	}
 	double stepSeconds = 0.0, lowestReached = 0.0;
 	if (code == cli_exitOk)
 		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds, &lowestReached);
-	// The collection is closed even after a failure so the frames already written stay readable.
-	if (seriesPtr != NULL && !cliSeries_Close(&series))
-		code = cli_exitInput;
-	if (code == cli_exitOk && o.exportNode != NULL && !cliExportNodes(o.exportNode, &sim))
+	// The collection is complete after every frame (rewritten whole each time), so the frames
+	// written before a failure or an interruption stay viewable.
+	if (seriesPtr != NULL)
+		cliSeries_Free(&series);
+	if (code == cli_exitOk && o.exportNode != NULL && !cliWriteNodes(o.exportNode, &sim, false))
 		code = cli_exitInput;
 	if (code == cli_exitOk)
 		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, lowestReached,

@@ -1,7 +1,9 @@
 // `femto static`: the equilibrium shape of every body of a scene under gravity and its pins.
 #include "commands.h"
+#include "output.h"
 #include "scene.h"
 
+#include <limits.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -20,29 +22,6 @@ const char* const cliStaticHelp =
     "  --help              this text\n"
     "\n"
     "Exit status: 0 converged, 1 bad scene/file, I/O error or no convergence, 2 usage error.\n";
-
-static bool cliWriteBodyNode(const char* path, const cliSimulation* sim, int body)
-{
-	char bodyPath[CLI_MAX_PATH];
-	if (sim->bodyCount == 1)
-		snprintf(bodyPath, sizeof bodyPath, "%s", path);
-	else
-	{
-		size_t length = strlen(path);
-		size_t stem = length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
-		snprintf(bodyPath, sizeof bodyPath, "%.*s_%d.node", (int)stem, path, body);
-	}
-	fmDiagnostic diag;
-	memset(&diag, 0, sizeof diag);
-	if (fmWriteTetGenNode(bodyPath, &sim->meshes[body], fmBody_GetPositions(sim->bodies[body]),
-	                      &diag) != fm_ok)
-	{
-		cliPrintDiagnostic(NULL, &diag);
-		return false;
-	}
-	printf("wrote            %s\n", bodyPath);
-	return true;
-}
 
 int cliStatic(int argc, char** argv)
 {
@@ -76,9 +55,8 @@ int cliStatic(int argc, char** argv)
 		{
 			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseInt(value, &maxIterations) || maxIterations < 1)
-				return cliUsageError("static",
-				                     "--max-iterations: expected an integer >= 1, got '%s'", value);
+			if (!cliParseIntOption("static", "--max-iterations", value, 1, INT_MAX, &maxIterations))
+				return cli_exitUsage;
 		}
 		else if (arg[0] == '-' && arg[1] != 0)
 			return cliUsageError("static", "unknown option '%s'", arg);
@@ -122,9 +100,8 @@ int cliStatic(int argc, char** argv)
 			code = cli_exitInput;
 		}
 	}
-	for (int b = 0; b < sim.bodyCount && code == cli_exitOk && exportNode != NULL; ++b)
-		if (!cliWriteBodyNode(exportNode, &sim, b))
-			code = cli_exitInput;
+	if (code == cli_exitOk && exportNode != NULL && !cliWriteNodes(exportNode, &sim, true))
+		code = cli_exitInput;
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;

@@ -1,9 +1,14 @@
-// Output writers: VTK XML (ASCII, so any ParaView or a text editor reads it), PVD collections
-// and OBJ surfaces.
+// Output writers: VTK XML (ASCII, so any ParaView or a text editor reads it), PVD collections,
+// OBJ surfaces and .node positions, each written whole to a temporary file and renamed.
 #include "output.h"
 
+#include <ctype.h>
+#include <dirent.h>
 #include <errno.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 // VTK cell type of a linear tetrahedron (vtkCellType.h).
 #define CLI_VTK_TETRA 10
@@ -23,12 +28,68 @@ static bool cliFinishFile(FILE* file, const char* path)
 	return !failed;
 }
 
-static FILE* cliOpenForWriting(const char* path)
+// ---- whole files or none: a temporary file in the same folder, renamed when complete ---------
+
+// A file being written: the stream goes to @p temp, renamed to @p path by cliOutput_Commit.
+typedef struct cliOutput
 {
-	FILE* file = fopen(path, "w");
-	if (file == NULL)
-		fprintf(stderr, "%s: cannot open for writing: %s\n", path, strerror(errno));
-	return file;
+	FILE* file;
+	const char* path;
+	char temp[CLI_MAX_PATH];
+} cliOutput;
+
+// "dir/name" -> "dir/.name.PID.tmp": hidden, in the same folder (rename within one file system
+// is atomic), unique per process. A path that exists and is not a regular file (a FIFO,
+// /dev/stdout) is written in place: renaming over it would replace it.
+static bool cliTempPath(const char* path, char* temp, size_t size)
+{
+	struct stat info;
+	if (stat(path, &info) == 0 && !S_ISREG(info.st_mode))
+		return snprintf(temp, size, "%s", path) < (int)size;
+	const char* slash = strrchr(path, '/');
+	size_t folder = slash != NULL ? (size_t)(slash - path) + 1 : 0;
+	int written =
+	    snprintf(temp, size, "%.*s.%s.%ld.tmp", (int)folder, path, path + folder, (long)getpid());
+	if (written < 0 || (size_t)written >= size)
+	{
+		fprintf(stderr, "%s: path too long\n", path);
+		return false;
+	}
+	return true;
+}
+
+// Put the finished temporary file in place (or remove it when @p ok is false).
+static bool cliReplace(const char* temp, const char* path, bool ok)
+{
+	if (strcmp(temp, path) == 0)
+		return ok;
+	if (ok && rename(temp, path) != 0)
+	{
+		fprintf(stderr, "%s: cannot rename %s over it: %s\n", path, temp, strerror(errno));
+		ok = false;
+	}
+	if (!ok)
+		remove(temp);
+	return ok;
+}
+
+static bool cliOutput_Open(cliOutput* out, const char* path)
+{
+	out->path = path;
+	out->file = NULL;
+	if (!cliTempPath(path, out->temp, sizeof out->temp))
+		return false;
+	out->file = fopen(out->temp, "w");
+	if (out->file == NULL)
+		fprintf(stderr, "%s: cannot open for writing: %s\n", out->temp, strerror(errno));
+	return out->file != NULL;
+}
+
+static bool cliOutput_Commit(cliOutput* out)
+{
+	bool ok = cliFinishFile(out->file, out->temp);
+	out->file = NULL;
+	return cliReplace(out->temp, out->path, ok);
 }
 
 static void cliWriteVtuPiece(FILE* file, fmBodyId body)
@@ -65,9 +126,10 @@ static void cliWriteVtuPiece(FILE* file, fmBodyId body)
 
 bool cliWriteVtu(const char* path, const cliSimulation* sim)
 {
-	FILE* file = cliOpenForWriting(path);
-	if (file == NULL)
+	cliOutput out;
+	if (!cliOutput_Open(&out, path))
 		return false;
+	FILE* file = out.file;
 	fprintf(file,
 	        "<?xml version=\"1.0\"?>\n"
 	        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
@@ -75,14 +137,15 @@ bool cliWriteVtu(const char* path, const cliSimulation* sim)
 	for (int b = 0; b < sim->bodyCount; ++b)
 		cliWriteVtuPiece(file, sim->bodies[b]);
 	fprintf(file, "</UnstructuredGrid>\n</VTKFile>\n");
-	return cliFinishFile(file, path);
+	return cliOutput_Commit(&out);
 }
 
 bool cliWriteObj(const char* path, const cliSimulation* sim)
 {
-	FILE* file = cliOpenForWriting(path);
-	if (file == NULL)
+	cliOutput out;
+	if (!cliOutput_Open(&out, path))
 		return false;
+	FILE* file = out.file;
 	fprintf(file, "# femto surface\n");
 	int vertexBase = 1; // OBJ indices are 1-based and global over the file
 	for (int b = 0; b < sim->bodyCount; ++b)
@@ -100,7 +163,122 @@ bool cliWriteObj(const char* path, const cliSimulation* sim)
 			        triangles[3 * t + 1] + vertexBase, triangles[3 * t + 2] + vertexBase);
 		vertexBase += vertexCount;
 	}
-	return cliFinishFile(file, path);
+	return cliOutput_Commit(&out);
+}
+
+bool cliWriteNodes(const char* path, const cliSimulation* sim, bool announce)
+{
+	for (int b = 0; b < sim->bodyCount; ++b)
+	{
+		char bodyPath[CLI_MAX_PATH], temp[CLI_MAX_PATH];
+		if (sim->bodyCount == 1)
+			snprintf(bodyPath, sizeof bodyPath, "%s", path);
+		else
+		{
+			// "out.node" -> "out_1.node" for body 1.
+			size_t length = strlen(path);
+			size_t stem =
+			    length >= 5 && strcmp(path + length - 5, ".node") == 0 ? length - 5 : length;
+			snprintf(bodyPath, sizeof bodyPath, "%.*s_%d.node", (int)stem, path, b);
+		}
+		if (!cliTempPath(bodyPath, temp, sizeof temp))
+			return false;
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
+		bool ok = fmWriteTetGenNode(temp, &sim->meshes[b], fmBody_GetPositions(sim->bodies[b]),
+		                            &diag) == fm_ok;
+		if (!ok)
+			cliPrintDiagnostic(NULL, &diag);
+		if (!cliReplace(temp, bodyPath, ok))
+			return false;
+		if (announce)
+			printf("wrote            %s\n", bodyPath);
+	}
+	return true;
+}
+
+// ---- series --------------------------------------------------------------------------------
+
+// Whether the first @p length bytes of @p file are "NAME.pvd", "NAME_NNNNNN.vtu" or
+// "NAME_NNNNNN.obj" with the frame number as %06d prints it.
+static bool cliIsSeriesName(const char* name, const char* file, size_t length)
+{
+	size_t n = strlen(name);
+	if (length < n + 4 || strncmp(file, name, n) != 0)
+		return false;
+	if (length == n + 4)
+		return memcmp(file + n, ".pvd", 4) == 0;
+	if (file[n] != '_' || length < n + 1 + 6 + 4)
+		return false;
+	const char* digits = file + n + 1;
+	size_t count = length - n - 1 - 4;
+	if (count > 10 || (count > 6 && digits[0] == '0'))
+		return false;
+	for (size_t i = 0; i < count; ++i)
+		if (!isdigit((unsigned char)digits[i]))
+			return false;
+	return memcmp(digits + count, ".vtu", 4) == 0 || memcmp(digits + count, ".obj", 4) == 0;
+}
+
+bool cliSeries_IsOwnFile(const char* name, const char* fileName)
+{
+	size_t length = strlen(fileName);
+	if (cliIsSeriesName(name, fileName, length))
+		return true;
+	// A temporary file left by a killed run: ".FILE.PID.tmp" (cliTempPath).
+	if (fileName[0] != '.' || length < 7 || strcmp(fileName + length - 4, ".tmp") != 0)
+		return false;
+	const char* pidEnd = fileName + length - 4;
+	const char* pid = pidEnd;
+	while (pid > fileName + 1 && isdigit((unsigned char)pid[-1]))
+		--pid;
+	if (pid == pidEnd || pid[-1] != '.')
+		return false;
+	return cliIsSeriesName(name, fileName + 1, (size_t)(pid - 1 - (fileName + 1)));
+}
+
+// Remove what an earlier run of series @p name left in the folder, so a shorter run does not
+// leave stale frames beside its .pvd. Only femto's own names are touched.
+static bool cliSeries_RemoveOld(cliSeries* series)
+{
+	DIR* dir = opendir(series->directory);
+	if (dir == NULL)
+	{
+		fprintf(stderr, "%s: cannot list: %s\n", series->directory, strerror(errno));
+		return false;
+	}
+	bool ok = true;
+	for (struct dirent* entry = readdir(dir); entry != NULL && ok; entry = readdir(dir))
+	{
+		if (!cliSeries_IsOwnFile(series->name, entry->d_name))
+			continue;
+		char path[CLI_MAX_PATH];
+		ok = cliJoinPath(path, sizeof path, series->directory, entry->d_name);
+		if (ok && remove(path) != 0)
+		{
+			fprintf(stderr, "%s: cannot remove the file of an earlier run: %s\n", path,
+			        strerror(errno));
+			ok = false;
+		}
+		series->removed += ok ? 1 : 0;
+	}
+	closedir(dir);
+	return ok;
+}
+
+// The whole collection, written again: every frame so far and the closing tags.
+static bool cliSeries_WritePvd(const cliSeries* series)
+{
+	cliOutput out;
+	if (!cliOutput_Open(&out, series->pvdPath))
+		return false;
+	fprintf(out.file, "<?xml version=\"1.0\"?>\n"
+	                  "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+	                  "<Collection>\n");
+	if (series->entriesLength > 0)
+		fwrite(series->entries, 1, series->entriesLength, out.file);
+	fprintf(out.file, "</Collection>\n</VTKFile>\n");
+	return cliOutput_Commit(&out);
 }
 
 bool cliSeries_Open(cliSeries* series, const char* directory, const char* name, bool obj)
@@ -111,45 +289,60 @@ bool cliSeries_Open(cliSeries* series, const char* directory, const char* name, 
 	series->obj = obj;
 	char fileName[300];
 	snprintf(fileName, sizeof fileName, "%s.pvd", name);
-	if (!cliMakeDirectories(directory) ||
-	    !cliJoinPath(series->pvdPath, sizeof series->pvdPath, directory, fileName))
+	return cliMakeDirectories(directory) &&
+	       cliJoinPath(series->pvdPath, sizeof series->pvdPath, directory, fileName) &&
+	       cliSeries_RemoveOld(series) && cliSeries_WritePvd(series);
+}
+
+// Append one <DataSet/> line to the collection held in memory.
+static bool cliSeries_AddEntry(cliSeries* series, const char* fileName, double time)
+{
+	char line[400];
+	int length = snprintf(line, sizeof line,
+	                      "<DataSet timestep=\"%.9g\" group=\"\" part=\"0\" file=\"%s\"/>\n", time,
+	                      fileName);
+	if (length < 0 || (size_t)length >= sizeof line)
 		return false;
-	series->pvd = cliOpenForWriting(series->pvdPath);
-	if (series->pvd == NULL)
-		return false;
-	fprintf(series->pvd,
-	        "<?xml version=\"1.0\"?>\n"
-	        "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-	        "<Collection>\n");
+	if (series->entriesLength + (size_t)length > series->entriesCapacity)
+	{
+		size_t capacity = series->entriesCapacity > 0 ? 2 * series->entriesCapacity : 4096;
+		char* grown = realloc(series->entries, capacity);
+		if (grown == NULL)
+		{
+			fprintf(stderr, "%s: out of memory\n", series->pvdPath);
+			return false;
+		}
+		series->entries = grown;
+		series->entriesCapacity = capacity;
+	}
+	memcpy(series->entries + series->entriesLength, line, (size_t)length);
+	series->entriesLength += (size_t)length;
 	return true;
 }
 
 bool cliSeries_WriteFrame(cliSeries* series, const cliSimulation* sim, int frame, double time)
 {
-	char fileName[300], path[CLI_MAX_PATH];
+	char fileName[300], objName[300], path[CLI_MAX_PATH];
 	snprintf(fileName, sizeof fileName, "%s_%06d.vtu", series->name, frame);
+	snprintf(objName, sizeof objName, "%s_%06d.obj", series->name, frame);
 	if (!cliJoinPath(path, sizeof path, series->directory, fileName) || !cliWriteVtu(path, sim))
 		return false;
-	// Relative file names keep the folder movable.
-	fprintf(series->pvd, "<DataSet timestep=\"%.9g\" group=\"\" part=\"0\" file=\"%s\"/>\n", time,
-	        fileName);
-	fflush(series->pvd);
+	if (series->obj &&
+	    (!cliJoinPath(path, sizeof path, series->directory, objName) || !cliWriteObj(path, sim)))
+		return false;
+	// The frame's files are complete: now the collection may list it. Relative file names keep
+	// the folder movable. Rewriting the whole .pvd costs about 70 bytes per frame so far, small
+	// beside a frame's .vtu (70 kB for the house) for any run worth saving.
+	if (!cliSeries_AddEntry(series, fileName, time) || !cliSeries_WritePvd(series))
+		return false;
 	series->written += 1;
-	if (series->obj)
-	{
-		snprintf(fileName, sizeof fileName, "%s_%06d.obj", series->name, frame);
-		if (!cliJoinPath(path, sizeof path, series->directory, fileName) || !cliWriteObj(path, sim))
-			return false;
-	}
 	return true;
 }
 
-bool cliSeries_Close(cliSeries* series)
+void cliSeries_Free(cliSeries* series)
 {
-	if (series->pvd == NULL)
-		return true;
-	fprintf(series->pvd, "</Collection>\n</VTKFile>\n");
-	bool ok = cliFinishFile(series->pvd, series->pvdPath);
-	series->pvd = NULL;
-	return ok;
+	free(series->entries);
+	series->entries = NULL;
+	series->entriesLength = 0;
+	series->entriesCapacity = 0;
 }

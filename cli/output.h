@@ -1,5 +1,7 @@
-// Output writers: VTK XML unstructured grids (.vtu) collected in a ParaView .pvd series, and
-// Wavefront OBJ surfaces. Every I/O error names the path.
+// Output writers: VTK XML unstructured grids (.vtu) collected in a ParaView .pvd series,
+// Wavefront OBJ surfaces and TetGen .node positions. Every file is written to a temporary name
+// in its folder and renamed over the final name when complete, so a file that exists is whole
+// even after a kill or a crash. Every I/O error names the path.
 #pragma once
 
 #include "scene.h"
@@ -7,24 +9,36 @@
 #include <stdio.h>
 
 /// A time series being written to a folder: NAME.pvd plus NAME_000000.vtu (and .obj) per frame.
+/// The .pvd is rewritten whole (atomically) after every frame, so it always lists exactly the
+/// frames on disk and ParaView opens it even when the run is interrupted.
 typedef struct cliSeries
 {
 	char directory[CLI_MAX_PATH];
 	char name[256];
 	char pvdPath[CLI_MAX_PATH];
 	bool obj;
-	FILE* pvd;
-	int written;
+	char* entries;          ///< malloc'd: the <DataSet .../> lines so far
+	size_t entriesLength;   ///< bytes used in entries
+	size_t entriesCapacity; ///< bytes allocated
+	int written;            ///< frames written
+	int removed;            ///< files of an earlier series of the same name removed at open
 } cliSeries;
 
-/// Create @p directory (and parents) and start NAME.pvd in it.
+/// Create @p directory (and parents), remove the files an earlier series of the same NAME left
+/// there (NAME.pvd, NAME_NNNNNN.vtu, NAME_NNNNNN.obj and their temporary files: exactly the
+/// names femto writes, nothing else), and write an empty NAME.pvd.
 bool cliSeries_Open(cliSeries* series, const char* directory, const char* name, bool obj);
 
-/// Write frame @p frame at simulated time @p time (s) and add it to the collection.
+/// Write frame @p frame at simulated time @p time (s) and rewrite the collection with it.
 bool cliSeries_WriteFrame(cliSeries* series, const cliSimulation* sim, int frame, double time);
 
-/// Finish the .pvd so ParaView can open it. Safe to call on a series that failed to open.
-bool cliSeries_Close(cliSeries* series);
+/// Release the series (its .pvd is complete after every frame). Safe on a series that failed to
+/// open.
+void cliSeries_Free(cliSeries* series);
+
+/// Whether @p fileName is one that series @p name writes: NAME.pvd, NAME_NNNNNN.vtu or
+/// NAME_NNNNNN.obj (the frame number printed with %06d) or the temporary file of one of them.
+bool cliSeries_IsOwnFile(const char* name, const char* fileName);
 
 /// Write every body of @p sim as one piece of a VTK unstructured grid (tets, VTK_TETRA = 10),
 /// with point data "velocity" (m/s).
@@ -32,3 +46,8 @@ bool cliWriteVtu(const char* path, const cliSimulation* sim);
 
 /// Write the outward surface of every body (one OBJ object per body).
 bool cliWriteObj(const char* path, const cliSimulation* sim);
+
+/// Write the current positions of every body as TetGen .node files with the input numbering:
+/// @p path for one body, "STEM_B.node" for body B of several. Prints "wrote PATH" per file when
+/// @p announce.
+bool cliWriteNodes(const char* path, const cliSimulation* sim, bool announce);

@@ -5,19 +5,22 @@
 
 #include <cjson/cJSON.h>
 
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-// Parse state: the file name and text (for line numbers) and the scene's folder (for paths).
+// Parse state: the file name and text (for line numbers), the scene's folder (for paths) and
+// where messages go (NULL: nowhere, for the fuzzer; they are still composed).
 typedef struct cliJson
 {
 	const char* file;
 	const char* text;
 	size_t size;
 	char folder[CLI_MAX_PATH];
+	FILE* messages;
 } cliJson;
 
 // A numeric range; open ends exclude the bound, infinite bounds mean "unbounded".
@@ -66,22 +69,23 @@ static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* c
 	return true;
 }
 
-// Print "file[:line:column]: path: message[, got VALUE]" and return false.
+// Print "file[:line:column]: path: message[, got VALUE]" to j->messages and return false.
 static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format,
                         ...) __attribute__((format(printf, 4, 5)));
 static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format,
                         ...)
 {
+	char where[CLI_MAX_PATH + 300], message[1024], value[80] = "";
 	int line = 0, column = 0;
 	if (path[0] != 0 && cliFindKeyLine(j, path, &line, &column))
-		fprintf(stderr, "%s:%d:%d: ", j->file, line, column);
+		snprintf(where, sizeof where, "%s:%d:%d: %s: ", j->file, line, column, path);
+	else if (path[0] != 0)
+		snprintf(where, sizeof where, "%s: %s: ", j->file, path);
 	else
-		fprintf(stderr, "%s: ", j->file);
-	if (path[0] != 0)
-		fprintf(stderr, "%s: ", path);
+		snprintf(where, sizeof where, "%s: ", j->file);
 	va_list args;
 	va_start(args, format);
-	vfprintf(stderr, format, args);
+	vsnprintf(message, sizeof message, format, args);
 	va_end(args);
 	if (got != NULL)
 	{
@@ -89,14 +93,12 @@ static bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, co
 		if (printed != NULL)
 		{
 			size_t length = strlen(printed);
-			if (length > 60)
-				fprintf(stderr, ", got %.57s...", printed);
-			else
-				fprintf(stderr, ", got %s", printed);
+			snprintf(value, sizeof value, length > 60 ? ", got %.57s..." : ", got %s", printed);
 			cJSON_free(printed);
 		}
 	}
-	fputc('\n', stderr);
+	if (j->messages != NULL)
+		fprintf(j->messages, "%s%s%s\n", where, message, value);
 	return false;
 }
 
@@ -137,18 +139,25 @@ static bool cliInRange(double value, cliRange range)
 
 // ---- typed getters: absent keys leave the value alone ----------------------------------------
 
-// Reject keys not in @p allowed (NULL-terminated) and repeated keys.
+// Most keys one object of the format allows.
+#define CLI_MAX_KEYS 16
+
+// Reject keys not in @p allowed (NULL-terminated, at most CLI_MAX_KEYS) and repeated keys. One
+// pass over the members: each is looked up in the short allowed list and marked seen there.
 static bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* parent,
                          const char* const* allowed)
 {
-	for (const cJSON* item = object->child; item != NULL; item = item->next)
+	bool seen[CLI_MAX_KEYS] = {false};
+	const cJSON* item = NULL;
+	cJSON_ArrayForEach(item, object)
 	{
 		char path[256];
 		cliJoinKey(path, sizeof path, parent, item->string);
-		bool known = false;
-		for (int i = 0; allowed[i] != NULL; ++i)
-			known = known || strcmp(item->string, allowed[i]) == 0;
-		if (!known)
+		int known = -1;
+		for (int i = 0; allowed[i] != NULL && known < 0; ++i)
+			if (strcmp(item->string, allowed[i]) == 0)
+				known = i;
+		if (known < 0)
 		{
 			char list[512] = "";
 			for (int i = 0; allowed[i] != NULL; ++i)
@@ -158,9 +167,10 @@ static bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* pare
 			}
 			return cliJsonFail(j, path, NULL, "unknown key (expected one of: %s)", list);
 		}
-		for (const cJSON* other = item->next; other != NULL; other = other->next)
-			if (strcmp(other->string, item->string) == 0)
-				return cliJsonFail(j, path, NULL, "key given twice");
+		FM_ASSERT(known < CLI_MAX_KEYS);
+		if (seen[known])
+			return cliJsonFail(j, path, NULL, "key given twice");
+		seen[known] = true;
 	}
 	return true;
 }
@@ -193,8 +203,12 @@ static bool cliGetInt(const cliJson* j, const cJSON* object, const char* parent,
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, key);
 	double number = cJSON_IsNumber(item) ? item->valuedouble : NAN;
-	if (!(number >= lo && number <= hi) || number != floor(number))
+	if (!isfinite(number) || number != floor(number))
 		return cliJsonFail(j, path, item, "expected an integer in [%d, %d]", lo, hi);
+	if (number > hi)
+		return cliJsonFail(j, path, item, "too large (at most %d)", hi);
+	if (number < lo)
+		return cliJsonFail(j, path, item, "too small (at least %d)", lo);
 	*value = (int)number;
 	return true;
 }
@@ -238,15 +252,21 @@ static bool cliGetVec3(const cliJson* j, const cJSON* object, const char* parent
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, key);
 	double xyz[3];
-	if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 3)
+	int count = 0;
+	const cJSON* element = NULL;
+	if (!cJSON_IsArray(item))
 		return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
-	for (int i = 0; i < 3; ++i)
+	// One walk that stops at a fourth element: a long array costs no more than a short one.
+	cJSON_ArrayForEach(element, item)
 	{
-		const cJSON* element = cJSON_GetArrayItem(item, i);
+		if (count == 3)
+			return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
 		if (!cJSON_IsNumber(element) || !isfinite(element->valuedouble))
 			return cliJsonFail(j, path, item, "expected an array of 3 finite numbers [x, y, z]");
-		xyz[i] = element->valuedouble;
+		xyz[count++] = element->valuedouble;
 	}
+	if (count != 3)
+		return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
 	*value = fmMakeVec3(xyz[0], xyz[1], xyz[2]);
 	return true;
 }
@@ -278,16 +298,29 @@ static bool cliFileReadable(const char* path)
 	return true;
 }
 
-// "box:nx,ny,nz" -> cell counts.
-static bool cliParseBoxSpec(const char* spec, int cells[3])
+// "box:nx,ny,nz" -> cell counts. On failure @p problem says what was wrong.
+static bool cliParseBoxSpec(const char* spec, int cells[3], char* problem, size_t size)
 {
 	const char* at = spec + 4;
+	snprintf(problem, size, "expected \"box:nx,ny,nz\" with counts in [1, %d]", CLI_MAX_BOX_CELLS);
 	for (int axis = 0; axis < 3; ++axis)
 	{
 		char* end = NULL;
+		errno = 0;
 		long count = strtol(at, &end, 10);
-		if (end == at || count < 1 || count > CLI_MAX_BOX_CELLS)
+		if (end == at)
 			return false;
+		if (errno == ERANGE || count > CLI_MAX_BOX_CELLS)
+		{
+			snprintf(problem, size, "box cell count %.*s is too large (at most %d)",
+			         (int)(end - at > 24 ? 24 : end - at), at, CLI_MAX_BOX_CELLS);
+			return false;
+		}
+		if (count < 1)
+		{
+			snprintf(problem, size, "box cell count %ld is too small (at least 1)", count);
+			return false;
+		}
 		cells[axis] = (int)count;
 		if (axis < 2 && *end != ',')
 			return false;
@@ -320,9 +353,9 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	if (strncmp(text, "box:", 4) == 0)
 	{
 		spec->meshSource = cli_meshBox;
-		if (!cliParseBoxSpec(text, spec->boxCells))
-			return cliJsonFail(j, path, item, "expected \"box:nx,ny,nz\" with counts in [1, %d]",
-			                   CLI_MAX_BOX_CELLS);
+		char problem[128];
+		if (!cliParseBoxSpec(text, spec->boxCells, problem, sizeof problem))
+			return cliJsonFail(j, path, item, "%s", problem);
 		double tets = 6.0 * spec->boxCells[0] * spec->boxCells[1] * spec->boxCells[2];
 		if (tets > (double)FM_MAX_TETS)
 			return cliJsonFail(j, path, item, "box of %.0f tets exceeds the %d tet limit", tets,
@@ -475,13 +508,16 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 	if (!cJSON_IsArray(pins))
 		return cliJsonFail(j, path, pins,
 		                   "expected a list of {\"min\": [x,y,z], \"max\": [x,y,z]}");
+	// cJSON's arrays are linked lists: count once, then walk once (cJSON_GetArrayItem(i) in a
+	// loop walks the list again for every box, quadratic in the number of boxes).
 	int count = cJSON_GetArraySize(pins);
 	spec->pins = calloc((size_t)(count > 0 ? count : 1), sizeof *spec->pins);
 	if (spec->pins == NULL)
 		return cliJsonFail(j, path, NULL, "out of memory");
-	for (int i = 0; i < count; ++i)
+	int i = 0;
+	const cJSON* box = NULL;
+	cJSON_ArrayForEach(box, pins)
 	{
-		const cJSON* box = cJSON_GetArrayItem(pins, i);
 		char boxPath[256];
 		if (snprintf(boxPath, sizeof boxPath, "%s[%d]", path, i) < 0)
 			boxPath[0] = 0;
@@ -497,7 +533,7 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 			return cliJsonFail(j, boxPath, NULL, "a pin box needs both \"min\" and \"max\"");
 		if (!(pin->min.x <= pin->max.x && pin->min.y <= pin->max.y && pin->min.z <= pin->max.z))
 			return cliJsonFail(j, boxPath, NULL, "min must not exceed max on any axis");
-		spec->pinCount = i + 1;
+		spec->pinCount = ++i;
 	}
 	return true;
 }
@@ -595,7 +631,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	if (!cliGetVec3(j, root, "", "gravity", &def->gravity, NULL) ||
 	    !cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
 	    !cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
-	    !cliGetInt(j, root, "", "frames", 1, 100000000, &scene->frames, &hasFrames) ||
+	    !cliGetInt(j, root, "", "frames", 1, CLI_MAX_FRAMES, &scene->frames, &hasFrames) ||
 	    !cliGetNumber(j, root, "", "seconds", secondsRange, &scene->seconds, &hasSeconds) ||
 	    !cliGetString(j, root, "", "integrator", &integrator) ||
 	    !cliGetInt(j, root, "", "newton_iterations", 1, 10000, &def->newtonIterations, NULL) ||
@@ -638,19 +674,20 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	const cJSON* bodies = cJSON_GetObjectItemCaseSensitive(root, "bodies");
 	if (bodies == NULL)
 		return cliJsonFail(j, "", NULL, "missing \"bodies\": a scene needs at least one body");
-	if (!cJSON_IsArray(bodies) || cJSON_GetArraySize(bodies) < 1)
+	int count = cJSON_IsArray(bodies) ? cJSON_GetArraySize(bodies) : 0;
+	if (count < 1)
 		return cliJsonFail(j, "bodies", bodies, "expected a non-empty list of bodies");
-	int count = cJSON_GetArraySize(bodies);
 	if (count > scene->worldDef.maxBodies)
 		return cliJsonFail(j, "bodies", NULL, "%d bodies, at most %d", count,
 		                   scene->worldDef.maxBodies);
 	scene->bodies = calloc((size_t)count, sizeof *scene->bodies);
 	if (scene->bodies == NULL)
 		return cliJsonFail(j, "bodies", NULL, "out of memory");
-	for (int i = 0; i < count; ++i)
+	const cJSON* body = NULL;
+	cJSON_ArrayForEach(body, bodies)
 	{
-		scene->bodyCount = i + 1; // so cliScene_Free releases what was parsed
-		if (!cliParseBody(j, cJSON_GetArrayItem(bodies, i), i, &scene->bodies[i]))
+		int i = scene->bodyCount++; // so cliScene_Free releases what was parsed
+		if (!cliParseBody(j, body, i, &scene->bodies[i]))
 			return false;
 	}
 	return true;
@@ -707,37 +744,180 @@ bool cliScene_Load(const char* path, cliScene* scene)
 	char* text = cliReadFile(path, &size);
 	if (text == NULL)
 		return false;
-	bool ok = cliScene_LoadText(path, text, size, scene);
+	bool ok = cliScene_LoadText(path, text, size, stderr, scene);
 	free(text);
 	return ok;
 }
 
-bool cliScene_LoadText(const char* name, const char* text, size_t size, cliScene* scene)
+// "file:line:column: message" for byte @p offset of the text.
+static bool cliJsonFailAt(const cliJson* j, size_t offset, const char* format, ...)
+    __attribute__((format(printf, 3, 4)));
+static bool cliJsonFailAt(const cliJson* j, size_t offset, const char* format, ...)
+{
+	int line, column;
+	cliLineColumn(j->text, offset, &line, &column);
+	char message[512];
+	va_list args;
+	va_start(args, format);
+	vsnprintf(message, sizeof message, format, args);
+	va_end(args);
+	if (j->messages != NULL)
+		fprintf(j->messages, "%s:%d:%d: %s\n", j->file, line, column, message);
+	return false;
+}
+
+// What the text holds at @p offset, for messages: up to 24 bytes of its line in quotes
+// (other bytes than printable ASCII as '?'), or "the end of the file".
+static void cliDescribeText(const cliJson* j, size_t offset, char* out, size_t size)
+{
+	size_t rest = offset;
+	while (rest < j->size && strchr(" \t\r\n", j->text[rest]) != NULL)
+		rest += 1;
+	if (rest >= j->size)
+	{
+		snprintf(out, size, "the end of the file");
+		return;
+	}
+	char shown[32];
+	size_t n = 0;
+	for (size_t i = offset; i < j->size && n < 24 && j->text[i] != '\n' && j->text[i] != '\r'; ++i)
+	{
+		unsigned char c = (unsigned char)j->text[i];
+		shown[n++] = c >= 32 && c < 127 ? (char)c : '?';
+	}
+	shown[n] = 0;
+	bool cut = offset + n < j->size && j->text[offset + n] != '\n' && j->text[offset + n] != '\r';
+	snprintf(out, size, "'%s%s'", shown, cut ? "..." : "");
+}
+
+// Containers open at byte @p offset (strings skipped): tells a nesting limit from a syntax error.
+static int cliJsonDepthAt(const cliJson* j, size_t offset)
+{
+	int depth = 0;
+	bool inString = false;
+	for (size_t i = 0; i < offset && i < j->size; ++i)
+	{
+		char c = j->text[i];
+		if (inString)
+		{
+			if (c == '\\')
+				++i;
+			else if (c == '"')
+				inString = false;
+		}
+		else if (c == '"')
+			inString = true;
+		else if (c == '{' || c == '[')
+			++depth;
+		else if (c == '}' || c == ']')
+			--depth;
+	}
+	return depth;
+}
+
+// cJSON decodes "\u0000" into a NUL byte that ends its C string, silently truncating the
+// string (a key "mesh\u0000x" would read as "mesh"). Find the first such escape in valid JSON.
+static bool cliFindNulEscape(const cliJson* j, size_t* offset)
+{
+	bool inString = false;
+	for (size_t i = 0; i < j->size; ++i)
+	{
+		char c = j->text[i];
+		if (!inString)
+			inString = c == '"';
+		else if (c == '"')
+			inString = false;
+		else if (c == '\\')
+		{
+			if (i + 5 < j->size && j->text[i + 1] == 'u' && memcmp(j->text + i + 2, "0000", 4) == 0)
+			{
+				*offset = i;
+				return true;
+			}
+			++i; // the escaped character
+		}
+	}
+	return false;
+}
+
+// JSON text to a cJSON tree, or a located message: a syntax error says what it found, a
+// nesting limit is named, text after the scene object and NUL escapes are errors.
+static cJSON* cliParseJson(const cliJson* j)
+{
+	char found[48];
+	const char* end = NULL;
+	cJSON* root = cJSON_ParseWithLengthOpts(j->text, j->size, &end, false);
+	size_t offset = end != NULL && end >= j->text ? (size_t)(end - j->text) : 0;
+	if (root == NULL)
+	{
+		// cJSON reports a text that ends too early at its last byte: point past it instead.
+		size_t rest = offset;
+		while (rest < j->size && strchr(" \t\r\n", j->text[rest]) != NULL)
+			rest += 1;
+		offset = rest >= j->size ? j->size : offset;
+		cliDescribeText(j, offset, found, sizeof found);
+		if (offset < j->size && (j->text[offset] == '{' || j->text[offset] == '[') &&
+		    cliJsonDepthAt(j, offset) >= CJSON_NESTING_LIMIT)
+			cliJsonFailAt(j, offset,
+			              "JSON nested too deeply: more than %d arrays and objects "
+			              "inside each other",
+			              CJSON_NESTING_LIMIT);
+		else
+			cliJsonFailAt(j, offset, "JSON syntax error at %s", found);
+		return NULL;
+	}
+	// Only whitespace may follow the scene (cJSON stops after the first value and, without
+	// require_null_terminated, would ignore a second object or any trailing text).
+	while (offset < j->size && strchr(" \t\r\n", j->text[offset]) != NULL)
+		offset += 1;
+	size_t nul = 0;
+	if (offset < j->size)
+	{
+		cliDescribeText(j, offset, found, sizeof found);
+		if (j->text[offset] == '{' || j->text[offset] == '[')
+			cliJsonFailAt(j, offset,
+			              "a second JSON value after the scene object, found %s (a scene file "
+			              "holds one object)",
+			              found);
+		else
+			cliJsonFailAt(j, offset, "text after the end of the scene object, found %s", found);
+	}
+	else if (cliFindNulEscape(j, &nul))
+		cliJsonFailAt(j, nul,
+		              "\\u0000 (a NUL character) in a string: scene strings cannot "
+		              "hold one");
+	else
+		return root;
+	cJSON_Delete(root);
+	return NULL;
+}
+
+bool cliScene_LoadText(const char* name, const char* text, size_t size, FILE* messages,
+                       cliScene* scene)
 {
 	cliSceneDefaults(scene, name);
 	if (size > CLI_MAX_FILE_BYTES)
 	{
-		fprintf(stderr, "%s: %zu bytes, more than the %zu MiB limit\n", name, size,
-		        CLI_MAX_FILE_BYTES >> 20);
-		return false;
-	}
-	const char* nul = memchr(text, 0, size);
-	if (nul != NULL)
-	{
-		int line, column;
-		cliLineColumn(text, (size_t)(nul - text), &line, &column);
-		fprintf(stderr, "%s:%d:%d: NUL byte in a JSON file\n", name, line, column);
+		if (messages != NULL)
+			fprintf(messages, "%s: %zu bytes, more than the %zu MiB limit\n", name, size,
+			        CLI_MAX_FILE_BYTES >> 20);
 		return false;
 	}
 	cliJson j;
 	j.file = name;
+	j.text = text;
 	j.size = size;
+	j.messages = messages;
+	const char* nul = memchr(text, 0, size);
+	if (nul != NULL)
+		return cliJsonFailAt(&j, (size_t)(nul - text), "NUL byte in a JSON file");
 	// The folder of the scene, with its trailing slash ("" for the current directory).
 	const char* slash = strrchr(name, '/');
 	size_t folderLength = slash ? (size_t)(slash - name) + 1 : 0;
 	if (folderLength >= sizeof j.folder)
 	{
-		fprintf(stderr, "%s: path too long\n", name);
+		if (messages != NULL)
+			fprintf(messages, "%s: path too long\n", name);
 		return false;
 	}
 	memcpy(j.folder, name, folderLength);
@@ -746,26 +926,16 @@ bool cliScene_LoadText(const char* name, const char* text, size_t size, cliScene
 	char* copy = malloc(size + 1);
 	if (copy == NULL)
 	{
-		fprintf(stderr, "%s: out of memory\n", name);
+		if (messages != NULL)
+			fprintf(messages, "%s: out of memory\n", name);
 		return false;
 	}
 	memcpy(copy, text, size);
 	copy[size] = 0;
 	j.text = copy;
 
-	const char* end = NULL;
-	cJSON* root = cJSON_ParseWithLengthOpts(copy, size, &end, false);
-	if (root == NULL)
-	{
-		// cJSON reports where it stopped; turn the offset into a line and column.
-		size_t offset = end != NULL && end >= copy ? (size_t)(end - copy) : 0;
-		int line, column;
-		cliLineColumn(copy, offset, &line, &column);
-		fprintf(stderr, "%s:%d:%d: JSON syntax error\n", name, line, column);
-		free(copy);
-		return false;
-	}
-	bool ok = cliParseScene(&j, root, scene);
+	cJSON* root = cliParseJson(&j);
+	bool ok = root != NULL && cliParseScene(&j, root, scene);
 	cJSON_Delete(root);
 	free(copy);
 	if (!ok)

@@ -4,6 +4,8 @@
 
 #include "cli.h"
 
+#include <stdio.h>
+
 /// Where a body's rest mesh comes from.
 typedef enum cliMeshSource
 {
@@ -65,8 +67,10 @@ void cliScene_MakeHouse(cliScene* scene);
 bool cliScene_Load(const char* path, cliScene* scene);
 
 /// Same as cliScene_Load() from text in memory (need not be NUL-terminated); @p name is used in
-/// messages and its folder resolves relative mesh paths.
-bool cliScene_LoadText(const char* name, const char* text, size_t size, cliScene* scene);
+/// messages and its folder resolves relative mesh paths. Messages go to @p messages (stderr for
+/// the tool; NULL prints nothing, for the fuzzer).
+bool cliScene_LoadText(const char* name, const char* text, size_t size, FILE* messages,
+                       cliScene* scene);
 
 /// Release what a scene holds.
 void cliScene_Free(cliScene* scene);

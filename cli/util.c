@@ -83,6 +83,35 @@ bool cliParseInt(const char* text, int* value)
 	return true;
 }
 
+bool cliParseIntOption(const char* command, const char* option, const char* text, int lo, int hi,
+                       int* value)
+{
+	char* end = NULL;
+	errno = 0;
+	long long parsed = text[0] != 0 ? strtoll(text, &end, 10) : 0;
+	if (text[0] == 0 || end == NULL || *end != 0 || end == text)
+	{
+		cliUsageError(command, "%s: expected an integer in [%d, %d], got '%s'", option, lo, hi,
+		              text);
+		return false;
+	}
+	// strtoll saturates on overflow (ERANGE): the sign of the text says which way.
+	bool tooLarge = errno == ERANGE ? strchr(text, '-') == NULL : parsed > hi;
+	bool tooSmall = errno == ERANGE ? !tooLarge : parsed < lo;
+	if (tooLarge)
+	{
+		cliUsageError(command, "%s: %s is too large (at most %d)", option, text, hi);
+		return false;
+	}
+	if (tooSmall)
+	{
+		cliUsageError(command, "%s: %s is too small (at least %d)", option, text, lo);
+		return false;
+	}
+	*value = (int)parsed;
+	return true;
+}
+
 const char* cliOptionValue(const char* command, int argc, char** argv, int* index)
 {
 	const char* option = argv[*index];

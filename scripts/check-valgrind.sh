@@ -8,6 +8,14 @@ if ! command -v valgrind >/dev/null; then
   echo "check-valgrind: valgrind not found (scripts/install-deps.sh installs it)" >&2
   exit 1
 fi
+# Fail now, not after minutes under valgrind, when build/ lacks a binary (e.g. configured with
+# the tests off): scripts/test.sh configures it with everything on.
+for binary in build/cli/femto build/tests/femto_tests; do
+  if [ ! -x "$binary" ]; then
+    echo "check-valgrind: $binary is missing; build build/ with the tests on (bash scripts/test.sh)" >&2
+    exit 1
+  fi
+done
 vg=(valgrind --quiet --error-exitcode=99 --leak-check=full --show-leak-kinds=definite,indirect
     --errors-for-leak-kinds=definite,indirect --track-origins=yes)
 out=$(mktemp -d)

@@ -5,11 +5,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_TESTS=OFF
-cmake --build build -j"$(nproc 2>/dev/null || echo 2)" --target femto
+# A build folder of its own: the demo's options (Release, no tests) never meet the test build's
+# cache in build/ (scripts/test.sh), whichever runs first.
+cmake -S . -B build-demo -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_TESTS=OFF
+cmake --build build-demo -j"$(nproc 2>/dev/null || echo 2)" --target femto
 out=out/house
-rm -rf "$out" # frames of an earlier, longer run would linger in the series folder
-build/cli/femto run --seconds 10 --impulse-at 4 --out "$out" "$@"
+# femto removes the frames an earlier, longer run of the same series left in $out.
+build-demo/cli/femto run --seconds 10 --impulse-at 4 --out "$out" "$@"
 echo
 for pvd in "$out"/*.pvd; do
   echo "femto demo: the VTK series is in $(pwd)/$out; open $pvd in ParaView"

@@ -6,16 +6,21 @@ set(FEMTO_EXPECT ${CMAKE_COMMAND} -P ${FEMTO_CLI_DATA}/expect.cmake)
 file(MAKE_DIRECTORY ${FEMTO_CLI_WORK})
 
 # femto_cli_test(NAME ARGS "a|b|c" [CODE n] [REGEX re] [REJECT re] [FILES "x|y"] [NO_FILES "z"]
-#                [CLEAN dir] [CHECK_FILE f CHECK_FILE_REGEX re])
+#                [CLEAN dir] [CHECK_FILE f CHECK_FILE_REGEX re] [CHECK_SERIES pvd [SERIES_NO_TEMP 1]]
+#                [PROGRAM path])
 function(femto_cli_test name)
-  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN;CHECK_FILE;CHECK_FILE_REGEX"
+  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN;CHECK_FILE;CHECK_FILE_REGEX;CHECK_SERIES;SERIES_NO_TEMP;PROGRAM"
     "" ${ARGN})
-  set(defs "-DCOMMAND=$<TARGET_FILE:femto>|${T_ARGS}")
+  if(NOT DEFINED T_PROGRAM)
+    set(T_PROGRAM "$<TARGET_FILE:femto>")
+  endif()
+  set(defs "-DCOMMAND=${T_PROGRAM}|${T_ARGS}")
   if(DEFINED T_CODE)
     list(APPEND defs "-DEXPECT_CODE=${T_CODE}")
   endif()
   foreach(pair "REGEX;EXPECT_REGEX" "REJECT;REJECT_REGEX" "FILES;EXPECT_FILES"
-               "NO_FILES;REJECT_FILES" "CLEAN;CLEAN" "CHECK_FILE;CHECK_FILE" "CHECK_FILE_REGEX;CHECK_FILE_REGEX")
+               "NO_FILES;REJECT_FILES" "CLEAN;CLEAN" "CHECK_FILE;CHECK_FILE" "CHECK_FILE_REGEX;CHECK_FILE_REGEX"
+               "CHECK_SERIES;CHECK_SERIES" "SERIES_NO_TEMP;SERIES_NO_TEMP")
     list(GET pair 0 key)
     list(GET pair 1 var)
     if(DEFINED T_${key})
@@ -36,6 +41,14 @@ femto_cli_test(unknown_option ARGS "run|--fast" CODE 2 REGEX "unknown option '--
 femto_cli_test(bad_option_value ARGS "run|--frames|ten" CODE 2 REGEX "--frames: expected an integer")
 femto_cli_test(missing_option_value ARGS "run|--out" CODE 2 REGEX "--out needs a value")
 femto_cli_test(seconds_and_frames ARGS "run|--seconds|1|--frames|3" CODE 2 REGEX "not both")
+# Integers beyond INT_MAX are "too large" with the limit, not a misleading ">= 1".
+femto_cli_test(frames_too_large ARGS "run|--frames|99999999999" CODE 2
+  REGEX "--frames: 99999999999 is too large \\(at most 100000000\\)")
+femto_cli_test(every_too_large ARGS "run|--every|99999999999" CODE 2
+  REGEX "--every: 99999999999 is too large \\(at most 2147483647\\)")
+femto_cli_test(every_too_small ARGS "run|--every|0" CODE 2 REGEX "--every: 0 is too small \\(at least 1\\)")
+femto_cli_test(max_iterations_too_large ARGS "static|x.json|--max-iterations|99999999999" CODE 2
+  REGEX "--max-iterations: 99999999999 is too large \\(at most 2147483647\\)")
 
 # --- run -------------------------------------------------------------------------------------
 # The built-in house falls 1 m onto the stick floor at y = -3 within 1.2 s, touches it exactly,
@@ -72,7 +85,7 @@ set_tests_properties(cli_house_shorter_run_differs PROPERTIES WILL_FAIL TRUE)
 
 # --out: a .pvd collection with the initial state and every frame, OBJ surfaces with --obj.
 femto_cli_test(run_out ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series/a|--obj" CODE 0
-  CLEAN "${FEMTO_CLI_WORK}/series"
+  CLEAN "${FEMTO_CLI_WORK}/series/a"
   REGEX "output +.*house.pvd \\(4 frames\\)"
   FILES "${FEMTO_CLI_WORK}/series/a/house.pvd|${FEMTO_CLI_WORK}/series/a/house_000000.vtu|${FEMTO_CLI_WORK}/series/a/house_000003.vtu|${FEMTO_CLI_WORK}/series/a/house_000003.obj"
   NO_FILES "${FEMTO_CLI_WORK}/series/a/house_000004.vtu")
@@ -84,12 +97,50 @@ femto_cli_test(run_out_pvd ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/
 femto_cli_test(run_out_vtu ARGS "run|--frames|1|--quiet|--out|${FEMTO_CLI_WORK}/series/c" CODE 0
   CLEAN "${FEMTO_CLI_WORK}/series/c" CHECK_FILE "${FEMTO_CLI_WORK}/series/c/house_000001.vtu"
   CHECK_FILE_REGEX "type=\"UnstructuredGrid\".*NumberOfPoints=\"400\" NumberOfCells=\"1389\".*Name=\"velocity\" NumberOfComponents=\"3\".*Name=\"connectivity\".*Name=\"offsets\"[^<]*\n4\n8\n.*\n5556\n</DataArray>.*Name=\"types\"[^<]*\n10\n10\n")
+# Every frame's files are renamed into place whole and the .pvd is rewritten after each frame:
+# a normal run leaves a complete collection and no temporary files.
+femto_cli_test(run_out_series ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series_d|--obj" CODE 0
+  CLEAN "${FEMTO_CLI_WORK}/series_d" CHECK_SERIES "${FEMTO_CLI_WORK}/series_d/house.pvd" SERIES_NO_TEMP 1)
+# A run killed mid-way (a Ctrl-C, a kill, a crash) leaves a .pvd that ParaView opens: complete,
+# listing only whole frames.
+find_program(FEMTO_TIMEOUT timeout)
+if(FEMTO_TIMEOUT)
+  femto_cli_test(run_out_killed PROGRAM "${FEMTO_TIMEOUT}"
+    ARGS "-s|KILL|2|$<TARGET_FILE:femto>|run|--seconds|1000|--quiet|--out|${FEMTO_CLI_WORK}/killed"
+    CLEAN "${FEMTO_CLI_WORK}/killed"
+    CHECK_SERIES "${FEMTO_CLI_WORK}/killed/house.pvd")
+endif()
+# A shorter run into the folder of a longer one removes the earlier series' files (exactly the
+# names femto writes) and nothing else.
+set(FEMTO_STALE ${FEMTO_CLI_WORK}/stale)
+femto_cli_test(run_out_stale_first ARGS "run|--frames|5|--quiet|--obj|--out|${FEMTO_STALE}" CODE 0
+  CLEAN "${FEMTO_STALE}" FILES "${FEMTO_STALE}/house_000005.vtu|${FEMTO_STALE}/house_000005.obj")
+add_test(NAME cli_run_out_stale_others COMMAND ${CMAKE_COMMAND} -E touch ${FEMTO_STALE}/notes.txt
+  ${FEMTO_STALE}/house_12.vtu ${FEMTO_STALE}/house_000001.vtu.bak ${FEMTO_STALE}/drop_000004.vtu
+  ${FEMTO_STALE}/.house_000009.vtu.4242.tmp)
+femto_cli_test(run_out_stale ARGS "run|--frames|2|--out|${FEMTO_STALE}" CODE 0
+  REGEX "removed 14 files of an earlier 'house' series"
+  CHECK_SERIES "${FEMTO_STALE}/house.pvd" SERIES_NO_TEMP 1
+  FILES "${FEMTO_STALE}/notes.txt|${FEMTO_STALE}/house_12.vtu|${FEMTO_STALE}/house_000001.vtu.bak|${FEMTO_STALE}/drop_000004.vtu"
+  NO_FILES "${FEMTO_STALE}/house_000003.vtu|${FEMTO_STALE}/house_000000.obj|${FEMTO_STALE}/house_000005.obj")
+set_tests_properties(cli_run_out_stale_first PROPERTIES FIXTURES_SETUP cli_stale_1)
+set_tests_properties(cli_run_out_stale_others PROPERTIES FIXTURES_REQUIRED cli_stale_1
+  FIXTURES_SETUP cli_stale_2 LABELS cli)
+set_tests_properties(cli_run_out_stale PROPERTIES FIXTURES_REQUIRED cli_stale_2)
 femto_cli_test(run_out_unwritable ARGS "run|--frames|1|--quiet|--out|/proc/femto_cannot_write"
   CODE 1 REGEX "/proc/femto_cannot_write")
-# The jump: 400 particles of 1 kg given 0.2 m/s upward carry 0.5 * 400 * 0.2^2 = 8 J, and
-# without gravity, floor or damping the house keeps it (a rigid translation stores no energy).
+# The jump: the seeds add 0.2 m/s before each of the frame's 10 substeps, 2 m/s in all: 400
+# particles of 1 kg carry 0.5 * 400 * 2^2 = 800 J, and without gravity, floor or damping the
+# house keeps it (a rigid translation stores no energy). A custom --impulse-speed 0.2 is added
+# once: 8 J.
 femto_cli_test(run_impulse ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet|--impulse-at|0.05|--impulse-at|99"
-  CODE 0 REGEX "kinetic energy +8 J.*elastic energy +[0-9.]+e-[0-9]+ J.*--impulse-at 99: after the end of the run")
+  CODE 0 REGEX "kinetic energy +800 J.*elastic energy +[0-9.]+e-[0-9]+ J.*--impulse-at 99: after the end of the run")
+femto_cli_test(run_impulse_custom ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet|--impulse-at|0.05|--impulse-speed|0.2"
+  CODE 0 REGEX "kinetic energy +8 J.*elastic energy +[0-9.]+e-[0-9]+ J")
+# The seeds' jump lifts the settled house off the floor, its centre of mass about 0.2 m.
+add_test(NAME cli_run_jump COMMAND ${CMAKE_COMMAND} -DFEMTO=$<TARGET_FILE:femto>
+  -P ${FEMTO_CLI_DATA}/jump.cmake)
+set_tests_properties(cli_run_jump PROPERTIES TIMEOUT 300 LABELS cli)
 femto_cli_test(run_no_impulse ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet"
   CODE 0 REGEX "kinetic energy +([0-9.]+e-[0-9][0-9]|0) J")
 
@@ -115,6 +166,41 @@ femto_cli_test(scene_syntax ARGS "run|${FEMTO_CLI_DATA}/syntax_error.json" CODE 
   REGEX "syntax_error.json:4:[0-9]+: JSON syntax error")
 femto_cli_test(scene_both_pairs ARGS "run|${FEMTO_CLI_DATA}/both_pairs.json" CODE 1
   REGEX "not both pairs")
+femto_cli_test(scene_syntax_eof ARGS "run|${FEMTO_CLI_DATA}/unterminated.json" CODE 1
+  REGEX "unterminated.json:4:1: JSON syntax error at the end of the file")
+# What follows the scene object, a NUL escape in a string and a nesting limit are errors that
+# say what they found, located by line and column.
+femto_cli_test(scene_trailing_text ARGS "run|${FEMTO_CLI_DATA}/trailing_text.json" CODE 1
+  REGEX "trailing_text.json:3:3: text after the end of the scene object, found 'extra'")
+femto_cli_test(scene_second_object ARGS "run|${FEMTO_CLI_DATA}/second_object.json" CODE 1
+  REGEX "second_object.json:2:1: a second JSON value after the scene object, found '{\"bodies\": \\[{\"mesh\": \"bu...'")
+femto_cli_test(scene_nul_escape ARGS "run|${FEMTO_CLI_DATA}/nul_escape.json" CODE 1
+  REGEX "nul_escape.json:3:51: \\\\u0000 \\(a NUL character\\) in a string")
+# An escaped backslash before u0000 is no NUL: the scene is read (and its description ignored).
+femto_cli_test(scene_escaped_backslash ARGS "run|${FEMTO_CLI_DATA}/escaped_backslash.json|--frames|1|--quiet"
+  CODE 0 REGEX "frames +1 ")
+string(REPEAT "[" 1001 FEMTO_DEEP_OPEN)
+string(REPEAT "]" 1001 FEMTO_DEEP_CLOSE)
+file(WRITE ${FEMTO_CLI_WORK}/deep.json "{\"bodies\":\n${FEMTO_DEEP_OPEN}${FEMTO_DEEP_CLOSE}}\n")
+femto_cli_test(scene_too_deep ARGS "run|${FEMTO_CLI_WORK}/deep.json" CODE 1
+  REGEX "deep.json:2:1000: JSON nested too deeply: more than 1000 arrays and objects")
+# Integer keys beyond their range say which end they passed.
+femto_cli_test(scene_int_too_large ARGS "run|${FEMTO_CLI_DATA}/int_too_large.json" CODE 1
+  REGEX "int_too_large.json:2:3: substeps: too large \\(at most 100000\\), got 99999999999")
+femto_cli_test(scene_box_too_large ARGS "run|${FEMTO_CLI_DATA}/box_too_large.json" CODE 1
+  REGEX "box_too_large.json:2:15: bodies\\[0\\].mesh: box cell count 99999999999 is too large \\(at most 1000\\)")
+femto_cli_test(scene_too_many_frames ARGS "run|${FEMTO_CLI_DATA}/too_many_frames.json" CODE 1
+  REGEX "too_many_frames.json: 1e\\+06 s is too long: 1e\\+12 frames of 1e-06 s, more than the 100000000 frame limit")
+# 100000 pin boxes are read in one linear walk (quadratic list indexing took 23 s).
+string(REPEAT "{\"min\": [-9, -9, -9], \"max\": [9, 9, 9]},\n" 99999 FEMTO_PINS)
+file(WRITE ${FEMTO_CLI_WORK}/pins_100k.json "{\"floor\": false, \"bodies\": [{\"mesh\": \"box:1,1,1\", \"pin\": [\n${FEMTO_PINS}{\"min\": [-9, -9, -9], \"max\": [9, 9, 9]}]}]}\n")
+femto_cli_test(scene_pins_100k ARGS "run|${FEMTO_CLI_WORK}/pins_100k.json|--frames|1|--quiet" CODE 0
+  REGEX "frames +1 ")
+set_tests_properties(cli_scene_pins_100k PROPERTIES TIMEOUT 10)
+# The scene fuzzer is quiet: rejected inputs print nothing.
+femto_cli_test(fuzz_scene_quiet PROGRAM "$<TARGET_FILE:fuzz_scene_replay>"
+  ARGS "${FEMTO_CLI_DATA}/unknown_key.json|${FEMTO_CLI_DATA}/syntax_error.json|${FEMTO_CLI_DATA}/nul_escape.json"
+  CODE 0 REGEX "^replayed 3 inputs\n$")
 # Absurd files are refused before reading (a sparse 65 MiB file costs no disk).
 find_program(FEMTO_TRUNCATE truncate)
 if(FEMTO_TRUNCATE)

@@ -2,8 +2,12 @@
 #
 #   cmake -DCOMMAND="prog|arg1|arg2" [-DEXPECT_CODE=N] [-DEXPECT_REGEX=re] [-DREJECT_REGEX=re]
 #         [-DEXPECT_FILES="a|b"] [-DREJECT_FILES="c|d"] [-DCLEAN=dir]
-#         [-DCHECK_FILE=f -DCHECK_FILE_REGEX=re] -P expect.cmake
+#         [-DCHECK_FILE=f -DCHECK_FILE_REGEX=re] [-DCHECK_SERIES=dir/NAME.pvd [-DSERIES_NO_TEMP=1]]
+#         -P expect.cmake
 #
+# CHECK_SERIES: the .pvd is complete (its closing tags end it), every file it lists exists, and
+# every NAME_NNNNNN.vtu/.obj in its folder is listed (no stale frames of an earlier run);
+# SERIES_NO_TEMP: no temporary file (.NAME*.tmp) is left either.
 # '|' separates list entries (a ';' does not survive add_test's argument quoting).
 # EXPECT_REGEX and REJECT_REGEX apply to stdout and stderr together. CLEAN is removed first.
 cmake_minimum_required(VERSION 3.22)
@@ -48,6 +52,39 @@ if(DEFINED CHECK_FILE)
     endif()
   else()
     string(APPEND failures "missing file ${CHECK_FILE}\n")
+  endif()
+endif()
+if(DEFINED CHECK_SERIES)
+  get_filename_component(dir "${CHECK_SERIES}" DIRECTORY)
+  get_filename_component(name "${CHECK_SERIES}" NAME_WE)
+  if(NOT EXISTS "${CHECK_SERIES}")
+    string(APPEND failures "missing file ${CHECK_SERIES}\n")
+  else()
+    file(READ "${CHECK_SERIES}" pvd)
+    if(NOT pvd MATCHES "^<\\?xml version=\"1.0\"\\?>\n<VTKFile type=\"Collection\"[^\n]*>\n<Collection>\n(<DataSet [^\n]*/>\n)*</Collection>\n</VTKFile>\n$")
+      string(APPEND failures "${CHECK_SERIES} is not a complete collection:\n${pvd}\n")
+    endif()
+    string(REGEX MATCHALL "file=\"[^\"]*\"" listed "${pvd}")
+    set(listed_names "")
+    foreach(entry ${listed})
+      string(REGEX REPLACE "^file=\"(.*)\"$" "\\1" f "${entry}")
+      list(APPEND listed_names "${f}")
+      if(NOT EXISTS "${dir}/${f}")
+        string(APPEND failures "${CHECK_SERIES} lists ${f}, which is missing\n")
+      endif()
+    endforeach()
+    file(GLOB frames RELATIVE "${dir}" "${dir}/${name}_*.vtu")
+    foreach(f ${frames})
+      if(f MATCHES "^${name}_[0-9][0-9][0-9][0-9][0-9][0-9]+\\.vtu$" AND NOT f IN_LIST listed_names)
+        string(APPEND failures "${dir}/${f} is not in ${CHECK_SERIES} (a stale frame)\n")
+      endif()
+    endforeach()
+    if(SERIES_NO_TEMP)
+      file(GLOB temps "${dir}/.${name}*.tmp")
+      if(temps)
+        string(APPEND failures "temporary files left: ${temps}\n")
+      endif()
+    endif()
   endif()
 endif()
 if(NOT failures STREQUAL "")
