@@ -26,6 +26,9 @@ const char* const cliRunHelp =
     "                     T seconds: 0.2 m/s upward added to every free vertex before each\n"
     "                     substep of that frame (2 m/s over the house's 10); repeatable\n"
     "  --impulse-speed V  a custom jump instead: V m/s added once at that frame's start\n"
+    "  --strict           an implicit step that ends above the solver tolerance is an error\n"
+    "                     (the scene's \"not_converged\": \"error\"); by default a warning,\n"
+    "                     counted in the summary\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -46,8 +49,16 @@ typedef struct cliRunOptions
 	int impulseCount;
 	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
 	bool hasImpulseSpeed;
+	bool strict;
 	bool quiet;
 } cliRunOptions;
+
+// Implicit solves of the run that ended above the tolerance.
+typedef struct cliSolveTotals
+{
+	int unconvergedSteps;
+	double maxResidual;
+} cliSolveTotals;
 
 // Parse the options; returns -1 to go on, or an exit code.
 static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
@@ -66,6 +77,8 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 		}
 		else if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0)
 			o->quiet = true;
+		else if (strcmp(arg, "--strict") == 0)
+			o->strict = true;
 		else if (strcmp(arg, "--obj") == 0)
 			o->obj = true;
 		else if (strcmp(arg, "--seconds") == 0)
@@ -252,22 +265,32 @@ static double cliLowestY(const cliSimulation* sim)
 // Step one frame. @p jumps impulses start in it: the seeds' jump steps the substeps one at a
 // time with CLI_SEEDS_JUMP_SPEED added before each (the same dt as a whole frame); a custom
 // --impulse-speed adds its velocity once at the start.
+// Book a step's unconverged implicit solves.
+static fmResult cliBookStep(const cliSimulation* sim, fmResult result, cliSolveTotals* totals)
+{
+	fmStepStats stats = fmWorld_GetStepStats(sim->world);
+	totals->unconvergedSteps += stats.unconvergedSteps;
+	if (stats.unconvergedSteps > 0)
+		totals->maxResidual = fmax(totals->maxResidual, stats.maxResidual);
+	return result;
+}
+
 static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
-                             int jumps)
+                             int jumps, cliSolveTotals* totals)
 {
 	double frameTime = cliScene_FrameTime(scene);
 	if (jumps == 0 || o->hasImpulseSpeed)
 	{
 		for (int b = 0; b < sim->bodyCount && jumps > 0; ++b)
 			fmBody_ApplyImpulse(sim->bodies[b], fmMakeVec3(0.0, jumps * o->impulseSpeed, 0.0));
-		return fmWorld_Step(sim->world, frameTime, scene->substeps);
+		return cliBookStep(sim, fmWorld_Step(sim->world, frameTime, scene->substeps), totals);
 	}
 	double dt = frameTime / scene->substeps; // what fmWorld_Step divides a frame into
 	for (int s = 0; s < scene->substeps; ++s)
 	{
 		for (int b = 0; b < sim->bodyCount; ++b)
 			fmBody_ApplyImpulse(sim->bodies[b], fmMakeVec3(0.0, jumps * CLI_SEEDS_JUMP_SPEED, 0.0));
-		fmResult result = fmWorld_Step(sim->world, dt, 1);
+		fmResult result = cliBookStep(sim, fmWorld_Step(sim->world, dt, 1), totals);
 		if (result != fm_ok)
 			return result;
 	}
@@ -276,7 +299,8 @@ static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliS
 
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
-                        cliSeries* series, int frames, double* stepSeconds, double* lowestReached)
+                        cliSeries* series, int frames, double* stepSeconds, double* lowestReached,
+                        cliSolveTotals* totals)
 {
 	*lowestReached = cliLowestY(sim);
 	double frameTime = cliScene_FrameTime(scene);
@@ -297,7 +321,7 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 			jumps += 1;
 		}
 		double start = cliNow();
-		fmResult result = cliStepFrame(o, scene, sim, jumps);
+		fmResult result = cliStepFrame(o, scene, sim, jumps, totals);
 		*stepSeconds += cliNow() - start;
 		*lowestReached = fmin(*lowestReached, cliLowestY(sim));
 		if (result != fm_ok)
@@ -332,7 +356,7 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 
 static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int frames,
                             double wallSeconds, double stepSeconds, double lowestReached,
-                            const cliSeries* series)
+                            const cliSeries* series, const cliSolveTotals* solves)
 {
 	cliTotals totals = cliSumStats(sim);
 	double steps = (double)frames * scene->substeps;
@@ -352,6 +376,11 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	printf("kinetic energy   %.6g J\n", totals.kinetic);
 	printf("elastic energy   %.6g J\n", totals.elastic);
 	printf("inverted tets    %d\n", totals.inverted);
+	if (scene->worldDef.integrator == fm_implicit && solves->unconvergedSteps == 0)
+		printf("implicit solves  every step converged (tolerance %g)\n", scene->worldDef.tolerance);
+	else if (scene->worldDef.integrator == fm_implicit)
+		printf("implicit solves  %d steps ended above the tolerance %g (largest residual %.3g)\n",
+		       solves->unconvergedSteps, scene->worldDef.tolerance, solves->maxResidual);
 	if (series != NULL)
 		printf("output           %s (%d frames)\n", series->pvdPath, series->written);
 }
@@ -368,6 +397,8 @@ int cliRun(int argc, char** argv)
 		cliScene_MakeHouse(&scene);
 	else if (!cliScene_Load(o.scenePath, &scene))
 		return cli_exitInput;
+	if (o.strict)
+		scene.worldDef.notConvergedIsError = true;
 	cliSimulation sim;
 	if (scene.bodies == NULL ||
 	    !cliSimulation_Create(&scene, o.quiet ? cli_stepCheckWarnings : cli_stepCheckAll, &sim))
@@ -395,8 +426,10 @@ int cliRun(int argc, char** argv)
 			code = cli_exitInput;
 	}
 	double stepSeconds = 0.0, lowestReached = 0.0;
+	cliSolveTotals solves = {0, 0.0};
 	if (code == cli_exitOk)
-		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds, &lowestReached);
+		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds, &lowestReached,
+		                    &solves);
 	// The collection is complete after every frame (rewritten whole each time), so the frames
 	// written before a failure or an interruption stay viewable.
 	if (seriesPtr != NULL)
@@ -405,7 +438,7 @@ int cliRun(int argc, char** argv)
 		code = cli_exitInput;
 	if (code == cli_exitOk)
 		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, lowestReached,
-		                seriesPtr);
+		                seriesPtr, &solves);
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;

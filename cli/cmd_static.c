@@ -18,7 +18,7 @@ const char* const cliStaticHelp =
     "  --export-node FILE  write the equilibrium positions (FILE_B.node per body B when the\n"
     "                      scene has several bodies)\n"
     "  --tolerance T       relative residual to reach (default 1e-8)\n"
-    "  --max-iterations N  Newton iterations at most (default 200)\n"
+    "  --max-iterations N  Newton iterations per load step, 1 to 1000 (default 200)\n"
     "  --help              this text\n"
     "\n"
     "Exit status: 0 converged, 1 bad scene/file, I/O error or no convergence, 2 usage error.\n";
@@ -47,15 +47,18 @@ int cliStatic(int argc, char** argv)
 		{
 			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseDouble(value, &tolerance) || !(tolerance > 0.0))
-				return cliUsageError("static", "--tolerance: expected a number > 0, got '%s'",
-				                     value);
+			if (!cliParseDouble(value, &tolerance) ||
+			    !(tolerance >= FM_MIN_TOLERANCE && tolerance < 1.0))
+				return cliUsageError("static",
+				                     "--tolerance: expected a number in [%g, 1), got '%s'",
+				                     FM_MIN_TOLERANCE, value);
 		}
 		else if (strcmp(arg, "--max-iterations") == 0)
 		{
 			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseIntOption("static", "--max-iterations", value, 1, INT_MAX, &maxIterations))
+			if (!cliParseIntOption("static", "--max-iterations", value, 1, FM_MAX_NEWTON_ITERATIONS,
+			                       &maxIterations))
 				return cli_exitUsage;
 		}
 		else if (arg[0] == '-' && arg[1] != 0)
@@ -78,6 +81,7 @@ int cliStatic(int argc, char** argv)
 		return cli_exitInput;
 	}
 	int code = cli_exitOk;
+	bool exportable = true;
 	for (int b = 0; b < sim.bodyCount && code == cli_exitOk; ++b)
 	{
 		double residual = 0.0;
@@ -98,10 +102,19 @@ int cliStatic(int argc, char** argv)
 			snprintf(prefix, sizeof prefix, "%s: bodies[%d]", scene.name, b);
 			cliPrintDiagnostic(prefix, &diag);
 			code = cli_exitInput;
+			// A solve that stopped short keeps its best state: still worth exporting.
+			exportable = exportable && result == fm_errNotConverged;
 		}
 	}
-	if (code == cli_exitOk && exportNode != NULL && !cliWriteNodes(exportNode, &sim, true))
-		code = cli_exitInput;
+	if (exportable && exportNode != NULL)
+	{
+		if (!cliWriteNodes(exportNode, &sim, true))
+			code = cli_exitInput;
+		else if (code != cli_exitOk)
+			cliWarn("%s: the best state reached was written, but it is not converged to the "
+			        "tolerance %g (see the residuals above)",
+			        exportNode, tolerance);
+	}
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;

@@ -589,7 +589,8 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 
 static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floorDef)
 {
-	static const char* const keys[] = {"height", "friction", "restitution", NULL};
+	static const char* const keys[] = {"height", "friction", "restitution",
+	                                   "max_depenetration_speed", NULL};
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "floor");
 	if (item == NULL)
 		return true;
@@ -603,7 +604,9 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 	floorDef->enabled = true;
 	if (!cliCheckKeys(j, item, "floor", keys) ||
 	    !cliGetNumber(j, item, "floor", "height", cliAnyFinite, &floorDef->height, NULL) ||
-	    !cliGetNumber(j, item, "floor", "restitution", cliUnit, &floorDef->restitution, NULL))
+	    !cliGetNumber(j, item, "floor", "restitution", cliUnit, &floorDef->restitution, NULL) ||
+	    !cliGetNumber(j, item, "floor", "max_depenetration_speed", cliPositive,
+	                  &floorDef->maxDepenetrationSpeed, NULL))
 		return false;
 	const cJSON* friction = cJSON_GetObjectItemCaseSensitive(item, "friction");
 	if (friction == NULL)
@@ -628,17 +631,30 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	const cliRange secondsRange = {0.0, 1e6, true, false};
 	bool hasFrames = false, hasSeconds = false;
 	const char* integrator = NULL;
+	const char* notConverged = NULL;
+	const cliRange toleranceRange = {FM_MIN_TOLERANCE, 1.0, false, true};
 	if (!cliGetVec3(j, root, "", "gravity", &def->gravity, NULL) ||
 	    !cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
 	    !cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
 	    !cliGetInt(j, root, "", "frames", 1, CLI_MAX_FRAMES, &scene->frames, &hasFrames) ||
 	    !cliGetNumber(j, root, "", "seconds", secondsRange, &scene->seconds, &hasSeconds) ||
 	    !cliGetString(j, root, "", "integrator", &integrator) ||
-	    !cliGetInt(j, root, "", "newton_iterations", 1, 10000, &def->newtonIterations, NULL) ||
-	    !cliGetNumber(j, root, "", "tolerance", cliPositive, &def->tolerance, NULL) ||
-	    !cliGetInt(j, root, "", "cg_iterations", 1, 1000000, &def->cgIterations, NULL) ||
+	    !cliGetInt(j, root, "", "newton_iterations", 1, FM_MAX_NEWTON_ITERATIONS,
+	               &def->newtonIterations, NULL) ||
+	    !cliGetNumber(j, root, "", "tolerance", toleranceRange, &def->tolerance, NULL) ||
+	    !cliGetInt(j, root, "", "cg_iterations", 1, FM_MAX_CG_ITERATIONS, &def->cgIterations,
+	               NULL) ||
+	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
 	    !cliParseFloor(j, root, &def->floor))
 		return false;
+	if (notConverged != NULL)
+	{
+		if (strcmp(notConverged, "warn") != 0 && strcmp(notConverged, "error") != 0)
+			return cliJsonFail(j, "not_converged",
+			                   cJSON_GetObjectItemCaseSensitive(root, "not_converged"),
+			                   "expected \"warn\" or \"error\"");
+		def->notConvergedIsError = strcmp(notConverged, "error") == 0;
+	}
 	if (hasFrames && hasSeconds)
 		return cliJsonFail(j, "seconds", NULL, "give frames or seconds, not both");
 	if (integrator != NULL)
@@ -661,10 +677,20 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 
 static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 {
-	static const char* const keys[] = {
-	    "description", "gravity",           "dt",        "substeps",      "frames", "seconds",
-	    "integrator",  "newton_iterations", "tolerance", "cg_iterations", "floor",  "bodies",
-	    NULL};
+	static const char* const keys[] = {"description",
+	                                   "gravity",
+	                                   "dt",
+	                                   "substeps",
+	                                   "frames",
+	                                   "seconds",
+	                                   "integrator",
+	                                   "newton_iterations",
+	                                   "tolerance",
+	                                   "cg_iterations",
+	                                   "floor",
+	                                   "bodies",
+	                                   "not_converged",
+	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
 	const char* description = NULL;

@@ -42,11 +42,12 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	fmWorld* world = fmGetWorldOfBody(bodyId);
 	if (b == NULL || world == NULL)
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
-	if (!(tolerance > 0.0 && tolerance < 1.0) || maxIterations < 1)
+	if (!(tolerance >= FM_MIN_TOLERANCE && tolerance < 1.0) || maxIterations < 1 ||
+	    maxIterations > FM_MAX_NEWTON_ITERATIONS)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "static solve needs a tolerance in (0, 1) (e.g. 1e-8) and at least one "
-		                   "iteration, got %g and %d",
-		                   tolerance, maxIterations);
+		                   "static solve needs a tolerance in [%g, 1) (e.g. 1e-8) and 1 to %d "
+		                   "Newton iterations, got %g and %d",
+		                   FM_MIN_TOLERANCE, FM_MAX_NEWTON_ITERATIONS, tolerance, maxIterations);
 	int pins = 0;
 	for (int i = 0; i < b->vertexCount; ++i)
 		pins += b->pinned[i] != 0; // rollers count: a well-posed set of them holds the body

@@ -48,7 +48,7 @@ femto_cli_test(every_too_large ARGS "run|--every|99999999999" CODE 2
   REGEX "--every: 99999999999 is too large \\(at most 2147483647\\)")
 femto_cli_test(every_too_small ARGS "run|--every|0" CODE 2 REGEX "--every: 0 is too small \\(at least 1\\)")
 femto_cli_test(max_iterations_too_large ARGS "static|x.json|--max-iterations|99999999999" CODE 2
-  REGEX "--max-iterations: 99999999999 is too large \\(at most 2147483647\\)")
+  REGEX "--max-iterations: 99999999999 is too large \\(at most 1000\\)")
 
 # --- run -------------------------------------------------------------------------------------
 # The built-in house falls 1 m onto the stick floor at y = -3 within 1.2 s, touches it exactly,
@@ -270,3 +270,29 @@ femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--r
   REGEX "house2 +1389 +[0-9.]+ +[0-9]+.*box 1k +1080 " REJECT "failed|box 10k")
 femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
   REGEX "box 1k +1080 +[0-9.]+ +[0-9.]+ +[0-9.]+" REJECT "failed|house2")
+
+# --- simulation health (issue 8) ------------------------------------------------------------------
+# A slow runaway spread over many frames is caught by the energy ledger and fails the run.
+femto_cli_test(run_slow_runaway ARGS "run|${FEMTO_CLI_DATA}/slow_runaway.json|--quiet" CODE 1
+  REGEX "energy ran away.*ledger allows.*work done on it.*more Newton iterations"
+  REJECT "implicit integrator")
+# A body deep below the floor rises at the depenetration speed (1 m/s: 0.3 m in 0.3 s), calm.
+femto_cli_test(run_below_floor ARGS "run|${FEMTO_CLI_DATA}/below_floor.json|--quiet" CODE 0
+  REGEX "lowest vertex y +-4\\.[67][0-9]* m.*kinetic energy +(19[0-9][0-9]|20[0-9][0-9])(\\.[0-9]+)? J")
+# A very stiff body falls as a rigid one, and the summary counts the steps that could not reach
+# the tolerance (round-off at E / density = 1e17); --strict makes them an error.
+femto_cli_test(run_stiff_falls ARGS "run|${FEMTO_CLI_DATA}/stiff_fall.json|--quiet" CODE 0
+  REGEX "centre of mass y +-0\\.0716.*implicit solves +[0-9]+ steps ended above the tolerance")
+femto_cli_test(run_stiff_strict ARGS "run|${FEMTO_CLI_DATA}/stiff_fall.json|--quiet|--strict" CODE 1
+  REGEX "fm_errNotConverged: body 0: the implicit step ended at relative residual")
+# A static solve asked for more than round-off allows stops, says how close it got, exits 1 and
+# still writes its best state.
+femto_cli_test(static_round_off ARGS "static|${FEMTO_CLI_DATA}/static_steel.json|--tolerance|1e-12|--export-node|${FEMTO_CLI_WORK}/beam_best.node"
+  CODE 1 REGEX "full load is applied.*stagnated.*best state reached is kept"
+  FILES "${FEMTO_CLI_WORK}/beam_best.node")
+femto_cli_test(static_tolerance_too_small ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--tolerance|1e-300"
+  CODE 2 REGEX "--tolerance: expected a number in \\[1e-12, 1\\)")
+femto_cli_test(scene_newton_too_large ARGS "run|${FEMTO_CLI_DATA}/newton_too_large.json" CODE 1
+  REGEX "newton_iterations: too large \\(at most 1000\\)")
+femto_cli_test(scene_bad_not_converged ARGS "run|${FEMTO_CLI_DATA}/bad_not_converged.json" CODE 1
+  REGEX "not_converged: expected \"warn\" or \"error\"")

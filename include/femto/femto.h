@@ -138,7 +138,11 @@ FM_API fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, 
 FM_API double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces);
 
 /// Solve for static equilibrium under gravity with the body's pins (Newton with line search and
-/// load stepping). The floor is ignored. @p residual gets |f| / |m g| reached.
+/// load stepping). The floor is ignored. @p tolerance in [FM_MIN_TOLERANCE, 1), @p maxIterations
+/// (per load step) in [1, FM_MAX_NEWTON_ITERATIONS]. @p residual gets |f| / |m g| reached.
+/// fm_errNotConverged keeps a state rather than the start: at full load the best state reached
+/// (when the residual stagnated at round-off above the tolerance), otherwise the equilibrium of
+/// the largest load fraction that converged; the diagnostic says which and how close it got.
 FM_API fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations,
                                    double* residual, fmDiagnostic* diag);
 
