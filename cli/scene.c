@@ -645,6 +645,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	    !cliGetInt(j, root, "", "cg_iterations", 1, FM_MAX_CG_ITERATIONS, &def->cgIterations,
 	               NULL) ||
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
+	    !cliGetBool(j, root, "", "auto_substep", &def->autoSubstep) ||
 	    !cliParseFloor(j, root, &def->floor))
 		return false;
 	if (notConverged != NULL)
@@ -690,6 +691,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "floor",
 	                                   "bodies",
 	                                   "not_converged",
+	                                   "auto_substep",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");

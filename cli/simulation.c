@@ -115,6 +115,8 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 // it, and steps beyond twice it explode (the library's own threshold, where it warns as well).
 static void cliCheckExplicitStep(const cliScene* scene, const cliSimulation* sim, bool notes)
 {
+	if (scene->worldDef.autoSubstep) // the library splits the steps itself
+		return;
 	double limit = fmWorld_EstimateExplicitStep(sim->world);
 	if (!(limit > 0.0) || scene->dt <= limit)
 		return;

@@ -235,60 +235,20 @@ fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 	return r;
 }
 
-// Largest stable symplectic Euler step: 2 / omega_max, with omega_max^2 bounded by
-// Gershgorin's theorem on M^-1 K: the largest absolute row sum of the rest stiffness matrix
-// (the linear-elastic one, assembled per tet; springs use k_e) divided by the vertex mass.
-// A true upper bound at rest; large strains stiffen StVK, hence the 0.9 safety factor.
-static void fmAddTetRowSums(const fmBody* b, int t, double* rowSum)
+// The explicit stability limit of the world at the bodies' current deformation (s); 0 for an
+// empty world. Refreshes each body's cached limit.
+static double fmCurrentExplicitLimit(fmWorld* w)
 {
-	const fmMat3* D = &b->DmInv[t];
-	fmVec3 g[4];
-	for (int a = 1; a < 4; ++a)
-		g[a] = fmMakeVec3(D->m[3 * (a - 1)], D->m[3 * (a - 1) + 1], D->m[3 * (a - 1) + 2]);
-	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
-	const double lambda = fmax(b->material.lambda, 0.0), mu = b->material.mu;
-	// K_ab = V0 (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a . g_b) I) for linear elasticity.
-	for (int a = 0; a < 4; ++a)
+	double dt = INFINITY;
+	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
-		const double ga[3] = {g[a].x, g[a].y, g[a].z};
-		double sums[3] = {0, 0, 0};
-		for (int c = 0; c < 4; ++c)
-		{
-			const double gb[3] = {g[c].x, g[c].y, g[c].z};
-			double dot = fmDot(g[a], g[c]);
-			for (int i = 0; i < 3; ++i)
-				for (int j = 0; j < 3; ++j)
-					sums[i] += fabs(lambda * ga[i] * gb[j] + mu * gb[i] * ga[j] +
-					                (i == j ? mu * dot : 0.0));
-		}
-		int node = b->tets[4 * t + a];
-		for (int i = 0; i < 3; ++i)
-			rowSum[3 * node + i] += b->restVolume[t] * sums[i];
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		b->explicitLimit = fmBodyExplicitStepLimit(b);
+		dt = fmin(dt, b->explicitLimit);
 	}
-}
-
-double fmBodyExplicitStepLimit(const fmBody* b)
-{
-	double* rowSum = b->scratch;
-	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	if (b->forceModel == fm_massSpring)
-	{
-		// An edge block [H -H; -H H] at rest has row sums of 2 k |n_i| (|n_x| + |n_y| + |n_z|).
-		for (int e = 0; e < b->edgeCount; ++e)
-			for (int k = 0; k < 2; ++k)
-				for (int i = 0; i < 3; ++i)
-					rowSum[3 * b->edges[2 * e + k] + i] += 2.0 * sqrt(3.0) * b->springK[e];
-	}
-	else
-	{
-		for (int t = 0; t < b->tetCount; ++t)
-			fmAddTetRowSums(b, t, rowSum);
-	}
-	double omega2 = 0.0;
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		omega2 = fmax(omega2, rowSum[k] * b->invMass[k / 3]);
-	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	return omega2 > 0.0 ? 0.9 * 2.0 / sqrt(omega2) : INFINITY;
+	return isfinite(dt) ? dt : 0.0;
 }
 
 double fmWorld_EstimateExplicitStep(fmWorldId worldId)
@@ -296,11 +256,7 @@ double fmWorld_EstimateExplicitStep(fmWorldId worldId)
 	fmWorld* w = fmWorldOrAssert(worldId);
 	if (w == NULL)
 		return 0.0;
-	double dt = INFINITY;
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
-			dt = fmin(dt, w->bodies[i].explicitLimit);
-	return isfinite(dt) ? dt : 0.0;
+	return fmCurrentExplicitLimit(w);
 }
 
 // Up to eight tets of a body that went bad (non-finite or inverted), in the mesh's numbering,
@@ -407,7 +363,7 @@ static void fmRestoreAll(fmWorld* w)
 static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 {
 	double dt = frameTime / subStepCount;
-	if (w->def.integrator != fm_explicit || w->warnedStep)
+	if (w->def.integrator != fm_explicit || w->warnedStep || w->def.autoSubstep)
 		return;
 	double limit = INFINITY;
 	for (int i = 0; i < w->bodyCapacity; ++i)
@@ -443,8 +399,54 @@ static fmResult fmCheckFrame(fmWorld* w, double timeStep, int subStepCount)
 	return fm_ok;
 }
 
-// Book an implicit step's solver counters; a step that ended above the tolerance is a warning
-// (once a frame) or, with notConvergedIsError, an error.
+// With autoSubstep, explicit substeps are at most FM_AUTO_STEP_FRACTION of the stability limit
+// at the bodies' current deformation (stability.h), and at least subStepCount to a frame. The
+// limit is linear stability; contacts and large compressions within a step need more room:
+// measured on the audit's Neo-Hookean house drop (tests/test_health.c), 0.5 of the limit blew up
+// at 2.4 s, 0.35 and less ran the whole drop. Deformation changes
+// within a frame (an impact compresses a body in a few substeps), so a cheap stiffening proxy is
+// watched after every substep and the limit re-evaluated when it moves by 10%.
+#define FM_AUTO_STEP_FRACTION 0.3
+
+typedef struct fmAutoStep
+{
+	double limit; // s, stability limit at the last evaluation
+	double proxy; // stiffening proxy at the last evaluation
+} fmAutoStep;
+
+static double fmWorldStiffeningProxy(const fmWorld* w)
+{
+	double proxy = 1.0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x)
+			proxy = fmax(proxy, fmBodyStiffeningProxy(&w->bodies[i]));
+	return proxy;
+}
+
+static void fmAutoStep_Evaluate(fmWorld* w, fmAutoStep* a)
+{
+	a->limit = fmCurrentExplicitLimit(w);
+	a->proxy = fmWorldStiffeningProxy(w);
+}
+
+// The next substep: no longer than the nominal one or half the limit, and never leaving a
+// sliver at the end of the frame.
+static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double remaining,
+                              bool watch)
+{
+	if (watch)
+	{
+		double proxy = fmWorldStiffeningProxy(w);
+		if (!(proxy <= 1.1 * a->proxy && proxy >= a->proxy / 1.1))
+			fmAutoStep_Evaluate(w, a);
+	}
+	double h = a->limit > 0.0 ? fmin(nominal, FM_AUTO_STEP_FRACTION * a->limit) : nominal;
+	double count = ceil(remaining / h * (1.0 - 1e-12));
+	return remaining / fmax(count, 1.0);
+}
+
+// Book an implicit step's solver counters;// Book an implicit step's solver counters; a step that
+// ended above the tolerance is a warning (once a frame) or, with notConvergedIsError, an error.
 static fmResult fmBookImplicitStep(fmWorld* w, int index, const fmNewtonResult* r)
 {
 	w->stats.newtonIterations += r->iterations;
@@ -489,6 +491,55 @@ static fmResult fmStepBody(fmWorld* w, int index, double h)
 	return fmBookImplicitStep(w, index, &solve);
 }
 
+// Advance every body by one substep of @p h.
+static fmResult fmSubstep(fmWorld* w, double h)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		if (w->bodies[i].x == NULL)
+			continue;
+		fmResult r = fmStepBody(w, i, h);
+		if (r != fm_ok)
+			return r;
+	}
+	w->stats.steps += 1;
+	return fm_ok;
+}
+
+static fmResult fmFixedSubsteps(fmWorld* w, double h, int count)
+{
+	fmResult r = fm_ok;
+	for (int s = 0; s < count && r == fm_ok; ++s)
+		r = fmSubstep(w, h);
+	return r;
+}
+
+// autoSubstep: substeps planned by fmAutoStep_Next until the frame is done. @p lastStep gets the
+// length of the last one (the ledger measures the shadow energy with it).
+static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep, int count,
+                                   double* lastStep)
+{
+	const double nominal = timeStep / count;
+	double remaining = timeStep, h = *lastStep;
+	while (remaining > 1e-12 * timeStep)
+	{
+		if (w->stats.steps >= FM_MAX_SUBSTEPS)
+			return fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+			                   "the stability limit asks for more than %d substeps in a frame of "
+			                   "%.3g s (the last was %.3g s): a body is collapsing; state restored "
+			                   "to the last good frame; try the implicit integrator",
+			                   FM_MAX_SUBSTEPS, timeStep, h);
+		fmResult r = fmSubstep(w, h);
+		if (r != fm_ok)
+			return r;
+		*lastStep = h;
+		remaining -= h;
+		if (remaining > 1e-12 * timeStep)
+			h = fmAutoStep_Next(w, plan, nominal, remaining, true);
+	}
+	return fm_ok;
+}
+
 fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
@@ -500,34 +551,36 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	if (r != fm_ok)
 		return r;
 
-	// Stage 1: open every body's energy ledger. The state to fall back on (xGood, vGood) is the
+	// Stage 1: the substep length (autoSubstep: from the stability limit at the current
+	// deformation).
+	const bool autoStep = w->def.integrator == fm_explicit && w->def.autoSubstep;
+	fmAutoStep plan = {0.0, 1.0};
+	if (autoStep)
+		fmAutoStep_Evaluate(w, &plan);
+	double dt = timeStep / subStepCount;
+	if (autoStep)
+		dt = fmAutoStep_Next(w, &plan, dt, timeStep, false);
+
+	// Stage 2: open every body's energy ledger. The state to fall back on (xGood, vGood) is the
 	// last one that passed the checks, kept from the previous frame: a state the user set to
 	// NaN or Inf between steps is not "good". What the caller changed since is booked as work.
-	const double dt = timeStep / subStepCount;
-	const double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
+	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x)
 			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep);
+
 	fmWarnExplicitStep(w, timeStep, subStepCount);
 
-	// Stage 2: substeps, every body advanced by the chosen integrator.
-	for (int s = 0; s < subStepCount; ++s)
+	// Stage 3: substeps, every body advanced by the chosen integrator.
+	r = autoStep ? fmAdaptiveSubsteps(w, &plan, timeStep, subStepCount, &shadowStep)
+	             : fmFixedSubsteps(w, dt, subStepCount);
+	if (r != fm_ok)
 	{
-		for (int i = 0; i < w->bodyCapacity; ++i)
-		{
-			if (w->bodies[i].x == NULL)
-				continue;
-			r = fmStepBody(w, i, dt);
-			if (r != fm_ok)
-			{
-				fmRestoreAll(w);
-				return r;
-			}
-		}
-		w->stats.steps += 1;
+		fmRestoreAll(w);
+		return r;
 	}
 
-	// Stage 3: health checks against the ledgers; a failure restores every body. Only when
+	// Stage 4: health checks against the ledgers; a failure restores every body. Only when
 	// every body passed are the frame's work booked and the good states moved forward.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{

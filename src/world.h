@@ -2,6 +2,7 @@
 #pragma once
 
 #include "body.h"
+#include "stability.h"
 
 typedef struct fmWorld
 {
@@ -15,8 +16,6 @@ typedef struct fmWorld
 	bool warnedStep; // the explicit step-size warning was given
 } fmWorld;
 
-// Estimated largest stable explicit step of a body at rest (s); INFINITY if unconstrained.
-double fmBodyExplicitStepLimit(const fmBody* b);
 
 // Resolve ids; NULL if stale.
 fmWorld* fmGetWorld(fmWorldId id);

@@ -60,8 +60,10 @@ FM_API fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor);
 /// Positions and velocities carry over; the implicit solver's caches are rebuilt as needed.
 FM_API void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator);
 
-/// Estimated largest stable explicit step (s) for the bodies in the world (CFL-like bound from
-/// the smallest tet, its stiffness and mass). Returns 0 for an empty world.
+/// Estimated largest stable explicit step (s) for the bodies in the world at their current
+/// deformation: 0.9 * 2 / omega_max, with omega_max bounded by Gershgorin's theorem on M^-1 K(x),
+/// K(x) the true tangent stiffness of every model (stiffening under compression included).
+/// Costs one tangent-stiffness pass (about a microsecond per tet). Returns 0 for an empty world.
 FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
 
 /// Create a body from a def with a mesh. Tets are reoriented positive; degenerate tets are

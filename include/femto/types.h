@@ -186,6 +186,10 @@ typedef struct fmWorldDef
 	/// implicit: a step that ends above the tolerance is an error (fm_errNotConverged, state
 	/// restored) instead of a warning counted in fmStepStats.unconvergedSteps (default false)
 	bool notConvergedIsError;
+	/// explicit: every frame takes at least the substeps that the stability limit at the
+	/// bodies' current deformation asks for (fmWorld_EstimateExplicitStep), up to
+	/// FM_MAX_SUBSTEPS; costs one tangent-stiffness pass per frame (default false)
+	bool autoSubstep;
 	int maxBodies;     ///< capacity, >= 1 (default 64)
 	int internalValue; ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;

@@ -1,0 +1,79 @@
+// The explicit stability limit (stability.h).
+//
+// Symplectic Euler is stable for h < 2 / omega_max, omega_max^2 the largest eigenvalue of
+// M^-1 K. Gershgorin's theorem bounds it by the largest absolute row sum of K divided by the
+// vertex mass. K is the tangent stiffness at the current deformation, element by element (the
+// sum of the elements' absolute row sums bounds the assembled one's): at rest it is the linear
+// elastic one for every model, under compression Neo-Hookean and StVK stiffen (NH's lambda
+// (1 - ln J) / J^2 grows without bound as J -> 0), and the estimate follows. The 0.9 leaves
+// room for the deformation to grow further within the frame.
+#include "stability.h"
+
+#include "body.h"
+#include "forces.h"
+
+#include <math.h>
+#include <string.h>
+
+// Add the absolute row sums of tet t's tangent stiffness at x into rowSum (3 per vertex).
+static void fmAddTetRowSums(const fmBody* b, const double* x, int t, double* rowSum)
+{
+	double K[144];
+	fmTetHessian(b, x, t, K, 0);
+	for (int r = 0; r < 12; ++r)
+	{
+		double sum = 0.0;
+		for (int c = 0; c < 12; ++c)
+			sum += fabs(K[12 * r + c]);
+		rowSum[3 * b->tets[4 * t + r / 3] + r % 3] += sum;
+	}
+}
+
+// The same for spring e (6x6).
+static void fmAddSpringRowSums(const fmBody* b, const double* x, int e, double* rowSum)
+{
+	double K[36];
+	fmSpringHessian(b, x, e, K, 0);
+	for (int r = 0; r < 6; ++r)
+	{
+		double sum = 0.0;
+		for (int c = 0; c < 6; ++c)
+			sum += fabs(K[6 * r + c]);
+		rowSum[3 * b->edges[2 * e + r / 3] + r % 3] += sum;
+	}
+}
+
+double fmBodyExplicitStepLimit(const fmBody* b)
+{
+	double* rowSum = b->scratch;
+	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	if (b->forceModel == fm_massSpring)
+		for (int e = 0; e < b->edgeCount; ++e)
+			fmAddSpringRowSums(b, b->x, e, rowSum);
+	else
+		for (int t = 0; t < b->tetCount; ++t)
+			fmAddTetRowSums(b, b->x, t, rowSum);
+	double omega2 = 0.0;
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		omega2 = fmax(omega2, rowSum[k] * b->invMass[k / 3]);
+	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	return omega2 > 0.0 && isfinite(omega2) ? 0.9 * 2.0 / sqrt(omega2)
+	       : omega2 > 0.0                   ? 0.0
+	                                        : INFINITY;
+}
+
+double fmBodyStiffeningProxy(const fmBody* b)
+{
+	double proxy = 1.0;
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(b, b->x, t);
+		double J = fmDet(&F), I1 = 0.0;
+		for (int k = 0; k < 9; ++k)
+			I1 += F.m[k] * F.m[k];
+		if (!(J > 0.0))
+			return INFINITY;
+		proxy = fmax(proxy, fmax(I1, I1 * I1 / (4.0 * J * J)));
+	}
+	return proxy;
+}
