@@ -3,6 +3,7 @@
 #include "commands.h"
 #include "scene.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -191,17 +192,15 @@ static int cliParseBenchOptions(int argc, char** argv, cliBenchOptions* o)
 		{
 			if ((value = cliOptionValue("bench", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseInt(value, &o->maxTets) || o->maxTets < 1)
-				return cliUsageError("bench", "--max-tets: expected an integer >= 1, got '%s'",
-				                     value);
+			if (!cliParseIntOption("bench", "--max-tets", value, 1, INT_MAX, &o->maxTets))
+				return cli_exitUsage;
 		}
 		else if (strcmp(arg, "--repeats") == 0)
 		{
 			if ((value = cliOptionValue("bench", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseInt(value, &o->repeats) || o->repeats < 1 || o->repeats > 1000)
-				return cliUsageError(
-				    "bench", "--repeats: expected an integer in [1, 1000], got '%s'", value);
+			if (!cliParseIntOption("bench", "--repeats", value, 1, 1000, &o->repeats))
+				return cli_exitUsage;
 		}
 		else if (strcmp(arg, "--csv") == 0)
 		{

@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -126,16 +127,26 @@ const char* cliOptionValue(const char* command, int argc, char** argv, int* inde
 
 char* cliReadFile(const char* path, size_t* size)
 {
-	FILE* file = fopen(path, "rb");
+	// Non-blocking open: a FIFO must not hang the tool until a writer appears.
+	int fd = open(path, O_RDONLY | O_NONBLOCK);
+	FILE* file = fd >= 0 ? fdopen(fd, "rb") : NULL;
 	if (file == NULL)
 	{
 		fprintf(stderr, "%s: cannot open: %s\n", path, strerror(errno));
+		if (fd >= 0)
+			close(fd);
 		return NULL;
 	}
-	// Refuse absurd files before reading them (a scene is a few kilobytes).
+	// Only regular files (not a FIFO, a device such as /dev/zero or a folder), and not absurd
+	// ones: a scene is a few kilobytes.
 	struct stat info;
-	if (fstat(fileno(file), &info) == 0 && S_ISREG(info.st_mode) &&
-	    (uint64_t)info.st_size > (uint64_t)CLI_MAX_FILE_BYTES)
+	if (fstat(fd, &info) != 0 || !S_ISREG(info.st_mode))
+	{
+		fprintf(stderr, "%s: not a regular file: expected a scene file on disk\n", path);
+		fclose(file);
+		return NULL;
+	}
+	if ((uint64_t)info.st_size > (uint64_t)CLI_MAX_FILE_BYTES)
 	{
 		fprintf(stderr, "%s: file is %lld bytes, more than the %zu MiB limit\n", path,
 		        (long long)info.st_size, CLI_MAX_FILE_BYTES >> 20);

@@ -296,3 +296,8 @@ femto_cli_test(scene_newton_too_large ARGS "run|${FEMTO_CLI_DATA}/newton_too_lar
   REGEX "newton_iterations: too large \\(at most 1000\\)")
 femto_cli_test(scene_bad_not_converged ARGS "run|${FEMTO_CLI_DATA}/bad_not_converged.json" CODE 1
   REGEX "not_converged: expected \"warn\" or \"error\"")
+# A scene path that is not a regular file (a device, a FIFO) is refused at once, never read.
+femto_cli_test(run_scene_device ARGS "run|/dev/zero" CODE 1
+  REGEX "/dev/zero: not a regular file: expected a scene file on disk")
+femto_cli_test(bench_repeats_too_large ARGS "bench|--repeats|99999999999" CODE 2
+  REGEX "--repeats: 99999999999 is too large \\(at most 1000\\)")
