@@ -11,7 +11,7 @@
 // the conserved one, and contacts change elastic energy in ways the ledger does not book.
 #define FM_LEDGER_RELATIVE 0.01
 
-double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep)
+double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain)
 {
 	double kinetic = 0.0, shadow = 0.0, elastic;
 	if (shadowStep > 0.0)
@@ -33,6 +33,8 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep)
 		fmVec3 v = fmLoad(b->v, i);
 		kinetic += 0.5 * b->mass[i] * fmDot(v, v);
 	}
+	if (plain)
+		*plain = kinetic + elastic;
 	return kinetic + elastic + 0.5 * shadowStep * shadow;
 }
 
@@ -69,7 +71,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
 	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 	if (!ledger->started)
 	{
-		b->energyGood = fmBodyEnergy(b, gravity, shadowStep);
+		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood);
 		ledger->measureStep = shadowStep;
 		ledger->started = true;
 		ledger->initialEnergy = b->energyGood;
@@ -81,9 +83,11 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
 		// The caller changed the state (or the material) since the last good frame: the energy
 		// difference is work the caller did.
 		// A state set to NaN or Inf books nothing: the frame fails on it and restores.
-		double energy = fmBodyEnergy(b, gravity, shadowStep);
+		double plain;
+		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain);
 		if (isfinite(energy))
 		{
+			ledger->plainGood = plain;
 			fmLedgerBook(ledger, energy - b->energyGood);
 			b->energyGood = energy;
 			ledger->measureStep = shadowStep;
@@ -93,7 +97,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
 	{
 		// Same state, another step or integrator: only the shadow term changed. Its change is
 		// neither work nor a runaway; re-measure without counting it as work done.
-		double energy = fmBodyEnergy(b, gravity, shadowStep);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL);
 		ledger->work += energy - b->energyGood;
 		b->energyGood = energy;
 		ledger->measureStep = shadowStep;
@@ -108,10 +112,12 @@ void fmLedger_AddContactWork(fmBody* b, double work)
 		b->ledger.frameContactWork += work;
 }
 
-bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double* bound)
+bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double plain, double frameTime,
+                    double* bound)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->frameGravityWork = fmGravityPotential(b, gravity) - ledger->gravityStart;
+	ledger->framePlain = plain;
 	double frameWork = ledger->frameGravityWork + ledger->frameContactWork;
 	double frameWorkIn = fmax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork;
 	double allowed =
@@ -119,7 +125,17 @@ bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double* bound)
 	    FM_LEDGER_RELATIVE * (fabs(ledger->initialEnergy) + ledger->workIn + frameWorkIn) +
 	    ledger->floor;
 	*bound = allowed;
-	return energy <= allowed;
+	// The shadow energy is only meaningful for stable steps: an unstable one can make its
+	// correction term as negative as the explosion is large. The plain energy gets the
+	// per-frame backstop: gravity adds at most M g (size + g T^2) in a frame, and a stable body
+	// does not multiply its energy by 1000 on top of that.
+	double g = fmLength(gravity);
+	double backstop = 1000.0 * (fmax(ledger->plainGood, 0.0) + ledger->frameContactWork +
+	                            b->totalMass * g * (b->restSize + g * frameTime * frameTime)) +
+	                  ledger->floor;
+	if (!(plain <= backstop))
+		*bound = fmin(allowed, backstop);
+	return energy <= allowed && plain <= backstop;
 }
 
 void fmLedger_Commit(fmBody* b)
@@ -129,4 +145,5 @@ void fmLedger_Commit(fmBody* b)
 	fmLedgerBook(ledger, ledger->frameContactWork);
 	ledger->frameGravityWork = 0.0;
 	ledger->frameContactWork = 0.0;
+	ledger->plainGood = ledger->framePlain;
 }

@@ -24,6 +24,8 @@ typedef struct fmEnergyLedger
 	double frameContactWork; // J, positive work of contacts during the frame being stepped
 	double frameGravityWork; // J, gravity's work over the frame (set by fmLedger_Check)
 	double measureStep;      // s, the shadow step energyGood was measured with
+	double plainGood;        // J, plain kinetic + elastic energy of the good state
+	double framePlain;       // J, the same at the end of the frame being checked
 } fmEnergyLedger;
 
 // Kinetic plus elastic energy of the body's current state (J), as the integrator conserves it.
@@ -32,7 +34,8 @@ typedef struct fmEnergyLedger
 // difference from E swings by several percent at steps near the stability limit. Explicit
 // frames measure with @p shadowStep = h, implicit ones (dissipative) with 0. The gravity part
 // of the correction is included; the potential -M g . x itself is booked as gravity's work.
-double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep);
+// @p plain (may be NULL) gets the plain kinetic + elastic energy.
+double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, double* plain);
 
 // Start a frame measured with @p shadowStep (fmBodyEnergy): on the first frame record E0;
 // otherwise book what the caller changed since the last good state (impulses, set positions or
@@ -42,9 +45,13 @@ void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep)
 // Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor.
 void fmLedger_AddContactWork(struct fmBody* body, double work);
 
-// Check the end of a frame whose final energy is @p energy (J): true if it is within the
-// ledger's bound. @p bound gets the energy allowed. Books nothing.
-bool fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energy, double* bound);
+// Check the end of a frame of @p frameTime seconds whose final energy is @p energy (J, as
+// measured for the ledger) and @p plain (J, kinetic + elastic): true if it is within the
+// ledger's bound, and the plain energy within the per-frame backstop (1000 times what the
+// frame started with plus what gravity can add in it), which catches an unstable step whose
+// shadow energy means nothing. @p bound gets the energy allowed. Books nothing.
+bool fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energy, double plain,
+                    double frameTime, double* bound);
 
 // Book the frame's work (after every body of the world passed fmLedger_Check).
 void fmLedger_Commit(struct fmBody* body);

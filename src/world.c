@@ -324,23 +324,27 @@ static fmResult fmReportBadBody(fmWorld* w, int index, double energy, double bou
 		            "its ledger allows (%.3g J at the start plus %.3g J of work done on it, "
 		            "docs/robustness.md); %d inverted tets (%s)%s; state restored to the last "
 		            "good frame; %s",
-		            index, energy, bound, b->ledger.initialEnergy, b->ledger.work, bad, list,
-		            detail, fmFailureAdvice(w));
+		            index, energy, bound, b->ledger.initialEnergy,
+		            b->ledger.work + b->ledger.frameGravityWork + b->ledger.frameContactWork, bad,
+		            list, detail, fmFailureAdvice(w));
 	fmLog(fm_logError, "%s", w->lastError.message);
 	return fm_errNumerical;
 }
 
 // Health of a body after a frame: finite state, and energy within the ledger's bound.
-static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double* energyAfter)
+static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double frameTime,
+                            double* energyAfter)
 {
 	fmBody* b = &w->bodies[index];
+	double plain = NAN;
 	double energy =
-	    fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep) : NAN;
+	    fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain) : NAN;
 	double bound = 0.0;
 	*energyAfter = energy;
-	if (isfinite(energy) && fmLedger_Check(b, w->def.gravity, energy, &bound))
+	if (isfinite(energy) && isfinite(plain) &&
+	    fmLedger_Check(b, w->def.gravity, energy, plain, frameTime, &bound))
 		return fm_ok;
-	return fmReportBadBody(w, index, energy, bound, "");
+	return fmReportBadBody(w, index, isfinite(plain) ? plain : energy, bound, "");
 }
 
 static void fmRestoreAll(fmWorld* w)
@@ -585,7 +589,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x && fmCheckBody(w, i, shadowStep, &b->energyAfter) != fm_ok)
+		if (b->x && fmCheckBody(w, i, shadowStep, timeStep, &b->energyAfter) != fm_ok)
 		{
 			fmRestoreAll(w);
 			return fm_errNumerical;
