@@ -149,6 +149,10 @@ typedef struct fmFloorDef
 	double restitution;         ///< normal restitution, in [0, 1]
 } fmFloorDef;
 
+/// The default fmWorldDef.memoryBudget: 4 GiB (all of the address space on 32-bit systems).
+#define FM_DEFAULT_MEMORY_BUDGET                                                                   \
+	((size_t)(SIZE_MAX >> 31 > 1 ? ((uint64_t)4 << 30) : (uint64_t)SIZE_MAX))
+
 /// World definition. Get one from fmDefaultWorldDef().
 typedef struct fmWorldDef
 {
@@ -159,7 +163,12 @@ typedef struct fmWorldDef
 	double tolerance;        ///< implicit: residual / force scale to stop at, > 0 (default 1e-6)
 	int cgIterations;        ///< implicit: maximum CG iterations a Newton step, >= 1 (default 500)
 	int maxBodies;           ///< capacity, >= 1 (default 64)
-	int internalValue;       ///< set by fmDefaultWorldDef; create calls check it
+	/// Bytes the world's body table and bodies may take, >= the table (maxBodies bodies of a few
+	/// hundred bytes each); default 4 GiB (FM_DEFAULT_MEMORY_BUDGET), SIZE_MAX for no limit.
+	/// fmCreateBody() estimates a body before allocating anything (fmEstimateBodyMemory(), the
+	/// implicit solver's matrix included) and refuses it with fm_errLimit beyond the budget.
+	size_t memoryBudget;
+	int internalValue; ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;
 
 /// The default world: the seeds' gravity and floor, explicit integration.
@@ -195,19 +204,22 @@ typedef struct fmBodyDef
 /// The default body: the seeds' bouncy house parameters (no mesh).
 FM_API fmBodyDef fmDefaultBodyDef(void);
 
-/// World handle. Zero-initialised means null.
+/// World handle. Zero-initialised means null. Generations are 32-bit and a slot is retired
+/// before its generation would wrap, so an id of a destroyed world never becomes valid again.
 typedef struct fmWorldId
 {
-	uint16_t index1;     ///< 1-based slot
-	uint16_t generation; ///< catches stale ids
+	int32_t index1;      ///< 1-based slot, 0 for the null id
+	uint32_t generation; ///< catches stale ids
 } fmWorldId;
 
-/// Body handle. Zero-initialised means null.
+/// Body handle. Zero-initialised means null. It names its world's slot and generation too, so an
+/// id of a body in a destroyed world never reaches a body of a later world in that slot.
 typedef struct fmBodyId
 {
-	int32_t index1;      ///< 1-based slot in the world
-	uint16_t world0;     ///< world slot
-	uint16_t generation; ///< catches stale ids
+	int32_t index1;           ///< 1-based slot in the world, 0 for the null id
+	uint32_t generation;      ///< catches stale ids
+	int32_t world0;           ///< world slot (0-based)
+	uint32_t worldGeneration; ///< generation of the world the body was created in
 } fmBodyId;
 
 /// Health of a body after a step.
