@@ -321,19 +321,19 @@ static uint64_t fmArrayBytes(uint64_t count, uint64_t size)
 // the static solver add at their first use (implicit.c fmImplicit_GetCache, pcg.c fmBsr_Build):
 // counted for every body, since fmWorld_SetIntegrator() and fmBody_SolveStatic() may need them
 // later. Two counts depend on the connectivity and are estimated: the edges E, from Euler's
-// formula for a solid (V - E + F - T = 1 with about 2 faces per tet: E ~ V + T, at most 6 T),
-// which sets the matrix blocks V + 2 E; and the boundary triangles, about 6 T^(2/3).
+// formula for a solid (V - E + F - T = 1 with F = 2 T + B / 2 faces for B boundary triangles:
+// E ~ V + T + B / 2, at most 6 T), which sets the matrix blocks V + 2 E; and B, about 6 T^(2/3).
 fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 {
 	fmBodyMemory memory = {0, 0};
 	if (nodeCount <= 0 || tetCount <= 0)
 		return memory;
 	const uint64_t n = (uint64_t)nodeCount, m = (uint64_t)tetCount, d = sizeof(double);
-	uint64_t edges = n + m < 6 * m ? n + m : 6 * m;
-	if (n < 1u << 20 && edges > n * (n - 1) / 2)
-		edges = n * (n - 1) / 2;
 	uint64_t surface = (uint64_t)(6.0 * cbrt((double)m * (double)m)) + 4;
 	surface = surface < 4 * m ? surface : 4 * m;
+	uint64_t edges = n + m + surface / 2 < 6 * m ? n + m + surface / 2 : 6 * m;
+	if (n < 1u << 20 && edges > n * (n - 1) / 2)
+		edges = n * (n - 1) / 2;
 	bool springs = def && def->forceModel == fm_massSpring;
 
 	// The body: 7 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface.
