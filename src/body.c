@@ -605,7 +605,8 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	// Infinite bounds are fine (a half-space); NaN ones catch nothing and are a mistake.
-	bool ordered = !isnan(min.x + min.y + min.z + max.x + max.y + max.z);
+	bool ordered = !isnan(min.x) && !isnan(min.y) && !isnan(min.z) && !isnan(max.x) &&
+	               !isnan(max.y) && !isnan(max.z);
 	FM_ASSERT(ordered);
 	if (b == NULL || !ordered)
 		return 0;

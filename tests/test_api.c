@@ -379,6 +379,7 @@ TEST(bad_arguments_assert_and_leave_the_body_unchanged)
 	BAD(fmBody_ApplyVertexImpulse(body, -1, one));
 	BAD(fmBody_ApplyVertexImpulse(body, 0, nan3));
 	BAD(CHECK_INT(fmBody_PinBox(body, nan3, one), 0));
+	BAD(CHECK_INT(fmBody_PinBox(body, one, nan3), 0));
 	BAD(fmBody_SetPinned(body, 4, true));
 	BAD(fmBody_SetPinnedAxes(body, -1, 1u));
 	BAD(fmBody_SetPinnedAxes(body, 0, 8u));
@@ -387,6 +388,11 @@ TEST(bad_arguments_assert_and_leave_the_body_unchanged)
 	BAD(CHECK(fmBody_ComputeElasticForces(body, NULL) == 0.0));
 	BAD(CHECK(fmEstimateBodyMemory(NULL) == 0));
 #undef BAD
+	// Infinite bounds are a half-space, not a mistake.
+	fmVec3 everywhere = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	recordAssertsBegin();
+	CHECK_INT(fmBody_PinBox(body, fmScale(-1.0, everywhere), fmMakeVec3(INFINITY, -1.0, 5.0)), 0);
+	CHECK_INT(recordAssertsEnd(), 0);
 	// Nothing changed: the world steps as before, the body is where it was, at rest.
 	memcpy(after, fmBody_GetPositions(body), sizeof after);
 	CHECK(memcmp(before, after, sizeof before) == 0);
