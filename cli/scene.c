@@ -140,7 +140,7 @@ static bool cliInRange(double value, cliRange range)
 // ---- typed getters: absent keys leave the value alone ----------------------------------------
 
 // Most keys one object of the format allows.
-#define CLI_MAX_KEYS 16
+#define CLI_MAX_KEYS 32
 
 // Reject keys not in @p allowed (NULL-terminated, at most CLI_MAX_KEYS) and repeated keys. One
 // pass over the members: each is looked up in the short allowed list and marked seen there.
@@ -633,6 +633,9 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	const char* integrator = NULL;
 	const char* notConverged = NULL;
 	const cliRange toleranceRange = {FM_MIN_TOLERANCE, 1.0, false, true};
+	const cliRange budgetRange = {0.0, 1e9, true, false};
+	double budgetMiB = 0.0;
+	bool hasBudget = false;
 	if (!cliGetVec3(j, root, "", "gravity", &def->gravity, NULL) ||
 	    !cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
 	    !cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
@@ -646,8 +649,11 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	               NULL) ||
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
 	    !cliGetBool(j, root, "", "auto_substep", &def->autoSubstep) ||
+	    !cliGetNumber(j, root, "", "memory_budget_mib", budgetRange, &budgetMiB, &hasBudget) ||
 	    !cliParseFloor(j, root, &def->floor))
 		return false;
+	if (hasBudget)
+		def->memoryBudget = (size_t)(budgetMiB * 1048576.0);
 	if (notConverged != NULL)
 	{
 		if (strcmp(notConverged, "warn") != 0 && strcmp(notConverged, "error") != 0)
@@ -692,6 +698,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "bodies",
 	                                   "not_converged",
 	                                   "auto_substep",
+	                                   "memory_budget_mib",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");

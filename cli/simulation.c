@@ -23,6 +23,35 @@ fmResult cliLoadHouseMesh(fmTetMesh* mesh, fmDiagnostic* diag)
 	return result;
 }
 
+// A generated box is refused before it is generated when the body it makes would not fit the
+// world's memory budget (fmEstimateBodyMemory reads only the mesh's counts): a 200-byte scene
+// must not allocate gigabytes first.
+static bool cliBoxFitsBudget(const cliScene* scene, int index)
+{
+	const cliBodySpec* spec = &scene->bodies[index];
+	double cells = (double)spec->boxCells[0] * spec->boxCells[1] * spec->boxCells[2];
+	double nodes =
+	    (spec->boxCells[0] + 1.0) * (spec->boxCells[1] + 1.0) * (spec->boxCells[2] + 1.0);
+	if (6.0 * cells > FM_MAX_TETS || nodes > FM_MAX_NODES)
+		return true; // fmMakeBoxMesh refuses it with its own message
+	fmTetMesh counts;
+	memset(&counts, 0, sizeof counts);
+	counts.nodeCount = (int)nodes;
+	counts.tetCount = (int)(6.0 * cells);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &counts;
+	double mesh = 24.0 * nodes + 16.0 * 6.0 * cells; // the generated mesh itself
+	double bytes = (double)fmEstimateBodyMemory(&def) + mesh;
+	if (bytes <= (double)scene->worldDef.memoryBudget)
+		return true;
+	cliError("%s: bodies[%d].mesh: box:%d,%d,%d makes %d tets; its body needs about %.3g MiB "
+	         "(fmEstimateBodyMemory, plus the mesh), more than the memory budget of %.3g MiB "
+	         "(fmWorldDef.memoryBudget, scene key memory_budget_mib): use fewer cells",
+	         scene->name, index, spec->boxCells[0], spec->boxCells[1], spec->boxCells[2],
+	         counts.tetCount, bytes / 1048576.0, (double)scene->worldDef.memoryBudget / 1048576.0);
+	return false;
+}
+
 static bool cliLoadBodyMesh(const cliScene* scene, int index, fmTetMesh* mesh)
 {
 	const cliBodySpec* spec = &scene->bodies[index];
@@ -38,6 +67,8 @@ static bool cliLoadBodyMesh(const cliScene* scene, int index, fmTetMesh* mesh)
 		result = cliLoadHouseMesh(mesh, &diag);
 		break;
 	case cli_meshBox:
+		if (!cliBoxFitsBudget(scene, index))
+			return false;
 		result = fmMakeBoxMesh(spec->boxCells[0], spec->boxCells[1], spec->boxCells[2],
 		                       spec->boxMin, spec->boxMax, mesh);
 		if (result != fm_ok)

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Build the libFuzzer targets with clang + ASan + UBSan and run each for a bounded time on its
+# Build the libFuzzer targets with clang + ASan + UBSan and run each (fuzz_tetgen, fuzz_face,
+# fuzz_scene, fuzz_simulate, fuzz_api: every build-fuzz/fuzz/fuzz_*) for a bounded time on its
 # committed seed corpus (fuzz/corpus/<name>). New crashes fail the check; the crashing input is
 # kept in build-fuzz/crashes/ to be turned into a regression test (tests/data/fuzz/).
 # FEMTO_FUZZ_SECONDS (default 60) sets the time per target.
@@ -19,9 +20,14 @@ for target in build-fuzz/fuzz/fuzz_*; do
   name=$(basename "$target" | sed 's/^fuzz_//')
   work="build-fuzz/corpus-$name"
   mkdir -p "$work"
+  # The parsers read files; the simulation and API fuzzers decode a few hundred bytes.
+  case "$name" in
+    simulate | api) max_len=4096 ;;
+    *) max_len=65536 ;;
+  esac
   echo "check-fuzz: $name for ${seconds}s"
   # The seed corpus is read-only input; new inputs go to the scratch corpus in build-fuzz/.
-  "$target" "$work" "fuzz/corpus/$name" -max_total_time="$seconds" -max_len=65536 \
+  "$target" "$work" "fuzz/corpus/$name" -max_total_time="$seconds" -max_len="$max_len" \
     -rss_limit_mb=2048 -timeout=10 -artifact_prefix=build-fuzz/crashes/"$name"- \
     -print_final_stats=1 2>"build-fuzz/$name.log" || {
       tail -n 40 "build-fuzz/$name.log" >&2

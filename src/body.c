@@ -4,6 +4,7 @@
 #include "core.h"
 #include "forces.h"
 #include "integrator.h"
+#include "mesh_internal.h"
 #include "world.h"
 
 #include <math.h>
@@ -32,15 +33,86 @@ static bool fmIsFinitePositive(double value)
 	return isfinite(value) && value > 0.0;
 }
 
+static bool fmIsFiniteVec3(fmVec3 v)
+{
+	return isfinite(v.x) && isfinite(v.y) && isfinite(v.z);
+}
+
+// Counts, pointers and numbering of a mesh a body is made from (the arrays are not read).
+static fmResult fmCheckMeshShape(const fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	if (mesh == NULL || mesh->nodeCount <= 0 || mesh->tetCount <= 0)
+		return fmDiagError(diag, fm_errEmpty, "", 0, 0,
+		                   "body def has no mesh, or the mesh has no tets");
+	if (mesh->nodeCount > FM_MAX_NODES || mesh->tetCount > FM_MAX_TETS)
+		return fmDiagError(diag, fm_errLimit, "", 0, 0,
+		                   "mesh of %d nodes and %d tets exceeds the limits of %d nodes and %d "
+		                   "tets (FM_MAX_NODES, FM_MAX_TETS)",
+		                   mesh->nodeCount, mesh->tetCount, FM_MAX_NODES, FM_MAX_TETS);
+	if (mesh->positions == NULL || mesh->tets == NULL)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "mesh of %d nodes and %d tets has NULL %s", mesh->nodeCount,
+		                   mesh->tetCount, mesh->positions == NULL ? "positions" : "tets");
+	if (mesh->firstIndex != 0 && mesh->firstIndex != 1)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "mesh firstIndex must be 0 or 1 (the numbering of the source file), "
+		                   "got %d",
+		                   mesh->firstIndex);
+	return fm_ok;
+}
+
+// Coordinates finite and within FM_MAX_COORDINATE; tets of 4 distinct in-range nodes with a
+// volume that is not zero relative to their size (the test fmTetMesh_Orient() applies).
+static fmResult fmCheckMeshData(const fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	const int first = mesh->firstIndex;
+	for (size_t k = 0; k < 3 * (size_t)mesh->nodeCount; ++k)
+		if (!(fabs(mesh->positions[k]) <= FM_MAX_COORDINATE))
+			return fmDiagError(diag, fm_errRange, "", 0, 0,
+			                   "node %d has coordinate %g: expected finite, |x| <= %g m "
+			                   "(FM_MAX_COORDINATE)",
+			                   (int)(k / 3) + first, mesh->positions[k], FM_MAX_COORDINATE);
+	for (int t = 0; t < mesh->tetCount; ++t)
+	{
+		const int* v = mesh->tets + 4 * (size_t)t;
+		for (int a = 0; a < 4; ++a)
+		{
+			if (v[a] < 0 || v[a] >= mesh->nodeCount)
+				return fmDiagError(diag, fm_errIndex, "", 0, 0,
+				                   "tet %d refers to node %d: expected 0 to %d (0-based)",
+				                   t + first, v[a], mesh->nodeCount - 1);
+			for (int c = 0; c < a; ++c)
+				if (v[c] == v[a])
+					return fmDiagError(diag, fm_errIndex, "", 0, 0,
+					                   "tet %d repeats node %d: expected 4 distinct nodes",
+					                   t + first, v[a] + first);
+		}
+		fmTetQuality quality;
+		if (fmTetMesh_GetTetQuality(mesh, t, &quality) != fm_ok || quality.degenerate)
+			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
+			                   "tet %d (in the mesh's numbering) has zero volume relative to its "
+			                   "size (|6V| <= 1e-12 (longest edge)^3)",
+			                   t + first);
+		if (quality.volumeOutOfRange)
+			return fmDiagError(diag, fm_errRange, "", 0, 0,
+			                   "tet %d (in the mesh's numbering) has a volume out of the range of "
+			                   "a double",
+			                   t + first);
+	}
+	return fm_ok;
+}
+
 fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "body def not initialised: start from fmDefaultBodyDef()");
-	if (def->mesh == NULL || def->mesh->nodeCount <= 0 || def->mesh->tetCount <= 0)
-		return fmDiagError(diag, fm_errEmpty, "", 0, 0,
-		                   "body def has no mesh, or the mesh has no tets");
-	fmResult r = fmMaterial_Validate(&def->material, diag);
+	fmResult r = fmCheckMeshShape(def->mesh, diag);
+	if (r == fm_ok)
+		r = fmCheckMeshData(def->mesh, diag);
+	if (r != fm_ok)
+		return r;
+	r = fmMaterial_Validate(&def->material, diag);
 	if (r != fm_ok)
 		return r;
 	if ((unsigned)def->forceModel >= (unsigned)fm_forceModelCount)
@@ -103,7 +175,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
 	fmFree(b->surface);
 	fmImplicitCacheFree(b->implicitCache);
-	uint16_t generation = b->generation;
+	uint32_t generation = b->generation;
 	memset(b, 0, sizeof *b);
 	b->generation = generation;
 }
@@ -174,18 +246,44 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 	}
 	b->restSize = fmLength(fmSub(hi, lo));
 	memset(b->scratch, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	// Density times a tiny volume can underflow to a zero mass (an infinite inverse), a huge
+	// one overflow: the integrators divide by these.
+	for (int i = 0; i < b->vertexCount; ++i)
+		if (b->pinned[i] != FM_PIN_ALL && !(isfinite(b->invMass[i]) && b->invMass[i] > 0.0))
+			return fmDiagError(diag, fm_errRange, "", 0, 0,
+			                   "node %d gets mass %g kg: expected a finite mass > 0 (density %g "
+			                   "kg/m^3 times its tets' volume, or the particle mass)",
+			                   i + mesh->firstIndex, b->mass[i], def->density);
+	if (!isfinite(b->totalMass))
+		return fmDiagError(diag, fm_errRange, "", 0, 0, "the body's total mass overflows (%g kg)",
+		                   b->totalMass);
 	return fm_ok;
 }
 
+// The body takes only positions and tets from the (validated) def mesh: no copy of the mesh,
+// its attributes or markers is made, and the caller's mesh is not modified.
 static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 {
-	fmTetMesh mesh;
-	if (fmCopyTetMesh(def->mesh, &mesh) != fm_ok)
-		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory copying the mesh");
-	fmResult r = fmTetMesh_Orient(&mesh, NULL, diag);
-	if (r == fm_ok && !fmBodyAllocate(b, mesh.nodeCount, mesh.tetCount))
+	const fmTetMesh* source = def->mesh;
+	fmResult r = fm_ok;
+	if (!fmBodyAllocate(b, source->nodeCount, source->tetCount))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
-		                "out of memory creating a body of %d tets", mesh.tetCount);
+		                "out of memory creating a body of %d tets", source->tetCount);
+	// A view of the body's own arrays: orientation swaps nodes in the body's copy of the tets.
+	fmTetMesh mesh;
+	memset(&mesh, 0, sizeof mesh);
+	mesh.nodeCount = source->nodeCount;
+	mesh.positions = b->x0;
+	mesh.tetCount = source->tetCount;
+	mesh.tets = b->tets;
+	mesh.firstIndex = source->firstIndex;
+	if (r == fm_ok)
+	{
+		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
+		memcpy(b->x0, source->positions, n3);
+		memcpy(b->tets, source->tets, sizeof(int) * 4 * (size_t)mesh.tetCount);
+		r = fmTetMesh_Orient(&mesh, NULL, diag);
+	}
 	if (r == fm_ok)
 	{
 		b->firstIndex = mesh.firstIndex;
@@ -197,10 +295,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		b->rayleighStiffness = def->rayleighStiffness;
 		b->springDamping = def->springDamping;
 		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
-		memcpy(b->x, mesh.positions, n3);
-		memcpy(b->x0, mesh.positions, n3);
-		memcpy(b->xGood, mesh.positions, n3);
-		memcpy(b->tets, mesh.tets, sizeof(int) * 4 * (size_t)mesh.tetCount);
+		memcpy(b->x, b->x0, n3);
+		memcpy(b->xGood, b->x0, n3);
 		r = fmBodyPrecompute(b, def, &mesh, diag);
 	}
 	if (r == fm_ok && fmTetMesh_ExtractSurface(&mesh, &b->surface, &b->triangleCount) != fm_ok)
@@ -214,9 +310,102 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		b->explicitLimit = fmBodyExplicitStepLimit(b);
 		b->energyStale = true;
 	}
-	fmFreeTetMesh(&mesh);
 	return r;
 }
+
+// ---- memory estimate ---------------------------------------------------------------------------
+
+// Bytes of @p count elements of @p size, rounded up to fmAlloc's 64-byte granule.
+static uint64_t fmArrayBytes(uint64_t count, uint64_t size)
+{
+	return count == 0 ? 0 : (count * size + 63) / 64 * 64;
+}
+
+// What a body allocates (body.c, force_spring.c, force_fvm.c) and what the implicit solver and
+// the static solver add at their first use (implicit.c fmImplicit_GetCache, pcg.c fmBsr_Build):
+// counted for every body, since fmWorld_SetIntegrator() and fmBody_SolveStatic() may need them
+// later. Two counts depend on the connectivity and are estimated: the edges E, from Euler's
+// formula for a solid (V - E + F - T = 1 with F = 2 T + B / 2 faces for B boundary triangles:
+// E ~ V + T + B / 2, at most 6 T), which sets the matrix blocks V + 2 E; and B, about 6 T^(2/3).
+fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
+{
+	fmBodyMemory memory = {0, 0};
+	if (nodeCount <= 0 || tetCount <= 0)
+		return memory;
+	const uint64_t n = (uint64_t)nodeCount, m = (uint64_t)tetCount, d = sizeof(double);
+	uint64_t surface = (uint64_t)(6.0 * cbrt((double)m * (double)m)) + 4;
+	surface = surface < 4 * m ? surface : 4 * m;
+	uint64_t edges = n + m + surface / 2 < 6 * m ? n + m + surface / 2 : 6 * m;
+	if (n < 1u << 20 && edges > n * (n - 1) / 2)
+		edges = n * (n - 1) / 2;
+	bool springs = def && def->forceModel == fm_massSpring;
+
+	// The body: 7 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface.
+	uint64_t body = 7 * fmArrayBytes(3 * n, d) + 3 * fmArrayBytes(n, d) + fmArrayBytes(n, 1) +
+	                fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(m, sizeof(fmMat3)) +
+	                fmArrayBytes(m, d) + fmArrayBytes(3 * surface, sizeof(int)) + 64;
+	if (springs)
+		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
+	if (def && def->forceModel == fm_fvm)
+		body += fmArrayBytes(4 * m, sizeof(fmVec3));
+
+	// The implicit cache: slots (16 ints a tet, 4 a spring), the Hessian's blocks (9 doubles, a
+	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors.
+	uint64_t blocks = n + 2 * edges;
+	bool damping = def && (def->rayleighStiffness > 0.0 || (springs && def->springDamping > 0.0));
+	uint64_t solver =
+	    fmArrayBytes(16 * m, sizeof(int)) + (damping ? 2 : 1) * fmArrayBytes(9 * blocks, d) +
+	    fmArrayBytes(n + 1, sizeof(int)) + fmArrayBytes(blocks, sizeof(int)) +
+	    fmArrayBytes(n, sizeof(int)) + fmArrayBytes(9 * n, d) + 7 * fmArrayBytes(3 * n, d) +
+	    fmArrayBytes(12 * n, d) + fmArrayBytes(3 * n, 1) + 1024;
+	if (springs)
+		solver += fmArrayBytes(4 * edges, sizeof(int));
+	memory.body = body > SIZE_MAX ? SIZE_MAX : (size_t)body;
+	memory.solver = solver > SIZE_MAX ? SIZE_MAX : (size_t)solver;
+	return memory;
+}
+
+size_t fmEstimateBodyMemory(const fmBodyDef* def)
+{
+	FM_ASSERT(def != NULL);
+	if (def == NULL || def->mesh == NULL)
+		return 0;
+	fmBodyMemory memory = fmBodyMemoryOf(def->mesh->nodeCount, def->mesh->tetCount, def);
+	return memory.body > SIZE_MAX - memory.solver ? SIZE_MAX : memory.body + memory.solver;
+}
+
+// What the world's table and live bodies take against its budget.
+static size_t fmWorldMemoryInUse(const fmWorld* world)
+{
+	size_t used = fmWorldTableBytes(world->bodyCapacity);
+	for (int i = 0; i < world->bodyCapacity; ++i)
+		if (world->bodies[i].x)
+			used = used > SIZE_MAX - world->bodies[i].memoryEstimate
+			           ? SIZE_MAX
+			           : used + world->bodies[i].memoryEstimate;
+	return used;
+}
+
+// Refuse a body the world's memory budget cannot hold, before anything is allocated.
+static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t* estimate,
+                              fmDiagnostic* diag)
+{
+	*estimate = fmEstimateBodyMemory(def);
+	size_t used = fmWorldMemoryInUse(world), budget = world->def.memoryBudget;
+	if (used <= budget && *estimate <= budget - used)
+		return fm_ok;
+	const double mib = 1024.0 * 1024.0;
+	return fmDiagError(
+	    diag, fm_errLimit, "", 0, 0,
+	    "a body of %d nodes and %d tets needs about %.1f MiB (%zu bytes: its arrays and the "
+	    "implicit solver's matrix, fmEstimateBodyMemory); the world already uses %.1f MiB of its "
+	    "memory budget of %.1f MiB (fmWorldDef.memoryBudget): use a coarser mesh or raise the "
+	    "budget",
+	    def->mesh->nodeCount, def->mesh->tetCount, (double)*estimate / mib, *estimate,
+	    (double)used / mib, (double)budget / mib);
+}
+
+// ---- creation and ids --------------------------------------------------------------------------
 
 fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId, fmDiagnostic* diag)
 {
@@ -224,14 +413,20 @@ fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
 	if (bodyId)
 		memset(bodyId, 0, sizeof *bodyId);
 	fmWorld* world = fmGetWorld(worldId);
+	FM_ASSERT(world != NULL);
 	if (world == NULL)
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed world id");
 	fmResult r = fmBodyDef_Validate(def, diag);
 	if (r != fm_ok)
 		return r;
+	size_t estimate;
+	r = fmCheckBudget(world, def, &estimate, diag);
+	if (r != fm_ok)
+		return r;
+	// A slot whose generation would wrap is retired: its old ids must never come back.
 	int slot = -1;
 	for (int i = 0; i < world->bodyCapacity && slot < 0; ++i)
-		if (world->bodies[i].x == NULL)
+		if (world->bodies[i].x == NULL && world->bodies[i].generation != UINT32_MAX)
 			slot = i;
 	if (slot < 0)
 		return fmDiagError(diag, fm_errLimit, "", 0, 0,
@@ -244,11 +439,13 @@ fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
 		fmBodyRelease(b);
 		return r;
 	}
+	b->memoryEstimate = estimate;
 	if (bodyId)
 	{
 		bodyId->index1 = slot + 1;
-		bodyId->world0 = (uint16_t)(worldId.index1 - 1);
 		bodyId->generation = b->generation;
+		bodyId->world0 = worldId.index1 - 1;
+		bodyId->worldGeneration = worldId.generation;
 	}
 	return fm_ok;
 }
@@ -328,17 +525,25 @@ const int* fmBody_GetSurface(fmBodyId bodyId, int* triangleCount)
 	return b ? b->surface : NULL;
 }
 
+// A state array the caller hands in must be there. Non-finite values are accepted on purpose:
+// the next step's health check reports them and restores the last good state (test_robust.c).
+static bool fmHasState(const fmBody* b, const double* values)
+{
+	FM_ASSERT(values != NULL);
+	return b != NULL && values != NULL;
+}
+
 void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	if (b && positions)
+	if (fmHasState(b, positions))
 		memcpy(b->x, positions, sizeof(double) * 3 * (size_t)b->vertexCount);
 }
 
 void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	if (b == NULL || velocities == NULL)
+	if (!fmHasState(b, velocities))
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
@@ -350,7 +555,8 @@ void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	if (b == NULL)
+	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
+	if (b == NULL || !fmIsFiniteVec3(deltaVelocity))
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
@@ -363,7 +569,8 @@ void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
-	if (b && vertex >= 0 && vertex < b->vertexCount)
+	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
+	if (b && vertex >= 0 && vertex < b->vertexCount && fmIsFiniteVec3(deltaVelocity))
 	{
 		fmStore(b->v, vertex, fmAdd(fmLoad(b->v, vertex), deltaVelocity));
 		fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
@@ -383,6 +590,7 @@ void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
+	FM_ASSERT(axes <= FM_PIN_ALL);
 	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
 		return;
 	b->pinned[vertex] = (uint8_t)(axes & FM_PIN_ALL);
@@ -393,13 +601,18 @@ void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
 bool fmBody_IsPinned(fmBodyId bodyId, int vertex)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
+	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
 	return b && vertex >= 0 && vertex < b->vertexCount && b->pinned[vertex] == FM_PIN_ALL;
 }
 
 int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	if (b == NULL)
+	// Infinite bounds are fine (a half-space); NaN ones catch nothing and are a mistake.
+	bool ordered = !isnan(min.x) && !isnan(min.y) && !isnan(min.z) && !isnan(max.x) &&
+	               !isnan(max.y) && !isnan(max.z);
+	FM_ASSERT(ordered);
+	if (b == NULL || !ordered)
 		return 0;
 	int count = 0;
 	for (int i = 0; i < b->vertexCount; ++i)
@@ -418,6 +631,7 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
+	FM_ASSERT(material != NULL);
 	if (b == NULL)
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
 	fmResult r = fmMaterial_Validate(material, diag);
@@ -436,6 +650,7 @@ fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagn
 double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
+	FM_ASSERT(forces != NULL);
 	if (b == NULL || forces == NULL)
 		return 0.0;
 	memset(forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);

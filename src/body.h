@@ -9,7 +9,7 @@
 
 typedef struct fmBody
 {
-	uint16_t generation;
+	uint32_t generation; // of the body in the slot; UINT32_MAX retires the slot
 	int vertexCount;
 	int tetCount;
 	int firstIndex; // numbering of the source mesh, for export
@@ -64,8 +64,20 @@ typedef struct fmBody
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
-	void* implicitCache; // solver buffers owned by implicit.c (fmImplicitCacheFree)
+	void* implicitCache;   // solver buffers owned by implicit.c (fmImplicitCacheFree)
+	size_t memoryEstimate; // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
+
+// Estimated bytes of a body: its own arrays, and the implicit (and static) solver's cache.
+typedef struct fmBodyMemory
+{
+	size_t body;
+	size_t solver;
+} fmBodyMemory;
+
+// The estimate behind fmEstimateBodyMemory() for a mesh of these counts (@p def may be NULL:
+// the FEM force model without damping).
+fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def);
 
 // body->pinned value of a vertex held on every axis (fmBody_SetPinned); other non-zero values
 // are rollers (fmBody_SetPinnedAxes), free along the axes whose bit is clear.

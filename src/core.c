@@ -25,9 +25,20 @@ void fmSetAllocator(fmAllocFcn* allocFcn, fmFreeFcn* freeFcn)
 	s_freeFcn = freeFcn;
 }
 
-size_t fmGetAllocatedBytes(void) { return s_allocatedBytes; }
+size_t fmGetAllocatedBytes(void)
+{
+	return s_allocatedBytes;
+}
 
-void fmSetAssertFcn(fmAssertFcn* assertFcn) { s_assertFcn = assertFcn; }
+void fmSetAssertFcn(fmAssertFcn* assertFcn)
+{
+	s_assertFcn = assertFcn;
+}
+
+fmAssertFcn* fmGetAssertFcn(void)
+{
+	return s_assertFcn;
+}
 
 void fmSetLogFcn(fmLogFcn* logFcn, void* context)
 {
@@ -124,7 +135,7 @@ void fmDiagClear(fmDiagnostic* diag)
 }
 
 fmResult fmDiagError(fmDiagnostic* diag, fmResult result, const char* file, int line, int column,
-					 const char* format, ...)
+                     const char* format, ...)
 {
 	if (diag == NULL)
 		return result;

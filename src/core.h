@@ -26,14 +26,17 @@ void fmLog(fmLogLevel level, const char* format, ...) __attribute__((format(prin
 
 // Fill @p diag (may be NULL) with an error and return @p result.
 fmResult fmDiagError(fmDiagnostic* diag, fmResult result, const char* file, int line, int column,
-					 const char* format, ...) __attribute__((format(printf, 6, 7)));
+                     const char* format, ...) __attribute__((format(printf, 6, 7)));
 
 // Record a warning in @p diag (may be NULL) and send it to the log hook.
 void fmDiagWarn(fmDiagnostic* diag, const char* file, int line, const char* format, ...)
-	__attribute__((format(printf, 4, 5)));
+    __attribute__((format(printf, 4, 5)));
 
 // Reset a diagnostic to "ok, no warnings".
 void fmDiagClear(fmDiagnostic* diag);
+
+// The assert hook in use (NULL: the default, which aborts); tests save and restore it.
+fmAssertFcn* fmGetAssertFcn(void);
 
 // Magic for def structs made by fmDefault*Def().
 #define FM_DEF_MAGIC 0x46454D54

@@ -40,6 +40,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	fmDiagClear(diag);
 	fmBody* b = fmGetBody(bodyId);
 	fmWorld* world = fmGetWorldOfBody(bodyId);
+	FM_ASSERT(b != NULL && world != NULL); // a stale id is a programmer error, as everywhere
 	if (b == NULL || world == NULL)
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
 	if (!(tolerance >= FM_MIN_TOLERANCE && tolerance < 1.0) || maxIterations < 1 ||

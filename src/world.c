@@ -38,6 +38,7 @@ fmWorldDef fmDefaultWorldDef(void)
 	def.tolerance = 1e-6;
 	def.cgIterations = 500;
 	def.maxBodies = 64;
+	def.memoryBudget = FM_DEFAULT_MEMORY_BUDGET;
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
 }
@@ -88,6 +89,11 @@ fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag)
 	return fm_ok;
 }
 
+size_t fmWorldTableBytes(int maxBodies)
+{
+	return fmMulSize((size_t)(maxBodies > 0 ? maxBodies : 0), sizeof(fmBody));
+}
+
 fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
@@ -117,29 +123,43 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 	if (def->maxBodies < 1 || def->maxBodies > (1 << 20))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "maxBodies must be in [1, 2^20], got %d", def->maxBodies);
+	if (def->memoryBudget == 0)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "memoryBudget must be > 0 bytes (default %zu = 4 GiB; SIZE_MAX for no "
+		                   "limit)",
+		                   (size_t)FM_DEFAULT_MEMORY_BUDGET);
+	size_t table = fmWorldTableBytes(def->maxBodies);
+	if (table > def->memoryBudget)
+		return fmDiagError(diag, fm_errLimit, "", 0, 0,
+		                   "the table of maxBodies = %d bodies takes %zu bytes, more than the "
+		                   "memoryBudget of %zu bytes: raise the budget or lower maxBodies",
+		                   def->maxBodies, table, def->memoryBudget);
 	return fm_ok;
 }
 
 fmWorldId fmCreateWorld(const fmWorldDef* def)
 {
 	fmWorldId id = {0, 0};
+	FM_ASSERT(def != NULL);
 	if (fmWorldDef_Validate(def, NULL) != fm_ok)
 		return id;
 	for (int i = 0; i < FM_MAX_WORLDS; ++i)
 	{
 		fmWorld* w = &s_worlds[i];
-		if (w->inUse)
+		// A slot whose generation would wrap is retired: its old ids must never come back.
+		if (w->inUse || w->generation == UINT32_MAX)
 			continue;
-		uint16_t generation = (uint16_t)(w->generation + 1);
-		memset(w, 0, sizeof *w);
-		w->bodies = FM_ALLOC_ZERO(fmBody, def->maxBodies);
-		if (w->bodies == NULL)
+		uint32_t generation = w->generation + 1;
+		fmBody* bodies = FM_ALLOC_ZERO(fmBody, def->maxBodies);
+		if (bodies == NULL)
 			return id;
+		memset(w, 0, sizeof *w);
+		w->bodies = bodies;
 		w->generation = generation;
 		w->inUse = true;
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
-		id.index1 = (uint16_t)(i + 1);
+		id.index1 = i + 1;
 		id.generation = generation;
 		return id;
 	}
@@ -156,10 +176,10 @@ fmWorld* fmGetWorld(fmWorldId id)
 
 fmWorld* fmGetWorldOfBody(fmBodyId id)
 {
-	if (id.world0 >= FM_MAX_WORLDS)
+	if (id.index1 == 0 || id.world0 < 0 || id.world0 >= FM_MAX_WORLDS)
 		return NULL;
 	fmWorld* w = &s_worlds[id.world0];
-	return w->inUse ? w : NULL;
+	return (w->inUse && w->generation == id.worldGeneration) ? w : NULL;
 }
 
 static fmWorld* fmWorldOrAssert(fmWorldId id)
@@ -178,7 +198,7 @@ void fmDestroyWorld(fmWorldId worldId)
 		if (w->bodies[i].x)
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
-	uint16_t generation = w->generation;
+	uint32_t generation = w->generation;
 	memset(w, 0, sizeof *w);
 	w->generation = generation;
 }
@@ -190,8 +210,11 @@ bool fmWorld_IsValid(fmWorldId worldId)
 
 const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId)
 {
+	// A stale id gets a diagnostic that says so, never NULL (callers print it unchecked).
+	static const fmDiagnostic s_invalidId = {.result = fm_errInvalidId,
+	                                         .message = "invalid or destroyed world id"};
 	fmWorld* w = fmWorldOrAssert(worldId);
-	return w ? &w->lastError : NULL;
+	return w ? &w->lastError : &s_invalidId;
 }
 
 fmStepStats fmWorld_GetStepStats(fmWorldId worldId)
@@ -227,6 +250,7 @@ void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator)
 fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
+	FM_ASSERT(floor != NULL);
 	if (w == NULL)
 		return fm_errInvalidId;
 	fmResult r = fmFloorDef_Validate(floor, &w->lastError);
@@ -378,9 +402,9 @@ static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 	w->warnedStep = true;
 	fmDiagWarn(&w->lastError, "", 0,
 	           "explicit step %.3g s is more than twice the estimated stability limit %.3g s: "
-	           "expect an explosion; use at least %d substeps per frame of %.3g s, or the implicit "
-	           "integrator",
-	           dt, limit, (int)ceil(frameTime / limit), frameTime);
+	           "expect an explosion; use at least %.0f substeps per frame of %.3g s, or the "
+	           "implicit integrator",
+	           dt, limit, ceil(frameTime / limit), frameTime);
 }
 
 // A frame the integrators can take: 1 to FM_MAX_SUBSTEPS substeps of FM_MIN_SUBSTEP to

@@ -6,7 +6,7 @@
 
 typedef struct fmWorld
 {
-	uint16_t generation;
+	uint32_t generation; // of the world in the slot; UINT32_MAX retires the slot
 	bool inUse;
 	fmWorldDef def;
 	int bodyCapacity;
@@ -17,6 +17,9 @@ typedef struct fmWorld
 } fmWorld;
 
 
-// Resolve ids; NULL if stale.
+// Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
 fmWorld* fmGetWorld(fmWorldId id);
 fmWorld* fmGetWorldOfBody(fmBodyId id);
+
+// Bytes of a world's body table (counted against fmWorldDef.memoryBudget).
+size_t fmWorldTableBytes(int maxBodies);

@@ -301,3 +301,8 @@ femto_cli_test(run_scene_device ARGS "run|/dev/zero" CODE 1
   REGEX "/dev/zero: not a regular file: expected a scene file on disk")
 femto_cli_test(bench_repeats_too_large ARGS "bench|--repeats|99999999999" CODE 2
   REGEX "--repeats: 99999999999 is too large \\(at most 1000\\)")
+# A generated box beyond the memory budget is refused before it is generated (5 GB before).
+femto_cli_test(scene_box_over_budget ARGS "run|${FEMTO_CLI_DATA}/box_too_big.json" CODE 1
+  REGEX "box:280,280,280 makes 131712000 tets; its body needs about 5[0-9.]+e\\+04 MiB.*memory budget of 4096 MiB")
+femto_cli_test(scene_memory_budget ARGS "run|${FEMTO_CLI_DATA}/over_budget.json" CODE 1
+  REGEX "box:20,20,20 makes 48000 tets.*more than the memory budget of 1 MiB")

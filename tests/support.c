@@ -15,7 +15,7 @@ fmWorldDef fmTestFreeWorldDef(void)
 
 fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmBodyDef* bodyDef)
 {
-	fmBodyId none = {0, 0, 0};
+	fmBodyId none = {0, 0, 0, 0};
 	fmTetMesh mesh;
 	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, NULL) !=
 	    fm_ok)
@@ -38,7 +38,7 @@ fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmB
 fmBodyId fmTestMakeBox(fmWorldId* world, int nx, int ny, int nz, fmVec3 size, fmMaterial material,
                        fmForceModel forceModel)
 {
-	fmBodyId none = {0, 0, 0};
+	fmBodyId none = {0, 0, 0, 0};
 	fmTetMesh mesh;
 	if (fmMakeBoxMesh(nx, ny, nz, fmMakeVec3(0, 0, 0), size, &mesh) != fm_ok)
 		return none;

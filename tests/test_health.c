@@ -13,7 +13,7 @@
 static fmBodyId makeBody(fmWorldId* world, const fmWorldDef* worldDef, int nx, int ny, int nz,
                          fmVec3 lo, fmVec3 hi, fmMaterial material, double density)
 {
-	fmBodyId none = {0, 0, 0};
+	fmBodyId none = {0, 0, 0, 0};
 	fmTetMesh mesh;
 	if (fmMakeBoxMesh(nx, ny, nz, lo, hi, &mesh) != fm_ok)
 		return none;

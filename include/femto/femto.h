@@ -20,7 +20,19 @@
 
 FM_C_BEGIN
 
-/// Create a world. Returns a null id (index1 == 0) if the def is invalid or memory is short.
+/// Largest absolute node coordinate a body accepts (m); beyond it energies and stiffnesses
+/// overflow long before anything is simulated.
+#define FM_MAX_COORDINATE 1e9
+
+// Argument checks: a call with a stale or null id, a NULL pointer it needs, a vertex index out
+// of range or a non-finite vector is a programmer error. It goes to the assert hook
+// (fmSetAssertFcn, in builds with FM_ASSERT) and, whatever the hook returns, the call does
+// nothing and returns a safe value: 0, NULL, false, an empty struct or fm_errInvalidId /
+// fm_errParameter. Bad data in a def (fmWorldDef_Validate, fmBodyDef_Validate) is not a
+// programmer error: it gets a result code and a diagnostic, never an assert.
+
+/// Create a world. Returns a null id (index1 == 0) if the def is invalid or memory is short,
+/// or when all 128 world slots are in use.
 FM_API fmWorldId fmCreateWorld(const fmWorldDef* def);
 
 /// Check a world def; the diagnostic says which field is wrong and what would work.
@@ -42,7 +54,7 @@ FM_API bool fmWorld_IsValid(fmWorldId worldId);
 /// in fmStepStats.unconvergedSteps, or fm_errNotConverged with fmWorldDef.notConvergedIsError.
 FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
 
-/// The diagnostic of the last failed step.
+/// The diagnostic of the last failed step (for a stale id: one that says so, never NULL).
 FM_API const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId);
 
 /// Counters of the last step.
@@ -66,13 +78,26 @@ FM_API void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator);
 /// Costs one tangent-stiffness pass (about a microsecond per tet). Returns 0 for an empty world.
 FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
 
-/// Create a body from a def with a mesh. Tets are reoriented positive; degenerate tets are
-/// rejected (fm_errDegenerate with the tet index in @p diag).
+/// Create a body from a def with a mesh. The mesh's positions and tets are copied (the mesh is
+/// not modified); tets are reoriented positive; degenerate tets are rejected (fm_errDegenerate
+/// with the tet index in @p diag). A body whose estimated memory (fmEstimateBodyMemory()) does
+/// not fit in what the world's memory budget has left is refused with fm_errLimit before
+/// anything is allocated. @p bodyId (optional) is zeroed on failure.
 FM_API fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
                              fmDiagnostic* diag);
 
-/// Check a body def (material, mass, damping ranges, mesh) without creating anything.
+/// Check a body def without creating anything: material, mass, damping ranges and the mesh:
+/// node and tet counts in [1, FM_MAX_NODES] and [1, FM_MAX_TETS], non-NULL positions and tets,
+/// firstIndex 0 or 1, finite coordinates within FM_MAX_COORDINATE, tets of 4 distinct nodes in
+/// range and not degenerate. Whatever passes, fmCreateBody() can build (memory permitting).
 FM_API fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag);
+
+/// Estimated bytes a body of this def takes: its arrays, and the implicit (and static) solver's
+/// cache that the first implicit step or fmBody_SolveStatic() adds (about 16 ints a tet for the
+/// matrix slots plus 9 doubles a matrix block, twice with stiffness damping). Only the mesh's
+/// counts are read; the number of edges is estimated (within a few percent for solid meshes).
+/// Returns 0 if there is no mesh. fmCreateBody() checks it against fmWorldDef.memoryBudget.
+FM_API size_t fmEstimateBodyMemory(const fmBodyDef* def);
 
 /// Destroy a body.
 FM_API void fmDestroyBody(fmBodyId bodyId);
@@ -92,7 +117,9 @@ FM_API const double* fmBody_GetPositions(fmBodyId bodyId);
 /// Current velocities: 3 * vertexCount doubles.
 FM_API const double* fmBody_GetVelocities(fmBodyId bodyId);
 
-/// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state.
+/// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state. Non-finite
+/// values are taken: the next fmWorld_Step() reports them (fm_errNumerical) and restores the
+/// last state that passed its checks. Same for fmBody_SetVelocities().
 FM_API void fmBody_SetPositions(fmBodyId bodyId, const double* positions);
 
 /// Overwrite velocities (3 * vertexCount).

@@ -173,6 +173,10 @@ FM_API fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag)
 /// Shortest substep (s) fmWorld_Step takes.
 #define FM_MIN_SUBSTEP 1e-12
 
+/// The default fmWorldDef.memoryBudget: 4 GiB (all of the address space on 32-bit systems).
+#define FM_DEFAULT_MEMORY_BUDGET                                                                   \
+	((size_t)(SIZE_MAX >> 31 > 1 ? ((uint64_t)4 << 30) : (uint64_t)SIZE_MAX))
+
 /// World definition. Get one from fmDefaultWorldDef().
 typedef struct fmWorldDef
 {
@@ -186,11 +190,17 @@ typedef struct fmWorldDef
 	/// implicit: a step that ends above the tolerance is an error (fm_errNotConverged, state
 	/// restored) instead of a warning counted in fmStepStats.unconvergedSteps (default false)
 	bool notConvergedIsError;
-	/// explicit: every frame takes at least the substeps that the stability limit at the
-	/// bodies' current deformation asks for (fmWorld_EstimateExplicitStep), up to
-	/// FM_MAX_SUBSTEPS; costs one tangent-stiffness pass per frame (default false)
+	/// explicit: substeps of at most 0.3 of the stability limit at the bodies' current
+	/// deformation (fmWorld_EstimateExplicitStep), and at least the count given to
+	/// fmWorld_Step; the limit is re-evaluated when the deformation moves (docs/robustness.md)
+	/// (default false)
 	bool autoSubstep;
 	int maxBodies;     ///< capacity, >= 1 (default 64)
+	/// Bytes the world's body table and bodies may take, >= the table (maxBodies bodies of a few
+	/// hundred bytes each); default 4 GiB (FM_DEFAULT_MEMORY_BUDGET), SIZE_MAX for no limit.
+	/// fmCreateBody() estimates a body before allocating anything (fmEstimateBodyMemory(), the
+	/// implicit solver's matrix included) and refuses it with fm_errLimit beyond the budget.
+	size_t memoryBudget;
 	int internalValue; ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;
 
@@ -227,19 +237,22 @@ typedef struct fmBodyDef
 /// The default body: the seeds' bouncy house parameters (no mesh).
 FM_API fmBodyDef fmDefaultBodyDef(void);
 
-/// World handle. Zero-initialised means null.
+/// World handle. Zero-initialised means null. Generations are 32-bit and a slot is retired
+/// before its generation would wrap, so an id of a destroyed world never becomes valid again.
 typedef struct fmWorldId
 {
-	uint16_t index1;     ///< 1-based slot
-	uint16_t generation; ///< catches stale ids
+	int32_t index1;      ///< 1-based slot, 0 for the null id
+	uint32_t generation; ///< catches stale ids
 } fmWorldId;
 
-/// Body handle. Zero-initialised means null.
+/// Body handle. Zero-initialised means null. It names its world's slot and generation too, so an
+/// id of a body in a destroyed world never reaches a body of a later world in that slot.
 typedef struct fmBodyId
 {
-	int32_t index1;      ///< 1-based slot in the world
-	uint16_t world0;     ///< world slot
-	uint16_t generation; ///< catches stale ids
+	int32_t index1;           ///< 1-based slot in the world, 0 for the null id
+	uint32_t generation;      ///< catches stale ids
+	int32_t world0;           ///< world slot (0-based)
+	uint32_t worldGeneration; ///< generation of the world the body was created in
 } fmBodyId;
 
 /// Health of a body after a step.

@@ -1,0 +1,252 @@
+// libFuzzer entry for the C API's def structs and argument checks: fmWorldDef, fmBodyDef (with
+// its fmTetMesh) and fmMaterial filled from the fuzzer's bytes, whole or field by field, go
+// through Validate and Create; whatever is created takes a step, then public calls get fuzzed
+// arguments (vertex indices, vectors, floors, materials, integrators, stale ids). The assert
+// hook counts instead of aborting: a programmer error must come back as a safe result.
+// What the harness keeps consistent (the API cannot check it): pointers point to real arrays,
+// and a count within the limits never exceeds the array behind it.
+#include "fuzz_reader.h"
+
+#include <femto/femto.h>
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
+
+enum
+{
+	fuzz_maxNodes = 64,
+	fuzz_maxTets = 128,
+};
+
+static int s_asserts;
+
+static int fuzzAssert(const char* condition, const char* fileName, int lineNumber)
+{
+	(void)condition;
+	(void)fileName;
+	(void)lineNumber;
+	++s_asserts;
+	return 0;
+}
+
+// A count as fuzzed, but within the array's @p capacity unless it is beyond @p limit or not
+// positive (those the API rejects without reading the array).
+static int fuzzCount(int value, int capacity, int limit)
+{
+	if (value <= 0 || value > limit)
+		return value;
+	return 1 + (value - 1) % capacity;
+}
+
+// A mesh struct of fuzzed bytes over fixed arrays (valid pointers or NULL).
+static void fuzzMesh(fmFuzzReader* r, fmTetMesh* mesh, double* positions, int* tets)
+{
+	uint8_t how = fmFuzzByte(r);
+	if (how & 1)
+	{
+		// Counts and numbering raw, arrays from the input.
+		fmFuzzBytes(r, mesh, sizeof *mesh);
+		mesh->nodeCount = fuzzCount(mesh->nodeCount, fuzz_maxNodes, FM_MAX_NODES);
+		mesh->tetCount = fuzzCount(mesh->tetCount, fuzz_maxTets, FM_MAX_TETS);
+	}
+	else
+	{
+		memset(mesh, 0, sizeof *mesh);
+		mesh->nodeCount = 4 + fmFuzzPick(r, fuzz_maxNodes - 3);
+		mesh->tetCount = 1 + fmFuzzPick(r, fuzz_maxTets);
+		mesh->firstIndex = fmFuzzPick(r, 8) == 0 ? (int)fmFuzzByte(r) - 128 : fmFuzzPick(r, 2);
+	}
+	mesh->positions = (how & 2) ? NULL : positions;
+	mesh->tets = (how & 4) ? NULL : tets;
+	mesh->nodeAttributes = NULL;
+	mesh->nodeMarkers = NULL;
+	mesh->tetAttributes = NULL;
+	for (int k = 0; k < 3 * fuzz_maxNodes; ++k)
+		positions[k] = (how & 8) ? fmFuzzDouble(r, -2.0, 2.0) : (fmFuzzByte(r) - 128) / 64.0;
+	int nodes = mesh->nodeCount > 0 && mesh->nodeCount <= fuzz_maxNodes ? mesh->nodeCount : 4;
+	for (int k = 0; k < 4 * fuzz_maxTets; ++k)
+		tets[k] = (how & 16) ? (int)fmFuzzByte(r) - 2 : fmFuzzPick(r, nodes);
+}
+
+// Whole struct from raw bytes, or the default with some fields replaced. Returns true when the
+// caller should keep the default's magic (internalValue) as well.
+static bool fuzzStruct(fmFuzzReader* r, void* def, size_t size, const void* defaults)
+{
+	uint8_t how = fmFuzzByte(r);
+	memcpy(def, defaults, size);
+	if (how & 1)
+		fmFuzzBytes(r, def, size);
+	else
+	{
+		// Overwrite a few 8-byte-aligned words with fuzzed doubles or raw bytes.
+		int words = fmFuzzPick(r, 6);
+		for (int w = 0; w < words; ++w)
+		{
+			size_t at = 8 * (size_t)fmFuzzPick(r, (int)(size / 8));
+			double value = fmFuzzDouble(r, -10.0, 10.0);
+			if (at + sizeof value <= size)
+				memcpy((uint8_t*)def + at, &value, sizeof value);
+		}
+	}
+	return (how & 6) != 6;
+}
+
+// A bool holds 0 or 1: any other byte in one is undefined behaviour in the caller, not an input
+// the library could check.
+static void fuzzFixFloor(fmFloorDef* floor)
+{
+	uint8_t byte;
+	memcpy(&byte, &floor->enabled, 1);
+	floor->enabled = byte & 1;
+}
+
+static fmMaterial fuzzMaterial(fmFuzzReader* r)
+{
+	fmMaterial material = fmMakeMaterialLame(fm_stvk, 20000.0, 5000.0);
+	fmMaterial defaults = material;
+	fuzzStruct(r, &material, sizeof material, &defaults);
+	uint8_t energies = fmFuzzByte(r);
+	material.stretchEnergy = (energies & 1) ? fmFuzzStretchEnergy : NULL;
+	material.invariantEnergy = (energies & 2) ? fmFuzzInvariantEnergy : NULL;
+	material.userParams = NULL;
+	return material;
+}
+
+static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
+{
+	fmWorldDef defaults = fmDefaultWorldDef();
+	fmWorldDef def;
+	if (fuzzStruct(r, &def, sizeof def, &defaults))
+		def.internalValue = defaults.internalValue;
+	fuzzFixFloor(&def.floor);
+	// Bounded work per input: the checks of these limits are still reached (0, negative).
+	if (def.newtonIterations > 8)
+		def.newtonIterations = 1 + def.newtonIterations % 8;
+	if (def.cgIterations > 100)
+		def.cgIterations = 1 + def.cgIterations % 100;
+	if (def.maxBodies > 64 && def.maxBodies <= (1 << 20))
+		def.maxBodies = 1 + def.maxBodies % 64;
+	return def;
+}
+
+static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
+{
+	fmBodyDef defaults = fmDefaultBodyDef();
+	fmBodyDef def;
+	if (fuzzStruct(r, &def, sizeof def, &defaults))
+		def.internalValue = defaults.internalValue;
+	def.mesh = fmFuzzPick(r, 8) == 0 ? NULL : mesh;
+	fmMaterial material = fuzzMaterial(r);
+	if (fmFuzzPick(r, 2))
+		def.material = material;
+	else
+	{
+		def.material.stretchEnergy = material.stretchEnergy;
+		def.material.invariantEnergy = material.invariantEnergy;
+		def.material.userParams = NULL;
+	}
+	return def;
+}
+
+// Public calls with fuzzed arguments on a live (or stale) body.
+static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
+{
+	int n = fmBody_IsValid(body) ? fmBody_GetVertexCount(body) : 0;
+	double state[3 * fuzz_maxNodes];
+	int calls = fmFuzzPick(r, 12);
+	for (int c = 0; c < calls; ++c)
+	{
+		int vertex = fmFuzzPick(r, n + 3) - 1;
+		switch (fmFuzzPick(r, 12))
+		{
+		case 0:
+			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
+			break;
+		case 1:
+			fmBody_SetPinnedAxes(body, vertex, fmFuzzByte(r));
+			break;
+		case 2:
+			fmBody_PinBox(body, fmFuzzVec3(r, -2.0, 2.0), fmFuzzVec3(r, -2.0, 2.0));
+			break;
+		case 3:
+			fmWorld_SetGravity(world, fmFuzzVec3(r, -20.0, 20.0));
+			break;
+		case 4:
+		{
+			fmFloorDef floor;
+			fmFuzzBytes(r, &floor, sizeof floor);
+			fuzzFixFloor(&floor);
+			fmWorld_SetFloor(world, fmFuzzPick(r, 8) ? &floor : NULL);
+			break;
+		}
+		case 5:
+		{
+			fmMaterial material = fuzzMaterial(r);
+			fmBody_SetMaterial(body, fmFuzzPick(r, 8) ? &material : NULL, NULL);
+			break;
+		}
+		case 6:
+			fmWorld_SetIntegrator(world, (fmIntegrator)(fmFuzzPick(r, 4) - 1));
+			break;
+		case 7:
+			for (int k = 0; k < 3 * n && k < 3 * fuzz_maxNodes; ++k)
+				state[k] = fmFuzzDouble(r, -2.0, 2.0);
+			if (n <= fuzz_maxNodes && fmFuzzPick(r, 2))
+				fmBody_SetVelocities(body, fmFuzzPick(r, 8) ? state : NULL);
+			else if (n <= fuzz_maxNodes)
+				fmBody_SetPositions(body, fmFuzzPick(r, 8) ? state : NULL);
+			break;
+		case 8:
+			fmBody_ApplyImpulse(body, fmFuzzVec3(r, -10.0, 10.0));
+			break;
+		case 9:
+			(void)fmBody_IsPinned(body, vertex);
+			break;
+		case 10:
+			fmWorld_Step(world, fmFuzzDouble(r, 0.0, 0.05), fmFuzzPick(r, 4) - 1);
+			break;
+		default:
+		{
+			double residual;
+			fmBody_SolveStatic(body, fmFuzzDouble(r, 0.0, 0.1), fmFuzzPick(r, 4) - 1,
+			                   fmFuzzPick(r, 2) ? &residual : NULL, NULL);
+			break;
+		}
+		}
+	}
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+	fmSetAssertFcn(fuzzAssert);
+	fmFuzzReader reader = {data, size, 0};
+	fmFuzzReader* r = &reader;
+	double positions[3 * fuzz_maxNodes];
+	int tets[4 * fuzz_maxTets];
+	fmTetMesh mesh;
+	fuzzMesh(r, &mesh, positions, tets);
+	fmWorldDef worldDef = fuzzWorldDef(r);
+	fmBodyDef bodyDef = fuzzBodyDef(r, &mesh);
+	fmDiagnostic diag;
+	fmWorldDef_Validate(&worldDef, &diag);
+	fmBodyDef_Validate(&bodyDef, &diag);
+	(void)fmEstimateBodyMemory(&bodyDef);
+	fmWorldId world = fmCreateWorld(fmFuzzPick(r, 16) ? &worldDef : NULL);
+	fmBodyId body;
+	memset(&body, 0, sizeof body);
+	fmCreateBody(world, fmFuzzPick(r, 16) ? &bodyDef : NULL, fmFuzzPick(r, 8) ? &body : NULL,
+	             fmFuzzPick(r, 2) ? &diag : NULL);
+	if (!fmWorld_IsValid(world))
+		memset(&body, 0, sizeof body);
+	if (fmWorld_IsValid(world))
+		fmWorld_Step(world, 0.003, 1);
+	fuzzCalls(r, world, body);
+	if (fmBody_IsValid(body) && fmFuzzPick(r, 2))
+		fmDestroyBody(body);
+	if (fmWorld_IsValid(world))
+		fmDestroyWorld(world);
+	// Everything is stale now: every call must refuse it.
+	fuzzCalls(r, world, body);
+	fmDestroyBody(body);
+	fmDestroyWorld(world);
+	return 0;
+}

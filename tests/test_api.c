@@ -1,0 +1,507 @@
+// The C API's contract: ids never alias (stale ids from destroyed worlds and bodies stay
+// invalid through any number of create/destroy cycles), body defs are validated for everything
+// fmCreateBody relies on, every public call checks its arguments (an assert through the hook in
+// debug builds, a safe result in every build), and bodies beyond the memory budget are refused.
+#include "core.h"
+#include "test.h"
+#include "world.h"
+
+#include <femto/femto.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+// FM_ASSERT reaches the hook only in builds with asserts (base.h).
+#if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
+#define API_ASSERTS_ON 1
+#else
+#define API_ASSERTS_ON 0
+#endif
+
+static int s_asserts;
+static char s_lastAssert[256];
+static fmAssertFcn* s_previousAssert;
+
+static int recordAssert(const char* condition, const char* fileName, int lineNumber)
+{
+	snprintf(s_lastAssert, sizeof s_lastAssert, "%s at %s:%d", condition, fileName, lineNumber);
+	++s_asserts;
+	return 0;
+}
+
+// Route asserts to the recorder (the runner's hook counts them as failures).
+static void recordAssertsBegin(void)
+{
+	s_previousAssert = fmGetAssertFcn();
+	fmSetAssertFcn(recordAssert);
+	s_asserts = 0;
+	s_lastAssert[0] = 0;
+}
+
+// Restore the runner's hook; returns the asserts recorded since recordAssertsBegin().
+static int recordAssertsEnd(void)
+{
+	fmSetAssertFcn(s_previousAssert);
+	return s_asserts;
+}
+
+// @p count asserts were recorded: at least one where asserts are compiled in, none otherwise.
+#define CHECK_ASSERTED(count)                                                                      \
+	do                                                                                             \
+	{                                                                                              \
+		int n_ = (count);                                                                          \
+		if (API_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                     \
+			FAIL_AT("expected %s asserts, got %d", API_ASSERTS_ON ? ">= 1" : "0", n_);             \
+	} while (0)
+
+static const double s_tetNodes[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+static const int s_tetTets[4] = {0, 1, 2, 3};
+
+// A one-tet mesh on static arrays (the caller may point them elsewhere).
+static fmTetMesh oneTetMesh(void)
+{
+	fmTetMesh mesh;
+	memset(&mesh, 0, sizeof mesh);
+	mesh.nodeCount = 4;
+	mesh.positions = (double*)s_tetNodes;
+	mesh.tetCount = 1;
+	mesh.tets = (int*)s_tetTets;
+	return mesh;
+}
+
+static fmBodyId makeTetBody(fmWorldId world)
+{
+	fmTetMesh mesh = oneTetMesh();
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	fmBodyId body;
+	memset(&body, 0, sizeof body);
+	fmCreateBody(world, &def, &body, NULL);
+	return body;
+}
+
+// ---- ids --------------------------------------------------------------------------------------
+
+TEST(stale_body_id_of_a_destroyed_world_does_not_reach_the_next_world)
+{
+	fmWorldDef def = fmDefaultWorldDef();
+	fmWorldId a = fmCreateWorld(&def);
+	fmBodyId old = makeTetBody(a);
+	CHECK(fmBody_IsValid(old));
+	fmDestroyWorld(a);
+	CHECK(!fmBody_IsValid(old));
+
+	fmWorldId b = fmCreateWorld(&def);
+	fmBodyId body = makeTetBody(b);
+	CHECK(fmBody_IsValid(body));
+	CHECK(!fmWorld_IsValid(a));
+	CHECK(!fmBody_IsValid(old));
+	recordAssertsBegin();
+	fmDestroyBody(old); // a programmer error: asserts, and must not touch world B's body
+	CHECK_INT(fmBody_GetVertexCount(old), 0);
+	CHECK_ASSERTED(recordAssertsEnd());
+	CHECK(fmBody_IsValid(body));
+	CHECK_INT(fmBody_GetVertexCount(body), 4);
+	fmDestroyWorld(b);
+}
+
+TEST(ids_never_alias_over_seventy_thousand_create_destroy_cycles)
+{
+	// 16-bit generations wrap after 65,536 cycles of a slot.
+	fmWorldDef def = fmDefaultWorldDef();
+	def.maxBodies = 1;
+	fmWorldId firstWorld = fmCreateWorld(&def);
+	fmBodyId firstBody = makeTetBody(firstWorld);
+	fmDestroyBody(firstBody);
+	fmBodyId secondBody = makeTetBody(firstWorld); // same slot, next generation
+	CHECK(fmBody_IsValid(secondBody));
+	CHECK(!fmBody_IsValid(firstBody));
+	fmDestroyWorld(firstWorld);
+	int aliased = 0, failed = 0;
+	for (int cycle = 0; cycle < 70000; ++cycle)
+	{
+		fmWorldId world = fmCreateWorld(&def);
+		fmBodyId body = makeTetBody(world);
+		failed += !fmBody_IsValid(body);
+		aliased +=
+		    fmWorld_IsValid(firstWorld) || fmBody_IsValid(firstBody) || fmBody_IsValid(secondBody);
+		fmDestroyBody(body);
+		for (int again = 0; again < 1 && cycle % 7 == 0; ++again)
+		{
+			// Body slots cycle within one world as well.
+			body = makeTetBody(world);
+			aliased += fmBody_IsValid(firstBody) || fmBody_IsValid(secondBody);
+			fmDestroyBody(body);
+		}
+		fmDestroyWorld(world);
+	}
+	CHECK_INT(failed, 0);
+	CHECK_INT(aliased, 0);
+}
+
+TEST(a_body_slot_is_retired_before_its_generation_wraps)
+{
+	fmWorldDef def = fmDefaultWorldDef();
+	def.maxBodies = 2;
+	fmWorldId world = fmCreateWorld(&def);
+	fmWorld* w = fmGetWorld(world);
+	CHECK(w != NULL);
+	if (w == NULL)
+		return;
+	w->bodies[0].generation = UINT32_MAX - 1;
+	fmBodyId last = makeTetBody(world); // takes generation UINT32_MAX
+	CHECK_INT(last.index1, 1);
+	CHECK(fmBody_IsValid(last));
+	fmDestroyBody(last);
+	fmBodyId next = makeTetBody(world); // slot 1 is retired: slot 2
+	CHECK_INT(next.index1, 2);
+	CHECK(!fmBody_IsValid(last));
+	fmDestroyBody(next);
+	fmBodyId none;
+	fmTetMesh mesh = oneTetMesh();
+	fmBodyDef bodyDef = fmDefaultBodyDef();
+	bodyDef.mesh = &mesh;
+	CHECK_INT(fmCreateBody(world, &bodyDef, &none, NULL), fm_ok); // slot 2 again
+	CHECK_INT(none.index1, 2);
+	fmDestroyWorld(world);
+}
+
+TEST(null_ids_are_invalid)
+{
+	fmWorldId world;
+	fmBodyId body;
+	memset(&world, 0, sizeof world);
+	memset(&body, 0, sizeof body);
+	CHECK(!fmWorld_IsValid(world));
+	CHECK(!fmBody_IsValid(body));
+	fmWorldDef def = fmDefaultWorldDef();
+	fmWorldId live = fmCreateWorld(&def);
+	fmBodyId liveBody = makeTetBody(live);
+	CHECK(fmBody_IsValid(liveBody));
+	body.world0 = liveBody.world0;
+	body.worldGeneration = liveBody.worldGeneration;
+	body.generation = liveBody.generation;
+	CHECK(!fmBody_IsValid(body)); // index1 == 0 is null whatever the rest says
+	fmDestroyWorld(live);
+}
+
+// ---- body defs --------------------------------------------------------------------------------
+
+// Validate and create both reject the def with @p expected and a message containing @p text.
+static void checkMeshRejected(int* failures_, const fmTetMesh* mesh, fmResult expected,
+                              const char* text)
+{
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = mesh;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	CHECK_INT(fmBodyDef_Validate(&def, &diag), expected);
+	CHECK_STR_CONTAINS(diag.message, text);
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body;
+	memset(&body, 0xff, sizeof body);
+	size_t before = fmGetAllocatedBytes();
+	CHECK_INT(fmCreateBody(world, &def, &body, &diag), expected);
+	CHECK_STR_CONTAINS(diag.message, text);
+	CHECK_INT(body.index1, 0);
+	CHECK_INT(fmGetAllocatedBytes(), before);
+	fmDestroyWorld(world);
+}
+
+TEST(body_def_validation_covers_everything_create_relies_on)
+{
+	fmTetMesh mesh = oneTetMesh();
+	mesh.positions = NULL;
+	checkMeshRejected(failures_, &mesh, fm_errParameter, "positions");
+	mesh = oneTetMesh();
+	mesh.tets = NULL;
+	checkMeshRejected(failures_, &mesh, fm_errParameter, "tets");
+	mesh = oneTetMesh();
+	mesh.nodeCount = 0;
+	checkMeshRejected(failures_, &mesh, fm_errEmpty, "no tets");
+	mesh = oneTetMesh();
+	mesh.tetCount = -3;
+	checkMeshRejected(failures_, &mesh, fm_errEmpty, "no tets");
+	mesh = oneTetMesh();
+	mesh.tetCount = FM_MAX_TETS + 1;
+	checkMeshRejected(failures_, &mesh, fm_errLimit, "FM_MAX_TETS");
+	mesh = oneTetMesh();
+	mesh.nodeCount = 3; // tet 0 refers to node 3
+	checkMeshRejected(failures_, &mesh, fm_errIndex, "node 3");
+	mesh = oneTetMesh();
+	mesh.firstIndex = 1 << 30; // the messages add it to indices
+	checkMeshRejected(failures_, &mesh, fm_errParameter, "firstIndex");
+
+	int tets[4] = {0, 1, 2, -1};
+	mesh = oneTetMesh();
+	mesh.tets = tets;
+	checkMeshRejected(failures_, &mesh, fm_errIndex, "node -1");
+	tets[3] = 1;
+	checkMeshRejected(failures_, &mesh, fm_errIndex, "repeats");
+
+	double positions[12];
+	memcpy(positions, s_tetNodes, sizeof positions);
+	mesh = oneTetMesh();
+	mesh.positions = positions;
+	positions[7] = NAN;
+	checkMeshRejected(failures_, &mesh, fm_errRange, "node 2");
+	positions[7] = INFINITY;
+	checkMeshRejected(failures_, &mesh, fm_errRange, "finite");
+	positions[7] = 2.0 * FM_MAX_COORDINATE;
+	checkMeshRejected(failures_, &mesh, fm_errRange, "FM_MAX_COORDINATE");
+	positions[7] = 0.0; // node 2 at the origin: on top of node 0
+	checkMeshRejected(failures_, &mesh, fm_errDegenerate, "tet 0");
+
+	// Masses the integrators would divide by zero with: a subnormal particle mass.
+	fmBodyDef def = fmDefaultBodyDef();
+	mesh = oneTetMesh();
+	def.mesh = &mesh;
+	def.particleMass = 1e-320;
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body;
+	fmDiagnostic diag;
+	CHECK_INT(fmCreateBody(world, &def, &body, &diag), fm_errRange);
+	CHECK_STR_CONTAINS(diag.message, "mass");
+	fmDestroyWorld(world);
+}
+
+TEST(create_body_leaves_the_callers_mesh_untouched)
+{
+	// One negatively oriented tet: the body flips its own copy.
+	const int inverted[4] = {0, 2, 1, 3};
+	fmTetMesh mesh = oneTetMesh();
+	mesh.tets = (int*)inverted;
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body;
+	CHECK_INT(fmCreateBody(world, &def, &body, NULL), fm_ok);
+	CHECK_INT(inverted[1], 2);
+	const int* tets = fmBody_GetTets(body);
+	CHECK(tets != NULL && tets[0] == 0 && tets[1] == 2 && tets[2] == 3 && tets[3] == 1);
+	fmDestroyWorld(world);
+}
+
+// ---- argument checks --------------------------------------------------------------------------
+
+TEST(every_call_with_a_stale_id_asserts_and_returns_a_safe_value)
+{
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body = makeTetBody(world);
+	fmDestroyWorld(world);
+	fmVec3 zero = fmMakeVec3(0, 0, 0);
+	double buffer[12] = {0};
+	fmTetMesh mesh = oneTetMesh();
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	fmFloorDef floor = worldDef.floor;
+	fmMaterial material = fmDefaultBodyDef().material;
+	fmDiagnostic diag;
+	int triangles = -1;
+
+	recordAssertsBegin();
+	fmDestroyWorld(world);
+	int count = recordAssertsEnd();
+	CHECK_ASSERTED(count);
+#define STALE(call)                                                                                \
+	do                                                                                             \
+	{                                                                                              \
+		recordAssertsBegin();                                                                      \
+		call;                                                                                      \
+		int n_ = recordAssertsEnd();                                                               \
+		if (API_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                     \
+			FAIL_AT("%s: %d asserts", #call, n_);                                                  \
+	} while (0)
+	STALE(CHECK_INT(fmWorld_Step(world, 0.01, 1), fm_errInvalidId));
+	STALE(CHECK_INT(fmWorld_GetLastError(world)->result, fm_errInvalidId));
+	STALE(CHECK_INT(fmWorld_GetStepStats(world).steps, 0));
+	STALE(fmWorld_SetGravity(world, zero));
+	STALE(fmWorld_SetFloor(world, &floor));
+	STALE(fmWorld_SetIntegrator(world, fm_implicit));
+	STALE(CHECK(fmWorld_EstimateExplicitStep(world) == 0.0));
+	STALE(CHECK_INT(fmCreateBody(world, &def, NULL, &diag), fm_errInvalidId));
+	STALE(fmDestroyBody(body));
+	STALE(CHECK_INT(fmBody_GetVertexCount(body), 0));
+	STALE(CHECK_INT(fmBody_GetTetCount(body), 0));
+	STALE(CHECK(fmBody_GetPositions(body) == NULL));
+	STALE(CHECK(fmBody_GetVelocities(body) == NULL));
+	STALE(fmBody_SetPositions(body, buffer));
+	STALE(fmBody_SetVelocities(body, buffer));
+	STALE(CHECK(fmBody_GetMasses(body) == NULL));
+	STALE(CHECK(fmBody_GetTets(body) == NULL));
+	STALE(CHECK(fmBody_GetSurface(body, &triangles) == NULL && triangles == 0));
+	STALE(fmBody_ApplyImpulse(body, zero));
+	STALE(fmBody_ApplyVertexImpulse(body, 0, zero));
+	STALE(CHECK_INT(fmBody_PinBox(body, zero, zero), 0));
+	STALE(fmBody_SetPinned(body, 0, true));
+	STALE(fmBody_SetPinnedAxes(body, 0, 1u));
+	STALE(CHECK(!fmBody_IsPinned(body, 0)));
+	STALE(CHECK_INT(fmBody_GetStats(body).invertedTets, 0));
+	STALE(CHECK_INT(fmBody_SetMaterial(body, &material, &diag), fm_errInvalidId));
+	STALE(CHECK(fmBody_ComputeElasticForces(body, buffer) == 0.0));
+#undef STALE
+	CHECK(!fmBody_IsValid(body));
+	CHECK(!fmWorld_IsValid(world));
+}
+
+TEST(bad_arguments_assert_and_leave_the_body_unchanged)
+{
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body = makeTetBody(world);
+	double before[12], after[12];
+	memcpy(before, fmBody_GetPositions(body), sizeof before);
+	fmVec3 nan3 = fmMakeVec3(0, NAN, 0), one = fmMakeVec3(1, 1, 1);
+	fmFloorDef badFloor = worldDef.floor;
+	badFloor.restitution = 2.0;
+	fmMaterial material = fmDefaultBodyDef().material;
+#define BAD(call)                                                                                  \
+	do                                                                                             \
+	{                                                                                              \
+		recordAssertsBegin();                                                                      \
+		call;                                                                                      \
+		int n_ = recordAssertsEnd();                                                               \
+		if (API_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                     \
+			FAIL_AT("%s: %d asserts", #call, n_);                                                  \
+	} while (0)
+	BAD(CHECK(fmCreateWorld(NULL).index1 == 0));
+	BAD(CHECK_INT(fmWorld_SetFloor(world, NULL), fm_errParameter));
+	// A bad value (a slider gone wrong) is bad input, not a programmer error: a result code and
+	// the world's last error, no assert.
+	recordAssertsBegin();
+	CHECK_INT(fmWorld_SetGravity(world, nan3), fm_errParameter);
+	CHECK_INT(fmWorld_SetFloor(world, &badFloor), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "floor");
+	CHECK_INT(recordAssertsEnd(), 0);
+	BAD(fmWorld_SetIntegrator(world, (fmIntegrator)7));
+	BAD(fmBody_SetPositions(body, NULL));
+	BAD(fmBody_SetVelocities(body, NULL));
+	BAD(fmBody_ApplyImpulse(body, nan3));
+	BAD(fmBody_ApplyVertexImpulse(body, 4, one));
+	BAD(fmBody_ApplyVertexImpulse(body, -1, one));
+	BAD(fmBody_ApplyVertexImpulse(body, 0, nan3));
+	BAD(CHECK_INT(fmBody_PinBox(body, nan3, one), 0));
+	BAD(CHECK_INT(fmBody_PinBox(body, one, nan3), 0));
+	BAD(fmBody_SetPinned(body, 4, true));
+	BAD(fmBody_SetPinnedAxes(body, -1, 1u));
+	BAD(fmBody_SetPinnedAxes(body, 0, 8u));
+	BAD(CHECK(!fmBody_IsPinned(body, 99)));
+	BAD(CHECK(fmBody_SetMaterial(body, NULL, NULL) != fm_ok));
+	BAD(CHECK(fmBody_ComputeElasticForces(body, NULL) == 0.0));
+	BAD(CHECK(fmEstimateBodyMemory(NULL) == 0));
+#undef BAD
+	// Infinite bounds are a half-space, not a mistake.
+	fmVec3 everywhere = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	recordAssertsBegin();
+	CHECK_INT(fmBody_PinBox(body, fmScale(-1.0, everywhere), fmMakeVec3(INFINITY, -1.0, 5.0)), 0);
+	CHECK_INT(recordAssertsEnd(), 0);
+	// Nothing changed: the world steps as before, the body is where it was, at rest.
+	memcpy(after, fmBody_GetPositions(body), sizeof after);
+	CHECK(memcmp(before, after, sizeof before) == 0);
+	CHECK(fmBody_GetStats(body).kineticEnergy == 0.0);
+	CHECK(!fmBody_IsPinned(body, 0));
+	fmStepStats none = fmWorld_GetStepStats(world);
+	CHECK_INT(none.steps, 0);
+	CHECK_INT(fmWorld_Step(world, 0.003, 1), fm_ok);
+	CHECK(fmBody_GetPositions(body)[1] < before[1]); // gravity is still (0, -9.8, 0)
+	CHECK_INT(fmBody_SetMaterial(body, &material, NULL), fm_ok);
+	fmDestroyWorld(world);
+}
+
+// ---- memory budget ----------------------------------------------------------------------------
+
+TEST(memory_budget_is_validated)
+{
+	fmWorldDef def = fmDefaultWorldDef();
+	CHECK(def.memoryBudget == FM_DEFAULT_MEMORY_BUDGET);
+	CHECK(def.memoryBudget >= ((size_t)1 << 31));
+	fmDiagnostic diag;
+	def.memoryBudget = 0;
+	CHECK_INT(fmWorldDef_Validate(&def, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "memoryBudget");
+	CHECK(fmCreateWorld(&def).index1 == 0);
+	def.memoryBudget = 1000; // less than the body table
+	CHECK_INT(fmWorldDef_Validate(&def, &diag), fm_errLimit);
+	CHECK_STR_CONTAINS(diag.message, "maxBodies");
+	def.memoryBudget = SIZE_MAX;
+	CHECK_INT(fmWorldDef_Validate(&def, &diag), fm_ok);
+}
+
+// The estimate against what the body and the implicit solver really allocate.
+static void checkEstimate(int* failures_, int cells, fmForceModel forceModel, double stiffness)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(cells, cells, cells, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh),
+	          fm_ok);
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	worldDef.integrator = fm_implicit;
+	worldDef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.forceModel = forceModel;
+	def.rayleighStiffness = stiffness;
+	size_t estimate = fmEstimateBodyMemory(&def);
+	size_t before = fmGetAllocatedBytes();
+	fmBodyId body;
+	CHECK_INT(fmCreateBody(world, &def, &body, NULL), fm_ok);
+	CHECK_INT(fmWorld_Step(world, 0.01, 1), fm_ok);
+	double used = (double)(fmGetAllocatedBytes() - before);
+	double ratio = (double)estimate / used;
+	if (!(ratio > 0.9 && ratio < 1.25))
+		FAIL_AT("%d^3 cells, force model %d: estimate %zu bytes, used %.0f (ratio %.3f)", cells,
+		        (int)forceModel, estimate, used, ratio);
+	fmDestroyWorld(world);
+	fmFreeTetMesh(&mesh);
+}
+
+TEST(memory_estimate_is_close_to_what_a_body_and_its_solver_allocate)
+{
+	checkEstimate(failures_, 3, fm_fem, 0.0);
+	checkEstimate(failures_, 12, fm_fem, 0.0);
+	checkEstimate(failures_, 12, fm_fem, 0.01);
+	checkEstimate(failures_, 12, fm_fvm, 0.0);
+	checkEstimate(failures_, 12, fm_massSpring, 0.0);
+}
+
+TEST(a_body_beyond_the_memory_budget_is_refused_before_allocating)
+{
+	// Counts only: the estimate reads no array, so a huge "mesh" costs nothing to describe.
+	fmTetMesh huge = oneTetMesh();
+	huge.nodeCount = 281 * 281 * 281;
+	huge.tetCount = 6 * 280 * 280 * 280; // box:280,280,280, under FM_MAX_TETS
+	fmBodyDef hugeDef = fmDefaultBodyDef();
+	hugeDef.mesh = &huge;
+	CHECK(fmEstimateBodyMemory(&hugeDef) > FM_DEFAULT_MEMORY_BUDGET);
+
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(8, 8, 8, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	size_t estimate = fmEstimateBodyMemory(&def);
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	worldDef.maxBodies = 4;
+	// Room for one body and its table, not for two.
+	worldDef.memoryBudget = 4 * sizeof(fmBody) + estimate + estimate / 2;
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId first, second;
+	fmDiagnostic diag;
+	CHECK_INT(fmCreateBody(world, &def, &first, &diag), fm_ok);
+	size_t before = fmGetAllocatedBytes();
+	CHECK_INT(fmCreateBody(world, &def, &second, &diag), fm_errLimit);
+	CHECK_INT(fmGetAllocatedBytes(), before);
+	CHECK_INT(second.index1, 0);
+	CHECK_STR_CONTAINS(diag.message, "MiB");
+	CHECK_STR_CONTAINS(diag.message, "memoryBudget");
+	char bytes[32];
+	snprintf(bytes, sizeof bytes, "%zu bytes", estimate);
+	CHECK_STR_CONTAINS(diag.message, bytes);
+	// Destroying the first body gives its share back.
+	fmDestroyBody(first);
+	CHECK_INT(fmCreateBody(world, &def, &second, &diag), fm_ok);
+	fmDestroyWorld(world);
+	fmFreeTetMesh(&mesh);
+}
