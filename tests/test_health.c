@@ -262,7 +262,6 @@ TEST(gravity_and_floor_are_validated_in_the_setters)
 	floor = fmDefaultFloorDef();
 	floor.maxDepenetrationSpeed = 0.0;
 	CHECK_INT(fmWorld_SetFloor(world, &floor), fm_errParameter);
-	CHECK_INT(fmWorld_SetFloor(world, NULL), fm_errParameter);
 	wdef.gravity = fmMakeVec3(1e30, 0, 0);
 	fmDiagnostic diag;
 	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
