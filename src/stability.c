@@ -15,31 +15,16 @@
 #include <math.h>
 #include <string.h>
 
-// Add the absolute row sums of tet t's tangent stiffness at x into rowSum (3 per vertex).
-static void fmAddTetRowSums(const fmBody* b, const double* x, int t, double* rowSum)
+// Add the absolute row sums of an element matrix K (size x size, rows node-major xyz) to the
+// rows of its nodes.
+static void fmAddRowSums(const double* K, int size, const int* nodes, double* rowSum)
 {
-	double K[144];
-	fmTetHessian(b, x, t, K, 0);
-	for (int r = 0; r < 12; ++r)
+	for (int r = 0; r < size; ++r)
 	{
 		double sum = 0.0;
-		for (int c = 0; c < 12; ++c)
-			sum += fabs(K[12 * r + c]);
-		rowSum[3 * b->tets[4 * t + r / 3] + r % 3] += sum;
-	}
-}
-
-// The same for spring e (6x6).
-static void fmAddSpringRowSums(const fmBody* b, const double* x, int e, double* rowSum)
-{
-	double K[36];
-	fmSpringHessian(b, x, e, K, 0);
-	for (int r = 0; r < 6; ++r)
-	{
-		double sum = 0.0;
-		for (int c = 0; c < 6; ++c)
-			sum += fabs(K[6 * r + c]);
-		rowSum[3 * b->edges[2 * e + r / 3] + r % 3] += sum;
+		for (int c = 0; c < size; ++c)
+			sum += fabs(K[size * r + c]);
+		rowSum[3 * nodes[r / 3] + r % 3] += sum;
 	}
 }
 
@@ -47,12 +32,19 @@ double fmBodyExplicitStepLimit(const fmBody* b)
 {
 	double* rowSum = b->scratch;
 	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	double K[144];
 	if (b->forceModel == fm_massSpring)
 		for (int e = 0; e < b->edgeCount; ++e)
-			fmAddSpringRowSums(b, b->x, e, rowSum);
+		{
+			fmSpringHessian(b, b->x, e, K, 0);
+			fmAddRowSums(K, 6, b->edges + 2 * e, rowSum);
+		}
 	else
 		for (int t = 0; t < b->tetCount; ++t)
-			fmAddTetRowSums(b, b->x, t, rowSum);
+		{
+			fmTetHessian(b, b->x, t, K, 0);
+			fmAddRowSums(K, 12, b->tets + 4 * t, rowSum);
+		}
 	double omega2 = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		omega2 = fmax(omega2, rowSum[k] * b->invMass[k / 3]);

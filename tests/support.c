@@ -1,4 +1,6 @@
 #include "support.h"
+
+#include "core.h"
 #include "test.h"
 
 #include <stddef.h>
@@ -122,4 +124,34 @@ void fmTestPerturb(fmBodyId body, double amplitude)
 		x[k] += fmTestRandom(-amplitude, amplitude);
 	fmBody_SetPositions(body, x);
 	free(x);
+}
+
+static int s_asserts;
+static fmAssertFcn* s_previousAssert;
+
+static int fmTestRecordAssert(const char* condition, const char* fileName, int lineNumber)
+{
+	(void)condition;
+	(void)fileName;
+	(void)lineNumber;
+	++s_asserts;
+	return 0;
+}
+
+void fmTestRecordAssertsBegin(void)
+{
+	s_previousAssert = fmGetAssertFcn();
+	fmSetAssertFcn(fmTestRecordAssert);
+	s_asserts = 0;
+}
+
+int fmTestAssertCount(void)
+{
+	return s_asserts;
+}
+
+int fmTestRecordAssertsEnd(void)
+{
+	fmSetAssertFcn(s_previousAssert);
+	return s_asserts;
 }

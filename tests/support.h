@@ -24,3 +24,29 @@ void fmTestCheckForcesAreMinusGradient(int* failures_, fmBodyId body, int stride
 
 // Move every vertex by uniform noise in [-amplitude, amplitude) per coordinate.
 void fmTestPerturb(fmBodyId body, double amplitude);
+
+// Asserts are compiled in (debug builds, or FEMTO_ENABLE_ASSERT): argument errors reach the hook.
+#if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
+#define FM_TEST_ASSERTS_ON 1
+#else
+#define FM_TEST_ASSERTS_ON 0
+#endif
+
+// Route FM_ASSERT to a counter instead of the runner's hook (which counts asserts as failures).
+void fmTestRecordAssertsBegin(void);
+
+// Asserts recorded since fmTestRecordAssertsBegin().
+int fmTestAssertCount(void);
+
+// Restore the runner's hook; returns the asserts recorded since fmTestRecordAssertsBegin().
+int fmTestRecordAssertsEnd(void);
+
+// An argument error was reported: more asserts than @p before where asserts are compiled in,
+// none otherwise (release builds only return a safe value).
+#define CHECK_ASSERTED_SINCE(before)                                                               \
+	do                                                                                             \
+	{                                                                                              \
+		int n_ = fmTestAssertCount() - (before);                                                   \
+		if (FM_TEST_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                 \
+			FAIL_AT("expected %s asserts, got %d", FM_TEST_ASSERTS_ON ? ">= 1" : "0", n_);         \
+	} while (0)

@@ -3,6 +3,7 @@
 // fmCreateBody relies on, every public call checks its arguments (an assert through the hook in
 // debug builds, a safe result in every build), and bodies beyond the memory budget are refused.
 #include "core.h"
+#include "support.h"
 #include "test.h"
 #include "world.h"
 
@@ -10,47 +11,22 @@
 #include <stdint.h>
 #include <stdlib.h>
 
-// FM_ASSERT reaches the hook only in builds with asserts (base.h).
-#if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
-#define API_ASSERTS_ON 1
-#else
-#define API_ASSERTS_ON 0
-#endif
-
-static int s_asserts;
-static char s_lastAssert[256];
-static fmAssertFcn* s_previousAssert;
-
-static int recordAssert(const char* condition, const char* fileName, int lineNumber)
-{
-	snprintf(s_lastAssert, sizeof s_lastAssert, "%s at %s:%d", condition, fileName, lineNumber);
-	++s_asserts;
-	return 0;
-}
-
-// Route asserts to the recorder (the runner's hook counts them as failures).
-static void recordAssertsBegin(void)
-{
-	s_previousAssert = fmGetAssertFcn();
-	fmSetAssertFcn(recordAssert);
-	s_asserts = 0;
-	s_lastAssert[0] = 0;
-}
-
-// Restore the runner's hook; returns the asserts recorded since recordAssertsBegin().
-static int recordAssertsEnd(void)
-{
-	fmSetAssertFcn(s_previousAssert);
-	return s_asserts;
-}
-
 // @p count asserts were recorded: at least one where asserts are compiled in, none otherwise.
 #define CHECK_ASSERTED(count)                                                                      \
 	do                                                                                             \
 	{                                                                                              \
 		int n_ = (count);                                                                          \
-		if (API_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                     \
-			FAIL_AT("expected %s asserts, got %d", API_ASSERTS_ON ? ">= 1" : "0", n_);             \
+		if (FM_TEST_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                 \
+			FAIL_AT("expected %s asserts, got %d", FM_TEST_ASSERTS_ON ? ">= 1" : "0", n_);         \
+	} while (0)
+
+// One call that must be refused with an assert (where asserts are compiled in).
+#define REFUSED(call)                                                                              \
+	do                                                                                             \
+	{                                                                                              \
+		fmTestRecordAssertsBegin();                                                                \
+		call;                                                                                      \
+		CHECK_ASSERTED(fmTestRecordAssertsEnd());                                                  \
 	} while (0)
 
 static const double s_tetNodes[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -95,10 +71,10 @@ TEST(stale_body_id_of_a_destroyed_world_does_not_reach_the_next_world)
 	CHECK(fmBody_IsValid(body));
 	CHECK(!fmWorld_IsValid(a));
 	CHECK(!fmBody_IsValid(old));
-	recordAssertsBegin();
+	fmTestRecordAssertsBegin();
 	fmDestroyBody(old); // a programmer error: asserts, and must not touch world B's body
 	CHECK_INT(fmBody_GetVertexCount(old), 0);
-	CHECK_ASSERTED(recordAssertsEnd());
+	CHECK_ASSERTED(fmTestRecordAssertsEnd());
 	CHECK(fmBody_IsValid(body));
 	CHECK_INT(fmBody_GetVertexCount(body), 4);
 	fmDestroyWorld(b);
@@ -302,46 +278,37 @@ TEST(every_call_with_a_stale_id_asserts_and_returns_a_safe_value)
 	fmDiagnostic diag;
 	int triangles = -1;
 
-	recordAssertsBegin();
+	fmTestRecordAssertsBegin();
 	fmDestroyWorld(world);
-	int count = recordAssertsEnd();
+	int count = fmTestRecordAssertsEnd();
 	CHECK_ASSERTED(count);
-#define STALE(call)                                                                                \
-	do                                                                                             \
-	{                                                                                              \
-		recordAssertsBegin();                                                                      \
-		call;                                                                                      \
-		int n_ = recordAssertsEnd();                                                               \
-		if (API_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                     \
-			FAIL_AT("%s: %d asserts", #call, n_);                                                  \
-	} while (0)
-	STALE(CHECK_INT(fmWorld_Step(world, 0.01, 1), fm_errInvalidId));
-	STALE(CHECK_INT(fmWorld_GetLastError(world)->result, fm_errInvalidId));
-	STALE(CHECK_INT(fmWorld_GetStepStats(world).steps, 0));
-	STALE(fmWorld_SetGravity(world, zero));
-	STALE(fmWorld_SetFloor(world, &floor));
-	STALE(fmWorld_SetIntegrator(world, fm_implicit));
-	STALE(CHECK(fmWorld_EstimateExplicitStep(world) == 0.0));
-	STALE(CHECK_INT(fmCreateBody(world, &def, NULL, &diag), fm_errInvalidId));
-	STALE(fmDestroyBody(body));
-	STALE(CHECK_INT(fmBody_GetVertexCount(body), 0));
-	STALE(CHECK_INT(fmBody_GetTetCount(body), 0));
-	STALE(CHECK(fmBody_GetPositions(body) == NULL));
-	STALE(CHECK(fmBody_GetVelocities(body) == NULL));
-	STALE(fmBody_SetPositions(body, buffer));
-	STALE(fmBody_SetVelocities(body, buffer));
-	STALE(CHECK(fmBody_GetMasses(body) == NULL));
-	STALE(CHECK(fmBody_GetTets(body) == NULL));
-	STALE(CHECK(fmBody_GetSurface(body, &triangles) == NULL && triangles == 0));
-	STALE(fmBody_ApplyImpulse(body, zero));
-	STALE(fmBody_ApplyVertexImpulse(body, 0, zero));
-	STALE(CHECK_INT(fmBody_PinBox(body, zero, zero), 0));
-	STALE(fmBody_SetPinned(body, 0, true));
-	STALE(fmBody_SetPinnedAxes(body, 0, 1u));
-	STALE(CHECK(!fmBody_IsPinned(body, 0)));
-	STALE(CHECK_INT(fmBody_GetStats(body).invertedTets, 0));
-	STALE(CHECK_INT(fmBody_SetMaterial(body, &material, &diag), fm_errInvalidId));
-	STALE(CHECK(fmBody_ComputeElasticForces(body, buffer) == 0.0));
+	REFUSED(CHECK_INT(fmWorld_Step(world, 0.01, 1), fm_errInvalidId));
+	REFUSED(CHECK_INT(fmWorld_GetLastError(world)->result, fm_errInvalidId));
+	REFUSED(CHECK_INT(fmWorld_GetStepStats(world).steps, 0));
+	REFUSED(fmWorld_SetGravity(world, zero));
+	REFUSED(fmWorld_SetFloor(world, &floor));
+	REFUSED(fmWorld_SetIntegrator(world, fm_implicit));
+	REFUSED(CHECK(fmWorld_EstimateExplicitStep(world) == 0.0));
+	REFUSED(CHECK_INT(fmCreateBody(world, &def, NULL, &diag), fm_errInvalidId));
+	REFUSED(fmDestroyBody(body));
+	REFUSED(CHECK_INT(fmBody_GetVertexCount(body), 0));
+	REFUSED(CHECK_INT(fmBody_GetTetCount(body), 0));
+	REFUSED(CHECK(fmBody_GetPositions(body) == NULL));
+	REFUSED(CHECK(fmBody_GetVelocities(body) == NULL));
+	REFUSED(fmBody_SetPositions(body, buffer));
+	REFUSED(fmBody_SetVelocities(body, buffer));
+	REFUSED(CHECK(fmBody_GetMasses(body) == NULL));
+	REFUSED(CHECK(fmBody_GetTets(body) == NULL));
+	REFUSED(CHECK(fmBody_GetSurface(body, &triangles) == NULL && triangles == 0));
+	REFUSED(fmBody_ApplyImpulse(body, zero));
+	REFUSED(fmBody_ApplyVertexImpulse(body, 0, zero));
+	REFUSED(CHECK_INT(fmBody_PinBox(body, zero, zero), 0));
+	REFUSED(fmBody_SetPinned(body, 0, true));
+	REFUSED(fmBody_SetPinnedAxes(body, 0, 1u));
+	REFUSED(CHECK(!fmBody_IsPinned(body, 0)));
+	REFUSED(CHECK_INT(fmBody_GetStats(body).invertedTets, 0));
+	REFUSED(CHECK_INT(fmBody_SetMaterial(body, &material, &diag), fm_errInvalidId));
+	REFUSED(CHECK(fmBody_ComputeElasticForces(body, buffer) == 0.0));
 #undef STALE
 	CHECK(!fmBody_IsValid(body));
 	CHECK(!fmWorld_IsValid(world));
@@ -358,46 +325,37 @@ TEST(bad_arguments_assert_and_leave_the_body_unchanged)
 	fmFloorDef badFloor = worldDef.floor;
 	badFloor.restitution = 2.0;
 	fmMaterial material = fmDefaultBodyDef().material;
-#define BAD(call)                                                                                  \
-	do                                                                                             \
-	{                                                                                              \
-		recordAssertsBegin();                                                                      \
-		call;                                                                                      \
-		int n_ = recordAssertsEnd();                                                               \
-		if (API_ASSERTS_ON ? n_ < 1 : n_ != 0)                                                     \
-			FAIL_AT("%s: %d asserts", #call, n_);                                                  \
-	} while (0)
-	BAD(CHECK(fmCreateWorld(NULL).index1 == 0));
-	BAD(CHECK_INT(fmWorld_SetFloor(world, NULL), fm_errParameter));
+	REFUSED(CHECK(fmCreateWorld(NULL).index1 == 0));
+	REFUSED(CHECK_INT(fmWorld_SetFloor(world, NULL), fm_errParameter));
 	// A bad value (a slider gone wrong) is bad input, not a programmer error: a result code and
 	// the world's last error, no assert.
-	recordAssertsBegin();
+	fmTestRecordAssertsBegin();
 	CHECK_INT(fmWorld_SetGravity(world, nan3), fm_errParameter);
 	CHECK_INT(fmWorld_SetFloor(world, &badFloor), fm_errParameter);
 	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "floor");
-	CHECK_INT(recordAssertsEnd(), 0);
-	BAD(fmWorld_SetIntegrator(world, (fmIntegrator)7));
-	BAD(fmBody_SetPositions(body, NULL));
-	BAD(fmBody_SetVelocities(body, NULL));
-	BAD(fmBody_ApplyImpulse(body, nan3));
-	BAD(fmBody_ApplyVertexImpulse(body, 4, one));
-	BAD(fmBody_ApplyVertexImpulse(body, -1, one));
-	BAD(fmBody_ApplyVertexImpulse(body, 0, nan3));
-	BAD(CHECK_INT(fmBody_PinBox(body, nan3, one), 0));
-	BAD(CHECK_INT(fmBody_PinBox(body, one, nan3), 0));
-	BAD(fmBody_SetPinned(body, 4, true));
-	BAD(fmBody_SetPinnedAxes(body, -1, 1u));
-	BAD(fmBody_SetPinnedAxes(body, 0, 8u));
-	BAD(CHECK(!fmBody_IsPinned(body, 99)));
-	BAD(CHECK(fmBody_SetMaterial(body, NULL, NULL) != fm_ok));
-	BAD(CHECK(fmBody_ComputeElasticForces(body, NULL) == 0.0));
-	BAD(CHECK(fmEstimateBodyMemory(NULL) == 0));
+	CHECK_INT(fmTestRecordAssertsEnd(), 0);
+	REFUSED(fmWorld_SetIntegrator(world, (fmIntegrator)7));
+	REFUSED(fmBody_SetPositions(body, NULL));
+	REFUSED(fmBody_SetVelocities(body, NULL));
+	REFUSED(fmBody_ApplyImpulse(body, nan3));
+	REFUSED(fmBody_ApplyVertexImpulse(body, 4, one));
+	REFUSED(fmBody_ApplyVertexImpulse(body, -1, one));
+	REFUSED(fmBody_ApplyVertexImpulse(body, 0, nan3));
+	REFUSED(CHECK_INT(fmBody_PinBox(body, nan3, one), 0));
+	REFUSED(CHECK_INT(fmBody_PinBox(body, one, nan3), 0));
+	REFUSED(fmBody_SetPinned(body, 4, true));
+	REFUSED(fmBody_SetPinnedAxes(body, -1, 1u));
+	REFUSED(fmBody_SetPinnedAxes(body, 0, 8u));
+	REFUSED(CHECK(!fmBody_IsPinned(body, 99)));
+	REFUSED(CHECK(fmBody_SetMaterial(body, NULL, NULL) != fm_ok));
+	REFUSED(CHECK(fmBody_ComputeElasticForces(body, NULL) == 0.0));
+	REFUSED(CHECK(fmEstimateBodyMemory(NULL) == 0));
 #undef BAD
 	// Infinite bounds are a half-space, not a mistake.
 	fmVec3 everywhere = fmMakeVec3(INFINITY, INFINITY, INFINITY);
-	recordAssertsBegin();
+	fmTestRecordAssertsBegin();
 	CHECK_INT(fmBody_PinBox(body, fmScale(-1.0, everywhere), fmMakeVec3(INFINITY, -1.0, 5.0)), 0);
-	CHECK_INT(recordAssertsEnd(), 0);
+	CHECK_INT(fmTestRecordAssertsEnd(), 0);
 	// Nothing changed: the world steps as before, the body is where it was, at rest.
 	memcpy(after, fmBody_GetPositions(body), sizeof after);
 	CHECK(memcmp(before, after, sizeof before) == 0);

@@ -1,5 +1,6 @@
 // Mesh utilities: orientation, volumes, surfaces (closed, outward, divergence theorem), box
 // meshes (conforming, positive), statistics against geometry, transform order, memory.
+#include "support.h"
 #include "test.h"
 
 #include <femto/femto.h>
@@ -488,84 +489,66 @@ TEST(orient_names_overflow_not_zero_volume)
 
 // ---- arguments --------------------------------------------------------------------------------
 
-static int s_asserts;
-static int recordAssert(const char* condition, const char* file, int line)
-{
-	(void)condition;
-	(void)file;
-	(void)line;
-	++s_asserts;
-	return 0;
-}
-
-// Debug builds route argument errors through the assert hook; release builds only return.
-#if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
-#define CHECK_ASSERTED(before) CHECK(s_asserts > (before))
-#else
-#define CHECK_ASSERTED(before) CHECK_INT(s_asserts, (before))
-#endif
-
 TEST(null_and_out_of_range_arguments)
 {
-	s_asserts = 0;
-	fmSetAssertFcn(recordAssert);
+	fmTestRecordAssertsBegin();
 	fmTetMesh mesh = regularTet(1.0);
 	fmMeshTransform transform = fmDefaultMeshTransform();
 	fmMeshInfo info;
 	int* triangles = (int*)&mesh;
 	int count = 7;
 	fmTetQuality quality;
-	int before = s_asserts;
+	int before = fmTestAssertCount();
 	fmTetMesh_Transform(NULL, &transform);
 	fmTetMesh_Transform(&mesh, NULL);
 	transform.scale = NAN;
 	fmTetMesh_Transform(&mesh, &transform);
 	CHECK_NEAR(mesh.positions[3], 1.0, 0.0); // unchanged
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmTetMesh_Orient(NULL, &count, NULL), fm_errParameter);
 	CHECK_INT(count, 0);
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmTetMesh_GetInfo(NULL, &info), fm_errParameter);
 	CHECK_INT(fmTetMesh_GetInfo(&mesh, NULL), fm_errParameter);
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmTetMesh_ExtractSurface(NULL, &triangles, &count), fm_errParameter);
 	CHECK(triangles == NULL && count == 0);
 	CHECK_INT(fmTetMesh_ExtractSurface(&mesh, NULL, &count), fm_errParameter);
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmCopyTetMesh(NULL, NULL), fm_errParameter);
 	CHECK_INT(fmCopyTetMesh(&mesh, NULL), fm_errParameter);
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK(isnan(fmTetMesh_TetVolume(&mesh, NULL, -1)));
 	CHECK(isnan(fmTetMesh_TetVolume(&mesh, NULL, 1)));
 	CHECK(isnan(fmTetMesh_TetVolume(NULL, NULL, 0)));
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmTetMesh_GetTetQuality(&mesh, -1, &quality), fm_errParameter);
 	CHECK_INT(fmTetMesh_GetTetQuality(&mesh, 0, NULL), fm_errParameter);
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmMakeBoxMesh(1, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), NULL),
 	          fm_errParameter);
-	CHECK_ASSERTED(before);
+	CHECK_ASSERTED_SINCE(before);
 	// An inconsistent mesh built by hand (a count without its array).
 	fmTetMesh broken = mesh;
 	broken.tets = NULL;
-	before = s_asserts;
+	before = fmTestAssertCount();
 	CHECK_INT(fmTetMesh_Orient(&broken, NULL, NULL), fm_errParameter);
-	CHECK_ASSERTED(before);
+	CHECK_ASSERTED_SINCE(before);
 	// Node references out of range are bad data, not a crash: an error code, no assert.
-	before = s_asserts;
+	before = fmTestAssertCount();
 	mesh.tets[2] = 99;
 	CHECK_INT(fmTetMesh_ExtractSurface(&mesh, &triangles, &count), fm_errIndex);
 	CHECK_INT(fmTetMesh_GetTetQuality(&mesh, 0, &quality), fm_errIndex);
-	CHECK_INT(s_asserts, before);
+	CHECK_INT(fmTestAssertCount(), before);
 	// The test runner's counting hook is not reachable from here: restore the default.
-	fmSetAssertFcn(NULL);
+	fmTestRecordAssertsEnd();
 	fmFreeTetMesh(&mesh);
 }
 

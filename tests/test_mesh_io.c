@@ -4,6 +4,7 @@
 // POSIX for mkfifo: a FIFO must be refused, not waited on.
 #define _POSIX_C_SOURCE 200809L
 
+#include "support.h"
 #include "test.h"
 
 #include <femto/femto.h>
@@ -513,57 +514,40 @@ TEST(error_cr_only_line_ends)
 
 // ---- arguments --------------------------------------------------------------------------------
 
-static int s_asserts;
-static int recordAssert(const char* condition, const char* file, int line)
-{
-	(void)condition;
-	(void)file;
-	(void)line;
-	++s_asserts;
-	return 0;
-}
-
-#if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
-#define CHECK_ASSERTED(before) CHECK(s_asserts > (before))
-#else
-#define CHECK_ASSERTED(before) CHECK_INT(s_asserts, (before))
-#endif
-
 TEST(null_arguments_are_errors)
 {
-	s_asserts = 0;
-	fmSetAssertFcn(recordAssert);
+	fmTestRecordAssertsBegin();
 	fmDiagnostic diag;
-	int before = s_asserts;
+	int before = fmTestAssertCount();
 	CHECK_INT(loadTexts(TEXT(s_node4), TEXT(s_ele1), NULL, &diag), fm_errParameter);
-	CHECK_ASSERTED(before);
+	CHECK_ASSERTED_SINCE(before);
 	fmTetMesh mesh;
 	fmMeshLoadDef def;
 	memset(&def, 0, sizeof def);
-	before = s_asserts;
+	before = fmTestAssertCount();
 	CHECK_INT(fmLoadTetGenWithDef(FEMTO_TEST_DATA "/cube_full.node",
 	                              FEMTO_TEST_DATA "/cube_full.ele", &def, &mesh, &diag),
 	          fm_errParameter);
 	CHECK_STR_CONTAINS(diag.message, "start from fmDefaultMeshLoadDef()");
 	CHECK(meshIsZero(&mesh));
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmLoadTetGenWithDef(FEMTO_TEST_DATA "/cube_full.node",
 	                              FEMTO_TEST_DATA "/cube_full.ele", NULL, &mesh, &diag),
 	          fm_errParameter);
-	CHECK_ASSERTED(before);
+	CHECK_ASSERTED_SINCE(before);
 	int count = 7;
-	before = s_asserts;
+	before = fmTestAssertCount();
 	CHECK_INT(
 	    fmLoadTetGenFaceFromMemory(TEXT("1 0\n1 1 2 3\n"), "t.face", 4, 1, NULL, &count, &diag),
 	    fm_errParameter);
-	CHECK_ASSERTED(before);
-	before = s_asserts;
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
 	CHECK_INT(fmWriteTetGenNode(NULL, &mesh, NULL, &diag), fm_errParameter);
 	CHECK_INT(fmWriteTetGenNode("mesh_io_never_written.node", NULL, NULL, &diag), fm_errParameter);
-	CHECK_ASSERTED(before);
+	CHECK_ASSERTED_SINCE(before);
 	// The test runner's counting hook is not reachable from here: restore the default.
-	fmSetAssertFcn(NULL);
+	fmTestRecordAssertsEnd();
 	CHECK_INT(fmGetAllocatedBytes(), 0);
 }
 
