@@ -350,14 +350,16 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
 
 	// The implicit cache: slots (16 ints a tet, 4 a spring), the Hessian's blocks (9 doubles, a
-	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors.
+	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors, the
+	// floor bounds and the best state (statics), and the static solver's equilibrium.
 	uint64_t blocks = n + 2 * edges;
 	bool damping = def && (def->rayleighStiffness > 0.0 || (springs && def->springDamping > 0.0));
 	uint64_t solver =
 	    fmArrayBytes(16 * m, sizeof(int)) + (damping ? 2 : 1) * fmArrayBytes(9 * blocks, d) +
 	    fmArrayBytes(n + 1, sizeof(int)) + fmArrayBytes(blocks, sizeof(int)) +
 	    fmArrayBytes(n, sizeof(int)) + fmArrayBytes(9 * n, d) + 7 * fmArrayBytes(3 * n, d) +
-	    fmArrayBytes(12 * n, d) + fmArrayBytes(3 * n, 1) + 1024;
+	    fmArrayBytes(12 * n, d) + fmArrayBytes(3 * n, 1) + fmArrayBytes(n, d) +
+	    2 * fmArrayBytes(3 * n, d) + 1024;
 	if (springs)
 		solver += fmArrayBytes(4 * edges, sizeof(int));
 	memory.body = body > SIZE_MAX ? SIZE_MAX : (size_t)body;

@@ -112,8 +112,8 @@ void fmLedger_AddContactWork(fmBody* b, double work)
 		b->ledger.frameContactWork += work;
 }
 
-bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double plain, double frameTime,
-                    double* bound)
+fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double plain,
+                               double frameTime)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->frameGravityWork = fmGravityPotential(b, gravity) - ledger->gravityStart;
@@ -124,7 +124,6 @@ bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double plain, doub
 	    ledger->initialEnergy + ledger->work + frameWork +
 	    FM_LEDGER_RELATIVE * (fabs(ledger->initialEnergy) + ledger->workIn + frameWorkIn) +
 	    ledger->floor;
-	*bound = allowed;
 	// The shadow energy is only meaningful for stable steps: an unstable one can make its
 	// correction term as negative as the explosion is large. The plain energy gets the
 	// per-frame backstop: gravity adds at most M g (size + g T^2) in a frame, and a stable body
@@ -133,14 +132,24 @@ bool fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double plain, doub
 	double backstop = 1000.0 * (fmax(ledger->plainGood, 0.0) + ledger->frameContactWork +
 	                            b->totalMass * g * (b->restSize + g * frameTime * frameTime)) +
 	                  ledger->floor;
+	fmLedgerVerdict verdict = {true, false, energy, allowed};
 	if (!(plain <= backstop))
-		*bound = fmin(allowed, backstop);
-	return energy <= allowed && plain <= backstop;
+		verdict = (fmLedgerVerdict){false, true, plain, backstop};
+	else if (!(energy <= allowed))
+		verdict.ok = false;
+	return verdict;
 }
 
-void fmLedger_Commit(fmBody* b)
+void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep)
+{
+	double before = fmBodyEnergy(b, gravity, fromStep, NULL);
+	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL) - before;
+}
+
+void fmLedger_Commit(fmBody* b, double shadowStep)
 {
 	fmEnergyLedger* ledger = &b->ledger;
+	ledger->measureStep = shadowStep;
 	fmLedgerBook(ledger, ledger->frameGravityWork);
 	fmLedgerBook(ledger, ledger->frameContactWork);
 	ledger->frameGravityWork = 0.0;

@@ -45,13 +45,28 @@ void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep)
 // Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor.
 void fmLedger_AddContactWork(struct fmBody* body, double work);
 
-// Check the end of a frame of @p frameTime seconds whose final energy is @p energy (J, as
-// measured for the ledger) and @p plain (J, kinetic + elastic): true if it is within the
-// ledger's bound, and the plain energy within the per-frame backstop (1000 times what the
-// frame started with plus what gravity can add in it), which catches an unstable step whose
-// shadow energy means nothing. @p bound gets the energy allowed. Books nothing.
-bool fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energy, double plain,
-                    double frameTime, double* bound);
+// The verdict on a frame: ok, or which check failed with the energy it measured and the bound.
+typedef struct fmLedgerVerdict
+{
+	bool ok;
+	bool backstop;   // the per-frame backstop failed (else the ledger)
+	double measured; // J, the energy that was compared
+	double bound;    // J, what it was allowed
+} fmLedgerVerdict;
 
-// Book the frame's work (after every body of the world passed fmLedger_Check).
-void fmLedger_Commit(struct fmBody* body);
+// Check the end of a frame of @p frameTime seconds whose final energy is @p energy (J, as
+// measured for the ledger) and @p plain (J, kinetic + elastic): within the ledger's bound, and
+// the plain energy within the per-frame backstop (1000 times what the frame started with plus
+// what gravity can add in it), which catches an unstable step whose shadow energy means
+// nothing. Books nothing.
+fmLedgerVerdict fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energy, double plain,
+                               double frameTime);
+
+// Within a frame the explicit step changed from @p fromStep to @p toStep: the shadow energy's
+// measure changed with it. Book the difference at the current state as neutral work (not in
+// workIn), as BeginFrame does between frames.
+void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep, double toStep);
+
+// Book the frame's work (after every body of the world passed fmLedger_Check); the good state's
+// energy was measured with @p shadowStep.
+void fmLedger_Commit(struct fmBody* body, double shadowStep);

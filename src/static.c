@@ -12,8 +12,6 @@
 
 // Smallest load fraction increment before giving up.
 #define FM_MIN_LOAD_STEP (1.0 / 256.0)
-// A solve that stagnates within this factor of the tolerance has met round-off.
-#define FM_STATIC_ROUND_OFF_FACTOR 100.0
 
 // |M g| over the free vertices, or |f_elastic| at the start when there is no gravity (a solve
 // driven by displaced pins).
@@ -69,6 +67,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
+	memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
 	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
@@ -101,7 +100,6 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	{
 		double load = fmin(1.0, done + step);
 		pb.gravity = fmScale(load, gravity);
-		memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
 		r = fmNewton_Solve(b, c, &pb);
 		iterations += r.iterations;
 		if (r.projected)
@@ -112,10 +110,12 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 			r = fmNewton_Solve(b, c, &pb);
 			iterations += r.iterations;
 		}
-		bool roundOff = r.finite && (r.stagnated || r.stalled) &&
-		                r.residual <= fmax(FM_STATIC_ROUND_OFF_FACTOR * tolerance, 1e-6);
+		// Stagnation means steps within the energy's round-off that no longer improve the
+		// residual: a smaller load does not cure that. (A stalled line search may.)
+		bool roundOff = r.finite && r.stagnated;
 		if (r.converged || roundOff)
 		{
+			memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
 			done = load;
 			step = fmin(1.0, 2.0 * step);
 			continue;
@@ -147,9 +147,9 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
 		                   "static solve stopped at residual %.3g, above the tolerance %.3g: the "
 		                   "full load is applied, but after %d Newton iterations in all the "
-		                   "residual stagnated (round-off in double precision limits this body to "
-		                   "about that). The best state reached is kept; a tolerance of %.1g "
-		                   "converges",
-		                   r.residual, tolerance, iterations, 2.0 * r.residual);
+		                   "residual stagnated (Newton steps that changed the energy by less than "
+		                   "its round-off stopped improving it). The best state reached is kept; "
+		                   "a tolerance above %.2g is within reach",
+		                   r.residual, tolerance, iterations, r.residual);
 	return fm_ok;
 }

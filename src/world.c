@@ -272,7 +272,7 @@ static double fmCurrentExplicitLimit(fmWorld* w)
 		b->explicitLimit = fmBodyExplicitStepLimit(b);
 		dt = fmin(dt, b->explicitLimit);
 	}
-	return isfinite(dt) ? dt : 0.0;
+	return dt; // INFINITY: nothing constrains the step; 0: a body has collapsed
 }
 
 double fmWorld_EstimateExplicitStep(fmWorldId worldId)
@@ -280,7 +280,8 @@ double fmWorld_EstimateExplicitStep(fmWorldId worldId)
 	fmWorld* w = fmWorldOrAssert(worldId);
 	if (w == NULL)
 		return 0.0;
-	return fmCurrentExplicitLimit(w);
+	double limit = fmCurrentExplicitLimit(w);
+	return isfinite(limit) ? limit : 0.0;
 }
 
 // Up to eight tets of a body that went bad (non-finite or inverted), in the mesh's numbering,
@@ -323,34 +324,55 @@ static int fmFirstNonFiniteVertex(const fmBody* b)
 	return -1;
 }
 
-// Say why body @p index went bad (non-finite state or energy beyond its ledger) in the world's
-// last error, naming the vertex and tets; @p detail adds what the solver knew (may be "").
-static fmResult fmReportBadBody(fmWorld* w, int index, double energy, double bound,
-                                const char* detail)
+// What went wrong with a body after (or during) a frame.
+typedef enum fmBadBody
+{
+	fm_badState,    // non-finite positions or velocities, or an energy that overflowed
+	fm_badLedger,   // energy beyond E0 + W + tolerance
+	fm_badBackstop, // energy beyond the per-frame backstop (an unstable step)
+	fm_badSolve,    // the implicit solve's energy or gradient went non-finite
+} fmBadBody;
+
+// Say why body @p index went bad in the world's last error, naming the vertex and tets:
+// @p energy is the measured energy and @p bound what was allowed (ledger and backstop), @p
+// residual the implicit solve's last one (fm_badSolve).
+static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double energy, double bound,
+                                double residual)
 {
 	const fmBody* b = &w->bodies[index];
-	char list[160];
+	char list[160], what[384];
 	int bad = fmListBadTets(b, list, sizeof list);
 	int vertex = fmFirstNonFiniteVertex(b);
-	if (vertex < 0 && !isfinite(energy))
-		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
-		            "body %d: its energy overflowed (positions and velocities beyond what a double "
-		            "holds squared); %d bad tets (%s)%s; state restored to the last good frame; %s",
-		            index, bad, list, detail, fmFailureAdvice(w));
-	else if (vertex >= 0)
-		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
-		            "body %d: non-finite position or velocity at vertex %d; %d bad tets (%s)%s; "
-		            "state restored to the last good frame; %s",
-		            index, vertex + b->firstIndex, bad, list, detail, fmFailureAdvice(w));
+	if (vertex >= 0)
+		snprintf(what, sizeof what, "non-finite position or velocity at vertex %d",
+		         vertex + b->firstIndex);
+	else if (kind == fm_badSolve)
+		snprintf(what, sizeof what,
+		         "the implicit solve's energy or gradient went non-finite (last relative "
+		         "residual %.3g)",
+		         residual);
+	else if (kind == fm_badState || !isfinite(energy))
+		snprintf(what, sizeof what,
+		         "its energy overflowed (positions and velocities beyond what a double holds "
+		         "squared)");
+	else if (kind == fm_badBackstop)
+		snprintf(what, sizeof what,
+		         "energy ran away within the frame: %.3g J (kinetic + elastic) is more than "
+		         "%.3g J, 1000 times what the frame started with plus what gravity can add",
+		         energy, bound);
 	else
-		fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
-		            "body %d: energy ran away: %.3g J (kinetic + elastic) is more than the %.3g J "
-		            "its ledger allows (%.3g J at the start plus %.3g J of work done on it, "
-		            "docs/robustness.md); %d inverted tets (%s)%s; state restored to the last "
-		            "good frame; %s",
-		            index, energy, bound, b->ledger.initialEnergy,
-		            b->ledger.work + b->ledger.frameGravityWork + b->ledger.frameContactWork, bad,
-		            list, detail, fmFailureAdvice(w));
+		snprintf(what, sizeof what,
+		         "energy ran away: %.3g J (kinetic + elastic%s) is more than the %.3g J its "
+		         "ledger allows (%.3g J at the start plus %.3g J of work done on it, "
+		         "docs/robustness.md)",
+		         energy,
+		         w->def.integrator == fm_explicit ? ", as symplectic Euler conserves it" : "",
+		         bound, b->ledger.initialEnergy,
+		         b->ledger.work + b->ledger.frameGravityWork + b->ledger.frameContactWork);
+	fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+	            "body %d: %s; %d inverted or non-finite tets (%s); state restored to the last "
+	            "good frame; %s",
+	            index, what, bad, list, fmFailureAdvice(w));
 	fmLog(fm_logError, "%s", w->lastError.message);
 	return fm_errNumerical;
 }
@@ -363,12 +385,14 @@ static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double fra
 	double plain = NAN;
 	double energy =
 	    fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain) : NAN;
-	double bound = 0.0;
 	*energyAfter = energy;
-	if (isfinite(energy) && isfinite(plain) &&
-	    fmLedger_Check(b, w->def.gravity, energy, plain, frameTime, &bound))
+	if (!isfinite(energy) || !isfinite(plain))
+		return fmReportBadBody(w, index, fm_badState, energy, NAN, NAN);
+	fmLedgerVerdict verdict = fmLedger_Check(b, w->def.gravity, energy, plain, frameTime);
+	if (verdict.ok)
 		return fm_ok;
-	return fmReportBadBody(w, index, isfinite(plain) ? plain : energy, bound, "");
+	return fmReportBadBody(w, index, verdict.backstop ? fm_badBackstop : fm_badLedger,
+	                       verdict.measured, verdict.bound, NAN);
 }
 
 static void fmRestoreAll(fmWorld* w)
@@ -397,7 +421,7 @@ static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x)
 			limit = fmin(limit, w->bodies[i].explicitLimit);
-	if (!(dt > 2.0 * limit))
+	if (!(limit > 0.0) || !(dt > 2.0 * limit)) // a collapsed body fails the step itself
 		return;
 	w->warnedStep = true;
 	fmDiagWarn(&w->lastError, "", 0,
@@ -457,8 +481,8 @@ static void fmAutoStep_Evaluate(fmWorld* w, fmAutoStep* a)
 	a->proxy = fmWorldStiffeningProxy(w);
 }
 
-// The next substep: no longer than the nominal one or half the limit, and never leaving a
-// sliver at the end of the frame.
+// The next substep: no longer than the nominal one or FM_AUTO_STEP_FRACTION of the limit, and
+// never leaving a sliver at the end of the frame; 0 when a body has collapsed (its limit is 0).
 static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double remaining,
                               bool watch)
 {
@@ -468,7 +492,9 @@ static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double 
 		if (!(proxy <= 1.1 * a->proxy && proxy >= a->proxy / 1.1))
 			fmAutoStep_Evaluate(w, a);
 	}
-	double h = a->limit > 0.0 ? fmin(nominal, FM_AUTO_STEP_FRACTION * a->limit) : nominal;
+	if (!(a->limit > 0.0))
+		return 0.0; // a body has collapsed: no step is stable
+	double h = fmin(nominal, FM_AUTO_STEP_FRACTION * a->limit);
 	double count = ceil(remaining / h * (1.0 - 1e-12));
 	return remaining / fmax(count, 1.0);
 }
@@ -508,10 +534,7 @@ static fmResult fmStepBody(fmWorld* w, int index, double h)
 	fmResult r = fmImplicitStep(w, b, h, &solve);
 	if (r == fm_errNumerical)
 	{
-		char detail[96];
-		snprintf(detail, sizeof detail, "; the implicit solve's last relative residual was %.3g",
-		         solve.residual);
-		return fmReportBadBody(w, index, NAN, NAN, detail);
+		return fmReportBadBody(w, index, fm_badSolve, NAN, NAN, solve.residual);
 	}
 	if (r != fm_ok)
 		return fmDiagError(&w->lastError, r, "", 0, 0, "body %d: the implicit step failed (%s)",
@@ -551,19 +574,25 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 	double remaining = timeStep, h = *lastStep;
 	while (remaining > 1e-12 * timeStep)
 	{
-		if (w->stats.steps >= FM_MAX_SUBSTEPS)
+		if (w->stats.steps >= FM_MAX_SUBSTEPS || !(h > 0.0))
 			return fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
 			                   "the stability limit asks for more than %d substeps in a frame of "
-			                   "%.3g s (the last was %.3g s): a body is collapsing; state restored "
-			                   "to the last good frame; try the implicit integrator",
+			                   "%.3g s (the next would be %.3g s): a body is collapsing; state "
+			                   "restored to the last good frame; try the implicit integrator",
 			                   FM_MAX_SUBSTEPS, timeStep, h);
 		fmResult r = fmSubstep(w, h);
 		if (r != fm_ok)
 			return r;
-		*lastStep = h;
 		remaining -= h;
-		if (remaining > 1e-12 * timeStep)
-			h = fmAutoStep_Next(w, plan, nominal, remaining, true);
+		if (!(remaining > 1e-12 * timeStep))
+			break;
+		h = fmAutoStep_Next(w, plan, nominal, remaining, true);
+		// The ledger measures the shadow energy with the step: a new step changes the measure,
+		// which is neither work nor a runaway.
+		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)
+			if (w->bodies[i].x)
+				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h);
+		*lastStep = h;
 	}
 	return fm_ok;
 }
@@ -625,7 +654,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		fmBody* b = &w->bodies[i];
 		if (b->x == NULL)
 			continue;
-		fmLedger_Commit(b);
+		fmLedger_Commit(b, shadowStep);
 		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 		memcpy(b->xGood, b->x, bytes);
 		memcpy(b->vGood, b->v, bytes);

@@ -48,7 +48,8 @@ FM_API bool fmWorld_IsValid(fmWorldId worldId);
 /// (1 to FM_MAX_SUBSTEPS, each of FM_MIN_SUBSTEP to FM_MAX_SUBSTEP seconds, else
 /// fm_errParameter and nothing moves).
 /// On numerical failure (NaN, Inf, or energy beyond the body's ledger: initial energy plus the
-/// work done on it) every body keeps its state from before the call, the step returns
+/// work done on it) every body goes back to its last good state (the end of the last frame that
+/// passed the checks: what the caller set since is dropped too), the step returns
 /// fm_errNumerical and fmWorld_GetLastError() says which body, vertices and tets. An implicit
 /// step that ends above the tolerance is a warning in the last error's warning fields, counted
 /// in fmStepStats.unconvergedSteps, or fm_errNotConverged with fmWorldDef.notConvergedIsError.
