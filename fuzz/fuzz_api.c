@@ -92,11 +92,16 @@ static bool fuzzStruct(fmFuzzReader* r, void* def, size_t size, const void* defa
 
 // A bool holds 0 or 1: any other byte in one is undefined behaviour in the caller, not an input
 // the library could check.
-static void fuzzFixFloor(fmFloorDef* floor)
+static void fuzzFixBool(bool* value)
 {
 	uint8_t byte;
-	memcpy(&byte, &floor->enabled, 1);
-	floor->enabled = byte & 1;
+	memcpy(&byte, value, 1);
+	*value = byte & 1;
+}
+
+static void fuzzFixFloor(fmFloorDef* floor)
+{
+	fuzzFixBool(&floor->enabled);
 }
 
 static fmMaterial fuzzMaterial(fmFuzzReader* r)
@@ -118,6 +123,8 @@ static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
 	if (fuzzStruct(r, &def, sizeof def, &defaults))
 		def.internalValue = defaults.internalValue;
 	fuzzFixFloor(&def.floor);
+	fuzzFixBool(&def.notConvergedIsError);
+	fuzzFixBool(&def.autoSubstep);
 	// Bounded work per input: the checks of these limits are still reached (0, negative).
 	if (def.newtonIterations > 8)
 		def.newtonIterations = 1 + def.newtonIterations % 8;
