@@ -3,8 +3,8 @@
 
 #include "core.h"
 #include "forces.h"
-#include "integrator.h"
 #include "mesh_internal.h"
+#include "solver_cache.h"
 #include "world.h"
 
 #include <math.h>
@@ -174,7 +174,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->springK, double, b->edgeCount);
 	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
 	fmFree(b->surface);
-	fmImplicitCacheFree(b->implicitCache);
+	fmSolverCache_Free(b->implicitCache);
 	uint32_t generation = b->generation;
 	memset(b, 0, sizeof *b);
 	b->generation = generation;
@@ -322,7 +322,7 @@ static uint64_t fmArrayBytes(uint64_t count, uint64_t size)
 }
 
 // What a body allocates (body.c, force_spring.c, force_fvm.c) and what the implicit solver and
-// the static solver add at their first use (implicit.c fmImplicit_GetCache, pcg.c fmBsr_Build):
+// the static solver add at their first use (solver_cache.c fmSolverCache_Get, pcg.c fmBsr_Build):
 // counted for every body, since fmWorld_SetIntegrator() and fmBody_SolveStatic() may need them
 // later. Two counts depend on the connectivity and are estimated: the edges E, from Euler's
 // formula for a solid (V - E + F - T = 1 with F = 2 T + B / 2 faces for B boundary triangles:

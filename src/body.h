@@ -64,7 +64,7 @@ typedef struct fmBody
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
-	void* implicitCache;   // solver buffers owned by implicit.c (fmImplicitCacheFree)
+	void* implicitCache;   // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
 	size_t memoryEstimate; // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 

@@ -1,8 +1,10 @@
 // Explicit integration, as the seeds: symplectic Euler with a velocity damping factor and
 // Laplacian velocity smoothing (GAMES103 HW3 1.1 and 1.4), then the floor.
-#include "core.h"
+#include "explicit.h"
+
+#include "floor.h"
 #include "forces.h"
-#include "integrator.h"
+#include "velocity_filter.h"
 
 #include <string.h>
 
@@ -51,6 +53,6 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
 	for (int i = 0; i < n; ++i)
 		if (b->pinned[i] != FM_PIN_ALL)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), dt, fmLoad(b->v, i)));
-	fmApplyFloor(&world->def.floor, world->def.gravity, b, dt);
+	fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
 	return fm_ok;
 }

@@ -55,7 +55,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "the body has no pinned vertex, so under gravity it has no equilibrium "
 		                   "(it would fall forever): pin something (fmBody_PinBox) first");
-	fmImplicitCache* c = fmImplicit_GetCache(b);
+	fmImplicitCache* c = fmSolverCache_Get(b);
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");
@@ -77,6 +77,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+	pb.options = world->solverOptions;
 	// Without inertia, projected element Hessians (which drop the negative curvature of
 	// compressed elements and springs) slow Newton to linear convergence; the exact Hessian
 	// keeps it quadratic as long as it stays positive definite, which CG detects.

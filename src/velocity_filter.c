@@ -6,7 +6,7 @@
 // scene would change character with its time step. So both are rates: the factor d and the
 // blend s are what one 3 ms step does, and a step of dt applies d^(dt / 3 ms) and
 // 1 - (1 - s)^(dt / 3 ms). At the seeds' step this is exactly the seeds' filter.
-#include "integrator.h"
+#include "velocity_filter.h"
 
 #include <math.h>
 #include <string.h>

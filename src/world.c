@@ -2,8 +2,10 @@
 #include "world.h"
 
 #include "core.h"
+#include "explicit.h"
+#include "floor.h"
 #include "forces.h"
-#include "integrator.h"
+#include "implicit.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -159,6 +161,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->inUse = true;
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
+		w->solverOptions = fmDefaultSolverOptions();
 		id.index1 = i + 1;
 		id.generation = generation;
 		return id;
@@ -661,9 +664,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		b->energyGood = b->energyAfter;
 		b->energyStale = false;
 		w->stats.invertedTets += fmBodyCountInverted(b);
-		if (w->def.floor.enabled)
-			for (int k = 0; k < b->vertexCount; ++k)
-				w->stats.contacts += b->x[3 * k + 1] <= w->def.floor.height + 1e-9;
+		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
 	return fm_ok;
 }

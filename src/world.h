@@ -2,6 +2,7 @@
 #pragma once
 
 #include "body.h"
+#include "newton.h"
 #include "stability.h"
 
 typedef struct fmWorld
@@ -13,9 +14,9 @@ typedef struct fmWorld
 	fmBody* bodies; // bodyCapacity slots; a slot is live when its x != NULL
 	fmStepStats stats;
 	fmDiagnostic lastError;
-	bool warnedStep; // the explicit step-size warning was given
+	bool warnedStep;               // the explicit step-size warning was given
+	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 } fmWorld;
-
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
 fmWorld* fmGetWorld(fmWorldId id);

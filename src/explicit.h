@@ -1,0 +1,8 @@
+// Explicit integration (explicit.c): symplectic Euler with the seeds' damping factor and
+// Laplacian velocity smoothing, then the floor.
+#pragma once
+
+#include "world.h"
+
+// Advance @p body by one step of @p dt. Returns fm_ok (the world checks the result's health).
+fmResult fmExplicitStep(const fmWorld* world, fmBody* body, double dt);

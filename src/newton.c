@@ -1,0 +1,390 @@
+// The Newton minimiser shared by the implicit step and the static solver (newton.h): projected
+// Newton (Bertsekas) with per-element PSD-projected or exact Hessians (Teran et al. 2005), a
+// preconditioned CG for each Newton system, a lazily refreshed assembled matrix, and a
+// backtracking (Armijo) line search on E along the path projected onto the bounds.
+#include "newton.h"
+
+#include "core.h"
+#include "forces.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+fmSolverOptions fmDefaultSolverOptions(void)
+{
+	fmSolverOptions options = {fm_productAssembled, fm_precondJacobi};
+	return options;
+}
+
+// Residual reduction per Newton iteration below which a kept matrix is still good enough.
+#define FM_REUSE_RATIO 0.25
+
+typedef struct fmNewtonContext
+{
+	fmBody* body;
+	fmImplicitCache* cache;
+	const fmNewtonProblem* problem;
+} fmNewtonContext;
+
+// Energy at x, and its gradient when @p gradient is not NULL. @p magnitude gets the sum of the
+// absolute sizes of the terms (the scale of round-off in E).
+static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                             const double* x, double* gradient, double* magnitude)
+{
+	const int n3 = 3 * b->vertexCount;
+	double psi;
+	if (gradient)
+	{
+		memset(c->forces, 0, sizeof(double) * (size_t)n3);
+		psi = fmAddElasticForces(b, x, c->forces);
+	}
+	else
+		psi = fmElasticEnergy(b, x);
+	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
+	double inertial = 0.0, external = 0.0, size = 0.0;
+	for (int k = 0; k < n3; ++k)
+	{
+		double m = b->mass[k / 3];
+		double toPred = x[k] - c->xPred[k], moved = x[k] - c->xStart[k];
+		double term = 0.5 * m * (pb->inertia * toPred * toPred + pb->massDamping * moved * moved);
+		inertial += term;
+		external -= m * g[k % 3] * moved;
+		size += fabs(m * g[k % 3] * moved);
+		if (gradient)
+			gradient[k] =
+			    m * (pb->inertia * toPred + pb->massDamping * moved - g[k % 3]) - c->forces[k];
+	}
+	double damping = 0.0;
+	if (pb->useDamping)
+	{
+		double* moved = c->work; // the CG's vectors are free outside the CG
+		double* pushed = c->work + n3;
+		for (int k = 0; k < n3; ++k)
+			moved[k] = x[k] - c->xStart[k];
+		fmBsr_Multiply(&c->pattern, c->damping, moved, pushed);
+		for (int k = 0; k < n3; ++k)
+		{
+			damping += 0.5 * moved[k] * pushed[k];
+			if (gradient)
+				gradient[k] += pushed[k];
+		}
+	}
+	if (magnitude)
+		*magnitude = fabs(psi) + inertial + size + damping;
+	return inertial + damping + psi + external;
+}
+
+// DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
+// floor whose energy gradient points down is held; one the energy pulls up is released).
+static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                        const double* x)
+{
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		unsigned pin = b->pinned[i];
+		bool onFloor = pb->floor && !(pin & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i] &&
+		               c->gradient[3 * i + 1] > 0.0;
+		bool stick = onFloor && pb->floor->friction == fm_floorStick;
+		c->fixed[3 * i] = (pin & 1u) || stick;
+		c->fixed[3 * i + 1] = (pin & FM_PIN_Y) || onFloor;
+		c->fixed[3 * i + 2] = (pin & 4u) || stick;
+	}
+}
+
+static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
+{
+	double s = 0.0;
+	for (int k = 0; k < n3; ++k)
+		if (!fixed[k])
+			s += v[k] * v[k];
+	return sqrt(s);
+}
+
+// The Newton matrix H = (inertia + massDamping) M + K(x) [+ D], assembled.
+static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	const size_t values = 9 * (size_t)c->pattern.blocks;
+	if (pb->useDamping)
+		memcpy(c->hessian, c->damping, sizeof(double) * values);
+	else
+		memset(c->hessian, 0, sizeof(double) * values);
+	fmSolverCache_AddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian);
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
+		double diagonal = (pb->inertia + pb->massDamping) * b->mass[i];
+		block[0] += diagonal;
+		block[4] += diagonal;
+		block[8] += diagonal;
+	}
+}
+
+// Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
+// 9 n entries, used as plain per-vertex storage).
+static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                                       double* blocks)
+{
+	memset(blocks, 0, sizeof(double) * 9 * (size_t)b->vertexCount);
+	if (b->forceModel == fm_massSpring)
+	{
+		double K[36];
+		for (int e = 0; e < c->edgeCount; ++e)
+		{
+			fmSpringHessian(b, b->x, e, K, pb->exactHessian ? 0 : 1);
+			for (int p = 0; p < 2; ++p)
+				for (int r = 0; r < 9; ++r)
+					blocks[9 * (size_t)b->edges[2 * e + p] + r] +=
+					    K[6 * (3 * p + r / 3) + (3 * p + r % 3)];
+		}
+	}
+	else
+	{
+		double K[144];
+		for (int t = 0; t < b->tetCount; ++t)
+		{
+			fmTetHessian(b, b->x, t, K, pb->exactHessian ? 0 : 1);
+			for (int p = 0; p < 4; ++p)
+				for (int r = 0; r < 9; ++r)
+					blocks[9 * (size_t)b->tets[4 * t + p] + r] +=
+					    K[12 * (3 * p + r / 3) + (3 * p + r % 3)];
+		}
+	}
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		double diagonal = (pb->inertia + pb->massDamping) * b->mass[i];
+		for (int r = 0; r < 3; ++r)
+			blocks[9 * (size_t)i + 4 * r] += diagonal;
+		if (pb->useDamping)
+		{
+			const double* d = c->damping + 9 * (size_t)c->pattern.diagonal[i];
+			for (int r = 0; r < 9; ++r)
+				blocks[9 * (size_t)i + r] += d[r];
+		}
+	}
+}
+
+static void fmAssembledProduct(void* context, const double* x, double* y)
+{
+	const fmNewtonContext* ctx = context;
+	fmBsr_Multiply(&ctx->cache->pattern, ctx->cache->hessian, x, y);
+}
+
+static void fmMatrixFreeProduct(void* context, const double* x, double* y)
+{
+	const fmNewtonContext* ctx = context;
+	fmBody* b = ctx->body;
+	const fmNewtonProblem* pb = ctx->problem;
+	if (pb->useDamping)
+		fmBsr_Multiply(&ctx->cache->pattern, ctx->cache->damping, x, y);
+	else
+		memset(y, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	fmAddHessianProduct(b, b->x, x, y, pb->exactHessian ? 0 : 1);
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		y[k] += (pb->inertia + pb->massDamping) * b->mass[k / 3] * x[k];
+}
+
+// Newton direction: solve H d = -gradient over the free DOFs.
+static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                                     double gradientNorm, double residual, bool refresh)
+{
+	const int n3 = 3 * b->vertexCount;
+	fmNewtonContext ctx = {b, c, pb};
+	fmLinearOperator* op = fmAssembledProduct;
+	if (pb->options.product == fm_productMatrixFree)
+	{
+		fmDiagonalBlocksMatrixFree(b, c, pb, c->work); // blocks in the CG's scratch, used below
+		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, pb->options.preconditioner,
+		                          c->blockInverse);
+		op = fmMatrixFreeProduct;
+	}
+	else
+	{
+		if (refresh)
+			fmAssembleNewtonMatrix(b, c, pb);
+		for (int i = 0; i < b->vertexCount; ++i)
+			memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
+			       9 * sizeof(double));
+		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, pb->options.preconditioner,
+		                          c->blockInverse);
+	}
+	for (int k = 0; k < n3; ++k)
+		c->temp[k] = -c->gradient[k];
+	// Inexact Newton (Eisenstat-Walker flavour): a loose CG far from the solution, tighter
+	// near it; a quadratic energy is solved tightly in one Newton step.
+	double floorTolerance = 0.1 * pb->tolerance * pb->scale;
+	double forcing = pb->quadratic ? 0.0 : fmin(0.1, residual);
+	double tolerance = fmax(forcing * gradientNorm, floorTolerance);
+	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
+	return fmPcg_Solve(n3, op, &ctx, c->blockInverse, c->fixed, c->temp, c->direction, tolerance,
+	                   pb->maxCg, &work);
+}
+
+// Positions after a step of length alpha along the direction, held above the floor.
+static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                         double alpha, double* out)
+{
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		out[k] = b->x[k] + alpha * c->direction[k];
+	if (pb->floor == NULL)
+		return;
+	for (int i = 0; i < b->vertexCount; ++i)
+		if (!(b->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
+			out[3 * i + 1] = c->floorBound[i];
+}
+
+// Backtracking line search (Armijo, c = 1e-4) on E along the projected path.
+// Round-off: the elastic energy is a sum of per-tet densities of size (mu + lambda) times the
+// volume that cancel to a small total, so E is only known to about 1e-13 of that; near the
+// solution of a stiff body the decrease a Newton step makes is smaller than this noise. Within
+// the noise a step is accepted when it lowers the gradient norm instead. Returns false if no
+// step length is accepted.
+static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
+                         double magnitude, double gradientNorm, bool* inNoise)
+{
+	const int n3 = 3 * b->vertexCount;
+	const double noise =
+	    1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+	double* trial = c->trial;
+	double* trialGradient = c->work + 2 * n3;
+	double alpha = 1.0;
+	for (int attempt = 0; attempt < 40; ++attempt, alpha *= 0.5)
+	{
+		fmTrialPoint(b, c, pb, alpha, trial);
+		double slope = 0.0;
+		for (int k = 0; k < n3; ++k)
+			slope += c->gradient[k] * (trial[k] - b->x[k]);
+		double value = fmNewtonEnergy(b, c, pb, trial, NULL, NULL);
+		bool accept = value <= energy + 1e-4 * slope;
+		if (!accept && fabs(value - energy) <= noise)
+		{
+			fmNewtonEnergy(b, c, pb, trial, trialGradient, NULL);
+			accept = fmFreeNorm(n3, trialGradient, c->fixed) < (1.0 - 1e-4 * alpha) * gradientNorm;
+		}
+		if (accept)
+		{
+			*inNoise = fabs(value - energy) <= noise;
+			memcpy(b->x, trial, sizeof(double) * (size_t)n3);
+			return true;
+		}
+	}
+	return false;
+}
+
+// Make sure the direction goes downhill; otherwise use the preconditioned gradient.
+static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
+{
+	const int n3 = 3 * b->vertexCount;
+	double slope = 0.0;
+	for (int k = 0; k < n3; ++k)
+		slope += c->gradient[k] * c->direction[k];
+	if (slope < 0.0)
+		return;
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		const double* B = c->blockInverse + 9 * (size_t)i;
+		const double* g = c->gradient + 3 * (size_t)i;
+		for (int r = 0; r < 3; ++r)
+			c->direction[3 * i + r] =
+			    c->fixed[3 * i + r]
+			        ? 0.0
+			        : -(B[3 * r] * g[0] + B[3 * r + 1] * g[1] + B[3 * r + 2] * g[2]);
+	}
+}
+
+fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	fmNewtonResult result;
+	memset(&result, 0, sizeof result);
+	result.residual = INFINITY;
+	result.finite = true;
+	const int n3 = 3 * b->vertexCount;
+	double bestResidual = INFINITY, keptResidual = INFINITY;
+	int sinceBest = 0;
+	bool inNoise = false; // the last step changed the energy by less than its round-off
+	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
+	// Lazy Hessian: per-element projected Hessians dominate the cost of an iteration, so the
+	// assembled matrix is reused (within a step and across steps: a body at rest hardly
+	// changes it) as long as it still cuts the residual by FM_REUSE_RATIO per iteration; any
+	// SPD matrix gives a descent direction, so a stale one only costs speed, never safety.
+	// A quadratic energy has a constant Hessian. The matrix-free path has no matrix to keep.
+	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
+	                 c->hessianMassDamping == pb->massDamping &&
+	                 c->hessianDamping == pb->useDamping && c->hessianExact == pb->exactHessian;
+	bool stale = !sameTerms;
+	double lastResidual = INFINITY;
+	bool lastFresh = false;
+	for (;;)
+	{
+		double magnitude;
+		double energy = fmNewtonEnergy(b, c, pb, b->x, c->gradient, &magnitude);
+		fmMarkFixed(b, c, pb, b->x);
+		double gradientNorm = fmFreeNorm(n3, c->gradient, c->fixed);
+		if (!isfinite(energy) || !isfinite(gradientNorm))
+		{
+			result.finite = false;
+			break;
+		}
+		result.residual = gradientNorm / scale;
+		if (pb->keepBest && result.residual < keptResidual)
+		{
+			keptResidual = result.residual;
+			memcpy(c->best, b->x, sizeof(double) * (size_t)n3);
+		}
+		if (result.residual <= pb->tolerance)
+		{
+			result.converged = true;
+			break;
+		}
+		if (result.iterations >= pb->maxNewton)
+			break;
+		// Stagnation: steps that change the energy by less than its round-off and no longer
+		// improve the residual. (Far from the solution the residual may rise for many
+		// iterations while the energy falls; that is progress.)
+		bool improved = result.residual < 0.9 * bestResidual;
+		bestResidual = improved ? result.residual : bestResidual;
+		sinceBest = improved || !inNoise ? 0 : sinceBest + 1;
+		if (sinceBest >= FM_NEWTON_STAGNATION)
+		{
+			result.stagnated = true;
+			break;
+		}
+		bool slow = result.residual > FM_REUSE_RATIO * lastResidual;
+		// (A fresh exact Hessian of a quadratic energy cannot do better; only the floor's active
+		// set makes such a step slow.)
+		bool refresh = stale || (slow && !(pb->quadratic && lastFresh)) ||
+		               pb->options.product == fm_productMatrixFree;
+		if (refresh)
+		{
+			c->hessianValid = true;
+			c->hessianInertia = pb->inertia;
+			c->hessianMassDamping = pb->massDamping;
+			c->hessianDamping = pb->useDamping;
+			c->hessianExact = pb->exactHessian;
+			stale = false;
+		}
+		lastResidual = result.residual;
+		lastFresh = refresh;
+		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
+		result.cgIterations += cg.iterations;
+		if (cg.indefinite && pb->exactHessian)
+		{
+			// The true Hessian is not positive definite here: project from now on.
+			result.projected = true;
+			break;
+		}
+		result.iterations += 1;
+		fmEnsureDescent(b, c);
+		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm, &inNoise))
+		{
+			result.stalled = true;
+			break;
+		}
+	}
+	if (pb->keepBest && result.finite && !result.converged && keptResidual < result.residual)
+	{
+		memcpy(b->x, c->best, sizeof(double) * (size_t)n3);
+		result.residual = keptResidual;
+	}
+	return result;
+}

@@ -1,0 +1,163 @@
+// The implicit and static solvers' per-body cache: the block-sparse pattern of the Newton
+// matrix with the slot of every element block, the vectors of a solve, and the assembly of
+// element stiffness and spring damping into it (solver_cache.h).
+#include "solver_cache.h"
+
+#include "core.h"
+#include "forces.h"
+
+#include <math.h>
+#include <string.h>
+
+void fmSolverCache_Free(void* memory)
+{
+	fmImplicitCache* c = memory;
+	if (c == NULL)
+		return;
+	size_t n3 = 3 * (size_t)c->vertexCount, blocks = (size_t)c->pattern.blocks;
+	FM_FREE_ARRAY(c->tetSlot, int, 16 * (size_t)c->tetCount);
+	FM_FREE_ARRAY(c->edgeSlot, int, 4 * (size_t)c->edgeCount);
+	FM_FREE_ARRAY(c->hessian, double, 9 * blocks);
+	FM_FREE_ARRAY(c->damping, double, 9 * blocks);
+	FM_FREE_ARRAY(c->blockInverse, double, 9 * (size_t)c->vertexCount);
+	FM_FREE_ARRAY(c->xPred, double, n3);
+	FM_FREE_ARRAY(c->xStart, double, n3);
+	FM_FREE_ARRAY(c->gradient, double, n3);
+	FM_FREE_ARRAY(c->direction, double, n3);
+	FM_FREE_ARRAY(c->trial, double, n3);
+	FM_FREE_ARRAY(c->forces, double, n3);
+	FM_FREE_ARRAY(c->temp, double, n3);
+	FM_FREE_ARRAY(c->work, double, 4 * n3);
+	FM_FREE_ARRAY(c->fixed, uint8_t, n3);
+	FM_FREE_ARRAY(c->floorBound, double, (size_t)c->vertexCount);
+	FM_FREE_ARRAY(c->best, double, n3);
+	fmBsr_Free(&c->pattern);
+	FM_FREE_ARRAY(c, fmImplicitCache, 1);
+}
+
+// Slots of every node pair of every tet (and of every spring), so that refilling the matrix
+// is a plain scatter in tet order (deterministic, no search).
+static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
+{
+	for (int t = 0; t < b->tetCount; ++t)
+		for (int a = 0; a < 4; ++a)
+			for (int d = 0; d < 4; ++d)
+				c->tetSlot[16 * t + 4 * a + d] =
+				    fmBsr_Find(&c->pattern, b->tets[4 * t + a], b->tets[4 * t + d]);
+	for (int e = 0; e < c->edgeCount; ++e)
+	{
+		int p = b->edges[2 * e], q = b->edges[2 * e + 1];
+		c->edgeSlot[4 * e + 0] = fmBsr_Find(&c->pattern, p, p);
+		c->edgeSlot[4 * e + 1] = fmBsr_Find(&c->pattern, p, q);
+		c->edgeSlot[4 * e + 2] = fmBsr_Find(&c->pattern, q, p);
+		c->edgeSlot[4 * e + 3] = fmBsr_Find(&c->pattern, q, q);
+		if (c->edgeSlot[4 * e + 1] < 0)
+			return false; // springs are tet edges, so this cannot happen
+	}
+	return true;
+}
+
+fmImplicitCache* fmSolverCache_Get(fmBody* b)
+{
+	if (b->implicitCache)
+		return b->implicitCache;
+	fmImplicitCache* c = FM_ALLOC_ZERO(fmImplicitCache, 1);
+	if (c == NULL)
+		return NULL;
+	b->implicitCache = c;
+	c->vertexCount = b->vertexCount;
+	c->tetCount = b->tetCount;
+	c->edgeCount = b->forceModel == fm_massSpring ? b->edgeCount : 0;
+	for (int t = 0; t < b->tetCount; ++t)
+		c->volume += b->restVolume[t];
+	size_t n3 = 3 * (size_t)b->vertexCount;
+	bool ok = fmBsr_Build(&c->pattern, b->vertexCount, b->tets, b->tetCount);
+	if (!ok)
+		c->pattern.blocks = 0;
+	c->tetSlot = FM_ALLOC_ARRAY(int, 16 * (size_t)c->tetCount);
+	c->edgeSlot = FM_ALLOC_ARRAY(int, 4 * (size_t)c->edgeCount);
+	c->hessian = FM_ALLOC_ZERO(double, 9 * (size_t)c->pattern.blocks);
+	c->blockInverse = FM_ALLOC_ZERO(double, 9 * (size_t)b->vertexCount);
+	c->xPred = FM_ALLOC_ZERO(double, n3);
+	c->xStart = FM_ALLOC_ZERO(double, n3);
+	c->gradient = FM_ALLOC_ZERO(double, n3);
+	c->direction = FM_ALLOC_ZERO(double, n3);
+	c->trial = FM_ALLOC_ZERO(double, n3);
+	c->forces = FM_ALLOC_ZERO(double, n3);
+	c->temp = FM_ALLOC_ZERO(double, n3);
+	c->work = FM_ALLOC_ZERO(double, 4 * n3);
+	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
+	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->vertexCount);
+	c->best = FM_ALLOC_ZERO(double, n3);
+	ok = ok && c->tetSlot && (c->edgeSlot || c->edgeCount == 0) && c->hessian && c->blockInverse &&
+	     c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
+	     c->work && c->fixed && c->floorBound && c->best;
+	if (ok)
+		ok = fmBuildSlots(b, c);
+	if (!ok)
+	{
+		fmSolverCache_Free(c);
+		b->implicitCache = NULL;
+		return NULL;
+	}
+	return c;
+}
+
+// values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order.
+void fmSolverCache_AddStiffness(const fmBody* b, const fmImplicitCache* c, const double* x,
+                                double scale, int project, double* values)
+{
+	if (b->forceModel == fm_massSpring)
+	{
+		double K[36];
+		for (int e = 0; e < c->edgeCount; ++e)
+		{
+			fmSpringHessian(b, x, e, K, project);
+			for (int p = 0; p < 2; ++p)
+				for (int q = 0; q < 2; ++q)
+				{
+					double* block = values + 9 * (size_t)c->edgeSlot[4 * e + 2 * p + q];
+					for (int r = 0; r < 3; ++r)
+						for (int s = 0; s < 3; ++s)
+							block[3 * r + s] += scale * K[6 * (3 * p + r) + (3 * q + s)];
+				}
+		}
+		return;
+	}
+	double K[144];
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		fmTetHessian(b, x, t, K, project);
+		for (int p = 0; p < 4; ++p)
+			for (int q = 0; q < 4; ++q)
+			{
+				double* block = values + 9 * (size_t)c->tetSlot[16 * t + 4 * p + q];
+				for (int r = 0; r < 3; ++r)
+					for (int s = 0; s < 3; ++s)
+						block[3 * r + s] += scale * K[12 * (3 * p + r) + (3 * q + s)];
+			}
+	}
+}
+
+// Spring damping as a matrix: each spring resists the rate of change of its length with
+// c = 2 zeta sqrt(k / (1/ma + 1/mb)) (force_spring.c), i.e. the block c n n^T on [a, b].
+void fmSolverCache_AddSpringDamping(const fmBody* b, const fmImplicitCache* c, const double* x,
+                                    double scale, double* values)
+{
+	for (int e = 0; e < c->edgeCount; ++e)
+	{
+		fmVec3 direction;
+		double coefficient = fmSpringDashpot(b, x, e, &direction);
+		if (coefficient <= 0.0)
+			continue;
+		const double n[3] = {direction.x, direction.y, direction.z};
+		for (int k = 0; k < 4; ++k)
+		{
+			double sign = (k == 1 || k == 2) ? -1.0 : 1.0;
+			double* block = values + 9 * (size_t)c->edgeSlot[4 * e + k];
+			for (int r = 0; r < 3; ++r)
+				for (int s = 0; s < 3; ++s)
+					block[3 * r + s] += scale * sign * coefficient * n[r] * n[s];
+		}
+	}
+}

@@ -1,0 +1,55 @@
+// The implicit and static solvers' buffers of one body (solver_cache.c): the block-sparse
+// Newton matrix with the slot of every element block, and the vectors of a solve.
+#pragma once
+
+#include "body.h"
+#include "pcg.h"
+
+// Solver buffers of one body (body->implicitCache), allocated on first use.
+typedef struct fmImplicitCache
+{
+	int vertexCount;
+	int tetCount;
+	int edgeCount;
+	double volume;        // rest volume of the body (m^3)
+	fmBsrMatrix pattern;  // vertex pairs sharing a tet
+	int* tetSlot;         // 16 per tet: slot of block (a, b) of its nodes
+	int* edgeSlot;        // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
+	double* hessian;      // 9 per block: the Newton matrix
+	double* damping;      // 9 per block: lagged damping matrix D (allocated when needed)
+	double* blockInverse; // 9 per vertex: preconditioner
+	double* xPred;        // 3n: inertial target
+	double* xStart;       // 3n: positions at the start of the step
+	double* gradient;     // 3n
+	double* direction;    // 3n
+	double* trial;        // 3n
+	double* forces;       // 3n
+	double* temp;         // 3n
+	double* work;         // 4 * 3n: CG vectors
+	uint8_t* fixed;       // 3n: DOF held by a pin or the floor
+	double* floorBound;   // n: lowest y each vertex may take this step (the floor, or less
+	                      // while a deep vertex is lifted at the depenetration speed)
+	double* best;         // 3n: the state of smallest residual (fmNewtonProblem.keepBest)
+	// The Newton matrix is kept between iterations and steps and refreshed when it stops
+	// paying (see fmNewton_Solve); these say what it was built with.
+	bool hessianValid;
+	double hessianInertia;
+	double hessianMassDamping;
+	bool hessianDamping;
+	bool hessianExact;
+} fmImplicitCache;
+
+// The cache of @p body (body->implicitCache), allocated on first use; NULL when memory is short.
+fmImplicitCache* fmSolverCache_Get(fmBody* body);
+
+// Release a cache (body->implicitCache); NULL is fine.
+void fmSolverCache_Free(void* cache);
+
+// values += scale * (PSD-projected if @p project) elastic Hessian at x, element by element in a
+// fixed order, into the cache's block pattern.
+void fmSolverCache_AddStiffness(const fmBody* body, const fmImplicitCache* cache, const double* x,
+                                double scale, int project, double* values);
+
+// values += scale * the springs' dashpot matrices at x (mass-spring bodies).
+void fmSolverCache_AddSpringDamping(const fmBody* body, const fmImplicitCache* cache,
+                                    const double* x, double scale, double* values);

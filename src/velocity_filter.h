@@ -1,0 +1,9 @@
+// The seeds' velocity damping factor and Laplacian smoothing (velocity_filter.c), shared by
+// both integrators.
+#pragma once
+
+#include "body.h"
+
+// Apply the body's damping and smoothing, scaled from the seeds' 3 ms step to @p dt so that
+// damping per second does not depend on the step.
+void fmFilterVelocities(fmBody* body, double dt);
