@@ -8,6 +8,8 @@
 // and FEM agree to round-off; the test in test_force_models.c checks it. We keep FVM as its
 // own geometric path (normals from the rest faces, not from Dm^-1) because that is the method
 // users choose it for, and because it is what generalises to non-simplex cells.
+#include "force_fvm.h"
+
 #include "forces.h"
 
 #include "core.h"

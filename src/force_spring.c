@@ -6,6 +6,8 @@
 // (K = E / (3 (1 - 2 nu))): the only Poisson ratio a central-force network can represent
 // (the Cauchy relation). For other nu the body is stiffer or softer in volume change; that
 // is the price of the model, and why FEM is the default.
+#include "force_spring.h"
+
 #include "forces.h"
 
 #include "core.h"

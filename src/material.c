@@ -4,7 +4,8 @@
 #include "material.h"
 
 #include "core.h"
-#include "material_models.h"
+#include "material_invariant.h"
+#include "material_stretch.h"
 #include "svd3.h"
 
 #include <string.h>

@@ -4,8 +4,9 @@
 //   I2 = ((tr C)^2 - C:C) / 2        dI2/dF = 2 (I1 F - F C),  C = F^T F
 //   J  = det F                       dJ/dF  = cof F
 // P = sum_a psi_a dv_a/dF and dP/dF = sum_ab psi_ab dv_a/dF (dv_b/dF)^T + sum_a psi_a d2v_a/dF2.
+#include "material_invariant.h"
 #include "material.h"
-#include "material_models.h"
+#include "material_stretch.h"
 
 #include <string.h>
 

@@ -8,8 +8,9 @@
 //         + sum_{i<j} q_ij f_ij f_ij^T + r_ij t_ij t_ij^T                   (flip and twist)
 // with f_ij, t_ij = (u_i v_j^T +- u_j v_i^T) / sqrt 2, q_ij = (dpsi_i - dpsi_j) / (s_i - s_j) and
 // r_ij = (dpsi_i + dpsi_j) / (s_i + s_j).
+#include "material_stretch.h"
 #include "material.h"
-#include "material_models.h"
+#include "material_invariant.h"
 #include "svd3.h"
 
 #include <string.h>

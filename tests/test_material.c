@@ -3,7 +3,8 @@
 // invariance and isotropy; small-strain agreement with linear elasticity; user energies; the
 // inversion response; the PSD projection; parameters, validation and names.
 #include "material.h"
-#include "material_models.h"
+#include "material_invariant.h"
+#include "material_stretch.h"
 #include "support.h"
 #include "svd3.h"
 #include "test.h"
