@@ -48,10 +48,18 @@ typedef struct fmBody
 	// last good state, restored on numerical failure
 	double* xGood;
 	double* vGood;
-	double energyGood;     // kinetic + elastic energy of the good state (runaway check)
-	bool energyStale;      // energyGood must be recomputed (new body, new material)
-	double energyAfter;    // kinetic + elastic energy at the end of the frame being checked
-	fmEnergyLedger ledger; // work done on the body: the runaway bound (energy_ledger.h)
+	double energyGood; // kinetic + elastic energy of the good state (runaway check)
+	bool energyStale;  // energyGood must be recomputed (new body, new material)
+	// What the body's last substep produced, merged into the world's statistics and errors in
+	// body order after every body has stepped (world.c), so that no step writes shared state.
+	fmResult stepResult;
+	double stepResidual;     // implicit: relative residual reached
+	int stepNewton;          // implicit: Newton iterations
+	int stepCg;              // implicit: CG iterations
+	bool stepConverged;      // implicit: reached the tolerance
+	const char* stepStopped; // implicit, not converged: why it stopped
+	double energyAfter;      // kinetic + elastic energy at the end of the frame being checked
+	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)
 
 	fmMaterial material;
 	fmForceModel forceModel;

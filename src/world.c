@@ -502,57 +502,76 @@ static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double 
 	return remaining / fmax(count, 1.0);
 }
 
-// Book an implicit step's solver counters;// Book an implicit step's solver counters; a step that
-// ended above the tolerance is a warning (once a frame) or, with notConvergedIsError, an error.
-static fmResult fmBookImplicitStep(fmWorld* w, int index, const fmNewtonResult* r)
-{
-	w->stats.newtonIterations += r->iterations;
-	w->stats.cgIterations += r->cgIterations;
-	w->stats.residual = r->residual;
-	w->stats.maxResidual = fmax(w->stats.maxResidual, r->residual);
-	if (r->converged)
-		return fm_ok;
-	w->stats.unconvergedSteps += 1;
-	const char* why = r->stagnated ? "it stagnated at round-off"
-	                  : r->stalled ? "the line search found no decrease"
-	                               : "it hit the Newton iteration limit";
-	const char* format = "body %d: the implicit step ended at relative residual %.3g, above the "
-	                     "tolerance %.3g, after %d Newton and %d CG iterations (%s)";
-	if (w->def.notConvergedIsError)
-		return fmDiagError(&w->lastError, fm_errNotConverged, "", 0, 0, format, index, r->residual,
-		                   w->def.tolerance, r->iterations, r->cgIterations, why);
-	if (w->stats.unconvergedSteps == 1)
-		fmDiagWarn(&w->lastError, "", 0, format, index, r->residual, w->def.tolerance,
-		           r->iterations, r->cgIterations, why);
-	return fm_ok;
-}
-
-// Advance body @p index by one substep of the world's integrator.
-static fmResult fmStepBody(fmWorld* w, int index, double h)
+// Step body @p index by @p h with the world's integrator, keeping what it produced in the body
+// (stepResult and the solve's counters). Writes nothing the other bodies' steps touch.
+static void fmStepBody(const fmWorld* w, int index, double h)
 {
 	fmBody* b = &w->bodies[index];
 	if (w->def.integrator != fm_implicit)
-		return fmExplicitStep(w, b, h);
-	fmNewtonResult solve;
-	fmResult r = fmImplicitStep(w, b, h, &solve);
-	if (r == fm_errNumerical)
 	{
-		return fmReportBadBody(w, index, fm_badSolve, NAN, NAN, solve.residual);
+		b->stepResult = fmExplicitStep(w, b, h);
+		return;
 	}
-	if (r != fm_ok)
-		return fmDiagError(&w->lastError, r, "", 0, 0, "body %d: the implicit step failed (%s)",
-		                   index, fmResultMessage(r));
-	return fmBookImplicitStep(w, index, &solve);
+	fmNewtonResult solve;
+	b->stepResult = fmImplicitStep(w, b, h, &solve);
+	b->stepResidual = solve.residual;
+	b->stepNewton = solve.iterations;
+	b->stepCg = solve.cgIterations;
+	b->stepConverged = solve.converged;
+	b->stepStopped = solve.stagnated ? "it stagnated at round-off"
+	                 : solve.stalled ? "the line search found no decrease"
+	                                 : "it hit the Newton iteration limit";
+}
+
+// Merge body @p index's step into the world: solver counters into the statistics, a step above
+// the tolerance into a warning (once a frame) or, with notConvergedIsError, an error, and a
+// failure into the last error.
+static fmResult fmMergeBodyStep(fmWorld* w, int index)
+{
+	const fmBody* b = &w->bodies[index];
+	if (b->stepResult == fm_errNumerical)
+		return fmReportBadBody(w, index,
+		                       w->def.integrator == fm_implicit ? fm_badSolve : fm_badState, NAN,
+		                       NAN, b->stepResidual);
+	if (b->stepResult != fm_ok)
+		return fmDiagError(&w->lastError, b->stepResult, "", 0, 0,
+		                   "body %d: the %s step failed (%s)", index,
+		                   w->def.integrator == fm_implicit ? "implicit" : "explicit",
+		                   fmResultMessage(b->stepResult));
+	if (w->def.integrator != fm_implicit)
+		return fm_ok;
+	w->stats.newtonIterations += b->stepNewton;
+	w->stats.cgIterations += b->stepCg;
+	w->stats.residual = b->stepResidual;
+	w->stats.maxResidual = fmax(w->stats.maxResidual, b->stepResidual);
+	if (b->stepConverged)
+		return fm_ok;
+	w->stats.unconvergedSteps += 1;
+	const char* format = "body %d: the implicit step ended at relative residual %.3g, above the "
+	                     "tolerance %.3g, after %d Newton and %d CG iterations (%s)";
+	if (w->def.notConvergedIsError)
+		return fmDiagError(&w->lastError, fm_errNotConverged, "", 0, 0, format, index,
+		                   b->stepResidual, w->def.tolerance, b->stepNewton, b->stepCg,
+		                   b->stepStopped);
+	if (w->stats.unconvergedSteps == 1)
+		fmDiagWarn(&w->lastError, "", 0, format, index, b->stepResidual, w->def.tolerance,
+		           b->stepNewton, b->stepCg, b->stepStopped);
+	return fm_ok;
 }
 
 // Advance every body by one substep of @p h.
 static fmResult fmSubstep(fmWorld* w, double h)
 {
+	// Stage a: every body steps on its own (the stage threads will share).
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmStepBody(w, i, h);
+	// Stage b: the results merge in body order, the same for any schedule of stage a.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		if (w->bodies[i].x == NULL)
 			continue;
-		fmResult r = fmStepBody(w, i, h);
+		fmResult r = fmMergeBodyStep(w, i);
 		if (r != fm_ok)
 			return r;
 	}
