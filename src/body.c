@@ -161,7 +161,6 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->x0, double, 3 * n);
 	FM_FREE_ARRAY(b->xGood, double, 3 * n);
 	FM_FREE_ARRAY(b->vGood, double, 3 * n);
-	FM_FREE_ARRAY(b->scratch, double, 3 * n);
 	FM_FREE_ARRAY(b->mass, double, n);
 	FM_FREE_ARRAY(b->invMass, double, n);
 	FM_FREE_ARRAY(b->smoothWeight, double, n);
@@ -190,7 +189,6 @@ static bool fmBodyAllocate(fmBody* b, int n, int m)
 	b->x0 = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
 	b->xGood = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
 	b->vGood = FM_ALLOC_ZERO(double, 3 * (size_t)n);
-	b->scratch = FM_ALLOC_ZERO(double, 3 * (size_t)n);
 	b->mass = FM_ALLOC_ZERO(double, n);
 	b->invMass = FM_ALLOC_ZERO(double, n);
 	b->smoothWeight = FM_ALLOC_ZERO(double, n);
@@ -198,16 +196,14 @@ static bool fmBodyAllocate(fmBody* b, int n, int m)
 	b->tets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
 	b->DmInv = FM_ALLOC_ARRAY(fmMat3, m);
 	b->restVolume = FM_ALLOC_ARRAY(double, m);
-	return b->x && b->v && b->f && b->x0 && b->xGood && b->vGood && b->scratch && b->mass &&
-	       b->invMass && b->smoothWeight && b->pinned && b->tets && b->DmInv && b->restVolume;
+	return b->x && b->v && b->f && b->x0 && b->xGood && b->vGood && b->mass && b->invMass &&
+	       b->smoothWeight && b->pinned && b->tets && b->DmInv && b->restVolume;
 }
 
 // Reference edge matrices, volumes, masses and smoothing weights from the oriented mesh.
-static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
-                                 fmDiagnostic* diag)
+static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
+                                     fmDiagnostic* diag, int* tetsAround)
 {
-	int* tetsAround = (int*)b->scratch; // reuse as a counter: 3n doubles hold n ints
-	memset(tetsAround, 0, sizeof(int) * (size_t)b->vertexCount);
 	for (int t = 0; t < b->tetCount; ++t)
 	{
 		const int* n = b->tets + 4 * t;
@@ -245,7 +241,6 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 		b->totalMass += b->mass[i];
 	}
 	b->restSize = fmLength(fmSub(hi, lo));
-	memset(b->scratch, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
 	// Density times a tiny volume can underflow to a zero mass (an infinite inverse), a huge
 	// one overflow: the integrators divide by these.
 	for (int i = 0; i < b->vertexCount; ++i)
@@ -258,6 +253,19 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 		return fmDiagError(diag, fm_errRange, "", 0, 0, "the body's total mass overflows (%g kg)",
 		                   b->totalMass);
 	return fm_ok;
+}
+
+// The same with a counter of the tets around each vertex, allocated for the call.
+static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
+                                 fmDiagnostic* diag)
+{
+	int* tetsAround = FM_ALLOC_ZERO(int, (size_t)b->vertexCount);
+	if (tetsAround == NULL)
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory preparing a body of %d vertices", b->vertexCount);
+	fmResult r = fmBodyPrecomputeWith(b, def, mesh, diag, tetsAround);
+	FM_FREE_ARRAY(tetsAround, int, (size_t)b->vertexCount);
+	return r;
 }
 
 // The body takes only positions and tets from the (validated) def mesh: no copy of the mesh,
@@ -306,10 +314,7 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
 	if (r == fm_ok)
-	{
-		b->explicitLimit = fmBodyExplicitStepLimit(b);
 		b->energyStale = true;
-	}
 	return r;
 }
 
@@ -340,8 +345,9 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		edges = n * (n - 1) / 2;
 	bool springs = def && def->forceModel == fm_massSpring;
 
-	// The body: 7 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface.
-	uint64_t body = 7 * fmArrayBytes(3 * n, d) + 3 * fmArrayBytes(n, d) + fmArrayBytes(n, 1) +
+	// The body: 6 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface, and the
+	// two vectors of 3n doubles it may need in the world's step arena.
+	uint64_t body = 8 * fmArrayBytes(3 * n, d) + 3 * fmArrayBytes(n, d) + fmArrayBytes(n, 1) +
 	                fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(m, sizeof(fmMat3)) +
 	                fmArrayBytes(m, d) + fmArrayBytes(3 * surface, sizeof(int)) + 64;
 	if (springs)
@@ -436,6 +442,12 @@ fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
 	fmBody* b = &world->bodies[slot];
 	b->generation += 1;
 	r = fmBodyInit(b, def, diag);
+	if (r == fm_ok && !fmWorldReserveArena(world))
+		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                "out of memory for the step buffers of a body of %d vertices",
+		                b->vertexCount);
+	if (r == fm_ok)
+		b->explicitLimit = fmWorldBodyStepLimit(world, b);
 	if (r != fm_ok)
 	{
 		fmBodyRelease(b);
@@ -644,7 +656,7 @@ fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagn
 	for (int e = 0; e < b->edgeCount; ++e)
 		b->springK[e] *= ratio;
 	b->material = *material;
-	b->explicitLimit = fmBodyExplicitStepLimit(b);
+	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
 	return fm_ok;
 }

@@ -34,7 +34,6 @@ typedef struct fmBody
 
 	// Laplacian smoothing: 1 / (4 * number of tets around each vertex)
 	double* smoothWeight;
-	double* scratch; // 3 * vertexCount temporaries
 
 	// mass-spring force model (edges of the tets)
 	int edgeCount;

@@ -11,20 +11,22 @@
 // the conserved one, and contacts change elastic energy in ways the ledger does not book.
 #define FM_LEDGER_RELATIVE 0.01
 
-double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain)
+double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain, fmArena* arena)
 {
 	double kinetic = 0.0, shadow = 0.0, elastic;
 	if (shadowStep > 0.0)
 	{
-		double* f = b->scratch;
-		memset(f, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+		size_t mark = fmArena_Mark(arena);
+		double* f = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+		if (f == NULL)
+			return NAN;
 		elastic = fmAddElasticForces(b, b->x, f);
 		for (int i = 0; i < b->vertexCount; ++i)
 		{
 			fmVec3 force = fmMulAdd(fmLoad(f, i), b->mass[i], gravity);
 			shadow += fmDot(fmLoad(b->v, i), force);
 		}
-		memset(f, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+		fmArena_Release(arena, mark);
 	}
 	else
 		elastic = fmElasticEnergy(b, b->x);
@@ -65,13 +67,13 @@ static void fmLedgerBook(fmEnergyLedger* ledger, double work)
 		ledger->workIn += work;
 }
 
-void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
+void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* arena)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 	if (!ledger->started)
 	{
-		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood);
+		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, arena);
 		ledger->measureStep = shadowStep;
 		ledger->started = true;
 		ledger->initialEnergy = b->energyGood;
@@ -84,7 +86,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
 		// difference is work the caller did.
 		// A state set to NaN or Inf books nothing: the frame fails on it and restores.
 		double plain;
-		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, arena);
 		if (isfinite(energy))
 		{
 			ledger->plainGood = plain;
@@ -97,7 +99,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep)
 	{
 		// Same state, another step or integrator: only the shadow term changed. Its change is
 		// neither work nor a runaway; re-measure without counting it as work done.
-		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, arena);
 		ledger->work += energy - b->energyGood;
 		b->energyGood = energy;
 		ledger->measureStep = shadowStep;
@@ -140,10 +142,11 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	return verdict;
 }
 
-void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep)
+void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep,
+                            fmArena* arena)
 {
-	double before = fmBodyEnergy(b, gravity, fromStep, NULL);
-	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL) - before;
+	double before = fmBodyEnergy(b, gravity, fromStep, NULL, arena);
+	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, arena) - before;
 }
 
 void fmLedger_Commit(fmBody* b, double shadowStep)

@@ -7,6 +7,8 @@
 // failure, however slowly the energy crept up.
 #pragma once
 
+#include "arena.h"
+
 #include <femto/types.h>
 
 #include <stdbool.h>
@@ -34,13 +36,15 @@ typedef struct fmEnergyLedger
 // difference from E swings by several percent at steps near the stability limit. Explicit
 // frames measure with @p shadowStep = h, implicit ones (dissipative) with 0. The gravity part
 // of the correction is included; the potential -M g . x itself is booked as gravity's work.
-// @p plain (may be NULL) gets the plain kinetic + elastic energy.
-double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, double* plain);
+// @p plain (may be NULL) gets the plain kinetic + elastic energy. The forces of the shadow term
+// go to a buffer of @p arena (one vector of 3n doubles).
+double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, double* plain,
+                    fmArena* arena);
 
 // Start a frame measured with @p shadowStep (fmBodyEnergy): on the first frame record E0;
 // otherwise book what the caller changed since the last good state (impulses, set positions or
 // velocities, material) as work. Updates body->energyGood.
-void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep);
+void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep, fmArena* arena);
 
 // Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor.
 void fmLedger_AddContactWork(struct fmBody* body, double work);
@@ -65,7 +69,8 @@ fmLedgerVerdict fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energ
 // Within a frame the explicit step changed from @p fromStep to @p toStep: the shadow energy's
 // measure changed with it. Book the difference at the current state as neutral work (not in
 // workIn), as BeginFrame does between frames.
-void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep, double toStep);
+void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep, double toStep,
+                            fmArena* arena);
 
 // Book the frame's work (after every body of the world passed fmLedger_Check); the good state's
 // energy was measured with @p shadowStep.

@@ -9,22 +9,25 @@
 #include <string.h>
 
 // Rayleigh damping force -(alpha M + beta K) v, with K the (unprojected) stiffness at x.
-static void fmAddRayleighForces(fmBody* b)
+static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 {
 	if (b->rayleighMass > 0.0)
 		for (int k = 0; k < 3 * b->vertexCount; ++k)
 			b->f[k] -= b->rayleighMass * b->mass[k / 3] * b->v[k];
 	if (b->rayleighStiffness > 0.0)
 	{
-		double* kv = b->scratch;
-		memset(kv, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+		size_t mark = fmArena_Mark(arena);
+		double* kv = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+		if (kv == NULL)
+			return;
 		fmAddHessianProduct(b, b->x, b->v, kv, 0);
 		for (int k = 0; k < 3 * b->vertexCount; ++k)
 			b->f[k] -= b->rayleighStiffness * kv[k];
+		fmArena_Release(arena, mark);
 	}
 }
 
-fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
+fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
 	const int n = b->vertexCount;
 
@@ -34,7 +37,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
 	fmAddElasticForces(b, b->x, b->f);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
-	fmAddRayleighForces(b);
+	fmAddRayleighForces(b, arena);
 
 	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
 	for (int i = 0; i < n; ++i)
@@ -47,7 +50,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt)
 	}
 
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
-	fmFilterVelocities(b, dt);
+	fmFilterVelocities(b, dt, arena);
 
 	// 4. Positions, then the floor.
 	for (int i = 0; i < n; ++i)

@@ -4,5 +4,6 @@
 
 #include "world.h"
 
-// Advance @p body by one step of @p dt. Returns fm_ok (the world checks the result's health).
-fmResult fmExplicitStep(const fmWorld* world, fmBody* body, double dt);
+// Advance @p body by one step of @p dt, temporaries from @p arena. Returns fm_ok (the world
+// checks the result's health).
+fmResult fmExplicitStep(const fmWorld* world, fmBody* body, double dt, fmArena* arena);

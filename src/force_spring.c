@@ -86,6 +86,18 @@ int fmBuildSprings(fmBody* body)
 	return ok ? 0 : 1;
 }
 
+double fmSpringEnergy(const fmBody* body, const double* x)
+{
+	double energy = 0.0;
+	for (int e = 0; e < body->edgeCount; ++e)
+	{
+		fmVec3 d = fmSub(fmLoad(x, body->edges[2 * e + 1]), fmLoad(x, body->edges[2 * e]));
+		double stretch = fmLength(d) - body->restLength[e];
+		energy += 0.5 * body->springK[e] * stretch * stretch;
+	}
+	return energy;
+}
+
 double fmAddSpringForces(const fmBody* body, const double* x, double* f)
 {
 	double energy = 0.0;

@@ -10,6 +10,9 @@ double fmYoungsModulus(const fmMaterial* m);
 // 0 on success.
 int fmBuildSprings(fmBody* body);
 
+// Mass-spring energy at x (J).
+double fmSpringEnergy(const fmBody* body, const double* x);
+
 // Mass-spring forces at x: add into f, return the energy (J). Builds nothing.
 double fmAddSpringForces(const fmBody* body, const double* x, double* f);
 

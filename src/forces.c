@@ -70,9 +70,7 @@ double fmElasticEnergy(const fmBody* body, const double* x)
 	double energy = 0.0;
 	if (body->forceModel == fm_massSpring)
 	{
-		// The spring energy comes with the forces; use the scratch buffer as a sink.
-		memset(body->scratch, 0, sizeof(double) * 3 * (size_t)body->vertexCount);
-		return fmAddSpringForces(body, x, body->scratch);
+		return fmSpringEnergy(body, x);
 	}
 	for (int t = 0; t < body->tetCount; ++t)
 	{

@@ -54,7 +54,8 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
 	return true;
 }
 
-fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve)
+fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
+                        fmArena* arena)
 {
 	memset(solve, 0, sizeof *solve);
 	fmImplicitCache* c = fmSolverCache_Get(b);
@@ -103,7 +104,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
-	fmFilterVelocities(b, h);
+	fmFilterVelocities(b, h, arena);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
 	//    vertices on it.

@@ -28,10 +28,12 @@ static void fmAddRowSums(const double* K, int size, const int* nodes, double* ro
 	}
 }
 
-double fmBodyExplicitStepLimit(const fmBody* b)
+double fmBodyExplicitStepLimit(const fmBody* b, fmArena* arena)
 {
-	double* rowSum = b->scratch;
-	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	size_t mark = fmArena_Mark(arena);
+	double* rowSum = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+	if (rowSum == NULL)
+		return 0.0;
 	double K[144];
 	if (b->forceModel == fm_massSpring)
 		for (int e = 0; e < b->edgeCount; ++e)
@@ -48,7 +50,7 @@ double fmBodyExplicitStepLimit(const fmBody* b)
 	double omega2 = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		omega2 = fmax(omega2, rowSum[k] * b->invMass[k / 3]);
-	memset(rowSum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	fmArena_Release(arena, mark);
 	return omega2 > 0.0 && isfinite(omega2) ? 0.9 * 2.0 / sqrt(omega2)
 	       : omega2 > 0.0                   ? 0.0
 	                                        : INFINITY;

@@ -2,13 +2,15 @@
 // blowing up, estimated at the body's current deformation (stability.c).
 #pragma once
 
+#include "arena.h"
+
 struct fmBody;
 
 // Largest stable explicit step (s) of @p body at its current positions, or INFINITY when
 // nothing constrains it. Gershgorin's bound on the largest eigenvalue of M^-1 K(x), with K(x)
 // the true (unprojected) tangent stiffness at the current deformation, gives omega_max; the
-// step is 0.9 * 2 / omega_max. Uses body->scratch (left zeroed).
-double fmBodyExplicitStepLimit(const struct fmBody* body);
+// step is 0.9 * 2 / omega_max. Takes one vector of 3n doubles from @p arena.
+double fmBodyExplicitStepLimit(const struct fmBody* body, fmArena* arena);
 
 // A cheap measure of how far the body's deformation may have stiffened it: the largest over its
 // tets of max(|F|^2, |F|^4 / (4 J^2)), bounds on sigma_max^2 and 1 / sigma_min^2 (sigma_min >=

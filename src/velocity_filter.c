@@ -15,10 +15,12 @@
 
 // v <- (1 - s) v + s * (average velocity of the tets around each vertex), the GAMES103 Smooth_V:
 // every tet adds the sum of its 4 velocities to each of its vertices, divided by 4 * tets around.
-static void fmSmoothVelocities(fmBody* b, double blend)
+static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena)
 {
-	double* sum = b->scratch;
-	memset(sum, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	size_t mark = fmArena_Mark(arena);
+	double* sum = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+	if (sum == NULL)
+		return;
 	for (int t = 0; t < b->tetCount; ++t)
 	{
 		const int* n = b->tets + 4 * t;
@@ -35,9 +37,10 @@ static void fmSmoothVelocities(fmBody* b, double blend)
 		fmStore(b->v, i, fmAdd(fmScale(1.0 - blend, fmLoad(b->v, i)), fmScale(blend, average)));
 		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
+	fmArena_Release(arena, mark);
 }
 
-void fmFilterVelocities(fmBody* b, double dt)
+void fmFilterVelocities(fmBody* b, double dt, fmArena* arena)
 {
 	const double steps = dt / FM_SEED_STEP;
 	if (b->damping < 1.0)
@@ -47,5 +50,5 @@ void fmFilterVelocities(fmBody* b, double dt)
 			b->v[k] *= factor;
 	}
 	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - pow(1.0 - b->smoothing, steps));
+		fmSmoothVelocities(b, 1.0 - pow(1.0 - b->smoothing, steps), arena);
 }

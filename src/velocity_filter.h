@@ -2,8 +2,10 @@
 // both integrators.
 #pragma once
 
+#include "arena.h"
 #include "body.h"
 
 // Apply the body's damping and smoothing, scaled from the seeds' 3 ms step to @p dt so that
-// damping per second does not depend on the step.
-void fmFilterVelocities(fmBody* body, double dt);
+// damping per second does not depend on the step. Smoothing takes a vector of 3n doubles from
+// @p arena.
+void fmFilterVelocities(fmBody* body, double dt, fmArena* arena);

@@ -201,6 +201,7 @@ void fmDestroyWorld(fmWorldId worldId)
 		if (w->bodies[i].x)
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
+	fmArena_Free(&w->arena);
 	uint32_t generation = w->generation;
 	memset(w, 0, sizeof *w);
 	w->generation = generation;
@@ -262,6 +263,21 @@ fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 	return r;
 }
 
+bool fmWorldReserveArena(fmWorld* w)
+{
+	size_t largest = 0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x && (size_t)w->bodies[i].vertexCount > largest)
+			largest = (size_t)w->bodies[i].vertexCount;
+	// Two vectors of 3n doubles: the most any stage holds at once.
+	return fmArena_Reserve(&w->arena, fmArena_Bytes(2, 3 * largest));
+}
+
+double fmWorldBodyStepLimit(fmWorld* w, const fmBody* b)
+{
+	return w != NULL && fmWorldReserveArena(w) ? fmBodyExplicitStepLimit(b, &w->arena) : 0.0;
+}
+
 // The explicit stability limit of the world at the bodies' current deformation (s); 0 for an
 // empty world. Refreshes each body's cached limit.
 static double fmCurrentExplicitLimit(fmWorld* w)
@@ -272,7 +288,7 @@ static double fmCurrentExplicitLimit(fmWorld* w)
 		fmBody* b = &w->bodies[i];
 		if (b->x == NULL)
 			continue;
-		b->explicitLimit = fmBodyExplicitStepLimit(b);
+		b->explicitLimit = fmBodyExplicitStepLimit(b, &w->arena);
 		dt = fmin(dt, b->explicitLimit);
 	}
 	return dt; // INFINITY: nothing constrains the step; 0: a body has collapsed
@@ -282,6 +298,8 @@ double fmWorld_EstimateExplicitStep(fmWorldId worldId)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
 	if (w == NULL)
+		return 0.0;
+	if (!fmWorldReserveArena(w))
 		return 0.0;
 	double limit = fmCurrentExplicitLimit(w);
 	return isfinite(limit) ? limit : 0.0;
@@ -386,8 +404,9 @@ static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double fra
 {
 	fmBody* b = &w->bodies[index];
 	double plain = NAN;
-	double energy =
-	    fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain) : NAN;
+	double energy = fmFirstNonFiniteVertex(b) < 0
+	                    ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain, &w->arena)
+	                    : NAN;
 	*energyAfter = energy;
 	if (!isfinite(energy) || !isfinite(plain))
 		return fmReportBadBody(w, index, fm_badState, energy, NAN, NAN);
@@ -504,16 +523,16 @@ static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double 
 
 // Step body @p index by @p h with the world's integrator, keeping what it produced in the body
 // (stepResult and the solve's counters). Writes nothing the other bodies' steps touch.
-static void fmStepBody(const fmWorld* w, int index, double h)
+static void fmStepBody(fmWorld* w, int index, double h)
 {
 	fmBody* b = &w->bodies[index];
 	if (w->def.integrator != fm_implicit)
 	{
-		b->stepResult = fmExplicitStep(w, b, h);
+		b->stepResult = fmExplicitStep(w, b, h, &w->arena);
 		return;
 	}
 	fmNewtonResult solve;
-	b->stepResult = fmImplicitStep(w, b, h, &solve);
+	b->stepResult = fmImplicitStep(w, b, h, &solve, &w->arena);
 	b->stepResidual = solve.residual;
 	b->stepNewton = solve.iterations;
 	b->stepCg = solve.cgIterations;
@@ -613,7 +632,7 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		// which is neither work nor a runaway.
 		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)
 			if (w->bodies[i].x)
-				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h);
+				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &w->arena);
 		*lastStep = h;
 	}
 	return fm_ok;
@@ -629,6 +648,9 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
 	if (r != fm_ok)
 		return r;
+	if (!fmWorldReserveArena(w))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the step buffers");
 
 	// Stage 1: the substep length (autoSubstep: from the stability limit at the current
 	// deformation).
@@ -646,7 +668,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x)
-			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep);
+			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &w->arena);
 
 	fmWarnExplicitStep(w, timeStep, subStepCount);
 

@@ -1,6 +1,7 @@
 // The world: bodies, gravity, floor, integrator settings, step statistics.
 #pragma once
 
+#include "arena.h"
 #include "body.h"
 #include "newton.h"
 #include "stability.h"
@@ -16,6 +17,7 @@ typedef struct fmWorld
 	fmDiagnostic lastError;
 	bool warnedStep;               // the explicit step-size warning was given
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
+	fmArena arena;                 // step temporaries, reserved for the largest body
 } fmWorld;
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
@@ -24,3 +26,11 @@ fmWorld* fmGetWorldOfBody(fmBodyId id);
 
 // Bytes of a world's body table (counted against fmWorldDef.memoryBudget).
 size_t fmWorldTableBytes(int maxBodies);
+
+// Reserve the world's arena for its largest body (the buffers a step takes at once); false when
+// memory is short. Allocates only when a larger body arrived.
+bool fmWorldReserveArena(fmWorld* world);
+
+// The explicit stability limit (s) of @p body at its current deformation, from the world's arena
+// (reserved for it).
+double fmWorldBodyStepLimit(fmWorld* world, const fmBody* body);
