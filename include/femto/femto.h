@@ -79,6 +79,24 @@ FM_API void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator);
 /// Costs one tangent-stiffness pass (about a microsecond per tet). Returns 0 for an empty world.
 FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
 
+/// Bytes fmWorld_SaveSnapshot() writes for the world as it is now (it changes when bodies are
+/// created or destroyed, or an implicit step first builds a body's solver matrix).
+FM_API size_t fmWorld_GetSnapshotSize(fmWorldId worldId);
+
+/// Save the world's complete simulation state into @p buffer (@p size bytes): every body's
+/// state, last good state, pins, material, energy ledger and the implicit solver's kept matrix,
+/// and the world's settings. fm_errLimit when the buffer is smaller than
+/// fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the bytes used. The snapshot is for
+/// this process: user energy functions are saved as pointers.
+FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size,
+                                     size_t* written);
+
+/// Restore a snapshot saved from this world with the same bodies: the world then continues
+/// bit-identically to the world that saved it. fm_errParameter (and nothing changed, the reason
+/// in fmWorld_GetLastError) when the buffer is not a snapshot, is truncated, or its bodies do
+/// not match the world's (created or destroyed since).
+FM_API fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t size);
+
 /// Create a body from a def with a mesh. The mesh's positions and tets are copied (the mesh is
 /// not modified); tets are reoriented positive; degenerate tets are rejected (fm_errDegenerate
 /// with the tet index in @p diag). A body whose estimated memory (fmEstimateBodyMemory()) does
