@@ -155,6 +155,21 @@ static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
 }
 
 // Public calls with fuzzed arguments on a live (or stale) body.
+// Save a snapshot, corrupt a few bytes of it (or cut it short) and restore it: a bad snapshot is
+// refused, a corrupted value is reported by the next step, nothing crashes.
+static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world)
+{
+	static unsigned char buffer[1 << 16];
+	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
+	if (size == 0 || size > sizeof buffer ||
+	    fmWorld_SaveSnapshot(world, buffer, size, &written) != fm_ok)
+		return;
+	int flips = fmFuzzPick(r, 4);
+	for (int k = 0; k < flips; ++k)
+		buffer[fmFuzzPick(r, (int)written)] ^= (unsigned char)fmFuzzByte(r);
+	fmWorld_RestoreSnapshot(world, buffer, fmFuzzPick(r, 4) ? written : written / 2);
+}
+
 static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
 	int n = fmBody_IsValid(body) ? fmBody_GetVertexCount(body) : 0;
@@ -163,7 +178,7 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	for (int c = 0; c < calls; ++c)
 	{
 		int vertex = fmFuzzPick(r, n + 3) - 1;
-		switch (fmFuzzPick(r, 12))
+		switch (fmFuzzPick(r, 13))
 		{
 		case 0:
 			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
@@ -210,6 +225,9 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			break;
 		case 10:
 			fmWorld_Step(world, fmFuzzDouble(r, 0.0, 0.05), fmFuzzPick(r, 4) - 1);
+			break;
+		case 11:
+			fuzzSnapshot(r, world);
 			break;
 		default:
 		{

@@ -1,14 +1,14 @@
 // Snapshots: a world's complete simulation state in a caller's buffer, restored so that the
 // world continues bit-identically (lockstep networking, replays, rollback).
 //
-// What a step depends on is saved: every body's positions, velocities, last good state, pins and
-// inverse masses, material and spring stiffness, energy ledger, the cached stability limit, and
-// the implicit solver's kept Newton matrix with what it was built with (the lazy Hessian reuses
-// it across steps, so a restored world without it would take other Newton steps). The world's
-// settings that setters change are saved too. Per-step temporaries (the solver's vectors, the
-// damping matrix, the arena) are rebuilt by every step and are not. Bodies are matched by slot,
-// generation and counts: a snapshot restores into the world it was taken from, with the same
-// bodies (created or destroyed bodies make it refuse, untouched).
+// What a step depends on is saved: every body's positions, velocities, last good state, pins
+// (inverse masses follow from them), material and spring stiffness, energy ledger, the cached
+// stability limit, and the implicit solver's kept Newton matrix with what it was built with (the
+// lazy Hessian reuses it across steps, so a restored world without it would take other Newton
+// steps). The world's settings that setters change are saved too. Per-step temporaries (the
+// solver's vectors, the damping matrix, the arena) are rebuilt by every step and are not. Bodies
+// are matched by slot, generation and counts: a snapshot restores into the world it was taken from,
+// with the same bodies (created or destroyed bodies make it refuse, untouched).
 #include "snapshot.h"
 
 #include "core.h"
@@ -31,6 +31,8 @@ typedef struct fmStream
 
 static void fmPut(fmStream* s, const void* data, size_t bytes)
 {
+	if (bytes == 0) // an empty array may be a NULL pointer
+		return;
 	if (s->out != NULL && !s->overflow && bytes <= s->size - s->used)
 		memcpy(s->out + s->used, data, bytes);
 	else if (s->out != NULL)
@@ -40,6 +42,8 @@ static void fmPut(fmStream* s, const void* data, size_t bytes)
 
 static void fmGet(fmStream* s, void* data, size_t bytes)
 {
+	if (bytes == 0)
+		return;
 	if (s->overflow || bytes > s->size - s->used)
 	{
 		s->overflow = true;
@@ -151,7 +155,6 @@ static void fmMoveBodyState(fmStream* s, bool save, fmBody* b)
 	fmMove(s, save, b->v, sizeof(double) * n3);
 	fmMove(s, save, b->xGood, sizeof(double) * n3);
 	fmMove(s, save, b->vGood, sizeof(double) * n3);
-	fmMove(s, save, b->invMass, sizeof(double) * n);
 	fmMove(s, save, b->pinned, n);
 	fmMove(s, save, b->springK, sizeof(double) * (size_t)b->edgeCount);
 	fmMoveMaterial(s, save, &b->material);
@@ -167,10 +170,24 @@ static bool fmMoveBody(fmStream* s, bool save, fmBody* b)
 	return fmMoveSolverMatrix(s, save, b);
 }
 
+// The material saved in body @p b's record at @p offset is one fmMaterial_Validate accepts (a
+// corrupted model number would index past the model table).
+static bool fmRecordMaterialValid(const fmBody* b, const void* buffer, size_t size, size_t offset)
+{
+	size_t n = (size_t)b->vertexCount;
+	size_t at = offset + sizeof(double) * (12 * n + (size_t)b->edgeCount) + n;
+	fmStream s = {NULL, buffer, size, at, false};
+	fmMaterial material = b->material;
+	fmMoveMaterial(&s, false, &material);
+	return !s.overflow && fmMaterial_Validate(&material, NULL) == fm_ok;
+}
+
 // Bytes of body @p b's record at @p offset of the buffer (after its key), or SIZE_MAX when the
-// record does not fit @p b (another matrix size) or the buffer.
+// record does not fit @p b (another matrix size), the buffer, or holds an invalid material.
 static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size_t offset)
 {
+	if (!fmRecordMaterialValid(b, buffer, size, offset))
+		return SIZE_MAX;
 	fmStream count = {NULL, NULL, 0, 0, false};
 	fmMoveBodyState(&count, true, b);
 	fmStream s = {NULL, buffer, size, offset + count.used, false};
@@ -306,6 +323,11 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	fmWorld settings = *w;
 	fmMoveWorldSettings(&s, false, &settings); // to find the bodies; applied last
 	size_t bodiesAt = s.used;
+	if (s.overflow || fmWorldDef_Validate(&settings.def, NULL) != fm_ok ||
+	    (unsigned)settings.solverOptions.product > (unsigned)fm_productMatrixFree ||
+	    (unsigned)settings.solverOptions.preconditioner > (unsigned)fm_precondBlockJacobi)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's world settings are invalid: not restored");
 	for (int pass = 0; pass < 2; ++pass)
 	{
 		s.used = bodiesAt;
@@ -335,6 +357,11 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 			if (!fmMoveBody(&s, false, b))
 				return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 				                   "out of memory restoring body %d's solver matrix", i);
+			for (int k = 0; k < b->vertexCount; ++k) // pins are axis masks; inverse masses follow
+			{
+				b->pinned[k] &= FM_PIN_ALL;
+				b->invMass[k] = b->pinned[k] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[k];
+			}
 		}
 		if (s.overflow)
 			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
