@@ -42,6 +42,9 @@ bool cliParseDouble(const char* text, double* value);
 /// Parse a whole string as an int. False on junk or overflow.
 bool cliParseInt(const char* text, int* value);
 
+// Processors online, in [1, FM_MAX_WORKERS]: the default worker count.
+int cliCoresAvailable(void);
+
 /// Parse the value of integer option @p option of @p command, which must lie in [lo, hi].
 /// On failure prints a usage error that says what was wrong ("--frames: 99999999999 is too
 /// large (at most 100000000)"; "expected an integer" for junk) and returns false.

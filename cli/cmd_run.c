@@ -29,6 +29,8 @@ const char* const cliRunHelp =
     "  --strict           an implicit step that ends above the solver tolerance is an error\n"
     "                     (the scene's \"not_converged\": \"error\"); by default a warning,\n"
     "                     counted in the summary\n"
+    "  --workers N        threads the stages run on, 1 to 64 (default: the scene's \"workers\",\n"
+    "                     else the cores available); results are the same bits for any N\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -50,6 +52,7 @@ typedef struct cliRunOptions
 	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
 	bool hasImpulseSpeed;
 	bool strict;
+	int workers; ///< --workers, 0 if not given
 	bool quiet;
 } cliRunOptions;
 
@@ -79,6 +82,13 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 			o->quiet = true;
 		else if (strcmp(arg, "--strict") == 0)
 			o->strict = true;
+		else if (strcmp(arg, "--workers") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseIntOption("run", "--workers", value, 1, FM_MAX_WORKERS, &o->workers))
+				return cli_exitUsage;
+		}
 		else if (strcmp(arg, "--obj") == 0)
 			o->obj = true;
 		else if (strcmp(arg, "--seconds") == 0)
@@ -399,6 +409,10 @@ int cliRun(int argc, char** argv)
 		return cli_exitInput;
 	if (o.strict)
 		scene.worldDef.notConvergedIsError = true;
+	if (o.workers > 0)
+		scene.worldDef.workerCount = o.workers;
+	else if (!scene.hasWorkers)
+		scene.worldDef.workerCount = cliCoresAvailable();
 	cliSimulation sim;
 	if (scene.bodies == NULL ||
 	    !cliSimulation_Create(&scene, o.quiet ? cli_stepCheckWarnings : cli_stepCheckAll, &sim))

@@ -650,6 +650,8 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
 	    !cliGetBool(j, root, "", "auto_substep", &def->autoSubstep) ||
 	    !cliGetNumber(j, root, "", "memory_budget_mib", budgetRange, &budgetMiB, &hasBudget) ||
+	    !cliGetInt(j, root, "", "workers", 1, FM_MAX_WORKERS, &def->workerCount,
+	               &scene->hasWorkers) ||
 	    !cliParseFloor(j, root, &def->floor))
 		return false;
 	if (hasBudget)
@@ -699,6 +701,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "not_converged",
 	                                   "auto_substep",
 	                                   "memory_budget_mib",
+	                                   "workers",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");

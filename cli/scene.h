@@ -48,6 +48,7 @@ typedef struct cliScene
 	double seconds;          ///< default duration for run, 0 if not given
 	cliBodySpec* bodies;     ///< malloc'd
 	int bodyCount;
+	bool hasWorkers; ///< the scene gave "workers" (else the tool picks the cores available)
 } cliScene;
 
 /// A scene turned into a world: the ids and the meshes (kept for .node export).

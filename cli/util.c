@@ -296,3 +296,9 @@ void cliNoteExplicitStepWarned(void)
 {
 	cliLogState.explicitStepWarned = true;
 }
+
+int cliCoresAvailable(void)
+{
+	long cores = sysconf(_SC_NPROCESSORS_ONLN);
+	return cores < 1 ? 1 : cores > FM_MAX_WORKERS ? FM_MAX_WORKERS : (int)cores;
+}

@@ -164,6 +164,8 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->mass, double, n);
 	FM_FREE_ARRAY(b->invMass, double, n);
 	FM_FREE_ARRAY(b->smoothWeight, double, n);
+	FM_FREE_ARRAY(b->vertexTetStart, int, n + 1);
+	FM_FREE_ARRAY(b->vertexTets, int, 4 * m);
 	FM_FREE_ARRAY(b->pinned, uint8_t, n);
 	FM_FREE_ARRAY(b->tets, int, 4 * m);
 	FM_FREE_ARRAY(b->DmInv, fmMat3, m);
@@ -192,12 +194,15 @@ static bool fmBodyAllocate(fmBody* b, int n, int m)
 	b->mass = FM_ALLOC_ZERO(double, n);
 	b->invMass = FM_ALLOC_ZERO(double, n);
 	b->smoothWeight = FM_ALLOC_ZERO(double, n);
+	b->vertexTetStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
+	b->vertexTets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
 	b->pinned = FM_ALLOC_ZERO(uint8_t, n);
 	b->tets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
 	b->DmInv = FM_ALLOC_ARRAY(fmMat3, m);
 	b->restVolume = FM_ALLOC_ARRAY(double, m);
 	return b->x && b->v && b->f && b->x0 && b->xGood && b->vGood && b->mass && b->invMass &&
-	       b->smoothWeight && b->pinned && b->tets && b->DmInv && b->restVolume;
+	       b->smoothWeight && b->vertexTetStart && b->vertexTets && b->pinned && b->tets &&
+	       b->DmInv && b->restVolume;
 }
 
 // Reference edge matrices, volumes, masses and smoothing weights from the oriented mesh.
@@ -255,6 +260,21 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 	return fm_ok;
 }
 
+// The tets around each vertex in ascending order (vertexTetStart, vertexTets) from the counts
+// @p tetsAround (consumed).
+static void fmBodyBuildIncidence(fmBody* b, int* tetsAround)
+{
+	b->vertexTetStart[0] = 0;
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		b->vertexTetStart[i + 1] = b->vertexTetStart[i] + tetsAround[i];
+		tetsAround[i] = b->vertexTetStart[i]; // the next free place of vertex i
+	}
+	for (int t = 0; t < b->tetCount; ++t) // tets in order: each list ends up ascending
+		for (int a = 0; a < 4; ++a)
+			b->vertexTets[tetsAround[b->tets[4 * t + a]]++] = 4 * t + a;
+}
+
 // The same with a counter of the tets around each vertex, allocated for the call.
 static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
                                  fmDiagnostic* diag)
@@ -264,6 +284,8 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory preparing a body of %d vertices", b->vertexCount);
 	fmResult r = fmBodyPrecomputeWith(b, def, mesh, diag, tetsAround);
+	if (r == fm_ok)
+		fmBodyBuildIncidence(b, tetsAround);
 	FM_FREE_ARRAY(tetsAround, int, (size_t)b->vertexCount);
 	return r;
 }
@@ -348,8 +370,9 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 	// The body: 6 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface, and the
 	// two vectors of 3n doubles it may need in the world's step arena.
 	uint64_t body = 8 * fmArrayBytes(3 * n, d) + 3 * fmArrayBytes(n, d) + fmArrayBytes(n, 1) +
-	                fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(m, sizeof(fmMat3)) +
-	                fmArrayBytes(m, d) + fmArrayBytes(3 * surface, sizeof(int)) + 64;
+	                2 * fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(n + 1, sizeof(int)) +
+	                fmArrayBytes(m, sizeof(fmMat3)) + fmArrayBytes(m, d) +
+	                fmArrayBytes(3 * surface, sizeof(int)) + 64;
 	if (springs)
 		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
 	if (def && def->forceModel == fm_fvm)

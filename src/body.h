@@ -35,6 +35,12 @@ typedef struct fmBody
 	// Laplacian smoothing: 1 / (4 * number of tets around each vertex)
 	double* smoothWeight;
 
+	// The tets around each vertex, for gathers in tet order (a parallel step's scatter-free
+	// sums): vertexTets[vertexTetStart[i] .. vertexTetStart[i + 1]) are 4 t + a, ascending,
+	// for every tet t whose node a is vertex i.
+	int* vertexTetStart; // vertexCount + 1
+	int* vertexTets;     // 4 * tetCount
+
 	// mass-spring force model (edges of the tets)
 	int edgeCount;
 	int* edges;         // 2 per edge

@@ -1,6 +1,7 @@
 // Hooks (allocator, assert, log), result strings and diagnostics.
 #include "core.h"
 
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,7 +12,8 @@ static fmFreeFcn* s_freeFcn;
 static fmAssertFcn* s_assertFcn;
 static fmLogFcn* s_logFcn;
 static void* s_logContext;
-static size_t s_allocatedBytes;
+// Atomic: worker threads may allocate (never in a step, but a pool starts its threads).
+static _Atomic size_t s_allocatedBytes;
 
 fmVersion fmGetVersion(void)
 {
@@ -27,7 +29,7 @@ void fmSetAllocator(fmAllocFcn* allocFcn, fmFreeFcn* freeFcn)
 
 size_t fmGetAllocatedBytes(void)
 {
-	return s_allocatedBytes;
+	return atomic_load(&s_allocatedBytes);
 }
 
 void fmSetAssertFcn(fmAssertFcn* assertFcn)
@@ -73,7 +75,7 @@ void* fmAlloc(size_t size)
 	size_t rounded = (size + fm_alignment - 1) & ~(size_t)(fm_alignment - 1);
 	void* p = s_allocFcn ? s_allocFcn(rounded, fm_alignment) : aligned_alloc(fm_alignment, rounded);
 	if (p)
-		s_allocatedBytes += rounded;
+		atomic_fetch_add(&s_allocatedBytes, rounded);
 	return p;
 }
 
@@ -90,7 +92,7 @@ void fmDealloc(void* memory, size_t size)
 	if (memory == NULL)
 		return;
 	size_t rounded = (size + fm_alignment - 1) & ~(size_t)(fm_alignment - 1);
-	s_allocatedBytes -= rounded;
+	atomic_fetch_sub(&s_allocatedBytes, rounded);
 	if (s_freeFcn)
 		s_freeFcn(memory, rounded);
 	else

@@ -27,35 +27,107 @@ static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 	}
 }
 
+// What the tasks of a parallel explicit step share (each writes only its own range).
+typedef struct fmExplicitTask
+{
+	const fmWorld* world;
+	fmBody* body;
+	double dt;
+	double* tetForces;   // 12 per tet
+	double* tetEnergies; // 1 per tet
+} fmExplicitTask;
+
+static void fmTetForcesTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmTetForces(c->body, c->body->x, start, end, c->tetForces, c->tetEnergies);
+}
+
+static void fmGatherForcesTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmGatherTetForces(c->body, c->tetForces, start, end, c->body->f);
+}
+
+// Stage 2 for vertices [start, end): v += dt f / m; pinned vertices stay at rest.
+static void fmVelocitiesTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+	{
+		if (b->pinned[i] == FM_PIN_ALL)
+			continue;
+		fmVec3 v = fmMulAdd(fmLoad(b->v, i), c->dt * b->invMass[i], fmLoad(b->f, i));
+		fmStore(b->v, i, v);
+		fmZeroPinnedAxes(b, i, b->v + 3 * i); // rollers: free only along their open axes
+	}
+}
+
+// Stage 4 for vertices [start, end): x += dt v.
+static void fmPositionsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+		if (b->pinned[i] != FM_PIN_ALL)
+			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
+}
+
+// Items per task range: small loops stay on one worker.
+#define FM_MIN_RANGE 256
+
+// Elastic forces into b->f: on the world's workers (per-tet forces, then a gather per vertex in
+// tet order: the same bits as the serial scatter) when the world runs in parallel and the body
+// is FEM; serially otherwise.
+static void fmAddElasticForcesStaged(fmExplicitTask* c, fmArena* arena)
+{
+	const fmTaskSystem* tasks = &c->world->tasks;
+	fmBody* b = c->body;
+	bool parallel = tasks->workerCount > 1 || tasks->enqueueTask != NULL;
+	size_t mark = fmArena_Mark(arena);
+	if (parallel && b->forceModel == fm_fem)
+	{
+		c->tetForces = fmArena_Doubles(arena, 12 * (size_t)b->tetCount);
+		c->tetEnergies = fmArena_Doubles(arena, (size_t)b->tetCount);
+	}
+	if (c->tetForces == NULL || c->tetEnergies == NULL)
+	{
+		fmAddElasticForces(b, b->x, b->f);
+		fmArena_Release(arena, mark);
+		return;
+	}
+	fmParallelFor(tasks, b->tetCount, FM_MIN_RANGE, fmTetForcesTask, c);
+	fmParallelFor(tasks, b->vertexCount, FM_MIN_RANGE, fmGatherForcesTask, c);
+	fmArena_Release(arena, mark);
+}
+
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
 	const int n = b->vertexCount;
+	const fmTaskSystem* tasks = &world->tasks;
+	fmExplicitTask context = {world, b, dt, NULL, NULL};
 
 	// 1. Gravity and elastic forces.
 	for (int i = 0; i < n; ++i)
 		fmStore(b->f, i, fmScale(b->mass[i], world->def.gravity));
-	fmAddElasticForces(b, b->x, b->f);
+	fmAddElasticForcesStaged(&context, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);
 
 	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
-	for (int i = 0; i < n; ++i)
-	{
-		if (b->pinned[i] == FM_PIN_ALL)
-			continue;
-		fmVec3 v = fmMulAdd(fmLoad(b->v, i), dt * b->invMass[i], fmLoad(b->f, i));
-		fmStore(b->v, i, v);
-		fmZeroPinnedAxes(b, i, b->v + 3 * i); // rollers: free only along their open axes
-	}
+	fmParallelFor(tasks, n, FM_MIN_RANGE, fmVelocitiesTask, &context);
 
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
 	fmFilterVelocities(b, dt, arena);
 
 	// 4. Positions, then the floor.
-	for (int i = 0; i < n; ++i)
-		if (b->pinned[i] != FM_PIN_ALL)
-			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), dt, fmLoad(b->v, i)));
+	fmParallelFor(tasks, n, FM_MIN_RANGE, fmPositionsTask, &context);
 	fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
 	return fm_ok;
 }

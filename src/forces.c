@@ -52,6 +52,40 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 	return energy;
 }
 
+void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
+                 double* energies)
+{
+	for (int t = first; t < end; ++t)
+	{
+		fmMat3 F = fmTetDeformation(body, x, t);
+		fmMat3 P;
+		double V0 = body->restVolume[t];
+		energies[t] = V0 * fmMaterial_Evaluate(&body->material, &F, &P, NULL);
+		// The same arithmetic as fmAddFemForces; node 0 keeps minus the sum (a - b == a + -b).
+		fmMat3 H = fmMatMulT(&P, &body->DmInv[t]);
+		fmVec3 sum = {0, 0, 0};
+		double* out = forces + 12 * (size_t)t;
+		for (int a = 1; a < 4; ++a)
+		{
+			fmVec3 fa = fmScale(-V0, fmColumn(&H, a - 1));
+			sum = fmAdd(sum, fa);
+			fmStore(out, a, fa);
+		}
+		fmStore(out, 0, fmScale(-1.0, sum));
+	}
+}
+
+void fmGatherTetForces(const fmBody* body, const double* forces, int first, int end, double* f)
+{
+	for (int i = first; i < end; ++i)
+	{
+		fmVec3 sum = fmLoad(f, i);
+		for (int k = body->vertexTetStart[i]; k < body->vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmLoad(forces, body->vertexTets[k])); // 3 doubles at 3 (4 t + a)
+		fmStore(f, i, sum);
+	}
+}
+
 double fmAddElasticForces(const fmBody* body, const double* x, double* f)
 {
 	switch (body->forceModel)

@@ -12,6 +12,16 @@ fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t);
 // Dispatches on body->forceModel.
 double fmAddElasticForces(const fmBody* body, const double* x, double* f);
 
+// FEM forces of tets [first, end) at positions x without touching shared data: the force on
+// node a of tet t into forces[12 t + 3 a ...], its energy into energies[t]. With
+// fmGatherTetForces() this gives the same bits as fmAddElasticForces() (the sums run in the
+// same order), for any split of the tets.
+void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
+                 double* energies);
+
+// f[i] += the forces of fmTetForces() on vertex i, in tet order, for vertices [first, end).
+void fmGatherTetForces(const fmBody* body, const double* forces, int first, int end, double* f);
+
 // Elastic energy only (J).
 double fmElasticEnergy(const fmBody* body, const double* x);
 

@@ -40,6 +40,7 @@ fmWorldDef fmDefaultWorldDef(void)
 	def.tolerance = 1e-6;
 	def.cgIterations = 500;
 	def.maxBodies = 64;
+	def.workerCount = 1;
 	def.memoryBudget = FM_DEFAULT_MEMORY_BUDGET;
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
@@ -125,6 +126,13 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 	if (def->maxBodies < 1 || def->maxBodies > (1 << 20))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "maxBodies must be in [1, 2^20], got %d", def->maxBodies);
+	if (def->workerCount < 1 || def->workerCount > FM_MAX_WORKERS)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "workerCount must be in [1, %d] (default 1), got %d", FM_MAX_WORKERS,
+		                   def->workerCount);
+	if ((def->enqueueTask == NULL) != (def->finishTask == NULL))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "give both task callbacks (enqueueTask and finishTask) or neither");
 	if (def->memoryBudget == 0)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "memoryBudget must be > 0 bytes (default %zu = 4 GiB; SIZE_MAX for no "
@@ -162,6 +170,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
 		w->solverOptions = fmDefaultSolverOptions();
+		fmTaskSystem_Init(&w->tasks, def); // without threads it runs serially
 		id.index1 = i + 1;
 		id.generation = generation;
 		return id;
@@ -202,6 +211,7 @@ void fmDestroyWorld(fmWorldId worldId)
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
 	fmArena_Free(&w->arena);
+	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;
 	memset(w, 0, sizeof *w);
 	w->generation = generation;
@@ -263,14 +273,26 @@ fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 	return r;
 }
 
+static size_t fmMaxSize(size_t a, size_t b)
+{
+	return a > b ? a : b;
+}
+
 bool fmWorldReserveArena(fmWorld* w)
 {
-	size_t largest = 0;
+	size_t vertices = 0, tets = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x && (size_t)w->bodies[i].vertexCount > largest)
-			largest = (size_t)w->bodies[i].vertexCount;
-	// Two vectors of 3n doubles: the most any stage holds at once.
-	return fmArena_Reserve(&w->arena, fmArena_Bytes(2, 3 * largest));
+		if (w->bodies[i].x)
+		{
+			vertices = fmMaxSize(vertices, (size_t)w->bodies[i].vertexCount);
+			tets = fmMaxSize(tets, (size_t)w->bodies[i].tetCount);
+		}
+	// Two vectors of 3n doubles: the most any stage holds at once; a parallel explicit step
+	// also keeps every tet's forces and energy (13 doubles a tet) for its gather.
+	size_t bytes = fmArena_Bytes(2, 3 * vertices);
+	if (w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL)
+		bytes += fmArena_Bytes(1, 12 * tets) + fmArena_Bytes(1, tets);
+	return fmArena_Reserve(&w->arena, bytes);
 }
 
 double fmWorldBodyStepLimit(fmWorld* w, const fmBody* b)

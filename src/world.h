@@ -4,6 +4,7 @@
 #include "arena.h"
 #include "body.h"
 #include "newton.h"
+#include "parallel.h"
 #include "stability.h"
 
 typedef struct fmWorld
@@ -18,6 +19,7 @@ typedef struct fmWorld
 	bool warnedStep;               // the explicit step-size warning was given
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
+	fmTaskSystem tasks;            // how the stages run in parallel
 } fmWorld;
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).

@@ -177,6 +177,23 @@ FM_API fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag)
 #define FM_DEFAULT_MEMORY_BUDGET                                                                   \
 	((size_t)(SIZE_MAX >> 31 > 1 ? ((uint64_t)4 << 30) : (uint64_t)SIZE_MAX))
 
+/// Most workers a world runs its stages on.
+#define FM_MAX_WORKERS 64
+
+/// A task: process items [@p startIndex, @p endIndex) on worker @p workerIndex (0 to
+/// workerCount - 1) with @p taskContext. Tasks of one loop write disjoint outputs.
+typedef void fmTaskCallback(int startIndex, int endIndex, int workerIndex, void* taskContext);
+
+/// Engine hook (as Box2D v3's): run @p task over @p itemCount items, split into ranges of at
+/// least @p minRange items that may run in parallel, each with a distinct worker index below
+/// fmWorldDef.workerCount. Return a handle for fmFinishTaskCallback, or NULL when the task has
+/// already run to the end.
+typedef void* fmEnqueueTaskCallback(fmTaskCallback* task, int itemCount, int minRange,
+                                    void* taskContext, void* userContext);
+
+/// Engine hook: wait until the task behind @p userTask has finished.
+typedef void fmFinishTaskCallback(void* userTask, void* userContext);
+
 /// World definition. Get one from fmDefaultWorldDef().
 typedef struct fmWorldDef
 {
@@ -195,13 +212,20 @@ typedef struct fmWorldDef
 	/// fmWorld_Step; the limit is re-evaluated when the deformation moves (docs/robustness.md)
 	/// (default false)
 	bool autoSubstep;
-	int maxBodies;     ///< capacity, >= 1 (default 64)
+	int maxBodies; ///< capacity, >= 1 (default 64)
 	/// Bytes the world's body table and bodies may take, >= the table (maxBodies bodies of a few
 	/// hundred bytes each); default 4 GiB (FM_DEFAULT_MEMORY_BUDGET), SIZE_MAX for no limit.
 	/// fmCreateBody() estimates a body before allocating anything (fmEstimateBodyMemory(), the
 	/// implicit solver's matrix included) and refuses it with fm_errLimit beyond the budget.
 	size_t memoryBudget;
-	int internalValue; ///< set by fmDefaultWorldDef; create calls check it
+	/// Workers the stages run on, in [1, FM_MAX_WORKERS] (default 1: serial, no threads).
+	/// Results are bit-identical for any count. Without task callbacks femto starts
+	/// workerCount - 1 threads of its own.
+	int workerCount;
+	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
+	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
+	void* userTaskContext;              ///< passed to the two callbacks
+	int internalValue;                  ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;
 
 /// The default world: the seeds' gravity and floor, explicit integration.

@@ -1,0 +1,188 @@
+// Parallel loops (parallel.h) and femto's own thread pool: the caller and workerCount - 1
+// threads each take one contiguous range of a loop, in a fixed split; the caller waits for all.
+#include "parallel.h"
+
+#include "core.h"
+
+#include <pthread.h>
+#include <string.h>
+
+typedef struct fmWorkerArgs
+{
+	struct fmTaskPool* pool;
+	int workerIndex;
+} fmWorkerArgs;
+
+struct fmTaskPool
+{
+	pthread_mutex_t mutex;
+	pthread_cond_t wake; // a new loop, or shutdown
+	pthread_cond_t done; // the last range of a loop finished
+	pthread_t* threads;
+	fmWorkerArgs* args; // one per thread, owned by the pool
+	int threadCount;
+	int capacity; // threads and args allocated
+	// The loop being run.
+	fmTaskCallback* task;
+	void* context;
+	int itemCount;
+	int rangeCount;
+	int nextRange;   // ranges handed out
+	int rangesLeft;  // ranges not finished
+	unsigned loopId; // changes with every loop
+	bool stop;
+};
+
+// Range @p k of @p count ranges over @p items items: contiguous, sizes differing by at most one.
+static void fmRange(int items, int count, int k, int* start, int* end)
+{
+	int base = items / count, extra = items % count;
+	*start = k * base + (k < extra ? k : extra);
+	*end = *start + base + (k < extra ? 1 : 0);
+}
+
+// Take and run ranges of the current loop until none is left; called with the mutex held.
+static void fmRunRanges(fmTaskPool* pool, int workerIndex)
+{
+	while (pool->nextRange < pool->rangeCount)
+	{
+		int k = pool->nextRange++;
+		int start, end;
+		fmRange(pool->itemCount, pool->rangeCount, k, &start, &end);
+		pthread_mutex_unlock(&pool->mutex);
+		pool->task(start, end, workerIndex, pool->context);
+		pthread_mutex_lock(&pool->mutex);
+		if (--pool->rangesLeft == 0)
+			pthread_cond_broadcast(&pool->done);
+	}
+}
+
+static void* fmWorkerMain(void* argument)
+{
+	fmWorkerArgs args = *(fmWorkerArgs*)argument;
+	fmTaskPool* pool = args.pool;
+	unsigned seen = 0;
+	pthread_mutex_lock(&pool->mutex);
+	for (;;)
+	{
+		while (!pool->stop && pool->loopId == seen)
+			pthread_cond_wait(&pool->wake, &pool->mutex);
+		if (pool->stop)
+			break;
+		seen = pool->loopId;
+		fmRunRanges(pool, args.workerIndex);
+	}
+	pthread_mutex_unlock(&pool->mutex);
+	return NULL;
+}
+
+static void fmPoolFree(fmTaskPool* pool)
+{
+	pthread_mutex_lock(&pool->mutex);
+	pool->stop = true;
+	pthread_cond_broadcast(&pool->wake);
+	pthread_mutex_unlock(&pool->mutex);
+	for (int k = 0; k < pool->threadCount; ++k)
+		pthread_join(pool->threads[k], NULL);
+	pthread_cond_destroy(&pool->done);
+	pthread_cond_destroy(&pool->wake);
+	pthread_mutex_destroy(&pool->mutex);
+	FM_FREE_ARRAY(pool->threads, pthread_t, (size_t)pool->capacity);
+	FM_FREE_ARRAY(pool->args, fmWorkerArgs, (size_t)pool->capacity);
+	FM_FREE_ARRAY(pool, fmTaskPool, 1);
+}
+
+static fmTaskPool* fmPoolCreate(int threads)
+{
+	fmTaskPool* pool = FM_ALLOC_ZERO(fmTaskPool, 1);
+	if (pool == NULL)
+		return NULL;
+	pool->capacity = threads;
+	pool->threads = FM_ALLOC_ZERO(pthread_t, (size_t)threads);
+	pool->args = FM_ALLOC_ZERO(fmWorkerArgs, (size_t)threads);
+	if (pool->threads == NULL || pool->args == NULL || pthread_mutex_init(&pool->mutex, NULL) != 0)
+	{
+		FM_FREE_ARRAY(pool->threads, pthread_t, (size_t)threads);
+		FM_FREE_ARRAY(pool->args, fmWorkerArgs, (size_t)threads);
+		FM_FREE_ARRAY(pool, fmTaskPool, 1);
+		return NULL;
+	}
+	pthread_cond_init(&pool->wake, NULL);
+	pthread_cond_init(&pool->done, NULL);
+	for (int k = 0; k < threads; ++k)
+	{
+		pool->args[k].pool = pool;
+		pool->args[k].workerIndex = k + 1; // the caller is worker 0
+		if (pthread_create(&pool->threads[k], NULL, fmWorkerMain, &pool->args[k]) != 0)
+			break;
+		pool->threadCount = k + 1;
+	}
+	if (pool->threadCount < threads)
+	{
+		fmPoolFree(pool);
+		return NULL;
+	}
+	return pool;
+}
+
+bool fmTaskSystem_Init(fmTaskSystem* system, const fmWorldDef* def)
+{
+	memset(system, 0, sizeof *system);
+	system->workerCount = def->workerCount > 0 ? def->workerCount : 1;
+	system->enqueueTask = def->enqueueTask;
+	system->finishTask = def->finishTask;
+	system->userTaskContext = def->userTaskContext;
+	if (system->workerCount == 1 || system->enqueueTask != NULL)
+		return true;
+	system->pool = fmPoolCreate(system->workerCount - 1);
+	if (system->pool == NULL)
+	{
+		system->workerCount = 1;
+		return false;
+	}
+	return true;
+}
+
+void fmTaskSystem_Shutdown(fmTaskSystem* system)
+{
+	if (system->pool)
+		fmPoolFree(system->pool);
+	system->pool = NULL;
+}
+
+void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTaskCallback* task,
+                   void* taskContext)
+{
+	if (itemCount <= 0)
+		return;
+	if (system->enqueueTask != NULL)
+	{
+		void* handle = system->enqueueTask(task, itemCount, minRange > 0 ? minRange : 1,
+		                                   taskContext, system->userTaskContext);
+		if (handle != NULL && system->finishTask != NULL)
+			system->finishTask(handle, system->userTaskContext);
+		return;
+	}
+	int ranges = system->workerCount;
+	if (minRange > 0 && itemCount / minRange < ranges)
+		ranges = itemCount / minRange > 1 ? itemCount / minRange : 1;
+	if (ranges <= 1 || system->pool == NULL)
+	{
+		task(0, itemCount, 0, taskContext);
+		return;
+	}
+	fmTaskPool* pool = system->pool;
+	pthread_mutex_lock(&pool->mutex);
+	pool->task = task;
+	pool->context = taskContext;
+	pool->itemCount = itemCount;
+	pool->rangeCount = ranges;
+	pool->nextRange = 0;
+	pool->rangesLeft = ranges;
+	pool->loopId += 1;
+	pthread_cond_broadcast(&pool->wake);
+	fmRunRanges(pool, 0);
+	while (pool->rangesLeft > 0)
+		pthread_cond_wait(&pool->done, &pool->mutex);
+	pthread_mutex_unlock(&pool->mutex);
+}

@@ -1,0 +1,114 @@
+// Parallel stages: the same bits for any number of workers, on femto's own threads and on an
+// engine's job system (task callbacks), as the determinism promise says (docs/simulation.md).
+#include "support.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+// A toy engine job system: runs a task's ranges on the calling thread, last range first, each
+// with its own worker index, and records how many ranges it ran.
+typedef struct fmToyEngine
+{
+	int ranges;
+	int workers;
+} fmToyEngine;
+
+static void* toyEnqueue(fmTaskCallback* task, int itemCount, int minRange, void* taskContext,
+                        void* userContext)
+{
+	fmToyEngine* engine = userContext;
+	int count = itemCount / minRange;
+	count = count < 1 ? 1 : count > engine->workers ? engine->workers : count;
+	for (int k = count - 1; k >= 0; --k)
+	{
+		int start = (int)((long long)itemCount * k / count);
+		int end = (int)((long long)itemCount * (k + 1) / count);
+		task(start, end, k, taskContext);
+		engine->ranges += 1;
+	}
+	return NULL; // done already
+}
+
+static void toyFinish(void* userTask, void* userContext)
+{
+	(void)userTask;
+	(void)userContext;
+}
+
+// 40 frames of the house and a 10x10x10 box (6000 tets) with @p workers, or on the toy engine;
+// the final positions and velocities of both (caller frees).
+static double* runWith(int* failures_, int workers, fmToyEngine* engine, size_t* length)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.workerCount = workers;
+	if (engine)
+	{
+		wdef.enqueueTask = toyEnqueue;
+		wdef.finishTask = toyFinish;
+		wdef.userTaskContext = engine;
+	}
+	fmWorldId world;
+	fmBodyId bodies[2];
+	bodies[0] = fmTestMakeHouse(&world, &wdef, NULL);
+	fmTetMesh box;
+	CHECK_INT(fmMakeBoxMesh(10, 10, 10, fmMakeVec3(3, -2, -1), fmMakeVec3(5, 0, 1), &box), fm_ok);
+	fmBodyDef bdef = fmDefaultBodyDef();
+	bdef.mesh = &box;
+	CHECK_INT(fmCreateBody(world, &bdef, &bodies[1], NULL), fm_ok);
+	fmFreeTetMesh(&box);
+	for (int frame = 0; frame < 40; ++frame)
+		CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+	size_t total = 0;
+	for (int b = 0; b < 2; ++b)
+		total += 6 * (size_t)fmBody_GetVertexCount(bodies[b]);
+	double* out = malloc(sizeof(double) * total);
+	size_t at = 0;
+	for (int b = 0; b < 2; ++b)
+	{
+		size_t n3 = 3 * (size_t)fmBody_GetVertexCount(bodies[b]);
+		memcpy(out + at, fmBody_GetPositions(bodies[b]), sizeof(double) * n3);
+		memcpy(out + at + n3, fmBody_GetVelocities(bodies[b]), sizeof(double) * n3);
+		at += 2 * n3;
+	}
+	*length = total;
+	fmDestroyWorld(world);
+	return out;
+}
+
+TEST(explicit_results_are_bit_identical_for_any_worker_count)
+{
+	size_t length, other;
+	double* serial = runWith(failures_, 1, NULL, &length);
+	for (int workers = 2; workers <= 4; ++workers)
+	{
+		double* parallel = runWith(failures_, workers, NULL, &other);
+		CHECK(other == length);
+		if (memcmp(serial, parallel, sizeof(double) * length) != 0)
+			FAIL_AT("%d workers differ from one", workers);
+		free(parallel);
+	}
+	fmToyEngine engine = {0, 3};
+	double* engineRun = runWith(failures_, 3, &engine, &other);
+	CHECK(memcmp(serial, engineRun, sizeof(double) * length) == 0);
+	printf("  1, 2, 3 and 4 workers and a 3-worker engine (%d ranges run): the same bits\n",
+	       engine.ranges);
+	CHECK(engine.ranges > 0);
+	free(engineRun);
+	free(serial);
+}
+
+TEST(worker_count_and_callbacks_are_validated)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	fmDiagnostic diag;
+	wdef.workerCount = 0;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "workerCount");
+	wdef.workerCount = FM_MAX_WORKERS + 1;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	wdef.workerCount = 2;
+	wdef.enqueueTask = toyEnqueue;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "both task callbacks");
+}
