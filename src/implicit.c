@@ -81,7 +81,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.floor = floor;
 	pb.tolerance = world->def.tolerance;
 	pb.scale = fmStepForceScale(b, c, pb.gravity, h);
-	pb.maxNewton = world->def.newtonIterations;
+	pb.maxNewton = world->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;

@@ -41,6 +41,8 @@ fmWorldDef fmDefaultWorldDef(void)
 	def.cgIterations = 500;
 	def.maxBodies = 64;
 	def.workerCount = 1;
+	def.maxNewtonPerFrame = 1000000;
+	def.maxSubstepsPerFrame = FM_MAX_SUBSTEPS;
 	def.memoryBudget = FM_DEFAULT_MEMORY_BUDGET;
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
@@ -126,6 +128,12 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 	if (def->maxBodies < 1 || def->maxBodies > (1 << 20))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "maxBodies must be in [1, 2^20], got %d", def->maxBodies);
+	if (def->maxNewtonPerFrame < 1 || def->maxSubstepsPerFrame < 1 ||
+	    def->maxSubstepsPerFrame > FM_MAX_SUBSTEPS)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "the frame budget needs maxNewtonPerFrame >= 1 and maxSubstepsPerFrame "
+		                   "in [1, %d], got %d and %d",
+		                   FM_MAX_SUBSTEPS, def->maxNewtonPerFrame, def->maxSubstepsPerFrame);
 	if (def->workerCount < 1 || def->workerCount > FM_MAX_WORKERS)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "workerCount must be in [1, %d] (default 1), got %d", FM_MAX_WORKERS,
@@ -601,8 +609,26 @@ static fmResult fmMergeBodyStep(fmWorld* w, int index)
 }
 
 // Advance every body by one substep of @p h.
+// The frame budget is spent: say so once a frame.
+static void fmBudgetHit(fmWorld* w, const char* what)
+{
+	if (w->stats.budgetHit)
+		return;
+	w->stats.budgetHit = true;
+	fmDiagWarn(&w->lastError, "", 0, "the frame budget is spent: %s", what);
+}
+
 static fmResult fmSubstep(fmWorld* w, double h)
 {
+	// The frame budget: what is left of maxNewtonPerFrame bounds every step of this substep.
+	int left = w->def.maxNewtonPerFrame - w->stats.newtonIterations;
+	w->newtonLimit = w->def.newtonIterations;
+	if (w->def.integrator == fm_implicit && left < w->newtonLimit)
+	{
+		w->newtonLimit = left > 1 ? left : 1;
+		fmBudgetHit(w, "the implicit steps' Newton iterations were cut to what maxNewtonPerFrame "
+		               "leaves (at least one a step); their residuals are reported");
+	}
 	// Stage a: every body steps on its own (the stage threads will share).
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x != NULL)
@@ -650,6 +676,13 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		if (!(remaining > 1e-12 * timeStep))
 			break;
 		h = fmAutoStep_Next(w, plan, nominal, remaining, true);
+		int left = w->def.maxSubstepsPerFrame - w->stats.steps;
+		if (h > 0.0 && remaining / h > left + 1e-9)
+		{
+			h = remaining / (left > 1 ? left : 1);
+			fmBudgetHit(w, "autoSubstep took longer substeps than the stability limit to end the "
+			               "frame within maxSubstepsPerFrame");
+		}
 		// The ledger measures the shadow energy with the step: a new step changes the measure,
 		// which is neither work nor a runaway.
 		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)

@@ -20,6 +20,7 @@ typedef struct fmWorld
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
 	fmTaskSystem tasks;            // how the stages run in parallel
+	int newtonLimit; // Newton iterations an implicit step may take now (the frame budget)
 } fmWorld;
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).

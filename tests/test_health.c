@@ -374,3 +374,46 @@ TEST(explicit_estimate_follows_neohookean_stiffening)
 	// Without automatic substeps the same drop fails (and the failure is caught).
 	CHECK_INT(dropNeoHookeanHouse(false, &rest, &lowest), fm_errNumerical);
 }
+
+// The frame budget: one bad body cannot stall a game's frame. The implicit steps of a frame
+// share maxNewtonPerFrame Newton iterations (checked between substeps, at least one a step),
+// autoSubstep's substeps are capped by maxSubstepsPerFrame, and both are reported.
+TEST(frame_budget_caps_the_work_of_a_frame)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.maxNewtonPerFrame = 6;
+	wdef.floor.height = 0.0;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 6, 3, 3, fmMakeVec3(0, 0.5, 0), fmMakeVec3(2, 1.5, 1),
+	                         fmMakeMaterial(fm_neoHookean, 1e6, 0.45), 1000.0);
+	CHECK(fmBody_IsValid(body));
+	bool hit = false;
+	for (int frame = 0; frame < 40; ++frame)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 15.0, 4), fm_ok);
+		fmStepStats stats = fmWorld_GetStepStats(world);
+		// Substeps after the budget is spent take one iteration each.
+		CHECK(stats.newtonIterations <= 6 + 20 + 3);
+		if (stats.budgetHit)
+		{
+			hit = true;
+			CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->warning, "frame budget");
+		}
+	}
+	CHECK(hit);
+	fmDestroyWorld(world);
+
+	// autoSubstep within maxSubstepsPerFrame: a stiff body at a long frame.
+	wdef = fmDefaultWorldDef();
+	wdef.autoSubstep = true;
+	wdef.maxSubstepsPerFrame = 3;
+	wdef.gravity = fmMakeVec3(0, 0, 0);
+	wdef.floor.enabled = false;
+	body = makeBody(&world, &wdef, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1),
+	                fmMakeMaterial(fm_neoHookean, 1e5, 0.3), 1000.0);
+	CHECK_INT(fmWorld_Step(world, 0.1, 1), fm_ok);
+	CHECK_INT(fmWorld_GetStepStats(world).steps, 3);
+	CHECK(fmWorld_GetStepStats(world).budgetHit);
+	fmDestroyWorld(world);
+}

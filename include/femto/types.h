@@ -222,6 +222,15 @@ typedef struct fmWorldDef
 	/// Results are bit-identical for any count. Without task callbacks femto starts
 	/// workerCount - 1 threads of its own.
 	int workerCount;
+	/// The frame budget: Newton iterations all implicit steps of one fmWorld_Step() may take
+	/// together, >= 1 (default 1000000). Checked between substeps: once it is spent, the
+	/// remaining steps get one iteration each (their residuals are reported as usual) and
+	/// fmStepStats.budgetHit is set, so one bad body cannot stall a game's frame.
+	int maxNewtonPerFrame;
+	/// The frame budget of autoSubstep: substeps one fmWorld_Step() may take, in
+	/// [1, FM_MAX_SUBSTEPS] (default FM_MAX_SUBSTEPS). Once spent, the rest of the frame is
+	/// taken in that many steps, beyond the stability limit, and fmStepStats.budgetHit is set.
+	int maxSubstepsPerFrame;
 	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
 	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
 	void* userTaskContext;              ///< passed to the two callbacks
@@ -304,6 +313,7 @@ typedef struct fmStepStats
 	double residual;      ///< implicit: last relative residual reached
 	double maxResidual;   ///< implicit: largest relative residual a step of the frame ended at
 	int unconvergedSteps; ///< implicit: steps that ended above the tolerance (warning given)
+	bool budgetHit;       ///< the frame budget (maxNewtonPerFrame, maxSubstepsPerFrame) was spent
 	int invertedTets;     ///< all bodies, after the step
 	int contacts;         ///< vertices on the floor after the step
 } fmStepStats;
