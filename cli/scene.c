@@ -6,6 +6,7 @@
 #include <cjson/cJSON.h>
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -652,6 +653,10 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	    !cliGetNumber(j, root, "", "memory_budget_mib", budgetRange, &budgetMiB, &hasBudget) ||
 	    !cliGetInt(j, root, "", "workers", 1, FM_MAX_WORKERS, &def->workerCount,
 	               &scene->hasWorkers) ||
+	    !cliGetInt(j, root, "", "max_newton_per_frame", 1, INT_MAX, &def->maxNewtonPerFrame,
+	               NULL) ||
+	    !cliGetInt(j, root, "", "max_substeps_per_frame", 1, FM_MAX_SUBSTEPS,
+	               &def->maxSubstepsPerFrame, NULL) ||
 	    !cliParseFloor(j, root, &def->floor))
 		return false;
 	if (hasBudget)
@@ -702,6 +707,8 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "auto_substep",
 	                                   "memory_budget_mib",
 	                                   "workers",
+	                                   "max_newton_per_frame",
+	                                   "max_substeps_per_frame",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
