@@ -266,10 +266,13 @@ femto_cli_test(static_beam ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--exp
   FILES "${FEMTO_CLI_WORK}/beam.node")
 
 # --- bench ---------------------------------------------------------------------------------------
-femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--repeats|1" CODE 0
-  REGEX "house2 +1389 +[0-9.]+ +[0-9]+.*box 1k +1080 " REJECT "failed|box 10k")
+femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--repeats|1|--workers|2|--csv|${FEMTO_CLI_WORK}/bench.csv" CODE 0
+  REGEX "memory bandwidth \\(triad\\): [0-9.]+ GB/s on 1 thread, [0-9.]+ GB/s on 2.*house2 +1389 stvk +1 +[0-9.]+ +[0-9.]+ +[0-9.]+%.*house2 +1389 stvk +2 .*box 1k +1080 neohookean +2 "
+  REJECT "failed|box 10k"
+  CHECK_FILE "${FEMTO_CLI_WORK}/bench.csv"
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
 femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
-  REGEX "box 1k +1080 +[0-9.]+ +[0-9.]+ +[0-9.]+" REJECT "failed|house2")
+  REGEX "box 1k +1080 neohookean +[0-9.]+ +[0-9.]+ +[0-9.]+.*box 1k +1080 corotated" REJECT "failed|house2")
 
 # --- simulation health (issue 8) ------------------------------------------------------------------
 # A slow runaway spread over many frames is caught by the energy ledger and fails the run.

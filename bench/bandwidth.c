@@ -1,0 +1,85 @@
+// The machine's memory bandwidth, measured in the same run as the benchmarks (bandwidth.h): a
+// STREAM-style triad a[i] = b[i] + s c[i] over arrays far larger than the caches, on 1 to W
+// threads, the median of several passes. 24 bytes move per element (two reads, one write).
+#include "bandwidth.h"
+
+#include "cli.h"
+
+#include <pthread.h>
+#include <stdlib.h>
+
+#define CLI_TRIAD_ELEMENTS (1u << 23) // 3 arrays of 64 MiB
+
+typedef struct cliTriadSlice
+{
+	double* a;
+	const double* b;
+	const double* c;
+	size_t start;
+	size_t end;
+	int passes;
+} cliTriadSlice;
+
+static void* cliTriadRun(void* argument)
+{
+	cliTriadSlice* s = argument;
+	for (int p = 0; p < s->passes; ++p)
+		for (size_t i = s->start; i < s->end; ++i)
+			s->a[i] = s->b[i] + 3.0 * s->c[i];
+	return NULL;
+}
+
+static int cliCompareSeconds(const void* x, const void* y)
+{
+	double a = *(const double*)x, b = *(const double*)y;
+	return (a > b) - (a < b);
+}
+
+double cliTriadBandwidth(int threads)
+{
+	size_t n = CLI_TRIAD_ELEMENTS;
+	double* a = malloc(sizeof(double) * n);
+	double* b = malloc(sizeof(double) * n);
+	double* c = malloc(sizeof(double) * n);
+	if (a == NULL || b == NULL || c == NULL || threads < 1 || threads > 64)
+	{
+		free(a);
+		free(b);
+		free(c);
+		return 0.0;
+	}
+	for (size_t i = 0; i < n; ++i) // touch every page before timing
+	{
+		a[i] = 0.0;
+		b[i] = 1.0;
+		c[i] = 2.0;
+	}
+	enum
+	{
+		passes = 5
+	};
+	double seconds[passes];
+	cliTriadSlice slices[64];
+	pthread_t ids[64];
+	for (int p = 0; p < passes; ++p)
+	{
+		double start = cliNow();
+		for (int t = 0; t < threads; ++t)
+		{
+			slices[t] = (cliTriadSlice){
+			    a, b, c, n * (size_t)t / (size_t)threads, n * (size_t)(t + 1) / (size_t)threads, 1};
+			if (t > 0)
+				pthread_create(&ids[t], NULL, cliTriadRun, &slices[t]);
+		}
+		cliTriadRun(&slices[0]);
+		for (int t = 1; t < threads; ++t)
+			pthread_join(ids[t], NULL);
+		seconds[p] = cliNow() - start;
+	}
+	qsort(seconds, passes, sizeof seconds[0], cliCompareSeconds);
+	double bytesPerSecond = 24.0 * (double)n / seconds[passes / 2];
+	free(a);
+	free(b);
+	free(c);
+	return bytesPerSecond;
+}
