@@ -124,7 +124,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmParallelFor(tasks, n, FM_MIN_RANGE, fmVelocitiesTask, &context);
 
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
-	fmFilterVelocities(b, dt, arena);
+	fmFilterVelocities(b, dt, arena, tasks);
 
 	// 4. Positions, then the floor.
 	fmParallelFor(tasks, n, FM_MIN_RANGE, fmPositionsTask, &context);

@@ -104,7 +104,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
-	fmFilterVelocities(b, h, arena);
+	fmFilterVelocities(b, h, arena, &world->tasks);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
 	//    vertices on it.

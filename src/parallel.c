@@ -155,6 +155,11 @@ void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTa
 {
 	if (itemCount <= 0)
 		return;
+	if (system == NULL)
+	{
+		task(0, itemCount, 0, taskContext);
+		return;
+	}
 	if (system->enqueueTask != NULL)
 	{
 		void* handle = system->enqueueTask(task, itemCount, minRange > 0 ? minRange : 1,

@@ -26,5 +26,6 @@ bool fmTaskSystem_Init(fmTaskSystem* system, const fmWorldDef* def);
 void fmTaskSystem_Shutdown(fmTaskSystem* system);
 
 // Run @p task over items [0, itemCount) in ranges of at least @p minRange items, and wait.
+// A NULL @p system runs it serially.
 void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTaskCallback* task,
                    void* taskContext);

@@ -15,32 +15,73 @@
 
 // v <- (1 - s) v + s * (average velocity of the tets around each vertex), the GAMES103 Smooth_V:
 // every tet adds the sum of its 4 velocities to each of its vertices, divided by 4 * tets around.
-static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena)
+// On several workers each vertex gathers the sums of its tets in tet order instead: the same
+// additions in the same order as the scatter, so the same bits.
+typedef struct fmSmoothTask
 {
-	size_t mark = fmArena_Mark(arena);
-	double* sum = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
-	if (sum == NULL)
-		return;
-	for (int t = 0; t < b->tetCount; ++t)
+	fmBody* body;
+	double blend;
+	double* sum; // 3 per vertex
+} fmSmoothTask;
+
+static fmVec3 fmTetVelocitySum(const fmBody* b, int t)
+{
+	const int* n = b->tets + 4 * t;
+	return fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
+	             fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
+}
+
+static void fmGatherSumsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmSmoothTask* c = context;
+	const fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
 	{
-		const int* n = b->tets + 4 * t;
-		fmVec3 s = fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
-		                 fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
-		for (int a = 0; a < 4; ++a)
-			fmStore(sum, n[a], fmAdd(fmLoad(sum, n[a]), s));
+		fmVec3 sum = {0, 0, 0};
+		for (int k = b->vertexTetStart[i]; k < b->vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmTetVelocitySum(b, b->vertexTets[k] / 4));
+		fmStore(c->sum, i, sum);
 	}
-	for (int i = 0; i < b->vertexCount; ++i)
+}
+
+static void fmBlendTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmSmoothTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
 	{
 		if (b->pinned[i] == FM_PIN_ALL)
 			continue;
-		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(sum, i));
-		fmStore(b->v, i, fmAdd(fmScale(1.0 - blend, fmLoad(b->v, i)), fmScale(blend, average)));
+		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(c->sum, i));
+		fmStore(b->v, i,
+		        fmAdd(fmScale(1.0 - c->blend, fmLoad(b->v, i)), fmScale(c->blend, average)));
 		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
+}
+
+static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fmTaskSystem* tasks)
+{
+	size_t mark = fmArena_Mark(arena);
+	fmSmoothTask context = {b, blend, fmArena_Doubles(arena, 3 * (size_t)b->vertexCount)};
+	if (context.sum == NULL)
+		return;
+	if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL))
+		fmParallelFor(tasks, b->vertexCount, 256, fmGatherSumsTask, &context);
+	else
+		for (int t = 0; t < b->tetCount; ++t)
+		{
+			fmVec3 s = fmTetVelocitySum(b, t);
+			const int* n = b->tets + 4 * t;
+			for (int a = 0; a < 4; ++a)
+				fmStore(context.sum, n[a], fmAdd(fmLoad(context.sum, n[a]), s));
+		}
+	fmParallelFor(tasks, b->vertexCount, 256, fmBlendTask, &context);
 	fmArena_Release(arena, mark);
 }
 
-void fmFilterVelocities(fmBody* b, double dt, fmArena* arena)
+void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem* tasks)
 {
 	const double steps = dt / FM_SEED_STEP;
 	if (b->damping < 1.0)
@@ -50,5 +91,5 @@ void fmFilterVelocities(fmBody* b, double dt, fmArena* arena)
 			b->v[k] *= factor;
 	}
 	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - pow(1.0 - b->smoothing, steps), arena);
+		fmSmoothVelocities(b, 1.0 - pow(1.0 - b->smoothing, steps), arena, tasks);
 }

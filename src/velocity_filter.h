@@ -4,8 +4,9 @@
 
 #include "arena.h"
 #include "body.h"
+#include "parallel.h"
 
 // Apply the body's damping and smoothing, scaled from the seeds' 3 ms step to @p dt so that
 // damping per second does not depend on the step. Smoothing takes a vector of 3n doubles from
-// @p arena.
-void fmFilterVelocities(fmBody* body, double dt, fmArena* arena);
+// @p arena; it runs on @p tasks (NULL: serially), the same bits for any worker count.
+void fmFilterVelocities(fmBody* body, double dt, fmArena* arena, const fmTaskSystem* tasks);

@@ -38,9 +38,11 @@ static void toyFinish(void* userTask, void* userContext)
 
 // 40 frames of the house and a 10x10x10 box (6000 tets) with @p workers, or on the toy engine;
 // the final positions and velocities of both (caller frees).
-static double* runWith(int* failures_, int workers, fmToyEngine* engine, size_t* length)
+static double* runWith(int* failures_, int workers, fmToyEngine* engine, fmIntegrator integrator,
+                       size_t* length)
 {
 	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = integrator;
 	wdef.workerCount = workers;
 	if (engine)
 	{
@@ -58,7 +60,9 @@ static double* runWith(int* failures_, int workers, fmToyEngine* engine, size_t*
 	CHECK_INT(fmCreateBody(world, &bdef, &bodies[1], NULL), fm_ok);
 	fmFreeTetMesh(&box);
 	for (int frame = 0; frame < 40; ++frame)
-		CHECK_INT(fmWorld_Step(world, 0.03, 10), fm_ok);
+		CHECK_INT(integrator == fm_implicit ? fmWorld_Step(world, 1.0 / 60.0, 1)
+		                                    : fmWorld_Step(world, 0.03, 10),
+		          fm_ok);
 	size_t total = 0;
 	for (int b = 0; b < 2; ++b)
 		total += 6 * (size_t)fmBody_GetVertexCount(bodies[b]);
@@ -79,17 +83,17 @@ static double* runWith(int* failures_, int workers, fmToyEngine* engine, size_t*
 TEST(explicit_results_are_bit_identical_for_any_worker_count)
 {
 	size_t length, other;
-	double* serial = runWith(failures_, 1, NULL, &length);
+	double* serial = runWith(failures_, 1, NULL, fm_explicit, &length);
 	for (int workers = 2; workers <= 4; ++workers)
 	{
-		double* parallel = runWith(failures_, workers, NULL, &other);
+		double* parallel = runWith(failures_, workers, NULL, fm_explicit, &other);
 		CHECK(other == length);
 		if (memcmp(serial, parallel, sizeof(double) * length) != 0)
 			FAIL_AT("%d workers differ from one", workers);
 		free(parallel);
 	}
 	fmToyEngine engine = {0, 3};
-	double* engineRun = runWith(failures_, 3, &engine, &other);
+	double* engineRun = runWith(failures_, 3, &engine, fm_explicit, &other);
 	CHECK(memcmp(serial, engineRun, sizeof(double) * length) == 0);
 	printf("  1, 2, 3 and 4 workers and a 3-worker engine (%d ranges run): the same bits\n",
 	       engine.ranges);
@@ -111,4 +115,16 @@ TEST(worker_count_and_callbacks_are_validated)
 	wdef.enqueueTask = toyEnqueue;
 	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
 	CHECK_STR_CONTAINS(diag.message, "both task callbacks");
+}
+
+// The implicit step's velocity smoothing runs on the workers too: the same bits.
+TEST(implicit_results_are_bit_identical_for_any_worker_count)
+{
+	size_t length, other;
+	double* serial = runWith(failures_, 1, NULL, fm_implicit, &length);
+	double* parallel = runWith(failures_, 3, NULL, fm_implicit, &other);
+	CHECK(other == length);
+	CHECK(memcmp(serial, parallel, sizeof(double) * length) == 0);
+	free(serial);
+	free(parallel);
 }
