@@ -588,6 +588,22 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 
 // ---- the world ------------------------------------------------------------------------------
 
+// "tolerance": a number, or a preset: "accurate" (1e-6) or "game" (1e-2).
+static bool cliGetTolerance(const cliJson* j, const cJSON* root, cliRange range, double* value)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "tolerance");
+	if (cJSON_IsString(item) && strcmp(item->valuestring, "accurate") == 0)
+		*value = FM_TOLERANCE_ACCURATE;
+	else if (cJSON_IsString(item) && strcmp(item->valuestring, "game") == 0)
+		*value = FM_TOLERANCE_GAME;
+	else if (cJSON_IsString(item))
+		return cliJsonFail(j, "tolerance", item,
+		                   "expected \"accurate\", \"game\" or a number in [1e-12, 1)");
+	else
+		return cliGetNumber(j, root, "", "tolerance", range, value, NULL);
+	return true;
+}
+
 static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floorDef)
 {
 	static const char* const keys[] = {"height", "friction", "restitution",
@@ -645,7 +661,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	    !cliGetString(j, root, "", "integrator", &integrator) ||
 	    !cliGetInt(j, root, "", "newton_iterations", 1, FM_MAX_NEWTON_ITERATIONS,
 	               &def->newtonIterations, NULL) ||
-	    !cliGetNumber(j, root, "", "tolerance", toleranceRange, &def->tolerance, NULL) ||
+	    !cliGetTolerance(j, root, toleranceRange, &def->tolerance) ||
 	    !cliGetInt(j, root, "", "cg_iterations", 1, FM_MAX_CG_ITERATIONS, &def->cgIterations,
 	               NULL) ||
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||

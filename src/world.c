@@ -37,7 +37,7 @@ fmWorldDef fmDefaultWorldDef(void)
 	def.floor.height = -3.0;
 	def.integrator = fm_explicit;
 	def.newtonIterations = 20;
-	def.tolerance = 1e-6;
+	def.tolerance = FM_TOLERANCE_ACCURATE;
 	def.cgIterations = 500;
 	def.maxBodies = 64;
 	def.workerCount = 1;

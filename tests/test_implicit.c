@@ -455,3 +455,45 @@ TEST(rollers_hold_one_axis_and_free_the_others)
 		fmDestroyWorld(world);
 	}
 }
+
+// The game tolerance preset: the house's drop (Neo-Hookean, 3 s at 1/60 s) follows the path of
+// the accurate preset to within 2% of the drop, for far fewer iterations.
+TEST(game_tolerance_follows_the_accurate_path)
+{
+	double path[180], drop = 0.0, deviation = 0.0;
+	int newton[2] = {0, 0};
+	for (int preset = 0; preset < 2; ++preset)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.tolerance = preset == 0 ? FM_TOLERANCE_ACCURATE : FM_TOLERANCE_GAME;
+		fmBodyDef bdef = fmDefaultBodyDef();
+		bdef.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+		bdef.massMode = fm_massFromDensity;
+		bdef.density = 100.0;
+		fmWorldId world;
+		fmBodyId body = fmTestMakeHouse(&world, &wdef, &bdef);
+		CHECK(fmBody_IsValid(body));
+		double start = fmBody_GetStats(body).centerOfMass.y;
+		for (int frame = 0; frame < 180; ++frame)
+		{
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+			newton[preset] += fmWorld_GetStepStats(world).newtonIterations;
+			double y = fmBody_GetStats(body).centerOfMass.y;
+			if (preset == 0)
+			{
+				path[frame] = y;
+				drop = fmax(drop, start - y);
+			}
+			else
+				deviation = fmax(deviation, fabs(y - path[frame]));
+		}
+		fmDestroyWorld(world);
+	}
+	printf("  drop %.3f m; game preset: %d Newton iterations (accurate %d), largest deviation "
+	       "%.2g m\n",
+	       drop, newton[1], newton[0], deviation);
+	CHECK(drop > 0.5);
+	CHECK(deviation <= 0.02 * drop);
+	CHECK(newton[1] < newton[0]);
+}
