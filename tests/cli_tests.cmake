@@ -272,7 +272,7 @@ femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--r
   CHECK_FILE "${FEMTO_CLI_WORK}/bench.csv"
   CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
 femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
-  REGEX "box 1k +1080 neohookean +[0-9.]+ +[0-9.]+ +[0-9.]+.*box 1k +1080 corotated" REJECT "failed|house2")
+  REGEX "box 1k +1080 neohookean +game +[0-9.]+ +[0-9.]+ +[0-9.]+.*box 1k +1080 neohookean +1e-6 .*box 1k +1080 corotated" REJECT "failed|house2")
 
 # --- simulation health (issue 8) ------------------------------------------------------------------
 # A slow runaway spread over many frames is caught by the energy ledger and fails the run.
