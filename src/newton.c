@@ -164,10 +164,28 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 	}
 }
 
+// One range of block rows of the assembled product y = H x.
+typedef struct fmProductTask
+{
+	const fmImplicitCache* cache;
+	const double* x;
+	double* y;
+} fmProductTask;
+
+static void fmProductRowsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmProductTask* t = context;
+	fmBsr_MultiplyRows(&t->cache->pattern, t->cache->hessian, t->x, t->y, start, end);
+}
+
+// y = H x on the world's workers: every block row is computed alone, the same bits for any
+// split.
 static void fmAssembledProduct(void* context, const double* x, double* y)
 {
 	const fmNewtonContext* ctx = context;
-	fmBsr_Multiply(&ctx->cache->pattern, ctx->cache->hessian, x, y);
+	fmProductTask task = {ctx->cache, x, y};
+	fmParallelFor(ctx->problem->tasks, ctx->cache->pattern.rows, 128, fmProductRowsTask, &task);
 }
 
 static void fmMatrixFreeProduct(void* context, const double* x, double* y)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "body.h"
+#include "parallel.h"
 #include "pcg.h"
 #include "solver_cache.h"
 
@@ -40,7 +41,8 @@ typedef struct fmNewtonProblem
 	bool quadratic;    // Psi is quadratic (linear material): solve each Newton system tightly
 	bool exactHessian; // unprojected element Hessians (statics); stop if CG finds them indefinite
 	bool keepBest;     // end at the iterate of smallest residual, not the last (statics)
-	fmSolverOptions options; // how products are formed and preconditioned
+	fmSolverOptions options;   // how products are formed and preconditioned
+	const fmTaskSystem* tasks; // the world's workers for the matrix products (NULL: serial)
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult

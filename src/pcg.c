@@ -131,7 +131,13 @@ int fmBsr_Find(const fmBsrMatrix* m, int row, int column)
 
 void fmBsr_Multiply(const fmBsrMatrix* m, const double* values, const double* x, double* y)
 {
-	for (int i = 0; i < m->rows; ++i)
+	fmBsr_MultiplyRows(m, values, x, y, 0, m->rows);
+}
+
+void fmBsr_MultiplyRows(const fmBsrMatrix* m, const double* values, const double* x, double* y,
+                        int first, int end)
+{
+	for (int i = first; i < end; ++i)
 	{
 		double s0 = 0.0, s1 = 0.0, s2 = 0.0;
 		for (int k = m->rowStart[i]; k < m->rowStart[i + 1]; ++k)

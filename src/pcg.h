@@ -30,6 +30,10 @@ int fmBsr_Find(const fmBsrMatrix* matrix, int row, int column);
 // y = A x with A's values (9 per block, row-major); rows summed in a fixed order.
 void fmBsr_Multiply(const fmBsrMatrix* matrix, const double* values, const double* x, double* y);
 
+// The same for block rows [first, end) only (rows are independent: a parallel product).
+void fmBsr_MultiplyRows(const fmBsrMatrix* matrix, const double* values, const double* x, double* y,
+                        int first, int end);
+
 // Preconditioner choice for fmPcg_Solve.
 typedef enum fmPreconditioner
 {

@@ -78,6 +78,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
+	pb.tasks = &world->tasks;
 	// Without inertia, projected element Hessians (which drop the negative curvature of
 	// compressed elements and springs) slow Newton to linear convergence; the exact Hessian
 	// keeps it quadratic as long as it stays positive definite, which CG detects.
