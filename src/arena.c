@@ -31,7 +31,7 @@ bool fmArena_Reserve(fmArena* arena, size_t bytes)
 	return true;
 }
 
-double* fmArena_Doubles(fmArena* arena, size_t count)
+double* fmArena_DoublesUninit(fmArena* arena, size_t count)
 {
 	size_t bytes = fmArenaRound(fmMulSize(count, sizeof(double)));
 	bool fits = bytes <= arena->capacity - arena->used;
@@ -40,7 +40,14 @@ double* fmArena_Doubles(fmArena* arena, size_t count)
 		return NULL;
 	double* out = (double*)(void*)(arena->base + arena->used);
 	arena->used += bytes;
-	memset(out, 0, bytes);
+	return out;
+}
+
+double* fmArena_Doubles(fmArena* arena, size_t count)
+{
+	double* out = fmArena_DoublesUninit(arena, count);
+	if (out != NULL)
+		memset(out, 0, sizeof(double) * count);
 	return out;
 }
 

@@ -22,6 +22,9 @@ bool fmArena_Reserve(fmArena* arena, size_t bytes);
 // reservation, a programming error.
 double* fmArena_Doubles(fmArena* arena, size_t count);
 
+// The same without zeroing, for a buffer the caller overwrites whole (no wasted bandwidth).
+double* fmArena_DoublesUninit(fmArena* arena, size_t count);
+
 // The current top, to give everything above it back with fmArena_Release().
 size_t fmArena_Mark(const fmArena* arena);
 void fmArena_Release(fmArena* arena, size_t mark);

@@ -92,8 +92,8 @@ static void fmAddElasticForcesStaged(fmExplicitTask* c, fmArena* arena)
 	size_t mark = fmArena_Mark(arena);
 	if (parallel && b->forceModel == fm_fem)
 	{
-		c->tetForces = fmArena_Doubles(arena, 12 * (size_t)b->tetCount);
-		c->tetEnergies = fmArena_Doubles(arena, (size_t)b->tetCount);
+		c->tetForces = fmArena_DoublesUninit(arena, 12 * (size_t)b->tetCount);
+		c->tetEnergies = fmArena_DoublesUninit(arena, (size_t)b->tetCount);
 	}
 	if (c->tetForces == NULL || c->tetEnergies == NULL)
 	{
