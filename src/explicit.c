@@ -33,23 +33,7 @@ typedef struct fmExplicitTask
 	const fmWorld* world;
 	fmBody* body;
 	double dt;
-	double* tetForces;   // 12 per tet
-	double* tetEnergies; // 1 per tet
 } fmExplicitTask;
-
-static void fmTetForcesTask(int start, int end, int worker, void* context)
-{
-	(void)worker;
-	fmExplicitTask* c = context;
-	fmTetForces(c->body, c->body->x, start, end, c->tetForces, c->tetEnergies);
-}
-
-static void fmGatherForcesTask(int start, int end, int worker, void* context)
-{
-	(void)worker;
-	fmExplicitTask* c = context;
-	fmGatherTetForces(c->body, c->tetForces, start, end, c->body->f);
-}
 
 // Stage 2 for vertices [start, end): v += dt f / m; pinned vertices stay at rest.
 static void fmVelocitiesTask(int start, int end, int worker, void* context)
@@ -81,41 +65,16 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 // Items per task range: small loops stay on one worker.
 #define FM_MIN_RANGE 256
 
-// Elastic forces into b->f: on the world's workers (per-tet forces, then a gather per vertex in
-// tet order: the same bits as the serial scatter) when the world runs in parallel and the body
-// is FEM; serially otherwise.
-static void fmAddElasticForcesStaged(fmExplicitTask* c, fmArena* arena)
-{
-	const fmTaskSystem* tasks = &c->world->tasks;
-	fmBody* b = c->body;
-	bool parallel = tasks->workerCount > 1 || tasks->enqueueTask != NULL;
-	size_t mark = fmArena_Mark(arena);
-	if (parallel && b->forceModel == fm_fem)
-	{
-		c->tetForces = fmArena_DoublesUninit(arena, 12 * (size_t)b->tetCount);
-		c->tetEnergies = fmArena_DoublesUninit(arena, (size_t)b->tetCount);
-	}
-	if (c->tetForces == NULL || c->tetEnergies == NULL)
-	{
-		fmAddElasticForces(b, b->x, b->f);
-		fmArena_Release(arena, mark);
-		return;
-	}
-	fmParallelFor(tasks, b->tetCount, FM_MIN_RANGE, fmTetForcesTask, c);
-	fmParallelFor(tasks, b->vertexCount, FM_MIN_RANGE, fmGatherForcesTask, c);
-	fmArena_Release(arena, mark);
-}
-
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {world, b, dt, NULL, NULL};
+	fmExplicitTask context = {world, b, dt};
 
 	// 1. Gravity and elastic forces.
 	for (int i = 0; i < n; ++i)
 		fmStore(b->f, i, fmScale(b->mass[i], world->def.gravity));
-	fmAddElasticForcesStaged(&context, arena);
+	fmAddElasticForcesOn(b, b->x, b->f, tasks, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);

@@ -215,3 +215,95 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 		}
 	}
 }
+
+// ---- on the world's workers --------------------------------------------------------------------
+
+typedef struct fmForcesTask
+{
+	const fmBody* body;
+	const double* x;
+	double* f;
+	double* tetForces;   // 12 per tet, or NULL for energies only
+	double* tetEnergies; // 1 per tet
+} fmForcesTask;
+
+static void fmTetForcesTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmForcesTask* c = context;
+	fmTetForces(c->body, c->x, start, end, c->tetForces, c->tetEnergies);
+}
+
+static void fmTetEnergiesTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmForcesTask* c = context;
+	for (int t = start; t < end; ++t)
+	{
+		fmMat3 F = fmTetDeformation(c->body, c->x, t);
+		c->tetEnergies[t] =
+		    c->body->restVolume[t] * fmMaterial_Evaluate(&c->body->material, &F, NULL, NULL);
+	}
+}
+
+static void fmGatherTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmForcesTask* c = context;
+	fmGatherTetForces(c->body, c->tetForces, start, end, c->f);
+}
+
+// The tets' energies summed in tet order: the serial loop's sum.
+static double fmSumInOrder(const double* values, int count)
+{
+	double sum = 0.0;
+	for (int t = 0; t < count; ++t)
+		sum += values[t];
+	return sum;
+}
+
+static bool fmRunsInParallel(const fmBody* body, const fmTaskSystem* tasks)
+{
+	return tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
+	       body->forceModel == fm_fem;
+}
+
+double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
+                            const fmTaskSystem* tasks, fmArena* arena)
+{
+	if (!fmRunsInParallel(body, tasks))
+		return fmAddElasticForces(body, x, f);
+	size_t mark = fmArena_Mark(arena);
+	fmForcesTask c = {body, x, f, fmArena_DoublesUninit(arena, 12 * (size_t)body->tetCount),
+	                  fmArena_DoublesUninit(arena, (size_t)body->tetCount)};
+	double energy;
+	if (c.tetForces == NULL || c.tetEnergies == NULL)
+		energy = fmAddElasticForces(body, x, f);
+	else
+	{
+		fmParallelFor(tasks, body->tetCount, 256, fmTetForcesTask, &c);
+		fmParallelFor(tasks, body->vertexCount, 256, fmGatherTask, &c);
+		energy = fmSumInOrder(c.tetEnergies, body->tetCount);
+	}
+	fmArena_Release(arena, mark);
+	return energy;
+}
+
+double fmElasticEnergyOn(const fmBody* body, const double* x, const fmTaskSystem* tasks,
+                         fmArena* arena)
+{
+	if (!fmRunsInParallel(body, tasks))
+		return fmElasticEnergy(body, x);
+	size_t mark = fmArena_Mark(arena);
+	fmForcesTask c = {body, x, NULL, NULL, fmArena_DoublesUninit(arena, (size_t)body->tetCount)};
+	double energy;
+	if (c.tetEnergies == NULL)
+		energy = fmElasticEnergy(body, x);
+	else
+	{
+		fmParallelFor(tasks, body->tetCount, 256, fmTetEnergiesTask, &c);
+		energy = fmSumInOrder(c.tetEnergies, body->tetCount);
+	}
+	fmArena_Release(arena, mark);
+	return energy;
+}

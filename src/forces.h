@@ -1,9 +1,11 @@
 // Internal elastic forces and their derivatives, for every force model.
 #pragma once
 
+#include "arena.h"
 #include "body.h"
 #include "force_fvm.h"
 #include "force_spring.h"
+#include "parallel.h"
 
 // Deformation gradient of tet t at positions x: F = Ds Dm^-1.
 fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t);
@@ -21,6 +23,16 @@ void fmTetForces(const fmBody* body, const double* x, int first, int end, double
 
 // f[i] += the forces of fmTetForces() on vertex i, in tet order, for vertices [first, end).
 void fmGatherTetForces(const fmBody* body, const double* forces, int first, int end, double* f);
+
+// fmAddElasticForces() on the world's workers (FEM: per-tet forces, a gather per vertex in tet
+// order, the energies summed in tet order: the same bits), buffers from @p arena; serial for
+// one worker, a NULL @p tasks or other force models.
+double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
+                            const fmTaskSystem* tasks, fmArena* arena);
+
+// fmElasticEnergy() on the world's workers, the same bits.
+double fmElasticEnergyOn(const fmBody* body, const double* x, const fmTaskSystem* tasks,
+                         fmArena* arena);
 
 // Elastic energy only (J).
 double fmElasticEnergy(const fmBody* body, const double* x);

@@ -86,6 +86,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
+	pb.arena = arena;
 	for (int k = 0; k < n3; ++k)
 		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
 	if (floor)

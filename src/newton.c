@@ -37,10 +37,10 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 	if (gradient)
 	{
 		memset(c->forces, 0, sizeof(double) * (size_t)n3);
-		psi = fmAddElasticForces(b, x, c->forces);
+		psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
 	}
 	else
-		psi = fmElasticEnergy(b, x);
+		psi = fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
 	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	double inertial = 0.0, external = 0.0, size = 0.0;
 	for (int k = 0; k < n3; ++k)

@@ -43,6 +43,7 @@ typedef struct fmNewtonProblem
 	bool keepBest;     // end at the iterate of smallest residual, not the last (statics)
 	fmSolverOptions options;   // how products are formed and preconditioned
 	const fmTaskSystem* tasks; // the world's workers for the matrix products (NULL: serial)
+	fmArena* arena;            // the world's step arena (buffers of the parallel force passes)
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult

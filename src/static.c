@@ -55,7 +55,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "the body has no pinned vertex, so under gravity it has no equilibrium "
 		                   "(it would fall forever): pin something (fmBody_PinBox) first");
-	fmImplicitCache* c = fmSolverCache_Get(b);
+	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(b) : NULL;
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");
@@ -79,6 +79,7 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
+	pb.arena = &world->arena;
 	// Without inertia, projected element Hessians (which drop the negative curvature of
 	// compressed elements and springs) slow Newton to linear convergence; the exact Hessian
 	// keeps it quadratic as long as it stays positive definite, which CG detects.
