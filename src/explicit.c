@@ -62,9 +62,6 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
 }
 
-// Items per task range: small loops stay on one worker.
-#define FM_MIN_RANGE 256
-
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
 	const int n = b->vertexCount;
@@ -80,13 +77,13 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmAddRayleighForces(b, arena);
 
 	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
-	fmParallelFor(tasks, n, FM_MIN_RANGE, fmVelocitiesTask, &context);
+	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmVelocitiesTask, &context);
 
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
 	fmFilterVelocities(b, dt, arena, tasks);
 
 	// 4. Positions, then the floor.
-	fmParallelFor(tasks, n, FM_MIN_RANGE, fmPositionsTask, &context);
+	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmPositionsTask, &context);
 	fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
 	return fm_ok;
 }

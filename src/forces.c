@@ -264,8 +264,9 @@ static double fmSumInOrder(const double* values, int count)
 
 static bool fmRunsInParallel(const fmBody* body, const fmTaskSystem* tasks)
 {
+	// A body of fewer than two ranges of tets stays on the serial scatter (the same bits).
 	return tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	       body->forceModel == fm_fem;
+	       body->forceModel == fm_fem && body->tetCount >= 2 * FM_PARALLEL_MIN_RANGE;
 }
 
 double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
@@ -281,8 +282,8 @@ double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
 		energy = fmAddElasticForces(body, x, f);
 	else
 	{
-		fmParallelFor(tasks, body->tetCount, 256, fmTetForcesTask, &c);
-		fmParallelFor(tasks, body->vertexCount, 256, fmGatherTask, &c);
+		fmParallelFor(tasks, body->tetCount, FM_PARALLEL_MIN_RANGE, fmTetForcesTask, &c);
+		fmParallelFor(tasks, body->vertexCount, FM_PARALLEL_MIN_RANGE, fmGatherTask, &c);
 		energy = fmSumInOrder(c.tetEnergies, body->tetCount);
 	}
 	fmArena_Release(arena, mark);
@@ -301,7 +302,7 @@ double fmElasticEnergyOn(const fmBody* body, const double* x, const fmTaskSystem
 		energy = fmElasticEnergy(body, x);
 	else
 	{
-		fmParallelFor(tasks, body->tetCount, 256, fmTetEnergiesTask, &c);
+		fmParallelFor(tasks, body->tetCount, FM_PARALLEL_MIN_RANGE, fmTetEnergiesTask, &c);
 		energy = fmSumInOrder(c.tetEnergies, body->tetCount);
 	}
 	fmArena_Release(arena, mark);

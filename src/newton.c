@@ -185,7 +185,8 @@ static void fmAssembledProduct(void* context, const double* x, double* y)
 {
 	const fmNewtonContext* ctx = context;
 	fmProductTask task = {ctx->cache, x, y};
-	fmParallelFor(ctx->problem->tasks, ctx->cache->pattern.rows, 128, fmProductRowsTask, &task);
+	fmParallelFor(ctx->problem->tasks, ctx->cache->pattern.rows, FM_PARALLEL_MIN_RANGE,
+	              fmProductRowsTask, &task);
 }
 
 static void fmMatrixFreeProduct(void* context, const double* x, double* y)

@@ -67,8 +67,9 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 	fmSmoothTask context = {b, blend, fmArena_Doubles(arena, 3 * (size_t)b->vertexCount)};
 	if (context.sum == NULL)
 		return;
-	if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL))
-		fmParallelFor(tasks, b->vertexCount, 256, fmGatherSumsTask, &context);
+	if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
+	    b->vertexCount >= 2 * FM_PARALLEL_MIN_RANGE)
+		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmGatherSumsTask, &context);
 	else
 		for (int t = 0; t < b->tetCount; ++t)
 		{
@@ -77,7 +78,7 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 			for (int a = 0; a < 4; ++a)
 				fmStore(context.sum, n[a], fmAdd(fmLoad(context.sum, n[a]), s));
 		}
-	fmParallelFor(tasks, b->vertexCount, 256, fmBlendTask, &context);
+	fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmBlendTask, &context);
 	fmArena_Release(arena, mark);
 }
 
