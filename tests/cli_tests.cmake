@@ -9,7 +9,7 @@ file(MAKE_DIRECTORY ${FEMTO_CLI_WORK})
 #                [CLEAN dir] [CHECK_FILE f CHECK_FILE_REGEX re] [CHECK_SERIES pvd [SERIES_NO_TEMP 1]]
 #                [PROGRAM path])
 function(femto_cli_test name)
-  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN;CHECK_FILE;CHECK_FILE_REGEX;CHECK_SERIES;SERIES_NO_TEMP;PROGRAM"
+  cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN;CHECK_FILE;CHECK_FILE_REGEX;CHECK_SERIES;SERIES_NO_TEMP;SERIES_KILLED;PROGRAM"
     "" ${ARGN})
   if(NOT DEFINED T_PROGRAM)
     set(T_PROGRAM "$<TARGET_FILE:femto>")
@@ -20,7 +20,7 @@ function(femto_cli_test name)
   endif()
   foreach(pair "REGEX;EXPECT_REGEX" "REJECT;REJECT_REGEX" "FILES;EXPECT_FILES"
                "NO_FILES;REJECT_FILES" "CLEAN;CLEAN" "CHECK_FILE;CHECK_FILE" "CHECK_FILE_REGEX;CHECK_FILE_REGEX"
-               "CHECK_SERIES;CHECK_SERIES" "SERIES_NO_TEMP;SERIES_NO_TEMP")
+               "CHECK_SERIES;CHECK_SERIES" "SERIES_NO_TEMP;SERIES_NO_TEMP" "SERIES_KILLED;SERIES_KILLED")
     list(GET pair 0 key)
     list(GET pair 1 var)
     if(DEFINED T_${key})
@@ -108,7 +108,7 @@ if(FEMTO_TIMEOUT)
   femto_cli_test(run_out_killed PROGRAM "${FEMTO_TIMEOUT}"
     ARGS "-s|KILL|2|$<TARGET_FILE:femto>|run|--seconds|1000|--quiet|--out|${FEMTO_CLI_WORK}/killed"
     CLEAN "${FEMTO_CLI_WORK}/killed"
-    CHECK_SERIES "${FEMTO_CLI_WORK}/killed/house.pvd")
+    CHECK_SERIES "${FEMTO_CLI_WORK}/killed/house.pvd" SERIES_KILLED 1)
 endif()
 # A shorter run into the folder of a longer one removes the earlier series' files (exactly the
 # names femto writes) and nothing else.
