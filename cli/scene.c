@@ -903,6 +903,14 @@ static bool cliFindNulEscape(const cliJson* j, size_t* offset)
 
 // JSON text to a cJSON tree, or a located message: a syntax error says what it found, a
 // nesting limit is named, text after the scene object and NUL escapes are errors.
+// The first offset at or after @p at that is not JSON whitespace (j->size at the end).
+static size_t cliSkipSpace(const cliJson* j, size_t at)
+{
+	while (at < j->size && strchr(" \t\r\n", j->text[at]) != NULL)
+		at += 1;
+	return at;
+}
+
 static cJSON* cliParseJson(const cliJson* j)
 {
 	char found[48];
@@ -912,10 +920,8 @@ static cJSON* cliParseJson(const cliJson* j)
 	if (root == NULL)
 	{
 		// cJSON reports a text that ends too early at its last byte: point past it instead.
-		size_t rest = offset;
-		while (rest < j->size && strchr(" \t\r\n", j->text[rest]) != NULL)
-			rest += 1;
-		offset = rest >= j->size ? j->size : offset;
+		if (cliSkipSpace(j, offset) >= j->size)
+			offset = j->size; // only whitespace left: the file ended too early
 		cliDescribeText(j, offset, found, sizeof found);
 		if (offset < j->size && (j->text[offset] == '{' || j->text[offset] == '[') &&
 		    cliJsonDepthAt(j, offset) >= CJSON_NESTING_LIMIT)
@@ -929,8 +935,7 @@ static cJSON* cliParseJson(const cliJson* j)
 	}
 	// Only whitespace may follow the scene (cJSON stops after the first value and, without
 	// require_null_terminated, would ignore a second object or any trailing text).
-	while (offset < j->size && strchr(" \t\r\n", j->text[offset]) != NULL)
-		offset += 1;
+	offset = cliSkipSpace(j, offset);
 	size_t nul = 0;
 	if (offset < j->size)
 	{

@@ -30,7 +30,6 @@ static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 // What the tasks of a parallel explicit step share (each writes only its own range).
 typedef struct fmExplicitTask
 {
-	const fmWorld* world;
 	fmBody* body;
 	double dt;
 } fmExplicitTask;
@@ -66,7 +65,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {world, b, dt};
+	fmExplicitTask context = {b, dt};
 
 	// 1. Gravity and elastic forces.
 	for (int i = 0; i < n; ++i)

@@ -88,8 +88,7 @@ FM_API size_t fmWorld_GetSnapshotSize(fmWorldId worldId);
 /// and the world's settings. fm_errLimit when the buffer is smaller than
 /// fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the bytes used. The snapshot is for
 /// this process: user energy functions are saved as pointers.
-FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size,
-                                     size_t* written);
+FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size, size_t* written);
 
 /// Restore a snapshot saved from this world with the same bodies: the world then continues
 /// bit-identically to the world that saved it. fm_errParameter (and nothing changed, the reason
