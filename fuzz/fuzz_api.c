@@ -125,6 +125,13 @@ static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
 	fuzzFixFloor(&def.floor);
 	fuzzFixBool(&def.notConvergedIsError);
 	fuzzFixBool(&def.autoSubstep);
+	// Pointers no API can check: the task callbacks are the engine's, never fuzzed bytes; and a
+	// few workers at most per input (threads are started per world).
+	def.enqueueTask = NULL;
+	def.finishTask = NULL;
+	def.userTaskContext = NULL;
+	if (def.workerCount > 4 && def.workerCount <= FM_MAX_WORKERS)
+		def.workerCount = 1 + def.workerCount % 4;
 	// Bounded work per input: the checks of these limits are still reached (0, negative).
 	if (def.newtonIterations > 8)
 		def.newtonIterations = 1 + def.newtonIterations % 8;
