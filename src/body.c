@@ -5,6 +5,7 @@
 #include "forces.h"
 #include "mesh_internal.h"
 #include "solver_cache.h"
+#include "tet_blocks.h"
 #include "world.h"
 
 #include <math.h>
@@ -176,6 +177,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
 	fmFree(b->surface);
 	fmSolverCache_Free(b->implicitCache);
+	fmTetBlocks_Destroy(b->tetBlocks);
 	uint32_t generation = b->generation;
 	memset(b, 0, sizeof *b);
 	b->generation = generation;
@@ -377,6 +379,8 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
 	if (def && def->forceModel == fm_fvm)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
+	if (def == NULL || def->forceModel == fm_fem)
+		body += fmTetBlocks_Bytes(m); // the explicit kernels' layout
 
 	// The implicit cache: slots (16 ints a tet, 4 a spring), the Hessian's blocks (9 doubles, a
 	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors, the

@@ -78,6 +78,7 @@ typedef struct fmBody
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
 	void* implicitCache;   // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
+	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need
 	size_t memoryEstimate; // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 

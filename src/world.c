@@ -6,6 +6,7 @@
 #include "floor.h"
 #include "forces.h"
 #include "implicit.h"
+#include "simd.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -138,6 +139,11 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "workerCount must be in [1, %d] (default 1), got %d", FM_MAX_WORKERS,
 		                   def->workerCount);
+	if ((int)def->simd < 0 || def->simd >= fm_simdLevelCount)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "simd must be one of fm_simdAuto .. fm_simdAvx512 (\"auto\", \"off\", "
+		                   "\"scalar\", \"sse2\", \"avx2\", \"avx512\"), got %d",
+		                   (int)def->simd);
 	if ((def->enqueueTask == NULL) != (def->finishTask == NULL))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "give both task callbacks (enqueueTask and finishTask) or neither");
@@ -178,6 +184,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
 		w->solverOptions = fmDefaultSolverOptions();
+		w->simd = fmSimd_Resolve(def->simd);
 		fmTaskSystem_Init(&w->tasks, def); // without threads it runs serially
 		id.index1 = i + 1;
 		id.generation = generation;
