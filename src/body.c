@@ -379,8 +379,6 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
 	if (def && def->forceModel == fm_fvm)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
-	if (def == NULL || def->forceModel == fm_fem)
-		body += fmTetBlocks_Bytes(m); // the explicit kernels' layout
 
 	// The implicit cache: slots (16 ints a tet, 4 a spring), the Hessian's blocks (9 doubles, a
 	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors, the
@@ -395,6 +393,10 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 	    2 * fmArrayBytes(3 * n, d) + 1024;
 	if (springs)
 		solver += fmArrayBytes(4 * edges, sizeof(int));
+	// An explicit world's FEM bodies have the batched kernels' layout instead (the larger of the
+	// two: a world has one integrator).
+	uint64_t layout = def == NULL || def->forceModel == fm_fem ? fmTetBlocks_Bytes(m, n) : 0;
+	solver = layout > solver ? layout : solver;
 	memory.body = body > SIZE_MAX ? SIZE_MAX : (size_t)body;
 	memory.solver = solver > SIZE_MAX ? SIZE_MAX : (size_t)solver;
 	return memory;

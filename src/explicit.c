@@ -69,7 +69,7 @@ static void fmAddExplicitElasticForces(const fmWorld* world, fmBody* b, fmArena*
 	if (fmTetBlocks_Applies(b, world->simd))
 	{
 		if (b->tetBlocks == NULL)
-			b->tetBlocks = fmTetBlocks_Create(b);
+			b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
 		if (b->tetBlocks != NULL)
 		{
 			fmTetBlocks_AddForces(b->tetBlocks, b, b->x, b->f, world->simd, &world->tasks);

@@ -23,23 +23,45 @@ typedef struct fmTetBlocks
 	int* blockStart; // blockCount + 1 batch offsets
 	int colourCount;
 	int* colourStart; // colourCount + 1 block offsets
+	// The vertices of block k are blockVertices[blockVertexStart[k] .. blockVertexStart[k + 1]),
+	// in the order its tets first use them; its batches number them from 0. A block gathers
+	// their displacements once, runs its batches into a buffer of fmTetBatchForces, and then
+	// each vertex sums its entries there (no read-modify-write chains through memory) and adds
+	// the sum to the body's force: entry j of the block's vertex list has the buffer offsets
+	// (floats, of its x component) incidences[incidenceStart[j] .. incidenceStart[j + 1]).
+	int* blockVertexStart; // blockCount + 1
+	int* blockVertices;    // 4 per tet at most
+	int* incidenceStart;   // one per entry of blockVertices, and one more
+	uint16_t* incidences;  // 4 per tet
+	int maxBlockVertices;
+	int workerCount;
+	size_t scratchBytes; // per worker: the block's displacements and its batches' forces
+	unsigned char* scratch;
 } fmTetBlocks;
 
 // Whether the batched kernels can take the elastic forces of @p body (FEM force model, a
 // material with a kernel) at the resolved instruction set @p level (not fm_simdOff).
 bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
 
-// Build the layout of a body (from its rest shape); NULL when memory is short.
-fmTetBlocks* fmTetBlocks_Create(const fmBody* body);
+// Build the layout of a body (from its rest shape) for force passes on up to @p workerCount
+// workers; NULL when memory is short.
+fmTetBlocks* fmTetBlocks_Create(const fmBody* body, int workerCount);
 
 void fmTetBlocks_Destroy(fmTetBlocks* blocks);
 
-// Bytes fmTetBlocks_Create takes for @p tetCount tets (the body's memory estimate).
-uint64_t fmTetBlocks_Bytes(uint64_t tetCount);
+// Bytes fmTetBlocks_Create takes at most for a mesh of these counts on one worker (the body's
+// memory estimate).
+uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount);
 
 // The kernel variant of an instruction set fmSimd_Resolve returned (not fm_simdOff).
 fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level);
 
-// f += the elastic forces at positions @p x, with the kernel of @p level, on the workers.
+// sums[i] += the sum over the tets around vertex i of their 4 velocities (the seeds' Laplacian
+// smoothing, velocity_filter.c), block by block on the workers.
+void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, double* sums,
+                               const fmTaskSystem* tasks);
+
+// f += the elastic forces at positions @p x, with the kernel of @p level, on the workers (at most
+// the count the layout was made for).
 void fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
                            double* f, fmSimdLevel level, const fmTaskSystem* tasks);

@@ -21,6 +21,13 @@
 #define FM_PASTE(a, b) FM_PASTE2(a, b)
 #define FM_KERNEL_NAME(name) FM_PASTE(name, FM_KERNEL_VARIANT)
 
+// The helpers are inlined into the entry point: 64-byte vectors stay in registers.
+#if defined(__GNUC__) || defined(__clang__)
+#define FM_INLINE static inline __attribute__((always_inline))
+#else
+#define FM_INLINE static inline
+#endif
+
 // A 3x3 matrix of lanes, row-major.
 typedef struct fmMat3V
 {
@@ -28,7 +35,7 @@ typedef struct fmMat3V
 } fmMat3V;
 
 // Rows of FM_LANES floats each: entry k of lane l at rows[FM_LANES * k + l].
-static fmMat3V fmMat3V_Load(const float* rows)
+FM_INLINE fmMat3V fmMat3V_Load(const float* rows)
 {
 	fmMat3V a;
 	for (int k = 0; k < 9; ++k)
@@ -36,7 +43,7 @@ static fmMat3V fmMat3V_Load(const float* rows)
 	return a;
 }
 
-static fmMat3V fmMat3V_Mul(const fmMat3V* a, const fmMat3V* b)
+FM_INLINE fmMat3V fmMat3V_Mul(const fmMat3V* a, const fmMat3V* b)
 {
 	fmMat3V c;
 	for (int i = 0; i < 3; ++i)
@@ -47,7 +54,7 @@ static fmMat3V fmMat3V_Mul(const fmMat3V* a, const fmMat3V* b)
 	return c;
 }
 
-static fmMat3V fmMat3V_Transpose(const fmMat3V* a)
+FM_INLINE fmMat3V fmMat3V_Transpose(const fmMat3V* a)
 {
 	fmMat3V t;
 	for (int i = 0; i < 3; ++i)
@@ -56,12 +63,12 @@ static fmMat3V fmMat3V_Transpose(const fmMat3V* a)
 	return t;
 }
 
-static fmFloatV fmMat3V_Trace(const fmMat3V* a)
+FM_INLINE fmFloatV fmMat3V_Trace(const fmMat3V* a)
 {
 	return fmV_Add(fmV_Add(a->m[0], a->m[4]), a->m[8]);
 }
 
-static fmFloatV fmMat3V_Det(const fmMat3V* a)
+FM_INLINE fmFloatV fmMat3V_Det(const fmMat3V* a)
 {
 	const fmFloatV* m = a->m;
 	fmFloatV c0 = fmV_Sub(fmV_Mul(m[4], m[8]), fmV_Mul(m[5], m[7]));
@@ -74,7 +81,7 @@ static fmFloatV fmMat3V_Det(const fmMat3V* a)
 // every target). 1 + j = 2^k m with m in [sqrt(1/2), sqrt(2)); ln m = 2 atanh(s), s = f / (2 + f),
 // f = m - 1, as a series to s^9 (|s| < 0.172: the next term is below 2e-9 of ln m); the rounding
 // of 1 + j comes back as c / (1 + j).
-static fmFloatV fmV_Log1p(fmFloatV j)
+FM_INLINE fmFloatV fmV_Log1p(fmFloatV j)
 {
 	const fmFloatV one = fmV_Set(1.0f);
 	fmFloatV u = fmV_Add(one, j);
@@ -97,7 +104,7 @@ static fmFloatV fmV_Log1p(fmFloatV j)
 	return fmV_Add(fmV_Mul(kf, ln2Hi), fmV_Add(fmV_Add(lnm, c), fmV_Mul(kf, ln2Lo)));
 }
 
-static void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+FM_INLINE void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
 {
 	fmFloatV twoMu = fmV_Add(mu, mu), half = fmV_Set(0.5f);
 	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(H));
@@ -111,7 +118,7 @@ static void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat
 		P->m[4 * i] = fmV_Add(P->m[4 * i], lt);
 }
 
-static void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
 {
 	// G = (H + H^T + H^T H) / 2, symmetric; S = 2 mu G + lambda tr(G) I; P = S + H S.
 	fmMat3V S;
@@ -136,7 +143,7 @@ static void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V
 }
 
 // Neo-Hookean: P = alpha (F J - cof F) + beta cof F + gamma F, alpha, beta, gamma per lane.
-static void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
 {
 	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f);
 	fmMat3V HT = fmMat3V_Transpose(H);
@@ -177,8 +184,8 @@ static void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, f
 	}
 }
 
-void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, fmTetBatchWork* work,
-                                        const fmKernelMaterial* material)
+void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const fmTetBatchWork* work,
+                                        const fmKernelMaterial* material, fmTetBatchForces* out)
 {
 	fmMat3V Du = fmMat3V_Load(&work->du[0][0]);
 	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][0]);
@@ -195,7 +202,15 @@ void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, fmTetBatchWork*
 	fmMat3V DmInvT = fmMat3V_Transpose(&DmInv);
 	fmMat3V M = fmMat3V_Mul(&P, &DmInvT);
 	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), fmV_Load(batch->volume));
-	for (int k = 0; k < 3; ++k)
-		for (int i = 0; i < 3; ++i)
-			fmV_Store(work->force[3 * k + i], fmV_Mul(minusV, M.m[3 * i + k]));
+	for (int i = 0; i < 3; ++i)
+	{
+		fmFloatV sum = fmV_Set(0.0f);
+		for (int k = 0; k < 3; ++k)
+		{
+			fmFloatV fk = fmV_Mul(minusV, M.m[3 * i + k]);
+			fmV_Store(out->force[3 * (k + 1) + i], fk);
+			sum = fmV_Add(sum, fk);
+		}
+		fmV_Store(out->force[i], fmV_Sub(fmV_Set(0.0f), sum));
+	}
 }

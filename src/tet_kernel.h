@@ -8,12 +8,12 @@
 
 #include "simd.h"
 
-// One batch of FM_LANES tets, structure of arrays, as the kernel streams it (896 bytes).
+// One batch of FM_LANES tets, structure of arrays, as the kernel streams it (768 bytes).
 typedef struct fmTetBatch
 {
-	int32_t nodes[4][FM_LANES]; // vertex indices; unused lanes repeat lane 0's
-	float dmInv[9][FM_LANES];   // Dm^-1, row-major
-	float volume[FM_LANES];     // V0 (m^3); 0 in unused lanes, which then give zero forces
+	uint16_t nodes[4][FM_LANES]; // the block's own vertex numbers; unused lanes repeat lane 0's
+	float dmInv[9][FM_LANES];    // Dm^-1, row-major
+	float volume[FM_LANES];      // V0 (m^3); 0 in unused lanes, which then give zero forces
 } fmTetBatch;
 
 // A batch's input and output.
@@ -23,10 +23,14 @@ typedef struct fmTetBatchWork
 	// and rounded once), du[3 i + k] = (u_{k+1} - u_0)_i. The kernels form H = F - I = Du Dm^-1,
 	// so a small strain keeps its relative accuracy in float.
 	float du[9][FM_LANES];
-	// Out: the elastic force on node k + 1 (k = 0..2), component i, at force[3 k + i]; node 0
-	// gets minus their sum.
-	float force[9][FM_LANES];
 } fmTetBatchWork;
+
+// A batch's output: the elastic force on node a (0..3), component i, at force[3 a + i] (node 0
+// gets minus the sum of the others).
+typedef struct fmTetBatchForces
+{
+	float force[12][FM_LANES];
+} fmTetBatchForces;
 
 // The material as the kernels take it.
 typedef struct fmKernelMaterial
@@ -37,8 +41,8 @@ typedef struct fmKernelMaterial
 } fmKernelMaterial;
 
 // fmTetKernel_Forces_<variant>: the forces of one batch.
-typedef void fmTetKernelFcn(const fmTetBatch* batch, fmTetBatchWork* work,
-                            const fmKernelMaterial* material);
+typedef void fmTetKernelFcn(const fmTetBatch* batch, const fmTetBatchWork* work,
+                            const fmKernelMaterial* material, fmTetBatchForces* out);
 
 fmTetKernelFcn fmTetKernel_Forces_scalar;
 fmTetKernelFcn fmTetKernel_Forces_baseline;

@@ -8,6 +8,8 @@
 // 1 - (1 - s)^(dt / 3 ms). At the seeds' step this is exactly the seeds' filter.
 #include "velocity_filter.h"
 
+#include "tet_blocks.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -67,8 +69,10 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 	fmSmoothTask context = {b, blend, fmArena_Doubles(arena, 3 * (size_t)b->vertexCount)};
 	if (context.sum == NULL)
 		return;
-	if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	    b->vertexCount >= 2 * FM_PARALLEL_MIN_RANGE)
+	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
+		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, tasks);
+	else if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
+	         b->vertexCount >= 2 * FM_PARALLEL_MIN_RANGE)
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmGatherSumsTask, &context);
 	else
 		for (int t = 0; t < b->tetCount; ++t)

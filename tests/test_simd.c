@@ -23,7 +23,7 @@ static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
 // The batched forces at the body's positions (caller frees).
 static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers)
 {
-	fmTetBlocks* blocks = fmTetBlocks_Create(b);
+	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
 	double* f = calloc(3 * (size_t)b->vertexCount, sizeof *f);
 	if (blocks == NULL || f == NULL)
 	{
@@ -172,7 +172,7 @@ TEST(blocks_of_one_colour_share_no_vertex)
 	CHECK_INT(fmCreateBody(world, &def, &id, NULL), fm_ok);
 	fmFreeTetMesh(&mesh);
 	fmBody* b = fmGetBody(id);
-	fmTetBlocks* tb = b ? fmTetBlocks_Create(b) : NULL;
+	fmTetBlocks* tb = b ? fmTetBlocks_Create(b, 1) : NULL;
 	CHECK(tb != NULL);
 	if (tb == NULL)
 		return;
@@ -188,7 +188,8 @@ TEST(blocks_of_one_colour_share_no_vertex)
 				for (int l = 0; l < tb->laneCount[j]; ++l, ++lanes)
 					for (int a = 0; a < 4; ++a)
 					{
-						int v = tb->batches[j].nodes[a][l];
+						int v =
+						    tb->blockVertices[tb->blockVertexStart[k] + tb->batches[j].nodes[a][l]];
 						if (owner[v] != -1 && owner[v] != k)
 							FAIL_AT("colour %d: blocks %d and %d share vertex %d", c, owner[v], k,
 							        v);
