@@ -31,6 +31,9 @@ const char* const cliRunHelp =
     "                     counted in the summary\n"
     "  --workers N        threads the stages run on, 1 to 64 (default: the scene's \"workers\",\n"
     "                     else the cores available); results are the same bits for any N\n"
+    "  --simd LEVEL       the explicit element kernels' instruction set: auto (default: the\n"
+    "                     best the CPU has), avx512, avx2, sse2, scalar (the same bits on\n"
+    "                     each), or off (the double-precision reference kernel)\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -52,7 +55,8 @@ typedef struct cliRunOptions
 	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
 	bool hasImpulseSpeed;
 	bool strict;
-	int workers; ///< --workers, 0 if not given
+	int workers;      ///< --workers, 0 if not given
+	const char* simd; ///< --simd, NULL if not given
 	bool quiet;
 } cliRunOptions;
 
@@ -88,6 +92,17 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 				return cli_exitUsage;
 			if (!cliParseIntOption("run", "--workers", value, 1, FM_MAX_WORKERS, &o->workers))
 				return cli_exitUsage;
+		}
+		else if (strcmp(arg, "--simd") == 0)
+		{
+			fmSimdLevel level;
+			if ((o->simd = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!fmSimdLevelFromName(o->simd, &level))
+				return cliUsageError("run",
+				                     "--simd: expected auto, off, scalar, sse2, avx2 or avx512, "
+				                     "got '%s'",
+				                     o->simd);
 		}
 		else if (strcmp(arg, "--obj") == 0)
 			o->obj = true;
@@ -411,6 +426,8 @@ int cliRun(int argc, char** argv)
 		scene.worldDef.notConvergedIsError = true;
 	if (o.workers > 0)
 		scene.worldDef.workerCount = o.workers;
+	if (o.simd != NULL)
+		fmSimdLevelFromName(o.simd, &scene.worldDef.simd);
 	else if (!scene.hasWorkers)
 		scene.worldDef.workerCount = cliCoresAvailable();
 	cliSimulation sim;

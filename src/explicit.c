@@ -62,15 +62,16 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
 }
 
-// f += the elastic forces: the batched float kernels where they apply (made on the body's first
-// explicit step), else the double-precision reference kernel (also when memory is short).
+// f += the elastic forces: the batched float kernels where they apply and are accurate (made on
+// the body's first explicit step), else the double-precision reference kernel (also when memory
+// is short).
 static void fmAddExplicitElasticForces(const fmWorld* world, fmBody* b, fmArena* arena)
 {
 	if (fmTetBlocks_Applies(b, world->simd))
 	{
 		if (b->tetBlocks == NULL)
 			b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
-		if (b->tetBlocks != NULL)
+		if (b->tetBlocks != NULL && fmTetBlocks_Accurate(b->tetBlocks, b))
 		{
 			fmTetBlocks_AddForces(b->tetBlocks, b, b->x, b->f, world->simd, &world->tasks);
 			return;

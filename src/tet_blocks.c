@@ -14,6 +14,13 @@ bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
 	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean);
 }
 
+bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
+{
+	double density = b->totalMass / tb->restVolume;
+	double modulus = b->material.lambda + 2.0 * b->material.mu;
+	return density * 10.0 * b->restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
+}
+
 fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
 {
 	switch (level)
@@ -276,6 +283,8 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 {
 	tb->tetCount = b->tetCount;
 	tb->blockCount = blockCount;
+	for (int t = 0; t < b->tetCount; ++t)
+		tb->restVolume += b->restVolume[t];
 	// Blocks hold whole batches and every block but the last is full, so only the last batch
 	// may be short.
 	tb->batchCount = (b->tetCount + FM_LANES - 1) / FM_LANES;

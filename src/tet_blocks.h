@@ -16,6 +16,7 @@
 typedef struct fmTetBlocks
 {
 	int tetCount;
+	double restVolume; // of the body (m^3)
 	int batchCount;
 	fmTetBatch* batches; // in colour order, then block order
 	uint8_t* laneCount;  // tets in each batch (FM_LANES but in a block's last batch)
@@ -42,6 +43,15 @@ typedef struct fmTetBlocks
 // Whether the batched kernels can take the elastic forces of @p body (FEM force model, a
 // material with a kernel) at the resolved instruction set @p level (not fm_simdOff).
 bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
+
+// Float carries the entries of F = R (I + strain) to about 1e-7 whatever the strain, so under a
+// rotation the batched kernels' stress is off by about 1e-7 (lambda + 2 mu): a relative force
+// error of about 1e-7 / strain. Bodies whose typical strain, density * 10 m/s^2 * size /
+// (lambda + 2 mu), is below this (very stiff ones) take the double-precision kernel instead.
+#define FM_FLOAT_KERNEL_MIN_STRAIN 1e-5
+
+// Whether the typical strain of @p body is large enough for the float kernels (above).
+bool fmTetBlocks_Accurate(const fmTetBlocks* blocks, const fmBody* body);
 
 // Build the layout of a body (from its rest shape) for force passes on up to @p workerCount
 // workers; NULL when memory is short.

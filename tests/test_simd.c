@@ -122,6 +122,36 @@ TEST(batched_neo_hookean_follows_the_reference_through_compression_and_inversion
 	}
 }
 
+// A rotated body: F = R (I + H) has entries of order 1 whatever the strain, and float carries
+// them to about 1e-7, so the stress error is about 1e-7 (lambda + 2 mu) absolute instead of
+// relative: at strain e the forces are good to about 1e-7 / e (docs/performance.md). Measured:
+// 1.4e-7 / strain (StVK) and 2.9e-7 / strain (Neo-Hookean); the bound has a margin of 10.
+TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotation)
+{
+	const double strains[] = {1e-5, 1e-3, 1e-1};
+	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean};
+	fmMat3 R = fmTestRandomRotation();
+	for (int m = 0; m < 2; ++m)
+		for (int s = 0; s < 3; ++s)
+		{
+			fmWorldId world;
+			fmBody* b = fmGetBody(makeBox(&world, models[m]));
+			if (b == NULL)
+			{
+				CHECK(0);
+				return;
+			}
+			deform(b, strains[s]);
+			for (int i = 0; i < b->vertexCount; ++i)
+				fmStore(b->x, i, fmMatVec(&R, fmLoad(b->x, i)));
+			double err = relativeError(failures_, b);
+			if (!(err < 3e-6 / strains[s] + 5e-7))
+				FAIL_AT("%s rotated at strain %g: relative error %g",
+				        fmMaterialModelName(models[m]), strains[s], err);
+			fmDestroyWorld(world);
+		}
+}
+
 TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 {
 	fmWorldId world;
@@ -222,4 +252,28 @@ TEST(simd_levels_resolve_to_what_the_cpu_has)
 	fmWorldDef def = fmDefaultWorldDef();
 	def.simd = (fmSimdLevel)99;
 	CHECK_INT(fmWorldDef_Validate(&def, NULL), fm_errParameter);
+}
+
+// The explicit step takes the float kernels for an ordinary body and the double-precision
+// reference for a very stiff one, whose strains float cannot resolve under rotation.
+TEST(very_stiff_bodies_take_the_double_precision_kernel)
+{
+	const double moduli[] = {1e6, 1e12};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldId world;
+		fmBody* b = fmGetBody(fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1),
+		                                    fmMakeMaterial(fm_stvk, moduli[k], 0.3), fm_fem));
+		if (b == NULL)
+		{
+			CHECK(0);
+			return;
+		}
+		b->totalMass = 1000.0; // density 1000 kg/m^3: typical strain 1e-2 and 1e-8
+		CHECK_INT(fmWorld_Step(world, 1e-6, 1), fm_ok);
+		CHECK(b->tetBlocks != NULL);
+		if (b->tetBlocks != NULL)
+			CHECK(fmTetBlocks_Accurate(b->tetBlocks, b) == (k == 0));
+		fmDestroyWorld(world);
+	}
 }
