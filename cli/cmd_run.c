@@ -31,6 +31,8 @@ const char* const cliRunHelp =
     "                     counted in the summary\n"
     "  --workers N        threads the stages run on, 1 to 64 (default: the scene's \"workers\",\n"
     "                     else the cores available); results are the same bits for any N\n"
+    "  --deterministic    cross-machine determinism (the scene's \"deterministic\": true,\n"
+    "                     fmWorldDef.crossPlatformDeterminism): the same bits on any machine\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -52,7 +54,8 @@ typedef struct cliRunOptions
 	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
 	bool hasImpulseSpeed;
 	bool strict;
-	int workers; ///< --workers, 0 if not given
+	int workers;        ///< --workers, 0 if not given
+	bool deterministic; ///< --deterministic
 	bool quiet;
 } cliRunOptions;
 
@@ -82,6 +85,8 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 			o->quiet = true;
 		else if (strcmp(arg, "--strict") == 0)
 			o->strict = true;
+		else if (strcmp(arg, "--deterministic") == 0)
+			o->deterministic = true;
 		else if (strcmp(arg, "--workers") == 0)
 		{
 			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
@@ -242,14 +247,15 @@ static double cliCenterOfMassY(const cliSimulation* sim)
 	double mass = 0.0, moment = 0.0;
 	for (int b = 0; b < sim->bodyCount; ++b)
 	{
-		const double* x = fmBody_GetPositions(sim->bodies[b]);
+		double* x = cliCopyState(sim->bodies[b], false);
 		const double* m = fmBody_GetMasses(sim->bodies[b]);
-		int count = fmBody_GetVertexCount(sim->bodies[b]);
+		int count = x ? fmBody_GetVertexCount(sim->bodies[b]) : 0;
 		for (int i = 0; i < count; ++i)
 		{
 			mass += m[i];
 			moment += m[i] * x[3 * i + 1];
 		}
+		free(x);
 	}
 	return mass > 0.0 ? moment / mass : 0.0;
 }
@@ -259,10 +265,11 @@ static double cliLowestY(const cliSimulation* sim)
 	double lowest = INFINITY;
 	for (int b = 0; b < sim->bodyCount; ++b)
 	{
-		const double* x = fmBody_GetPositions(sim->bodies[b]);
-		int count = fmBody_GetVertexCount(sim->bodies[b]);
+		double* x = cliCopyState(sim->bodies[b], false);
+		int count = x ? fmBody_GetVertexCount(sim->bodies[b]) : 0;
 		for (int i = 0; i < count; ++i)
 			lowest = fmin(lowest, x[3 * i + 1]);
+		free(x);
 	}
 	return lowest;
 }
@@ -409,6 +416,8 @@ int cliRun(int argc, char** argv)
 		return cli_exitInput;
 	if (o.strict)
 		scene.worldDef.notConvergedIsError = true;
+	if (o.deterministic)
+		scene.worldDef.crossPlatformDeterminism = true;
 	if (o.workers > 0)
 		scene.worldDef.workerCount = o.workers;
 	else if (!scene.hasWorkers)
