@@ -383,6 +383,9 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
 	printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
 	       scene->substeps == 1 ? "" : "s", scene->dt);
+	if (scene->worldDef.crossPlatformDeterminism)
+		printf("determinism      cross-platform (femto's own log and pow: the same bits on any "
+		       "machine)\n");
 	printf("simulated time   %.6g s\n", simulated);
 	printf("wall time        %.3f s (stepping %.3f s, %.2fx real time)\n", wallSeconds, stepSeconds,
 	       stepSeconds > 0.0 ? simulated / stepSeconds : 0.0);

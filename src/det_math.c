@@ -9,27 +9,7 @@
 #include <stdint.h>
 #include <string.h>
 
-static _Thread_local bool s_detMath;
-
-void fmDetMath_Enable(bool enabled)
-{
-	s_detMath = enabled;
-}
-
-bool fmDetMath_Enabled(void)
-{
-	return s_detMath;
-}
-
-double fmMathLog(double x)
-{
-	return s_detMath ? fmDetLog(x) : log(x);
-}
-
-double fmMathPow(double x, double y)
-{
-	return s_detMath ? fmDetPow(x, y) : pow(x, y);
-}
+_Thread_local bool fmDetMathMode;
 
 // ln 2 split in two: FM_LN2_HI has the low 32 bits of its significand zero, so k * FM_LN2_HI is
 // exact for every exponent k a double has; FM_LN2_LO = ln 2 - FM_LN2_HI rounded to nearest.
@@ -61,25 +41,22 @@ static double fmPow2(int n)
 // ---- log ---------------------------------------------------------------------------------------
 
 // log(1 + f) for 1 + f in [sqrt(1/2), sqrt(2)]: with s = f / (2 + f), log(1 + f) = 2 atanh(s)
-// = 2 s + s R, R = sum over n >= 1 of 2 s^(2n) / (2n + 1). |s| <= 0.1716, s^2 <= 0.0295: eleven
-// terms leave a truncation error below 1e-18 relative. Written (as in Cody and Waite's and
-// Tang's methods) as f - (hfsq - s (hfsq + R)) with hfsq = f^2 / 2, since 2 s = f - s f and
-// s f = hfsq - s hfsq: the large term f is exact and the correction small.
+// = 2 s + s R, R = sum over n >= 1 of 2 s^(2n) / (2n + 1) (c(2n+1) below, rounded to nearest).
+// |s| <= 0.1716, s^2 <= 0.0295: eleven terms leave a truncation error below 1e-18 relative. Written
+// (as in Cody and Waite's and Tang's methods) as f - (hfsq - s (hfsq + R)) with hfsq = f^2 / 2,
+// since 2 s = f - s f and s f = hfsq - s hfsq: the large term f is exact and the correction small.
 static double fmLog1pReduced(double f, double kLo)
 {
-	const double s = f / (2.0 + f), z = s * s;
-	double R = 0.08695652173913043;  // 2/23
-	R = 0.09523809523809523 + z * R; // 2/21
-	R = 0.10526315789473684 + z * R; // 2/19
-	R = 0.11764705882352941 + z * R; // 2/17
-	R = 0.13333333333333333 + z * R; // 2/15
-	R = 0.15384615384615385 + z * R; // 2/13
-	R = 0.18181818181818182 + z * R; // 2/11
-	R = 0.2222222222222222 + z * R;  // 2/9
-	R = 0.2857142857142857 + z * R;  // 2/7
-	R = 0.4 + z * R;                 // 2/5
-	R = 0.6666666666666666 + z * R;  // 2/3
-	R = z * R;
+	// R by Estrin's scheme (independent products in parallel: half the latency of Horner's).
+	const double s = f / (2.0 + f), z = s * s, z2 = z * z, z4 = z2 * z2, z8 = z4 * z4;
+	const double c3 = 0.6666666666666666, c5 = 0.4, c7 = 0.2857142857142857;
+	const double c9 = 0.2222222222222222, c11 = 0.18181818181818182, c13 = 0.15384615384615385;
+	const double c15 = 0.13333333333333333, c17 = 0.11764705882352941;
+	const double c19 = 0.10526315789473684, c21 = 0.09523809523809523, c23 = 0.08695652173913043;
+	const double low = (c3 + z * c5) + z2 * (c7 + z * c9);
+	const double mid = (c11 + z * c13) + z2 * (c15 + z * c17);
+	const double high = (c19 + z * c21) + z2 * c23;
+	const double R = z * (low + z4 * mid + z8 * high);
 	const double hfsq = 0.5 * f * f;
 	return f - (hfsq - (s * (hfsq + R) + kLo));
 }

@@ -10,6 +10,7 @@
 // mode on entry to every public call and in every task).
 #pragma once
 
+#include <math.h>
 #include <stdbool.h>
 
 // Natural logarithm: -inf at +-0, NaN below 0 and for NaN, +inf at +inf; denormals handled.
@@ -22,10 +23,27 @@ double fmDetExp(double x);
 // x^0 = 1^y = 1, 0^y = 0 for y > 0 and +inf for y < 0.
 double fmDetPow(double x, double y);
 
-// Set or read the calling thread's det_math mode (off when a thread starts).
-void fmDetMath_Enable(bool enabled);
-bool fmDetMath_Enabled(void);
+// The calling thread's det_math mode (off when a thread starts); set by fp_env.c.
+extern _Thread_local bool fmDetMathMode;
 
-// The hot path's log and pow: femto's own in det_math mode, the C library's otherwise.
-double fmMathLog(double x);
-double fmMathPow(double x, double y);
+static inline void fmDetMath_Enable(bool enabled)
+{
+	fmDetMathMode = enabled;
+}
+
+static inline bool fmDetMath_Enabled(void)
+{
+	return fmDetMathMode;
+}
+
+// The hot path's log and pow: femto's own in det_math mode, the C library's otherwise (inline:
+// the option off costs one test of a thread-local flag a call).
+static inline double fmMathLog(double x)
+{
+	return fmDetMathMode ? fmDetLog(x) : log(x);
+}
+
+static inline double fmMathPow(double x, double y)
+{
+	return fmDetMathMode ? fmDetPow(x, y) : pow(x, y);
+}

@@ -233,7 +233,8 @@ typedef struct fmWorldDef
 	/// uses femto's own log and pow instead of the C library's (whose last bits differ between
 	/// libms). The floating-point state (round to nearest, no flush-to-zero, no
 	/// denormals-are-zero) is set and restored by every call whether or not this is on.
-	/// Costs under 1% of an implicit Neo-Hookean step (default false)
+	/// Costs a few percent of an implicit Neo-Hookean frame, nothing for models without ln J
+	/// (docs/performance.md) (default false)
 	bool crossPlatformDeterminism;
 	/// The frame budget: Newton iterations all implicit steps of one fmWorld_Step() may take
 	/// together, >= 1 (default 1000000). Checked between substeps: once it is spent, the
