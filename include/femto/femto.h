@@ -53,6 +53,9 @@ FM_API bool fmWorld_IsValid(fmWorldId worldId);
 /// fm_errNumerical and fmWorld_GetLastError() says which body, vertices and tets. An implicit
 /// step that ends above the tolerance is a warning in the last error's warning fields, counted
 /// in fmStepStats.unconvergedSteps, or fm_errNotConverged with fmWorldDef.notConvergedIsError.
+/// Runs in femto's floating-point state (round to nearest, no flush-to-zero or
+/// denormals-are-zero), as every call that computes, and gives the caller's back
+/// (docs/determinism.md).
 FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
 
 /// The diagnostic of the last failed step (for a stale id: one that says so, never NULL).
