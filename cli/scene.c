@@ -668,6 +668,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
 	    !cliGetString(j, root, "", "simd", &simd) ||
 	    !cliGetBool(j, root, "", "auto_substep", &def->autoSubstep) ||
+	    !cliGetBool(j, root, "", "deterministic", &def->crossPlatformDeterminism) ||
 	    !cliGetNumber(j, root, "", "memory_budget_mib", budgetRange, &budgetMiB, &hasBudget) ||
 	    !cliGetInt(j, root, "", "workers", 1, FM_MAX_WORKERS, &def->workerCount,
 	               &scene->hasWorkers) ||
@@ -732,6 +733,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "max_newton_per_frame",
 	                                   "max_substeps_per_frame",
 	                                   "simd",
+	                                   "deterministic",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");

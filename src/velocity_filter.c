@@ -8,6 +8,7 @@
 // 1 - (1 - s)^(dt / 3 ms). At the seeds' step this is exactly the seeds' filter.
 #include "velocity_filter.h"
 
+#include "det_math.h"
 #include "tet_blocks.h"
 
 #include <math.h>
@@ -91,10 +92,10 @@ void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem
 	const double steps = dt / FM_SEED_STEP;
 	if (b->damping < 1.0)
 	{
-		const double factor = pow(b->damping, steps);
+		const double factor = fmMathPow(b->damping, steps);
 		for (int k = 0; k < 3 * b->vertexCount; ++k)
 			b->v[k] *= factor;
 	}
 	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - pow(1.0 - b->smoothing, steps), arena, tasks);
+		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, steps), arena, tasks);
 }

@@ -5,6 +5,7 @@
 #include "explicit.h"
 #include "floor.h"
 #include "forces.h"
+#include "fp_env.h"
 #include "implicit.h"
 #include "simd.h"
 
@@ -338,7 +339,9 @@ double fmWorld_EstimateExplicitStep(fmWorldId worldId)
 		return 0.0;
 	if (!fmWorldReserveArena(w))
 		return 0.0;
+	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
 	double limit = fmCurrentExplicitLimit(w);
+	fmFpEnv_Leave(&env);
 	return isfinite(limit) ? limit : 0.0;
 }
 
@@ -700,11 +703,9 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 	return fm_ok;
 }
 
-fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
+// The frame step of fmWorld_Step, in femto's floating-point environment.
+static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 {
-	fmWorld* w = fmWorldOrAssert(worldId);
-	if (w == NULL)
-		return fm_errInvalidId;
 	memset(&w->stats, 0, sizeof w->stats);
 	fmDiagClear(&w->lastError);
 	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
@@ -770,4 +771,17 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
 	return fm_ok;
+}
+
+fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w == NULL)
+		return fm_errInvalidId;
+	// The host's floating-point state is saved, femto's set (round to nearest, no FTZ or DAZ),
+	// and the host's restored after the step, on every path (fp_env.h).
+	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
+	fmResult r = fmWorldStep(w, timeStep, subStepCount);
+	fmFpEnv_Leave(&env);
+	return r;
 }

@@ -101,6 +101,18 @@ femto_cli_test(run_bad_simd ARGS "run|--simd|avx9" CODE 2
   REGEX "--simd: expected auto, off, scalar, sse2, avx2 or avx512, got 'avx9'")
 femto_cli_test(scene_bad_simd ARGS "run|${FEMTO_CLI_DATA}/bad_simd.json" CODE 1
   REGEX "simd: expected \"auto\", \"off\", \"scalar\", \"sse2\", \"avx2\" or \"avx512\"")
+# Cross-machine determinism from the scene ("deterministic": true) and from the command line
+# (--deterministic) is the same world option: bit-identical positions; the summary says so.
+femto_cli_test(deterministic_scene ARGS "run|${FEMTO_CLI_DATA}/deterministic.json|--frames|20|--quiet|--export-node|${FEMTO_CLI_WORK}/det_scene.node"
+  CODE 0 REGEX "determinism +cross-platform" FILES "${FEMTO_CLI_WORK}/det_scene.node")
+femto_cli_test(deterministic_option ARGS "run|${PROJECT_SOURCE_DIR}/scenes/house_implicit.json|--deterministic|--frames|20|--quiet|--export-node|${FEMTO_CLI_WORK}/det_option.node"
+  CODE 0 REGEX "determinism +cross-platform" FILES "${FEMTO_CLI_WORK}/det_option.node")
+femto_cli_test(deterministic_off ARGS "run|${PROJECT_SOURCE_DIR}/scenes/house_implicit.json|--frames|1|--quiet"
+  CODE 0 REJECT "determinism")
+set_tests_properties(cli_deterministic_scene cli_deterministic_option PROPERTIES FIXTURES_SETUP cli_det_nodes)
+add_test(NAME cli_deterministic_identical COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/det_scene.node ${FEMTO_CLI_WORK}/det_option.node)
+set_tests_properties(cli_deterministic_identical PROPERTIES FIXTURES_REQUIRED cli_det_nodes LABELS cli)
 
 # --out: a .pvd collection with the initial state and every frame, OBJ surfaces with --obj.
 femto_cli_test(run_out ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series/a|--obj" CODE 0
