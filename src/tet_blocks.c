@@ -322,6 +322,7 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 	if (ok)
 	{
 		tb->workerCount = workerCount > 0 ? workerCount : 1;
+		tb->minBlocksPerRange = (FM_PARALLEL_MIN_RANGE + perBlock - 1) / perBlock;
 		tb->scratchBytes = fmScratchBytes(tb->maxBlockVertices);
 		tb->scratch = FM_ALLOC_ARRAY(unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
 		ok = tb->scratch != NULL;
@@ -425,13 +426,12 @@ static void fmForceBlocksTask(int start, int end, int worker, void* context)
 }
 
 // The blocks a colour at a time, @p task over each colour's blocks with *firstBlock set to the
-// colour's first: ranges of at least FM_PARALLEL_MIN_RANGE tets (smaller ones cost more to hand
-// out); workers beyond the layout's scratch run serially (the same bits).
+// colour's first, in ranges of at least minBlocksPerRange blocks; workers beyond the layout's
+// scratch run serially (the same bits).
 static void fmRunColours(const fmTetBlocks* tb, const fmTaskSystem* tasks, fmTaskCallback* task,
                          void* context, int* firstBlock)
 {
-	const int minBlocks =
-	    (FM_PARALLEL_MIN_RANGE + FM_BLOCK_BATCHES * FM_LANES - 1) / (FM_BLOCK_BATCHES * FM_LANES);
+	const int minBlocks = tb->minBlocksPerRange;
 	const fmTaskSystem* run = tasks != NULL && tasks->workerCount <= tb->workerCount ? tasks : NULL;
 	for (int c = 0; c < tb->colourCount; ++c)
 	{

@@ -14,16 +14,36 @@
 #include <stdlib.h>
 #include <string.h>
 
+// A box of cells^3 cubes on a 1 m cube in a default world.
+static fmBody* makeCube(int* failures_, fmWorldId* world, int cells, fmMaterialModel model)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(cells, cells, cells, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh),
+	          fm_ok);
+	fmWorldDef wdef = fmDefaultWorldDef();
+	*world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = fmMakeMaterial(model, 1e6, 0.3);
+	fmBodyId id;
+	CHECK_INT(fmCreateBody(*world, &def, &id, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	return fmGetBody(id);
+}
+
 static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
 {
 	return fmTestMakeBox(world, 4, 3, 3, fmMakeVec3(1.0, 0.75, 0.75),
 	                     fmMakeMaterial(model, 1e6, 0.3), fm_fem);
 }
 
-// The batched forces at the body's positions (caller frees).
+// The batched forces at the body's positions (caller frees), every colour split into ranges of
+// one block, so that even a small body runs on every worker.
 static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers)
 {
 	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
+	if (blocks != NULL)
+		blocks->minBlocksPerRange = 1;
 	double* f = calloc(3 * (size_t)b->vertexCount, sizeof *f);
 	if (blocks == NULL || f == NULL)
 	{
@@ -155,17 +175,7 @@ TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotatio
 TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 {
 	fmWorldId world;
-	fmTetMesh mesh;
-	CHECK_INT(fmMakeBoxMesh(12, 12, 12, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
-	fmWorldDef wdef = fmDefaultWorldDef();
-	world = fmCreateWorld(&wdef);
-	fmBodyDef def = fmDefaultBodyDef();
-	def.mesh = &mesh;
-	def.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
-	fmBodyId id;
-	CHECK_INT(fmCreateBody(world, &def, &id, NULL), fm_ok);
-	fmFreeTetMesh(&mesh);
-	fmBody* b = fmGetBody(id);
+	fmBody* b = makeCube(failures_, &world, 12, fm_neoHookean);
 	if (b == NULL)
 		return;
 	deform(b, 0.05);
@@ -192,16 +202,7 @@ TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 TEST(blocks_of_one_colour_share_no_vertex)
 {
 	fmWorldId world;
-	fmTetMesh mesh;
-	CHECK_INT(fmMakeBoxMesh(16, 10, 10, fmMakeVec3(0, 0, 0), fmMakeVec3(2, 1, 1), &mesh), fm_ok);
-	fmWorldDef wdef = fmDefaultWorldDef();
-	world = fmCreateWorld(&wdef);
-	fmBodyDef def = fmDefaultBodyDef();
-	def.mesh = &mesh;
-	fmBodyId id;
-	CHECK_INT(fmCreateBody(world, &def, &id, NULL), fm_ok);
-	fmFreeTetMesh(&mesh);
-	fmBody* b = fmGetBody(id);
+	fmBody* b = makeCube(failures_, &world, 14, fm_stvk);
 	fmTetBlocks* tb = b ? fmTetBlocks_Create(b, 1) : NULL;
 	CHECK(tb != NULL);
 	if (tb == NULL)
