@@ -6,6 +6,7 @@
 #include "forces.h"
 #include "fp_env.h"
 #include "mesh_internal.h"
+#include "reorder.h"
 #include "solver_cache.h"
 #include "tet_blocks.h"
 #include "world.h"
@@ -178,6 +179,12 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->springK, double, b->edgeCount);
 	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
 	fmFree(b->surface);
+	FM_FREE_ARRAY(b->userVertex, int, n);
+	FM_FREE_ARRAY(b->internalVertex, int, n);
+	FM_FREE_ARRAY(b->userTet, int, m);
+	FM_FREE_ARRAY(b->userTets, int, 4 * m);
+	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->triangleCount);
+	FM_FREE_ARRAY(b->userMass, double, n);
 	fmSolverCache_Free(b->implicitCache);
 	fmTetBlocks_Destroy(b->tetBlocks);
 	uint32_t generation = b->generation;
@@ -204,9 +211,15 @@ static bool fmBodyAllocate(fmBody* b, int n, int m)
 	b->tets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
 	b->DmInv = FM_ALLOC_ARRAY(fmMat3, m);
 	b->restVolume = FM_ALLOC_ARRAY(double, m);
+	b->userVertex = FM_ALLOC_ARRAY(int, n);
+	b->internalVertex = FM_ALLOC_ARRAY(int, n);
+	b->userTet = FM_ALLOC_ARRAY(int, m);
+	b->userTets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
+	b->userMass = FM_ALLOC_ARRAY(double, n);
 	return b->x && b->v && b->f && b->x0 && b->xGood && b->vGood && b->mass && b->invMass &&
 	       b->smoothWeight && b->vertexTetStart && b->vertexTets && b->pinned && b->tets &&
-	       b->DmInv && b->restVolume;
+	       b->DmInv && b->restVolume && b->userVertex && b->internalVertex && b->userTet &&
+	       b->userTets && b->userMass;
 }
 
 // Reference edge matrices, volumes, masses and smoothing weights from the oriented mesh.
@@ -224,7 +237,7 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 		if (!(volume > 0.0) || !fmInverse(&Dm, &b->DmInv[t]))
 			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
 			                   "tet %d (in the mesh's numbering) has zero volume",
-			                   t + mesh->firstIndex);
+			                   b->userTet[t] + mesh->firstIndex);
 		b->restVolume[t] = volume;
 		for (int a = 0; a < 4; ++a)
 		{
@@ -257,7 +270,7 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 			return fmDiagError(diag, fm_errRange, "", 0, 0,
 			                   "node %d gets mass %g kg: expected a finite mass > 0 (density %g "
 			                   "kg/m^3 times its tets' volume, or the particle mass)",
-			                   i + mesh->firstIndex, b->mass[i], def->density);
+			                   b->userVertex[i] + mesh->firstIndex, b->mass[i], def->density);
 	if (!isfinite(b->totalMass))
 		return fmDiagError(diag, fm_errRange, "", 0, 0, "the body's total mass overflows (%g kg)",
 		                   b->totalMass);
@@ -294,6 +307,42 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 	return r;
 }
 
+// Put the body's vertices and tets (user's order, oriented) in the body's own order
+// (reorder.h), keeping the maps between the two numberings and the user's tets.
+static bool fmBodyReorder(fmBody* b)
+{
+	const int n = b->vertexCount, m = b->tetCount;
+	double* userX = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
+	bool ok = userX != NULL && fmReorder_Compute(b->x0, n, b->tets, m, b->userTet, b->userVertex);
+	if (ok)
+	{
+		memcpy(userX, b->x0, sizeof(double) * 3 * (size_t)n);
+		memcpy(b->userTets, b->tets, sizeof(int) * 4 * (size_t)m);
+		for (int i = 0; i < n; ++i)
+		{
+			b->internalVertex[b->userVertex[i]] = i;
+			fmStore(b->x0, i, fmLoad(userX, b->userVertex[i]));
+		}
+		for (int t = 0; t < m; ++t)
+			for (int a = 0; a < 4; ++a)
+				b->tets[4 * t + a] = b->internalVertex[b->userTets[4 * b->userTet[t] + a]];
+	}
+	FM_FREE_ARRAY(userX, double, 3 * (size_t)n);
+	return ok;
+}
+
+// The surface in the user's numbering (what fmBody_GetSurface returns).
+static bool fmBodyUserSurface(fmBody* b)
+{
+	size_t count = 3 * (size_t)b->triangleCount;
+	b->userSurface = FM_ALLOC_ARRAY(int, count);
+	if (b->userSurface == NULL && count > 0)
+		return false;
+	for (size_t k = 0; k < count; ++k)
+		b->userSurface[k] = b->userVertex[b->surface[k]];
+	return true;
+}
+
 // The body takes only positions and tets from the (validated) def mesh: no copy of the mesh,
 // its attributes or markers is made, and the caller's mesh is not modified.
 static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
@@ -318,6 +367,9 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		memcpy(b->tets, source->tets, sizeof(int) * 4 * (size_t)mesh.tetCount);
 		r = fmTetMesh_Orient(&mesh, NULL, diag);
 	}
+	if (r == fm_ok && !fmBodyReorder(b))
+		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                "out of memory ordering a body of %d tets", source->tetCount);
 	if (r == fm_ok)
 	{
 		b->firstIndex = mesh.firstIndex;
@@ -333,8 +385,12 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		memcpy(b->xGood, b->x0, n3);
 		r = fmBodyPrecompute(b, def, &mesh, diag);
 	}
-	if (r == fm_ok && fmTetMesh_ExtractSurface(&mesh, &b->surface, &b->triangleCount) != fm_ok)
+	if (r == fm_ok && (fmTetMesh_ExtractSurface(&mesh, &b->surface, &b->triangleCount) != fm_ok ||
+	                   !fmBodyUserSurface(b)))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory extracting the surface");
+	if (r == fm_ok)
+		for (int i = 0; i < b->vertexCount; ++i)
+			b->userMass[b->userVertex[i]] = b->mass[i];
 	if (r == fm_ok && b->forceModel == fm_massSpring && fmBuildSprings(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
 	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
@@ -377,6 +433,9 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 	                2 * fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(n + 1, sizeof(int)) +
 	                fmArrayBytes(m, sizeof(fmMat3)) + fmArrayBytes(m, d) +
 	                fmArrayBytes(3 * surface, sizeof(int)) + 64;
+	// The user's numbering: two vertex maps, the user's masses, tets, tet map and surface.
+	body += 2 * fmArrayBytes(n, sizeof(int)) + fmArrayBytes(n, d) +
+	        fmArrayBytes(5 * m, sizeof(int)) + fmArrayBytes(3 * surface, sizeof(int));
 	if (springs)
 		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
 	if (def && def->forceModel == fm_fvm)
@@ -568,7 +627,8 @@ static fmResult fmCheckCopyOut(fmBodyId bodyId, const void* out, int vertexCapac
 // node order) goes to out[3 i .. 3 i + 2], whatever order femto keeps its own arrays in.
 static void fmCopyOut(const fmBody* b, const double* state, double* out)
 {
-	memcpy(out, state, sizeof(double) * 3 * (size_t)b->vertexCount);
+	for (int i = 0; i < b->vertexCount; ++i)
+		fmStore(out, b->userVertex[i], fmLoad(state, i));
 }
 
 // The same into floats, rounded in femto's floating-point environment (to nearest, whatever the
@@ -576,8 +636,9 @@ static void fmCopyOut(const fmBody* b, const double* state, double* out)
 static void fmCopyOutFloat(const fmBody* b, const double* state, float* out)
 {
 	fmFpEnv env = fmFpEnv_Enter(fmDetMath_Enabled());
-	for (int i = 0; i < 3 * b->vertexCount; ++i)
-		out[i] = (float)state[i];
+	for (int i = 0; i < b->vertexCount; ++i)
+		for (int k = 0; k < 3; ++k)
+			out[3 * b->userVertex[i] + k] = (float)state[3 * i + k];
 	fmFpEnv_Leave(&env);
 }
 
@@ -621,13 +682,13 @@ fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, int vert
 const double* fmBody_GetMasses(fmBodyId bodyId)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	return b ? b->mass : NULL;
+	return b ? b->userMass : NULL;
 }
 
 const int* fmBody_GetTets(fmBodyId bodyId)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	return b ? b->tets : NULL;
+	return b ? b->userTets : NULL;
 }
 
 const int* fmBody_GetSurface(fmBodyId bodyId, int* triangleCount)
@@ -635,7 +696,7 @@ const int* fmBody_GetSurface(fmBodyId bodyId, int* triangleCount)
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (triangleCount)
 		*triangleCount = b ? b->triangleCount : 0;
-	return b ? b->surface : NULL;
+	return b ? b->userSurface : NULL;
 }
 
 // A state array the caller hands in must be there. Non-finite values are accepted on purpose:
@@ -650,7 +711,8 @@ void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (fmHasState(b, positions))
-		memcpy(b->x, positions, sizeof(double) * 3 * (size_t)b->vertexCount);
+		for (int i = 0; i < b->vertexCount; ++i)
+			fmStore(b->x, i, fmLoad(positions, b->userVertex[i]));
 }
 
 void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
@@ -660,7 +722,7 @@ void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 		return;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		fmStore(b->v, i, fmLoad(velocities, i));
+		fmStore(b->v, i, fmLoad(velocities, b->userVertex[i]));
 		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
 }
@@ -685,6 +747,7 @@ static void fmBodyApplyVertexImpulseIn(fmBodyId bodyId, int vertex, fmVec3 delta
 	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
 	if (b && vertex >= 0 && vertex < b->vertexCount && fmIsFiniteVec3(deltaVelocity))
 	{
+		vertex = b->internalVertex[vertex];
 		fmStore(b->v, vertex, fmAdd(fmLoad(b->v, vertex), deltaVelocity));
 		fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
 	}
@@ -706,6 +769,7 @@ static void fmBodySetPinnedAxesIn(fmBodyId bodyId, int vertex, unsigned axes)
 	FM_ASSERT(axes <= FM_PIN_ALL);
 	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
 		return;
+	vertex = b->internalVertex[vertex];
 	b->pinned[vertex] = (uint8_t)(axes & FM_PIN_ALL);
 	b->invMass[vertex] = b->pinned[vertex] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[vertex];
 	fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
@@ -715,7 +779,8 @@ bool fmBody_IsPinned(fmBodyId bodyId, int vertex)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
-	return b && vertex >= 0 && vertex < b->vertexCount && b->pinned[vertex] == FM_PIN_ALL;
+	return b && vertex >= 0 && vertex < b->vertexCount &&
+	       b->pinned[b->internalVertex[vertex]] == FM_PIN_ALL;
 }
 
 int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
@@ -734,7 +799,7 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 		if (p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z &&
 		    p.z <= max.z)
 		{
-			fmBody_SetPinned(bodyId, i, true);
+			fmBody_SetPinned(bodyId, b->userVertex[i], true);
 			++count;
 		}
 	}
@@ -766,8 +831,18 @@ static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 	FM_ASSERT(forces != NULL);
 	if (b == NULL || forces == NULL)
 		return 0.0;
-	memset(forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	return fmAddElasticForces(b, b->x, forces);
+	size_t n3 = 3 * (size_t)b->vertexCount;
+	double* internal = FM_ALLOC_ZERO(double, n3);
+	if (internal == NULL)
+	{
+		fmLog(fm_logError, "fmBody_ComputeElasticForces: out of memory for %zu doubles", n3);
+		memset(forces, 0, sizeof(double) * n3);
+		return 0.0;
+	}
+	double energy = fmAddElasticForces(b, b->x, internal);
+	fmCopyOut(b, internal, forces);
+	FM_FREE_ARRAY(internal, double, n3);
+	return energy;
 }
 
 int fmBodyCountInverted(const fmBody* b)

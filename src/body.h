@@ -32,6 +32,15 @@ typedef struct fmBody
 	int* surface;
 	int triangleCount;
 
+	// The user's numbering. The body keeps its vertices and tets in its own order (reorder.h:
+	// close in memory what is close in space); every public call translates.
+	int* userVertex;     // vertexCount: the user's index of each vertex
+	int* internalVertex; // vertexCount: the body's index of each user vertex
+	int* userTet;        // tetCount: the user's index of each tet
+	int* userTets;       // 4 per tet: the (oriented) tets in the user's order and numbering
+	int* userSurface;    // 3 per surface triangle, in the user's numbering
+	double* userMass;    // vertexCount: masses in the user's numbering
+
 	// Laplacian smoothing: 1 / (4 * number of tets around each vertex)
 	double* smoothWeight;
 

@@ -360,7 +360,7 @@ static int fmListBadTets(const fmBody* b, char* list, size_t size)
 			continue;
 		if (count < 8 && length + 16 < size)
 			length += (size_t)snprintf(list + length, size - length, "%s%d", count ? ", " : "",
-			                           t + b->firstIndex);
+			                           b->userTet[t] + b->firstIndex);
 		++count;
 	}
 	if (count > 8 && length + 6 < size)
@@ -406,7 +406,7 @@ static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double en
 	int vertex = fmFirstNonFiniteVertex(b);
 	if (vertex >= 0)
 		snprintf(what, sizeof what, "non-finite position or velocity at vertex %d",
-		         vertex + b->firstIndex);
+		         b->userVertex[vertex] + b->firstIndex);
 	else if (kind == fm_badSolve)
 		snprintf(what, sizeof what,
 		         "the implicit solve's energy or gradient went non-finite (last relative "
