@@ -28,6 +28,8 @@ fmSimdLevel fmSimd_Resolve(fmSimdLevel requested);
 // instruction set of the translation unit (-msse2, -mavx2, -mavx512f). Otherwise: plain loops.
 // Only the kernels' translation units (FM_KERNEL_VARIANT defined) see it.
 
+#include <stdbool.h>
+
 #if !defined(FM_KERNEL_VARIANT)
 // (nothing: the lane types are the kernels' own)
 #elif (defined(__GNUC__) || defined(__clang__)) && !defined(FM_SIMD_SCALAR)
@@ -99,6 +101,10 @@ static inline fmIntV fmI_And(fmIntV a, fmIntV b)
 {
 	return a & b;
 }
+static inline fmIntV fmI_Or(fmIntV a, fmIntV b)
+{
+	return a | b;
+}
 // Shift right of lanes that are >= 0 (the only ones the kernels shift).
 static inline fmIntV fmI_ShiftRight(fmIntV a, int n)
 {
@@ -107,6 +113,14 @@ static inline fmIntV fmI_ShiftRight(fmIntV a, int n)
 static inline fmFloatV fmI_ToFloat(fmIntV a)
 {
 	return __builtin_convertvector(a, fmFloatV);
+}
+// Whether any lane of the mask is set.
+static inline bool fmI_Any(fmIntV mask)
+{
+	int32_t any = 0;
+	for (int l = 0; l < FM_LANES; ++l)
+		any |= mask[l];
+	return any != 0;
 }
 
 #else
@@ -195,6 +209,10 @@ static inline fmIntV fmI_And(fmIntV a, fmIntV b)
 {
 	FM_LANEWISE(fmIntV, a.v[l] & b.v[l]);
 }
+static inline fmIntV fmI_Or(fmIntV a, fmIntV b)
+{
+	FM_LANEWISE(fmIntV, a.v[l] | b.v[l]);
+}
 static inline fmIntV fmI_ShiftRight(fmIntV a, int n)
 {
 	FM_LANEWISE(fmIntV, a.v[l] >> n);
@@ -202,6 +220,13 @@ static inline fmIntV fmI_ShiftRight(fmIntV a, int n)
 static inline fmFloatV fmI_ToFloat(fmIntV a)
 {
 	FM_LANEWISE(fmFloatV, (float)a.v[l]);
+}
+static inline bool fmI_Any(fmIntV mask)
+{
+	int32_t any = 0;
+	for (int l = 0; l < FM_LANES; ++l)
+		any |= mask.v[l];
+	return any != 0;
 }
 
 #undef FM_LANEWISE

@@ -2,16 +2,20 @@
 #include "tet_blocks.h"
 
 #include "core.h"
+#include "material.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+// Floats of one batch's output in a block's buffer (a multiple of FM_LANES).
+#define FM_BATCH_FLOATS ((int)(sizeof(fmTetBatchForces) / sizeof(float)))
+
 bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
 {
 	fmMaterialModel m = body->material.model;
 	return level != fm_simdOff && body->forceModel == fm_fem &&
-	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean);
+	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_corotated);
 }
 
 bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
@@ -242,7 +246,7 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			for (int a = 0; a < 4; ++a)
 				tb->incidences[cursor[tb->batches[j].nodes[a][l]]++] =
-				    (uint16_t)(((j - first) * 12 + 3 * a) * FM_LANES + l);
+				    (uint16_t)((j - first) * FM_BATCH_FLOATS + 3 * a * FM_LANES + l);
 }
 
 // Blocks in colour order (a counting sort, stable: within a colour, in Morton order); packs
@@ -385,6 +389,37 @@ static void fmGatherVertices(const int* verts, int count, const double* x, const
 			values[3 * i + c] = X ? x[3 * verts[i] + c] - X[3 * verts[i] + c] : x[3 * verts[i] + c];
 }
 
+// Lane @p l of a batch by the double-precision reference: F = I + Du Dm^-1 from the block's
+// displacements @p u, the material's P, and the forces -V0 P Dm^-T into the batch's output.
+static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l, const double* u,
+                            fmTetBatchForces* out)
+{
+	fmMat3 Du, DmInv;
+	for (int i = 0; i < 3; ++i)
+		for (int k = 0; k < 3; ++k)
+		{
+			Du.m[3 * i + k] = u[3 * batch->nodes[k + 1][l] + i] - u[3 * batch->nodes[0][l] + i];
+			DmInv.m[3 * i + k] = (double)batch->dmInv[3 * i + k][l];
+		}
+	fmMat3 F = fmMatMul(&Du, &DmInv), P;
+	for (int i = 0; i < 3; ++i)
+		F.m[4 * i] += 1.0;
+	fmMaterial_Evaluate(&p->body->material, &F, &P, NULL);
+	fmMat3 M = fmMatMulT(&P, &DmInv);
+	double V0 = (double)batch->volume[l];
+	for (int i = 0; i < 3; ++i)
+	{
+		double sum = 0.0;
+		for (int k = 0; k < 3; ++k)
+		{
+			double fk = -V0 * M.m[3 * i + k];
+			out->force[3 * (k + 1) + i][l] = (float)fk;
+			sum += fk;
+		}
+		out->force[i][l] = (float)-sum;
+	}
+}
+
 // One block: gather its vertices' displacements, run its batches, then every vertex sums its
 // entries of the block's forces in a fixed order and adds them to the body's.
 static void fmForceBlock(const fmForcePass* p, int k, int worker)
@@ -398,8 +433,12 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	fmTetBatchWork work;
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
+		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
 		fmGatherBatch(u, &tb->batches[j], &work);
-		p->kernel(&tb->batches[j], &work, &p->material, &out[j - tb->blockStart[k]]);
+		p->kernel(&tb->batches[j], &work, &p->material, o);
+		for (int l = 0; l < tb->laneCount[j]; ++l)
+			if (o->fallback[l])
+				fmReferenceLane(p, &tb->batches[j], l, u, o);
 	}
 	const float* forces = &out[0].force[0][0];
 	// Three named sums: an array here would be kept in memory, a chain of stores and reloads.
@@ -487,9 +526,9 @@ static void fmSmoothBlock(const fmSmoothPass* p, int k, int worker)
 		double sx = 0.0, sy = 0.0, sz = 0.0;
 		for (int e = tb->incidenceStart[base + i]; e < tb->incidenceStart[base + i + 1]; ++e)
 		{
-			unsigned offset = tb->incidences[e]; // (batch * 12 + 3 node) * FM_LANES + lane
+			unsigned offset = tb->incidences[e]; // batch * FM_BATCH_FLOATS + 3 node FM_LANES + lane
 			const double* t =
-			    tetSums + 3 * (offset / (12 * FM_LANES) * FM_LANES + offset % FM_LANES);
+			    tetSums + 3 * (offset / FM_BATCH_FLOATS * FM_LANES + offset % FM_LANES);
 			sx += t[0], sy += t[1], sz += t[2];
 		}
 		double* si = p->sums + 3 * verts[i];

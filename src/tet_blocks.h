@@ -43,8 +43,8 @@ typedef struct fmTetBlocks
 	unsigned char* scratch;
 } fmTetBlocks;
 
-// Whether the batched kernels can take the elastic forces of @p body (FEM force model, a
-// material with a kernel) at the resolved instruction set @p level (not fm_simdOff).
+// Whether the batched kernels can take the elastic forces of @p body (FEM force model; linear,
+// StVK, Neo-Hookean or corotated) at the resolved instruction set @p level (not fm_simdOff).
 bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
 
 // Float carries the entries of F = R (I + strain) to about 1e-7 whatever the strain, so under a

@@ -12,6 +12,12 @@
 //                clamp P = (mu (F J - cof F) + lambda ln J cof F) / J (no cancellation at small
 //                strain); below it P = mu F + (lambda l - mu) l' cof F with the clamped l(J) of
 //                material_invariant.c.
+//   corotated:   P = 2 mu (F - R) + lambda (J - 1) cof F, R the rotation of F's polar
+//                decomposition by Newton's iteration X <- (X + X^-T)/2 from X = F, kept as
+//                Y = X - I: X^-T - I = (-det Y I - (1 + tr Y) Y^T + (Y^T)^2) / det X, so F - R =
+//                H - Y without cancellation. Tets with J < 0.1 (near flat, inverted: the
+//                iteration would find a reflection) or not converged in 12 iterations are left
+//                to the double-precision reference (fmTetBatchForces.fallback).
 // The force on node a = 1..3 is -V0 P g_a, g_a the rows of Dm^-1; node 0 takes minus the sum.
 #ifndef FM_KERNEL_VARIANT
 #define FM_KERNEL_VARIANT baseline
@@ -142,16 +148,78 @@ FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMa
 		P->m[k] = fmV_Add(S.m[k], HS.m[k]);
 }
 
+// cof(I + A) = (1 + t + c2) I - (1 + t) A^T + (A^T)^2 and det(I + A) - 1 = t + c2 + det A, with
+// t = tr A, c2 = (t^2 - tr(A^2)) / 2 (the Cayley-Hamilton form used throughout).
+typedef struct fmNearIdentity
+{
+	fmMat3V AT, AT2;     // A^T, (A^T)^2
+	fmFloatV t, c2, det; // tr A, c2, det A
+	fmFloatV j;          // det(I + A) - 1
+} fmNearIdentity;
+
+FM_INLINE void fmNearIdentity_Make(const fmMat3V* A, fmNearIdentity* n)
+{
+	n->AT = fmMat3V_Transpose(A);
+	n->AT2 = fmMat3V_Mul(&n->AT, &n->AT);
+	n->t = fmMat3V_Trace(A);
+	n->c2 = fmV_Mul(fmV_Set(0.5f), fmV_Sub(fmV_Mul(n->t, n->t), fmMat3V_Trace(&n->AT2)));
+	n->det = fmMat3V_Det(A);
+	n->j = fmV_Add(fmV_Add(n->t, n->c2), n->det);
+}
+
+FM_INLINE fmFloatV fmV_Abs(fmFloatV a)
+{
+	return fmV_FromBits(fmI_And(fmV_Bits(a), fmI_Set(0x7fffffff)));
+}
+
+// Corotated; @p fallback gets the lanes left to the reference.
+FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
+                                 fmIntV* fallback)
+{
+	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f), half = fmV_Set(0.5f);
+	fmNearIdentity h;
+	fmNearIdentity_Make(H, &h);
+	fmIntV flat = fmV_Less(fmV_Add(one, h.j), fmV_Set(0.1f));
+	fmMat3V Y = *H;
+	fmIntV moving = fmI_Set(-1);
+	for (int iteration = 0; iteration < 12 && fmI_Any(moving); ++iteration)
+	{
+		fmNearIdentity y;
+		fmNearIdentity_Make(&Y, &y);
+		// Flat lanes divide by 1 instead: their result is discarded.
+		fmFloatV detX = fmV_Select(flat, one, fmV_Add(one, y.j));
+		fmFloatV onePlusT = fmV_Add(one, y.t);
+		fmFloatV change = zero;
+		for (int k = 0; k < 9; ++k)
+		{
+			fmFloatV diag = (k % 4 == 0) ? y.det : zero;
+			fmFloatV z =
+			    fmV_Div(fmV_Sub(y.AT2.m[k], fmV_Add(diag, fmV_Mul(onePlusT, y.AT.m[k]))), detX);
+			fmFloatV next = fmV_Mul(half, fmV_Add(Y.m[k], z));
+			fmFloatV delta = fmV_Abs(fmV_Sub(next, Y.m[k]));
+			change = fmV_Select(fmV_Less(change, delta), delta, change);
+			Y.m[k] = next;
+		}
+		moving = fmV_Less(fmV_Set(1e-6f), change);
+	}
+	*fallback = fmI_Or(flat, moving);
+	fmFloatV twoMu = fmV_Add(mu, mu), lj = fmV_Mul(lambda, h.j), onePlusT = fmV_Add(one, h.t);
+	for (int k = 0; k < 9; ++k)
+	{
+		fmFloatV diag = (k % 4 == 0) ? fmV_Add(onePlusT, h.c2) : zero;
+		fmFloatV cof = fmV_Add(fmV_Sub(diag, fmV_Mul(onePlusT, h.AT.m[k])), h.AT2.m[k]);
+		P->m[k] = fmV_Add(fmV_Mul(twoMu, fmV_Sub(H->m[k], Y.m[k])), fmV_Mul(lj, cof));
+	}
+}
+
 // Neo-Hookean: P = alpha (F J - cof F) + beta cof F + gamma F, alpha, beta, gamma per lane.
 FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
 {
 	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f);
-	fmMat3V HT = fmMat3V_Transpose(H);
-	fmMat3V HT2 = fmMat3V_Mul(&HT, &HT);
-	fmFloatV t = fmMat3V_Trace(H), trH2 = fmMat3V_Trace(&HT2);
-	fmFloatV c2 = fmV_Mul(fmV_Set(0.5f), fmV_Sub(fmV_Mul(t, t), trH2));
-	fmFloatV d = fmMat3V_Det(H);
-	fmFloatV j = fmV_Add(fmV_Add(t, c2), d), J = fmV_Add(one, j);
+	fmNearIdentity h;
+	fmNearIdentity_Make(H, &h);
+	const fmMat3V HT = h.AT, HT2 = h.AT2;
+	fmFloatV t = h.t, c2 = h.c2, d = h.det, j = h.j, J = fmV_Add(one, j);
 	fmFloatV onePlusT = fmV_Add(one, t), onePlusJ = J;
 
 	// Above the clamp: l = ln J, alpha = mu / J, beta = lambda l / J, gamma = 0. Below it:
@@ -192,8 +260,11 @@ void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const fmTetBatc
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);
 	fmMat3V P;
+	fmIntV fallback = fmI_Set(0);
 	if (material->model == fm_stvk)
 		fmStvkStress(&H, mu, lambda, &P);
+	else if (material->model == fm_corotated)
+		fmCorotatedStress(&H, mu, lambda, &P, &fallback);
 	else if (material->model == fm_neoHookean)
 		fmNeoHookeanStress(&H, mu, lambda, &P);
 	else
@@ -213,4 +284,5 @@ void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const fmTetBatc
 		}
 		fmV_Store(out->force[i], fmV_Sub(fmV_Set(0.0f), sum));
 	}
+	memcpy(out->fallback, &fallback, sizeof out->fallback);
 }

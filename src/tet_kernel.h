@@ -30,12 +30,16 @@ typedef struct fmTetBatchWork
 typedef struct fmTetBatchForces
 {
 	float force[12][FM_LANES];
+	// Non-zero in lanes the kernel leaves to the double-precision reference (corotated: tets
+	// near flat or inverted, where its polar iteration does not apply; tet_blocks.c redoes
+	// them). Set on every variant alike, so the choice does not depend on the instruction set.
+	int32_t fallback[FM_LANES];
 } fmTetBatchForces;
 
 // The material as the kernels take it.
 typedef struct fmKernelMaterial
 {
-	fmMaterialModel model; // fm_linear, fm_stvk or fm_neoHookean (fmTetKernel_Supports)
+	fmMaterialModel model; // fm_linear, fm_stvk, fm_neoHookean or fm_corotated
 	float mu;
 	float lambda;
 } fmKernelMaterial;

@@ -98,10 +98,10 @@ static void deform(fmBody* b, double amplitude)
 
 TEST(batched_forces_match_the_reference_kernel)
 {
-	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean};
+	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean, fm_corotated};
 	// From 1e-7 strain (where forming F = I + H in float would lose every digit) to 30% strain.
 	const double amplitudes[] = {1e-7, 1e-4, 1e-2, 0.1};
-	for (int m = 0; m < 3; ++m)
+	for (int m = 0; m < 4; ++m)
 		for (int a = 0; a < 4; ++a)
 		{
 			fmWorldId world;
@@ -121,15 +121,18 @@ TEST(batched_forces_match_the_reference_kernel)
 		}
 }
 
-// Uniform dilation and compression, F = s I: J = s^3 from 0.01 (below the ln J clamp of 0.2)
-// to 64, and inverted (s < 0): the Neo-Hookean ln J and its continuation.
-TEST(batched_neo_hookean_follows_the_reference_through_compression_and_inversion)
+// Uniform dilation and compression, F = s I: J = s^3 from 0.008 (below the ln J clamp of 0.2)
+// to 64, and inverted (s < 0): the Neo-Hookean ln J and its continuation, and the corotated
+// polar iteration and its reference fallback for near-flat and inverted tets (J < 0.1).
+TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 {
 	const double scales[] = {-0.5, 0.2, 0.5, 0.58, 0.6, 0.9, 0.999, 1.001, 1.5, 4.0};
-	for (int s = 0; s < 10; ++s)
+	for (int c = 0; c < 20; ++c)
 	{
+		int s = c % 10;
+		fmMaterialModel model = c < 10 ? fm_neoHookean : fm_corotated;
 		fmWorldId world;
-		fmBody* b = fmGetBody(makeBox(&world, fm_neoHookean));
+		fmBody* b = fmGetBody(makeBox(&world, model));
 		CHECK(b != NULL);
 		if (b == NULL)
 			return;
@@ -137,7 +140,8 @@ TEST(batched_neo_hookean_follows_the_reference_through_compression_and_inversion
 			b->x[k] = scales[s] * b->x0[k] + (k % 3 == 1 ? 0.01 * b->x0[k - 1] : 0.0);
 		double err = relativeError(failures_, b);
 		if (!(err < 5e-6)) // 1e-7 above the clamp, 2.4e-6 far below it measured
-			FAIL_AT("F = %g I (plus shear): relative error %g", scales[s], err);
+			FAIL_AT("%s, F = %g I (plus shear): relative error %g", fmMaterialModelName(model),
+			        scales[s], err);
 		fmDestroyWorld(world);
 	}
 }
@@ -149,9 +153,9 @@ TEST(batched_neo_hookean_follows_the_reference_through_compression_and_inversion
 TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotation)
 {
 	const double strains[] = {1e-5, 1e-3, 1e-1};
-	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean};
+	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean, fm_corotated};
 	fmMat3 R = fmTestRandomRotation();
-	for (int m = 0; m < 2; ++m)
+	for (int m = 0; m < 3; ++m)
 		for (int s = 0; s < 3; ++s)
 		{
 			fmWorldId world;

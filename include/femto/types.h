@@ -133,8 +133,8 @@ typedef enum fmIntegrator
 } fmIntegrator;
 
 /// The instruction sets the explicit step's element kernels may use (fmWorldDef.simd). The
-/// batched kernels take 16 tets at once in float (linear, StVK and Neo-Hookean, FEM force
-/// model; other bodies use the double-precision reference kernel); every level gives the same
+/// batched kernels take 16 tets at once in float (linear, StVK, Neo-Hookean and corotated, FEM
+/// force model; other bodies use the double-precision reference kernel); every level gives the same
 /// bits, only the speed differs. docs/performance.md has the accuracy.
 typedef enum fmSimdLevel
 {
