@@ -71,6 +71,7 @@ typedef struct cliBenchOptions
 	const char* plotPath;
 	bool noPlot;
 	cliBenchPeerMode peers;
+	bool noPeers;
 	const char* bulletPath;
 } cliBenchOptions;
 
@@ -189,7 +190,7 @@ static bool cliBenchSwitch(const char* arg, cliBenchOptions* o, bool* onlyExplic
 	else if (strcmp(arg, "--peers") == 0)
 		o->peers = cli_peersRequired;
 	else if (strcmp(arg, "--no-peers") == 0)
-		o->peers = cli_peersOff;
+		o->noPeers = true;
 	else
 		return false;
 	return true;
@@ -234,8 +235,10 @@ static int cliBenchFinishOptions(cliBenchOptions* o, bool onlyExplicit, bool onl
 		return cliUsageError("bench", "give --explicit or --implicit, not both");
 	if (o->noPlot && o->plotPath != NULL)
 		return cliUsageError("bench", "give --plot or --no-plot, not both");
-	if (o->peers == cli_peersOff && o->bulletPath != NULL)
-		return cliUsageError("bench", "give --bullet or --no-peers, not both");
+	if (o->noPeers && o->peers == cli_peersRequired)
+		return cliUsageError("bench", "give --peers (or --bullet) or --no-peers, not both");
+	if (o->noPeers)
+		o->peers = cli_peersOff;
 	o->explicitSteps = !onlyImplicit;
 	o->implicitFrames = !onlyExplicit;
 	if (o->quick && o->maxTets > 10368)
@@ -308,8 +311,7 @@ static void cliBenchExplicitRows(cliBenchRun* run)
 {
 	static const fmMaterialModel models[2] = {fm_stvk, fm_neoHookean};
 	const cliBenchOptions* o = run->options;
-	run->bandwidth[0] = cliTriadBandwidth(1);
-	run->bandwidth[1] = cliTriadBandwidth(o->workers);
+	cliTriadBandwidths(o->workers, &run->bandwidth[0], &run->bandwidth[1]);
 	printf("memory bandwidth (triad): %.1f GB/s on 1 thread, %.1f GB/s on %d (ratio %.2f)\n",
 	       run->bandwidth[0] / 1e9, run->bandwidth[1] / 1e9, o->workers,
 	       run->bandwidth[0] > 0.0 ? run->bandwidth[1] / run->bandwidth[0] : 0.0);
@@ -364,32 +366,37 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 	}
 }
 
-// The Bullet peer's rows when there is one (and the implicit rows to compare with).
-static void cliBenchPeerRows(cliBenchRun* run)
+// Where the Bullet peer is, before anything is timed: "" when there is none (said why unless
+// --no-peers); false when --peers or --bullet asked for one that is not there.
+static bool cliBenchFindPeer(const cliBenchOptions* o, char* program, size_t size)
 {
-	const cliBenchOptions* o = run->options;
-	char program[CLI_MAX_PATH], why[CLI_MAX_PATH + 128];
-	if (o->peers == cli_peersOff)
-		return;
-	if (!cliBenchPeer_Find(o->bulletPath, program, why, sizeof program))
+	char why[CLI_MAX_PATH + 128];
+	program[0] = '\0';
+	if (o->peers == cli_peersOff || cliBenchPeer_Find(o->bulletPath, program, why, size))
+		return true;
+	program[0] = '\0';
+	if (o->peers == cli_peersRequired)
 	{
-		if (o->peers == cli_peersRequired)
-		{
-			cliError("bench: --peers: %s", why);
-			run->code = cli_exitInput;
-		}
-		else
-			printf("peers: skipped: %s\n", why);
-		return;
+		cliError("bench: --peers: %s", why);
+		return false;
 	}
-	if (!o->implicitFrames || run->folder == NULL)
+	printf("peers: skipped: %s\n", why);
+	return true;
+}
+
+// The Bullet peer's rows when there is one (and the implicit rows to compare with).
+static void cliBenchPeerRows(cliBenchRun* run, const char* program)
+{
+	if (program[0] == '\0')
+		return;
+	if (!run->options->implicitFrames || run->folder == NULL)
 	{
 		printf("peers: skipped: %s\n", run->folder == NULL ? "no temporary folder for the mesh"
 		                                                   : "they compare with the implicit "
 		                                                     "rows, and --explicit was given");
 		return;
 	}
-	if (!cliBenchPeer_Rows(program, run->meshes, run->folder, o->repeats, &run->report))
+	if (!cliBenchPeer_Rows(program, run->meshes, run->folder, run->options->repeats, &run->report))
 		run->code = cli_exitInput;
 }
 
@@ -427,6 +434,9 @@ int cliBench(int argc, char** argv)
 	int code = cliParseBenchOptions(argc, argv, &o);
 	if (code >= 0)
 		return code;
+	char peer[CLI_MAX_PATH];
+	if (!cliBenchFindPeer(&o, peer, sizeof peer))
+		return cli_exitInput;
 	cliBenchRun run;
 	memset(&run, 0, sizeof run);
 	run.options = &o;
@@ -446,7 +456,7 @@ int cliBench(int argc, char** argv)
 			cliBenchExplicitRows(&run);
 		if (o.implicitFrames)
 			cliBenchImplicitRows(&run);
-		cliBenchPeerRows(&run);
+		cliBenchPeerRows(&run, peer);
 		cliBenchPlot(&run);
 	}
 	cliBenchMeshSet_Free(&meshes);
