@@ -95,6 +95,7 @@ typedef struct cliPeerResult
 {
 	double msPerFrame;
 	int blewUp;
+	double lowestY;
 	double maxCoordinate;
 	int version;
 } cliPeerResult;
@@ -126,10 +127,10 @@ static bool cliPeerRun(const char* command, const char* program, cliPeerResult* 
 	while (fgets(line, sizeof line, pipe) != NULL)
 	{
 		if (sscanf(line,
-		           "result: ms_per_frame %lf blew_up %d lowest_y %*s max_coordinate %lf "
+		           "result: ms_per_frame %lf blew_up %d lowest_y %lf max_coordinate %lf "
 		           "bullet_version %d",
-		           &result->msPerFrame, &result->blewUp, &result->maxCoordinate,
-		           &result->version) == 4)
+		           &result->msPerFrame, &result->blewUp, &result->lowestY, &result->maxCoordinate,
+		           &result->version) == 5)
 			found = true;
 		else if (line[strspn(line, " \t\r\n")] != '\0')
 			snprintf(last, sizeof last, "%.*s", (int)strcspn(line, "\r\n"), line);
@@ -171,8 +172,12 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	const cliBenchResult* femto =
 	    cliBenchReport_Find(report, mesh->label, "implicit game", model, 1);
 	double ms = femto != NULL ? femto->msPerFrame : NAN;
-	printf("%-10s %9d %15.2f %14.2f %13.2f  %s\n", mesh->label, mesh->tets, result.msPerFrame, ms,
-	       result.msPerFrame / ms, result.blewUp ? "blew up" : "ok");
+	printf("%-10s %9d %15.2f %14.2f %13.2f  ", mesh->label, mesh->tets, result.msPerFrame, ms,
+	       result.msPerFrame / ms);
+	if (result.blewUp)
+		printf("blew up (largest |x| %.3g m)\n", result.maxCoordinate);
+	else
+		printf("ok, lowest y %.3f m\n", result.lowestY);
 	fflush(stdout);
 	cliBenchResult row = cliBenchResult_Make(
 	    mesh, result.blewUp ? "bullet implicit (blew up)" : "bullet implicit", model, 1);

@@ -94,7 +94,7 @@ static void cliPlotHeader(FILE* script, const char* output, const char* title)
 	cliPlotQuoted(script, title);
 	fprintf(script, "\nset logscale xy\nset grid xtics ytics mxtics mytics\n"
 	                "set xlabel 'tets'\nset ylabel 'ns per tet-step (explicit StVK)'\n"
-	                "set key outside right top\n");
+	                "set key outside right top\nset format x '%%.0f'\n");
 }
 
 // Append ", clause" (or " clause" first) to the plot command.
