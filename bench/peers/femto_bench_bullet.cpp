@@ -106,7 +106,7 @@ bool readMasses(const std::string& node, std::vector<double>* masses)
 	return true;
 }
 
-// Bullet's world and what it owns, deleted in reverse order.
+// Bullet's world and what it uses, deleted in reverse order of declaration.
 struct World
 {
 	btSoftBodyRigidBodyCollisionConfiguration configuration;
@@ -114,12 +114,13 @@ struct World
 	btDbvtBroadphase broadphase;
 	btDeformableBodySolver bodySolver;
 	btDeformableMultiBodyConstraintSolver constraintSolver;
-	std::unique_ptr<btDeformableMultiBodyDynamicsWorld> world;
 	std::unique_ptr<btBoxShape> floorShape;
 	std::unique_ptr<btDefaultMotionState> floorMotion;
 	std::unique_ptr<btRigidBody> floor;
 	std::unique_ptr<btDeformableGravityForce> gravity;
 	std::unique_ptr<btDeformableNeoHookeanForce> elasticity;
+	// Declared last, destroyed first: the world goes before what it points to.
+	std::unique_ptr<btDeformableMultiBodyDynamicsWorld> world;
 	btSoftBody* body = nullptr;
 
 	~World()
