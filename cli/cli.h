@@ -82,3 +82,7 @@ void cliMuteLibraryWarnings(bool mute);
 /// Tell the log hook the tool already warned about the explicit step, so the library's own
 /// warning about it is not repeated.
 void cliNoteExplicitStepWarned(void);
+
+/// A body's positions (or, with @p velocities, velocities) copied out of the library
+/// (fmBody_CopyPositions): 3 doubles a vertex, to free(); NULL when memory is short.
+double* cliCopyState(fmBodyId body, bool velocities);

@@ -31,6 +31,11 @@ const char* const cliRunHelp =
     "                     counted in the summary\n"
     "  --workers N        threads the stages run on, 1 to 64 (default: the scene's \"workers\",\n"
     "                     else the cores available); results are the same bits for any N\n"
+    "  --simd LEVEL       the explicit element kernels' instruction set: auto (default: the\n"
+    "                     best the CPU has), avx512, avx2, sse2, scalar (the same bits on\n"
+    "                     each), or off (the double-precision reference kernel)\n"
+    "  --deterministic    cross-machine determinism (the scene's \"deterministic\": true,\n"
+    "                     fmWorldDef.crossPlatformDeterminism): the same bits on any machine\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -52,7 +57,9 @@ typedef struct cliRunOptions
 	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
 	bool hasImpulseSpeed;
 	bool strict;
-	int workers; ///< --workers, 0 if not given
+	int workers;        ///< --workers, 0 if not given
+	const char* simd;   ///< --simd, NULL if not given
+	bool deterministic; ///< --deterministic
 	bool quiet;
 } cliRunOptions;
 
@@ -82,12 +89,25 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 			o->quiet = true;
 		else if (strcmp(arg, "--strict") == 0)
 			o->strict = true;
+		else if (strcmp(arg, "--deterministic") == 0)
+			o->deterministic = true;
 		else if (strcmp(arg, "--workers") == 0)
 		{
 			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
 			if (!cliParseIntOption("run", "--workers", value, 1, FM_MAX_WORKERS, &o->workers))
 				return cli_exitUsage;
+		}
+		else if (strcmp(arg, "--simd") == 0)
+		{
+			fmSimdLevel level;
+			if ((o->simd = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!fmSimdLevelFromName(o->simd, &level))
+				return cliUsageError("run",
+				                     "--simd: expected auto, off, scalar, sse2, avx2 or avx512, "
+				                     "got '%s'",
+				                     o->simd);
 		}
 		else if (strcmp(arg, "--obj") == 0)
 			o->obj = true;
@@ -242,14 +262,15 @@ static double cliCenterOfMassY(const cliSimulation* sim)
 	double mass = 0.0, moment = 0.0;
 	for (int b = 0; b < sim->bodyCount; ++b)
 	{
-		const double* x = fmBody_GetPositions(sim->bodies[b]);
+		double* x = cliCopyState(sim->bodies[b], false);
 		const double* m = fmBody_GetMasses(sim->bodies[b]);
-		int count = fmBody_GetVertexCount(sim->bodies[b]);
+		int count = x ? fmBody_GetVertexCount(sim->bodies[b]) : 0;
 		for (int i = 0; i < count; ++i)
 		{
 			mass += m[i];
 			moment += m[i] * x[3 * i + 1];
 		}
+		free(x);
 	}
 	return mass > 0.0 ? moment / mass : 0.0;
 }
@@ -259,10 +280,11 @@ static double cliLowestY(const cliSimulation* sim)
 	double lowest = INFINITY;
 	for (int b = 0; b < sim->bodyCount; ++b)
 	{
-		const double* x = fmBody_GetPositions(sim->bodies[b]);
-		int count = fmBody_GetVertexCount(sim->bodies[b]);
+		double* x = cliCopyState(sim->bodies[b], false);
+		int count = x ? fmBody_GetVertexCount(sim->bodies[b]) : 0;
 		for (int i = 0; i < count; ++i)
 			lowest = fmin(lowest, x[3 * i + 1]);
+		free(x);
 	}
 	return lowest;
 }
@@ -376,6 +398,9 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
 	printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
 	       scene->substeps == 1 ? "" : "s", scene->dt);
+	if (scene->worldDef.crossPlatformDeterminism)
+		printf("determinism      cross-platform (femto's own log and pow: the same bits on any "
+		       "machine)\n");
 	printf("simulated time   %.6g s\n", simulated);
 	printf("wall time        %.3f s (stepping %.3f s, %.2fx real time)\n", wallSeconds, stepSeconds,
 	       stepSeconds > 0.0 ? simulated / stepSeconds : 0.0);
@@ -409,8 +434,12 @@ int cliRun(int argc, char** argv)
 		return cli_exitInput;
 	if (o.strict)
 		scene.worldDef.notConvergedIsError = true;
+	if (o.deterministic)
+		scene.worldDef.crossPlatformDeterminism = true;
 	if (o.workers > 0)
 		scene.worldDef.workerCount = o.workers;
+	if (o.simd != NULL)
+		fmSimdLevelFromName(o.simd, &scene.worldDef.simd);
 	else if (!scene.hasWorkers)
 		scene.worldDef.workerCount = cliCoresAvailable();
 	cliSimulation sim;

@@ -92,13 +92,28 @@ static bool cliOutput_Commit(cliOutput* out)
 	return cliReplace(out->temp, out->path, ok);
 }
 
-static void cliWriteVtuPiece(FILE* file, fmBodyId body)
+// Drop a file being written (a failure half-way): nothing replaces @p out->path.
+static bool cliOutput_Abort(cliOutput* out)
+{
+	fclose(out->file);
+	out->file = NULL;
+	return cliReplace(out->temp, out->path, false);
+}
+
+static bool cliWriteVtuPiece(FILE* file, fmBodyId body)
 {
 	int vertexCount = fmBody_GetVertexCount(body);
 	int tetCount = fmBody_GetTetCount(body);
-	const double* x = fmBody_GetPositions(body);
-	const double* v = fmBody_GetVelocities(body);
+	double* x = cliCopyState(body, false);
+	double* v = cliCopyState(body, true);
 	const int* tets = fmBody_GetTets(body);
+	if (x == NULL || v == NULL)
+	{
+		free(x);
+		free(v);
+		cliError("out of memory writing a .vtu piece of %d vertices", vertexCount);
+		return false;
+	}
 	fprintf(file, "<Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n", vertexCount, tetCount);
 	fprintf(file, "<PointData Vectors=\"velocity\">\n"
 	              "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
@@ -122,6 +137,9 @@ static void cliWriteVtuPiece(FILE* file, fmBodyId body)
 	for (int t = 0; t < tetCount; ++t)
 		fprintf(file, "%d\n", CLI_VTK_TETRA);
 	fprintf(file, "</DataArray>\n</Cells>\n</Piece>\n");
+	free(x);
+	free(v);
+	return true;
 }
 
 bool cliWriteVtu(const char* path, const cliSimulation* sim)
@@ -134,8 +152,11 @@ bool cliWriteVtu(const char* path, const cliSimulation* sim)
 	        "<?xml version=\"1.0\"?>\n"
 	        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
 	        "<UnstructuredGrid>\n");
-	for (int b = 0; b < sim->bodyCount; ++b)
-		cliWriteVtuPiece(file, sim->bodies[b]);
+	bool ok = true;
+	for (int b = 0; b < sim->bodyCount && ok; ++b)
+		ok = cliWriteVtuPiece(file, sim->bodies[b]);
+	if (!ok)
+		return cliOutput_Abort(&out);
 	fprintf(file, "</UnstructuredGrid>\n</VTKFile>\n");
 	return cliOutput_Commit(&out);
 }
@@ -153,11 +174,17 @@ bool cliWriteObj(const char* path, const cliSimulation* sim)
 		fmBodyId body = sim->bodies[b];
 		int vertexCount = fmBody_GetVertexCount(body);
 		int triangleCount = 0;
-		const double* x = fmBody_GetPositions(body);
+		double* x = cliCopyState(body, false);
 		const int* triangles = fmBody_GetSurface(body, &triangleCount);
+		if (x == NULL)
+		{
+			cliError("out of memory writing the surface of a body of %d vertices", vertexCount);
+			return cliOutput_Abort(&out);
+		}
 		fprintf(file, "o body%d\n", b);
 		for (int i = 0; i < vertexCount; ++i)
 			fprintf(file, "v %.9g %.9g %.9g\n", x[3 * i], x[3 * i + 1], x[3 * i + 2]);
+		free(x);
 		for (int t = 0; t < triangleCount; ++t)
 			fprintf(file, "f %d %d %d\n", triangles[3 * t] + vertexBase,
 			        triangles[3 * t + 1] + vertexBase, triangles[3 * t + 2] + vertexBase);
@@ -185,10 +212,13 @@ bool cliWriteNodes(const char* path, const cliSimulation* sim, bool announce)
 			return false;
 		fmDiagnostic diag;
 		memset(&diag, 0, sizeof diag);
-		bool ok = fmWriteTetGenNode(temp, &sim->meshes[b], fmBody_GetPositions(sim->bodies[b]),
-		                            &diag) == fm_ok;
-		if (!ok)
+		double* x = cliCopyState(sim->bodies[b], false);
+		bool ok = x != NULL && fmWriteTetGenNode(temp, &sim->meshes[b], x, &diag) == fm_ok;
+		if (x == NULL)
+			cliError("out of memory exporting a body's positions");
+		else if (!ok)
 			cliPrintDiagnostic(NULL, &diag);
+		free(x);
 		if (!cliReplace(temp, bodyPath, ok))
 			return false;
 		if (announce)

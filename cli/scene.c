@@ -649,6 +649,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	bool hasFrames = false, hasSeconds = false;
 	const char* integrator = NULL;
 	const char* notConverged = NULL;
+	const char* simd = NULL;
 	const cliRange toleranceRange = {FM_MIN_TOLERANCE, 1.0, false, true};
 	const cliRange budgetRange = {0.0, 1e9, true, false};
 	double budgetMiB = 0.0;
@@ -665,7 +666,9 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	    !cliGetInt(j, root, "", "cg_iterations", 1, FM_MAX_CG_ITERATIONS, &def->cgIterations,
 	               NULL) ||
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
+	    !cliGetString(j, root, "", "simd", &simd) ||
 	    !cliGetBool(j, root, "", "auto_substep", &def->autoSubstep) ||
+	    !cliGetBool(j, root, "", "deterministic", &def->crossPlatformDeterminism) ||
 	    !cliGetNumber(j, root, "", "memory_budget_mib", budgetRange, &budgetMiB, &hasBudget) ||
 	    !cliGetInt(j, root, "", "workers", 1, FM_MAX_WORKERS, &def->workerCount,
 	               &scene->hasWorkers) ||
@@ -685,6 +688,10 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 			                   "expected \"warn\" or \"error\"");
 		def->notConvergedIsError = strcmp(notConverged, "error") == 0;
 	}
+	if (simd != NULL && !fmSimdLevelFromName(simd, &def->simd))
+		return cliJsonFail(j, "simd", cJSON_GetObjectItemCaseSensitive(root, "simd"),
+		                   "expected \"auto\", \"off\", \"scalar\", \"sse2\", \"avx2\" or "
+		                   "\"avx512\"");
 	if (hasFrames && hasSeconds)
 		return cliJsonFail(j, "seconds", NULL, "give frames or seconds, not both");
 	if (integrator != NULL)
@@ -725,6 +732,8 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "workers",
 	                                   "max_newton_per_frame",
 	                                   "max_substeps_per_frame",
+	                                   "simd",
+	                                   "deterministic",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");

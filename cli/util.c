@@ -302,3 +302,19 @@ int cliCoresAvailable(void)
 	long cores = sysconf(_SC_NPROCESSORS_ONLN);
 	return cores < 1 ? 1 : cores > FM_MAX_WORKERS ? FM_MAX_WORKERS : (int)cores;
 }
+
+double* cliCopyState(fmBodyId body, bool velocities)
+{
+	int count = fmBody_GetVertexCount(body);
+	double* state = malloc(sizeof(double) * 3 * (size_t)(count > 0 ? count : 1));
+	if (state == NULL)
+		return NULL;
+	fmResult r = velocities ? fmBody_CopyVelocities(body, state, count)
+	                        : fmBody_CopyPositions(body, state, count);
+	if (r != fm_ok)
+	{
+		free(state);
+		return NULL;
+	}
+	return state;
+}

@@ -2,9 +2,12 @@
 #include "body.h"
 
 #include "core.h"
+#include "det_math.h"
 #include "forces.h"
+#include "fp_env.h"
 #include "mesh_internal.h"
 #include "solver_cache.h"
+#include "tet_blocks.h"
 #include "world.h"
 
 #include <math.h>
@@ -102,7 +105,7 @@ static fmResult fmCheckMeshData(const fmTetMesh* mesh, fmDiagnostic* diag)
 	return fm_ok;
 }
 
-fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag)
+static fmResult fmBodyDefValidateIn(const fmBodyDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
@@ -176,6 +179,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
 	fmFree(b->surface);
 	fmSolverCache_Free(b->implicitCache);
+	fmTetBlocks_Destroy(b->tetBlocks);
 	uint32_t generation = b->generation;
 	memset(b, 0, sizeof *b);
 	b->generation = generation;
@@ -391,6 +395,10 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 	    2 * fmArrayBytes(3 * n, d) + 1024;
 	if (springs)
 		solver += fmArrayBytes(4 * edges, sizeof(int));
+	// An explicit world's FEM bodies have the batched kernels' layout instead (the larger of the
+	// two: a world has one integrator).
+	uint64_t layout = def == NULL || def->forceModel == fm_fem ? fmTetBlocks_Bytes(m, n) : 0;
+	solver = layout > solver ? layout : solver;
 	memory.body = body > SIZE_MAX ? SIZE_MAX : (size_t)body;
 	memory.solver = solver > SIZE_MAX ? SIZE_MAX : (size_t)solver;
 	return memory;
@@ -438,7 +446,8 @@ static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t
 
 // ---- creation and ids --------------------------------------------------------------------------
 
-fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId, fmDiagnostic* diag)
+static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
+                               fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	if (bodyId)
@@ -530,16 +539,83 @@ int fmBody_GetTetCount(fmBodyId bodyId)
 	return b ? b->tetCount : 0;
 }
 
-const double* fmBody_GetPositions(fmBodyId bodyId)
+// ---- copy-out read-back ------------------------------------------------------------------------
+
+// Check a copy-out call (@p what names it): a live body, a buffer, room for every vertex. On
+// failure the world's last error, when the world is live, says why.
+static fmResult fmCheckCopyOut(fmBodyId bodyId, const void* out, int vertexCapacity,
+                               const char* what, fmBody** body)
 {
-	fmBody* b = fmBodyOrAssert(bodyId);
-	return b ? b->x : NULL;
+	fmWorld* world = fmGetWorldOfBody(bodyId);
+	fmDiagnostic* diag = world ? &world->lastError : NULL;
+	*body = fmBodyOrAssert(bodyId);
+	FM_ASSERT(out != NULL);
+	if (*body == NULL)
+		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "%s: invalid or destroyed body id",
+		                   what);
+	if (out == NULL)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "%s: the buffer is NULL (expected 3 values a vertex)", what);
+	if (vertexCapacity < (*body)->vertexCount)
+		return fmDiagError(diag, fm_errLimit, "", 0, 0,
+		                   "%s: a buffer of %d vertices is too small for body %d's %d vertices "
+		                   "(fmBody_GetVertexCount; 3 values a vertex)",
+		                   what, vertexCapacity, bodyId.index1 - 1, (*body)->vertexCount);
+	return fm_ok;
 }
 
-const double* fmBody_GetVelocities(fmBodyId bodyId)
+// The one place internal state leaves the library: vertex i of the user's numbering (the mesh's
+// node order) goes to out[3 i .. 3 i + 2], whatever order femto keeps its own arrays in.
+static void fmCopyOut(const fmBody* b, const double* state, double* out)
 {
-	fmBody* b = fmBodyOrAssert(bodyId);
-	return b ? b->v : NULL;
+	memcpy(out, state, sizeof(double) * 3 * (size_t)b->vertexCount);
+}
+
+// The same into floats, rounded in femto's floating-point environment (to nearest, whatever the
+// host's rounding mode).
+static void fmCopyOutFloat(const fmBody* b, const double* state, float* out)
+{
+	fmFpEnv env = fmFpEnv_Enter(fmDetMath_Enabled());
+	for (int i = 0; i < 3 * b->vertexCount; ++i)
+		out[i] = (float)state[i];
+	fmFpEnv_Leave(&env);
+}
+
+// A copy-out of the positions (or @p velocities) as doubles (@p out) or floats (@p outFloat).
+static fmResult fmCopyState(fmBodyId bodyId, bool velocities, double* out, float* outFloat,
+                            int vertexCapacity, const char* what)
+{
+	fmBody* b;
+	const void* buffer = out ? (const void*)out : (const void*)outFloat;
+	fmResult r = fmCheckCopyOut(bodyId, buffer, vertexCapacity, what, &b);
+	if (r != fm_ok)
+		return r;
+	if (out)
+		fmCopyOut(b, velocities ? b->v : b->x, out);
+	else
+		fmCopyOutFloat(b, velocities ? b->v : b->x, outFloat);
+	return fm_ok;
+}
+
+fmResult fmBody_CopyPositions(fmBodyId bodyId, double* positions, int vertexCapacity)
+{
+	return fmCopyState(bodyId, false, positions, NULL, vertexCapacity, "fmBody_CopyPositions");
+}
+
+fmResult fmBody_CopyPositionsFloat(fmBodyId bodyId, float* positions, int vertexCapacity)
+{
+	return fmCopyState(bodyId, false, NULL, positions, vertexCapacity, "fmBody_CopyPositionsFloat");
+}
+
+fmResult fmBody_CopyVelocities(fmBodyId bodyId, double* velocities, int vertexCapacity)
+{
+	return fmCopyState(bodyId, true, velocities, NULL, vertexCapacity, "fmBody_CopyVelocities");
+}
+
+fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, int vertexCapacity)
+{
+	return fmCopyState(bodyId, true, NULL, velocities, vertexCapacity,
+	                   "fmBody_CopyVelocitiesFloat");
 }
 
 const double* fmBody_GetMasses(fmBodyId bodyId)
@@ -589,7 +665,7 @@ void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 	}
 }
 
-void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
+static void fmBodyApplyImpulseIn(fmBodyId bodyId, fmVec3 deltaVelocity)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
@@ -602,7 +678,7 @@ void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
 	}
 }
 
-void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity)
+static void fmBodyApplyVertexImpulseIn(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
@@ -623,7 +699,7 @@ void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
 	fmBody_SetPinnedAxes(bodyId, vertex, pinned ? FM_PIN_ALL : 0u);
 }
 
-void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
+static void fmBodySetPinnedAxesIn(fmBodyId bodyId, int vertex, unsigned axes)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
@@ -665,7 +741,7 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 	return count;
 }
 
-fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag)
+static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(material != NULL);
@@ -684,7 +760,7 @@ fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagn
 	return fm_ok;
 }
 
-double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces)
+static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(forces != NULL);
@@ -706,7 +782,7 @@ int fmBodyCountInverted(const fmBody* b)
 	return inverted;
 }
 
-fmBodyStats fmBody_GetStats(fmBodyId bodyId)
+static fmBodyStats fmBodyGetStatsIn(fmBodyId bodyId)
 {
 	fmBodyStats s;
 	memset(&s, 0, sizeof s);
@@ -731,4 +807,76 @@ fmBodyStats fmBody_GetStats(fmBodyId bodyId)
 	s.work = b->ledger.work;
 	s.initialEnergy = b->ledger.initialEnergy;
 	return s;
+}
+
+// ---- public calls that compute, in femto's floating-point environment (fp_env.h) ---------------
+
+// Save the host's floating-point state and set femto's, with the det_math mode of the body's
+// world (a stale id gets the default mode; the call itself then reports the id).
+static fmFpEnv fmBodyFpEnter(fmBodyId bodyId)
+{
+	fmWorld* world = fmGetWorldOfBody(bodyId);
+	return fmFpEnv_Enter(world != NULL && world->def.crossPlatformDeterminism);
+}
+
+fmResult fmBodyDef_Validate(const fmBodyDef* def, fmDiagnostic* diag)
+{
+	fmFpEnv env = fmFpEnv_Enter(false);
+	fmResult result = fmBodyDefValidateIn(def, diag);
+	fmFpEnv_Leave(&env);
+	return result;
+}
+
+fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId, fmDiagnostic* diag)
+{
+	fmWorld* world = fmGetWorld(worldId);
+	fmFpEnv env = fmFpEnv_Enter(world != NULL && world->def.crossPlatformDeterminism);
+	fmResult result = fmCreateBodyIn(worldId, def, bodyId, diag);
+	fmFpEnv_Leave(&env);
+	return result;
+}
+
+void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
+{
+	fmFpEnv env = fmBodyFpEnter(bodyId);
+	fmBodyApplyImpulseIn(bodyId, deltaVelocity);
+	fmFpEnv_Leave(&env);
+}
+
+void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity)
+{
+	fmFpEnv env = fmBodyFpEnter(bodyId);
+	fmBodyApplyVertexImpulseIn(bodyId, vertex, deltaVelocity);
+	fmFpEnv_Leave(&env);
+}
+
+void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
+{
+	fmFpEnv env = fmBodyFpEnter(bodyId);
+	fmBodySetPinnedAxesIn(bodyId, vertex, axes);
+	fmFpEnv_Leave(&env);
+}
+
+fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag)
+{
+	fmFpEnv env = fmBodyFpEnter(bodyId);
+	fmResult result = fmBodySetMaterialIn(bodyId, material, diag);
+	fmFpEnv_Leave(&env);
+	return result;
+}
+
+double fmBody_ComputeElasticForces(fmBodyId bodyId, double* forces)
+{
+	fmFpEnv env = fmBodyFpEnter(bodyId);
+	double result = fmBodyComputeElasticForcesIn(bodyId, forces);
+	fmFpEnv_Leave(&env);
+	return result;
+}
+
+fmBodyStats fmBody_GetStats(fmBodyId bodyId)
+{
+	fmFpEnv env = fmBodyFpEnter(bodyId);
+	fmBodyStats result = fmBodyGetStatsIn(bodyId);
+	fmFpEnv_Leave(&env);
+	return result;
 }

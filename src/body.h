@@ -77,8 +77,9 @@ typedef struct fmBody
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
-	void* implicitCache;   // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
-	size_t memoryEstimate; // fmEstimateBodyMemory() at creation, counted against the budget
+	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
+	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need
+	size_t memoryEstimate;         // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 
 // Estimated bytes of a body: its own arrays, and the implicit (and static) solver's cache.

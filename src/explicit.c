@@ -4,6 +4,7 @@
 
 #include "floor.h"
 #include "forces.h"
+#include "tet_blocks.h"
 #include "velocity_filter.h"
 
 #include <string.h>
@@ -61,6 +62,24 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
 }
 
+// f += the elastic forces: the batched float kernels where they apply and are accurate (made on
+// the body's first explicit step), else the double-precision reference kernel (also when memory
+// is short).
+static void fmAddExplicitElasticForces(const fmWorld* world, fmBody* b, fmArena* arena)
+{
+	if (fmTetBlocks_Applies(b, world->simd))
+	{
+		if (b->tetBlocks == NULL)
+			b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
+		if (b->tetBlocks != NULL && fmTetBlocks_Accurate(b->tetBlocks, b))
+		{
+			fmTetBlocks_AddForces(b->tetBlocks, b, b->x, b->f, world->simd, &world->tasks);
+			return;
+		}
+	}
+	fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
+}
+
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
 	const int n = b->vertexCount;
@@ -70,7 +89,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	// 1. Gravity and elastic forces.
 	for (int i = 0; i < n; ++i)
 		fmStore(b->f, i, fmScale(b->mass[i], world->def.gravity));
-	fmAddElasticForcesOn(b, b->x, b->f, tasks, arena);
+	fmAddExplicitElasticForces(world, b, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);

@@ -5,6 +5,7 @@
 //   J  = det F                       dJ/dF  = cof F
 // P = sum_a psi_a dv_a/dF and dP/dF = sum_ab psi_ab dv_a/dF (dv_b/dF)^T + sum_a psi_a d2v_a/dF2.
 #include "material_invariant.h"
+#include "det_math.h"
 #include "material.h"
 #include "material_stretch.h"
 
@@ -51,13 +52,13 @@ void fmClampedLogJ(double J, double out[3])
 	const double c = FM_LOG_J_CLAMP;
 	if (J >= c)
 	{
-		out[0] = log(J);
+		out[0] = fmMathLog(J); // det_math.h: femto's own log in deterministic mode
 		out[1] = 1.0 / J;
 		out[2] = -1.0 / (J * J);
 		return;
 	}
 	double d = J - c;
-	out[0] = log(c) + d / c - d * d / (2.0 * c * c);
+	out[0] = fmMathLog(c) + d / c - d * d / (2.0 * c * c);
 	out[1] = 1.0 / c - d / (c * c);
 	out[2] = -1.0 / (c * c);
 }

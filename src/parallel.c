@@ -3,6 +3,8 @@
 #include "parallel.h"
 
 #include "core.h"
+#include "det_math.h"
+#include "fp_env.h"
 
 #include <pthread.h>
 #include <string.h>
@@ -31,6 +33,7 @@ struct fmTaskPool
 	int rangesLeft;  // ranges not finished
 	unsigned loopId; // changes with every loop
 	bool stop;
+	bool deterministicMath; // the det_math mode of the thread that started the loop
 };
 
 // Range @p k of @p count ranges over @p items items: contiguous, sizes differing by at most one.
@@ -70,7 +73,11 @@ static void* fmWorkerMain(void* argument)
 		if (pool->stop)
 			break;
 		seen = pool->loopId;
+		// The loop runs in femto's floating-point environment and the caller's det_math mode
+		// (fp_env.h), whatever state the thread was started in.
+		fmFpEnv env = fmFpEnv_Enter(pool->deterministicMath);
 		fmRunRanges(pool, args.workerIndex);
+		fmFpEnv_Leave(&env);
 	}
 	pthread_mutex_unlock(&pool->mutex);
 	return NULL;
@@ -150,6 +157,24 @@ void fmTaskSystem_Shutdown(fmTaskSystem* system)
 	system->pool = NULL;
 }
 
+// A task handed to the engine's job system: femto's task, run on the engine's thread in femto's
+// floating-point environment and the caller's det_math mode, the thread's own state restored
+// after it (fp_env.h).
+typedef struct fmWrappedTask
+{
+	fmTaskCallback* task;
+	void* context;
+	bool deterministicMath;
+} fmWrappedTask;
+
+static void fmRunWrappedTask(int startIndex, int endIndex, int workerIndex, void* taskContext)
+{
+	const fmWrappedTask* wrapped = taskContext;
+	fmFpEnv env = fmFpEnv_Enter(wrapped->deterministicMath);
+	wrapped->task(startIndex, endIndex, workerIndex, wrapped->context);
+	fmFpEnv_Leave(&env);
+}
+
 void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTaskCallback* task,
                    void* taskContext)
 {
@@ -162,8 +187,9 @@ void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTa
 	}
 	if (system->enqueueTask != NULL)
 	{
-		void* handle = system->enqueueTask(task, itemCount, minRange > 0 ? minRange : 1,
-		                                   taskContext, system->userTaskContext);
+		fmWrappedTask wrapped = {task, taskContext, fmDetMath_Enabled()};
+		void* handle = system->enqueueTask(fmRunWrappedTask, itemCount, minRange > 0 ? minRange : 1,
+		                                   &wrapped, system->userTaskContext);
 		if (handle != NULL && system->finishTask != NULL)
 			system->finishTask(handle, system->userTaskContext);
 		return;
@@ -185,6 +211,7 @@ void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTa
 	pool->nextRange = 0;
 	pool->rangesLeft = ranges;
 	pool->loopId += 1;
+	pool->deterministicMath = fmDetMath_Enabled();
 	pthread_cond_broadcast(&pool->wake);
 	fmRunRanges(pool, 0);
 	while (pool->rangesLeft > 0)

@@ -4,6 +4,7 @@
 // in fractions that are halved until each one converges from the last equilibrium.
 #include "core.h"
 #include "forces.h"
+#include "fp_env.h"
 #include "newton.h"
 #include "world.h"
 
@@ -32,8 +33,8 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 	return weight > 0.0 ? sqrt(weight) : sqrt(elastic);
 }
 
-fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations, double* residual,
-                            fmDiagnostic* diag)
+static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIterations,
+                                    double* residual, fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	fmBody* b = fmGetBody(bodyId);
@@ -155,4 +156,15 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 		                   "a tolerance above %.2g is within reach",
 		                   r.residual, tolerance, iterations, r.residual);
 	return fm_ok;
+}
+
+fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations, double* residual,
+                            fmDiagnostic* diag)
+{
+	// In femto's floating-point environment (fp_env.h), as every call that computes.
+	fmWorld* world = fmGetWorldOfBody(bodyId);
+	fmFpEnv env = fmFpEnv_Enter(world != NULL && world->def.crossPlatformDeterminism);
+	fmResult result = fmBodySolveStaticIn(bodyId, tolerance, maxIterations, residual, diag);
+	fmFpEnv_Leave(&env);
+	return result;
 }

@@ -8,6 +8,9 @@
 // 1 - (1 - s)^(dt / 3 ms). At the seeds' step this is exactly the seeds' filter.
 #include "velocity_filter.h"
 
+#include "det_math.h"
+#include "tet_blocks.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -67,8 +70,10 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 	fmSmoothTask context = {b, blend, fmArena_Doubles(arena, 3 * (size_t)b->vertexCount)};
 	if (context.sum == NULL)
 		return;
-	if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	    b->vertexCount >= 2 * FM_PARALLEL_MIN_RANGE)
+	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
+		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, tasks);
+	else if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
+	         b->vertexCount >= 2 * FM_PARALLEL_MIN_RANGE)
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmGatherSumsTask, &context);
 	else
 		for (int t = 0; t < b->tetCount; ++t)
@@ -87,10 +92,10 @@ void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem
 	const double steps = dt / FM_SEED_STEP;
 	if (b->damping < 1.0)
 	{
-		const double factor = pow(b->damping, steps);
+		const double factor = fmMathPow(b->damping, steps);
 		for (int k = 0; k < 3 * b->vertexCount; ++k)
 			b->v[k] *= factor;
 	}
 	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - pow(1.0 - b->smoothing, steps), arena, tasks);
+		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, steps), arena, tasks);
 }

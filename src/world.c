@@ -5,7 +5,9 @@
 #include "explicit.h"
 #include "floor.h"
 #include "forces.h"
+#include "fp_env.h"
 #include "implicit.h"
+#include "simd.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -138,6 +140,11 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "workerCount must be in [1, %d] (default 1), got %d", FM_MAX_WORKERS,
 		                   def->workerCount);
+	if ((int)def->simd < 0 || def->simd >= fm_simdLevelCount)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "simd must be one of fm_simdAuto .. fm_simdAvx512 (\"auto\", \"off\", "
+		                   "\"scalar\", \"sse2\", \"avx2\", \"avx512\"), got %d",
+		                   (int)def->simd);
 	if ((def->enqueueTask == NULL) != (def->finishTask == NULL))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "give both task callbacks (enqueueTask and finishTask) or neither");
@@ -178,6 +185,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
 		w->solverOptions = fmDefaultSolverOptions();
+		w->simd = fmSimd_Resolve(def->simd);
 		fmTaskSystem_Init(&w->tasks, def); // without threads it runs serially
 		id.index1 = i + 1;
 		id.generation = generation;
@@ -331,7 +339,9 @@ double fmWorld_EstimateExplicitStep(fmWorldId worldId)
 		return 0.0;
 	if (!fmWorldReserveArena(w))
 		return 0.0;
+	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
 	double limit = fmCurrentExplicitLimit(w);
+	fmFpEnv_Leave(&env);
 	return isfinite(limit) ? limit : 0.0;
 }
 
@@ -693,11 +703,9 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 	return fm_ok;
 }
 
-fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
+// The frame step of fmWorld_Step, in femto's floating-point environment.
+static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 {
-	fmWorld* w = fmWorldOrAssert(worldId);
-	if (w == NULL)
-		return fm_errInvalidId;
 	memset(&w->stats, 0, sizeof w->stats);
 	fmDiagClear(&w->lastError);
 	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
@@ -763,4 +771,17 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
 	return fm_ok;
+}
+
+fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w == NULL)
+		return fm_errInvalidId;
+	// The host's floating-point state is saved, femto's set (round to nearest, no FTZ or DAZ),
+	// and the host's restored after the step, on every path (fp_env.h).
+	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
+	fmResult r = fmWorldStep(w, timeStep, subStepCount);
+	fmFpEnv_Leave(&env);
+	return r;
 }

@@ -20,7 +20,8 @@ typedef struct fmWorld
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
 	fmTaskSystem tasks;            // how the stages run in parallel
-	int newtonLimit; // Newton iterations an implicit step may take now (the frame budget)
+	int newtonLimit;  // Newton iterations an implicit step may take now (the frame budget)
+	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
 } fmWorld;
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).

@@ -83,6 +83,37 @@ set_tests_properties(cli_house_scene_identical cli_house_file_identical cli_hous
   PROPERTIES FIXTURES_REQUIRED cli_house_nodes LABELS cli)
 set_tests_properties(cli_house_shorter_run_differs PROPERTIES WILL_FAIL TRUE)
 
+# --simd: every instruction set gives the same bits (avx512 falls back where the CPU lacks it);
+# off is the double-precision reference kernel, close but not the same bits (the test can fail).
+foreach(level scalar avx512 off)
+  femto_cli_test(simd_${level} ARGS "run|--frames|20|--quiet|--simd|${level}|--export-node|${FEMTO_CLI_WORK}/simd_${level}.node"
+    CODE 0 FILES "${FEMTO_CLI_WORK}/simd_${level}.node")
+  set_tests_properties(cli_simd_${level} PROPERTIES FIXTURES_SETUP cli_simd_nodes)
+endforeach()
+add_test(NAME cli_simd_levels_identical COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/simd_scalar.node ${FEMTO_CLI_WORK}/simd_avx512.node)
+add_test(NAME cli_simd_off_differs COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/simd_scalar.node ${FEMTO_CLI_WORK}/simd_off.node)
+set_tests_properties(cli_simd_levels_identical cli_simd_off_differs
+  PROPERTIES FIXTURES_REQUIRED cli_simd_nodes LABELS cli)
+set_tests_properties(cli_simd_off_differs PROPERTIES WILL_FAIL TRUE)
+femto_cli_test(run_bad_simd ARGS "run|--simd|avx9" CODE 2
+  REGEX "--simd: expected auto, off, scalar, sse2, avx2 or avx512, got 'avx9'")
+femto_cli_test(scene_bad_simd ARGS "run|${FEMTO_CLI_DATA}/bad_simd.json" CODE 1
+  REGEX "simd: expected \"auto\", \"off\", \"scalar\", \"sse2\", \"avx2\" or \"avx512\"")
+# Cross-machine determinism from the scene ("deterministic": true) and from the command line
+# (--deterministic) is the same world option: bit-identical positions; the summary says so.
+femto_cli_test(deterministic_scene ARGS "run|${FEMTO_CLI_DATA}/deterministic.json|--frames|20|--quiet|--export-node|${FEMTO_CLI_WORK}/det_scene.node"
+  CODE 0 REGEX "determinism +cross-platform" FILES "${FEMTO_CLI_WORK}/det_scene.node")
+femto_cli_test(deterministic_option ARGS "run|${PROJECT_SOURCE_DIR}/scenes/house_implicit.json|--deterministic|--frames|20|--quiet|--export-node|${FEMTO_CLI_WORK}/det_option.node"
+  CODE 0 REGEX "determinism +cross-platform" FILES "${FEMTO_CLI_WORK}/det_option.node")
+femto_cli_test(deterministic_off ARGS "run|${PROJECT_SOURCE_DIR}/scenes/house_implicit.json|--frames|1|--quiet"
+  CODE 0 REJECT "determinism")
+set_tests_properties(cli_deterministic_scene cli_deterministic_option PROPERTIES FIXTURES_SETUP cli_det_nodes)
+add_test(NAME cli_deterministic_identical COMMAND ${CMAKE_COMMAND} -E compare_files
+  ${FEMTO_CLI_WORK}/det_scene.node ${FEMTO_CLI_WORK}/det_option.node)
+set_tests_properties(cli_deterministic_identical PROPERTIES FIXTURES_REQUIRED cli_det_nodes LABELS cli)
+
 # --out: a .pvd collection with the initial state and every frame, OBJ surfaces with --obj.
 femto_cli_test(run_out ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series/a|--obj" CODE 0
   CLEAN "${FEMTO_CLI_WORK}/series/a"

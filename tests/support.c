@@ -92,7 +92,7 @@ void fmTestCheckForcesAreMinusGradient(int* failures_, fmBodyId body, int stride
 	double* x = malloc(sizeof(double) * (size_t)n3);
 	double* f = malloc(sizeof(double) * (size_t)n3);
 	double* work = malloc(sizeof(double) * (size_t)n3);
-	memcpy(x, fmBody_GetPositions(body), sizeof(double) * (size_t)n3);
+	fmBody_CopyPositions(body, x, n3 / 3);
 	fmBody_ComputeElasticForces(body, f);
 	double scale = 0.0;
 	for (int k = 0; k < n3; ++k)
@@ -119,11 +119,49 @@ void fmTestPerturb(fmBodyId body, double amplitude)
 {
 	int n3 = 3 * fmBody_GetVertexCount(body);
 	double* x = malloc(sizeof(double) * (size_t)n3);
-	memcpy(x, fmBody_GetPositions(body), sizeof(double) * (size_t)n3);
+	fmBody_CopyPositions(body, x, n3 / 3);
 	for (int k = 0; k < n3; ++k)
 		x[k] += fmTestRandom(-amplitude, amplitude);
 	fmBody_SetPositions(body, x);
 	free(x);
+}
+
+// A read-back buffer of the test support, grown as needed (kept until exit).
+typedef struct fmTestBuffer
+{
+	double* values;
+	int vertexCapacity;
+} fmTestBuffer;
+
+static const double* fmTestCopyState(fmTestBuffer* buffer, fmBodyId body, bool velocities)
+{
+	int n = fmBody_GetVertexCount(body);
+	if (n > buffer->vertexCapacity)
+	{
+		free(buffer->values);
+		buffer->values = malloc(sizeof(double) * 3 * (size_t)n);
+		buffer->vertexCapacity = buffer->values ? n : 0;
+	}
+	fmResult r = velocities ? fmBody_CopyVelocities(body, buffer->values, buffer->vertexCapacity)
+	                        : fmBody_CopyPositions(body, buffer->values, buffer->vertexCapacity);
+	if (r != fm_ok)
+	{
+		fprintf(stderr, "test support: reading a body's state back failed: %s\n", fmResultName(r));
+		exit(3);
+	}
+	return buffer->values;
+}
+
+const double* fmTestPositions(fmBodyId body)
+{
+	static fmTestBuffer s_positions;
+	return fmTestCopyState(&s_positions, body, false);
+}
+
+const double* fmTestVelocities(fmBodyId body)
+{
+	static fmTestBuffer s_velocities;
+	return fmTestCopyState(&s_velocities, body, true);
 }
 
 static int s_asserts;

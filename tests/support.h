@@ -22,6 +22,12 @@ fmMat3 fmTestRandomRotation(void);
 // @p tolerance times the largest force. Restores the positions. Counts failures like CHECK.
 void fmTestCheckForcesAreMinusGradient(int* failures_, fmBodyId body, int stride, double tolerance);
 
+// The body's positions (velocities) read back through fmBody_CopyPositions
+// (fmBody_CopyVelocities) into a buffer of the test support: valid until the next call of the
+// same function. Exits the test program if the copy fails.
+const double* fmTestPositions(fmBodyId body);
+const double* fmTestVelocities(fmBodyId body);
+
 // Move every vertex by uniform noise in [-amplitude, amplitude) per coordinate.
 void fmTestPerturb(fmBodyId body, double amplitude);
 

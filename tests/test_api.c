@@ -8,6 +8,7 @@
 #include "world.h"
 
 #include <femto/femto.h>
+#include <fenv.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -293,8 +294,8 @@ TEST(every_call_with_a_stale_id_asserts_and_returns_a_safe_value)
 	REFUSED(fmDestroyBody(body));
 	REFUSED(CHECK_INT(fmBody_GetVertexCount(body), 0));
 	REFUSED(CHECK_INT(fmBody_GetTetCount(body), 0));
-	REFUSED(CHECK(fmBody_GetPositions(body) == NULL));
-	REFUSED(CHECK(fmBody_GetVelocities(body) == NULL));
+	REFUSED(CHECK_INT(fmBody_CopyPositions(body, buffer, 1), fm_errInvalidId));
+	REFUSED(CHECK_INT(fmBody_CopyVelocitiesFloat(body, (float*)buffer, 1), fm_errInvalidId));
 	REFUSED(fmBody_SetPositions(body, buffer));
 	REFUSED(fmBody_SetVelocities(body, buffer));
 	REFUSED(CHECK(fmBody_GetMasses(body) == NULL));
@@ -320,7 +321,7 @@ TEST(bad_arguments_assert_and_leave_the_body_unchanged)
 	fmWorldId world = fmCreateWorld(&worldDef);
 	fmBodyId body = makeTetBody(world);
 	double before[12], after[12];
-	memcpy(before, fmBody_GetPositions(body), sizeof before);
+	CHECK_INT(fmBody_CopyPositions(body, before, 4), fm_ok);
 	fmVec3 nan3 = fmMakeVec3(0, NAN, 0), one = fmMakeVec3(1, 1, 1);
 	fmFloorDef badFloor = worldDef.floor;
 	badFloor.restitution = 2.0;
@@ -357,14 +358,15 @@ TEST(bad_arguments_assert_and_leave_the_body_unchanged)
 	CHECK_INT(fmBody_PinBox(body, fmScale(-1.0, everywhere), fmMakeVec3(INFINITY, -1.0, 5.0)), 0);
 	CHECK_INT(fmTestRecordAssertsEnd(), 0);
 	// Nothing changed: the world steps as before, the body is where it was, at rest.
-	memcpy(after, fmBody_GetPositions(body), sizeof after);
+	CHECK_INT(fmBody_CopyPositions(body, after, 4), fm_ok);
 	CHECK(memcmp(before, after, sizeof before) == 0);
 	CHECK(fmBody_GetStats(body).kineticEnergy == 0.0);
 	CHECK(!fmBody_IsPinned(body, 0));
 	fmStepStats none = fmWorld_GetStepStats(world);
 	CHECK_INT(none.steps, 0);
 	CHECK_INT(fmWorld_Step(world, 0.003, 1), fm_ok);
-	CHECK(fmBody_GetPositions(body)[1] < before[1]); // gravity is still (0, -9.8, 0)
+	CHECK_INT(fmBody_CopyPositions(body, after, 4), fm_ok);
+	CHECK(after[1] < before[1]); // gravity is still (0, -9.8, 0)
 	CHECK_INT(fmBody_SetMaterial(body, &material, NULL), fm_ok);
 	fmDestroyWorld(world);
 }
@@ -462,4 +464,95 @@ TEST(a_body_beyond_the_memory_budget_is_refused_before_allocating)
 	CHECK_INT(fmCreateBody(world, &def, &second, &diag), fm_ok);
 	fmDestroyWorld(world);
 	fmFreeTetMesh(&mesh);
+}
+
+// The copy-out read-back: positions and velocities in the mesh's numbering, as doubles or
+// floats; a stale id or NULL buffer is a programmer error, a small buffer a result code.
+TEST(copy_out_gives_the_state_in_the_mesh_numbering)
+{
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body = makeTetBody(world);
+	double velocities[12];
+	for (int k = 0; k < 12; ++k)
+		velocities[k] = 0.1 * k - 0.35 + 1e-9 / 3.0; // not floats: the float copy must round
+	fmBody_SetVelocities(body, velocities);
+	CHECK_INT(fmWorld_Step(world, 0.003, 1), fm_ok);
+	double x[12], v[12];
+	float xf[12], vf[12];
+	CHECK_INT(fmBody_CopyPositions(body, x, 4), fm_ok);
+	CHECK_INT(fmBody_CopyVelocities(body, v, 4), fm_ok);
+	CHECK_INT(fmBody_CopyPositionsFloat(body, xf, 4), fm_ok);
+	CHECK_INT(fmBody_CopyVelocitiesFloat(body, vf, 4), fm_ok);
+	// One symplectic Euler step from the mesh's nodes: vertex i (of distinct velocities) moved by
+	// h times its own new velocity, both read back in the mesh's order.
+	for (int i = 0; i < 4; ++i)
+	{
+		CHECK_NEAR(x[3 * i], s_tetNodes[3 * i] + 0.003 * v[3 * i], 1e-12);
+	}
+	int mismatches = 0;
+	for (int k = 0; k < 12; ++k)
+		mismatches += xf[k] != (float)x[k] || vf[k] != (float)v[k];
+	CHECK_INT(mismatches, 0);
+	// A larger buffer is fine and only 3 n values are written.
+	double larger[15];
+	larger[12] = 42.0;
+	CHECK_INT(fmBody_CopyPositions(body, larger, 5), fm_ok);
+	CHECK(memcmp(larger, x, sizeof x) == 0 && larger[12] == 42.0);
+	fmDestroyWorld(world);
+}
+
+TEST(copy_out_errors_are_located_and_leave_the_buffer)
+{
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body = makeTetBody(world);
+	double small[9] = {7, 7, 7, 7, 7, 7, 7, 7, 7};
+	float smallFloat[9] = {7, 7, 7, 7, 7, 7, 7, 7, 7};
+	// Too small: bad input, no assert; the buffer is untouched and the last error says why.
+	fmTestRecordAssertsBegin();
+	CHECK_INT(fmBody_CopyPositions(body, small, 3), fm_errLimit);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "fmBody_CopyPositions");
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "3 vertices is too small");
+	CHECK_INT(fmBody_CopyVelocitiesFloat(body, smallFloat, 0), fm_errLimit);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "fmBody_CopyVelocitiesFloat");
+	CHECK_INT(fmBody_CopyVelocities(body, small, -1), fm_errLimit);
+	CHECK_INT(fmBody_CopyPositionsFloat(body, smallFloat, 3), fm_errLimit);
+	CHECK_INT(fmTestRecordAssertsEnd(), 0);
+	int changed = 0;
+	for (int k = 0; k < 9; ++k)
+		changed += small[k] != 7.0 || smallFloat[k] != 7.0f;
+	CHECK_INT(changed, 0);
+	// NULL buffers: programmer errors.
+	REFUSED(CHECK_INT(fmBody_CopyPositions(body, NULL, 4), fm_errParameter));
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "buffer is NULL");
+	REFUSED(CHECK_INT(fmBody_CopyVelocitiesFloat(body, NULL, 4), fm_errParameter));
+	// A destroyed body in a live world: asserted, and the world's last error says so.
+	fmDestroyBody(body);
+	double x[12];
+	REFUSED(CHECK_INT(fmBody_CopyVelocities(body, x, 4), fm_errInvalidId));
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "invalid or destroyed body id");
+	fmDestroyWorld(world);
+}
+
+// The float copy rounds to nearest whatever rounding mode the host left (fp_env.h).
+TEST(float_copy_rounds_to_nearest_under_any_host_rounding)
+{
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyId body = makeTetBody(world);
+	double v[12];
+	for (int k = 0; k < 12; ++k)
+		v[k] = (k % 2 ? 1.0 : -1.0) * (1.0 + 0.75 * 0x1p-23); // 3/4 of a float ulp beyond 1
+	fmBody_SetVelocities(body, v);
+	float nearest[12], towardZero[12];
+	CHECK_INT(fmBody_CopyVelocitiesFloat(body, nearest, 4), fm_ok);
+	int rounding = fegetround();
+	fesetround(FE_TOWARDZERO);
+	fmResult r = fmBody_CopyVelocitiesFloat(body, towardZero, 4);
+	fesetround(rounding);
+	CHECK_INT(r, fm_ok);
+	CHECK(memcmp(nearest, towardZero, sizeof nearest) == 0);
+	CHECK(nearest[1] == 1.0f + 0x1p-23f && nearest[0] == -1.0f - 0x1p-23f);
+	fmDestroyWorld(world);
 }

@@ -18,8 +18,8 @@ static double* stateOf(fmBodyId* bodies, int count, size_t* length)
 	for (int b = 0; b < count; ++b)
 	{
 		size_t n3 = 3 * (size_t)fmBody_GetVertexCount(bodies[b]);
-		memcpy(out + at, fmBody_GetPositions(bodies[b]), sizeof(double) * n3);
-		memcpy(out + at + n3, fmBody_GetVelocities(bodies[b]), sizeof(double) * n3);
+		memcpy(out + at, fmTestPositions(bodies[b]), sizeof(double) * n3);
+		memcpy(out + at + n3, fmTestVelocities(bodies[b]), sizeof(double) * n3);
 		at += 2 * n3;
 	}
 	*length = total;

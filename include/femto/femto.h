@@ -53,6 +53,9 @@ FM_API bool fmWorld_IsValid(fmWorldId worldId);
 /// fm_errNumerical and fmWorld_GetLastError() says which body, vertices and tets. An implicit
 /// step that ends above the tolerance is a warning in the last error's warning fields, counted
 /// in fmStepStats.unconvergedSteps, or fm_errNotConverged with fmWorldDef.notConvergedIsError.
+/// Runs in femto's floating-point state (round to nearest, no flush-to-zero or
+/// denormals-are-zero), as every call that computes, and gives the caller's back
+/// (docs/determinism.md).
 FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
 
 /// The diagnostic of the last failed step (for a stale id: one that says so, never NULL).
@@ -129,11 +132,22 @@ FM_API int fmBody_GetVertexCount(fmBodyId bodyId);
 /// Number of tets.
 FM_API int fmBody_GetTetCount(fmBodyId bodyId);
 
-/// Current positions: 3 * vertexCount doubles, valid until the next step or destroy.
-FM_API const double* fmBody_GetPositions(fmBodyId bodyId);
+/// Copy the current positions (m) into @p positions, 3 doubles a vertex in the mesh's numbering
+/// (vertex i at 3 i), whatever order femto keeps internally: the way to read a body's state.
+/// @p vertexCapacity is how many vertices the buffer holds. Errors (the buffer untouched, the
+/// reason in fmWorld_GetLastError()): fm_errInvalidId for a stale id and fm_errParameter for a
+/// NULL buffer (both programmer errors, also asserted), fm_errLimit when @p vertexCapacity is
+/// below fmBody_GetVertexCount().
+FM_API fmResult fmBody_CopyPositions(fmBodyId bodyId, double* positions, int vertexCapacity);
 
-/// Current velocities: 3 * vertexCount doubles.
-FM_API const double* fmBody_GetVelocities(fmBodyId bodyId);
+/// fmBody_CopyPositions() into floats (a renderer's vertex buffer), each rounded to nearest.
+FM_API fmResult fmBody_CopyPositionsFloat(fmBodyId bodyId, float* positions, int vertexCapacity);
+
+/// Copy the current velocities (m/s), as fmBody_CopyPositions() copies positions.
+FM_API fmResult fmBody_CopyVelocities(fmBodyId bodyId, double* velocities, int vertexCapacity);
+
+/// fmBody_CopyVelocities() into floats, each rounded to nearest.
+FM_API fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, int vertexCapacity);
 
 /// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state. Non-finite
 /// values are taken: the next fmWorld_Step() reports them (fm_errNumerical) and restores the

@@ -132,6 +132,28 @@ typedef enum fmIntegrator
 	fm_implicit, ///< backward Euler by Newton on the incremental potential
 } fmIntegrator;
 
+/// The instruction sets the explicit step's element kernels may use (fmWorldDef.simd). The
+/// batched kernels take 16 tets at once in float (linear, StVK and Neo-Hookean, FEM force
+/// model; other bodies use the double-precision reference kernel); every level gives the same
+/// bits, only the speed differs. docs/performance.md has the accuracy.
+typedef enum fmSimdLevel
+{
+	fm_simdAuto,   ///< the best the CPU has, found at run time (default)
+	fm_simdOff,    ///< no batched kernels: the double-precision reference kernel for every body
+	fm_simdScalar, ///< the batched kernels in plain C, one lane at a time
+	fm_simdSse2,   ///< 128-bit vectors (the target's baseline vectors off x86-64)
+	fm_simdAvx2,   ///< 256-bit vectors; falls back to the best below when the CPU lacks it
+	fm_simdAvx512, ///< 512-bit vectors; falls back likewise
+	fm_simdLevelCount
+} fmSimdLevel;
+
+/// Look a SIMD level up by scene name ("auto", "off", "scalar", "sse2", "avx2", "avx512").
+/// Returns false if unknown.
+FM_API bool fmSimdLevelFromName(const char* name, fmSimdLevel* level);
+
+/// The scene name of a SIMD level ("unknown" out of range).
+FM_API const char* fmSimdLevelName(fmSimdLevel level);
+
 /// Floor friction behaviour.
 typedef enum fmFloorFriction
 {
@@ -227,6 +249,15 @@ typedef struct fmWorldDef
 	/// Results are bit-identical for any count. Without task callbacks femto starts
 	/// workerCount - 1 threads of its own.
 	int workerCount;
+	/// Cross-machine determinism, for lockstep networked games (docs/determinism.md): the same
+	/// bits on any x86-64, ARM or WebAssembly target and C library, as long as femto is built
+	/// without FMA contraction (-ffp-contract=off) and without -ffast-math. The hot path then
+	/// uses femto's own log and pow instead of the C library's (whose last bits differ between
+	/// libms). The floating-point state (round to nearest, no flush-to-zero, no
+	/// denormals-are-zero) is set and restored by every call whether or not this is on.
+	/// Costs a few percent of an implicit Neo-Hookean frame, nothing for models without ln J
+	/// (docs/performance.md) (default false)
+	bool crossPlatformDeterminism;
 	/// The frame budget: Newton iterations all implicit steps of one fmWorld_Step() may take
 	/// together, >= 1 (default 1000000). Checked between substeps: once it is spent, the
 	/// remaining steps get one iteration each (their residuals are reported as usual) and
@@ -236,6 +267,9 @@ typedef struct fmWorldDef
 	/// [1, FM_MAX_SUBSTEPS] (default FM_MAX_SUBSTEPS). Once spent, the rest of the frame is
 	/// taken in that many steps, beyond the stability limit, and fmStepStats.budgetHit is set.
 	int maxSubstepsPerFrame;
+	/// explicit: the instruction sets the element kernels may use (default fm_simdAuto: the
+	/// best the CPU has; fm_simdOff: the double-precision reference kernel)
+	fmSimdLevel simd;
 	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
 	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
 	void* userTaskContext;              ///< passed to the two callbacks

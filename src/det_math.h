@@ -1,0 +1,49 @@
+// Elementary functions with the same bits on every target (det_math.c): written with +, -, *, /
+// and sqrt only, which IEEE 754 rounds correctly everywhere, so their results do not depend on
+// the C library's log or exp (glibc, musl, Apple's libm, MSVC's CRT and Emscripten's differ in
+// the last bit of some results). Accuracy, measured in tests/test_determinism.c against glibc
+// over the whole range: log and exp within 1 ulp; pow(x, y) within 2 (1 + |y ln x|) ulp (the
+// rounding of y ln x; the velocity filters keep |y ln x| below 1).
+//
+// The hot path calls fmMathLog and fmMathPow: the C library's functions normally, femto's own
+// on a thread whose det_math mode is on (fmWorldDef.crossPlatformDeterminism; fp_env.h sets the
+// mode on entry to every public call and in every task).
+#pragma once
+
+#include <math.h>
+#include <stdbool.h>
+
+// Natural logarithm: -inf at +-0, NaN below 0 and for NaN, +inf at +inf; denormals handled.
+double fmDetLog(double x);
+
+// e^x: +inf above 709.78, 0 below -745.13 (denormal results in between), NaN for NaN.
+double fmDetExp(double x);
+
+// x^y for x >= 0 (a NaN for x < 0, unlike C's pow with an integer y): e^(y ln x), with
+// x^0 = 1^y = 1, 0^y = 0 for y > 0 and +inf for y < 0.
+double fmDetPow(double x, double y);
+
+// The calling thread's det_math mode (off when a thread starts); set by fp_env.c.
+extern _Thread_local bool fmDetMathMode;
+
+static inline void fmDetMath_Enable(bool enabled)
+{
+	fmDetMathMode = enabled;
+}
+
+static inline bool fmDetMath_Enabled(void)
+{
+	return fmDetMathMode;
+}
+
+// The hot path's log and pow: femto's own in det_math mode, the C library's otherwise (inline:
+// the option off costs one test of a thread-local flag a call).
+static inline double fmMathLog(double x)
+{
+	return fmDetMathMode ? fmDetLog(x) : log(x);
+}
+
+static inline double fmMathPow(double x, double y)
+{
+	return fmDetMathMode ? fmDetPow(x, y) : pow(x, y);
+}

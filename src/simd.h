@@ -1,0 +1,209 @@
+// The SIMD layer: the only place that knows vector instructions exist (as Box2D v3 confines its
+// SIMD to one file). The element kernels (tet_kernel.c) are written once on fmFloatV, a batch of
+// FM_LANES floats, and compiled once per instruction set; simd.c picks the variant the CPU runs.
+//
+// Every variant does the same IEEE operations on every lane (no fused multiply-add: the build
+// sets -ffp-contract=off; no reciprocal or square-root approximations; no reassociation), so the
+// scalar, SSE2, AVX2 and AVX-512 variants give the same bits. tests/test_simd.c checks it.
+#pragma once
+
+#include <femto/types.h>
+
+#include <stdint.h>
+#include <string.h>
+
+// Tets a kernel call takes at once: 16 floats fill one AVX-512 register, two AVX2 or four SSE2
+// ones. The batch width is the same on every variant, so a batch's arithmetic is too.
+#define FM_LANES 16
+
+// The instruction set the running CPU supports best (never fm_simdAuto or fm_simdOff).
+fmSimdLevel fmSimd_Detect(void);
+
+// What a world asked for, resolved against the CPU: fm_simdAuto becomes fmSimd_Detect(), a
+// level the CPU lacks falls back to the best one it has below it; fm_simdOff stays.
+fmSimdLevel fmSimd_Resolve(fmSimdLevel requested);
+
+// ---- the lane wrapper ---------------------------------------------------------------------------
+// With GCC or Clang and without FM_SIMD_SCALAR: vector extensions, which the compiler maps to the
+// instruction set of the translation unit (-msse2, -mavx2, -mavx512f). Otherwise: plain loops.
+// Only the kernels' translation units (FM_KERNEL_VARIANT defined) see it.
+
+#if !defined(FM_KERNEL_VARIANT)
+// (nothing: the lane types are the kernels' own)
+#elif (defined(__GNUC__) || defined(__clang__)) && !defined(FM_SIMD_SCALAR)
+
+typedef float fmFloatV __attribute__((vector_size(4 * FM_LANES)));
+typedef int32_t fmIntV __attribute__((vector_size(4 * FM_LANES)));
+
+static inline fmFloatV fmV_Load(const float* p)
+{
+	fmFloatV v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+static inline void fmV_Store(float* p, fmFloatV v)
+{
+	memcpy(p, &v, sizeof v);
+}
+static inline fmFloatV fmV_Set(float s)
+{
+	return (fmFloatV){0} + s;
+}
+static inline fmFloatV fmV_Add(fmFloatV a, fmFloatV b)
+{
+	return a + b;
+}
+static inline fmFloatV fmV_Sub(fmFloatV a, fmFloatV b)
+{
+	return a - b;
+}
+static inline fmFloatV fmV_Mul(fmFloatV a, fmFloatV b)
+{
+	return a * b;
+}
+static inline fmFloatV fmV_Div(fmFloatV a, fmFloatV b)
+{
+	return a / b;
+}
+// All bits set in the lanes where a < b.
+static inline fmIntV fmV_Less(fmFloatV a, fmFloatV b)
+{
+	return (fmIntV)(a < b);
+}
+// a where the mask is set, b elsewhere.
+static inline fmFloatV fmV_Select(fmIntV mask, fmFloatV a, fmFloatV b)
+{
+	return (fmFloatV)(((fmIntV)a & mask) | ((fmIntV)b & ~mask));
+}
+static inline fmIntV fmV_Bits(fmFloatV a)
+{
+	return (fmIntV)a;
+}
+static inline fmFloatV fmV_FromBits(fmIntV a)
+{
+	return (fmFloatV)a;
+}
+static inline fmIntV fmI_Set(int32_t s)
+{
+	return (fmIntV){0} + s;
+}
+static inline fmIntV fmI_Sub(fmIntV a, fmIntV b)
+{
+	return a - b;
+}
+static inline fmIntV fmI_Add(fmIntV a, fmIntV b)
+{
+	return a + b;
+}
+static inline fmIntV fmI_And(fmIntV a, fmIntV b)
+{
+	return a & b;
+}
+// Shift right of lanes that are >= 0 (the only ones the kernels shift).
+static inline fmIntV fmI_ShiftRight(fmIntV a, int n)
+{
+	return a >> n;
+}
+static inline fmFloatV fmI_ToFloat(fmIntV a)
+{
+	return __builtin_convertvector(a, fmFloatV);
+}
+
+#else
+
+typedef struct fmFloatV
+{
+	float v[FM_LANES];
+} fmFloatV;
+typedef struct fmIntV
+{
+	int32_t v[FM_LANES];
+} fmIntV;
+
+#define FM_LANEWISE(T, expr)                                                                       \
+	T r;                                                                                           \
+	for (int l = 0; l < FM_LANES; ++l)                                                             \
+		r.v[l] = (expr);                                                                           \
+	return r
+
+static inline fmFloatV fmV_Load(const float* p)
+{
+	fmFloatV v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+static inline void fmV_Store(float* p, fmFloatV v)
+{
+	memcpy(p, &v, sizeof v);
+}
+static inline fmFloatV fmV_Set(float s)
+{
+	FM_LANEWISE(fmFloatV, s);
+}
+static inline fmFloatV fmV_Add(fmFloatV a, fmFloatV b)
+{
+	FM_LANEWISE(fmFloatV, a.v[l] + b.v[l]);
+}
+static inline fmFloatV fmV_Sub(fmFloatV a, fmFloatV b)
+{
+	FM_LANEWISE(fmFloatV, a.v[l] - b.v[l]);
+}
+static inline fmFloatV fmV_Mul(fmFloatV a, fmFloatV b)
+{
+	FM_LANEWISE(fmFloatV, a.v[l] * b.v[l]);
+}
+static inline fmFloatV fmV_Div(fmFloatV a, fmFloatV b)
+{
+	FM_LANEWISE(fmFloatV, a.v[l] / b.v[l]);
+}
+static inline fmIntV fmV_Less(fmFloatV a, fmFloatV b)
+{
+	FM_LANEWISE(fmIntV, a.v[l] < b.v[l] ? -1 : 0);
+}
+static inline fmIntV fmV_Bits(fmFloatV a)
+{
+	fmIntV r;
+	memcpy(&r, &a, sizeof r);
+	return r;
+}
+static inline fmFloatV fmV_FromBits(fmIntV a)
+{
+	fmFloatV r;
+	memcpy(&r, &a, sizeof r);
+	return r;
+}
+static inline fmFloatV fmV_Select(fmIntV mask, fmFloatV a, fmFloatV b)
+{
+	fmIntV x = fmV_Bits(a), y = fmV_Bits(b), r;
+	for (int l = 0; l < FM_LANES; ++l)
+		r.v[l] = (x.v[l] & mask.v[l]) | (y.v[l] & ~mask.v[l]);
+	return fmV_FromBits(r);
+}
+static inline fmIntV fmI_Set(int32_t s)
+{
+	FM_LANEWISE(fmIntV, s);
+}
+static inline fmIntV fmI_Sub(fmIntV a, fmIntV b)
+{
+	FM_LANEWISE(fmIntV, a.v[l] - b.v[l]);
+}
+static inline fmIntV fmI_Add(fmIntV a, fmIntV b)
+{
+	FM_LANEWISE(fmIntV, a.v[l] + b.v[l]);
+}
+static inline fmIntV fmI_And(fmIntV a, fmIntV b)
+{
+	FM_LANEWISE(fmIntV, a.v[l] & b.v[l]);
+}
+static inline fmIntV fmI_ShiftRight(fmIntV a, int n)
+{
+	FM_LANEWISE(fmIntV, a.v[l] >> n);
+}
+static inline fmFloatV fmI_ToFloat(fmIntV a)
+{
+	FM_LANEWISE(fmFloatV, (float)a.v[l]);
+}
+
+#undef FM_LANEWISE
+
+#endif

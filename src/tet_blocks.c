@@ -1,0 +1,512 @@
+// The explicit FEM step's element layout and force pass (tet_blocks.h).
+#include "tet_blocks.h"
+
+#include "core.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
+{
+	fmMaterialModel m = body->material.model;
+	return level != fm_simdOff && body->forceModel == fm_fem &&
+	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean);
+}
+
+bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
+{
+	double density = b->totalMass / tb->restVolume;
+	double modulus = b->material.lambda + 2.0 * b->material.mu;
+	return density * 10.0 * b->restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
+}
+
+fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
+{
+	switch (level)
+	{
+#if defined(__x86_64__) || defined(_M_X64)
+	case fm_simdAvx512:
+		return fmTetKernel_Forces_avx512;
+	case fm_simdAvx2:
+		return fmTetKernel_Forces_avx2;
+#endif
+	case fm_simdScalar:
+		return fmTetKernel_Forces_scalar;
+	default:
+		return fmTetKernel_Forces_baseline;
+	}
+}
+
+// ---- the layout ---------------------------------------------------------------------------------
+
+// Spread the low 10 bits of @p v to every third bit.
+static uint32_t fmSpreadBits(uint32_t v)
+{
+	v &= 0x3ffu;
+	v = (v | (v << 16)) & 0x030000ffu;
+	v = (v | (v << 8)) & 0x0300f00fu;
+	v = (v | (v << 4)) & 0x030c30c3u;
+	v = (v | (v << 2)) & 0x09249249u;
+	return v;
+}
+
+static int fmCompareKeys(const void* a, const void* b)
+{
+	uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
+	return (x > y) - (x < y);
+}
+
+// The tets in Morton order of their rest centroids (ties by index): neighbours in the order are
+// neighbours in space, so a block's vertices stay in cache while its tets run.
+static int* fmMortonOrder(const fmBody* b)
+{
+	uint64_t* keys = FM_ALLOC_ARRAY(uint64_t, b->tetCount);
+	int* order = FM_ALLOC_ARRAY(int, b->tetCount);
+	if (keys == NULL || order == NULL)
+	{
+		FM_FREE_ARRAY(keys, uint64_t, b->tetCount);
+		FM_FREE_ARRAY(order, int, b->tetCount);
+		return NULL;
+	}
+	fmVec3 lo = fmLoad(b->x0, 0), hi = lo;
+	for (int i = 1; i < b->vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(b->x0, i);
+		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+	}
+	double extent = fmax(fmax(hi.x - lo.x, hi.y - lo.y), fmax(hi.z - lo.z, 1e-300));
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		const int* n = b->tets + 4 * t;
+		fmVec3 c = fmScale(0.25, fmAdd(fmAdd(fmLoad(b->x0, n[0]), fmLoad(b->x0, n[1])),
+		                               fmAdd(fmLoad(b->x0, n[2]), fmLoad(b->x0, n[3]))));
+		uint32_t q[3];
+		double p[3] = {c.x - lo.x, c.y - lo.y, c.z - lo.z};
+		for (int k = 0; k < 3; ++k)
+			q[k] = (uint32_t)fmin(1023.0, fmax(0.0, p[k] / extent * 1024.0));
+		uint64_t code = fmSpreadBits(q[0]) | fmSpreadBits(q[1]) << 1 | fmSpreadBits(q[2]) << 2;
+		keys[t] = code << 32 | (uint64_t)t;
+	}
+	qsort(keys, (size_t)b->tetCount, sizeof *keys, fmCompareKeys);
+	for (int t = 0; t < b->tetCount; ++t)
+		order[t] = (int)(keys[t] & 0xffffffffu);
+	FM_FREE_ARRAY(keys, uint64_t, b->tetCount);
+	return order;
+}
+
+// Greedy colours of the blocks (consecutive runs of FM_BLOCK_BATCHES * FM_LANES tets of
+// @p order): the lowest colour no block sharing a vertex has. -1 when 64 are not enough.
+static int fmColourBlocks(const fmBody* b, const int* order, int blockCount, int* colour)
+{
+	uint64_t* used = FM_ALLOC_ZERO(uint64_t, b->vertexCount); // colours around each vertex
+	if (used == NULL)
+		return -1;
+	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
+	int count = 0;
+	for (int k = 0; k < blockCount; ++k)
+	{
+		int first = k * perBlock,
+		    end = first + perBlock < b->tetCount ? first + perBlock : b->tetCount;
+		uint64_t taken = 0;
+		for (int t = first; t < end; ++t)
+			for (int a = 0; a < 4; ++a)
+				taken |= used[b->tets[4 * order[t] + a]];
+		if (taken == UINT64_MAX)
+		{
+			count = -1;
+			break;
+		}
+		int c = 0;
+		while (taken >> c & 1u)
+			++c;
+		colour[k] = c;
+		count = c + 1 > count ? c + 1 : count;
+		for (int t = first; t < end; ++t)
+			for (int a = 0; a < 4; ++a)
+				used[b->tets[4 * order[t] + a]] |= (uint64_t)1 << c;
+	}
+	FM_FREE_ARRAY(used, uint64_t, b->vertexCount);
+	return count;
+}
+
+// A block's own numbering of the vertices: local[v] is vertex v's number in the block being
+// packed, or -1; verts lists them in the order of first use.
+typedef struct fmBlockVertices
+{
+	int* local; // vertexCount, -1 outside the block being packed
+	int* verts; // the block's vertices (at most 4 FM_BLOCK_BATCHES FM_LANES)
+	int count;
+	int* cursor; // 4 FM_BLOCK_BATCHES FM_LANES: counts, then fill positions of incidences
+} fmBlockVertices;
+
+static uint16_t fmLocalVertex(fmBlockVertices* bv, int v)
+{
+	if (bv->local[v] < 0)
+	{
+		bv->local[v] = bv->count;
+		bv->verts[bv->count++] = v;
+	}
+	return (uint16_t)bv->local[v];
+}
+
+// Pack tets order[first .. end) into one batch; unused lanes repeat the first tet, weightless.
+static void fmPackBatch(const fmBody* b, const int* order, int first, int end, fmBlockVertices* bv,
+                        fmTetBatch* batch)
+{
+	for (int l = 0; l < FM_LANES; ++l)
+	{
+		int t = order[first + l < end ? first + l : first];
+		for (int a = 0; a < 4; ++a)
+			batch->nodes[a][l] = fmLocalVertex(bv, b->tets[4 * t + a]);
+		for (int k = 0; k < 9; ++k)
+			batch->dmInv[k][l] = (float)b->DmInv[t].m[k];
+		batch->volume[l] = first + l < end ? (float)b->restVolume[t] : 0.0f;
+	}
+}
+
+// A worker's scratch for blocks of up to @p vertices vertices: their displacements (or
+// velocities), 3 doubles each, then the forces of a block's batches (64-byte aligned).
+static size_t fmScratchBytes(int vertices)
+{
+	size_t u = (3 * (size_t)vertices * sizeof(double) + 63) / 64 * 64;
+	return u + FM_BLOCK_BATCHES * sizeof(fmTetBatchForces);
+}
+
+uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount)
+{
+	const uint64_t blockVertices = 4 * FM_BLOCK_BATCHES * FM_LANES;
+	uint64_t batches = (tetCount + FM_LANES - 1) / FM_LANES;
+	uint64_t blocks = (batches + FM_BLOCK_BATCHES - 1) / FM_BLOCK_BATCHES;
+	// Batches, their lane counts, block offsets (two arrays), the blocks' vertex lists (about a
+	// third of 4 per tet on a tet mesh; 4 per tet is the most), colours, one worker's scratch.
+	// Incidences: 4 per tet, with a start per vertex list entry.
+	return batches * (sizeof(fmTetBatch) + 1) + 2 * (blocks + 1) * sizeof(int) +
+	       8 * tetCount * sizeof(int) + 4 * tetCount * sizeof(uint16_t) + 66 * sizeof(int) +
+	       fmScratchBytes((int)(vertexCount < blockVertices ? vertexCount : blockVertices)) +
+	       sizeof(fmTetBlocks);
+}
+
+void fmTetBlocks_Destroy(fmTetBlocks* tb)
+{
+	if (tb == NULL)
+		return;
+	FM_FREE_ARRAY(tb->batches, fmTetBatch, tb->batchCount);
+	FM_FREE_ARRAY(tb->laneCount, uint8_t, tb->batchCount);
+	FM_FREE_ARRAY(tb->blockStart, int, tb->blockCount + 1);
+	FM_FREE_ARRAY(tb->colourStart, int, tb->colourCount + 1);
+	FM_FREE_ARRAY(tb->blockVertexStart, int, tb->blockCount + 1);
+	FM_FREE_ARRAY(tb->blockVertices, int, 4 * (size_t)tb->tetCount);
+	FM_FREE_ARRAY(tb->incidenceStart, int, 4 * (size_t)tb->tetCount + 1);
+	FM_FREE_ARRAY(tb->incidences, uint16_t, 4 * (size_t)tb->tetCount);
+	FM_FREE_ARRAY(tb->scratch, unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
+	FM_FREE_ARRAY(tb, fmTetBlocks, 1);
+}
+
+// Pack block @p k (tets order[k * perBlock ...]) at batch @p batch; returns the next batch.
+static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, const int* order, int k, int batch,
+                       fmBlockVertices* bv)
+{
+	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
+	int first = k * perBlock,
+	    end = first + perBlock < tb->tetCount ? first + perBlock : tb->tetCount;
+	for (int t = first; t < end; t += FM_LANES, ++batch)
+	{
+		int last = t + FM_LANES < end ? t + FM_LANES : end;
+		fmPackBatch(b, order, t, last, bv, &tb->batches[batch]);
+		tb->laneCount[batch] = (uint8_t)(last - t);
+	}
+	return batch;
+}
+
+// The incidences of the block whose vertex list starts at entry @p base (@p count vertices) and
+// whose batches are [first, end): for each vertex, the buffer offsets of its x force component
+// in batch, lane, node order. @p cursor has room for @p count ints.
+static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int count, int* cursor)
+{
+	memset(cursor, 0, sizeof(int) * (size_t)count);
+	for (int j = first; j < end; ++j)
+		for (int l = 0; l < tb->laneCount[j]; ++l)
+			for (int a = 0; a < 4; ++a)
+				cursor[tb->batches[j].nodes[a][l]] += 1;
+	int at = tb->incidenceStart[base];
+	for (int i = 0; i < count; ++i)
+	{
+		tb->incidenceStart[base + i] = at;
+		at += cursor[i];
+		cursor[i] = tb->incidenceStart[base + i];
+	}
+	tb->incidenceStart[base + count] = at;
+	for (int j = first; j < end; ++j)
+		for (int l = 0; l < tb->laneCount[j]; ++l)
+			for (int a = 0; a < 4; ++a)
+				tb->incidences[cursor[tb->batches[j].nodes[a][l]]++] =
+				    (uint16_t)(((j - first) * 12 + 3 * a) * FM_LANES + l);
+}
+
+// Blocks in colour order (a counting sort, stable: within a colour, in Morton order); packs
+// their batches and vertex lists.
+static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, const int* order, const int* colour,
+                         fmBlockVertices* bv)
+{
+	for (int k = 0; k < tb->blockCount; ++k)
+		tb->colourStart[colour[k] + 1] += 1;
+	for (int c = 0; c < tb->colourCount; ++c)
+		tb->colourStart[c + 1] += tb->colourStart[c];
+	int batch = 0, slot = 0, vertexCount = 0;
+	for (int c = 0; c < tb->colourCount; ++c)
+		for (int k = 0; k < tb->blockCount; ++k)
+		{
+			if (colour[k] != c)
+				continue;
+			tb->blockStart[slot] = batch;
+			tb->blockVertexStart[slot++] = vertexCount;
+			bv->verts = tb->blockVertices + vertexCount;
+			bv->count = 0;
+			int first = batch;
+			batch = fmPackBlock(tb, b, order, k, batch, bv);
+			fmBuildIncidences(tb, first, batch, vertexCount, bv->count, bv->cursor);
+			for (int i = 0; i < bv->count; ++i)
+				bv->local[bv->verts[i]] = -1;
+			vertexCount += bv->count;
+			tb->maxBlockVertices =
+			    bv->count > tb->maxBlockVertices ? bv->count : tb->maxBlockVertices;
+		}
+	tb->blockStart[tb->blockCount] = batch;
+	tb->blockVertexStart[tb->blockCount] = vertexCount;
+	return batch == tb->batchCount;
+}
+
+// The arrays of a layout of @p blockCount blocks and @p colourCount colours; false when short.
+static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
+{
+	tb->tetCount = b->tetCount;
+	tb->blockCount = blockCount;
+	for (int t = 0; t < b->tetCount; ++t)
+		tb->restVolume += b->restVolume[t];
+	// Blocks hold whole batches and every block but the last is full, so only the last batch
+	// may be short.
+	tb->batchCount = (b->tetCount + FM_LANES - 1) / FM_LANES;
+	tb->batches = FM_ALLOC_ARRAY(fmTetBatch, tb->batchCount);
+	tb->laneCount = FM_ALLOC_ARRAY(uint8_t, tb->batchCount);
+	tb->blockStart = FM_ALLOC_ZERO(int, blockCount + 1);
+	tb->colourStart = FM_ALLOC_ZERO(int, tb->colourCount + 1);
+	tb->blockVertexStart = FM_ALLOC_ZERO(int, blockCount + 1);
+	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->tetCount);
+	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->tetCount + 1);
+	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->tetCount);
+	return tb->batches && tb->laneCount && tb->blockStart && tb->colourStart &&
+	       tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
+}
+
+fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
+{
+	fmTetBlocks* tb = FM_ALLOC_ZERO(fmTetBlocks, 1);
+	int* order = fmMortonOrder(b);
+	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
+	int blockCount = (b->tetCount + perBlock - 1) / perBlock;
+	int* colour = FM_ALLOC_ZERO(int, blockCount);
+	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, b->vertexCount), NULL, 0,
+	                      FM_ALLOC_ARRAY(int, 4 * perBlock)};
+	bool ok =
+	    tb != NULL && order != NULL && colour != NULL && bv.local != NULL && bv.cursor != NULL;
+	if (ok)
+	{
+		for (int i = 0; i < b->vertexCount; ++i)
+			bv.local[i] = -1;
+		tb->colourCount = fmColourBlocks(b, order, blockCount, colour);
+		ok = tb->colourCount > 0 && fmAllocateBlocks(tb, b, blockCount) &&
+		     fmPackBlocks(tb, b, order, colour, &bv);
+	}
+	if (ok)
+	{
+		tb->workerCount = workerCount > 0 ? workerCount : 1;
+		tb->minBlocksPerRange = (FM_PARALLEL_MIN_RANGE + perBlock - 1) / perBlock;
+		tb->scratchBytes = fmScratchBytes(tb->maxBlockVertices);
+		tb->scratch = FM_ALLOC_ARRAY(unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
+		ok = tb->scratch != NULL;
+	}
+	FM_FREE_ARRAY(order, int, b->tetCount);
+	FM_FREE_ARRAY(colour, int, blockCount);
+	FM_FREE_ARRAY(bv.local, int, b->vertexCount);
+	FM_FREE_ARRAY(bv.cursor, int, 4 * perBlock);
+	if (!ok)
+	{
+		fmTetBlocks_Destroy(tb);
+		return NULL;
+	}
+	return tb;
+}
+
+// ---- the force pass -----------------------------------------------------------------------------
+
+typedef struct fmForcePass
+{
+	const fmTetBlocks* blocks;
+	const fmBody* body;
+	const double* x;
+	double* f;
+	fmTetKernelFcn* kernel;
+	fmKernelMaterial material;
+	int firstBlock; // of the colour being run
+} fmForcePass;
+
+// Du of every lane from the block's displacements u (3 per block vertex, double).
+static void fmGatherBatch(const double* u, const fmTetBatch* batch, fmTetBatchWork* work)
+{
+	for (int l = 0; l < FM_LANES; ++l)
+	{
+		const double* u0 = u + 3 * batch->nodes[0][l];
+		for (int k = 0; k < 3; ++k)
+		{
+			const double* uk = u + 3 * batch->nodes[k + 1][l];
+			for (int i = 0; i < 3; ++i)
+				work->du[3 * i + k][l] = (float)(uk[i] - u0[i]);
+		}
+	}
+}
+
+// A worker's scratch: 3 doubles per block vertex, then the block's batch forces.
+static double* fmScratch(const fmTetBlocks* tb, int worker, fmTetBatchForces** forces)
+{
+	unsigned char* base = tb->scratch + tb->scratchBytes * (size_t)worker;
+	*forces =
+	    (fmTetBatchForces*)(base + tb->scratchBytes - FM_BLOCK_BATCHES * sizeof(fmTetBatchForces));
+	return (double*)base;
+}
+
+// values[3 i + c] = x[3 v + c] - X[3 v + c] (X may be NULL: 0) for the block's vertices v.
+static void fmGatherVertices(const int* verts, int count, const double* x, const double* X,
+                             double* values)
+{
+	for (int i = 0; i < count; ++i)
+		for (int c = 0; c < 3; ++c)
+			values[3 * i + c] = X ? x[3 * verts[i] + c] - X[3 * verts[i] + c] : x[3 * verts[i] + c];
+}
+
+// One block: gather its vertices' displacements, run its batches, then every vertex sums its
+// entries of the block's forces in a fixed order and adds them to the body's.
+static void fmForceBlock(const fmForcePass* p, int k, int worker)
+{
+	const fmTetBlocks* tb = p->blocks;
+	const int base = tb->blockVertexStart[k], count = tb->blockVertexStart[k + 1] - base;
+	const int* verts = tb->blockVertices + base;
+	fmTetBatchForces* out;
+	double* u = fmScratch(tb, worker, &out);
+	fmGatherVertices(verts, count, p->x, p->body->x0, u);
+	fmTetBatchWork work;
+	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
+	{
+		fmGatherBatch(u, &tb->batches[j], &work);
+		p->kernel(&tb->batches[j], &work, &p->material, &out[j - tb->blockStart[k]]);
+	}
+	const float* forces = &out[0].force[0][0];
+	// Three named sums: an array here would be kept in memory, a chain of stores and reloads.
+	for (int i = 0; i < count; ++i)
+	{
+		double sx = 0.0, sy = 0.0, sz = 0.0;
+		for (int e = tb->incidenceStart[base + i]; e < tb->incidenceStart[base + i + 1]; ++e)
+		{
+			const float* entry = forces + tb->incidences[e];
+			sx += (double)entry[0];
+			sy += (double)entry[FM_LANES];
+			sz += (double)entry[2 * FM_LANES];
+		}
+		double* fi = p->f + 3 * verts[i];
+		fi[0] += sx, fi[1] += sy, fi[2] += sz;
+	}
+}
+
+static void fmForceBlocksTask(int start, int end, int worker, void* context)
+{
+	const fmForcePass* p = context;
+	for (int k = p->firstBlock + start; k < p->firstBlock + end; ++k)
+		fmForceBlock(p, k, worker);
+}
+
+// The blocks a colour at a time, @p task over each colour's blocks with *firstBlock set to the
+// colour's first, in ranges of at least minBlocksPerRange blocks; workers beyond the layout's
+// scratch run serially (the same bits).
+static void fmRunColours(const fmTetBlocks* tb, const fmTaskSystem* tasks, fmTaskCallback* task,
+                         void* context, int* firstBlock)
+{
+	const int minBlocks = tb->minBlocksPerRange;
+	const fmTaskSystem* run = tasks != NULL && tasks->workerCount <= tb->workerCount ? tasks : NULL;
+	for (int c = 0; c < tb->colourCount; ++c)
+	{
+		*firstBlock = tb->colourStart[c];
+		fmParallelFor(run, tb->colourStart[c + 1] - *firstBlock, minBlocks, task, context);
+	}
+}
+
+void fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x, double* f,
+                           fmSimdLevel level, const fmTaskSystem* tasks)
+{
+	fmForcePass p = {tb,
+	                 body,
+	                 x,
+	                 f,
+	                 fmTetBlocks_Kernel(level),
+	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
+	                 0};
+	fmRunColours(tb, tasks, fmForceBlocksTask, &p, &p.firstBlock);
+}
+
+// ---- the smoothing sums -------------------------------------------------------------------------
+
+typedef struct fmSmoothPass
+{
+	const fmTetBlocks* blocks;
+	const double* v;
+	double* sums;
+	int firstBlock;
+} fmSmoothPass;
+
+// One block: the velocity sum of each of its tets, then each vertex adds those of its tets.
+static void fmSmoothBlock(const fmSmoothPass* p, int k, int worker)
+{
+	const fmTetBlocks* tb = p->blocks;
+	const int base = tb->blockVertexStart[k], count = tb->blockVertexStart[k + 1] - base;
+	const int* verts = tb->blockVertices + base;
+	fmTetBatchForces* out;
+	double* v = fmScratch(tb, worker, &out);
+	double* tetSums = (double*)out; // 3 per tet of the block, at batch * FM_LANES + lane
+	fmGatherVertices(verts, count, p->v, NULL, v);
+	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
+	{
+		const fmTetBatch* batch = &tb->batches[j];
+		double* sum = tetSums + 3 * FM_LANES * (j - tb->blockStart[k]);
+		for (int l = 0; l < tb->laneCount[j]; ++l)
+			for (int c = 0; c < 3; ++c)
+				sum[3 * l + c] = (v[3 * batch->nodes[0][l] + c] + v[3 * batch->nodes[1][l] + c]) +
+				                 (v[3 * batch->nodes[2][l] + c] + v[3 * batch->nodes[3][l] + c]);
+	}
+	for (int i = 0; i < count; ++i)
+	{
+		double sx = 0.0, sy = 0.0, sz = 0.0;
+		for (int e = tb->incidenceStart[base + i]; e < tb->incidenceStart[base + i + 1]; ++e)
+		{
+			unsigned offset = tb->incidences[e]; // (batch * 12 + 3 node) * FM_LANES + lane
+			const double* t =
+			    tetSums + 3 * (offset / (12 * FM_LANES) * FM_LANES + offset % FM_LANES);
+			sx += t[0], sy += t[1], sz += t[2];
+		}
+		double* si = p->sums + 3 * verts[i];
+		si[0] += sx, si[1] += sy, si[2] += sz;
+	}
+}
+
+static void fmSmoothBlocksTask(int start, int end, int worker, void* context)
+{
+	const fmSmoothPass* p = context;
+	for (int k = p->firstBlock + start; k < p->firstBlock + end; ++k)
+		fmSmoothBlock(p, k, worker);
+}
+
+void fmTetBlocks_SmoothingSums(const fmTetBlocks* tb, const double* v, double* sums,
+                               const fmTaskSystem* tasks)
+{
+	fmSmoothPass p = {tb, v, sums, 0};
+	fmRunColours(tb, tasks, fmSmoothBlocksTask, &p, &p.firstBlock);
+}

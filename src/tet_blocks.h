@@ -1,0 +1,80 @@
+// The explicit FEM step's element layout and force pass (tet_blocks.c): a body's tets sorted
+// along a space-filling curve, packed FM_LANES to a batch in float for the batched kernels of
+// tet_kernel.c, grouped in blocks, and the blocks coloured so that blocks of one colour share no
+// vertex. The force pass runs colour by colour; within a colour the workers take blocks, and
+// every vertex receives its tets' forces in the same order for any number of workers: the same
+// bits on 1 or N workers, with no per-tet force buffer and no atomics.
+#pragma once
+
+#include "body.h"
+#include "parallel.h"
+#include "tet_kernel.h"
+
+// Tets of a block: 32 batches (about 150 vertices, a few KiB of positions and forces in cache).
+#define FM_BLOCK_BATCHES 32
+
+typedef struct fmTetBlocks
+{
+	int tetCount;
+	double restVolume; // of the body (m^3)
+	int batchCount;
+	fmTetBatch* batches; // in colour order, then block order
+	uint8_t* laneCount;  // tets in each batch (FM_LANES but in a block's last batch)
+	int blockCount;
+	int* blockStart; // blockCount + 1 batch offsets
+	int colourCount;
+	int* colourStart; // colourCount + 1 block offsets
+	// The vertices of block k are blockVertices[blockVertexStart[k] .. blockVertexStart[k + 1]),
+	// in the order its tets first use them; its batches number them from 0. A block gathers
+	// their displacements once, runs its batches into a buffer of fmTetBatchForces, and then
+	// each vertex sums its entries there (no read-modify-write chains through memory) and adds
+	// the sum to the body's force: entry j of the block's vertex list has the buffer offsets
+	// (floats, of its x component) incidences[incidenceStart[j] .. incidenceStart[j + 1]).
+	int* blockVertexStart; // blockCount + 1
+	int* blockVertices;    // 4 per tet at most
+	int* incidenceStart;   // one per entry of blockVertices, and one more
+	uint16_t* incidences;  // 4 per tet
+	int maxBlockVertices;
+	int workerCount;
+	// Blocks a task range takes at least: FM_PARALLEL_MIN_RANGE tets' worth (smaller ranges
+	// cost more to hand out than they give); tests lower it to split small bodies.
+	int minBlocksPerRange;
+	size_t scratchBytes; // per worker: the block's displacements and its batches' forces
+	unsigned char* scratch;
+} fmTetBlocks;
+
+// Whether the batched kernels can take the elastic forces of @p body (FEM force model, a
+// material with a kernel) at the resolved instruction set @p level (not fm_simdOff).
+bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
+
+// Float carries the entries of F = R (I + strain) to about 1e-7 whatever the strain, so under a
+// rotation the batched kernels' stress is off by about 1e-7 (lambda + 2 mu): a relative force
+// error of about 1e-7 / strain. Bodies whose typical strain, density * 10 m/s^2 * size /
+// (lambda + 2 mu), is below this (very stiff ones) take the double-precision kernel instead.
+#define FM_FLOAT_KERNEL_MIN_STRAIN 1e-5
+
+// Whether the typical strain of @p body is large enough for the float kernels (above).
+bool fmTetBlocks_Accurate(const fmTetBlocks* blocks, const fmBody* body);
+
+// Build the layout of a body (from its rest shape) for force passes on up to @p workerCount
+// workers; NULL when memory is short.
+fmTetBlocks* fmTetBlocks_Create(const fmBody* body, int workerCount);
+
+void fmTetBlocks_Destroy(fmTetBlocks* blocks);
+
+// Bytes fmTetBlocks_Create takes at most for a mesh of these counts on one worker (the body's
+// memory estimate).
+uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount);
+
+// The kernel variant of an instruction set fmSimd_Resolve returned (not fm_simdOff).
+fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level);
+
+// sums[i] += the sum over the tets around vertex i of their 4 velocities (the seeds' Laplacian
+// smoothing, velocity_filter.c), block by block on the workers.
+void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, double* sums,
+                               const fmTaskSystem* tasks);
+
+// f += the elastic forces at positions @p x, with the kernel of @p level, on the workers (at most
+// the count the layout was made for).
+void fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
+                           double* f, fmSimdLevel level, const fmTaskSystem* tasks);

@@ -1,0 +1,216 @@
+// Batched element kernels (tet_kernel.h), written once on the lane wrapper of simd.h and compiled
+// once per instruction set: FM_KERNEL_VARIANT names the variant (scalar, baseline, avx2,
+// avx512) and the build adds its -m flags. Everything here is static except the entry point, so
+// no function compiled for a wider instruction set can be picked by the linker for a narrower one.
+//
+// Per tet, with H = F - I = Du Dm^-1 (a small strain keeps its relative accuracy in float):
+//   linear:      eps = (H + H^T)/2,                   P = 2 mu eps + lambda tr(eps) I
+//   StVK:        G = (H + H^T + H^T H)/2,             P = (I + H)(2 mu G + lambda tr(G) I)
+//   Neo-Hookean: J = 1 + j, j = tr H + c2(H) + det H, c2 = ((tr H)^2 - tr(H^2))/2,
+//                cof F = (1 + tr H + c2) I - (1 + tr H) H^T + (H^T)^2,
+//                F J - cof F = det H I + (1 + j) H + (1 + tr H) H^T - (H^T)^2, and for J above the
+//                clamp P = (mu (F J - cof F) + lambda ln J cof F) / J (no cancellation at small
+//                strain); below it P = mu F + (lambda l - mu) l' cof F with the clamped l(J) of
+//                material_invariant.c.
+// The force on node a = 1..3 is -V0 P g_a, g_a the rows of Dm^-1; node 0 takes minus the sum.
+#ifndef FM_KERNEL_VARIANT
+#define FM_KERNEL_VARIANT baseline
+#endif
+#include "tet_kernel.h"
+#define FM_PASTE2(a, b) a##_##b
+#define FM_PASTE(a, b) FM_PASTE2(a, b)
+#define FM_KERNEL_NAME(name) FM_PASTE(name, FM_KERNEL_VARIANT)
+
+// The helpers are inlined into the entry point: 64-byte vectors stay in registers.
+#if defined(__GNUC__) || defined(__clang__)
+#define FM_INLINE static inline __attribute__((always_inline))
+#else
+#define FM_INLINE static inline
+#endif
+
+// A 3x3 matrix of lanes, row-major.
+typedef struct fmMat3V
+{
+	fmFloatV m[9];
+} fmMat3V;
+
+// Rows of FM_LANES floats each: entry k of lane l at rows[FM_LANES * k + l].
+FM_INLINE fmMat3V fmMat3V_Load(const float* rows)
+{
+	fmMat3V a;
+	for (int k = 0; k < 9; ++k)
+		a.m[k] = fmV_Load(rows + FM_LANES * k);
+	return a;
+}
+
+FM_INLINE fmMat3V fmMat3V_Mul(const fmMat3V* a, const fmMat3V* b)
+{
+	fmMat3V c;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			c.m[3 * i + j] = fmV_Add(
+			    fmV_Add(fmV_Mul(a->m[3 * i], b->m[j]), fmV_Mul(a->m[3 * i + 1], b->m[3 + j])),
+			    fmV_Mul(a->m[3 * i + 2], b->m[6 + j]));
+	return c;
+}
+
+FM_INLINE fmMat3V fmMat3V_Transpose(const fmMat3V* a)
+{
+	fmMat3V t;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			t.m[3 * i + j] = a->m[3 * j + i];
+	return t;
+}
+
+FM_INLINE fmFloatV fmMat3V_Trace(const fmMat3V* a)
+{
+	return fmV_Add(fmV_Add(a->m[0], a->m[4]), a->m[8]);
+}
+
+FM_INLINE fmFloatV fmMat3V_Det(const fmMat3V* a)
+{
+	const fmFloatV* m = a->m;
+	fmFloatV c0 = fmV_Sub(fmV_Mul(m[4], m[8]), fmV_Mul(m[5], m[7]));
+	fmFloatV c1 = fmV_Sub(fmV_Mul(m[5], m[6]), fmV_Mul(m[3], m[8]));
+	fmFloatV c2 = fmV_Sub(fmV_Mul(m[3], m[7]), fmV_Mul(m[4], m[6]));
+	return fmV_Add(fmV_Add(fmV_Mul(m[0], c0), fmV_Mul(m[1], c1)), fmV_Mul(m[2], c2));
+}
+
+// ln(1 + j) for 1 + j >= 2^-126, to a few ulp, from +, -, *, / only (no libm: the same bits on
+// every target). 1 + j = 2^k m with m in [sqrt(1/2), sqrt(2)); ln m = 2 atanh(s), s = f / (2 + f),
+// f = m - 1, as a series to s^9 (|s| < 0.172: the next term is below 2e-9 of ln m); the rounding
+// of 1 + j comes back as c / (1 + j).
+FM_INLINE fmFloatV fmV_Log1p(fmFloatV j)
+{
+	const fmFloatV one = fmV_Set(1.0f);
+	fmFloatV u = fmV_Add(one, j);
+	fmIntV bits = fmI_Add(fmV_Bits(u), fmI_Set(0x3f800000 - 0x3f3504f3));
+	fmIntV k = fmI_Sub(fmI_ShiftRight(bits, 23), fmI_Set(0x7f));
+	fmFloatV m = fmV_FromBits(fmI_Add(fmI_And(bits, fmI_Set(0x007fffff)), fmI_Set(0x3f3504f3)));
+	fmFloatV kf = fmI_ToFloat(k);
+	// The part of j that 1 + j rounded off (exact where it matters: k = 0 or 1).
+	fmFloatV c = fmV_Select(fmV_Less(fmV_Set(0.5f), kf), fmV_Sub(one, fmV_Sub(u, j)),
+	                        fmV_Sub(j, fmV_Sub(u, one)));
+	c = fmV_Select(fmV_Less(kf, fmV_Set(24.5f)), fmV_Div(c, u), fmV_Set(0.0f));
+	fmFloatV f = fmV_Sub(m, one);
+	fmFloatV s = fmV_Div(f, fmV_Add(fmV_Set(2.0f), f));
+	fmFloatV z = fmV_Mul(s, s);
+	fmFloatV series = fmV_Add(fmV_Set(2.0f / 7.0f), fmV_Mul(z, fmV_Set(2.0f / 9.0f)));
+	series = fmV_Add(fmV_Set(2.0f / 5.0f), fmV_Mul(z, series));
+	series = fmV_Add(fmV_Set(2.0f / 3.0f), fmV_Mul(z, series));
+	fmFloatV lnm = fmV_Add(fmV_Add(s, s), fmV_Mul(fmV_Mul(s, z), series));
+	const fmFloatV ln2Hi = fmV_Set(6.9314575195e-01f), ln2Lo = fmV_Set(1.4286067653e-06f);
+	return fmV_Add(fmV_Mul(kf, ln2Hi), fmV_Add(fmV_Add(lnm, c), fmV_Mul(kf, ln2Lo)));
+}
+
+FM_INLINE void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+{
+	fmFloatV twoMu = fmV_Add(mu, mu), half = fmV_Set(0.5f);
+	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(H));
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+		{
+			fmFloatV eps = fmV_Mul(half, fmV_Add(H->m[3 * i + j], H->m[3 * j + i]));
+			P->m[3 * i + j] = fmV_Mul(twoMu, eps);
+		}
+	for (int i = 0; i < 3; ++i)
+		P->m[4 * i] = fmV_Add(P->m[4 * i], lt);
+}
+
+FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+{
+	// G = (H + H^T + H^T H) / 2, symmetric; S = 2 mu G + lambda tr(G) I; P = S + H S.
+	fmMat3V S;
+	const fmFloatV half = fmV_Set(0.5f), twoMu = fmV_Add(mu, mu);
+	for (int i = 0; i < 3; ++i)
+		for (int j = i; j < 3; ++j)
+		{
+			fmFloatV hth =
+			    fmV_Add(fmV_Add(fmV_Mul(H->m[i], H->m[j]), fmV_Mul(H->m[3 + i], H->m[3 + j])),
+			            fmV_Mul(H->m[6 + i], H->m[6 + j]));
+			fmFloatV g = fmV_Mul(half, fmV_Add(fmV_Add(H->m[3 * i + j], H->m[3 * j + i]), hth));
+			S.m[3 * i + j] = S.m[3 * j + i] = g;
+		}
+	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(&S));
+	for (int k = 0; k < 9; ++k)
+		S.m[k] = fmV_Mul(twoMu, S.m[k]);
+	for (int i = 0; i < 3; ++i)
+		S.m[4 * i] = fmV_Add(S.m[4 * i], lt);
+	fmMat3V HS = fmMat3V_Mul(H, &S);
+	for (int k = 0; k < 9; ++k)
+		P->m[k] = fmV_Add(S.m[k], HS.m[k]);
+}
+
+// Neo-Hookean: P = alpha (F J - cof F) + beta cof F + gamma F, alpha, beta, gamma per lane.
+FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+{
+	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f);
+	fmMat3V HT = fmMat3V_Transpose(H);
+	fmMat3V HT2 = fmMat3V_Mul(&HT, &HT);
+	fmFloatV t = fmMat3V_Trace(H), trH2 = fmMat3V_Trace(&HT2);
+	fmFloatV c2 = fmV_Mul(fmV_Set(0.5f), fmV_Sub(fmV_Mul(t, t), trH2));
+	fmFloatV d = fmMat3V_Det(H);
+	fmFloatV j = fmV_Add(fmV_Add(t, c2), d), J = fmV_Add(one, j);
+	fmFloatV onePlusT = fmV_Add(one, t), onePlusJ = J;
+
+	// Above the clamp: l = ln J, alpha = mu / J, beta = lambda l / J, gamma = 0. Below it:
+	// l = ln c + e / c - e^2 / (2 c^2), l' = 1/c - e / c^2 (e = J - c), alpha = 0,
+	// beta = (lambda l - mu) l', gamma = mu.
+	const float clamp = 0.2f, lnClamp = -1.6094379124341003f;
+	fmIntV below = fmV_Less(J, fmV_Set(clamp));
+	fmFloatV lnJ = fmV_Log1p(fmV_Select(below, zero, j));
+	fmFloatV e = fmV_Sub(J, fmV_Set(clamp)), invC = fmV_Set(1.0f / clamp);
+	fmFloatV lBelow = fmV_Sub(fmV_Add(fmV_Set(lnClamp), fmV_Mul(e, invC)),
+	                          fmV_Mul(fmV_Mul(fmV_Set(0.5f), fmV_Mul(e, e)), fmV_Mul(invC, invC)));
+	fmFloatV dlBelow = fmV_Sub(invC, fmV_Mul(e, fmV_Mul(invC, invC)));
+	fmFloatV safeJ = fmV_Select(below, one, J);
+	fmFloatV alpha = fmV_Select(below, zero, fmV_Div(mu, safeJ));
+	fmFloatV beta = fmV_Select(below, fmV_Mul(fmV_Sub(fmV_Mul(lambda, lBelow), mu), dlBelow),
+	                           fmV_Div(fmV_Mul(lambda, lnJ), safeJ));
+	fmFloatV gamma = fmV_Select(below, mu, zero);
+
+	for (int k = 0; k < 9; ++k)
+	{
+		fmFloatV diag = (k % 4 == 0) ? one : zero;
+		fmFloatV cof = fmV_Add(
+		    fmV_Sub(fmV_Mul(fmV_Add(onePlusT, c2), diag), fmV_Mul(onePlusT, HT.m[k])), HT2.m[k]);
+		fmFloatV fjMinusCof = fmV_Sub(fmV_Add(fmV_Add(fmV_Mul(d, diag), fmV_Mul(onePlusJ, H->m[k])),
+		                                      fmV_Mul(onePlusT, HT.m[k])),
+		                              HT2.m[k]);
+		fmFloatV F = fmV_Add(diag, H->m[k]);
+		P->m[k] =
+		    fmV_Add(fmV_Add(fmV_Mul(alpha, fjMinusCof), fmV_Mul(beta, cof)), fmV_Mul(gamma, F));
+	}
+}
+
+void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const fmTetBatchWork* work,
+                                        const fmKernelMaterial* material, fmTetBatchForces* out)
+{
+	fmMat3V Du = fmMat3V_Load(&work->du[0][0]);
+	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][0]);
+	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
+	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);
+	fmMat3V P;
+	if (material->model == fm_stvk)
+		fmStvkStress(&H, mu, lambda, &P);
+	else if (material->model == fm_neoHookean)
+		fmNeoHookeanStress(&H, mu, lambda, &P);
+	else
+		fmLinearStress(&H, mu, lambda, &P);
+	// force on node k + 1 = -V0 P (row k of Dm^-1): M = P Dm^-T, column k.
+	fmMat3V DmInvT = fmMat3V_Transpose(&DmInv);
+	fmMat3V M = fmMat3V_Mul(&P, &DmInvT);
+	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), fmV_Load(batch->volume));
+	for (int i = 0; i < 3; ++i)
+	{
+		fmFloatV sum = fmV_Set(0.0f);
+		for (int k = 0; k < 3; ++k)
+		{
+			fmFloatV fk = fmV_Mul(minusV, M.m[3 * i + k]);
+			fmV_Store(out->force[3 * (k + 1) + i], fk);
+			sum = fmV_Add(sum, fk);
+		}
+		fmV_Store(out->force[i], fmV_Sub(fmV_Set(0.0f), sum));
+	}
+}

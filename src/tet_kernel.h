@@ -1,0 +1,52 @@
+// Batched element kernels of the explicit FEM step: FM_LANES tets at once, in float, on the
+// lane wrapper of simd.h. tet_kernel.c is compiled once per instruction set (CMakeLists.txt);
+// each compilation defines the functions with its own suffix, and tet_blocks.c calls the one
+// simd.c chose. Formulas: docs/performance.md ("The explicit kernel").
+#pragma once
+
+#include <femto/types.h>
+
+#include "simd.h"
+
+// One batch of FM_LANES tets, structure of arrays, as the kernel streams it (768 bytes).
+typedef struct fmTetBatch
+{
+	uint16_t nodes[4][FM_LANES]; // the block's own vertex numbers; unused lanes repeat lane 0's
+	float dmInv[9][FM_LANES];    // Dm^-1, row-major
+	float volume[FM_LANES];      // V0 (m^3); 0 in unused lanes, which then give zero forces
+} fmTetBatch;
+
+// A batch's input and output.
+typedef struct fmTetBatchWork
+{
+	// In: displacement differences Du = [u1 - u0, u2 - u0, u3 - u0] (u = x - X, taken in double
+	// and rounded once), du[3 i + k] = (u_{k+1} - u_0)_i. The kernels form H = F - I = Du Dm^-1,
+	// so a small strain keeps its relative accuracy in float.
+	float du[9][FM_LANES];
+} fmTetBatchWork;
+
+// A batch's output: the elastic force on node a (0..3), component i, at force[3 a + i] (node 0
+// gets minus the sum of the others).
+typedef struct fmTetBatchForces
+{
+	float force[12][FM_LANES];
+} fmTetBatchForces;
+
+// The material as the kernels take it.
+typedef struct fmKernelMaterial
+{
+	fmMaterialModel model; // fm_linear, fm_stvk or fm_neoHookean (fmTetKernel_Supports)
+	float mu;
+	float lambda;
+} fmKernelMaterial;
+
+// fmTetKernel_Forces_<variant>: the forces of one batch.
+typedef void fmTetKernelFcn(const fmTetBatch* batch, const fmTetBatchWork* work,
+                            const fmKernelMaterial* material, fmTetBatchForces* out);
+
+fmTetKernelFcn fmTetKernel_Forces_scalar;
+fmTetKernelFcn fmTetKernel_Forces_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmTetKernelFcn fmTetKernel_Forces_avx2;
+fmTetKernelFcn fmTetKernel_Forces_avx512;
+#endif

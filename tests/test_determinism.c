@@ -1,0 +1,446 @@
+// Determinism beyond one machine (docs/determinism.md): the host's floating-point state does not
+// change a step's bits and is given back; femto's own log, exp and pow (det_math.c) follow the C
+// library's within an ulp or two; and a golden hash of a short run with
+// fmWorldDef.crossPlatformDeterminism that every target must reproduce bit for bit.
+#include "det_math.h"
+#include "fp_env.h"
+#include "support.h"
+#include "test.h"
+
+#include <fenv.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if defined(__SSE__) || defined(_M_X64)
+#include <xmmintrin.h>
+#define TEST_MXCSR 1
+#define TEST_FTZ_DAZ 0x8040u // MXCSR flush-to-zero (bit 15) and denormals-are-zero (bit 6)
+#else
+#define TEST_MXCSR 0
+#endif
+
+// ---- the host's floating-point state ------------------------------------------------------------
+
+// What a host engine may leave behind: rounding toward zero and, on x86, FTZ and DAZ.
+typedef struct HostState
+{
+	fenv_t env;
+	unsigned mxcsr;
+} HostState;
+
+static HostState hostileBegin(void)
+{
+	HostState saved;
+	fegetenv(&saved.env);
+	saved.mxcsr = 0;
+#if TEST_MXCSR
+	saved.mxcsr = _mm_getcsr();
+#endif
+	fesetround(FE_TOWARDZERO);
+#if TEST_MXCSR
+	_mm_setcsr(_mm_getcsr() | TEST_FTZ_DAZ);
+#endif
+	return saved;
+}
+
+// The hostile state is in force (after a call that must have restored it).
+static bool hostileInForce(void)
+{
+	bool ok = fegetround() == FE_TOWARDZERO;
+#if TEST_MXCSR
+	ok = ok && (_mm_getcsr() & TEST_FTZ_DAZ) == TEST_FTZ_DAZ;
+#endif
+	return ok;
+}
+
+static void hostileEnd(const HostState* saved)
+{
+	fesetenv(&saved->env);
+#if TEST_MXCSR
+	_mm_setcsr(saved->mxcsr);
+#endif
+}
+
+// FNV-1a (64-bit) over the bit patterns of @p count doubles, least significant byte first on any
+// target (the hash does not depend on byte order).
+static uint64_t hashDoubles(const double* values, size_t count)
+{
+	uint64_t hash = 14695981039346656037ull;
+	for (size_t k = 0; k < count; ++k)
+	{
+		uint64_t bits;
+		memcpy(&bits, &values[k], sizeof bits);
+		for (int byte = 0; byte < 8; ++byte)
+		{
+			hash ^= (bits >> (8 * byte)) & 0xFF;
+			hash *= 1099511628211ull;
+		}
+	}
+	return hash;
+}
+
+// ---- the scene --------------------------------------------------------------------------------
+
+typedef struct RunDef
+{
+	fmIntegrator integrator;
+	int workers;
+	bool deterministic;
+	bool hostile; // steps called with the hostile host state
+	int cells;    // cubes along x (a larger box makes the stages' loops parallel)
+	fmEnqueueTaskCallback* enqueueTask;
+	fmFinishTaskCallback* finishTask;
+} RunDef;
+
+// A Neo-Hookean box (ln J in every tet) with the seeds' damping and smoothing (pow in the
+// filters), thrown at the floor with a spin; @p frames frames of 1/60 s. Returns the final
+// positions and velocities (6 n doubles; caller frees) and their count in @p length.
+static double* runBox(int* failures_, const RunDef* run, int frames, size_t* length)
+{
+	fmTetMesh mesh;
+	int nx = run->cells;
+	CHECK_INT(
+	    fmMakeBoxMesh(nx, 3, 2, fmMakeVec3(0.0, 0.1, 0.0), fmMakeVec3(0.1 * nx, 0.4, 0.2), &mesh),
+	    fm_ok);
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.height = 0.0;
+	wdef.integrator = run->integrator;
+	wdef.workerCount = run->workers;
+	wdef.crossPlatformDeterminism = run->deterministic;
+	wdef.enqueueTask = run->enqueueTask;
+	wdef.finishTask = run->finishTask;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef bdef = fmDefaultBodyDef();
+	bdef.mesh = &mesh;
+	bdef.material = fmMakeMaterial(fm_neoHookean, 2e5, 0.3);
+	bdef.massMode = fm_massFromDensity;
+	fmBodyId body;
+	CHECK_INT(fmCreateBody(world, &bdef, &body, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	fmBody_ApplyImpulse(body, fmMakeVec3(0.7, -1.5, 0.3));
+	fmBody_ApplyVertexImpulse(body, 0, fmMakeVec3(0.0, 2.0, -1.0));
+	int substeps = run->integrator == fm_explicit ? 10 : 1;
+	for (int frame = 0; frame < frames; ++frame)
+	{
+		HostState saved;
+		if (run->hostile)
+			saved = hostileBegin();
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+		if (run->hostile)
+		{
+			CHECK(hostileInForce()); // the host's state is given back
+			hostileEnd(&saved);
+		}
+		CHECK(!fmDetMath_Enabled()); // so is the thread's det_math mode
+	}
+	if (frames >= 10)
+		CHECK(fmBody_GetStats(body).lowestY < 0.05); // it reached the floor
+	int n = fmBody_GetVertexCount(body);
+	double* state = calloc(6 * (size_t)n, sizeof(double));
+	CHECK_INT(fmBody_CopyPositions(body, state, n), fm_ok);
+	CHECK_INT(fmBody_CopyVelocities(body, state + 3 * (size_t)n, n), fm_ok);
+	*length = 6 * (size_t)n;
+	fmDestroyWorld(world);
+	return state;
+}
+
+static bool sameBits(const double* a, const double* b, size_t length)
+{
+	return memcmp(a, b, sizeof(double) * length) == 0;
+}
+
+// The hostile state really changes arithmetic here: otherwise the tests below prove nothing.
+TEST(hostile_host_state_changes_arithmetic)
+{
+	volatile double one = 1.0, half = 0x1p-53 * 1.5, tiny = 0x1p-1060;
+	HostState saved = hostileBegin();
+	// Volatile results: the compiler may not move the arithmetic past the calls that change the
+	// state (it assumes the default state everywhere).
+	volatile double rounded = one + half; // 1 + 2^-52 to nearest, 1 toward zero
+	volatile double scaled = tiny * one;  // 0 with DAZ
+	hostileEnd(&saved);
+	CHECK(rounded == 1.0);
+#if TEST_MXCSR
+	CHECK(scaled == 0.0);
+#else
+	(void)scaled;
+#endif
+	// And femto's state undoes it.
+	saved = hostileBegin();
+	fmFpEnv env = fmFpEnv_Enter(false);
+	CHECK(fmFpEnv_IsFemtos());
+	rounded = one + half;
+	scaled = tiny * one;
+	fmFpEnv_Leave(&env);
+	CHECK(hostileInForce());
+	hostileEnd(&saved);
+	CHECK(rounded == 1.0 + 0x1p-52);
+	CHECK(scaled == 0x1p-1060);
+}
+
+// A step called with rounding toward zero, FTZ and DAZ gives the bits of a step called in the
+// default state, and the host's state is back after every call: explicit and implicit, on
+// femto's pool (whose threads run in femto's state too) and with the option on and off.
+TEST(host_fp_state_does_not_change_the_bits)
+{
+	for (int integrator = 0; integrator < 2; ++integrator)
+		for (int variant = 0; variant < 3; ++variant)
+		{
+			RunDef run = {
+			    (fmIntegrator)integrator, variant == 2 ? 2 : 1, variant == 1, false, 4, NULL, NULL};
+			size_t n1, n2;
+			double* plain = runBox(failures_, &run, 20, &n1);
+			run.hostile = true;
+			double* hostile = runBox(failures_, &run, 20, &n2);
+			CHECK(n1 == n2 && sameBits(plain, hostile, n1));
+			free(plain);
+			free(hostile);
+		}
+}
+
+// An engine whose worker threads run in the hostile state: femto's task wrapper sets its own
+// state inside every task and gives the engine's back.
+static void* hostileEnqueue(fmTaskCallback* task, int itemCount, int minRange, void* taskContext,
+                            void* userContext)
+{
+	(void)userContext;
+	int count = itemCount / minRange < 2 ? 1 : 2;
+	bool restored = true;
+	for (int k = count - 1; k >= 0; --k)
+	{
+		HostState saved = hostileBegin();
+		task(itemCount * k / count, itemCount * (k + 1) / count, k, taskContext);
+		restored = restored && hostileInForce();
+		hostileEnd(&saved);
+	}
+	if (!restored)
+		abort(); // reported by the test's exit status: a task left femto's state behind
+	return NULL;
+}
+
+static void hostileFinish(void* userTask, void* userContext)
+{
+	(void)userTask;
+	(void)userContext;
+}
+
+TEST(engine_threads_in_another_fp_state_give_the_same_bits)
+{
+	// 400 x 3 x 2 cubes: more than 8192 tets, so that the explicit stages' tet loops split in two
+	// ranges (a loop splits from twice FM_PARALLEL_MIN_RANGE items on).
+	RunDef run = {fm_explicit, 2, true, false, 400, hostileEnqueue, hostileFinish};
+	size_t n1, n2;
+	double* engine = runBox(failures_, &run, 3, &n1);
+	run.workers = 1;
+	run.enqueueTask = NULL;
+	run.finishTask = NULL;
+	double* serial = runBox(failures_, &run, 3, &n2);
+	CHECK(n1 == n2 && sameBits(engine, serial, n1));
+	free(engine);
+	free(serial);
+}
+
+// With the option, femto's log and pow replace the C library's: the motion is the same to
+// round-off (they are within an ulp or two of glibc's).
+TEST(deterministic_math_follows_the_library_closely)
+{
+	for (int integrator = 0; integrator < 2; ++integrator)
+	{
+		RunDef run = {(fmIntegrator)integrator, 1, false, false, 4, NULL, NULL};
+		size_t n1, n2;
+		double* library = runBox(failures_, &run, 20, &n1);
+		run.deterministic = true;
+		double* own = runBox(failures_, &run, 20, &n2);
+		double worst = 0.0;
+		for (size_t k = 0; k < n1 / 2 && n1 == n2; ++k)
+			worst = fmax(worst, fabs(library[k] - own[k]));
+		printf("  %s: largest position difference %.3g m\n", integrator ? "implicit" : "explicit",
+		       worst);
+		CHECK(n1 == n2);
+		CHECK(worst < 1e-9);
+		free(library);
+		free(own);
+	}
+}
+
+// ---- the golden hash: the cross-machine check -------------------------------------------------
+
+// The FNV-1a hash of the final positions and velocities of runBox with
+// crossPlatformDeterminism, recorded on x86-64 (gcc, glibc). It must match on EVERY target CI
+// builds (x86-64 scalar or vector builds, AArch64, WebAssembly; any compiler that honours
+// -ffp-contract=off): a different value there is a determinism bug. A changed constant is a
+// behaviour change of the step and must be reviewed as one (say why in the commit).
+#define GOLDEN_EXPLICIT 0x0dad54884eceebbdull
+#define GOLDEN_IMPLICIT 0xccc48a4603bc4f94ull
+
+static void checkGolden(int* failures_, fmIntegrator integrator, uint64_t golden)
+{
+	for (int workers = 1; workers <= 2; ++workers)
+	{
+		RunDef run = {integrator, workers, true, false, 4, NULL, NULL};
+		size_t n;
+		double* state = runBox(failures_, &run, 30, &n);
+		uint64_t hash = hashDoubles(state, n);
+		if (hash != golden)
+			FAIL_AT("%s run on %d workers hashes to 0x%016llxull, expected 0x%016llxull",
+			        integrator == fm_implicit ? "implicit" : "explicit", workers,
+			        (unsigned long long)hash, (unsigned long long)golden);
+		free(state);
+	}
+}
+
+TEST(golden_hash_explicit)
+{
+	checkGolden(failures_, fm_explicit, GOLDEN_EXPLICIT);
+}
+
+TEST(golden_hash_implicit)
+{
+	checkGolden(failures_, fm_implicit, GOLDEN_IMPLICIT);
+}
+
+// ---- femto's elementary functions against the C library ---------------------------------------
+
+// Distance in ulps between two doubles of the same sign (0 for two NaNs).
+static double ulpDistance(double a, double b)
+{
+	if (isnan(a) && isnan(b))
+		return 0.0;
+	if (a == b)
+		return 0.0;
+	if (isnan(a) || isnan(b) || (a < 0.0) != (b < 0.0))
+		return INFINITY;
+	int64_t ia, ib;
+	memcpy(&ia, &a, sizeof ia);
+	memcpy(&ib, &b, sizeof ib);
+	return fabs((double)(ia - ib));
+}
+
+// A double of random bits: every exponent (denormals too) equally likely.
+static double randomBits(void)
+{
+	uint64_t hi = (uint64_t)fmTestRandom(0.0, 4294967296.0);
+	uint64_t lo = (uint64_t)fmTestRandom(0.0, 4294967296.0);
+	uint64_t bits = (hi << 32) | lo;
+	double x;
+	memcpy(&x, &bits, sizeof x);
+	return x;
+}
+
+TEST(det_log_within_one_ulp_of_libm)
+{
+	double worst = 0.0, at = 0.0;
+	for (int i = 0; i < 400000; ++i)
+	{
+		// Every magnitude, then the hot path's range around J = 1.
+		double x = i % 2 ? fabs(randomBits()) : fmTestRandom(0.3, 3.0);
+		if (!isfinite(x))
+			continue;
+		double e = ulpDistance(fmDetLog(x), log(x));
+		if (e > worst)
+		{
+			worst = e;
+			at = x;
+		}
+	}
+	printf("  log: largest error %.0f ulp at %.17g\n", worst, at);
+	CHECK(worst <= 1.0);
+}
+
+TEST(det_exp_within_one_ulp_of_libm)
+{
+	double worst = 0.0, at = 0.0;
+	for (int i = 0; i < 400000; ++i)
+	{
+		// Every result from 0 and the denormals to overflow, then small arguments.
+		double x = i % 2 ? fmTestRandom(-746.0, 710.0) : fmTestRandom(-1.0, 1.0);
+		double e = ulpDistance(fmDetExp(x), exp(x));
+		if (e > worst)
+		{
+			worst = e;
+			at = x;
+		}
+	}
+	printf("  exp: largest error %.0f ulp at %.17g\n", worst, at);
+	CHECK(worst <= 1.0);
+}
+
+TEST(det_pow_within_its_bound_of_libm)
+{
+	// The filters' use (damping^(dt / 3 ms): a base in [0.5, 1], an exponent of up to a few),
+	// then any positive base and exponent whose result is a normal double: within
+	// 2 (1 + |y ln x|) ulp, the error of rounding y ln x.
+	double worst = 0.0, worstRatio = 0.0;
+	for (int i = 0; i < 400000; ++i)
+	{
+		double x, y;
+		if (i % 2)
+		{
+			x = fmTestRandom(0.5, 1.0);
+			y = fmTestRandom(0.0, 2.0);
+		}
+		else
+		{
+			x = exp(fmTestRandom(-700.0, 700.0));
+			y = fmTestRandom(-1.0, 1.0) * 700.0 / fmax(fabs(log(x)), 1.0);
+		}
+		double expected = pow(x, y);
+		if (!(expected > 0x1p-1022 && expected < 1e300))
+			continue;
+		double e = ulpDistance(fmDetPow(x, y), expected);
+		double bound = 2.0 * (1.0 + fabs(y * log(x)));
+		if (i % 2)
+			worst = fmax(worst, e);
+		worstRatio = fmax(worstRatio, e / bound);
+	}
+	printf("  pow: largest error in the filters' range %.0f ulp; largest share of the bound %.2f\n",
+	       worst, worstRatio);
+	CHECK(worst <= 5.0); // 2 (1 + 2 ln 2)
+	CHECK(worstRatio <= 1.0);
+}
+
+TEST(det_math_special_values)
+{
+	const double denormal = 0x1p-1070, tiny = 0x1p-1022;
+	// log
+	CHECK(fmDetLog(0.0) == -INFINITY && fmDetLog(-0.0) == -INFINITY);
+	CHECK(isnan(fmDetLog(-1.0)) && isnan(fmDetLog(-INFINITY)) && isnan(fmDetLog(NAN)));
+	CHECK(fmDetLog(INFINITY) == INFINITY);
+	CHECK(fmDetLog(1.0) == 0.0);
+	CHECK(ulpDistance(fmDetLog(denormal), log(denormal)) <= 1.0);
+	CHECK(ulpDistance(fmDetLog(0x1p-1074), log(0x1p-1074)) <= 1.0);
+	CHECK(ulpDistance(fmDetLog(tiny), log(tiny)) <= 1.0);
+	CHECK(ulpDistance(fmDetLog(1.7976931348623157e308), log(1.7976931348623157e308)) <= 1.0);
+	CHECK(fmDetLog(2.0) == log(2.0));
+	// exp
+	CHECK(fmDetExp(0.0) == 1.0 && fmDetExp(-0.0) == 1.0);
+	CHECK(fmDetExp(INFINITY) == INFINITY && fmDetExp(-INFINITY) == 0.0);
+	CHECK(isnan(fmDetExp(NAN)));
+	CHECK(fmDetExp(710.0) == INFINITY && fmDetExp(-746.0) == 0.0);
+	CHECK(ulpDistance(fmDetExp(709.78), exp(709.78)) <= 1.0);
+	CHECK(ulpDistance(fmDetExp(-740.0), exp(-740.0)) <= 1.0); // a denormal result
+	CHECK(ulpDistance(fmDetExp(-708.5), exp(-708.5)) <= 1.0);
+	CHECK(fmDetExp(denormal) == 1.0 && fmDetExp(1e-300) == 1.0);
+	CHECK(ulpDistance(fmDetExp(1.0), exp(1.0)) <= 1.0);
+	// pow
+	CHECK(fmDetPow(0.999, 0.0) == 1.0 && fmDetPow(1.0, 1e300) == 1.0 && fmDetPow(NAN, 0.0) == 1.0);
+	CHECK(fmDetPow(0.0, 2.0) == 0.0 && fmDetPow(0.0, -2.0) == INFINITY);
+	CHECK(isnan(fmDetPow(-2.0, 0.5)) && isnan(fmDetPow(NAN, 1.0)) && isnan(fmDetPow(2.0, NAN)));
+	CHECK(ulpDistance(fmDetPow(2.0, 0.5), sqrt(2.0)) <= 1.0);
+	CHECK(fmDetPow(0.999, 1.0) == 0.999);
+}
+
+// The hot path's functions follow the thread's mode, and a step restores the caller's mode.
+TEST(hot_path_functions_follow_the_mode)
+{
+	CHECK(!fmDetMath_Enabled());
+	double x = 0.8123456789;
+	fmFpEnv env = fmFpEnv_Enter(true);
+	CHECK(fmDetMath_Enabled());
+	double own = fmMathLog(x), ownPow = fmMathPow(x, 3.3);
+	fmFpEnv_Leave(&env);
+	CHECK(!fmDetMath_Enabled());
+	CHECK(own == fmDetLog(x) && ownPow == fmDetPow(x, 3.3));
+	CHECK(fmMathLog(x) == log(x) && fmMathPow(x, 3.3) == pow(x, 3.3));
+}

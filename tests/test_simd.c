@@ -1,0 +1,280 @@
+// The batched float kernels of the explicit step (tet_blocks.c, tet_kernel.c): their forces
+// against the double-precision reference kernel at small, large, compressed and inverted
+// deformation, the same bits on every instruction set and any number of workers, and the
+// run-time choice of the instruction set.
+#include "support.h"
+#include "test.h"
+
+#include "body.h"
+#include "forces.h"
+#include "simd.h"
+#include "tet_blocks.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// A box of cells^3 cubes on a 1 m cube in a default world.
+static fmBody* makeCube(int* failures_, fmWorldId* world, int cells, fmMaterialModel model)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(cells, cells, cells, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh),
+	          fm_ok);
+	fmWorldDef wdef = fmDefaultWorldDef();
+	*world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = fmMakeMaterial(model, 1e6, 0.3);
+	fmBodyId id;
+	CHECK_INT(fmCreateBody(*world, &def, &id, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	return fmGetBody(id);
+}
+
+static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
+{
+	return fmTestMakeBox(world, 4, 3, 3, fmMakeVec3(1.0, 0.75, 0.75),
+	                     fmMakeMaterial(model, 1e6, 0.3), fm_fem);
+}
+
+// The batched forces at the body's positions (caller frees), every colour split into ranges of
+// one block, so that even a small body runs on every worker.
+static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers)
+{
+	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
+	if (blocks != NULL)
+		blocks->minBlocksPerRange = 1;
+	double* f = calloc(3 * (size_t)b->vertexCount, sizeof *f);
+	if (blocks == NULL || f == NULL)
+	{
+		fmTetBlocks_Destroy(blocks);
+		free(f);
+		return NULL;
+	}
+	fmWorldDef def = fmDefaultWorldDef();
+	def.workerCount = workers;
+	fmTaskSystem tasks;
+	fmTaskSystem_Init(&tasks, &def);
+	fmTetBlocks_AddForces(blocks, b, b->x, f, level, &tasks);
+	fmTaskSystem_Shutdown(&tasks);
+	fmTetBlocks_Destroy(blocks);
+	return f;
+}
+
+// max |batched - reference| / max |reference| at the body's positions.
+static double relativeError(int* failures_, const fmBody* b)
+{
+	size_t n3 = 3 * (size_t)b->vertexCount;
+	double* ref = calloc(n3, sizeof *ref);
+	double* fast = batchedForces(b, fm_simdScalar, 1);
+	CHECK(ref != NULL && fast != NULL);
+	if (ref == NULL || fast == NULL)
+	{
+		free(ref), free(fast);
+		return INFINITY;
+	}
+	fmAddElasticForces(b, b->x, ref);
+	double err = 0.0, scale = 0.0;
+	for (size_t k = 0; k < n3; ++k)
+	{
+		err = fmax(err, fabs(fast[k] - ref[k]));
+		scale = fmax(scale, fabs(ref[k]));
+	}
+	free(ref), free(fast);
+	return scale > 0.0 ? err / scale : err;
+}
+
+// Map every vertex X to X + amplitude * (sin of its coordinates): a smooth, non-affine field.
+static void deform(fmBody* b, double amplitude)
+{
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		const double* X = b->x0 + 3 * i;
+		b->x[3 * i + 0] = X[0] + amplitude * sin(3.0 * X[1] + 1.0);
+		b->x[3 * i + 1] = X[1] + amplitude * sin(2.0 * X[2] + 2.0 * X[0]);
+		b->x[3 * i + 2] = X[2] + amplitude * sin(4.0 * X[0] - X[1]);
+	}
+}
+
+TEST(batched_forces_match_the_reference_kernel)
+{
+	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean};
+	// From 1e-7 strain (where forming F = I + H in float would lose every digit) to 30% strain.
+	const double amplitudes[] = {1e-7, 1e-4, 1e-2, 0.1};
+	for (int m = 0; m < 3; ++m)
+		for (int a = 0; a < 4; ++a)
+		{
+			fmWorldId world;
+			fmBody* b = fmGetBody(makeBox(&world, models[m]));
+			CHECK(b != NULL);
+			if (b == NULL)
+				return;
+			deform(b, amplitudes[a]);
+			// A fixed displacement of the whole body must not matter (u = x - X in double).
+			for (int k = 0; k < 3 * b->vertexCount; ++k)
+				b->x[k] += 1000.0;
+			double err = relativeError(failures_, b);
+			if (!(err < 5e-7)) // float: about 1e-7 measured
+				FAIL_AT("%s at amplitude %g: relative error %g", fmMaterialModelName(models[m]),
+				        amplitudes[a], err);
+			fmDestroyWorld(world);
+		}
+}
+
+// Uniform dilation and compression, F = s I: J = s^3 from 0.01 (below the ln J clamp of 0.2)
+// to 64, and inverted (s < 0): the Neo-Hookean ln J and its continuation.
+TEST(batched_neo_hookean_follows_the_reference_through_compression_and_inversion)
+{
+	const double scales[] = {-0.5, 0.2, 0.5, 0.58, 0.6, 0.9, 0.999, 1.001, 1.5, 4.0};
+	for (int s = 0; s < 10; ++s)
+	{
+		fmWorldId world;
+		fmBody* b = fmGetBody(makeBox(&world, fm_neoHookean));
+		CHECK(b != NULL);
+		if (b == NULL)
+			return;
+		for (int k = 0; k < 3 * b->vertexCount; ++k)
+			b->x[k] = scales[s] * b->x0[k] + (k % 3 == 1 ? 0.01 * b->x0[k - 1] : 0.0);
+		double err = relativeError(failures_, b);
+		if (!(err < 5e-6)) // 1e-7 above the clamp, 2.4e-6 far below it measured
+			FAIL_AT("F = %g I (plus shear): relative error %g", scales[s], err);
+		fmDestroyWorld(world);
+	}
+}
+
+// A rotated body: F = R (I + H) has entries of order 1 whatever the strain, and float carries
+// them to about 1e-7, so the stress error is about 1e-7 (lambda + 2 mu) absolute instead of
+// relative: at strain e the forces are good to about 1e-7 / e (docs/performance.md). Measured:
+// 1.4e-7 / strain (StVK) and 2.9e-7 / strain (Neo-Hookean); the bound has a margin of 10.
+TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotation)
+{
+	const double strains[] = {1e-5, 1e-3, 1e-1};
+	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean};
+	fmMat3 R = fmTestRandomRotation();
+	for (int m = 0; m < 2; ++m)
+		for (int s = 0; s < 3; ++s)
+		{
+			fmWorldId world;
+			fmBody* b = fmGetBody(makeBox(&world, models[m]));
+			if (b == NULL)
+			{
+				CHECK(0);
+				return;
+			}
+			deform(b, strains[s]);
+			for (int i = 0; i < b->vertexCount; ++i)
+				fmStore(b->x, i, fmMatVec(&R, fmLoad(b->x, i)));
+			double err = relativeError(failures_, b);
+			if (!(err < 3e-6 / strains[s] + 5e-7))
+				FAIL_AT("%s rotated at strain %g: relative error %g",
+				        fmMaterialModelName(models[m]), strains[s], err);
+			fmDestroyWorld(world);
+		}
+}
+
+TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 12, fm_neoHookean);
+	if (b == NULL)
+		return;
+	deform(b, 0.05);
+	size_t bytes = 3 * (size_t)b->vertexCount * sizeof(double);
+	double* scalar = batchedForces(b, fm_simdScalar, 1);
+	int compared = 0;
+	for (int level = fm_simdScalar; level <= (int)fmSimd_Detect(); ++level)
+		for (int workers = 1; workers <= 4; ++workers)
+		{
+			double* f = batchedForces(b, (fmSimdLevel)level, workers);
+			CHECK(scalar != NULL && f != NULL);
+			if (scalar != NULL && f != NULL && memcmp(f, scalar, bytes) != 0)
+				FAIL_AT("%s on %d workers differs from scalar on one",
+				        fmSimdLevelName((fmSimdLevel)level), workers);
+			free(f);
+			compared += 1;
+		}
+	printf("  scalar .. %s on 1-4 workers (%d runs, %d tets): the same bits\n",
+	       fmSimdLevelName(fmSimd_Detect()), compared, b->tetCount);
+	free(scalar);
+	fmDestroyWorld(world);
+}
+
+TEST(blocks_of_one_colour_share_no_vertex)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 14, fm_stvk);
+	fmTetBlocks* tb = b ? fmTetBlocks_Create(b, 1) : NULL;
+	CHECK(tb != NULL);
+	if (tb == NULL)
+		return;
+	int* owner = malloc(sizeof(int) * (size_t)b->vertexCount);
+	int* seen = calloc((size_t)b->tetCount, sizeof(int));
+	int lanes = 0;
+	for (int c = 0; c < tb->colourCount; ++c)
+	{
+		for (int i = 0; i < b->vertexCount; ++i)
+			owner[i] = -1;
+		for (int k = tb->colourStart[c]; k < tb->colourStart[c + 1]; ++k)
+			for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
+				for (int l = 0; l < tb->laneCount[j]; ++l, ++lanes)
+					for (int a = 0; a < 4; ++a)
+					{
+						int v =
+						    tb->blockVertices[tb->blockVertexStart[k] + tb->batches[j].nodes[a][l]];
+						if (owner[v] != -1 && owner[v] != k)
+							FAIL_AT("colour %d: blocks %d and %d share vertex %d", c, owner[v], k,
+							        v);
+						owner[v] = k;
+					}
+	}
+	CHECK_INT(lanes, b->tetCount); // every tet once
+	printf("  %d tets in %d blocks of %d colours\n", b->tetCount, tb->blockCount, tb->colourCount);
+	free(owner), free(seen);
+	fmTetBlocks_Destroy(tb);
+	fmDestroyWorld(world);
+}
+
+TEST(simd_levels_resolve_to_what_the_cpu_has)
+{
+	fmSimdLevel best = fmSimd_Detect();
+	CHECK(best >= fm_simdScalar && best <= fm_simdAvx512);
+	CHECK_INT(fmSimd_Resolve(fm_simdAuto), best);
+	CHECK_INT(fmSimd_Resolve(fm_simdOff), fm_simdOff);
+	CHECK_INT(fmSimd_Resolve(fm_simdScalar), fm_simdScalar);
+	CHECK(fmSimd_Resolve(fm_simdAvx512) <= best);
+	for (int level = 0; level < fm_simdLevelCount; ++level)
+	{
+		fmSimdLevel back;
+		CHECK(fmSimdLevelFromName(fmSimdLevelName((fmSimdLevel)level), &back));
+		CHECK_INT(back, level);
+	}
+	fmSimdLevel none;
+	CHECK(!fmSimdLevelFromName("avx1024", &none));
+	fmWorldDef def = fmDefaultWorldDef();
+	def.simd = (fmSimdLevel)99;
+	CHECK_INT(fmWorldDef_Validate(&def, NULL), fm_errParameter);
+}
+
+// The explicit step takes the float kernels for an ordinary body and the double-precision
+// reference for a very stiff one, whose strains float cannot resolve under rotation.
+TEST(very_stiff_bodies_take_the_double_precision_kernel)
+{
+	const double moduli[] = {1e6, 1e12};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldId world;
+		fmBody* b = fmGetBody(fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(1, 1, 1),
+		                                    fmMakeMaterial(fm_stvk, moduli[k], 0.3), fm_fem));
+		if (b == NULL)
+		{
+			CHECK(0);
+			return;
+		}
+		b->totalMass = 1000.0; // density 1000 kg/m^3: typical strain 1e-2 and 1e-8
+		CHECK_INT(fmWorld_Step(world, 1e-6, 1), fm_ok);
+		CHECK(b->tetBlocks != NULL);
+		if (b->tetBlocks != NULL)
+			CHECK(fmTetBlocks_Accurate(b->tetBlocks, b) == (k == 0));
+		fmDestroyWorld(world);
+	}
+}
