@@ -35,25 +35,9 @@ static int cliCompareSeconds(const void* x, const void* y)
 	return (a > b) - (a < b);
 }
 
-double cliTriadBandwidth(int threads)
+// Median bytes per second of 5 triad passes over a, b, c on @p threads threads.
+static double cliTriadMeasure(double* a, const double* b, const double* c, size_t n, int threads)
 {
-	size_t n = CLI_TRIAD_ELEMENTS;
-	double* a = malloc(sizeof(double) * n);
-	double* b = malloc(sizeof(double) * n);
-	double* c = malloc(sizeof(double) * n);
-	if (a == NULL || b == NULL || c == NULL || threads < 1 || threads > 64)
-	{
-		free(a);
-		free(b);
-		free(c);
-		return 0.0;
-	}
-	for (size_t i = 0; i < n; ++i) // touch every page before timing
-	{
-		a[i] = 0.0;
-		b[i] = 1.0;
-		c[i] = 2.0;
-	}
 	enum
 	{
 		passes = 5
@@ -77,9 +61,28 @@ double cliTriadBandwidth(int threads)
 		seconds[p] = cliNow() - start;
 	}
 	qsort(seconds, passes, sizeof seconds[0], cliCompareSeconds);
-	double bytesPerSecond = 24.0 * (double)n / seconds[passes / 2];
+	return 24.0 * (double)n / seconds[passes / 2];
+}
+
+void cliTriadBandwidths(int threads, double* one, double* many)
+{
+	size_t n = CLI_TRIAD_ELEMENTS;
+	*one = *many = 0.0;
+	double* a = malloc(sizeof(double) * n);
+	double* b = malloc(sizeof(double) * n);
+	double* c = malloc(sizeof(double) * n);
+	if (a != NULL && b != NULL && c != NULL && threads >= 1 && threads <= 64)
+	{
+		for (size_t i = 0; i < n; ++i) // touch every page before timing
+		{
+			a[i] = 0.0;
+			b[i] = 1.0;
+			c[i] = 2.0;
+		}
+		*one = cliTriadMeasure(a, b, c, n, 1);
+		*many = threads == 1 ? *one : cliTriadMeasure(a, b, c, n, threads);
+	}
 	free(a);
 	free(b);
 	free(c);
-	return bytesPerSecond;
 }

@@ -1,13 +1,30 @@
 #!/usr/bin/env bash
-# Install the Debian packages femto's tools and tests need (the core library needs none).
+# Install the Debian packages femto's tools and tests need (the core library needs none), then
+# the optional ones `femto bench` uses when they are there: tetgen (the TetGen beams), gnuplot-nox
+# (the PNG plot) and libbullet-dev (bench/peers/, Bullet's deformable world side by side). The
+# build and the tests never need the optional packages; failing to install them is a warning,
+# and FEMTO_BENCH_DEPS=0 leaves them out.
 set -euo pipefail
 packages=(build-essential cmake pkg-config libcjson-dev clang libclang-rt-14-dev valgrind)
+optional=(tetgen gnuplot-nox libbullet-dev)
+[ "${FEMTO_BENCH_DEPS:-1}" = 0 ] && optional=()
 missing=()
 for p in "${packages[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
 done
-if [ ${#missing[@]} -gt 0 ]; then
-  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+missing_optional=()
+for p in "${optional[@]}"; do
+  dpkg -s "$p" >/dev/null 2>&1 || missing_optional+=("$p")
+done
+SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+if [ ${#missing[@]} -gt 0 ] || [ ${#missing_optional[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
+fi
+if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}"
+fi
+if [ ${#missing_optional[@]} -gt 0 ]; then
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends \
+    "${missing_optional[@]}" ||
+    echo "install-deps.sh: warning: the optional bench packages (${missing_optional[*]}) did not install; femto bench skips what needs them" >&2
 fi

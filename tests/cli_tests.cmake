@@ -340,3 +340,53 @@ femto_cli_test(scene_box_over_budget ARGS "run|${FEMTO_CLI_DATA}/box_too_big.jso
   REGEX "box:280,280,280 makes 131712000 tets; its body needs about 5[0-9.]+e\\+04 MiB.*memory budget of 4096 MiB")
 femto_cli_test(scene_memory_budget ARGS "run|${FEMTO_CLI_DATA}/over_budget.json" CODE 1
   REGEX "box:20,20,20 makes 48000 tets.*more than the memory budget of 1 MiB")
+
+# --- bench: the CSV, the optional programs (tetgen, gnuplot, the Bullet peer) --------------------
+# The house alone, one repetition: exactly the issue's header and one well-formed row per case
+# (2 explicit models on 1 and 2 workers, 2 implicit models to 2 tolerances). No timing checked.
+set(FEMTO_BENCH_NUMBER "[0-9]+\\.[0-9]+")
+set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER}\n")
+set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},\n")
+femto_cli_test(bench_csv_rows
+  ARGS "bench|--meshes|house|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_house.csv"
+  CODE 0 REJECT "failed"
+  NO_FILES "${FEMTO_CLI_WORK}/bench_house.png"
+  CHECK_FILE "${FEMTO_CLI_WORK}/bench_house.csv"
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+# Without tetgen and gnuplot on PATH the beams and the plot are skipped, with the reason, and
+# the run succeeds: the CSV is written, no PNG.
+femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
+  ARGS "-E|env|PATH=${FEMTO_CLI_WORK}/no_such_folder|$<TARGET_FILE:femto>|bench|--meshes|house,beam|--implicit|--max-tets|1500|--repeats|1|--no-peers|--csv|${FEMTO_CLI_WORK}/bench_no_tools.csv"
+  CODE 0
+  REGEX "beams: skipped: tetgen is not on PATH \\(Debian: apt-get install tetgen\\).*house2 +1389 neohookean +game +[0-9.]+ .*plot: skipped: gnuplot is not on PATH"
+  REJECT "failed|beam 1k +[0-9]"
+  FILES "${FEMTO_CLI_WORK}/bench_no_tools.csv"
+  NO_FILES "${FEMTO_CLI_WORK}/bench_no_tools.png")
+femto_cli_test(bench_unknown_family ARGS "bench|--meshes|house,tree" CODE 2
+  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam\\)")
+femto_cli_test(bench_empty_family ARGS "bench|--meshes|house,,box" CODE 2 REGEX "unknown mesh family ''")
+femto_cli_test(bench_plot_and_no_plot ARGS "bench|--plot|x.png|--no-plot" CODE 2 REGEX "--plot or --no-plot, not both")
+femto_cli_test(bench_peers_and_no_peers ARGS "bench|--peers|--no-peers" CODE 2 REGEX "or --no-peers, not both")
+# A peer asked for that is not there fails at once, before anything is timed.
+femto_cli_test(bench_missing_peer ARGS "bench|--bullet|${FEMTO_CLI_WORK}/no_such_peer" CODE 1
+  REGEX "bench: --peers: .*no_such_peer: No such file or directory" REJECT "memory bandwidth")
+# Where the optional programs are installed (scripts/install-deps.sh), the beam, the plot and
+# the peer run too.
+find_program(FEMTO_TETGEN tetgen)
+find_program(FEMTO_GNUPLOT gnuplot)
+if(FEMTO_TETGEN)
+  set(FEMTO_BENCH_PLOTTED "")
+  if(FEMTO_GNUPLOT)
+    set(FEMTO_BENCH_PLOTTED ".*plot: wrote ${FEMTO_CLI_WORK}/bench_beam.png")
+  endif()
+  femto_cli_test(bench_beam ARGS "bench|--meshes|beam|--max-tets|1000|--explicit|--repeats|1|--workers|1|--csv|${FEMTO_CLI_WORK}/bench_beam.csv"
+    CODE 0 REGEX "meshing beam 1k with tetgen \\.\\.\\. [0-9]+ tets.*beam 1k +[0-9]+ stvk +1 +[0-9.]+${FEMTO_BENCH_PLOTTED}"
+    REJECT "failed"
+    CHECK_FILE "${FEMTO_CLI_WORK}/bench_beam.csv"
+    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
+endif()
+if(TARGET femto-bench-bullet)
+  femto_cli_test(bench_peer ARGS "bench|--meshes|house|--implicit|--repeats|1|--peers|--no-plot"
+    CODE 0 REGEX "house2 +1389 +[0-9.]+ +[0-9.]+ +[0-9.]+  ok, lowest y -?[0-9.]+ m.*Bullet [0-9]+\\.[0-9]+, btDeformableMultiBodyDynamicsWorld"
+    REJECT "failed")
+endif()
