@@ -356,21 +356,6 @@ typedef struct fmForcePass
 	int firstBlock; // of the colour being run
 } fmForcePass;
 
-// Du of every lane from the block's displacements u (3 per block vertex, double).
-static void fmGatherBatch(const double* u, const fmTetBatch* batch, fmTetBatchWork* work)
-{
-	for (int l = 0; l < FM_LANES; ++l)
-	{
-		const double* u0 = u + 3 * batch->nodes[0][l];
-		for (int k = 0; k < 3; ++k)
-		{
-			const double* uk = u + 3 * batch->nodes[k + 1][l];
-			for (int i = 0; i < 3; ++i)
-				work->du[3 * i + k][l] = (float)(uk[i] - u0[i]);
-		}
-	}
-}
-
 // A worker's scratch: 3 doubles per block vertex, then the block's batch forces.
 static double* fmScratch(const fmTetBlocks* tb, int worker, fmTetBatchForces** forces)
 {
@@ -430,12 +415,10 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	fmTetBatchForces* out;
 	double* u = fmScratch(tb, worker, &out);
 	fmGatherVertices(verts, count, p->x, p->body->x0, u);
-	fmTetBatchWork work;
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
 		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
-		fmGatherBatch(u, &tb->batches[j], &work);
-		p->kernel(&tb->batches[j], &work, &p->material, o);
+		p->kernel(&tb->batches[j], u, &p->material, o);
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			if (o->fallback[l])
 				fmReferenceLane(p, &tb->batches[j], l, u, o);

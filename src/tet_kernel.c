@@ -252,10 +252,23 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 	}
 }
 
-void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const fmTetBatchWork* work,
+// Du of every lane, row-major (du[3 i + k] = (u_{k+1} - u_0)_i), lane-innermost loops the
+// compiler may turn into gathers.
+FM_INLINE void fmGatherDu(const fmTetBatch* batch, const double* u, float du[9][FM_LANES])
+{
+	for (int k = 0; k < 3; ++k)
+		for (int i = 0; i < 3; ++i)
+			for (int l = 0; l < FM_LANES; ++l)
+				du[3 * i + k][l] =
+				    (float)(u[3 * batch->nodes[k + 1][l] + i] - u[3 * batch->nodes[0][l] + i]);
+}
+
+void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
                                         const fmKernelMaterial* material, fmTetBatchForces* out)
 {
-	fmMat3V Du = fmMat3V_Load(&work->du[0][0]);
+	float du[9][FM_LANES];
+	fmGatherDu(batch, u, du);
+	fmMat3V Du = fmMat3V_Load(&du[0][0]);
 	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][0]);
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);

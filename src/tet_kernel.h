@@ -16,15 +16,6 @@ typedef struct fmTetBatch
 	float volume[FM_LANES];      // V0 (m^3); 0 in unused lanes, which then give zero forces
 } fmTetBatch;
 
-// A batch's input and output.
-typedef struct fmTetBatchWork
-{
-	// In: displacement differences Du = [u1 - u0, u2 - u0, u3 - u0] (u = x - X, taken in double
-	// and rounded once), du[3 i + k] = (u_{k+1} - u_0)_i. The kernels form H = F - I = Du Dm^-1,
-	// so a small strain keeps its relative accuracy in float.
-	float du[9][FM_LANES];
-} fmTetBatchWork;
-
 // A batch's output: the elastic force on node a (0..3), component i, at force[3 a + i] (node 0
 // gets minus the sum of the others).
 typedef struct fmTetBatchForces
@@ -44,8 +35,11 @@ typedef struct fmKernelMaterial
 	float lambda;
 } fmKernelMaterial;
 
-// fmTetKernel_Forces_<variant>: the forces of one batch.
-typedef void fmTetKernelFcn(const fmTetBatch* batch, const fmTetBatchWork* work,
+// fmTetKernel_Forces_<variant>: the forces of one batch, from the displacements u = x - X of
+// its block's vertices (3 doubles each, in the block's numbering). The kernel forms
+// Du = [u1 - u0, u2 - u0, u3 - u0] in double, rounds it once to float, and works from
+// H = F - I = Du Dm^-1, so a small strain keeps its relative accuracy in float.
+typedef void fmTetKernelFcn(const fmTetBatch* batch, const double* u,
                             const fmKernelMaterial* material, fmTetBatchForces* out);
 
 fmTetKernelFcn fmTetKernel_Forces_scalar;
