@@ -38,7 +38,8 @@ const char* const cliBenchHelp =
     "                     implicit stops at 100k tets)\n"
     "  --repeats R        repetitions per measurement (default 5, --quick 3)\n"
     "  --workers N        the most workers to time (default: the cores available); every\n"
-    "                     explicit row runs on 1 and on N workers\n"
+    "                     explicit row and the implicit game-tolerance rows run on 1 and on N\n"
+    "                     workers\n"
     "  --csv FILE         also write the results as CSV, one row per case:\n"
     "                     mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,\n"
     "                     newton_per_frame,cg_per_frame,bound_ns_per_tet_step\n"
@@ -48,6 +49,9 @@ const char* const cliBenchHelp =
     "  --peers            require the Bullet peer rows (an error when there is no peer)\n"
     "  --no-peers         no peer rows (default: when femto-bench-bullet was built)\n"
     "  --bullet PROGRAM   the femto-bench-bullet to run (implies --peers)\n"
+    "  --simd LEVEL       the explicit kernels' instruction set for every row: auto (default),\n"
+    "                     avx512, avx2, sse2, scalar, or off (the double-precision reference)\n"
+    "  --deterministic    every world with cross-machine determinism (its cost)\n"
     "  --help             this text\n";
 
 // Implicit frames on the 1M meshes take minutes each on a small machine: stop at 100k.
@@ -70,11 +74,11 @@ static double cliMedian(double* values, int count)
 }
 
 // Median ns per tet per step of explicit steps; false when a step failed.
-static bool cliBenchExplicit(const cliBenchMesh* mesh, fmMaterialModel model, int workers,
-                             int repeats, double* nsPerTetStep)
+static bool cliBenchExplicit(const cliBenchMesh* mesh, const cliBenchWorld* settings, int repeats,
+                             double* nsPerTetStep)
 {
 	cliSimulation sim;
-	if (!cliBenchMesh_World(mesh, fm_explicit, model, workers, FM_TOLERANCE_ACCURATE, &sim))
+	if (!cliBenchMesh_World(mesh, settings, &sim))
 		return false;
 	// Stay safely inside the stability limit: a blow-up would measure the failure path.
 	double dt = fmin(0.003, 0.5 * fmWorld_EstimateExplicitStep(sim.world));
@@ -96,11 +100,11 @@ static bool cliBenchExplicit(const cliBenchMesh* mesh, fmMaterialModel model, in
 }
 
 // Median ms per 1/60 s implicit frame after one second, mean Newton and CG iterations a frame.
-static bool cliBenchImplicit(const cliBenchMesh* mesh, fmMaterialModel model, double tolerance,
-                             int repeats, cliBenchResult* row)
+static bool cliBenchImplicit(const cliBenchMesh* mesh, const cliBenchWorld* settings, int repeats,
+                             cliBenchResult* row)
 {
 	cliSimulation sim;
-	if (!cliBenchMesh_World(mesh, fm_implicit, model, 1, tolerance, &sim))
+	if (!cliBenchMesh_World(mesh, settings, &sim))
 		return false;
 	double* samples = calloc((size_t)repeats, sizeof *samples);
 	double newton = 0.0, cg = 0.0;
@@ -146,7 +150,13 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	int workers = w == 0 ? 1 : run->options->workers;
 	const char* name = fmMaterialModelName(model);
 	cliBenchResult row = cliBenchResult_Make(mesh, "explicit", name, workers);
-	if (!cliBenchExplicit(mesh, model, workers, run->options->repeats, &row.nsPerTetStep))
+	cliBenchWorld settings = {fm_explicit,
+	                          model,
+	                          workers,
+	                          FM_TOLERANCE_ACCURATE,
+	                          run->options->simd,
+	                          run->options->deterministic};
+	if (!cliBenchExplicit(mesh, &settings, run->options->repeats, &row.nsPerTetStep))
 	{
 		printf("%-10s %9d %-11s %7d %12s\n", mesh->label, mesh->tets, name, workers, "failed");
 		run->code = cli_exitInput;
@@ -181,21 +191,28 @@ static void cliBenchExplicitRows(cliBenchRun* run)
 }
 
 static void cliBenchImplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMaterialModel model,
-                                int t)
+                                int t, int workers)
 {
 	static const double tolerances[2] = {FM_TOLERANCE_GAME, FM_TOLERANCE_ACCURATE};
 	static const char* const names[2] = {"game", "1e-6"};
 	static const char* const integrators[2] = {"implicit game", "implicit 1e-6"};
 	const char* name = fmMaterialModelName(model);
-	cliBenchResult row = cliBenchResult_Make(mesh, integrators[t], name, 1);
-	if (!cliBenchImplicit(mesh, model, tolerances[t], run->options->repeats, &row))
+	cliBenchResult row = cliBenchResult_Make(mesh, integrators[t], name, workers);
+	cliBenchWorld settings = {fm_implicit,
+	                          model,
+	                          workers,
+	                          tolerances[t],
+	                          run->options->simd,
+	                          run->options->deterministic};
+	if (!cliBenchImplicit(mesh, &settings, run->options->repeats, &row))
 	{
-		printf("%-10s %9d %-11s %-9s %11s\n", mesh->label, mesh->tets, name, names[t], "failed");
+		printf("%-10s %9d %-11s %-9s %7d %11s\n", mesh->label, mesh->tets, name, names[t], workers,
+		       "failed");
 		run->code = cli_exitInput;
 		return;
 	}
-	printf("%-10s %9d %-11s %-9s %11.2f %13.1f %10.1f\n", mesh->label, mesh->tets, name, names[t],
-	       row.msPerFrame, row.newtonPerFrame, row.cgPerFrame);
+	printf("%-10s %9d %-11s %-9s %7d %11.2f %13.1f %10.1f\n", mesh->label, mesh->tets, name,
+	       names[t], workers, row.msPerFrame, row.newtonPerFrame, row.cgPerFrame);
 	fflush(stdout);
 	if (!cliBenchReport_Add(&run->report, &row))
 		run->code = cli_exitInput;
@@ -207,16 +224,21 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 	printf("implicit backward Euler, 1/60 s frames after 1 s of settling, to the game tolerance "
 	       "(1e-2) and to 1e-6, median of %d\n",
 	       run->options->repeats);
-	printf("%-10s %9s %-11s %-9s %11s %13s %10s\n", "mesh", "tets", "model", "tolerance",
-	       "ms/frame", "Newton/frame", "CG/frame");
+	printf("%-10s %9s %-11s %-9s %7s %11s %13s %10s\n", "mesh", "tets", "model", "tolerance",
+	       "workers", "ms/frame", "Newton/frame", "CG/frame");
 	for (int m = 0; m < run->meshes->count; ++m)
 	{
 		const cliBenchMesh* mesh = &run->meshes->meshes[m];
 		if (mesh->tets > CLI_BENCH_IMPLICIT_MAX_TETS)
 			continue;
+		// The game preset on 1 and on N workers, 1e-6 on one.
 		for (int k = 0; k < 2; ++k)
 			for (int t = 0; t < 2; ++t)
-				cliBenchImplicitRow(run, mesh, models[k], t);
+			{
+				cliBenchImplicitRow(run, mesh, models[k], t, 1);
+				if (t == 0 && run->options->workers > 1)
+					cliBenchImplicitRow(run, mesh, models[k], t, run->options->workers);
+			}
 	}
 }
 

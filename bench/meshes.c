@@ -155,19 +155,20 @@ fmMaterial cliBenchMesh_Material(const cliBenchMesh* mesh, fmMaterialModel model
 	                                      : fmMakeMaterial(model, 1e6, 0.3);
 }
 
-bool cliBenchMesh_World(const cliBenchMesh* mesh, fmIntegrator integrator, fmMaterialModel model,
-                        int workers, double tolerance, cliSimulation* sim)
+bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings, cliSimulation* sim)
 {
 	cliScene scene;
 	cliScene_MakeHouse(&scene);
 	if (scene.bodies == NULL)
 		return false;
 	snprintf(scene.name, sizeof scene.name, "bench %s", mesh->label);
-	scene.worldDef.integrator = integrator;
-	scene.worldDef.workerCount = workers;
-	scene.worldDef.tolerance = tolerance;
+	scene.worldDef.integrator = settings->integrator;
+	scene.worldDef.workerCount = settings->workers;
+	scene.worldDef.tolerance = settings->tolerance;
+	scene.worldDef.simd = settings->simd;
+	scene.worldDef.crossPlatformDeterminism = settings->deterministic;
 	cliBodySpec* body = &scene.bodies[0];
-	body->def.material = cliBenchMesh_Material(mesh, model);
+	body->def.material = cliBenchMesh_Material(mesh, settings->model);
 	if (mesh->family != cli_benchHouse)
 	{
 		// Resting on the floor, density-based masses so refinement keeps the physics.

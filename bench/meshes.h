@@ -59,7 +59,18 @@ void cliBenchMeshSet_Free(cliBenchMeshSet* set);
 /// 5000 Pa); E = 1 MPa and nu = 0.3 for boxes and beams.
 fmMaterial cliBenchMesh_Material(const cliBenchMesh* mesh, fmMaterialModel model);
 
+/// How a timed world is set up.
+typedef struct cliBenchWorld
+{
+	fmIntegrator integrator;
+	fmMaterialModel model;
+	int workers;
+	double tolerance;   ///< implicit
+	fmSimdLevel simd;   ///< --simd (default fm_simdAuto)
+	bool deterministic; ///< --deterministic: fmWorldDef.crossPlatformDeterminism
+} cliBenchWorld;
+
 /// A world with the mesh as its one body resting on (or, the house, falling to) the stick floor
 /// at y = -3: the house as the demo (1 kg a vertex), boxes and beams at 1000 kg/m^3.
-bool cliBenchMesh_World(const cliBenchMesh* mesh, fmIntegrator integrator, fmMaterialModel model,
-                        int workers, double tolerance, cliSimulation* sim);
+bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
+                        cliSimulation* sim);

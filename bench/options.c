@@ -46,6 +46,8 @@ static bool cliBenchSwitch(const char* arg, cliBenchOptions* o, bool* onlyExplic
 		o->peers = cli_peersRequired;
 	else if (strcmp(arg, "--no-peers") == 0)
 		o->noPeers = true;
+	else if (strcmp(arg, "--deterministic") == 0)
+		o->deterministic = true;
 	else
 		return false;
 	return true;
@@ -64,6 +66,20 @@ static bool cliBenchValueOption(int argc, char** argv, int* i, cliBenchOptions* 
 		return cliBenchIntOption(argc, argv, i, 1, 1000, &o->repeats, code);
 	if (strcmp(arg, "--workers") == 0)
 		return cliBenchIntOption(argc, argv, i, 1, FM_MAX_WORKERS, &o->workers, code);
+	if (strcmp(arg, "--simd") == 0)
+	{
+		const char* level = NULL;
+		if (!cliBenchTextOption(argc, argv, i, &level, code))
+			return false;
+		if (!fmSimdLevelFromName(level, &o->simd))
+		{
+			*code = cliUsageError(
+			    "bench", "--simd: expected auto, off, scalar, sse2, avx2 or avx512, got '%s'",
+			    level);
+			return false;
+		}
+		return true;
+	}
 	if (strcmp(arg, "--csv") == 0)
 		return cliBenchTextOption(argc, argv, i, &o->csvPath, code);
 	if (strcmp(arg, "--plot") == 0)

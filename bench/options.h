@@ -1,6 +1,8 @@
 // The options of `femto bench` (options.c); the help text is cliBenchHelp (cmd_bench.c).
 #pragma once
 
+#include <femto/femto.h>
+
 #include <stdbool.h>
 
 /// What the peers should do.
@@ -27,6 +29,8 @@ typedef struct cliBenchOptions
 	cliBenchPeerMode peers; ///< --peers, --bullet, --no-peers
 	bool noPeers;           ///< --no-peers was given
 	const char* bulletPath; ///< --bullet, or NULL
+	fmSimdLevel simd;       ///< --simd (default fm_simdAuto)
+	bool deterministic;     ///< --deterministic
 } cliBenchOptions;
 
 /// Parse @p argv (argv[0] is "bench"). Returns -1 when the run should go on, else the exit code:

@@ -152,7 +152,10 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	cliSimulation sim;
 	bool ok = cliJoinPath(node, sizeof node, folder, "peer.node") &&
 	          cliJoinPath(ele, sizeof ele, folder, "peer.ele") &&
-	          cliBenchMesh_World(mesh, fm_implicit, fm_neoHookean, 1, FM_TOLERANCE_GAME, &sim);
+	          cliBenchMesh_World(mesh,
+	                             &(cliBenchWorld){fm_implicit, fm_neoHookean, 1, FM_TOLERANCE_GAME,
+	                                              fm_simdAuto, false},
+	                             &sim);
 	if (ok)
 	{
 		ok = cliPeerWriteMesh(&sim, node, ele);

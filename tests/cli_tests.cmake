@@ -352,7 +352,12 @@ femto_cli_test(bench_csv_rows
   CODE 0 REJECT "failed"
   NO_FILES "${FEMTO_CLI_WORK}/bench_house.png"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_house.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+# --simd and --deterministic reach every row; a bad level is a usage error.
+femto_cli_test(bench_simd_off ARGS "bench|--quick|--meshes|house|--explicit|--repeats|1|--workers|1|--no-plot|--simd|off|--deterministic"
+  CODE 0 REGEX "house2 +1389 stvk +1 +[0-9.]+" REJECT "failed")
+femto_cli_test(bench_bad_simd ARGS "bench|--simd|avx9" CODE 2
+  REGEX "--simd: expected auto, off, scalar, sse2, avx2 or avx512, got 'avx9'")
 # Without tetgen and gnuplot on PATH the beams and the plot are skipped, with the reason, and
 # the run succeeds: the CSV is written, no PNG.
 femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
