@@ -6,6 +6,7 @@
 #include "forces.h"
 
 #include "material.h"
+#include "solver_cache.h"
 
 #include <string.h>
 
@@ -101,6 +102,11 @@ double fmAddElasticForces(const fmBody* body, const double* x, double* f)
 
 double fmElasticEnergy(const fmBody* body, const double* x)
 {
+	// The implicit solver's last evaluation, when it was at x (the world's energy check after
+	// an implicit step): the same bits as the loop below.
+	const fmImplicitCache* cache = body->implicitCache;
+	if (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x))
+		return cache->forcesEnergy;
 	double energy = 0.0;
 	if (body->forceModel == fm_massSpring)
 	{

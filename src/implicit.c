@@ -16,10 +16,10 @@
 #include <string.h>
 
 // Force scale of a step: |M g| + |M v / h| + |elastic forces at the start|, over free vertices.
+// The forces at the start are usually those of the last step's final iterate, still cached.
 static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, double h)
 {
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmAddElasticForces(b, b->x, c->forces);
+	fmSolverCache_ForcesAtPositions(b, c);
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
@@ -52,6 +52,29 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
 	if (springs)
 		fmSolverCache_AddSpringDamping(b, c, c->xStart, 1.0 / h, c->damping);
 	return true;
+}
+
+// The inertial guess x + h v (held above the floor) against the free flight already in b->x:
+// a body resting on the floor or moving steadily starts far closer to the solution from x + h v
+// (the free flight sags every vertex by h^2 g against the elastic forces). Whichever has the
+// lower incremental potential wins (both are admissible, and Newton minimises E), if it is lower
+// beyond round-off.
+static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	const int n3 = 3 * b->vertexCount;
+	double* inertial = c->trial;
+	memcpy(inertial, c->xPred, sizeof(double) * (size_t)n3);
+	if (pb->floor)
+		for (int i = 0; i < b->vertexCount; ++i)
+			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
+				inertial[3 * i + 1] = c->floorBound[i];
+	double noiseFlight, noiseCoast;
+	double flight = fmNewton_Energy(b, c, pb, b->x, &noiseFlight);
+	double coast = fmNewton_Energy(b, c, pb, inertial, &noiseCoast);
+	// Only a significant difference counts: a body whose inertia is below the round-off of its
+	// elastic energy (density 1e-20) must keep the free flight (docs/implicit.md).
+	if (coast < flight - fmax(noiseFlight, noiseCoast))
+		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
 }
 
 fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
@@ -96,6 +119,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 			if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < c->floorBound[i])
 				b->x[3 * i + 1] = c->floorBound[i];
 	}
+
+	fmChooseFirstGuess(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
 	*solve = fmNewton_Solve(b, c, &pb);

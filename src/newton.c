@@ -38,6 +38,7 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 	{
 		memset(c->forces, 0, sizeof(double) * (size_t)n3);
 		psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
+		fmSolverCache_NoteForces(b, c, x, psi);
 	}
 	else
 		psi = fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
@@ -73,6 +74,21 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 	if (magnitude)
 		*magnitude = fabs(psi) + inertial + size + damping;
 	return inertial + damping + psi + external;
+}
+
+// Round-off band of E (see fmLineSearch): differences below it are noise.
+static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double magnitude)
+{
+	return 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+}
+
+double fmNewton_Energy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
+                       double* noise)
+{
+	double magnitude;
+	double energy = fmNewtonEnergy(b, c, pb, x, NULL, &magnitude);
+	*noise = fmEnergyNoise(b, c, magnitude);
+	return energy;
 }
 
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
@@ -262,8 +278,7 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
                          double magnitude, double gradientNorm, bool* inNoise)
 {
 	const int n3 = 3 * b->vertexCount;
-	const double noise =
-	    1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+	const double noise = fmEnergyNoise(b, c, magnitude);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
 	double alpha = 1.0;

@@ -63,6 +63,11 @@ typedef struct fmNewtonResult
 // solve has stagnated at round-off: it stops and says so instead of spinning.
 #define FM_NEWTON_STAGNATION 8
 
+// The potential E at @p x (no gradient), as the solver evaluates it; @p noise gets its
+// round-off band (differences of E below it are not significant).
+double fmNewton_Energy(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
+                       const double* x, double* noise);
+
 // Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
 // set by the caller; xStart is also where pinned vertices stay.
 fmNewtonResult fmNewton_Solve(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem);

@@ -31,6 +31,7 @@ void fmSolverCache_Free(void* memory)
 	FM_FREE_ARRAY(c->fixed, uint8_t, n3);
 	FM_FREE_ARRAY(c->floorBound, double, (size_t)c->vertexCount);
 	FM_FREE_ARRAY(c->best, double, n3);
+	FM_FREE_ARRAY(c->forcesX, double, n3);
 	fmBsr_Free(&c->pattern);
 	FM_FREE_ARRAY(c, fmImplicitCache, 1);
 }
@@ -89,9 +90,10 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
 	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->vertexCount);
 	c->best = FM_ALLOC_ZERO(double, n3);
+	c->forcesX = FM_ALLOC_ZERO(double, n3);
 	ok = ok && c->tetSlot && (c->edgeSlot || c->edgeCount == 0) && c->hessian && c->blockInverse &&
 	     c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
-	     c->work && c->fixed && c->floorBound && c->best;
+	     c->work && c->fixed && c->floorBound && c->best && c->forcesX;
 	if (ok)
 		ok = fmBuildSlots(b, c);
 	if (!ok)
@@ -101,6 +103,44 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 		return NULL;
 	}
 	return c;
+}
+
+// Only FEM bodies with a built-in model: their energy is summed the same way by every force
+// pass (FVM forces come from another loop; a user energy's parameters may change unseen).
+static bool fmForcesMemoizable(const fmBody* b)
+{
+	return b->forceModel == fm_fem && b->material.model != fm_stretchEnergy &&
+	       b->material.model != fm_invariantEnergy;
+}
+
+static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
+{
+	return a->model == b->model && a->lambda == b->lambda && a->mu == b->mu && a->c01 == b->c01;
+}
+
+bool fmSolverCache_HasForcesAt(const fmBody* b, const fmImplicitCache* c, const double* x)
+{
+	return c->forcesValid && fmForcesMemoizable(b) &&
+	       fmSameMaterial(&c->forcesMaterial, &b->material) &&
+	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount) == 0;
+}
+
+void fmSolverCache_NoteForces(const fmBody* b, fmImplicitCache* c, const double* x, double psi)
+{
+	c->forcesValid = fmForcesMemoizable(b);
+	if (!c->forcesValid)
+		return;
+	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount);
+	c->forcesEnergy = psi;
+	c->forcesMaterial = b->material;
+}
+
+void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c)
+{
+	if (fmSolverCache_HasForcesAt(b, c, b->x))
+		return;
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	fmSolverCache_NoteForces(b, c, b->x, fmAddElasticForces(b, b->x, c->forces));
 }
 
 // values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order.
