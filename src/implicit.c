@@ -68,12 +68,15 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		for (int i = 0; i < b->vertexCount; ++i)
 			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
 				inertial[3 * i + 1] = c->floorBound[i];
+	// The last step's choice gets its forces computed with its energy, for the solve's first
+	// iteration (the same bits either way: only the work differs).
 	double noiseFlight, noiseCoast;
-	double flight = fmNewton_Energy(b, c, pb, b->x, &noiseFlight);
-	double coast = fmNewton_Energy(b, c, pb, inertial, &noiseCoast);
+	double flight = fmNewton_Energy(b, c, pb, b->x, !c->coasted, &noiseFlight);
+	double coast = fmNewton_Energy(b, c, pb, inertial, c->coasted, &noiseCoast);
 	// Only a significant difference counts: a body whose inertia is below the round-off of its
 	// elastic energy (density 1e-20) must keep the free flight (docs/implicit.md).
-	if (coast < flight - fmax(noiseFlight, noiseCoast))
+	c->coasted = coast < flight - fmax(noiseFlight, noiseCoast);
+	if (c->coasted)
 		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
 }
 

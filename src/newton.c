@@ -27,21 +27,28 @@ typedef struct fmNewtonContext
 	const fmNewtonProblem* problem;
 } fmNewtonContext;
 
+// Elastic energy at x, with the forces into c->forces when asked; an evaluation at the x of the
+// cache's last forces (the line search's accepted point, the chosen first guess) is reused.
+static double fmElasticAt(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
+                          bool forces)
+{
+	if (fmSolverCache_HasForcesAt(b, c, x))
+		return c->forcesEnergy;
+	if (!forces)
+		return fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	double psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
+	fmSolverCache_NoteForces(b, c, x, psi);
+	return psi;
+}
+
 // Energy at x, and its gradient when @p gradient is not NULL. @p magnitude gets the sum of the
 // absolute sizes of the terms (the scale of round-off in E).
 static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                              const double* x, double* gradient, double* magnitude)
 {
 	const int n3 = 3 * b->vertexCount;
-	double psi;
-	if (gradient)
-	{
-		memset(c->forces, 0, sizeof(double) * (size_t)n3);
-		psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
-		fmSolverCache_NoteForces(b, c, x, psi);
-	}
-	else
-		psi = fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
+	double psi = fmElasticAt(b, c, pb, x, gradient != NULL);
 	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	double inertial = 0.0, external = 0.0, size = 0.0;
 	for (int k = 0; k < n3; ++k)
@@ -83,9 +90,11 @@ static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double ma
 }
 
 double fmNewton_Energy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
-                       double* noise)
+                       bool forces, double* noise)
 {
 	double magnitude;
+	if (forces)
+		fmElasticAt(b, c, pb, x, true);
 	double energy = fmNewtonEnergy(b, c, pb, x, NULL, &magnitude);
 	*noise = fmEnergyNoise(b, c, magnitude);
 	return energy;
@@ -288,7 +297,8 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)
 			slope += c->gradient[k] * (trial[k] - b->x[k]);
-		double value = fmNewtonEnergy(b, c, pb, trial, NULL, NULL);
+		// The full step is usually taken: its forces then serve the next iteration's gradient.
+		double value = fmNewtonEnergy(b, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
 		bool accept = value <= energy + 1e-4 * slope;
 		if (!accept && fabs(value - energy) <= noise)
 		{

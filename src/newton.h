@@ -64,9 +64,10 @@ typedef struct fmNewtonResult
 #define FM_NEWTON_STAGNATION 8
 
 // The potential E at @p x (no gradient), as the solver evaluates it; @p noise gets its
-// round-off band (differences of E below it are not significant).
+// round-off band (differences of E below it are not significant). With @p forces the elastic
+// forces at x are computed too and kept for a solve that starts there.
 double fmNewton_Energy(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
-                       const double* x, double* noise);
+                       const double* x, bool forces, double* noise);
 
 // Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
 // set by the caller; xStart is also where pinned vertices stay.

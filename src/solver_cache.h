@@ -38,6 +38,8 @@ typedef struct fmImplicitCache
 	double forcesEnergy; // J
 	fmMaterial forcesMaterial;
 	bool forcesValid;
+	bool coasted; // the last implicit step started from x + h v (only decides which first guess
+	              // gets its forces evaluated early; the results do not depend on it)
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
