@@ -36,7 +36,7 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, do
 
 // Lagged damping matrix D / h at the start of the step: beta K(x_n) (Rayleigh stiffness part)
 // plus the springs' dashpots. Returns false when there is none (or no memory for it).
-static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
+static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTaskSystem* tasks)
 {
 	bool springs = b->forceModel == fm_massSpring && b->springDamping > 0.0;
 	if (b->rayleighStiffness <= 0.0 && !springs)
@@ -48,7 +48,7 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
 		return false;
 	memset(c->damping, 0, sizeof(double) * values);
 	if (b->rayleighStiffness > 0.0)
-		fmSolverCache_AddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping);
+		fmSolverCache_AddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping, tasks);
 	if (springs)
 		fmSolverCache_AddSpringDamping(b, c, c->xStart, 1.0 / h, c->damping);
 	return true;
@@ -102,7 +102,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
 	pb.massDamping = b->rayleighMass / h;
-	pb.useDamping = fmPrepareDamping(b, c, h);
+	pb.useDamping = fmPrepareDamping(b, c, h, &world->tasks);
 	pb.gravity = world->def.gravity;
 	pb.floor = floor;
 	pb.tolerance = world->def.tolerance;

@@ -137,7 +137,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
 		memset(c->hessian, 0, sizeof(double) * values);
-	fmSolverCache_AddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian);
+	fmSolverCache_AddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "body.h"
+#include "parallel.h"
 #include "pcg.h"
 
 // Solver buffers of one body (body->implicitCache), allocated on first use.
@@ -66,9 +67,11 @@ void fmSolverCache_NoteForces(const fmBody* body, fmImplicitCache* cache, const 
 void fmSolverCache_ForcesAtPositions(const fmBody* body, fmImplicitCache* cache);
 
 // values += scale * (PSD-projected if @p project) elastic Hessian at x, element by element in a
-// fixed order, into the cache's block pattern.
+// fixed order, into the cache's block pattern; on the workers of @p tasks (NULL: serial), the
+// same bits for any number of them.
 void fmSolverCache_AddStiffness(const fmBody* body, const fmImplicitCache* cache, const double* x,
-                                double scale, int project, double* values);
+                                double scale, int project, double* values,
+                                const fmTaskSystem* tasks);
 
 // values += scale * the springs' dashpot matrices at x (mass-spring bodies).
 void fmSolverCache_AddSpringDamping(const fmBody* body, const fmImplicitCache* cache,
