@@ -13,7 +13,7 @@
 
 fmSolverOptions fmDefaultSolverOptions(void)
 {
-	fmSolverOptions options = {fm_productAssembled, fm_precondJacobi};
+	fmSolverOptions options = {fm_productAssembled, fm_precondSymmetricGaussSeidel};
 	return options;
 }
 
@@ -269,8 +269,12 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	if (residual < FM_NEWTON_FINISH * pb->tolerance)
 		tolerance = fmin(tolerance, fmax(0.5 * pb->tolerance * pb->scale, floorTolerance));
 	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
-	return fmPcg_Solve(n3, op, &ctx, c->blockInverse, c->fixed, c->temp, c->direction, tolerance,
-	                   pb->maxCg, &work);
+	fmPcgPreconditioner pre = {pb->options.preconditioner, c->blockInverse, &c->pattern, c->hessian,
+	                           pb->tasks};
+	if (pb->options.product == fm_productMatrixFree)
+		pre.kind = pre.kind == fm_precondJacobi ? fm_precondJacobi : fm_precondBlockJacobi;
+	return fmPcg_Solve(n3, op, &ctx, &pre, c->fixed, c->temp, c->direction, tolerance, pb->maxCg,
+	                   &work);
 }
 
 // Positions after a step of length alpha along the direction, held above the floor.

@@ -23,7 +23,7 @@ typedef struct fmSolverOptions
 	fmPreconditioner preconditioner;
 } fmSolverOptions;
 
-// The measured defaults: an assembled matrix and Jacobi (docs/implicit.md).
+// The measured defaults: an assembled matrix and symmetric Gauss-Seidel (docs/implicit.md).
 fmSolverOptions fmDefaultSolverOptions(void);
 
 // One minimisation problem.

@@ -198,15 +198,16 @@ TEST(deterministic)
 	free(result[1]);
 }
 
-// The measured alternatives (matrix-free products, Jacobi) solve the same problem: the same
-// trajectory to within the Newton tolerance.
+// The measured alternatives (matrix-free products, Jacobi, block Jacobi, symmetric
+// Gauss-Seidel) solve the same problem: the same trajectory to within the Newton tolerance.
 TEST(solver_variants_agree)
 {
-	const fmSolverOptions variants[3] = {{fm_productAssembled, fm_precondJacobi},
+	const fmSolverOptions variants[4] = {{fm_productAssembled, fm_precondJacobi},
 	                                     {fm_productAssembled, fm_precondBlockJacobi},
-	                                     {fm_productMatrixFree, fm_precondJacobi}};
-	fmVec3 tips[3];
-	for (int k = 0; k < 3; ++k)
+	                                     {fm_productMatrixFree, fm_precondJacobi},
+	                                     {fm_productAssembled, fm_precondSymmetricGaussSeidel}};
+	fmVec3 tips[4];
+	for (int k = 0; k < 4; ++k)
 	{
 		fmWorldId world;
 		fmBodyId body = makeSwingingBeam(&world, fm_implicit);
@@ -222,6 +223,7 @@ TEST(solver_variants_agree)
 	}
 	CHECK_NEAR(tips[1].y, tips[0].y, 1e-5);
 	CHECK_NEAR(tips[2].y, tips[0].y, 1e-5);
+	CHECK_NEAR(tips[3].y, tips[0].y, 1e-5);
 	CHECK(tips[0].y < 0.0);
 }
 
