@@ -54,11 +54,12 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTa
 	return true;
 }
 
-// The inertial guess x + h v (held above the floor) against the free flight already in b->x:
-// a body resting on the floor or moving steadily starts far closer to the solution from x + h v
-// (the free flight sags every vertex by h^2 g against the elastic forces). Whichever has the
-// lower incremental potential wins (both are admissible, and Newton minimises E), if it is lower
-// beyond round-off.
+// The first guess: the free flight already in b->x, or the inertial guess x + h v held above
+// the floor. A body resting on the floor or moving steadily starts far closer to the solution
+// from x + h v (the free flight sags every vertex by h^2 g against the elastic forces). The
+// guess the last step took is tried first and kept if the solve would stop there at once (a
+// body at rest: one force pass a frame); otherwise the one of lower incremental potential
+// wins (both are admissible, and Newton minimises E) if it is lower beyond round-off.
 static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	const int n3 = 3 * b->vertexCount;
@@ -68,11 +69,16 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		for (int i = 0; i < b->vertexCount; ++i)
 			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
 				inertial[3 * i + 1] = c->floorBound[i];
-	// The last step's choice gets its forces computed with its energy, for the solve's first
-	// iteration (the same bits either way: only the work differs).
+	if (fmNewton_Residual(b, c, pb, c->coasted ? inertial : b->x) <= pb->tolerance)
+	{
+		if (c->coasted)
+			memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
+		return;
+	}
+	// The favoured guess's forces are cached by now; the other one needs its energy only.
 	double noiseFlight, noiseCoast;
-	double flight = fmNewton_Energy(b, c, pb, b->x, !c->coasted, &noiseFlight);
-	double coast = fmNewton_Energy(b, c, pb, inertial, c->coasted, &noiseCoast);
+	double flight = fmNewton_Energy(b, c, pb, b->x, false, &noiseFlight);
+	double coast = fmNewton_Energy(b, c, pb, inertial, false, &noiseCoast);
 	// Only a significant difference counts: a body whose inertia is below the round-off of its
 	// elastic energy (density 1e-20) must keep the free flight (docs/implicit.md).
 	c->coasted = coast < flight - fmax(noiseFlight, noiseCoast);

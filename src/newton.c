@@ -129,6 +129,14 @@ static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
 	return sqrt(s);
 }
 
+double fmNewton_Residual(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x)
+{
+	fmNewtonEnergy(b, c, pb, x, c->gradient, NULL);
+	fmMarkFixed(b, c, pb, x);
+	double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
+	return fmFreeNorm(3 * b->vertexCount, c->gradient, c->fixed) / scale;
+}
+
 // The Newton matrix H = (inertia + massDamping) M + K(x) [+ D], assembled.
 static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {

@@ -69,6 +69,11 @@ typedef struct fmNewtonResult
 double fmNewton_Energy(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
                        const double* x, bool forces, double* noise);
 
+// The relative residual the solve would see at @p x (its stopping rule: the gradient over the
+// free DOFs and the floor's active set, divided by the problem's scale); NaN if not finite.
+double fmNewton_Residual(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
+                         const double* x);
+
 // Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
 // set by the caller; xStart is also where pinned vertices stay.
 fmNewtonResult fmNewton_Solve(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem);

@@ -101,15 +101,22 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 	fmMove(s, save, &m->userParams, sizeof m->userParams);
 }
 
-// The implicit solver's kept matrix: valid flag and terms, and the values. A cache that does
-// not exist (no implicit step yet) is saved as "no matrix"; restoring "no matrix" into a body
-// that has one marks it stale, which is what the saved body would have done.
+// The implicit solver's state carried from step to step: a flags byte (bit 0: a kept matrix
+// follows, bit 1: the last step started from x + h v, the guess the next one tries first), then
+// the kept matrix's terms and values. A cache that does not exist (no implicit step yet) is
+// saved as neither; restoring "no matrix" into a body that has one marks it stale, which is what
+// the saved body would have done.
 static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 {
 	fmImplicitCache* c = b->implicitCache;
-	uint8_t present = c != NULL && c->hessianValid;
-	fmMove(s, save, &present, 1);
-	if (!present)
+	uint8_t flags =
+	    (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) | (c != NULL && c->coasted ? 2u : 0u));
+	fmMove(s, save, &flags, 1);
+	if (!save && (flags & 2u) && (c = fmSolverCache_Get(b)) == NULL)
+		return false;
+	if (!save && c != NULL)
+		c->coasted = (flags & 2u) != 0;
+	if (!(flags & 1u))
 	{
 		if (!save && c != NULL)
 			c->hessianValid = false;
@@ -193,7 +200,7 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 	fmStream s = {NULL, buffer, size, offset + count.used, false};
 	uint8_t present = 0;
 	fmGet(&s, &present, 1);
-	if (present)
+	if (present & 1u)
 	{
 		int64_t blocks = 0;
 		fmGet(&s, &blocks, sizeof blocks);

@@ -39,8 +39,8 @@ typedef struct fmImplicitCache
 	double forcesEnergy; // J
 	fmMaterial forcesMaterial;
 	bool forcesValid;
-	bool coasted; // the last implicit step started from x + h v (only decides which first guess
-	              // gets its forces evaluated early; the results do not depend on it)
+	bool coasted; // the last implicit step started from x + h v: the guess tried first (saved in
+	              // snapshots: the next step's result depends on it)
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
