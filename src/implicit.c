@@ -15,6 +15,13 @@
 #include <math.h>
 #include <string.h>
 
+// A first guess replaces the one the last step took when its residual is below this fraction of
+// the other's.
+#define FM_GUESS_SWITCH 0.5
+
+// Steps before a guess that lost by more than 1 / FM_GUESS_SWITCH is tried again.
+#define FM_GUESS_RECHECK 8
+
 // Force scale of a step: |M g| + |M v / h| + |elastic forces at the start|, over free vertices.
 // The forces at the start are usually those of the last step's final iterate, still cached.
 static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, double h)
@@ -54,12 +61,26 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTa
 	return true;
 }
 
+// Whether a vertex of @p x (free to move in y) is on the floor.
+static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFloorDef* floor,
+                           const double* x)
+{
+	for (int i = 0; floor != NULL && i < b->vertexCount; ++i)
+		if (!(b->pinned[i] & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i])
+			return true;
+	return false;
+}
+
 // The first guess: the free flight already in b->x, or the inertial guess x + h v held above
 // the floor. A body resting on the floor or moving steadily starts far closer to the solution
 // from x + h v (the free flight sags every vertex by h^2 g against the elastic forces). The
 // guess the last step took is tried first and kept if the solve would stop there at once (a
-// body at rest: one force pass a frame); otherwise the one of lower incremental potential
-// wins (both are admissible, and Newton minimises E) if it is lower beyond round-off.
+// body at rest: one force pass a frame); otherwise the other replaces it if its relative
+// residual is less than half (both are admissible starts; choosing by the lower potential
+// instead took x + h v for a wobbling house whose Newton solves then took twice as long).
+// x + h v is only considered for a body on the floor: in the air the free flight is right, and
+// for a body whose inertia is below the round-off of its elastic forces (density 1e-20,
+// E = 1e20) both residuals are noise, so a comparison could drop the free flight by chance.
 static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	const int n3 = 3 * b->vertexCount;
@@ -69,19 +90,23 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		for (int i = 0; i < b->vertexCount; ++i)
 			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
 				inertial[3 * i + 1] = c->floorBound[i];
-	if (fmNewton_Residual(b, c, pb, c->coasted ? inertial : b->x) <= pb->tolerance)
+	double* favoured = c->coasted ? inertial : b->x;
+	double* other = c->coasted ? b->x : inertial;
+	double kept = fmNewton_Residual(b, c, pb, favoured);
+	// A guess that lost clearly is not tried again for a few steps (a wobbling body would
+	// otherwise pay a second force pass every step to find that the other guess is worse).
+	if (kept > pb->tolerance && c->guessRecheck > 0)
+		c->guessRecheck -= 1;
+	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->x)))
 	{
-		if (c->coasted)
-			memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
-		return;
+		fmSolverCache_SwapForces(c); // the favoured guess's forces stay at hand
+		double challenger = fmNewton_Residual(b, c, pb, other);
+		bool switched = challenger < FM_GUESS_SWITCH * kept;
+		c->guessRecheck = challenger > kept / FM_GUESS_SWITCH ? FM_GUESS_RECHECK : 0;
+		if (!switched)
+			fmSolverCache_SwapForces(c);
+		c->coasted = c->coasted != switched;
 	}
-	// The favoured guess's forces are cached by now; the other one needs its energy only.
-	double noiseFlight, noiseCoast;
-	double flight = fmNewton_Energy(b, c, pb, b->x, false, &noiseFlight);
-	double coast = fmNewton_Energy(b, c, pb, inertial, false, &noiseCoast);
-	// Only a significant difference counts: a body whose inertia is below the round-off of its
-	// elastic energy (density 1e-20) must keep the free flight (docs/implicit.md).
-	c->coasted = coast < flight - fmax(noiseFlight, noiseCoast);
 	if (c->coasted)
 		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
 }

@@ -92,17 +92,6 @@ static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double ma
 	return 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
 }
 
-double fmNewton_Energy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
-                       bool forces, double* noise)
-{
-	double magnitude;
-	if (forces)
-		fmElasticAt(b, c, pb, x, true);
-	double energy = fmNewtonEnergy(b, c, pb, x, NULL, &magnitude);
-	*noise = fmEnergyNoise(b, c, magnitude);
-	return energy;
-}
-
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
 // floor whose energy gradient points down is held; one the energy pulls up is released).
 static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,

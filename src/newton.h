@@ -63,12 +63,6 @@ typedef struct fmNewtonResult
 // solve has stagnated at round-off: it stops and says so instead of spinning.
 #define FM_NEWTON_STAGNATION 8
 
-// The potential E at @p x (no gradient), as the solver evaluates it; @p noise gets its
-// round-off band (differences of E below it are not significant). With @p forces the elastic
-// forces at x are computed too and kept for a solve that starts there.
-double fmNewton_Energy(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
-                       const double* x, bool forces, double* noise);
-
 // The relative residual the solve would see at @p x (its stopping rule: the gradient over the
 // free DOFs and the floor's active set, divided by the problem's scale); NaN if not finite.
 double fmNewton_Residual(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,

@@ -36,6 +36,8 @@ void fmSolverCache_Free(void* memory)
 	FM_FREE_ARRAY(c->floorBound, double, (size_t)c->vertexCount);
 	FM_FREE_ARRAY(c->best, double, n3);
 	FM_FREE_ARRAY(c->forcesX, double, n3);
+	FM_FREE_ARRAY(c->spare.forces, double, n3);
+	FM_FREE_ARRAY(c->spare.x, double, n3);
 	fmBsr_Free(&c->pattern);
 	FM_FREE_ARRAY(c, fmImplicitCache, 1);
 }
@@ -95,9 +97,12 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->vertexCount);
 	c->best = FM_ALLOC_ZERO(double, n3);
 	c->forcesX = FM_ALLOC_ZERO(double, n3);
+	c->spare.forces = FM_ALLOC_ZERO(double, n3);
+	c->spare.x = FM_ALLOC_ZERO(double, n3);
 	ok = ok && c->tetSlot && (c->edgeSlot || c->edgeCount == 0) && c->hessian && c->blockInverse &&
 	     c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
-	     c->work && c->fixed && c->floorBound && c->best && c->forcesX;
+	     c->work && c->fixed && c->floorBound && c->best && c->forcesX && c->spare.forces &&
+	     c->spare.x;
 	if (ok)
 		ok = fmBuildSlots(b, c);
 	if (!ok)
@@ -137,6 +142,17 @@ void fmSolverCache_NoteForces(const fmBody* b, fmImplicitCache* c, const double*
 	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount);
 	c->forcesEnergy = psi;
 	c->forcesMaterial = b->material;
+}
+
+void fmSolverCache_SwapForces(fmImplicitCache* c)
+{
+	fmForcesMemo last = {c->forces, c->forcesX, c->forcesEnergy, c->forcesMaterial, c->forcesValid};
+	c->forces = c->spare.forces;
+	c->forcesX = c->spare.x;
+	c->forcesEnergy = c->spare.energy;
+	c->forcesMaterial = c->spare.material;
+	c->forcesValid = c->spare.valid;
+	c->spare = last;
 }
 
 void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c)

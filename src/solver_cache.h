@@ -6,6 +6,16 @@
 #include "parallel.h"
 #include "pcg.h"
 
+// An evaluation of the elastic forces kept aside: the forces, where, their energy, with what.
+typedef struct fmForcesMemo
+{
+	double* forces; // 3n
+	double* x;      // 3n
+	double energy;
+	fmMaterial material;
+	bool valid;
+} fmForcesMemo;
+
 // Solver buffers of one body (body->implicitCache), allocated on first use.
 typedef struct fmImplicitCache
 {
@@ -39,8 +49,10 @@ typedef struct fmImplicitCache
 	double forcesEnergy; // J
 	fmMaterial forcesMaterial;
 	bool forcesValid;
+	fmForcesMemo spare; // a second evaluation kept aside (fmSolverCache_SwapForces)
 	bool coasted; // the last implicit step started from x + h v: the guess tried first (saved in
 	              // snapshots: the next step's result depends on it)
+	int guessRecheck; // steps before the other first guess is tried again (saved too)
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
@@ -62,6 +74,10 @@ bool fmSolverCache_HasForcesAt(const fmBody* body, const fmImplicitCache* cache,
 // Note that cache->forces now holds the elastic forces at @p x, with energy @p psi.
 void fmSolverCache_NoteForces(const fmBody* body, fmImplicitCache* cache, const double* x,
                               double psi);
+
+// Exchange the cache's last forces evaluation with the spare one (to try another point and come
+// back without evaluating again).
+void fmSolverCache_SwapForces(fmImplicitCache* cache);
 
 // Make cache->forces the elastic forces at body->x (computed unless they are already).
 void fmSolverCache_ForcesAtPositions(const fmBody* body, fmImplicitCache* cache);

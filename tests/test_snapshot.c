@@ -141,8 +141,8 @@ static fmBodyId makeRestingBox(fmWorldId* world)
 }
 
 // The implicit solver's warm start (which first guess the last step took: a body at rest
-// starts from x + h v) is part of a snapshot, restored into a world whose solver state has
-// drifted and into a fresh world that has taken no implicit step yet.
+// starts from x + h v; and when the other is tried again) is part of a snapshot, restored into a
+// world whose solver state has drifted and into a fresh world that has taken no implicit step yet.
 TEST(implicit_warm_start_is_saved)
 {
 	fmWorldId world, fresh;
@@ -154,16 +154,20 @@ TEST(implicit_warm_start_is_saved)
 	CHECK(cache != NULL && cache->coasted);
 	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
 	void* snapshot = malloc(size);
+	cache->guessRecheck = 5; // as if the free flight had just lost clearly
 	CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size, &written), fm_ok);
 	cache->coasted = false;
+	cache->guessRecheck = 0;
 	CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_ok);
 	CHECK(cache->coasted);
+	CHECK_INT(cache->guessRecheck, 5);
 
 	fmBodyId twin = makeRestingBox(&fresh);
 	CHECK(fmGetBody(twin)->implicitCache == NULL);
 	CHECK_INT(fmWorld_RestoreSnapshot(fresh, snapshot, size), fm_ok);
 	const fmImplicitCache* restored = fmGetBody(twin)->implicitCache;
 	CHECK(restored != NULL && restored->coasted);
+	CHECK_INT(restored != NULL ? restored->guessRecheck : -1, 5);
 	// Both continue with the same bits.
 	for (int frame = 0; frame < 10; ++frame)
 	{
