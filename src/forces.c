@@ -6,6 +6,7 @@
 #include "forces.h"
 
 #include "material.h"
+#include "solver_cache.h"
 
 #include <string.h>
 
@@ -101,6 +102,11 @@ double fmAddElasticForces(const fmBody* body, const double* x, double* f)
 
 double fmElasticEnergy(const fmBody* body, const double* x)
 {
+	// The implicit solver's last evaluation, when it was at x (the world's energy check after
+	// an implicit step): the same bits as the loop below.
+	const fmImplicitCache* cache = body->implicitCache;
+	if (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x))
+		return cache->forcesEnergy;
 	double energy = 0.0;
 	if (body->forceModel == fm_massSpring)
 	{
@@ -124,33 +130,50 @@ static void fmTetStressDerivative(const fmBody* body, const fmMat3* F, double* d
 		fmMaterial_Evaluate(&body->material, F, NULL, dPdF);
 }
 
-void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int project)
+// K = V0 B^T (dP/dF) B with B the map from node displacements to dF (dF_ij = sum_a u_ai g_a[j]),
+// contracted in two passes: T_a = (dP/dF) g_a over the second index of the stress (3 nodes),
+// then K_ab = T_a^T g_b for the upper blocks a <= b (mirrored), node 0 by the balance
+// g_0 = -(g_1 + g_2 + g_3): about 5x fewer operations than the direct quadruple sum.
+static void fmContractTetHessian(const double* dPdF, const fmMat3* DmInv, double V0, double* K)
 {
-	fmMat3 F = fmTetDeformation(body, x, t);
-	double dPdF[81];
-	fmTetStressDerivative(body, &F, dPdF, project);
-	fmVec3 g[4];
-	fmShapeGradients(&body->DmInv[t], g);
-	const double V0 = body->restVolume[t];
-	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K
-	// because K = V0 B^T (dP/dF) B.
-	for (int a = 0; a < 4; ++a)
+	// T[a][c][d][l] = sum_j dP_cj/dF_dl g_a[j], a = 1..3, g_a = row a - 1 of Dm^-1.
+	double T[4][27];
+	for (int a = 1; a < 4; ++a)
 	{
-		const double ga[3] = {g[a].x, g[a].y, g[a].z};
-		for (int b = 0; b < 4; ++b)
+		const double* g = DmInv->m + 3 * (a - 1);
+		for (int c = 0; c < 3; ++c)
+			for (int dl = 0; dl < 9; ++dl)
+				T[a][9 * c + dl] = dPdF[9 * (3 * c) + dl] * g[0] +
+				                   dPdF[9 * (3 * c + 1) + dl] * g[1] +
+				                   dPdF[9 * (3 * c + 2) + dl] * g[2];
+	}
+	for (int e = 0; e < 27; ++e)
+		T[0][e] = -(T[1][e] + T[2][e] + T[3][e]);
+	fmVec3 g[4];
+	fmShapeGradients(DmInv, g);
+	for (int a = 0; a < 4; ++a)
+		for (int b = a; b < 4; ++b)
 		{
 			const double gb[3] = {g[b].x, g[b].y, g[b].z};
 			for (int c = 0; c < 3; ++c)
 				for (int d = 0; d < 3; ++d)
 				{
-					double s = 0.0;
-					for (int j = 0; j < 3; ++j)
-						for (int l = 0; l < 3; ++l)
-							s += dPdF[9 * (3 * c + j) + (3 * d + l)] * ga[j] * gb[l];
-					K[12 * (3 * a + c) + (3 * b + d)] = V0 * s;
+					const double* t = T[a] + 9 * c + 3 * d;
+					double v = V0 * (t[0] * gb[0] + t[1] * gb[1] + t[2] * gb[2]);
+					K[12 * (3 * a + c) + (3 * b + d)] = v;
+					K[12 * (3 * b + d) + (3 * a + c)] = v;
 				}
 		}
-	}
+}
+
+void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int project)
+{
+	fmMat3 F = fmTetDeformation(body, x, t);
+	double dPdF[81];
+	fmTetStressDerivative(body, &F, dPdF, project);
+	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K
+	// because K = V0 B^T (dP/dF) B.
+	fmContractTetHessian(dPdF, &body->DmInv[t], body->restVolume[t], K);
 }
 
 void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, double* out,

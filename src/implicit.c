@@ -15,11 +15,18 @@
 #include <math.h>
 #include <string.h>
 
+// A first guess replaces the one the last step took when its residual is below this fraction of
+// the other's.
+#define FM_GUESS_SWITCH 0.5
+
+// Steps before a guess that lost by more than 1 / FM_GUESS_SWITCH is tried again.
+#define FM_GUESS_RECHECK 8
+
 // Force scale of a step: |M g| + |M v / h| + |elastic forces at the start|, over free vertices.
+// The forces at the start are usually those of the last step's final iterate, still cached.
 static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, double h)
 {
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmAddElasticForces(b, b->x, c->forces);
+	fmSolverCache_ForcesAtPositions(b, c);
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
@@ -36,7 +43,7 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, do
 
 // Lagged damping matrix D / h at the start of the step: beta K(x_n) (Rayleigh stiffness part)
 // plus the springs' dashpots. Returns false when there is none (or no memory for it).
-static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
+static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTaskSystem* tasks)
 {
 	bool springs = b->forceModel == fm_massSpring && b->springDamping > 0.0;
 	if (b->rayleighStiffness <= 0.0 && !springs)
@@ -48,10 +55,60 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h)
 		return false;
 	memset(c->damping, 0, sizeof(double) * values);
 	if (b->rayleighStiffness > 0.0)
-		fmSolverCache_AddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping);
+		fmSolverCache_AddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping, tasks);
 	if (springs)
 		fmSolverCache_AddSpringDamping(b, c, c->xStart, 1.0 / h, c->damping);
 	return true;
+}
+
+// Whether a vertex of @p x (free to move in y) is on the floor.
+static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFloorDef* floor,
+                           const double* x)
+{
+	for (int i = 0; floor != NULL && i < b->vertexCount; ++i)
+		if (!(b->pinned[i] & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i])
+			return true;
+	return false;
+}
+
+// The first guess: the free flight already in b->x, or the inertial guess x + h v held above
+// the floor. A body resting on the floor or moving steadily starts far closer to the solution
+// from x + h v (the free flight sags every vertex by h^2 g against the elastic forces). The
+// guess the last step took is tried first and kept if the solve would stop there at once (a
+// body at rest: one force pass a frame); otherwise the other replaces it if its relative
+// residual is less than half (both are admissible starts; choosing by the lower potential
+// instead took x + h v for a wobbling house whose Newton solves then took twice as long).
+// x + h v is only considered for a body on the floor: in the air the free flight is right, and
+// for a body whose inertia is below the round-off of its elastic forces (density 1e-20,
+// E = 1e20) both residuals are noise, so a comparison could drop the free flight by chance.
+static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	const int n3 = 3 * b->vertexCount;
+	double* inertial = c->trial;
+	memcpy(inertial, c->xPred, sizeof(double) * (size_t)n3);
+	if (pb->floor)
+		for (int i = 0; i < b->vertexCount; ++i)
+			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
+				inertial[3 * i + 1] = c->floorBound[i];
+	double* favoured = c->coasted ? inertial : b->x;
+	double* other = c->coasted ? b->x : inertial;
+	double kept = fmNewton_Residual(b, c, pb, favoured);
+	// A guess that lost clearly is not tried again for a few steps (a wobbling body would
+	// otherwise pay a second force pass every step to find that the other guess is worse).
+	if (kept > pb->tolerance && c->guessRecheck > 0)
+		c->guessRecheck -= 1;
+	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->x)))
+	{
+		fmSolverCache_SwapForces(c); // the favoured guess's forces stay at hand
+		double challenger = fmNewton_Residual(b, c, pb, other);
+		bool switched = challenger < FM_GUESS_SWITCH * kept;
+		c->guessRecheck = challenger > kept / FM_GUESS_SWITCH ? FM_GUESS_RECHECK : 0;
+		if (!switched)
+			fmSolverCache_SwapForces(c);
+		c->coasted = c->coasted != switched;
+	}
+	if (c->coasted)
+		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
 }
 
 fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
@@ -76,7 +133,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
 	pb.massDamping = b->rayleighMass / h;
-	pb.useDamping = fmPrepareDamping(b, c, h);
+	pb.useDamping = fmPrepareDamping(b, c, h, &world->tasks);
 	pb.gravity = world->def.gravity;
 	pb.floor = floor;
 	pb.tolerance = world->def.tolerance;
@@ -96,6 +153,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 			if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < c->floorBound[i])
 				b->x[3 * i + 1] = c->floorBound[i];
 	}
+
+	fmChooseFirstGuess(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
 	*solve = fmNewton_Solve(b, c, &pb);

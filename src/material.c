@@ -5,6 +5,7 @@
 
 #include "core.h"
 #include "material_invariant.h"
+#include "material_neohookean.h"
 #include "material_stretch.h"
 #include "svd3.h"
 
@@ -211,6 +212,13 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 	case fm_stretchEnergy:
 		return fmStretchModel_Evaluate(material, F, P, dPdF, false);
 	case fm_neoHookean:
+	{
+		// psi and P in closed form, whatever else is asked for (psi must not depend on it).
+		double psi = fmNeoHookean_Evaluate(material, F, P);
+		if (dPdF)
+			fmInvariantModel_Evaluate(material, F, NULL, dPdF);
+		return psi;
+	}
 	case fm_mooneyRivlin:
 	case fm_invariantEnergy:
 		return fmInvariantModel_Evaluate(material, F, P, dPdF);

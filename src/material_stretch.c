@@ -245,16 +245,42 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 			dPdF[9 * r + c] = dPdF[9 * c + r];
 }
 
+// Fixed corotated without the SVD, for psi and P only: psi = mu |F - R|^2 + lambda/2 (J - 1)^2,
+// P = 2 mu (F - R) + lambda (J - 1) cof F, with R from fmPolarRotationFast (the same R = U V^T
+// as the SVD's when det F > 0). False where that declines F.
+static bool fmCorotatedByPolar(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* psi)
+{
+	fmMat3 R;
+	if (!fmPolarRotationFast(F, &R))
+		return false;
+	fmMat3 D = fmMatMulAdd(F, -1.0, &R);
+	double J = fmDet(F);
+	*psi = m->mu * fmDDot(&D, &D) + 0.5 * m->lambda * (J - 1.0) * (J - 1.0);
+	if (P)
+	{
+		fmMat3 C = fmCofactor(F);
+		for (int k = 0; k < 9; ++k)
+			P->m[k] = 2.0 * m->mu * D.m[k] + m->lambda * (J - 1.0) * C.m[k];
+	}
+	return true;
+}
+
 double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
                                bool project)
 {
+	// Corotated psi and P come from the polar path wherever it takes F, whatever else is asked
+	// for (psi must not depend on the outputs requested); the SVD then only serves dP/dF.
+	double polarPsi;
+	bool polar = material->model == fm_corotated && fmCorotatedByPolar(material, F, P, &polarPsi);
+	if (polar && dPdF == NULL)
+		return polarPsi;
 	fmMat3 U, V;
 	fmVec3 sv;
 	fmSvd3(F, &U, &sv, &V);
 	const double s[3] = {sv.x, sv.y, sv.z};
 	fmStretchDerivs d;
 	fmStretchEnergy(material, s, dPdF != NULL, &d);
-	if (P)
+	if (P && !polar)
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
 				P->m[3 * i + j] = U.m[3 * i] * d.g[0] * V.m[3 * j] +
@@ -266,5 +292,5 @@ double fmStretchModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMa
 			fmGuardedModes(s, &d);
 		fmAssembleStretchHessian(&U, &V, &d, project, dPdF);
 	}
-	return d.psi;
+	return polar ? polarPsi : d.psi;
 }

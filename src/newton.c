@@ -13,9 +13,12 @@
 
 fmSolverOptions fmDefaultSolverOptions(void)
 {
-	fmSolverOptions options = {fm_productAssembled, fm_precondJacobi};
+	fmSolverOptions options = {fm_productAssembled, fm_precondSymmetricGaussSeidel};
 	return options;
 }
+
+// Relative residual, in tolerances, below which a Newton system is solved to finish the solve.
+#define FM_NEWTON_FINISH 30.0
 
 // Residual reduction per Newton iteration below which a kept matrix is still good enough.
 #define FM_REUSE_RATIO 0.25
@@ -27,20 +30,28 @@ typedef struct fmNewtonContext
 	const fmNewtonProblem* problem;
 } fmNewtonContext;
 
+// Elastic energy at x, with the forces into c->forces when asked; an evaluation at the x of the
+// cache's last forces (the line search's accepted point, the chosen first guess) is reused.
+static double fmElasticAt(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
+                          bool forces)
+{
+	if (fmSolverCache_HasForcesAt(b, c, x))
+		return c->forcesEnergy;
+	if (!forces)
+		return fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	double psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
+	fmSolverCache_NoteForces(b, c, x, psi);
+	return psi;
+}
+
 // Energy at x, and its gradient when @p gradient is not NULL. @p magnitude gets the sum of the
 // absolute sizes of the terms (the scale of round-off in E).
 static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                              const double* x, double* gradient, double* magnitude)
 {
 	const int n3 = 3 * b->vertexCount;
-	double psi;
-	if (gradient)
-	{
-		memset(c->forces, 0, sizeof(double) * (size_t)n3);
-		psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
-	}
-	else
-		psi = fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
+	double psi = fmElasticAt(b, c, pb, x, gradient != NULL);
 	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	double inertial = 0.0, external = 0.0, size = 0.0;
 	for (int k = 0; k < n3; ++k)
@@ -75,6 +86,12 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 	return inertial + damping + psi + external;
 }
 
+// Round-off band of E (see fmLineSearch): differences below it are noise.
+static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double magnitude)
+{
+	return 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+}
+
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
 // floor whose energy gradient points down is held; one the energy pulls up is released).
 static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
@@ -101,6 +118,14 @@ static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
 	return sqrt(s);
 }
 
+double fmNewton_Residual(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x)
+{
+	fmNewtonEnergy(b, c, pb, x, c->gradient, NULL);
+	fmMarkFixed(b, c, pb, x);
+	double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
+	return fmFreeNorm(3 * b->vertexCount, c->gradient, c->fixed) / scale;
+}
+
 // The Newton matrix H = (inertia + massDamping) M + K(x) [+ D], assembled.
 static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
@@ -109,7 +134,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
 		memset(c->hessian, 0, sizeof(double) * values);
-	fmSolverCache_AddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian);
+	fmSolverCache_AddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
@@ -231,12 +256,22 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 		c->temp[k] = -c->gradient[k];
 	// Inexact Newton (Eisenstat-Walker flavour): a loose CG far from the solution, tighter
 	// near it; a quadratic energy is solved tightly in one Newton step.
+	// Within FM_NEWTON_FINISH times the tolerance, the system is solved to half the tolerance
+	// instead: the step then usually ends the solve, and the CG iterations this adds cost less
+	// than the Newton iteration (forces, line search, CG) it saves (measured: the house at the
+	// game preset took 1.87 Newton iterations a frame before, 1.56 after).
 	double floorTolerance = 0.1 * pb->tolerance * pb->scale;
 	double forcing = pb->quadratic ? 0.0 : fmin(0.1, residual);
 	double tolerance = fmax(forcing * gradientNorm, floorTolerance);
+	if (residual < FM_NEWTON_FINISH * pb->tolerance)
+		tolerance = fmin(tolerance, fmax(0.5 * pb->tolerance * pb->scale, floorTolerance));
 	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
-	return fmPcg_Solve(n3, op, &ctx, c->blockInverse, c->fixed, c->temp, c->direction, tolerance,
-	                   pb->maxCg, &work);
+	fmPcgPreconditioner pre = {pb->options.preconditioner, c->blockInverse, &c->pattern, c->hessian,
+	                           pb->tasks};
+	if (pb->options.product == fm_productMatrixFree)
+		pre.kind = pre.kind == fm_precondJacobi ? fm_precondJacobi : fm_precondBlockJacobi;
+	return fmPcg_Solve(n3, op, &ctx, &pre, c->fixed, c->temp, c->direction, tolerance, pb->maxCg,
+	                   &work);
 }
 
 // Positions after a step of length alpha along the direction, held above the floor.
@@ -262,8 +297,7 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
                          double magnitude, double gradientNorm, bool* inNoise)
 {
 	const int n3 = 3 * b->vertexCount;
-	const double noise =
-	    1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+	const double noise = fmEnergyNoise(b, c, magnitude);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
 	double alpha = 1.0;
@@ -273,7 +307,8 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)
 			slope += c->gradient[k] * (trial[k] - b->x[k]);
-		double value = fmNewtonEnergy(b, c, pb, trial, NULL, NULL);
+		// The full step is usually taken: its forces then serve the next iteration's gradient.
+		double value = fmNewtonEnergy(b, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
 		bool accept = value <= energy + 1e-4 * slope;
 		if (!accept && fabs(value - energy) <= noise)
 		{

@@ -23,7 +23,7 @@ typedef struct fmSolverOptions
 	fmPreconditioner preconditioner;
 } fmSolverOptions;
 
-// The measured defaults: an assembled matrix and Jacobi (docs/implicit.md).
+// The measured defaults: an assembled matrix and symmetric Gauss-Seidel (docs/implicit.md).
 fmSolverOptions fmDefaultSolverOptions(void);
 
 // One minimisation problem.
@@ -62,6 +62,11 @@ typedef struct fmNewtonResult
 // Newton steps within the energy's round-off and without a 10% better residual after which a
 // solve has stagnated at round-off: it stops and says so instead of spinning.
 #define FM_NEWTON_STAGNATION 8
+
+// The relative residual the solve would see at @p x (its stopping rule: the gradient over the
+// free DOFs and the floor's active set, divided by the problem's scale); NaN if not finite.
+double fmNewton_Residual(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
+                         const double* x);
 
 // Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
 // set by the caller; xStart is also where pinned vertices stay.

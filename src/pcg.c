@@ -4,8 +4,13 @@
 #include "pcg.h"
 
 #include "core.h"
+#include "parallel.h"
 
 #include <math.h>
+
+// Rows of a part of the symmetric Gauss-Seidel preconditioner: parts run on separate workers
+// and ignore each other (fewer parts: a stronger preconditioner; more: more parallel).
+#define FM_SGS_PART_ROWS 4096
 #include <string.h>
 
 void fmBsr_Free(fmBsrMatrix* m)
@@ -175,7 +180,111 @@ static void fmApplyBlocks(int n, const double* blockInverse, const double* r, do
 	}
 }
 
-fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double* blockInverse,
+// z = B_i t for one vertex, with the fixed DOFs of the result zeroed.
+static void fmSolveBlock(const double* B, const double* t, const uint8_t* fixed, double* z)
+{
+	for (int r = 0; r < 3; ++r)
+		z[r] = fixed[r] ? 0.0 : B[3 * r] * t[0] + B[3 * r + 1] * t[1] + B[3 * r + 2] * t[2];
+}
+
+// t = A_i u over one block of row i (a: its 9 values, x: u at its column).
+static inline void fmBlockAdd(const double* a, const double* x, double* t)
+{
+	t[0] += a[0] * x[0] + a[1] * x[1] + a[2] * x[2];
+	t[1] += a[3] * x[0] + a[4] * x[1] + a[5] * x[2];
+	t[2] += a[6] * x[0] + a[7] * x[1] + a[8] * x[2];
+}
+
+// sum of A_ik u_k over the blocks [first, end) of a row, into t: two interleaved partial sums,
+// half the dependency chain of one (the sweeps' row-after-row order exposes it).
+static void fmRowSum(const fmBsrMatrix* m, const double* values, const double* u, int first,
+                     int end, double* t)
+{
+	double even[3] = {0.0, 0.0, 0.0}, odd[3] = {0.0, 0.0, 0.0};
+	int k = first;
+	for (; k + 1 < end; k += 2)
+	{
+		fmBlockAdd(values + 9 * (size_t)k, u + 3 * (size_t)m->columns[k], even);
+		fmBlockAdd(values + 9 * (size_t)k + 9, u + 3 * (size_t)m->columns[k + 1], odd);
+	}
+	if (k < end)
+		fmBlockAdd(values + 9 * (size_t)k, u + 3 * (size_t)m->columns[k], even);
+	for (int e = 0; e < 3; ++e)
+		t[e] = even[e] + odd[e];
+}
+
+// Symmetric block Gauss-Seidel on the rows [first, end), coupled to no other row:
+// z = (D + U)^-1 D (D + L)^-1 r over that diagonal part of the matrix, i.e. a forward sweep
+// y_i = D_i^-1 (r_i - sum_{first<=j<i} A_ij y_j), then a backward one
+// z_i = y_i - D_i^-1 sum_{i<j<end} A_ij z_j, over the free DOFs.
+static void fmSgsRows(const fmPcgPreconditioner* pre, const uint8_t* fixed, const double* r,
+                      double* z, int first, int end)
+{
+	const fmBsrMatrix* m = pre->matrix;
+	for (int i = first; i < end; ++i)
+	{
+		int k = m->rowStart[i];
+		while (m->columns[k] < first)
+			++k;
+		double t[3];
+		fmRowSum(m, pre->values, z, k, m->diagonal[i], t);
+		for (int e = 0; e < 3; ++e)
+			t[e] = r[3 * i + e] - t[e];
+		fmSolveBlock(pre->blockInverse + 9 * (size_t)i, t, fixed + 3 * i, z + 3 * i);
+	}
+	for (int i = end - 1; i >= first; --i)
+	{
+		int k = m->rowStart[i + 1];
+		while (m->columns[k - 1] >= end)
+			--k;
+		double t[3], d[3];
+		fmRowSum(m, pre->values, z, m->diagonal[i] + 1, k, t);
+		fmSolveBlock(pre->blockInverse + 9 * (size_t)i, t, fixed + 3 * i, d);
+		for (int e = 0; e < 3; ++e)
+			z[3 * i + e] -= d[e];
+	}
+}
+
+typedef struct fmSgsTask
+{
+	const fmPcgPreconditioner* pre;
+	const uint8_t* fixed;
+	const double* r;
+	double* z;
+	int rows;
+	int parts;
+} fmSgsTask;
+
+static void fmSgsPartsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmSgsTask* t = context;
+	for (int part = start; part < end; ++part)
+		fmSgsRows(t->pre, t->fixed, t->r, t->z, (int)((long long)t->rows * part / t->parts),
+		          (int)((long long)t->rows * (part + 1) / t->parts));
+}
+
+// Symmetric block Gauss-Seidel in parts of about FM_SGS_PART_ROWS rows, each part on its own
+// (block Jacobi between the parts): SPD for an SPD matrix. The parts depend on the matrix size
+// only, so any number of workers gives the same bits.
+static void fmApplySgs(int n, const fmPcgPreconditioner* pre, const uint8_t* fixed, const double* r,
+                       double* z)
+{
+	int rows = n / 3;
+	fmSgsTask task = {pre, fixed, r, z, rows, (rows + FM_SGS_PART_ROWS - 1) / FM_SGS_PART_ROWS};
+	fmParallelFor(pre->tasks, task.parts, 1, fmSgsPartsTask, &task);
+}
+
+static void fmPrecondition(int n, const fmPcgPreconditioner* pre, const uint8_t* fixed,
+                           const double* r, double* z)
+{
+	if (pre->kind == fm_precondSymmetricGaussSeidel)
+		fmApplySgs(n, pre, fixed, r, z);
+	else
+		fmApplyBlocks(n, pre->blockInverse, r, z);
+}
+
+fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const fmPcgPreconditioner* pre,
                         const uint8_t* fixed, const double* b, double* x, double tolerance,
                         int maxIterations, const fmPcgWork* w)
 {
@@ -192,7 +301,7 @@ fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double
 		result.converged = true;
 		return result;
 	}
-	fmApplyBlocks(n, blockInverse, w->r, w->z);
+	fmPrecondition(n, pre, fixed, w->r, w->z);
 	memcpy(w->p, w->z, sizeof(double) * (size_t)n);
 	double rz = fmDotN(n, w->r, w->z);
 	while (result.iterations < maxIterations)
@@ -221,7 +330,7 @@ fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double
 			result.converged = true;
 			break;
 		}
-		fmApplyBlocks(n, blockInverse, w->r, w->z);
+		fmPrecondition(n, pre, fixed, w->r, w->z);
 		double rzNew = fmDotN(n, w->r, w->z);
 		double beta = rzNew / rz;
 		rz = rzNew;
@@ -268,7 +377,7 @@ void fmPcg_BuildPreconditioner(int vertexCount, const double* diagBlocks, const 
 					A[3 * r + c] = (r == c) ? 1.0 : 0.0;
 			}
 		double* B = blockInverse + 9 * (size_t)i;
-		if (kind == fm_precondBlockJacobi && fmInvertSpd3(A, B))
+		if (kind != fm_precondJacobi && fmInvertSpd3(A, B))
 			continue;
 		memset(B, 0, sizeof(double) * 9);
 		for (int r = 0; r < 3; ++r)

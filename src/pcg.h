@@ -37,9 +37,21 @@ void fmBsr_MultiplyRows(const fmBsrMatrix* matrix, const double* values, const d
 // Preconditioner choice for fmPcg_Solve.
 typedef enum fmPreconditioner
 {
-	fm_precondJacobi,      // inverse of the diagonal entries
-	fm_precondBlockJacobi, // inverse of the 3x3 diagonal blocks
+	fm_precondJacobi,               // inverse of the diagonal entries
+	fm_precondBlockJacobi,          // inverse of the 3x3 diagonal blocks
+	fm_precondSymmetricGaussSeidel, // one forward and one backward block Gauss-Seidel sweep
 } fmPreconditioner;
+
+// The preconditioner of a CG solve: blockInverse (9 doubles per vertex, already inverted and
+// restricted to the free DOFs); for symmetric Gauss-Seidel also the matrix itself.
+typedef struct fmPcgPreconditioner
+{
+	fmPreconditioner kind;
+	const double* blockInverse;
+	const fmBsrMatrix* matrix;        // fm_precondSymmetricGaussSeidel only
+	const double* values;             // its values (9 per block)
+	const struct fmTaskSystem* tasks; // workers for its parts (NULL: serial)
+} fmPcgPreconditioner;
 
 // y = A x for the CG (the operator must be symmetric positive semi-definite on the free DOFs).
 typedef void fmLinearOperator(void* context, const double* x, double* y);
@@ -63,13 +75,13 @@ typedef struct fmPcgResult
 } fmPcgResult;
 
 // Solve A x = b over the DOFs with fixed[k] == 0 (x and every vector stay 0 on fixed DOFs),
-// starting from x = 0, until |b - A x| <= tolerance or maxIterations. @p blockInverse holds
-// 9 doubles per vertex (the preconditioner, already inverted and restricted to free DOFs).
+// starting from x = 0, until |b - A x| <= tolerance or maxIterations.
 // Stops early at a direction of non-positive curvature (returns what it has). Deterministic:
 // every reduction is summed in index order.
-fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const double* blockInverse,
-                        const uint8_t* fixed, const double* b, double* x, double tolerance,
-                        int maxIterations, const fmPcgWork* work);
+fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context,
+                        const fmPcgPreconditioner* preconditioner, const uint8_t* fixed,
+                        const double* b, double* x, double tolerance, int maxIterations,
+                        const fmPcgWork* work);
 
 // Invert the 3x3 diagonal blocks @p diagBlocks (9 per vertex) into @p blockInverse for the
 // preconditioner @p kind, with fixed DOFs replaced by identity rows and columns. A block that

@@ -17,7 +17,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 1u
+#define FM_SNAPSHOT_VERSION 2u
 
 // A cursor over the buffer: writing with data == NULL only counts.
 typedef struct fmStream
@@ -101,15 +101,29 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 	fmMove(s, save, &m->userParams, sizeof m->userParams);
 }
 
-// The implicit solver's kept matrix: valid flag and terms, and the values. A cache that does
-// not exist (no implicit step yet) is saved as "no matrix"; restoring "no matrix" into a body
-// that has one marks it stale, which is what the saved body would have done.
+// The implicit solver's state carried from step to step: a flags byte (bit 0: a kept matrix
+// follows, bit 1: the last step started from x + h v, the guess the next one tries first), the
+// steps before the other guess is tried again (a byte), then the kept matrix's terms and
+// values. A cache that does not exist (no implicit step yet) is saved as none of these;
+// restoring "no matrix" into a body that has one marks it stale, which is what the saved body
+// would have done.
 static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 {
 	fmImplicitCache* c = b->implicitCache;
-	uint8_t present = c != NULL && c->hessianValid;
-	fmMove(s, save, &present, 1);
-	if (!present)
+	uint8_t flags =
+	    (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) | (c != NULL && c->coasted ? 2u : 0u));
+	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
+	fmMove(s, save, &flags, 1);
+	fmMove(s, save, &recheck, 1);
+	bool warm = (flags & 2u) || recheck > 0;
+	if (!save && warm && (c = fmSolverCache_Get(b)) == NULL)
+		return false;
+	if (!save && c != NULL)
+	{
+		c->coasted = (flags & 2u) != 0;
+		c->guessRecheck = recheck;
+	}
+	if (!(flags & 1u))
 	{
 		if (!save && c != NULL)
 			c->hessianValid = false;
@@ -193,7 +207,8 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 	fmStream s = {NULL, buffer, size, offset + count.used, false};
 	uint8_t present = 0;
 	fmGet(&s, &present, 1);
-	if (present)
+	s.used += 1; // the first guess's recheck countdown
+	if (present & 1u)
 	{
 		int64_t blocks = 0;
 		fmGet(&s, &blocks, sizeof blocks);
@@ -325,7 +340,7 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	size_t bodiesAt = s.used;
 	if (s.overflow || fmWorldDef_Validate(&settings.def, NULL) != fm_ok ||
 	    (unsigned)settings.solverOptions.product > (unsigned)fm_productMatrixFree ||
-	    (unsigned)settings.solverOptions.preconditioner > (unsigned)fm_precondBlockJacobi)
+	    (unsigned)settings.solverOptions.preconditioner > (unsigned)fm_precondSymmetricGaussSeidel)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 		                   "the snapshot's world settings are invalid: not restored");
 	for (int pass = 0; pass < 2; ++pass)

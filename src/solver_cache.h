@@ -3,7 +3,18 @@
 #pragma once
 
 #include "body.h"
+#include "parallel.h"
 #include "pcg.h"
+
+// An evaluation of the elastic forces kept aside: the forces, where, their energy, with what.
+typedef struct fmForcesMemo
+{
+	double* forces; // 3n
+	double* x;      // 3n
+	double energy;
+	fmMaterial material;
+	bool valid;
+} fmForcesMemo;
 
 // Solver buffers of one body (body->implicitCache), allocated on first use.
 typedef struct fmImplicitCache
@@ -30,6 +41,18 @@ typedef struct fmImplicitCache
 	double* floorBound;   // n: lowest y each vertex may take this step (the floor, or less
 	                      // while a deep vertex is lifted at the depenetration speed)
 	double* best;         // 3n: the state of smallest residual (fmNewtonProblem.keepBest)
+	// The elastic forces in `forces` and their energy are those at forcesX, with forcesMaterial
+	// (a FEM body with a built-in model): the step's force scale and the world's energy check
+	// at the end of a step reuse the solver's last evaluation instead of repeating it (the
+	// same bits: a pure function of x). Never saved: it is recomputed when it does not match.
+	double* forcesX;     // 3n
+	double forcesEnergy; // J
+	fmMaterial forcesMaterial;
+	bool forcesValid;
+	fmForcesMemo spare; // a second evaluation kept aside (fmSolverCache_SwapForces)
+	bool coasted; // the last implicit step started from x + h v: the guess tried first (saved in
+	              // snapshots: the next step's result depends on it)
+	int guessRecheck; // steps before the other first guess is tried again (saved too)
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
@@ -45,10 +68,26 @@ fmImplicitCache* fmSolverCache_Get(fmBody* body);
 // Release a cache (body->implicitCache); NULL is fine.
 void fmSolverCache_Free(void* cache);
 
+// The cache's forces and energy are the elastic ones of @p body at @p x (see forcesX).
+bool fmSolverCache_HasForcesAt(const fmBody* body, const fmImplicitCache* cache, const double* x);
+
+// Note that cache->forces now holds the elastic forces at @p x, with energy @p psi.
+void fmSolverCache_NoteForces(const fmBody* body, fmImplicitCache* cache, const double* x,
+                              double psi);
+
+// Exchange the cache's last forces evaluation with the spare one (to try another point and come
+// back without evaluating again).
+void fmSolverCache_SwapForces(fmImplicitCache* cache);
+
+// Make cache->forces the elastic forces at body->x (computed unless they are already).
+void fmSolverCache_ForcesAtPositions(const fmBody* body, fmImplicitCache* cache);
+
 // values += scale * (PSD-projected if @p project) elastic Hessian at x, element by element in a
-// fixed order, into the cache's block pattern.
+// fixed order, into the cache's block pattern; on the workers of @p tasks (NULL: serial), the
+// same bits for any number of them.
 void fmSolverCache_AddStiffness(const fmBody* body, const fmImplicitCache* cache, const double* x,
-                                double scale, int project, double* values);
+                                double scale, int project, double* values,
+                                const fmTaskSystem* tasks);
 
 // values += scale * the springs' dashpot matrices at x (mass-spring bodies).
 void fmSolverCache_AddSpringDamping(const fmBody* body, const fmImplicitCache* cache,

@@ -20,8 +20,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 {
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, elastic = 0.0;
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmAddElasticForces(b, b->x, c->forces);
+	fmSolverCache_ForcesAtPositions(b, c);
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
 		if (fmIsDofPinned(b, k))

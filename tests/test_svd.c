@@ -5,6 +5,8 @@
 #include "svd3.h"
 #include "test.h"
 
+#include <string.h>
+
 static fmMat3 diag3(double a, double b, double c)
 {
 	fmMat3 D = {{a, 0, 0, 0, b, 0, 0, 0, c}};
@@ -216,6 +218,38 @@ TEST(polar_rotation)
 		CHECK_NEAR(S.m[5], S.m[7], 1e-13);
 		CHECK(fmDet(&S) < 0.0);
 	}
+}
+
+// The Newton polar rotation used by the corotated energy: the SVD's R = U V^T to round-off on
+// every F it takes (small strains, large stretches, near-rotations), and it declines inverted,
+// flat and non-finite F so that those take the SVD's sign convention.
+TEST(fast_polar_rotation_matches_the_svd)
+{
+	const double stretches[4][2] = {{0.999, 1.001}, {0.5, 2.0}, {0.1, 3.0}, {1.0, 1.0}};
+	int taken = 0;
+	for (int kind = 0; kind < 4; ++kind)
+		for (int n = 0; n < 300; ++n)
+		{
+			double lo = stretches[kind][0], hi = stretches[kind][1];
+			fmMat3 F =
+			    composeRandom(fmTestRandom(lo, hi), fmTestRandom(lo, hi), fmTestRandom(lo, hi));
+			fmMat3 R, Rsvd = fmPolarRotation(&F);
+			if (!fmPolarRotationFast(&F, &R))
+				continue;
+			taken += 1;
+			fmMat3 E = fmMatMulAdd(&R, -1.0, &Rsvd);
+			CHECK_NEAR(frobenius(&E), 0.0, 1e-14);
+			CHECK_NEAR(orthoError(&R), 0.0, 1e-15);
+		}
+	printf("  fast polar took %d of 1200 matrices\n", taken);
+	CHECK(taken == 1200); // condition numbers up to 30: far from the limit of about 500
+	fmMat3 R = fmIdentity3(), keep = R;
+	fmMat3 inverted = composeRandom(1.0, 1.0, -1.0), flat = composeRandom(1.0, 1.0, 1e-5);
+	fmMat3 nan = diag3(NAN, 1.0, 1.0);
+	CHECK(!fmPolarRotationFast(&inverted, &R));
+	CHECK(!fmPolarRotationFast(&flat, &R));
+	CHECK(!fmPolarRotationFast(&nan, &R));
+	CHECK(memcmp(&R, &keep, sizeof R) == 0);
 }
 
 TEST(symmetric_eigen3)
