@@ -37,16 +37,6 @@ fmSimdLevel fmSimd_Resolve(fmSimdLevel requested);
 typedef float fmFloatV __attribute__((vector_size(4 * FM_LANES)));
 typedef int32_t fmIntV __attribute__((vector_size(4 * FM_LANES)));
 
-static inline fmFloatV fmV_Load(const float* p)
-{
-	fmFloatV v;
-	memcpy(&v, p, sizeof v);
-	return v;
-}
-static inline void fmV_Store(float* p, fmFloatV v)
-{
-	memcpy(p, &v, sizeof v);
-}
 static inline fmFloatV fmV_Set(float s)
 {
 	return (fmFloatV){0} + s;
@@ -140,16 +130,6 @@ typedef struct fmIntV
 		r.v[l] = (expr);                                                                           \
 	return r
 
-static inline fmFloatV fmV_Load(const float* p)
-{
-	fmFloatV v;
-	memcpy(&v, p, sizeof v);
-	return v;
-}
-static inline void fmV_Store(float* p, fmFloatV v)
-{
-	memcpy(p, &v, sizeof v);
-}
 static inline fmFloatV fmV_Set(float s)
 {
 	FM_LANEWISE(fmFloatV, s);
@@ -231,4 +211,18 @@ static inline bool fmI_Any(fmIntV mask)
 
 #undef FM_LANEWISE
 
+#endif
+
+#if defined(FM_KERNEL_VARIANT)
+// Unaligned loads and stores of FM_LANES floats (memcpy: the compiler emits vector moves).
+static inline fmFloatV fmV_Load(const float* p)
+{
+	fmFloatV v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+static inline void fmV_Store(float* p, fmFloatV v)
+{
+	memcpy(p, &v, sizeof v);
+}
 #endif

@@ -4,8 +4,6 @@
 #include "core.h"
 #include "material.h"
 
-#include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 // Floats of one batch's output in a block's buffer (a multiple of FM_LANES).
@@ -43,62 +41,6 @@ fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
 }
 
 // ---- the layout ---------------------------------------------------------------------------------
-
-// Spread the low 10 bits of @p v to every third bit.
-static uint32_t fmSpreadBits(uint32_t v)
-{
-	v &= 0x3ffu;
-	v = (v | (v << 16)) & 0x030000ffu;
-	v = (v | (v << 8)) & 0x0300f00fu;
-	v = (v | (v << 4)) & 0x030c30c3u;
-	v = (v | (v << 2)) & 0x09249249u;
-	return v;
-}
-
-static int fmCompareKeys(const void* a, const void* b)
-{
-	uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
-	return (x > y) - (x < y);
-}
-
-// The tets in Morton order of their rest centroids (ties by index): neighbours in the order are
-// neighbours in space, so a block's vertices stay in cache while its tets run.
-static int* fmMortonOrder(const fmBody* b)
-{
-	uint64_t* keys = FM_ALLOC_ARRAY(uint64_t, b->tetCount);
-	int* order = FM_ALLOC_ARRAY(int, b->tetCount);
-	if (keys == NULL || order == NULL)
-	{
-		FM_FREE_ARRAY(keys, uint64_t, b->tetCount);
-		FM_FREE_ARRAY(order, int, b->tetCount);
-		return NULL;
-	}
-	fmVec3 lo = fmLoad(b->x0, 0), hi = lo;
-	for (int i = 1; i < b->vertexCount; ++i)
-	{
-		fmVec3 p = fmLoad(b->x0, i);
-		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-	}
-	double extent = fmax(fmax(hi.x - lo.x, hi.y - lo.y), fmax(hi.z - lo.z, 1e-300));
-	for (int t = 0; t < b->tetCount; ++t)
-	{
-		const int* n = b->tets + 4 * t;
-		fmVec3 c = fmScale(0.25, fmAdd(fmAdd(fmLoad(b->x0, n[0]), fmLoad(b->x0, n[1])),
-		                               fmAdd(fmLoad(b->x0, n[2]), fmLoad(b->x0, n[3]))));
-		uint32_t q[3];
-		double p[3] = {c.x - lo.x, c.y - lo.y, c.z - lo.z};
-		for (int k = 0; k < 3; ++k)
-			q[k] = (uint32_t)fmin(1023.0, fmax(0.0, p[k] / extent * 1024.0));
-		uint64_t code = fmSpreadBits(q[0]) | fmSpreadBits(q[1]) << 1 | fmSpreadBits(q[2]) << 2;
-		keys[t] = code << 32 | (uint64_t)t;
-	}
-	qsort(keys, (size_t)b->tetCount, sizeof *keys, fmCompareKeys);
-	for (int t = 0; t < b->tetCount; ++t)
-		order[t] = (int)(keys[t] & 0xffffffffu);
-	FM_FREE_ARRAY(keys, uint64_t, b->tetCount);
-	return order;
-}
 
 // Greedy colours of the blocks (consecutive runs of FM_BLOCK_BATCHES * FM_LANES tets of
 // @p order): the lowest colour no block sharing a vertex has. -1 when 64 are not enough.
@@ -307,7 +249,10 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 {
 	fmTetBlocks* tb = FM_ALLOC_ZERO(fmTetBlocks, 1);
-	int* order = fmMortonOrder(b);
+	// The body keeps its tets in Morton order already (reorder.h): blocks are runs of it.
+	int* order = FM_ALLOC_ARRAY(int, b->tetCount);
+	for (int t = 0; order != NULL && t < b->tetCount; ++t)
+		order[t] = t;
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
 	int blockCount = (b->tetCount + perBlock - 1) / perBlock;
 	int* colour = FM_ALLOC_ZERO(int, blockCount);

@@ -1,5 +1,5 @@
-// The explicit FEM step's element layout and force pass (tet_blocks.c): a body's tets sorted
-// along a space-filling curve, packed FM_LANES to a batch in float for the batched kernels of
+// The explicit FEM step's element layout and force pass (tet_blocks.c): a body's tets (in the
+// body's Morton order, reorder.h) packed FM_LANES to a batch in float for the batched kernels of
 // tet_kernel.c, grouped in blocks, and the blocks coloured so that blocks of one colour share no
 // vertex. The force pass runs colour by colour; within a colour the workers take blocks, and
 // every vertex receives its tets' forces in the same order for any number of workers: the same
