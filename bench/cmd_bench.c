@@ -52,6 +52,7 @@ const char* const cliBenchHelp =
     "  --simd LEVEL       the explicit kernels' instruction set for every row: auto (default),\n"
     "                     avx512, avx2, sse2, scalar, or off (the double-precision reference)\n"
     "  --deterministic    every world with cross-machine determinism (its cost)\n"
+    "  --implicit-solver S  newton (default) or vbd (vertex block descent) for the implicit rows\n"
     "  --help             this text\n";
 
 // Implicit frames on the 1M meshes take minutes each on a small machine: stop at 100k.
@@ -157,7 +158,8 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          workers,
 	                          FM_TOLERANCE_ACCURATE,
 	                          run->options->simd,
-	                          run->options->deterministic};
+	                          run->options->deterministic,
+	                          fm_solverNewton};
 	if (!cliBenchExplicit(mesh, &settings, run->options->repeats, &row.nsPerTetStep))
 	{
 		printf("%-10s %9d %-11s %7d %12s\n", mesh->label, mesh->tets, name, workers, "failed");
@@ -205,7 +207,8 @@ static void cliBenchImplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          workers,
 	                          tolerances[t],
 	                          run->options->simd,
-	                          run->options->deterministic};
+	                          run->options->deterministic,
+	                          run->options->solver};
 	if (!cliBenchImplicit(mesh, &settings, run->options->repeats, &row))
 	{
 		printf("%-10s %9d %-11s %-9s %7d %11s\n", mesh->label, mesh->tets, name, names[t], workers,

@@ -167,6 +167,7 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 	scene.worldDef.tolerance = settings->tolerance;
 	scene.worldDef.simd = settings->simd;
 	scene.worldDef.crossPlatformDeterminism = settings->deterministic;
+	scene.worldDef.implicitSolver = settings->solver;
 	cliBodySpec* body = &scene.bodies[0];
 	body->def.material = cliBenchMesh_Material(mesh, settings->model);
 	if (mesh->family != cli_benchHouse)

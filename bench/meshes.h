@@ -65,9 +65,10 @@ typedef struct cliBenchWorld
 	fmIntegrator integrator;
 	fmMaterialModel model;
 	int workers;
-	double tolerance;   ///< implicit
-	fmSimdLevel simd;   ///< --simd (default fm_simdAuto)
-	bool deterministic; ///< --deterministic: fmWorldDef.crossPlatformDeterminism
+	double tolerance;        ///< implicit
+	fmSimdLevel simd;        ///< --simd (default fm_simdAuto)
+	bool deterministic;      ///< --deterministic: fmWorldDef.crossPlatformDeterminism
+	fmImplicitSolver solver; ///< --implicit-solver
 } cliBenchWorld;
 
 /// A world with the mesh as its one body resting on (or, the house, falling to) the stick floor

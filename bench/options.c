@@ -66,6 +66,20 @@ static bool cliBenchValueOption(int argc, char** argv, int* i, cliBenchOptions* 
 		return cliBenchIntOption(argc, argv, i, 1, 1000, &o->repeats, code);
 	if (strcmp(arg, "--workers") == 0)
 		return cliBenchIntOption(argc, argv, i, 1, FM_MAX_WORKERS, &o->workers, code);
+	if (strcmp(arg, "--implicit-solver") == 0)
+	{
+		const char* name = NULL;
+		if (!cliBenchTextOption(argc, argv, i, &name, code))
+			return false;
+		if (strcmp(name, "newton") != 0 && strcmp(name, "vbd") != 0)
+		{
+			*code =
+			    cliUsageError("bench", "--implicit-solver: expected newton or vbd, got '%s'", name);
+			return false;
+		}
+		o->solver = strcmp(name, "vbd") == 0 ? fm_solverVbd : fm_solverNewton;
+		return true;
+	}
 	if (strcmp(arg, "--simd") == 0)
 	{
 		const char* level = NULL;

@@ -16,21 +16,22 @@ typedef enum cliBenchPeerMode
 /// The parsed options, defaults filled in.
 typedef struct cliBenchOptions
 {
-	bool quick;             ///< --quick: up to 10368 tets, 3 repetitions
-	int maxTets;            ///< --max-tets (default 2000000)
-	unsigned families;      ///< --meshes: bit 1 << cliBenchFamily (default all)
-	bool explicitSteps;     ///< time explicit steps (not --implicit)
-	bool implicitFrames;    ///< time implicit frames (not --explicit)
-	int repeats;            ///< --repeats (default 5, --quick 3)
-	int workers;            ///< --workers (default: the cores available)
-	const char* csvPath;    ///< --csv, or NULL
-	const char* plotPath;   ///< --plot, or NULL
-	bool noPlot;            ///< --no-plot
-	cliBenchPeerMode peers; ///< --peers, --bullet, --no-peers
-	bool noPeers;           ///< --no-peers was given
-	const char* bulletPath; ///< --bullet, or NULL
-	fmSimdLevel simd;       ///< --simd (default fm_simdAuto)
-	bool deterministic;     ///< --deterministic
+	bool quick;              ///< --quick: up to 10368 tets, 3 repetitions
+	int maxTets;             ///< --max-tets (default 2000000)
+	unsigned families;       ///< --meshes: bit 1 << cliBenchFamily (default all)
+	bool explicitSteps;      ///< time explicit steps (not --implicit)
+	bool implicitFrames;     ///< time implicit frames (not --explicit)
+	int repeats;             ///< --repeats (default 5, --quick 3)
+	int workers;             ///< --workers (default: the cores available)
+	const char* csvPath;     ///< --csv, or NULL
+	const char* plotPath;    ///< --plot, or NULL
+	bool noPlot;             ///< --no-plot
+	cliBenchPeerMode peers;  ///< --peers, --bullet, --no-peers
+	bool noPeers;            ///< --no-peers was given
+	const char* bulletPath;  ///< --bullet, or NULL
+	fmSimdLevel simd;        ///< --simd (default fm_simdAuto)
+	bool deterministic;      ///< --deterministic
+	fmImplicitSolver solver; ///< --implicit-solver (default fm_solverNewton)
 } cliBenchOptions;
 
 /// Parse @p argv (argv[0] is "bench"). Returns -1 when the run should go on, else the exit code:

@@ -154,7 +154,7 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	          cliJoinPath(ele, sizeof ele, folder, "peer.ele") &&
 	          cliBenchMesh_World(mesh,
 	                             &(cliBenchWorld){fm_implicit, fm_neoHookean, 1, FM_TOLERANCE_GAME,
-	                                              fm_simdAuto, false},
+	                                              fm_simdAuto, false, fm_solverNewton},
 	                             &sim);
 	if (ok)
 	{

@@ -650,6 +650,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	const char* integrator = NULL;
 	const char* notConverged = NULL;
 	const char* simd = NULL;
+	const char* solver = NULL;
 	const cliRange toleranceRange = {FM_MIN_TOLERANCE, 1.0, false, true};
 	const cliRange budgetRange = {0.0, 1e9, true, false};
 	double budgetMiB = 0.0;
@@ -667,6 +668,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	               NULL) ||
 	    !cliGetString(j, root, "", "not_converged", &notConverged) ||
 	    !cliGetString(j, root, "", "simd", &simd) ||
+	    !cliGetString(j, root, "", "implicit_solver", &solver) ||
 	    !cliGetBool(j, root, "", "auto_substep", &def->autoSubstep) ||
 	    !cliGetBool(j, root, "", "deterministic", &def->crossPlatformDeterminism) ||
 	    !cliGetNumber(j, root, "", "memory_budget_mib", budgetRange, &budgetMiB, &hasBudget) ||
@@ -687,6 +689,14 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 			                   cJSON_GetObjectItemCaseSensitive(root, "not_converged"),
 			                   "expected \"warn\" or \"error\"");
 		def->notConvergedIsError = strcmp(notConverged, "error") == 0;
+	}
+	if (solver != NULL)
+	{
+		if (strcmp(solver, "newton") != 0 && strcmp(solver, "vbd") != 0)
+			return cliJsonFail(j, "implicit_solver",
+			                   cJSON_GetObjectItemCaseSensitive(root, "implicit_solver"),
+			                   "expected \"newton\" or \"vbd\"");
+		def->implicitSolver = strcmp(solver, "vbd") == 0 ? fm_solverVbd : fm_solverNewton;
 	}
 	if (simd != NULL && !fmSimdLevelFromName(simd, &def->simd))
 		return cliJsonFail(j, "simd", cJSON_GetObjectItemCaseSensitive(root, "simd"),
@@ -733,6 +743,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "max_newton_per_frame",
 	                                   "max_substeps_per_frame",
 	                                   "simd",
+	                                   "implicit_solver",
 	                                   "deterministic",
 	                                   NULL};
 	if (!cJSON_IsObject(root))

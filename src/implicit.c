@@ -10,6 +10,7 @@
 #include "floor.h"
 #include "forces.h"
 #include "newton.h"
+#include "vbd.h"
 #include "velocity_filter.h"
 
 #include <math.h>
@@ -157,7 +158,9 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	fmChooseFirstGuess(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
-	*solve = fmNewton_Solve(b, c, &pb);
+	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping
+	             ? fmVbd_Solve(b, c, &pb)
+	             : fmNewton_Solve(b, c, &pb);
 	if (!solve->finite)
 		return fm_errNumerical;
 

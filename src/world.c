@@ -140,6 +140,10 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "workerCount must be in [1, %d] (default 1), got %d", FM_MAX_WORKERS,
 		                   def->workerCount);
+	if ((int)def->implicitSolver < 0 || def->implicitSolver >= fm_implicitSolverCount)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "implicitSolver must be fm_solverNewton or fm_solverVbd, got %d",
+		                   (int)def->implicitSolver);
 	if ((int)def->simd < 0 || def->simd >= fm_simdLevelCount)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "simd must be one of fm_simdAuto .. fm_simdAvx512 (\"auto\", \"off\", "

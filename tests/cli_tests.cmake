@@ -99,6 +99,12 @@ set_tests_properties(cli_simd_levels_identical cli_simd_off_differs
 set_tests_properties(cli_simd_off_differs PROPERTIES WILL_FAIL TRUE)
 femto_cli_test(run_bad_simd ARGS "run|--simd|avx9" CODE 2
   REGEX "--simd: expected auto, off, scalar, sse2, avx2 or avx512, got 'avx9'")
+# "implicit_solver": "vbd" runs vertex block descent (the summary counts its sweeps as Newton
+# iterations); a bad name is located.
+femto_cli_test(run_vbd ARGS "run|${FEMTO_CLI_DATA}/house_vbd.json|--frames|45|--strict"
+  CODE 0 REGEX "implicit solves")
+femto_cli_test(scene_bad_implicit_solver ARGS "run|${FEMTO_CLI_DATA}/bad_implicit_solver.json" CODE 1
+  REGEX "implicit_solver: expected \"newton\" or \"vbd\"")
 femto_cli_test(scene_bad_simd ARGS "run|${FEMTO_CLI_DATA}/bad_simd.json" CODE 1
   REGEX "simd: expected \"auto\", \"off\", \"scalar\", \"sse2\", \"avx2\" or \"avx512\"")
 # Cross-machine determinism from the scene ("deterministic": true) and from the command line

@@ -132,6 +132,15 @@ typedef enum fmIntegrator
 	fm_implicit, ///< backward Euler by Newton on the incremental potential
 } fmIntegrator;
 
+/// How the implicit integrator minimises each step's incremental potential
+/// (fmWorldDef.implicitSolver); docs/implicit.md compares them.
+typedef enum fmImplicitSolver
+{
+	fm_solverNewton, ///< Newton with preconditioned CG and a line search (default)
+	fm_solverVbd,    ///< vertex block descent (Chen et al. 2024): 3x3 Newton steps per vertex
+	fm_implicitSolverCount
+} fmImplicitSolver;
+
 /// The instruction sets the explicit step's element kernels may use (fmWorldDef.simd). The
 /// batched kernels take 16 tets at once in float (linear, StVK, Neo-Hookean and corotated, FEM
 /// force model; other bodies use the double-precision reference kernel); every level gives the same
@@ -270,6 +279,9 @@ typedef struct fmWorldDef
 	/// explicit: the instruction sets the element kernels may use (default fm_simdAuto: the
 	/// best the CPU has; fm_simdOff: the double-precision reference kernel)
 	fmSimdLevel simd;
+	/// implicit: the minimiser of each step (default fm_solverNewton, measured faster; vertex
+	/// block descent for comparison; Rayleigh stiffness damping always takes Newton)
+	fmImplicitSolver implicitSolver;
 	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
 	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
 	void* userTaskContext;              ///< passed to the two callbacks
