@@ -33,7 +33,18 @@ typedef struct fmExplicitTask
 {
 	fmBody* body;
 	double dt;
+	fmVec3 gravity;
 } fmExplicitTask;
+
+// Stage 1 for vertices [start, end): f = m g.
+static void fmGravityTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+		fmStore(b->f, i, fmScale(b->mass[i], c->gravity));
+}
 
 // Stage 2 for vertices [start, end): v += dt f / m; pinned vertices stay at rest.
 static void fmVelocitiesTask(int start, int end, int worker, void* context)
@@ -84,11 +95,10 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {b, dt};
+	fmExplicitTask context = {b, dt, world->def.gravity};
 
 	// 1. Gravity and elastic forces.
-	for (int i = 0; i < n; ++i)
-		fmStore(b->f, i, fmScale(b->mass[i], world->def.gravity));
+	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmGravityTask, &context);
 	fmAddExplicitElasticForces(world, b, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);

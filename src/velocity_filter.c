@@ -87,14 +87,28 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 	fmArena_Release(arena, mark);
 }
 
+typedef struct fmDampTask
+{
+	double* v;
+	double factor;
+} fmDampTask;
+
+// v *= factor for vertices [start, end).
+static void fmDampTaskRun(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmDampTask* c = context;
+	for (int k = 3 * start; k < 3 * end; ++k)
+		c->v[k] *= c->factor;
+}
+
 void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem* tasks)
 {
 	const double steps = dt / FM_SEED_STEP;
 	if (b->damping < 1.0)
 	{
-		const double factor = fmMathPow(b->damping, steps);
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
-			b->v[k] *= factor;
+		fmDampTask damp = {b->v, fmMathPow(b->damping, steps)};
+		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmDampTaskRun, &damp);
 	}
 	if (b->smoothing > 0.0)
 		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, steps), arena, tasks);
