@@ -127,9 +127,11 @@ uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount)
 	uint64_t blocks = (batches + FM_BLOCK_BATCHES - 1) / FM_BLOCK_BATCHES;
 	// Batches, their lane counts, block offsets (two arrays), the blocks' vertex lists (about a
 	// third of 4 per tet on a tet mesh; 4 per tet is the most), colours, one worker's scratch.
-	// Incidences: 4 per tet, with a start per vertex list entry.
+	// Incidences: 4 per tet, with a start per vertex list entry; the smoothing's vertex graph:
+	// at most 16 entries per tet, two ints each, and a start per vertex.
 	return batches * (sizeof(fmTetBatch) + 1) + 2 * (blocks + 1) * sizeof(int) +
 	       8 * tetCount * sizeof(int) + 4 * tetCount * sizeof(uint16_t) + 66 * sizeof(int) +
+	       32 * tetCount * sizeof(int) + (vertexCount + 1) * sizeof(int) +
 	       fmScratchBytes((int)(vertexCount < blockVertices ? vertexCount : blockVertices)) +
 	       sizeof(fmTetBlocks);
 }
@@ -146,6 +148,9 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb->blockVertices, int, 4 * (size_t)tb->tetCount);
 	FM_FREE_ARRAY(tb->incidenceStart, int, 4 * (size_t)tb->tetCount + 1);
 	FM_FREE_ARRAY(tb->incidences, uint16_t, 4 * (size_t)tb->tetCount);
+	FM_FREE_ARRAY(tb->neighbourStart, int, (size_t)tb->vertexCount + 1);
+	FM_FREE_ARRAY(tb->neighbours, int, 16 * (size_t)tb->tetCount);
+	FM_FREE_ARRAY(tb->neighbourWeight, int, 16 * (size_t)tb->tetCount);
 	FM_FREE_ARRAY(tb->scratch, unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
 	FM_FREE_ARRAY(tb, fmTetBlocks, 1);
 }
@@ -246,6 +251,45 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 	       tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
 
+// The weighted vertex graph of the smoothing sums (fmTetBlocks.neighbours): for each vertex,
+// the vertices of its tets with how many of its tets hold each, in first-named order.
+static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
+{
+	const int n = b->vertexCount;
+	tb->vertexCount = n;
+	tb->neighbourStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
+	int* slot = FM_ALLOC_ARRAY(int, n); // the place of vertex j in the current list, or -1
+	// At most 4 entries per tet around each vertex: 16 per tet in all.
+	tb->neighbours = FM_ALLOC_ARRAY(int, 16 * (size_t)b->tetCount);
+	tb->neighbourWeight = FM_ALLOC_ARRAY(int, 16 * (size_t)b->tetCount);
+	bool ok = tb->neighbourStart && slot && tb->neighbours && tb->neighbourWeight;
+	for (int j = 0; ok && j < n; ++j)
+		slot[j] = -1;
+	int count = 0;
+	for (int i = 0; ok && i < n; ++i)
+	{
+		tb->neighbourStart[i] = count;
+		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
+			for (int a = 0; a < 4; ++a)
+			{
+				int j = b->tets[4 * (b->vertexTets[e] / 4) + a];
+				if (slot[j] < 0)
+				{
+					slot[j] = count;
+					tb->neighbours[count] = j;
+					tb->neighbourWeight[count++] = 0;
+				}
+				tb->neighbourWeight[slot[j]] += 1;
+			}
+		for (int k = tb->neighbourStart[i]; k < count; ++k)
+			slot[tb->neighbours[k]] = -1;
+	}
+	if (ok)
+		tb->neighbourStart[n] = count;
+	FM_FREE_ARRAY(slot, int, n);
+	return ok;
+}
+
 fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 {
 	fmTetBlocks* tb = FM_ALLOC_ZERO(fmTetBlocks, 1);
@@ -266,7 +310,7 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 			bv.local[i] = -1;
 		tb->colourCount = fmColourBlocks(b, order, blockCount, colour);
 		ok = tb->colourCount > 0 && fmAllocateBlocks(tb, b, blockCount) &&
-		     fmPackBlocks(tb, b, order, colour, &bv);
+		     fmPackBlocks(tb, b, order, colour, &bv) && fmBuildNeighbours(tb, b);
 	}
 	if (ok)
 	{
@@ -427,53 +471,29 @@ typedef struct fmSmoothPass
 	const fmTetBlocks* blocks;
 	const double* v;
 	double* sums;
-	int firstBlock;
 } fmSmoothPass;
 
-// One block: the velocity sum of each of its tets, then each vertex adds those of its tets.
-static void fmSmoothBlock(const fmSmoothPass* p, int k, int worker)
+static void fmSmoothVerticesTask(int start, int end, int worker, void* context)
 {
+	(void)worker;
+	const fmSmoothPass* p = context;
 	const fmTetBlocks* tb = p->blocks;
-	const int base = tb->blockVertexStart[k], count = tb->blockVertexStart[k + 1] - base;
-	const int* verts = tb->blockVertices + base;
-	fmTetBatchForces* out;
-	double* v = fmScratch(tb, worker, &out);
-	double* tetSums = (double*)out; // 3 per tet of the block, at batch * FM_LANES + lane
-	fmGatherVertices(verts, count, p->v, NULL, v);
-	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
-	{
-		const fmTetBatch* batch = &tb->batches[j];
-		double* sum = tetSums + 3 * FM_LANES * (j - tb->blockStart[k]);
-		for (int l = 0; l < tb->laneCount[j]; ++l)
-			for (int c = 0; c < 3; ++c)
-				sum[3 * l + c] = (v[3 * batch->nodes[0][l] + c] + v[3 * batch->nodes[1][l] + c]) +
-				                 (v[3 * batch->nodes[2][l] + c] + v[3 * batch->nodes[3][l] + c]);
-	}
-	for (int i = 0; i < count; ++i)
+	for (int i = start; i < end; ++i)
 	{
 		double sx = 0.0, sy = 0.0, sz = 0.0;
-		for (int e = tb->incidenceStart[base + i]; e < tb->incidenceStart[base + i + 1]; ++e)
+		for (int k = tb->neighbourStart[i]; k < tb->neighbourStart[i + 1]; ++k)
 		{
-			unsigned offset = tb->incidences[e]; // batch * FM_BATCH_FLOATS + 3 node FM_LANES + lane
-			const double* t =
-			    tetSums + 3 * (offset / FM_BATCH_FLOATS * FM_LANES + offset % FM_LANES);
-			sx += t[0], sy += t[1], sz += t[2];
+			const double* vj = p->v + 3 * tb->neighbours[k];
+			double w = (double)tb->neighbourWeight[k];
+			sx += w * vj[0], sy += w * vj[1], sz += w * vj[2];
 		}
-		double* si = p->sums + 3 * verts[i];
-		si[0] += sx, si[1] += sy, si[2] += sz;
+		p->sums[3 * i] = sx, p->sums[3 * i + 1] = sy, p->sums[3 * i + 2] = sz;
 	}
-}
-
-static void fmSmoothBlocksTask(int start, int end, int worker, void* context)
-{
-	const fmSmoothPass* p = context;
-	for (int k = p->firstBlock + start; k < p->firstBlock + end; ++k)
-		fmSmoothBlock(p, k, worker);
 }
 
 void fmTetBlocks_SmoothingSums(const fmTetBlocks* tb, const double* v, double* sums,
                                const fmTaskSystem* tasks)
 {
-	fmSmoothPass p = {tb, v, sums, 0};
-	fmRunColours(tb, tasks, fmSmoothBlocksTask, &p, &p.firstBlock);
+	fmSmoothPass p = {tb, v, sums};
+	fmParallelFor(tasks, tb->vertexCount, FM_PARALLEL_MIN_RANGE, fmSmoothVerticesTask, &p);
 }

@@ -35,6 +35,14 @@ typedef struct fmTetBlocks
 	int* incidenceStart;   // one per entry of blockVertices, and one more
 	uint16_t* incidences;  // 4 per tet
 	int maxBlockVertices;
+	// The seeds' smoothing sums as a weighted vertex graph: sum_i = sum over the tets around i
+	// of their 4 velocities = sum_j w_ij v_j, w_ij the tets holding both i and j (w_ii: the tets
+	// around i). Vertex i's terms are neighbours / neighbourWeight[neighbourStart[i] ..
+	// neighbourStart[i + 1]), in the order its tets first name them.
+	int* neighbourStart; // vertexCount + 1
+	int* neighbours;
+	int* neighbourWeight;
+	int vertexCount;
 	int workerCount;
 	// Blocks a task range takes at least: FM_PARALLEL_MIN_RANGE tets' worth (smaller ranges
 	// cost more to hand out than they give); tests lower it to split small bodies.
@@ -69,8 +77,8 @@ uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount);
 // The kernel variant of an instruction set fmSimd_Resolve returned (not fm_simdOff).
 fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level);
 
-// sums[i] += the sum over the tets around vertex i of their 4 velocities (the seeds' Laplacian
-// smoothing, velocity_filter.c), block by block on the workers.
+// sums[i] = the sum over the tets around vertex i of their 4 velocities (the seeds' Laplacian
+// smoothing, velocity_filter.c), vertex by vertex on the workers.
 void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, double* sums,
                                const fmTaskSystem* tasks);
 

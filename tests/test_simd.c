@@ -282,3 +282,49 @@ TEST(very_stiff_bodies_take_the_double_precision_kernel)
 		fmDestroyWorld(world);
 	}
 }
+
+// The smoothing sums of the explicit kernels' vertex graph are the seeds' per-tet sums (each
+// tet adds the sum of its 4 velocities to each of its vertices), on 1 to 4 workers alike.
+TEST(smoothing_sums_are_the_seeds_tet_sums)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 9, fm_stvk);
+	fmTetBlocks* tb = b ? fmTetBlocks_Create(b, 4) : NULL;
+	CHECK(tb != NULL);
+	if (tb == NULL)
+		return;
+	size_t n3 = 3 * (size_t)b->vertexCount;
+	double* v = malloc(sizeof(double) * n3);
+	double* seeds = calloc(n3, sizeof(double));
+	double* sums = calloc(n3, sizeof(double));
+	double* other = calloc(n3, sizeof(double));
+	fmTestSeed(17);
+	for (size_t k = 0; k < n3; ++k)
+		v[k] = fmTestRandom(-2.0, 2.0);
+	for (int t = 0; t < b->tetCount; ++t)
+		for (int c = 0; c < 3; ++c)
+		{
+			const int* n = b->tets + 4 * t;
+			double s = v[3 * n[0] + c] + v[3 * n[1] + c] + v[3 * n[2] + c] + v[3 * n[3] + c];
+			for (int a = 0; a < 4; ++a)
+				seeds[3 * n[a] + c] += s;
+		}
+	fmTetBlocks_SmoothingSums(tb, v, sums, NULL);
+	double err = 0.0;
+	for (size_t k = 0; k < n3; ++k)
+		err = fmax(err, fabs(sums[k] - seeds[k]));
+	CHECK(err < 1e-12);
+	for (int workers = 2; workers <= 4; ++workers)
+	{
+		fmWorldDef def = fmDefaultWorldDef();
+		def.workerCount = workers;
+		fmTaskSystem tasks;
+		fmTaskSystem_Init(&tasks, &def);
+		fmTetBlocks_SmoothingSums(tb, v, other, &tasks);
+		fmTaskSystem_Shutdown(&tasks);
+		CHECK(memcmp(sums, other, sizeof(double) * n3) == 0);
+	}
+	free(v), free(seeds), free(sums), free(other);
+	fmTetBlocks_Destroy(tb);
+	fmDestroyWorld(world);
+}
