@@ -43,8 +43,8 @@ fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
 // ---- the layout ---------------------------------------------------------------------------------
 
 // Greedy colours of the blocks (consecutive runs of FM_BLOCK_BATCHES * FM_LANES tets of
-// @p order): the lowest colour no block sharing a vertex has. -1 when 64 are not enough.
-static int fmColourBlocks(const fmBody* b, const int* order, int blockCount, int* colour)
+// the body's tets): the lowest colour no block sharing a vertex has. -1 when 64 are not enough.
+static int fmColourBlocks(const fmBody* b, int blockCount, int* colour)
 {
 	uint64_t* used = FM_ALLOC_ZERO(uint64_t, b->vertexCount); // colours around each vertex
 	if (used == NULL)
@@ -58,7 +58,7 @@ static int fmColourBlocks(const fmBody* b, const int* order, int blockCount, int
 		uint64_t taken = 0;
 		for (int t = first; t < end; ++t)
 			for (int a = 0; a < 4; ++a)
-				taken |= used[b->tets[4 * order[t] + a]];
+				taken |= used[b->tets[4 * t + a]];
 		if (taken == UINT64_MAX)
 		{
 			count = -1;
@@ -71,7 +71,7 @@ static int fmColourBlocks(const fmBody* b, const int* order, int blockCount, int
 		count = c + 1 > count ? c + 1 : count;
 		for (int t = first; t < end; ++t)
 			for (int a = 0; a < 4; ++a)
-				used[b->tets[4 * order[t] + a]] |= (uint64_t)1 << c;
+				used[b->tets[4 * t + a]] |= (uint64_t)1 << c;
 	}
 	FM_FREE_ARRAY(used, uint64_t, b->vertexCount);
 	return count;
@@ -97,13 +97,12 @@ static uint16_t fmLocalVertex(fmBlockVertices* bv, int v)
 	return (uint16_t)bv->local[v];
 }
 
-// Pack tets order[first .. end) into one batch; unused lanes repeat the first tet, weightless.
-static void fmPackBatch(const fmBody* b, const int* order, int first, int end, fmBlockVertices* bv,
-                        fmTetBatch* batch)
+// Pack tets [first, end) into one batch; unused lanes repeat the first tet, weightless.
+static void fmPackBatch(const fmBody* b, int first, int end, fmBlockVertices* bv, fmTetBatch* batch)
 {
 	for (int l = 0; l < FM_LANES; ++l)
 	{
-		int t = order[first + l < end ? first + l : first];
+		int t = first + l < end ? first + l : first;
 		for (int a = 0; a < 4; ++a)
 			batch->nodes[a][l] = fmLocalVertex(bv, b->tets[4 * t + a]);
 		for (int k = 0; k < 9; ++k)
@@ -112,8 +111,8 @@ static void fmPackBatch(const fmBody* b, const int* order, int first, int end, f
 	}
 }
 
-// A worker's scratch for blocks of up to @p vertices vertices: their displacements (or
-// velocities), 3 doubles each, then the forces of a block's batches (64-byte aligned).
+// A worker's scratch for blocks of up to @p vertices vertices: their displacements, 3 doubles
+// each, then the forces of a block's batches (64-byte aligned).
 static size_t fmScratchBytes(int vertices)
 {
 	size_t u = (3 * (size_t)vertices * sizeof(double) + 63) / 64 * 64;
@@ -155,9 +154,8 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb, fmTetBlocks, 1);
 }
 
-// Pack block @p k (tets order[k * perBlock ...]) at batch @p batch; returns the next batch.
-static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, const int* order, int k, int batch,
-                       fmBlockVertices* bv)
+// Pack block @p k (tets k * perBlock ...) at batch @p batch; returns the next batch.
+static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, int k, int batch, fmBlockVertices* bv)
 {
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
 	int first = k * perBlock,
@@ -165,7 +163,7 @@ static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, const int* order, int k
 	for (int t = first; t < end; t += FM_LANES, ++batch)
 	{
 		int last = t + FM_LANES < end ? t + FM_LANES : end;
-		fmPackBatch(b, order, t, last, bv, &tb->batches[batch]);
+		fmPackBatch(b, t, last, bv, &tb->batches[batch]);
 		tb->laneCount[batch] = (uint8_t)(last - t);
 	}
 	return batch;
@@ -198,8 +196,7 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 
 // Blocks in colour order (a counting sort, stable: within a colour, in Morton order); packs
 // their batches and vertex lists.
-static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, const int* order, const int* colour,
-                         fmBlockVertices* bv)
+static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, const int* colour, fmBlockVertices* bv)
 {
 	for (int k = 0; k < tb->blockCount; ++k)
 		tb->colourStart[colour[k] + 1] += 1;
@@ -216,7 +213,7 @@ static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, const int* order, con
 			bv->verts = tb->blockVertices + vertexCount;
 			bv->count = 0;
 			int first = batch;
-			batch = fmPackBlock(tb, b, order, k, batch, bv);
+			batch = fmPackBlock(tb, b, k, batch, bv);
 			fmBuildIncidences(tb, first, batch, vertexCount, bv->count, bv->cursor);
 			for (int i = 0; i < bv->count; ++i)
 				bv->local[bv->verts[i]] = -1;
@@ -294,23 +291,19 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 {
 	fmTetBlocks* tb = FM_ALLOC_ZERO(fmTetBlocks, 1);
 	// The body keeps its tets in Morton order already (reorder.h): blocks are runs of it.
-	int* order = FM_ALLOC_ARRAY(int, b->tetCount);
-	for (int t = 0; order != NULL && t < b->tetCount; ++t)
-		order[t] = t;
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
 	int blockCount = (b->tetCount + perBlock - 1) / perBlock;
 	int* colour = FM_ALLOC_ZERO(int, blockCount);
 	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, b->vertexCount), NULL, 0,
 	                      FM_ALLOC_ARRAY(int, 4 * perBlock)};
-	bool ok =
-	    tb != NULL && order != NULL && colour != NULL && bv.local != NULL && bv.cursor != NULL;
+	bool ok = tb != NULL && colour != NULL && bv.local != NULL && bv.cursor != NULL;
 	if (ok)
 	{
 		for (int i = 0; i < b->vertexCount; ++i)
 			bv.local[i] = -1;
-		tb->colourCount = fmColourBlocks(b, order, blockCount, colour);
+		tb->colourCount = fmColourBlocks(b, blockCount, colour);
 		ok = tb->colourCount > 0 && fmAllocateBlocks(tb, b, blockCount) &&
-		     fmPackBlocks(tb, b, order, colour, &bv) && fmBuildNeighbours(tb, b);
+		     fmPackBlocks(tb, b, colour, &bv) && fmBuildNeighbours(tb, b);
 	}
 	if (ok)
 	{
@@ -320,7 +313,6 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 		tb->scratch = FM_ALLOC_ARRAY(unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
 		ok = tb->scratch != NULL;
 	}
-	FM_FREE_ARRAY(order, int, b->tetCount);
 	FM_FREE_ARRAY(colour, int, blockCount);
 	FM_FREE_ARRAY(bv.local, int, b->vertexCount);
 	FM_FREE_ARRAY(bv.cursor, int, 4 * perBlock);
@@ -354,13 +346,13 @@ static double* fmScratch(const fmTetBlocks* tb, int worker, fmTetBatchForces** f
 	return (double*)base;
 }
 
-// values[3 i + c] = x[3 v + c] - X[3 v + c] (X may be NULL: 0) for the block's vertices v.
-static void fmGatherVertices(const int* verts, int count, const double* x, const double* X,
-                             double* values)
+// u[3 i + c] = x[3 v + c] - X[3 v + c] for the block's vertices v = verts[i].
+static void fmGatherDisplacements(const int* verts, int count, const double* x, const double* X,
+                                  double* u)
 {
 	for (int i = 0; i < count; ++i)
 		for (int c = 0; c < 3; ++c)
-			values[3 * i + c] = X ? x[3 * verts[i] + c] - X[3 * verts[i] + c] : x[3 * verts[i] + c];
+			u[3 * i + c] = x[3 * verts[i] + c] - X[3 * verts[i] + c];
 }
 
 // Lane @p l of a batch by the double-precision reference: F = I + Du Dm^-1 from the block's
@@ -403,7 +395,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	const int* verts = tb->blockVertices + base;
 	fmTetBatchForces* out;
 	double* u = fmScratch(tb, worker, &out);
-	fmGatherVertices(verts, count, p->x, p->body->x0, u);
+	fmGatherDisplacements(verts, count, p->x, p->body->x0, u);
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
 		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
@@ -436,21 +428,6 @@ static void fmForceBlocksTask(int start, int end, int worker, void* context)
 		fmForceBlock(p, k, worker);
 }
 
-// The blocks a colour at a time, @p task over each colour's blocks with *firstBlock set to the
-// colour's first, in ranges of at least minBlocksPerRange blocks; workers beyond the layout's
-// scratch run serially (the same bits).
-static void fmRunColours(const fmTetBlocks* tb, const fmTaskSystem* tasks, fmTaskCallback* task,
-                         void* context, int* firstBlock)
-{
-	const int minBlocks = tb->minBlocksPerRange;
-	const fmTaskSystem* run = tasks != NULL && tasks->workerCount <= tb->workerCount ? tasks : NULL;
-	for (int c = 0; c < tb->colourCount; ++c)
-	{
-		*firstBlock = tb->colourStart[c];
-		fmParallelFor(run, tb->colourStart[c + 1] - *firstBlock, minBlocks, task, context);
-	}
-}
-
 void fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x, double* f,
                            fmSimdLevel level, const fmTaskSystem* tasks)
 {
@@ -461,7 +438,15 @@ void fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const doub
 	                 fmTetBlocks_Kernel(level),
 	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
 	                 0};
-	fmRunColours(tb, tasks, fmForceBlocksTask, &p, &p.firstBlock);
+	// A colour at a time, its blocks in ranges of at least minBlocksPerRange; workers beyond
+	// the layout's scratch run serially (the same bits).
+	const fmTaskSystem* run = tasks != NULL && tasks->workerCount <= tb->workerCount ? tasks : NULL;
+	for (int c = 0; c < tb->colourCount; ++c)
+	{
+		p.firstBlock = tb->colourStart[c];
+		fmParallelFor(run, tb->colourStart[c + 1] - p.firstBlock, tb->minBlocksPerRange,
+		              fmForceBlocksTask, &p);
+	}
 }
 
 // ---- the smoothing sums -------------------------------------------------------------------------
