@@ -6,6 +6,7 @@
 #include "forces.h"
 #include "fp_env.h"
 #include "mesh_internal.h"
+#include "multigrid.h"
 #include "reorder.h"
 #include "solver_cache.h"
 #include "tet_blocks.h"
@@ -443,7 +444,8 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 
 	// The implicit cache: slots (16 ints a tet, 4 a spring), the Hessian's blocks (9 doubles, a
 	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors, the
-	// floor bounds and the best state (statics), and the static solver's equilibrium.
+	// floor bounds and the best state (statics), the static solver's equilibrium, and for a body
+	// of FM_MG_MIN_ROWS vertices or more the multigrid levels.
 	uint64_t blocks = n + 2 * edges;
 	bool damping = def && (def->rayleighStiffness > 0.0 || (springs && def->springDamping > 0.0));
 	uint64_t solver =
@@ -454,6 +456,8 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 	    2 * fmArrayBytes(3 * n, d) + 1024;
 	if (springs)
 		solver += fmArrayBytes(4 * edges, sizeof(int));
+	if (n >= FM_MG_MIN_ROWS) // the multigrid preconditioner's levels
+		solver += fmMultigrid_EstimateBytes((size_t)n, (size_t)blocks);
 	// An explicit world's FEM bodies have the batched kernels' layout instead (the larger of the
 	// two: a world has one integrator).
 	uint64_t layout = def == NULL || def->forceModel == fm_fem ? fmTetBlocks_Bytes(m, n) : 0;

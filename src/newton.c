@@ -13,7 +13,7 @@
 
 fmSolverOptions fmDefaultSolverOptions(void)
 {
-	fmSolverOptions options = {fm_productAssembled, fm_precondSymmetricGaussSeidel};
+	fmSolverOptions options = {fm_productAssembled, fm_precondAuto};
 	return options;
 }
 
@@ -266,10 +266,22 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	if (residual < FM_NEWTON_FINISH * pb->tolerance)
 		tolerance = fmin(tolerance, fmax(0.5 * pb->tolerance * pb->scale, floorTolerance));
 	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
-	fmPcgPreconditioner pre = {pb->options.preconditioner, c->blockInverse, &c->pattern, c->hessian,
-	                           pb->tasks};
+	fmPcgPreconditioner pre = {
+	    pb->options.preconditioner, c->blockInverse, &c->pattern, c->hessian, pb->tasks, NULL};
 	if (pb->options.product == fm_productMatrixFree)
 		pre.kind = pre.kind == fm_precondJacobi ? fm_precondJacobi : fm_precondBlockJacobi;
+	if (pre.kind == fm_precondAuto)
+		pre.kind =
+		    b->vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
+	if (pre.kind == fm_precondMultigrid)
+	{
+		// Without memory for its levels, the one-level preconditioner.
+		fmMultigrid* mg = fmSolverCache_Multigrid(c);
+		pre.kind = mg ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
+		if (mg)
+			fmMultigrid_Setup(mg, c->hessian, c->blockInverse, c->fixed, pb->tasks);
+		pre.multigrid = mg;
+	}
 	return fmPcg_Solve(n3, op, &ctx, &pre, c->fixed, c->temp, c->direction, tolerance, pb->maxCg,
 	                   &work);
 }

@@ -4,13 +4,11 @@
 #include "pcg.h"
 
 #include "core.h"
+#include "multigrid.h"
 #include "parallel.h"
 
 #include <math.h>
 
-// Rows of a part of the symmetric Gauss-Seidel preconditioner: parts run on separate workers
-// and ignore each other (fewer parts: a stronger preconditioner; more: more parallel).
-#define FM_SGS_PART_ROWS 4096
 #include <string.h>
 
 void fmBsr_Free(fmBsrMatrix* m)
@@ -213,36 +211,45 @@ static void fmRowSum(const fmBsrMatrix* m, const double* values, const double* u
 		t[e] = even[e] + odd[e];
 }
 
-// Symmetric block Gauss-Seidel on the rows [first, end), coupled to no other row:
-// z = (D + U)^-1 D (D + L)^-1 r over that diagonal part of the matrix, i.e. a forward sweep
-// y_i = D_i^-1 (r_i - sum_{first<=j<i} A_ij y_j), then a backward one
-// z_i = y_i - D_i^-1 sum_{i<j<end} A_ij z_j, over the free DOFs.
-static void fmSgsRows(const fmPcgPreconditioner* pre, const uint8_t* fixed, const double* r,
-                      double* z, int first, int end)
+void fmBsr_ForwardSweep(const fmBsrMatrix* m, const double* values, const double* blockInverse,
+                        const uint8_t* fixed, const double* r, double* z, int first, int end)
 {
-	const fmBsrMatrix* m = pre->matrix;
 	for (int i = first; i < end; ++i)
 	{
 		int k = m->rowStart[i];
 		while (m->columns[k] < first)
 			++k;
 		double t[3];
-		fmRowSum(m, pre->values, z, k, m->diagonal[i], t);
+		fmRowSum(m, values, z, k, m->diagonal[i], t);
 		for (int e = 0; e < 3; ++e)
 			t[e] = r[3 * i + e] - t[e];
-		fmSolveBlock(pre->blockInverse + 9 * (size_t)i, t, fixed + 3 * i, z + 3 * i);
+		fmSolveBlock(blockInverse + 9 * (size_t)i, t, fixed + 3 * i, z + 3 * i);
 	}
+}
+
+void fmBsr_BackwardSweep(const fmBsrMatrix* m, const double* values, const double* blockInverse,
+                         const uint8_t* fixed, double* z, int first, int end)
+{
 	for (int i = end - 1; i >= first; --i)
 	{
 		int k = m->rowStart[i + 1];
 		while (m->columns[k - 1] >= end)
 			--k;
 		double t[3], d[3];
-		fmRowSum(m, pre->values, z, m->diagonal[i] + 1, k, t);
-		fmSolveBlock(pre->blockInverse + 9 * (size_t)i, t, fixed + 3 * i, d);
+		fmRowSum(m, values, z, m->diagonal[i] + 1, k, t);
+		fmSolveBlock(blockInverse + 9 * (size_t)i, t, fixed + 3 * i, d);
 		for (int e = 0; e < 3; ++e)
 			z[3 * i + e] -= d[e];
 	}
+}
+
+// Symmetric block Gauss-Seidel on the rows [first, end), coupled to no other row: a forward
+// sweep, then a backward one (pcg.h).
+static void fmSgsRows(const fmPcgPreconditioner* pre, const uint8_t* fixed, const double* r,
+                      double* z, int first, int end)
+{
+	fmBsr_ForwardSweep(pre->matrix, pre->values, pre->blockInverse, fixed, r, z, first, end);
+	fmBsr_BackwardSweep(pre->matrix, pre->values, pre->blockInverse, fixed, z, first, end);
 }
 
 typedef struct fmSgsTask
@@ -275,13 +282,23 @@ static void fmApplySgs(int n, const fmPcgPreconditioner* pre, const uint8_t* fix
 	fmParallelFor(pre->tasks, task.parts, 1, fmSgsPartsTask, &task);
 }
 
-static void fmPrecondition(int n, const fmPcgPreconditioner* pre, const uint8_t* fixed,
-                           const double* r, double* z)
+// z = B r, and r . z. A multigrid cycle whose r . z is not positive (its smoother diverged on
+// a matrix far from diagonally dominant) is replaced by symmetric Gauss-Seidel, always SPD.
+static double fmPrecondition(int n, const fmPcgPreconditioner* pre, const uint8_t* fixed,
+                             const double* r, double* z)
 {
-	if (pre->kind == fm_precondSymmetricGaussSeidel)
+	if (pre->kind == fm_precondMultigrid)
+	{
+		fmMultigrid_Apply(pre->multigrid, r, z);
+		double rz = fmDotN(n, r, z);
+		if (rz > 0.0 && isfinite(rz))
+			return rz;
+	}
+	if (pre->kind != fm_precondJacobi && pre->kind != fm_precondBlockJacobi)
 		fmApplySgs(n, pre, fixed, r, z);
 	else
 		fmApplyBlocks(n, pre->blockInverse, r, z);
+	return fmDotN(n, r, z);
 }
 
 fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const fmPcgPreconditioner* pre,
@@ -301,9 +318,8 @@ fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const fmPcgP
 		result.converged = true;
 		return result;
 	}
-	fmPrecondition(n, pre, fixed, w->r, w->z);
+	double rz = fmPrecondition(n, pre, fixed, w->r, w->z);
 	memcpy(w->p, w->z, sizeof(double) * (size_t)n);
-	double rz = fmDotN(n, w->r, w->z);
 	while (result.iterations < maxIterations)
 	{
 		op(context, w->p, w->q);
@@ -330,8 +346,7 @@ fmPcgResult fmPcg_Solve(int n, fmLinearOperator* op, void* context, const fmPcgP
 			result.converged = true;
 			break;
 		}
-		fmPrecondition(n, pre, fixed, w->r, w->z);
-		double rzNew = fmDotN(n, w->r, w->z);
+		double rzNew = fmPrecondition(n, pre, fixed, w->r, w->z);
 		double beta = rzNew / rz;
 		rz = rzNew;
 		for (int k = 0; k < n; ++k)

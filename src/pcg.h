@@ -34,23 +34,42 @@ void fmBsr_Multiply(const fmBsrMatrix* matrix, const double* values, const doubl
 void fmBsr_MultiplyRows(const fmBsrMatrix* matrix, const double* values, const double* x, double* y,
                         int first, int end);
 
+// Rows of a part of the Gauss-Seidel sweeps: parts run on separate workers and ignore each
+// other (fewer parts: a stronger preconditioner; more: more parallel). The parts depend on the
+// matrix size only, so any number of workers gives the same bits.
+#define FM_SGS_PART_ROWS 4096
+
+// Block Gauss-Seidel on the rows [first, end) of A (values, blockInverse: the inverted diagonal
+// blocks, fixed DOFs cut out), coupled to no other row. The forward sweep solves the lower
+// triangle from z = 0: z_i = D_i^-1 (r_i - sum_{first<=j<i} A_ij z_j); the backward sweep
+// updates z by the upper triangle: z_i -= D_i^-1 sum_{i<j<end} A_ij z_j. Together: one
+// symmetric Gauss-Seidel application z = (D + U)^-1 D (D + L)^-1 r. Fixed DOFs of z stay 0.
+void fmBsr_ForwardSweep(const fmBsrMatrix* matrix, const double* values, const double* blockInverse,
+                        const uint8_t* fixed, const double* r, double* z, int first, int end);
+void fmBsr_BackwardSweep(const fmBsrMatrix* matrix, const double* values,
+                         const double* blockInverse, const uint8_t* fixed, double* z, int first,
+                         int end);
+
 // Preconditioner choice for fmPcg_Solve.
 typedef enum fmPreconditioner
 {
 	fm_precondJacobi,               // inverse of the diagonal entries
 	fm_precondBlockJacobi,          // inverse of the 3x3 diagonal blocks
 	fm_precondSymmetricGaussSeidel, // one forward and one backward block Gauss-Seidel sweep
+	fm_precondMultigrid,            // an aggregation multigrid V-cycle (multigrid.h)
+	fm_precondAuto, // symmetric Gauss-Seidel below FM_MG_MIN_ROWS vertices, multigrid from there
 } fmPreconditioner;
 
 // The preconditioner of a CG solve: blockInverse (9 doubles per vertex, already inverted and
-// restricted to the free DOFs); for symmetric Gauss-Seidel also the matrix itself.
+// restricted to the free DOFs); for symmetric Gauss-Seidel and multigrid also the matrix.
 typedef struct fmPcgPreconditioner
 {
 	fmPreconditioner kind;
 	const double* blockInverse;
-	const fmBsrMatrix* matrix;        // fm_precondSymmetricGaussSeidel only
-	const double* values;             // its values (9 per block)
-	const struct fmTaskSystem* tasks; // workers for its parts (NULL: serial)
+	const fmBsrMatrix* matrix;           // fm_precondSymmetricGaussSeidel only
+	const double* values;                // its values (9 per block)
+	const struct fmTaskSystem* tasks;    // workers for its parts (NULL: serial)
+	const struct fmMultigrid* multigrid; // fm_precondMultigrid only: set up for this matrix
 } fmPcgPreconditioner;
 
 // y = A x for the CG (the operator must be symmetric positive semi-definite on the free DOFs).

@@ -340,7 +340,7 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	size_t bodiesAt = s.used;
 	if (s.overflow || fmWorldDef_Validate(&settings.def, NULL) != fm_ok ||
 	    (unsigned)settings.solverOptions.product > (unsigned)fm_productMatrixFree ||
-	    (unsigned)settings.solverOptions.preconditioner > (unsigned)fm_precondSymmetricGaussSeidel)
+	    (unsigned)settings.solverOptions.preconditioner > (unsigned)fm_precondAuto)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 		                   "the snapshot's world settings are invalid: not restored");
 	for (int pass = 0; pass < 2; ++pass)

@@ -38,6 +38,8 @@ void fmSolverCache_Free(void* memory)
 	FM_FREE_ARRAY(c->forcesX, double, n3);
 	FM_FREE_ARRAY(c->spare.forces, double, n3);
 	FM_FREE_ARRAY(c->spare.x, double, n3);
+	if (c->multigridBuilt)
+		fmMultigrid_Free(&c->multigrid);
 	fmBsr_Free(&c->pattern);
 	FM_FREE_ARRAY(c, fmImplicitCache, 1);
 }
@@ -112,6 +114,13 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 		return NULL;
 	}
 	return c;
+}
+
+fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* c)
+{
+	if (!c->multigridBuilt)
+		c->multigridBuilt = c->pattern.rows > 0 && fmMultigrid_Build(&c->multigrid, &c->pattern);
+	return c->multigridBuilt ? &c->multigrid : NULL;
 }
 
 // Only FEM bodies with a built-in model: their energy is summed the same way by every force

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "body.h"
+#include "multigrid.h"
 #include "parallel.h"
 #include "pcg.h"
 
@@ -22,25 +23,27 @@ typedef struct fmImplicitCache
 	int vertexCount;
 	int tetCount;
 	int edgeCount;
-	double volume;        // rest volume of the body (m^3)
-	fmBsrMatrix pattern;  // vertex pairs sharing a tet
-	int* tetSlot;         // 16 per tet: slot of block (a, b) of its nodes
-	int* edgeSlot;        // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
-	double* hessian;      // 9 per block: the Newton matrix
-	double* damping;      // 9 per block: lagged damping matrix D (allocated when needed)
-	double* blockInverse; // 9 per vertex: preconditioner
-	double* xPred;        // 3n: inertial target
-	double* xStart;       // 3n: positions at the start of the step
-	double* gradient;     // 3n
-	double* direction;    // 3n
-	double* trial;        // 3n
-	double* forces;       // 3n
-	double* temp;         // 3n
-	double* work;         // 4 * 3n: CG vectors
-	uint8_t* fixed;       // 3n: DOF held by a pin or the floor
-	double* floorBound;   // n: lowest y each vertex may take this step (the floor, or less
-	                      // while a deep vertex is lifted at the depenetration speed)
-	double* best;         // 3n: the state of smallest residual (fmNewtonProblem.keepBest)
+	double volume;         // rest volume of the body (m^3)
+	fmBsrMatrix pattern;   // vertex pairs sharing a tet
+	int* tetSlot;          // 16 per tet: slot of block (a, b) of its nodes
+	int* edgeSlot;         // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
+	double* hessian;       // 9 per block: the Newton matrix
+	double* damping;       // 9 per block: lagged damping matrix D (allocated when needed)
+	double* blockInverse;  // 9 per vertex: preconditioner
+	fmMultigrid multigrid; // the multigrid preconditioner's levels, built on first use
+	bool multigridBuilt;   // multigrid holds the levels of pattern
+	double* xPred;         // 3n: inertial target
+	double* xStart;        // 3n: positions at the start of the step
+	double* gradient;      // 3n
+	double* direction;     // 3n
+	double* trial;         // 3n
+	double* forces;        // 3n
+	double* temp;          // 3n
+	double* work;          // 4 * 3n: CG vectors
+	uint8_t* fixed;        // 3n: DOF held by a pin or the floor
+	double* floorBound;    // n: lowest y each vertex may take this step (the floor, or less
+	                       // while a deep vertex is lifted at the depenetration speed)
+	double* best;          // 3n: the state of smallest residual (fmNewtonProblem.keepBest)
 	// The elastic forces in `forces` and their energy are those at forcesX, with forcesMaterial
 	// (a FEM body with a built-in model): the step's force scale and the world's energy check
 	// at the end of a step reuse the solver's last evaluation instead of repeating it (the
@@ -64,6 +67,9 @@ typedef struct fmImplicitCache
 
 // The cache of @p body (body->implicitCache), allocated on first use; NULL when memory is short.
 fmImplicitCache* fmSolverCache_Get(fmBody* body);
+
+// The multigrid levels over the cache's pattern, built on first use; NULL when memory is short.
+fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* cache);
 
 // Release a cache (body->implicitCache); NULL is fine.
 void fmSolverCache_Free(void* cache);

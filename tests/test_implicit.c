@@ -199,15 +199,17 @@ TEST(deterministic)
 }
 
 // The measured alternatives (matrix-free products, Jacobi, block Jacobi, symmetric
-// Gauss-Seidel) solve the same problem: the same trajectory to within the Newton tolerance.
+// Gauss-Seidel, multigrid) solve the same problem: the same trajectory to within the Newton
+// tolerance.
 TEST(solver_variants_agree)
 {
-	const fmSolverOptions variants[4] = {{fm_productAssembled, fm_precondJacobi},
+	const fmSolverOptions variants[5] = {{fm_productAssembled, fm_precondJacobi},
 	                                     {fm_productAssembled, fm_precondBlockJacobi},
 	                                     {fm_productMatrixFree, fm_precondJacobi},
-	                                     {fm_productAssembled, fm_precondSymmetricGaussSeidel}};
-	fmVec3 tips[4];
-	for (int k = 0; k < 4; ++k)
+	                                     {fm_productAssembled, fm_precondSymmetricGaussSeidel},
+	                                     {fm_productAssembled, fm_precondMultigrid}};
+	fmVec3 tips[5];
+	for (int k = 0; k < 5; ++k)
 	{
 		fmWorldId world;
 		fmBodyId body = makeSwingingBeam(&world, fm_implicit);
@@ -224,6 +226,7 @@ TEST(solver_variants_agree)
 	CHECK_NEAR(tips[1].y, tips[0].y, 1e-5);
 	CHECK_NEAR(tips[2].y, tips[0].y, 1e-5);
 	CHECK_NEAR(tips[3].y, tips[0].y, 1e-5);
+	CHECK_NEAR(tips[4].y, tips[0].y, 1e-5);
 	CHECK(tips[0].y < 0.0);
 }
 

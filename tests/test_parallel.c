@@ -133,9 +133,10 @@ TEST(worker_count_and_callbacks_are_validated)
 }
 
 // The implicit step's stages on the workers (element forces, Hessian assembly by block rows,
-// the symmetric Gauss-Seidel preconditioner's parts, the matrix products, velocity smoothing):
-// the same bits for 1 to 4 workers and on an engine's job system. The box (9261 vertices) is
-// more than one range of the assembly and three parts of the preconditioner, and the frames
+// the multigrid preconditioner's Gauss-Seidel parts and residuals, the matrix products, velocity
+// smoothing): the same bits for 1 to 4 workers and on an engine's job system. The box (9261
+// vertices, so the default preconditioner is multigrid) is more than one range of the assembly
+// and three parts of the finest level's sweeps, and the frames
 // take Newton iterations (the box lands), so every stage runs split.
 TEST(implicit_results_are_bit_identical_for_any_worker_count)
 {
