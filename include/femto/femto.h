@@ -64,6 +64,16 @@ FM_API const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId);
 /// Counters of the last step.
 FM_API fmStepStats fmWorld_GetStepStats(fmWorldId worldId);
 
+/// Wall-clock time of the last step's stages (fmProfile).
+FM_API fmProfile fmWorld_GetProfile(fmWorldId worldId);
+
+/// Draw the world through @p draw's callbacks: the surfaces, tets, pins, targets, floor and
+/// contacts that draw->flags asks for, body by body (docs/viewer.md). The library keeps no
+/// graphics state and calls no graphics API: the arrays are built in buffers the world keeps
+/// (allocated on the first draw of a body, reused after). fm_errInvalidId for a stale world,
+/// fm_errOutOfMemory when a buffer cannot be had (nothing more is drawn).
+FM_API fmResult fmWorld_Draw(fmWorldId worldId, const fmDebugDraw* draw);
+
 /// Change gravity (m/s^2), validated as in fmWorldDef_Validate: on fm_errParameter gravity is
 /// unchanged and fmWorld_GetLastError() says why.
 FM_API fmResult fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity);
@@ -187,6 +197,23 @@ FM_API void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes);
 
 /// Whether a vertex is pinned.
 FM_API bool fmBody_IsPinned(fmBodyId bodyId, int vertex);
+
+/// Kinematic targets: pull @p count vertices (user numbering) toward @p positions (m) with
+/// zero-length springs of @p stiffness (N/m each), a mouse drag or a character's hand. The set
+/// replaces the previous one and stays until changed; move the positions every frame to drag.
+/// Both integrators: implicit steps add the springs' energy to the step's minimisation
+/// (unconditionally stable at any stiffness); explicit substeps add their forces, each limited
+/// to mass / substep^2 (a spring stiffer than that would make the substep unstable). The work
+/// the springs do on the body is booked in its energy ledger. @p count 0 clears (the arrays
+/// may then be NULL). fm_errParameter (and the last error says why) for a vertex out of range,
+/// a non-finite or too distant position, a negative or non-finite stiffness, or a count below 0;
+/// fm_errOutOfMemory when the set cannot be stored. The previous set is kept on an error.
+/// Not saved in snapshots: targets are the caller's input, set again every frame.
+FM_API fmResult fmBody_SetTargets(fmBodyId bodyId, const int* vertices, const fmVec3* positions,
+                                  int count, double stiffness);
+
+/// The number of kinematic targets set on the body (0 for a stale id).
+FM_API int fmBody_GetTargetCount(fmBodyId bodyId);
 
 /// Energies, lowest point, inverted tets.
 FM_API fmBodyStats fmBody_GetStats(fmBodyId bodyId);

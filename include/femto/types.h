@@ -369,4 +369,69 @@ typedef struct fmStepStats
 	int contacts;         ///< vertices on the floor after the step
 } fmStepStats;
 
+/// Where the last world step spent its time (ms, wall clock), for a HUD (fmWorld_GetProfile).
+/// Stages are summed over the step's substeps and bodies; `step` is the whole fmWorld_Step().
+typedef struct fmProfile
+{
+	double step;      ///< the whole step
+	double forces;    ///< explicit: gravity, elastic and damping forces
+	double integrate; ///< explicit: velocities, smoothing, positions, floor
+	double solve;     ///< implicit: first guess, Newton iterations (assembly, CG, line search)
+	double finish;    ///< implicit: velocities, smoothing, floor friction
+	double check;     ///< the frame's health check and energy ledger
+} fmProfile;
+
+/// An RGB colour as 0xRRGGBB (fmDebugDraw).
+typedef uint32_t fmHexColor;
+
+/// What fmWorld_Draw() draws, or'ed into fmDebugDraw.flags.
+typedef enum fmDrawFlags
+{
+	fm_drawSurfaces = 1u << 0,     ///< every body's surface triangles with smooth normals
+	fm_drawStress = 1u << 1,       ///< surfaces coloured by strain (fmDrawTriangles.colors)
+	fm_drawTetEdges = 1u << 2,     ///< the edges of every tet (wireframe)
+	fm_drawInvertedTets = 1u << 3, ///< the edges of inverted tets, in red
+	fm_drawPins = 1u << 4,         ///< pinned vertices as points
+	fm_drawTargets = 1u << 5,      ///< kinematic targets: points and lines to their vertices
+	fm_drawFloor = 1u << 6,        ///< the floor plane
+	fm_drawContacts = 1u << 7,     ///< vertices on the floor as points
+	fm_drawAll = 0xffu,            ///< everything above
+} fmDrawFlags;
+
+/// One body's surface for fmDebugDraw.drawTriangles: the surface vertices only (compacted),
+/// in float, valid during the callback.
+typedef struct fmDrawTriangles
+{
+	fmBodyId body;
+	int vertexCount;
+	int triangleCount;
+	const float* positions; ///< 3 per vertex (m)
+	const float* normals;   ///< 3 per vertex: unit, area-weighted over the vertex's triangles
+	const float* colors;    ///< 3 per vertex (RGB in [0, 1]) with fm_drawStress, else NULL
+	const int* indices;     ///< 3 per triangle, counter-clockwise seen from outside
+	const int* vertices;    ///< vertexCount: each drawn vertex's index in the body (user's)
+	fmHexColor color;       ///< the body's colour when colors is NULL
+} fmDrawTriangles;
+
+/// Batched debug drawing (fmWorld_Draw): the library fills arrays, the caller's callbacks draw
+/// them (OpenGL, a game engine, a file). A callback left NULL is skipped. Arrays are valid
+/// during the callback only. Like Box2D's b2DebugDraw, but one call per batch, not per shape.
+typedef struct fmDebugDraw
+{
+	/// A body's surface (fm_drawSurfaces, fm_drawStress).
+	void (*drawTriangles)(const fmDrawTriangles* triangles, void* context);
+	/// Line segments: 6 floats each (two points) (tet edges, inverted tets, targets).
+	void (*drawLines)(const float* points, int lineCount, fmHexColor color, void* context);
+	/// Points: 3 floats each, @p size in pixels as a hint (pins, targets, contacts).
+	void (*drawPoints)(const float* points, int pointCount, float size, fmHexColor color,
+	                   void* context);
+	/// The floor: the plane through @p point with unit normal @p normal.
+	void (*drawPlane)(fmVec3 point, fmVec3 normal, fmHexColor color, void* context);
+	unsigned flags; ///< fmDrawFlags
+	void* context;  ///< passed to every callback
+} fmDebugDraw;
+
+/// A debug draw with the given flags and no callbacks.
+FM_API fmDebugDraw fmDefaultDebugDraw(void);
+
 FM_C_END
