@@ -3,6 +3,7 @@
 #include "collider.h"
 
 #include "core.h"
+#include "det_math.h"
 #include "world.h"
 
 #include <math.h>
@@ -18,7 +19,9 @@ fmMat3 fmRotationFromAxisAngle(fmVec3 w)
 	if (!(angle > 0.0))
 		return fmIdentity3();
 	fmVec3 k = fmScale(1.0 / angle, w);
-	double c = cos(angle), s = sin(angle), t = 1.0 - c;
+	double c, s;
+	fmDetSinCos(angle, &s, &c); // the same bits on every target (det_math.h)
+	double t = 1.0 - c;
 	fmMat3 R;
 	R.m[0] = c + t * k.x * k.x;
 	R.m[1] = t * k.x * k.y - s * k.z;
@@ -132,15 +135,17 @@ bool fmCollider_CastSegment(const fmCollider* c, fmVec3 p0, fmVec3 p1, double ma
                             double* fraction, fmVec3* normal)
 {
 	fmVec3 d = fmSub(p1, p0);
-	double length = fmLength(d);
-	if (!(length > 0.0) || fmCollider_Distance(c, p0, normal) - margin <= 0.0)
+	double length = fmLength(d), touching = 1e-9 * (1.0 + length);
+	// A start on (or in) the surface is not a crossing: the distance query handles it, and a
+	// vertex resting on the surface must be free to leave it.
+	if (!(length > 0.0) || fmCollider_Distance(c, p0, normal) - margin <= touching)
 		return false;
 	fmVec3 u = fmScale(1.0 / length, d);
 	double t = 0.0;
 	for (int step = 0; step < FM_CAST_STEPS; ++step)
 	{
 		double gap = fmCollider_Distance(c, fmMulAdd(p0, t, u), normal) - margin;
-		if (gap <= 1e-9 * (1.0 + length))
+		if (gap <= touching)
 		{
 			*fraction = t / length;
 			return true;

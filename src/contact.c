@@ -3,9 +3,8 @@
 // Model (docs/contact.md): contact keeps a gap of `thickness` between a body's surface
 // vertices and whatever they touch. After each substep (explicit) or each implicit step:
 // 1. kinematic colliders move;
-// 2. each surface vertex found closer than the thickness to a collider, or whose motion in the
-//    substep crossed the collider grown by the thickness (a swept test: no tunnelling through
-//    thin colliders), is put back on the grown surface; its velocity relative to the collider
+// 2. each surface vertex found inside a collider, or whose motion in the substep crossed it
+//    (a swept test: no tunnelling through thin colliders), is put back on its surface; its velocity relative to the collider
 //    loses its approaching normal part (or has it reflected by the restitution) and its
 //    tangential part shrinks by at most mu times the normal change (Coulomb's cone);
 // 3. body-body: each surface vertex is tested against the other bodies' surface triangles near
@@ -24,6 +23,7 @@
 #include "force_spring.h"
 #include "forces.h"
 #include "material.h"
+#include "penalty.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -85,6 +85,8 @@ struct fmContactState
 	int touchedCapacity;
 	int* tets; // scratch: the tets around a body's touched vertices
 	int tetCapacity;
+	double* forces; // scratch: a spring body's forces
+	int forceCapacity;
 };
 
 // ---- small buffers -----------------------------------------------------------------------------
@@ -124,6 +126,7 @@ void fmContact_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->events, fmContactEvent, s->eventCapacity);
 	FM_FREE_ARRAY(s->touched, fmTouched, s->touchedCapacity);
 	FM_FREE_ARRAY(s->tets, int, s->tetCapacity);
+	FM_FREE_ARRAY(s->forces, double, s->forceCapacity);
 	FM_FREE_ARRAY(s, fmContactState, 1);
 }
 
@@ -304,6 +307,14 @@ static bool fmTouch(fmContactState* s, fmBody* b, int slot, int i)
 	return true;
 }
 
+// A push between bodies never moves a vertex below the floor (the floor holds it there).
+static void fmKeepAboveFloor(const fmWorld* w, fmBody* b, int i)
+{
+	const fmFloorDef* floor = &w->def.floor;
+	if (floor->enabled && b->x[3 * i + 1] < floor->height && !(b->pinned[i] & FM_PIN_Y))
+		b->x[3 * i + 1] = floor->height;
+}
+
 // Pinned axes keep their coordinate and have no velocity.
 static void fmKeepPins(fmBody* b, int i, fmVec3 x0)
 {
@@ -317,19 +328,22 @@ static void fmKeepPins(fmBody* b, int i, fmVec3 x0)
 }
 
 // The relative velocity @p relative after an impact along @p n with restitution @p e and
-// friction @p mu; returns the normal velocity change (>= 0).
-static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu)
+// friction @p mu; @p pushed (m/s) is the normal velocity a push during the step already gave
+// (the implicit penalty's), which friction's cone counts too. Returns the normal velocity
+// change (>= 0).
+static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double pushed)
 {
 	double vn = fmDot(*relative, n);
-	if (vn >= 0.0)
+	if (vn >= 0.0 && pushed <= 0.0)
 		return 0.0;
-	double change = -(1.0 + e) * vn;
+	double change = vn < 0.0 ? -(1.0 + e) * vn : 0.0;
 	fmVec3 tangent = fmMulAdd(*relative, -vn, n);
 	double speed = fmLength(tangent);
-	double keep = speed > 0.0 ? fmax(0.0, 1.0 - mu * change / speed) : 0.0;
-	*relative = fmAdd(fmScale(-e * vn, n), fmScale(keep, tangent));
+	double keep = speed > 0.0 ? fmax(0.0, 1.0 - mu * (change + pushed) / speed) : 0.0;
+	*relative = fmAdd(fmScale(vn < 0.0 ? -e * vn : vn, n), fmScale(keep, tangent));
 	return change;
 }
+
 
 // ---- colliders ---------------------------------------------------------------------------------
 
@@ -345,9 +359,11 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	double depth = thickness - d;
 	if (fmCollider_CastSegment(c, start, x, thickness, &fraction, &n))
 	{
-		// It came from outside the grown shape: back to where it entered it.
-		depth = fmLength(fmSub(x, start)) * (1.0 - fraction);
-		x = fmMulAdd(start, fraction, fmSub(x, start));
+		// It came from outside the grown shape: back onto the surface where it entered it,
+		// keeping the motion along the surface (a slide is not stopped by the test).
+		fmVec3 entry = fmMulAdd(start, fraction, fmSub(x, start));
+		depth = -fmDot(fmSub(x, entry), n);
+		x = fmMulAdd(x, depth, n);
 	}
 	else if (depth > 0.0)
 	{
@@ -361,8 +377,12 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		return true;
 	fmVec3 before = fmLoad(b->x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
-	double mu = c->def.friction;
-	fmImpact(&relative, n, c->def.restitution, mu);
+	// After an implicit step the penalty pushed the vertex out of the thickness band during
+	// the step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too.
+	double pushed = w->def.integrator == fm_implicit && depth > 0.0
+	                    ? FM_PENALTY_KAPPA * depth / w->contactStep
+	                    : 0.0;
+	fmImpact(&relative, n, c->def.restitution, c->def.friction, pushed);
 	if (!fmTouch(s, b, slot, i))
 		return false;
 	fmStore(b->x, i, x);
@@ -626,12 +646,14 @@ static bool fmProjectPair(fmWorld* w, fmContactState* s, fmPairContact* pc, doub
 	fmVec3 x0 = fmLoad(b->x, pc->vertex);
 	fmStore(b->x, pc->vertex, fmMulAdd(x0, lambda * fmInverseMass(b, pc->vertex), pc->normal));
 	fmKeepPins(b, pc->vertex, x0);
+	fmKeepAboveFloor(w, b, pc->vertex);
 	for (int c = 0; c < 3; ++c)
 	{
 		fmVec3 y0 = fmLoad(o->x, tri[c]);
 		double share = -lambda * pc->w[c] * fmInverseMass(o, tri[c]);
 		fmStore(o->x, tri[c], fmMulAdd(y0, share, pc->normal));
 		fmKeepPins(o, tri[c], y0);
+		fmKeepAboveFloor(w, o, tri[c]);
 	}
 	return true;
 }
@@ -663,7 +685,7 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 	if (!fmTouchPair(s, b, o, pc))
 		return false;
 	fmVec3 vp = fmLoad(b->v, pc->vertex), relative = fmSub(vp, vq), before = relative;
-	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o));
+	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o), 0.0);
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
 	pc->impulse = fmDot(impulse, pc->normal);
 	fmVec3 x = fmLoad(b->x, pc->vertex);
@@ -726,7 +748,8 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 
 // ---- the energy ledger -------------------------------------------------------------------------
 
-// Swap the positions of body @p slot's touched vertices with their state before the stage.
+// Swap the state (positions and velocities) of body @p slot's touched vertices with their
+// state before the stage.
 static void fmSwapTouched(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
@@ -735,38 +758,58 @@ static void fmSwapTouched(fmWorld* w, fmContactState* s, int slot)
 		fmTouched* t = &s->touched[k];
 		if (t->body != slot)
 			continue;
-		fmVec3 now = fmLoad(b->x, t->vertex);
+		fmVec3 x = fmLoad(b->x, t->vertex), v = fmLoad(b->v, t->vertex);
 		fmStore(b->x, t->vertex, t->x);
-		t->x = now;
+		fmStore(b->v, t->vertex, t->v);
+		t->x = x;
+		t->v = v;
 	}
 }
 
-// Elastic energy of the tets in @p tets (J).
-static double fmTetsEnergy(const fmBody* b, const int* tets, int count)
+// Elastic energy (J) and power sum v . f (W) of the tets in @p tets: the parts of a body's
+// energy and of symplectic Euler's shadow term that a change of their vertices changes.
+static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* energy,
+                         double* power)
 {
-	double energy = 0.0;
+	*energy = *power = 0.0;
 	for (int k = 0; k < count; ++k)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, tets[k]);
-		energy += b->restVolume[tets[k]] * fmMaterial_Evaluate(&b->material, &F, NULL, NULL);
+		int t = tets[k];
+		fmMat3 F = fmTetDeformation(b, b->x, t), P;
+		double V0 = b->restVolume[t];
+		*energy += V0 * fmMaterial_Evaluate(&b->material, &F, &P, NULL);
+		fmMat3 H = fmMatMulT(&P, &b->DmInv[t]);
+		fmVec3 sum = {0.0, 0.0, 0.0};
+		for (int a = 1; a < 4; ++a)
+		{
+			fmVec3 fa = fmScale(-V0, fmColumn(&H, a - 1));
+			sum = fmAdd(sum, fa);
+			*power += fmDot(fa, fmLoad(b->v, b->tets[4 * t + a]));
+		}
+		*power -= fmDot(sum, fmLoad(b->v, b->tets[4 * t]));
 	}
-	return energy;
 }
 
-// How the stage changed body @p slot's elastic energy (J): over the tets around its touched
-// vertices (a spring body: over the whole body), after minus before.
-static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* change)
+// The same over a whole spring body.
+static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* energy,
+                                double* power)
+{
+	int n3 = 3 * b->vertexCount;
+	if (!fmGrow((void**)&s->forces, &s->forceCapacity, 0, n3, sizeof(double)))
+		return false;
+	memset(s->forces, 0, sizeof(double) * (size_t)n3);
+	*energy = fmAddElasticForces(b, b->x, s->forces);
+	*power = 0.0;
+	for (int k = 0; k < n3; ++k)
+		*power += s->forces[k] * b->v[k];
+	return true;
+}
+
+// The tets around body @p slot's touched vertices into s->tets; returns how many (-1 when
+// memory is short).
+static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
-	if (b->forceModel == fm_massSpring)
-	{
-		double after = fmSpringEnergy(b, b->x);
-		fmSwapTouched(w, s, slot);
-		double before = fmSpringEnergy(b, b->x);
-		fmSwapTouched(w, s, slot);
-		*change = after - before;
-		return true;
-	}
 	int count = 0;
 	for (int k = 0; k < s->touchedCount; ++k)
 	{
@@ -779,28 +822,54 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* cha
 			if (b->contactTetMark[t])
 				continue;
 			if (!fmGrow((void**)&s->tets, &s->tetCapacity, count, count + 1, sizeof(int)))
-				return false;
+				return -1;
 			b->contactTetMark[t] = 1;
 			s->tets[count++] = t;
 		}
 	}
-	double after = fmTetsEnergy(b, s->tets, count);
-	fmSwapTouched(w, s, slot);
-	double before = fmTetsEnergy(b, s->tets, count);
-	fmSwapTouched(w, s, slot);
 	for (int k = 0; k < count; ++k)
 		b->contactTetMark[s->tets[k]] = 0;
-	*change = after - before;
+	return count;
+}
+
+// How the stage changed body @p slot's elastic energy (J) and its power sum v . f (W): over
+// the tets around its touched vertices (a spring body: over the whole body), after minus
+// before.
+static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* energy,
+                            double* power)
+{
+	fmBody* b = &w->bodies[slot];
+	double e1, p1, e0, p0;
+	if (b->forceModel == fm_massSpring)
+	{
+		bool ok = fmSpringEnergyPower(s, b, &e1, &p1);
+		fmSwapTouched(w, s, slot);
+		ok = ok && fmSpringEnergyPower(s, b, &e0, &p0);
+		fmSwapTouched(w, s, slot);
+		*energy = e1 - e0;
+		*power = p1 - p0;
+		return ok;
+	}
+	int count = fmTouchedTets(w, s, slot);
+	if (count < 0)
+		return false;
+	fmTetsEnergy(b, s->tets, count, &e1, &p1);
+	fmSwapTouched(w, s, slot);
+	fmTetsEnergy(b, s->tets, count, &e0, &p0);
+	fmSwapTouched(w, s, slot);
+	*energy = e1 - e0;
+	*power = p1 - p0;
 	return true;
 }
 
-// Book the energy the stage gave body @p slot (kinetic, gravity's potential and elastic,
-// after minus before) as contact work when it is positive: pushes and a kinematic collider's
-// blows add energy, inelastic impacts take it away.
+// Book the energy the stage gave body @p slot as contact work when it is positive: pushes
+// and a kinematic collider's blows add energy, inelastic impacts take it away. The energy is
+// the one the ledger measures: kinetic, elastic and gravity's potential, and for explicit
+// frames symplectic Euler's shadow term h/2 v . f (energy_ledger.h).
 static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
-	double gained = 0.0;
+	double gained = 0.0, gravityPower = 0.0;
 	bool touched = false;
 	for (int k = 0; k < s->touchedCount; ++k)
 	{
@@ -808,15 +877,21 @@ static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
 		if (t->body != slot)
 			continue;
 		touched = true;
+		double m = b->mass[t->vertex];
 		fmVec3 x = fmLoad(b->x, t->vertex), v = fmLoad(b->v, t->vertex);
-		gained += 0.5 * b->mass[t->vertex] * (fmDot(v, v) - fmDot(t->v, t->v));
-		gained -= b->mass[t->vertex] * fmDot(w->def.gravity, fmSub(x, t->x));
+		gained += 0.5 * m * (fmDot(v, v) - fmDot(t->v, t->v));
+		gained -= m * fmDot(w->def.gravity, fmSub(x, t->x));
+		gravityPower += m * fmDot(w->def.gravity, fmSub(v, t->v));
 	}
-	double elastic = 0.0;
-	if (touched && !fmElasticChange(w, s, slot, &elastic))
+	if (!touched)
+		return true;
+	double elastic, power;
+	if (!fmElasticChange(w, s, slot, &elastic, &power))
 		return false;
-	if (touched)
-		fmLedger_AddContactWork(b, gained + elastic);
+	gained += elastic;
+	if (w->def.integrator == fm_explicit)
+		gained += 0.5 * w->contactStep * (power + gravityPower);
+	fmLedger_AddContactWork(b, gained);
 	return true;
 }
 
@@ -833,7 +908,9 @@ bool fmContact_Substep(fmWorld* w, double h)
 		if (w->colliders[k].inUse)
 			fmCollider_Move(&w->colliders[k], h);
 	s->pointCount = 0;
-	bool ok = fmCollideWithColliders(w, s, thickness);
+	// Colliders are exact shapes: vertices are kept on their surface, without a gap (the
+	// thickness is for the vertex-triangle tests between bodies).
+	bool ok = fmCollideWithColliders(w, s, 0.0);
 	if (ok && w->def.contact.bodies && fmLiveBodies(w) >= 2)
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)

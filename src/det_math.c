@@ -154,3 +154,66 @@ double fmDetPow(double x, double y)
 		return y > 0.0 ? 0.0 : INFINITY;
 	return fmDetExp(y * fmDetLog(x));
 }
+
+// ---- sin and cos -------------------------------------------------------------------------------
+
+// pi/2 in three parts (Cody and Waite): k * FM_PIO2_1 and k * FM_PIO2_2 are exact for
+// |k| < 2^20, so x - k pi/2 keeps its accuracy over the range fmDetSinCos serves.
+#define FM_PIO2_1 1.57079632673412561417e+00
+#define FM_PIO2_2 6.07710050630396597660e-11
+#define FM_PIO2_3 2.02226624879595063154e-21
+#define FM_TWO_OVER_PI 6.36619772367581382433e-01
+
+// sin r and cos r for |r| <= pi/4: their Taylor series to r^17 and r^18 (the next terms are
+// below 2^-60 there).
+static void fmSinCosKernel(double r, double* s, double* c)
+{
+	double z = r * r;
+	*s = r + r * z *
+	             (-1.0 / 6.0 +
+	              z * (1.0 / 120.0 +
+	                   z * (-1.0 / 5040.0 +
+	                        z * (1.0 / 362880.0 +
+	                             z * (-1.0 / 39916800.0 +
+	                                  z * (1.0 / 6227020800.0 +
+	                                       z * (-1.0 / 1307674368000.0 +
+	                                            z * (1.0 / 355687428096000.0))))))));
+	*c = 1.0 - 0.5 * z +
+	     z * z *
+	         (1.0 / 24.0 +
+	          z * (-1.0 / 720.0 +
+	               z * (1.0 / 40320.0 +
+	                    z * (-1.0 / 3628800.0 +
+	                         z * (1.0 / 479001600.0 +
+	                              z * (-1.0 / 87178291200.0 +
+	                                   z * (1.0 / 20922789888000.0 +
+	                                        z * (-1.0 / 6402373705728000.0))))))));
+}
+
+void fmDetSinCos(double x, double* sine, double* cosine)
+{
+	if (!(fabs(x) <= 1e6))
+	{
+		*sine = *cosine = NAN;
+		return;
+	}
+	double k = floor(x * FM_TWO_OVER_PI + 0.5);
+	double r = ((x - k * FM_PIO2_1) - k * FM_PIO2_2) - k * FM_PIO2_3;
+	double s, c;
+	fmSinCosKernel(r, &s, &c);
+	switch (((long)k) & 3)
+	{
+	case 0:
+		*sine = s, *cosine = c;
+		break;
+	case 1:
+		*sine = c, *cosine = -s;
+		break;
+	case 2:
+		*sine = -s, *cosine = -c;
+		break;
+	default:
+		*sine = -c, *cosine = s;
+		break;
+	}
+}

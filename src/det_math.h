@@ -23,6 +23,10 @@ double fmDetExp(double x);
 // x^0 = 1^y = 1, 0^y = 0 for y > 0 and +inf for y < 0.
 double fmDetPow(double x, double y);
 
+// sin x and cos x together, for |x| <= 1e6 (collider rotations: angles of a step or a pose);
+// NaN beyond. Within 2 ulp of the correctly rounded values over that range.
+void fmDetSinCos(double x, double* sine, double* cosine);
+
 // The calling thread's det_math mode (off when a thread starts); set by fp_env.c.
 extern _Thread_local bool fmDetMathMode;
 

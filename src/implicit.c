@@ -157,6 +157,9 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
+	fmContactPenalty penalty = {world->colliders, world->colliderCapacity, 0.0,
+	                            FM_PENALTY_KAPPA / (h * h)};
+	pb.contact = world->colliderCapacity > 0 ? &penalty : NULL;
 	for (int k = 0; k < n3; ++k)
 		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
 	if (floor)

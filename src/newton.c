@@ -82,7 +82,8 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 				gradient[k] += pushed[k];
 		}
 	}
-	double pulled = fmTargets_Energy(b, x, gradient);
+	double pulled = fmTargets_Energy(b, x, gradient) +
+	                fmContactPenalty_Energy(pb->contact, b, x, gradient);
 	if (magnitude)
 		*magnitude = fabs(psi) + inertial + size + damping + pulled;
 	return inertial + damping + psi + external + pulled;
@@ -146,6 +147,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		block[8] += diagonal;
 	}
 	fmTargets_AddDiagonal(b, c->pattern.diagonal, c->hessian);
+	fmContactPenalty_AddHessian(pb->contact, b, b->x, c->pattern.diagonal, c->hessian);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
@@ -191,6 +193,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 		}
 	}
 	fmTargets_AddDiagonal(b, NULL, blocks);
+	fmContactPenalty_AddHessian(pb->contact, b, b->x, NULL, blocks);
 }
 
 // One range of block rows of the assembled product y = H x.
@@ -231,6 +234,7 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		y[k] += (pb->inertia + pb->massDamping) * b->mass[k / 3] * x[k];
 	fmTargets_AddProduct(b, x, y);
+	fmContactPenalty_AddProduct(pb->contact, b, b->x, x, y);
 }
 
 // Newton direction: solve H d = -gradient over the free DOFs.

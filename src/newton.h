@@ -7,6 +7,7 @@
 #include "body.h"
 #include "parallel.h"
 #include "pcg.h"
+#include "penalty.h"
 #include "solver_cache.h"
 
 // How Hessian-vector products are formed (measured in docs/implicit.md).
@@ -44,6 +45,7 @@ typedef struct fmNewtonProblem
 	fmSolverOptions options;   // how products are formed and preconditioned
 	const fmTaskSystem* tasks; // the world's workers for the matrix products (NULL: serial)
 	fmArena* arena;            // the world's step arena (buffers of the parallel force passes)
+	const fmContactPenalty* contact; // the colliders' penalty (NULL: none)
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult

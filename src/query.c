@@ -1,0 +1,154 @@
+// fmWorld_CastRay (query.h): each body whose bounding box the ray crosses is tested triangle by
+// triangle (Moller-Trumbore), each collider by the sphere-traced segment cast; the nearest hit
+// wins (ties: the lower body slot, then triangle, then collider).
+#include "query.h"
+
+#include "collider.h"
+#include "core.h"
+#include "fp_env.h"
+#include "world.h"
+
+#include <math.h>
+#include <string.h>
+
+// Whether the segment o + t d, t in [0, 1], crosses the box [lo, hi] (slab test).
+static bool fmSegmentHitsBox(fmVec3 o, fmVec3 d, fmVec3 lo, fmVec3 hi)
+{
+	const double origin[3] = {o.x, o.y, o.z}, dir[3] = {d.x, d.y, d.z};
+	const double low[3] = {lo.x, lo.y, lo.z}, high[3] = {hi.x, hi.y, hi.z};
+	double enter = 0.0, leave = 1.0;
+	for (int e = 0; e < 3; ++e)
+	{
+		if (dir[e] == 0.0)
+		{
+			if (origin[e] < low[e] || origin[e] > high[e])
+				return false;
+			continue;
+		}
+		double t0 = (low[e] - origin[e]) / dir[e], t1 = (high[e] - origin[e]) / dir[e];
+		enter = fmax(enter, fmin(t0, t1));
+		leave = fmin(leave, fmax(t0, t1));
+	}
+	return enter <= leave;
+}
+
+// Fraction along o + t d where it crosses triangle abc (either side), or -1.
+static double fmSegmentTriangle(fmVec3 o, fmVec3 d, fmVec3 a, fmVec3 b, fmVec3 c)
+{
+	fmVec3 e1 = fmSub(b, a), e2 = fmSub(c, a), p = fmCross(d, e2);
+	double det = fmDot(e1, p);
+	if (fabs(det) < 1e-300)
+		return -1.0;
+	double inv = 1.0 / det;
+	fmVec3 s = fmSub(o, a);
+	double u = fmDot(s, p) * inv;
+	if (u < 0.0 || u > 1.0)
+		return -1.0;
+	fmVec3 q = fmCross(s, e1);
+	double v = fmDot(d, q) * inv;
+	if (v < 0.0 || u + v > 1.0)
+		return -1.0;
+	double t = fmDot(e2, q) * inv;
+	return t >= 0.0 && t <= 1.0 ? t : -1.0;
+}
+
+static void fmBodyBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
+{
+	*lo = *hi = fmLoad(b->x, 0);
+	for (int i = 1; i < b->vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(b->x, i);
+		*lo = fmMakeVec3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
+		*hi = fmMakeVec3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
+	}
+}
+
+// The nearest hit on body @p slot's surface closer than hit->fraction.
+static void fmCastAtBody(const fmWorld* w, fmWorldId worldId, int slot, fmVec3 o, fmVec3 d,
+                         fmRayHit* hit)
+{
+	const fmBody* b = &w->bodies[slot];
+	fmVec3 lo, hi;
+	fmBodyBox(b, &lo, &hi);
+	if (!fmSegmentHitsBox(o, d, lo, hi))
+		return;
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * t;
+		fmVec3 a = fmLoad(b->x, tri[0]), bb = fmLoad(b->x, tri[1]), c = fmLoad(b->x, tri[2]);
+		double f = fmSegmentTriangle(o, d, a, bb, c);
+		if (!(f >= 0.0 && f < hit->fraction))
+			continue;
+		fmVec3 n = fmCross(fmSub(bb, a), fmSub(c, a));
+		double length = fmLength(n);
+		fmVec3 p = fmMulAdd(o, f, d);
+		int nearest = 0;
+		for (int k = 1; k < 3; ++k)
+			if (fmLength(fmSub(fmLoad(b->x, tri[k]), p)) <
+			    fmLength(fmSub(fmLoad(b->x, tri[nearest]), p)))
+				nearest = k;
+		memset(hit, 0, sizeof *hit);
+		hit->body = (fmBodyId){slot + 1, b->generation, worldId.index1 - 1, worldId.generation};
+		hit->triangle = t;
+		hit->vertex = b->userVertex[tri[nearest]];
+		hit->point = p;
+		hit->normal = length > 0.0 ? fmScale(1.0 / length, n) : fmMakeVec3(0.0, 1.0, 0.0);
+		hit->fraction = f;
+	}
+}
+
+static bool fmMeets(fmFilter a, fmFilter b)
+{
+	return (a.categoryBits & b.maskBits) != 0 && (b.categoryBits & a.maskBits) != 0;
+}
+
+static bool fmCastRayIn(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
+                        fmRayHit* hit)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL && hit != NULL);
+	if (w == NULL || hit == NULL)
+		return false;
+	memset(hit, 0, sizeof *hit);
+	hit->fraction = INFINITY;
+	hit->triangle = hit->vertex = -1;
+	bool finite = fabs(origin.x) <= FM_MAX_COORDINATE && fabs(origin.y) <= FM_MAX_COORDINATE &&
+	              fabs(origin.z) <= FM_MAX_COORDINATE && fabs(translation.x) <= 1e12 &&
+	              fabs(translation.y) <= 1e12 && fabs(translation.z) <= 1e12;
+	if (!finite)
+		return false;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+		if (w->bodies[slot].x != NULL && fmMeets(filter, w->bodies[slot].filter))
+			fmCastAtBody(w, worldId, slot, origin, translation, hit);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		const fmCollider* c = &w->colliders[k];
+		double f;
+		fmVec3 n;
+		if (!c->inUse || !fmMeets(filter, c->def.filter) ||
+		    !fmCollider_CastSegment(c, origin, fmAdd(origin, translation), 0.0, &f, &n) ||
+		    !(f < hit->fraction))
+			continue;
+		memset(hit, 0, sizeof *hit);
+		hit->collider =
+		    (fmColliderId){k + 1, c->generation, worldId.index1 - 1, worldId.generation};
+		hit->triangle = hit->vertex = -1;
+		hit->point = fmMulAdd(origin, f, translation);
+		hit->normal = n;
+		hit->fraction = f;
+	}
+	if (isfinite(hit->fraction))
+		return true;
+	hit->fraction = 1.0; // a miss: the whole translation is free
+	return false;
+}
+
+bool fmWorld_CastRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
+                     fmRayHit* hit)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
+	bool result = fmCastRayIn(worldId, origin, translation, filter, hit);
+	fmFpEnv_Leave(&env);
+	return result;
+}

@@ -1,0 +1,538 @@
+// Contact (src/contact.c, src/collider.c, src/query.c): bodies rest on colliders and on each
+// other without interpenetrating beyond the thickness, Coulomb friction on an incline follows
+// g (sin a - mu cos a), fast bodies do not tunnel through thin colliders, kinematic colliders
+// push and feel the push, resting contact gains no energy, rays hit the deformed surface,
+// filtered pairs pass through each other, events begin and end, and the results are the same
+// bits for any number of workers.
+#include "support.h"
+#include "test.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// The seeds' house (0.4 scale, centred, y up) moved by @p offset, into @p world.
+static fmBodyId addHouse(int* failures_, fmWorldId world, fmVec3 offset, const fmBodyDef* def)
+{
+	fmBodyId none = {0, 0, 0, 0};
+	fmTetMesh mesh;
+	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, NULL) !=
+	    fm_ok)
+		return none;
+	fmMeshTransform placement = fmDefaultMeshTransform();
+	placement.scale = 0.4;
+	placement.center = true;
+	placement.swapYZ = true;
+	placement.translate = offset;
+	fmTetMesh_Transform(&mesh, &placement);
+	fmBodyDef bdef = def ? *def : fmDefaultBodyDef();
+	bdef.mesh = &mesh;
+	fmBodyId body;
+	fmResult r = fmCreateBody(world, &bdef, &body, NULL);
+	CHECK_INT(r, fm_ok);
+	fmFreeTetMesh(&mesh);
+	return r == fm_ok ? body : none;
+}
+
+// A box body of cells^3 cubes spanning [lo, hi].
+static fmBodyId addBox(int* failures_, fmWorldId world, int cells, fmVec3 lo, fmVec3 hi,
+                       const fmBodyDef* def)
+{
+	fmBodyId none = {0, 0, 0, 0};
+	fmTetMesh mesh;
+	if (fmMakeBoxMesh(cells, cells, cells, lo, hi, &mesh) != fm_ok)
+		return none;
+	fmBodyDef bdef = def ? *def : fmDefaultBodyDef();
+	bdef.mesh = &mesh;
+	fmBodyId body;
+	fmResult r = fmCreateBody(world, &bdef, &body, NULL);
+	CHECK_INT(r, fm_ok);
+	fmFreeTetMesh(&mesh);
+	return r == fm_ok ? body : none;
+}
+
+static fmBodyDef implicitHouseDef(void)
+{
+	fmBodyDef def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 2e5, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 500.0;
+	return def;
+}
+
+// Whether point p lies inside tet abcd (barycentric coordinates all above -eps).
+static bool insideTet(fmVec3 p, fmVec3 a, fmVec3 b, fmVec3 c, fmVec3 d)
+{
+	fmMat3 T = fmMat3FromColumns(fmSub(b, a), fmSub(c, a), fmSub(d, a)), inverse;
+	if (!fmInverse(&T, &inverse))
+		return false;
+	fmVec3 l = fmMatVec(&inverse, fmSub(p, a));
+	const double eps = -1e-9;
+	return l.x > eps && l.y > eps && l.z > eps && l.x + l.y + l.z < 1.0 - eps;
+}
+
+// Surface vertices of @p body inside a tet of @p other.
+static int verticesInside(fmBodyId body, fmBodyId other)
+{
+	int n = fmBody_GetVertexCount(body), m = fmBody_GetVertexCount(other);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	double* y = malloc(sizeof(double) * 3 * (size_t)m);
+	fmBody_CopyPositions(body, x, n);
+	fmBody_CopyPositions(other, y, m);
+	int triangles = 0, inside = 0;
+	const int* surface = fmBody_GetSurface(body, &triangles);
+	const int* tets = fmBody_GetTets(other);
+	char* seen = calloc((size_t)n, 1);
+	for (int k = 0; k < 3 * triangles; ++k)
+	{
+		int i = surface[k];
+		if (seen[i]++)
+			continue;
+		fmVec3 p = fmLoad(x, i);
+		for (int t = 0; t < fmBody_GetTetCount(other); ++t)
+			if (insideTet(p, fmLoad(y, tets[4 * t]), fmLoad(y, tets[4 * t + 1]),
+			              fmLoad(y, tets[4 * t + 2]), fmLoad(y, tets[4 * t + 3])))
+			{
+				inside += 1;
+				break;
+			}
+	}
+	free(seen);
+	free(x);
+	free(y);
+	return inside;
+}
+
+// Three houses dropped on each other come to rest stacked: no surface vertex of any house in
+// another's tets, nothing below the floor, in both integrators.
+TEST(three_houses_stack)
+{
+	const fmIntegrator integrators[2] = {fm_implicit, fm_explicit};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = integrators[k];
+		wdef.floor.friction = fm_floorCoulomb;
+		wdef.floor.frictionCoefficient = 0.5;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmBodyDef def = integrators[k] == fm_implicit ? implicitHouseDef() : fmDefaultBodyDef();
+		fmBodyId houses[3];
+		for (int h = 0; h < 3; ++h)
+			houses[h] = addHouse(failures_, world, fmMakeVec3(0.1 * h, -1.0 + 2.2 * h, 0.0), &def);
+		double frame = integrators[k] == fm_implicit ? 1.0 / 60.0 : 0.03;
+		int substeps = integrators[k] == fm_implicit ? 1 : 10;
+		double seconds = integrators[k] == fm_implicit ? 5.0 : 3.0;
+		int failed = 0;
+		for (int f = 0; f < (int)(seconds / frame); ++f)
+			failed += fmWorld_Step(world, frame, substeps) != fm_ok;
+		CHECK_INT(failed, 0);
+		int inside = 0;
+		double lowest = INFINITY;
+		for (int a = 0; a < 3; ++a)
+		{
+			lowest = fmin(lowest, fmBody_GetStats(houses[a]).lowestY);
+			for (int b = 0; b < 3; ++b)
+				inside += a != b ? verticesInside(houses[a], houses[b]) : 0;
+		}
+		fmVec3 top = fmBody_GetStats(houses[2]).centerOfMass;
+		fmVec3 bottom = fmBody_GetStats(houses[0]).centerOfMass;
+		printf("  %s: %d surface vertices inside another house, lowest y %.4f, centres of mass "
+		       "at y %.3f and %.3f\n",
+		       integrators[k] == fm_implicit ? "implicit" : "explicit", inside, lowest, bottom.y,
+		       top.y);
+		CHECK_INT(inside, 0);
+		CHECK(lowest >= -3.0 - 1e-6);
+		CHECK(top.y > bottom.y + 1.0); // stacked, not merged
+		fmDestroyWorld(world);
+	}
+}
+
+// A house dropped on a static sphere (no floor) comes to rest on it: no vertex inside it.
+TEST(house_rests_on_a_sphere)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmColliderDef sphere = fmDefaultColliderDef();
+	sphere.shape = fm_shapeSphere;
+	sphere.center = fmMakeVec3(0.0, -3.0, 0.0);
+	sphere.radius = 1.5;
+	sphere.friction = 0.8;
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &sphere, &collider, NULL), fm_ok);
+	fmBodyDef def = implicitHouseDef();
+	fmBodyId house = addHouse(failures_, world, fmMakeVec3(0.0, 0.5, 0.0), &def);
+	for (int f = 0; f < 240; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	int n = fmBody_GetVertexCount(house);
+	const double* x = fmTestPositions(house);
+	double closest = INFINITY;
+	for (int i = 0; i < n; ++i)
+		closest = fmin(closest, fmLength(fmSub(fmLoad(x, i), sphere.center)) - sphere.radius);
+	fmBodyStats stats = fmBody_GetStats(house);
+	printf("  closest vertex %.4f m from the sphere, centre of mass y %.3f, kinetic %.2e J\n",
+	       closest, stats.centerOfMass.y, stats.kineticEnergy);
+	CHECK(closest > -1e-9);
+	CHECK(stats.centerOfMass.y > sphere.center.y + sphere.radius);
+	CHECK(stats.kineticEnergy < 1.0);
+	fmVec3 force;
+	fmCollider_GetContactForce(collider, &force, NULL);
+	double weight = 0.0;
+	const double* masses = fmBody_GetMasses(house);
+	for (int i = 0; i < n; ++i)
+		weight += 9.8 * masses[i];
+	printf("  the sphere feels %.1f N down, the house weighs %.1f N\n", -force.y, weight);
+	CHECK_REL(-force.y, weight, 0.1, 0.0);
+	fmDestroyWorld(world);
+}
+
+// A stiff block on a plane inclined 30 degrees: it sticks with friction 0.7 (tan 30 = 0.577)
+// and slides with 0.3 at g (sin 30 - 0.3 cos 30) = 2.354 m/s^2.
+TEST(friction_on_an_incline)
+{
+	const double angle = 30.0 * 3.14159265358979 / 180.0, mus[2] = {0.7, 0.3};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.floor.enabled = false;
+		// The incline is the plane y = 0; gravity is tilted instead (the same physics).
+		wdef.gravity = fmMakeVec3(9.8 * sin(angle), -9.8 * cos(angle), 0.0);
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmColliderDef plane = fmDefaultColliderDef();
+		plane.friction = mus[k];
+		fmColliderId collider;
+		CHECK_INT(fmCreateCollider(world, &plane, &collider, NULL), fm_ok);
+		fmBodyDef def = fmDefaultBodyDef();
+		def.material = fmMakeMaterial(fm_neoHookean, 1e7, 0.3);
+		def.massMode = fm_massFromDensity;
+		def.density = 1000.0;
+		def.damping = 1.0;
+		def.smoothing = 0.0;
+		fmBodyId block = addBox(failures_, world, 2, fmMakeVec3(-0.1, 0.002, -0.1),
+		                        fmMakeVec3(0.1, 0.202, 0.1), &def);
+		for (int f = 0; f < 30; ++f) // settle onto the plane
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		double x0 = fmBody_GetStats(block).centerOfMass.x;
+		for (int f = 0; f < 30; ++f)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		double x1 = fmBody_GetStats(block).centerOfMass.x;
+		for (int f = 0; f < 30; ++f)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		double x2 = fmBody_GetStats(block).centerOfMass.x;
+		double acceleration = (x2 - 2.0 * x1 + x0) / (0.5 * 0.5);
+		double expected = 9.8 * (sin(angle) - mus[k] * cos(angle));
+		printf("  mu %.1f: slid %.4f m in 1 s, acceleration %.3f m/s^2 (Coulomb: %.3f)\n", mus[k],
+		       x2 - x0, acceleration, fmax(expected, 0.0));
+		if (expected < 0.0)
+			CHECK(fabs(x2 - x0) < 1e-3);
+		else
+			CHECK_REL(acceleration, expected, 0.05, 0.0);
+		fmDestroyWorld(world);
+	}
+}
+
+// A body at 10 m/s against a 1 cm thick static box, one implicit step a frame (17 cm a step):
+// it stops on its side.
+TEST(no_tunnelling_through_a_thin_collider)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	wdef.gravity = fmMakeVec3(0.0, 0.0, 0.0);
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmColliderDef wall = fmDefaultColliderDef();
+	wall.shape = fm_shapeBox;
+	wall.center = fmMakeVec3(0.5, 0.0, 0.0);
+	wall.halfExtents = fmMakeVec3(0.005, 1.0, 1.0);
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &wall, &collider, NULL), fm_ok);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 1000.0;
+	fmBodyId body =
+	    addBox(failures_, world, 3, fmMakeVec3(-0.2, -0.1, -0.1), fmMakeVec3(0.0, 0.1, 0.1), &def);
+	int n = fmBody_GetVertexCount(body);
+	double* v = calloc(3 * (size_t)n, sizeof(double));
+	for (int i = 0; i < n; ++i)
+		v[3 * i] = 10.0;
+	fmBody_SetVelocities(body, v);
+	free(v);
+	for (int f = 0; f < 30; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	const double* x = fmTestPositions(body);
+	double farthest = -INFINITY;
+	for (int i = 0; i < n; ++i)
+		farthest = fmax(farthest, x[3 * i]);
+	printf("  farthest vertex at x = %.4f (the wall's near face at 0.495)\n", farthest);
+	CHECK(farthest < 0.495 + 1e-9);
+	fmDestroyWorld(world);
+}
+
+// A kinematic paddle swept through a resting body pushes it along and feels it.
+TEST(kinematic_paddle_pushes)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = fm_floorCoulomb;
+	wdef.floor.frictionCoefficient = 0.3;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 500.0;
+	fmBodyId body =
+	    addBox(failures_, world, 3, fmMakeVec3(0.0, 0.0, -0.15), fmMakeVec3(0.3, 0.3, 0.15), &def);
+	fmColliderDef paddle = fmDefaultColliderDef();
+	paddle.shape = fm_shapeBox;
+	paddle.center = fmMakeVec3(-0.3, 0.2, 0.0);
+	paddle.halfExtents = fmMakeVec3(0.02, 0.2, 0.3);
+	paddle.velocity = fmMakeVec3(1.0, 0.0, 0.0);
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &paddle, &collider, NULL), fm_ok);
+	double pushMax = 0.0;
+	for (int f = 0; f < 60; ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		fmVec3 force;
+		fmCollider_GetContactForce(collider, &force, NULL);
+		pushMax = fmax(pushMax, -force.x);
+	}
+	fmBodyStats stats = fmBody_GetStats(body);
+	double paddleX = fmCollider_GetPosition(collider).x;
+	const double* x = fmTestPositions(body);
+	double back = INFINITY;
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		back = fmin(back, x[3 * i]);
+	printf("  paddle at x %.3f, the body's back face at %.3f, centre %.3f; largest push %.1f N\n",
+	       paddleX, back, stats.centerOfMass.x, pushMax);
+	CHECK(back > paddleX + 0.02 - 1e-6); // never passed
+	CHECK(stats.centerOfMass.x > 0.4);   // pushed along (it started at 0.15)
+	CHECK(pushMax > 0.0);                // the paddle felt the body
+	fmDestroyWorld(world);
+}
+
+// Resting contact on a plane collider, undamped, over 10 s: the energy (kinetic, elastic and
+// gravity's potential) never rises by more than 0.5% of the body's weight times its size.
+TEST(resting_contact_gains_no_energy)
+{
+	const fmIntegrator integrators[2] = {fm_implicit, fm_explicit};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = integrators[k];
+		wdef.floor.enabled = false;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmColliderDef plane = fmDefaultColliderDef();
+		plane.offset = -1.0;
+		fmColliderId collider;
+		CHECK_INT(fmCreateCollider(world, &plane, &collider, NULL), fm_ok);
+		fmBodyDef def = fmDefaultBodyDef();
+		def.material = fmMakeMaterial(fm_stvk, 5e4, 0.3);
+		def.massMode = fm_massFromDensity;
+		def.density = 300.0;
+		def.damping = 1.0;
+		def.smoothing = 0.0;
+		fmBodyId body = addBox(failures_, world, 3, fmMakeVec3(-0.2, -0.99, -0.2),
+		                       fmMakeVec3(0.2, -0.59, 0.2), &def);
+		double frame = 1.0 / 60.0;
+		int substeps = integrators[k] == fm_implicit ? 1 : 20;
+		double start = 0.0, highest = -INFINITY, weight = 0.0;
+		const double* masses = fmBody_GetMasses(body);
+		for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+			weight += 9.8 * masses[i];
+		for (int f = 0; f < 600; ++f)
+		{
+			CHECK_INT(fmWorld_Step(world, frame, substeps), fm_ok);
+			fmBodyStats s = fmBody_GetStats(body);
+			double energy = s.kineticEnergy + s.elasticEnergy + s.gravityEnergy;
+			if (f == 30) // landed
+				start = energy;
+			if (f > 30)
+				highest = fmax(highest, energy);
+		}
+		double allowed = 0.005 * weight * 0.4;
+		printf("  %s: energy rose by at most %.3e J (allowed %.3e J)\n",
+		       integrators[k] == fm_implicit ? "implicit" : "explicit", highest - start, allowed);
+		CHECK(highest - start <= allowed);
+		fmDestroyWorld(world);
+	}
+}
+
+// A ray straight down onto a box body hits its top face where the geometry says, with an
+// upward normal; rays that miss, and a filter that excludes the body, find nothing.
+TEST(ray_cast_hits_the_deformed_surface)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.enabled = false;
+	wdef.gravity = fmMakeVec3(0.0, 0.0, 0.0);
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	fmBodyId body =
+	    addBox(failures_, world, 2, fmMakeVec3(0.0, 0.0, 0.0), fmMakeVec3(1.0, 1.0, 1.0), &def);
+	// Deform it: the top face raised by 0.25 m in the middle (a bulge).
+	int n = fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	fmBody_CopyPositions(body, x, n);
+	for (int i = 0; i < n; ++i)
+		if (x[3 * i + 1] > 0.99 && fabs(x[3 * i] - 0.5) < 1e-9 && fabs(x[3 * i + 2] - 0.5) < 1e-9)
+			x[3 * i + 1] += 0.25;
+	fmBody_SetPositions(body, x);
+	free(x);
+	fmRayHit hit;
+	bool found = fmWorld_CastRay(world, fmMakeVec3(0.5, 3.0, 0.5), fmMakeVec3(0.0, -4.0, 0.0),
+	                             fmDefaultFilter(), &hit);
+	CHECK(found);
+	CHECK(fmBody_IsValid(hit.body));
+	CHECK_NEAR(hit.point.y, 1.25, 1e-12);
+	CHECK_NEAR(hit.fraction, (3.0 - 1.25) / 4.0, 1e-12);
+	CHECK(hit.normal.y > 0.0);
+	CHECK(hit.vertex >= 0 && hit.triangle >= 0);
+	// Off the bulge's peak, on a sloped triangle: the height is linear between the peak and the
+	// face's edge (the triangles of the 2x2x2 box's top face meet at its centre).
+	found = fmWorld_CastRay(world, fmMakeVec3(0.75, 3.0, 0.5), fmMakeVec3(0.0, -4.0, 0.0),
+	                        fmDefaultFilter(), &hit);
+	CHECK(found);
+	CHECK_NEAR(hit.point.y, 1.125, 1e-12);
+	CHECK(!fmWorld_CastRay(world, fmMakeVec3(2.0, 3.0, 0.5), fmMakeVec3(0.0, -4.0, 0.0),
+	                       fmDefaultFilter(), &hit));
+	fmFilter none = {1u, 0u};
+	CHECK(
+	    !fmWorld_CastRay(world, fmMakeVec3(0.5, 3.0, 0.5), fmMakeVec3(0.0, -4.0, 0.0), none, &hit));
+	// A collider in front of the body is hit first.
+	fmColliderDef sphere = fmDefaultColliderDef();
+	sphere.shape = fm_shapeSphere;
+	sphere.center = fmMakeVec3(0.5, 2.0, 0.5);
+	sphere.radius = 0.25;
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &sphere, &collider, NULL), fm_ok);
+	CHECK(fmWorld_CastRay(world, fmMakeVec3(0.5, 3.0, 0.5), fmMakeVec3(0.0, -4.0, 0.0),
+	                      fmDefaultFilter(), &hit));
+	CHECK(fmCollider_IsValid(hit.collider));
+	CHECK_NEAR(hit.point.y, 2.25, 1e-6);
+	fmDestroyWorld(world);
+}
+
+// Two bodies whose filters exclude each other pass through each other; with the default
+// filters the same drop stacks them, and the pair's contact begins (an event) and ends when
+// the top one is thrown off.
+TEST(filters_and_events)
+{
+	for (int filtered = 0; filtered < 2; ++filtered)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.floor.height = 0.0;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmBodyDef def = fmDefaultBodyDef();
+		def.material = fmMakeMaterial(fm_neoHookean, 2e5, 0.3);
+		def.massMode = fm_massFromDensity;
+		def.density = 500.0;
+		fmBodyId lower = addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.0, -0.3),
+		                        fmMakeVec3(0.3, 0.3, 0.3), &def);
+		if (filtered)
+			def.filter.maskBits = ~1u; // ignores category 1, the lower box's
+		fmBodyId upper = addBox(failures_, world, 3, fmMakeVec3(-0.2, 0.5, -0.2),
+		                        fmMakeVec3(0.2, 0.9, 0.2), &def);
+		int begins = 0, ends = 0;
+		for (int f = 0; f < 120; ++f)
+		{
+			if (f == 90)
+				fmBody_ApplyImpulse(upper, fmMakeVec3(0.0, 4.0, 0.0));
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+			fmContactEvent events[8];
+			int count = fmWorld_GetContactEvents(world, events, 8);
+			for (int e = 0; e < count && e < 8; ++e)
+			{
+				bool pair = events[e].body.index1 == lower.index1 &&
+				            events[e].otherBody.index1 == upper.index1;
+				begins += pair && events[e].begin;
+				ends += pair && !events[e].begin;
+			}
+		}
+		double upperLowest = fmBody_GetStats(upper).lowestY;
+		printf("  %s: upper box's lowest point %.3f, %d begin and %d end events\n",
+		       filtered ? "filtered" : "colliding", upperLowest, begins, ends);
+		if (filtered)
+		{
+			CHECK(upperLowest < 0.1); // fell through the lower box to the floor
+			CHECK_INT(begins, 0);
+		}
+		else
+		{
+			CHECK(begins >= 1);
+			CHECK(ends >= 1);
+		}
+		fmDestroyWorld(world);
+	}
+}
+
+// The same contact scene on 1 and 3 workers: the same bits.
+TEST(contact_is_deterministic_across_workers)
+{
+	double* result[2] = {NULL, NULL};
+	int n = 0;
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.workerCount = k == 0 ? 1 : 3;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmBodyDef def = implicitHouseDef();
+		fmBodyId a = addHouse(failures_, world, fmMakeVec3(0.0, -1.0, 0.0), &def);
+		fmBodyId b = addHouse(failures_, world, fmMakeVec3(0.3, 1.3, 0.0), &def);
+		fmColliderDef sphere = fmDefaultColliderDef();
+		sphere.shape = fm_shapeSphere;
+		sphere.center = fmMakeVec3(1.5, -2.5, 0.0);
+		fmColliderId collider;
+		CHECK_INT(fmCreateCollider(world, &sphere, &collider, NULL), fm_ok);
+		for (int f = 0; f < 60; ++f)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		n = fmBody_GetVertexCount(a);
+		result[k] = malloc(sizeof(double) * 6 * (size_t)n);
+		fmBody_CopyPositions(a, result[k], n);
+		fmBody_CopyPositions(b, result[k] + 3 * n, n);
+		fmDestroyWorld(world);
+	}
+	CHECK(memcmp(result[0], result[1], sizeof(double) * 6 * (size_t)n) == 0);
+	free(result[0]);
+	free(result[1]);
+}
+
+// Bad collider defs are refused with the field named.
+TEST(bad_colliders_are_refused)
+{
+	fmWorldDef start = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&start);
+	fmColliderId id;
+	fmDiagnostic diag;
+	fmColliderDef def = fmDefaultColliderDef();
+	def.normal = fmMakeVec3(0.0, 0.0, 0.0);
+	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "normal");
+	def = fmDefaultColliderDef();
+	def.shape = fm_shapeSphere;
+	def.radius = -1.0;
+	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "radius");
+	def = fmDefaultColliderDef();
+	def.friction = NAN;
+	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "friction");
+	def = fmDefaultColliderDef();
+	def.shape = (fmShapeType)42;
+	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
+	fmColliderDef raw;
+	memset(&raw, 0, sizeof raw);
+	CHECK_INT(fmCreateCollider(world, &raw, &id, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "fmDefaultColliderDef");
+	CHECK(!fmCollider_IsValid(id));
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.contact.iterations = 0;
+	CHECK_INT(fmWorldDef_Validate(&wdef, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "iterations");
+	fmDestroyWorld(world);
+}
