@@ -3,6 +3,7 @@
 
 #include "core.h"
 #include "det_math.h"
+#include "draw.h"
 #include "forces.h"
 #include "fp_env.h"
 #include "mesh_internal.h"
@@ -186,6 +187,9 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->userTets, int, 4 * m);
 	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->triangleCount);
 	FM_FREE_ARRAY(b->userMass, double, n);
+	fmDrawCache_Free(b->drawCache);
+	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
+	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
 	fmSolverCache_Free(b->implicitCache);
 	fmTetBlocks_Destroy(b->tetBlocks);
 	uint32_t generation = b->generation;

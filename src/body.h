@@ -73,6 +73,8 @@ typedef struct fmBody
 	bool stepConverged;      // implicit: reached the tolerance
 	const char* stepStopped; // implicit, not converged: why it stopped
 	double energyAfter;      // kinetic + elastic energy at the end of the frame being checked
+	double stepStage[2];     // s, the last substep's two stages (explicit: forces, then
+	                         // integration; implicit: the solve, then velocities and floor)
 	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)
 
 	fmMaterial material;
@@ -86,6 +88,14 @@ typedef struct fmBody
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
+	// Kinematic targets (targets.h): vertices pulled toward caller-given positions.
+	int targetCount;
+	int targetCapacity;
+	int* targetVertex;      // targetCount: the body's index of each pulled vertex
+	double* targetPosition; // 3 per target (m)
+	double targetStiffness; // N/m, each spring
+
+	struct fmDrawCache* drawCache; // fmWorld_Draw's buffers (draw.h), made on the first draw
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
 	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need
 	size_t memoryEstimate;         // fmEstimateBodyMemory() at creation, counted against the budget

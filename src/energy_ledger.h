@@ -46,7 +46,8 @@ double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, doub
 // velocities, material) as work. Updates body->energyGood.
 void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep, fmArena* arena);
 
-// Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor.
+// Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor,
+// or by the kinematic targets' springs.
 void fmLedger_AddContactWork(struct fmBody* body, double work);
 
 // The verdict on a frame: ok, or which check failed with the energy it measured and the bound.

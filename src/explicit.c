@@ -4,7 +4,9 @@
 
 #include "floor.h"
 #include "forces.h"
+#include "targets.h"
 #include "tet_blocks.h"
+#include "timer.h"
 #include "velocity_filter.h"
 
 #include <string.h>
@@ -97,21 +99,27 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	const fmTaskSystem* tasks = &world->tasks;
 	fmExplicitTask context = {b, dt, world->def.gravity};
 
-	// 1. Gravity and elastic forces.
+	// 1. Gravity, elastic, damping and kinematic targets' forces.
+	double start = fmSeconds();
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmGravityTask, &context);
 	fmAddExplicitElasticForces(world, b, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);
+	fmTargets_AddExplicitForces(b, dt, b->f);
+	double forced = fmSeconds();
 
 	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmVelocitiesTask, &context);
 
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
 	fmFilterVelocities(b, dt, arena, tasks);
+	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
 
 	// 4. Positions, then the floor.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmPositionsTask, &context);
 	fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
+	b->stepStage[0] = forced - start;
+	b->stepStage[1] = fmSeconds() - forced;
 	return fm_ok;
 }

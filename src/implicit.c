@@ -10,6 +10,8 @@
 #include "floor.h"
 #include "forces.h"
 #include "newton.h"
+#include "targets.h"
+#include "timer.h"
 #include "vbd.h"
 #include "velocity_filter.h"
 
@@ -39,7 +41,16 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, do
 		inertia += m * m * b->v[k] * b->v[k] / (h * h);
 		elastic += c->forces[k] * c->forces[k];
 	}
-	return sqrt(weight) + sqrt(inertia) + sqrt(elastic);
+	// The kinematic targets' pull is an external force too.
+	double pull = 0.0;
+	for (int t = 0; t < b->targetCount; ++t)
+		for (int e = 0; e < 3; ++e)
+		{
+			int i = b->targetVertex[t];
+			double f = b->targetStiffness * (b->targetPosition[3 * t + e] - b->x[3 * i + e]);
+			pull += fmIsDofPinned(b, 3 * i + e) ? 0.0 : f * f;
+		}
+	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull);
 }
 
 // Lagged damping matrix D / h at the start of the step: beta K(x_n) (Rayleigh stiffness part)
@@ -127,6 +138,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    free flight x + h v + h^2 g held above the floor: a body in free fall is then solved
 	//    before the first iteration, however stiff or light it is (E / density of 1e17 and
 	//    more leaves the rigid motion to round-off in the elastic forces otherwise).
+	double start = fmSeconds();
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
 		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
@@ -158,14 +170,17 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	fmChooseFirstGuess(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
-	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping
+	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0
 	             ? fmVbd_Solve(b, c, &pb)
 	             : fmNewton_Solve(b, c, &pb);
+	double solved = fmSeconds();
+	b->stepStage[0] = solved - start;
 	if (!solve->finite)
 		return fm_errNumerical;
 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
+	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(b, h, arena, &world->tasks);
@@ -177,5 +192,6 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 		fmLedger_AddContactWork(b, fmFloor_ImplicitWork(b, c, floor->height));
 		fmFloor_ImplicitVelocities(floor, b, c, h);
 	}
+	b->stepStage[1] = fmSeconds() - solved;
 	return fm_ok;
 }

@@ -6,6 +6,7 @@
 
 #include "core.h"
 #include "forces.h"
+#include "targets.h"
 
 #include <float.h>
 #include <math.h>
@@ -81,9 +82,10 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 				gradient[k] += pushed[k];
 		}
 	}
+	double pulled = fmTargets_Energy(b, x, gradient);
 	if (magnitude)
-		*magnitude = fabs(psi) + inertial + size + damping;
-	return inertial + damping + psi + external;
+		*magnitude = fabs(psi) + inertial + size + damping + pulled;
+	return inertial + damping + psi + external + pulled;
 }
 
 // Round-off band of E (see fmLineSearch): differences below it are noise.
@@ -143,6 +145,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		block[4] += diagonal;
 		block[8] += diagonal;
 	}
+	fmTargets_AddDiagonal(b, c->pattern.diagonal, c->hessian);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
@@ -187,6 +190,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 				blocks[9 * (size_t)i + r] += d[r];
 		}
 	}
+	fmTargets_AddDiagonal(b, NULL, blocks);
 }
 
 // One range of block rows of the assembled product y = H x.
@@ -226,6 +230,7 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 	fmAddHessianProduct(b, b->x, x, y, pb->exactHessian ? 0 : 1);
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		y[k] += (pb->inertia + pb->massDamping) * b->mass[k / 3] * x[k];
+	fmTargets_AddProduct(b, x, y);
 }
 
 // Newton direction: solve H d = -gradient over the free DOFs.

@@ -8,6 +8,7 @@
 #include "fp_env.h"
 #include "implicit.h"
 #include "simd.h"
+#include "timer.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -257,6 +258,14 @@ fmStepStats fmWorld_GetStepStats(fmWorldId worldId)
 	fmStepStats none;
 	memset(&none, 0, sizeof none);
 	return w ? w->stats : none;
+}
+
+fmProfile fmWorld_GetProfile(fmWorldId worldId)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	fmProfile none;
+	memset(&none, 0, sizeof none);
+	return w ? w->profile : none;
 }
 
 fmResult fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity)
@@ -601,7 +610,10 @@ static fmResult fmMergeBodyStep(fmWorld* w, int index)
 		                   "body %d: the %s step failed (%s)", index,
 		                   w->def.integrator == fm_implicit ? "implicit" : "explicit",
 		                   fmResultMessage(b->stepResult));
-	if (w->def.integrator != fm_implicit)
+	bool implicit = w->def.integrator == fm_implicit;
+	*(implicit ? &w->profile.solve : &w->profile.forces) += 1e3 * b->stepStage[0];
+	*(implicit ? &w->profile.finish : &w->profile.integrate) += 1e3 * b->stepStage[1];
+	if (!implicit)
 		return fm_ok;
 	w->stats.newtonIterations += b->stepNewton;
 	w->stats.cgIterations += b->stepCg;
@@ -750,6 +762,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 
 	// Stage 4: health checks against the ledgers; a failure restores every body. Only when
 	// every body passed are the frame's work booked and the good states moved forward.
+	double checking = fmSeconds();
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
@@ -774,6 +787,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		w->stats.invertedTets += fmBodyCountInverted(b);
 		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
+	w->profile.check = 1e3 * (fmSeconds() - checking);
 	return fm_ok;
 }
 
@@ -785,7 +799,10 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	// The host's floating-point state is saved, femto's set (round to nearest, no FTZ or DAZ),
 	// and the host's restored after the step, on every path (fp_env.h).
 	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
+	double start = fmSeconds();
+	memset(&w->profile, 0, sizeof w->profile);
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
+	w->profile.step = 1e3 * (fmSeconds() - start);
 	fmFpEnv_Leave(&env);
 	return r;
 }

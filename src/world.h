@@ -15,6 +15,7 @@ typedef struct fmWorld
 	int bodyCapacity;
 	fmBody* bodies; // bodyCapacity slots; a slot is live when its x != NULL
 	fmStepStats stats;
+	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
 	bool warnedStep;               // the explicit step-size warning was given
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)

@@ -280,7 +280,8 @@ typedef struct fmWorldDef
 	/// best the CPU has; fm_simdOff: the double-precision reference kernel)
 	fmSimdLevel simd;
 	/// implicit: the minimiser of each step (default fm_solverNewton, measured faster; vertex
-	/// block descent for comparison; Rayleigh stiffness damping always takes Newton)
+	/// block descent for comparison; Rayleigh stiffness damping and kinematic targets always
+	/// take Newton)
 	fmImplicitSolver implicitSolver;
 	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
 	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
@@ -349,7 +350,8 @@ typedef struct fmBodyStats
 	double lowestY;       ///< m, lowest vertex
 	int invertedTets;     ///< tets with det F <= 0
 	/// J, the body's energy ledger: work done on it since creation by gravity, contacts
-	/// (depenetration) and the caller (impulses, set positions or velocities). Kinetic plus
+	/// (depenetration), kinematic targets and the caller (impulses, set positions or
+	/// velocities). Kinetic plus
 	/// elastic energy never exceeds its initial value plus this work (docs/robustness.md).
 	double work;
 	double initialEnergy; ///< J, kinetic plus elastic energy when the body was created

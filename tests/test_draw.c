@@ -1,0 +1,292 @@
+// Debug drawing (fmWorld_Draw) and the step profile (fmWorld_GetProfile): what the callbacks
+// receive is the body's geometry (positions, outward unit normals, the tets' edges, inverted
+// tets, pins, targets), strain colours follow the analytic energy of a uniform stretch, and a
+// second draw allocates nothing.
+#include "support.h"
+#include "test.h"
+
+#include "draw.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// What the callbacks saw.
+typedef struct fmSeen
+{
+	int batches;
+	int vertexCount;
+	int triangleCount;
+	float* positions; // copies of the last batch
+	float* normals;
+	float* colors;
+	int* vertices;
+	int lines[4]; // per colour kind: edges, inverted, targets, other
+	int points;
+	int planes;
+	fmVec3 planePoint;
+	fmVec3 planeNormal;
+	fmHexColor lastPointColor;
+} fmSeen;
+
+static void seeTriangles(const fmDrawTriangles* t, void* context)
+{
+	fmSeen* s = context;
+	s->batches += 1;
+	s->vertexCount = t->vertexCount;
+	s->triangleCount = t->triangleCount;
+	free(s->positions);
+	free(s->normals);
+	free(s->colors);
+	free(s->vertices);
+	size_t n = (size_t)t->vertexCount;
+	s->positions = malloc(sizeof(float) * 3 * n);
+	s->normals = malloc(sizeof(float) * 3 * n);
+	s->colors = t->colors ? malloc(sizeof(float) * 3 * n) : NULL;
+	s->vertices = malloc(sizeof(int) * n);
+	memcpy(s->positions, t->positions, sizeof(float) * 3 * n);
+	memcpy(s->normals, t->normals, sizeof(float) * 3 * n);
+	if (t->colors)
+		memcpy(s->colors, t->colors, sizeof(float) * 3 * n);
+	memcpy(s->vertices, t->vertices, sizeof(int) * n);
+}
+
+static void seeLines(const float* points, int count, fmHexColor color, void* context)
+{
+	(void)points;
+	fmSeen* s = context;
+	int kind = color == 0x303030u ? 0 : color == 0xff2020u ? 1 : color == 0x20d040u ? 2 : 3;
+	s->lines[kind] += count;
+}
+
+static void seePoints(const float* points, int count, float size, fmHexColor color, void* context)
+{
+	(void)points;
+	(void)size;
+	fmSeen* s = context;
+	s->points += count;
+	s->lastPointColor = color;
+}
+
+static void seePlane(fmVec3 point, fmVec3 normal, fmHexColor color, void* context)
+{
+	(void)color;
+	fmSeen* s = context;
+	s->planes += 1;
+	s->planePoint = point;
+	s->planeNormal = normal;
+}
+
+static fmDebugDraw drawInto(fmSeen* seen, unsigned flags)
+{
+	memset(seen, 0, sizeof *seen);
+	fmDebugDraw draw = fmDefaultDebugDraw();
+	draw.drawTriangles = seeTriangles;
+	draw.drawLines = seeLines;
+	draw.drawPoints = seePoints;
+	draw.drawPlane = seePlane;
+	draw.flags = flags;
+	draw.context = seen;
+	return draw;
+}
+
+static void freeSeen(fmSeen* s)
+{
+	free(s->positions);
+	free(s->normals);
+	free(s->colors);
+	free(s->vertices);
+}
+
+// The surface batch holds exactly the surface's vertices, at their positions (in the user's
+// numbering), with unit normals pointing out of the convex box.
+TEST(surface_batch_is_the_body_surface)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 3, 2, 4, fmMakeVec3(0.3, 0.2, 0.4),
+	                              fmMakeMaterial(fm_stvk, 1e5, 0.3), fm_fem);
+	if (!fmBody_IsValid(body))
+		return;
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawSurfaces);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	int triangles = 0;
+	const int* surface = fmBody_GetSurface(body, &triangles);
+	int n = fmBody_GetVertexCount(body);
+	char* onSurface = calloc((size_t)n, 1);
+	int surfaceVertices = 0;
+	for (int k = 0; k < 3 * triangles; ++k)
+		if (!onSurface[surface[k]]++)
+			surfaceVertices += 1;
+	CHECK_INT(seen.batches, 1);
+	CHECK_INT(seen.triangleCount, triangles);
+	CHECK_INT(seen.vertexCount, surfaceVertices);
+	const double* x = fmTestPositions(body);
+	bool positionsMatch = true, unit = true, outward = true, listed = true;
+	for (int v = 0; v < seen.vertexCount; ++v)
+	{
+		int i = seen.vertices[v];
+		listed = listed && i >= 0 && i < n && onSurface[i];
+		const float* p = seen.positions + 3 * v;
+		const float* m = seen.normals + 3 * v;
+		for (int e = 0; e < 3; ++e)
+			positionsMatch = positionsMatch && p[e] == (float)x[3 * i + e];
+		unit = unit && fabs(m[0] * m[0] + m[1] * m[1] + m[2] * m[2] - 1.0) < 1e-5;
+		double out = m[0] * (p[0] - 0.15) + m[1] * (p[1] - 0.1) + m[2] * (p[2] - 0.2);
+		outward = outward && out > 0.0;
+	}
+	CHECK(listed);
+	CHECK(positionsMatch);
+	CHECK(unit);
+	CHECK(outward);
+	CHECK(seen.colors == NULL);
+	free(onSurface);
+	freeSeen(&seen);
+	fmDestroyWorld(world);
+}
+
+// One cube of 6 tets has 19 edges (12 of the cube, 6 face diagonals, 1 body diagonal); a tet
+// turned inside out gives its 6 edges in red; pins and the floor are drawn where they are.
+TEST(edges_inverted_tets_pins_and_floor)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 1, 1, 1, fmMakeVec3(1, 1, 1),
+	                              fmMakeMaterial(fm_neoHookean, 1e5, 0.3), fm_fem);
+	if (!fmBody_IsValid(body))
+		return;
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawTetEdges | fm_drawInvertedTets | fm_drawPins);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK_INT(seen.lines[0], 19);
+	CHECK_INT(seen.lines[1], 0);
+	CHECK_INT(seen.points, 0);
+	fmBody_SetPinned(body, 0, true);
+	fmBody_SetPinned(body, 7, true);
+	// Push one corner through the cube: the tets that hold it invert.
+	int n = fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(x, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
+	x[3 * 7] = x[3 * 7 + 1] = x[3 * 7 + 2] = -1.0;
+	fmBody_SetPositions(body, x);
+	int inverted = fmBody_GetStats(body).invertedTets;
+	CHECK(inverted > 0);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK_INT(seen.lines[1], 6 * inverted);
+	CHECK_INT(seen.points, 2);
+	free(x);
+	fmDestroyWorld(world);
+
+	fmTestMakeHouse(&world, NULL, NULL); // the seeds' floor at y = -3
+	draw = drawInto(&seen, fm_drawFloor);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK_INT(seen.planes, 1);
+	CHECK_NEAR(seen.planePoint.y, -3.0, 0.0);
+	CHECK_NEAR(seen.planeNormal.y, 1.0, 0.0);
+	CHECK_INT(seen.batches, 0); // nothing else was asked for
+	fmDestroyWorld(world);
+}
+
+// Targets: a point at each target and a line to its vertex.
+TEST(targets_are_drawn)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1),
+	                              fmMakeMaterial(fm_stvk, 1e5, 0.3), fm_fem);
+	if (!fmBody_IsValid(body))
+		return;
+	int vertices[3] = {0, 4, 8};
+	fmVec3 positions[3] = {{2, 0, 0}, {0, 2, 0}, {0, 0, 2}};
+	CHECK_INT(fmBody_SetTargets(body, vertices, positions, 3, 100.0), fm_ok);
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawTargets);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK_INT(seen.lines[2], 3);
+	CHECK_INT(seen.points, 3);
+	CHECK(seen.lastPointColor == 0x20d040u);
+	fmDestroyWorld(world);
+}
+
+// A uniform stretch F = (1 + s) I of a St. Venant-Kirchhoff body has the Green strain e I,
+// e = ((1 + s)^2 - 1) / 2, and the energy density psi = 3 mu e^2 + 9 lambda e^2 / 2 in every
+// tet: every vertex gets the colour of the equivalent strain sqrt(2 psi / E) / 0.2; at rest,
+// the ramp's start.
+TEST(strain_colours_follow_the_energy_density)
+{
+	const double E = 1e5, nu = 0.3, s = 0.05;
+	fmWorldId world;
+	fmBodyId body =
+	    fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), fmMakeMaterial(fm_stvk, E, nu), fm_fem);
+	if (!fmBody_IsValid(body))
+		return;
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawStress);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	float rest[3];
+	fmStrainColor(0.0, rest);
+	CHECK(seen.colors != NULL && seen.colors[0] == rest[0] && seen.colors[2] == rest[2]);
+	int n = fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(x, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
+	for (int k = 0; k < 3 * n; ++k)
+		x[k] *= 1.0 + s;
+	fmBody_SetPositions(body, x);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	double mu = E / (2.0 * (1.0 + nu)), lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+	double e = ((1.0 + s) * (1.0 + s) - 1.0) / 2.0;
+	double psi = 3.0 * mu * e * e + 4.5 * lambda * e * e;
+	float expected[3];
+	fmStrainColor(sqrt(2.0 * psi / E) / 0.2, expected);
+	bool all = seen.colors != NULL;
+	for (int v = 0; all && v < seen.vertexCount; ++v)
+		for (int c = 0; c < 3; ++c)
+			all = all && fabsf(seen.colors[3 * v + c] - expected[c]) < 1e-5f;
+	CHECK(all);
+	CHECK(fabsf(expected[0] - rest[0]) > 0.1f || fabsf(expected[1] - rest[1]) > 0.1f);
+	free(x);
+	freeSeen(&seen);
+	fmDestroyWorld(world);
+}
+
+// The first draw makes a body's buffers; later draws reuse them.
+TEST(second_draw_allocates_nothing)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, NULL, NULL);
+	if (!fmBody_IsValid(body))
+		return;
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawAll);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 10), fm_ok); // the step's own buffers
+	size_t before = fmGetAllocatedBytes();
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	size_t first = fmGetAllocatedBytes();
+	CHECK(first > before);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 10), fm_ok);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK(fmGetAllocatedBytes() == first);
+	freeSeen(&seen);
+	fmDestroyWorld(world);
+}
+
+// The profile: stages measured, none longer than the step.
+TEST(profile_measures_the_stages)
+{
+	const fmIntegrator integrators[2] = {fm_explicit, fm_implicit};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef def = fmDefaultWorldDef();
+		def.integrator = integrators[k];
+		fmWorldId world;
+		fmBodyId body = fmTestMakeHouse(&world, &def, NULL);
+		if (!fmBody_IsValid(body))
+			return;
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, integrators[k] == fm_explicit ? 10 : 1), fm_ok);
+		fmProfile p = fmWorld_GetProfile(world);
+		CHECK(p.step > 0.0);
+		double first = integrators[k] == fm_explicit ? p.forces : p.solve;
+		double second = integrators[k] == fm_explicit ? p.integrate : p.finish;
+		CHECK(first > 0.0 && second > 0.0 && p.check > 0.0);
+		CHECK(first + second + p.check <= p.step);
+		fmDestroyWorld(world);
+	}
+}
