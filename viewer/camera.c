@@ -68,7 +68,7 @@ void fvCamera_Frame(fvCamera* camera, const float lo[3], const float hi[3], floa
 	// The bounding sphere fits the narrower of the two fields of view, with a margin.
 	float halfY = 0.5f * fvRadians(camera->fovY);
 	float halfX = atanf(tanf(halfY) * (aspect > 0.0f ? aspect : 1.0f));
-	camera->distance = 1.05f * radius / sinf(fminf(halfX, halfY));
+	camera->distance = 1.15f * radius / sinf(fminf(halfX, halfY));
 }
 
 void fvCamera_Eye(const fvCamera* camera, float eye[3])
