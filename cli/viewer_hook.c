@@ -21,6 +21,7 @@
 	"libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev libglfw3-dev libimgui-dev"
 #endif
 
+#if !defined(FEMTO_HAVE_RENDERER) || !defined(FEMTO_HAVE_VIEW)
 // Say that a part of the viewer was not built and how to get it.
 static void cliReportMissing(const char* what)
 {
@@ -29,6 +30,7 @@ static void cliReportMissing(const char* what)
 	         "(docs/viewer.md)",
 	         what);
 }
+#endif
 
 #ifdef FEMTO_HAVE_RENDERER
 

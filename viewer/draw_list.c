@@ -240,3 +240,26 @@ bool fvDrawList_Bounds(const fvDrawList* list, float lo[3], float hi[3])
 		fvGrow(lo, hi, list->points + 7 * i);
 	return lo[0] <= hi[0] && isfinite(lo[0]) && isfinite(hi[0]);
 }
+
+bool fvDrawList_FramingBox(const fvDrawList* list, float lo[3], float hi[3])
+{
+	if (!fvDrawList_Bounds(list, lo, hi))
+		return false;
+	if (!list->hasPlane)
+		return true;
+	const float* n = list->planeNormal;
+	float box[2][3];
+	memcpy(box[0], lo, sizeof box[0]);
+	memcpy(box[1], hi, sizeof box[1]);
+	for (int corner = 0; corner < 8; ++corner)
+	{
+		float p[3] = {box[corner & 1][0], box[(corner >> 1) & 1][1], box[(corner >> 2) & 1][2]};
+		float height = 0.0f;
+		for (int i = 0; i < 3; ++i)
+			height += (p[i] - list->planePoint[i]) * n[i];
+		for (int i = 0; i < 3; ++i)
+			fvGrow(lo, hi,
+			       (float[3]){p[0] - height * n[0], p[1] - height * n[1], p[2] - height * n[2]});
+	}
+	return true;
+}

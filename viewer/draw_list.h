@@ -60,5 +60,10 @@ fmDebugDraw fvDrawList_Callbacks(fvDrawList* list, unsigned flags);
 /// The box around the surfaces, lines and points (m). False when nothing was drawn.
 bool fvDrawList_Bounds(const fvDrawList* list, float lo[3], float hi[3]);
 
+/// The box a camera should frame: the bounds, and their shadow straight down on the floor
+/// plane (the box's corners projected onto it), so the bodies and the floor under them are in
+/// view. False when nothing was drawn.
+bool fvDrawList_FramingBox(const fvDrawList* list, float lo[3], float hi[3]);
+
 /// RGB in [0, 1] of a hex colour.
 void fvHexToRgb(fmHexColor color, float rgb[3]);

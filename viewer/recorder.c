@@ -38,34 +38,6 @@ fvRecordSettings fvDefaultRecordSettings(void)
 	return s;
 }
 
-/// The box to frame: what is drawn, and its shadow on the floor plane (the corners of the box
-/// projected onto the plane), so the bodies and the floor under them are in view.
-static bool fvFramingBox(const fvDrawList* list, float lo[3], float hi[3])
-{
-	if (!fvDrawList_Bounds(list, lo, hi))
-		return false;
-	if (!list->hasPlane)
-		return true;
-	const float* n = list->planeNormal;
-	float box[2][3];
-	memcpy(box[0], lo, sizeof box[0]);
-	memcpy(box[1], hi, sizeof box[1]);
-	for (int corner = 0; corner < 8; ++corner)
-	{
-		float p[3] = {box[corner & 1][0], box[(corner >> 1) & 1][1], box[(corner >> 2) & 1][2]};
-		float height = 0.0f;
-		for (int i = 0; i < 3; ++i)
-			height += (p[i] - list->planePoint[i]) * n[i];
-		for (int i = 0; i < 3; ++i)
-		{
-			float q = p[i] - height * n[i];
-			lo[i] = fminf(lo[i], q);
-			hi[i] = fmaxf(hi[i], q);
-		}
-	}
-	return true;
-}
-
 // The first frame's camera: the settings' angles, the rest framed automatically.
 static void fvChooseCamera(fvRecorder* r)
 {
@@ -76,7 +48,7 @@ static void fvChooseCamera(fvRecorder* r)
 	if (s->hasPitch)
 		camera.pitch = s->pitch;
 	float lo[3], hi[3];
-	if (fvFramingBox(&r->list, lo, hi))
+	if (fvDrawList_FramingBox(&r->list, lo, hi))
 		fvCamera_Frame(&camera, lo, hi, (float)s->width / (float)s->height);
 	if (s->hasTarget)
 		memcpy(camera.target, s->target, sizeof camera.target);
