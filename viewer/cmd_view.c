@@ -37,7 +37,7 @@ static const char* const fvViewHelp =
     "                     femto's scenes/)\n"
     "  --script FILE      play a script of input (docs/viewer.md, \"Scripts\")\n"
     "  --frames N         quit after N frames; every frame steps exactly 1/60 s\n"
-    "  --screenshot FILE  at the end, save the 3D view as a PNG\n"
+    "  --screenshot FILE  at the end, save the window as a PNG (with the panel unless --no-ui)\n"
     "  --report FILE      at the end, write where the bodies and the drag are seen (pixels)\n"
     "  --no-ui            no panel (the keys and the mouse still work)\n"
     "  --help             this text\n"
@@ -299,8 +299,11 @@ static void fvPanel(fvView* v, double fps)
 	fvApp_ApplyUi(&v->app, &model);
 }
 
-// Draw one frame; false when the offscreen framebuffer cannot be had.
-static bool fvDrawFrame(fvView* v, double fps)
+static bool fvSaveScreenshot(const fvView* v, const char* path);
+
+// Draw one frame (and save it as @p screenshot when not NULL); false when the offscreen
+// framebuffer cannot be had or the screenshot not written.
+static bool fvDrawFrame(fvView* v, double fps, const char* screenshot)
 {
 	fvApp* app = &v->app;
 	fvWindow_FramebufferSize(&v->window, &app->width, &app->height);
@@ -316,6 +319,8 @@ static bool fvDrawFrame(fvView* v, double fps)
 	glViewport(0, 0, app->width, app->height);
 	if (v->ui)
 		fvPanel(v, fps);
+	if (screenshot != NULL && !fvSaveScreenshot(v, screenshot))
+		return false;
 	fvWindow_Swap(&v->window);
 	return true;
 }
@@ -337,25 +342,29 @@ static int fvLoop(fvView* v)
 		// Scripted runs step exactly one tick a frame: the same result on any machine.
 		fvSession_Advance(&v->app.session,
 		                  o->frames > 0 ? FV_TICK_SECONDS : (elapsed < 0.25 ? elapsed : 0.25));
-		if (!fvDrawFrame(v, fps))
+		if (!fvDrawFrame(v, fps, NULL))
 		{
 			cliError("view: cannot make a %dx%d framebuffer", v->app.width, v->app.height);
 			return cli_exitInput;
 		}
 	}
+	// The screenshot: the last state drawn once more, read before it is shown.
+	if (o->screenshotPath != NULL && !fvDrawFrame(v, fps, o->screenshotPath))
+		return cli_exitInput;
 	return cli_exitOk;
 }
 
-static bool fvSaveScreenshot(fvView* v, const char* path)
+// What the window shows, panel included (--no-ui for the scene alone).
+static bool fvSaveScreenshot(const fvView* v, const char* path)
 {
-	fvFramebuffer* f = &v->framebuffer;
-	unsigned char* pixels = malloc(4 * (size_t)f->width * (size_t)f->height);
+	int width = v->app.width, height = v->app.height;
+	unsigned char* pixels = malloc(4 * (size_t)width * (size_t)height);
 	char error[1024] = "";
 	bool ok = pixels != NULL;
 	if (ok)
 	{
-		fvFramebuffer_Read(f, pixels);
-		ok = fvPng_Write(path, pixels, f->width, f->height, error, sizeof error);
+		fvFramebuffer_ReadWindow(width, height, pixels);
+		ok = fvPng_Write(path, pixels, width, height, error, sizeof error);
 	}
 	free(pixels);
 	if (!ok)
@@ -403,9 +412,6 @@ int fvViewMain(int argc, char** argv)
 		code = fvOpen(v);
 	if (code < 0)
 		code = fvLoop(v);
-	if (code == cli_exitOk && v->options.screenshotPath != NULL &&
-	    !fvSaveScreenshot(v, v->options.screenshotPath))
-		code = cli_exitInput;
 	if (code == cli_exitOk && v->options.reportPath != NULL &&
 	    !fvWriteReport(v, v->options.reportPath))
 		code = cli_exitInput;

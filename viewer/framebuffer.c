@@ -69,18 +69,14 @@ void fvFramebuffer_Resolve(const fvFramebuffer* f)
 	glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void fvFramebuffer_Read(const fvFramebuffer* f, unsigned char* rgba)
+// OpenGL's rows start at the bottom; images start at the top.
+static void fvFlipRows(unsigned char* rgba, int width, int height)
 {
-	glBindFramebuffer(GL_READ_FRAMEBUFFER, f->resolveFramebuffer);
-	glPixelStorei(GL_PACK_ALIGNMENT, 1);
-	glReadPixels(0, 0, f->width, f->height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
-	glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-	// OpenGL's rows start at the bottom; images start at the top.
-	size_t row = 4 * (size_t)f->width;
-	for (int y = 0; y < f->height / 2; ++y)
+	size_t row = 4 * (size_t)width;
+	for (int y = 0; y < height / 2; ++y)
 	{
 		unsigned char* a = rgba + row * (size_t)y;
-		unsigned char* b = rgba + row * (size_t)(f->height - 1 - y);
+		unsigned char* b = rgba + row * (size_t)(height - 1 - y);
 		for (size_t i = 0; i < row; ++i)
 		{
 			unsigned char t = a[i];
@@ -88,6 +84,24 @@ void fvFramebuffer_Read(const fvFramebuffer* f, unsigned char* rgba)
 			b[i] = t;
 		}
 	}
+}
+
+void fvFramebuffer_Read(const fvFramebuffer* f, unsigned char* rgba)
+{
+	glBindFramebuffer(GL_READ_FRAMEBUFFER, f->resolveFramebuffer);
+	glPixelStorei(GL_PACK_ALIGNMENT, 1);
+	glReadPixels(0, 0, f->width, f->height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+	glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+	fvFlipRows(rgba, f->width, f->height);
+}
+
+void fvFramebuffer_ReadWindow(int width, int height, unsigned char* rgba)
+{
+	glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+	glReadBuffer(GL_BACK);
+	glPixelStorei(GL_PACK_ALIGNMENT, 1);
+	glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+	fvFlipRows(rgba, width, height);
 }
 
 void fvFramebuffer_BlitToWindow(const fvFramebuffer* f, int width, int height)

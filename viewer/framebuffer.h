@@ -33,5 +33,9 @@ void fvFramebuffer_Read(const fvFramebuffer* framebuffer, unsigned char* rgba);
 /// Copy the resolved image to the window's framebuffer (@p width x @p height pixels).
 void fvFramebuffer_BlitToWindow(const fvFramebuffer* framebuffer, int width, int height);
 
+/// Read the window's back buffer (@p width x @p height pixels) as RGBA, rows from the top:
+/// what the next swap shows.
+void fvFramebuffer_ReadWindow(int width, int height, unsigned char* rgba);
+
 /// Release the GL objects.
 void fvFramebuffer_Destroy(fvFramebuffer* framebuffer);

@@ -140,7 +140,7 @@ extern "C" void fvUi_Frame(fvUiModel* model)
 	ImGui_ImplGlfw_NewFrame();
 	ImGui::NewFrame();
 	ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-	ImGui::SetNextWindowSize(ImVec2(360, 0), ImGuiCond_FirstUseEver);
+	ImGui::SetNextWindowSize(ImVec2(410, 0), ImGuiCond_FirstUseEver);
 	ImGui::SetNextWindowCollapsed(false, ImGuiCond_FirstUseEver);
 	ImGui::Begin("femto");
 	showScene(m);
