@@ -1,6 +1,8 @@
 // GIF and PNG writers (image_out.h).
 #include "image_out.h"
 
+#include "palette.h"
+
 #include <errno.h>
 #include <fcntl.h>
 #include <gif_lib.h>
@@ -12,54 +14,6 @@
 #include <unistd.h>
 
 #define FV_TRANSPARENT 255 // palette index of "unchanged since the last frame"
-#define FV_CUBE 6          // levels per channel of the colour cube
-#define FV_GREYS 39        // greys between the cube's levels
-
-// The palette (image_out.h) and a 32x32x32 table from 5-bit RGB to its nearest entry.
-static GifColorType fvPalette[256];
-static unsigned char fvNearest[32 * 32 * 32];
-static bool fvPaletteReady;
-
-static void fvMakePalette(void)
-{
-	int n = 0;
-	for (int r = 0; r < FV_CUBE; ++r)
-		for (int g = 0; g < FV_CUBE; ++g)
-			for (int b = 0; b < FV_CUBE; ++b, ++n)
-				fvPalette[n] = (GifColorType){(GifByteType)(51 * r), (GifByteType)(51 * g),
-				                              (GifByteType)(51 * b)};
-	for (int k = 0; n < FV_TRANSPARENT; ++k)
-	{
-		// 6 or 7 greys between two cube levels 51 apart: every grey within 4 of one.
-		int value = 4 + (k * 247) / (FV_GREYS - 1);
-		if (value % 51 == 0)
-			value += 3;
-		fvPalette[n++] = (GifColorType){(GifByteType)value, (GifByteType)value, (GifByteType)value};
-	}
-	fvPalette[FV_TRANSPARENT] = (GifColorType){0, 0, 0};
-	for (int key = 0; key < 32 * 32 * 32; ++key)
-	{
-		int rgb[3] = {((key >> 10) & 31) * 255 / 31, ((key >> 5) & 31) * 255 / 31,
-		              (key & 31) * 255 / 31};
-		int best = 0, bestDistance = INT32_MAX;
-		for (int i = 0; i < FV_TRANSPARENT; ++i)
-		{
-			int dr = rgb[0] - fvPalette[i].Red, dg = rgb[1] - fvPalette[i].Green,
-			    db = rgb[2] - fvPalette[i].Blue;
-			// Weighted as the eye weighs the channels (green most, blue least).
-			int distance = 3 * dr * dr + 4 * dg * dg + 2 * db * db;
-			if (distance < bestDistance)
-				bestDistance = distance, best = i;
-		}
-		fvNearest[key] = (unsigned char)best;
-	}
-	fvPaletteReady = true;
-}
-
-static unsigned char fvIndex(const unsigned char* p)
-{
-	return fvNearest[((p[0] >> 3) << 10) | ((p[1] >> 3) << 5) | (p[2] >> 3)];
-}
 
 static bool fvGifError(const fvGifWriter* gif, int code, char* error, size_t size)
 {
@@ -85,13 +39,12 @@ bool fvGif_Open(fvGifWriter* gif, const char* path, int width, int height, int d
 	memset(gif, 0, sizeof *gif);
 	snprintf(gif->path, sizeof gif->path, "%s", path);
 	snprintf(gif->temporaryPath, sizeof gif->temporaryPath, "%s.%ld.tmp", path, (long)getpid());
-	if (!fvPaletteReady)
-		fvMakePalette();
 	size_t pixels = (size_t)width * (size_t)height;
 	gif->previous = malloc(pixels);
 	gif->current = malloc(pixels);
 	gif->row = malloc((size_t)width);
-	if (gif->previous == NULL || gif->current == NULL || gif->row == NULL)
+	gif->palette = malloc(sizeof(fvPalette));
+	if (gif->previous == NULL || gif->current == NULL || gif->row == NULL || gif->palette == NULL)
 	{
 		fvGif_Abort(gif);
 		snprintf(error, errorSize, "%s: out of memory for %dx%d frames", path, width, height);
@@ -115,16 +68,28 @@ bool fvGif_Open(fvGifWriter* gif, const char* path, int width, int height, int d
 	gif->height = height;
 	gif->delay = delay;
 	EGifSetGifVersion(file, true);
-	ColorMapObject* map = GifMakeMapObject(256, fvPalette);
-	bool ok = map != NULL && EGifPutScreenDesc(file, width, height, 8, 0, map) != GIF_ERROR;
-	GifFreeMapObject(map);
-	if (!ok || (code = fvPutLoop(file)) != 0)
-	{
-		fvGifError(gif, map == NULL ? E_GIF_ERR_NOT_ENOUGH_MEM : file->Error, error, errorSize);
-		fvGif_Abort(gif);
-		return false;
-	}
 	return true;
+}
+
+// The header, written with the first picture, whose colours make the palette (palette.h).
+static bool fvPutHeader(fvGifWriter* gif, const unsigned char* rgba, char* error, size_t size)
+{
+	GifFileType* file = gif->file;
+	fvPalette* palette = gif->palette;
+	if (!fvPalette_Build(palette, rgba, (size_t)gif->width * (size_t)gif->height))
+		return fvGifError(gif, E_GIF_ERR_NOT_ENOUGH_MEM, error, size);
+	GifColorType colors[256];
+	memset(colors, 0, sizeof colors);
+	for (int i = 0; i < palette->count; ++i)
+		colors[i] =
+		    (GifColorType){palette->colors[i][0], palette->colors[i][1], palette->colors[i][2]};
+	ColorMapObject* map = GifMakeMapObject(256, colors);
+	if (map == NULL)
+		return fvGifError(gif, E_GIF_ERR_NOT_ENOUGH_MEM, error, size);
+	bool ok = EGifPutScreenDesc(file, gif->width, gif->height, 8, 0, map) != GIF_ERROR;
+	GifFreeMapObject(map);
+	int code = ok ? fvPutLoop(file) : file->Error;
+	return code == 0 || fvGifError(gif, code, error, size);
 }
 
 // The rectangle of pixels that differ from the last frame ([x0, x1) x [y0, y1)); the whole
@@ -155,8 +120,10 @@ bool fvGif_AddFrame(fvGifWriter* gif, const unsigned char* rgba, char* error, si
 {
 	GifFileType* file = gif->file;
 	size_t pixels = (size_t)gif->width * (size_t)gif->height;
+	if (gif->frames == 0 && !fvPutHeader(gif, rgba, error, errorSize))
+		return false;
 	for (size_t i = 0; i < pixels; ++i)
-		gif->current[i] = fvIndex(rgba + 4 * i);
+		gif->current[i] = fvPalette_Index(gif->palette, rgba + 4 * i);
 	int box[4];
 	fvChangedRectangle(gif, box);
 	// Graphic control: keep the last frame under this one (disposal 1), index 255 transparent.
@@ -188,7 +155,9 @@ static void fvGif_Release(fvGifWriter* gif)
 	free(gif->previous);
 	free(gif->current);
 	free(gif->row);
+	free(gif->palette);
 	gif->previous = gif->current = gif->row = NULL;
+	gif->palette = NULL;
 	gif->file = NULL;
 }
 
@@ -208,7 +177,9 @@ bool fvGif_Close(fvGifWriter* gif, char* error, size_t errorSize)
 	int code = 0;
 	bool ok = EGifCloseFile(gif->file, &code) != GIF_ERROR;
 	gif->file = NULL;
-	if (!ok)
+	if (gif->frames == 0)
+		ok = false, snprintf(error, errorSize, "%s: no picture to write", gif->path);
+	else if (!ok)
 		fvGifError(gif, code, error, errorSize);
 	else if (rename(gif->temporaryPath, gif->path) != 0)
 	{

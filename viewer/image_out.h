@@ -2,8 +2,8 @@
 // name beside it and renamed over the final name when complete, so a file that exists is whole.
 // Errors name the path.
 //
-// GIF colours: one fixed global palette, the 6x6x6 colour cube (216 colours, levels 0, 51, ...,
-// 255 per channel) plus 39 greys between the cube's levels, and index 255 transparent. Pixels
+// GIF colours: one global palette made from the first picture (palette.h: greys, a small
+// colour cube, and the first picture's colours by median cut), index 255 transparent. Pixels
 // take the nearest palette colour (no dithering, which would make the frames noisy and larger);
 // greys stay exactly grey. Each frame after the first stores only the rectangle that changed,
 // with unchanged pixels transparent, which the LZW coder squeezes to almost nothing.
@@ -18,11 +18,12 @@ typedef struct fvGifWriter
 	void* file; ///< GifFileType*
 	int width;
 	int height;
-	int delay;               ///< centiseconds a frame
-	unsigned char* previous; ///< palette indices of the last frame, width * height
-	unsigned char* current;  ///< palette indices of this frame
-	unsigned char* row;      ///< one row of the changed rectangle
-	int frames;              ///< frames written
+	int delay;                 ///< centiseconds a frame
+	unsigned char* previous;   ///< palette indices of the last frame, width * height
+	unsigned char* current;    ///< palette indices of this frame
+	unsigned char* row;        ///< one row of the changed rectangle
+	struct fvPalette* palette; ///< made from the first frame
+	int frames;                ///< frames written
 	char path[1024];
 	char temporaryPath[1100];
 } fvGifWriter;
