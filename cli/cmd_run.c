@@ -96,6 +96,9 @@ static int cliCheckPictureOptions(const cliViewOptions* v)
 		                     "--fps: %g is too many pictures a second for a GIF (at most "
 		                     "50; --png takes up to 1000)",
 		                     v->fps);
+	// Before the scene loads: a build without the renderer says so at once.
+	if (cliViewOptions_WantsImages(v) && !cliVideo_Available(v->gifPath ? "--gif" : "--png"))
+		return cli_exitInput;
 	return -1;
 }
 

@@ -34,6 +34,12 @@ static void cliReportMissing(const char* what)
 
 #ifdef FEMTO_HAVE_RENDERER
 
+bool cliVideo_Available(const char* option)
+{
+	(void)option;
+	return true;
+}
+
 struct cliVideo
 {
 	fvRecorder* recorder;
@@ -116,6 +122,12 @@ struct cliVideo
 {
 	int unused;
 };
+
+bool cliVideo_Available(const char* option)
+{
+	cliReportMissing(option);
+	return false;
+}
 
 cliVideo* cliVideo_Open(const cliViewOptions* o, const cliSimulation* sim)
 {

@@ -9,6 +9,9 @@
 /// A recording of a run's pictures (--gif, --png).
 typedef struct cliVideo cliVideo;
 
+/// Whether this femto can record pictures; prints what to install (naming @p option) when not.
+bool cliVideo_Available(const char* option);
+
 /// Start recording @p sim as @p options say and capture its initial state (time 0). Prints
 /// the problem and returns NULL when it cannot (no renderer in this build, no EGL, a file).
 cliVideo* cliVideo_Open(const cliViewOptions* options, const cliSimulation* sim);

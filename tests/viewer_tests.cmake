@@ -16,17 +16,14 @@ femto_cli_test(gif_bad_draw ARGS "run|--gif|x.gif|--draw|surfaces,walls" CODE 2
   REGEX "--draw: unknown 'walls'")
 femto_cli_test(gif_bad_target ARGS "run|--png|d|--camera-target|1,2" CODE 2
   REGEX "--camera-target: expected X,Y,Z")
-femto_cli_test(view_help ARGS "view|--help" CODE 0 REGEX "usage: femto view.*--script FILE")
-femto_cli_test(view_script_without_frames ARGS "view|--script|s.txt" CODE 2
-  REGEX "--script needs --frames")
-femto_cli_test(view_gif_option ARGS "view|--gif|x.gif" CODE 2 REGEX "an option of femto run")
 
 if(NOT TARGET femto_viewer)
   add_test(NAME viewer_skipped COMMAND sh -c
     "echo 'skipped: femto was built without the renderer (apt-get install libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev)'; exit 77")
   set_tests_properties(viewer_skipped PROPERTIES SKIP_RETURN_CODE 77)
   femto_cli_test(gif_without_renderer ARGS "run|--frames|1|--gif|${FEMTO_VIEW_WORK}/x.gif" CODE 1
-    REGEX "--gif needs femto's renderer.*apt-get install")
+    REGEX "--gif needs femto's renderer.*apt-get install" REJECT "note: builtin:house")
+  femto_cli_test(view_without_renderer ARGS "view" CODE 1 REGEX "femto view needs.*apt-get install")
   return()
 endif()
 
@@ -53,8 +50,14 @@ if(NOT TARGET femto_view)
   add_test(NAME viewer_window_skipped COMMAND sh -c
     "echo 'skipped: femto view was not built (apt-get install libglfw3-dev libimgui-dev g++)'; exit 77")
   set_tests_properties(viewer_window_skipped PROPERTIES SKIP_RETURN_CODE 77)
+  femto_cli_test(view_without_window ARGS "view" CODE 1 REGEX "femto view needs.*apt-get install")
   return()
 endif()
+
+femto_cli_test(view_help ARGS "view|--help" CODE 0 REGEX "usage: femto view.*--script FILE")
+femto_cli_test(view_script_without_frames ARGS "view|--script|s.txt" CODE 2
+  REGEX "--script needs --frames")
+femto_cli_test(view_gif_option ARGS "view|--gif|x.gif" CODE 2 REGEX "an option of femto run")
 
 # Located script errors and a missing display need no window.
 femto_cli_test(view_bad_script ARGS "view|--script|${FEMTO_VIEW_DATA}/bad_script.txt|--frames|5"
