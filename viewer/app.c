@@ -106,7 +106,10 @@ void fvApp_Capture(fvApp* app)
 	// With the drag's targets drawn too, so the pulled spring shows.
 	// Picking uses the drawn surfaces: with surfaces off, nothing can be grabbed.
 	unsigned flags = app->drawFlags | (app->session.dragging ? fm_drawTargets : 0u);
-	fvDrawList_Capture(&app->list, app->session.sim.world, flags);
+	if (fvSession_IsLive(&app->session))
+		fvDrawList_Capture(&app->list, app->session.sim.world, flags);
+	else
+		fvDrawList_Clear(&app->list);
 }
 
 void fvApp_FrameCamera(fvApp* app)

@@ -139,8 +139,15 @@ static void fvFrame(fvSession* s)
 	}
 }
 
+bool fvSession_IsLive(const fvSession* s)
+{
+	return fmWorld_IsValid(s->sim.world);
+}
+
 void fvSession_Advance(fvSession* s, double seconds)
 {
+	if (!fvSession_IsLive(s))
+		return;
 	if (s->paused)
 	{
 		s->accumulator = 0.0;
@@ -170,6 +177,8 @@ void fvSession_Jump(fvSession* s)
 
 bool fvSession_ApplyMaterial(fvSession* s)
 {
+	if (!fvSession_IsLive(s))
+		return false;
 	fmMaterial material = fmMakeMaterial(s->params.model, s->params.youngs, s->params.poisson);
 	for (int b = 0; b < s->sim.bodyCount; ++b)
 	{
@@ -186,28 +195,26 @@ bool fvSession_ApplyMaterial(fvSession* s)
 	return true;
 }
 
-// Re-create body @p b from the sliders, in its current state.
+// Re-create body @p b from the sliders, in its current state. The new body is made before the
+// old one goes, so a refusal (memory budget) leaves the old one in place.
 static bool fvRecreateBody(fvSession* s, int b)
 {
-	fmBodyId old = s->sim.bodies[b];
+	fmBodyId old = s->sim.bodies[b], made;
 	double* x = cliCopyState(old, false);
 	double* v = cliCopyState(old, true);
 	fmBodyDef def = fvBodyDef(s, b);
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
-	bool ok = x != NULL && v != NULL && fmBodyDef_Validate(&def, &diag) == fm_ok;
+	bool ok = x != NULL && v != NULL && fmCreateBody(s->sim.world, &def, &made, &diag) == fm_ok;
 	if (ok)
 	{
 		fmDestroyBody(old);
-		ok = fmCreateBody(s->sim.world, &def, &s->sim.bodies[b], &diag) == fm_ok;
-	}
-	if (ok)
-	{
+		s->sim.bodies[b] = made;
 		const cliBodySpec* spec = &s->scene.bodies[b];
 		for (int p = 0; p < spec->pinCount; ++p)
-			fmBody_PinBox(s->sim.bodies[b], spec->pins[p].min, spec->pins[p].max);
-		fmBody_SetPositions(s->sim.bodies[b], x);
-		fmBody_SetVelocities(s->sim.bodies[b], v);
+			fmBody_PinBox(made, spec->pins[p].min, spec->pins[p].max);
+		fmBody_SetPositions(made, x);
+		fmBody_SetVelocities(made, v);
 	}
 	else
 	{
@@ -222,6 +229,8 @@ static bool fvRecreateBody(fvSession* s, int b)
 
 bool fvSession_ApplyBodies(fvSession* s)
 {
+	if (!fvSession_IsLive(s))
+		return false;
 	fvSession_Release(s);
 	for (int b = 0; b < s->sim.bodyCount; ++b)
 		if (!fvRecreateBody(s, b))
@@ -231,6 +240,8 @@ bool fvSession_ApplyBodies(fvSession* s)
 
 void fvSession_ApplyIntegrator(fvSession* s)
 {
+	if (!fvSession_IsLive(s))
+		return;
 	fmWorld_SetIntegrator(s->sim.world, s->params.integrator);
 }
 
@@ -256,7 +267,7 @@ static double fvDragStiffness(const fvSession* s, int body, int vertex)
 void fvSession_Grab(fvSession* s, int body, int vertex, fmVec3 target)
 {
 	fvSession_Release(s);
-	if (body < 0 || body >= s->sim.bodyCount || vertex < 0 ||
+	if (!fvSession_IsLive(s) || body < 0 || body >= s->sim.bodyCount || vertex < 0 ||
 	    vertex >= fmBody_GetVertexCount(s->sim.bodies[body]))
 		return;
 	s->dragging = true;
@@ -283,7 +294,8 @@ void fvSession_Release(fvSession* s)
 {
 	if (!s->dragging)
 		return;
-	fmBody_SetTargets(s->sim.bodies[s->dragBody], NULL, NULL, 0, 0.0);
+	if (fmBody_IsValid(s->sim.bodies[s->dragBody]))
+		fmBody_SetTargets(s->sim.bodies[s->dragBody], NULL, NULL, 0, 0.0);
 	s->dragging = false;
 }
 

@@ -56,6 +56,9 @@ void fvSession_Free(fvSession* session);
 /// Re-create the world from the scene: the initial state, with the current parameters.
 bool fvSession_Reset(fvSession* session);
 
+/// Whether the session has a world (false after a reset that could not re-create it).
+bool fvSession_IsLive(const fvSession* session);
+
 /// Let @p seconds of time pass: one scene frame per FV_TICK_SECONDS (at most 8 a call, so a
 /// slow machine slows down instead of falling ever further behind), plus single steps asked
 /// for while paused.
