@@ -120,6 +120,14 @@ void fvApp_FrameCamera(fvApp* app)
 		fvCamera_Frame(&app->camera, lo, hi, (float)app->width / (float)app->height);
 }
 
+int fvApp_FindScene(const fvApp* app, const char* name)
+{
+	for (int i = 0; i < app->sceneCount; ++i)
+		if (strcmp(app->sceneNames[i], name) == 0)
+			return i;
+	return -1;
+}
+
 void fvApp_SelectScene(fvApp* app, int index)
 {
 	if (index < 0 || index >= app->sceneCount)

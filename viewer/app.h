@@ -52,6 +52,9 @@ void fvApp_FrameCamera(fvApp* app);
 /// Load scene @p index of the list (keeps the current one on failure, with the status set).
 void fvApp_SelectScene(fvApp* app, int index);
 
+/// The list entry named @p name (a file name of the scene folder), -1 if none.
+int fvApp_FindScene(const fvApp* app, const char* name);
+
 /// Mouse: @p button 0 left, 1 right, 2 middle; pixels from the top-left.
 void fvApp_MouseButton(fvApp* app, int button, bool down, float x, float y);
 void fvApp_MouseMove(fvApp* app, float x, float y);

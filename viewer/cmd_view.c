@@ -246,7 +246,23 @@ static float fvPixel(const fvView* v, float fraction, int axis)
 	return fraction * (float)(axis == 0 ? v->app.width : v->app.height);
 }
 
-static void fvRunAction(fvView* v, const fvAction* a, int frame)
+// Pick a scene by name; a name not in the list ends the run (false).
+static bool fvScriptScene(fvView* v, const fvAction* a)
+{
+	int index = fvApp_FindScene(&v->app, a->name);
+	if (index < 0)
+	{
+		cliError("%s:%d: expected a scene of the list (the .json files of the scene folder), got "
+		         "'%s'",
+		         v->options.scriptPath, a->line, a->name);
+		return false;
+	}
+	fvApp_SelectScene(&v->app, index);
+	return v->app.sceneIndex == index;
+}
+
+// Run one action; false when the run must stop (a scene that is not there or does not load).
+static bool fvRunAction(fvView* v, const fvAction* a, int frame)
 {
 	fvApp* app = &v->app;
 	switch (a->kind)
@@ -272,11 +288,15 @@ static void fvRunAction(fvView* v, const fvAction* a, int frame)
 	case fv_actionToggle:
 		fvApp_Toggle(app, a->name);
 		break;
+	case fv_actionScene:
+		v->scriptDragging = false;
+		return fvScriptScene(v, a);
 	}
+	return true;
 }
 
-// This frame's script actions, and the scripted cursor's move.
-static void fvPlayScript(fvView* v, int frame)
+// This frame's script actions, and the scripted cursor's move. False to stop the run.
+static bool fvPlayScript(fvView* v, int frame)
 {
 	if (v->scriptDragging && frame > v->dragStart)
 	{
@@ -287,7 +307,9 @@ static void fvPlayScript(fvView* v, int frame)
 		fvApp_MouseMove(&v->app, fvPixel(v, x, 0), fvPixel(v, y, 1));
 	}
 	while (v->nextAction < v->script.count && v->script.actions[v->nextAction].frame <= frame)
-		fvRunAction(v, &v->script.actions[v->nextAction++], frame);
+		if (!fvRunAction(v, &v->script.actions[v->nextAction++], frame))
+			return false;
+	return true;
 }
 
 // The panel: fill its model, draw it, apply what it changed.
@@ -334,7 +356,8 @@ static int fvLoop(fvView* v)
 		fvWindow_Poll(&v->window);
 		if (fvWindow_ShouldClose(&v->window) || v->app.quit)
 			break;
-		fvPlayScript(v, frame);
+		if (!fvPlayScript(v, frame))
+			return cli_exitInput;
 		double now = fvWindow_Time();
 		double elapsed = now - last;
 		last = now;

@@ -87,10 +87,11 @@ static const char* fvParseAction(char** w, int n, fvAction* a)
 		a->kind = fv_actionRelease;
 		return n == 3 ? NULL : "expected nothing after 'release'";
 	}
+	bool named =
+	    strcmp(verb, "key") == 0 || strcmp(verb, "toggle") == 0 || strcmp(verb, "scene") == 0;
 	if (n != 4 && strcmp(verb, "slider") != 0)
-		return strcmp(verb, "key") == 0 || strcmp(verb, "toggle") == 0
-		           ? "expected one name after the verb"
-		           : "expected drag, release, key, slider or toggle after 'at FRAME'";
+		return named ? "expected one name after the verb"
+		             : "expected drag, release, key, slider, toggle or scene after 'at FRAME'";
 	if (strcmp(verb, "key") == 0)
 	{
 		a->kind = fv_actionKey;
@@ -105,6 +106,12 @@ static const char* fvParseAction(char** w, int n, fvAction* a)
 		                                : "expected a view: surfaces, stress, tets, inverted, "
 		                                  "pins, targets, floor, contacts";
 	}
+	if (strcmp(verb, "scene") == 0)
+	{
+		a->kind = fv_actionScene;
+		snprintf(a->name, sizeof a->name, "%s", w[3]);
+		return NULL;
+	}
 	if (strcmp(verb, "slider") == 0)
 	{
 		a->kind = fv_actionSlider;
@@ -114,7 +121,7 @@ static const char* fvParseAction(char** w, int n, fvAction* a)
 		snprintf(a->name, sizeof a->name, "%s", w[3]);
 		return fvNumber(w[4], &a->value) ? NULL : "expected a number as the slider's value";
 	}
-	return "expected drag, release, key, slider or toggle after 'at FRAME'";
+	return "expected drag, release, key, slider, toggle or scene after 'at FRAME'";
 }
 
 // One non-blank line; an error message or NULL.

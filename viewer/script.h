@@ -7,6 +7,7 @@
 //   at 50 key space                          a key: space, p, s, n, r, i, m, f
 //   at 60 slider youngs 2e5                  a slider: youngs, poisson, mass, damping, dt, substeps
 //   at 70 toggle tets                        a debug view (the --draw names)
+//   at 90 scene drop.json                    pick a scene of the panel's list
 //
 // Coordinates are fractions of the window, from the top-left corner. Frames count the window's
 // frames from 0; actions of one frame run in the file's order.
@@ -23,6 +24,7 @@ typedef enum fvActionKind
 	fv_actionKey,     ///< press a key (name)
 	fv_actionSlider,  ///< set a slider (name) to value
 	fv_actionToggle,  ///< flip a debug view (name)
+	fv_actionScene,   ///< pick a scene of the list (name)
 } fvActionKind;
 
 /// One line of a script.
@@ -33,7 +35,7 @@ typedef struct fvAction
 	float from[2]; ///< fractions of the window
 	float to[2];
 	int over; ///< frames the drag's move takes (>= 1)
-	char name[32];
+	char name[256];
 	double value;
 	int line; ///< in the script file
 } fvAction;
