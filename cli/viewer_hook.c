@@ -4,6 +4,7 @@
 // Debian packages that were not.
 #include "viewer_hook.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,10 +48,39 @@ struct cliVideo
 	const char* pngDirectory;
 };
 
+// Whether @p name is a picture --png writes: frame_ and at least 4 digits, .png.
+static bool cliIsFramePng(const char* name)
+{
+	size_t digits = strspn(name + (strncmp(name, "frame_", 6) == 0 ? 6 : 0), "0123456789");
+	return strncmp(name, "frame_", 6) == 0 && digits >= 4 && strcmp(name + 6 + digits, ".png") == 0;
+}
+
+// Remove the frame_NNNN.png an earlier run left in @p directory (exactly those names), so a
+// shorter run leaves no stale pictures after its own; says how many.
+static void cliRemoveOldFrames(const char* directory)
+{
+	DIR* dir = opendir(directory);
+	int removed = 0;
+	for (struct dirent* e = dir ? readdir(dir) : NULL; e != NULL; e = readdir(dir))
+	{
+		char path[CLI_MAX_PATH];
+		if (cliIsFramePng(e->d_name) && cliJoinPath(path, sizeof path, directory, e->d_name) &&
+		    remove(path) == 0)
+			removed += 1;
+	}
+	if (dir != NULL)
+		closedir(dir);
+	if (removed > 0)
+		fprintf(stderr, "femto: note: removed %d frame_NNNN.png of an earlier run from %s\n",
+		        removed, directory);
+}
+
 cliVideo* cliVideo_Open(const cliViewOptions* o, const cliSimulation* sim)
 {
 	if (o->pngDirectory != NULL && !cliMakeDirectories(o->pngDirectory))
 		return NULL;
+	if (o->pngDirectory != NULL)
+		cliRemoveOldFrames(o->pngDirectory);
 	fvRecordSettings s = fvDefaultRecordSettings();
 	s.gifPath = o->gifPath;
 	s.pngDirectory = o->pngDirectory;

@@ -42,6 +42,11 @@ femto_cli_test(png_run ARGS "run|--frames|10|--quiet|--size|160x120|--fps|10|--d
 set_tests_properties(cli_png_run PROPERTIES FIXTURES_SETUP viewer_png)
 add_test(NAME viewer_png_frames COMMAND femto_check_images png ${FEMTO_VIEW_WORK}/png 4 160x120)
 set_tests_properties(viewer_png_frames PROPERTIES FIXTURES_REQUIRED viewer_png)
+# A shorter run into the same folder removes the earlier run's pictures (only frame_NNNN.png).
+femto_cli_test(png_rerun ARGS "run|--frames|1|--quiet|--size|160x120|--fps|10|--png|${FEMTO_VIEW_WORK}/png"
+  CODE 0 REGEX "removed 4 frame_NNNN.png of an earlier run" FILES "${FEMTO_VIEW_WORK}/png/frame_0000.png"
+  NO_FILES "${FEMTO_VIEW_WORK}/png/frame_0001.png")
+set_tests_properties(cli_png_rerun PROPERTIES FIXTURES_REQUIRED viewer_png DEPENDS viewer_png_frames)
 
 femto_cli_test(gif_unwritable ARGS "run|--frames|1|--gif|${FEMTO_VIEW_WORK}/no/such/dir/x.gif"
   CODE 1 REGEX "no/such/dir/x.gif: cannot create")

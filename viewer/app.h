@@ -55,9 +55,14 @@ void fvApp_SelectScene(fvApp* app, int index);
 /// The list entry named @p name (a file name of the scene folder), -1 if none.
 int fvApp_FindScene(const fvApp* app, const char* name);
 
-/// Mouse: @p button 0 left, 1 right, 2 middle; pixels from the top-left.
+/// A mouse button went down or up: @p button 0 left (grab a body or orbit), 1 right, 2 middle
+/// (pan); pixels from the top-left.
 void fvApp_MouseButton(fvApp* app, int button, bool down, float x, float y);
+
+/// The cursor moved to (@p x, @p y) pixels: orbit, pan or move the drag's target.
 void fvApp_MouseMove(fvApp* app, float x, float y);
+
+/// The wheel turned @p steps (positive: closer).
 void fvApp_Scroll(fvApp* app, float steps);
 
 /// A key by name (window.h): space jump, p pause, s/n step, r reset, i integrator, m model, f
