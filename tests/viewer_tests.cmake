@@ -51,6 +51,15 @@ set_tests_properties(cli_png_rerun PROPERTIES FIXTURES_REQUIRED viewer_png DEPEN
 femto_cli_test(gif_unwritable ARGS "run|--frames|1|--gif|${FEMTO_VIEW_WORK}/no/such/dir/x.gif"
   CODE 1 REGEX "no/such/dir/x.gif: cannot create")
 
+# Under the sanitizers, Mesa's GL driver leaves two 56-byte blocks behind at exit, from a module
+# it has already unloaded, which LeakSanitizer can neither name nor suppress: the tests that
+# draw run there without leak detection (the other AddressSanitizer checks stay on; the script,
+# option and no-display tests, which draw nothing, keep it).
+if(FEMTO_SANITIZE)
+  set_tests_properties(cli_gif_run cli_png_run cli_png_rerun cli_gif_unwritable
+    PROPERTIES ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+endif()
+
 if(NOT TARGET femto_view)
   add_test(NAME viewer_window_skipped COMMAND sh -c
     "echo 'skipped: femto view was not built (apt-get install libglfw3-dev libimgui-dev g++)'; exit 77")
@@ -76,3 +85,6 @@ set_tests_properties(cli_view_no_display PROPERTIES LABELS cli PASS_REGULAR_EXPR
 add_test(NAME viewer_window COMMAND ${FEMTO_VIEW_DATA}/view_test.sh $<TARGET_FILE:femto>
   $<TARGET_FILE:femto_check_images> ${FEMTO_VIEW_DATA} ${FEMTO_VIEW_WORK}/window)
 set_tests_properties(viewer_window PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120 LABELS viewer)
+if(FEMTO_SANITIZE)
+  set_tests_properties(viewer_window PROPERTIES ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+endif()
