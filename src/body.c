@@ -30,6 +30,8 @@ fmBodyDef fmDefaultBodyDef(void)
 	def.rayleighMass = 0.0;
 	def.rayleighStiffness = 0.0;
 	def.springDamping = 0.1;
+	def.friction = -1.0;
+	def.filter = fmDefaultFilter();
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
 }
@@ -154,6 +156,11 @@ static fmResult fmBodyDefValidateIn(const fmBodyDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "spring damping ratio must be finite and >= 0, got %g",
 		                   def->springDamping);
+	if (!(def->friction == -1.0 || (def->friction >= 0.0 && isfinite(def->friction))))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "friction must be finite and >= 0, or -1 for the world's contact "
+		                   "friction, got %g",
+		                   def->friction);
 	return fm_ok;
 }
 
@@ -188,6 +195,10 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->triangleCount);
 	FM_FREE_ARRAY(b->userMass, double, n);
 	fmDrawCache_Free(b->drawCache);
+	FM_FREE_ARRAY(b->surfaceVertex, int, b->surfaceVertexCount);
+	FM_FREE_ARRAY(b->contactStart, double, 3 * n);
+	FM_FREE_ARRAY(b->contactMark, int, n);
+	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
 	fmSolverCache_Free(b->implicitCache);
@@ -385,6 +396,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		b->rayleighMass = def->rayleighMass;
 		b->rayleighStiffness = def->rayleighStiffness;
 		b->springDamping = def->springDamping;
+		b->friction = def->friction;
+		b->filter = def->filter;
 		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
 		memcpy(b->x, b->x0, n3);
 		memcpy(b->xGood, b->x0, n3);

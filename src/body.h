@@ -84,6 +84,8 @@ typedef struct fmBody
 	double rayleighMass;
 	double rayleighStiffness;
 	double springDamping;
+	double friction; // against other bodies, or -1 for the world's
+	fmFilter filter; // collision filtering
 	double totalMass;
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
@@ -95,6 +97,12 @@ typedef struct fmBody
 	double* targetPosition; // 3 per target (m)
 	double targetStiffness; // N/m, each spring
 
+	// Contact (contact.c), made when the contact stage first needs them.
+	int surfaceVertexCount;
+	int* surfaceVertex;      // the vertices on the surface, ascending
+	double* contactStart;    // 3n: positions at the start of the substep (the swept tests)
+	int* contactMark;        // n: 1 + the contact log entry of a vertex the stage changed, or 0
+	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
 	struct fmDrawCache* drawCache; // fmWorld_Draw's buffers (draw.h), made on the first draw
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
 	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need

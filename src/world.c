@@ -1,6 +1,8 @@
 // Worlds: creation, the frame step (substeps over bodies), health checks and state restore.
 #include "world.h"
 
+#include "collider.h"
+#include "contact.h"
 #include "core.h"
 #include "explicit.h"
 #include "floor.h"
@@ -47,6 +49,9 @@ fmWorldDef fmDefaultWorldDef(void)
 	def.maxNewtonPerFrame = 1000000;
 	def.maxSubstepsPerFrame = FM_MAX_SUBSTEPS;
 	def.memoryBudget = FM_DEFAULT_MEMORY_BUDGET;
+	def.contact.bodies = true;
+	def.contact.friction = 0.5;
+	def.contact.iterations = 4;
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
 }
@@ -150,6 +155,9 @@ fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 		                   "simd must be one of fm_simdAuto .. fm_simdAvx512 (\"auto\", \"off\", "
 		                   "\"scalar\", \"sse2\", \"avx2\", \"avx512\"), got %d",
 		                   (int)def->simd);
+	r = fmContactDef_Validate(&def->contact, diag);
+	if (r != fm_ok)
+		return r;
 	if ((def->enqueueTask == NULL) != (def->finishTask == NULL))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "give both task callbacks (enqueueTask and finishTask) or neither");
@@ -207,6 +215,12 @@ fmWorld* fmGetWorld(fmWorldId id)
 	return (w->inUse && w->generation == id.generation) ? w : NULL;
 }
 
+fmWorldId fmWorldIdOf(const fmWorld* w)
+{
+	fmWorldId id = {(int32_t)(w - s_worlds) + 1, w->generation};
+	return id;
+}
+
 fmWorld* fmGetWorldOfBody(fmBodyId id)
 {
 	if (id.index1 == 0 || id.world0 < 0 || id.world0 >= FM_MAX_WORLDS)
@@ -231,6 +245,8 @@ void fmDestroyWorld(fmWorldId worldId)
 		if (w->bodies[i].x)
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
+	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
+	fmContact_Free(w->contactState);
 	fmArena_Free(&w->arena);
 	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;
@@ -656,10 +672,18 @@ static fmResult fmSubstep(fmWorld* w, double h)
 		               "leaves (at least one a step); their residuals are reported");
 	}
 	// Stage a: every body steps on its own (the stage threads will share).
+	bool contact = fmContact_Active(w);
+	if (contact && !fmContact_BeginSubstep(w))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x != NULL)
 			fmStepBody(w, i, h);
-	// Stage b: the results merge in body order, the same for any schedule of stage a.
+	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
+	if (contact && !fmContact_Substep(w, h))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact buffers");
+	// Stage c: the results merge in body order, the same for any schedule of stage a.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		if (w->bodies[i].x == NULL)
@@ -744,6 +768,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	// Stage 2: open every body's energy ledger. The state to fall back on (xGood, vGood) is the
 	// last one that passed the checks, kept from the previous frame: a state the user set to
 	// NaN or Inf between steps is not "good". What the caller changed since is booked as work.
+	fmContact_BeginFrame(w);
 	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x)
@@ -787,6 +812,10 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		w->stats.invertedTets += fmBodyCountInverted(b);
 		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
+	w->stats.contacts += fmWorld_GetContacts(fmWorldIdOf(w), NULL, 0);
+	if (!fmContact_EndFrame(w, timeStep))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact events");
 	w->profile.check = 1e3 * (fmSeconds() - checking);
 	return fm_ok;
 }

@@ -23,7 +23,14 @@ typedef struct fmWorld
 	fmTaskSystem tasks;            // how the stages run in parallel
 	int newtonLimit;  // Newton iterations an implicit step may take now (the frame budget)
 	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
+	struct fmCollider* colliders;        // colliderCapacity slots (collider.h)
+	int colliderCapacity;                // grows by doubling up to FM_MAX_COLLIDERS
+	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
+	double contactStep;                  // s, the substep the contact stage is working on
 } fmWorld;
+
+// The id of a live world.
+fmWorldId fmWorldIdOf(const fmWorld* world);
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
 fmWorld* fmGetWorld(fmWorldId id);

@@ -198,6 +198,50 @@ FM_API void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes);
 /// Whether a vertex is pinned.
 FM_API bool fmBody_IsPinned(fmBodyId bodyId, int vertex);
 
+/// Create a rigid collider (validated by fmColliderDef_Validate, whose diagnostic goes to
+/// @p diag). Soft bodies' surface vertices are kept out of it, with its friction and
+/// restitution, in both integrators (docs/contact.md). fm_errLimit beyond FM_MAX_COLLIDERS.
+FM_API fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def,
+                                 fmColliderId* colliderId, fmDiagnostic* diag);
+
+/// Destroy a collider.
+FM_API void fmDestroyCollider(fmColliderId colliderId);
+
+/// True if the id refers to a live collider.
+FM_API bool fmCollider_IsValid(fmColliderId colliderId);
+
+/// Place a collider: its centre at @p position (plane: the point of the plane nearest the
+/// origin; capsule: the segment's midpoint) and its orientation @p rotation (axis-angle, rad,
+/// relative to the def's shape). An engine that moves a collider every frame calls this and
+/// sets the velocities, which the contact uses for friction and pushing.
+FM_API void fmCollider_SetTransform(fmColliderId colliderId, fmVec3 position, fmVec3 rotation);
+
+/// Set a collider's velocity (m/s) and angular velocity (rad/s about its centre); non-zero
+/// makes it kinematic: it moves by them every step.
+FM_API void fmCollider_SetVelocity(fmColliderId colliderId, fmVec3 velocity,
+                                   fmVec3 angularVelocity);
+
+/// The collider's centre now (it moves when kinematic).
+FM_API fmVec3 fmCollider_GetPosition(fmColliderId colliderId);
+
+/// The force (N) and torque (N m, about its centre) the soft bodies exerted on the collider,
+/// averaged over the last fmWorld_Step(): for two-way coupling with an engine's rigid body.
+FM_API void fmCollider_GetContactForce(fmColliderId colliderId, fmVec3* force, fmVec3* torque);
+
+/// Copy the last substep's contacts into @p contacts (at most @p capacity); returns how many
+/// there were (call with capacity 0 to size the buffer).
+FM_API int fmWorld_GetContacts(fmWorldId worldId, fmContactPoint* contacts, int capacity);
+
+/// Copy the last step's contact events (pairs that began or stopped touching) into @p events
+/// (at most @p capacity); returns how many there were.
+FM_API int fmWorld_GetContactEvents(fmWorldId worldId, fmContactEvent* events, int capacity);
+
+/// Cast a ray from @p origin along @p translation (its length is the range) against every
+/// body's deformed surface and every collider that @p filter collides with; the nearest hit
+/// goes to @p hit. Returns false when nothing is hit.
+FM_API bool fmWorld_CastRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
+                            fmRayHit* hit);
+
 /// Kinematic targets: pull @p count vertices (user numbering) toward @p positions (m) with
 /// zero-length springs of @p stiffness (N/m each), a mouse drag or a character's hand. The set
 /// replaces the previous one and stays until changed; move the positions every frame to drag.

@@ -191,6 +191,68 @@ FM_API fmFloorDef fmDefaultFloorDef(void);
 /// Check a floor; the diagnostic says which field is wrong.
 FM_API fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag);
 
+/// Collision filtering: two things collide when each one's category is in the other's mask.
+typedef struct fmFilter
+{
+	uint32_t categoryBits; ///< what this is (default 1)
+	uint32_t maskBits;     ///< what it collides with (default all bits)
+} fmFilter;
+
+/// The default filter: category 1, collides with everything.
+FM_API fmFilter fmDefaultFilter(void);
+
+/// How soft bodies touch each other (fmWorldDef.contact; docs/contact.md).
+typedef struct fmContactDef
+{
+	bool bodies;        ///< body-body contact (default true)
+	double thickness;   ///< m, > 0: the gap contact keeps; 0 (default): 1% of the smallest
+	                    ///< body's bounding-box diagonal when the first step runs
+	double friction;    ///< Coulomb coefficient between bodies, >= 0 (default 0.5)
+	double restitution; ///< between bodies, in [0, 1] (default 0)
+	int iterations;     ///< projection passes over the contacts a substep, in [1, 64] (default 4)
+} fmContactDef;
+
+/// Shapes of rigid colliders.
+typedef enum fmShapeType
+{
+	fm_shapePlane,   ///< the half-space normal . x <= offset is solid
+	fm_shapeSphere,  ///< center, radius
+	fm_shapeBox,     ///< center, halfExtents, rotation
+	fm_shapeCapsule, ///< segment a-b, radius
+	fm_shapeTypeCount
+} fmShapeType;
+
+/// A rigid collider that soft bodies rest on and are pushed by: static, or kinematic when it
+/// has a velocity or angular velocity (it then moves every step, and reports the force the
+/// bodies exert on it: fmCollider_GetContactForce). Get one from fmDefaultColliderDef().
+typedef struct fmColliderDef
+{
+	fmShapeType shape;
+	fmVec3 normal;          ///< plane: the outward normal (any length > 0; normalised)
+	double offset;          ///< plane: the plane is normal . x = offset (normal normalised)
+	fmVec3 center;          ///< sphere, box: the centre (m)
+	double radius;          ///< sphere, capsule: m, > 0
+	fmVec3 halfExtents;     ///< box: m, each > 0
+	fmVec3 rotation;        ///< box: axis-angle (rad), the box's orientation
+	fmVec3 a;               ///< capsule: one end of the segment (m)
+	fmVec3 b;               ///< capsule: the other end
+	double friction;        ///< Coulomb coefficient, >= 0 (default 0.5)
+	double restitution;     ///< in [0, 1] (default 0)
+	fmVec3 velocity;        ///< m/s: kinematic translation (default 0)
+	fmVec3 angularVelocity; ///< rad/s about the shape's centre (default 0)
+	fmFilter filter;        ///< default: fmDefaultFilter()
+	int internalValue;      ///< set by fmDefaultColliderDef; create calls check it
+} fmColliderDef;
+
+/// A collider with every default: a plane y = 0, friction 0.5, static.
+FM_API fmColliderDef fmDefaultColliderDef(void);
+
+/// Check a collider def; the diagnostic says which field is wrong and what would work.
+FM_API fmResult fmColliderDef_Validate(const fmColliderDef* def, fmDiagnostic* diag);
+
+/// Colliders a world holds at most.
+#define FM_MAX_COLLIDERS 1024
+
 /// Largest fmWorldDef.newtonIterations: beyond it a solve has stagnated, not converged.
 #define FM_MAX_NEWTON_ITERATIONS 1000
 /// Largest fmWorldDef.cgIterations.
@@ -283,6 +345,7 @@ typedef struct fmWorldDef
 	/// block descent for comparison; Rayleigh stiffness damping and kinematic targets always
 	/// take Newton)
 	fmImplicitSolver implicitSolver;
+	fmContactDef contact;               ///< body-body contact (fmContactDef)
 	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
 	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
 	void* userTaskContext;              ///< passed to the two callbacks
@@ -316,7 +379,11 @@ typedef struct fmBodyDef
 	double rayleighMass; ///< Rayleigh alpha, 1/s, >= 0 (default 0)
 	double rayleighStiffness; ///< Rayleigh beta, s, >= 0 (default 0)
 	double springDamping;     ///< mass-spring: damping ratio of each spring, >= 0 (default 0.1)
-	int internalValue;        ///< set by fmDefaultBodyDef; create calls check it
+	/// Coulomb coefficient against other bodies, >= 0, or -1 (default) for the world's
+	/// fmContactDef.friction; a pair uses sqrt(mu_a mu_b). Colliders have their own.
+	double friction;
+	fmFilter filter;   ///< collision filtering (default fmDefaultFilter())
+	int internalValue; ///< set by fmDefaultBodyDef; create calls check it
 } fmBodyDef;
 
 /// The default body: the seeds' bouncy house parameters (no mesh).
@@ -339,6 +406,50 @@ typedef struct fmBodyId
 	int32_t world0;           ///< world slot (0-based)
 	uint32_t worldGeneration; ///< generation of the world the body was created in
 } fmBodyId;
+
+/// Collider id (fmCreateCollider). Zero-initialised means null.
+typedef struct fmColliderId
+{
+	int32_t index1;           ///< 1-based slot in the world, 0 for the null id
+	uint32_t generation;      ///< catches stale ids
+	int32_t world0;           ///< world slot (0-based)
+	uint32_t worldGeneration; ///< generation of the world the collider was created in
+} fmColliderId;
+
+/// One contact of the last substep (fmWorld_GetContacts): a surface vertex of a body against a
+/// collider or against a triangle of another body.
+typedef struct fmContactPoint
+{
+	fmBodyId body;         ///< the body whose vertex touches
+	int vertex;            ///< that vertex (user numbering)
+	fmBodyId otherBody;    ///< the other body (null id for a collider)
+	fmColliderId collider; ///< the collider (null id for a body)
+	fmVec3 point;          ///< m, the vertex after the contact's response
+	fmVec3 normal;         ///< unit, from the other thing toward the vertex
+	double depth;          ///< m, how far inside the contact thickness the vertex was found
+	double impulse;        ///< N s, the normal impulse the contact gave the vertex
+} fmContactPoint;
+
+/// A pair that started or stopped touching during the last fmWorld_Step().
+typedef struct fmContactEvent
+{
+	bool begin;            ///< true: began touching; false: stopped
+	fmBodyId body;         ///< the body (for a body pair, the one of the lower slot)
+	fmBodyId otherBody;    ///< the other body, or the null id
+	fmColliderId collider; ///< the collider, or the null id
+} fmContactEvent;
+
+/// Where a ray hit (fmWorld_CastRay).
+typedef struct fmRayHit
+{
+	fmBodyId body;         ///< the body hit, or the null id
+	fmColliderId collider; ///< the collider hit, or the null id
+	int triangle;          ///< the body's surface triangle (fmBody_GetSurface order), or -1
+	int vertex;            ///< the triangle's vertex nearest the hit (user numbering), or -1
+	fmVec3 point;          ///< m
+	fmVec3 normal;         ///< unit, the surface's outward normal
+	double fraction;       ///< of the ray's translation, in [0, 1]
+} fmRayHit;
 
 /// Health of a body after a step.
 typedef struct fmBodyStats

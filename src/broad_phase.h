@@ -1,0 +1,35 @@
+// A spatial hash over axis-aligned boxes (broad_phase.c): rebuilt every substep from the items'
+// boxes, queried with a box; deterministic (items come out of a cell in insertion order) and
+// without allocation once its arrays have grown to the scene.
+#pragma once
+
+#include <femto/femto.h>
+
+#include <stdbool.h>
+
+typedef struct fmSpatialHash
+{
+	double cell;       // m, the edge of a cell
+	int tableSize;     // buckets, a power of two
+	int tableCapacity; // allocated buckets + 1
+	int* bucketStart;  // tableSize + 1: the entries of bucket k are [start[k], start[k + 1])
+	int entryCount;
+	int entryCapacity;
+	int* entries;     // the item of each entry, grouped by bucket
+	int* entryBucket; // scratch: the bucket of each entry before grouping
+	int itemCapacity;
+	unsigned* stamp; // per item: the query that last returned it
+	unsigned query;  // the current query's stamp
+} fmSpatialHash;
+
+// Rebuild over @p count items, item k covering [lower[k], upper[k]], with cells of @p cell m.
+// False when memory is short (the hash is then empty).
+bool fmSpatialHash_Build(fmSpatialHash* hash, const fmVec3* lower, const fmVec3* upper, int count,
+                         double cell);
+
+// The items whose cells overlap [lower, upper], each once, into @p out (grown as needed, its
+// capacity in @p capacity); returns how many, or -1 when memory is short.
+int fmSpatialHash_Query(fmSpatialHash* hash, fmVec3 lower, fmVec3 upper, int** out, int* capacity);
+
+// Release the arrays; safe on a zeroed hash.
+void fmSpatialHash_Free(fmSpatialHash* hash);

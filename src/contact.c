@@ -1,0 +1,939 @@
+// The contact stage (contact.h).
+//
+// Model (docs/contact.md): contact keeps a gap of `thickness` between a body's surface
+// vertices and whatever they touch. After each substep (explicit) or each implicit step:
+// 1. kinematic colliders move;
+// 2. each surface vertex found closer than the thickness to a collider, or whose motion in the
+//    substep crossed the collider grown by the thickness (a swept test: no tunnelling through
+//    thin colliders), is put back on the grown surface; its velocity relative to the collider
+//    loses its approaching normal part (or has it reflected by the restitution) and its
+//    tangential part shrinks by at most mu times the normal change (Coulomb's cone);
+// 3. body-body: each surface vertex is tested against the other bodies' surface triangles near
+//    it (spatial hash); a vertex inside the thickness of a triangle is pushed out along the
+//    triangle's normal and the triangle the other way, by inverse masses (momentum is kept),
+//    in a few Gauss-Seidel passes; then the same velocity response between the vertex and the
+//    triangle's point.
+// Everything runs in a fixed order (bodies, vertices, colliders, triangles ascending), serially:
+// the same bits for any number of workers.
+#include "contact.h"
+
+#include "broad_phase.h"
+#include "collider.h"
+#include "core.h"
+#include "energy_ledger.h"
+#include "force_spring.h"
+#include "forces.h"
+#include "material.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// The automatic thickness: this fraction of the smallest body's bounding-box diagonal.
+#define FM_CONTACT_THICKNESS_FRACTION 0.01
+
+// A vertex the contact stage changed, with its state before (the ledger's bookkeeping).
+typedef struct fmTouched
+{
+	int body;
+	int vertex;
+	fmVec3 x;
+	fmVec3 v;
+} fmTouched;
+
+// A vertex against a triangle of another body.
+typedef struct fmPairContact
+{
+	int body;     // the vertex's body slot
+	int vertex;   // its index in the body
+	int other;    // the triangle's body slot
+	int triangle; // its index in the other body's surface
+	double w[3];  // barycentric weights of the triangle's point nearest the vertex
+	fmVec3 normal;
+	double depth;
+	double impulse;
+	double reach; // m, the most the projections may still separate the pair in this substep
+} fmPairContact;
+
+struct fmContactState
+{
+	fmSpatialHash hash;
+	int triangleCapacity;
+	fmVec3* lower; // per global triangle: its box
+	fmVec3* upper;
+	int* triangleBody;  // per global triangle: its body slot
+	int* triangleIndex; // per global triangle: its index in that body's surface
+	int* candidates;    // a query's result
+	int candidateCapacity;
+	fmPairContact* pairContacts;
+	int pairContactCount;
+	int pairContactCapacity;
+	fmContactPoint* points; // the last substep's contacts
+	int pointCount;
+	int pointCapacity;
+	uint64_t* pairs; // pairs that touched during the frame (sorted and made unique at its end)
+	int pairCount;
+	int pairCapacity;
+	uint64_t* lastPairs; // the previous frame's
+	int lastPairCount;
+	int lastPairCapacity;
+	fmContactEvent* events;
+	int eventCount;
+	int eventCapacity;
+	fmTouched* touched; // the vertices the substep's contacts changed, with their old state
+	int touchedCount;
+	int touchedCapacity;
+	int* tets; // scratch: the tets around a body's touched vertices
+	int tetCapacity;
+};
+
+// ---- small buffers -----------------------------------------------------------------------------
+
+// Grow @p array of @p size-byte elements (keeping its @p count first ones) to hold @p needed.
+static bool fmGrow(void** array, int* capacity, int count, int needed, size_t size)
+{
+	if (needed <= *capacity)
+		return true;
+	int grown = needed + needed / 2 + 16;
+	void* fresh = fmAlloc(fmMulSize((size_t)grown, size));
+	if (fresh == NULL)
+		return false;
+	if (count > 0)
+		memcpy(fresh, *array, (size_t)count * size);
+	fmDealloc(*array, fmMulSize((size_t)*capacity, size));
+	*array = fresh;
+	*capacity = grown;
+	return true;
+}
+
+void fmContact_Free(fmContactState* s)
+{
+	if (s == NULL)
+		return;
+	fmSpatialHash_Free(&s->hash);
+	size_t t = (size_t)s->triangleCapacity;
+	FM_FREE_ARRAY(s->lower, fmVec3, t);
+	FM_FREE_ARRAY(s->upper, fmVec3, t);
+	FM_FREE_ARRAY(s->triangleBody, int, t);
+	FM_FREE_ARRAY(s->triangleIndex, int, t);
+	FM_FREE_ARRAY(s->candidates, int, s->candidateCapacity);
+	FM_FREE_ARRAY(s->pairContacts, fmPairContact, s->pairContactCapacity);
+	FM_FREE_ARRAY(s->points, fmContactPoint, s->pointCapacity);
+	FM_FREE_ARRAY(s->pairs, uint64_t, s->pairCapacity);
+	FM_FREE_ARRAY(s->lastPairs, uint64_t, s->lastPairCapacity);
+	FM_FREE_ARRAY(s->events, fmContactEvent, s->eventCapacity);
+	FM_FREE_ARRAY(s->touched, fmTouched, s->touchedCapacity);
+	FM_FREE_ARRAY(s->tets, int, s->tetCapacity);
+	FM_FREE_ARRAY(s, fmContactState, 1);
+}
+
+static fmContactState* fmGetState(fmWorld* w)
+{
+	if (w->contactState == NULL)
+		w->contactState = FM_ALLOC_ZERO(fmContactState, 1);
+	return w->contactState;
+}
+
+// ---- settings ----------------------------------------------------------------------------------
+
+fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag)
+{
+	if (!(def->thickness >= 0.0 && def->thickness < 1e6))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact thickness must be >= 0 m and finite (0: automatic, 1%% of the "
+		                   "smallest body), got %g",
+		                   def->thickness);
+	if (!(def->friction >= 0.0 && isfinite(def->friction)))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact friction must be finite and >= 0, got %g", def->friction);
+	if (!(def->restitution >= 0.0 && def->restitution <= 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact restitution must be in [0, 1], got %g", def->restitution);
+	if (def->iterations < 1 || def->iterations > 64)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact iterations must be in [1, 64] (default 4), got %d",
+		                   def->iterations);
+	return fm_ok;
+}
+
+double fmContact_Thickness(const fmWorld* w)
+{
+	if (w->def.contact.thickness > 0.0)
+		return w->def.contact.thickness;
+	double smallest = INFINITY;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			smallest = fmin(smallest, w->bodies[i].restSize);
+	return isfinite(smallest) ? FM_CONTACT_THICKNESS_FRACTION * smallest : 0.0;
+}
+
+static int fmLiveBodies(const fmWorld* w)
+{
+	int live = 0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		live += w->bodies[i].x != NULL;
+	return live;
+}
+
+static bool fmHasColliders(const fmWorld* w)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		if (w->colliders[k].inUse)
+			return true;
+	return false;
+}
+
+bool fmContact_Active(const fmWorld* w)
+{
+	return fmHasColliders(w) || (w->def.contact.bodies && fmLiveBodies(w) >= 2);
+}
+
+static bool fmFiltersMeet(fmFilter a, fmFilter b)
+{
+	return (a.categoryBits & b.maskBits) != 0 && (b.categoryBits & a.maskBits) != 0;
+}
+
+// ---- per-body buffers --------------------------------------------------------------------------
+
+// The body's surface vertices (ascending) and its substep-start positions.
+static bool fmBodyContactArrays(fmBody* b)
+{
+	if (b->contactStart == NULL)
+		b->contactStart = FM_ALLOC_ARRAY(double, 3 * (size_t)b->vertexCount);
+	if (b->contactMark == NULL)
+		b->contactMark = FM_ALLOC_ZERO(int, b->vertexCount);
+	if (b->contactTetMark == NULL)
+		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
+	if (b->surfaceVertex == NULL)
+	{
+		uint8_t* on = FM_ALLOC_ZERO(uint8_t, b->vertexCount);
+		if (on == NULL)
+			return false;
+		int count = 0;
+		for (int k = 0; k < 3 * b->triangleCount; ++k)
+			count += on[b->surface[k]]++ == 0;
+		b->surfaceVertex = FM_ALLOC_ARRAY(int, count > 0 ? count : 1);
+		if (b->surfaceVertex != NULL)
+		{
+			b->surfaceVertexCount = count;
+			count = 0;
+			for (int i = 0; i < b->vertexCount; ++i)
+				if (on[i])
+					b->surfaceVertex[count++] = i;
+		}
+		FM_FREE_ARRAY(on, uint8_t, b->vertexCount);
+	}
+	return b->contactStart != NULL && b->surfaceVertex != NULL && b->contactMark != NULL &&
+	       b->contactTetMark != NULL;
+}
+
+void fmContact_BeginFrame(fmWorld* w)
+{
+	if (w->contactState != NULL)
+		w->contactState->pairCount = 0; // what a failed frame left
+
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		w->colliders[k].impulse = fmMakeVec3(0.0, 0.0, 0.0);
+		w->colliders[k].angularImpulse = fmMakeVec3(0.0, 0.0, 0.0);
+	}
+}
+
+bool fmContact_BeginSubstep(fmWorld* w)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		if (!fmBodyContactArrays(b))
+			return false;
+		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+	}
+	return true;
+}
+
+// ---- bookkeeping -------------------------------------------------------------------------------
+
+static bool fmRecordPair(fmContactState* s, uint64_t key)
+{
+	if (s->pairCount > 0 && s->pairs[s->pairCount - 1] == key)
+		return true;
+	if (!fmGrow((void**)&s->pairs, &s->pairCapacity, s->pairCount, s->pairCount + 1,
+	            sizeof(uint64_t)))
+		return false;
+	s->pairs[s->pairCount++] = key;
+	return true;
+}
+
+static fmContactPoint* fmNewPoint(fmContactState* s)
+{
+	if (!fmGrow((void**)&s->points, &s->pointCapacity, s->pointCount, s->pointCount + 1,
+	            sizeof(fmContactPoint)))
+		return NULL;
+	fmContactPoint* p = &s->points[s->pointCount++];
+	memset(p, 0, sizeof *p);
+	return p;
+}
+
+static fmBodyId fmIdOfBody(const fmWorld* w, int slot)
+{
+	fmWorldId world = fmWorldIdOf(w);
+	fmBodyId id = {slot + 1, w->bodies[slot].generation, world.index1 - 1, world.generation};
+	return id;
+}
+
+static fmColliderId fmIdOfCollider(const fmWorld* w, int slot)
+{
+	fmWorldId world = fmWorldIdOf(w);
+	fmColliderId id = {slot + 1, w->colliders[slot].generation, world.index1 - 1, world.generation};
+	return id;
+}
+
+// Note vertex i of body @p slot's state before the stage first changes it.
+static bool fmTouch(fmContactState* s, fmBody* b, int slot, int i)
+{
+	if (b->contactMark[i] != 0)
+		return true;
+	if (!fmGrow((void**)&s->touched, &s->touchedCapacity, s->touchedCount, s->touchedCount + 1,
+	            sizeof(fmTouched)))
+		return false;
+	fmTouched t = {slot, i, fmLoad(b->x, i), fmLoad(b->v, i)};
+	s->touched[s->touchedCount++] = t;
+	b->contactMark[i] = s->touchedCount;
+	return true;
+}
+
+// Pinned axes keep their coordinate and have no velocity.
+static void fmKeepPins(fmBody* b, int i, fmVec3 x0)
+{
+	const double before[3] = {x0.x, x0.y, x0.z};
+	for (int e = 0; e < 3; ++e)
+		if (fmIsDofPinned(b, 3 * i + e))
+		{
+			b->x[3 * i + e] = before[e];
+			b->v[3 * i + e] = 0.0;
+		}
+}
+
+// The relative velocity @p relative after an impact along @p n with restitution @p e and
+// friction @p mu; returns the normal velocity change (>= 0).
+static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu)
+{
+	double vn = fmDot(*relative, n);
+	if (vn >= 0.0)
+		return 0.0;
+	double change = -(1.0 + e) * vn;
+	fmVec3 tangent = fmMulAdd(*relative, -vn, n);
+	double speed = fmLength(tangent);
+	double keep = speed > 0.0 ? fmax(0.0, 1.0 - mu * change / speed) : 0.0;
+	*relative = fmAdd(fmScale(-e * vn, n), fmScale(keep, tangent));
+	return change;
+}
+
+// ---- colliders ---------------------------------------------------------------------------------
+
+// Keep vertex @p i of body @p b out of collider @p c grown by the thickness. Returns false when
+// the contact list could not grow.
+static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k,
+                               double thickness)
+{
+	fmBody* b = &w->bodies[slot];
+	fmCollider* c = &w->colliders[k];
+	fmVec3 x = fmLoad(b->x, i), start = fmLoad(b->contactStart, i), v = fmLoad(b->v, i), n;
+	double d = fmCollider_Distance(c, x, &n), fraction;
+	double depth = thickness - d;
+	if (fmCollider_CastSegment(c, start, x, thickness, &fraction, &n))
+	{
+		// It came from outside the grown shape: back to where it entered it.
+		depth = fmLength(fmSub(x, start)) * (1.0 - fraction);
+		x = fmMulAdd(start, fraction, fmSub(x, start));
+	}
+	else if (depth > 0.0)
+	{
+		// Inside from the start of the substep (or grazing): out along the surface normal, by
+		// at most the floor's depenetration speed beyond undoing its own motion inward.
+		double inward = fmax(0.0, -fmDot(fmSub(x, start), n));
+		double reach = fmax(w->def.floor.maxDepenetrationSpeed * w->contactStep, inward);
+		x = fmMulAdd(x, fmin(depth, reach), n);
+	}
+	else
+		return true;
+	fmVec3 before = fmLoad(b->x, i);
+	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
+	double mu = c->def.friction;
+	fmImpact(&relative, n, c->def.restitution, mu);
+	if (!fmTouch(s, b, slot, i))
+		return false;
+	fmStore(b->x, i, x);
+	fmStore(b->v, i, fmAdd(vc, relative));
+	fmKeepPins(b, i, before);
+	fmVec3 impulse = fmScale(b->mass[i], fmSub(fmLoad(b->v, i), v));
+	c->impulse = fmSub(c->impulse, impulse);
+	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
+	fmContactPoint* p = fmNewPoint(s);
+	if (p == NULL)
+		return false;
+	p->body = fmIdOfBody(w, slot);
+	p->vertex = b->userVertex[i];
+	p->collider = fmIdOfCollider(w, k);
+	p->point = fmLoad(b->x, i);
+	p->normal = n;
+	p->depth = depth;
+	p->impulse = fmDot(impulse, n);
+	uint64_t key = ((uint64_t)(uint32_t)slot << 32) | (0x80000000u | (uint32_t)k);
+	return fmRecordPair(s, key);
+}
+
+static bool fmCollideWithColliders(fmWorld* w, fmContactState* s, double thickness)
+{
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		fmBody* b = &w->bodies[slot];
+		if (b->x == NULL)
+			continue;
+		for (int k = 0; k < w->colliderCapacity; ++k)
+		{
+			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter))
+				continue;
+			for (int p = 0; p < b->surfaceVertexCount; ++p)
+			{
+				int i = b->surfaceVertex[p];
+				if (b->pinned[i] != FM_PIN_ALL && !fmVertexVsCollider(w, s, slot, i, k, thickness))
+					return false;
+			}
+		}
+	}
+	return true;
+}
+
+// ---- body against body -------------------------------------------------------------------------
+
+// The point of triangle abc nearest p, as barycentric weights (Ericson, Real-Time Collision
+// Detection, 5.1.5).
+static void fmClosestOnTriangle(fmVec3 p, fmVec3 a, fmVec3 b, fmVec3 c, double w[3])
+{
+	fmVec3 ab = fmSub(b, a), ac = fmSub(c, a), ap = fmSub(p, a);
+	double d1 = fmDot(ab, ap), d2 = fmDot(ac, ap);
+	if (d1 <= 0.0 && d2 <= 0.0)
+	{
+		w[0] = 1.0, w[1] = 0.0, w[2] = 0.0;
+		return;
+	}
+	fmVec3 bp = fmSub(p, b);
+	double d3 = fmDot(ab, bp), d4 = fmDot(ac, bp);
+	if (d3 >= 0.0 && d4 <= d3)
+	{
+		w[0] = 0.0, w[1] = 1.0, w[2] = 0.0;
+		return;
+	}
+	double vc = d1 * d4 - d3 * d2;
+	if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
+	{
+		double t = d1 / (d1 - d3);
+		w[0] = 1.0 - t, w[1] = t, w[2] = 0.0;
+		return;
+	}
+	fmVec3 cp = fmSub(p, c);
+	double d5 = fmDot(ab, cp), d6 = fmDot(ac, cp);
+	if (d6 >= 0.0 && d5 <= d6)
+	{
+		w[0] = 0.0, w[1] = 0.0, w[2] = 1.0;
+		return;
+	}
+	double vb = d5 * d2 - d1 * d6;
+	if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
+	{
+		double t = d2 / (d2 - d6);
+		w[0] = 1.0 - t, w[1] = 0.0, w[2] = t;
+		return;
+	}
+	double va = d3 * d6 - d5 * d4;
+	if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
+	{
+		double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+		w[0] = 0.0, w[1] = 1.0 - t, w[2] = t;
+		return;
+	}
+	double denominator = 1.0 / (va + vb + vc);
+	w[1] = vb * denominator;
+	w[2] = vc * denominator;
+	w[0] = 1.0 - w[1] - w[2];
+}
+
+static const int* fmTriangleOf(const fmBody* b, int t)
+{
+	return b->surface + 3 * t;
+}
+
+static double fmMotionOf(const fmBody* b, int i)
+{
+	return fmLength(fmSub(fmLoad(b->x, i), fmLoad(b->contactStart, i)));
+}
+
+// Every body's surface triangles with their boxes (grown by the thickness and by how far their
+// vertices moved in the substep) into the broad phase.
+static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
+{
+	int total = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+		total += w->bodies[slot].x ? w->bodies[slot].triangleCount : 0;
+	if (total > s->triangleCapacity)
+	{
+		int old = s->triangleCapacity;
+		FM_FREE_ARRAY(s->lower, fmVec3, old);
+		FM_FREE_ARRAY(s->upper, fmVec3, old);
+		FM_FREE_ARRAY(s->triangleBody, int, old);
+		FM_FREE_ARRAY(s->triangleIndex, int, old);
+		s->lower = FM_ALLOC_ARRAY(fmVec3, total);
+		s->upper = FM_ALLOC_ARRAY(fmVec3, total);
+		s->triangleBody = FM_ALLOC_ARRAY(int, total);
+		s->triangleIndex = FM_ALLOC_ARRAY(int, total);
+		s->triangleCapacity = total;
+		if (!s->lower || !s->upper || !s->triangleBody || !s->triangleIndex)
+		{
+			s->triangleCapacity = 0; // (the frees above take a count of 0)
+			return false;
+		}
+	}
+	double extent = 0.0;
+	int k = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		for (int t = 0; b->x && t < b->triangleCount; ++t, ++k)
+		{
+			const int* tri = fmTriangleOf(b, t);
+			fmVec3 lo = fmLoad(b->x, tri[0]), hi = lo;
+			double motion = 0.0;
+			for (int c = 0; c < 3; ++c)
+			{
+				fmVec3 p = fmLoad(b->x, tri[c]);
+				lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+				hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+				motion = fmax(motion, fmMotionOf(b, tri[c]));
+			}
+			extent += fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
+			double grow = thickness + motion;
+			s->lower[k] = fmSub(lo, fmMakeVec3(grow, grow, grow));
+			s->upper[k] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
+			s->triangleBody[k] = slot;
+			s->triangleIndex[k] = t;
+		}
+	}
+	double cell = fmax(total > 0 ? extent / total : 0.0, 2.0 * thickness);
+	return fmSpatialHash_Build(&s->hash, s->lower, s->upper, total, cell > 0.0 ? cell : 1.0);
+}
+
+// The nearest triangle of another body that vertex i of body @p slot touches, into @p found.
+static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, double thickness,
+                              fmPairContact* found)
+{
+	const fmBody* b = &w->bodies[slot];
+	fmVec3 p = fmLoad(b->x, i);
+	double motion = fmMotionOf(b, i), reach = thickness + motion;
+	int count = fmSpatialHash_Query(&s->hash, fmSub(p, fmMakeVec3(reach, reach, reach)),
+	                                fmAdd(p, fmMakeVec3(reach, reach, reach)), &s->candidates,
+	                                &s->candidateCapacity);
+	double best = INFINITY;
+	int bestItem = -1;
+	for (int c = 0; c < count; ++c)
+	{
+		int item = s->candidates[c], other = s->triangleBody[item];
+		const fmBody* o = &w->bodies[other];
+		if (other == slot || !fmFiltersMeet(b->filter, o->filter))
+			continue;
+		const int* tri = fmTriangleOf(o, s->triangleIndex[item]);
+		fmVec3 a = fmLoad(o->x, tri[0]), bb = fmLoad(o->x, tri[1]), cc = fmLoad(o->x, tri[2]);
+		double wt[3];
+		fmClosestOnTriangle(p, a, bb, cc, wt);
+		fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], cc));
+		fmVec3 n = fmCross(fmSub(bb, a), fmSub(cc, a));
+		double area = fmLength(n);
+		if (!(area > 0.0))
+			continue;
+		n = fmScale(1.0 / area, n);
+		double bound =
+		    reach + fmax(fmMotionOf(o, tri[0]), fmax(fmMotionOf(o, tri[1]), fmMotionOf(o, tri[2])));
+		double distance = fmLength(fmSub(p, q)), side = fmDot(n, fmSub(p, q));
+		bool touches = distance <= bound && side < thickness && side > -bound;
+		if (touches && (distance < best || (distance == best && item < bestItem)))
+		{
+			best = distance;
+			bestItem = item;
+			found->other = other;
+			found->triangle = s->triangleIndex[item];
+			memcpy(found->w, wt, sizeof wt);
+			found->normal = n;
+			found->depth = thickness - side;
+		}
+	}
+	found->body = slot;
+	found->vertex = i;
+	found->impulse = 0.0;
+	if (bestItem >= 0)
+	{
+		// Depenetration is limited as against the floor: what the substep's own approach
+		// explains goes at once, older penetration at most the depenetration speed (bodies
+		// created overlapping come apart gently instead of being catapulted).
+		const fmBody* o = &w->bodies[found->other];
+		const int* tri = fmTriangleOf(o, found->triangle);
+		fmVec3 approach = fmSub(p, fmLoad(b->contactStart, i));
+		for (int c = 0; c < 3; ++c)
+			approach = fmMulAdd(approach, -found->w[c],
+			                    fmSub(fmLoad(o->x, tri[c]), fmLoad(o->contactStart, tri[c])));
+		found->reach = fmax(w->def.floor.maxDepenetrationSpeed * w->contactStep,
+		                    fmax(0.0, -fmDot(approach, found->normal)) + thickness);
+	}
+	return bestItem >= 0;
+}
+
+static double fmInverseMass(const fmBody* b, int i)
+{
+	return b->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[i];
+}
+
+// Note the state of a contact's vertex and its triangle's before the stage changes them.
+static bool fmTouchPair(fmContactState* s, fmBody* b, fmBody* o, const fmPairContact* pc)
+{
+	const int* tri = fmTriangleOf(o, pc->triangle);
+	return fmTouch(s, b, pc->body, pc->vertex) && fmTouch(s, o, pc->other, tri[0]) &&
+	       fmTouch(s, o, pc->other, tri[1]) && fmTouch(s, o, pc->other, tri[2]);
+}
+
+// One projection of a vertex-triangle contact: the gap along the normal back to the thickness,
+// shared by inverse masses. False when memory is short.
+static bool fmProjectPair(fmWorld* w, fmContactState* s, fmPairContact* pc, double thickness)
+{
+	fmBody* b = &w->bodies[pc->body];
+	fmBody* o = &w->bodies[pc->other];
+	const int* tri = fmTriangleOf(o, pc->triangle);
+	fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
+	double weight = fmInverseMass(b, pc->vertex);
+	for (int c = 0; c < 3; ++c)
+	{
+		q = fmMulAdd(q, pc->w[c], fmLoad(o->x, tri[c]));
+		weight += pc->w[c] * pc->w[c] * fmInverseMass(o, tri[c]);
+	}
+	double gap = thickness - fmDot(pc->normal, fmSub(fmLoad(b->x, pc->vertex), q));
+	gap = fmin(gap, pc->reach);
+	if (!(gap > 0.0) || !(weight > 0.0))
+		return true;
+	if (!fmTouchPair(s, b, o, pc))
+		return false;
+	pc->reach -= gap;
+	double lambda = gap / weight;
+	fmVec3 x0 = fmLoad(b->x, pc->vertex);
+	fmStore(b->x, pc->vertex, fmMulAdd(x0, lambda * fmInverseMass(b, pc->vertex), pc->normal));
+	fmKeepPins(b, pc->vertex, x0);
+	for (int c = 0; c < 3; ++c)
+	{
+		fmVec3 y0 = fmLoad(o->x, tri[c]);
+		double share = -lambda * pc->w[c] * fmInverseMass(o, tri[c]);
+		fmStore(o->x, tri[c], fmMulAdd(y0, share, pc->normal));
+		fmKeepPins(o, tri[c], y0);
+	}
+	return true;
+}
+
+static double fmPairFriction(const fmWorld* w, const fmBody* a, const fmBody* b)
+{
+	double fa = a->friction >= 0.0 ? a->friction : w->def.contact.friction;
+	double fb = b->friction >= 0.0 ? b->friction : w->def.contact.friction;
+	return sqrt(fa * fb);
+}
+
+// The velocity response of a vertex-triangle contact: the relative velocity of the vertex and
+// the triangle's point loses its approach (restitution) and some slip (friction), the impulse
+// shared by inverse masses. False when memory is short.
+static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
+{
+	fmBody* b = &w->bodies[pc->body];
+	fmBody* o = &w->bodies[pc->other];
+	const int* tri = fmTriangleOf(o, pc->triangle);
+	fmVec3 vq = fmMakeVec3(0.0, 0.0, 0.0);
+	double weight = fmInverseMass(b, pc->vertex);
+	for (int c = 0; c < 3; ++c)
+	{
+		vq = fmMulAdd(vq, pc->w[c], fmLoad(o->v, tri[c]));
+		weight += pc->w[c] * pc->w[c] * fmInverseMass(o, tri[c]);
+	}
+	if (!(weight > 0.0))
+		return true;
+	if (!fmTouchPair(s, b, o, pc))
+		return false;
+	fmVec3 vp = fmLoad(b->v, pc->vertex), relative = fmSub(vp, vq), before = relative;
+	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o));
+	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
+	pc->impulse = fmDot(impulse, pc->normal);
+	fmVec3 x = fmLoad(b->x, pc->vertex);
+	fmStore(b->v, pc->vertex, fmMulAdd(vp, fmInverseMass(b, pc->vertex), impulse));
+	fmKeepPins(b, pc->vertex, x);
+	for (int c = 0; c < 3; ++c)
+	{
+		fmVec3 v0 = fmLoad(o->v, tri[c]), y = fmLoad(o->x, tri[c]);
+		fmStore(o->v, tri[c], fmMulAdd(v0, -pc->w[c] * fmInverseMass(o, tri[c]), impulse));
+		fmKeepPins(o, tri[c], y);
+	}
+	return true;
+}
+
+static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
+{
+	if (!fmBuildTriangles(w, s, thickness))
+		return false;
+	s->pairContactCount = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		for (int p = 0; b->x && p < b->surfaceVertexCount; ++p)
+		{
+			fmPairContact found;
+			if (!fmFindPairContact(w, s, slot, b->surfaceVertex[p], thickness, &found))
+				continue;
+			if (!fmGrow((void**)&s->pairContacts, &s->pairContactCapacity, s->pairContactCount,
+			            s->pairContactCount + 1, sizeof(fmPairContact)))
+				return false;
+			s->pairContacts[s->pairContactCount++] = found;
+		}
+	}
+	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
+		for (int c = 0; c < s->pairContactCount; ++c)
+			if (!fmProjectPair(w, s, &s->pairContacts[c], thickness))
+				return false;
+	for (int c = 0; c < s->pairContactCount; ++c)
+	{
+		fmPairContact* pc = &s->pairContacts[c];
+		if (!fmRespondPair(w, s, pc))
+			return false;
+		fmContactPoint* point = fmNewPoint(s);
+		if (point == NULL)
+			return false;
+		point->body = fmIdOfBody(w, pc->body);
+		point->vertex = w->bodies[pc->body].userVertex[pc->vertex];
+		point->otherBody = fmIdOfBody(w, pc->other);
+		point->point = fmLoad(w->bodies[pc->body].x, pc->vertex);
+		point->normal = pc->normal;
+		point->depth = pc->depth;
+		point->impulse = pc->impulse;
+		int low = pc->body < pc->other ? pc->body : pc->other;
+		int high = pc->body < pc->other ? pc->other : pc->body;
+		if (!fmRecordPair(s, ((uint64_t)(uint32_t)low << 32) | (uint32_t)high))
+			return false;
+	}
+	return true;
+}
+
+// ---- the energy ledger -------------------------------------------------------------------------
+
+// Swap the positions of body @p slot's touched vertices with their state before the stage.
+static void fmSwapTouched(fmWorld* w, fmContactState* s, int slot)
+{
+	fmBody* b = &w->bodies[slot];
+	for (int k = 0; k < s->touchedCount; ++k)
+	{
+		fmTouched* t = &s->touched[k];
+		if (t->body != slot)
+			continue;
+		fmVec3 now = fmLoad(b->x, t->vertex);
+		fmStore(b->x, t->vertex, t->x);
+		t->x = now;
+	}
+}
+
+// Elastic energy of the tets in @p tets (J).
+static double fmTetsEnergy(const fmBody* b, const int* tets, int count)
+{
+	double energy = 0.0;
+	for (int k = 0; k < count; ++k)
+	{
+		fmMat3 F = fmTetDeformation(b, b->x, tets[k]);
+		energy += b->restVolume[tets[k]] * fmMaterial_Evaluate(&b->material, &F, NULL, NULL);
+	}
+	return energy;
+}
+
+// How the stage changed body @p slot's elastic energy (J): over the tets around its touched
+// vertices (a spring body: over the whole body), after minus before.
+static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* change)
+{
+	fmBody* b = &w->bodies[slot];
+	if (b->forceModel == fm_massSpring)
+	{
+		double after = fmSpringEnergy(b, b->x);
+		fmSwapTouched(w, s, slot);
+		double before = fmSpringEnergy(b, b->x);
+		fmSwapTouched(w, s, slot);
+		*change = after - before;
+		return true;
+	}
+	int count = 0;
+	for (int k = 0; k < s->touchedCount; ++k)
+	{
+		int i = s->touched[k].vertex;
+		if (s->touched[k].body != slot)
+			continue;
+		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
+		{
+			int t = b->vertexTets[e] / 4;
+			if (b->contactTetMark[t])
+				continue;
+			if (!fmGrow((void**)&s->tets, &s->tetCapacity, count, count + 1, sizeof(int)))
+				return false;
+			b->contactTetMark[t] = 1;
+			s->tets[count++] = t;
+		}
+	}
+	double after = fmTetsEnergy(b, s->tets, count);
+	fmSwapTouched(w, s, slot);
+	double before = fmTetsEnergy(b, s->tets, count);
+	fmSwapTouched(w, s, slot);
+	for (int k = 0; k < count; ++k)
+		b->contactTetMark[s->tets[k]] = 0;
+	*change = after - before;
+	return true;
+}
+
+// Book the energy the stage gave body @p slot (kinetic, gravity's potential and elastic,
+// after minus before) as contact work when it is positive: pushes and a kinematic collider's
+// blows add energy, inelastic impacts take it away.
+static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
+{
+	fmBody* b = &w->bodies[slot];
+	double gained = 0.0;
+	bool touched = false;
+	for (int k = 0; k < s->touchedCount; ++k)
+	{
+		const fmTouched* t = &s->touched[k];
+		if (t->body != slot)
+			continue;
+		touched = true;
+		fmVec3 x = fmLoad(b->x, t->vertex), v = fmLoad(b->v, t->vertex);
+		gained += 0.5 * b->mass[t->vertex] * (fmDot(v, v) - fmDot(t->v, t->v));
+		gained -= b->mass[t->vertex] * fmDot(w->def.gravity, fmSub(x, t->x));
+	}
+	double elastic = 0.0;
+	if (touched && !fmElasticChange(w, s, slot, &elastic))
+		return false;
+	if (touched)
+		fmLedger_AddContactWork(b, gained + elastic);
+	return true;
+}
+
+// ---- the stage ---------------------------------------------------------------------------------
+
+bool fmContact_Substep(fmWorld* w, double h)
+{
+	fmContactState* s = fmGetState(w);
+	if (s == NULL)
+		return false;
+	double thickness = fmContact_Thickness(w);
+	w->contactStep = h;
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		if (w->colliders[k].inUse)
+			fmCollider_Move(&w->colliders[k], h);
+	s->pointCount = 0;
+	bool ok = fmCollideWithColliders(w, s, thickness);
+	if (ok && w->def.contact.bodies && fmLiveBodies(w) >= 2)
+		ok = fmCollideBodies(w, s, thickness);
+	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
+		ok = fmBookWork(w, s, slot);
+	for (int k = 0; k < s->touchedCount; ++k)
+		w->bodies[s->touched[k].body].contactMark[s->touched[k].vertex] = 0;
+	s->touchedCount = 0;
+	return ok;
+}
+
+static int fmCompareKeys(const void* a, const void* b)
+{
+	uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
+	return (x > y) - (x < y);
+}
+
+static bool fmAddEvent(fmWorld* w, fmContactState* s, uint64_t key, bool begin)
+{
+	if (!fmGrow((void**)&s->events, &s->eventCapacity, s->eventCount, s->eventCount + 1,
+	            sizeof(fmContactEvent)))
+		return false;
+	fmContactEvent* e = &s->events[s->eventCount++];
+	memset(e, 0, sizeof *e);
+	e->begin = begin;
+	int a = (int)(key >> 32), b = (int)(uint32_t)key;
+	e->body = fmIdOfBody(w, a);
+	if (b & (int)0x80000000u)
+		e->collider = fmIdOfCollider(w, b & 0x7fffffff);
+	else
+		e->otherBody = fmIdOfBody(w, b);
+	return true;
+}
+
+bool fmContact_EndFrame(fmWorld* w, double frameTime)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		fmCollider* c = &w->colliders[k];
+		c->force = fmScale(1.0 / frameTime, c->impulse);
+		c->torque = fmScale(1.0 / frameTime, c->angularImpulse);
+	}
+	fmContactState* s = w->contactState;
+	if (s == NULL)
+		return true;
+	qsort(s->pairs, (size_t)s->pairCount, sizeof(uint64_t), fmCompareKeys);
+	int unique = 0;
+	for (int k = 0; k < s->pairCount; ++k)
+		if (unique == 0 || s->pairs[unique - 1] != s->pairs[k])
+			s->pairs[unique++] = s->pairs[k];
+	s->pairCount = unique;
+	s->eventCount = 0;
+	bool ok = true;
+	int a = 0, b = 0;
+	while (ok && (a < s->pairCount || b < s->lastPairCount))
+	{
+		bool takeNew = b >= s->lastPairCount || (a < s->pairCount && s->pairs[a] < s->lastPairs[b]);
+		bool same = a < s->pairCount && b < s->lastPairCount && s->pairs[a] == s->lastPairs[b];
+		if (same)
+			a += 1, b += 1;
+		else if (takeNew)
+			ok = fmAddEvent(w, s, s->pairs[a++], true);
+		else
+			ok = fmAddEvent(w, s, s->lastPairs[b++], false);
+	}
+	// This frame's pairs become the last frame's.
+	uint64_t* pairs = s->lastPairs;
+	int capacity = s->lastPairCapacity;
+	s->lastPairs = s->pairs;
+	s->lastPairCapacity = s->pairCapacity;
+	s->lastPairCount = s->pairCount;
+	s->pairs = pairs;
+	s->pairCapacity = capacity;
+	s->pairCount = 0;
+	return ok;
+}
+
+// ---- public read-back --------------------------------------------------------------------------
+
+int fmWorld_GetContacts(fmWorldId worldId, fmContactPoint* contacts, int capacity)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL && (capacity == 0 || contacts != NULL));
+	if (w == NULL || w->contactState == NULL)
+		return 0;
+	const fmContactState* s = w->contactState;
+	int copy = capacity < s->pointCount ? capacity : s->pointCount;
+	if (copy > 0 && contacts != NULL)
+		memcpy(contacts, s->points, sizeof(fmContactPoint) * (size_t)copy);
+	return s->pointCount;
+}
+
+int fmWorld_GetContactEvents(fmWorldId worldId, fmContactEvent* events, int capacity)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL && (capacity == 0 || events != NULL));
+	if (w == NULL || w->contactState == NULL)
+		return 0;
+	const fmContactState* s = w->contactState;
+	int copy = capacity < s->eventCount ? capacity : s->eventCount;
+	if (copy > 0 && events != NULL)
+		memcpy(events, s->events, sizeof(fmContactEvent) * (size_t)copy);
+	return s->eventCount;
+}

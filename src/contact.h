@@ -1,0 +1,40 @@
+// The contact stage (contact.c): after every body has taken a substep, kinematic colliders
+// move, and every body's surface vertices are kept out of the colliders and out of the other
+// bodies' surfaces, by position projection with restitution and Coulomb friction on the
+// velocities (docs/contact.md). Serial, in a fixed order: the same bits for any number of
+// workers. The contact list, the pairs' begin and end events and the colliders' forces come
+// out of it.
+#pragma once
+
+#include "world.h"
+
+// Buffers of the contact stage of one world (contact.c), made on first use.
+typedef struct fmContactState fmContactState;
+
+// The thickness contact keeps (m): fmContactDef.thickness, or 1% of the smallest body's
+// bounding-box diagonal.
+double fmContact_Thickness(const fmWorld* world);
+
+// Whether the world has anything for the contact stage to do (colliders, or body-body contact
+// between two or more bodies).
+bool fmContact_Active(const fmWorld* world);
+
+// Start of a frame: collider impulses zeroed.
+void fmContact_BeginFrame(fmWorld* world);
+
+// Start of a substep: every body's positions kept as the start of its motion (for the swept
+// tests). False when memory is short.
+bool fmContact_BeginSubstep(fmWorld* world);
+
+// The contact stage of a substep of @p h seconds. False when memory is short.
+bool fmContact_Substep(fmWorld* world, double h);
+
+// End of a frame of @p frameTime seconds: the colliders' forces, the frame's begin and end
+// events. False when memory is short (the events are then lost).
+bool fmContact_EndFrame(fmWorld* world, double frameTime);
+
+// Validate a contact def (part of fmWorldDef_Validate).
+fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag);
+
+// Release a world's contact buffers; NULL is fine.
+void fmContact_Free(fmContactState* state);
