@@ -2,6 +2,7 @@
 #include "commands.h"
 #include "output.h"
 #include "scene.h"
+#include "viewer_hook.h"
 
 #include <limits.h>
 #include <math.h>
@@ -36,6 +37,16 @@ const char* const cliRunHelp =
     "                     each), or off (the double-precision reference kernel)\n"
     "  --deterministic    cross-machine determinism (the scene's \"deterministic\": true,\n"
     "                     fmWorldDef.crossPlatformDeterminism): the same bits on any machine\n"
+    "  --gif FILE         also draw the run into an animated GIF (docs/viewer.md)\n"
+    "  --png DIR          also draw it as DIR/frame_0000.png, frame_0001.png, ...\n"
+    "  --size WxH         picture size in pixels (default 640x480)\n"
+    "  --fps N            pictures per simulated second, 1 to 1000 (default 30; a GIF\n"
+    "                     at most 50)\n"
+    "  --camera-distance D, --camera-yaw DEG, --camera-pitch DEG, --camera-target X,Y,Z\n"
+    "                     the orbit camera (default: the bodies and the floor under them\n"
+    "                     framed from yaw 30, pitch 20)\n"
+    "  --draw LIST        what to draw: surfaces,stress,tets,inverted,pins,targets,floor,\n"
+    "                     contacts, all or none (default surfaces,floor,pins,targets)\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -61,6 +72,7 @@ typedef struct cliRunOptions
 	const char* simd;   ///< --simd, NULL if not given
 	bool deterministic; ///< --deterministic
 	bool quiet;
+	cliViewOptions view; ///< --gif, --png and their picture options
 } cliRunOptions;
 
 // Implicit solves of the run that ended above the tolerance.
@@ -70,12 +82,34 @@ typedef struct cliSolveTotals
 	double maxResidual;
 } cliSolveTotals;
 
+// The picture options need --gif or --png; a GIF shows at most 50 pictures a second (its delays
+// are whole centiseconds, and players show delays under 2 cs as 10). -1 or an exit code.
+static int cliCheckPictureOptions(const cliViewOptions* v)
+{
+	bool pictureOption = v->hasSize || v->hasFps || v->hasDistance || v->hasYaw || v->hasPitch ||
+	                     v->hasTarget || v->hasDraw;
+	if (pictureOption && !cliViewOptions_WantsImages(v))
+		return cliUsageError("run", "--size, --fps, --camera-* and --draw need --gif FILE or "
+		                            "--png DIR");
+	if (v->gifPath != NULL && v->fps > 50.0)
+		return cliUsageError("run",
+		                     "--fps: %g is too many pictures a second for a GIF (at most "
+		                     "50; --png takes up to 1000)",
+		                     v->fps);
+	// Before the scene loads: a build without the renderer says so at once.
+	if (cliViewOptions_WantsImages(v) && !cliVideo_Available(v->gifPath ? "--gif" : "--png"))
+		return cli_exitInput;
+	return -1;
+}
+
 // Parse the options; returns -1 to go on, or an exit code.
 static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 {
 	memset(o, 0, sizeof *o);
 	o->every = 1;
+	cliViewOptions_Init(&o->view);
 	bool hasSeconds = false, hasFrames = false;
+	int code = -1;
 	for (int i = 1; i < argc; ++i)
 	{
 		const char* arg = argv[i];
@@ -166,6 +200,11 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 				                     value);
 			o->hasImpulseSpeed = true;
 		}
+		else if (cliViewOptions_Parse(&o->view, "run", argc, argv, &i, &code))
+		{
+			if (code >= 0)
+				return code;
+		}
 		else if (arg[0] == '-' && arg[1] != 0)
 			return cliUsageError("run", "unknown option '%s'", arg);
 		else if (o->scenePath == NULL)
@@ -179,7 +218,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 		return cliUsageError("run", "--obj needs --out DIR");
 	if (!hasSeconds && !hasFrames)
 		o->seconds = -1.0; // the scene decides
-	return -1;
+	return cliCheckPictureOptions(&o->view);
 }
 
 // Frames to run: the command line, then the scene, then 5 s. -1 (with a message) when a
@@ -331,8 +370,8 @@ static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliS
 
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
-                        cliSeries* series, int frames, double* stepSeconds, double* lowestReached,
-                        cliSolveTotals* totals)
+                        cliSeries* series, cliVideo* video, int frames, double* stepSeconds,
+                        double* lowestReached, cliSolveTotals* totals)
 {
 	*lowestReached = cliLowestY(sim);
 	double frameTime = cliScene_FrameTime(scene);
@@ -369,6 +408,8 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 		}
 		if (series != NULL && (frame + 1) % o->every == 0 &&
 		    !cliSeries_WriteFrame(series, sim, frame + 1, time + frameTime))
+			return cli_exitInput;
+		if (video != NULL && !cliVideo_Advance(video, sim, time + frameTime))
 			return cli_exitInput;
 		double now = cliNow();
 		if (progress && (now - lastProgress > 0.2 || frame + 1 == frames))
@@ -420,6 +461,16 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 		printf("output           %s (%d frames)\n", series->pvdPath, series->written);
 }
 
+static void cliPrintPictures(const cliViewOptions* v, int pictures)
+{
+	if (v->gifPath != NULL)
+		printf("gif              %s (%d pictures, %dx%d, %g a second)\n", v->gifPath, pictures,
+		       v->width, v->height, v->fps);
+	if (v->pngDirectory != NULL)
+		printf("png              %s/frame_0000.png ... frame_%04d.png (%dx%d)\n", v->pngDirectory,
+		       pictures > 0 ? pictures - 1 : 0, v->width, v->height);
+}
+
 int cliRun(int argc, char** argv)
 {
 	cliRunOptions o;
@@ -468,11 +519,18 @@ int cliRun(int argc, char** argv)
 		if (code == cli_exitOk && !cliSeries_WriteFrame(&series, &sim, 0, 0.0))
 			code = cli_exitInput;
 	}
+	cliVideo* video = NULL;
+	if (code == cli_exitOk && cliViewOptions_WantsImages(&o.view) &&
+	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
+		code = cli_exitInput;
 	double stepSeconds = 0.0, lowestReached = 0.0;
 	cliSolveTotals solves = {0, 0.0};
 	if (code == cli_exitOk)
-		code = cliRunFrames(&o, &scene, &sim, seriesPtr, frames, &stepSeconds, &lowestReached,
-		                    &solves);
+		code = cliRunFrames(&o, &scene, &sim, seriesPtr, video, frames, &stepSeconds,
+		                    &lowestReached, &solves);
+	int pictures = cliVideo_FrameCount(video);
+	if (!cliVideo_Close(video, code == cli_exitOk) && code == cli_exitOk)
+		code = cli_exitInput;
 	// The collection is complete after every frame (rewritten whole each time), so the frames
 	// written before a failure or an interruption stay viewable.
 	if (seriesPtr != NULL)
@@ -480,8 +538,11 @@ int cliRun(int argc, char** argv)
 	if (code == cli_exitOk && o.exportNode != NULL && !cliWriteNodes(o.exportNode, &sim, false))
 		code = cli_exitInput;
 	if (code == cli_exitOk)
+	{
 		cliPrintSummary(&scene, &sim, frames, cliNow() - wallStart, stepSeconds, lowestReached,
 		                seriesPtr, &solves);
+		cliPrintPictures(&o.view, pictures);
+	}
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;

@@ -1,6 +1,7 @@
 // femto: the command-line tool. Dispatches to the commands (docs/cli.md).
 #include "cli.h"
 #include "commands.h"
+#include "viewer_hook.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -15,6 +16,7 @@ static const char* const cliMainHelp =
     "  info MESH.node       mesh statistics: counts, volumes, angles, quality, bad tets\n"
     "  static SCENE.json    static equilibrium under gravity and pins\n"
     "  bench                explicit and implicit step timings\n"
+    "  view [SCENE.json]    the interactive viewer: drag, jump, sliders (docs/viewer.md)\n"
     "\n"
     "  femto <command> --help   options of a command\n"
     "  femto --version          version of the tool and library\n"
@@ -53,8 +55,10 @@ int main(int argc, char** argv)
 		return cliStatic(argc - 1, argv + 1);
 	if (strcmp(command, "bench") == 0)
 		return cliBench(argc - 1, argv + 1);
+	if (strcmp(command, "view") == 0)
+		return cliView(argc - 1, argv + 1);
 	if (command[0] == '-')
 		return cliUsageError(NULL, "unknown option '%s'", command);
-	return cliUsageError(NULL, "unknown command '%s' (commands: run, info, static, bench)",
+	return cliUsageError(NULL, "unknown command '%s' (commands: run, info, static, bench, view)",
 	                     command);
 }

@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Install the Debian packages femto's tools and tests need (the core library needs none), then
+# Install the Debian packages femto's tools and tests need (the core library needs none): the
+# CLI's cJSON, the viewer's renderer and window (EGL, epoxy, GL, giflib, libspng, GLFW, Dear
+# ImGui, Mesa's software driver) and xvfb for its window tests (docs/viewer.md), then
 # the optional ones `femto bench` uses when they are there: tetgen (the TetGen beams), gnuplot-nox
 # (the PNG plot) and libbullet-dev (bench/peers/, Bullet's deformable world side by side). The
 # build and the tests never need the optional packages; failing to install them is a warning,
 # and FEMTO_BENCH_DEPS=0 leaves them out.
 set -euo pipefail
-packages=(build-essential cmake pkg-config libcjson-dev clang libclang-rt-14-dev valgrind)
+packages=(build-essential cmake pkg-config libcjson-dev clang libclang-rt-14-dev valgrind
+  libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev libglfw3-dev libimgui-dev
+  libegl-mesa0 libgl1-mesa-dri xvfb xauth)
 optional=(tetgen gnuplot-nox libbullet-dev)
 [ "${FEMTO_BENCH_DEPS:-1}" = 0 ] && optional=()
 missing=()

@@ -401,3 +401,6 @@ if(TARGET femto-bench-bullet)
     CODE 0 REGEX "house2 +1389 +[0-9.]+ +[0-9.]+ +[0-9.]+  ok, lowest y -?[0-9.]+ m.*Bullet [0-9]+\\.[0-9]+, btDeformableMultiBodyDynamicsWorld"
     REJECT "failed")
 endif()
+
+# The renderer and the viewer (viewer/): pictures, femto view under a virtual display.
+include(${CMAKE_CURRENT_LIST_DIR}/viewer_tests.cmake)

@@ -1,0 +1,400 @@
+// The viewer's state and input (app.h).
+#include "app.h"
+
+#include "picking.h"
+#include "view_options.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int fvCompareNames(const void* a, const void* b)
+{
+	return strcmp(*(char* const*)a, *(char* const*)b);
+}
+
+// Add one entry to the scene list; false when memory is short.
+static bool fvAddScene(fvApp* app, const char* name, const char* path)
+{
+	char** names = realloc(app->sceneNames, (size_t)(app->sceneCount + 1) * sizeof *names);
+	if (names != NULL)
+		app->sceneNames = names;
+	char** paths = realloc(app->scenePaths, (size_t)(app->sceneCount + 1) * sizeof *paths);
+	if (paths != NULL)
+		app->scenePaths = paths;
+	if (names == NULL || paths == NULL)
+		return false;
+	names[app->sceneCount] = strdup(name);
+	paths[app->sceneCount] = path != NULL ? strdup(path) : NULL;
+	app->sceneCount += 1;
+	return names[app->sceneCount - 1] != NULL;
+}
+
+// The .json files of @p folder, sorted, after the built-in house.
+static void fvListScenes(fvApp* app, const char* folder)
+{
+	fvAddScene(app, "(built-in house)", NULL);
+	DIR* dir = folder != NULL ? opendir(folder) : NULL;
+	if (dir == NULL)
+		return;
+	char* found[256];
+	int count = 0;
+	for (struct dirent* e = readdir(dir); e != NULL && count < 256; e = readdir(dir))
+	{
+		size_t length = strlen(e->d_name);
+		if (length > 5 && strcmp(e->d_name + length - 5, ".json") == 0 && e->d_name[0] != '.')
+			found[count] = strdup(e->d_name), count += found[count] != NULL;
+	}
+	closedir(dir);
+	qsort(found, (size_t)count, sizeof *found, fvCompareNames);
+	for (int i = 0; i < count; ++i)
+	{
+		char path[CLI_MAX_PATH];
+		if (cliJoinPath(path, sizeof path, folder, found[i]))
+			fvAddScene(app, found[i], path);
+		free(found[i]);
+	}
+}
+
+// The list entry of @p path (same file name in the listed folder), 0 (the house) if none.
+static int fvFindScene(const fvApp* app, const char* path)
+{
+	if (path == NULL)
+		return 0;
+	const char* base = strrchr(path, '/');
+	base = base != NULL ? base + 1 : path;
+	for (int i = 1; i < app->sceneCount; ++i)
+		if (strcmp(app->sceneNames[i], base) == 0)
+			return i;
+	return -1;
+}
+
+bool fvApp_Init(fvApp* app, const char* scenePath, const char* sceneFolder, unsigned drawFlags)
+{
+	memset(app, 0, sizeof *app);
+	fvDrawList_Init(&app->list);
+	app->drawFlags = drawFlags;
+	app->camera = fvCamera_Default();
+	app->width = app->height = 1;
+	if (!fvSession_Load(&app->session, scenePath))
+		return false;
+	fvListScenes(app, sceneFolder);
+	app->sceneIndex = fvFindScene(app, scenePath);
+	if (app->sceneIndex < 0 && scenePath != NULL && fvAddScene(app, scenePath, scenePath))
+		app->sceneIndex = app->sceneCount - 1;
+	return true;
+}
+
+void fvApp_Free(fvApp* app)
+{
+	fvSession_Free(&app->session);
+	fvDrawList_Free(&app->list);
+	for (int i = 0; i < app->sceneCount; ++i)
+	{
+		free(app->sceneNames[i]);
+		free(app->scenePaths[i]);
+	}
+	free(app->sceneNames);
+	free(app->scenePaths);
+	memset(app, 0, sizeof *app);
+}
+
+void fvApp_Capture(fvApp* app)
+{
+	// With the drag's targets drawn too, so the pulled spring shows.
+	// Picking uses the drawn surfaces: with surfaces off, nothing can be grabbed.
+	unsigned flags = app->drawFlags | (app->session.dragging ? fm_drawTargets : 0u);
+	if (fvSession_IsLive(&app->session))
+		fvDrawList_Capture(&app->list, app->session.sim.world, flags);
+	else
+		fvDrawList_Clear(&app->list);
+}
+
+void fvApp_FrameCamera(fvApp* app)
+{
+	fvApp_Capture(app);
+	float lo[3], hi[3];
+	if (fvDrawList_FramingBox(&app->list, lo, hi))
+		fvCamera_Frame(&app->camera, lo, hi, (float)app->width / (float)app->height);
+}
+
+int fvApp_FindScene(const fvApp* app, const char* name)
+{
+	for (int i = 0; i < app->sceneCount; ++i)
+		if (strcmp(app->sceneNames[i], name) == 0)
+			return i;
+	return -1;
+}
+
+void fvApp_SelectScene(fvApp* app, int index)
+{
+	if (index < 0 || index >= app->sceneCount)
+		return;
+	fvSession next;
+	if (!fvSession_Load(&next, app->scenePaths[index]))
+	{
+		snprintf(app->session.status, sizeof app->session.status,
+		         "%s does not load (the reason is on stderr)", app->sceneNames[index]);
+		return;
+	}
+	fvSession_Free(&app->session);
+	app->session = next;
+	app->sceneIndex = index;
+	app->mouse = fv_mouseNone;
+	fvApp_FrameCamera(app);
+}
+
+// The point where the cursor's ray meets the plane through app->grabPlane facing the camera.
+static bool fvCursorOnGrabPlane(const fvApp* app, float x, float y, float point[3])
+{
+	float origin[3], direction[3], eye[3], normal[3];
+	fvCamera_Ray(&app->camera, app->width, app->height, x, y, origin, direction);
+	fvCamera_Eye(&app->camera, eye);
+	float length = 0.0f;
+	for (int i = 0; i < 3; ++i)
+	{
+		normal[i] = app->camera.target[i] - eye[i];
+		length += normal[i] * normal[i];
+	}
+	float along = 0.0f, toPlane = 0.0f;
+	for (int i = 0; i < 3; ++i)
+	{
+		normal[i] /= sqrtf(length);
+		along += direction[i] * normal[i];
+		toPlane += (app->grabPlane[i] - origin[i]) * normal[i];
+	}
+	if (fabsf(along) < 1e-6f)
+		return false;
+	float t = toPlane / along;
+	for (int i = 0; i < 3; ++i)
+		point[i] = origin[i] + t * direction[i];
+	return t > 0.0f;
+}
+
+// Left press: grab the body under the cursor, or orbit.
+static void fvPress(fvApp* app, float x, float y)
+{
+	float origin[3], direction[3];
+	fvPick pick;
+	fvCamera_Ray(&app->camera, app->width, app->height, x, y, origin, direction);
+	if (!fvPick_Ray(&app->list, origin, direction, &pick))
+	{
+		app->mouse = fv_mouseOrbit;
+		return;
+	}
+	int body = fvSession_BodyIndex(&app->session, app->list.surfaces[pick.surface].body);
+	if (body < 0)
+		return;
+	// The vertex is pulled onto the cursor: the plane goes through it, facing the camera.
+	memcpy(app->grabPlane, pick.vertexAt, sizeof app->grabPlane);
+	float target[3];
+	if (!fvCursorOnGrabPlane(app, x, y, target))
+		memcpy(target, pick.vertexAt, sizeof target);
+	fvSession_Grab(&app->session, body, pick.vertex, fmMakeVec3(target[0], target[1], target[2]));
+	app->mouse = app->session.dragging ? fv_mouseDrag : fv_mouseNone;
+}
+
+void fvApp_MouseButton(fvApp* app, int button, bool down, float x, float y)
+{
+	if (down && app->uiWantsMouse != NULL && app->uiWantsMouse())
+		return;
+	app->cursor[0] = x, app->cursor[1] = y;
+	if (!down)
+	{
+		if (app->mouse == fv_mouseDrag)
+			fvSession_Release(&app->session);
+		app->mouse = fv_mouseNone;
+		return;
+	}
+	if (button == 0)
+		fvPress(app, x, y);
+	else
+		app->mouse = fv_mousePan;
+}
+
+void fvApp_MouseMove(fvApp* app, float x, float y)
+{
+	float dx = x - app->cursor[0], dy = y - app->cursor[1];
+	app->cursor[0] = x, app->cursor[1] = y;
+	float target[3];
+	switch (app->mouse)
+	{
+	case fv_mouseOrbit:
+		fvCamera_Orbit(&app->camera, dx, dy);
+		break;
+	case fv_mousePan:
+		fvCamera_Pan(&app->camera, dx, dy, app->height);
+		break;
+	case fv_mouseDrag:
+		if (fvCursorOnGrabPlane(app, x, y, target))
+			fvSession_MoveGrab(&app->session, fmMakeVec3(target[0], target[1], target[2]));
+		break;
+	case fv_mouseNone:
+		break;
+	}
+}
+
+void fvApp_Scroll(fvApp* app, float steps)
+{
+	if (app->uiWantsMouse == NULL || !app->uiWantsMouse())
+		fvCamera_Zoom(&app->camera, steps);
+}
+
+// M: the next of the five built-in models.
+static void fvNextModel(fvApp* app)
+{
+	fvParams* p = &app->session.params;
+	p->model = (fmMaterialModel)((p->model + 1) % (fm_mooneyRivlin + 1));
+	fvSession_ApplyMaterial(&app->session);
+}
+
+void fvApp_Key(fvApp* app, const char* name)
+{
+	fvSession* s = &app->session;
+	if (strcmp(name, "space") == 0)
+		fvSession_Jump(s);
+	else if (strcmp(name, "p") == 0)
+		s->paused = !s->paused;
+	else if (strcmp(name, "s") == 0 || strcmp(name, "n") == 0)
+		s->paused = true, s->pendingSteps += 1;
+	else if (strcmp(name, "r") == 0)
+		fvSession_Reset(s);
+	else if (strcmp(name, "i") == 0)
+	{
+		s->params.integrator = s->params.integrator == fm_explicit ? fm_implicit : fm_explicit;
+		fvSession_ApplyIntegrator(s);
+	}
+	else if (strcmp(name, "m") == 0)
+		fvNextModel(app);
+	else if (strcmp(name, "f") == 0)
+		fvApp_FrameCamera(app);
+	else if (strcmp(name, "escape") == 0 || strcmp(name, "q") == 0)
+		app->quit = true;
+}
+
+void fvApp_Slider(fvApp* app, const char* name, double value)
+{
+	fvParams* p = &app->session.params;
+	fvParams before = *p;
+	if (strcmp(name, "youngs") == 0)
+		p->youngs = value;
+	else if (strcmp(name, "poisson") == 0)
+		p->poisson = value;
+	else if (strcmp(name, "mass") == 0)
+		p->mass = value;
+	else if (strcmp(name, "damping") == 0)
+		p->damping = value;
+	else if (strcmp(name, "dt") == 0)
+		p->dt = value;
+	else if (strcmp(name, "substeps") == 0)
+		p->substeps = (int)value;
+	bool material = strcmp(name, "youngs") == 0 || strcmp(name, "poisson") == 0;
+	bool bodies = strcmp(name, "mass") == 0 || strcmp(name, "damping") == 0;
+	bool time = !(p->dt >= 1e-6 && p->dt <= 1.0 && p->substeps >= 1 && p->substeps <= 1000);
+	if ((material && !fvSession_ApplyMaterial(&app->session)) ||
+	    (bodies && !fvSession_ApplyBodies(&app->session)))
+		*p = before; // rejected (the status says why): the sliders go back
+	else if (time)
+	{
+		snprintf(app->session.status, sizeof app->session.status,
+		         "dt must be in [1e-6, 1] s and substeps in [1, 1000]");
+		*p = before;
+	}
+}
+
+void fvApp_Toggle(fvApp* app, const char* name)
+{
+	unsigned flags = 0;
+	char bad[64];
+	if (cliParseDrawFlags(name, &flags, bad, sizeof bad))
+		app->drawFlags ^= flags;
+}
+
+void fvApp_FillUi(const fvApp* app, fvUiModel* m, double fps)
+{
+	const fvSession* s = &app->session;
+	memset(m, 0, sizeof *m);
+	m->fps = fps;
+	m->stepMs = s->stepMs;
+	m->profile = s->profile;
+	m->stats = s->stats;
+	m->frames = s->frames;
+	m->simTime = (double)s->frames * s->params.dt * s->params.substeps;
+	m->paused = s->paused;
+	m->dragging = s->dragging;
+	m->status = s->status;
+	m->sceneNames = (const char* const*)app->sceneNames;
+	m->sceneCount = app->sceneCount;
+	m->sceneIndex = app->sceneIndex;
+	m->model = (int)s->params.model;
+	m->youngs = (float)s->params.youngs;
+	m->poisson = (float)s->params.poisson;
+	m->perParticle = s->params.perParticle;
+	m->mass = (float)s->params.mass;
+	m->damping = (float)s->params.damping;
+	m->dt = (float)s->params.dt;
+	m->substeps = s->params.substeps;
+	m->integrator = (int)s->params.integrator;
+	m->drawFlags = app->drawFlags;
+}
+
+void fvApp_ApplyUi(fvApp* app, const fvUiModel* m)
+{
+	fvSession* s = &app->session;
+	app->drawFlags = m->drawFlags;
+	if (m->sceneChanged)
+	{
+		fvApp_SelectScene(app, m->sceneIndex);
+		return;
+	}
+	if (m->materialChanged)
+	{
+		s->params.model = (fmMaterialModel)m->model;
+		fvApp_Slider(app, "youngs", m->youngs);
+		fvApp_Slider(app, "poisson", m->poisson);
+	}
+	if (m->bodiesChanged)
+	{
+		fvApp_Slider(app, "mass", m->mass);
+		fvApp_Slider(app, "damping", m->damping);
+	}
+	if (m->timeChanged)
+	{
+		fvApp_Slider(app, "dt", m->dt);
+		fvApp_Slider(app, "substeps", m->substeps);
+	}
+	if (m->integratorChanged)
+	{
+		s->params.integrator = (fmIntegrator)m->integrator;
+		fvSession_ApplyIntegrator(s);
+	}
+	const char* keys[5] = {m->jump ? "space" : NULL, m->pause ? "p" : NULL, m->step ? "s" : NULL,
+	                       m->reset ? "r" : NULL, m->frame ? "f" : NULL};
+	for (int i = 0; i < 5; ++i)
+		if (keys[i] != NULL)
+			fvApp_Key(app, keys[i]);
+}
+
+bool fvApp_DragPixels(const fvApp* app, float vertex[2], float cursor[2])
+{
+	const fvSession* s = &app->session;
+	if (!s->dragging)
+		return false;
+	fmBodyId body = s->sim.bodies[s->dragBody];
+	for (int k = 0; k < app->list.surfaceCount; ++k)
+	{
+		const fvSurface* surface = &app->list.surfaces[k];
+		if (surface->body.index1 != body.index1 || surface->body.generation != body.generation)
+			continue;
+		for (int i = 0; i < surface->vertexCount; ++i)
+			if (surface->vertices[i] == s->dragVertex)
+			{
+				cursor[0] = app->cursor[0], cursor[1] = app->cursor[1];
+				return fvCamera_Project(&app->camera, app->width, app->height,
+				                        surface->positions + 3 * i, vertex);
+			}
+	}
+	return false;
+}

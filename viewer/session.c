@@ -1,0 +1,309 @@
+// The simulation of `femto view` (session.h).
+#include "session.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+// The seeds' jump: m/s added before each substep of the frame (cli/cmd_run.c, docs/cli.md).
+#define FV_JUMP_SPEED 0.2
+
+// Most scene frames one Advance steps (a slow frame must not snowball).
+#define FV_MAX_FRAMES_PER_ADVANCE 8
+
+// Young's modulus and Poisson ratio of Lamé constants (the inverse of fmMakeMaterial's).
+static void fvFromLame(double lambda, double mu, double* youngs, double* poisson)
+{
+	*youngs = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
+	*poisson = lambda / (2.0 * (lambda + mu));
+}
+
+// The sliders start at the scene's first body and world.
+static void fvInitParams(fvSession* s)
+{
+	const fmBodyDef* def = &s->scene.bodies[0].def;
+	fvParams* p = &s->params;
+	p->model = def->material.model;
+	if (p->model >= fm_stretchEnergy)
+		p->model = fm_neoHookean;
+	fvFromLame(def->material.lambda, def->material.mu, &p->youngs, &p->poisson);
+	p->perParticle = def->massMode == fm_massPerParticle;
+	p->mass = p->perParticle ? def->particleMass : def->density;
+	p->damping = def->damping;
+	p->dt = s->scene.dt;
+	p->substeps = s->scene.substeps;
+	p->integrator = s->scene.worldDef.integrator;
+}
+
+bool fvSession_Load(fvSession* s, const char* path)
+{
+	memset(s, 0, sizeof *s);
+	snprintf(s->path, sizeof s->path, "%s", path != NULL ? path : "");
+	if (path == NULL)
+		cliScene_MakeHouse(&s->scene);
+	else if (!cliScene_Load(path, &s->scene))
+		return false;
+	if (!s->scene.hasWorkers)
+		s->scene.worldDef.workerCount = cliCoresAvailable();
+	if (s->scene.bodies == NULL || !cliSimulation_Create(&s->scene, cli_stepCheckWarnings, &s->sim))
+	{
+		cliScene_Free(&s->scene);
+		memset(s, 0, sizeof *s);
+		return false;
+	}
+	fvInitParams(s);
+	return true;
+}
+
+void fvSession_Free(fvSession* s)
+{
+	if (s->scene.bodies != NULL)
+	{
+		cliSimulation_Destroy(&s->sim);
+		cliScene_Free(&s->scene);
+	}
+	memset(s, 0, sizeof *s);
+}
+
+// The scene's body definitions with the sliders' values.
+static fmBodyDef fvBodyDef(const fvSession* s, int b)
+{
+	fmBodyDef def = s->scene.bodies[b].def;
+	def.mesh = &s->sim.meshes[b];
+	def.material = fmMakeMaterial(s->params.model, s->params.youngs, s->params.poisson);
+	def.massMode = s->params.perParticle ? fm_massPerParticle : fm_massFromDensity;
+	if (s->params.perParticle)
+		def.particleMass = s->params.mass;
+	else
+		def.density = s->params.mass;
+	def.damping = s->params.damping;
+	return def;
+}
+
+bool fvSession_Reset(fvSession* s)
+{
+	fvSession_Release(s);
+	cliSimulation_Destroy(&s->sim);
+	if (!cliSimulation_Create(&s->scene, cli_stepCheckOff, &s->sim))
+	{
+		snprintf(s->status, sizeof s->status, "reset: cannot re-create the scene (see stderr)");
+		return false;
+	}
+	fvSession_ApplyIntegrator(s);
+	s->frames = 0;
+	s->accumulator = 0.0;
+	s->status[0] = 0;
+	// The initial state with the current sliders: the bodies are made again from them.
+	return fvSession_ApplyBodies(s) && fvSession_ApplyMaterial(s);
+}
+
+// Step one scene frame: whole, or substep by substep with the jump's impulses.
+static fmResult fvStepFrame(fvSession* s)
+{
+	double frameTime = s->params.dt * s->params.substeps;
+	if (s->pendingJumps == 0)
+		return fmWorld_Step(s->sim.world, frameTime, s->params.substeps);
+	fmVec3 kick = fmMakeVec3(0.0, s->pendingJumps * FV_JUMP_SPEED, 0.0);
+	s->pendingJumps = 0;
+	for (int k = 0; k < s->params.substeps; ++k)
+	{
+		for (int b = 0; b < s->sim.bodyCount; ++b)
+			fmBody_ApplyImpulse(s->sim.bodies[b], kick);
+		fmResult result = fmWorld_Step(s->sim.world, s->params.dt, 1);
+		if (result != fm_ok)
+			return result;
+	}
+	return fm_ok;
+}
+
+// One frame with its bookkeeping; a failed step pauses with the library's diagnostic.
+static void fvFrame(fvSession* s)
+{
+	if (s->dragging)
+		fmBody_SetTargets(s->sim.bodies[s->dragBody], &s->dragVertex, &s->dragTarget, 1,
+		                  s->dragStiffness);
+	double start = cliNow();
+	fmResult result = fvStepFrame(s);
+	s->stepMs = 1e3 * (cliNow() - start);
+	s->stats = fmWorld_GetStepStats(s->sim.world);
+	s->profile = fmWorld_GetProfile(s->sim.world);
+	s->frames += 1;
+	if (result != fm_ok)
+	{
+		char text[1024];
+		fmDiagnostic_Format(fmWorld_GetLastError(s->sim.world), text, sizeof text);
+		snprintf(s->status, sizeof s->status, "step failed (%s): %s; paused, R resets",
+		         fmResultName(result), text);
+		s->paused = true;
+	}
+}
+
+bool fvSession_IsLive(const fvSession* s)
+{
+	return fmWorld_IsValid(s->sim.world);
+}
+
+void fvSession_Advance(fvSession* s, double seconds)
+{
+	if (!fvSession_IsLive(s))
+		return;
+	if (s->paused)
+	{
+		s->accumulator = 0.0;
+		for (; s->pendingSteps > 0; --s->pendingSteps)
+			fvFrame(s);
+		return;
+	}
+	s->pendingSteps = 0;
+	s->accumulator += seconds;
+	int frames = 0;
+	// A hair of slack so ticks of exactly FV_TICK_SECONDS are never one short from rounding.
+	while (s->accumulator >= FV_TICK_SECONDS - 1e-9 && frames < FV_MAX_FRAMES_PER_ADVANCE &&
+	       !s->paused)
+	{
+		s->accumulator -= FV_TICK_SECONDS;
+		fvFrame(s);
+		frames += 1;
+	}
+	if (frames == FV_MAX_FRAMES_PER_ADVANCE)
+		s->accumulator = 0.0;
+}
+
+void fvSession_Jump(fvSession* s)
+{
+	s->pendingJumps += 1;
+}
+
+bool fvSession_ApplyMaterial(fvSession* s)
+{
+	if (!fvSession_IsLive(s))
+		return false;
+	fmMaterial material = fmMakeMaterial(s->params.model, s->params.youngs, s->params.poisson);
+	for (int b = 0; b < s->sim.bodyCount; ++b)
+	{
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
+		if (fmBody_SetMaterial(s->sim.bodies[b], &material, &diag) != fm_ok)
+		{
+			char text[600];
+			snprintf(s->status, sizeof s->status, "material rejected: %s",
+			         fmDiagnostic_Format(&diag, text, sizeof text));
+			return false;
+		}
+	}
+	return true;
+}
+
+// Re-create body @p b from the sliders, in its current state. The new body is made before the
+// old one goes, so a refusal (memory budget) leaves the old one in place.
+static bool fvRecreateBody(fvSession* s, int b)
+{
+	fmBodyId old = s->sim.bodies[b], made;
+	double* x = cliCopyState(old, false);
+	double* v = cliCopyState(old, true);
+	fmBodyDef def = fvBodyDef(s, b);
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	bool ok = x != NULL && v != NULL && fmCreateBody(s->sim.world, &def, &made, &diag) == fm_ok;
+	if (ok)
+	{
+		fmDestroyBody(old);
+		s->sim.bodies[b] = made;
+		const cliBodySpec* spec = &s->scene.bodies[b];
+		for (int p = 0; p < spec->pinCount; ++p)
+			fmBody_PinBox(made, spec->pins[p].min, spec->pins[p].max);
+		fmBody_SetPositions(made, x);
+		fmBody_SetVelocities(made, v);
+	}
+	else
+	{
+		char text[600];
+		snprintf(s->status, sizeof s->status, "body %d rejected: %s", b,
+		         x && v ? fmDiagnostic_Format(&diag, text, sizeof text) : "out of memory");
+	}
+	free(x);
+	free(v);
+	return ok;
+}
+
+bool fvSession_ApplyBodies(fvSession* s)
+{
+	if (!fvSession_IsLive(s))
+		return false;
+	fvSession_Release(s);
+	for (int b = 0; b < s->sim.bodyCount; ++b)
+		if (!fvRecreateBody(s, b))
+			return false;
+	return true;
+}
+
+void fvSession_ApplyIntegrator(fvSession* s)
+{
+	if (!fvSession_IsLive(s))
+		return;
+	fmWorld_SetIntegrator(s->sim.world, s->params.integrator);
+}
+
+// Stiff enough to hold the whole scene up by one vertex within a centimetre where the
+// integrator allows it: implicit steps take any stiffness; explicit substeps are stable up to
+// m / h^2 (the library limits each spring to that), so half of it.
+static double fvDragStiffness(const fvSession* s, int body, int vertex)
+{
+	double vertexMass = fmBody_GetMasses(s->sim.bodies[body])[vertex];
+	double explicitLimit = 0.5 * vertexMass / (s->params.dt * s->params.dt);
+	if (s->params.integrator == fm_explicit)
+		return explicitLimit;
+	double weight = 0.0;
+	for (int b = 0; b < s->sim.bodyCount; ++b)
+	{
+		const double* m = fmBody_GetMasses(s->sim.bodies[b]);
+		for (int i = 0; i < fmBody_GetVertexCount(s->sim.bodies[b]); ++i)
+			weight += m[i] * 9.8;
+	}
+	return fmax(explicitLimit, weight / 0.01);
+}
+
+void fvSession_Grab(fvSession* s, int body, int vertex, fmVec3 target)
+{
+	fvSession_Release(s);
+	if (!fvSession_IsLive(s) || body < 0 || body >= s->sim.bodyCount || vertex < 0 ||
+	    vertex >= fmBody_GetVertexCount(s->sim.bodies[body]))
+		return;
+	s->dragging = true;
+	s->dragBody = body;
+	s->dragVertex = vertex;
+	s->dragTarget = target;
+	s->dragStiffness = fvDragStiffness(s, body, vertex);
+	if (fmBody_SetTargets(s->sim.bodies[body], &vertex, &target, 1, s->dragStiffness) != fm_ok)
+	{
+		char text[600];
+		snprintf(s->status, sizeof s->status, "drag rejected: %s",
+		         fmDiagnostic_Format(fmWorld_GetLastError(s->sim.world), text, sizeof text));
+		s->dragging = false;
+	}
+}
+
+void fvSession_MoveGrab(fvSession* s, fmVec3 target)
+{
+	if (s->dragging)
+		s->dragTarget = target;
+}
+
+void fvSession_Release(fvSession* s)
+{
+	if (!s->dragging)
+		return;
+	if (fmBody_IsValid(s->sim.bodies[s->dragBody]))
+		fmBody_SetTargets(s->sim.bodies[s->dragBody], NULL, NULL, 0, 0.0);
+	s->dragging = false;
+}
+
+int fvSession_BodyIndex(const fvSession* s, fmBodyId body)
+{
+	for (int b = 0; b < s->sim.bodyCount; ++b)
+		if (s->sim.bodies[b].index1 == body.index1 &&
+		    s->sim.bodies[b].generation == body.generation)
+			return b;
+	return -1;
+}

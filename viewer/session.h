@@ -1,0 +1,92 @@
+// The simulation behind `femto view`: a scene loaded through the CLI's code (cli/scene.c,
+// cli/simulation.c), stepped at a fixed rate, with the live parameters the sliders change, the
+// seeds' jump, pause and single steps, reset, and the mouse drag (kinematic targets). No window
+// or graphics here: the window (window.c) and scripts (script.c) drive it alike.
+#pragma once
+
+#include "scene.h"
+
+/// The seeds' Update rate: each tick of 1/60 s steps one scene frame (dt * substeps).
+#define FV_TICK_SECONDS (1.0 / 60.0)
+
+/// What the sliders change; applied to every body of the scene.
+typedef struct fvParams
+{
+	fmMaterialModel model; ///< linear ... Mooney-Rivlin (the user-energy models are not offered)
+	double youngs;         ///< Pa
+	double poisson;        ///< in (-1, 0.5)
+	bool perParticle;      ///< masses per vertex (the seeds) or from a density
+	double mass;           ///< kg per vertex (perParticle) or kg/m^3
+	double damping;        ///< velocity factor per 3 ms, in (0, 1]
+	double dt;             ///< s, one substep
+	int substeps;          ///< substeps a frame
+	fmIntegrator integrator;
+} fvParams;
+
+/// A loaded scene and its world.
+typedef struct fvSession
+{
+	char path[CLI_MAX_PATH]; ///< the scene file, "" for the built-in house
+	cliScene scene;
+	cliSimulation sim;
+	fvParams params;
+	bool paused;
+	int pendingSteps;   ///< single steps asked for while paused
+	int pendingJumps;   ///< jumps to add to the next frame
+	double accumulator; ///< s of real time not yet stepped
+	long frames;        ///< scene frames stepped since the load or reset
+	double stepMs;      ///< wall time of the last frame's fmWorld_Step calls
+	fmStepStats stats;  ///< of the last step
+	fmProfile profile;  ///< of the last step
+	bool dragging;
+	int dragBody;      ///< index in sim.bodies
+	int dragVertex;    ///< user numbering
+	fmVec3 dragTarget; ///< m
+	double dragStiffness;
+	char status[2048]; ///< the last problem (a failed step, a rejected parameter), "" if none
+} fvSession;
+
+/// Load @p path (NULL: the built-in house) and create its world. Prints what is wrong and
+/// returns false; the session is then empty (safe to free).
+bool fvSession_Load(fvSession* session, const char* path);
+
+/// Release the world and the scene.
+void fvSession_Free(fvSession* session);
+
+/// Re-create the world from the scene: the initial state, with the current parameters.
+bool fvSession_Reset(fvSession* session);
+
+/// Whether the session has a world (false after a reset that could not re-create it).
+bool fvSession_IsLive(const fvSession* session);
+
+/// Let @p seconds of time pass: one scene frame per FV_TICK_SECONDS (at most 8 a call, so a
+/// slow machine slows down instead of falling ever further behind), plus single steps asked
+/// for while paused.
+void fvSession_Advance(fvSession* session, double seconds);
+
+/// The seeds' jump (space): 0.2 m/s upward on every free vertex before each substep of the
+/// next frame, 2 m/s over the house's 10 substeps (docs/cli.md, "The jump").
+void fvSession_Jump(fvSession* session);
+
+/// Apply params.model, .youngs, .poisson to every body (fmBody_SetMaterial). False (with
+/// status) when the library rejects them; the bodies keep their material.
+bool fvSession_ApplyMaterial(fvSession* session);
+
+/// Apply params.mass and .damping: the bodies are re-created in their current state (positions
+/// and velocities carry over; the drag is released).
+bool fvSession_ApplyBodies(fvSession* session);
+
+/// Apply params.integrator (fmWorld_SetIntegrator).
+void fvSession_ApplyIntegrator(fvSession* session);
+
+/// Start dragging vertex @p vertex of body @p body toward @p target (m).
+void fvSession_Grab(fvSession* session, int body, int vertex, fmVec3 target);
+
+/// Move the drag's target (m).
+void fvSession_MoveGrab(fvSession* session, fmVec3 target);
+
+/// Let go: the body's targets are cleared.
+void fvSession_Release(fvSession* session);
+
+/// The index in sim.bodies of @p body, -1 if none.
+int fvSession_BodyIndex(const fvSession* session, fmBodyId body);

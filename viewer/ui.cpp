@@ -1,0 +1,164 @@
+// The Dear ImGui panel (ui.h). Dear ImGui is C++; the rest of the viewer is C.
+#include "ui.h"
+
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <GLFW/glfw3.h>
+
+namespace
+{
+const char* const modelNames[] = {"linear", "corotated", "St. Venant-Kirchhoff", "Neo-Hookean",
+                                  "Mooney-Rivlin"};
+
+void showStats(const fvUiModel& m)
+{
+	ImGui::Text("%.0f fps   step %.2f ms%s", m.fps, m.stepMs, m.paused ? "   PAUSED" : "");
+	const fmProfile& p = m.profile;
+	if (m.integrator == fm_explicit)
+		ImGui::Text("forces %.2f  integrate %.2f  check %.2f ms", p.forces, p.integrate, p.check);
+	else
+		ImGui::Text("solve %.2f  finish %.2f  check %.2f ms", p.solve, p.finish, p.check);
+	ImGui::Text("frame %ld  t = %.2f s  substeps %d", m.frames, m.simTime, m.stats.steps);
+	if (m.integrator == fm_implicit)
+		ImGui::Text("Newton %d  CG %d  residual %.2g", m.stats.newtonIterations,
+		            m.stats.cgIterations, m.stats.residual);
+	ImGui::Text("inverted tets %d  contacts %d", m.stats.invertedTets, m.stats.contacts);
+	if (m.status != nullptr && m.status[0] != 0)
+		ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "%s", m.status);
+}
+
+void showScene(fvUiModel& m)
+{
+	int index = m.sceneIndex;
+	const char* current = index >= 0 && index < m.sceneCount ? m.sceneNames[index] : "";
+	if (ImGui::BeginCombo("scene", current))
+	{
+		for (int i = 0; i < m.sceneCount; ++i)
+			if (ImGui::Selectable(m.sceneNames[i], i == index) && i != index)
+			{
+				m.sceneIndex = i;
+				m.sceneChanged = true;
+			}
+		ImGui::EndCombo();
+	}
+}
+
+void showMaterial(fvUiModel& m)
+{
+	if (ImGui::Combo("model", &m.model, modelNames, 5))
+		m.materialChanged = true;
+	if (ImGui::SliderFloat("E (Pa)", &m.youngs, 1e3f, 1e8f, "%.3g", ImGuiSliderFlags_Logarithmic))
+		m.materialChanged = true;
+	if (ImGui::SliderFloat("nu", &m.poisson, -0.4f, 0.49f, "%.3f"))
+		m.materialChanged = true;
+	// Masses and damping re-create the bodies: applied when the slider is let go.
+	if (m.perParticle)
+		ImGui::SliderFloat("mass (kg/vertex)", &m.mass, 0.01f, 100.0f, "%.3g",
+		                   ImGuiSliderFlags_Logarithmic);
+	else
+		ImGui::SliderFloat("density (kg/m3)", &m.mass, 1.0f, 20000.0f, "%.4g",
+		                   ImGuiSliderFlags_Logarithmic);
+	m.bodiesChanged |= ImGui::IsItemDeactivatedAfterEdit();
+	ImGui::SliderFloat("damping /3ms", &m.damping, 0.95f, 1.0f, "%.4f");
+	m.bodiesChanged |= ImGui::IsItemDeactivatedAfterEdit();
+}
+
+void showTime(fvUiModel& m)
+{
+	if (ImGui::SliderFloat("dt (s)", &m.dt, 1e-4f, 0.05f, "%.4g", ImGuiSliderFlags_Logarithmic))
+		m.timeChanged = true;
+	if (ImGui::SliderInt("substeps", &m.substeps, 1, 100))
+		m.timeChanged = true;
+	if (ImGui::RadioButton("explicit", &m.integrator, fm_explicit))
+		m.integratorChanged = true;
+	ImGui::SameLine();
+	if (ImGui::RadioButton("implicit", &m.integrator, fm_implicit))
+		m.integratorChanged = true;
+}
+
+void showButtons(fvUiModel& m)
+{
+	m.pause = ImGui::Button(m.paused ? "play (P)" : "pause (P)");
+	ImGui::SameLine();
+	m.step = ImGui::Button("step (S)");
+	ImGui::SameLine();
+	m.reset = ImGui::Button("reset (R)");
+	ImGui::SameLine();
+	m.jump = ImGui::Button("jump (space)");
+	ImGui::SameLine();
+	m.frame = ImGui::Button("frame (F)");
+}
+
+void showViews(fvUiModel& m)
+{
+	static const struct
+	{
+		const char* name;
+		unsigned flag;
+	} views[] = {{"surfaces", fm_drawSurfaces}, {"stress", fm_drawStress},
+	             {"tets", fm_drawTetEdges},     {"inverted", fm_drawInvertedTets},
+	             {"pins", fm_drawPins},         {"targets", fm_drawTargets},
+	             {"floor", fm_drawFloor},       {"contacts", fm_drawContacts}};
+	for (int i = 0; i < 8; ++i)
+	{
+		if (i % 4 != 0)
+			ImGui::SameLine();
+		ImGui::CheckboxFlags(views[i].name, &m.drawFlags, views[i].flag);
+	}
+}
+} // namespace
+
+extern "C" bool fvUi_Init(void* glfwWindow)
+{
+	IMGUI_CHECKVERSION();
+	ImGui::CreateContext();
+	ImGui::GetIO().IniFilename = nullptr; // no imgui.ini in the user's folder
+	ImGui::StyleColorsDark();
+	ImGui::GetStyle().Alpha = 0.92f;
+	return ImGui_ImplGlfw_InitForOpenGL(static_cast<GLFWwindow*>(glfwWindow), true) &&
+	       ImGui_ImplOpenGL3_Init("#version 330 core");
+}
+
+extern "C" void fvUi_Shutdown(void)
+{
+	ImGui_ImplOpenGL3_Shutdown();
+	ImGui_ImplGlfw_Shutdown();
+	ImGui::DestroyContext();
+}
+
+extern "C" bool fvUi_WantsMouse(void)
+{
+	return ImGui::GetCurrentContext() != nullptr && ImGui::GetIO().WantCaptureMouse;
+}
+
+extern "C" void fvUi_Frame(fvUiModel* model)
+{
+	fvUiModel& m = *model;
+	ImGui_ImplOpenGL3_NewFrame();
+	ImGui_ImplGlfw_NewFrame();
+	ImGui::NewFrame();
+	ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+	ImGui::SetNextWindowSize(ImVec2(410, 0), ImGuiCond_FirstUseEver);
+	ImGui::SetNextWindowCollapsed(false, ImGuiCond_FirstUseEver);
+	ImGui::Begin("femto");
+	showScene(m);
+	showStats(m);
+	if (ImGui::CollapsingHeader("material and time", ImGuiTreeNodeFlags_DefaultOpen))
+	{
+		showMaterial(m);
+		showTime(m);
+	}
+	showButtons(m);
+	if (ImGui::CollapsingHeader("debug views", ImGuiTreeNodeFlags_DefaultOpen))
+		showViews(m);
+	if (ImGui::CollapsingHeader("controls"))
+		ImGui::TextUnformatted("left drag on a body: pull it   left drag elsewhere: orbit\n"
+		                       "right/middle drag: pan   wheel: zoom   F: frame\n"
+		                       "space: jump   P: pause   S/N: step   R: reset\n"
+		                       "I: integrator   M: next material model   Esc/Q: quit");
+	ImGui::End();
+	ImGui::Render();
+	ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
