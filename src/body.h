@@ -102,6 +102,8 @@ typedef struct fmBody
 	int* surfaceVertex;      // the vertices on the surface, ascending
 	double* contactStart;    // 3n: positions at the start of the substep (the swept tests)
 	int* contactMark;        // n: 1 + the contact log entry of a vertex the stage changed, or 0
+	double* contactPlane;    // 4n: an implicit step's frozen plane of another body near each
+	                         // surface vertex (n, n . q), NaN where none (penalty.h)
 	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
 	struct fmDrawCache* drawCache; // fmWorld_Draw's buffers (draw.h), made on the first draw
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)

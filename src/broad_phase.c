@@ -11,6 +11,9 @@
 // sizes); a larger item is cut to that many cells from its lower corner.
 #define FM_HASH_MAX_SPAN 1024
 
+// Cells an item covers on average at most (the grid coarsens beyond it).
+#define FM_HASH_MAX_CELLS 64
+
 void fmSpatialHash_Free(fmSpatialHash* h)
 {
 	FM_FREE_ARRAY(h->bucketStart, int, h->tableCapacity);
@@ -93,15 +96,24 @@ static bool fmReserve(fmSpatialHash* h, int entries, int items)
 bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* upper, int count,
                          double cell)
 {
-	h->cell = cell;
 	h->entryCount = 0;
 	long long entries = 0;
 	int lo[3], hi[3];
-	for (int k = 0; k < count; ++k)
+	// Cells grow until the items cover at most FM_HASH_MAX_CELLS cells each on average: a few
+	// huge items (a body blowing up before the step's checks catch it) cost a coarser grid,
+	// not a table of billions of entries.
+	for (int attempt = 0; attempt < 64; ++attempt, cell *= 2.0)
 	{
-		fmCellRange(cell, lower[k], upper[k], lo, hi);
-		entries += (long long)(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+		entries = 0;
+		for (int k = 0; k < count; ++k)
+		{
+			fmCellRange(cell, lower[k], upper[k], lo, hi);
+			entries += (long long)(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+		}
+		if (entries <= (long long)FM_HASH_MAX_CELLS * (count > 0 ? count : 1))
+			break;
 	}
+	h->cell = cell;
 	if (entries > (1 << 28) || !fmReserve(h, (int)entries, count))
 	{
 		h->tableSize = 0;

@@ -136,10 +136,17 @@ bool fmCollider_CastSegment(const fmCollider* c, fmVec3 p0, fmVec3 p1, double ma
 {
 	fmVec3 d = fmSub(p1, p0);
 	double length = fmLength(d), touching = 1e-9 * (1.0 + length);
-	// A start on (or in) the surface is not a crossing: the distance query handles it, and a
-	// vertex resting on the surface must be free to leave it.
-	if (!(length > 0.0) || fmCollider_Distance(c, p0, normal) - margin <= touching)
+	// A start inside is the distance query's; a start on the surface is a crossing only when
+	// the segment heads inside (a vertex resting on the surface must be free to leave it, and
+	// one pushed from it must not pass through a thin collider in one step).
+	if (!(length > 0.0))
 		return false;
+	double start = fmCollider_Distance(c, p0, normal) - margin;
+	if (start <= touching)
+	{
+		*fraction = 0.0;
+		return start >= -touching && fmDot(d, *normal) < 0.0;
+	}
 	fmVec3 u = fmScale(1.0 / length, d);
 	double t = 0.0;
 	for (int step = 0; step < FM_CAST_STEPS; ++step)

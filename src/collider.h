@@ -32,7 +32,8 @@ double fmCollider_Distance(const fmCollider* collider, fmVec3 p, fmVec3* normal)
 
 // The first point of the segment p0 -> p1 inside the collider grown by @p margin, as a fraction
 // of the segment in [0, 1], and the grown surface's outward normal there. False when the
-// segment stays outside, or starts on or inside the surface (the distance query handles it).
+// segment stays outside, starts inside, or starts on the surface heading out (the distance
+// query handles those).
 bool fmCollider_CastSegment(const fmCollider* collider, fmVec3 p0, fmVec3 p1, double margin,
                             double* fraction, fmVec3* normal);
 

@@ -4,9 +4,10 @@
 // vertices and whatever they touch. After each substep (explicit) or each implicit step:
 // 1. kinematic colliders move;
 // 2. each surface vertex found inside a collider, or whose motion in the substep crossed it
-//    (a swept test: no tunnelling through thin colliders), is put back on its surface; its velocity relative to the collider
-//    loses its approaching normal part (or has it reflected by the restitution) and its
-//    tangential part shrinks by at most mu times the normal change (Coulomb's cone);
+//    (a swept test: no tunnelling through thin colliders), is put back on its surface; its velocity
+//    relative to the collider loses its approaching normal part (or has it reflected by the
+//    restitution) and its tangential part shrinks by at most mu times the normal change (Coulomb's
+//    cone);
 // 3. body-body: each surface vertex is tested against the other bodies' surface triangles near
 //    it (spatial hash); a vertex inside the thickness of a triangle is pushed out along the
 //    triangle's normal and the triangle the other way, by inverse masses (momentum is kept),
@@ -87,6 +88,8 @@ struct fmContactState
 	int tetCapacity;
 	double* forces; // scratch: a spring body's forces
 	int forceCapacity;
+	double predict; // s: motion bounds add |v| predict (the implicit step's planes, made before
+	                // the step), 0 after it
 };
 
 // ---- small buffers -----------------------------------------------------------------------------
@@ -205,6 +208,8 @@ static bool fmBodyContactArrays(fmBody* b)
 		b->contactStart = FM_ALLOC_ARRAY(double, 3 * (size_t)b->vertexCount);
 	if (b->contactMark == NULL)
 		b->contactMark = FM_ALLOC_ZERO(int, b->vertexCount);
+	if (b->contactPlane == NULL)
+		b->contactPlane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->vertexCount);
 	if (b->contactTetMark == NULL)
 		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
 	if (b->surfaceVertex == NULL)
@@ -227,7 +232,7 @@ static bool fmBodyContactArrays(fmBody* b)
 		FM_FREE_ARRAY(on, uint8_t, b->vertexCount);
 	}
 	return b->contactStart != NULL && b->surfaceVertex != NULL && b->contactMark != NULL &&
-	       b->contactTetMark != NULL;
+	       b->contactTetMark != NULL && b->contactPlane != NULL;
 }
 
 void fmContact_BeginFrame(fmWorld* w)
@@ -240,20 +245,6 @@ void fmContact_BeginFrame(fmWorld* w)
 		w->colliders[k].impulse = fmMakeVec3(0.0, 0.0, 0.0);
 		w->colliders[k].angularImpulse = fmMakeVec3(0.0, 0.0, 0.0);
 	}
-}
-
-bool fmContact_BeginSubstep(fmWorld* w)
-{
-	for (int i = 0; i < w->bodyCapacity; ++i)
-	{
-		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
-			continue;
-		if (!fmBodyContactArrays(b))
-			return false;
-		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
-	}
-	return true;
 }
 
 // ---- bookkeeping -------------------------------------------------------------------------------
@@ -344,7 +335,6 @@ static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double p
 	return change;
 }
 
-
 // ---- colliders ---------------------------------------------------------------------------------
 
 // Keep vertex @p i of body @p b out of collider @p c grown by the thickness. Returns false when
@@ -368,8 +358,10 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	else if (depth > 0.0)
 	{
 		// Inside from the start of the substep (or grazing): out along the surface normal, by
-		// at most the floor's depenetration speed beyond undoing its own motion inward.
-		double inward = fmax(0.0, -fmDot(fmSub(x, start), n));
+		// at most the floor's depenetration speed beyond undoing the inward motion of the
+		// substep (the vertex's own, and a kinematic collider's toward it).
+		fmVec3 vc = fmCollider_VelocityAt(c, x);
+		double inward = fmax(0.0, -fmDot(fmSub(fmSub(x, start), fmScale(w->contactStep, vc)), n));
 		double reach = fmax(w->def.floor.maxDepenetrationSpeed * w->contactStep, inward);
 		x = fmMulAdd(x, fmin(depth, reach), n);
 	}
@@ -388,7 +380,10 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmStore(b->x, i, x);
 	fmStore(b->v, i, fmAdd(vc, relative));
 	fmKeepPins(b, i, before);
-	fmVec3 impulse = fmScale(b->mass[i], fmSub(fmLoad(b->v, i), v));
+	// The collider's reaction: the velocity change here, and the implicit penalty's push
+	// during the step.
+	fmVec3 impulse =
+	    fmMulAdd(fmScale(b->mass[i], fmSub(fmLoad(b->v, i), v)), b->mass[i] * pushed, n);
 	c->impulse = fmSub(c->impulse, impulse);
 	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
 	fmContactPoint* p = fmNewPoint(s);
@@ -486,9 +481,12 @@ static const int* fmTriangleOf(const fmBody* b, int t)
 	return b->surface + 3 * t;
 }
 
-static double fmMotionOf(const fmBody* b, int i)
+// How far vertex i may have moved in the substep: since its start, and before an implicit
+// step what its velocity will carry it (both bounds of the broad phase's boxes and reaches).
+static double fmMotionOf(const fmContactState* s, const fmBody* b, int i)
 {
-	return fmLength(fmSub(fmLoad(b->x, i), fmLoad(b->contactStart, i)));
+	return fmLength(fmSub(fmLoad(b->x, i), fmLoad(b->contactStart, i))) +
+	       s->predict * fmLength(fmLoad(b->v, i));
 }
 
 // Every body's surface triangles with their boxes (grown by the thickness and by how far their
@@ -531,7 +529,7 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 				fmVec3 p = fmLoad(b->x, tri[c]);
 				lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
 				hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-				motion = fmax(motion, fmMotionOf(b, tri[c]));
+				motion = fmax(motion, fmMotionOf(s, b, tri[c]));
 			}
 			extent += fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
 			double grow = thickness + motion;
@@ -551,7 +549,7 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 {
 	const fmBody* b = &w->bodies[slot];
 	fmVec3 p = fmLoad(b->x, i);
-	double motion = fmMotionOf(b, i), reach = thickness + motion;
+	double motion = fmMotionOf(s, b, i), reach = thickness + motion;
 	int count = fmSpatialHash_Query(&s->hash, fmSub(p, fmMakeVec3(reach, reach, reach)),
 	                                fmAdd(p, fmMakeVec3(reach, reach, reach)), &s->candidates,
 	                                &s->candidateCapacity);
@@ -573,13 +571,19 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 		if (!(area > 0.0))
 			continue;
 		n = fmScale(1.0 / area, n);
-		double bound =
-		    reach + fmax(fmMotionOf(o, tri[0]), fmax(fmMotionOf(o, tri[1]), fmMotionOf(o, tri[2])));
+		double bound = reach + fmax(fmMotionOf(s, o, tri[0]),
+		                            fmax(fmMotionOf(s, o, tri[1]), fmMotionOf(s, o, tri[2])));
 		double distance = fmLength(fmSub(p, q)), side = fmDot(n, fmSub(p, q));
-		bool touches = distance <= bound && side < thickness && side > -bound;
-		if (touches && (distance < best || (distance == best && item < bestItem)))
+		// (Before a step, a plane within the reach of the step's motion may be met.)
+		double near = s->predict > 0.0 ? bound : thickness;
+		bool touches = distance <= bound && side < near && side > -bound;
+		// The nearest triangle, preferring one the vertex lies straight above or below (near
+		// an edge, the face under the vertex, not the side face that shares the edge).
+		double along = distance > 0.0 ? fabs(side) / distance : 1.0;
+		double score = distance * (2.0 - along);
+		if (touches && (score < best || (score == best && item < bestItem)))
 		{
-			best = distance;
+			best = score;
 			bestItem = item;
 			found->other = other;
 			found->triangle = s->triangleIndex[item];
@@ -685,7 +689,12 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 	if (!fmTouchPair(s, b, o, pc))
 		return false;
 	fmVec3 vp = fmLoad(b->v, pc->vertex), relative = fmSub(vp, vq), before = relative;
-	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o), 0.0);
+	// After an implicit step the penalty held the pair apart during the step (penalty.h): its
+	// impulse per mass bounds friction too.
+	double pushed = w->def.integrator == fm_implicit && pc->depth > 0.0
+	                    ? FM_PENALTY_KAPPA * pc->depth / w->contactStep
+	                    : 0.0;
+	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o), pushed);
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
 	pc->impulse = fmDot(impulse, pc->normal);
 	fmVec3 x = fmLoad(b->x, pc->vertex);
@@ -746,6 +755,41 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	return true;
 }
 
+// ---- the implicit step's planes ----------------------------------------------------------------
+
+// Before an implicit step: each surface vertex's nearest triangle of another body that the
+// step's motion may reach, frozen as a plane (n, n . q) in b->contactPlane for the step's
+// penalty (penalty.h); NaN where there is none.
+static bool fmPredictPlanes(fmWorld* w, fmContactState* s, double thickness, double h)
+{
+	s->predict = h;
+	bool ok = fmBuildTriangles(w, s, thickness);
+	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
+	{
+		fmBody* b = &w->bodies[slot];
+		for (int p = 0; b->x && p < b->surfaceVertexCount; ++p)
+		{
+			int i = b->surfaceVertex[p];
+			fmPairContact found;
+			double* plane = b->contactPlane + 4 * (size_t)i;
+			plane[3] = NAN;
+			if (!fmFindPairContact(w, s, slot, i, thickness, &found))
+				continue;
+			const fmBody* o = &w->bodies[found.other];
+			const int* tri = fmTriangleOf(o, found.triangle);
+			fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
+			for (int c = 0; c < 3; ++c)
+				q = fmMulAdd(q, found.w[c], fmLoad(o->x, tri[c]));
+			plane[0] = found.normal.x;
+			plane[1] = found.normal.y;
+			plane[2] = found.normal.z;
+			plane[3] = fmDot(found.normal, q);
+		}
+	}
+	s->predict = 0.0;
+	return ok;
+}
+
 // ---- the energy ledger -------------------------------------------------------------------------
 
 // Swap the state (positions and velocities) of body @p slot's touched vertices with their
@@ -768,8 +812,7 @@ static void fmSwapTouched(fmWorld* w, fmContactState* s, int slot)
 
 // Elastic energy (J) and power sum v . f (W) of the tets in @p tets: the parts of a body's
 // energy and of symplectic Euler's shadow term that a change of their vertices changes.
-static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* energy,
-                         double* power)
+static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* energy, double* power)
 {
 	*energy = *power = 0.0;
 	for (int k = 0; k < count; ++k)
@@ -791,8 +834,7 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 }
 
 // The same over a whole spring body.
-static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* energy,
-                                double* power)
+static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* energy, double* power)
 {
 	int n3 = 3 * b->vertexCount;
 	if (!fmGrow((void**)&s->forces, &s->forceCapacity, 0, n3, sizeof(double)))
@@ -835,8 +877,7 @@ static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
 // How the stage changed body @p slot's elastic energy (J) and its power sum v . f (W): over
 // the tets around its touched vertices (a spring body: over the whole body), after minus
 // before.
-static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* energy,
-                            double* power)
+static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* energy, double* power)
 {
 	fmBody* b = &w->bodies[slot];
 	double e1, p1, e0, p0;
@@ -896,6 +937,26 @@ static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
 }
 
 // ---- the stage ---------------------------------------------------------------------------------
+
+bool fmContact_BeginSubstep(fmWorld* w, double h)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		if (!fmBodyContactArrays(b))
+			return false;
+		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+		for (int k = 0; k < b->vertexCount; ++k)
+			b->contactPlane[4 * (size_t)k + 3] = NAN;
+	}
+	bool bodies = w->def.contact.bodies && fmLiveBodies(w) >= 2;
+	if (w->def.integrator != fm_implicit || !bodies)
+		return true;
+	fmContactState* s = fmGetState(w);
+	return s != NULL && fmPredictPlanes(w, s, fmContact_Thickness(w), h);
+}
 
 bool fmContact_Substep(fmWorld* w, double h)
 {

@@ -22,9 +22,11 @@ bool fmContact_Active(const fmWorld* world);
 // Start of a frame: collider impulses zeroed.
 void fmContact_BeginFrame(fmWorld* world);
 
-// Start of a substep: every body's positions kept as the start of its motion (for the swept
-// tests). False when memory is short.
-bool fmContact_BeginSubstep(fmWorld* world);
+// Start of a substep of @p h seconds: every body's positions kept as the start of its motion
+// (for the swept tests); before an implicit step, the other bodies' surfaces near each surface
+// vertex frozen as planes for the step's penalty (body->contactPlane). False when memory is
+// short.
+bool fmContact_BeginSubstep(fmWorld* world, double h);
 
 // The contact stage of a substep of @p h seconds. False when memory is short.
 bool fmContact_Substep(fmWorld* world, double h);

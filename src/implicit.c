@@ -6,6 +6,7 @@
 // v_{n+1} = (x_{n+1} - x_n) / h, then the body's damping factor, smoothing and floor friction.
 #include "implicit.h"
 
+#include "contact.h"
 #include "core.h"
 #include "floor.h"
 #include "forces.h"
@@ -158,8 +159,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
 	fmContactPenalty penalty = {world->colliders, world->colliderCapacity, 0.0,
-	                            FM_PENALTY_KAPPA / (h * h)};
-	pb.contact = world->colliderCapacity > 0 ? &penalty : NULL;
+	                            FM_PENALTY_KAPPA / (h * h), fmContact_Thickness(world)};
+	pb.contact = fmContact_Active(world) ? &penalty : NULL;
 	for (int k = 0; k < n3; ++k)
 		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
 	if (floor)
@@ -184,6 +185,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
+	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb.contact, b, c->xStart));
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(b, h, arena, &world->tasks);

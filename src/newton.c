@@ -82,8 +82,8 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 				gradient[k] += pushed[k];
 		}
 	}
-	double pulled = fmTargets_Energy(b, x, gradient) +
-	                fmContactPenalty_Energy(pb->contact, b, x, gradient);
+	double pulled =
+	    fmTargets_Energy(b, x, gradient) + fmContactPenalty_Energy(pb->contact, b, x, gradient);
 	if (magnitude)
 		*magnitude = fabs(psi) + inertial + size + damping + pulled;
 	return inertial + damping + psi + external + pulled;

@@ -16,13 +16,21 @@ typedef void fmPenaltyVisit(void* context, int vertex, double k, double depth, f
 static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const double* x,
                            fmPenaltyVisit* visit, void* context)
 {
-	if (p == NULL || p->colliderCount == 0 || b->surfaceVertex == NULL)
+	if (p == NULL || b->surfaceVertex == NULL)
 		return;
 	for (int s = 0; s < b->surfaceVertexCount; ++s)
 	{
 		int i = b->surfaceVertex[s];
 		if (b->pinned[i] == FM_PIN_ALL)
 			continue;
+		const double* plane = b->contactPlane ? b->contactPlane + 4 * (size_t)i : NULL;
+		if (plane != NULL && !isnan(plane[3]))
+		{
+			fmVec3 n = fmMakeVec3(plane[0], plane[1], plane[2]);
+			double depth = p->bodyThickness - (fmDot(n, fmLoad(x, i)) - plane[3]);
+			if (depth > 0.0)
+				visit(context, i, p->stiffness * b->mass[i], depth, n);
+		}
 		for (int k = 0; k < p->colliderCount; ++k)
 		{
 			const fmCollider* c = &p->colliders[k];
@@ -107,4 +115,25 @@ void fmContactPenalty_AddProduct(const fmContactPenalty* p, const fmBody* b, con
 {
 	fmProductVisit v = {dx, y};
 	fmPenaltyPairs(p, b, at, fmVisitProduct, &v);
+}
+
+typedef struct fmWorkVisit
+{
+	const double* x;
+	const double* xStart;
+	double work;
+} fmWorkVisit;
+
+static void fmVisitWork(void* context, int i, double k, double depth, fmVec3 n)
+{
+	fmWorkVisit* v = context;
+	fmVec3 moved = fmSub(fmLoad(v->x, i), fmLoad(v->xStart, i));
+	v->work += fmax(0.0, k * depth * fmDot(n, moved));
+}
+
+double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const double* xStart)
+{
+	fmWorkVisit v = {b->x, xStart, 0.0};
+	fmPenaltyPairs(p, b, b->x, fmVisitWork, &v);
+	return v.work;
 }

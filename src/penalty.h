@@ -1,8 +1,9 @@
 // The implicit step's contact penalty (penalty.c): inside the Newton solve, each surface vertex
-// closer than the contact thickness to a collider adds the energy k/2 (thickness - d)^2, with
-// d the signed distance and k = kappa m / h^2 (a stiffness that scales with the step's own
-// inertia term), its gradient and its Gauss-Newton Hessian k n n^T. The contact stage after
-// the solve then removes what penetration is left and applies friction (contact.c).
+// closer than the gap to a collider, or to the frozen plane of another body's surface near it,
+// adds the energy k/2 (gap - d)^2, with d the signed distance and k = kappa m / h^2 (a stiffness
+// that scales with the step's own inertia term), its gradient and its Gauss-Newton Hessian k n n^T.
+// The contact stage after the solve then removes what penetration is left and applies friction
+// (contact.c).
 #pragma once
 
 #include "body.h"
@@ -16,13 +17,20 @@ typedef struct fmContactPenalty
 {
 	const fmCollider* colliders; // the world's collider slots
 	int colliderCount;           // slots (unused ones are skipped)
-	double thickness;            // m
+	double thickness;            // m, the gap kept from colliders
 	double stiffness;            // kappa / h^2 (1/s^2): k = stiffness * m
+	double bodyThickness;        // m, the gap kept from the planes of other bodies
+	                             // (body->contactPlane, made before the step by contact.c)
 } fmContactPenalty;
 
 // The penalty's energy at @p x (J), with its gradient added to @p gradient when not NULL.
-double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* body,
-                               const double* x, double* gradient);
+double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* body, const double* x,
+                               double* gradient);
+
+// The work (J) the penalty's push did on the body over a step from @p xStart to its positions:
+// the forces at the end (backward Euler's) times the motion, its positive part.
+double fmContactPenalty_Work(const fmContactPenalty* penalty, const fmBody* body,
+                             const double* xStart);
 
 // Its Gauss-Newton Hessian k n n^T added to the vertices' diagonal blocks (9 doubles a block;
 // @p diagonal[i] the slot of vertex i's block, NULL for one block per vertex).

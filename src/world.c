@@ -673,7 +673,7 @@ static fmResult fmSubstep(fmWorld* w, double h)
 	}
 	// Stage a: every body steps on its own (the stage threads will share).
 	bool contact = fmContact_Active(w);
-	if (contact && !fmContact_BeginSubstep(w))
+	if (contact && !fmContact_BeginSubstep(w, h))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
