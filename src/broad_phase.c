@@ -180,7 +180,8 @@ int fmSpatialHash_Query(fmSpatialHash* h, fmVec3 lower, fmVec3 upper, int** out,
 						int* fresh = FM_ALLOC_ARRAY(int, grown);
 						if (fresh == NULL)
 							return -1;
-						memcpy(fresh, *out, sizeof(int) * (size_t)found);
+						if (found > 0)
+							memcpy(fresh, *out, sizeof(int) * (size_t)found);
 						FM_FREE_ARRAY(*out, int, *capacity);
 						*out = fresh;
 						*capacity = grown;

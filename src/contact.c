@@ -1016,7 +1016,8 @@ bool fmContact_EndFrame(fmWorld* w, double frameTime)
 	fmContactState* s = w->contactState;
 	if (s == NULL)
 		return true;
-	qsort(s->pairs, (size_t)s->pairCount, sizeof(uint64_t), fmCompareKeys);
+	if (s->pairCount > 1)
+		qsort(s->pairs, (size_t)s->pairCount, sizeof(uint64_t), fmCompareKeys);
 	int unique = 0;
 	for (int k = 0; k < s->pairCount; ++k)
 		if (unique == 0 || s->pairs[unique - 1] != s->pairs[k])
