@@ -1051,6 +1051,12 @@ bool fmContact_EndFrame(fmWorld* w, double frameTime)
 
 // ---- public read-back --------------------------------------------------------------------------
 
+int fmContact_Points(const fmWorld* w, const fmContactPoint** points)
+{
+	*points = w->contactState ? w->contactState->points : NULL;
+	return w->contactState ? w->contactState->pointCount : 0;
+}
+
 int fmWorld_GetContacts(fmWorldId worldId, fmContactPoint* contacts, int capacity)
 {
 	fmWorld* w = fmGetWorld(worldId);

@@ -35,6 +35,9 @@ bool fmContact_Substep(fmWorld* world, double h);
 // events. False when memory is short (the events are then lost).
 bool fmContact_EndFrame(fmWorld* world, double frameTime);
 
+// The last substep's contacts (valid until the next step); returns how many.
+int fmContact_Points(const fmWorld* world, const fmContactPoint** points);
+
 // Validate a contact def (part of fmWorldDef_Validate).
 fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag);
 

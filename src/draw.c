@@ -3,6 +3,7 @@
 // contacts as float arrays for the caller's callbacks, and the floor plane.
 #include "draw.h"
 
+#include "contact.h"
 #include "core.h"
 #include "floor.h"
 #include "force_spring.h"
@@ -373,6 +374,32 @@ static bool fmDrawBody(const fmWorld* w, fmBody* b, fmBodyId id, const fmDebugDr
 	return ok;
 }
 
+// The contact stage's contacts (colliders, other bodies) as points.
+static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
+{
+	const fmContactPoint* points;
+	int count = fmContact_Points(w, &points);
+	if (count == 0)
+		return true;
+	if (count > w->drawPointCapacity)
+	{
+		float* fresh = FM_ALLOC_ARRAY(float, 3 * (size_t)count);
+		if (fresh == NULL)
+			return false;
+		FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
+		w->drawPoints = fresh;
+		w->drawPointCapacity = count;
+	}
+	for (int k = 0; k < count; ++k)
+	{
+		w->drawPoints[3 * k] = (float)points[k].point.x;
+		w->drawPoints[3 * k + 1] = (float)points[k].point.y;
+		w->drawPoints[3 * k + 2] = (float)points[k].point.z;
+	}
+	draw->drawPoints(w->drawPoints, count, FM_DRAW_POINT_SIZE, FM_COLOR_CONTACTS, draw->context);
+	return true;
+}
+
 fmDebugDraw fmDefaultDebugDraw(void)
 {
 	fmDebugDraw draw;
@@ -402,6 +429,9 @@ static fmResult fmWorldDrawIn(fmWorldId worldId, const fmDebugDraw* draw)
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "fmWorld_Draw: out of memory for body %d's draw buffers", i);
 	}
+	if ((draw->flags & fm_drawContacts) && draw->drawPoints && !fmDrawContactList(w, draw))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "fmWorld_Draw: out of memory for the contact points");
 	return fm_ok;
 }
 

@@ -247,6 +247,7 @@ void fmDestroyWorld(fmWorldId worldId)
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
 	fmContact_Free(w->contactState);
+	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
 	fmArena_Free(&w->arena);
 	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;

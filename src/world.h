@@ -27,6 +27,8 @@ typedef struct fmWorld
 	int colliderCapacity;                // grows by doubling up to FM_MAX_COLLIDERS
 	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
 	double contactStep;                  // s, the substep the contact stage is working on
+	float* drawPoints;                   // fmWorld_Draw's buffer of contact points (3 floats each)
+	int drawPointCapacity;
 } fmWorld;
 
 // The id of a live world.

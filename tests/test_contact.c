@@ -151,6 +151,12 @@ TEST(three_boxes_stack)
 	}
 }
 
+static void countPoints(const float* points, int count, float size, fmHexColor color, void* context)
+{
+	(void)points, (void)size, (void)color;
+	*(int*)context += count;
+}
+
 // A house dropped on a large static sphere (radius 8 m, its top 1 m above the floor) comes to
 // rest on it: no vertex inside the sphere, and the sphere carries the house's weight.
 TEST(house_rests_on_a_sphere)
@@ -187,6 +193,15 @@ TEST(house_rests_on_a_sphere)
 	CHECK(closest > -1e-6);
 	CHECK(stats.lowestY > -3.0); // on the sphere, not the floor
 	CHECK_REL(-force.y, weight, 0.1, 0.0);
+	// The debug draw shows the contacts (none of them on the floor here).
+	int contacts = fmWorld_GetContacts(world, NULL, 0), drawn = 0;
+	fmDebugDraw draw = fmDefaultDebugDraw();
+	draw.flags = fm_drawContacts;
+	draw.drawPoints = countPoints;
+	draw.context = &drawn;
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK(contacts > 0);
+	CHECK_INT(drawn, contacts);
 	fmDestroyWorld(world);
 }
 

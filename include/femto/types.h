@@ -507,7 +507,7 @@ typedef enum fmDrawFlags
 	fm_drawPins = 1u << 4,         ///< pinned vertices as points
 	fm_drawTargets = 1u << 5,      ///< kinematic targets: points and lines to their vertices
 	fm_drawFloor = 1u << 6,        ///< the floor plane
-	fm_drawContacts = 1u << 7,     ///< vertices on the floor as points
+	fm_drawContacts = 1u << 7,     ///< vertices on the floor and the last substep's contacts
 	fm_drawAll = 0xffu,            ///< everything above
 } fmDrawFlags;
 
@@ -544,7 +544,7 @@ typedef struct fmDebugDraw
 	void* context;  ///< passed to every callback
 } fmDebugDraw;
 
-/// A debug draw with the given flags and no callbacks.
+/// A debug draw with no callbacks and the flags fm_drawSurfaces | fm_drawFloor | fm_drawTargets.
 FM_API fmDebugDraw fmDefaultDebugDraw(void);
 
 FM_C_END
