@@ -531,6 +531,15 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 				hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
 				motion = fmax(motion, fmMotionOf(s, b, tri[c]));
 			}
+			if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) +
+			          motion <
+			      1e30))
+			{
+				// A body gone non-finite this substep (the frame's checks report it): its
+				// triangles sit out of the broad phase's way.
+				lo = hi = fmMakeVec3(0.0, 0.0, 0.0);
+				motion = 0.0;
+			}
 			extent += fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
 			double grow = thickness + motion;
 			s->lower[k] = fmSub(lo, fmMakeVec3(grow, grow, grow));
@@ -550,6 +559,8 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	const fmBody* b = &w->bodies[slot];
 	fmVec3 p = fmLoad(b->x, i);
 	double motion = fmMotionOf(s, b, i), reach = thickness + motion;
+	if (!(fabs(p.x) + fabs(p.y) + fabs(p.z) + reach < 1e30))
+		return false; // non-finite: the frame's checks report it
 	int count = fmSpatialHash_Query(&s->hash, fmSub(p, fmMakeVec3(reach, reach, reach)),
 	                                fmAdd(p, fmMakeVec3(reach, reach, reach)), &s->candidates,
 	                                &s->candidateCapacity);

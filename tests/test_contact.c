@@ -567,3 +567,24 @@ TEST(bad_colliders_are_refused)
 	CHECK_STR_CONTAINS(diag.message, "iterations");
 	fmDestroyWorld(world);
 }
+
+// Two bodies touching, stepped far beyond the explicit stability limit: the step that blows up
+// reports a numerical failure (the frame's checks), never a hang or a broad phase out of memory
+// on the non-finite positions.
+TEST(blow_up_near_contact_is_reported)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.height = 0.0;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 500.0;
+	addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.0, -0.3), fmMakeVec3(0.3, 0.6, 0.3), &def);
+	addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.61, -0.3), fmMakeVec3(0.3, 1.21, 0.3), &def);
+	fmResult result = fm_ok;
+	for (int f = 0; f < 60 && result == fm_ok; ++f)
+		result = fmWorld_Step(world, 0.02, 1); // 4x the stability limit
+	CHECK_INT(result, fm_errNumerical);
+	fmDestroyWorld(world);
+}
