@@ -15,18 +15,26 @@ fmWorldDef fmTestFreeWorldDef(void)
 	return def;
 }
 
-fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmBodyDef* bodyDef)
+bool fmTestHouseMesh(fmTetMesh* mesh, fmVec3 offset)
 {
-	fmBodyId none = {0, 0, 0, 0};
-	fmTetMesh mesh;
-	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, NULL) !=
+	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", mesh, NULL) !=
 	    fm_ok)
-		return none;
+		return false;
 	fmMeshTransform placement = fmDefaultMeshTransform();
 	placement.scale = 0.4;
 	placement.center = true;
 	placement.swapYZ = true;
-	fmTetMesh_Transform(&mesh, &placement);
+	placement.translate = offset;
+	fmTetMesh_Transform(mesh, &placement);
+	return true;
+}
+
+fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmBodyDef* bodyDef)
+{
+	fmBodyId none = {0, 0, 0, 0};
+	fmTetMesh mesh;
+	if (!fmTestHouseMesh(&mesh, fmMakeVec3(0.0, 0.0, 0.0)))
+		return none;
 	fmWorldDef wdef = worldDef ? *worldDef : fmDefaultWorldDef();
 	*world = fmCreateWorld(&wdef);
 	fmBodyDef bdef = bodyDef ? *bodyDef : fmDefaultBodyDef();

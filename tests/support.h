@@ -3,6 +3,9 @@
 
 #include <femto/femto.h>
 
+// The seeds' house mesh (house2 scaled 0.4, centred, y/z swapped) moved by @p offset.
+bool fmTestHouseMesh(fmTetMesh* mesh, fmVec3 offset);
+
 // The seeds' bouncy house: house2 scaled 0.4, centred, y/z swapped, floor y = -3.
 // Returns a null body id on failure. @p worldDef / @p bodyDef may be NULL for defaults.
 fmBodyId fmTestMakeHouse(fmWorldId* world, const fmWorldDef* worldDef, const fmBodyDef* bodyDef);

@@ -16,15 +16,8 @@ static fmBodyId addHouse(int* failures_, fmWorldId world, fmVec3 offset, const f
 {
 	fmBodyId none = {0, 0, 0, 0};
 	fmTetMesh mesh;
-	if (fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &mesh, NULL) !=
-	    fm_ok)
+	if (!fmTestHouseMesh(&mesh, offset))
 		return none;
-	fmMeshTransform placement = fmDefaultMeshTransform();
-	placement.scale = 0.4;
-	placement.center = true;
-	placement.swapYZ = true;
-	placement.translate = offset;
-	fmTetMesh_Transform(&mesh, &placement);
 	fmBodyDef bdef = def ? *def : fmDefaultBodyDef();
 	bdef.mesh = &mesh;
 	fmBodyId body;
