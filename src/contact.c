@@ -891,7 +891,7 @@ static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
 static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* energy, double* power)
 {
 	fmBody* b = &w->bodies[slot];
-	double e1, p1, e0, p0;
+	double e1 = 0.0, p1 = 0.0, e0 = 0.0, p0 = 0.0;
 	if (b->forceModel == fm_massSpring)
 	{
 		bool ok = fmSpringEnergyPower(s, b, &e1, &p1);
