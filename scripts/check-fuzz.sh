@@ -12,7 +12,8 @@ if ! command -v clang >/dev/null; then
   exit 1
 fi
 CC=clang cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-O1 -g" \
-  -DFEMTO_SANITIZE=ON -DFEMTO_BUILD_FUZZERS=ON -DFEMTO_BUILD_TESTS=OFF >/dev/null
+  -DFEMTO_SANITIZE=ON -DFEMTO_BUILD_FUZZERS=ON -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF \
+  >/dev/null
 cmake --build build-fuzz -j"$(nproc 2>/dev/null || echo 2)" >/dev/null
 mkdir -p build-fuzz/crashes
 for target in build-fuzz/fuzz/fuzz_*; do
