@@ -206,8 +206,15 @@ bool fvScript_Load(const char* path, fvScript* script, char* error, size_t error
 		snprintf(error, errorSize, "%s: cannot open: %s", path, strerror(errno));
 		return false;
 	}
-	bool ok = fvReadLines(in, path, script, error, errorSize);
+	bool ok = fvScript_Read(in, path, script, error, errorSize);
 	fclose(in);
+	return ok;
+}
+
+bool fvScript_Read(FILE* in, const char* name, fvScript* script, char* error, size_t errorSize)
+{
+	memset(script, 0, sizeof *script);
+	bool ok = fvReadLines(in, name, script, error, errorSize);
 	if (!ok)
 	{
 		fvScript_Free(script);

@@ -15,6 +15,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdio.h>
 
 /// What a script line does.
 typedef enum fvActionKind
@@ -52,6 +53,9 @@ extern const char* const fvScriptKeys[];
 
 /// Read @p path. On an error writes "path:line: expected ..." into @p error and returns false.
 bool fvScript_Load(const char* path, fvScript* script, char* error, size_t errorSize);
+
+/// Read a script from an open stream; @p name stands for the file in error messages.
+bool fvScript_Read(FILE* in, const char* name, fvScript* script, char* error, size_t errorSize);
 
 /// Release the actions.
 void fvScript_Free(fvScript* script);
