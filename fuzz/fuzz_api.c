@@ -126,6 +126,7 @@ static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
 	fuzzFixBool(&def.notConvergedIsError);
 	fuzzFixBool(&def.autoSubstep);
 	fuzzFixBool(&def.crossPlatformDeterminism);
+	fuzzFixBool(&def.contact.bodies);
 	// Pointers no API can check: the task callbacks are the engine's, never fuzzed bytes; and a
 	// few workers at most per input (threads are started per world).
 	def.enqueueTask = NULL;
