@@ -270,20 +270,6 @@ static fmContactPoint* fmNewPoint(fmContactState* s)
 	return p;
 }
 
-static fmBodyId fmIdOfBody(const fmWorld* w, int slot)
-{
-	fmWorldId world = fmWorldIdOf(w);
-	fmBodyId id = {slot + 1, w->bodies[slot].generation, world.index1 - 1, world.generation};
-	return id;
-}
-
-static fmColliderId fmIdOfCollider(const fmWorld* w, int slot)
-{
-	fmWorldId world = fmWorldIdOf(w);
-	fmColliderId id = {slot + 1, w->colliders[slot].generation, world.index1 - 1, world.generation};
-	return id;
-}
-
 // Note vertex i of body @p slot's state before the stage first changes it.
 static bool fmTouch(fmContactState* s, fmBody* b, int slot, int i)
 {
@@ -337,17 +323,17 @@ static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double p
 
 // ---- colliders ---------------------------------------------------------------------------------
 
-// Keep vertex @p i of body @p b out of collider @p c grown by the thickness. Returns false when
+// Keep vertex @p i of body @p slot on or outside collider @p k (exact shapes: no gap; the
+// thickness is for the vertex-triangle tests between bodies). Returns false when
 // the contact list could not grow.
-static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k,
-                               double thickness)
+static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k)
 {
 	fmBody* b = &w->bodies[slot];
 	fmCollider* c = &w->colliders[k];
 	fmVec3 x = fmLoad(b->x, i), start = fmLoad(b->contactStart, i), v = fmLoad(b->v, i), n;
 	double d = fmCollider_Distance(c, x, &n), fraction;
-	double depth = thickness - d;
-	if (fmCollider_CastSegment(c, start, x, thickness, &fraction, &n))
+	double depth = -d;
+	if (fmCollider_CastSegment(c, start, x, 0.0, &fraction, &n))
 	{
 		// It came from outside the grown shape: back onto the surface where it entered it,
 		// keeping the motion along the surface (a slide is not stopped by the test).
@@ -369,8 +355,8 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		return true;
 	fmVec3 before = fmLoad(b->x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
-	// After an implicit step the penalty pushed the vertex out of the thickness band during
-	// the step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too.
+	// After an implicit step the penalty pushed the vertex out of the collider during the
+	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too.
 	double pushed = w->def.integrator == fm_implicit && depth > 0.0
 	                    ? FM_PENALTY_KAPPA * depth / w->contactStep
 	                    : 0.0;
@@ -389,9 +375,9 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmContactPoint* p = fmNewPoint(s);
 	if (p == NULL)
 		return false;
-	p->body = fmIdOfBody(w, slot);
+	p->body = fmWorldBodyId(w, slot);
 	p->vertex = b->userVertex[i];
-	p->collider = fmIdOfCollider(w, k);
+	p->collider = fmWorldColliderId(w, k);
 	p->point = fmLoad(b->x, i);
 	p->normal = n;
 	p->depth = depth;
@@ -400,7 +386,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	return fmRecordPair(s, key);
 }
 
-static bool fmCollideWithColliders(fmWorld* w, fmContactState* s, double thickness)
+static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
@@ -414,7 +400,7 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s, double thickne
 			for (int p = 0; p < b->surfaceVertexCount; ++p)
 			{
 				int i = b->surfaceVertex[p];
-				if (b->pinned[i] != FM_PIN_ALL && !fmVertexVsCollider(w, s, slot, i, k, thickness))
+				if (b->pinned[i] != FM_PIN_ALL && !fmVertexVsCollider(w, s, slot, i, k))
 					return false;
 			}
 		}
@@ -751,9 +737,9 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		fmContactPoint* point = fmNewPoint(s);
 		if (point == NULL)
 			return false;
-		point->body = fmIdOfBody(w, pc->body);
+		point->body = fmWorldBodyId(w, pc->body);
 		point->vertex = w->bodies[pc->body].userVertex[pc->vertex];
-		point->otherBody = fmIdOfBody(w, pc->other);
+		point->otherBody = fmWorldBodyId(w, pc->other);
 		point->point = fmLoad(w->bodies[pc->body].x, pc->vertex);
 		point->normal = pc->normal;
 		point->depth = pc->depth;
@@ -980,9 +966,7 @@ bool fmContact_Substep(fmWorld* w, double h)
 		if (w->colliders[k].inUse)
 			fmCollider_Move(&w->colliders[k], h);
 	s->pointCount = 0;
-	// Colliders are exact shapes: vertices are kept on their surface, without a gap (the
-	// thickness is for the vertex-triangle tests between bodies).
-	bool ok = fmCollideWithColliders(w, s, 0.0);
+	bool ok = fmCollideWithColliders(w, s);
 	if (ok && w->def.contact.bodies && fmLiveBodies(w) >= 2)
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
@@ -1008,11 +992,11 @@ static bool fmAddEvent(fmWorld* w, fmContactState* s, uint64_t key, bool begin)
 	memset(e, 0, sizeof *e);
 	e->begin = begin;
 	int a = (int)(key >> 32), b = (int)(uint32_t)key;
-	e->body = fmIdOfBody(w, a);
+	e->body = fmWorldBodyId(w, a);
 	if (b & (int)0x80000000u)
-		e->collider = fmIdOfCollider(w, b & 0x7fffffff);
+		e->collider = fmWorldColliderId(w, b & 0x7fffffff);
 	else
-		e->otherBody = fmIdOfBody(w, b);
+		e->otherBody = fmWorldBodyId(w, b);
 	return true;
 }
 

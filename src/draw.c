@@ -326,7 +326,7 @@ static bool fmIsPinnedVertex(const fmBody* b, const fmFloorDef* floor, int i)
 
 static bool fmIsOnFloor(const fmBody* b, const fmFloorDef* floor, int i)
 {
-	return floor->enabled && b->x[3 * i + 1] <= floor->height + 1e-9;
+	return fmFloor_Touches(floor, b, i);
 }
 
 // Targets: their positions as points, and a line from each to its vertex.
@@ -424,7 +424,7 @@ static fmResult fmWorldDrawIn(fmWorldId worldId, const fmDebugDraw* draw)
 		fmBody* b = &w->bodies[i];
 		if (b->x == NULL)
 			continue;
-		fmBodyId id = {i + 1, b->generation, worldId.index1 - 1, worldId.generation};
+		fmBodyId id = fmWorldBodyId(w, i);
 		if (!fmDrawBody(w, b, id, draw))
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "fmWorld_Draw: out of memory for body %d's draw buffers", i);

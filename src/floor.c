@@ -143,10 +143,15 @@ double fmFloor_ImplicitWork(const fmBody* b, const fmImplicitCache* c, double fl
 	return work;
 }
 
+bool fmFloor_Touches(const fmFloorDef* floor, const fmBody* b, int i)
+{
+	return floor->enabled && b->x[3 * i + 1] <= floor->height + 1e-9;
+}
+
 int fmFloor_CountContacts(const fmFloorDef* floor, const fmBody* b)
 {
 	int contacts = 0;
-	for (int i = 0; floor->enabled && i < b->vertexCount; ++i)
-		contacts += b->x[3 * i + 1] <= floor->height + 1e-9;
+	for (int i = 0; i < b->vertexCount; ++i)
+		contacts += fmFloor_Touches(floor, b, i);
 	return contacts;
 }

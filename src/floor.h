@@ -23,5 +23,8 @@ double fmFloor_ImplicitWork(const fmBody* body, const fmImplicitCache* cache, do
 int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* body, const fmImplicitCache* cache,
                                double h);
 
+// Whether vertex @p i is on or below the floor (within 1e-9 m).
+bool fmFloor_Touches(const fmFloorDef* floor, const fmBody* body, int i);
+
 // Vertices on or below the floor (within 1e-9 m), for the step statistics.
 int fmFloor_CountContacts(const fmFloorDef* floor, const fmBody* body);

@@ -158,7 +158,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
-	fmContactPenalty penalty = {world->colliders, world->colliderCapacity, 0.0,
+	fmContactPenalty penalty = {world->colliders, world->colliderCapacity,
 	                            FM_PENALTY_KAPPA / (h * h), fmContact_Thickness(world)};
 	pb.contact = fmContact_Active(world) ? &penalty : NULL;
 	for (int k = 0; k < n3; ++k)

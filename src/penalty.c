@@ -9,8 +9,8 @@ static bool fmPenaltyMeets(const fmBody* b, const fmCollider* c)
 	       (c->def.filter.categoryBits & b->filter.maskBits) != 0;
 }
 
-// Calls @p visit for every (surface vertex, collider) pair inside the thickness, with the
-// depth (thickness - d) and the outward normal.
+// Calls @p visit for every surface vertex inside a collider (depth -d) or within the thickness
+// of its frozen plane of another body (depth thickness - d), with the outward normal.
 typedef void fmPenaltyVisit(void* context, int vertex, double k, double depth, fmVec3 normal);
 
 static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const double* x,
@@ -27,7 +27,7 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 		if (plane != NULL && !isnan(plane[3]))
 		{
 			fmVec3 n = fmMakeVec3(plane[0], plane[1], plane[2]);
-			double depth = p->bodyThickness - (fmDot(n, fmLoad(x, i)) - plane[3]);
+			double depth = p->thickness - (fmDot(n, fmLoad(x, i)) - plane[3]);
 			if (depth > 0.0)
 				visit(context, i, p->stiffness * b->mass[i], depth, n);
 		}
@@ -37,7 +37,7 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 			if (!fmPenaltyMeets(b, c))
 				continue;
 			fmVec3 n;
-			double depth = p->thickness - fmCollider_Distance(c, fmLoad(x, i), &n);
+			double depth = -fmCollider_Distance(c, fmLoad(x, i), &n);
 			if (depth > 0.0)
 				visit(context, i, p->stiffness * b->mass[i], depth, n);
 		}

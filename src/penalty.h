@@ -10,17 +10,17 @@
 #include "collider.h"
 
 // Stiffness of the penalty relative to the inertia term m / h^2 (dimensionless): a vertex
-// resting on a collider under its own weight sinks g h^2 / kappa into the thickness band.
+// resting on a collider under its own weight sinks g h^2 / kappa into it.
 #define FM_PENALTY_KAPPA 100.0
 
 typedef struct fmContactPenalty
 {
 	const fmCollider* colliders; // the world's collider slots
 	int colliderCount;           // slots (unused ones are skipped)
-	double thickness;            // m, the gap kept from colliders
 	double stiffness;            // kappa / h^2 (1/s^2): k = stiffness * m
-	double bodyThickness;        // m, the gap kept from the planes of other bodies
-	                             // (body->contactPlane, made before the step by contact.c)
+	double thickness;            // m, the gap kept from the planes of other bodies
+	                             // (body->contactPlane, made before the step by contact.c);
+	                             // colliders are kept at their surface, without a gap
 } fmContactPenalty;
 
 // The penalty's energy at @p x (J), with its gradient added to @p gradient when not NULL.

@@ -64,8 +64,7 @@ static void fmBodyBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 }
 
 // The nearest hit on body @p slot's surface closer than hit->fraction.
-static void fmCastAtBody(const fmWorld* w, fmWorldId worldId, int slot, fmVec3 o, fmVec3 d,
-                         fmRayHit* hit)
+static void fmCastAtBody(const fmWorld* w, int slot, fmVec3 o, fmVec3 d, fmRayHit* hit)
 {
 	const fmBody* b = &w->bodies[slot];
 	fmVec3 lo, hi;
@@ -88,7 +87,7 @@ static void fmCastAtBody(const fmWorld* w, fmWorldId worldId, int slot, fmVec3 o
 			    fmLength(fmSub(fmLoad(b->x, tri[nearest]), p)))
 				nearest = k;
 		memset(hit, 0, sizeof *hit);
-		hit->body = (fmBodyId){slot + 1, b->generation, worldId.index1 - 1, worldId.generation};
+		hit->body = fmWorldBodyId(w, slot);
 		hit->triangle = t;
 		hit->vertex = b->userVertex[tri[nearest]];
 		hit->point = p;
@@ -119,7 +118,7 @@ static bool fmCastRayIn(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fm
 		return false;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 		if (w->bodies[slot].x != NULL && fmMeets(filter, w->bodies[slot].filter))
-			fmCastAtBody(w, worldId, slot, origin, translation, hit);
+			fmCastAtBody(w, slot, origin, translation, hit);
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
 		const fmCollider* c = &w->colliders[k];
@@ -130,8 +129,7 @@ static bool fmCastRayIn(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fm
 		    !(f < hit->fraction))
 			continue;
 		memset(hit, 0, sizeof *hit);
-		hit->collider =
-		    (fmColliderId){k + 1, c->generation, worldId.index1 - 1, worldId.generation};
+		hit->collider = fmWorldColliderId(w, k);
 		hit->triangle = hit->vertex = -1;
 		hit->point = fmMulAdd(origin, f, translation);
 		hit->normal = n;

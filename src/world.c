@@ -221,6 +221,20 @@ fmWorldId fmWorldIdOf(const fmWorld* w)
 	return id;
 }
 
+fmBodyId fmWorldBodyId(const fmWorld* w, int slot)
+{
+	fmWorldId world = fmWorldIdOf(w);
+	fmBodyId id = {slot + 1, w->bodies[slot].generation, world.index1 - 1, world.generation};
+	return id;
+}
+
+fmColliderId fmWorldColliderId(const fmWorld* w, int slot)
+{
+	fmWorldId world = fmWorldIdOf(w);
+	fmColliderId id = {slot + 1, w->colliders[slot].generation, world.index1 - 1, world.generation};
+	return id;
+}
+
 fmWorld* fmGetWorldOfBody(fmBodyId id)
 {
 	if (id.index1 == 0 || id.world0 < 0 || id.world0 >= FM_MAX_WORLDS)
@@ -813,7 +827,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		w->stats.invertedTets += fmBodyCountInverted(b);
 		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
-	w->stats.contacts += fmWorld_GetContacts(fmWorldIdOf(w), NULL, 0);
+	const fmContactPoint* points;
+	w->stats.contacts += fmContact_Points(w, &points);
 	if (!fmContact_EndFrame(w, timeStep))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact events");

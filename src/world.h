@@ -34,6 +34,10 @@ typedef struct fmWorld
 // The id of a live world.
 fmWorldId fmWorldIdOf(const fmWorld* world);
 
+// The public ids of body slot @p slot and collider slot @p slot of a live world.
+fmBodyId fmWorldBodyId(const fmWorld* world, int slot);
+fmColliderId fmWorldColliderId(const fmWorld* world, int slot);
+
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
 fmWorld* fmGetWorld(fmWorldId id);
 fmWorld* fmGetWorldOfBody(fmBodyId id);
