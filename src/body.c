@@ -32,6 +32,7 @@ fmBodyDef fmDefaultBodyDef(void)
 	def.springDamping = 0.1;
 	def.friction = -1.0;
 	def.filter = fmDefaultFilter();
+	def.enableSleep = true;
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
 }

@@ -25,6 +25,7 @@
 #include "forces.h"
 #include "material.h"
 #include "penalty.h"
+#include "timer.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -159,6 +160,12 @@ fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "contact iterations must be in [1, 64] (default 4), got %d",
 		                   def->iterations);
+	if (!(def->sleepSpeed > 0.0 && def->sleepSpeed < 1e6) ||
+	    !(def->sleepTime > 0.0 && def->sleepTime < 1e6))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact sleepSpeed (m/s) and sleepTime (s) must be finite and > 0 "
+		                   "(defaults 0.05 and 0.5), got %g and %g",
+		                   def->sleepSpeed, def->sleepTime);
 	return fm_ok;
 }
 
@@ -547,9 +554,11 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	double motion = fmMotionOf(s, b, i), reach = thickness + motion;
 	if (!(fabs(p.x) + fabs(p.y) + fabs(p.z) + reach < 1e30))
 		return false; // non-finite: the frame's checks report it
+	double start = fmSeconds();
 	int count = fmSpatialHash_Query(&s->hash, fmSub(p, fmMakeVec3(reach, reach, reach)),
 	                                fmAdd(p, fmMakeVec3(reach, reach, reach)), &s->candidates,
 	                                &s->candidateCapacity);
+	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
 	double best = INFINITY;
 	int bestItem = -1;
 	for (int c = 0; c < count; ++c)
@@ -708,8 +717,10 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 
 static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 {
+	double start = fmSeconds();
 	if (!fmBuildTriangles(w, s, thickness))
 		return false;
+	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
 	s->pairContactCount = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{

@@ -195,9 +195,17 @@ static void fmDrawSurface(fmBody* b, fmBodyId id, fmDrawCache* c, const fmDebugD
 	bool stress = (draw->flags & fm_drawStress) != 0;
 	if (stress)
 		fmDrawStrainColors(b, c);
-	fmDrawTriangles batch = {id,           c->vertexCount, c->triangleCount,
-	                         c->positions, c->normals,     stress ? c->colors : NULL,
-	                         c->indices,   c->user,        FM_COLOR_BODY};
+	fmDrawTriangles batch;
+	memset(&batch, 0, sizeof batch);
+	batch.body = id;
+	batch.vertexCount = c->vertexCount;
+	batch.triangleCount = c->triangleCount;
+	batch.positions = c->positions;
+	batch.normals = c->normals;
+	batch.colors = stress ? c->colors : NULL;
+	batch.indices = c->indices;
+	batch.vertices = c->user;
+	batch.color = FM_COLOR_BODY;
 	draw->drawTriangles(&batch, draw->context);
 }
 

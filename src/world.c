@@ -52,6 +52,8 @@ fmWorldDef fmDefaultWorldDef(void)
 	def.contact.bodies = true;
 	def.contact.friction = 0.5;
 	def.contact.iterations = 4;
+	def.contact.sleepSpeed = 0.05;
+	def.contact.sleepTime = 0.5;
 	def.internalValue = FM_DEF_MAGIC;
 	return def;
 }
@@ -695,7 +697,11 @@ static fmResult fmSubstep(fmWorld* w, double h)
 		if (w->bodies[i].x != NULL)
 			fmStepBody(w, i, h);
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
-	if (contact && !fmContact_Substep(w, h))
+	double contactStart = fmSeconds();
+	bool contactOk = !contact || fmContact_Substep(w, h);
+	if (contact)
+		w->profile.contact += 1e3 * (fmSeconds() - contactStart);
+	if (!contactOk)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	// Stage c: the results merge in body order, the same for any schedule of stage a.
@@ -848,6 +854,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	memset(&w->profile, 0, sizeof w->profile);
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
 	w->profile.step = 1e3 * (fmSeconds() - start);
+	w->profile.narrowPhase = fmax(0.0, w->profile.contact - w->profile.broadPhase);
 	fmFpEnv_Leave(&env);
 	return r;
 }

@@ -242,6 +242,21 @@ FM_API int fmWorld_GetContactEvents(fmWorldId worldId, fmContactEvent* events, i
 FM_API bool fmWorld_CastRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
                             fmRayHit* hit);
 
+/// Everything that @p filter collides with and that a sphere of @p radius at @p center touches:
+/// bodies whose deformed surface (or interior) it reaches, and colliders. Copies at most
+/// @p capacity into @p overlaps and returns how many there were (an explosion's victims).
+FM_API int fmWorld_OverlapSphere(fmWorldId worldId, fmVec3 center, double radius, fmFilter filter,
+                                 fmOverlap* overlaps, int capacity);
+
+/// Copy the last step's sleep events into @p events (at most @p capacity); returns how many.
+FM_API int fmWorld_GetSleepEvents(fmWorldId worldId, fmSleepEvent* events, int capacity);
+
+/// Whether the body is awake (false while its island sleeps; fmContactDef.enableSleep).
+FM_API bool fmBody_IsAwake(fmBodyId bodyId);
+
+/// Wake a body and its island, or put its island to sleep now (@p awake false).
+FM_API void fmBody_SetAwake(fmBodyId bodyId, bool awake);
+
 /// Kinematic targets: pull @p count vertices (user numbering) toward @p positions (m) with
 /// zero-length springs of @p stiffness (N/m each), a mouse drag or a character's hand. The set
 /// replaces the previous one and stays until changed; move the positions every frame to drag.

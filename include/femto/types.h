@@ -210,6 +210,12 @@ typedef struct fmContactDef
 	double friction;    ///< Coulomb coefficient between bodies, >= 0 (default 0.5)
 	double restitution; ///< between bodies, in [0, 1] (default 0)
 	int iterations;     ///< projection passes over the contacts a substep, in [1, 64] (default 4)
+	/// Islands that stay slower than sleepSpeed for sleepTime fall asleep: they are not
+	/// stepped until something touches them or the API wakes them (fmBody_SetAwake) (default
+	/// false, so that a body's motion never depends on a threshold unless asked)
+	bool enableSleep;
+	double sleepSpeed; ///< m/s, > 0: the fastest vertex of a body that may sleep (default 0.05)
+	double sleepTime;  ///< s, > 0: how long an island stays that slow before it sleeps (0.5)
 } fmContactDef;
 
 /// Shapes of rigid colliders.
@@ -219,6 +225,7 @@ typedef enum fmShapeType
 	fm_shapeSphere,  ///< center, radius
 	fm_shapeBox,     ///< center, halfExtents, rotation
 	fm_shapeCapsule, ///< segment a-b, radius
+	fm_shapeMesh,    ///< triangle mesh (vertices, triangles) placed at center with rotation
 	fm_shapeTypeCount
 } fmShapeType;
 
@@ -228,14 +235,22 @@ typedef enum fmShapeType
 typedef struct fmColliderDef
 {
 	fmShapeType shape;
-	fmVec3 normal;          ///< plane: the outward normal (any length > 0; normalised)
-	double offset;          ///< plane: the plane is normal . x = offset (normal normalised)
-	fmVec3 center;          ///< sphere, box: the centre (m)
-	double radius;          ///< sphere, capsule: m, > 0
-	fmVec3 halfExtents;     ///< box: m, each > 0
-	fmVec3 rotation;        ///< box: axis-angle (rad), the box's orientation
-	fmVec3 a;               ///< capsule: one end of the segment (m)
-	fmVec3 b;               ///< capsule: the other end
+	fmVec3 normal;      ///< plane: the outward normal (any length > 0; normalised)
+	double offset;      ///< plane: the plane is normal . x = offset (normal normalised)
+	fmVec3 center;      ///< sphere, box: the centre (m); mesh: where its local origin goes
+	double radius;      ///< sphere, capsule: m, > 0
+	fmVec3 halfExtents; ///< box: m, each > 0
+	fmVec3 rotation;    ///< box, mesh: axis-angle (rad), the orientation
+	fmVec3 a;           ///< capsule: one end of the segment (m)
+	fmVec3 b;           ///< capsule: the other end
+	/// mesh: vertices (m, in the mesh's own frame), copied at creation
+	const fmVec3* vertices;
+	int vertexCount; ///< mesh: >= 3, at most FM_MAX_COLLIDER_TRIANGLES * 3
+	/// mesh: 3 vertex indices (0-based) per triangle, copied. Closed meshes are solid inside;
+	/// an open mesh (a level's ground) is solid behind its triangles' fronts, the side their
+	/// counter-clockwise winding faces away from (docs/contact.md)
+	const int* triangles;
+	int triangleCount;      ///< mesh: in [1, FM_MAX_COLLIDER_TRIANGLES]
 	double friction;        ///< Coulomb coefficient, >= 0 (default 0.5)
 	double restitution;     ///< in [0, 1] (default 0)
 	fmVec3 velocity;        ///< m/s: kinematic translation (default 0)
@@ -252,6 +267,8 @@ FM_API fmResult fmColliderDef_Validate(const fmColliderDef* def, fmDiagnostic* d
 
 /// Colliders a world holds at most.
 #define FM_MAX_COLLIDERS 1024
+/// Triangles a mesh collider holds at most.
+#define FM_MAX_COLLIDER_TRIANGLES (1 << 22)
 
 /// Largest fmWorldDef.newtonIterations: beyond it a solve has stagnated, not converged.
 #define FM_MAX_NEWTON_ITERATIONS 1000
@@ -382,7 +399,11 @@ typedef struct fmBodyDef
 	/// Coulomb coefficient against other bodies, >= 0, or -1 (default) for the world's
 	/// fmContactDef.friction; a pair uses sqrt(mu_a mu_b). Colliders have their own.
 	double friction;
-	fmFilter filter;   ///< collision filtering (default fmDefaultFilter())
+	fmFilter filter; ///< collision filtering (default fmDefaultFilter())
+	/// the body's surface vertices against its own surface triangles that do not share a tet
+	/// with them: a beam folding onto itself (default false; costs a broad phase of its own)
+	bool selfCollision;
+	bool enableSleep;  ///< may fall asleep when fmContactDef.enableSleep (default true)
 	int internalValue; ///< set by fmDefaultBodyDef; create calls check it
 } fmBodyDef;
 
@@ -439,6 +460,23 @@ typedef struct fmContactEvent
 	fmColliderId collider; ///< the collider, or the null id
 } fmContactEvent;
 
+/// A body that fell asleep or woke during the last fmWorld_Step() (fmWorld_GetSleepEvents).
+typedef struct fmSleepEvent
+{
+	fmBodyId body;
+	bool asleep; ///< true: fell asleep; false: woke
+} fmSleepEvent;
+
+/// Something a sphere overlaps (fmWorld_OverlapSphere).
+typedef struct fmOverlap
+{
+	fmBodyId body;         ///< the body, or the null id
+	fmColliderId collider; ///< the collider, or the null id
+	int vertex;      ///< body: its surface vertex nearest the centre (user numbering), else -1
+	fmVec3 point;    ///< m: the nearest point of the body's surface or the collider to the centre
+	double distance; ///< m from the centre to point (0 when the centre is inside)
+} fmOverlap;
+
 /// Where a ray hit (fmWorld_CastRay).
 typedef struct fmRayHit
 {
@@ -486,12 +524,15 @@ typedef struct fmStepStats
 /// Stages are summed over the step's substeps and bodies; `step` is the whole fmWorld_Step().
 typedef struct fmProfile
 {
-	double step;      ///< the whole step
-	double forces;    ///< explicit: gravity, elastic and damping forces
-	double integrate; ///< explicit: velocities, smoothing, positions, floor
-	double solve;     ///< implicit: first guess, Newton iterations (assembly, CG, line search)
-	double finish;    ///< implicit: velocities, smoothing, floor friction
-	double check;     ///< the frame's health check and energy ledger
+	double step;        ///< the whole step
+	double forces;      ///< explicit: gravity, elastic and damping forces
+	double integrate;   ///< explicit: velocities, smoothing, positions, floor
+	double solve;       ///< implicit: first guess, Newton iterations (assembly, CG, line search)
+	double finish;      ///< implicit: velocities, smoothing, floor friction
+	double check;       ///< the frame's health check and energy ledger
+	double contact;     ///< the contact stage: colliders and body-body contact (docs/contact.md)
+	double broadPhase;  ///< of contact: the spatial hash's build and queries between bodies
+	double narrowPhase; ///< of contact: the closest-point tests, projections and responses
 } fmProfile;
 
 /// An RGB colour as 0xRRGGBB (fmDebugDraw).
@@ -508,14 +549,16 @@ typedef enum fmDrawFlags
 	fm_drawTargets = 1u << 5,      ///< kinematic targets: points and lines to their vertices
 	fm_drawFloor = 1u << 6,        ///< the floor plane
 	fm_drawContacts = 1u << 7,     ///< vertices on the floor and the last substep's contacts
-	fm_drawAll = 0xffu,            ///< everything above
+	fm_drawColliders = 1u << 8,    ///< colliders: triangles (planes through drawPlane)
+	fm_drawAll = 0x1ffu,           ///< everything above
 } fmDrawFlags;
 
 /// One body's surface for fmDebugDraw.drawTriangles: the surface vertices only (compacted),
 /// in float, valid during the callback.
 typedef struct fmDrawTriangles
 {
-	fmBodyId body;
+	fmBodyId body;         ///< the body, or the null id for a collider
+	fmColliderId collider; ///< the collider (fm_drawColliders), or the null id
 	int vertexCount;
 	int triangleCount;
 	const float* positions; ///< 3 per vertex (m)
