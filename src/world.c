@@ -4,6 +4,7 @@
 #include "collider.h"
 #include "contact.h"
 #include "core.h"
+#include "draw_shapes.h"
 #include "explicit.h"
 #include "floor.h"
 #include "forces.h"
@@ -266,6 +267,9 @@ void fmDestroyWorld(fmWorldId worldId)
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
 	fmContact_Free(w->contactState);
 	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
+	if (w->drawShape != NULL)
+		fmShapeBuffer_Free(w->drawShape);
+	FM_FREE_ARRAY(w->drawShape, fmShapeBuffer, 1);
 	fmArena_Free(&w->arena);
 	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;

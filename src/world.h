@@ -29,6 +29,7 @@ typedef struct fmWorld
 	double contactStep;                  // s, the substep the contact stage is working on
 	float* drawPoints;                   // fmWorld_Draw's buffer of contact points (3 floats each)
 	int drawPointCapacity;
+	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
 } fmWorld;
 
 // The id of a live world.
