@@ -1,6 +1,8 @@
-// fmWorld_CastRay (query.h): each body whose bounding box the ray crosses is tested triangle by
-// triangle (Moller-Trumbore), each collider by the sphere-traced segment cast; the nearest hit
-// wins (ties: the lower body slot, then triangle, then collider).
+// World queries (query.h). fmWorld_CastRay: each body whose bounding box the ray crosses is
+// tested triangle by triangle (Moller-Trumbore), each collider by its segment cast; the nearest
+// hit wins (ties: the lower body slot, then triangle, then collider). fmWorld_OverlapSphere:
+// each body's nearest surface point (and a parity test for a centre inside it), each collider's
+// signed distance.
 #include "query.h"
 
 #include "collider.h"
@@ -109,4 +111,109 @@ bool fmWorld_CastRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFil
 	bool result = fmCastRayIn(worldId, origin, translation, filter, hit);
 	fmFpEnv_Leave(&env);
 	return result;
+}
+
+// ---- sphere overlaps ---------------------------------------------------------------------------
+
+// Whether @p p is inside body @p b's closed surface: the crossings of a ray along +x (long
+// enough to leave the body's box) are odd.
+static bool fmInsideBody(const fmBody* b, fmVec3 p, fmVec3 hi)
+{
+	fmVec3 d = fmMakeVec3(hi.x - p.x + 1.0, 1e-7 * (hi.x - p.x + 1.0), 3e-7 * (hi.x - p.x + 1.0));
+	int crossings = 0;
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * t;
+		crossings += fmSegmentTriangle(p, d, fmLoad(b->x, tri[0]), fmLoad(b->x, tri[1]),
+		                               fmLoad(b->x, tri[2])) >= 0.0;
+	}
+	return crossings % 2 == 1;
+}
+
+// Body @p slot against the sphere: its nearest surface point and vertex, or false.
+static bool fmOverlapBody(const fmWorld* w, int slot, fmVec3 center, double radius,
+                          fmOverlap* out)
+{
+	const fmBody* b = &w->bodies[slot];
+	fmVec3 lo, hi;
+	fmBodyBox(b, &lo, &hi);
+	fmVec3 r = fmMakeVec3(radius, radius, radius);
+	if (!fmSegmentHitsBox(center, fmMakeVec3(0.0, 0.0, 0.0), fmSub(lo, r), fmAdd(hi, r)))
+		return false;
+	double best = INFINITY;
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * t;
+		fmVec3 a = fmLoad(b->x, tri[0]), bb = fmLoad(b->x, tri[1]), c = fmLoad(b->x, tri[2]);
+		double wt[3];
+		fmClosestOnTriangle(center, a, bb, c, wt);
+		fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], c));
+		double d = fmLength(fmSub(center, q));
+		if (!(d < best))
+			continue;
+		best = d;
+		out->point = q;
+		int k = wt[0] >= wt[1] && wt[0] >= wt[2] ? 0 : wt[1] >= wt[2] ? 1 : 2;
+		out->vertex = b->userVertex[tri[k]];
+	}
+	bool inside = fmInsideBody(b, center, hi);
+	if (!(best <= radius) && !inside)
+		return false;
+	out->body = fmWorldBodyId(w, slot);
+	out->distance = inside ? 0.0 : best;
+	return true;
+}
+
+static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter filter,
+                       fmOverlap* overlaps, int capacity)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL);
+	bool valid = fabs(center.x) + fabs(center.y) + fabs(center.z) < 3.0 * FM_MAX_COORDINATE &&
+	             radius >= 0.0 && radius <= FM_MAX_COORDINATE;
+	FM_ASSERT(valid);
+	if (w == NULL || !valid)
+		return 0;
+	int count = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		fmOverlap o;
+		memset(&o, 0, sizeof o);
+		if (w->bodies[slot].x == NULL || !fmMeets(filter, w->bodies[slot].filter) ||
+		    !fmOverlapBody(w, slot, center, radius, &o))
+			continue;
+		if (count < capacity && overlaps != NULL)
+			overlaps[count] = o;
+		count += 1;
+	}
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		const fmCollider* c = &w->colliders[k];
+		fmVec3 n;
+		double d = c->inUse && fmMeets(filter, c->def.filter) ? fmCollider_Distance(c, center, &n)
+		                                                     : INFINITY;
+		if (!(d <= radius))
+			continue;
+		if (count < capacity && overlaps != NULL)
+		{
+			fmOverlap* o = &overlaps[count];
+			memset(o, 0, sizeof *o);
+			o->collider = fmWorldColliderId(w, k);
+			o->vertex = -1;
+			o->point = fmMulAdd(center, -d, n);
+			o->distance = fmax(d, 0.0);
+		}
+		count += 1;
+	}
+	return count;
+}
+
+int fmWorld_OverlapSphere(fmWorldId worldId, fmVec3 center, double radius, fmFilter filter,
+                          fmOverlap* overlaps, int capacity)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
+	int count = fmOverlapIn(worldId, center, radius, filter, overlaps, capacity);
+	fmFpEnv_Leave(&env);
+	return count;
 }

@@ -439,6 +439,57 @@ TEST(ray_cast_hits_the_deformed_surface)
 // Two bodies whose filters exclude each other pass through each other; with the default
 // filters the same drop stacks them, and the pair's contact begins (an event) and ends when
 // the top one is thrown off.
+// Sphere overlaps: a box body is found when the sphere reaches its deformed surface or holds
+// its centre inside it, with the nearest surface point and vertex; colliders by their distance;
+// filters apply.
+TEST(sphere_overlaps)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.filter.categoryBits = 2;
+	fmBodyId box =
+	    addBox(failures_, world, 2, fmMakeVec3(0.0, 0.0, 0.0), fmMakeVec3(1.0, 1.0, 1.0), &def);
+	fmColliderDef sphere = fmDefaultColliderDef();
+	sphere.shape = fm_shapeSphere;
+	sphere.center = fmMakeVec3(3.0, 0.0, 0.0);
+	sphere.radius = 0.5;
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &sphere, &collider, NULL), fm_ok);
+	fmOverlap found[4];
+	fmFilter all = fmDefaultFilter();
+	// 5 cm above the top face, over its centre vertex (0.5, 1, 0.5).
+	fmVec3 above = fmMakeVec3(0.5, 1.05, 0.5);
+	CHECK_INT(fmWorld_OverlapSphere(world, above, 0.04, all, found, 4), 0);
+	CHECK_INT(fmWorld_OverlapSphere(world, above, 0.06, all, found, 4), 1);
+	CHECK(found[0].body.index1 == box.index1 && found[0].collider.index1 == 0);
+	CHECK_NEAR(found[0].distance, 0.05, 1e-12);
+	CHECK_NEAR(found[0].point.y, 1.0, 1e-12);
+	int vertex = found[0].vertex;
+	const double* x = fmTestPositions(box);
+	int internal = -1;
+	for (int i = 0; i < fmBody_GetVertexCount(box); ++i)
+		if (fmLength(fmSub(fmLoad(x, i), fmMakeVec3(0.5, 1.0, 0.5))) < 1e-12)
+			internal = i;
+	CHECK(internal >= 0 && vertex == internal); // the mesh's numbering is the user's here
+	// Inside: distance 0, however small the sphere.
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(0.4, 0.5, 0.6), 1e-3, all, found, 4), 1);
+	CHECK_NEAR(found[0].distance, 0.0, 0.0);
+	// Both, counted beyond the capacity; the collider's nearest point is on the sphere.
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.5, 0.5), 1.0, all, found, 1), 2);
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.0, 0.0), 1.0, all, found, 4), 2);
+	CHECK(found[1].collider.index1 == collider.index1 && found[1].vertex == -1);
+	CHECK_NEAR(found[1].point.x, 2.5, 1e-12);
+	CHECK_NEAR(found[1].distance, 0.5, 1e-12);
+	// A filter that does not see category 2 finds only the collider.
+	fmFilter noBodies = {1u, 1u};
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.0, 0.0), 1.0, noBodies, found, 4),
+	          1);
+	CHECK(found[0].collider.index1 == collider.index1);
+	fmDestroyWorld(world);
+}
+
 TEST(filters_and_events)
 {
 	for (int filtered = 0; filtered < 2; ++filtered)
