@@ -84,8 +84,15 @@ typedef struct fmBody
 	double rayleighMass;
 	double rayleighStiffness;
 	double springDamping;
-	double friction; // against other bodies, or -1 for the world's
-	fmFilter filter; // collision filtering
+	double friction;    // against other bodies, or -1 for the world's
+	bool selfCollision; // surface against its own non-adjacent surface (contact.c)
+	// Sleeping (island.c)
+	bool canSleep;      // fmBodyDef.enableSleep
+	bool asleep;        // not stepped until woken
+	bool wakeRequested; // touched while asleep: wakes with its island at the end of the frame
+	double sleepTimer;  // s the body has been slower than the sleep speed
+	int island;         // while asleep: the island's id (the slot of its first body)
+	fmFilter filter;    // collision filtering
 	double totalMass;
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c

@@ -335,6 +335,18 @@ static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double p
 
 // ---- colliders ---------------------------------------------------------------------------------
 
+// Friction for vertex i's next implicit step (penalty.h): the contact normal, the Coulomb
+// limit mu lambda (N) and the surface's velocity; the strongest contact of the step wins.
+static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface)
+{
+	double* next = b->contactFrictionNext + 8 * (size_t)i;
+	if (!(limit > next[3]))
+		return;
+	next[0] = n.x, next[1] = n.y, next[2] = n.z;
+	next[3] = limit;
+	next[4] = surface.x, next[5] = surface.y, next[6] = surface.z;
+}
+
 // Keep vertex @p i of body @p slot on or outside collider @p k (exact shapes: no gap; the
 // thickness is for the vertex-triangle tests between bodies). Returns false when
 // the contact list could not grow.
@@ -377,13 +389,8 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	                         : fmMakeVec3(0.0, 0.0, 0.0);
 	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contactFriction[8 * i + 3] > 0.0);
 	fmImpact(&relative, n, c->def.restitution, c->def.friction, inSolve ? 0.0 : pushed);
-	if (implicit && pushed > 0.0)
-	{
-		double* next = b->contactFrictionNext + 8 * (size_t)i;
-		next[0] = n.x, next[1] = n.y, next[2] = n.z;
-		next[3] = c->def.friction * b->mass[i] * pushed / h;
-		next[4] = vc.x, next[5] = vc.y, next[6] = vc.z;
-	}
+	if (pushed > 0.0)
+		fmKeepFriction(b, i, n, c->def.friction * b->mass[i] * pushed / h, vc);
 	if (!fmTouch(s, b, slot, i))
 		return false;
 	fmStore(b->x, i, x);
@@ -436,6 +443,21 @@ static bool fmColliderNear(const fmCollider* c, fmVec3 lo, fmVec3 hi)
 	         hi.z < clo.z);
 }
 
+// A sleeping body is not moved by colliders; one that moves (kinematic) into it wakes it at
+// the end of the frame (island.h).
+static void fmWakeIfPushed(fmBody* b, const fmCollider* c)
+{
+	const fmColliderDef* d = &c->def;
+	if (fmDot(d->velocity, d->velocity) == 0.0 &&
+	    fmDot(d->angularVelocity, d->angularVelocity) == 0.0)
+		return;
+	for (int p = 0; p < b->surfaceVertexCount && !b->wakeRequested; ++p)
+	{
+		fmVec3 n;
+		b->wakeRequested = fmCollider_Distance(c, fmLoad(b->x, b->surfaceVertex[p]), &n) < 0.0;
+	}
+}
+
 static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
@@ -450,6 +472,11 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter) ||
 			    !fmColliderNear(&w->colliders[k], lo, hi))
 				continue;
+			if (b->asleep)
+			{
+				fmWakeIfPushed(b, &w->colliders[k]);
+				continue;
+			}
 			for (int p = 0; p < b->surfaceVertexCount; ++p)
 			{
 				int i = b->surfaceVertex[p];
@@ -540,6 +567,21 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 }
 
 // The nearest triangle of another body that vertex i of body @p slot touches, into @p found.
+// Self-collision: vertex i of body b may touch its own surface triangle @p tri only when the
+// two were apart in the rest shape by more than twice the thickness (so a vertex never touches
+// the triangles around it, however coarse or sharp the surface).
+static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thickness)
+{
+	if (tri[0] == i || tri[1] == i || tri[2] == i)
+		return false;
+	fmVec3 p = fmLoad(b->x0, i), a = fmLoad(b->x0, tri[0]), bb = fmLoad(b->x0, tri[1]),
+	       c = fmLoad(b->x0, tri[2]);
+	double w[3];
+	fmClosestOnTriangle(p, a, bb, c, w);
+	fmVec3 q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], bb)), fmScale(w[2], c));
+	return fmLength(fmSub(p, q)) > 2.0 * thickness;
+}
+
 static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, double thickness,
                               fmPairContact* found)
 {
@@ -559,9 +601,12 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	{
 		int item = s->candidates[c], other = s->triangleBody[item];
 		const fmBody* o = &w->bodies[other];
-		if (other == slot || !fmFiltersMeet(b->filter, o->filter))
+		if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
+		    (b->asleep && o->asleep))
 			continue;
 		const int* tri = fmTriangleOf(o, s->triangleIndex[item]);
+		if (other == slot && !fmSelfCandidate(b, i, tri, thickness))
+			continue;
 		fmVec3 a = fmLoad(o->x, tri[0]), bb = fmLoad(o->x, tri[1]), cc = fmLoad(o->x, tri[2]);
 		double wt[3];
 		fmClosestOnTriangle(p, a, bb, cc, wt);
@@ -595,6 +640,12 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	found->body = slot;
 	found->vertex = i;
 	found->impulse = 0.0;
+	if (bestItem >= 0 && (b->asleep || w->bodies[found->other].asleep))
+	{
+		// An awake body touches a sleeping one: the sleeper stays still (no inverse mass) and
+		// wakes, with its island, at the end of the frame (island.h).
+		w->bodies[b->asleep ? slot : found->other].wakeRequested = true;
+	}
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -614,7 +665,7 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 
 static double fmInverseMass(const fmBody* b, int i)
 {
-	return b->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[i];
+	return b->pinned[i] == FM_PIN_ALL || b->asleep ? 0.0 : 1.0 / b->mass[i];
 }
 
 // Note the state of a contact's vertex and its triangle's before the stage changes them.
@@ -690,7 +741,9 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 		return false;
 	fmVec3 vp = fmLoad(b->v, pc->vertex), relative = fmSub(vp, vq), before = relative;
 	// After an implicit step the penalty held the pair apart during the step (penalty.h): its
-	// impulse per mass bounds friction too.
+	// impulse per mass bounds friction too. (Friction between bodies inside the solve, as
+	// against colliders, made resting stacks jitter and piles of houses blow up: measured,
+	// docs/contact.md.)
 	double pushed = w->def.integrator == fm_implicit && pc->depth > 0.0
 	                    ? FM_PENALTY_KAPPA * pc->depth / w->contactStep
 	                    : 0.0;
@@ -751,7 +804,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		point->impulse = pc->impulse;
 		int low = pc->body < pc->other ? pc->body : pc->other;
 		int high = pc->body < pc->other ? pc->other : pc->body;
-		if (!fmRecordPair(s, ((uint64_t)(uint32_t)low << 32) | (uint32_t)high))
+		if (low != high && !fmRecordPair(s, ((uint64_t)(uint32_t)low << 32) | (uint32_t)high))
 			return false;
 	}
 	return true;
@@ -912,6 +965,8 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
+	if (b->asleep)
+		return true; // nothing moved it, and its ledger is closed while it sleeps
 	double gained = 0.0, gravityPower = 0.0;
 	bool touched = false;
 	for (int k = 0; k < s->touchedCount; ++k)
@@ -1021,6 +1076,15 @@ bool fmContact_EndFrame(fmWorld* w, double frameTime)
 	fmContactState* s = w->contactState;
 	if (s == NULL)
 		return true;
+	// Sleeping bodies keep their pairs (no end events while an island sleeps).
+	for (int k = 0; k < s->lastPairCount; ++k)
+	{
+		int a = (int)(s->lastPairs[k] >> 32), b = (int)(uint32_t)s->lastPairs[k];
+		bool collider = (b & (int)0x80000000u) != 0;
+		if ((w->bodies[a].asleep || (!collider && w->bodies[b].asleep)) &&
+		    !fmRecordPair(s, s->lastPairs[k]))
+			return false;
+	}
 	if (s->pairCount > 1)
 		qsort(s->pairs, (size_t)s->pairCount, sizeof(uint64_t), fmCompareKeys);
 	int unique = 0;
@@ -1055,6 +1119,13 @@ bool fmContact_EndFrame(fmWorld* w, double frameTime)
 }
 
 // ---- public read-back --------------------------------------------------------------------------
+
+int fmContact_FramePairs(const fmWorld* w, const uint64_t** pairs)
+{
+	const fmContactState* s = w->contactState;
+	*pairs = s ? s->lastPairs : NULL;
+	return s ? s->lastPairCount : 0;
+}
 
 int fmContact_Points(const fmWorld* w, const fmContactPoint** points)
 {

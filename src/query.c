@@ -131,8 +131,7 @@ static bool fmInsideBody(const fmBody* b, fmVec3 p, fmVec3 hi)
 }
 
 // Body @p slot against the sphere: its nearest surface point and vertex, or false.
-static bool fmOverlapBody(const fmWorld* w, int slot, fmVec3 center, double radius,
-                          fmOverlap* out)
+static bool fmOverlapBody(const fmWorld* w, int slot, fmVec3 center, double radius, fmOverlap* out)
 {
 	const fmBody* b = &w->bodies[slot];
 	fmVec3 lo, hi;
@@ -191,7 +190,7 @@ static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter
 		const fmCollider* c = &w->colliders[k];
 		fmVec3 n;
 		double d = c->inUse && fmMeets(filter, c->def.filter) ? fmCollider_Distance(c, center, &n)
-		                                                     : INFINITY;
+		                                                      : INFINITY;
 		if (!(d <= radius))
 			continue;
 		if (count < capacity && overlaps != NULL)

@@ -38,7 +38,10 @@ void fmRegisterTest(const char* file, const char* name, fmTestFcn* fcn)
 	e->fcn = fcn;
 }
 
-void fmTestSeed(unsigned long long seed) { s_rng = seed ? seed : 0x9E3779B97F4A7C15ull; }
+void fmTestSeed(unsigned long long seed)
+{
+	s_rng = seed ? seed : 0x9E3779B97F4A7C15ull;
+}
 
 double fmTestRandom(double lo, double hi)
 {

@@ -484,9 +484,90 @@ TEST(sphere_overlaps)
 	CHECK_NEAR(found[1].distance, 0.5, 1e-12);
 	// A filter that does not see category 2 finds only the collider.
 	fmFilter noBodies = {1u, 1u};
-	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.0, 0.0), 1.0, noBodies, found, 4),
-	          1);
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.0, 0.0), 1.0, noBodies, found, 4), 1);
 	CHECK(found[0].collider.index1 == collider.index1);
+	fmDestroyWorld(world);
+}
+
+static int countSleepEvents(fmWorldId world, bool asleep, fmBodyId body)
+{
+	fmSleepEvent events[16];
+	int n = fmWorld_GetSleepEvents(world, events, 16), count = 0;
+	for (int k = 0; k < n && k < 16; ++k)
+		count += events[k].asleep == asleep && events[k].body.index1 == body.index1;
+	return count;
+}
+
+// Islands and sleeping: two boxes stacked on the floor fall asleep together (one island, in
+// the same frame), stay bit-for-bit still while asleep, and wake together when a third box
+// lands on them, which then rests on top instead of passing through; the API wakes too.
+TEST(islands_sleep_and_wake)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = fm_floorCoulomb;
+	wdef.contact.enableSleep = true;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 500.0;
+	fmBodyId low =
+	    addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.05, -0.3), fmMakeVec3(0.3, 0.65, 0.3), &def);
+	fmBodyId high =
+	    addBox(failures_, world, 3, fmMakeVec3(-0.2, 0.75, -0.2), fmMakeVec3(0.2, 1.15, 0.2), &def);
+	int fellLow = -1, fellHigh = -1;
+	for (int f = 0; f < 600 && (fellLow < 0 || fellHigh < 0); ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		if (fellLow < 0 && countSleepEvents(world, true, low))
+			fellLow = f;
+		if (fellHigh < 0 && countSleepEvents(world, true, high))
+			fellHigh = f;
+	}
+	printf("  the stack fell asleep at frames %d and %d\n", fellLow, fellHigh);
+	CHECK(fellLow > 30 && fellLow == fellHigh);
+	fmContactEvent events[8];
+	for (int f = 0; f < 30; ++f) // asleep, the pair has no end event
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		CHECK_INT(fmWorld_GetContactEvents(world, events, 8), 0);
+	}
+	CHECK(!fmBody_IsAwake(low) && !fmBody_IsAwake(high));
+	int n = fmBody_GetVertexCount(high);
+	double* before = malloc(sizeof(double) * 3 * (size_t)n);
+	double* after = malloc(sizeof(double) * 3 * (size_t)n);
+	fmBody_CopyPositions(high, before, n);
+	for (int f = 0; f < 30; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	fmBody_CopyPositions(high, after, n);
+	CHECK(memcmp(before, after, sizeof(double) * 3 * (size_t)n) == 0);
+	// A third box lands on the sleeping stack.
+	fmBodyId top = addBox(failures_, world, 3, fmMakeVec3(-0.15, 1.4, -0.15),
+	                      fmMakeVec3(0.15, 1.7, 0.15), &def);
+	int wokeAt = -1;
+	for (int f = 0; f < 120; ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		if (wokeAt < 0 && countSleepEvents(world, false, low) &&
+		    countSleepEvents(world, false, high))
+			wokeAt = f;
+	}
+	int inside = verticesInside(top, high) + verticesInside(high, low);
+	printf("  woken at frame %d after the third box was added; %d vertices inside another box, "
+	       "top box's lowest point %.3f\n",
+	       wokeAt, inside, fmBody_GetStats(top).lowestY);
+	CHECK(wokeAt >= 0);
+	CHECK_INT(inside, 0);
+	CHECK(fmBody_GetStats(top).lowestY > 0.9); // on the stack (its top near 1.0 m)
+	// The API: asleep on request, awake on an impulse.
+	fmBody_SetAwake(top, false);
+	CHECK(!fmBody_IsAwake(top) && !fmBody_IsAwake(low)); // its island went with it
+	fmBody_ApplyImpulse(top, fmMakeVec3(0.0, 1.0, 0.0));
+	CHECK(fmBody_IsAwake(top) && fmBody_IsAwake(low));
+	free(before);
+	free(after);
 	fmDestroyWorld(world);
 }
 
