@@ -402,5 +402,64 @@ if(TARGET femto-bench-bullet)
     REJECT "failed")
 endif()
 
+# --- colliders and contact in scenes (docs/scene-format.md, "Colliders", "Contact") ----------
+# A soft box on each collider shape, with no floor: without the collider it falls 4.5 m in the
+# run, so a lowest point reached within 10 cm of the collider's top means the collider held it.
+foreach(shape plane sphere box capsule)
+  femto_cli_test(collider_${shape} ARGS "run|${FEMTO_CLI_DATA}/collider_${shape}.json|--quiet" CODE 0
+    REGEX "contacts +[0-9]+ at the end \\([1-9][0-9]* on colliders, 0 between bodies\\).*colliders\\[0\\] +${shape}: force [0-9.]+ N"
+    REJECT "lowest y reached +-(0\\.[1-9]|[1-9][.0-9]* m)|warning")
+endforeach()
+# A kinematic box rising at 1 m/s lifts the body with it: its lowest point ends at the box's top
+# (0.48 m after 0.48 s).
+femto_cli_test(collider_kinematic ARGS "run|${FEMTO_CLI_DATA}/collider_kinematic.json|--quiet" CODE 0
+  REGEX "lowest vertex y +0\\.4[6-9][0-9]* m")
+# Friction of a collider: a box thrown at 2 m/s (216 J) along a frictionless plane keeps its
+# kinetic energy (undamped); on friction 1 it loses most of it.
+femto_cli_test(collider_slides ARGS "run|${FEMTO_CLI_DATA}/collider_slides.json|--quiet" CODE 0
+  REGEX "kinetic energy +21[0-9]\\.[0-9]+ J")
+femto_cli_test(collider_sticks ARGS "run|${FEMTO_CLI_DATA}/collider_sticks.json|--quiet" CODE 0
+  REGEX "kinetic energy +([0-9]|[1-9][0-9])(\\.[0-9]+)?(e-[0-9]+)? J")
+# Body-body contact on: the upper box rests on the lower one (its first corner, at the bottom,
+# ends near the lower box's top at 0.6 m) and the summary counts contacts between bodies.
+# Off: it sinks through to the floor, and no contact is reported. Several bodies export as
+# FILE_0.node, FILE_1.node (docs/cli.md), not FILE.node.
+femto_cli_test(contact_bodies_on ARGS "run|${FEMTO_CLI_DATA}/contact_on.json|--quiet|--export-node|${FEMTO_CLI_WORK}/contact_on.node"
+  CODE 0 REGEX "[1-9][0-9]* between bodies"
+  FILES "${FEMTO_CLI_WORK}/contact_on_0.node|${FEMTO_CLI_WORK}/contact_on_1.node"
+  NO_FILES "${FEMTO_CLI_WORK}/contact_on.node"
+  CHECK_FILE "${FEMTO_CLI_WORK}/contact_on_1.node"
+  CHECK_FILE_REGEX "^27 3 0 0\n0 -?[0-9.e-]+ 0\\.5[5-9][0-9]* ")
+femto_cli_test(contact_bodies_off ARGS "run|${FEMTO_CLI_DATA}/contact_off.json|--quiet|--export-node|${FEMTO_CLI_WORK}/contact_off.node"
+  CODE 0 REJECT "contacts "
+  CHECK_FILE "${FEMTO_CLI_WORK}/contact_off_1.node"
+  CHECK_FILE_REGEX "^27 3 0 0\n0 -?[0-9.e-]+ 0\\.[0-3][0-9]* ")
+# self_collision, sleep and the contact object's sleep keys are read and the scene runs.
+femto_cli_test(self_collision ARGS "run|${FEMTO_CLI_DATA}/self_collision.json|--quiet" CODE 0
+  REGEX "contacts +[0-9]+ at the end" REJECT "warning")
+# Every wrong value of the new keys: the file, line and column, the JSON path and what was expected.
+foreach(case
+    "bad_collider_shape|3:18: colliders\\[0\\]\\.shape: expected \"plane\", \"sphere\", \"box\", \"capsule\" or \"mesh\", got \"cone\""
+    "bad_collider_missing|3:17: colliders\\[0\\]: missing \"radius\" \\(a sphere needs center and radius\\)"
+    "bad_collider_key|3:82: colliders\\[0\\]\\.radius: unknown key \\(expected one of: shape, friction, .*half_extents, rotation\\)"
+    "bad_collider_extents|3:55: colliders\\[0\\]\\.half_extents: expected 3 numbers in \\(0, 1e9\\] \\(m\\), got \\[1,0,1\\]"
+    "bad_collider_friction|3:126: colliders\\[1\\]\\.friction: expected a number >= 0, got -1"
+    "bad_plane_normal|3:36: colliders\\[0\\]\\.normal: expected a non-zero normal"
+    "bad_collider_velocity|3:71: colliders\\[0\\]\\.angular_velocity: expected 3 numbers within 1e6"
+    "bad_mesh_path|3:35: colliders\\[0\\]\\.path: cannot open .*no_such_ramp\\.obj \\(\"no_such_ramp\\.obj\" is relative to the scene's folder\\)"
+    "bad_mesh_obj| colliders\\[0\\]\\.path: .*bad_ramp\\.obj:6:7: vertex reference 4: expected 1 to 3"
+    "bad_mesh_transform|3:73: colliders\\[0\\]\\.transform\\.scale: expected a number > 0, got 0"
+    "bad_contact|3:31: contact\\.iterations: too large \\(at most 64\\), got 100"
+    "bad_contact_key|3:34: contact\\.frictoin: unknown key \\(expected one of: bodies, thickness, .*sleep_time\\)"
+    "bad_filter|3:83: colliders\\[0\\]\\.filter\\.mask: expected an integer in \\[0, 4294967295\\]"
+    "bad_self_collision|3:27: bodies\\[0\\]\\.self_collision: expected true or false, got \"yes\"")
+  string(FIND "${case}" "|" bar)
+  string(SUBSTRING "${case}" 0 ${bar} name)
+  math(EXPR bar "${bar} + 1")
+  string(SUBSTRING "${case}" ${bar} -1 message)
+  femto_cli_test(scene_${name} ARGS "run|${FEMTO_CLI_DATA}/${name}.json|--frames|1" CODE 1
+    REGEX "${name}\\.json:${message}")
+endforeach()
+
 # The renderer and the viewer (viewer/): pictures, femto view under a virtual display.
 include(${CMAKE_CURRENT_LIST_DIR}/viewer_tests.cmake)
