@@ -120,24 +120,24 @@ static bool cliContactTime(const cliContactCase* c, const cliScene* scene, cliCo
 
 // ---- the scenes ---------------------------------------------------------------------------------
 
-// The seeds' house (cliScene_MakeHouse) copied CLI_BENCH_PILE_HOUSES times, stacked 4.2 m apart
+// The seeds' house (cliScene_MakeHouse) copied @p count times, stacked 4.2 m apart
 // (the house is 4 m tall: 0.2 m gaps), every other one shifted so that the column topples into
 // a pile. Implicit: one Neo-Hookean step per 1/60 s frame on a Coulomb floor, as
 // scenes/house_implicit.json, to the game tolerance.
-static bool cliPileScene(bool implicit, int workers, cliScene* scene)
+static bool cliPileScene(int count, bool implicit, int workers, cliScene* scene)
 {
 	cliScene_MakeHouse(scene);
-	cliBodySpec* houses = realloc(scene->bodies, CLI_BENCH_PILE_HOUSES * sizeof *houses);
+	cliBodySpec* houses = realloc(scene->bodies, (size_t)count * sizeof *houses);
 	if (houses == NULL)
 		return false;
 	scene->bodies = houses;
-	for (int i = 1; i < CLI_BENCH_PILE_HOUSES; ++i)
+	for (int i = 1; i < count; ++i)
 		houses[i] = houses[0];
-	scene->bodyCount = CLI_BENCH_PILE_HOUSES;
-	for (int i = 0; i < CLI_BENCH_PILE_HOUSES; ++i)
+	scene->bodyCount = count;
+	for (int i = 0; i < count; ++i)
 		houses[i].transform.translate =
 		    fmMakeVec3(i % 2 ? 0.4 : -0.4, 4.2 * i, (i / 2) % 2 ? 0.3 : -0.3);
-	snprintf(scene->name, sizeof scene->name, "bench houses %d", CLI_BENCH_PILE_HOUSES);
+	snprintf(scene->name, sizeof scene->name, "bench houses %d", count);
 	scene->worldDef.workerCount = workers;
 	if (!implicit)
 		return true;
@@ -147,7 +147,7 @@ static bool cliPileScene(bool implicit, int workers, cliScene* scene)
 	scene->worldDef.floor.frictionCoefficient = 0.5;
 	scene->dt = 1.0 / 60.0;
 	scene->substeps = 1;
-	for (int i = 0; i < CLI_BENCH_PILE_HOUSES; ++i)
+	for (int i = 0; i < count; ++i)
 	{
 		houses[i].def.material = fmMakeMaterialLame(fm_neoHookean, 20000.0, 5000.0);
 		houses[i].def.damping = 1.0;
@@ -254,24 +254,29 @@ static void cliContactRow(const cliContactCase* c, const cliScene* scene, int te
 		*code = cli_exitInput;
 }
 
+// Ten houses for 5 s: the top one falls 38 m (2.8 s) and the pile settles. --quick: three
+// houses for 1.5 s. Explicit frames are the seeds' 30 ms (10 substeps of 3 ms), implicit
+// frames 1/60 s.
 static void cliPileRows(const cliBenchOptions* o, cliBenchReport* report, int* code)
 {
-	// 5 s: the top house falls 38 m (2.8 s) and the pile settles. Explicit frames are the seeds'
-	// 30 ms (10 substeps of 3 ms), implicit frames 1/60 s.
-	static const cliContactCase cases[2] = {
-	    {"houses 10", "explicit", "stvk", 0, 167},
-	    {"houses 10", "implicit game", "neohookean", 0, 300},
+	int count = o->quick ? CLI_BENCH_QUICK_PILE_HOUSES : CLI_BENCH_PILE_HOUSES;
+	double seconds = o->quick ? 1.5 : 5.0;
+	char label[16];
+	snprintf(label, sizeof label, "houses %d", count);
+	cliContactCase cases[2] = {
+	    {label, "explicit", "stvk", 0, (int)ceil(seconds / 0.03)},
+	    {label, "implicit game", "neohookean", 0, (int)ceil(seconds * 60.0)},
 	};
 	for (int k = 0; k < 2; ++k)
 	{
 		cliScene scene;
-		if (!cliPileScene(k == 1, o->workers, &scene))
+		if (!cliPileScene(count, k == 1, o->workers, &scene))
 		{
 			cliError("bench: out of memory for the pile");
 			*code = cli_exitInput;
 		}
 		else
-			cliContactRow(&cases[k], &scene, CLI_BENCH_PILE_HOUSES * 1389, o->workers, report,
+			cliContactRow(&cases[k], &scene, count * CLI_BENCH_HOUSE_TETS, o->workers, report,
 			              code);
 		cliScene_Free(&scene);
 	}
@@ -298,7 +303,8 @@ static void cliGroundRow(const cliBenchOptions* o, const char* folder, cliBenchR
 void cliBenchContactRows(const cliBenchOptions* o, cliBenchReport* report, const char* folder,
                          int* code)
 {
-	bool pile = CLI_BENCH_PILE_HOUSES * 1389 <= o->maxTets, ground = 100000 <= o->maxTets;
+	int houses = o->quick ? CLI_BENCH_QUICK_PILE_HOUSES : CLI_BENCH_PILE_HOUSES;
+	bool pile = houses * CLI_BENCH_HOUSE_TETS <= o->maxTets, ground = 100000 <= o->maxTets;
 	if (!pile && !ground)
 		return;
 	printf("contact: ms per frame (median), contacts after a frame (median), share of the step in "

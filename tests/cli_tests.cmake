@@ -307,7 +307,7 @@ femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--r
   REGEX "memory bandwidth \\(triad\\): [0-9.]+ GB/s on 1 thread, [0-9.]+ GB/s on 2.*house2 +1389 stvk +1 +[0-9.]+ +[0-9.]+ +[0-9.]+%.*house2 +1389 stvk +2 .*box 1k +1080 neohookean +2 "
   REJECT "failed|box 10k"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,\n")
 femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
   REGEX "box 1k +1080 neohookean +game +[0-9.]+ +[0-9.]+ +[0-9.]+.*box 1k +1080 neohookean +1e-6 .*box 1k +1080 corotated" REJECT "failed|house2")
 
@@ -351,14 +351,14 @@ femto_cli_test(scene_memory_budget ARGS "run|${FEMTO_CLI_DATA}/over_budget.json"
 # The house alone, one repetition: exactly the issue's header and one well-formed row per case
 # (2 explicit models on 1 and 2 workers, 2 implicit models to 2 tolerances). No timing checked.
 set(FEMTO_BENCH_NUMBER "[0-9]+\\.[0-9]+")
-set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER}\n")
-set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},\n")
+set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER},,,,\n")
+set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,\n")
 femto_cli_test(bench_csv_rows
   ARGS "bench|--meshes|house|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_house.csv"
   CODE 0 REJECT "failed"
   NO_FILES "${FEMTO_CLI_WORK}/bench_house.png"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_house.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
 # --simd and --deterministic reach every row; a bad level is a usage error.
 femto_cli_test(bench_simd_off ARGS "bench|--quick|--meshes|house|--explicit|--repeats|1|--workers|1|--no-plot|--simd|off|--deterministic"
   CODE 0 REGEX "house2 +1389 stvk +1 +[0-9.]+" REJECT "failed")
@@ -373,8 +373,19 @@ femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
   REJECT "failed|beam 1k +[0-9]"
   FILES "${FEMTO_CLI_WORK}/bench_no_tools.csv"
   NO_FILES "${FEMTO_CLI_WORK}/bench_no_tools.png")
+# The contact rows alone (--meshes contact), quick: a pile of three houses, explicit and
+# implicit, with its contact count and shares; the 100k ground row is beyond --quick's size.
+# One CSV row each, with the contact columns filled and the others empty.
+femto_cli_test(bench_contact
+  ARGS "bench|--quick|--meshes|contact|--repeats|1|--workers|1|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_contact.csv"
+  CODE 0
+  REGEX "houses 3 +4167 explicit +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ "
+  REJECT "failed|ground 100k|memory bandwidth|house2"
+  CHECK_FILE "${FEMTO_CLI_WORK}/bench_contact.csv"
+  CHECK_FILE_REGEX "\nhouses 3,4167,explicit,stvk,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,0\\.[0-9]+,0\\.[0-9]+,0\\.[0-9]+\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,0\\.[0-9]+,0\\.[0-9]+,0\\.[0-9]+\n$")
+set_tests_properties(cli_bench_contact PROPERTIES TIMEOUT 200)
 femto_cli_test(bench_unknown_family ARGS "bench|--meshes|house,tree" CODE 2
-  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam\\)")
+  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam, contact\\)")
 femto_cli_test(bench_empty_family ARGS "bench|--meshes|house,,box" CODE 2 REGEX "unknown mesh family ''")
 femto_cli_test(bench_plot_and_no_plot ARGS "bench|--plot|x.png|--no-plot" CODE 2 REGEX "--plot or --no-plot, not both")
 femto_cli_test(bench_peers_and_no_peers ARGS "bench|--peers|--no-peers" CODE 2 REGEX "or --no-peers, not both")
@@ -394,7 +405,7 @@ if(FEMTO_TETGEN)
     CODE 0 REGEX "meshing beam 1k with tetgen \\.\\.\\. [0-9]+ tets.*beam 1k +[0-9]+ stvk +1 +[0-9.]+${FEMTO_BENCH_PLOTTED}"
     REJECT "failed"
     CHECK_FILE "${FEMTO_CLI_WORK}/bench_beam.csv"
-    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
+    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,\n")
 endif()
 if(TARGET femto-bench-bullet)
   femto_cli_test(bench_peer ARGS "bench|--meshes|house|--implicit|--repeats|1|--peers|--no-plot"
