@@ -200,6 +200,8 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->contactStart, double, 3 * n);
 	FM_FREE_ARRAY(b->contactMark, int, n);
 	FM_FREE_ARRAY(b->contactPlane, double, 4 * n);
+	FM_FREE_ARRAY(b->contactFriction, double, 8 * n);
+	FM_FREE_ARRAY(b->contactFrictionNext, double, 8 * n);
 	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);

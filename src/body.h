@@ -105,6 +105,10 @@ typedef struct fmBody
 	double* contactPlane;    // 4n: an implicit step's frozen plane of another body near each
 	                         // surface vertex (n, n . q), NaN where none (penalty.h)
 	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
+	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
+	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
+	double* contactFriction;
+	double* contactFrictionNext;   // 8n: what the contact stage found this step, for the next one
 	struct fmDrawCache* drawCache; // fmWorld_Draw's buffers (draw.h), made on the first draw
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
 	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need

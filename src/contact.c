@@ -23,6 +23,7 @@
 #include "energy_ledger.h"
 #include "force_spring.h"
 #include "forces.h"
+#include "geometry.h"
 #include "material.h"
 #include "penalty.h"
 #include "timer.h"
@@ -217,6 +218,10 @@ static bool fmBodyContactArrays(fmBody* b)
 		b->contactMark = FM_ALLOC_ZERO(int, b->vertexCount);
 	if (b->contactPlane == NULL)
 		b->contactPlane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->vertexCount);
+	if (b->contactFriction == NULL)
+		b->contactFriction = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
+	if (b->contactFrictionNext == NULL)
+		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
 	if (b->contactTetMark == NULL)
 		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
 	if (b->surfaceVertex == NULL)
@@ -363,11 +368,22 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmVec3 before = fmLoad(b->x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
 	// After an implicit step the penalty pushed the vertex out of the collider during the
-	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too.
-	double pushed = w->def.integrator == fm_implicit && depth > 0.0
-	                    ? FM_PENALTY_KAPPA * depth / w->contactStep
-	                    : 0.0;
-	fmImpact(&relative, n, c->def.restitution, c->def.friction, pushed);
+	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too, unless
+	// friction already acted in the solve (lagged from the last step: penalty.h).
+	bool implicit = w->def.integrator == fm_implicit;
+	double h = w->contactStep;
+	double pushed = implicit && depth > 0.0 ? FM_PENALTY_KAPPA * depth / h : 0.0;
+	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->x, b->contactStart, h)
+	                         : fmMakeVec3(0.0, 0.0, 0.0);
+	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contactFriction[8 * i + 3] > 0.0);
+	fmImpact(&relative, n, c->def.restitution, c->def.friction, inSolve ? 0.0 : pushed);
+	if (implicit && pushed > 0.0)
+	{
+		double* next = b->contactFrictionNext + 8 * (size_t)i;
+		next[0] = n.x, next[1] = n.y, next[2] = n.z;
+		next[3] = c->def.friction * b->mass[i] * pushed / h;
+		next[4] = vc.x, next[5] = vc.y, next[6] = vc.z;
+	}
 	if (!fmTouch(s, b, slot, i))
 		return false;
 	fmStore(b->x, i, x);
@@ -377,6 +393,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	// during the step.
 	fmVec3 impulse =
 	    fmMulAdd(fmScale(b->mass[i], fmSub(fmLoad(b->v, i), v)), b->mass[i] * pushed, n);
+	impulse = fmMulAdd(impulse, h, solved);
 	c->impulse = fmSub(c->impulse, impulse);
 	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
 	fmContactPoint* p = fmNewPoint(s);
@@ -393,6 +410,32 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	return fmRecordPair(s, key);
 }
 
+// The box of a body's surface vertices over the substep (where they started and are now).
+static void fmSweptBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
+{
+	*lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	*hi = fmScale(-1.0, *lo);
+	for (int p = 0; p < b->surfaceVertexCount; ++p)
+	{
+		int i = b->surfaceVertex[p];
+		fmVec3 x = fmLoad(b->x, i), x0 = fmLoad(b->contactStart, i);
+		*lo = fmMakeVec3(fmin(lo->x, fmin(x.x, x0.x)), fmin(lo->y, fmin(x.y, x0.y)),
+		                 fmin(lo->z, fmin(x.z, x0.z)));
+		*hi = fmMakeVec3(fmax(hi->x, fmax(x.x, x0.x)), fmax(hi->y, fmax(x.y, x0.y)),
+		                 fmax(hi->z, fmax(x.z, x0.z)));
+	}
+}
+
+// Whether collider @p c may touch the box [lo, hi] (unbounded shapes always may).
+static bool fmColliderNear(const fmCollider* c, fmVec3 lo, fmVec3 hi)
+{
+	fmVec3 clo, chi;
+	if (!fmCollider_Bounds(c, &clo, &chi))
+		return true;
+	return !(lo.x > chi.x || lo.y > chi.y || lo.z > chi.z || hi.x < clo.x || hi.y < clo.y ||
+	         hi.z < clo.z);
+}
+
 static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
@@ -400,9 +443,12 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 		fmBody* b = &w->bodies[slot];
 		if (b->x == NULL)
 			continue;
+		fmVec3 lo, hi;
+		fmSweptBox(b, &lo, &hi);
 		for (int k = 0; k < w->colliderCapacity; ++k)
 		{
-			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter))
+			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter) ||
+			    !fmColliderNear(&w->colliders[k], lo, hi))
 				continue;
 			for (int p = 0; p < b->surfaceVertexCount; ++p)
 			{
@@ -416,58 +462,6 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 }
 
 // ---- body against body -------------------------------------------------------------------------
-
-// The point of triangle abc nearest p, as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5).
-static void fmClosestOnTriangle(fmVec3 p, fmVec3 a, fmVec3 b, fmVec3 c, double w[3])
-{
-	fmVec3 ab = fmSub(b, a), ac = fmSub(c, a), ap = fmSub(p, a);
-	double d1 = fmDot(ab, ap), d2 = fmDot(ac, ap);
-	if (d1 <= 0.0 && d2 <= 0.0)
-	{
-		w[0] = 1.0, w[1] = 0.0, w[2] = 0.0;
-		return;
-	}
-	fmVec3 bp = fmSub(p, b);
-	double d3 = fmDot(ab, bp), d4 = fmDot(ac, bp);
-	if (d3 >= 0.0 && d4 <= d3)
-	{
-		w[0] = 0.0, w[1] = 1.0, w[2] = 0.0;
-		return;
-	}
-	double vc = d1 * d4 - d3 * d2;
-	if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
-	{
-		double t = d1 / (d1 - d3);
-		w[0] = 1.0 - t, w[1] = t, w[2] = 0.0;
-		return;
-	}
-	fmVec3 cp = fmSub(p, c);
-	double d5 = fmDot(ab, cp), d6 = fmDot(ac, cp);
-	if (d6 >= 0.0 && d5 <= d6)
-	{
-		w[0] = 0.0, w[1] = 0.0, w[2] = 1.0;
-		return;
-	}
-	double vb = d5 * d2 - d1 * d6;
-	if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
-	{
-		double t = d2 / (d2 - d6);
-		w[0] = 1.0 - t, w[1] = 0.0, w[2] = t;
-		return;
-	}
-	double va = d3 * d6 - d5 * d4;
-	if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-	{
-		double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-		w[0] = 0.0, w[1] = 1.0 - t, w[2] = t;
-		return;
-	}
-	double denominator = 1.0 / (va + vb + vc);
-	w[1] = vb * denominator;
-	w[2] = vc * denominator;
-	w[0] = 1.0 - w[1] - w[2];
-}
 
 static const int* fmTriangleOf(const fmBody* b, int t)
 {
@@ -956,6 +950,11 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 		if (!fmBodyContactArrays(b))
 			return false;
 		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+		// Friction found after the last step acts in this one's solve (penalty.h).
+		double* found = b->contactFrictionNext;
+		b->contactFrictionNext = b->contactFriction;
+		b->contactFriction = found;
+		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
 		for (int k = 0; k < b->vertexCount; ++k)
 			b->contactPlane[4 * (size_t)k + 3] = NAN;
 	}

@@ -6,51 +6,11 @@
 #include "collider.h"
 #include "core.h"
 #include "fp_env.h"
+#include "geometry.h"
 #include "world.h"
 
 #include <math.h>
 #include <string.h>
-
-// Whether the segment o + t d, t in [0, 1], crosses the box [lo, hi] (slab test).
-static bool fmSegmentHitsBox(fmVec3 o, fmVec3 d, fmVec3 lo, fmVec3 hi)
-{
-	const double origin[3] = {o.x, o.y, o.z}, dir[3] = {d.x, d.y, d.z};
-	const double low[3] = {lo.x, lo.y, lo.z}, high[3] = {hi.x, hi.y, hi.z};
-	double enter = 0.0, leave = 1.0;
-	for (int e = 0; e < 3; ++e)
-	{
-		if (dir[e] == 0.0)
-		{
-			if (origin[e] < low[e] || origin[e] > high[e])
-				return false;
-			continue;
-		}
-		double t0 = (low[e] - origin[e]) / dir[e], t1 = (high[e] - origin[e]) / dir[e];
-		enter = fmax(enter, fmin(t0, t1));
-		leave = fmin(leave, fmax(t0, t1));
-	}
-	return enter <= leave;
-}
-
-// Fraction along o + t d where it crosses triangle abc (either side), or -1.
-static double fmSegmentTriangle(fmVec3 o, fmVec3 d, fmVec3 a, fmVec3 b, fmVec3 c)
-{
-	fmVec3 e1 = fmSub(b, a), e2 = fmSub(c, a), p = fmCross(d, e2);
-	double det = fmDot(e1, p);
-	if (fabs(det) < 1e-300)
-		return -1.0;
-	double inv = 1.0 / det;
-	fmVec3 s = fmSub(o, a);
-	double u = fmDot(s, p) * inv;
-	if (u < 0.0 || u > 1.0)
-		return -1.0;
-	fmVec3 q = fmCross(s, e1);
-	double v = fmDot(d, q) * inv;
-	if (v < 0.0 || u + v > 1.0)
-		return -1.0;
-	double t = fmDot(e2, q) * inv;
-	return t >= 0.0 && t <= 1.0 ? t : -1.0;
-}
 
 static void fmBodyBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 {

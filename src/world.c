@@ -261,6 +261,8 @@ void fmDestroyWorld(fmWorldId worldId)
 		if (w->bodies[i].x)
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		fmCollider_Release(&w->colliders[k]);
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
 	fmContact_Free(w->contactState);
 	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
