@@ -202,8 +202,8 @@ typedef struct fmSurfaceMesh
 /// statements ignored; '#' comments. Line continuations ('\' at the end of a line) and
 /// free-form geometry (`curv`, `surf`, ...) are refused. On failure @p surface is left zeroed
 /// and @p diag names the file, line, column and what was expected (docs/mesh-format.md).
-FM_API fmResult fmLoadObjWithDef(const char* path, const fmMeshLoadDef* def,
-                                 fmSurfaceMesh* surface, fmDiagnostic* diag);
+FM_API fmResult fmLoadObjWithDef(const char* path, const fmMeshLoadDef* def, fmSurfaceMesh* surface,
+                                 fmDiagnostic* diag);
 
 /// fmLoadObjWithDef() with fmDefaultMeshLoadDef(): files up to 1 GiB.
 FM_API fmResult fmLoadObj(const char* path, fmSurfaceMesh* surface, fmDiagnostic* diag);
