@@ -64,3 +64,48 @@ void fmFuzzFace(const uint8_t* data, size_t size)
 			fmFree(triangles);
 	}
 }
+
+// A small surface as a mesh collider under a one-cube box, stepped once.
+static void fmFuzzObjCollider(const fmSurfaceMesh* surface)
+{
+	if (surface->triangleCount > 2000)
+		return;
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmColliderDef def = fmDefaultColliderDef();
+	def.shape = fm_shapeMesh;
+	def.vertices = (const fmVec3*)surface->positions; // three doubles a vertex, as fmVec3
+	def.vertexCount = surface->vertexCount;
+	def.triangles = surface->triangles;
+	def.triangleCount = surface->triangleCount;
+	fmColliderId collider;
+	fmTetMesh box;
+	fmBodyId body;
+	if (fmCreateCollider(world, &def, &collider, NULL) == fm_ok &&
+	    fmMakeBoxMesh(1, 1, 1, fmMakeVec3(0, 0.5, 0), fmMakeVec3(1, 1.5, 1), &box) == fm_ok)
+	{
+		fmBodyDef bodyDef = fmDefaultBodyDef();
+		bodyDef.mesh = &box;
+		if (fmCreateBody(world, &bodyDef, &body, NULL) == fm_ok)
+			fmWorld_Step(world, 0.003, 1);
+		fmFreeTetMesh(&box);
+	}
+	fmDestroyWorld(world);
+}
+
+void fmFuzzObj(const uint8_t* data, size_t size)
+{
+	fmSurfaceMesh surface;
+	fmDiagnostic diag;
+	if (fmLoadObjFromMemory((const char*)data, size, "fuzz.obj", &surface, &diag) != fm_ok)
+		return;
+	for (int k = 0; k < 3 * surface.triangleCount; ++k)
+		if (surface.triangles[k] < 0 || surface.triangles[k] >= surface.vertexCount)
+			__builtin_trap();
+	fmMeshTransform transform = fmDefaultMeshTransform();
+	transform.center = true;
+	transform.swapYZ = true;
+	fmSurfaceMesh_Transform(&surface, &transform);
+	fmFuzzObjCollider(&surface);
+	fmFreeSurfaceMesh(&surface);
+}

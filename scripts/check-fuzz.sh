@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Build the libFuzzer targets with clang + ASan + UBSan and run each (fuzz_tetgen, fuzz_face,
-# fuzz_scene, fuzz_simulate, fuzz_api: every build-fuzz/fuzz/fuzz_*) for a bounded time on its
-# committed seed corpus (fuzz/corpus/<name>). New crashes fail the check; the crashing input is
-# kept in build-fuzz/crashes/ to be turned into a regression test (tests/data/fuzz/).
+# fuzz_obj, fuzz_scene, fuzz_simulate, fuzz_api: every build-fuzz/fuzz/fuzz_*) for a bounded
+# time on its committed seed corpus (fuzz/corpus/<name>). New crashes fail the check; the
+# crashing input is kept in build-fuzz/crashes/ to be turned into a regression test
+# (tests/data/fuzz/).
 # FEMTO_FUZZ_SECONDS (default 60) sets the time per target.
 set -euo pipefail
 cd "$(dirname "$0")/.."

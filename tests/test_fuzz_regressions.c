@@ -59,3 +59,9 @@ TEST(face_corpus_replays_cleanly)
 	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/face", "", fmFuzzFace) >= 2);
 	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "face_", fmFuzzFace);
 }
+
+TEST(obj_corpus_replays_cleanly)
+{
+	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/obj", "", fmFuzzObj) >= 5);
+	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "obj_", fmFuzzObj);
+}

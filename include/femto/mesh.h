@@ -176,4 +176,50 @@ FM_API fmResult fmTetMesh_ExtractSurface(const fmTetMesh* mesh, int** triangles,
 /// for a NULL @p mesh.
 FM_API fmResult fmMakeBoxMesh(int nx, int ny, int nz, fmVec3 min, fmVec3 max, fmTetMesh* mesh);
 
+// ---- triangle surfaces (OBJ) -------------------------------------------------------------------
+
+/// Largest vertex count an OBJ file may hold.
+#define FM_MAX_SURFACE_VERTICES FM_MAX_NODES
+/// Largest triangle count an OBJ file may hold (after its polygons are fan-triangulated).
+#define FM_MAX_SURFACE_TRIANGLES FM_MAX_TETS
+
+/// A triangle surface (a Wavefront OBJ's faces, polygons fan-triangulated): plain data the user
+/// owns; release with fmFreeSurfaceMesh(). A mesh collider's vertices and triangles
+/// (fmColliderDef) come from one.
+typedef struct fmSurfaceMesh
+{
+	int vertexCount;   ///< number of vertices
+	double* positions; ///< 3 * vertexCount, xyz per vertex (m)
+	int triangleCount; ///< number of triangles
+	int* triangles;    ///< 3 * triangleCount, 0-based, in the file's (counter-clockwise) winding
+} fmSurfaceMesh;
+
+/// Read a Wavefront OBJ's polygons from @p path (a regular file of at most def->maxFileBytes,
+/// refused with fm_errLimit before reading): `v x y z [w]` (w ignored; `v x y z r g b`
+/// vertex colours are accepted and ignored too), `f` with `v`, `v/vt`, `v//vn` or `v/vt/vn`
+/// references, negative (relative) references, polygons of up to 79 vertices fan-triangulated;
+/// `vt`, `vn`, `vp`, `o`, `g`, `s`, `mg`, `usemtl`, `mtllib`, `l`, `p` and the other display
+/// statements ignored; '#' comments. Line continuations ('\' at the end of a line) and
+/// free-form geometry (`curv`, `surf`, ...) are refused. On failure @p surface is left zeroed
+/// and @p diag names the file, line, column and what was expected (docs/mesh-format.md).
+FM_API fmResult fmLoadObjWithDef(const char* path, const fmMeshLoadDef* def, fmSurfaceMesh* surface,
+                                 fmDiagnostic* diag);
+
+/// fmLoadObjWithDef() with fmDefaultMeshLoadDef(): files up to 1 GiB.
+FM_API fmResult fmLoadObj(const char* path, fmSurfaceMesh* surface, fmDiagnostic* diag);
+
+/// fmLoadObj() from text in memory (need not be NUL-terminated; a NUL byte is an error);
+/// @p name is used in diagnostics. A NULL @p surface is fm_errParameter (and an assert).
+FM_API fmResult fmLoadObjFromMemory(const char* text, size_t size, const char* name,
+                                    fmSurfaceMesh* surface, fmDiagnostic* diag);
+
+/// Apply @p transform (scale, center on the vertex centroid, swap y and z, translate) to the
+/// vertices. Swapping y and z mirrors the surface, so every triangle's winding is reversed with
+/// it (fronts stay fronts). A NULL or inconsistent surface, a NULL transform, a scale that is not
+/// finite and > 0 or a non-finite translation asserts and changes nothing.
+FM_API void fmSurfaceMesh_Transform(fmSurfaceMesh* surface, const fmMeshTransform* transform);
+
+/// Release the arrays of a surface and zero it. Safe on a zeroed surface and on NULL.
+FM_API void fmFreeSurfaceMesh(fmSurfaceMesh* surface);
+
 FM_C_END
