@@ -470,6 +470,14 @@ static void cliPrintContacts(const cliScene* scene, const cliSimulation* sim,
 			       cliShapeName(scene->colliders[c].def.shape), fmLength(force), force.x, force.y,
 			       force.z);
 	}
+	if (scene->worldDef.contact.enableSleep)
+	{
+		int asleep = 0;
+		for (int b = 0; b < sim->bodyCount; ++b)
+			asleep += !fmBody_IsAwake(sim->bodies[b]);
+		printf("asleep           %d of %d bod%s at the end\n", asleep, sim->bodyCount,
+		       sim->bodyCount == 1 ? "y" : "ies");
+	}
 	if (sim->colliderCount > CLI_LISTED_COLLIDERS)
 		printf("                 (%d more colliders)\n", sim->colliderCount - CLI_LISTED_COLLIDERS);
 }

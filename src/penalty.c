@@ -61,6 +61,14 @@ static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
 	return fmMulAdd(d, -fmDot(d, n), n);
 }
 
+// The slip width of vertex i's static friction (m): FM_FRICTION_SLIP_SPEED h, widened where the
+// stick spring 2 mu lambda / eps would be stiffer than the normal penalty kappa m / h^2 (a stick
+// stiffer than the contact itself only stalls Newton: measured, docs/contact.md).
+static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
+{
+	return fmax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
+}
+
 // f0(y) / limit: IPC's C1 friction potential with slip width eps.
 static double fmFrictionPotential(double y, double eps)
 {
@@ -80,7 +88,7 @@ fmVec3 fmContactFriction_Force(const fmBody* b, int i, const double* x, const do
 	if (f == NULL)
 		return fmMakeVec3(0.0, 0.0, 0.0);
 	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(xStart, i), h);
-	double eps = FM_FRICTION_SLIP_SPEED * h;
+	double eps = fmSlipWidth(b, i, f, h);
 	return fmScale(-f[3] * fmFrictionRatio(fmLength(u), eps), u);
 }
 
@@ -88,7 +96,7 @@ fmVec3 fmContactFriction_Force(const fmBody* b, int i, const double* x, const do
 static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const double* x,
                                double* gradient)
 {
-	double energy = 0.0, eps = FM_FRICTION_SLIP_SPEED * p->step;
+	double energy = 0.0;
 	for (int s = 0; s < b->surfaceVertexCount; ++s)
 	{
 		int i = b->surfaceVertex[s];
@@ -96,7 +104,7 @@ static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const
 		if (f == NULL)
 			continue;
 		fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
-		double y = fmLength(u);
+		double y = fmLength(u), eps = fmSlipWidth(b, i, f, p->step);
 		energy += f[3] * fmFrictionPotential(y, eps);
 		if (gradient)
 		{
@@ -111,10 +119,10 @@ static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const
 
 // Vertex i's friction Hessian block (positive semi-definite: IPC's, whose eigenvalue along the
 // slip, 2 / eps - 2 y / eps^2 or 0, is never negative).
-static void fmFrictionBlock(const fmContactPenalty* p, const double* x, int i, const double* f,
-                            double block[9])
+static void fmFrictionBlock(const fmContactPenalty* p, const fmBody* b, const double* x, int i,
+                            const double* f, double block[9])
 {
-	double eps = FM_FRICTION_SLIP_SPEED * p->step;
+	double eps = fmSlipWidth(b, i, f, p->step);
 	fmVec3 n = fmMakeVec3(f[0], f[1], f[2]);
 	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
 	double y = fmLength(u), along = y >= eps  ? -1.0 / (y * y * y)
@@ -183,7 +191,7 @@ void fmContactPenalty_AddHessian(const fmContactPenalty* p, const fmBody* b, con
 		if (f == NULL)
 			continue;
 		double block[9], *out = values + 9 * (size_t)(diagonal ? diagonal[i] : i);
-		fmFrictionBlock(p, x, i, f, block);
+		fmFrictionBlock(p, b, x, i, f, block);
 		for (int k = 0; k < 9; ++k)
 			out[k] += block[k];
 	}
@@ -217,7 +225,7 @@ void fmContactPenalty_AddProduct(const fmContactPenalty* p, const fmBody* b, con
 		if (f == NULL)
 			continue;
 		double block[9];
-		fmFrictionBlock(p, at, i, f, block);
+		fmFrictionBlock(p, b, at, i, f, block);
 		for (int r = 0; r < 3; ++r)
 			y[3 * i + r] += block[3 * r] * dx[3 * i] + block[3 * r + 1] * dx[3 * i + 1] +
 			                block[3 * r + 2] * dx[3 * i + 2];
