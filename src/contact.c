@@ -197,9 +197,22 @@ static bool fmHasColliders(const fmWorld* w)
 	return false;
 }
 
+// Whether surfaces of bodies can meet: two or more bodies, or one that collides with itself.
+static bool fmBodiesMeet(const fmWorld* w)
+{
+	if (!w->def.contact.bodies)
+		return false;
+	if (fmLiveBodies(w) >= 2)
+		return true;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL && w->bodies[i].selfCollision)
+			return true;
+	return false;
+}
+
 bool fmContact_Active(const fmWorld* w)
 {
-	return fmHasColliders(w) || (w->def.contact.bodies && fmLiveBodies(w) >= 2);
+	return fmHasColliders(w) || fmBodiesMeet(w);
 }
 
 static bool fmFiltersMeet(fmFilter a, fmFilter b)
@@ -567,6 +580,16 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 }
 
 // The nearest triangle of another body that vertex i of body @p slot touches, into @p found.
+// Whether vertex i of body b was in front of its own triangle @p tri (normal @p n now) at the
+// start of the substep: then it crossed the triangle during it, rather than being inside.
+static bool fmInFrontAtStart(const fmBody* b, int i, const int* tri, fmVec3 n, double thickness)
+{
+	fmVec3 q = fmScale(
+	    1.0 / 3.0, fmAdd(fmAdd(fmLoad(b->contactStart, tri[0]), fmLoad(b->contactStart, tri[1])),
+	                     fmLoad(b->contactStart, tri[2])));
+	return fmDot(n, fmSub(fmLoad(b->contactStart, i), q)) > -thickness;
+}
+
 // Self-collision: vertex i of body b may touch its own surface triangle @p tri only when the
 // two were apart in the rest shape by more than twice the thickness (so a vertex never touches
 // the triangles around it, however coarse or sharp the surface).
@@ -622,6 +645,14 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 		// (Before a step, a plane within the reach of the step's motion may be met.)
 		double near = s->predict > 0.0 ? bound : thickness;
 		bool touches = distance <= bound && side < near && side > -bound;
+		// A body's own interior lies behind all of its triangles: a vertex of it counts
+		// against its own surface only from the front (or just behind, within the thickness),
+		// and only within the thickness (with the motion's reach, a vertex would meet the
+		// triangles of its own flat face that move with it).
+		if (other == slot)
+			touches = side > -thickness ? distance <= thickness && side < thickness
+			                            : s->predict == 0.0 && distance <= bound &&
+			                                  fmInFrontAtStart(b, i, tri, n, thickness);
 		// The nearest triangle, preferring one the vertex lies straight above or below (near
 		// an edge, the face under the vertex, not the side face that shares the edge).
 		double along = distance > 0.0 ? fabs(side) / distance : 1.0;
@@ -1013,7 +1044,7 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 		for (int k = 0; k < b->vertexCount; ++k)
 			b->contactPlane[4 * (size_t)k + 3] = NAN;
 	}
-	bool bodies = w->def.contact.bodies && fmLiveBodies(w) >= 2;
+	bool bodies = fmBodiesMeet(w);
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmGetState(w);
@@ -1032,7 +1063,7 @@ bool fmContact_Substep(fmWorld* w, double h)
 			fmCollider_Move(&w->colliders[k], h);
 	s->pointCount = 0;
 	bool ok = fmCollideWithColliders(w, s);
-	if (ok && w->def.contact.bodies && fmLiveBodies(w) >= 2)
+	if (ok && fmBodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
 		ok = fmBookWork(w, s, slot);
