@@ -7,11 +7,13 @@
 #include <string.h>
 
 const char* const cliInfoHelp =
-    "usage: femto info MESH.node [MESH.ele]\n"
+    "usage: femto info MESH [MESH.ele]\n"
     "       femto info builtin:house2\n"
     "\n"
     "Print node and tet counts, volumes, dihedral angles, quality, surface, bad tets and\n"
-    "bounds of a TetGen mesh. The .ele defaults to the one beside the .node.\n"
+    "bounds of a tet mesh: TetGen .node (the .ele defaults to the one beside it), Gmsh .msh\n"
+    "(2.2, 4.1, ASCII or binary), VTK .vtk or .vtu, Medit .mesh (docs/mesh-format.md). Only\n"
+    "tets are read; other elements are counted in a warning.\n"
     "\n"
     "Angles, quality and degeneracy are measured scale-free (any units work); a volume that\n"
     "a double cannot hold is reported as out of range.\n"
@@ -84,7 +86,7 @@ int cliInfo(int argc, char** argv)
 		paths[pathCount++] = argv[i];
 	}
 	if (pathCount == 0)
-		return cliUsageError("info", "missing MESH.node");
+		return cliUsageError("info", "missing MESH");
 
 	fmTetMesh mesh;
 	fmDiagnostic diag;
@@ -96,17 +98,22 @@ int cliInfo(int argc, char** argv)
 		result = cliLoadHouseMesh(&mesh, &diag);
 		snprintf(elePath, sizeof elePath, "builtin:house2.ele");
 	}
+	else if (pathCount == 2)
+	{
+		snprintf(elePath, sizeof elePath, "%s", paths[1]);
+		result = fmLoadTetGen(paths[0], elePath, &mesh, &diag);
+	}
 	else
 	{
+		// Any format by its extension (a .node loads the .ele beside it).
+		fmMeshFormat format = fmMeshFormatFromPath(paths[0]);
 		size_t length = strlen(paths[0]);
-		if (pathCount == 2)
-			snprintf(elePath, sizeof elePath, "%s", paths[1]);
-		else if (length >= 5 && strcmp(paths[0] + length - 5, ".node") == 0 &&
-		         length < sizeof elePath)
+		if (format == fm_meshFormatTetGen && length >= 5 &&
+		    strcmp(paths[0] + length - 5, ".node") == 0 && length < sizeof elePath)
 			snprintf(elePath, sizeof elePath, "%.*s.ele", (int)(length - 5), paths[0]);
 		else
-			return cliUsageError("info", "'%s' does not end in .node: name the .ele too", paths[0]);
-		result = fmLoadTetGen(paths[0], elePath, &mesh, &diag);
+			snprintf(elePath, sizeof elePath, "%s", fmMeshFormatName(format));
+		result = fmLoadMesh(paths[0], &mesh, &diag);
 	}
 	if (result != fm_ok)
 	{
