@@ -288,6 +288,14 @@ fmResult fmScan_CheckCount(const fmScan* s, long long count, long long limit, si
 		return fmScan_Error(s, fm_errLimit, "%lld %s exceed the limit of %lld", count, what, limit);
 	unsigned long long need = (unsigned long long)count * (unsigned long long)minBytes;
 	unsigned long long left = fmScan_Remaining(s);
+	// In binary data (the scan has moved past the last text token) the count is located by its
+	// position, not by a stale token.
+	bool binary = s->token == NULL || s->data + s->pos != s->token + s->tokenLength;
+	if (need > left && binary)
+		return fmScan_ErrorHere(s, fm_errCount,
+		                        "%lld %s declared before byte %zu but only %llu bytes follow: "
+		                        "expected at least %llu bytes (%zu for each)",
+		                        count, what, s->pos, left, need, minBytes);
 	if (need > left)
 		return fmScan_Error(s, fm_errCount,
 		                    "%lld %s declared but only %llu bytes follow: expected at least %llu "

@@ -125,6 +125,8 @@ typedef struct fmVtkLegacy
 	fmVtkCells cells;
 	bool haveCells;
 	bool haveTypes;
+	int typesLine; // where CELL_TYPES is, for errors found when the cells become tets
+	int typesColumn;
 } fmVtkLegacy;
 
 // Binary data starts after the line end that ends the keyword's line.
@@ -369,6 +371,8 @@ static fmResult fmVtkLegacyTypes(fmVtkLegacy* v)
 	if (v->haveTypes)
 		return fmScan_Error(&v->s, fm_errSyntax, "a second CELL_TYPES: expected one");
 	v->haveTypes = true;
+	v->typesLine = v->s.tokenLine;
+	v->typesColumn = v->s.tokenColumn;
 	long long count = 0;
 	fmResult result = fmScan_Int64(&v->s, "cell type count", 0, LLONG_MAX, &count);
 	if (result == fm_ok && count != v->cells.count)
@@ -485,8 +489,11 @@ fmResult fmParseVtkLegacy(const void* data, size_t size, const char* name, fmTet
 	fmTetList list;
 	memset(&list, 0, sizeof list);
 	fmResult result = fmVtkLegacySections(&v);
+	fmScan at = v.s;
+	at.tokenLine = v.typesLine;
+	at.tokenColumn = v.typesColumn;
 	if (result == fm_ok)
-		result = fmVtkCellsToTets(&v.cells, &list, &v.s);
+		result = fmVtkCellsToTets(&v.cells, &list, &at);
 	fmVtkCells_Free(&v.cells);
 	if (result != fm_ok)
 	{
@@ -564,6 +571,8 @@ typedef struct fmVtu
 	long long pointCount;
 	long long cellCount;
 	bool havePiece;
+	int pieceLine; // where the Piece is, for arrays it lacks
+	int pieceColumn;
 	fmVtuArray points, connectivity, offsets, types, regions;
 } fmVtu;
 
@@ -775,6 +784,8 @@ static fmResult fmVtuPieceTag(fmVtu* x, const fmXmlTag* tag)
 		return fmXmlError(x, tag, fm_errSyntax,
 		                  "a second Piece: femto reads files of one piece (merge them first)");
 	x->havePiece = true;
+	x->pieceLine = tag->line;
+	x->pieceColumn = tag->column;
 	const unsigned char* v;
 	size_t n;
 	unsigned long long points, cells;
@@ -1252,7 +1263,8 @@ static fmResult fmVtuIntegers(fmVtu* x, const fmVtuArray* a, const char* what, s
 static fmResult fmVtuRequire(fmVtu* x, const fmVtuArray* a, const char* what, fmVtuType minType)
 {
 	if (!a->present)
-		return fmScan_ErrorHere(&x->s, fm_errSyntax, "the Piece has no %s DataArray", what);
+		return fmDiagError(x->s.diag, fm_errSyntax, x->s.name, x->pieceLine, x->pieceColumn,
+		                   "the Piece has no %s DataArray", what);
 	bool isFloat = a->type == fm_vtuFloat32 || a->type == fm_vtuFloat64;
 	if ((minType == fm_vtuFloat32) != isFloat)
 		return fmVtuArrayError(x, a, fm_errSyntax, what,
