@@ -31,6 +31,18 @@ void fmScan_Advance(fmScan* s, size_t count)
 	size_t end = count < s->size - s->pos ? s->pos + count : s->size;
 	const unsigned char* p = s->data + s->pos;
 	const unsigned char* stop = s->data + end;
+	if (end - s->pos <= 16)
+	{
+		// Binary values (4 or 8 bytes) one at a time: a plain loop beats memchr's setup.
+		for (; p < stop; ++p)
+			if (*p == '\n')
+			{
+				s->line += s->line < INT_MAX;
+				s->lineStart = (size_t)(p - s->data) + 1;
+			}
+		s->pos = end;
+		return;
+	}
 	while (p < stop)
 	{
 		const unsigned char* nl = memchr(p, '\n', (size_t)(stop - p));
