@@ -4,7 +4,7 @@
 # ImGui, Mesa's software driver) and xvfb for its window tests (docs/viewer.md), then
 # the optional ones `femto bench` and the mesh format tests use when they are there: tetgen (the
 # TetGen beams, meshing a cube), gmsh (meshing a cube in every format it writes; about 40 s and
-# 200 MB with its OpenCASCADE libraries, --no-install-recommends), gnuplot-nox (the PNG plot) and
+# 170 MB with its OpenCASCADE libraries, --no-install-recommends), gnuplot-nox (the PNG plot) and
 # libbullet-dev (bench/peers/, Bullet's deformable world side by side). zlib1g-dev lets the
 # library read compressed .vtu files. The build and the tests never need the optional packages
 # (tests that use them say they skipped); failing to install them is a warning, and
