@@ -259,6 +259,8 @@ static fmResult fmGmshEntities(fmGmsh* g)
 {
 	if (g->version != 4)
 		return fmGmshSkipSection(g);
+	if (g->volumeTags != NULL)
+		return fmScan_Error(&g->s, fm_errSyntax, "a second $Entities section: expected one");
 	if (g->binary)
 	{
 		fmResult result = fmGmshToBinary(g);
@@ -549,7 +551,9 @@ static fmResult fmGmshElements4(fmGmsh* g, long long blocks, long long count)
 			                        type, g->s.pos);
 		if (result == fm_ok && nodes == 0)
 		{
+			// An unknown type in ASCII: the rest of the block's line, then one line per element.
 			fmSkipped_Add(&g->tets.skipped, fmGmshKind(type), n);
+			fmScan_SkipLine(&g->s);
 			for (long long e = 0; e < n; ++e)
 				fmScan_SkipLine(&g->s);
 			done += n;

@@ -385,7 +385,7 @@ fmResult fmTagMap_Build(fmTagMap* map, const long long* tags, int count, const c
 	map->dense = true;
 	map->first = count > 0 ? tags[0] : 0;
 	for (int i = 1; i < count && map->dense; ++i)
-		map->dense = tags[i] == tags[i - 1] + 1;
+		map->dense = (unsigned long long)tags[i] == (unsigned long long)tags[i - 1] + 1u;
 	if (map->dense)
 		return fm_ok;
 	fmTagPair* pairs = FM_ALLOC_ARRAY(fmTagPair, count);

@@ -1047,9 +1047,13 @@ static fmResult fmVtuInflate(const fmVtu* x, const fmVtuArray* a, const char* wh
 	unsigned long long blocks = fmVtuHeaderValue(x, h);
 	unsigned long long blockSize = fmVtuHeaderValue(x, h + x->headerSize);
 	unsigned long long lastSize = fmVtuHeaderValue(x, h + 2 * x->headerSize);
+	// (blocks - 1) * blockSize is computed only once it is known not to overflow.
+	bool sane = blocks <= bytes + 1 && blockSize <= ((unsigned long long)1 << 40) &&
+	            lastSize <= blockSize && (blocks <= 1 || blockSize > 0) &&
+	            (blocks <= 1 || blocks - 1 <= bytes / blockSize);
 	unsigned long long total =
-	    blocks == 0 ? 0 : (blocks - 1) * blockSize + (lastSize ? lastSize : blockSize);
-	if (blocks > bytes + 1 || blockSize > ((unsigned long long)1 << 40) || total != bytes)
+	    !sane || blocks == 0 ? 0 : (blocks - 1) * blockSize + (lastSize ? lastSize : blockSize);
+	if (!sane || total != bytes)
 	{
 		char text[160];
 		snprintf(text, sizeof text,
@@ -1086,6 +1090,9 @@ static fmResult fmVtuInflate(const fmVtu* x, const fmVtuArray* a, const char* wh
 		fmVtuRead(st, h, (size_t)x->headerSize);
 		size_t csize = (size_t)fmVtuHeaderValue(x, h);
 		size_t usize = (size_t)(k + 1 == blocks && lastSize ? lastSize : blockSize);
+		if (usize > bytes - done)
+			return fmVtuArrayError(x, a, fm_errCount, what,
+			                       "the compressed blocks hold more than the array's bytes");
 		unsigned char* packed = fmAlloc(csize > 0 ? csize : 1);
 		if (packed == NULL)
 			return fmVtuArrayError(x, a, fm_errOutOfMemory, what, "out of memory");
@@ -1308,6 +1315,12 @@ static fmResult fmVtuLoadArrays(fmVtu* x, double** positions, fmVtkCells* c)
 			result = fmVtuArrayError(x, &x->offsets, fm_errRange, "offsets",
 			                         "the offsets decrease: expected each cell's end, in order");
 	c->connCount = c->count > 0 ? c->start[c->count] : 0;
+	// Each connectivity value takes at least a byte of the file (or of its inflated data).
+	unsigned long long bound = (x->compressed ? FM_DEFLATE_MAX_RATIO : 1u) * x->s.size + 64u;
+	if (result == fm_ok && (unsigned long long)c->connCount > bound)
+		result = fmVtuArrayError(x, &x->offsets, fm_errCount, "offsets",
+		                         "the last offset asks for more connectivity values than the "
+		                         "file can hold");
 	long long* conn = NULL;
 	if (result == fm_ok)
 	{
