@@ -247,7 +247,8 @@ TEST(gmsh22_binary)
 }
 
 // msh 4.1 ASCII: entities with physical tags (volume 1 -> 5, volume 2 -> 6), node blocks on a
-// point, a parametric curve and a volume, a triangle block and one tet block per volume.
+// point, a parametric curve and a volume, a triangle block, a block of a type unknown to femto
+// (skipped by its lines) and one tet block per volume.
 static const char s_msh41[] = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
                               "$PhysicalNames\n1\n3 5 \"a\"\n$EndPhysicalNames\n"
                               "$Entities\n1 1 1 2\n"
@@ -262,8 +263,9 @@ static const char s_msh41[] = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
                               "1 1 1 1\n30\n1 0 0 0.5\n"
                               "3 1 0 3\n20\n1000\n7\n0 1 0\n0 0 1\n1 1 1\n"
                               "$EndNodes\n"
-                              "$Elements\n3 3 1 3\n"
+                              "$Elements\n4 5 1 5\n"
                               "2 1 2 1\n1 10 30 20\n"
+                              "2 1 99 2\n4 10 30 20 7 1 2\n5 1\n"
                               "3 1 4 1\n2 10 30 20 1000\n"
                               "3 2 4 1\n3 30 20 1000 7\n"
                               "$EndElements\n"
@@ -272,7 +274,8 @@ static const char s_msh41[] = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
 TEST(gmsh41_ascii)
 {
 	static const double regions[2] = {5, 6};
-	EXPECT_LOAD(fm_meshFormatGmsh, s_msh41, regions, "skipped 1 triangles");
+	EXPECT_LOAD(fm_meshFormatGmsh, s_msh41, regions,
+	            "skipped 1 triangles, 2 elements of unknown types");
 }
 
 static void buildMsh41Binary(Bytes* b, bool swap)
