@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 const char* const cliInfoHelp =
@@ -47,6 +48,40 @@ static void cliPrintMeshInfo(const fmMeshInfo* info)
 	printf("bounds           [%.6g %.6g %.6g] to [%.6g %.6g %.6g] m\n", info->boundsMin.x,
 	       info->boundsMin.y, info->boundsMin.z, info->boundsMax.x, info->boundsMax.y,
 	       info->boundsMax.z);
+}
+
+static int cliCompareDoubles(const void* a, const void* b)
+{
+	double p = *(const double*)a, q = *(const double*)b;
+	return p < q ? -1 : (p > q);
+}
+
+// "regions          2 (5: 100 tets, 6: 20 tets)": the first tet attribute (TetGen's region
+// attribute, Gmsh's physical tag, Medit's reference), the first few values listed.
+static void cliPrintRegions(const fmTetMesh* mesh)
+{
+	if (mesh->tetAttributeCount < 1 || mesh->tetCount < 1)
+		return;
+	double* values = malloc(sizeof(double) * (size_t)mesh->tetCount);
+	if (values == NULL)
+		return;
+	for (int t = 0; t < mesh->tetCount; ++t)
+		values[t] = mesh->tetAttributes[(size_t)t * (size_t)mesh->tetAttributeCount];
+	qsort(values, (size_t)mesh->tetCount, sizeof(double), cliCompareDoubles);
+	int distinct = 0;
+	for (int t = 0; t < mesh->tetCount; ++t)
+		distinct += t == 0 || values[t] != values[t - 1];
+	printf("regions          %d (first tet attribute:", distinct);
+	int listed = 0;
+	for (int t = 0, start = 0; t < mesh->tetCount && listed < 8; ++t)
+		if (t + 1 == mesh->tetCount || values[t + 1] != values[t])
+		{
+			printf("%s %.6g: %d tets", listed ? "," : "", values[t], t + 1 - start);
+			start = t + 1;
+			++listed;
+		}
+	printf("%s)\n", distinct > listed ? ", ..." : "");
+	free(values);
 }
 
 // "degenerate at    tets 5 7 12 ..." in the file's numbering, the first CLI_MAX_LISTED_TETS.
@@ -130,6 +165,7 @@ int cliInfo(int argc, char** argv)
 	}
 	printf("mesh             %s, %s\n", paths[0], elePath);
 	cliPrintMeshInfo(&info);
+	cliPrintRegions(&mesh);
 	int code = cli_exitOk;
 	if (info.degenerateTets > 0)
 	{

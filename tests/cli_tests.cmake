@@ -300,7 +300,7 @@ femto_cli_test(info_missing ARGS "info|${FEMTO_CLI_WORK}/house3.node" CODE 1 REG
 # --- mesh formats (docs/mesh-format.md): info, convert and scenes by extension ------------------
 set(FEMTO_MESH_DATA ${CMAKE_CURRENT_SOURCE_DIR}/data/mesh)
 femto_cli_test(info_gmsh ARGS "info|${FEMTO_MESH_DATA}/cube_gmsh41_bin.msh" CODE 0
-  REGEX "cube_gmsh41_bin.msh, Gmsh.*nodes +339 .*tets +1125.*volume +1 m.*warning: only tetrahedra are read: skipped 90 triangles")
+  REGEX "cube_gmsh41_bin.msh, Gmsh.*nodes +339 .*tets +1125.*volume +1 m.*regions +1 \\(first tet attribute: 7: 1125 tets\\).*warning: only tetrahedra are read: skipped 90 triangles")
 femto_cli_test(info_medit ARGS "info|${FEMTO_MESH_DATA}/cube_gmsh.mesh" CODE 0 REGEX "Medit.*tets +1125")
 femto_cli_test(info_not_a_mesh ARGS "info|${FEMTO_MESH_DATA}/cube.geo" CODE 1
   REGEX "cube.geo: not a mesh file femto reads: expected a name ending in .node")
