@@ -4,7 +4,8 @@
 # ImGui, Mesa's software driver) and xvfb for its window tests (docs/viewer.md), then
 # the optional ones `femto bench` and the mesh format tests use when they are there: tetgen (the
 # TetGen beams, meshing a cube), gmsh (meshing a cube in every format it writes; about 40 s and
-# 170 MB with its OpenCASCADE libraries, --no-install-recommends), gnuplot-nox (the PNG plot) and
+# 170 MB with its OpenCASCADE libraries, --no-install-recommends), python3-meshio (.vtu and .vtk
+# files as Python tools write them; about 30 s with numpy), gnuplot-nox (the PNG plot) and
 # libbullet-dev (bench/peers/, Bullet's deformable world side by side). zlib1g-dev lets the
 # library read compressed .vtu files. The build and the tests never need the optional packages
 # (tests that use them say they skipped); failing to install them is a warning, and
@@ -13,7 +14,7 @@ set -euo pipefail
 packages=(build-essential cmake pkg-config libcjson-dev zlib1g-dev clang libclang-rt-14-dev valgrind
   libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev libglfw3-dev libimgui-dev
   libegl-mesa0 libgl1-mesa-dri xvfb xauth)
-optional=(tetgen gmsh gnuplot-nox libbullet-dev)
+optional=(tetgen gmsh python3-meshio gnuplot-nox libbullet-dev)
 [ "${FEMTO_BENCH_DEPS:-1}" = 0 ] && optional=()
 missing=()
 for p in "${packages[@]}"; do
