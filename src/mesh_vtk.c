@@ -1254,14 +1254,16 @@ static fmResult fmVtuIntegers(fmVtu* x, const fmVtuArray* a, const char* what, s
 	for (size_t k = 0; k < count && result == fm_ok; ++k)
 	{
 		double v = values[k];
-		if (v != (double)(long long)v || v < (double)lo || v > (double)hi)
+		// The range first: converting a double beyond long long's range is undefined.
+		if (!(v >= (double)lo && v <= (double)hi) || v != (double)(long long)v)
 		{
 			char text[160];
 			snprintf(text, sizeof text, "value %zu is %.17g: expected an integer from %lld to %lld",
 			         k, v, lo, hi);
 			result = fmVtuArrayError(x, a, fm_errRange, what, text);
 		}
-		out[k] = (long long)v;
+		else
+			out[k] = (long long)v;
 	}
 	FM_FREE_ARRAY(values, double, count > 0 ? count : 1);
 	return result;
