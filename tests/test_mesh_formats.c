@@ -996,7 +996,8 @@ TEST(real_tools_cube_volume)
 		    "  skipped tetgen: not installed (scripts/install-deps.sh installs Debian's tetgen)\n");
 	else
 	{
-		// The unit cube as a TetGen .poly (8 points, 6 facets), meshed with a volume bound.
+		// The unit cube as a TetGen .poly (8 points, 6 facets), meshed with a volume bound and
+		// written also as Medit and VTK files.
 		snprintf(path, sizeof path, "%s/cube.poly", dir);
 		FILE* f = fopen(path, "w");
 		CHECK(f != NULL);
@@ -1008,12 +1009,23 @@ TEST(real_tools_cube_volume)
 			      f);
 			fclose(f);
 		}
-		snprintf(command, sizeof command, "tetgen -pqa0.01Q '%s' >/dev/null 2>&1", path);
+		snprintf(command, sizeof command, "tetgen -pqa0.01gkQ '%s' >/dev/null 2>&1", path);
 		CHECK_INT(system(command), 0);
 		snprintf(path, sizeof path, "%s/cube.1.node", dir);
 		CHECK_INT(fmLoadMesh(path, &mesh, &diag), fm_ok);
 		CHECK_NEAR(meshVolume(&mesh), 1.0, 1e-12);
 		CHECK(mesh.tetCount > 100);
+		// TetGen's own Medit (-g) and VTK (-k) files of the same mesh.
+		static const char* const also[2] = {"cube.1.mesh", "cube.1.vtk"};
+		for (int o = 0; o < 2; ++o)
+		{
+			fmTetMesh other;
+			snprintf(path, sizeof path, "%s/%s", dir, also[o]);
+			CHECK_INT(fmLoadMesh(path, &other, &diag), fm_ok);
+			CHECK_INT(other.tetCount, mesh.tetCount);
+			CHECK_NEAR(meshVolume(&other), 1.0, 1e-12);
+			fmFreeTetMesh(&other);
+		}
 		// Through the writers: the same volume from .msh and .vtu.
 		static const char* const outs[2] = {"t.msh", "t.vtu"};
 		for (int o = 0; o < 2; ++o)
