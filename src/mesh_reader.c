@@ -543,10 +543,19 @@ fmResult fmTetList_Add(fmTetList* list, const int nodes[4], int line, double reg
 	for (int a = 0; a < 4; ++a)
 		for (int b = a + 1; b < 4; ++b)
 			if (nodes[a] == nodes[b])
+			{
+				// In binary data the last text token is far behind: locate by position.
+				bool binary = s->token == NULL || s->data + s->pos != s->token + s->tokenLength;
+				if (binary)
+					return fmScan_ErrorHere(s, fm_errIndex,
+					                        "a tet before byte %zu uses one node twice (its "
+					                        "corners %d and %d): expected 4 different nodes",
+					                        s->pos, a + 1, b + 1);
 				return fmScan_Error(s, fm_errIndex,
 				                    "a tet uses one node twice (its corners %d and %d): expected "
 				                    "4 different nodes",
 				                    a + 1, b + 1);
+			}
 	if (list->count == list->capacity)
 	{
 		fmResult result = fmTetListGrow(list, s);

@@ -492,6 +492,8 @@ fmResult fmParseVtkLegacy(const void* data, size_t size, const char* name, fmTet
 	fmScan at = v.s;
 	at.tokenLine = v.typesLine;
 	at.tokenColumn = v.typesColumn;
+	at.token = at.data + at.pos; // errors point at the types, not at a byte
+	at.tokenLength = 0;
 	if (result == fm_ok)
 		result = fmVtkCellsToTets(&v.cells, &list, &at);
 	fmVtkCells_Free(&v.cells);
@@ -1379,6 +1381,8 @@ fmResult fmParseVtu(const void* data, size_t size, const char* name, fmTetMesh* 
 	fmScan at = x.s;
 	at.tokenLine = x.types.line;
 	at.tokenColumn = x.types.column;
+	at.token = at.data + at.pos; // errors point at the types, not at a byte
+	at.tokenLength = 0;
 	if (result == fm_ok)
 		result = fmVtkCellsToTets(&cells, &list, &at);
 	// The arrays were allocated with one spare element each.

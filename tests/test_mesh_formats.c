@@ -495,6 +495,11 @@ TEST(vtk_legacy_binary)
 
 TEST(vtk_legacy_errors)
 {
+	EXPECT_ERROR(
+	    fm_meshFormatVtk,
+	    "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+	    "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 1 3\nCELL_TYPES 1\n10\n",
+	    fm_errIndex, 9, 1, "a tet uses one node twice (its corners 2 and 3)");
 	EXPECT_ERROR(fm_meshFormatVtk, "", fm_errEmpty, 1, 1, "empty file");
 	EXPECT_ERROR(fm_meshFormatVtk, "# vtk DataFile Version 2.0\nt\nASCII\nDATASET POLYDATA\n",
 	             fm_errSyntax, 4, 9, "DATASET POLYDATA is not read: expected UNSTRUCTURED_GRID");
