@@ -385,8 +385,6 @@ TEST(gmsh_quadratic_tets)
 
 TEST(gmsh_errors)
 {
-	static const char head[] = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
-	(void)head;
 	EXPECT_ERROR(fm_meshFormatGmsh, "", fm_errEmpty, 1, 1, "empty file: expected \"$MeshFormat\"");
 	EXPECT_ERROR(fm_meshFormatGmsh, "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n", fm_errSyntax, 2, 1,
 	             "msh version \"3.0\" is not read: expected 2.2 or 4.1");
