@@ -376,10 +376,13 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	if (strncmp(text, "builtin:", 8) == 0)
 		return cliJsonFail(j, path, item,
 		                   "unknown built-in mesh (the one there is: builtin:house2)");
+	// Any mesh file femto reads, by its extension (fmLoadMesh); a .node brings its .ele.
 	size_t length = strlen(text);
-	if (length < 5 || strcmp(text + length - 5, ".node") != 0)
+	bool isNode = length >= 5 && strcmp(text + length - 5, ".node") == 0;
+	if (fmMeshFormatFromPath(text) == fm_meshFormatUnknown)
 		return cliJsonFail(j, path, item,
-		                   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
+		                   "expected a mesh file (.node, .msh, .vtk, .vtu, .mesh), "
+		                   "\"builtin:house2\" or \"box:nx,ny,nz\"");
 	spec->meshSource = cli_meshFile;
 	// Relative paths are relative to the scene file's folder, so scenes can be run from anywhere.
 	int written = text[0] == '/'
@@ -388,12 +391,13 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	if (written < 0 || (size_t)written >= sizeof spec->nodePath)
 		return cliJsonFail(j, path, item, "path too long");
 	memcpy(spec->elePath, spec->nodePath, sizeof spec->elePath);
-	memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
+	if (isNode)
+		memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
 	if (!cliFileReadable(spec->nodePath))
 		return cliJsonFail(j, path, NULL,
 		                   "cannot open %s (\"%s\" is relative to the scene's folder)",
 		                   spec->nodePath, text);
-	if (!cliFileReadable(spec->elePath))
+	if (isNode && !cliFileReadable(spec->elePath))
 		return cliJsonFail(j, path, NULL, "cannot open %s (the .ele beside the .node)",
 		                   spec->elePath);
 	return true;

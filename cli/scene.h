@@ -25,8 +25,8 @@ typedef struct cliPinBox
 typedef struct cliBodySpec
 {
 	cliMeshSource meshSource;
-	char nodePath[CLI_MAX_PATH]; ///< cli_meshFile: resolved .node path
-	char elePath[CLI_MAX_PATH];  ///< cli_meshFile: resolved .ele path
+	char nodePath[CLI_MAX_PATH]; ///< cli_meshFile: resolved mesh path (.node, .msh, .vtu, ...)
+	char elePath[CLI_MAX_PATH];  ///< cli_meshFile: the .ele beside a .node (else nodePath)
 	int boxCells[3];             ///< cli_meshBox: cells along x, y, z
 	fmVec3 boxMin;               ///< cli_meshBox: m
 	fmVec3 boxMax;               ///< cli_meshBox: m

@@ -61,7 +61,7 @@ static bool cliLoadBodyMesh(const cliScene* scene, int index, fmTetMesh* mesh)
 	switch (spec->meshSource)
 	{
 	case cli_meshFile:
-		result = fmLoadTetGen(spec->nodePath, spec->elePath, mesh, &diag);
+		result = fmLoadMesh(spec->nodePath, mesh, &diag); // by extension; .node brings its .ele
 		break;
 	case cli_meshHouse:
 		result = cliLoadHouseMesh(mesh, &diag);

@@ -109,3 +109,39 @@ void fmFuzzObj(const uint8_t* data, size_t size)
 	fmFuzzObjCollider(&surface);
 	fmFreeSurfaceMesh(&surface);
 }
+
+static void fmFuzzMeshFormat(fmMeshFormat format, const uint8_t* data, size_t size)
+{
+	fmTetMesh mesh;
+	fmDiagnostic diag;
+	if (fmLoadMeshFromMemory(data, size, "fuzz", format, &mesh, &diag) != fm_ok)
+		return;
+	fmMeshInfo info;
+	fmTetMesh_GetInfo(&mesh, &info);
+	int* triangles = NULL;
+	int triangleCount = 0;
+	if (fmTetMesh_ExtractSurface(&mesh, &triangles, &triangleCount) == fm_ok)
+		fmFree(triangles);
+	fmFuzzSimulate(&mesh);
+	fmFreeTetMesh(&mesh);
+}
+
+void fmFuzzGmsh(const uint8_t* data, size_t size)
+{
+	fmFuzzMeshFormat(fm_meshFormatGmsh, data, size);
+}
+
+void fmFuzzVtk(const uint8_t* data, size_t size)
+{
+	fmFuzzMeshFormat(fm_meshFormatVtk, data, size);
+}
+
+void fmFuzzVtu(const uint8_t* data, size_t size)
+{
+	fmFuzzMeshFormat(fm_meshFormatVtu, data, size);
+}
+
+void fmFuzzMedit(const uint8_t* data, size_t size)
+{
+	fmFuzzMeshFormat(fm_meshFormatMedit, data, size);
+}

@@ -11,17 +11,14 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "core.h"
+#include "mesh_internal.h"
 #include "text_reader.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 // Most vertices of one face: every field of a record but the keyword.
 #define FM_OBJ_MAX_FACE_VERTICES (FM_READER_MAX_FIELDS - 1)
@@ -389,52 +386,6 @@ fmResult fmLoadObjFromMemory(const char* text, size_t size, const char* name,
 
 // ---- files ------------------------------------------------------------------------------------
 
-// Only a regular file of at most @p limit bytes, read into one buffer of its size (as the TetGen
-// reader does: a FIFO or device is refused without waiting on it, the size is checked before
-// anything is allocated). *size gets the bytes read.
-static fmResult fmObjReadFile(const char* path, size_t limit, char** data, size_t* capacity,
-                              size_t* size, fmDiagnostic* diag)
-{
-	*data = NULL;
-	*capacity = *size = 0;
-	int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-	if (fd < 0)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open: %s", strerror(errno));
-	struct stat info;
-	fmResult result = fm_ok;
-	if (fstat(fd, &info) != 0)
-		result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
-	else if (!S_ISREG(info.st_mode))
-		result = fmDiagError(diag, fm_errIo, path, 0, 0,
-		                     "not a regular file: expected an OBJ file on disk");
-	else if ((unsigned long long)info.st_size > (unsigned long long)limit)
-		result = fmDiagError(diag, fm_errLimit, path, 0, 0,
-		                     "file is %lld bytes, more than the limit of %zu bytes "
-		                     "(fmMeshLoadDef.maxFileBytes)",
-		                     (long long)info.st_size, limit);
-	if (result == fm_ok && info.st_size > 0)
-	{
-		*capacity = (size_t)info.st_size;
-		*data = fmAlloc(*capacity);
-		if (*data == NULL)
-			result = fmDiagError(diag, fm_errOutOfMemory, path, 0, 0,
-			                     "out of memory reading %zu bytes", *capacity);
-	}
-	while (result == fm_ok && *size < *capacity)
-	{
-		ssize_t got = read(fd, *data + *size, *capacity - *size);
-		if (got < 0 && errno == EINTR)
-			continue;
-		if (got < 0)
-			result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
-		if (got <= 0)
-			break; // a file that shrank is read as far as it goes
-		*size += (size_t)got;
-	}
-	close(fd);
-	return result;
-}
-
 fmResult fmLoadObjWithDef(const char* path, const fmMeshLoadDef* def, fmSurfaceMesh* surface,
                           fmDiagnostic* diag)
 {
@@ -448,12 +399,11 @@ fmResult fmLoadObjWithDef(const char* path, const fmMeshLoadDef* def, fmSurfaceM
 		                   "mesh load def not initialised: start from fmDefaultMeshLoadDef()");
 	if (path == NULL)
 		return fmDiagError(diag, fm_errIo, "", 0, 0, "cannot open: no path given");
-	char* data = NULL;
-	size_t capacity = 0, size = 0;
-	fmResult result = fmObjReadFile(path, def->maxFileBytes, &data, &capacity, &size, diag);
+	fmFileText text;
+	fmResult result = fmReadWholeFile(path, def->maxFileBytes, &text, diag);
 	if (result == fm_ok)
-		result = fmLoadObjFromMemory(data, size, path, surface, diag);
-	fmDealloc(data, capacity);
+		result = fmLoadObjFromMemory(text.data, text.size, path, surface, diag);
+	fmFileText_Free(&text);
 	return result;
 }
 

@@ -33,7 +33,7 @@ endfunction()
 
 # --- the command line itself -------------------------------------------------------------------
 femto_cli_test(version ARGS "--version" CODE 0 REGEX "femto [0-9]+\\.[0-9]+\\.[0-9]+")
-femto_cli_test(help ARGS "--help" CODE 0 REGEX "run \\[SCENE.json\\].*info.*static.*bench")
+femto_cli_test(help ARGS "--help" CODE 0 REGEX "run \\[SCENE.json\\].*info.*convert.*static.*bench")
 femto_cli_test(run_help ARGS "run|--help" CODE 0 REGEX "--impulse-at T")
 femto_cli_test(no_command ARGS "" CODE 2 REGEX "usage: femto")
 femto_cli_test(unknown_command ARGS "jump" CODE 2 REGEX "unknown command 'jump'.*femto --help")
@@ -296,6 +296,29 @@ if(FEMTO_TRUNCATE)
   set_tests_properties(cli_info_huge_file PROPERTIES FIXTURES_REQUIRED cli_huge_mesh TIMEOUT 20)
 endif()
 femto_cli_test(info_missing ARGS "info|${FEMTO_CLI_WORK}/house3.node" CODE 1 REGEX "house3.node")
+
+# --- mesh formats (docs/mesh-format.md): info, convert and scenes by extension ------------------
+set(FEMTO_MESH_DATA ${CMAKE_CURRENT_SOURCE_DIR}/data/mesh)
+femto_cli_test(info_gmsh ARGS "info|${FEMTO_MESH_DATA}/cube_gmsh41_bin.msh" CODE 0
+  REGEX "cube_gmsh41_bin.msh, Gmsh.*nodes +339 .*tets +1125.*volume +1 m.*regions +1 \\(first tet attribute: 7: 1125 tets\\).*warning: only tetrahedra are read: skipped 90 triangles")
+femto_cli_test(info_medit ARGS "info|${FEMTO_MESH_DATA}/cube_gmsh.mesh" CODE 0 REGEX "Medit.*tets +1125")
+femto_cli_test(info_not_a_mesh ARGS "info|${FEMTO_MESH_DATA}/cube.geo" CODE 1
+  REGEX "cube.geo: not a mesh file femto reads: expected a name ending in .node")
+femto_cli_test(convert_medit_to_vtu
+  ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh.mesh|${FEMTO_CLI_WORK}/cube_from_medit.vtu" CODE 0
+  REGEX "cube_gmsh.mesh \\(Medit\\) -> .*cube_from_medit.vtu \\(VTK XML\\): 339 nodes, 1125 tets, with regions"
+  CLEAN ${FEMTO_CLI_WORK}/cube_from_medit.vtu FILES "${FEMTO_CLI_WORK}/cube_from_medit.vtu")
+femto_cli_test(convert_vtk_to_node
+  ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh_bin.vtk|${FEMTO_CLI_WORK}/cube_from_vtk.node" CODE 0
+  REGEX "339 nodes, 1125 tets"
+  FILES "${FEMTO_CLI_WORK}/cube_from_vtk.node|${FEMTO_CLI_WORK}/cube_from_vtk.ele")
+femto_cli_test(convert_bad_output ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh.mesh|x.obj" CODE 2
+  REGEX "'x.obj': femto writes .node \\(with .ele\\), .msh or .vtu")
+femto_cli_test(convert_bad_input ARGS "convert|${FEMTO_CLI_DATA}/truncated.node|${FEMTO_CLI_WORK}/t.msh"
+  CODE 1 REGEX "truncated")
+femto_cli_test(convert_one_argument ARGS "convert|a.msh" CODE 2 REGEX "expected IN and OUT")
+femto_cli_test(run_gmsh_scene ARGS "run|${FEMTO_CLI_DATA}/gmsh_cube.json|--frames|5|--quiet" CODE 0
+  REJECT "error")
 
 # --- static --------------------------------------------------------------------------------------
 femto_cli_test(static_beam ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--export-node|${FEMTO_CLI_WORK}/beam.node"
