@@ -623,6 +623,10 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	for (int c = 0; c < count; ++c)
 	{
 		int item = s->candidates[c], other = s->triangleBody[item];
+		fmVec3 lo = s->lower[item], hi = s->upper[item];
+		if (p.x + reach < lo.x || p.x - reach > hi.x || p.y + reach < lo.y || p.y - reach > hi.y ||
+		    p.z + reach < lo.z || p.z - reach > hi.z)
+			continue; // the triangle's grown box is out of the vertex's reach
 		const fmBody* o = &w->bodies[other];
 		if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
 		    (b->asleep && o->asleep))
