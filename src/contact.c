@@ -58,6 +58,18 @@ typedef struct fmPairContact
 	double reach; // m, the most the projections may still separate the pair in this substep
 } fmPairContact;
 
+// An edge of one body's surface within the thickness of an edge of another's (both ways
+// between the bodies' surfaces, the endpoints excluded: those are vertex-triangle contacts).
+typedef struct fmEdgeContact
+{
+	int body, other; // body slots, body < other
+	int a[2], b[2];  // the edges' vertices
+	double s, t;     // the closest points' parameters along a and b
+	fmVec3 normal;   // unit, from b's edge toward a's
+	double reach;    // m, the most the projections may still separate them in this substep
+	double impulse;  // N s
+} fmEdgeContact;
+
 struct fmContactState
 {
 	fmSpatialHash hash;
@@ -71,6 +83,9 @@ struct fmContactState
 	fmPairContact* pairContacts;
 	int pairContactCount;
 	int pairContactCapacity;
+	fmEdgeContact* edgeContacts;
+	int edgeContactCount;
+	int edgeContactCapacity;
 	fmContactPoint* points; // the last substep's contacts
 	int pointCount;
 	int pointCapacity;
@@ -125,6 +140,7 @@ void fmContact_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->triangleIndex, int, t);
 	FM_FREE_ARRAY(s->candidates, int, s->candidateCapacity);
 	FM_FREE_ARRAY(s->pairContacts, fmPairContact, s->pairContactCapacity);
+	FM_FREE_ARRAY(s->edgeContacts, fmEdgeContact, s->edgeContactCapacity);
 	FM_FREE_ARRAY(s->points, fmContactPoint, s->pointCapacity);
 	FM_FREE_ARRAY(s->pairs, uint64_t, s->pairCapacity);
 	FM_FREE_ARRAY(s->lastPairs, uint64_t, s->lastPairCapacity);
@@ -797,6 +813,207 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 	return true;
 }
 
+// ---- edge against edge -------------------------------------------------------------------------
+
+// Parameters s, t in [0, 1] of the closest points of segments p0-p1 and q0-q1 (Ericson 5.1.9).
+static void fmClosestSegments(fmVec3 p0, fmVec3 p1, fmVec3 q0, fmVec3 q1, double* s, double* t)
+{
+	fmVec3 d1 = fmSub(p1, p0), d2 = fmSub(q1, q0), r = fmSub(p0, q0);
+	double a = fmDot(d1, d1), e = fmDot(d2, d2), f = fmDot(d2, r), c = fmDot(d1, r);
+	double b = fmDot(d1, d2), denominator = a * e - b * b;
+	*s = denominator > 1e-12 * a * e ? fmin(fmax((b * f - c * e) / denominator, 0.0), 1.0) : 0.0;
+	*t = e > 0.0 ? (b * *s + f) / e : 0.0;
+	if (*t < 0.0 || *t > 1.0)
+	{
+		*t = fmin(fmax(*t, 0.0), 1.0);
+		*s = a > 0.0 ? fmin(fmax((b * *t - c) / a, 0.0), 1.0) : 0.0;
+	}
+}
+
+static fmVec3 fmEdgePoint(const double* x, const int e[2], double s)
+{
+	return fmMulAdd(fmLoad(x, e[0]), s, fmSub(fmLoad(x, e[1]), fmLoad(x, e[0])));
+}
+
+// Edge e of body b against the edges of triangle @p tri of body o: a contact when their closest
+// points are inside both edges and within the thickness, or when the edges crossed during the
+// substep (the direction between the closest points turned over). Appends to the edge list.
+static bool fmEdgeAgainstTriangle(fmContactState* s, const fmBody* b, int slot, const int e[2],
+                                  const fmBody* o, int other, const int* tri, double thickness)
+{
+	for (int k = 0; k < 3; ++k)
+	{
+		int f[2] = {tri[k], tri[(k + 1) % 3]};
+		if (f[0] > f[1])
+			continue; // each edge of o once (closed surfaces list it both ways)
+		double sa, tb;
+		fmClosestSegments(fmLoad(b->x, e[0]), fmLoad(b->x, e[1]), fmLoad(o->x, f[0]),
+		                  fmLoad(o->x, f[1]), &sa, &tb);
+		if (sa <= 0.0 || sa >= 1.0 || tb <= 0.0 || tb >= 1.0)
+			continue;
+		fmVec3 d = fmSub(fmEdgePoint(b->x, e, sa), fmEdgePoint(o->x, f, tb));
+		fmVec3 d0 = fmSub(fmEdgePoint(b->contactStart, e, sa), fmEdgePoint(o->contactStart, f, tb));
+		double distance = fmLength(d), start = fmLength(d0);
+		double reach = thickness + fmMotionOf(s, b, e[0]) + fmMotionOf(s, b, e[1]) +
+		               fmMotionOf(s, o, f[0]) + fmMotionOf(s, o, f[1]);
+		// A crossing: the direction between the closest points turned over within the substep
+		// while they were within reach of each other.
+		bool crossed = fmDot(d, d0) < 0.0 && start > 0.0 && start < reach;
+		if (!(crossed || (distance < thickness && distance > 0.0)))
+			continue;
+		if (!fmGrow((void**)&s->edgeContacts, &s->edgeContactCapacity, s->edgeContactCount,
+		            s->edgeContactCount + 1, sizeof(fmEdgeContact)))
+			return false;
+		fmEdgeContact* c = &s->edgeContacts[s->edgeContactCount++];
+		c->body = slot, c->other = other;
+		c->a[0] = e[0], c->a[1] = e[1], c->b[0] = f[0], c->b[1] = f[1];
+		c->s = sa, c->t = tb;
+		c->normal = crossed ? fmScale(1.0 / start, d0) : fmScale(1.0 / distance, d);
+		c->reach = reach;
+		c->impulse = 0.0;
+	}
+	return true;
+}
+
+// Every surface edge of body @p slot against the surface edges of the bodies of higher slots
+// near it (so each pair of bodies once).
+static bool fmFindEdgeContacts(fmWorld* w, fmContactState* s, int slot, double thickness)
+{
+	const fmBody* b = &w->bodies[slot];
+	for (int t = 0; t < b->triangleCount; ++t)
+		for (int k = 0; k < 3; ++k)
+		{
+			const int* tri = fmTriangleOf(b, t);
+			int e[2] = {tri[k], tri[(k + 1) % 3]};
+			if (e[0] > e[1])
+				continue;
+			fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
+			double reach = thickness + fmax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
+			fmVec3 lo =
+			    fmMakeVec3(fmin(p.x, q.x) - reach, fmin(p.y, q.y) - reach, fmin(p.z, q.z) - reach);
+			fmVec3 hi =
+			    fmMakeVec3(fmax(p.x, q.x) + reach, fmax(p.y, q.y) + reach, fmax(p.z, q.z) + reach);
+			if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) <
+			      1e30))
+				continue; // non-finite: the frame's checks report it
+			int count =
+			    fmSpatialHash_Query(&s->hash, lo, hi, &s->candidates, &s->candidateCapacity);
+			if (count < 0)
+				return false;
+			for (int c = 0; c < count; ++c)
+			{
+				int item = s->candidates[c], other = s->triangleBody[item];
+				const fmBody* o = &w->bodies[other];
+				fmVec3 ilo = s->lower[item], ihi = s->upper[item];
+				if (other <= slot || !fmFiltersMeet(b->filter, o->filter) ||
+				    (b->asleep && o->asleep) || hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y ||
+				    lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)
+					continue;
+				if (!fmEdgeAgainstTriangle(s, b, slot, e, o, other,
+				                           fmTriangleOf(o, s->triangleIndex[item]), thickness))
+					return false;
+			}
+		}
+	return true;
+}
+
+// The four weights of an edge contact's vertices in its projection and response.
+static void fmEdgeWeights(const fmEdgeContact* c, double weights[4])
+{
+	weights[0] = 1.0 - c->s, weights[1] = c->s, weights[2] = -(1.0 - c->t), weights[3] = -c->t;
+}
+
+static bool fmTouchEdges(fmContactState* s, fmBody* b, fmBody* o, const fmEdgeContact* c)
+{
+	return fmTouch(s, b, c->body, c->a[0]) && fmTouch(s, b, c->body, c->a[1]) &&
+	       fmTouch(s, o, c->other, c->b[0]) && fmTouch(s, o, c->other, c->b[1]);
+}
+
+// One projection of an edge contact: the edges apart along the normal to the thickness, shared
+// by inverse masses (momentum kept).
+static bool fmProjectEdges(fmWorld* w, fmContactState* s, fmEdgeContact* c, double thickness)
+{
+	fmBody* b = &w->bodies[c->body];
+	fmBody* o = &w->bodies[c->other];
+	double weights[4], inverse[4] = {fmInverseMass(b, c->a[0]), fmInverseMass(b, c->a[1]),
+	                                 fmInverseMass(o, c->b[0]), fmInverseMass(o, c->b[1])};
+	fmEdgeWeights(c, weights);
+	double sum = 0.0;
+	for (int k = 0; k < 4; ++k)
+		sum += weights[k] * weights[k] * inverse[k];
+	fmVec3 d = fmSub(fmEdgePoint(b->x, c->a, c->s), fmEdgePoint(o->x, c->b, c->t));
+	double gap = fmin(thickness - fmDot(c->normal, d), c->reach);
+	if (!(gap > 0.0) || !(sum > 0.0))
+		return true;
+	if (!fmTouchEdges(s, b, o, c))
+		return false;
+	c->reach -= gap;
+	double lambda = gap / sum;
+	fmBody* bodies[4] = {b, b, o, o};
+	const int vertices[4] = {c->a[0], c->a[1], c->b[0], c->b[1]};
+	for (int k = 0; k < 4; ++k)
+	{
+		fmVec3 x0 = fmLoad(bodies[k]->x, vertices[k]);
+		fmStore(bodies[k]->x, vertices[k],
+		        fmMulAdd(x0, lambda * weights[k] * inverse[k], c->normal));
+		fmKeepPins(bodies[k], vertices[k], x0);
+		fmKeepAboveFloor(w, bodies[k], vertices[k]);
+	}
+	return true;
+}
+
+// Restitution and friction on the edges' relative velocity at the closest points.
+static bool fmRespondEdges(fmWorld* w, fmContactState* s, fmEdgeContact* c)
+{
+	fmBody* b = &w->bodies[c->body];
+	fmBody* o = &w->bodies[c->other];
+	double weights[4], inverse[4] = {fmInverseMass(b, c->a[0]), fmInverseMass(b, c->a[1]),
+	                                 fmInverseMass(o, c->b[0]), fmInverseMass(o, c->b[1])};
+	fmEdgeWeights(c, weights);
+	fmBody* bodies[4] = {b, b, o, o};
+	const int vertices[4] = {c->a[0], c->a[1], c->b[0], c->b[1]};
+	double sum = 0.0;
+	fmVec3 relative = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int k = 0; k < 4; ++k)
+	{
+		sum += weights[k] * weights[k] * inverse[k];
+		relative = fmMulAdd(relative, weights[k], fmLoad(bodies[k]->v, vertices[k]));
+	}
+	if (!(sum > 0.0))
+		return true;
+	if (!fmTouchEdges(s, b, o, c))
+		return false;
+	fmVec3 before = relative;
+	fmImpact(&relative, c->normal, w->def.contact.restitution, fmPairFriction(w, b, o), 0.0);
+	fmVec3 impulse = fmScale(1.0 / sum, fmSub(relative, before));
+	c->impulse = fmDot(impulse, c->normal);
+	for (int k = 0; k < 4; ++k)
+	{
+		fmVec3 x = fmLoad(bodies[k]->x, vertices[k]);
+		fmVec3 v = fmLoad(bodies[k]->v, vertices[k]);
+		fmStore(bodies[k]->v, vertices[k], fmMulAdd(v, weights[k] * inverse[k], impulse));
+		fmKeepPins(bodies[k], vertices[k], x);
+	}
+	return true;
+}
+
+// An edge contact into the contact list (at the nearer end of the first body's edge) and the
+// frame's pairs.
+static bool fmRecordEdgeContact(fmWorld* w, fmContactState* s, const fmEdgeContact* c)
+{
+	fmContactPoint* point = fmNewPoint(s);
+	if (point == NULL)
+		return false;
+	const fmBody* b = &w->bodies[c->body];
+	point->body = fmWorldBodyId(w, c->body);
+	point->vertex = b->userVertex[c->s < 0.5 ? c->a[0] : c->a[1]];
+	point->otherBody = fmWorldBodyId(w, c->other);
+	point->point = fmEdgePoint(b->x, c->a, c->s);
+	point->normal = c->normal;
+	point->impulse = c->impulse;
+	return fmRecordPair(s, ((uint64_t)(uint32_t)c->body << 32) | (uint32_t)c->other);
+}
+
 static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 {
 	double start = fmSeconds();
@@ -818,10 +1035,27 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 			s->pairContacts[s->pairContactCount++] = found;
 		}
 	}
+	// Edge against edge, explicit substeps only: after an implicit step, whose solve saw only
+	// the vertex-triangle planes, the edges' projections fought the solve's result (three
+	// houses dropped on each other: 12 vertices ended inside another house with them, 1
+	// without; docs/contact.md).
+	s->edgeContactCount = 0;
+	for (int slot = 0; slot < w->bodyCapacity && w->def.integrator != fm_implicit; ++slot)
+		if (w->bodies[slot].x != NULL && !fmFindEdgeContacts(w, s, slot, thickness))
+			return false;
 	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
+	{
 		for (int c = 0; c < s->pairContactCount; ++c)
 			if (!fmProjectPair(w, s, &s->pairContacts[c], thickness))
 				return false;
+		for (int c = 0; c < s->edgeContactCount; ++c)
+			if (!fmProjectEdges(w, s, &s->edgeContacts[c], thickness))
+				return false;
+	}
+	for (int c = 0; c < s->edgeContactCount; ++c)
+		if (!fmRespondEdges(w, s, &s->edgeContacts[c]) ||
+		    !fmRecordEdgeContact(w, s, &s->edgeContacts[c]))
+			return false;
 	for (int c = 0; c < s->pairContactCount; ++c)
 	{
 		fmPairContact* pc = &s->pairContacts[c];
