@@ -80,6 +80,11 @@ struct fmContactState
 	int* triangleIndex; // per global triangle: its index in that body's surface
 	int* candidates;    // a query's result
 	int candidateCapacity;
+	fmVec3* bodyLower; // per body slot: its surface's box, grown (the mid phase)
+	fmVec3* bodyUpper;
+	bool* bodyNear; // per body slot: another body's box (or its own, self-colliding) overlaps
+	int bodyBoxCapacity;
+	int triangleCount; // the triangles in the hash (those of bodies near another)
 	fmPairContact* pairContacts;
 	int pairContactCount;
 	int pairContactCapacity;
@@ -139,6 +144,9 @@ void fmContact_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->triangleBody, int, t);
 	FM_FREE_ARRAY(s->triangleIndex, int, t);
 	FM_FREE_ARRAY(s->candidates, int, s->candidateCapacity);
+	FM_FREE_ARRAY(s->bodyLower, fmVec3, s->bodyBoxCapacity);
+	FM_FREE_ARRAY(s->bodyUpper, fmVec3, s->bodyBoxCapacity);
+	FM_FREE_ARRAY(s->bodyNear, bool, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->pairContacts, fmPairContact, s->pairContactCapacity);
 	FM_FREE_ARRAY(s->edgeContacts, fmEdgeContact, s->edgeContactCapacity);
 	FM_FREE_ARRAY(s->points, fmContactPoint, s->pointCapacity);
@@ -534,6 +542,74 @@ static double fmMotionOf(const fmContactState* s, const fmBody* b, int i)
 
 // Every body's surface triangles with their boxes (grown by the thickness and by how far their
 // vertices moved in the substep) into the broad phase.
+// Whether the box [lo, hi] of something of body @p slot overlaps the box of a body it may touch
+// (another one whose filter meets its own, or itself when it collides with itself): most
+// vertices of a pile of bodies apart from each other skip the spatial hash entirely.
+static bool fmNearOtherBody(const fmWorld* w, const fmContactState* s, int slot, fmVec3 lo,
+                            fmVec3 hi)
+{
+	const fmBody* b = &w->bodies[slot];
+	for (int k = 0; k < w->bodyCapacity; ++k)
+	{
+		const fmBody* o = &w->bodies[k];
+		if (o->x == NULL || (k == slot && !b->selfCollision) ||
+		    !fmFiltersMeet(b->filter, o->filter))
+			continue;
+		fmVec3 ol = s->bodyLower[k], oh = s->bodyUpper[k];
+		if (!(hi.x < ol.x || lo.x > oh.x || hi.y < ol.y || lo.y > oh.y || hi.z < ol.z ||
+		      lo.z > oh.z))
+			return true;
+	}
+	return false;
+}
+
+// Every body's box: its surface vertices' box grown by the thickness and by the most any of
+// them moved in the substep; and whether another body's box (or its own, when it collides with
+// itself) overlaps it.
+static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickness)
+{
+	if (w->bodyCapacity > s->bodyBoxCapacity)
+	{
+		int old = s->bodyBoxCapacity;
+		FM_FREE_ARRAY(s->bodyLower, fmVec3, old);
+		FM_FREE_ARRAY(s->bodyUpper, fmVec3, old);
+		FM_FREE_ARRAY(s->bodyNear, bool, old);
+		s->bodyLower = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
+		s->bodyUpper = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
+		s->bodyNear = FM_ALLOC_ARRAY(bool, w->bodyCapacity);
+		s->bodyBoxCapacity = w->bodyCapacity;
+		if (!s->bodyLower || !s->bodyUpper || !s->bodyNear)
+		{
+			FM_FREE_ARRAY(s->bodyLower, fmVec3, w->bodyCapacity);
+			FM_FREE_ARRAY(s->bodyUpper, fmVec3, w->bodyCapacity);
+			FM_FREE_ARRAY(s->bodyNear, bool, w->bodyCapacity);
+			s->bodyBoxCapacity = 0;
+			return false;
+		}
+	}
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
+		double motion = 0.0;
+		for (int p = 0; b->x && p < b->surfaceVertexCount; ++p)
+		{
+			int i = b->surfaceVertex[p];
+			fmVec3 x = fmLoad(b->x, i);
+			lo = fmMakeVec3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
+			hi = fmMakeVec3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+			motion = fmax(motion, fmMotionOf(s, b, i));
+		}
+		double grow = thickness + motion;
+		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
+		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
+	}
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+		s->bodyNear[slot] = w->bodies[slot].x != NULL &&
+		                    fmNearOtherBody(w, s, slot, s->bodyLower[slot], s->bodyUpper[slot]);
+	return true;
+}
+
 static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 {
 	int total = 0;
@@ -557,12 +633,15 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 			return false;
 		}
 	}
+	if (!fmBuildBodyBoxes(w, s, thickness))
+		return false;
 	double extent = 0.0;
 	int k = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		const fmBody* b = &w->bodies[slot];
-		for (int t = 0; b->x && t < b->triangleCount; ++t, ++k)
+		// Only the triangles of bodies near another one go into the hash.
+		for (int t = 0; b->x && s->bodyNear[slot] && t < b->triangleCount; ++t, ++k)
 		{
 			const int* tri = fmTriangleOf(b, t);
 			fmVec3 lo = fmLoad(b->x, tri[0]), hi = lo;
@@ -591,8 +670,9 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 			s->triangleIndex[k] = t;
 		}
 	}
-	double cell = fmax(total > 0 ? extent / total : 0.0, 2.0 * thickness);
-	return fmSpatialHash_Build(&s->hash, s->lower, s->upper, total, cell > 0.0 ? cell : 1.0);
+	double cell = fmax(k > 0 ? extent / k : 0.0, 2.0 * thickness);
+	s->triangleCount = k;
+	return fmSpatialHash_Build(&s->hash, s->lower, s->upper, k, cell > 0.0 ? cell : 1.0);
 }
 
 // The nearest triangle of another body that vertex i of body @p slot touches, into @p found.
@@ -629,19 +709,21 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	double motion = fmMotionOf(s, b, i), reach = thickness + motion;
 	if (!(fabs(p.x) + fabs(p.y) + fabs(p.z) + reach < 1e30))
 		return false; // non-finite: the frame's checks report it
+	fmVec3 lo = fmSub(p, fmMakeVec3(reach, reach, reach));
+	fmVec3 hi = fmAdd(p, fmMakeVec3(reach, reach, reach));
+	if (!fmNearOtherBody(w, s, slot, lo, hi))
+		return false;
 	double start = fmSeconds();
-	int count = fmSpatialHash_Query(&s->hash, fmSub(p, fmMakeVec3(reach, reach, reach)),
-	                                fmAdd(p, fmMakeVec3(reach, reach, reach)), &s->candidates,
-	                                &s->candidateCapacity);
+	int count = fmSpatialHash_Query(&s->hash, lo, hi, &s->candidates, &s->candidateCapacity);
 	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
 	double best = INFINITY;
 	int bestItem = -1;
 	for (int c = 0; c < count; ++c)
 	{
 		int item = s->candidates[c], other = s->triangleBody[item];
-		fmVec3 lo = s->lower[item], hi = s->upper[item];
-		if (p.x + reach < lo.x || p.x - reach > hi.x || p.y + reach < lo.y || p.y - reach > hi.y ||
-		    p.z + reach < lo.z || p.z - reach > hi.z)
+		fmVec3 tlo = s->lower[item], thi = s->upper[item];
+		if (hi.x < tlo.x || lo.x > thi.x || hi.y < tlo.y || lo.y > thi.y || hi.z < tlo.z ||
+		    lo.z > thi.z)
 			continue; // the triangle's grown box is out of the vertex's reach
 		const fmBody* o = &w->bodies[other];
 		if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
@@ -896,6 +978,8 @@ static bool fmFindEdgeContacts(fmWorld* w, fmContactState* s, int slot, double t
 			if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) <
 			      1e30))
 				continue; // non-finite: the frame's checks report it
+			if (!fmNearOtherBody(w, s, slot, lo, hi))
+				continue;
 			int count =
 			    fmSpatialHash_Query(&s->hash, lo, hi, &s->candidates, &s->candidateCapacity);
 			if (count < 0)
@@ -1024,7 +1108,8 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		const fmBody* b = &w->bodies[slot];
-		for (int p = 0; b->x && p < b->surfaceVertexCount; ++p)
+		bool near = s->bodyNear[slot];
+		for (int p = 0; near && p < b->surfaceVertexCount; ++p)
 		{
 			fmPairContact found;
 			if (!fmFindPairContact(w, s, slot, b->surfaceVertex[p], thickness, &found))
@@ -1041,7 +1126,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	// without; docs/contact.md).
 	s->edgeContactCount = 0;
 	for (int slot = 0; slot < w->bodyCapacity && w->def.integrator != fm_implicit; ++slot)
-		if (w->bodies[slot].x != NULL && !fmFindEdgeContacts(w, s, slot, thickness))
+		if (s->bodyNear[slot] && !fmFindEdgeContacts(w, s, slot, thickness))
 			return false;
 	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
 	{
