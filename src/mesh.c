@@ -128,8 +128,11 @@ void fmTetMesh_Transform(fmTetMesh* mesh, const fmMeshTransform* transform)
 	FM_ASSERT(valid);
 	if (!valid)
 		return;
-	int n = mesh->nodeCount;
-	double* x = mesh->positions;
+	fmTransformPoints(mesh->positions, mesh->nodeCount, transform);
+}
+
+void fmTransformPoints(double* x, int n, const fmMeshTransform* transform)
+{
 	for (size_t k = 0; k < 3 * (size_t)n; ++k)
 		x[k] *= transform->scale;
 	fmVec3 centroid = fmMakeVec3(0.0, 0.0, 0.0);

@@ -14,6 +14,10 @@ void* fmAllocUser(size_t size);
 // size, so the test does not depend on units. A regular tet has 6 V / L^3 = 0.707.
 #define FM_DEGENERATE_RATIO 1e-12
 
+// Apply a placement (scale, centre, swap y and z, translate: fmTetMesh_Transform's) to @p n
+// points of 3 doubles (mesh.c).
+void fmTransformPoints(double* x, int n, const fmMeshTransform* transform);
+
 // ---- shared by the mesh readers (mesh_io.c) -----------------------------------------------------
 
 // A whole file in one allocation of exactly its size.

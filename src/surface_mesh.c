@@ -438,24 +438,7 @@ void fmSurfaceMesh_Transform(fmSurfaceMesh* surface, const fmMeshTransform* tran
 	FM_ASSERT(valid);
 	if (!valid)
 		return;
-	int n = surface->vertexCount;
-	double* x = surface->positions;
-	for (size_t k = 0; k < 3 * (size_t)n; ++k)
-		x[k] *= transform->scale;
-	fmVec3 centroid = fmMakeVec3(0.0, 0.0, 0.0);
-	if (transform->center && n > 0)
-	{
-		for (int i = 0; i < n; ++i)
-			centroid = fmAdd(centroid, fmLoad(x, i));
-		centroid = fmScale(1.0 / n, centroid);
-	}
-	for (int i = 0; i < n; ++i)
-	{
-		fmVec3 p = fmSub(fmLoad(x, i), centroid);
-		if (transform->swapYZ)
-			p = fmMakeVec3(p.x, p.z, p.y);
-		fmStore(x, i, fmAdd(p, transform->translate));
-	}
+	fmTransformPoints(surface->positions, surface->vertexCount, transform);
 	// A mirror turns counter-clockwise into clockwise: swap two corners to keep the fronts.
 	for (int t = 0; transform->swapYZ && t < surface->triangleCount; ++t)
 	{
