@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# Build femto for the browser (docs/web.md): libfemto's sources and web/femto_web.c compiled to
+# WebAssembly with Debian's emscripten (installed here when missing), into web/dist/ (the page's
+# module: femto_wasm.js + femto_wasm.wasm) and build-web/node/ (the same code for Node.js, for
+# the comparison test). Prints the .wasm size and fails when it reaches 512 KiB.
+#
+#   bash scripts/web.sh            # build
+#   bash scripts/web.sh --serve    # build, then serve web/ on http://localhost:8000 (PORT=...)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+serve=false
+for arg in "$@"; do
+  case "$arg" in
+    --serve) serve=true ;;
+    -h | --help) sed -n '2,9p' "$0"; exit 0 ;;
+    *) echo "web.sh: unknown option $arg (use --serve)" >&2; exit 2 ;;
+  esac
+done
+
+# --- emscripten ------------------------------------------------------------------------------
+if ! command -v emcc >/dev/null; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "web.sh: installing emscripten (apt-get)"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends emscripten >/dev/null \
+      || { DEBIAN_FRONTEND=noninteractive apt-get update >/dev/null &&
+           DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends emscripten >/dev/null; }
+  fi
+  if ! command -v emcc >/dev/null; then
+    echo "web.sh: emcc not found and cannot be installed (apt-get install emscripten)" >&2
+    exit 1
+  fi
+fi
+# Debian's emcc 3.1.6 finds its acorn module only there when Node.js is not Debian's own.
+export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}"
+
+out=build-web
+obj=$out/obj
+dist=web/dist
+mkdir -p "$obj" "$dist" "$out/node"
+
+# --- compile ---------------------------------------------------------------------------------
+# As the native build: C11, warnings are errors, no FMA contraction (docs/determinism.md), never
+# -ffast-math. -Os for size; the element kernels -O3 as natively. -msimd128: WebAssembly SIMD
+# for the kernels' 16-lane vectors (every current desktop browser has it).
+warnings=(-Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla)
+cflags=(-std=c11 -Iinclude -ffp-contract=off -msimd128 "${warnings[@]}")
+
+# The embedded house: data/house2.node and .ele as C arrays (the CLI's generator).
+cmake -DOUTPUT="$out/house_data.c" -DNAMES="fw_house_node|fw_house_ele" \
+  -DFILES="$PWD/data/house2.node|$PWD/data/house2.ele" -P cli/embed_file.cmake
+
+# Each object is rebuilt when its source or any header is newer (a tiny make).
+newest_header=$(ls -t include/femto/*.h src/*.h | head -n 1)
+jobs=()
+compile() { # source object flags...
+  local source=$1 object=$2
+  shift 2
+  if [ ! -f "$object" ] || [ "$source" -nt "$object" ] || [ "$newest_header" -nt "$object" ] ||
+     [ "$0" -nt "$object" ]; then
+    echo "emcc $source"
+    emcc -c "${cflags[@]}" "$@" "$source" -o "$object" &
+    jobs+=($!)
+    if [ "${#jobs[@]}" -ge "$(nproc 2>/dev/null || echo 2)" ]; then
+      wait "${jobs[0]}"
+      jobs=("${jobs[@]:1}")
+    fi
+  fi
+}
+objects=()
+for source in src/*.c; do
+  name=$(basename "$source" .c)
+  [ "$name" = tet_kernel ] && continue
+  compile "$source" "$obj/$name.o" -Os
+  objects+=("$obj/$name.o")
+done
+# The kernels twice, as natively (CMakeLists.txt): the vector variant and the plain-C one that
+# fmWorldDef.simd = fm_simdScalar asks for.
+compile src/tet_kernel.c "$obj/tet_kernel_baseline.o" -O3 -Wno-psabi -DFM_KERNEL_VARIANT=baseline
+compile src/tet_kernel.c "$obj/tet_kernel_scalar.o" -O3 -DFM_KERNEL_VARIANT=scalar -DFM_SIMD_SCALAR
+compile web/femto_web.c "$obj/femto_web.o" -Os
+compile "$out/house_data.c" "$obj/house_data.o" -Os
+for job in "${jobs[@]}"; do wait "$job"; done
+objects+=("$obj/tet_kernel_baseline.o" "$obj/tet_kernel_scalar.o" "$obj/femto_web.o" "$obj/house_data.o")
+
+# --- link ------------------------------------------------------------------------------------
+# Only what the page calls is exported; no file system, no exceptions, memory that grows.
+exports=$(grep -o 'FW_EXPORT [^(]*(' web/femto_web.c | grep -o 'fw_[a-z_]*' | sed 's/^/_/' |
+  paste -sd, -)
+link=(-Os --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1
+      -sDISABLE_EXCEPTION_CATCHING=1 -sEXPORTED_FUNCTIONS="$exports"
+      -sEXPORTED_RUNTIME_METHODS=UTF8ToString,HEAPU8,HEAP32,HEAPF32,HEAPF64)
+emcc "${objects[@]}" "${link[@]}" -sEXPORT_ES6=1 -sENVIRONMENT=web -sEXPORT_NAME=createFemto \
+  -o "$dist/femto_wasm.js"
+# The same objects for Node.js (a CommonJS module): the comparison test (web/test/).
+emcc "${objects[@]}" "${link[@]}" -sENVIRONMENT=node -sEXPORT_NAME=createFemto \
+  -o "$out/node/femto_wasm.js"
+
+size=$(stat -c %s "$dist/femto_wasm.wasm")
+echo "web.sh: $dist/femto_wasm.wasm is $size bytes ($((size / 1024)) KiB, limit 512 KiB)"
+if [ "$size" -ge $((512 * 1024)) ]; then
+  echo "web.sh: the .wasm is over 512 KiB" >&2
+  exit 1
+fi
+
+if $serve; then
+  port=${PORT:-8000}
+  echo "web.sh: serving web/ on http://localhost:$port/ (Ctrl-C stops)"
+  exec python3 -m http.server "$port" --directory web
+fi
