@@ -37,6 +37,10 @@ extern const size_t fw_house_ele_size;
 #define FW_USER_MESH_SIZE 4.0
 #define FW_USER_MESH_DROP 1.0
 
+// The farthest a drag's target moves in a frame (m): a mouse that jumps across the house in one
+// frame would otherwise yank a vertex through its neighbours (6 m/s at 60 frames a second).
+#define FW_DRAG_MAX_MOVE 0.1
+
 typedef enum fwMeshKind
 {
 	fw_meshHouse,
@@ -88,86 +92,51 @@ typedef struct fwSceneSpec
 		.smoothing = 0.1                                                                           \
 	}
 
+// scenes/house.json and scenes/house_<model>.json: 10 substeps of 3 ms a frame, stick floor.
+#define FW_HOUSE_SCENE(title, material)                                                            \
+	{                                                                                              \
+		.name = title, .dt = 0.003, .substeps = 10, .integrator = fm_explicit,                     \
+		.floorHeight = -3.0, .floorFriction = -1.0, .bodyCount = 1, .bodies = {                    \
+			FW_HOUSE(material, 0, 0, 0)                                                            \
+		}                                                                                          \
+	}
+
 static const fwSceneSpec fw_scenes[] = {
-    // scenes/house.json and scenes/house_<model>.json: 10 substeps of 3 ms a frame, stick floor.
-    {"house (StVK, the seeds)",
-     0.003,
-     10,
-     fm_explicit,
-     -3.0,
-     -1.0,
-     0.0,
-     1,
-     {FW_HOUSE(fm_stvk, 0, 0, 0)}},
-    {"house, linear", 0.003, 10, fm_explicit, -3.0, -1.0, 0.0, 1, {FW_HOUSE(fm_linear, 0, 0, 0)}},
-    {"house, corotated",
-     0.003,
-     10,
-     fm_explicit,
-     -3.0,
-     -1.0,
-     0.0,
-     1,
-     {FW_HOUSE(fm_corotated, 0, 0, 0)}},
-    {"house, Neo-Hookean",
-     0.003,
-     10,
-     fm_explicit,
-     -3.0,
-     -1.0,
-     0.0,
-     1,
-     {FW_HOUSE(fm_neoHookean, 0, 0, 0)}},
-    {"house, Mooney-Rivlin",
-     0.003,
-     10,
-     fm_explicit,
-     -3.0,
-     -1.0,
-     0.0,
-     1,
-     {FW_HOUSE(fm_mooneyRivlin, 0, 0, 0)}},
-    // Two houses, one dropped on the other: body-body contact (docs/contact.md).
-    {"two houses",
-     0.003,
-     10,
-     fm_explicit,
-     -3.0,
-     -1.0,
-     0.0,
-     2,
-     {FW_HOUSE(fm_stvk, 0, 0, 0), FW_HOUSE(fm_stvk, 0.8, 4.5, 0.3)}},
-    // scenes/pile.json: three soft boxes dropped on each other.
-    {"pile of boxes",
-     0.001,
-     16,
-     fm_explicit,
-     0.0,
-     0.5,
-     0.0,
-     3,
-     {FW_PILE_BOX(-0.3, 0.1, -0.3, 0.3, 0.7, 0.3), FW_PILE_BOX(-0.25, 0.9, -0.25, 0.35, 1.5, 0.35),
-      FW_PILE_BOX(-0.35, 1.7, -0.3, 0.25, 2.3, 0.3)}},
+    FW_HOUSE_SCENE("house (StVK, the seeds)", fm_stvk),
+    FW_HOUSE_SCENE("house, linear", fm_linear),
+    FW_HOUSE_SCENE("house, corotated", fm_corotated),
+    FW_HOUSE_SCENE("house, Neo-Hookean", fm_neoHookean),
+    FW_HOUSE_SCENE("house, Mooney-Rivlin", fm_mooneyRivlin),
+    // scenes/pile.json: three soft boxes dropped on each other (body-body contact,
+    // docs/contact.md).
+    {.name = "pile of boxes",
+     .dt = 0.001,
+     .substeps = 16,
+     .integrator = fm_explicit,
+     .floorFriction = 0.5,
+     .bodyCount = 3,
+     .bodies = {FW_PILE_BOX(-0.3, 0.1, -0.3, 0.3, 0.7, 0.3),
+                FW_PILE_BOX(-0.25, 0.9, -0.25, 0.35, 1.5, 0.35),
+                FW_PILE_BOX(-0.35, 1.7, -0.3, 0.25, 2.3, 0.3)}},
     // scenes/drop.json: a corotated cube thrown sideways onto a bouncy Coulomb floor.
-    {"thrown cube",
-     0.001,
-     16,
-     fm_explicit,
-     0.0,
-     0.4,
-     0.3,
-     1,
-     {{.mesh = fw_meshBox,
-       .cells = {6, 6, 6},
-       .boxMin = {-0.5, 1, -0.5},
-       .boxMax = {0.5, 2, 0.5},
-       .model = fm_corotated,
-       .youngs = 2e5,
-       .poisson = 0.3,
-       .mass = 500.0,
-       .damping = 0.9999,
-       .smoothing = 0.02,
-       .velocity = {2, 0, 0}}}},
+    {.name = "thrown cube",
+     .dt = 0.001,
+     .substeps = 16,
+     .integrator = fm_explicit,
+     .floorFriction = 0.4,
+     .restitution = 0.3,
+     .bodyCount = 1,
+     .bodies = {{.mesh = fw_meshBox,
+                 .cells = {6, 6, 6},
+                 .boxMin = {-0.5, 1, -0.5},
+                 .boxMax = {0.5, 2, 0.5},
+                 .model = fm_corotated,
+                 .youngs = 2e5,
+                 .poisson = 0.3,
+                 .mass = 500.0,
+                 .damping = 0.9999,
+                 .smoothing = 0.02,
+                 .velocity = {2, 0, 0}}}},
 };
 #define FW_SCENE_COUNT ((int)(sizeof fw_scenes / sizeof fw_scenes[0]))
 
@@ -192,7 +161,8 @@ typedef struct fwApp
 	int pendingJumps;
 	bool dragging;
 	int dragBody, dragVertex;
-	fmVec3 dragTarget;
+	fmVec3 dragTarget; // where the spring pulls now
+	fmVec3 dragGoal;   // where the page asked, reached at FW_DRAG_MAX_MOVE a frame
 	double dragStiffness;
 	fmRayHit hit;
 	int hitBody;
@@ -518,8 +488,15 @@ FW_EXPORT int fw_step(void)
 	if (!fmWorld_IsValid(s_app.world))
 		return fm_errInvalidId;
 	if (s_app.dragging)
+	{
+		fmVec3 move = fmSub(s_app.dragGoal, s_app.dragTarget);
+		double distance = fmLength(move);
+		if (distance > FW_DRAG_MAX_MOVE)
+			move = fmScale(FW_DRAG_MAX_MOVE / distance, move);
+		s_app.dragTarget = fmAdd(s_app.dragTarget, move);
 		fmBody_SetTargets(s_app.bodies[s_app.dragBody], &s_app.dragVertex, &s_app.dragTarget, 1,
 		                  s_app.dragStiffness);
+	}
 	fmResult r = fwStepFrame();
 	s_app.stepMs = fmWorld_GetProfile(s_app.world).step;
 	if (r != fm_ok)
@@ -531,6 +508,18 @@ FW_EXPORT int fw_step(void)
 FW_EXPORT double fw_step_ms(void)
 {
 	return s_app.stepMs;
+}
+
+/// A stage of the last step's profile (ms, fmProfile): 0 step, 1 forces, 2 integrate, 3 solve,
+/// 4 finish, 5 check, 6 contact, 7 broad phase, 8 narrow phase.
+FW_EXPORT double fw_profile(int which)
+{
+	if (!fmWorld_IsValid(s_app.world))
+		return 0.0;
+	fmProfile p = fmWorld_GetProfile(s_app.world);
+	const double stages[] = {p.step,  p.forces,  p.integrate,  p.solve,      p.finish,
+	                         p.check, p.contact, p.broadPhase, p.narrowPhase};
+	return which >= 0 && which < 9 ? stages[which] : 0.0;
 }
 
 /// Queue the seeds' jump for the next frame.
@@ -704,6 +693,7 @@ FW_EXPORT int fw_drag_start(int b, int vertex, double x, double y, double z)
 	s_app.dragBody = b;
 	s_app.dragVertex = vertex;
 	s_app.dragTarget = fmMakeVec3(x, y, z);
+	s_app.dragGoal = s_app.dragTarget;
 	s_app.dragStiffness = fwDragStiffness(b, vertex);
 	fmResult r =
 	    fmBody_SetTargets(s_app.bodies[b], &vertex, &s_app.dragTarget, 1, s_app.dragStiffness);
@@ -715,10 +705,10 @@ FW_EXPORT int fw_drag_start(int b, int vertex, double x, double y, double z)
 	return r;
 }
 
-/// Move the drag's target (m).
+/// Move the drag's target (m); the spring's end follows at up to FW_DRAG_MAX_MOVE a frame.
 FW_EXPORT void fw_drag_move(double x, double y, double z)
 {
-	s_app.dragTarget = fmMakeVec3(x, y, z);
+	s_app.dragGoal = fmMakeVec3(x, y, z);
 }
 
 /// Let go.
