@@ -419,6 +419,12 @@ FW_EXPORT int fw_vertex_count(int b)
 	return fwBodyOk(b) ? fmBody_GetVertexCount(s_app.bodies[b]) : 0;
 }
 
+/// Tets of body @p b.
+FW_EXPORT int fw_tet_count(int b)
+{
+	return fwBodyOk(b) ? fmBody_GetTetCount(s_app.bodies[b]) : 0;
+}
+
 /// Surface triangles of body @p b (3 vertex indices each, counter-clockwise from outside).
 FW_EXPORT const int* fw_surface(int b)
 {
