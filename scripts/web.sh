@@ -92,8 +92,9 @@ link=(-Os --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1
       -sEXPORTED_RUNTIME_METHODS=UTF8ToString,HEAPU8,HEAP32,HEAPF32,HEAPF64)
 emcc "${objects[@]}" "${link[@]}" -sEXPORT_ES6=1 -sENVIRONMENT=web -sEXPORT_NAME=createFemto \
   -o "$dist/femto_wasm.js"
-# The same objects for Node.js (a CommonJS module): the comparison test (web/test/).
-emcc "${objects[@]}" "${link[@]}" -sENVIRONMENT=node -sEXPORT_NAME=createFemto \
+# The same objects for Node.js (a CommonJS module) for the comparison test (web/test/). One file,
+# the .wasm inside: emscripten 3.1.6's glue would fetch() a .wasm path under Node 18 and later.
+emcc "${objects[@]}" "${link[@]}" -sENVIRONMENT=node -sEXPORT_NAME=createFemto -sSINGLE_FILE=1 \
   -o "$out/node/femto_wasm.js"
 
 size=$(stat -c %s "$dist/femto_wasm.wasm")

@@ -15,7 +15,7 @@ const params = new URLSearchParams(location.search);
 
 // What a test or an embedding page can read (scripts/check-web.sh reads it).
 const state = {
-  ready: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
+  ready: false, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
   scene: 0, bodyCount: 0,
 };
 window.femto = state;
@@ -170,6 +170,7 @@ function startGesture(event) {
     const hit = [M._fw_hit(1), M._fw_hit(2), M._fw_hit(3)];
     if (M._fw_drag_start(body, M._fw_hit(0), ...hit) === 0) {
       gesture = { kind: 'drag', anchor: hit };
+      state.dragging = true;
       return;
     }
   }
@@ -178,6 +179,7 @@ function startGesture(event) {
 
 function endDrag() {
   if (gesture && gesture.kind === 'drag') M._fw_drag_end();
+  state.dragging = false;
   gesture = null;
 }
 
@@ -404,6 +406,7 @@ async function main() {
   const first = Number(params.get('scene') || 0);
   select.value = String(first);
   loadScene(first);
+  if (params.has('paused')) togglePause();
   state.ready = true;
   requestAnimationFrame(frame);
 }

@@ -44,7 +44,7 @@ void main() {
   float diffuse = max(dot(n, l), 0.0);
   float specular = pow(max(dot(n, normalize(l + v)), 0.0), 48.0) * 0.35;
   float sky = 0.5 + 0.5 * n.y; // hemisphere ambient: sky above, ground below
-  vec3 ambient = mix(vec3(0.22, 0.2, 0.18), vec3(0.42, 0.46, 0.52), sky);
+  vec3 ambient = mix(vec3(0.26, 0.24, 0.22), vec3(0.46, 0.5, 0.56), sky);
   vec3 c = uColor * (ambient + 0.75 * diffuse) + vec3(specular);
   color = vec4(min(c, vec3(1.0)), 1.0);
 }`;
@@ -152,8 +152,8 @@ export class Renderer {
     gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
     gl.bindVertexArray(null);
     this.meshes = [];
-    // Light from the upper front left, travelling down (as the viewer's).
-    const l = [0.35, -1.0, 0.45];
+    // Light from above, behind the camera's starting side, travelling down.
+    const l = [-0.45, -1.0, -0.3];
     const n = Math.hypot(...l);
     this.light = l.map((x) => x / n);
   }

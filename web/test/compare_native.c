@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 int fw_load_scene(int index, int deterministic);
 void fw_set_integrator(int integrator);
@@ -59,8 +60,13 @@ int main(int argc, char** argv)
 		return 1;
 	}
 	fw_set_integrator(atoi(argv[4]));
+	struct timespec t0, t1;
+	timespec_get(&t0, TIME_UTC);
 	if (run(atoi(argv[2])) != 0)
 		return 1;
+	timespec_get(&t1, TIME_UTC);
+	double ms = 1e3 * (double)(t1.tv_sec - t0.tv_sec) + 1e-6 * (double)(t1.tv_nsec - t0.tv_nsec);
+	fprintf(stderr, "compare_native: %.3f ms a frame\n", ms / atoi(argv[2]));
 	for (int b = 0; b < fw_body_count(); ++b)
 	{
 		const double* x = fw_positions_double(b);

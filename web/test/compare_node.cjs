@@ -2,7 +2,7 @@
 // scene script of compare_native.c on build-web/node/femto_wasm.js and compares the final
 // positions with the native program's output, bit for bit, or within a tolerance (m).
 //
-//   node --no-experimental-fetch web/test/compare_node.cjs SCENE FRAMES DETERMINISTIC INTEGRATOR
+//   node web/test/compare_node.cjs SCENE FRAMES DETERMINISTIC INTEGRATOR
 //        NATIVE_OUTPUT TOLERANCE
 // TOLERANCE 0 asks for identical bits. Exit status 0 when they agree, 1 when not.
 'use strict';
