@@ -5,7 +5,8 @@
 #      and by the native build (web/test/compare_native.c on libfemto built by CMake, FMA
 #      contraction off) must end at bit-identical positions with crossPlatformDeterminism on, and
 #      within 1e-9 m with it off (C libraries' log and pow differ in their last bits); a run of
-#      299 against 300 frames must be told apart (the comparison can fail);
+#      299 against 300 frames must be told apart (the comparison can fail); a dropped TetGen
+#      pair loads, a corrupted one is refused with its line (web/test/load_mesh.cjs);
 #   2. headless Chromium (Debian's chromium, installed when missing): web/test/browser_check.mjs
 #      opens the page from a local server: no console error, the canvas not blank, the house's
 #      pixels move, a scripted drag lifts the house; it prints the page's step cost.
@@ -65,6 +66,8 @@ if compare 0 300 1 0 0 299 >build-web/native/control.txt; then
   exit 1
 fi
 echo "check-web: (control) 299 native frames against 300 told apart"
+# A dropped TetGen pair: loaded, or refused with its line (the page's path, fw_load_tetgen).
+node web/test/load_mesh.cjs
 
 # --- 2. headless Chromium ------------------------------------------------------------------
 if ! install chromium chromium; then
