@@ -4,12 +4,14 @@
 #   1. Node.js comparison: scenes of web/femto_web.c run by the WebAssembly build under Node.js
 #      and by the native build (web/test/compare_native.c on libfemto built by CMake, FMA
 #      contraction off) must end at bit-identical positions with crossPlatformDeterminism on, and
-#      within 1e-9 m with it off (C libraries' log and pow differ in their last bits); a run of
-#      299 against 300 frames must be told apart (the comparison can fail); a dropped TetGen
-#      pair loads, a corrupted one is refused with its line (web/test/load_mesh.cjs);
+#      within 1e-9 m with it off (C libraries' log and pow differ in their last bits); the build
+#      without SIMD gives the same bits; a run of 299 native frames against 300 must be told
+#      apart (the comparison can fail); a dropped TetGen pair loads, a corrupted one is refused
+#      with its line (web/test/load_mesh.cjs);
 #   2. headless Chromium (Debian's chromium, installed when missing): web/test/browser_check.mjs
 #      opens the page from a local server: no console error, the canvas not blank, the house's
-#      pixels move, a scripted drag lifts the house; it prints the page's step cost.
+#      pixels move, a scripted drag lifts the house, the build without SIMD runs; it prints the
+#      page's step cost.
 # A part whose tools cannot be had (no emcc, no Node.js 20.10+, no chromium) is skipped with the
 # reason, exit status 0; a part that runs and fails fails the check.
 set -euo pipefail
@@ -48,9 +50,9 @@ cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude web/test/compa
   web/femto_web.c build-web/house_data.c build-web/native/libfemto.a -lm -lpthread \
   -o build-web/native/compare_native
 
-compare() { # scene frames deterministic integrator tolerance [native frames]
+compare() { # scene frames deterministic integrator tolerance [native frames [wasm build]]
   build-web/native/compare_native "$1" "${6:-$2}" "$3" "$4" >build-web/native/positions.txt
-  node web/test/compare_node.cjs "$1" "$2" "$3" "$4" build-web/native/positions.txt "$5"
+  node web/test/compare_node.cjs "$1" "$2" "$3" "$4" build-web/native/positions.txt "$5" "${7:-}"
 }
 # Scenes (fw_scene_name): 0 the seeds' StVK house, 3 Neo-Hookean (ln J), 4 Mooney-Rivlin, 5 the
 # pile of boxes (body-body contact). Each run jumps and drags (compare_native.c).
@@ -60,6 +62,7 @@ compare 4 300 1 0 0
 compare 5 200 1 0 0
 compare 3 30 1 1 0          # implicit: Newton, PCG, line search
 compare 4 300 0 0 1e-9      # the C libraries' own log and pow
+compare 0 300 1 0 0 300 femto_wasm_nosimd   # the build for browsers without SIMD
 if compare 0 300 1 0 0 299 >build-web/native/control.txt; then
   cat build-web/native/control.txt
   echo "check-web: the comparison did not tell 299 frames from 300" >&2

@@ -2,7 +2,6 @@
 // from the same C as the native library) stepped at 60 ticks a second, drawn with WebGL2
 // (renderer.js), played with the mouse, a finger and the keyboard. Everything the simulation
 // does goes through web/femto_web.c's fw_* functions.
-import createFemto from './dist/femto_wasm.js';
 import { OrbitCamera, vec3 } from './camera.js';
 import { Renderer } from './renderer.js';
 
@@ -13,9 +12,14 @@ const MODELS = ['linear', 'corotated', 'StVK', 'Neo-Hookean', 'Mooney-Rivlin'];
 const $ = (id) => document.getElementById(id);
 const params = new URLSearchParams(location.search);
 
+// Whether the browser runs WebAssembly SIMD: a module of one function returning v128.const 0.
+const SIMD_PROBE = new Uint8Array([0, 0x61, 0x73, 0x6d, 1, 0, 0, 0, 1, 5, 1, 0x60, 0, 1, 0x7b,
+  3, 2, 1, 0, 10, 22, 1, 20, 0, 0xfd, 0x0c, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x0b]);
+const simd = WebAssembly.validate(SIMD_PROBE) && !params.has('nosimd');
+
 // What a test or an embedding page can read (scripts/check-web.sh reads it).
 const state = {
-  ready: false, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
+  ready: false, simd, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
   scene: 0, bodyCount: 0,
 };
 window.femto = state;
@@ -363,7 +367,7 @@ function frame(now) {
       state.libraryMs = librarySum / stepCount;
     }
     $('hud').textContent = `${state.fps.toFixed(0)} fps · step ${state.stepMs.toFixed(2)} ms ` +
-      `(library ${state.libraryMs.toFixed(2)} ms)`;
+      `(library ${state.libraryMs.toFixed(2)} ms)${simd ? '' : ' · no SIMD'}`;
     fpsFrames = 0;
     fpsStart = now;
     stepSum = librarySum = stepCount = 0;
@@ -379,6 +383,8 @@ async function main() {
     message(`${error.message}: the page needs WebGL2`, true);
     return;
   }
+  const { default: createFemto } = await import(simd ? './dist/femto_wasm.js' :
+    './dist/femto_wasm_nosimd.js');
   M = await createFemto();
   const select = $('scene');
   for (let i = 0; i < M._fw_scene_count(); ++i)

@@ -4,7 +4,8 @@
 //   2. the canvas is not blank: enough pixels of the house's colour;
 //   3. the house's pixels move between two screenshots half a second apart;
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
-//   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's).
+//   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
+//   6. the build without WebAssembly SIMD (?nosimd=1) loads and steps.
 //
 //   node --experimental-websocket web/test/browser_check.mjs URL [SCREENSHOT.png]
 // (Node 22 and later have WebSocket without the flag.) CHROMIUM names the browser (default
@@ -243,6 +244,15 @@ async function main() {
     check(errors.length === 0, `no console error or exception${errors.length ? ': ' +
       errors.join(' | ') : ''}`);
     if (screenshotOut) writeFileSync(screenshotOut, a);
+
+    // The build without WebAssembly SIMD, which browsers without it get, runs too.
+    const plain = url + (url.includes('?') ? '&' : '?') + 'nosimd=1';
+    await page('Page.navigate', { url: plain });
+    await sleep(300);
+    const plainRuns = await waitFor('window.femto && window.femto.ready && ' +
+      '!window.femto.simd && window.femto.frames >= 20', 20);
+    check(plainRuns && errors.length === 0, 'the build without SIMD (?nosimd=1) loads and steps ' +
+      `with no console error${errors.length ? ': ' + errors.join(' | ') : ''}`);
   } finally {
     cdp.socket.close();
     const exited = new Promise((resolve) => browser.on('exit', resolve));

@@ -3,16 +3,17 @@
 // positions with the native program's output, bit for bit, or within a tolerance (m).
 //
 //   node web/test/compare_node.cjs SCENE FRAMES DETERMINISTIC INTEGRATOR
-//        NATIVE_OUTPUT TOLERANCE
+//        NATIVE_OUTPUT TOLERANCE [femto_wasm | femto_wasm_nosimd]
 // TOLERANCE 0 asks for identical bits. Exit status 0 when they agree, 1 when not.
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const createFemto = require(path.join(__dirname, '../../build-web/node/femto_wasm.js'));
 
 const [scene, frames, deterministic, integrator] = process.argv.slice(2, 6).map(Number);
 const nativeFile = process.argv[6];
 const tolerance = Number(process.argv[7]);
+const build = process.argv[8] || 'femto_wasm'; // or femto_wasm_nosimd: the build without SIMD
+const createFemto = require(path.join(__dirname, '../../build-web/node', build + '.js'));
 
 function run(M) {
   if (M._fw_load_scene(scene, deterministic) !== 0)
@@ -51,7 +52,7 @@ function toDouble(hex) {
 createFemto().then((M) => {
   const { lines, ms } = run(M);
   const native = fs.readFileSync(nativeFile, 'utf8').trim().split('\n');
-  const label = `scene ${scene}, ${frames} frames, deterministic ${deterministic}, ` +
+  const label = `${build}: scene ${scene}, ${frames} frames, deterministic ${deterministic}, ` +
     `integrator ${integrator}`;
   if (native.length !== lines.length) {
     console.log(`compare: ${label}: ${native.length} native lines, ${lines.length} wasm lines`);
