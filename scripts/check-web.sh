@@ -46,7 +46,8 @@ bash scripts/web.sh
 cmake -S . -B build-web/native -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_CLI=OFF \
   -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF -DFEMTO_SANITIZE=OFF >/dev/null
 cmake --build build-web/native --target femto_static -j"$(nproc 2>/dev/null || echo 2)" >/dev/null
-cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude web/test/compare_native.c \
+cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla \
+  -Iinclude web/test/compare_native.c \
   web/femto_web.c build-web/house_data.c build-web/native/libfemto.a -lm -lpthread \
   -o build-web/native/compare_native
 

@@ -61,16 +61,15 @@ typedef enum fwMeshKind
 typedef struct fwBodySpec
 {
 	fwMeshKind mesh;
-	int cells[3];           // box: cells per axis
-	fmVec3 boxMin, boxMax;  // box: its corners (m)
-	fmVec3 translate;       // house: added after scale 0.4, centre, swap y-z
-	fmMaterialModel model;  //
-	double lambda, mu;      // Pa, when youngs is 0
-	double youngs, poisson; // Pa, 1
-	bool perParticle;       // particle mass (kg) or density (kg/m^3)
-	double mass;            //
-	double damping, smoothing;
-	fmVec3 velocity; // m/s, initial
+	int cells[3];              // box: cells per axis
+	fmVec3 boxMin, boxMax;     // box: its corners (m)
+	fmMaterialModel model;     // the material, from the Lame constants (Pa) when youngs is 0,
+	double lambda, mu;         // else from Young's modulus (Pa) and the Poisson ratio
+	double youngs, poisson;    //
+	bool perParticle;          // mass: kg a vertex when true, else a density (kg/m^3)
+	double mass;               //
+	double damping, smoothing; // fmBodyDef's
+	fmVec3 velocity;           // m/s, at the start
 } fwBodySpec;
 
 typedef struct fwSceneSpec
@@ -86,12 +85,11 @@ typedef struct fwSceneSpec
 	fwBodySpec bodies[3];
 } fwSceneSpec;
 
-// The seeds' house body (scenes/house.json) with @p model at the seeds' Lame constants, moved
-// by (x, y, z) after the placement.
-#define FW_HOUSE(material, x, y, z)                                                                \
+// The seeds' house body (scenes/house.json) with @p material at the seeds' Lame constants.
+#define FW_HOUSE(material)                                                                         \
 	{                                                                                              \
-		.mesh = fw_meshHouse, .translate = {x, y, z}, .model = material, .lambda = 20000.0,        \
-		.mu = 5000.0, .perParticle = true, .mass = 1.0, .damping = 0.999, .smoothing = 0.1         \
+		.mesh = fw_meshHouse, .model = material, .lambda = 20000.0, .mu = 5000.0,                  \
+		.perParticle = true, .mass = 1.0, .damping = 0.999, .smoothing = 0.1                       \
 	}
 // A Neo-Hookean box of scenes/pile.json.
 #define FW_PILE_BOX(x0, y0, z0, x1, y1, z1)                                                        \
@@ -106,7 +104,7 @@ typedef struct fwSceneSpec
 	{                                                                                              \
 		.name = title, .dt = 0.003, .substeps = 10, .integrator = fm_explicit,                     \
 		.floorHeight = -3.0, .floorFriction = -1.0, .bodyCount = 1, .bodies = {                    \
-			FW_HOUSE(material, 0, 0, 0)                                                            \
+			FW_HOUSE(material)                                                                     \
 		}                                                                                          \
 	}
 
@@ -162,6 +160,7 @@ typedef struct fwApp
 	double* doublePositions[FW_MAX_BODIES];
 	fmTetMesh userMesh; // the last dropped mesh (kept for reloading its scene)
 	// sliders
+	fmMaterial material; // every body's: the scene's (Lame constants as given), then the sliders'
 	fmMaterialModel model;
 	double youngs, poisson, damping;
 	int substeps;
@@ -219,14 +218,8 @@ static fmResult fwMakeMesh(const fwBodySpec* spec, fmTetMesh* mesh, fmDiagnostic
 	placement.scale = 0.4;
 	placement.center = true;
 	placement.swapYZ = true;
-	placement.translate = spec->translate;
 	fmTetMesh_Transform(mesh, &placement);
 	return fm_ok;
-}
-
-static fmMaterial fwMaterial(const fwApp* app)
-{
-	return fmMakeMaterial(app->model, app->youngs, app->poisson);
 }
 
 static fmBodyDef fwBodyDef(const fwApp* app, int b)
@@ -234,7 +227,7 @@ static fmBodyDef fwBodyDef(const fwApp* app, int b)
 	const fwBodySpec* spec = &app->scene.bodies[b];
 	fmBodyDef def = fmDefaultBodyDef();
 	def.mesh = &app->meshes[b];
-	def.material = fwMaterial(app);
+	def.material = app->material;
 	def.forceModel = fm_fem;
 	def.massMode = spec->perParticle ? fm_massPerParticle : fm_massFromDensity;
 	if (spec->perParticle)
@@ -276,9 +269,15 @@ static fmResult fwBuildScene(void)
 	{
 		s_app.youngs = first->youngs;
 		s_app.poisson = first->poisson;
+		s_app.material = fmMakeMaterial(first->model, first->youngs, first->poisson);
 	}
 	else
+	{
+		// The seeds' constants as they are (E and nu only for the sliders): the same bits as
+		// femto run's house.
 		fwFromLame(first->lambda, first->mu, &s_app.youngs, &s_app.poisson);
+		s_app.material = fmMakeMaterialLame(first->model, first->lambda, first->mu);
+	}
 	s_app.damping = first->damping;
 	s_app.substeps = scene->substeps;
 	s_app.integrator = scene->integrator;
@@ -306,7 +305,6 @@ static fmResult fwBuildScene(void)
 		fmResult r = fwMakeMesh(&scene->bodies[b], &s_app.meshes[b], &diag);
 		s_app.bodyCount = b + 1; // the mesh is freed with the scene from here on
 		fmBodyDef def = fwBodyDef(&s_app, b);
-		def.smoothing = scene->bodies[b].smoothing;
 		if (r == fm_ok)
 			r = fmCreateBody(s_app.world, &def, &s_app.bodies[b], &diag);
 		int n = r == fm_ok ? fmBody_GetVertexCount(s_app.bodies[b]) : 0;
@@ -562,11 +560,7 @@ FW_EXPORT int fw_set_material(int model, double youngs, double poisson)
 		snprintf(s_app.error, sizeof s_app.error, "no material model %d", model);
 		return fm_errParameter;
 	}
-	fwApp next = s_app;
-	next.model = (fmMaterialModel)model;
-	next.youngs = youngs;
-	next.poisson = poisson;
-	fmMaterial material = fwMaterial(&next);
+	fmMaterial material = fmMakeMaterial((fmMaterialModel)model, youngs, poisson);
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	fmResult r = fmMaterial_Validate(&material, &diag);
@@ -577,7 +571,8 @@ FW_EXPORT int fw_set_material(int model, double youngs, double poisson)
 		fwSetError("the material was refused", &diag);
 		return r;
 	}
-	s_app.model = next.model;
+	s_app.material = material;
+	s_app.model = (fmMaterialModel)model;
 	s_app.youngs = youngs;
 	s_app.poisson = poisson;
 	return fm_ok;
