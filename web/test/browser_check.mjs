@@ -5,7 +5,8 @@
 //   3. the house's pixels move between two screenshots half a second apart;
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
 //   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
-//   6. the build without WebAssembly SIMD (?nosimd=1) loads and steps.
+//   6. a TetGen .node/.ele pair given to the page's file input (the drop's path) loads and steps;
+//   7. the build without WebAssembly SIMD (?nosimd=1) loads and steps.
 //
 //   node --experimental-websocket web/test/browser_check.mjs URL [SCREENSHOT.png]
 // (Node 22 and later have WebSocket without the flag.) CHROMIUM names the browser (default
@@ -13,7 +14,8 @@
 import { spawn } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { join } from 'node:path';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
 import { inflateSync } from 'node:zlib';
 
 const url = process.argv[2];
@@ -244,6 +246,19 @@ async function main() {
     check(errors.length === 0, `no console error or exception${errors.length ? ': ' +
       errors.join(' | ') : ''}`);
     if (screenshotOut) writeFileSync(screenshotOut, a);
+
+    // Load a TetGen pair through the page's file input (what a drop does too): data/house2.
+    const data = join(dirname(fileURLToPath(import.meta.url)), '../../data');
+    const { root } = await page('DOM.getDocument');
+    const { nodeId } = await page('DOM.querySelector', { nodeId: root.nodeId, selector: '#files' });
+    await page('DOM.setFileInputFiles', { nodeId,
+      files: [join(data, 'house2.node'), join(data, 'house2.ele')] });
+    const loaded = await waitFor('window.femto.scene === -1 && window.femto.bodyCount === 1 && ' +
+      'document.getElementById("status").textContent.startsWith("loaded house2")', 10);
+    const framesAtLoad = await evaluate('window.femto.frames');
+    await sleep(500);
+    const stepping = (await evaluate('window.femto.frames')) > framesAtLoad;
+    check(loaded && stepping, 'a TetGen .node and .ele pair given to the page loads and steps');
 
     // The build without WebAssembly SIMD, which browsers without it get, runs too.
     const plain = url + (url.includes('?') ? '&' : '?') + 'nosimd=1';
