@@ -4,6 +4,7 @@
 //   2. the canvas is not blank: enough pixels of the house's colour;
 //   3. the house's pixels move between two screenshots half a second apart;
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
+//      and a finger (touch events) drags it too;
 //   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
 //   6. a TetGen .node/.ele pair given to the page's file input (the drop's path) loads and steps;
 //   7. the build without WebAssembly SIMD (?nosimd=1) loads and steps.
@@ -235,6 +236,23 @@ async function main() {
     check(before.top - during.top > 30,
       `the drag lifted the house in the picture: its top went from row ${before.top} to ` +
       `${during.top} (more than 30 px up needed)`);
+
+    // A finger: a touch on the house drags it too (pointer events), and lifting it lets go.
+    await sleep(1000);
+    await page('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 2 });
+    const finger = await evaluate('window.femto.bodyCenterOnCanvas(0)');
+    const touch = (type, points) => page('Input.dispatchTouchEvent', { type, touchPoints: points });
+    await touch('touchStart', [{ x: finger.x, y: finger.y }]);
+    const touchDrags = await evaluate('window.femto.dragging');
+    for (let k = 1; k <= 5; ++k) {
+      await touch('touchMove', [{ x: finger.x + 10 * k, y: finger.y - 10 * k }]);
+      await sleep(50);
+    }
+    await touch('touchEnd', []);
+    await sleep(100);
+    const touchReleased = !(await evaluate('window.femto.dragging'));
+    check(touchDrags && touchReleased, 'a finger on the house drags it and lifting it lets go');
+    await page('Emulation.setTouchEmulationEnabled', { enabled: false });
 
     await sleep(300);
     const stats = await evaluate('({ fps: femto.fps, stepMs: femto.stepMs, ' +
