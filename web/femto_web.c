@@ -363,8 +363,8 @@ FW_EXPORT int fw_load_scene(int index, int deterministic)
 
 /// Parse a TetGen .node and .ele pair (the texts need not be NUL-terminated) and load a scene
 /// of that mesh alone, scaled down to fit the house's size when bigger, dropped above the floor
-/// with the seeds' house material. On failure the current scene stays and fw_error() says where
-/// the files are wrong.
+/// with the seeds' house material. A mesh that does not parse or that fmBodyDef_Validate refuses
+/// leaves the current scene, and fw_error() says where the files are wrong.
 FW_EXPORT int fw_load_tetgen(const char* nodeText, int nodeSize, const char* eleText, int eleSize)
 {
 	fmTetMesh mesh;
@@ -373,6 +373,16 @@ FW_EXPORT int fw_load_tetgen(const char* nodeText, int nodeSize, const char* ele
 	fmResult r =
 	    fmLoadTetGenFromMemory(nodeText, (size_t)(nodeSize > 0 ? nodeSize : 0), "node", eleText,
 	                           (size_t)(eleSize > 0 ? eleSize : 0), "ele", &mesh, &diag);
+	if (r == fm_ok)
+	{
+		// What fmCreateBody would refuse (repeated nodes, flat tets), refused before the current
+		// scene goes.
+		fmBodyDef check = fmDefaultBodyDef();
+		check.mesh = &mesh;
+		r = fmBodyDef_Validate(&check, &diag);
+		if (r != fm_ok)
+			fmFreeTetMesh(&mesh);
+	}
 	if (r != fm_ok)
 	{
 		fwSetError("the mesh was refused", &diag);

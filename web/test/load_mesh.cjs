@@ -1,6 +1,7 @@
 // Dropped meshes under Node.js (docs/web.md, scripts/check-web.sh): fw_load_tetgen, the page's
 // path for a dropped .node/.ele pair, loads data/house2 (400 vertices, 1389 tets, and it steps),
-// and refuses a corrupted .ele with the reader's located diagnostic, keeping the scene it had.
+// and refuses a corrupted .ele with the reader's located diagnostic, and a tet with a repeated
+// node with the body check's, keeping the scene it had.
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -39,6 +40,12 @@ createFemto().then((M) => {
     `a corrupted .ele is refused with its line: "${error.slice(0, 120)}"`);
   check(M._fw_body_count() === 1 && M._fw_vertex_count(0) === cubeVertices,
     'the scene before the refused mesh is kept');
+  const flat = ele.toString().split('\n');
+  flat[5] = flat[5].replace(/^(\s*\d+\s+)(\d+)(\s+)\d+/, '$1$2$3$2'); // a tet with a node twice
+  r = load(M, node, Buffer.from(flat.join('\n')));
+  const flatError = M.UTF8ToString(M._fw_error());
+  check(r !== 0 && M._fw_vertex_count(0) === cubeVertices,
+    `a tet with a repeated node is refused, the scene kept: "${flatError.slice(0, 120)}"`);
   r = load(M, node, ele);
   check(r === 0 && M._fw_vertex_count(0) === 400 && M._fw_tet_count(0) === 1389,
     `data/house2 loads: ${M._fw_vertex_count(0)} vertices, ${M._fw_tet_count(0)} tets`);
