@@ -152,8 +152,8 @@ export class Renderer {
     gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
     gl.bindVertexArray(null);
     this.meshes = [];
-    // Light from above, behind the camera's starting side, travelling down.
-    const l = [-0.45, -1.0, -0.3];
+    // Light from above and to the right of the starting camera, travelling down.
+    const l = [-0.7, -1.0, -0.25];
     const n = Math.hypot(...l);
     this.light = l.map((x) => x / n);
   }
