@@ -6,8 +6,9 @@
 #      contraction off) must end at bit-identical positions with crossPlatformDeterminism on, and
 #      within 1e-9 m with it off (C libraries' log and pow differ in their last bits); the build
 #      without SIMD gives the same bits; a run of 299 native frames against 300 must be told
-#      apart (the comparison can fail); a dropped TetGen pair loads, a corrupted one is refused
-#      with its line (web/test/load_mesh.cjs);
+#      apart (the comparison can fail); the glue's house ends where `femto run`'s does (when
+#      build/cli/femto is built); a dropped TetGen pair loads, a corrupted one is refused with its
+#      line (web/test/load_mesh.cjs);
 #   2. headless Chromium (Debian's chromium, installed when missing): web/test/browser_check.mjs
 #      opens the page from a local server: no console error, the canvas not blank, the house's
 #      pixels move, a scripted drag lifts the house, the build without SIMD runs; it prints the
@@ -70,6 +71,20 @@ if compare 0 300 1 0 0 299 >build-web/native/control.txt; then
   exit 1
 fi
 echo "check-web: (control) 299 native frames against 300 told apart"
+# The glue's house is `femto run`'s (scenes/house.json): the same decimal positions after 9 s,
+# when scripts/test.sh has built the tool in build/.
+if [ -x build/cli/femto ]; then
+  build/cli/femto run --deterministic --seconds 9 --export-node build-web/native/cli.node >/dev/null 2>&1
+  build-web/native/compare_native 0 300 1 0 --plain >build-web/native/glue.txt 2>/dev/null
+  if ! tail -n +2 build-web/native/cli.node | awk '{print $1, $2, $3, $4}' |
+      cmp -s - build-web/native/glue.txt; then
+    echo "check-web: the glue's house differs from femto run's after 9 s (build-web/native/)" >&2
+    exit 1
+  fi
+  echo "check-web: the glue's house ends where femto run's does (300 frames, all 400 vertices)"
+else
+  echo "check-web: (no build/cli/femto: the glue's house against femto run's not compared)"
+fi
 # A dropped TetGen pair: loaded, or refused with its line (the page's path, fw_load_tetgen).
 node web/test/load_mesh.cjs
 
