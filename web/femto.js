@@ -408,6 +408,9 @@ async function main() {
   $('pause').addEventListener('click', togglePause);
   $('reset').addEventListener('click', reset);
   $('files').addEventListener('change', (event) => takeFiles([...event.target.files]));
+  // A clicked button gives the keyboard back, so that Space then jumps instead of clicking it.
+  for (const button of document.querySelectorAll('button'))
+    button.addEventListener('click', () => button.blur());
   if (params.has('embed')) document.body.classList.add('embed');
   const first = Number(params.get('scene') || 0);
   select.value = String(first);
