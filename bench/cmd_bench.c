@@ -6,6 +6,7 @@
 #include "scene.h"
 
 #include "bandwidth.h"
+#include "contact.h"
 #include "meshes.h"
 #include "options.h"
 #include "peers.h"
@@ -32,7 +33,10 @@ const char* const cliBenchHelp =
     "options:\n"
     "  --quick            stop at 10k tets, 3 repetitions (a few seconds)\n"
     "  --max-tets N       skip meshes of more than N tets (beams count by their nominal size)\n"
-    "  --meshes LIST      the mesh families, comma-separated: house, box, beam (default all)\n"
+    "  --meshes LIST      the mesh families, comma-separated: house, box, beam, contact\n"
+    "                     (default all; contact: ten houses piled on the floor, explicit and\n"
+    "                     implicit, and a 100k box on a mesh ground: ms per frame, contacts,\n"
+    "                     the share of the step in the broad and narrow phases)\n"
     "  --explicit         only the explicit benchmark\n"
     "  --implicit         only the implicit benchmark (default: explicit, then implicit;\n"
     "                     implicit stops at 100k tets)\n"
@@ -42,7 +46,8 @@ const char* const cliBenchHelp =
     "                     workers\n"
     "  --csv FILE         also write the results as CSV, one row per case:\n"
     "                     mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,\n"
-    "                     newton_per_frame,cg_per_frame,bound_ns_per_tet_step\n"
+    "                     newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,\n"
+    "                     contact_share,broad_phase_share,narrow_phase_share\n"
     "  --plot FILE.png    plot explicit StVK ns per tet-step against tets with gnuplot (when\n"
     "                     on PATH); default with --csv: the CSV's name with .png\n"
     "  --no-plot          no plot\n"
@@ -333,10 +338,12 @@ int cliBench(int argc, char** argv)
 	else
 	{
 		run.meshes = &meshes;
-		if (o.explicitSteps)
+		if (o.explicitSteps && meshes.count > 0)
 			cliBenchExplicitRows(&run);
-		if (o.implicitFrames)
+		if (o.implicitFrames && meshes.count > 0)
 			cliBenchImplicitRows(&run);
+		if ((o.families & (1u << cli_benchContact)) != 0)
+			cliBenchContactRows(&o, &run.report, run.folder, &run.code);
 		cliBenchPeerRows(&run, peer);
 		cliBenchPlot(&run);
 	}

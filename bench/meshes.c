@@ -8,7 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char* const cliBenchFamilyNames[cli_benchFamilyCount] = {"house", "box", "beam"};
+static const char* const cliBenchFamilyNames[cli_benchFamilyCount] = {"house", "box", "beam",
+                                                                      "contact"};
 
 // The sizes, each with the box's cells: about 1k, 10k, 100k and 1M tets.
 static const struct
@@ -48,7 +49,7 @@ bool cliBenchParseFamilies(const char* text, unsigned* mask)
 		{
 			cliUsageError("bench",
 			              "--meshes: unknown mesh family '%.*s' in '%s' (expected a "
-			              "comma-separated list of house, box, beam)",
+			              "comma-separated list of house, box, beam, contact)",
 			              (int)length, p, text);
 			return false;
 		}

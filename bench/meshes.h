@@ -13,6 +13,9 @@ typedef enum cliBenchFamily
 	cli_benchHouse, ///< data/house2, the demo (1389 tets)
 	cli_benchBox,   ///< a 1 m cube of cells x cells x cells cubes, 6 tets each (fmMakeBoxMesh)
 	cli_benchBeam,  ///< a 4 x 1 x 1 m beam meshed by tetgen in TetGen's ordering (beams.h)
+	/// the contact scenes: ten houses piled, a 100k box on a mesh ground (contact.h); no mesh of
+	/// the set, rows of their own
+	cli_benchContact,
 	cli_benchFamilyCount
 } cliBenchFamily;
 

@@ -20,6 +20,7 @@ cliBenchResult cliBenchResult_Make(const cliBenchMesh* mesh, const char* integra
 	row.model = model;
 	row.workers = workers;
 	row.nsPerTetStep = row.msPerFrame = row.newtonPerFrame = row.cgPerFrame = row.boundNs = NAN;
+	row.contacts = row.contactShare = row.broadShare = row.narrowShare = NAN;
 	return row;
 }
 
@@ -69,6 +70,10 @@ bool cliBenchReport_Add(cliBenchReport* report, const cliBenchResult* row)
 		cliBenchCsvNumber(report->csv, row->newtonPerFrame, 2);
 		cliBenchCsvNumber(report->csv, row->cgPerFrame, 1);
 		cliBenchCsvNumber(report->csv, row->boundNs, 3);
+		cliBenchCsvNumber(report->csv, row->contacts, 0);
+		cliBenchCsvNumber(report->csv, row->contactShare, 4);
+		cliBenchCsvNumber(report->csv, row->broadShare, 4);
+		cliBenchCsvNumber(report->csv, row->narrowShare, 4);
 		fputc('\n', report->csv);
 	}
 	return true;

@@ -9,7 +9,8 @@
 /// The CSV's header (the columns).
 #define CLI_BENCH_CSV_HEADER                                                                       \
 	"mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,"            \
-	"cg_per_frame,bound_ns_per_tet_step"
+	"cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,"                 \
+	"narrow_phase_share"
 
 /// One case; NAN in a number that does not apply (written as an empty field).
 typedef struct cliBenchResult
@@ -25,6 +26,10 @@ typedef struct cliBenchResult
 	double newtonPerFrame; ///< implicit: mean Newton iterations a frame
 	double cgPerFrame;     ///< implicit: mean CG iterations a frame
 	double boundNs;        ///< explicit: ns per tet-step at the triad bandwidth
+	double contacts;       ///< contact rows: median contacts after a frame
+	double contactShare;   ///< contact rows: of the step time, the contact stage (0 to 1)
+	double broadShare;     ///< contact rows: its broad phase
+	double narrowShare;    ///< contact rows: its narrow phase
 } cliBenchResult;
 
 /// A result with every number NAN.

@@ -4,14 +4,17 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 const char* const cliInfoHelp =
-    "usage: femto info MESH.node [MESH.ele]\n"
+    "usage: femto info MESH [MESH.ele]\n"
     "       femto info builtin:house2\n"
     "\n"
     "Print node and tet counts, volumes, dihedral angles, quality, surface, bad tets and\n"
-    "bounds of a TetGen mesh. The .ele defaults to the one beside the .node.\n"
+    "bounds of a tet mesh: TetGen .node (the .ele defaults to the one beside it), Gmsh .msh\n"
+    "(2.2, 4.1, ASCII or binary), VTK .vtk or .vtu, Medit .mesh (docs/mesh-format.md). Only\n"
+    "tets are read; other elements are counted in a warning.\n"
     "\n"
     "Angles, quality and degeneracy are measured scale-free (any units work); a volume that\n"
     "a double cannot hold is reported as out of range.\n"
@@ -45,6 +48,40 @@ static void cliPrintMeshInfo(const fmMeshInfo* info)
 	printf("bounds           [%.6g %.6g %.6g] to [%.6g %.6g %.6g] m\n", info->boundsMin.x,
 	       info->boundsMin.y, info->boundsMin.z, info->boundsMax.x, info->boundsMax.y,
 	       info->boundsMax.z);
+}
+
+static int cliCompareDoubles(const void* a, const void* b)
+{
+	double p = *(const double*)a, q = *(const double*)b;
+	return p < q ? -1 : (p > q);
+}
+
+// "regions          2 (5: 100 tets, 6: 20 tets)": the first tet attribute (TetGen's region
+// attribute, Gmsh's physical tag, Medit's reference), the first few values listed.
+static void cliPrintRegions(const fmTetMesh* mesh)
+{
+	if (mesh->tetAttributeCount < 1 || mesh->tetCount < 1)
+		return;
+	double* values = malloc(sizeof(double) * (size_t)mesh->tetCount);
+	if (values == NULL)
+		return;
+	for (int t = 0; t < mesh->tetCount; ++t)
+		values[t] = mesh->tetAttributes[(size_t)t * (size_t)mesh->tetAttributeCount];
+	qsort(values, (size_t)mesh->tetCount, sizeof(double), cliCompareDoubles);
+	int distinct = 0;
+	for (int t = 0; t < mesh->tetCount; ++t)
+		distinct += t == 0 || values[t] != values[t - 1];
+	printf("regions          %d (first tet attribute:", distinct);
+	int listed = 0;
+	for (int t = 0, start = 0; t < mesh->tetCount && listed < 8; ++t)
+		if (t + 1 == mesh->tetCount || values[t + 1] != values[t])
+		{
+			printf("%s %.6g: %d tets", listed ? "," : "", values[t], t + 1 - start);
+			start = t + 1;
+			++listed;
+		}
+	printf("%s)\n", distinct > listed ? ", ..." : "");
+	free(values);
 }
 
 // "degenerate at    tets 5 7 12 ..." in the file's numbering, the first CLI_MAX_LISTED_TETS.
@@ -84,7 +121,7 @@ int cliInfo(int argc, char** argv)
 		paths[pathCount++] = argv[i];
 	}
 	if (pathCount == 0)
-		return cliUsageError("info", "missing MESH.node");
+		return cliUsageError("info", "missing MESH");
 
 	fmTetMesh mesh;
 	fmDiagnostic diag;
@@ -96,17 +133,22 @@ int cliInfo(int argc, char** argv)
 		result = cliLoadHouseMesh(&mesh, &diag);
 		snprintf(elePath, sizeof elePath, "builtin:house2.ele");
 	}
+	else if (pathCount == 2)
+	{
+		snprintf(elePath, sizeof elePath, "%s", paths[1]);
+		result = fmLoadTetGen(paths[0], elePath, &mesh, &diag);
+	}
 	else
 	{
+		// Any format by its extension (a .node loads the .ele beside it).
+		fmMeshFormat format = fmMeshFormatFromPath(paths[0]);
 		size_t length = strlen(paths[0]);
-		if (pathCount == 2)
-			snprintf(elePath, sizeof elePath, "%s", paths[1]);
-		else if (length >= 5 && strcmp(paths[0] + length - 5, ".node") == 0 &&
-		         length < sizeof elePath)
+		if (format == fm_meshFormatTetGen && length >= 5 &&
+		    strcmp(paths[0] + length - 5, ".node") == 0 && length < sizeof elePath)
 			snprintf(elePath, sizeof elePath, "%.*s.ele", (int)(length - 5), paths[0]);
 		else
-			return cliUsageError("info", "'%s' does not end in .node: name the .ele too", paths[0]);
-		result = fmLoadTetGen(paths[0], elePath, &mesh, &diag);
+			snprintf(elePath, sizeof elePath, "%s", fmMeshFormatName(format));
+		result = fmLoadMesh(paths[0], &mesh, &diag);
 	}
 	if (result != fm_ok)
 	{
@@ -123,6 +165,7 @@ int cliInfo(int argc, char** argv)
 	}
 	printf("mesh             %s, %s\n", paths[0], elePath);
 	cliPrintMeshInfo(&info);
+	cliPrintRegions(&mesh);
 	int code = cli_exitOk;
 	if (info.degenerateTets > 0)
 	{

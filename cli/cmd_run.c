@@ -46,7 +46,8 @@ const char* const cliRunHelp =
     "                     the orbit camera (default: the bodies and the floor under them\n"
     "                     framed from yaw 30, pitch 20)\n"
     "  --draw LIST        what to draw: surfaces,stress,tets,inverted,pins,targets,floor,\n"
-    "                     contacts, all or none (default surfaces,floor,pins,targets)\n"
+    "                     contacts, colliders, all or none (default surfaces,floor,pins,\n"
+    "                     targets,colliders)\n"
     "  --quiet            no progress line\n"
     "  --help             this text\n"
     "\n"
@@ -75,11 +76,13 @@ typedef struct cliRunOptions
 	cliViewOptions view; ///< --gif, --png and their picture options
 } cliRunOptions;
 
-// Implicit solves of the run that ended above the tolerance.
+// Implicit solves of the run that ended above the tolerance, and the most contacts a step ended
+// with (fmWorld_GetContacts: bodies and colliders).
 typedef struct cliSolveTotals
 {
 	int unconvergedSteps;
 	double maxResidual;
+	int maxContacts;
 } cliSolveTotals;
 
 // The picture options need --gif or --png; a GIF shows at most 50 pictures a second (its delays
@@ -343,6 +346,8 @@ static fmResult cliBookStep(const cliSimulation* sim, fmResult result, cliSolveT
 	totals->unconvergedSteps += stats.unconvergedSteps;
 	if (stats.unconvergedSteps > 0)
 		totals->maxResidual = fmax(totals->maxResidual, stats.maxResidual);
+	int contacts = fmWorld_GetContacts(sim->world, NULL, 0);
+	totals->maxContacts = contacts > totals->maxContacts ? contacts : totals->maxContacts;
 	return result;
 }
 
@@ -427,6 +432,56 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 	return cli_exitOk;
 }
 
+// Colliders listed in the summary at most (the rest are counted).
+#define CLI_LISTED_COLLIDERS 8
+
+static const char* cliShapeName(fmShapeType shape)
+{
+	static const char* const names[] = {"plane", "sphere", "box", "capsule", "mesh"};
+	return shape >= 0 && shape < fm_shapeTypeCount ? names[shape] : "collider";
+}
+
+// When bodies touched colliders or each other during the run: the last substep's contacts,
+// split by kind, and the force the bodies exert on each collider (fmCollider_GetContactForce).
+static void cliPrintContacts(const cliScene* scene, const cliSimulation* sim,
+                             const cliSolveTotals* solves)
+{
+	if (solves->maxContacts == 0)
+		return;
+	int count = fmWorld_GetContacts(sim->world, NULL, 0);
+	fmContactPoint* points = count > 0 ? malloc(sizeof *points * (size_t)count) : NULL;
+	int withColliders = 0;
+	if (points != NULL)
+	{
+		count = fmWorld_GetContacts(sim->world, points, count);
+		for (int i = 0; i < count; ++i)
+			withColliders += points[i].collider.index1 != 0;
+	}
+	free(points);
+	printf("contacts         %d at the end (%d on colliders, %d between bodies); at most %d after "
+	       "a step\n",
+	       count, withColliders, count - withColliders, solves->maxContacts);
+	for (int c = 0; c < sim->colliderCount && c < CLI_LISTED_COLLIDERS; ++c)
+	{
+		fmVec3 force, torque;
+		fmCollider_GetContactForce(sim->colliders[c], &force, &torque);
+		if (fmLength(force) > 0.0)
+			printf("colliders[%d]     %s: force %.4g N (%.4g, %.4g, %.4g)\n", c,
+			       cliShapeName(scene->colliders[c].def.shape), fmLength(force), force.x, force.y,
+			       force.z);
+	}
+	if (scene->worldDef.contact.enableSleep)
+	{
+		int asleep = 0;
+		for (int b = 0; b < sim->bodyCount; ++b)
+			asleep += !fmBody_IsAwake(sim->bodies[b]);
+		printf("asleep           %d of %d bod%s at the end\n", asleep, sim->bodyCount,
+		       sim->bodyCount == 1 ? "y" : "ies");
+	}
+	if (sim->colliderCount > CLI_LISTED_COLLIDERS)
+		printf("                 (%d more colliders)\n", sim->colliderCount - CLI_LISTED_COLLIDERS);
+}
+
 static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int frames,
                             double wallSeconds, double stepSeconds, double lowestReached,
                             const cliSeries* series, const cliSolveTotals* solves)
@@ -457,6 +512,7 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	else if (scene->worldDef.integrator == fm_implicit)
 		printf("implicit solves  %d steps ended above the tolerance %g (largest residual %.3g)\n",
 		       solves->unconvergedSteps, scene->worldDef.tolerance, solves->maxResidual);
+	cliPrintContacts(scene, sim, solves);
 	if (series != NULL)
 		printf("output           %s (%d frames)\n", series->pvdPath, series->written);
 }
@@ -524,7 +580,7 @@ int cliRun(int argc, char** argv)
 	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
 		code = cli_exitInput;
 	double stepSeconds = 0.0, lowestReached = 0.0;
-	cliSolveTotals solves = {0, 0.0};
+	cliSolveTotals solves = {0, 0.0, 0};
 	if (code == cli_exitOk)
 		code = cliRunFrames(&o, &scene, &sim, seriesPtr, video, frames, &stepSeconds,
 		                    &lowestReached, &solves);

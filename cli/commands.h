@@ -4,8 +4,11 @@
 /// `femto run [SCENE] [options]`: simulate and write results.
 int cliRun(int argc, char** argv);
 
-/// `femto info MESH.node [MESH.ele]`: mesh statistics.
+/// `femto info MESH [MESH.ele]`: mesh statistics.
 int cliInfo(int argc, char** argv);
+
+/// `femto convert IN OUT`: a tet mesh from one file format to another.
+int cliConvert(int argc, char** argv);
 
 /// `femto static SCENE [options]`: static equilibrium of every body.
 int cliStatic(int argc, char** argv);
@@ -16,5 +19,6 @@ int cliBench(int argc, char** argv);
 /// Help texts, printed by `femto CMD --help`.
 extern const char* const cliRunHelp;
 extern const char* const cliInfoHelp;
+extern const char* const cliConvertHelp;
 extern const char* const cliStaticHelp;
 extern const char* const cliBenchHelp;

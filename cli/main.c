@@ -13,7 +13,8 @@ static const char* const cliMainHelp =
     "\n"
     "commands:\n"
     "  run [SCENE.json]     simulate a scene (default: the built-in bouncy house)\n"
-    "  info MESH.node       mesh statistics: counts, volumes, angles, quality, bad tets\n"
+    "  info MESH            mesh statistics: counts, volumes, angles, quality, bad tets\n"
+    "  convert IN OUT       a tet mesh between TetGen, Gmsh .msh, VTK .vtu (.vtk, .mesh in)\n"
     "  static SCENE.json    static equilibrium under gravity and pins\n"
     "  bench                explicit and implicit step timings\n"
     "  view [SCENE.json]    the interactive viewer: drag, jump, sliders (docs/viewer.md)\n"
@@ -51,6 +52,8 @@ int main(int argc, char** argv)
 		return cliRun(argc - 1, argv + 1);
 	if (strcmp(command, "info") == 0)
 		return cliInfo(argc - 1, argv + 1);
+	if (strcmp(command, "convert") == 0)
+		return cliConvert(argc - 1, argv + 1);
 	if (strcmp(command, "static") == 0)
 		return cliStatic(argc - 1, argv + 1);
 	if (strcmp(command, "bench") == 0)
@@ -59,6 +62,6 @@ int main(int argc, char** argv)
 		return cliView(argc - 1, argv + 1);
 	if (command[0] == '-')
 		return cliUsageError(NULL, "unknown option '%s'", command);
-	return cliUsageError(NULL, "unknown command '%s' (commands: run, info, static, bench, view)",
-	                     command);
+	return cliUsageError(
+	    NULL, "unknown command '%s' (commands: run, info, convert, static, bench, view)", command);
 }

@@ -376,10 +376,13 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	if (strncmp(text, "builtin:", 8) == 0)
 		return cliJsonFail(j, path, item,
 		                   "unknown built-in mesh (the one there is: builtin:house2)");
+	// Any mesh file femto reads, by its extension (fmLoadMesh); a .node brings its .ele.
 	size_t length = strlen(text);
-	if (length < 5 || strcmp(text + length - 5, ".node") != 0)
+	bool isNode = length >= 5 && strcmp(text + length - 5, ".node") == 0;
+	if (fmMeshFormatFromPath(text) == fm_meshFormatUnknown)
 		return cliJsonFail(j, path, item,
-		                   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
+		                   "expected a mesh file (.node, .msh, .vtk, .vtu, .mesh), "
+		                   "\"builtin:house2\" or \"box:nx,ny,nz\"");
 	spec->meshSource = cli_meshFile;
 	// Relative paths are relative to the scene file's folder, so scenes can be run from anywhere.
 	int written = text[0] == '/'
@@ -388,34 +391,36 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 	if (written < 0 || (size_t)written >= sizeof spec->nodePath)
 		return cliJsonFail(j, path, item, "path too long");
 	memcpy(spec->elePath, spec->nodePath, sizeof spec->elePath);
-	memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
+	if (isNode)
+		memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
 	if (!cliFileReadable(spec->nodePath))
 		return cliJsonFail(j, path, NULL,
 		                   "cannot open %s (\"%s\" is relative to the scene's folder)",
 		                   spec->nodePath, text);
-	if (!cliFileReadable(spec->elePath))
+	if (isNode && !cliFileReadable(spec->elePath))
 		return cliJsonFail(j, path, NULL, "cannot open %s (the .ele beside the .node)",
 		                   spec->elePath);
 	return true;
 }
 
-static bool cliParseTransform(const cliJson* j, const cJSON* body, const char* parent,
-                              cliBodySpec* spec)
+// A body's or a mesh collider's "transform" (the identity when absent).
+static bool cliParseTransform(const cliJson* j, const cJSON* object, const char* parent,
+                              fmMeshTransform* out)
 {
 	static const char* const keys[] = {"scale", "center", "swap_yz", "translate", NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "transform");
 	const cJSON* transform = NULL;
-	spec->transform = fmDefaultMeshTransform();
-	if (!cliGetObject(j, body, parent, "transform", &transform))
+	*out = fmDefaultMeshTransform();
+	if (!cliGetObject(j, object, parent, "transform", &transform))
 		return false;
 	if (transform == NULL)
 		return true;
 	return cliCheckKeys(j, transform, path, keys) &&
-	       cliGetNumber(j, transform, path, "scale", cliPositive, &spec->transform.scale, NULL) &&
-	       cliGetBool(j, transform, path, "center", &spec->transform.center) &&
-	       cliGetBool(j, transform, path, "swap_yz", &spec->transform.swapYZ) &&
-	       cliGetVec3(j, transform, path, "translate", &spec->transform.translate, NULL);
+	       cliGetNumber(j, transform, path, "scale", cliPositive, &out->scale, NULL) &&
+	       cliGetBool(j, transform, path, "center", &out->center) &&
+	       cliGetBool(j, transform, path, "swap_yz", &out->swapYZ) &&
+	       cliGetVec3(j, transform, path, "translate", &out->translate, NULL);
 }
 
 static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* parent,
@@ -539,12 +544,55 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 	return true;
 }
 
+// ---- contact: filters, bodies' contact keys, colliders, the contact object --------------------
+
+// A 32-bit mask: an integer in [0, 2^32 - 1] (JSON numbers hold it exactly).
+static bool cliGetBits(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+                       uint32_t* value)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	if (item == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	double number = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+	if (!(number >= 0.0 && number <= 4294967295.0) || number != floor(number))
+		return cliJsonFail(j, path, item, "expected an integer in [0, 4294967295] (32 bits)");
+	*value = (uint32_t)number;
+	return true;
+}
+
+// "filter": {"category": bits, "mask": bits} (fmFilter; absent keys keep the defaults).
+static bool cliParseFilter(const cliJson* j, const cJSON* object, const char* parent,
+                           fmFilter* filter)
+{
+	static const char* const keys[] = {"category", "mask", NULL};
+	const cJSON* item = NULL;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "filter");
+	if (!cliGetObject(j, object, parent, "filter", &item))
+		return false;
+	return item == NULL || (cliCheckKeys(j, item, path, keys) &&
+	                        cliGetBits(j, item, path, "category", &filter->categoryBits) &&
+	                        cliGetBits(j, item, path, "mask", &filter->maskBits));
+}
+
+// A body's "self_collision", "friction" (against other bodies), "sleep" and "filter".
+static bool cliParseBodyContact(const cliJson* j, const cJSON* body, const char* path,
+                                fmBodyDef* def)
+{
+	return cliGetBool(j, body, path, "self_collision", &def->selfCollision) &&
+	       cliGetNumber(j, body, path, "friction", cliNonNegative, &def->friction, NULL) &&
+	       cliGetBool(j, body, path, "sleep", &def->enableSleep) &&
+	       cliParseFilter(j, body, path, &def->filter);
+}
+
 static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
 {
-	static const char* const keys[] = {"mesh",     "box_min",        "box_max", "transform",
-	                                   "material", "force_model",    "damping", "smoothing",
-	                                   "rayleigh", "spring_damping", "pin",     "initial_velocity",
-	                                   NULL};
+	static const char* const keys[] = {
+	    "mesh",           "box_min",   "box_max",  "transform",      "material", "force_model",
+	    "damping",        "smoothing", "rayleigh", "spring_damping", "pin",      "initial_velocity",
+	    "self_collision", "friction",  "sleep",    "filter",         NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
@@ -553,7 +601,8 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 	spec->def = fmDefaultBodyDef();
 	spec->initialVelocity = fmMakeVec3(0, 0, 0);
 	if (!cliCheckKeys(j, body, path, keys) || !cliParseMesh(j, body, path, spec) ||
-	    !cliParseTransform(j, body, path, spec) || !cliParseMaterial(j, body, path, spec))
+	    !cliParseTransform(j, body, path, &spec->transform) ||
+	    !cliParseMaterial(j, body, path, spec))
 		return false;
 
 	const char* forceModel = NULL;
@@ -583,7 +632,238 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 	                                       &spec->def.rayleighStiffness, NULL)))
 		return false;
 	return cliParsePins(j, body, path, spec) &&
-	       cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL);
+	       cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL) &&
+	       cliParseBodyContact(j, body, path, &spec->def);
+}
+
+// Collider shapes by scene name, with the keys each takes (the common ones included).
+typedef struct cliShapeInfo
+{
+	const char* name;
+	fmShapeType shape;
+	const char* const* keys; // NULL-terminated
+} cliShapeInfo;
+
+#define CLI_COLLIDER_COMMON_KEYS                                                                   \
+	"shape", "friction", "restitution", "velocity", "angular_velocity", "filter"
+static const char* const cliPlaneKeys[] = {CLI_COLLIDER_COMMON_KEYS, "normal", "offset", NULL};
+static const char* const cliSphereKeys[] = {CLI_COLLIDER_COMMON_KEYS, "center", "radius", NULL};
+static const char* const cliBoxKeys[] = {CLI_COLLIDER_COMMON_KEYS, "center", "half_extents",
+                                         "rotation", NULL};
+static const char* const cliCapsuleKeys[] = {CLI_COLLIDER_COMMON_KEYS, "a", "b", "radius", NULL};
+static const char* const cliMeshKeys[] = {CLI_COLLIDER_COMMON_KEYS, "path", "transform", "rotation",
+                                          NULL};
+static const cliShapeInfo cliShapes[] = {
+    {"plane", fm_shapePlane, cliPlaneKeys}, {"sphere", fm_shapeSphere, cliSphereKeys},
+    {"box", fm_shapeBox, cliBoxKeys},       {"capsule", fm_shapeCapsule, cliCapsuleKeys},
+    {"mesh", fm_shapeMesh, cliMeshKeys},
+};
+#define CLI_SHAPE_NAMES "\"plane\", \"sphere\", \"box\", \"capsule\" or \"mesh\""
+
+// Colliders' sizes and coordinates stay within the library's FM_MAX_COORDINATE.
+static const cliRange cliLength = {0.0, FM_MAX_COORDINATE, true, false};
+static const cliRange cliCoordinate = {-FM_MAX_COORDINATE, FM_MAX_COORDINATE, false, false};
+
+// The keys @p keys (NULL-terminated) must all be present; @p what names the shape.
+static bool cliRequireKeys(const cliJson* j, const cJSON* object, const char* path,
+                           const char* const* keys, const char* what)
+{
+	for (int i = 0; keys[i] != NULL; ++i)
+		if (cJSON_GetObjectItemCaseSensitive(object, keys[i]) == NULL)
+			return cliJsonFail(j, path, NULL, "missing \"%s\" (%s)", keys[i], what);
+	return true;
+}
+
+// A vector key whose coordinates must each lie in @p range (@p expected says so).
+static bool cliGetVec3In(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+                         cliRange range, const char* expected, fmVec3* value)
+{
+	bool present = false;
+	if (!cliGetVec3(j, object, parent, key, value, &present))
+		return false;
+	if (!present ||
+	    (cliInRange(value->x, range) && cliInRange(value->y, range) && cliInRange(value->z, range)))
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, key);
+	return cliJsonFail(j, path, cJSON_GetObjectItemCaseSensitive(object, key), "expected %s",
+	                   expected);
+}
+
+static bool cliParseShapeName(const cliJson* j, const cJSON* item, const char* path,
+                              const cliShapeInfo** info)
+{
+	const char* name = NULL;
+	if (!cliGetString(j, item, path, "shape", &name))
+		return false;
+	if (name == NULL)
+		return cliJsonFail(j, path, NULL, "missing \"shape\": expected " CLI_SHAPE_NAMES);
+	for (size_t i = 0; i < sizeof cliShapes / sizeof cliShapes[0]; ++i)
+		if (strcmp(name, cliShapes[i].name) == 0)
+		{
+			*info = &cliShapes[i];
+			return true;
+		}
+	char shapePath[256];
+	cliJoinKey(shapePath, sizeof shapePath, path, "shape");
+	return cliJsonFail(j, shapePath, cJSON_GetObjectItemCaseSensitive(item, "shape"),
+	                   "expected " CLI_SHAPE_NAMES);
+}
+
+static bool cliParsePlane(const cliJson* j, const cJSON* item, const char* path, fmColliderDef* d)
+{
+	static const char* const required[] = {"normal", NULL};
+	const char* far = "3 numbers within 1e9";
+	if (!cliRequireKeys(j, item, path, required,
+	                    "a plane needs its normal; offset defaults to 0") ||
+	    !cliGetVec3In(j, item, path, "normal", cliCoordinate, far, &d->normal) ||
+	    !cliGetNumber(j, item, path, "offset", cliCoordinate, &d->offset, NULL))
+		return false;
+	if (d->normal.x != 0.0 || d->normal.y != 0.0 || d->normal.z != 0.0)
+		return true;
+	char normalPath[256];
+	cliJoinKey(normalPath, sizeof normalPath, path, "normal");
+	return cliJsonFail(j, normalPath, cJSON_GetObjectItemCaseSensitive(item, "normal"),
+	                   "expected a non-zero normal [x, y, z]");
+}
+
+static bool cliParseSolidShape(const cliJson* j, const cJSON* item, const char* path,
+                               fmShapeType shape, fmColliderDef* d)
+{
+	static const char* const sphere[] = {"center", "radius", NULL};
+	static const char* const box[] = {"center", "half_extents", NULL};
+	static const char* const capsule[] = {"a", "b", "radius", NULL};
+	const char* far = "3 numbers within 1e9";
+	const cliRange rotation = {-1e3, 1e3, false, false};
+	switch (shape)
+	{
+	case fm_shapeSphere:
+		return cliRequireKeys(j, item, path, sphere, "a sphere needs center and radius") &&
+		       cliGetVec3In(j, item, path, "center", cliCoordinate, far, &d->center) &&
+		       cliGetNumber(j, item, path, "radius", cliLength, &d->radius, NULL);
+	case fm_shapeBox:
+		return cliRequireKeys(j, item, path, box, "a box needs center and half_extents") &&
+		       cliGetVec3In(j, item, path, "center", cliCoordinate, far, &d->center) &&
+		       cliGetVec3In(j, item, path, "half_extents", cliLength, "3 numbers in (0, 1e9] (m)",
+		                    &d->halfExtents) &&
+		       cliGetVec3In(j, item, path, "rotation", rotation,
+		                    "an axis-angle [x, y, z] in radians, each within 1000", &d->rotation);
+	case fm_shapeCapsule:
+		return cliRequireKeys(j, item, path, capsule, "a capsule needs a, b and radius") &&
+		       cliGetVec3In(j, item, path, "a", cliCoordinate, far, &d->a) &&
+		       cliGetVec3In(j, item, path, "b", cliCoordinate, far, &d->b) &&
+		       cliGetNumber(j, item, path, "radius", cliLength, &d->radius, NULL);
+	default:
+		return false;
+	}
+}
+
+// "path" (an OBJ file, relative to the scene's folder), "transform" and "rotation".
+static bool cliParseMeshCollider(const cliJson* j, const cJSON* item, const char* path,
+                                 cliColliderSpec* spec)
+{
+	static const char* const required[] = {"path", NULL};
+	const char* file = NULL;
+	const cliRange rotation = {-1e3, 1e3, false, false};
+	if (!cliRequireKeys(j, item, path, required, "a mesh collider needs an OBJ file") ||
+	    !cliGetString(j, item, path, "path", &file) ||
+	    !cliParseTransform(j, item, path, &spec->transform) ||
+	    !cliGetVec3In(j, item, path, "rotation", rotation,
+	                  "an axis-angle [x, y, z] in radians, each within 1000", &spec->def.rotation))
+		return false;
+	char filePath[256];
+	cliJoinKey(filePath, sizeof filePath, path, "path");
+	const cJSON* fileItem = cJSON_GetObjectItemCaseSensitive(item, "path");
+	if (file[0] == 0)
+		return cliJsonFail(j, filePath, fileItem, "expected the path of an OBJ file");
+	int written = file[0] == '/'
+	                  ? snprintf(spec->objPath, sizeof spec->objPath, "%s", file)
+	                  : snprintf(spec->objPath, sizeof spec->objPath, "%s%s", j->folder, file);
+	if (written < 0 || (size_t)written >= sizeof spec->objPath)
+		return cliJsonFail(j, filePath, fileItem, "path too long");
+	if (!cliFileReadable(spec->objPath))
+		return cliJsonFail(j, filePath, NULL,
+		                   "cannot open %s (\"%s\" is relative to the scene's folder)",
+		                   spec->objPath, file);
+	return true;
+}
+
+static bool cliParseCollider(const cliJson* j, const cJSON* item, int index, cliColliderSpec* spec)
+{
+	char path[64];
+	snprintf(path, sizeof path, "colliders[%d]", index);
+	if (!cJSON_IsObject(item))
+		return cliJsonFail(j, path, item, "expected a collider object {\"shape\": ...}");
+	const cliShapeInfo* info = NULL;
+	spec->def = fmDefaultColliderDef();
+	spec->transform = fmDefaultMeshTransform();
+	if (!cliParseShapeName(j, item, path, &info) || !cliCheckKeys(j, item, path, info->keys))
+		return false;
+	fmColliderDef* d = &spec->def;
+	d->shape = info->shape;
+	const cliRange speed = {-1e6, 1e6, false, false};
+	const char* fast = "3 numbers within 1e6";
+	bool shaped = info->shape == fm_shapePlane  ? cliParsePlane(j, item, path, d)
+	              : info->shape == fm_shapeMesh ? cliParseMeshCollider(j, item, path, spec)
+	                                            : cliParseSolidShape(j, item, path, d->shape, d);
+	if (!shaped || !cliGetNumber(j, item, path, "friction", cliNonNegative, &d->friction, NULL) ||
+	    !cliGetNumber(j, item, path, "restitution", cliUnit, &d->restitution, NULL) ||
+	    !cliGetVec3In(j, item, path, "velocity", speed, fast, &d->velocity) ||
+	    !cliGetVec3In(j, item, path, "angular_velocity", speed, fast, &d->angularVelocity) ||
+	    !cliParseFilter(j, item, path, &d->filter))
+		return false;
+	// A mesh's triangles come when the scene is built; its def is checked then.
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (d->shape != fm_shapeMesh && fmColliderDef_Validate(d, &diag) != fm_ok)
+		return cliJsonFail(j, path, NULL, "%s", diag.message);
+	return true;
+}
+
+static bool cliParseColliders(const cliJson* j, const cJSON* root, cliScene* scene)
+{
+	const cJSON* list = cJSON_GetObjectItemCaseSensitive(root, "colliders");
+	if (list == NULL)
+		return true;
+	if (!cJSON_IsArray(list))
+		return cliJsonFail(j, "colliders", list, "expected a list of collider objects");
+	int count = cJSON_GetArraySize(list);
+	if (count > FM_MAX_COLLIDERS)
+		return cliJsonFail(j, "colliders", NULL, "%d colliders, at most %d", count,
+		                   FM_MAX_COLLIDERS);
+	scene->colliders = calloc((size_t)(count > 0 ? count : 1), sizeof *scene->colliders);
+	if (scene->colliders == NULL)
+		return cliJsonFail(j, "colliders", NULL, "out of memory");
+	const cJSON* item = NULL;
+	cJSON_ArrayForEach(item, list)
+	{
+		int i = scene->colliderCount++;
+		if (!cliParseCollider(j, item, i, &scene->colliders[i]))
+			return false;
+	}
+	return true;
+}
+
+// "contact": body-body contact and sleeping (fmContactDef).
+static bool cliParseContact(const cliJson* j, const cJSON* root, fmContactDef* def)
+{
+	static const char* const keys[] = {"bodies",      "thickness",  "friction",
+	                                   "restitution", "iterations", "sleep",
+	                                   "sleep_speed", "sleep_time", NULL};
+	const cliRange below1e6 = {0.0, 1e6, true, true};
+	const cJSON* item = NULL;
+	if (!cliGetObject(j, root, "", "contact", &item))
+		return false;
+	return item == NULL ||
+	       (cliCheckKeys(j, item, "contact", keys) &&
+	        cliGetBool(j, item, "contact", "bodies", &def->bodies) &&
+	        cliGetNumber(j, item, "contact", "thickness", below1e6, &def->thickness, NULL) &&
+	        cliGetNumber(j, item, "contact", "friction", cliNonNegative, &def->friction, NULL) &&
+	        cliGetNumber(j, item, "contact", "restitution", cliUnit, &def->restitution, NULL) &&
+	        cliGetInt(j, item, "contact", "iterations", 1, 64, &def->iterations, NULL) &&
+	        cliGetBool(j, item, "contact", "sleep", &def->enableSleep) &&
+	        cliGetNumber(j, item, "contact", "sleep_speed", below1e6, &def->sleepSpeed, NULL) &&
+	        cliGetNumber(j, item, "contact", "sleep_time", below1e6, &def->sleepTime, NULL));
 }
 
 // ---- the world ------------------------------------------------------------------------------
@@ -678,7 +958,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	               NULL) ||
 	    !cliGetInt(j, root, "", "max_substeps_per_frame", 1, FM_MAX_SUBSTEPS,
 	               &def->maxSubstepsPerFrame, NULL) ||
-	    !cliParseFloor(j, root, &def->floor))
+	    !cliParseFloor(j, root, &def->floor) || !cliParseContact(j, root, &def->contact))
 		return false;
 	if (hasBudget)
 		def->memoryBudget = (size_t)(budgetMiB * 1048576.0);
@@ -745,6 +1025,8 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "simd",
 	                                   "implicit_solver",
 	                                   "deterministic",
+	                                   "colliders",
+	                                   "contact",
 	                                   NULL};
 	if (!cJSON_IsObject(root))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
@@ -771,7 +1053,7 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 		if (!cliParseBody(j, body, i, &scene->bodies[i]))
 			return false;
 	}
-	return true;
+	return cliParseColliders(j, root, scene);
 }
 
 // ---- public ---------------------------------------------------------------------------------
@@ -1036,6 +1318,9 @@ void cliScene_Free(cliScene* scene)
 	free(scene->bodies);
 	scene->bodies = NULL;
 	scene->bodyCount = 0;
+	free(scene->colliders);
+	scene->colliders = NULL;
+	scene->colliderCount = 0;
 }
 
 double cliScene_FrameTime(const cliScene* scene)

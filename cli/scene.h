@@ -25,8 +25,8 @@ typedef struct cliPinBox
 typedef struct cliBodySpec
 {
 	cliMeshSource meshSource;
-	char nodePath[CLI_MAX_PATH]; ///< cli_meshFile: resolved .node path
-	char elePath[CLI_MAX_PATH];  ///< cli_meshFile: resolved .ele path
+	char nodePath[CLI_MAX_PATH]; ///< cli_meshFile: resolved mesh path (.node, .msh, .vtu, ...)
+	char elePath[CLI_MAX_PATH];  ///< cli_meshFile: the .ele beside a .node (else nodePath)
 	int boxCells[3];             ///< cli_meshBox: cells along x, y, z
 	fmVec3 boxMin;               ///< cli_meshBox: m
 	fmVec3 boxMax;               ///< cli_meshBox: m
@@ -36,6 +36,14 @@ typedef struct cliBodySpec
 	int pinCount;
 	fmVec3 initialVelocity; ///< m/s
 } cliBodySpec;
+
+/// One rigid collider of a scene (docs/scene-format.md, "Colliders").
+typedef struct cliColliderSpec
+{
+	fmColliderDef def;          ///< shape, friction, velocities (a mesh's arrays set when built)
+	char objPath[CLI_MAX_PATH]; ///< mesh: the resolved OBJ path
+	fmMeshTransform transform;  ///< mesh: placement of the OBJ's vertices
+} cliColliderSpec;
 
 /// A whole scene.
 typedef struct cliScene
@@ -48,6 +56,8 @@ typedef struct cliScene
 	double seconds;          ///< default duration for run, 0 if not given
 	cliBodySpec* bodies;     ///< malloc'd
 	int bodyCount;
+	cliColliderSpec* colliders; ///< malloc'd, or NULL without colliders
+	int colliderCount;
 	bool hasWorkers; ///< the scene gave "workers" (else the tool picks the cores available)
 } cliScene;
 
@@ -58,6 +68,8 @@ typedef struct cliSimulation
 	int bodyCount;
 	fmBodyId* bodies;  ///< malloc'd
 	fmTetMesh* meshes; ///< malloc'd, the placed rest meshes, input numbering
+	int colliderCount;
+	fmColliderId* colliders; ///< malloc'd, the scene's colliders in order
 } cliSimulation;
 
 /// The built-in bouncy house: data/house2 scaled 0.4, centred, y/z swapped, floor y = -3

@@ -61,7 +61,7 @@ static bool cliLoadBodyMesh(const cliScene* scene, int index, fmTetMesh* mesh)
 	switch (spec->meshSource)
 	{
 	case cli_meshFile:
-		result = fmLoadTetGen(spec->nodePath, spec->elePath, mesh, &diag);
+		result = fmLoadMesh(spec->nodePath, mesh, &diag); // by extension; .node brings its .ele
 		break;
 	case cli_meshHouse:
 		result = cliLoadHouseMesh(mesh, &diag);
@@ -142,6 +142,66 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 	return true;
 }
 
+// A mesh collider's def from its OBJ: the surface loaded and placed by its transform, its
+// vertices relative to their centroid, which becomes the collider's centre (so a kinematic
+// mesh spins about its middle, and "rotation" turns it there). @p vertices is malloc'd.
+static bool cliMeshColliderDef(const cliScene* scene, int index, fmColliderDef* def,
+                               fmVec3** vertices, fmSurfaceMesh* surface)
+{
+	const cliColliderSpec* spec = &scene->colliders[index];
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (fmLoadObj(spec->objPath, surface, &diag) != fm_ok)
+	{
+		char prefix[CLI_MAX_PATH + 32];
+		snprintf(prefix, sizeof prefix, "%s: colliders[%d].path", scene->name, index);
+		cliPrintDiagnostic(prefix, &diag);
+		return false;
+	}
+	fmSurfaceMesh_Transform(surface, &spec->transform);
+	int n = surface->vertexCount;
+	*vertices = malloc(sizeof **vertices * (size_t)n);
+	if (*vertices == NULL)
+	{
+		cliError("%s: colliders[%d]: out of memory for %d vertices", scene->name, index, n);
+		return false;
+	}
+	fmVec3 centroid = fmMakeVec3(0, 0, 0);
+	for (int i = 0; i < n; ++i)
+		centroid = fmAdd(centroid, fmLoad(surface->positions, i));
+	centroid = fmScale(1.0 / n, centroid);
+	for (int i = 0; i < n; ++i)
+		(*vertices)[i] = fmSub(fmLoad(surface->positions, i), centroid);
+	def->center = centroid;
+	def->vertices = *vertices;
+	def->vertexCount = n;
+	def->triangles = surface->triangles;
+	def->triangleCount = surface->triangleCount;
+	return true;
+}
+
+static bool cliCreateCollider(const cliScene* scene, int index, cliSimulation* sim)
+{
+	fmColliderDef def = scene->colliders[index].def;
+	fmVec3* vertices = NULL;
+	fmSurfaceMesh surface;
+	memset(&surface, 0, sizeof surface);
+	bool ok =
+	    def.shape != fm_shapeMesh || cliMeshColliderDef(scene, index, &def, &vertices, &surface);
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (ok && fmCreateCollider(sim->world, &def, &sim->colliders[index], &diag) != fm_ok)
+	{
+		char prefix[CLI_MAX_PATH + 32];
+		snprintf(prefix, sizeof prefix, "%s: colliders[%d]", scene->name, index);
+		cliPrintDiagnostic(prefix, &diag);
+		ok = false;
+	}
+	free(vertices); // the library copies a mesh's arrays
+	fmFreeSurfaceMesh(&surface);
+	return ok;
+}
+
 // The estimate is conservative: damping and smoothing keep the seeds' house stable at 1.6 times
 // it, and steps beyond twice it explode (the library's own threshold, where it warns as well).
 static void cliCheckExplicitStep(const cliScene* scene, const cliSimulation* sim, bool notes)
@@ -178,6 +238,15 @@ bool cliSimulation_Create(const cliScene* scene, cliStepCheck check, cliSimulati
 		return false;
 	}
 	sim->bodyCount = scene->bodyCount;
+	sim->colliders = calloc((size_t)(scene->colliderCount > 0 ? scene->colliderCount : 1),
+	                        sizeof *sim->colliders);
+	if (sim->colliders == NULL)
+	{
+		cliError("out of memory");
+		cliSimulation_Destroy(sim);
+		return false;
+	}
+	sim->colliderCount = scene->colliderCount;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	if (fmWorldDef_Validate(&scene->worldDef, &diag) != fm_ok)
@@ -201,6 +270,14 @@ bool cliSimulation_Create(const cliScene* scene, cliStepCheck check, cliSimulati
 			return false;
 		}
 	}
+	for (int i = 0; i < scene->colliderCount; ++i)
+	{
+		if (!cliCreateCollider(scene, i, sim))
+		{
+			cliSimulation_Destroy(sim);
+			return false;
+		}
+	}
 	if (scene->worldDef.integrator == fm_explicit && check != cli_stepCheckOff)
 		cliCheckExplicitStep(scene, sim, check == cli_stepCheckAll);
 	return true;
@@ -215,5 +292,6 @@ void cliSimulation_Destroy(cliSimulation* sim)
 			fmFreeTetMesh(&sim->meshes[i]);
 	free(sim->meshes);
 	free(sim->bodies);
+	free(sim->colliders);
 	memset(sim, 0, sizeof *sim);
 }

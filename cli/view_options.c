@@ -14,11 +14,17 @@ static const struct
 	const char* name;
 	unsigned flag;
 } cliDrawNames[] = {
-    {"surfaces", fm_drawSurfaces}, {"stress", fm_drawStress},
-    {"tets", fm_drawTetEdges},     {"inverted", fm_drawInvertedTets},
-    {"pins", fm_drawPins},         {"targets", fm_drawTargets},
-    {"floor", fm_drawFloor},       {"contacts", fm_drawContacts},
-    {"all", fm_drawAll},           {"none", 0},
+    {"surfaces", fm_drawSurfaces},
+    {"stress", fm_drawStress},
+    {"tets", fm_drawTetEdges},
+    {"inverted", fm_drawInvertedTets},
+    {"pins", fm_drawPins},
+    {"targets", fm_drawTargets},
+    {"floor", fm_drawFloor},
+    {"contacts", fm_drawContacts},
+    {"colliders", fm_drawColliders},
+    {"all", fm_drawAll},
+    {"none", 0},
 };
 
 void cliViewOptions_Init(cliViewOptions* o)
@@ -27,7 +33,7 @@ void cliViewOptions_Init(cliViewOptions* o)
 	o->width = 640;
 	o->height = 480;
 	o->fps = 30.0;
-	o->drawFlags = fm_drawSurfaces | fm_drawFloor | fm_drawPins | fm_drawTargets;
+	o->drawFlags = fm_drawSurfaces | fm_drawFloor | fm_drawPins | fm_drawTargets | fm_drawColliders;
 }
 
 bool cliParseDrawFlags(const char* text, unsigned* flags, char* bad, size_t badSize)

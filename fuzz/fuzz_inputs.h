@@ -11,3 +11,14 @@ void fmFuzzTetGen(const uint8_t* data, size_t size);
 
 // TetGen .face with 0- and 1-based numbering against 100 nodes.
 void fmFuzzFace(const uint8_t* data, size_t size);
+
+// Wavefront OBJ: loads the surface, checks every triangle names a vertex, places it and, for
+// small surfaces, makes it a mesh collider under a falling box for one step.
+void fmFuzzObj(const uint8_t* data, size_t size);
+
+// The other mesh formats (fmLoadMeshFromMemory): Gmsh .msh, VTK legacy .vtk, VTK XML .vtu, Medit
+// .mesh. A mesh that loads is measured, its surface extracted and (when small) simulated.
+void fmFuzzGmsh(const uint8_t* data, size_t size);
+void fmFuzzVtk(const uint8_t* data, size_t size);
+void fmFuzzVtu(const uint8_t* data, size_t size);
+void fmFuzzMedit(const uint8_t* data, size_t size);

@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
 # Build the libFuzzer targets with clang + ASan + UBSan and run each (fuzz_tetgen, fuzz_face,
-# fuzz_scene, fuzz_simulate, fuzz_api: every build-fuzz/fuzz/fuzz_*) for a bounded time on its
-# committed seed corpus (fuzz/corpus/<name>). New crashes fail the check; the crashing input is
-# kept in build-fuzz/crashes/ to be turned into a regression test (tests/data/fuzz/).
-# FEMTO_FUZZ_SECONDS (default 60) sets the time per target.
+# fuzz_obj, fuzz_gmsh, fuzz_vtk, fuzz_vtu, fuzz_medit, fuzz_scene, fuzz_simulate, fuzz_api:
+# every build-fuzz/fuzz/fuzz_*) for a bounded time on its committed seed corpus
+# (fuzz/corpus/<name>). New crashes fail the check; the crashing input is kept in
+# build-fuzz/crashes/ to be turned into a regression test (tests/data/fuzz/).
+# FEMTO_FUZZ_SECONDS (default 60) sets the time per target; the five surface and mesh format
+# readers (fuzz_obj, fuzz_gmsh, fuzz_vtk, fuzz_vtu, fuzz_medit) run FEMTO_FUZZ_FORMAT_SECONDS
+# each (default 30).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${FEMTO_FUZZ_SECONDS:-60}
+format_seconds=${FEMTO_FUZZ_FORMAT_SECONDS:-30}
 if ! command -v clang >/dev/null; then
   echo "check-fuzz: clang not found (scripts/install-deps.sh installs it)" >&2
   exit 1
@@ -26,9 +30,13 @@ for target in build-fuzz/fuzz/fuzz_*; do
     simulate | api) max_len=4096 ;;
     *) max_len=65536 ;;
   esac
-  echo "check-fuzz: $name for ${seconds}s"
+  time=$seconds
+  case "$name" in
+    obj | gmsh | vtk | vtu | medit) time=$format_seconds ;;
+  esac
+  echo "check-fuzz: $name for ${time}s"
   # The seed corpus is read-only input; new inputs go to the scratch corpus in build-fuzz/.
-  "$target" "$work" "fuzz/corpus/$name" -max_total_time="$seconds" -max_len="$max_len" \
+  "$target" "$work" "fuzz/corpus/$name" -max_total_time="$time" -max_len="$max_len" \
     -rss_limit_mb=2048 -timeout=10 -artifact_prefix=build-fuzz/crashes/"$name"- \
     -print_final_stats=1 2>"build-fuzz/$name.log" || {
       tail -n 40 "build-fuzz/$name.log" >&2

@@ -2,15 +2,19 @@
 # Install the Debian packages femto's tools and tests need (the core library needs none): the
 # CLI's cJSON, the viewer's renderer and window (EGL, epoxy, GL, giflib, libspng, GLFW, Dear
 # ImGui, Mesa's software driver) and xvfb for its window tests (docs/viewer.md), then
-# the optional ones `femto bench` uses when they are there: tetgen (the TetGen beams), gnuplot-nox
-# (the PNG plot) and libbullet-dev (bench/peers/, Bullet's deformable world side by side). The
-# build and the tests never need the optional packages; failing to install them is a warning,
-# and FEMTO_BENCH_DEPS=0 leaves them out.
+# the optional ones `femto bench` and the mesh format tests use when they are there: tetgen (the
+# TetGen beams, meshing a cube), gmsh (meshing a cube in every format it writes; about 40 s and
+# 170 MB with its OpenCASCADE libraries, --no-install-recommends), python3-meshio (.vtu and .vtk
+# files as Python tools write them; about 30 s with numpy), gnuplot-nox (the PNG plot) and
+# libbullet-dev (bench/peers/, Bullet's deformable world side by side). zlib1g-dev lets the
+# library read compressed .vtu files. The build and the tests never need the optional packages
+# (tests that use them say they skipped); failing to install them is a warning, and
+# FEMTO_BENCH_DEPS=0 leaves them out.
 set -euo pipefail
-packages=(build-essential cmake pkg-config libcjson-dev clang libclang-rt-14-dev valgrind
+packages=(build-essential cmake pkg-config libcjson-dev zlib1g-dev clang libclang-rt-14-dev valgrind
   libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev libglfw3-dev libimgui-dev
   libegl-mesa0 libgl1-mesa-dri xvfb xauth)
-optional=(tetgen gnuplot-nox libbullet-dev)
+optional=(tetgen gmsh python3-meshio gnuplot-nox libbullet-dev)
 [ "${FEMTO_BENCH_DEPS:-1}" = 0 ] && optional=()
 missing=()
 for p in "${packages[@]}"; do

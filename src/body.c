@@ -6,6 +6,7 @@
 #include "draw.h"
 #include "forces.h"
 #include "fp_env.h"
+#include "island.h"
 #include "mesh_internal.h"
 #include "multigrid.h"
 #include "reorder.h"
@@ -200,6 +201,8 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->contactStart, double, 3 * n);
 	FM_FREE_ARRAY(b->contactMark, int, n);
 	FM_FREE_ARRAY(b->contactPlane, double, 4 * n);
+	FM_FREE_ARRAY(b->contactFriction, double, 8 * n);
+	FM_FREE_ARRAY(b->contactFrictionNext, double, 8 * n);
 	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
@@ -400,6 +403,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		b->springDamping = def->springDamping;
 		b->friction = def->friction;
 		b->filter = def->filter;
+		b->selfCollision = def->selfCollision;
+		b->canSleep = def->enableSleep;
 		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
 		memcpy(b->x, b->x0, n3);
 		memcpy(b->xGood, b->x0, n3);
@@ -600,6 +605,7 @@ static fmBody* fmBodyOrAssert(fmBodyId id)
 void fmDestroyBody(fmBodyId bodyId)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
+	fmIsland_WakeBody(bodyId); // what rested on it must fall
 	if (b)
 		fmBodyRelease(b);
 }
@@ -732,6 +738,7 @@ static bool fmHasState(const fmBody* b, const double* values)
 
 void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 {
+	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (fmHasState(b, positions))
 		for (int i = 0; i < b->vertexCount; ++i)
@@ -740,6 +747,7 @@ void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 
 void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 {
+	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (!fmHasState(b, velocities))
 		return;
@@ -778,6 +786,7 @@ static void fmBodyApplyVertexImpulseIn(fmBodyId bodyId, int vertex, fmVec3 delta
 
 void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
 {
+	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
 	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
@@ -808,6 +817,7 @@ bool fmBody_IsPinned(fmBodyId bodyId, int vertex)
 
 int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 {
+	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
 	// Infinite bounds are fine (a half-space); NaN ones catch nothing and are a mistake.
 	bool ordered = !isnan(min.x) && !isnan(min.y) && !isnan(min.z) && !isnan(max.x) &&
@@ -936,6 +946,7 @@ fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
 
 void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
 {
+	fmIsland_WakeBody(bodyId);
 	fmFpEnv env = fmBodyFpEnter(bodyId);
 	fmBodyApplyImpulseIn(bodyId, deltaVelocity);
 	fmFpEnv_Leave(&env);
@@ -943,6 +954,7 @@ void fmBody_ApplyImpulse(fmBodyId bodyId, fmVec3 deltaVelocity)
 
 void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity)
 {
+	fmIsland_WakeBody(bodyId);
 	fmFpEnv env = fmBodyFpEnter(bodyId);
 	fmBodyApplyVertexImpulseIn(bodyId, vertex, deltaVelocity);
 	fmFpEnv_Leave(&env);
@@ -950,6 +962,7 @@ void fmBody_ApplyVertexImpulse(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity
 
 void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
 {
+	fmIsland_WakeBody(bodyId);
 	fmFpEnv env = fmBodyFpEnter(bodyId);
 	fmBodySetPinnedAxesIn(bodyId, vertex, axes);
 	fmFpEnv_Leave(&env);
@@ -957,6 +970,7 @@ void fmBody_SetPinnedAxes(fmBodyId bodyId, int vertex, unsigned axes)
 
 fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag)
 {
+	fmIsland_WakeBody(bodyId);
 	fmFpEnv env = fmBodyFpEnter(bodyId);
 	fmResult result = fmBodySetMaterialIn(bodyId, material, diag);
 	fmFpEnv_Leave(&env);

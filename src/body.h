@@ -84,8 +84,15 @@ typedef struct fmBody
 	double rayleighMass;
 	double rayleighStiffness;
 	double springDamping;
-	double friction; // against other bodies, or -1 for the world's
-	fmFilter filter; // collision filtering
+	double friction;    // against other bodies, or -1 for the world's
+	bool selfCollision; // surface against its own non-adjacent surface (contact.c)
+	// Sleeping (island.c)
+	bool canSleep;      // fmBodyDef.enableSleep
+	bool asleep;        // not stepped until woken
+	bool wakeRequested; // touched while asleep: wakes with its island at the end of the frame
+	double sleepTimer;  // s the body has been slower than the sleep speed
+	int island;         // while asleep: the island's id (the slot of its first body)
+	fmFilter filter;    // collision filtering
 	double totalMass;
 	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
@@ -105,6 +112,10 @@ typedef struct fmBody
 	double* contactPlane;    // 4n: an implicit step's frozen plane of another body near each
 	                         // surface vertex (n, n . q), NaN where none (penalty.h)
 	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
+	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
+	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
+	double* contactFriction;
+	double* contactFrictionNext;   // 8n: what the contact stage found this step, for the next one
 	struct fmDrawCache* drawCache; // fmWorld_Draw's buffers (draw.h), made on the first draw
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
 	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need

@@ -35,9 +35,12 @@ fmMat3 fmRotationFromAxisAngle(fmVec3 w)
 	return R;
 }
 
-void fmCollider_Init(fmCollider* c, const fmColliderDef* def)
+bool fmCollider_Init(fmCollider* c, const fmColliderDef* def)
 {
 	c->def = *def;
+	// The caller's mesh arrays are copied into the shape, never kept.
+	c->def.vertices = NULL;
+	c->def.triangles = NULL;
 	c->rotation = fmIdentity3();
 	c->impulse = c->angularImpulse = c->force = c->torque = fmMakeVec3(0.0, 0.0, 0.0);
 	switch (def->shape)
@@ -55,6 +58,11 @@ void fmCollider_Init(fmCollider* c, const fmColliderDef* def)
 		c->position = def->center;
 		c->rotation = fmRotationFromAxisAngle(def->rotation);
 		break;
+	case fm_shapeMesh:
+		c->position = def->center;
+		c->rotation = fmRotationFromAxisAngle(def->rotation);
+		c->mesh = fmMeshShape_Create(def);
+		return c->mesh != NULL;
 	case fm_shapeCapsule:
 		c->position = fmScale(0.5, fmAdd(def->a, def->b));
 		c->halfSegment = fmScale(0.5, fmSub(def->b, def->a));
@@ -63,6 +71,7 @@ void fmCollider_Init(fmCollider* c, const fmColliderDef* def)
 		c->position = def->center;
 		break;
 	}
+	return true;
 }
 
 // Box: distance from the local point q to a box of half extents h (exact outside and inside).
@@ -95,6 +104,15 @@ static double fmRoundDistance(fmVec3 p, fmVec3 center, double radius, fmVec3* no
 	return length - radius;
 }
 
+// @p p in the collider's own frame (its rotation undone about its position).
+static fmVec3 fmToLocal(const fmCollider* c, fmVec3 p)
+{
+	fmVec3 d = fmSub(p, c->position);
+	const double* m = c->rotation.m;
+	return fmMakeVec3(m[0] * d.x + m[3] * d.y + m[6] * d.z, m[1] * d.x + m[4] * d.y + m[7] * d.z,
+	                  m[2] * d.x + m[5] * d.y + m[8] * d.z);
+}
+
 double fmCollider_Distance(const fmCollider* c, fmVec3 p, fmVec3* normal)
 {
 	switch (c->def.shape)
@@ -106,13 +124,15 @@ double fmCollider_Distance(const fmCollider* c, fmVec3 p, fmVec3* normal)
 		return fmRoundDistance(p, c->position, c->def.radius, normal);
 	case fm_shapeBox:
 	{
-		fmVec3 local = fmSub(p, c->position);
-		fmVec3 q = fmMakeVec3(
-		    c->rotation.m[0] * local.x + c->rotation.m[3] * local.y + c->rotation.m[6] * local.z,
-		    c->rotation.m[1] * local.x + c->rotation.m[4] * local.y + c->rotation.m[7] * local.z,
-		    c->rotation.m[2] * local.x + c->rotation.m[5] * local.y + c->rotation.m[8] * local.z);
 		fmVec3 n;
-		double d = fmBoxDistance(q, c->def.halfExtents, &n);
+		double d = fmBoxDistance(fmToLocal(c, p), c->def.halfExtents, &n);
+		*normal = fmMatVec(&c->rotation, n);
+		return d;
+	}
+	case fm_shapeMesh:
+	{
+		fmVec3 n;
+		double d = fmMeshShape_Distance(c->mesh, fmToLocal(c, p), &n);
 		*normal = fmMatVec(&c->rotation, n);
 		return d;
 	}
@@ -146,6 +166,15 @@ bool fmCollider_CastSegment(const fmCollider* c, fmVec3 p0, fmVec3 p1, double ma
 	{
 		*fraction = 0.0;
 		return start >= -touching && fmDot(d, *normal) < 0.0;
+	}
+	if (c->def.shape == fm_shapeMesh && margin == 0.0)
+	{
+		// Exact: the first front face the segment enters through.
+		fmVec3 n;
+		if (!fmMeshShape_CastSegment(c->mesh, fmToLocal(c, p0), fmToLocal(c, p1), fraction, &n))
+			return false;
+		*normal = fmMatVec(&c->rotation, n);
+		return true;
 	}
 	fmVec3 u = fmScale(1.0 / length, d);
 	double t = 0.0;
@@ -234,8 +263,13 @@ static const char* fmShapeProblem(const fmColliderDef* d)
 		           ? "capsule: finite ends a and b within 1e9 m"
 		       : !(d->radius > 0.0 && d->radius <= far) ? "capsule: a radius in (0, 1e9] m"
 		                                                : NULL;
+	case fm_shapeMesh:
+		return !fmFiniteVec(d->center, far)     ? "mesh: a finite center within 1e9 m"
+		       : !fmFiniteVec(d->rotation, 1e3) ? "mesh: a finite rotation (axis-angle, rad)"
+		                                        : fmMeshShape_Problem(d);
 	default:
-		return "a shape of fm_shapePlane, fm_shapeSphere, fm_shapeBox or fm_shapeCapsule";
+		return "a shape of fm_shapePlane, fm_shapeSphere, fm_shapeBox, fm_shapeCapsule or "
+		       "fm_shapeMesh";
 	}
 }
 
@@ -294,7 +328,12 @@ fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def, fmCollide
 	fmCollider* c = &w->colliders[slot];
 	uint32_t generation = c->generation + 1;
 	memset(c, 0, sizeof *c);
-	fmCollider_Init(c, def);
+	if (!fmCollider_Init(c, def))
+	{
+		c->generation = generation - 1;
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for a mesh collider of %d triangles", def->triangleCount);
+	}
 	c->generation = generation;
 	c->inUse = true;
 	colliderId->index1 = slot + 1;
@@ -325,7 +364,51 @@ void fmDestroyCollider(fmColliderId colliderId)
 {
 	fmCollider* c = fmColliderOrAssert(colliderId);
 	if (c != NULL)
-		c->inUse = false;
+		fmCollider_Release(c);
+}
+
+void fmCollider_Release(fmCollider* c)
+{
+	fmMeshShape_Destroy(c->mesh);
+	c->mesh = NULL;
+	c->inUse = false;
+}
+
+bool fmCollider_Bounds(const fmCollider* c, fmVec3* lo, fmVec3* hi)
+{
+	fmVec3 center = c->position, half;
+	switch (c->def.shape)
+	{
+	case fm_shapeSphere:
+		half = fmMakeVec3(c->def.radius, c->def.radius, c->def.radius);
+		break;
+	case fm_shapeCapsule:
+	{
+		fmVec3 s = fmMatVec(&c->rotation, c->halfSegment);
+		half = fmMakeVec3(fabs(s.x) + c->def.radius, fabs(s.y) + c->def.radius,
+		                  fabs(s.z) + c->def.radius);
+		break;
+	}
+	case fm_shapeBox:
+	case fm_shapeMesh:
+	{
+		fmVec3 a = c->def.halfExtents, b = fmScale(-1.0, a);
+		if (c->def.shape == fm_shapeMesh)
+			fmMeshShape_Bounds(c->mesh, &b, &a);
+		fmVec3 mid = fmScale(0.5, fmAdd(a, b)), h = fmScale(0.5, fmSub(a, b));
+		const double* m = c->rotation.m;
+		center = fmAdd(center, fmMatVec(&c->rotation, mid));
+		half = fmMakeVec3(fabs(m[0]) * h.x + fabs(m[1]) * h.y + fabs(m[2]) * h.z,
+		                  fabs(m[3]) * h.x + fabs(m[4]) * h.y + fabs(m[5]) * h.z,
+		                  fabs(m[6]) * h.x + fabs(m[7]) * h.y + fabs(m[8]) * h.z);
+		break;
+	}
+	default:
+		return false;
+	}
+	*lo = fmSub(center, half);
+	*hi = fmAdd(center, half);
+	return true;
 }
 
 bool fmCollider_IsValid(fmColliderId colliderId)
@@ -342,8 +425,8 @@ void fmCollider_SetTransform(fmColliderId colliderId, fmVec3 position, fmVec3 ro
 		return;
 	c->position = position;
 	fmMat3 turn = fmRotationFromAxisAngle(rotation);
-	fmMat3 shape =
-	    c->def.shape == fm_shapeBox ? fmRotationFromAxisAngle(c->def.rotation) : fmIdentity3();
+	bool turned = c->def.shape == fm_shapeBox || c->def.shape == fm_shapeMesh;
+	fmMat3 shape = turned ? fmRotationFromAxisAngle(c->def.rotation) : fmIdentity3();
 	c->rotation = fmMatMul(&turn, &shape);
 }
 

@@ -5,6 +5,8 @@
 
 #include <femto/femto.h>
 
+#include "mesh_collider.h"
+
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -17,14 +19,21 @@ typedef struct fmCollider
 	fmMat3 rotation;       // the orientation now (relative to the local shape below)
 	fmVec3 localNormal;    // plane: the normal before rotation
 	fmVec3 halfSegment;    // capsule: (b - a) / 2 before rotation
+	fmMeshShape* mesh;     // mesh: the triangles and their hierarchy (owned)
 	fmVec3 impulse;        // N s the bodies gave it in the current step
 	fmVec3 angularImpulse; // N m s about its centre, likewise
 	fmVec3 force;          // N, the last step's impulse over its length
 	fmVec3 torque;         // N m, likewise
 } fmCollider;
 
-// Set a collider up from a validated def.
-void fmCollider_Init(fmCollider* collider, const fmColliderDef* def);
+// Set a collider up from a validated def. False when memory is short (a mesh's copy).
+bool fmCollider_Init(fmCollider* collider, const fmColliderDef* def);
+
+// Release what a collider owns and mark its slot free.
+void fmCollider_Release(fmCollider* collider);
+
+// The collider's box now, or false when it is unbounded (a plane).
+bool fmCollider_Bounds(const fmCollider* collider, fmVec3* lo, fmVec3* hi);
 
 // Signed distance (m, negative inside) from @p p to the collider's surface, and the outward
 // unit normal there.

@@ -23,6 +23,7 @@
 #include "energy_ledger.h"
 #include "force_spring.h"
 #include "forces.h"
+#include "geometry.h"
 #include "material.h"
 #include "penalty.h"
 #include "timer.h"
@@ -196,9 +197,22 @@ static bool fmHasColliders(const fmWorld* w)
 	return false;
 }
 
+// Whether surfaces of bodies can meet: two or more bodies, or one that collides with itself.
+static bool fmBodiesMeet(const fmWorld* w)
+{
+	if (!w->def.contact.bodies)
+		return false;
+	if (fmLiveBodies(w) >= 2)
+		return true;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL && w->bodies[i].selfCollision)
+			return true;
+	return false;
+}
+
 bool fmContact_Active(const fmWorld* w)
 {
-	return fmHasColliders(w) || (w->def.contact.bodies && fmLiveBodies(w) >= 2);
+	return fmHasColliders(w) || fmBodiesMeet(w);
 }
 
 static bool fmFiltersMeet(fmFilter a, fmFilter b)
@@ -217,6 +231,10 @@ static bool fmBodyContactArrays(fmBody* b)
 		b->contactMark = FM_ALLOC_ZERO(int, b->vertexCount);
 	if (b->contactPlane == NULL)
 		b->contactPlane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->vertexCount);
+	if (b->contactFriction == NULL)
+		b->contactFriction = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
+	if (b->contactFrictionNext == NULL)
+		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
 	if (b->contactTetMark == NULL)
 		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
 	if (b->surfaceVertex == NULL)
@@ -330,6 +348,18 @@ static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double p
 
 // ---- colliders ---------------------------------------------------------------------------------
 
+// Friction for vertex i's next implicit step (penalty.h): the contact normal, the Coulomb
+// limit mu lambda (N) and the surface's velocity; the strongest contact of the step wins.
+static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface)
+{
+	double* next = b->contactFrictionNext + 8 * (size_t)i;
+	if (!(limit > next[3]))
+		return;
+	next[0] = n.x, next[1] = n.y, next[2] = n.z;
+	next[3] = limit;
+	next[4] = surface.x, next[5] = surface.y, next[6] = surface.z;
+}
+
 // Keep vertex @p i of body @p slot on or outside collider @p k (exact shapes: no gap; the
 // thickness is for the vertex-triangle tests between bodies). Returns false when
 // the contact list could not grow.
@@ -363,11 +393,17 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmVec3 before = fmLoad(b->x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
 	// After an implicit step the penalty pushed the vertex out of the collider during the
-	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too.
-	double pushed = w->def.integrator == fm_implicit && depth > 0.0
-	                    ? FM_PENALTY_KAPPA * depth / w->contactStep
-	                    : 0.0;
-	fmImpact(&relative, n, c->def.restitution, c->def.friction, pushed);
+	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too, unless
+	// friction already acted in the solve (lagged from the last step: penalty.h).
+	bool implicit = w->def.integrator == fm_implicit;
+	double h = w->contactStep;
+	double pushed = implicit && depth > 0.0 ? FM_PENALTY_KAPPA * depth / h : 0.0;
+	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->x, b->contactStart, h)
+	                         : fmMakeVec3(0.0, 0.0, 0.0);
+	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contactFriction[8 * i + 3] > 0.0);
+	fmImpact(&relative, n, c->def.restitution, c->def.friction, inSolve ? 0.0 : pushed);
+	if (pushed > 0.0)
+		fmKeepFriction(b, i, n, c->def.friction * b->mass[i] * pushed / h, vc);
 	if (!fmTouch(s, b, slot, i))
 		return false;
 	fmStore(b->x, i, x);
@@ -377,6 +413,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	// during the step.
 	fmVec3 impulse =
 	    fmMulAdd(fmScale(b->mass[i], fmSub(fmLoad(b->v, i), v)), b->mass[i] * pushed, n);
+	impulse = fmMulAdd(impulse, h, solved);
 	c->impulse = fmSub(c->impulse, impulse);
 	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
 	fmContactPoint* p = fmNewPoint(s);
@@ -393,6 +430,47 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	return fmRecordPair(s, key);
 }
 
+// The box of a body's surface vertices over the substep (where they started and are now).
+static void fmSweptBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
+{
+	*lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	*hi = fmScale(-1.0, *lo);
+	for (int p = 0; p < b->surfaceVertexCount; ++p)
+	{
+		int i = b->surfaceVertex[p];
+		fmVec3 x = fmLoad(b->x, i), x0 = fmLoad(b->contactStart, i);
+		*lo = fmMakeVec3(fmin(lo->x, fmin(x.x, x0.x)), fmin(lo->y, fmin(x.y, x0.y)),
+		                 fmin(lo->z, fmin(x.z, x0.z)));
+		*hi = fmMakeVec3(fmax(hi->x, fmax(x.x, x0.x)), fmax(hi->y, fmax(x.y, x0.y)),
+		                 fmax(hi->z, fmax(x.z, x0.z)));
+	}
+}
+
+// Whether collider @p c may touch the box [lo, hi] (unbounded shapes always may).
+static bool fmColliderNear(const fmCollider* c, fmVec3 lo, fmVec3 hi)
+{
+	fmVec3 clo, chi;
+	if (!fmCollider_Bounds(c, &clo, &chi))
+		return true;
+	return !(lo.x > chi.x || lo.y > chi.y || lo.z > chi.z || hi.x < clo.x || hi.y < clo.y ||
+	         hi.z < clo.z);
+}
+
+// A sleeping body is not moved by colliders; one that moves (kinematic) into it wakes it at
+// the end of the frame (island.h).
+static void fmWakeIfPushed(fmBody* b, const fmCollider* c)
+{
+	const fmColliderDef* d = &c->def;
+	if (fmDot(d->velocity, d->velocity) == 0.0 &&
+	    fmDot(d->angularVelocity, d->angularVelocity) == 0.0)
+		return;
+	for (int p = 0; p < b->surfaceVertexCount && !b->wakeRequested; ++p)
+	{
+		fmVec3 n;
+		b->wakeRequested = fmCollider_Distance(c, fmLoad(b->x, b->surfaceVertex[p]), &n) < 0.0;
+	}
+}
+
 static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
@@ -400,10 +478,18 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 		fmBody* b = &w->bodies[slot];
 		if (b->x == NULL)
 			continue;
+		fmVec3 lo, hi;
+		fmSweptBox(b, &lo, &hi);
 		for (int k = 0; k < w->colliderCapacity; ++k)
 		{
-			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter))
+			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter) ||
+			    !fmColliderNear(&w->colliders[k], lo, hi))
 				continue;
+			if (b->asleep)
+			{
+				fmWakeIfPushed(b, &w->colliders[k]);
+				continue;
+			}
 			for (int p = 0; p < b->surfaceVertexCount; ++p)
 			{
 				int i = b->surfaceVertex[p];
@@ -416,58 +502,6 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 }
 
 // ---- body against body -------------------------------------------------------------------------
-
-// The point of triangle abc nearest p, as barycentric weights (Ericson, Real-Time Collision
-// Detection, 5.1.5).
-static void fmClosestOnTriangle(fmVec3 p, fmVec3 a, fmVec3 b, fmVec3 c, double w[3])
-{
-	fmVec3 ab = fmSub(b, a), ac = fmSub(c, a), ap = fmSub(p, a);
-	double d1 = fmDot(ab, ap), d2 = fmDot(ac, ap);
-	if (d1 <= 0.0 && d2 <= 0.0)
-	{
-		w[0] = 1.0, w[1] = 0.0, w[2] = 0.0;
-		return;
-	}
-	fmVec3 bp = fmSub(p, b);
-	double d3 = fmDot(ab, bp), d4 = fmDot(ac, bp);
-	if (d3 >= 0.0 && d4 <= d3)
-	{
-		w[0] = 0.0, w[1] = 1.0, w[2] = 0.0;
-		return;
-	}
-	double vc = d1 * d4 - d3 * d2;
-	if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0)
-	{
-		double t = d1 / (d1 - d3);
-		w[0] = 1.0 - t, w[1] = t, w[2] = 0.0;
-		return;
-	}
-	fmVec3 cp = fmSub(p, c);
-	double d5 = fmDot(ab, cp), d6 = fmDot(ac, cp);
-	if (d6 >= 0.0 && d5 <= d6)
-	{
-		w[0] = 0.0, w[1] = 0.0, w[2] = 1.0;
-		return;
-	}
-	double vb = d5 * d2 - d1 * d6;
-	if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0)
-	{
-		double t = d2 / (d2 - d6);
-		w[0] = 1.0 - t, w[1] = 0.0, w[2] = t;
-		return;
-	}
-	double va = d3 * d6 - d5 * d4;
-	if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0)
-	{
-		double t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-		w[0] = 0.0, w[1] = 1.0 - t, w[2] = t;
-		return;
-	}
-	double denominator = 1.0 / (va + vb + vc);
-	w[1] = vb * denominator;
-	w[2] = vc * denominator;
-	w[0] = 1.0 - w[1] - w[2];
-}
 
 static const int* fmTriangleOf(const fmBody* b, int t)
 {
@@ -546,6 +580,31 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 }
 
 // The nearest triangle of another body that vertex i of body @p slot touches, into @p found.
+// Whether vertex i of body b was in front of its own triangle @p tri (normal @p n now) at the
+// start of the substep: then it crossed the triangle during it, rather than being inside.
+static bool fmInFrontAtStart(const fmBody* b, int i, const int* tri, fmVec3 n, double thickness)
+{
+	fmVec3 q = fmScale(
+	    1.0 / 3.0, fmAdd(fmAdd(fmLoad(b->contactStart, tri[0]), fmLoad(b->contactStart, tri[1])),
+	                     fmLoad(b->contactStart, tri[2])));
+	return fmDot(n, fmSub(fmLoad(b->contactStart, i), q)) > -thickness;
+}
+
+// Self-collision: vertex i of body b may touch its own surface triangle @p tri only when the
+// two were apart in the rest shape by more than twice the thickness (so a vertex never touches
+// the triangles around it, however coarse or sharp the surface).
+static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thickness)
+{
+	if (tri[0] == i || tri[1] == i || tri[2] == i)
+		return false;
+	fmVec3 p = fmLoad(b->x0, i), a = fmLoad(b->x0, tri[0]), bb = fmLoad(b->x0, tri[1]),
+	       c = fmLoad(b->x0, tri[2]);
+	double w[3];
+	fmClosestOnTriangle(p, a, bb, c, w);
+	fmVec3 q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], bb)), fmScale(w[2], c));
+	return fmLength(fmSub(p, q)) > 2.0 * thickness;
+}
+
 static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, double thickness,
                               fmPairContact* found)
 {
@@ -565,9 +624,12 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	{
 		int item = s->candidates[c], other = s->triangleBody[item];
 		const fmBody* o = &w->bodies[other];
-		if (other == slot || !fmFiltersMeet(b->filter, o->filter))
+		if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
+		    (b->asleep && o->asleep))
 			continue;
 		const int* tri = fmTriangleOf(o, s->triangleIndex[item]);
+		if (other == slot && !fmSelfCandidate(b, i, tri, thickness))
+			continue;
 		fmVec3 a = fmLoad(o->x, tri[0]), bb = fmLoad(o->x, tri[1]), cc = fmLoad(o->x, tri[2]);
 		double wt[3];
 		fmClosestOnTriangle(p, a, bb, cc, wt);
@@ -583,6 +645,14 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 		// (Before a step, a plane within the reach of the step's motion may be met.)
 		double near = s->predict > 0.0 ? bound : thickness;
 		bool touches = distance <= bound && side < near && side > -bound;
+		// A body's own interior lies behind all of its triangles: a vertex of it counts
+		// against its own surface only from the front (or just behind, within the thickness),
+		// and only within the thickness (with the motion's reach, a vertex would meet the
+		// triangles of its own flat face that move with it).
+		if (other == slot)
+			touches = side > -thickness ? distance <= thickness && side < thickness
+			                            : s->predict == 0.0 && distance <= bound &&
+			                                  fmInFrontAtStart(b, i, tri, n, thickness);
 		// The nearest triangle, preferring one the vertex lies straight above or below (near
 		// an edge, the face under the vertex, not the side face that shares the edge).
 		double along = distance > 0.0 ? fabs(side) / distance : 1.0;
@@ -601,6 +671,12 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	found->body = slot;
 	found->vertex = i;
 	found->impulse = 0.0;
+	if (bestItem >= 0 && (b->asleep || w->bodies[found->other].asleep))
+	{
+		// An awake body touches a sleeping one: the sleeper stays still (no inverse mass) and
+		// wakes, with its island, at the end of the frame (island.h).
+		w->bodies[b->asleep ? slot : found->other].wakeRequested = true;
+	}
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -620,7 +696,7 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 
 static double fmInverseMass(const fmBody* b, int i)
 {
-	return b->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[i];
+	return b->pinned[i] == FM_PIN_ALL || b->asleep ? 0.0 : 1.0 / b->mass[i];
 }
 
 // Note the state of a contact's vertex and its triangle's before the stage changes them.
@@ -696,7 +772,9 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 		return false;
 	fmVec3 vp = fmLoad(b->v, pc->vertex), relative = fmSub(vp, vq), before = relative;
 	// After an implicit step the penalty held the pair apart during the step (penalty.h): its
-	// impulse per mass bounds friction too.
+	// impulse per mass bounds friction too. (Friction between bodies inside the solve, as
+	// against colliders, made resting stacks jitter and piles of houses blow up: measured,
+	// docs/contact.md.)
 	double pushed = w->def.integrator == fm_implicit && pc->depth > 0.0
 	                    ? FM_PENALTY_KAPPA * pc->depth / w->contactStep
 	                    : 0.0;
@@ -757,7 +835,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		point->impulse = pc->impulse;
 		int low = pc->body < pc->other ? pc->body : pc->other;
 		int high = pc->body < pc->other ? pc->other : pc->body;
-		if (!fmRecordPair(s, ((uint64_t)(uint32_t)low << 32) | (uint32_t)high))
+		if (low != high && !fmRecordPair(s, ((uint64_t)(uint32_t)low << 32) | (uint32_t)high))
 			return false;
 	}
 	return true;
@@ -918,6 +996,8 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
+	if (b->asleep)
+		return true; // nothing moved it, and its ledger is closed while it sleeps
 	double gained = 0.0, gravityPower = 0.0;
 	bool touched = false;
 	for (int k = 0; k < s->touchedCount; ++k)
@@ -956,10 +1036,15 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 		if (!fmBodyContactArrays(b))
 			return false;
 		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+		// Friction found after the last step acts in this one's solve (penalty.h).
+		double* found = b->contactFrictionNext;
+		b->contactFrictionNext = b->contactFriction;
+		b->contactFriction = found;
+		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
 		for (int k = 0; k < b->vertexCount; ++k)
 			b->contactPlane[4 * (size_t)k + 3] = NAN;
 	}
-	bool bodies = w->def.contact.bodies && fmLiveBodies(w) >= 2;
+	bool bodies = fmBodiesMeet(w);
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmGetState(w);
@@ -978,7 +1063,7 @@ bool fmContact_Substep(fmWorld* w, double h)
 			fmCollider_Move(&w->colliders[k], h);
 	s->pointCount = 0;
 	bool ok = fmCollideWithColliders(w, s);
-	if (ok && w->def.contact.bodies && fmLiveBodies(w) >= 2)
+	if (ok && fmBodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
 		ok = fmBookWork(w, s, slot);
@@ -1022,6 +1107,15 @@ bool fmContact_EndFrame(fmWorld* w, double frameTime)
 	fmContactState* s = w->contactState;
 	if (s == NULL)
 		return true;
+	// Sleeping bodies keep their pairs (no end events while an island sleeps).
+	for (int k = 0; k < s->lastPairCount; ++k)
+	{
+		int a = (int)(s->lastPairs[k] >> 32), b = (int)(uint32_t)s->lastPairs[k];
+		bool collider = (b & (int)0x80000000u) != 0;
+		if ((w->bodies[a].asleep || (!collider && w->bodies[b].asleep)) &&
+		    !fmRecordPair(s, s->lastPairs[k]))
+			return false;
+	}
 	if (s->pairCount > 1)
 		qsort(s->pairs, (size_t)s->pairCount, sizeof(uint64_t), fmCompareKeys);
 	int unique = 0;
@@ -1056,6 +1150,13 @@ bool fmContact_EndFrame(fmWorld* w, double frameTime)
 }
 
 // ---- public read-back --------------------------------------------------------------------------
+
+int fmContact_FramePairs(const fmWorld* w, const uint64_t** pairs)
+{
+	const fmContactState* s = w->contactState;
+	*pairs = s ? s->lastPairs : NULL;
+	return s ? s->lastPairCount : 0;
+}
 
 int fmContact_Points(const fmWorld* w, const fmContactPoint** points)
 {

@@ -35,6 +35,10 @@ bool fmContact_Substep(fmWorld* world, double h);
 // events. False when memory is short (the events are then lost).
 bool fmContact_EndFrame(fmWorld* world, double frameTime);
 
+// The pairs that touched during the last frame, sorted: (body slot << 32) | (other body's
+// slot), or | 0x80000000 | collider slot for a collider (valid until the next step).
+int fmContact_FramePairs(const fmWorld* world, const uint64_t** pairs);
+
 // The last substep's contacts (valid until the next step); returns how many.
 int fmContact_Points(const fmWorld* world, const fmContactPoint** points);
 

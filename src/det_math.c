@@ -215,3 +215,41 @@ void fmDetSinCos(double x, double* sine, double* cosine)
 		break;
 	}
 }
+
+// atan t for |t| <= tan(pi/16) = 0.199: its Taylor series to t^31 (the next term is below
+// 2^-74 t).
+static double fmAtanKernel(double t)
+{
+	double z = t * t, sum = 0.0;
+	for (int k = 31; k >= 3; k -= 2)
+		sum = (k / 2 % 2 ? -1.0 : 1.0) / k + z * sum;
+	return t + t * z * sum;
+}
+
+// atan x for 0 <= x <= 1: atan x = c + atan((x - tan c) / (1 + x tan c)) with c = pi/8 or pi/4
+// beyond tan(pi/16), which brings the argument below 0.2 either way.
+static double fmAtanUnit(double x)
+{
+	if (x <= 0.19891236737965800691)
+		return fmAtanKernel(x);
+	const double t8 = 0.41421356237309504880; // tan(pi/8)
+	if (x <= 0.66817863791929891999)          // tan(3 pi/16)
+		return 0.39269908169872415481 + fmAtanKernel((x - t8) / (1.0 + x * t8));
+	return 0.78539816339744830962 + fmAtanKernel((x - 1.0) / (1.0 + x)); // pi/4 + ...
+}
+
+double fmDetAtan2(double y, double x)
+{
+	if (isnan(x) || isnan(y))
+		return NAN;
+	double ax = fabs(x), ay = fabs(y);
+	if (ax == 0.0 && ay == 0.0)
+		return signbit(x) ? copysign(3.14159265358979311600, y) : copysign(0.0, y);
+	bool swap = ay > ax;
+	double angle = fmAtanUnit(swap ? ax / ay : ay / ax);
+	if (swap)
+		angle = 1.57079632679489655800 - angle + 6.123233995736766e-17;
+	if (signbit(x))
+		angle = 3.14159265358979311600 - angle + 1.2246467991473532e-16;
+	return copysign(angle, y);
+}

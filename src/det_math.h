@@ -27,6 +27,11 @@ double fmDetPow(double x, double y);
 // NaN beyond. Within 2 ulp of the correctly rounded values over that range.
 void fmDetSinCos(double x, double* sine, double* cosine);
 
+// The angle of the point (x, y) from the positive x axis, in [-pi, pi], as C's atan2 for finite
+// arguments (NaN for a NaN). Within 2 ulp of the correctly rounded value (mesh collider
+// pseudo-normals).
+double fmDetAtan2(double y, double x);
+
 // The calling thread's det_math mode (off when a thread starts); set by fp_env.c.
 extern _Thread_local bool fmDetMathMode;
 

@@ -3,6 +3,8 @@
 // contacts as float arrays for the caller's callbacks, and the floor plane.
 #include "draw.h"
 
+#include "draw_shapes.h"
+
 #include "contact.h"
 #include "core.h"
 #include "floor.h"
@@ -24,6 +26,7 @@
 #define FM_COLOR_TARGETS 0x20d040u
 #define FM_COLOR_CONTACTS 0xffd000u
 #define FM_COLOR_FLOOR 0x9a9a9au
+#define FM_COLOR_COLLIDERS 0x8c9aa8u
 
 // The equivalent strain sqrt(2 psi / E) that fm_drawStress shows as red (blue is 0).
 #define FM_DRAW_FULL_STRAIN 0.2
@@ -408,11 +411,46 @@ static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
 	return true;
 }
 
+// Every collider: planes through drawPlane, the other shapes' triangles through drawTriangles.
+static bool fmDrawColliders(fmWorld* w, const fmDebugDraw* draw)
+{
+	if (w->drawShape == NULL && (w->drawShape = FM_ALLOC_ZERO(fmShapeBuffer, 1)) == NULL)
+		return false;
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		const fmCollider* c = &w->colliders[k];
+		if (!c->inUse)
+			continue;
+		if (c->def.shape == fm_shapePlane)
+		{
+			if (draw->drawPlane)
+				draw->drawPlane(c->position, fmMatVec(&c->rotation, c->localNormal),
+				                FM_COLOR_COLLIDERS, draw->context);
+			continue;
+		}
+		if (draw->drawTriangles == NULL)
+			continue;
+		if (!fmShapeBuffer_Fill(w->drawShape, c))
+			return false;
+		fmDrawTriangles batch;
+		memset(&batch, 0, sizeof batch);
+		batch.collider = fmWorldColliderId(w, k);
+		batch.vertexCount = w->drawShape->vertexCount;
+		batch.triangleCount = w->drawShape->triangleCount;
+		batch.positions = w->drawShape->positions;
+		batch.normals = w->drawShape->normals;
+		batch.indices = w->drawShape->indices;
+		batch.color = FM_COLOR_COLLIDERS;
+		draw->drawTriangles(&batch, draw->context);
+	}
+	return true;
+}
+
 fmDebugDraw fmDefaultDebugDraw(void)
 {
 	fmDebugDraw draw;
 	memset(&draw, 0, sizeof draw);
-	draw.flags = fm_drawSurfaces | fm_drawFloor | fm_drawTargets;
+	draw.flags = fm_drawSurfaces | fm_drawFloor | fm_drawTargets | fm_drawColliders;
 	return draw;
 }
 
@@ -437,6 +475,9 @@ static fmResult fmWorldDrawIn(fmWorldId worldId, const fmDebugDraw* draw)
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "fmWorld_Draw: out of memory for body %d's draw buffers", i);
 	}
+	if ((draw->flags & fm_drawColliders) && !fmDrawColliders(w, draw))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "fmWorld_Draw: out of memory for the collider triangles");
 	if ((draw->flags & fm_drawContacts) && draw->drawPoints && !fmDrawContactList(w, draw))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "fmWorld_Draw: out of memory for the contact points");

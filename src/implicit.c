@@ -158,8 +158,12 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
-	fmContactPenalty penalty = {world->colliders, world->colliderCapacity,
-	                            FM_PENALTY_KAPPA / (h * h), fmContact_Thickness(world)};
+	fmContactPenalty penalty = {world->colliders,
+	                            world->colliderCapacity,
+	                            FM_PENALTY_KAPPA / (h * h),
+	                            fmContact_Thickness(world),
+	                            c->xStart,
+	                            h};
 	pb.contact = fmContact_Active(world) ? &penalty : NULL;
 	for (int k = 0; k < n3; ++k)
 		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];

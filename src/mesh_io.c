@@ -357,8 +357,8 @@ static void fmSort4(int* v)
 
 // Two tets on the same four nodes would double that element's mass and stiffness and hide
 // their faces from the surface: an error naming both lines.
-static fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const char* name,
-                                     fmDiagnostic* diag)
+fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const char* name,
+                              fmDiagnostic* diag)
 {
 	fmTetKey* keys = FM_ALLOC_ARRAY(fmTetKey, m->tetCount);
 	if (keys == NULL)
@@ -377,10 +377,10 @@ static fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const
 		if (memcmp(keys[k].v, keys[k - 1].v, sizeof keys[k].v) != 0)
 			continue;
 		int first = keys[k - 1].tet, second = keys[k].tet;
-		result = fmDiagError(diag, fm_errIndex, name, lines[second], 0,
+		result = fmDiagError(diag, fm_errIndex, name, lines ? lines[second] : 0, 0,
 		                     "tet %d has the same nodes as tet %d on line %d: expected each tet "
 		                     "once",
-		                     second + m->firstIndex, first + m->firstIndex, lines[first]);
+		                     second + m->firstIndex, first + m->firstIndex, lines ? lines[first] : 0);
 	}
 	FM_FREE_ARRAY(keys, fmTetKey, m->tetCount);
 	return result;
@@ -427,7 +427,7 @@ static fmResult fmParseTets(const char* text, size_t size, const char* name, fmT
 }
 
 // Nodes no tet uses are accepted (the body keeps them fixed) with one warning.
-static void fmWarnUnreferenced(const fmTetMesh* m, const char* name, fmDiagnostic* diag)
+void fmWarnUnreferenced(const fmTetMesh* m, const char* name, fmDiagnostic* diag)
 {
 	unsigned char* used = FM_ALLOC_ZERO(unsigned char, m->nodeCount);
 	if (used == NULL)
@@ -483,15 +483,7 @@ fmMeshLoadDef fmDefaultMeshLoadDef(void)
 	return def;
 }
 
-// A whole file in one allocation of exactly its size.
-typedef struct fmFileText
-{
-	char* data;
-	size_t size;     // bytes read
-	size_t capacity; // bytes allocated (the size the file had when it was opened)
-} fmFileText;
-
-static void fmFileText_Free(fmFileText* t)
+void fmFileText_Free(fmFileText* t)
 {
 	fmDealloc(t->data, t->capacity);
 	memset(t, 0, sizeof *t);
@@ -567,7 +559,7 @@ static fmResult fmReadAll(int fd, const char* path, fmFileText* t, fmDiagnostic*
 // Read a whole regular file of at most @p limit bytes into one buffer of its size: the size is
 // checked before anything is allocated, and a large file is never held twice (no growing buffer).
 // O_NONBLOCK: opening a FIFO without a writer would otherwise block forever before the check.
-static fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagnostic* diag)
+fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagnostic* diag)
 {
 	memset(t, 0, sizeof *t);
 	int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);

@@ -44,6 +44,97 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 	}
 }
 
+// ---- friction ----------------------------------------------------------------------------------
+
+// Vertex i's friction data (normal, limit mu lambda, surface velocity), or NULL when none.
+static const double* fmFrictionOf(const fmBody* b, int i)
+{
+	const double* f = b->contactFriction ? b->contactFriction + 8 * (size_t)i : NULL;
+	return f != NULL && f[3] > 0.0 && b->pinned[i] != FM_PIN_ALL ? f : NULL;
+}
+
+// u: the tangential part of vertex i's motion relative to the collider's surface.
+static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
+{
+	fmVec3 n = fmMakeVec3(f[0], f[1], f[2]);
+	fmVec3 d = fmSub(fmSub(x, x0), fmScale(h, fmMakeVec3(f[4], f[5], f[6])));
+	return fmMulAdd(d, -fmDot(d, n), n);
+}
+
+// The slip width of vertex i's static friction (m): FM_FRICTION_SLIP_SPEED h, widened where the
+// stick spring 2 mu lambda / eps would be stiffer than the normal penalty kappa m / h^2 (a stick
+// stiffer than the contact itself only stalls Newton: measured, docs/contact.md).
+static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
+{
+	return fmax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
+}
+
+// f0(y) / limit: IPC's C1 friction potential with slip width eps.
+static double fmFrictionPotential(double y, double eps)
+{
+	return y >= eps ? y : y * y * (1.0 / eps - y / (3.0 * eps * eps)) + eps / 3.0;
+}
+
+// f1(y) / y: the force's magnitude per unit slip, over the limit.
+static double fmFrictionRatio(double y, double eps)
+{
+	return y >= eps ? 1.0 / y : 2.0 / eps - y / (eps * eps);
+}
+
+fmVec3 fmContactFriction_Force(const fmBody* b, int i, const double* x, const double* xStart,
+                               double h)
+{
+	const double* f = fmFrictionOf(b, i);
+	if (f == NULL)
+		return fmMakeVec3(0.0, 0.0, 0.0);
+	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(xStart, i), h);
+	double eps = fmSlipWidth(b, i, f, h);
+	return fmScale(-f[3] * fmFrictionRatio(fmLength(u), eps), u);
+}
+
+// The friction potential's energy, with its gradient added to @p gradient when not NULL.
+static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const double* x,
+                               double* gradient)
+{
+	double energy = 0.0;
+	for (int s = 0; s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
+		fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
+		double y = fmLength(u), eps = fmSlipWidth(b, i, f, p->step);
+		energy += f[3] * fmFrictionPotential(y, eps);
+		if (gradient)
+		{
+			double r = f[3] * fmFrictionRatio(y, eps);
+			gradient[3 * i] += r * u.x;
+			gradient[3 * i + 1] += r * u.y;
+			gradient[3 * i + 2] += r * u.z;
+		}
+	}
+	return energy;
+}
+
+// Vertex i's friction Hessian block (positive semi-definite: IPC's, whose eigenvalue along the
+// slip, 2 / eps - 2 y / eps^2 or 0, is never negative).
+static void fmFrictionBlock(const fmContactPenalty* p, const fmBody* b, const double* x, int i,
+                            const double* f, double block[9])
+{
+	double eps = fmSlipWidth(b, i, f, p->step);
+	fmVec3 n = fmMakeVec3(f[0], f[1], f[2]);
+	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
+	double y = fmLength(u), along = y >= eps  ? -1.0 / (y * y * y)
+	                                : y > 0.0 ? -1.0 / (eps * eps * y)
+	                                          : 0.0;
+	double ratio = fmFrictionRatio(y, eps);
+	const double nn[3] = {n.x, n.y, n.z}, uu[3] = {u.x, u.y, u.z};
+	for (int r = 0; r < 3; ++r)
+		for (int c = 0; c < 3; ++c)
+			block[3 * r + c] = f[3] * (ratio * ((r == c) - nn[r] * nn[c]) + along * uu[r] * uu[c]);
+}
+
 typedef struct fmEnergyVisit
 {
 	double energy;
@@ -67,7 +158,8 @@ double fmContactPenalty_Energy(const fmContactPenalty* p, const fmBody* b, const
 {
 	fmEnergyVisit e = {0.0, gradient};
 	fmPenaltyPairs(p, b, x, fmVisitEnergy, &e);
-	return e.energy;
+	return p != NULL && b->surfaceVertex != NULL ? e.energy + fmFrictionEnergy(p, b, x, gradient)
+	                                             : e.energy;
 }
 
 typedef struct fmHessianVisit
@@ -92,6 +184,17 @@ void fmContactPenalty_AddHessian(const fmContactPenalty* p, const fmBody* b, con
 {
 	fmHessianVisit h = {diagonal, values};
 	fmPenaltyPairs(p, b, x, fmVisitHessian, &h);
+	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
+		double block[9], *out = values + 9 * (size_t)(diagonal ? diagonal[i] : i);
+		fmFrictionBlock(p, b, x, i, f, block);
+		for (int k = 0; k < 9; ++k)
+			out[k] += block[k];
+	}
 }
 
 typedef struct fmProductVisit
@@ -115,6 +218,18 @@ void fmContactPenalty_AddProduct(const fmContactPenalty* p, const fmBody* b, con
 {
 	fmProductVisit v = {dx, y};
 	fmPenaltyPairs(p, b, at, fmVisitProduct, &v);
+	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
+		double block[9];
+		fmFrictionBlock(p, b, at, i, f, block);
+		for (int r = 0; r < 3; ++r)
+			y[3 * i + r] += block[3 * r] * dx[3 * i] + block[3 * r + 1] * dx[3 * i + 1] +
+			                block[3 * r + 2] * dx[3 * i + 2];
+	}
 }
 
 typedef struct fmWorkVisit
@@ -135,5 +250,12 @@ double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const d
 {
 	fmWorkVisit v = {b->x, xStart, 0.0};
 	fmPenaltyPairs(p, b, b->x, fmVisitWork, &v);
+	// Friction's work: negative against a resting collider, positive where a moving one drags.
+	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		fmVec3 force = fmContactFriction_Force(b, i, b->x, xStart, p->step);
+		v.work += fmax(0.0, fmDot(force, fmSub(fmLoad(b->x, i), fmLoad(xStart, i))));
+	}
 	return v.work;
 }

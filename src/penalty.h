@@ -2,8 +2,12 @@
 // closer than the gap to a collider, or to the frozen plane of another body's surface near it,
 // adds the energy k/2 (gap - d)^2, with d the signed distance and k = kappa m / h^2 (a stiffness
 // that scales with the step's own inertia term), its gradient and its Gauss-Newton Hessian k n n^T.
-// The contact stage after the solve then removes what penetration is left and applies friction
-// (contact.c).
+// Friction against colliders is in the solve too, lagged one step as in IPC (Li et al. 2020):
+// a vertex that pressed on a collider with normal force lambda in the last step adds
+// D = mu lambda f0(|u|), u its tangential motion relative to the collider's surface, f0 the
+// C1 blend of a stiff spring below a slip of FM_FRICTION_SLIP_SPEED h and |u| above it: static
+// friction holds, sliding friction is Coulomb's. The contact stage after the solve then removes
+// what penetration is left and applies friction to new contacts (contact.c).
 #pragma once
 
 #include "body.h"
@@ -21,11 +25,21 @@ typedef struct fmContactPenalty
 	double thickness;            // m, the gap kept from the planes of other bodies
 	                             // (body->contactPlane, made before the step by contact.c);
 	                             // colliders are kept at their surface, without a gap
+	const double* xStart;        // 3n: positions at the start of the step (friction's anchors)
+	double step;                 // s, the step (h)
 } fmContactPenalty;
+
+// Friction's slip speed (m/s) below which it acts as a stiff spring (static friction): a body
+// that should stick creeps at most this fast.
+#define FM_FRICTION_SLIP_SPEED 1e-2
 
 // The penalty's energy at @p x (J), with its gradient added to @p gradient when not NULL.
 double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* body, const double* x,
                                double* gradient);
+
+// The friction force (N) on vertex @p i at positions @p x (zero where it has none).
+fmVec3 fmContactFriction_Force(const fmBody* body, int i, const double* x, const double* xStart,
+                               double step);
 
 // The work (J) the penalty's push did on the body over a step from @p xStart to its positions:
 // the forces at the end (backward Euler's) times the motion, its positive part.

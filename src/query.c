@@ -1,56 +1,18 @@
-// fmWorld_CastRay (query.h): each body whose bounding box the ray crosses is tested triangle by
-// triangle (Moller-Trumbore), each collider by the sphere-traced segment cast; the nearest hit
-// wins (ties: the lower body slot, then triangle, then collider).
+// World queries (query.h). fmWorld_CastRay: each body whose bounding box the ray crosses is
+// tested triangle by triangle (Moller-Trumbore), each collider by its segment cast; the nearest
+// hit wins (ties: the lower body slot, then triangle, then collider). fmWorld_OverlapSphere:
+// each body's nearest surface point (and a parity test for a centre inside it), each collider's
+// signed distance.
 #include "query.h"
 
 #include "collider.h"
 #include "core.h"
 #include "fp_env.h"
+#include "geometry.h"
 #include "world.h"
 
 #include <math.h>
 #include <string.h>
-
-// Whether the segment o + t d, t in [0, 1], crosses the box [lo, hi] (slab test).
-static bool fmSegmentHitsBox(fmVec3 o, fmVec3 d, fmVec3 lo, fmVec3 hi)
-{
-	const double origin[3] = {o.x, o.y, o.z}, dir[3] = {d.x, d.y, d.z};
-	const double low[3] = {lo.x, lo.y, lo.z}, high[3] = {hi.x, hi.y, hi.z};
-	double enter = 0.0, leave = 1.0;
-	for (int e = 0; e < 3; ++e)
-	{
-		if (dir[e] == 0.0)
-		{
-			if (origin[e] < low[e] || origin[e] > high[e])
-				return false;
-			continue;
-		}
-		double t0 = (low[e] - origin[e]) / dir[e], t1 = (high[e] - origin[e]) / dir[e];
-		enter = fmax(enter, fmin(t0, t1));
-		leave = fmin(leave, fmax(t0, t1));
-	}
-	return enter <= leave;
-}
-
-// Fraction along o + t d where it crosses triangle abc (either side), or -1.
-static double fmSegmentTriangle(fmVec3 o, fmVec3 d, fmVec3 a, fmVec3 b, fmVec3 c)
-{
-	fmVec3 e1 = fmSub(b, a), e2 = fmSub(c, a), p = fmCross(d, e2);
-	double det = fmDot(e1, p);
-	if (fabs(det) < 1e-300)
-		return -1.0;
-	double inv = 1.0 / det;
-	fmVec3 s = fmSub(o, a);
-	double u = fmDot(s, p) * inv;
-	if (u < 0.0 || u > 1.0)
-		return -1.0;
-	fmVec3 q = fmCross(s, e1);
-	double v = fmDot(d, q) * inv;
-	if (v < 0.0 || u + v > 1.0)
-		return -1.0;
-	double t = fmDot(e2, q) * inv;
-	return t >= 0.0 && t <= 1.0 ? t : -1.0;
-}
 
 static void fmBodyBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 {
@@ -149,4 +111,108 @@ bool fmWorld_CastRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFil
 	bool result = fmCastRayIn(worldId, origin, translation, filter, hit);
 	fmFpEnv_Leave(&env);
 	return result;
+}
+
+// ---- sphere overlaps ---------------------------------------------------------------------------
+
+// Whether @p p is inside body @p b's closed surface: the crossings of a ray along +x (long
+// enough to leave the body's box) are odd.
+static bool fmInsideBody(const fmBody* b, fmVec3 p, fmVec3 hi)
+{
+	fmVec3 d = fmMakeVec3(hi.x - p.x + 1.0, 1e-7 * (hi.x - p.x + 1.0), 3e-7 * (hi.x - p.x + 1.0));
+	int crossings = 0;
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * t;
+		crossings += fmSegmentTriangle(p, d, fmLoad(b->x, tri[0]), fmLoad(b->x, tri[1]),
+		                               fmLoad(b->x, tri[2])) >= 0.0;
+	}
+	return crossings % 2 == 1;
+}
+
+// Body @p slot against the sphere: its nearest surface point and vertex, or false.
+static bool fmOverlapBody(const fmWorld* w, int slot, fmVec3 center, double radius, fmOverlap* out)
+{
+	const fmBody* b = &w->bodies[slot];
+	fmVec3 lo, hi;
+	fmBodyBox(b, &lo, &hi);
+	fmVec3 r = fmMakeVec3(radius, radius, radius);
+	if (!fmSegmentHitsBox(center, fmMakeVec3(0.0, 0.0, 0.0), fmSub(lo, r), fmAdd(hi, r)))
+		return false;
+	double best = INFINITY;
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * t;
+		fmVec3 a = fmLoad(b->x, tri[0]), bb = fmLoad(b->x, tri[1]), c = fmLoad(b->x, tri[2]);
+		double wt[3];
+		fmClosestOnTriangle(center, a, bb, c, wt);
+		fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], c));
+		double d = fmLength(fmSub(center, q));
+		if (!(d < best))
+			continue;
+		best = d;
+		out->point = q;
+		int k = wt[0] >= wt[1] && wt[0] >= wt[2] ? 0 : wt[1] >= wt[2] ? 1 : 2;
+		out->vertex = b->userVertex[tri[k]];
+	}
+	bool inside = fmInsideBody(b, center, hi);
+	if (!(best <= radius) && !inside)
+		return false;
+	out->body = fmWorldBodyId(w, slot);
+	out->distance = inside ? 0.0 : best;
+	return true;
+}
+
+static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter filter,
+                       fmOverlap* overlaps, int capacity)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL);
+	bool valid = fabs(center.x) + fabs(center.y) + fabs(center.z) < 3.0 * FM_MAX_COORDINATE &&
+	             radius >= 0.0 && radius <= FM_MAX_COORDINATE;
+	FM_ASSERT(valid);
+	if (w == NULL || !valid)
+		return 0;
+	int count = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		fmOverlap o;
+		memset(&o, 0, sizeof o);
+		if (w->bodies[slot].x == NULL || !fmMeets(filter, w->bodies[slot].filter) ||
+		    !fmOverlapBody(w, slot, center, radius, &o))
+			continue;
+		if (count < capacity && overlaps != NULL)
+			overlaps[count] = o;
+		count += 1;
+	}
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		const fmCollider* c = &w->colliders[k];
+		fmVec3 n;
+		double d = c->inUse && fmMeets(filter, c->def.filter) ? fmCollider_Distance(c, center, &n)
+		                                                      : INFINITY;
+		if (!(d <= radius))
+			continue;
+		if (count < capacity && overlaps != NULL)
+		{
+			fmOverlap* o = &overlaps[count];
+			memset(o, 0, sizeof *o);
+			o->collider = fmWorldColliderId(w, k);
+			o->vertex = -1;
+			o->point = fmMulAdd(center, -d, n);
+			o->distance = fmax(d, 0.0);
+		}
+		count += 1;
+	}
+	return count;
+}
+
+int fmWorld_OverlapSphere(fmWorldId worldId, fmVec3 center, double radius, fmFilter filter,
+                          fmOverlap* overlaps, int capacity)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
+	int count = fmOverlapIn(worldId, center, radius, filter, overlaps, capacity);
+	fmFpEnv_Leave(&env);
+	return count;
 }

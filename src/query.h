@@ -1,4 +1,5 @@
-// World queries (query.c): ray casts against the bodies' deformed surfaces and the colliders.
+// World queries (query.c): ray casts and sphere overlaps against the bodies' deformed surfaces
+// and the colliders.
 #pragma once
 
 #include <femto/femto.h>

@@ -3,6 +3,7 @@
 
 #include "core.h"
 #include "fp_env.h"
+#include "island.h"
 #include "world.h"
 
 #include <math.h>
@@ -165,6 +166,8 @@ static fmResult fmBodySetTargetsIn(fmBodyId bodyId, const int* vertices, const f
 fmResult fmBody_SetTargets(fmBodyId bodyId, const int* vertices, const fmVec3* positions, int count,
                            double stiffness)
 {
+	if (count > 0)
+		fmIsland_WakeBody(bodyId);
 	fmWorld* w = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
 	fmResult result = fmBodySetTargetsIn(bodyId, vertices, positions, count, stiffness);

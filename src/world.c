@@ -4,11 +4,13 @@
 #include "collider.h"
 #include "contact.h"
 #include "core.h"
+#include "draw_shapes.h"
 #include "explicit.h"
 #include "floor.h"
 #include "forces.h"
 #include "fp_env.h"
 #include "implicit.h"
+#include "island.h"
 #include "simd.h"
 #include "timer.h"
 
@@ -261,9 +263,15 @@ void fmDestroyWorld(fmWorldId worldId)
 		if (w->bodies[i].x)
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		fmCollider_Release(&w->colliders[k]);
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
 	fmContact_Free(w->contactState);
 	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
+	if (w->drawShape != NULL)
+		fmShapeBuffer_Free(w->drawShape);
+	FM_FREE_ARRAY(w->drawShape, fmShapeBuffer, 1);
+	FM_FREE_ARRAY(w->sleepEvents, fmSleepEvent, w->sleepEventCapacity);
 	fmArena_Free(&w->arena);
 	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;
@@ -694,7 +702,7 @@ static fmResult fmSubstep(fmWorld* w, double h)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x != NULL)
+		if (fmIsland_Stepping(&w->bodies[i]))
 			fmStepBody(w, i, h);
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
 	double contactStart = fmSeconds();
@@ -707,7 +715,7 @@ static fmResult fmSubstep(fmWorld* w, double h)
 	// Stage c: the results merge in body order, the same for any schedule of stage a.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
-		if (w->bodies[i].x == NULL)
+		if (!fmIsland_Stepping(&w->bodies[i]))
 			continue;
 		fmResult r = fmMergeBodyStep(w, i);
 		if (r != fm_ok)
@@ -791,8 +799,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	// NaN or Inf between steps is not "good". What the caller changed since is booked as work.
 	fmContact_BeginFrame(w);
 	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
+	w->sleepEventCount = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
+		if (fmIsland_Stepping(&w->bodies[i]))
 			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &w->arena);
 
 	fmWarnExplicitStep(w, timeStep, subStepCount);
@@ -812,7 +821,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x && fmCheckBody(w, i, shadowStep, timeStep, &b->energyAfter) != fm_ok)
+		if (fmIsland_Stepping(b) &&
+		    fmCheckBody(w, i, shadowStep, timeStep, &b->energyAfter) != fm_ok)
 		{
 			fmRestoreAll(w);
 			return fm_errNumerical;
@@ -822,7 +832,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmIsland_Stepping(b))
 			continue;
 		fmLedger_Commit(b, shadowStep);
 		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
@@ -835,9 +845,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	}
 	const fmContactPoint* points;
 	w->stats.contacts += fmContact_Points(w, &points);
-	if (!fmContact_EndFrame(w, timeStep))
+	if (!fmContact_EndFrame(w, timeStep) || !fmIsland_EndFrame(w, timeStep))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
-		                   "out of memory for the contact events");
+		                   "out of memory for the contact or sleep events");
 	w->profile.check = 1e3 * (fmSeconds() - checking);
 	return fm_ok;
 }

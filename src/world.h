@@ -29,6 +29,10 @@ typedef struct fmWorld
 	double contactStep;                  // s, the substep the contact stage is working on
 	float* drawPoints;                   // fmWorld_Draw's buffer of contact points (3 floats each)
 	int drawPointCapacity;
+	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
+	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)
+	int sleepEventCount;
+	int sleepEventCapacity;
 } fmWorld;
 
 // The id of a live world.

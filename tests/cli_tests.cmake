@@ -33,7 +33,7 @@ endfunction()
 
 # --- the command line itself -------------------------------------------------------------------
 femto_cli_test(version ARGS "--version" CODE 0 REGEX "femto [0-9]+\\.[0-9]+\\.[0-9]+")
-femto_cli_test(help ARGS "--help" CODE 0 REGEX "run \\[SCENE.json\\].*info.*static.*bench")
+femto_cli_test(help ARGS "--help" CODE 0 REGEX "run \\[SCENE.json\\].*info.*convert.*static.*bench")
 femto_cli_test(run_help ARGS "run|--help" CODE 0 REGEX "--impulse-at T")
 femto_cli_test(no_command ARGS "" CODE 2 REGEX "usage: femto")
 femto_cli_test(unknown_command ARGS "jump" CODE 2 REGEX "unknown command 'jump'.*femto --help")
@@ -297,6 +297,29 @@ if(FEMTO_TRUNCATE)
 endif()
 femto_cli_test(info_missing ARGS "info|${FEMTO_CLI_WORK}/house3.node" CODE 1 REGEX "house3.node")
 
+# --- mesh formats (docs/mesh-format.md): info, convert and scenes by extension ------------------
+set(FEMTO_MESH_DATA ${CMAKE_CURRENT_SOURCE_DIR}/data/mesh)
+femto_cli_test(info_gmsh ARGS "info|${FEMTO_MESH_DATA}/cube_gmsh41_bin.msh" CODE 0
+  REGEX "cube_gmsh41_bin.msh, Gmsh.*nodes +339 .*tets +1125.*volume +1 m.*regions +1 \\(first tet attribute: 7: 1125 tets\\).*warning: only tetrahedra are read: skipped 90 triangles")
+femto_cli_test(info_medit ARGS "info|${FEMTO_MESH_DATA}/cube_gmsh.mesh" CODE 0 REGEX "Medit.*tets +1125")
+femto_cli_test(info_not_a_mesh ARGS "info|${FEMTO_MESH_DATA}/cube.geo" CODE 1
+  REGEX "cube.geo: not a mesh file femto reads: expected a name ending in .node")
+femto_cli_test(convert_medit_to_vtu
+  ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh.mesh|${FEMTO_CLI_WORK}/cube_from_medit.vtu" CODE 0
+  REGEX "cube_gmsh.mesh \\(Medit\\) -> .*cube_from_medit.vtu \\(VTK XML\\): 339 nodes, 1125 tets, with regions"
+  CLEAN ${FEMTO_CLI_WORK}/cube_from_medit.vtu FILES "${FEMTO_CLI_WORK}/cube_from_medit.vtu")
+femto_cli_test(convert_vtk_to_node
+  ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh_bin.vtk|${FEMTO_CLI_WORK}/cube_from_vtk.node" CODE 0
+  REGEX "339 nodes, 1125 tets"
+  FILES "${FEMTO_CLI_WORK}/cube_from_vtk.node|${FEMTO_CLI_WORK}/cube_from_vtk.ele")
+femto_cli_test(convert_bad_output ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh.mesh|x.obj" CODE 2
+  REGEX "'x.obj': femto writes .node \\(with .ele\\), .msh or .vtu")
+femto_cli_test(convert_bad_input ARGS "convert|${FEMTO_CLI_DATA}/truncated.node|${FEMTO_CLI_WORK}/t.msh"
+  CODE 1 REGEX "truncated")
+femto_cli_test(convert_one_argument ARGS "convert|a.msh" CODE 2 REGEX "expected IN and OUT")
+femto_cli_test(run_gmsh_scene ARGS "run|${FEMTO_CLI_DATA}/gmsh_cube.json|--frames|5|--quiet" CODE 0
+  REJECT "error")
+
 # --- static --------------------------------------------------------------------------------------
 femto_cli_test(static_beam ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--export-node|${FEMTO_CLI_WORK}/beam.node"
   CODE 0 REGEX "residual [0-9.e+-]+ \\(tolerance 1e-08\\).*converged"
@@ -307,7 +330,7 @@ femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--r
   REGEX "memory bandwidth \\(triad\\): [0-9.]+ GB/s on 1 thread, [0-9.]+ GB/s on 2.*house2 +1389 stvk +1 +[0-9.]+ +[0-9.]+ +[0-9.]+%.*house2 +1389 stvk +2 .*box 1k +1080 neohookean +2 "
   REJECT "failed|box 10k"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,\n")
 femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
   REGEX "box 1k +1080 neohookean +game +[0-9.]+ +[0-9.]+ +[0-9.]+.*box 1k +1080 neohookean +1e-6 .*box 1k +1080 corotated" REJECT "failed|house2")
 
@@ -351,14 +374,14 @@ femto_cli_test(scene_memory_budget ARGS "run|${FEMTO_CLI_DATA}/over_budget.json"
 # The house alone, one repetition: exactly the issue's header and one well-formed row per case
 # (2 explicit models on 1 and 2 workers, 2 implicit models to 2 tolerances). No timing checked.
 set(FEMTO_BENCH_NUMBER "[0-9]+\\.[0-9]+")
-set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER}\n")
-set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},\n")
+set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER},,,,\n")
+set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,\n")
 femto_cli_test(bench_csv_rows
   ARGS "bench|--meshes|house|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_house.csv"
   CODE 0 REJECT "failed"
   NO_FILES "${FEMTO_CLI_WORK}/bench_house.png"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_house.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
 # --simd and --deterministic reach every row; a bad level is a usage error.
 femto_cli_test(bench_simd_off ARGS "bench|--quick|--meshes|house|--explicit|--repeats|1|--workers|1|--no-plot|--simd|off|--deterministic"
   CODE 0 REGEX "house2 +1389 stvk +1 +[0-9.]+" REJECT "failed")
@@ -373,8 +396,19 @@ femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
   REJECT "failed|beam 1k +[0-9]"
   FILES "${FEMTO_CLI_WORK}/bench_no_tools.csv"
   NO_FILES "${FEMTO_CLI_WORK}/bench_no_tools.png")
+# The contact rows alone (--meshes contact), quick: a pile of three houses, explicit and
+# implicit, with its contact count and shares; the 100k ground row is beyond --quick's size.
+# One CSV row each, with the contact columns filled and the others empty.
+femto_cli_test(bench_contact
+  ARGS "bench|--quick|--meshes|contact|--repeats|1|--workers|1|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_contact.csv"
+  CODE 0
+  REGEX "houses 3 +4167 explicit +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ "
+  REJECT "failed|ground 100k|memory bandwidth|house2"
+  CHECK_FILE "${FEMTO_CLI_WORK}/bench_contact.csv"
+  CHECK_FILE_REGEX "\nhouses 3,4167,explicit,stvk,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\n$")
+set_tests_properties(cli_bench_contact PROPERTIES TIMEOUT 200)
 femto_cli_test(bench_unknown_family ARGS "bench|--meshes|house,tree" CODE 2
-  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam\\)")
+  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam, contact\\)")
 femto_cli_test(bench_empty_family ARGS "bench|--meshes|house,,box" CODE 2 REGEX "unknown mesh family ''")
 femto_cli_test(bench_plot_and_no_plot ARGS "bench|--plot|x.png|--no-plot" CODE 2 REGEX "--plot or --no-plot, not both")
 femto_cli_test(bench_peers_and_no_peers ARGS "bench|--peers|--no-peers" CODE 2 REGEX "or --no-peers, not both")
@@ -394,13 +428,79 @@ if(FEMTO_TETGEN)
     CODE 0 REGEX "meshing beam 1k with tetgen \\.\\.\\. [0-9]+ tets.*beam 1k +[0-9]+ stvk +1 +[0-9.]+${FEMTO_BENCH_PLOTTED}"
     REJECT "failed"
     CHECK_FILE "${FEMTO_CLI_WORK}/bench_beam.csv"
-    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+\n")
+    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,\n")
 endif()
 if(TARGET femto-bench-bullet)
   femto_cli_test(bench_peer ARGS "bench|--meshes|house|--implicit|--repeats|1|--peers|--no-plot"
     CODE 0 REGEX "house2 +1389 +[0-9.]+ +[0-9.]+ +[0-9.]+  ok, lowest y -?[0-9.]+ m.*Bullet [0-9]+\\.[0-9]+, btDeformableMultiBodyDynamicsWorld"
     REJECT "failed")
 endif()
+
+# --- colliders and contact in scenes (docs/scene-format.md, "Colliders", "Contact") ----------
+# A soft box on each collider shape, with no floor: without the collider it falls 4.5 m in the
+# run, so a lowest point reached within 10 cm of the collider's top means the collider held it.
+foreach(shape plane sphere box capsule)
+  femto_cli_test(collider_${shape} ARGS "run|${FEMTO_CLI_DATA}/collider_${shape}.json|--quiet" CODE 0
+    REGEX "contacts +[0-9]+ at the end \\([1-9][0-9]* on colliders, 0 between bodies\\).*colliders\\[0\\] +${shape}: force [0-9.]+ N"
+    REJECT "lowest y reached +-(0\\.[1-9]|[1-9][.0-9]* m)|warning")
+endforeach()
+# The house dropped 0.5 m onto a triangle-mesh ramp (an OBJ collider, 9.5 degrees, friction 1)
+# comes to rest on it: after 4 s the ramp carries its weight (400 vertices of 1 kg: 3920 N), it
+# is nearly still, and it never got down to the ramp's foot (y = -3) or below the ramp's
+# surface under it (its lowest point stays above y = -2).
+femto_cli_test(collider_mesh_ramp ARGS "run|${FEMTO_CLI_DATA}/ramp_rest.json|--quiet" CODE 0
+  REGEX "kinetic energy +([0-9]|[0-9]\\.[0-9]+|[0-9.]+e-[0-9]+) J.*contacts +[1-9][0-9]* at the end \\([1-9][0-9]* on colliders.*colliders\\[0\\] +mesh: force (3[6-9][0-9][0-9]|4[0-2][0-9][0-9])(\\.[0-9]+)? N"
+  REJECT "lowest y reached +-([2-9]|1[0-9])|warning")
+# A kinematic box rising at 1 m/s lifts the body with it: its lowest point ends at the box's top
+# (0.48 m after 0.48 s).
+femto_cli_test(collider_kinematic ARGS "run|${FEMTO_CLI_DATA}/collider_kinematic.json|--quiet" CODE 0
+  REGEX "lowest vertex y +0\\.4[6-9][0-9]* m")
+# Friction of a collider: a box thrown at 2 m/s (216 J) along a frictionless plane keeps its
+# kinetic energy (undamped); on friction 1 it loses most of it.
+femto_cli_test(collider_slides ARGS "run|${FEMTO_CLI_DATA}/collider_slides.json|--quiet" CODE 0
+  REGEX "kinetic energy +21[0-9]\\.[0-9]+ J")
+femto_cli_test(collider_sticks ARGS "run|${FEMTO_CLI_DATA}/collider_sticks.json|--quiet" CODE 0
+  REGEX "kinetic energy +([0-9]|[1-9][0-9])(\\.[0-9]+)?(e-[0-9]+)? J")
+# Body-body contact on: the upper box rests on the lower one (its first corner, at the bottom,
+# ends near the lower box's top at 0.6 m) and the summary counts contacts between bodies.
+# Off: it sinks through to the floor, and no contact is reported. Several bodies export as
+# FILE_0.node, FILE_1.node (docs/cli.md), not FILE.node.
+femto_cli_test(contact_bodies_on ARGS "run|${FEMTO_CLI_DATA}/contact_on.json|--quiet|--export-node|${FEMTO_CLI_WORK}/contact_on.node"
+  CODE 0 REGEX "[1-9][0-9]* between bodies"
+  FILES "${FEMTO_CLI_WORK}/contact_on_0.node|${FEMTO_CLI_WORK}/contact_on_1.node"
+  NO_FILES "${FEMTO_CLI_WORK}/contact_on.node"
+  CHECK_FILE "${FEMTO_CLI_WORK}/contact_on_1.node"
+  CHECK_FILE_REGEX "^27 3 0 0\n0 -?[0-9.e-]+ 0\\.5[5-9][0-9]* ")
+femto_cli_test(contact_bodies_off ARGS "run|${FEMTO_CLI_DATA}/contact_off.json|--quiet|--export-node|${FEMTO_CLI_WORK}/contact_off.node"
+  CODE 0 REJECT "contacts "
+  CHECK_FILE "${FEMTO_CLI_WORK}/contact_off_1.node"
+  CHECK_FILE_REGEX "^27 3 0 0\n0 -?[0-9.e-]+ 0\\.[0-3][0-9]* ")
+# self_collision, sleep and the contact object's sleep keys are read and the scene runs.
+femto_cli_test(self_collision ARGS "run|${FEMTO_CLI_DATA}/self_collision.json|--quiet" CODE 0
+  REGEX "contacts +[0-9]+ at the end" REJECT "warning")
+# Every wrong value of the new keys: the file, line and column, the JSON path and what was expected.
+foreach(case
+    "bad_collider_shape|3:18: colliders\\[0\\]\\.shape: expected \"plane\", \"sphere\", \"box\", \"capsule\" or \"mesh\", got \"cone\""
+    "bad_collider_missing|3:17: colliders\\[0\\]: missing \"radius\" \\(a sphere needs center and radius\\)"
+    "bad_collider_key|3:82: colliders\\[0\\]\\.radius: unknown key \\(expected one of: shape, friction, .*half_extents, rotation\\)"
+    "bad_collider_extents|3:55: colliders\\[0\\]\\.half_extents: expected 3 numbers in \\(0, 1e9\\] \\(m\\), got \\[1,0,1\\]"
+    "bad_collider_friction|3:126: colliders\\[1\\]\\.friction: expected a number >= 0, got -1"
+    "bad_plane_normal|3:36: colliders\\[0\\]\\.normal: expected a non-zero normal"
+    "bad_collider_velocity|3:71: colliders\\[0\\]\\.angular_velocity: expected 3 numbers within 1e6"
+    "bad_mesh_path|3:35: colliders\\[0\\]\\.path: cannot open .*no_such_ramp\\.obj \\(\"no_such_ramp\\.obj\" is relative to the scene's folder\\)"
+    "bad_mesh_obj| colliders\\[0\\]\\.path: .*bad_ramp\\.obj:6:7: vertex reference 4: expected 1 to 3"
+    "bad_mesh_transform|3:73: colliders\\[0\\]\\.transform\\.scale: expected a number > 0, got 0"
+    "bad_contact|3:31: contact\\.iterations: too large \\(at most 64\\), got 100"
+    "bad_contact_key|3:34: contact\\.frictoin: unknown key \\(expected one of: bodies, thickness, .*sleep_time\\)"
+    "bad_filter|3:83: colliders\\[0\\]\\.filter\\.mask: expected an integer in \\[0, 4294967295\\]"
+    "bad_self_collision|3:27: bodies\\[0\\]\\.self_collision: expected true or false, got \"yes\"")
+  string(FIND "${case}" "|" bar)
+  string(SUBSTRING "${case}" 0 ${bar} name)
+  math(EXPR bar "${bar} + 1")
+  string(SUBSTRING "${case}" ${bar} -1 message)
+  femto_cli_test(scene_${name} ARGS "run|${FEMTO_CLI_DATA}/${name}.json|--frames|1" CODE 1
+    REGEX "${name}\\.json:${message}")
+endforeach()
 
 # The renderer and the viewer (viewer/): pictures, femto view under a virtual display.
 include(${CMAKE_CURRENT_LIST_DIR}/viewer_tests.cmake)

@@ -38,7 +38,23 @@ void fmRegisterTest(const char* file, const char* name, fmTestFcn* fcn)
 	e->fcn = fcn;
 }
 
-void fmTestSeed(unsigned long long seed) { s_rng = seed ? seed : 0x9E3779B97F4A7C15ull; }
+void fmTestSeed(unsigned long long seed)
+{
+	s_rng = seed ? seed : 0x9E3779B97F4A7C15ull;
+}
+
+// Each test's random numbers come from its own name (FNV-1a), so that adding a test elsewhere
+// never changes another test's inputs.
+static unsigned long long fmTestNameSeed(const char* suite, const char* name)
+{
+	unsigned long long h = 0xcbf29ce484222325ull;
+	for (const char* p = suite; *p; ++p)
+		h = (h ^ (unsigned char)*p) * 0x100000001b3ull;
+	h = (h ^ '.') * 0x100000001b3ull;
+	for (const char* p = name; *p; ++p)
+		h = (h ^ (unsigned char)*p) * 0x100000001b3ull;
+	return h;
+}
 
 double fmTestRandom(double lo, double hi)
 {
@@ -72,7 +88,7 @@ int main(int argc, char** argv)
 			continue;
 		int failures = 0;
 		int asserts = s_assertCount;
-		fmTestSeed(0x1234567ull + (unsigned long long)i);
+		fmTestSeed(fmTestNameSeed(e->suite, e->name));
 		e->fcn(&failures);
 		if (s_assertCount != asserts)
 			++failures;

@@ -199,9 +199,8 @@ TEST(house_rests_on_a_sphere)
 }
 
 // A stiff block on a plane inclined 30 degrees: it slides with friction 0.3 at
-// g (sin 30 - 0.3 cos 30) = 2.354 m/s^2 (both integrators) and sticks with 0.7 (tan 30 = 0.577)
-// with the explicit one. (Implicit steps apply friction after the solve, as for the floor: a
-// block that should stick creeps; docs/contact.md.)
+// g (sin 30 - 0.3 cos 30) = 2.354 m/s^2 and sticks with 0.7 (tan 30 = 0.577), both
+// integrators (implicit: friction inside the solve, lagged one step: penalty.h).
 TEST(friction_on_an_incline)
 {
 	const double angle = 30.0 * 3.14159265358979 / 180.0;
@@ -209,8 +208,8 @@ TEST(friction_on_an_incline)
 	{
 		double mu;
 		fmIntegrator integrator;
-	} cases[3] = {{0.3, fm_implicit}, {0.3, fm_explicit}, {0.7, fm_explicit}};
-	for (int k = 0; k < 3; ++k)
+	} cases[4] = {{0.3, fm_implicit}, {0.3, fm_explicit}, {0.7, fm_explicit}, {0.7, fm_implicit}};
+	for (int k = 0; k < 4; ++k)
 	{
 		fmWorldDef wdef = fmDefaultWorldDef();
 		wdef.integrator = cases[k].integrator;
@@ -243,8 +242,8 @@ TEST(friction_on_an_incline)
 		printf("  mu %.1f, %s: slid %.4f m in 1 s, acceleration %.3f m/s^2 (Coulomb: %.3f)\n",
 		       cases[k].mu, cases[k].integrator == fm_implicit ? "implicit" : "explicit",
 		       x[2] - x[0], acceleration, fmax(expected, 0.0));
-		// Sticking: no acceleration; the vertex-level friction lets the block creep by a few
-		// centimetres a second (as on the floor; docs/contact.md).
+		// Sticking: no acceleration; the block creeps by at most a few centimetres a second
+		// (explicit: vertex-level friction; implicit: the slip width of static friction).
 		if (expected < 0.0)
 			CHECK(fabs(acceleration) < 0.05 && fabs(x[2] - x[0]) < 0.05);
 		else
@@ -440,6 +439,251 @@ TEST(ray_cast_hits_the_deformed_surface)
 // Two bodies whose filters exclude each other pass through each other; with the default
 // filters the same drop stacks them, and the pair's contact begins (an event) and ends when
 // the top one is thrown off.
+// Sphere overlaps: a box body is found when the sphere reaches its deformed surface or holds
+// its centre inside it, with the nearest surface point and vertex; colliders by their distance;
+// filters apply.
+TEST(sphere_overlaps)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.filter.categoryBits = 2;
+	fmBodyId box =
+	    addBox(failures_, world, 2, fmMakeVec3(0.0, 0.0, 0.0), fmMakeVec3(1.0, 1.0, 1.0), &def);
+	fmColliderDef sphere = fmDefaultColliderDef();
+	sphere.shape = fm_shapeSphere;
+	sphere.center = fmMakeVec3(3.0, 0.0, 0.0);
+	sphere.radius = 0.5;
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &sphere, &collider, NULL), fm_ok);
+	fmOverlap found[4];
+	fmFilter all = fmDefaultFilter();
+	// 5 cm above the top face, over its centre vertex (0.5, 1, 0.5).
+	fmVec3 above = fmMakeVec3(0.5, 1.05, 0.5);
+	CHECK_INT(fmWorld_OverlapSphere(world, above, 0.04, all, found, 4), 0);
+	CHECK_INT(fmWorld_OverlapSphere(world, above, 0.06, all, found, 4), 1);
+	CHECK(found[0].body.index1 == box.index1 && found[0].collider.index1 == 0);
+	CHECK_NEAR(found[0].distance, 0.05, 1e-12);
+	CHECK_NEAR(found[0].point.y, 1.0, 1e-12);
+	int vertex = found[0].vertex;
+	const double* x = fmTestPositions(box);
+	int internal = -1;
+	for (int i = 0; i < fmBody_GetVertexCount(box); ++i)
+		if (fmLength(fmSub(fmLoad(x, i), fmMakeVec3(0.5, 1.0, 0.5))) < 1e-12)
+			internal = i;
+	CHECK(internal >= 0 && vertex == internal); // the mesh's numbering is the user's here
+	// Inside: distance 0, however small the sphere.
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(0.4, 0.5, 0.6), 1e-3, all, found, 4), 1);
+	CHECK_NEAR(found[0].distance, 0.0, 0.0);
+	// Both, counted beyond the capacity; the collider's nearest point is on the sphere.
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.5, 0.5), 1.0, all, found, 1), 2);
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.0, 0.0), 1.0, all, found, 4), 2);
+	CHECK(found[1].collider.index1 == collider.index1 && found[1].vertex == -1);
+	CHECK_NEAR(found[1].point.x, 2.5, 1e-12);
+	CHECK_NEAR(found[1].distance, 0.5, 1e-12);
+	// A filter that does not see category 2 finds only the collider.
+	fmFilter noBodies = {1u, 1u};
+	CHECK_INT(fmWorld_OverlapSphere(world, fmMakeVec3(2.0, 0.0, 0.0), 1.0, noBodies, found, 4), 1);
+	CHECK(found[0].collider.index1 == collider.index1);
+	fmDestroyWorld(world);
+}
+
+static int countSleepEvents(fmWorldId world, bool asleep, fmBodyId body)
+{
+	fmSleepEvent events[16];
+	int n = fmWorld_GetSleepEvents(world, events, 16), count = 0;
+	for (int k = 0; k < n && k < 16; ++k)
+		count += events[k].asleep == asleep && events[k].body.index1 == body.index1;
+	return count;
+}
+
+// Islands and sleeping: two boxes stacked on the floor fall asleep together (one island, in
+// the same frame), stay bit-for-bit still while asleep, and wake together when a third box
+// lands on them, which then rests on top instead of passing through; the API wakes too.
+TEST(islands_sleep_and_wake)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = fm_floorCoulomb;
+	wdef.contact.enableSleep = true;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 500.0;
+	fmBodyId low =
+	    addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.05, -0.3), fmMakeVec3(0.3, 0.65, 0.3), &def);
+	fmBodyId high =
+	    addBox(failures_, world, 3, fmMakeVec3(-0.2, 0.75, -0.2), fmMakeVec3(0.2, 1.15, 0.2), &def);
+	int fellLow = -1, fellHigh = -1;
+	for (int f = 0; f < 600 && (fellLow < 0 || fellHigh < 0); ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		if (fellLow < 0 && countSleepEvents(world, true, low))
+			fellLow = f;
+		if (fellHigh < 0 && countSleepEvents(world, true, high))
+			fellHigh = f;
+	}
+	printf("  the stack fell asleep at frames %d and %d\n", fellLow, fellHigh);
+	CHECK(fellLow > 30 && fellLow == fellHigh);
+	fmContactEvent events[8];
+	for (int f = 0; f < 30; ++f) // asleep, the pair has no end event
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		CHECK_INT(fmWorld_GetContactEvents(world, events, 8), 0);
+	}
+	CHECK(!fmBody_IsAwake(low) && !fmBody_IsAwake(high));
+	int n = fmBody_GetVertexCount(high);
+	double* before = malloc(sizeof(double) * 3 * (size_t)n);
+	double* after = malloc(sizeof(double) * 3 * (size_t)n);
+	fmBody_CopyPositions(high, before, n);
+	for (int f = 0; f < 30; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	fmBody_CopyPositions(high, after, n);
+	CHECK(memcmp(before, after, sizeof(double) * 3 * (size_t)n) == 0);
+	// A third box lands on the sleeping stack.
+	fmBodyId top = addBox(failures_, world, 3, fmMakeVec3(-0.15, 1.4, -0.15),
+	                      fmMakeVec3(0.15, 1.7, 0.15), &def);
+	int wokeAt = -1;
+	for (int f = 0; f < 120; ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		if (wokeAt < 0 && countSleepEvents(world, false, low) &&
+		    countSleepEvents(world, false, high))
+			wokeAt = f;
+	}
+	int inside = verticesInside(top, high) + verticesInside(high, low);
+	printf("  woken at frame %d after the third box was added; %d vertices inside another box, "
+	       "top box's lowest point %.3f\n",
+	       wokeAt, inside, fmBody_GetStats(top).lowestY);
+	CHECK(wokeAt >= 0);
+	CHECK_INT(inside, 0);
+	CHECK(fmBody_GetStats(top).lowestY > 0.9); // on the stack (its top near 1.0 m)
+	// The API: asleep on request, awake on an impulse.
+	fmBody_SetAwake(top, false);
+	CHECK(!fmBody_IsAwake(top) && !fmBody_IsAwake(low)); // its island went with it
+	fmBody_ApplyImpulse(top, fmMakeVec3(0.0, 1.0, 0.0));
+	CHECK(fmBody_IsAwake(top) && fmBody_IsAwake(low));
+	free(before);
+	free(after);
+	fmDestroyWorld(world);
+}
+
+// Surface vertices of a body inside its own tets that were far from them in the rest shape
+// (all four corners more than @p apart away): the body passing through itself.
+static int selfPenetrations(fmBodyId body, const double* rest, double apart)
+{
+	int n = fmBody_GetVertexCount(body), m = fmBody_GetTetCount(body), triangles = 0, inside = 0;
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	fmBody_CopyPositions(body, x, n);
+	const int* tets = fmBody_GetTets(body);
+	const int* surface = fmBody_GetSurface(body, &triangles);
+	char* seen = calloc((size_t)n, 1);
+	for (int k = 0; k < 3 * triangles; ++k)
+	{
+		int i = surface[k];
+		if (seen[i]++)
+			continue;
+		for (int t = 0; t < m; ++t)
+		{
+			const int* c = tets + 4 * t;
+			bool far = true;
+			for (int e = 0; e < 4; ++e)
+				far = far && fmLength(fmSub(fmLoad(rest, c[e]), fmLoad(rest, i))) > apart;
+			if (far && insideTet(fmLoad(x, i), fmLoad(x, c[0]), fmLoad(x, c[1]), fmLoad(x, c[2]),
+			                     fmLoad(x, c[3])))
+			{
+
+				inside += 1;
+				break;
+			}
+		}
+	}
+	free(seen);
+	free(x);
+	return inside;
+}
+
+// Self-collision: a beam 2 m long and 0.2 m thick, clamped from x = 0 to 0.8 m, has its free
+// end dragged by kinematic targets over the top and back, turned over, to lie 8 cm over the
+// clamped half (its centre line at y = 0.18, its lower face 2 cm into the clamped half's top).
+// With self-collision the returning arm rests on the clamped one; without it, it sinks into it
+// (which shows that the measure works).
+TEST(self_collision_folds_a_beam)
+{
+	int inside[2] = {0, 0};
+	double lowest[2] = {0.0, 0.0};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.floor.enabled = false;
+		wdef.gravity = fmMakeVec3(0.0, 0.0, 0.0);
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmBodyDef def = fmDefaultBodyDef();
+		def.material = fmMakeMaterial(fm_neoHookean, 2e5, 0.3);
+		def.massMode = fm_massFromDensity;
+		def.density = 100.0;
+		def.selfCollision = k == 0;
+		fmTetMesh mesh;
+		CHECK_INT(
+		    fmMakeBoxMesh(20, 2, 2, fmMakeVec3(0.0, -0.1, -0.1), fmMakeVec3(2.0, 0.1, 0.1), &mesh),
+		    fm_ok);
+		def.mesh = &mesh;
+		fmBodyId beam;
+		CHECK_INT(fmCreateBody(world, &def, &beam, NULL), fm_ok);
+		fmFreeTetMesh(&mesh);
+		CHECK(fmBody_PinBox(beam, fmMakeVec3(-0.01, -1.0, -1.0), fmMakeVec3(0.81, 1.0, 1.0)) > 0);
+		int ends[16], count = 0, n = fmBody_GetVertexCount(beam);
+		double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+		fmBody_CopyPositions(beam, rest, n);
+		for (int i = 0; i < n && count < 16; ++i)
+			if (rest[3 * i] > 1.99)
+				ends[count++] = i;
+		CHECK_INT(count, 9);
+		fmVec3 goal[16];
+		const double pi = 3.14159265358979;
+		for (int f = 0; f < 150; ++f)
+		{
+			// The end's centre turns about (0.9, 0.125) from (2, 0) to (0.1, 0.25) while the end
+			// face turns over (1.5 s), then sinks by 7 cm (0.5 s) and is held.
+			double t = fmin(f / 90.0, 1.0), down = fmin(fmax((f - 90) / 30.0, 0.0), 1.0);
+			double a0 = atan2(-0.125, 1.1), a1 = atan2(0.125, -0.8);
+			double r0 = sqrt(1.1 * 1.1 + 0.125 * 0.125), r1 = sqrt(0.8 * 0.8 + 0.125 * 0.125);
+			double angle = a0 + t * (a1 - a0), radius = r0 + t * (r1 - r0);
+			fmVec3 centre = fmMakeVec3(0.9 + radius * cos(angle),
+			                           0.125 + radius * sin(angle) - 0.07 * down, 0.0);
+			double c = cos(pi * t), sn = sin(pi * t);
+			for (int e = 0; e < count; ++e)
+			{
+				fmVec3 offset = fmSub(fmLoad(rest, ends[e]), fmMakeVec3(2.0, 0.0, 0.0));
+				goal[e] = fmAdd(centre, fmMakeVec3(offset.x * c - offset.y * sn,
+				                                   offset.x * sn + offset.y * c, offset.z));
+			}
+			CHECK_INT(fmBody_SetTargets(beam, ends, goal, count, 2e3), fm_ok);
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		}
+		inside[k] = selfPenetrations(beam, rest, 0.4);
+		double* x = malloc(sizeof(double) * 3 * (size_t)n);
+		fmBody_CopyPositions(beam, x, n);
+		lowest[k] = INFINITY;
+		for (int i = 0; i < n; ++i)
+			if (rest[3 * i] > 1.5)
+				lowest[k] = fmin(lowest[k], x[3 * i + 1]);
+		free(x);
+		free(rest);
+		fmDestroyWorld(world);
+	}
+	printf("  with self-collision: %d surface vertices inside the beam's own far tets, the "
+	       "returning end's lowest point at y = %.3f; without: %d, at y = %.3f\n",
+	       inside[0], lowest[0], inside[1], lowest[1]);
+	CHECK_INT(inside[0], 0);
+	CHECK(lowest[0] > 0.1); // on the clamped half's top face (y = 0.1)
+	CHECK(inside[1] > 0);   // without, it passes into itself
+}
+
 TEST(filters_and_events)
 {
 	for (int filtered = 0; filtered < 2; ++filtered)

@@ -393,6 +393,33 @@ TEST(det_sincos_within_two_ulp_of_libm)
 	CHECK(isnan(s) && isnan(c));
 }
 
+// atan2 (mesh collider pseudo-normals): within 2 ulp of glibc's over every quadrant and
+// magnitude, exact on the axes.
+TEST(det_atan2_within_two_ulp_of_libm)
+{
+	double worst = 0.0, at = 0.0, atY = 0.0;
+	for (int i = 0; i < 400000; ++i)
+	{
+		double x = fmTestRandom(-1.0, 1.0), y = fmTestRandom(-1.0, 1.0);
+		if (i % 3 == 1)
+			x *= 1e-8;
+		if (i % 3 == 2)
+			y *= 1e8;
+		double e = ulpDistance(fmDetAtan2(y, x), atan2(y, x));
+		if (e > worst)
+		{
+			worst = e;
+			at = x;
+			atY = y;
+		}
+	}
+	printf("  atan2: largest error %.1f ulp at (%.17g, %.17g)\n", worst, atY, at);
+	CHECK(worst <= 2.0);
+	CHECK(fmDetAtan2(0.0, 1.0) == 0.0 && fmDetAtan2(1.0, 0.0) == atan2(1.0, 0.0));
+	CHECK(fmDetAtan2(0.0, -1.0) == atan2(0.0, -1.0) && fmDetAtan2(-1.0, -1.0) == atan2(-1.0, -1.0));
+	CHECK(isnan(fmDetAtan2(NAN, 1.0)));
+}
+
 TEST(det_pow_within_its_bound_of_libm)
 {
 	// The filters' use (damping^(dt / 3 ms): a base in [0.5, 1], an exponent of up to a few),

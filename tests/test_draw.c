@@ -5,7 +5,9 @@
 #include "support.h"
 #include "test.h"
 
+#include "collider.h"
 #include "draw.h"
+#include "world.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -289,4 +291,109 @@ TEST(profile_measures_the_stages)
 		CHECK(first + second + p.check <= p.step);
 		fmDestroyWorld(world);
 	}
+}
+
+// What a collider batch must be: every vertex on the shape's surface (to float precision), its
+// normal the shape's outward normal there, and every triangle wound counter-clockwise from
+// outside.
+typedef struct fmColliderSeen
+{
+	const fmCollider* colliders[8];
+	int batches;
+	int planes;
+	double worstDistance; // m
+	double worstNormal;   // 1 - cos of the angle to a round shape's normal
+	int inward;           // triangles wound the wrong way
+} fmColliderSeen;
+
+static void seeColliderTriangles(const fmDrawTriangles* t, void* context)
+{
+	fmColliderSeen* s = context;
+	if (t->collider.index1 == 0 || t->vertices != NULL || t->body.index1 != 0)
+		return;
+	const fmCollider* c = s->colliders[t->collider.index1 - 1];
+	s->batches += 1;
+	for (int k = 0; k < t->vertexCount; ++k)
+	{
+		fmVec3 p =
+		    fmMakeVec3(t->positions[3 * k], t->positions[3 * k + 1], t->positions[3 * k + 2]);
+		fmVec3 m = fmMakeVec3(t->normals[3 * k], t->normals[3 * k + 1], t->normals[3 * k + 2]), n;
+		double d = fmCollider_Distance(c, p, &n);
+		s->worstDistance = fmax(s->worstDistance, fabs(d));
+		// Round shapes: the exact normal (flat shapes carry their faces' normals, which the
+		// winding test below checks)
+		if (c->def.shape == fm_shapeSphere || c->def.shape == fm_shapeCapsule)
+			s->worstNormal = fmax(s->worstNormal, 1.0 - fmDot(m, n));
+	}
+	for (int k = 0; k < t->triangleCount; ++k)
+	{
+		const int* i = t->indices + 3 * k;
+		fmVec3 p[3], m = fmMakeVec3(0.0, 0.0, 0.0);
+		for (int e = 0; e < 3; ++e)
+		{
+			p[e] = fmMakeVec3(t->positions[3 * i[e]], t->positions[3 * i[e] + 1],
+			                  t->positions[3 * i[e] + 2]);
+			m = fmAdd(m, fmMakeVec3(t->normals[3 * i[e]], t->normals[3 * i[e] + 1],
+			                        t->normals[3 * i[e] + 2]));
+		}
+		fmVec3 face = fmCross(fmSub(p[1], p[0]), fmSub(p[2], p[0]));
+		s->inward += fmLength(face) > 1e-12 && fmDot(face, m) <= 0.0;
+	}
+}
+
+static void seeColliderPlane(fmVec3 point, fmVec3 normal, fmHexColor color, void* context)
+{
+	(void)point, (void)normal, (void)color;
+	((fmColliderSeen*)context)->planes += 1;
+}
+
+// Colliders of every shape, turned and moved, are drawn where they are.
+TEST(colliders_are_drawn_as_their_shapes)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmVec3 vertices[4] = {fmMakeVec3(0, 0, 0), fmMakeVec3(1, 0, 0), fmMakeVec3(0, 1, 0),
+	                      fmMakeVec3(0, 0, 1)};
+	int triangles[12] = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}; // a closed tetrahedron
+	fmColliderDef defs[5];
+	for (int k = 0; k < 5; ++k)
+	{
+		defs[k] = fmDefaultColliderDef();
+		defs[k].shape = (fmShapeType)k;
+		defs[k].center = fmMakeVec3(1.0 + k, -0.5, 0.25 * k);
+		defs[k].rotation = fmMakeVec3(0.2, 0.5, -0.3);
+	}
+	defs[2].halfExtents = fmMakeVec3(0.3, 0.2, 0.1);
+	defs[3].a = fmMakeVec3(-1.0, 0.0, 0.5);
+	defs[3].b = fmMakeVec3(0.0, 1.0, 0.0);
+	defs[3].radius = 0.25;
+	defs[4].vertices = vertices;
+	defs[4].vertexCount = 4;
+	defs[4].triangles = triangles;
+	defs[4].triangleCount = 4;
+	fmColliderSeen seen;
+	memset(&seen, 0, sizeof seen);
+	fmWorld* w = fmGetWorld(world);
+	for (int k = 0; k < 5; ++k)
+	{
+		fmColliderId id;
+		CHECK_INT(fmCreateCollider(world, &defs[k], &id, NULL), fm_ok);
+		seen.colliders[k] = &w->colliders[id.index1 - 1];
+	}
+	fmDebugDraw draw = fmDefaultDebugDraw();
+	draw.flags = fm_drawColliders;
+	draw.drawTriangles = seeColliderTriangles;
+	draw.drawPlane = seeColliderPlane;
+	draw.context = &seen;
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	printf("  %d batches and %d plane: vertices within %.1e m of the shapes, normals within "
+	       "%.1e of theirs, %d triangles wound inward\n",
+	       seen.batches, seen.planes, seen.worstDistance, seen.worstNormal, seen.inward);
+	CHECK_INT(seen.batches, 4);
+	CHECK_INT(seen.planes, 1);
+	CHECK(seen.worstDistance < 1e-6);
+	CHECK(seen.worstNormal < 1e-5);
+	CHECK_INT(seen.inward, 0);
+	fmDestroyWorld(world);
 }

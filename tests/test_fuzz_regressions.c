@@ -59,3 +59,22 @@ TEST(face_corpus_replays_cleanly)
 	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/face", "", fmFuzzFace) >= 2);
 	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "face_", fmFuzzFace);
 }
+
+TEST(obj_corpus_replays_cleanly)
+{
+	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/obj", "", fmFuzzObj) >= 5);
+	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "obj_", fmFuzzObj);
+}
+
+// The mesh format readers' seeds (tests/data/mesh/ files and hand-written ones) and crashes.
+TEST(mesh_format_corpora_replay_cleanly)
+{
+	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/gmsh", "", fmFuzzGmsh) >= 4);
+	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/vtk", "", fmFuzzVtk) >= 3);
+	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/vtu", "", fmFuzzVtu) >= 3);
+	CHECK(replayDirectory(failures_, FEMTO_FUZZ_DIR "/corpus/medit", "", fmFuzzMedit) >= 2);
+	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "gmsh_", fmFuzzGmsh);
+	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "vtk_", fmFuzzVtk);
+	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "vtu_", fmFuzzVtu);
+	replayDirectory(failures_, FEMTO_TEST_DATA "/fuzz", "medit_", fmFuzzMedit);
+}

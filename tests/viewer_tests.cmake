@@ -27,6 +27,9 @@ if(NOT TARGET femto_viewer)
   return()
 endif()
 
+# Collider batches in the draw list: grey, no body numbers, planes after the first as quads.
+add_test(NAME viewer_draw_list_colliders COMMAND femto_draw_list_test)
+
 # 20 frames of 0.03 s, pictures at 0, 1/30, ..., 0.6 s: 19. The house falls from rest 1 m onto
 # the floor in about 0.45 s: its pixels move down over the first 12 pictures.
 femto_cli_test(gif_run ARGS "run|--frames|20|--quiet|--size|320x240|--gif|${FEMTO_VIEW_WORK}/house.gif"

@@ -184,9 +184,13 @@ static void fvPress(fvApp* app, float x, float y)
 		app->mouse = fv_mouseOrbit;
 		return;
 	}
+	// A collider is scenery: pressing on it orbits, as pressing on the background does.
 	int body = fvSession_BodyIndex(&app->session, app->list.surfaces[pick.surface].body);
 	if (body < 0)
+	{
+		app->mouse = fv_mouseOrbit;
 		return;
+	}
 	// The vertex is pulled onto the cursor: the plane goes through it, facing the camera.
 	memcpy(app->grabPlane, pick.vertexAt, sizeof app->grabPlane);
 	float target[3];

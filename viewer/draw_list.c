@@ -95,34 +95,97 @@ static bool fvSurface_Reserve(fvSurface* s, int vertexCount, int triangleCount)
 	return true;
 }
 
-static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
+// Colliders are drawn in a neutral grey whatever colour the library suggests: they are the
+// scenery, the bodies are the subject.
+static const float fvColliderGrey[3] = {0.62f, 0.62f, 0.60f};
+
+// Area-weighted vertex normals of a surface (a collider batch without normals).
+static void fvSurfaceNormals(fvSurface* s)
 {
-	fvDrawList* list = context;
+	memset(s->normals, 0, 3 * sizeof(float) * (size_t)s->vertexCount);
+	for (int k = 0; k < s->triangleCount; ++k)
+	{
+		const int* t = s->indices + 3 * k;
+		const float *a = s->positions + 3 * t[0], *b = s->positions + 3 * t[1],
+		            *c = s->positions + 3 * t[2];
+		float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+		float v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+		float n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+		              u[0] * v[1] - u[1] * v[0]};
+		for (int corner = 0; corner < 3; ++corner)
+			for (int i = 0; i < 3; ++i)
+				s->normals[3 * t[corner] + i] += n[i];
+	}
+	for (int v = 0; v < s->vertexCount; ++v)
+	{
+		float* n = s->normals + 3 * v;
+		float length = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+		for (int i = 0; i < 3; ++i)
+			n[i] = length > 0.0f ? n[i] / length : (i == 1 ? 1.0f : 0.0f);
+	}
+}
+
+// A collider's batch: grey, no body vertex numbers, normals computed when it comes without.
+static void fvColliderSurface(fvSurface* s, const fmDrawTriangles* t)
+{
+	for (int i = 0; i < s->vertexCount; ++i)
+	{
+		s->vertices[i] = t->vertices != NULL ? t->vertices[i] : -1;
+		memcpy(s->colors + 3 * i, fvColliderGrey, sizeof fvColliderGrey);
+	}
+	if (t->normals != NULL)
+		memcpy(s->normals, t->normals, 3 * sizeof(float) * (size_t)s->vertexCount);
+	else
+		fvSurfaceNormals(s);
+}
+
+// The next surface of the list, with room for the counts; NULL (outOfMemory set) when short.
+static fvSurface* fvNextSurface(fvDrawList* list, int vertexCount, int triangleCount)
+{
 	int oldCapacity = list->surfaceCapacity;
-	if (t->vertexCount < 0 || t->triangleCount < 0 || t->vertexCount > INT32_MAX / 3 ||
-	    t->triangleCount > INT32_MAX / 3 ||
+	if (vertexCount < 0 || triangleCount < 0 || vertexCount > INT32_MAX / 3 ||
+	    triangleCount > INT32_MAX / 3 ||
 	    !fvReserve((void**)&list->surfaces, &list->surfaceCapacity, list->surfaceCount + 1,
 	               sizeof(fvSurface)))
 	{
 		list->outOfMemory = true;
-		return;
+		return NULL;
 	}
 	for (int i = oldCapacity; i < list->surfaceCapacity; ++i)
 		memset(&list->surfaces[i], 0, sizeof list->surfaces[i]);
 	fvSurface* s = &list->surfaces[list->surfaceCount];
-	if (!fvSurface_Reserve(s, t->vertexCount, t->triangleCount))
+	if (!fvSurface_Reserve(s, vertexCount, triangleCount))
 	{
 		list->outOfMemory = true;
-		return;
+		return NULL;
 	}
+	s->body = (fmBodyId){0, 0, 0, 0};
+	s->collider = (fmColliderId){0, 0, 0, 0};
+	s->planeQuad = false;
+	s->vertexCount = vertexCount;
+	s->triangleCount = triangleCount;
+	return s;
+}
+
+static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
+{
+	fvDrawList* list = context;
+	fvSurface* s = fvNextSurface(list, t->vertexCount, t->triangleCount);
+	if (s == NULL)
+		return;
 	size_t n = 3 * (size_t)t->vertexCount;
 	s->body = t->body;
-	s->vertexCount = t->vertexCount;
-	s->triangleCount = t->triangleCount;
+	s->collider = t->collider;
 	memcpy(s->positions, t->positions, n * sizeof(float));
+	memcpy(s->indices, t->indices, 3 * (size_t)t->triangleCount * sizeof(int));
+	list->surfaceCount += 1;
+	if (t->body.index1 == 0)
+	{
+		fvColliderSurface(s, t);
+		return;
+	}
 	memcpy(s->normals, t->normals, n * sizeof(float));
 	memcpy(s->vertices, t->vertices, (size_t)t->vertexCount * sizeof(int));
-	memcpy(s->indices, t->indices, 3 * (size_t)t->triangleCount * sizeof(int));
 	if (t->colors != NULL)
 		memcpy(s->colors, t->colors, n * sizeof(float));
 	else
@@ -132,7 +195,6 @@ static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
 		for (size_t i = 0; i < n; ++i)
 			s->colors[i] = rgb[i % 3];
 	}
-	list->surfaceCount += 1;
 }
 
 static void fvDrawLines(const float* points, int lineCount, fmHexColor color, void* context)
@@ -183,9 +245,51 @@ static void fvDrawPoints(const float* points, int pointCount, float size, fmHexC
 	list->pointCount += pointCount;
 }
 
+// Half the side of the quad a plane collider beyond the first plane is drawn as (m).
+#define FV_PLANE_QUAD_HALF 40.0f
+
+// A plane after the first (the floor, or the first plane collider, which the renderer draws
+// checkered with the shadows on it): a large grey quad around its point, facing its normal.
+static void fvPlaneQuad(fvDrawList* list, fmVec3 point, fmVec3 normal)
+{
+	fvSurface* s = fvNextSurface(list, 4, 2);
+	if (s == NULL)
+		return;
+	float n[3] = {(float)normal.x, (float)normal.y, (float)normal.z};
+	float helper[3] = {fabsf(n[0]) > 0.9f ? 0.0f : 1.0f, 0.0f, fabsf(n[0]) > 0.9f ? 1.0f : 0.0f};
+	float u[3] = {helper[1] * n[2] - helper[2] * n[1], helper[2] * n[0] - helper[0] * n[2],
+	              helper[0] * n[1] - helper[1] * n[0]};
+	float length = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+	for (int i = 0; i < 3; ++i)
+		u[i] /= length > 0.0f ? length : 1.0f;
+	float v[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+	static const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+	float p[3] = {(float)point.x, (float)point.y, (float)point.z};
+	for (int c = 0; c < 4; ++c)
+		for (int i = 0; i < 3; ++i)
+		{
+			s->positions[3 * c + i] =
+			    p[i] + FV_PLANE_QUAD_HALF * (corners[c][0] * u[i] + corners[c][1] * v[i]);
+			s->normals[3 * c + i] = n[i];
+			s->colors[3 * c + i] = fvColliderGrey[i];
+		}
+	// Counter-clockwise seen from the normal's side: u x v = n.
+	static const int quad[6] = {0, 1, 2, 0, 2, 3};
+	memcpy(s->indices, quad, sizeof quad);
+	for (int c = 0; c < 4; ++c)
+		s->vertices[c] = -1;
+	s->planeQuad = true;
+	list->surfaceCount += 1;
+}
+
 static void fvDrawPlane(fmVec3 point, fmVec3 normal, fmHexColor color, void* context)
 {
 	fvDrawList* list = context;
+	if (list->hasPlane)
+	{
+		fvPlaneQuad(list, point, normal);
+		return;
+	}
 	list->hasPlane = true;
 	list->planePoint[0] = (float)point.x;
 	list->planePoint[1] = (float)point.y;
@@ -232,7 +336,7 @@ bool fvDrawList_Bounds(const fvDrawList* list, float lo[3], float hi[3])
 		hi[k] = -INFINITY;
 	}
 	for (int s = 0; s < list->surfaceCount; ++s)
-		for (int i = 0; i < list->surfaces[s].vertexCount; ++i)
+		for (int i = 0; i < list->surfaces[s].vertexCount && !list->surfaces[s].planeQuad; ++i)
 			fvGrow(lo, hi, list->surfaces[s].positions + 3 * i);
 	for (int i = 0; i < list->lineVertexCount; ++i)
 		fvGrow(lo, hi, list->lines + 6 * i);

@@ -10,14 +10,16 @@
 /// One body's drawn surface, copied out of fmDrawTriangles; colours always per vertex.
 typedef struct fvSurface
 {
-	fmBodyId body;
+	fmBodyId body;         ///< the body, or the null id for a collider
+	fmColliderId collider; ///< the collider (fm_drawColliders), or the null id
+	bool planeQuad;        ///< a plane collider drawn as a large quad (left out of the framing)
 	int vertexCount;
 	int triangleCount;
 	float* positions; ///< 3 per vertex (m)
 	float* normals;   ///< 3 per vertex, unit
 	float* colors;    ///< 3 per vertex, RGB in [0, 1] (fmDrawTriangles.colors or .color)
 	int* indices;     ///< 3 per triangle, into this surface's vertices
-	int* vertices;    ///< the body's vertex index of each drawn vertex
+	int* vertices;    ///< the body's vertex index of each drawn vertex (-1 for a collider's)
 	int vertexCapacity;
 	int indexCapacity;
 } fvSurface;

@@ -34,7 +34,7 @@ fvRecordSettings fvDefaultRecordSettings(void)
 	s.width = 640;
 	s.height = 480;
 	s.fps = 30.0;
-	s.drawFlags = fm_drawSurfaces | fm_drawFloor | fm_drawPins | fm_drawTargets;
+	s.drawFlags = fm_drawSurfaces | fm_drawFloor | fm_drawPins | fm_drawTargets | fm_drawColliders;
 	return s;
 }
 

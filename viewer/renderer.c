@@ -379,13 +379,16 @@ static void fvDrawBackground(const fvRenderer* r)
 	glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-// A blob (centre, radius) per surface: the centre of its box, radius half the box's diagonal.
+// A blob (centre, radius) per body's surface: the centre of its box, radius half the box's
+// diagonal. Colliders cast none (they rest on nothing).
 static int fvBlobs(const fvDrawList* list, float blobs[][4])
 {
 	int count = 0;
 	for (int s = 0; s < list->surfaceCount && count < FV_MAX_BLOBS; ++s)
 	{
 		const fvSurface* surface = &list->surfaces[s];
+		if (surface->body.index1 == 0)
+			continue;
 		float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
 		for (int k = 0; k < surface->vertexCount; ++k)
 			for (int a = 0; a < 3; ++a)

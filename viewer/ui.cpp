@@ -100,7 +100,8 @@ void showViews(fvUiModel& m)
 	} views[] = {{"surfaces", fm_drawSurfaces}, {"stress", fm_drawStress},
 	             {"tets", fm_drawTetEdges},     {"inverted", fm_drawInvertedTets},
 	             {"pins", fm_drawPins},         {"targets", fm_drawTargets},
-	             {"floor", fm_drawFloor},       {"contacts", fm_drawContacts}};
+	             {"floor", fm_drawFloor},       {"contacts", fm_drawContacts},
+	             {"colliders", fm_drawColliders}};
 	for (int i = 0; i < 8; ++i)
 	{
 		if (i % 4 != 0)

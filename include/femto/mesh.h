@@ -73,11 +73,77 @@ FM_API fmResult fmLoadTetGenFaceFromMemory(const char* text, size_t size, const 
                                            int nodeCount, int firstIndex, int** triangles,
                                            int* triangleCount, fmDiagnostic* diag);
 
+/// Mesh file formats femto reads (docs/mesh-format.md), chosen by the file name's extension.
+typedef enum fmMeshFormat
+{
+	fm_meshFormatUnknown, ///< an extension femto does not read
+	fm_meshFormatTetGen,  ///< TetGen .node + .ele (the two files side by side)
+	fm_meshFormatGmsh,    ///< Gmsh .msh, versions 2.2 and 4.1, ASCII or binary
+	fm_meshFormatVtk,     ///< VTK legacy .vtk, DATASET UNSTRUCTURED_GRID, ASCII or BINARY
+	fm_meshFormatVtu,     ///< VTK XML .vtu (UnstructuredGrid): ascii, binary or appended arrays
+	fm_meshFormatMedit,   ///< Medit .mesh (ASCII)
+} fmMeshFormat;
+
+/// The format of @p path by its extension, ignoring case: .node and .ele are TetGen, .msh Gmsh,
+/// .vtk, .vtu, .mesh. fm_meshFormatUnknown for anything else or NULL.
+FM_API fmMeshFormat fmMeshFormatFromPath(const char* path);
+
+/// A format's name for messages ("TetGen", "Gmsh", "VTK legacy", "VTK XML", "Medit").
+FM_API const char* fmMeshFormatName(fmMeshFormat format);
+
+/// True when this build reads zlib-compressed .vtu data (zlib was found when femto was built).
+FM_API bool fmMeshFormatHasZlib(void);
+
+/// Load a tet mesh from @p path in the format its extension names (fmMeshFormatFromPath), with
+/// @p def's limits. A .node path loads the .ele beside it and a .ele path the .node beside it.
+/// Only tetrahedra are read: other elements (triangles, lines, hexahedra, ...) are skipped with
+/// one warning in @p diag that counts them; quadratic (10-node) tets are read by their 4 corners
+/// and their mid-edge nodes dropped. Gmsh physical tags, Medit references and a .vtu "region"
+/// cell array become each tet's first attribute (tetAttributeCount 1) when any is not zero.
+/// Errors name the file, the line (binary data: the byte offset in the message) and what was
+/// expected; an unknown extension is fm_errSyntax. On failure @p mesh is left zeroed. A NULL
+/// @p mesh or an uninitialised @p def is fm_errParameter (and an assert).
+FM_API fmResult fmLoadMeshWithDef(const char* path, const fmMeshLoadDef* def, fmTetMesh* mesh,
+                                  fmDiagnostic* diag);
+
+/// fmLoadMeshWithDef() with fmDefaultMeshLoadDef(): files up to 1 GiB.
+FM_API fmResult fmLoadMesh(const char* path, fmTetMesh* mesh, fmDiagnostic* diag);
+
+/// Load a mesh of @p format (not TetGen: use fmLoadTetGenFromMemory) from @p size bytes in
+/// memory; @p name is used in diagnostics. The bytes need not be NUL-terminated. An unknown
+/// format, TetGen or a NULL @p mesh is fm_errParameter (and an assert for NULL).
+FM_API fmResult fmLoadMeshFromMemory(const void* data, size_t size, const char* name,
+                                     fmMeshFormat format, fmTetMesh* mesh, fmDiagnostic* diag);
+
 /// Write @p positions (3 * mesh->nodeCount, or NULL for the mesh's own) as a TetGen .node file
 /// with the mesh's numbering, attributes and markers. A NULL path, a mesh without points or
 /// whose attribute array is missing is fm_errParameter (and an assert).
 FM_API fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double* positions,
                                   fmDiagnostic* diag);
+
+/// Write the tets of @p mesh as a TetGen .ele file in the mesh's numbering (firstIndex), with its
+/// tet attributes. A NULL path or a mesh whose tets refer to missing nodes is fm_errParameter
+/// (and an assert); fm_errIo when the file cannot be written.
+FM_API fmResult fmWriteTetGenEle(const char* path, const fmTetMesh* mesh, fmDiagnostic* diag);
+
+/// Write @p mesh (with @p positions, or its own when NULL) as a Gmsh .msh 4.1 ASCII file: all
+/// nodes on one volume entity, tets as type 4 in one block per region. When the first tet
+/// attribute holds positive integers each becomes a volume with that physical tag, so regions
+/// survive a round trip (the tets are then grouped by region). Errors as fmWriteTetGenEle;
+/// fm_errRange for a non-finite coordinate.
+FM_API fmResult fmWriteGmsh(const char* path, const fmTetMesh* mesh, const double* positions,
+                            fmDiagnostic* diag);
+
+/// Write @p mesh (with @p positions, or its own when NULL) as an ASCII .vtu (VTK XML
+/// UnstructuredGrid, tets as cell type 10, Float64 points written to round trip exactly), with
+/// the first tet attribute as a CellData array "region" when there is one. Errors as fmWriteGmsh.
+FM_API fmResult fmWriteVtu(const char* path, const fmTetMesh* mesh, const double* positions,
+                           fmDiagnostic* diag);
+
+/// Write @p mesh in the format @p path's extension names: .node (and the .ele beside it), .ele
+/// (and the .node beside it), .msh or .vtu. Other extensions are fm_errParameter with a message.
+FM_API fmResult fmWriteMesh(const char* path, const fmTetMesh* mesh, const double* positions,
+                            fmDiagnostic* diag);
 
 /// Release the arrays of a mesh and zero it. Safe on a zeroed mesh and on NULL.
 FM_API void fmFreeTetMesh(fmTetMesh* mesh);
@@ -175,5 +241,51 @@ FM_API fmResult fmTetMesh_ExtractSurface(const fmTetMesh* mesh, int** triangles,
 /// counts exceed FM_MAX_TETS or FM_MAX_NODES (any int is safe), fm_errParameter (and an assert)
 /// for a NULL @p mesh.
 FM_API fmResult fmMakeBoxMesh(int nx, int ny, int nz, fmVec3 min, fmVec3 max, fmTetMesh* mesh);
+
+// ---- triangle surfaces (OBJ) -------------------------------------------------------------------
+
+/// Largest vertex count an OBJ file may hold.
+#define FM_MAX_SURFACE_VERTICES FM_MAX_NODES
+/// Largest triangle count an OBJ file may hold (after its polygons are fan-triangulated).
+#define FM_MAX_SURFACE_TRIANGLES FM_MAX_TETS
+
+/// A triangle surface (a Wavefront OBJ's faces, polygons fan-triangulated): plain data the user
+/// owns; release with fmFreeSurfaceMesh(). A mesh collider's vertices and triangles
+/// (fmColliderDef) come from one.
+typedef struct fmSurfaceMesh
+{
+	int vertexCount;   ///< number of vertices
+	double* positions; ///< 3 * vertexCount, xyz per vertex (m)
+	int triangleCount; ///< number of triangles
+	int* triangles;    ///< 3 * triangleCount, 0-based, in the file's (counter-clockwise) winding
+} fmSurfaceMesh;
+
+/// Read a Wavefront OBJ's polygons from @p path (a regular file of at most def->maxFileBytes,
+/// refused with fm_errLimit before reading): `v x y z [w]` (w ignored; `v x y z r g b`
+/// vertex colours are accepted and ignored too), `f` with `v`, `v/vt`, `v//vn` or `v/vt/vn`
+/// references, negative (relative) references, polygons of up to 79 vertices fan-triangulated;
+/// `vt`, `vn`, `vp`, `o`, `g`, `s`, `mg`, `usemtl`, `mtllib`, `l`, `p` and the other display
+/// statements ignored; '#' comments. Line continuations ('\' at the end of a line) and
+/// free-form geometry (`curv`, `surf`, ...) are refused. On failure @p surface is left zeroed
+/// and @p diag names the file, line, column and what was expected (docs/mesh-format.md).
+FM_API fmResult fmLoadObjWithDef(const char* path, const fmMeshLoadDef* def, fmSurfaceMesh* surface,
+                                 fmDiagnostic* diag);
+
+/// fmLoadObjWithDef() with fmDefaultMeshLoadDef(): files up to 1 GiB.
+FM_API fmResult fmLoadObj(const char* path, fmSurfaceMesh* surface, fmDiagnostic* diag);
+
+/// fmLoadObj() from text in memory (need not be NUL-terminated; a NUL byte is an error);
+/// @p name is used in diagnostics. A NULL @p surface is fm_errParameter (and an assert).
+FM_API fmResult fmLoadObjFromMemory(const char* text, size_t size, const char* name,
+                                    fmSurfaceMesh* surface, fmDiagnostic* diag);
+
+/// Apply @p transform (scale, center on the vertex centroid, swap y and z, translate) to the
+/// vertices. Swapping y and z mirrors the surface, so every triangle's winding is reversed with
+/// it (fronts stay fronts). A NULL or inconsistent surface, a NULL transform, a scale that is not
+/// finite and > 0 or a non-finite translation asserts and changes nothing.
+FM_API void fmSurfaceMesh_Transform(fmSurfaceMesh* surface, const fmMeshTransform* transform);
+
+/// Release the arrays of a surface and zero it. Safe on a zeroed surface and on NULL.
+FM_API void fmFreeSurfaceMesh(fmSurfaceMesh* surface);
 
 FM_C_END

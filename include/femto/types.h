@@ -565,7 +565,8 @@ typedef struct fmDrawTriangles
 	const float* normals;   ///< 3 per vertex: unit, area-weighted over the vertex's triangles
 	const float* colors;    ///< 3 per vertex (RGB in [0, 1]) with fm_drawStress, else NULL
 	const int* indices;     ///< 3 per triangle, counter-clockwise seen from outside
-	const int* vertices;    ///< vertexCount: each drawn vertex's index in the body (user's)
+	const int* vertices;    ///< vertexCount: each drawn vertex's index in the body (user's);
+	                        ///< NULL for a collider
 	fmHexColor color;       ///< the body's colour when colors is NULL
 } fmDrawTriangles;
 
@@ -587,7 +588,8 @@ typedef struct fmDebugDraw
 	void* context;  ///< passed to every callback
 } fmDebugDraw;
 
-/// A debug draw with no callbacks and the flags fm_drawSurfaces | fm_drawFloor | fm_drawTargets.
+/// A debug draw with no callbacks and the flags fm_drawSurfaces | fm_drawFloor | fm_drawTargets |
+/// fm_drawColliders.
 FM_API fmDebugDraw fmDefaultDebugDraw(void);
 
 FM_C_END

@@ -1,0 +1,53 @@
+// The triangle-mesh collider's shape (mesh_collider.c): a copy of the caller's triangles in the
+// mesh's own frame, a bounding-volume hierarchy over them, and the angle-weighted
+// pseudo-normals (Baerentzen and Aanaes 2005) that give the signed distance its sign: negative
+// behind the nearest feature, which for a closed, consistently wound mesh is exactly its inside.
+#pragma once
+
+#include <femto/femto.h>
+
+#include <stdbool.h>
+#include <stddef.h>
+
+typedef struct fmMeshNode
+{
+	fmVec3 lo, hi; // the box of the node's triangles
+	int left;      // inner node: the first child (the second is left + 1); leaf: -1
+	int first;     // leaf: its triangles are order[first, first + count)
+	int count;
+} fmMeshNode;
+
+typedef struct fmMeshShape
+{
+	int vertexCount;
+	int triangleCount;
+	fmVec3* vertices;     // in the mesh's frame
+	int* triangles;       // 3 per triangle
+	fmVec3* faceNormal;   // unit (zero for a degenerate triangle)
+	fmVec3* edgeNormal;   // 3 per triangle: edge k runs from corner k to corner k + 1
+	fmVec3* vertexNormal; // angle-weighted over the vertex's triangles
+	int* order;           // triangles in leaf order
+	fmMeshNode* nodes;
+	int nodeCount;
+	size_t bytes; // what all the above take
+} fmMeshShape;
+
+// Copy and prepare a validated mesh def; NULL when memory is short.
+fmMeshShape* fmMeshShape_Create(const fmColliderDef* def);
+
+// Release a shape (NULL is fine).
+void fmMeshShape_Destroy(fmMeshShape* shape);
+
+// What is wrong with a def's mesh arrays, or NULL.
+const char* fmMeshShape_Problem(const fmColliderDef* def);
+
+// Signed distance from @p p (mesh frame) to the surface, and the outward unit normal there.
+double fmMeshShape_Distance(const fmMeshShape* shape, fmVec3 p, fmVec3* normal);
+
+// The first crossing of the segment p0 -> p1 (mesh frame) into the solid through a triangle's
+// front, as a fraction in [0, 1], and that triangle's normal. False when there is none.
+bool fmMeshShape_CastSegment(const fmMeshShape* shape, fmVec3 p0, fmVec3 p1, double* fraction,
+                             fmVec3* normal);
+
+// The box (mesh frame) of the whole mesh.
+void fmMeshShape_Bounds(const fmMeshShape* shape, fmVec3* lo, fmVec3* hi);
