@@ -260,13 +260,15 @@ window.addEventListener('keydown', (event) => {
 
 function reset() {
   if (state.scene >= 0) loadScene(state.scene);
-  else if (droppedMesh) loadTetGen(droppedMesh.node, droppedMesh.ele);
+  else if (droppedMesh) loadMesh(droppedMesh);
   $('scene').value = state.scene;
 }
 
-// ---- dropped meshes: a TetGen .node and .ele pair, parsed by fmLoadTetGenFromMemory ---------
+// ---- dropped meshes: a TetGen .node and .ele pair (fmLoadTetGenFromMemory), or one Gmsh .msh,
+// VTK .vtk / .vtu or Medit .mesh file (fmLoadMeshFromMemory), read by the C readers ----------
 let droppedMesh = null;
 const pendingFiles = {};
+const ONE_FILE_FORMATS = ['msh', 'vtk', 'vtu', 'mesh'];
 
 function copyIn(bytes) {
   const pointer = M._fw_alloc(Math.max(1, bytes.length));
@@ -274,16 +276,26 @@ function copyIn(bytes) {
   return pointer;
 }
 
-function loadTetGen(node, ele) {
-  const nodePointer = copyIn(node), elePointer = copyIn(ele);
-  const r = M._fw_load_tetgen(nodePointer, node.length, elePointer, ele.length);
-  M._fw_free(nodePointer);
-  M._fw_free(elePointer);
+// Load @p mesh: {node, ele} (TetGen) or {name, data} (one file); shows the reader's message.
+function loadMesh(mesh) {
+  let r;
+  if (mesh.node) {
+    const nodePointer = copyIn(mesh.node), elePointer = copyIn(mesh.ele);
+    r = M._fw_load_tetgen(nodePointer, mesh.node.length, elePointer, mesh.ele.length);
+    M._fw_free(nodePointer);
+    M._fw_free(elePointer);
+  } else {
+    const name = new TextEncoder().encode(mesh.name + '\0');
+    const namePointer = copyIn(name), dataPointer = copyIn(mesh.data);
+    r = M._fw_load_mesh(namePointer, dataPointer, mesh.data.length);
+    M._fw_free(namePointer);
+    M._fw_free(dataPointer);
+  }
   if (r !== 0) {
     message(lastError(), true);
     return false;
   }
-  droppedMesh = { node, ele };
+  droppedMesh = mesh;
   state.scene = -1;
   let option = $('scene').querySelector('option[value="-1"]');
   if (!option) {
@@ -292,27 +304,30 @@ function loadTetGen(node, ele) {
   }
   $('scene').value = '-1';
   sceneLoaded();
+  const warning = M.UTF8ToString(M._fw_warning());
+  message(`loaded ${mesh.label}${warning ? ` (${warning})` : ''}`);
   return true;
 }
 
 async function takeFiles(files) {
   for (const file of files) {
     const extension = file.name.split('.').pop().toLowerCase();
-    if (extension === 'msh') {
-      message(`${file.name}: Gmsh .msh files are not read yet; drop a TetGen .node and .ele pair`,
-        true);
+    const data = new Uint8Array(await file.arrayBuffer());
+    if (ONE_FILE_FORMATS.includes(extension)) {
+      loadMesh({ name: file.name, data, label: file.name });
       return;
     }
     if (extension !== 'node' && extension !== 'ele') {
-      message(`${file.name}: expected a TetGen .node and .ele pair`, true);
+      message(`${file.name}: expected a .msh, .vtk, .vtu or .mesh file, or a TetGen .node and ` +
+        '.ele pair', true);
       return;
     }
-    pendingFiles[extension] = new Uint8Array(await file.arrayBuffer());
+    pendingFiles[extension] = data;
     pendingFiles[extension + 'Name'] = file.name;
   }
   if (pendingFiles.node && pendingFiles.ele) {
-    const names = `${pendingFiles.nodeName} + ${pendingFiles.eleName}`;
-    if (loadTetGen(pendingFiles.node, pendingFiles.ele)) message(`loaded ${names}`);
+    loadMesh({ node: pendingFiles.node, ele: pendingFiles.ele,
+      label: `${pendingFiles.nodeName} + ${pendingFiles.eleName}` });
     delete pendingFiles.node;
     delete pendingFiles.ele;
   } else {
@@ -393,7 +408,7 @@ async function main() {
   select.addEventListener('change', () => {
     const index = Number(select.value);
     if (index >= 0) loadScene(index);
-    else if (droppedMesh) loadTetGen(droppedMesh.node, droppedMesh.ele);
+    else if (droppedMesh) loadMesh(droppedMesh);
   });
   $('model').addEventListener('change', applyMaterial);
   $('youngs').addEventListener('input', applyMaterial);

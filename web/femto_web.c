@@ -181,6 +181,7 @@ typedef struct fwApp
 	int hitBody;
 	double stepMs;
 	char error[1024];
+	char warning[512]; // the last loaded mesh's (skipped elements), or ""
 } fwApp;
 
 static fwApp s_app;
@@ -361,10 +362,62 @@ FW_EXPORT int fw_load_scene(int index, int deterministic)
 	return fwBuildScene();
 }
 
-/// Parse a TetGen .node and .ele pair (the texts need not be NUL-terminated) and load a scene
-/// of that mesh alone, scaled down to fit the house's size when bigger, dropped above the floor
-/// with the seeds' house material. A mesh that does not parse or that fmBodyDef_Validate refuses
-/// leaves the current scene, and fw_error() says where the files are wrong.
+// Make a scene of a loaded mesh (@p r its reader's result): checked as fmCreateBody would check
+// it, placed (scaled down to fit FW_USER_MESH_SIZE when bigger, centred, FW_USER_MESH_DROP above
+// the floor) and given the seeds' house material. A mesh that was not read or that
+// fmBodyDef_Validate refuses (repeated nodes, flat tets) leaves the current scene.
+static fmResult fwLoadUserMesh(fmResult r, fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	if (r == fm_ok)
+	{
+		fmBodyDef check = fmDefaultBodyDef();
+		check.mesh = mesh;
+		r = fmBodyDef_Validate(&check, diag);
+		if (r != fm_ok)
+			fmFreeTetMesh(mesh);
+	}
+	if (r != fm_ok)
+	{
+		fwSetError("the mesh was refused", diag);
+		return r;
+	}
+	snprintf(s_app.warning, sizeof s_app.warning, "%s",
+	         diag->warningCount > 0 ? diag->warning : "");
+	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	fmVec3 hi = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
+	for (int i = 0; i < mesh->nodeCount; ++i)
+	{
+		const double* p = mesh->positions + 3 * i;
+		lo = fmMakeVec3(fmin(lo.x, p[0]), fmin(lo.y, p[1]), fmin(lo.z, p[2]));
+		hi = fmMakeVec3(fmax(hi.x, p[0]), fmax(hi.y, p[1]), fmax(hi.z, p[2]));
+	}
+	double size = fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
+	fmMeshTransform placement = fmDefaultMeshTransform();
+	placement.scale = size > FW_USER_MESH_SIZE ? FW_USER_MESH_SIZE / size : 1.0;
+	placement.center = true;
+	fmTetMesh_Transform(mesh, &placement);
+	double lowest = INFINITY;
+	for (int i = 0; i < mesh->nodeCount; ++i)
+		lowest = fmin(lowest, mesh->positions[3 * i + 1]);
+	placement = fmDefaultMeshTransform();
+	placement.translate =
+	    fmMakeVec3(0.0, fw_scenes[0].floorHeight + FW_USER_MESH_DROP - lowest, 0.0);
+	fmTetMesh_Transform(mesh, &placement);
+
+	fmTetMesh previous = s_app.userMesh;
+	s_app.userMesh = *mesh;
+	fwFreeScene();
+	s_app.scene = fw_scenes[0];
+	s_app.scene.name = "dropped mesh";
+	s_app.scene.bodies[0].mesh = fw_meshUser;
+	r = fwBuildScene();
+	fmFreeTetMesh(&previous);
+	return r;
+}
+
+/// Load a scene of a TetGen .node and .ele pair (the texts need not be NUL-terminated), read by
+/// fmLoadTetGenFromMemory, placed as fwLoadUserMesh says. On failure the current scene stays
+/// and fw_error() says where the files are wrong.
 FW_EXPORT int fw_load_tetgen(const char* nodeText, int nodeSize, const char* eleText, int eleSize)
 {
 	fmTetMesh mesh;
@@ -373,52 +426,35 @@ FW_EXPORT int fw_load_tetgen(const char* nodeText, int nodeSize, const char* ele
 	fmResult r =
 	    fmLoadTetGenFromMemory(nodeText, (size_t)(nodeSize > 0 ? nodeSize : 0), "node", eleText,
 	                           (size_t)(eleSize > 0 ? eleSize : 0), "ele", &mesh, &diag);
-	if (r == fm_ok)
-	{
-		// What fmCreateBody would refuse (repeated nodes, flat tets), refused before the current
-		// scene goes.
-		fmBodyDef check = fmDefaultBodyDef();
-		check.mesh = &mesh;
-		r = fmBodyDef_Validate(&check, &diag);
-		if (r != fm_ok)
-			fmFreeTetMesh(&mesh);
-	}
-	if (r != fm_ok)
-	{
-		fwSetError("the mesh was refused", &diag);
-		return r;
-	}
-	// Its bounding box: scale to fit FW_USER_MESH_SIZE, centre it, put it above the floor.
-	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
-	fmVec3 hi = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
-	for (int i = 0; i < mesh.nodeCount; ++i)
-	{
-		const double* p = mesh.positions + 3 * i;
-		lo = fmMakeVec3(fmin(lo.x, p[0]), fmin(lo.y, p[1]), fmin(lo.z, p[2]));
-		hi = fmMakeVec3(fmax(hi.x, p[0]), fmax(hi.y, p[1]), fmax(hi.z, p[2]));
-	}
-	double size = fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
-	fmMeshTransform placement = fmDefaultMeshTransform();
-	placement.scale = size > FW_USER_MESH_SIZE ? FW_USER_MESH_SIZE / size : 1.0;
-	placement.center = true;
-	fmTetMesh_Transform(&mesh, &placement);
-	double lowest = INFINITY;
-	for (int i = 0; i < mesh.nodeCount; ++i)
-		lowest = fmin(lowest, mesh.positions[3 * i + 1]);
-	placement = fmDefaultMeshTransform();
-	placement.translate =
-	    fmMakeVec3(0.0, fw_scenes[0].floorHeight + FW_USER_MESH_DROP - lowest, 0.0);
-	fmTetMesh_Transform(&mesh, &placement);
+	return fwLoadUserMesh(r, &mesh, &diag);
+}
 
-	fmTetMesh previous = s_app.userMesh;
-	s_app.userMesh = mesh;
-	fwFreeScene();
-	s_app.scene = fw_scenes[0];
-	s_app.scene.name = "dropped mesh";
-	s_app.scene.bodies[0].mesh = fw_meshUser;
-	r = fwBuildScene();
-	fmFreeTetMesh(&previous);
-	return r;
+/// Load a scene of a one-file mesh: Gmsh .msh, VTK .vtk or .vtu, Medit .mesh, the format chosen
+/// by @p name's extension (fmMeshFormatFromPath), read by fmLoadMeshFromMemory, placed as
+/// fw_load_tetgen places its mesh. TetGen files come in pairs: fw_load_tetgen.
+FW_EXPORT int fw_load_mesh(const char* name, const void* data, int size)
+{
+	fmMeshFormat format = fmMeshFormatFromPath(name);
+	if (format == fm_meshFormatUnknown || format == fm_meshFormatTetGen)
+	{
+		snprintf(s_app.error, sizeof s_app.error,
+		         "%s: expected a .msh, .vtk, .vtu or .mesh file, or a TetGen .node and .ele pair",
+		         name != NULL ? name : "");
+		return fm_errParameter;
+	}
+	fmTetMesh mesh;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	fmResult r =
+	    fmLoadMeshFromMemory(data, (size_t)(size > 0 ? size : 0), name, format, &mesh, &diag);
+	return fwLoadUserMesh(r, &mesh, &diag);
+}
+
+/// The warning of the last mesh loaded (e.g. the triangles a .msh file had beside its tets,
+/// skipped), or "".
+FW_EXPORT const char* fw_warning(void)
+{
+	return s_app.warning;
 }
 
 /// The reason of the last failure ("" after a success).

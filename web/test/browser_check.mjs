@@ -6,7 +6,8 @@
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
 //      and a finger (touch events) drags it too;
 //   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
-//   6. a TetGen .node/.ele pair given to the page's file input (the drop's path) loads and steps;
+//   6. a TetGen .node/.ele pair and a Gmsh .msh given to the page's file input (the drop's path)
+//      load (and the pair steps);
 //   7. the build without WebAssembly SIMD (?nosimd=1) loads and steps.
 //
 //   node --experimental-websocket web/test/browser_check.mjs URL [SCREENSHOT.png]
@@ -277,6 +278,12 @@ async function main() {
     await sleep(500);
     const stepping = (await evaluate('window.femto.frames')) > framesAtLoad;
     check(loaded && stepping, 'a TetGen .node and .ele pair given to the page loads and steps');
+    await page('DOM.setFileInputFiles', { nodeId,
+      files: [join(data, '../tests/data/mesh/cube_gmsh41.msh')] });
+    const gmsh = await waitFor('window.femto.bodyCount === 1 && document.getElementById("status")' +
+      '.textContent.startsWith("loaded cube_gmsh41.msh")', 10);
+    check(gmsh, 'a Gmsh .msh file given to the page loads: ' +
+      `"${await evaluate('document.getElementById("status").textContent')}"`);
 
     // The build without WebAssembly SIMD, which browsers without it get, runs too.
     const plain = url + (url.includes('?') ? '&' : '?') + 'nosimd=1';

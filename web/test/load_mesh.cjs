@@ -1,7 +1,8 @@
 // Dropped meshes under Node.js (docs/web.md, scripts/check-web.sh): fw_load_tetgen, the page's
 // path for a dropped .node/.ele pair, loads data/house2 (400 vertices, 1389 tets, and it steps),
 // and refuses a corrupted .ele with the reader's located diagnostic, and a tet with a repeated
-// node with the body check's, keeping the scene it had.
+// node with the body check's, keeping the scene it had; fw_load_mesh loads Gmsh's cube as binary
+// .msh 4.1, .vtk and Medit .mesh (tests/data/mesh/) and refuses a broken .msh and an .obj.
 'use strict';
 const fs = require('fs');
 const path = require('path');
@@ -23,6 +24,19 @@ function load(M, node, ele) {
   const r = M._fw_load_tetgen(a, node.length, b, ele.length);
   M._fw_free(a);
   M._fw_free(b);
+  return r;
+}
+
+function loadNamed(M, name, data) {
+  const copy = (bytes) => {
+    const pointer = M._fw_alloc(Math.max(1, bytes.length));
+    M.HEAPU8.set(bytes, pointer);
+    return pointer;
+  };
+  const n = copy(Buffer.from(name + '\0')), d = copy(data);
+  const r = M._fw_load_mesh(n, d, data.length);
+  M._fw_free(n);
+  M._fw_free(d);
   return r;
 }
 
@@ -52,5 +66,23 @@ createFemto().then((M) => {
   let steps = 0;
   while (steps < 60 && M._fw_step() === 0) steps += 1;
   check(steps === 60, `the dropped mesh steps 60 frames (${steps})`);
+
+  // One-file formats through fmLoadMeshFromMemory: Gmsh's own cube, binary .msh 4.1 and .vtk.
+  const meshes = path.join(__dirname, '../../tests/data/mesh');
+  for (const name of ['cube_gmsh41_bin.msh', 'cube_gmsh.vtk', 'cube_gmsh.mesh']) {
+    r = loadNamed(M, name, fs.readFileSync(path.join(meshes, name)));
+    const tets = M._fw_tet_count(0);
+    steps = 0;
+    while (r === 0 && steps < 30 && M._fw_step() === 0) steps += 1;
+    check(r === 0 && tets > 0 && steps === 30, `${name} loads (${tets} tets; ` +
+      `"${M.UTF8ToString(M._fw_warning())}") and steps 30 frames`);
+  }
+  const broken = fs.readFileSync(path.join(meshes, 'cube_gmsh41.msh')).toString()
+    .replace('$Elements', '$Elementz');
+  r = loadNamed(M, 'broken.msh', Buffer.from(broken));
+  check(r !== 0 && /broken\.msh/.test(M.UTF8ToString(M._fw_error())),
+    `a broken .msh is refused: "${M.UTF8ToString(M._fw_error()).slice(0, 120)}"`);
+  r = loadNamed(M, 'house.obj', Buffer.from('v 0 0 0'));
+  check(r !== 0, `a file of another kind is refused: "${M.UTF8ToString(M._fw_error())}"`);
   process.exit(failures ? 1 : 0);
 });
