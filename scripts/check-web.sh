@@ -45,7 +45,7 @@ bash scripts/web.sh
 
 # --- 1. Node.js against the native build ---------------------------------------------------
 cmake -S . -B build-web/native -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_CLI=OFF \
-  -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF -DFEMTO_SANITIZE=OFF >/dev/null
+  -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF -DFEMTO_SANITIZE=OFF -DFEMTO_WITH_ZLIB=OFF >/dev/null
 cmake --build build-web/native --target femto_static -j"$(nproc 2>/dev/null || echo 2)" >/dev/null
 cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla \
   -Iinclude web/test/compare_native.c \
