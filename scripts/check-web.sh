@@ -57,12 +57,14 @@ compare() { # scene frames deterministic integrator tolerance [native frames [wa
   node web/test/compare_node.cjs "$1" "$2" "$3" "$4" build-web/native/positions.txt "$5" "${7:-}"
 }
 # Scenes (fw_scene_name): 0 the seeds' StVK house, 3 Neo-Hookean (ln J), 4 Mooney-Rivlin, 5 the
-# pile of boxes (body-body contact). Each run jumps and drags (compare_native.c).
+# pile of boxes (body-body contact), 7 two houses (implicit). Each run jumps and drags
+# (compare_native.c).
 compare 0 300 1 0 0
 compare 3 300 1 0 0
 compare 4 300 1 0 0
 compare 5 200 1 0 0
 compare 3 30 1 1 0          # implicit: Newton, PCG, line search
+compare 7 60 1 1 0          # two houses, implicit: body-body contact in the Newton solve
 compare 4 300 0 0 1e-9      # the C libraries' own log and pow
 compare 0 300 1 0 0 300 femto_wasm_nosimd   # the build for browsers without SIMD
 if compare 0 300 1 0 0 299 >build-web/native/control.txt; then

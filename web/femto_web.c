@@ -63,6 +63,7 @@ typedef struct fwBodySpec
 	fwMeshKind mesh;
 	int cells[3];              // box: cells per axis
 	fmVec3 boxMin, boxMax;     // box: its corners (m)
+	fmVec3 translate;          // house: added after the seeds' placement (m)
 	fmMaterialModel model;     // the material, from the Lame constants (Pa) when youngs is 0,
 	double lambda, mu;         // else from Young's modulus (Pa) and the Poisson ratio
 	double youngs, poisson;    //
@@ -78,6 +79,7 @@ typedef struct fwSceneSpec
 	double dt;
 	int substeps;
 	fmIntegrator integrator;
+	double tolerance; // implicit: fmWorldDef.tolerance, 0 for the default
 	double floorHeight;
 	double floorFriction; // < 0: the seeds' stick floor; else Coulomb with this coefficient
 	double restitution;
@@ -90,6 +92,12 @@ typedef struct fwSceneSpec
 	{                                                                                              \
 		.mesh = fw_meshHouse, .model = material, .lambda = 20000.0, .mu = 5000.0,                  \
 		.perParticle = true, .mass = 1.0, .damping = 0.999, .smoothing = 0.1                       \
+	}
+// The house of scenes/house_implicit.json (Neo-Hookean, no velocity filters), moved by (x, y, z).
+#define FW_IMPLICIT_HOUSE(x, y, z)                                                                 \
+	{                                                                                              \
+		.mesh = fw_meshHouse, .translate = {x, y, z}, .model = fm_neoHookean, .lambda = 20000.0,   \
+		.mu = 5000.0, .perParticle = true, .mass = 1.0, .damping = 1.0, .smoothing = 0.0           \
 	}
 // A Neo-Hookean box of scenes/pile.json.
 #define FW_PILE_BOX(x0, y0, z0, x1, y1, z1)                                                        \
@@ -144,6 +152,18 @@ static const fwSceneSpec fw_scenes[] = {
                  .damping = 0.9999,
                  .smoothing = 0.02,
                  .velocity = {2, 0, 0}}}},
+    // Two houses of femto bench's contact pile (bench/contact.c): Neo-Hookean, backward Euler at
+    // one step a 1/60 s frame to the game tolerance, a Coulomb floor; the upper one lands on the
+    // lower one (body-body contact inside the Newton solve, docs/contact.md).
+    {.name = "two houses (implicit)",
+     .dt = 1.0 / 60.0,
+     .substeps = 1,
+     .integrator = fm_implicit,
+     .tolerance = FM_TOLERANCE_GAME,
+     .floorHeight = -3.0,
+     .floorFriction = 0.5,
+     .bodyCount = 2,
+     .bodies = {FW_IMPLICIT_HOUSE(-0.4, 0.0, -0.3), FW_IMPLICIT_HOUSE(0.4, 4.2, -0.3)}},
 };
 #define FW_SCENE_COUNT ((int)(sizeof fw_scenes / sizeof fw_scenes[0]))
 
@@ -219,6 +239,7 @@ static fmResult fwMakeMesh(const fwBodySpec* spec, fmTetMesh* mesh, fmDiagnostic
 	placement.scale = 0.4;
 	placement.center = true;
 	placement.swapYZ = true;
+	placement.translate = spec->translate;
 	fmTetMesh_Transform(mesh, &placement);
 	return fm_ok;
 }
@@ -293,6 +314,8 @@ static fmResult fwBuildScene(void)
 	worldDef.floor.restitution = scene->restitution;
 	worldDef.workerCount = 1; // threads need cross-origin isolation on the web (docs/web.md)
 	worldDef.crossPlatformDeterminism = s_app.deterministic;
+	if (scene->tolerance > 0.0)
+		worldDef.tolerance = scene->tolerance;
 	s_app.world = fmCreateWorld(&worldDef);
 	if (!fmWorld_IsValid(s_app.world))
 	{
