@@ -28,6 +28,7 @@ let M;            // the WebAssembly module
 let renderer;
 const camera = new OrbitCamera();
 let sceneSubsteps = 10;
+let sceneIntegrator = 0;
 
 function message(text, isError) {
   const line = $('status');
@@ -80,7 +81,8 @@ function sceneLoaded() {
   $('damping').value = M._fw_get_param(3);
   sceneSubsteps = M._fw_get_param(4);
   $('substeps').value = sceneSubsteps;
-  $('integrator').value = M._fw_get_param(5);
+  sceneIntegrator = M._fw_get_param(5);
+  $('integrator').value = sceneIntegrator;
   showValues();
   const { lo, hi } = bounds();
   lo[1] = Math.min(lo[1], M._fw_floor_height());
@@ -124,8 +126,11 @@ function applyMaterial() {
 function applyIntegrator() {
   const implicit = Number($('integrator').value);
   M._fw_set_integrator(implicit);
-  // Backward Euler is stable at the whole frame: one step a frame; explicit: the scene's.
-  $('substeps').value = implicit ? 1 : sceneSubsteps;
+  // Backward Euler is stable at the whole frame: one step a frame. Explicit: the scene's substeps
+  // when it is explicit, else substeps of at most the seeds' 3 ms.
+  const explicitSubsteps = sceneIntegrator === 0 ? sceneSubsteps :
+    Math.ceil(M._fw_get_param(6) / 0.003 - 1e-9);
+  $('substeps').value = implicit ? 1 : explicitSubsteps;
   applySubsteps();
 }
 

@@ -647,8 +647,8 @@ FW_EXPORT int fw_set_material(int model, double youngs, double poisson)
 	return fm_ok;
 }
 
-/// The sliders' values the scene started with: 0 model, 1 Young's modulus, 2 Poisson ratio,
-/// 3 damping, 4 substeps, 5 integrator.
+/// The sliders' values: 0 model, 1 Young's modulus, 2 Poisson ratio, 3 damping, 4 substeps,
+/// 5 integrator; 6 the scene's frame time (s).
 FW_EXPORT double fw_get_param(int which)
 {
 	switch (which)
@@ -665,6 +665,8 @@ FW_EXPORT double fw_get_param(int which)
 		return s_app.substeps;
 	case 5:
 		return s_app.integrator;
+	case 6:
+		return s_app.scene.dt * s_app.scene.substeps;
 	default:
 		return 0.0;
 	}
