@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# The browser build (docs/web.md): builds it (scripts/web.sh, which installs Debian's emscripten
+# when missing and fails when the .wasm reaches 512 KiB), then
+#   1. Node.js comparison: scenes of web/femto_web.c run by the WebAssembly build under Node.js
+#      and by the native build (web/test/compare_native.c on libfemto built by CMake, FMA
+#      contraction off) must end at bit-identical positions with crossPlatformDeterminism on, and
+#      within 1e-9 m with it off (C libraries' log and pow differ in their last bits); the build
+#      without SIMD gives the same bits; a run of 299 native frames against 300 must be told
+#      apart (the comparison can fail); the glue's house ends where `femto run`'s does (when
+#      build/cli/femto is built); a dropped TetGen pair loads, a corrupted one is refused with its
+#      line (web/test/load_mesh.cjs);
+#   2. headless Chromium (Debian's chromium, installed when missing): web/test/browser_check.mjs
+#      opens the page from a local server: no console error, the canvas not blank, the house's
+#      pixels move, a scripted drag lifts the house, the build without SIMD runs; it prints the
+#      page's step cost.
+# A part whose tools cannot be had (no emcc, no Node.js 20.10+, no chromium) is skipped with the
+# reason, exit status 0; a part that runs and fails fails the check.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export DEBIAN_FRONTEND=noninteractive
+
+install() { # command package: install a Debian package when its command is missing
+  command -v "$1" >/dev/null && return 0
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "check-web: installing $2"
+    apt-get install -y --no-install-recommends "$2" >/dev/null 2>&1 ||
+      { apt-get update >/dev/null 2>&1 && apt-get install -y --no-install-recommends "$2" >/dev/null 2>&1; } ||
+      true
+  fi
+  command -v "$1" >/dev/null
+}
+
+if ! install emcc emscripten; then
+  echo "check-web: SKIPPED: emscripten cannot be installed (apt-get install emscripten)"
+  exit 0
+fi
+node_major=$(node -p 'process.versions.node.split(".")[0]' 2>/dev/null || echo 0)
+if [ "$node_major" -lt 18 ]; then
+  echo "check-web: SKIPPED: Node.js 18 or newer needed (found: $(node --version 2>/dev/null || echo none))"
+  exit 0
+fi
+
+start=$(date +%s)
+bash scripts/web.sh
+
+# --- 1. Node.js against the native build ---------------------------------------------------
+cmake -S . -B build-web/native -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_CLI=OFF \
+  -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF -DFEMTO_SANITIZE=OFF -DFEMTO_WITH_ZLIB=OFF >/dev/null
+cmake --build build-web/native --target femto_static -j"$(nproc 2>/dev/null || echo 2)" >/dev/null
+cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla \
+  -Iinclude web/test/compare_native.c \
+  web/femto_web.c build-web/house_data.c build-web/native/libfemto.a -lm -lpthread \
+  -o build-web/native/compare_native
+
+compare() { # scene frames deterministic integrator tolerance [native frames [wasm build]]
+  build-web/native/compare_native "$1" "${6:-$2}" "$3" "$4" >build-web/native/positions.txt
+  node web/test/compare_node.cjs "$1" "$2" "$3" "$4" build-web/native/positions.txt "$5" "${7:-}"
+}
+# Scenes (fw_scene_name): 0 the seeds' StVK house, 3 Neo-Hookean (ln J), 4 Mooney-Rivlin, 5 the
+# pile of boxes (body-body contact), 7 two houses (implicit). Each run jumps and drags
+# (compare_native.c).
+compare 0 300 1 0 0
+compare 3 300 1 0 0
+compare 4 300 1 0 0
+compare 5 200 1 0 0
+compare 3 30 1 1 0          # implicit: Newton, PCG, line search
+compare 7 60 1 1 0          # two houses, implicit: body-body contact in the Newton solve
+compare 4 300 0 0 1e-9      # the C libraries' own log and pow
+compare 0 300 1 0 0 300 femto_wasm_nosimd   # the build for browsers without SIMD
+if compare 0 300 1 0 0 299 >build-web/native/control.txt; then
+  cat build-web/native/control.txt
+  echo "check-web: the comparison did not tell 299 frames from 300" >&2
+  exit 1
+fi
+echo "check-web: (control) 299 native frames against 300 told apart"
+# The glue's house is `femto run`'s (scenes/house.json): the same decimal positions after 9 s,
+# when scripts/test.sh has built the tool in build/.
+if [ -x build/cli/femto ]; then
+  build/cli/femto run --deterministic --seconds 9 --export-node build-web/native/cli.node >/dev/null 2>&1
+  build-web/native/compare_native 0 300 1 0 --plain >build-web/native/glue.txt 2>/dev/null
+  if ! tail -n +2 build-web/native/cli.node | awk '{print $1, $2, $3, $4}' |
+      cmp -s - build-web/native/glue.txt; then
+    echo "check-web: the glue's house differs from femto run's after 9 s (build-web/native/)" >&2
+    exit 1
+  fi
+  echo "check-web: the glue's house ends where femto run's does (300 frames, all 400 vertices)"
+else
+  echo "check-web: (no build/cli/femto: the glue's house against femto run's not compared)"
+fi
+# A dropped TetGen pair: loaded, or refused with its line (the page's path, fw_load_tetgen).
+node web/test/load_mesh.cjs
+
+# --- 2. headless Chromium ------------------------------------------------------------------
+if ! install chromium chromium; then
+  echo "check-web: browser part SKIPPED: chromium cannot be installed (apt-get install chromium)"
+  exit 0
+fi
+websocket=()
+if ! node -e 'process.exit(typeof WebSocket === "function" ? 0 : 1)'; then
+  websocket=(--experimental-websocket)
+  if ! node "${websocket[@]}" -e 'process.exit(typeof WebSocket === "function" ? 0 : 1)' 2>/dev/null; then
+    echo "check-web: browser part SKIPPED: Node.js $(node --version) has no WebSocket (20.10 or newer needed)"
+    exit 0
+  fi
+fi
+server_log=build-web/http.log
+python3 -u -m http.server 0 --bind 127.0.0.1 --directory web >"$server_log" 2>&1 &
+server=$!
+trap 'kill "$server" 2>/dev/null || true' EXIT
+port=""
+for _ in $(seq 50); do
+  port=$(sed -n 's/.*port \([0-9]*\).*/\1/p' "$server_log" | head -n 1)
+  [ -n "$port" ] && break
+  sleep 0.1
+done
+if [ -z "$port" ]; then
+  echo "check-web: the local server did not start: $(cat "$server_log")" >&2
+  exit 1
+fi
+node "${websocket[@]}" web/test/browser_check.mjs "http://127.0.0.1:$port/index.html" build-web/web.png
+echo "check-web: all web checks passed in $(($(date +%s) - start)) s (screenshot: build-web/web.png)"

@@ -1,0 +1,457 @@
+// The page (docs/web.md): libfemto in WebAssembly (dist/femto_wasm.js, built by scripts/web.sh
+// from the same C as the native library) stepped at 60 ticks a second, drawn with WebGL2
+// (renderer.js), played with the mouse, a finger and the keyboard. Everything the simulation
+// does goes through web/femto_web.c's fw_* functions.
+import { OrbitCamera, vec3 } from './camera.js';
+import { Renderer } from './renderer.js';
+
+const TICK_MS = 1000 / 60;        // one scene frame per tick, as femto view (docs/viewer.md)
+const MAX_TICKS_PER_FRAME = 4;    // a slow machine slows down rather than falls behind
+const MODELS = ['linear', 'corotated', 'StVK', 'Neo-Hookean', 'Mooney-Rivlin'];
+
+const $ = (id) => document.getElementById(id);
+const params = new URLSearchParams(location.search);
+
+// Whether the browser runs WebAssembly SIMD: a module of one function returning v128.const 0.
+const SIMD_PROBE = new Uint8Array([0, 0x61, 0x73, 0x6d, 1, 0, 0, 0, 1, 5, 1, 0x60, 0, 1, 0x7b,
+  3, 2, 1, 0, 10, 22, 1, 20, 0, 0xfd, 0x0c, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x0b]);
+const simd = WebAssembly.validate(SIMD_PROBE) && !params.has('nosimd');
+
+// What a test or an embedding page can read (scripts/check-web.sh reads it).
+const state = {
+  ready: false, simd, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
+  scene: 0, bodyCount: 0,
+};
+window.femto = state;
+
+let M;            // the WebAssembly module
+let renderer;
+const camera = new OrbitCamera();
+let sceneSubsteps = 10;
+let sceneIntegrator = 0;
+
+function message(text, isError) {
+  const line = $('status');
+  line.textContent = text;
+  line.className = isError ? 'error' : '';
+  if (isError) state.error = text;
+}
+
+function lastError() {
+  return M.UTF8ToString(M._fw_error());
+}
+
+// Positions of body b as a Float32Array view of the module's memory (valid until it grows).
+function positions(b) {
+  const pointer = M._fw_positions(b);
+  return M.HEAPF32.subarray(pointer >> 2, (pointer >> 2) + 3 * M._fw_vertex_count(b));
+}
+
+function bounds() {
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let b = 0; b < M._fw_body_count(); ++b) {
+    const x = positions(b);
+    for (let i = 0; i < x.length; i += 3)
+      for (let k = 0; k < 3; ++k) {
+        lo[k] = Math.min(lo[k], x[i + k]);
+        hi[k] = Math.max(hi[k], x[i + k]);
+      }
+  }
+  return { lo, hi };
+}
+
+// After a scene is loaded: GPU meshes, sliders from the scene, the camera on the bodies.
+function sceneLoaded() {
+  const bodies = [];
+  let vertices = 0, tets = 0;
+  for (let b = 0; b < M._fw_body_count(); ++b) {
+    const pointer = M._fw_surface(b) >> 2;
+    const triangles = Uint32Array.from(M.HEAP32.subarray(pointer, pointer + 3 * M._fw_surface_count(b)));
+    bodies.push({ triangles, vertexCount: M._fw_vertex_count(b) });
+    vertices += M._fw_vertex_count(b);
+    tets += M._fw_tet_count(b);
+  }
+  renderer.setBodies(bodies);
+  state.bodyCount = bodies.length;
+  $('counts').textContent = `${bodies.length} ${bodies.length === 1 ? 'body' : 'bodies'}, ` +
+    `${vertices} vertices, ${tets} tets`;
+  $('model').value = M._fw_get_param(0);
+  $('youngs').value = Math.log10(M._fw_get_param(1));
+  $('poisson').value = M._fw_get_param(2);
+  $('damping').value = M._fw_get_param(3);
+  sceneSubsteps = M._fw_get_param(4);
+  $('substeps').value = sceneSubsteps;
+  sceneIntegrator = M._fw_get_param(5);
+  $('integrator').value = sceneIntegrator;
+  showValues();
+  const { lo, hi } = bounds();
+  lo[1] = Math.min(lo[1], M._fw_floor_height());
+  const center = vec3.scale(0.5, vec3.add(lo, hi));
+  camera.frame(center, 0.5 * Math.hypot(...vec3.sub(hi, lo)));
+  state.paused = false;
+  state.error = '';
+  message('');
+}
+
+function loadScene(index) {
+  if (M._fw_load_scene(index, 0) !== 0) {
+    message(`cannot load the scene: ${lastError()}`, true);
+    return;
+  }
+  state.scene = index;
+  sceneLoaded();
+}
+
+function showValues() {
+  $('youngs-value').textContent = formatPascal(10 ** Number($('youngs').value));
+  $('poisson-value').textContent = Number($('poisson').value).toFixed(3);
+  $('damping-value').textContent = Number($('damping').value).toFixed(4);
+  $('substeps-value').textContent = $('substeps').value;
+}
+
+function formatPascal(p) {
+  if (p >= 1e6) return `${(p / 1e6).toPrecision(3)} MPa`;
+  if (p >= 1e3) return `${(p / 1e3).toPrecision(3)} kPa`;
+  return `${p.toPrecision(3)} Pa`;
+}
+
+function applyMaterial() {
+  showValues();
+  const r = M._fw_set_material(Number($('model').value), 10 ** Number($('youngs').value),
+    Number($('poisson').value));
+  if (r !== 0) message(lastError(), true);
+  else if (!state.paused) message('');
+}
+
+function applyIntegrator() {
+  const implicit = Number($('integrator').value);
+  M._fw_set_integrator(implicit);
+  // Backward Euler is stable at the whole frame: one step a frame. Explicit: the scene's substeps
+  // when it is explicit, else substeps of at most the seeds' 3 ms.
+  const explicitSubsteps = sceneIntegrator === 0 ? sceneSubsteps :
+    Math.ceil(M._fw_get_param(6) / 0.003 - 1e-9);
+  $('substeps').value = implicit ? 1 : explicitSubsteps;
+  applySubsteps();
+}
+
+function applySubsteps() {
+  showValues();
+  M._fw_set_substeps(Number($('substeps').value));
+}
+
+// ---- input ------------------------------------------------------------------------------------
+const canvas = $('view');
+const pointers = new Map(); // active pointers: id -> {x, y}
+let gesture = null;         // {kind: 'drag' | 'orbit' | 'pan' | 'pinch', ...}
+
+function canvasPoint(event) {
+  const r = canvas.getBoundingClientRect();
+  return { x: event.clientX - r.left, y: event.clientY - r.top, width: r.width, height: r.height };
+}
+
+// Where the ray through a canvas point meets the plane through p facing the camera.
+function onDragPlane(point, p) {
+  const { origin, direction } = camera.ray(point.x, point.y, point.width, point.height);
+  const normal = camera.axes().forward;
+  const denominator = vec3.dot(direction, normal);
+  if (Math.abs(denominator) < 1e-6) return null;
+  const t = vec3.dot(vec3.sub(p, origin), normal) / denominator;
+  return vec3.add(origin, vec3.scale(t, direction));
+}
+
+function startGesture(event) {
+  const point = canvasPoint(event);
+  if (pointers.size === 2) {
+    endDrag();
+    const [a, b] = [...pointers.values()];
+    gesture = { kind: 'pinch', distance: Math.hypot(a.x - b.x, a.y - b.y),
+      middle: [(a.x + b.x) / 2, (a.y + b.y) / 2] };
+    return;
+  }
+  if (event.button === 1 || event.button === 2 || event.shiftKey) {
+    gesture = { kind: 'pan', last: point };
+    return;
+  }
+  const { origin, direction } = camera.ray(point.x, point.y, point.width, point.height);
+  const range = 4 * camera.distance + 50;
+  const body = M._fw_pick(...origin, ...vec3.scale(range, direction));
+  if (body >= 0) {
+    const hit = [M._fw_hit(1), M._fw_hit(2), M._fw_hit(3)];
+    if (M._fw_drag_start(body, M._fw_hit(0), ...hit) === 0) {
+      gesture = { kind: 'drag', anchor: hit };
+      state.dragging = true;
+      return;
+    }
+  }
+  gesture = { kind: 'orbit', last: point };
+}
+
+function endDrag() {
+  if (gesture && gesture.kind === 'drag') M._fw_drag_end();
+  state.dragging = false;
+  gesture = null;
+}
+
+canvas.addEventListener('pointerdown', (event) => {
+  canvas.setPointerCapture(event.pointerId);
+  const point = canvasPoint(event);
+  pointers.set(event.pointerId, point);
+  if (pointers.size <= 2) startGesture(event);
+  event.preventDefault();
+});
+
+canvas.addEventListener('pointermove', (event) => {
+  if (!pointers.has(event.pointerId)) return;
+  const point = canvasPoint(event);
+  pointers.set(event.pointerId, point);
+  if (!gesture) return;
+  if (gesture.kind === 'drag') {
+    const target = onDragPlane(point, gesture.anchor);
+    if (target) M._fw_drag_move(...target);
+  } else if (gesture.kind === 'orbit') {
+    camera.orbit(point.x - gesture.last.x, point.y - gesture.last.y);
+    gesture.last = point;
+  } else if (gesture.kind === 'pan') {
+    camera.pan(point.x - gesture.last.x, point.y - gesture.last.y, point.height);
+    gesture.last = point;
+  } else if (gesture.kind === 'pinch' && pointers.size === 2) {
+    const [a, b] = [...pointers.values()];
+    const distance = Math.hypot(a.x - b.x, a.y - b.y);
+    const middle = [(a.x + b.x) / 2, (a.y + b.y) / 2];
+    if (distance > 0) camera.zoom(gesture.distance / distance);
+    camera.pan(middle[0] - gesture.middle[0], middle[1] - gesture.middle[1], point.height);
+    gesture.distance = distance;
+    gesture.middle = middle;
+  }
+});
+
+function pointerEnd(event) {
+  if (!pointers.delete(event.pointerId)) return;
+  endDrag();
+}
+canvas.addEventListener('pointerup', pointerEnd);
+canvas.addEventListener('pointercancel', pointerEnd);
+canvas.addEventListener('contextmenu', (event) => event.preventDefault());
+canvas.addEventListener('wheel', (event) => {
+  camera.zoom(event.deltaY > 0 ? 1.1 : 1 / 1.1);
+  event.preventDefault();
+}, { passive: false });
+
+function jump() {
+  M._fw_jump();
+}
+
+function togglePause() {
+  state.paused = !state.paused;
+  $('pause').textContent = state.paused ? 'Play' : 'Pause';
+}
+
+window.addEventListener('keydown', (event) => {
+  if (!M || event.target.tagName === 'SELECT' || event.target.tagName === 'INPUT' &&
+      event.target.type !== 'range') return;
+  if (event.code === 'Space') {
+    jump();
+    event.preventDefault();
+  } else if (event.key === 'p' || event.key === 'P') togglePause();
+  else if (event.key === 'r' || event.key === 'R') reset();
+  else if (event.key === 'i' || event.key === 'I') {
+    $('integrator').value = 1 - Number($('integrator').value);
+    applyIntegrator();
+  } else if (event.key === 'm' || event.key === 'M') {
+    $('model').value = (Number($('model').value) + 1) % MODELS.length;
+    applyMaterial();
+  }
+});
+
+function reset() {
+  if (state.scene >= 0) loadScene(state.scene);
+  else if (droppedMesh) loadMesh(droppedMesh);
+  $('scene').value = state.scene;
+}
+
+// ---- dropped meshes: a TetGen .node and .ele pair (fmLoadTetGenFromMemory), or one Gmsh .msh,
+// VTK .vtk / .vtu or Medit .mesh file (fmLoadMeshFromMemory), read by the C readers ----------
+let droppedMesh = null;
+const pendingFiles = {};
+const ONE_FILE_FORMATS = ['msh', 'vtk', 'vtu', 'mesh'];
+
+function copyIn(bytes) {
+  const pointer = M._fw_alloc(Math.max(1, bytes.length));
+  M.HEAPU8.set(bytes, pointer);
+  return pointer;
+}
+
+// Load @p mesh: {node, ele} (TetGen) or {name, data} (one file); shows the reader's message.
+function loadMesh(mesh) {
+  let r;
+  if (mesh.node) {
+    const nodePointer = copyIn(mesh.node), elePointer = copyIn(mesh.ele);
+    r = M._fw_load_tetgen(nodePointer, mesh.node.length, elePointer, mesh.ele.length);
+    M._fw_free(nodePointer);
+    M._fw_free(elePointer);
+  } else {
+    const name = new TextEncoder().encode(mesh.name + '\0');
+    const namePointer = copyIn(name), dataPointer = copyIn(mesh.data);
+    r = M._fw_load_mesh(namePointer, dataPointer, mesh.data.length);
+    M._fw_free(namePointer);
+    M._fw_free(dataPointer);
+  }
+  if (r !== 0) {
+    message(lastError(), true);
+    return false;
+  }
+  droppedMesh = mesh;
+  state.scene = -1;
+  let option = $('scene').querySelector('option[value="-1"]');
+  if (!option) {
+    option = new Option('dropped mesh', '-1');
+    $('scene').add(option);
+  }
+  $('scene').value = '-1';
+  sceneLoaded();
+  const warning = M.UTF8ToString(M._fw_warning());
+  message(`loaded ${mesh.label}${warning ? ` (${warning})` : ''}`);
+  return true;
+}
+
+async function takeFiles(files) {
+  for (const file of files) {
+    const extension = file.name.split('.').pop().toLowerCase();
+    const data = new Uint8Array(await file.arrayBuffer());
+    if (ONE_FILE_FORMATS.includes(extension)) {
+      loadMesh({ name: file.name, data, label: file.name });
+      return;
+    }
+    if (extension !== 'node' && extension !== 'ele') {
+      message(`${file.name}: expected a .msh, .vtk, .vtu or .mesh file, or a TetGen .node and ` +
+        '.ele pair', true);
+      return;
+    }
+    pendingFiles[extension] = data;
+    pendingFiles[extension + 'Name'] = file.name;
+  }
+  if (pendingFiles.node && pendingFiles.ele) {
+    loadMesh({ node: pendingFiles.node, ele: pendingFiles.ele,
+      label: `${pendingFiles.nodeName} + ${pendingFiles.eleName}` });
+    delete pendingFiles.node;
+    delete pendingFiles.ele;
+  } else {
+    message(`got the .${pendingFiles.node ? 'node' : 'ele'}; drop the ` +
+      `.${pendingFiles.node ? 'ele' : 'node'} too`);
+  }
+}
+
+window.addEventListener('dragover', (event) => {
+  event.preventDefault();
+  document.body.classList.add('dropping');
+});
+window.addEventListener('dragleave', () => document.body.classList.remove('dropping'));
+window.addEventListener('drop', (event) => {
+  event.preventDefault();
+  document.body.classList.remove('dropping');
+  if (M) takeFiles([...event.dataTransfer.files]);
+});
+
+// ---- the loop ---------------------------------------------------------------------------------
+let last = performance.now();
+let accumulator = 0;
+let fpsFrames = 0, fpsStart = last, stepSum = 0, librarySum = 0, stepCount = 0;
+
+function frame(now) {
+  accumulator += Math.min(now - last, 250);
+  last = now;
+  let ticks = 0;
+  while (!state.paused && accumulator >= TICK_MS && ticks < MAX_TICKS_PER_FRAME) {
+    accumulator -= TICK_MS;
+    ticks += 1;
+    const start = performance.now();
+    const r = M._fw_step();
+    stepSum += performance.now() - start;
+    librarySum += M._fw_step_ms();
+    stepCount += 1;
+    state.frames += 1;
+    if (r !== 0) {
+      state.paused = true;
+      $('pause').textContent = 'Play';
+      message(`${lastError()} — paused; R or Reset starts again`, true);
+    }
+  }
+  if (ticks === MAX_TICKS_PER_FRAME || state.paused) accumulator = 0;
+  for (let b = 0; b < M._fw_body_count(); ++b) renderer.updateBody(b, positions(b));
+  renderer.draw(camera, M._fw_floor_height());
+  fpsFrames += 1;
+  if (now - fpsStart >= 500) {
+    state.fps = (1000 * fpsFrames) / (now - fpsStart);
+    if (stepCount > 0) {
+      state.stepMs = stepSum / stepCount;
+      state.libraryMs = librarySum / stepCount;
+    }
+    $('hud').textContent = `${state.fps.toFixed(0)} fps · step ${state.stepMs.toFixed(2)} ms ` +
+      `(library ${state.libraryMs.toFixed(2)} ms)${simd ? '' : ' · no SIMD'}`;
+    fpsFrames = 0;
+    fpsStart = now;
+    stepSum = librarySum = stepCount = 0;
+  }
+  requestAnimationFrame(frame);
+}
+
+// ---- start ------------------------------------------------------------------------------------
+async function main() {
+  try {
+    renderer = new Renderer(canvas);
+  } catch (error) {
+    message(`${error.message}: the page needs WebGL2`, true);
+    return;
+  }
+  const { default: createFemto } = await import(simd ? './dist/femto_wasm.js' :
+    './dist/femto_wasm_nosimd.js');
+  M = await createFemto();
+  const select = $('scene');
+  for (let i = 0; i < M._fw_scene_count(); ++i)
+    select.add(new Option(M.UTF8ToString(M._fw_scene_name(i)), String(i)));
+  MODELS.forEach((name, i) => $('model').add(new Option(name, String(i))));
+  select.addEventListener('change', () => {
+    const index = Number(select.value);
+    if (index >= 0) loadScene(index);
+    else if (droppedMesh) loadMesh(droppedMesh);
+  });
+  $('model').addEventListener('change', applyMaterial);
+  $('youngs').addEventListener('input', applyMaterial);
+  $('poisson').addEventListener('input', applyMaterial);
+  $('damping').addEventListener('input', showValues);
+  $('damping').addEventListener('change', () => {
+    if (M._fw_set_damping(Number($('damping').value)) !== 0) message(lastError(), true);
+  });
+  $('substeps').addEventListener('input', applySubsteps);
+  $('integrator').addEventListener('change', applyIntegrator);
+  $('jump').addEventListener('click', jump);
+  $('pause').addEventListener('click', togglePause);
+  $('reset').addEventListener('click', reset);
+  $('files').addEventListener('change', (event) => takeFiles([...event.target.files]));
+  // A clicked button gives the keyboard back, so that Space then jumps instead of clicking it.
+  for (const button of document.querySelectorAll('button'))
+    button.addEventListener('click', () => button.blur());
+  if (params.has('embed')) document.body.classList.add('embed');
+  const first = Number(params.get('scene') || 0);
+  select.value = String(first);
+  loadScene(first);
+  if (params.has('paused')) togglePause();
+  state.ready = true;
+  requestAnimationFrame(frame);
+}
+
+// For tests and embedding pages: where a body's centre is on the canvas (CSS pixels).
+state.bodyCenterOnCanvas = (b) => {
+  const x = positions(b);
+  const c = [0, 0, 0];
+  for (let i = 0; i < x.length; i += 3) for (let k = 0; k < 3; ++k) c[k] += x[i + k];
+  const n = x.length / 3;
+  const r = canvas.getBoundingClientRect();
+  const p = camera.project(c.map((v) => v / n), r.width, r.height);
+  return p && { x: r.left + p[0], y: r.top + p[1] };
+};
+
+main().catch((error) => {
+  message(`femto did not start: ${error.message}`, true);
+  console.error(error);
+});

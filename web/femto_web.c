@@ -1,0 +1,878 @@
+// The page's door to libfemto (docs/web.md): plain functions of ints and doubles that the
+// page's JavaScript (web/femto.js) calls on the WebAssembly build, and that the native side of
+// the Node.js comparison (web/test/compare_native.c) calls on the native build, so both run the
+// same scene code. It keeps one world at a time: a scene of the table below (the repository's
+// scenes/*.json, value for value) or a dropped TetGen mesh.
+//
+// Conventions: bodies are numbered 0 to fw_body_count() - 1; pointers returned point into the
+// module's memory and stay valid until the next scene is loaded; a call that fails returns a
+// result code (fmResult, 0 = ok) and fw_error() says why.
+#include <femto/femto.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#if defined(__EMSCRIPTEN__)
+#include <emscripten/emscripten.h>
+#define FW_EXPORT EMSCRIPTEN_KEEPALIVE
+#else
+#define FW_EXPORT
+#endif
+
+// The mesh of scenes/house.json, embedded by scripts/web.sh (cli/embed_file.cmake).
+extern const unsigned char fw_house_node[];
+extern const size_t fw_house_node_size;
+extern const unsigned char fw_house_ele[];
+extern const size_t fw_house_ele_size;
+
+#define FW_MAX_BODIES 8
+
+// The seeds' jump (viewer/session.c): 2 m/s upward spread over the next frame's substeps.
+#define FW_JUMP_SPEED 2.0
+
+// Bigger dropped meshes fit in this (m, the house's size) and fall from this height above the
+// floor.
+#define FW_USER_MESH_SIZE 4.0
+#define FW_USER_MESH_DROP 1.0
+
+// The farthest a drag's target moves in a frame (m): a mouse that jumps across the house in one
+// frame would otherwise yank a vertex through its neighbours (6 m/s at 60 frames a second).
+#define FW_DRAG_MAX_MOVE 0.1
+
+// A drag holds every vertex within this fraction of the body's size (its bounding box's
+// diagonal) of the picked point: one vertex pulling a whole soft house tears its tets inside out;
+// a patch spreads the load.
+#define FW_DRAG_RADIUS 0.12
+
+// How far below its target a dragged explicit body may hang (m): the springs together hold the
+// scene's weight at this stretch, each no stiffer than half its substep's stability limit.
+#define FW_DRAG_SAG 0.1
+
+typedef enum fwMeshKind
+{
+	fw_meshHouse,
+	fw_meshBox,
+	fw_meshUser,
+} fwMeshKind;
+
+// One body of a scene: as a body entry of scenes/*.json.
+typedef struct fwBodySpec
+{
+	fwMeshKind mesh;
+	int cells[3];              // box: cells per axis
+	fmVec3 boxMin, boxMax;     // box: its corners (m)
+	fmVec3 translate;          // house: added after the seeds' placement (m)
+	fmMaterialModel model;     // the material, from the Lame constants (Pa) when youngs is 0,
+	double lambda, mu;         // else from Young's modulus (Pa) and the Poisson ratio
+	double youngs, poisson;    //
+	bool perParticle;          // mass: kg a vertex when true, else a density (kg/m^3)
+	double mass;               //
+	double damping, smoothing; // fmBodyDef's
+	fmVec3 velocity;           // m/s, at the start
+} fwBodySpec;
+
+typedef struct fwSceneSpec
+{
+	const char* name;
+	double dt;
+	int substeps;
+	fmIntegrator integrator;
+	double tolerance; // implicit: fmWorldDef.tolerance, 0 for the default
+	double floorHeight;
+	double floorFriction; // < 0: the seeds' stick floor; else Coulomb with this coefficient
+	double restitution;
+	int bodyCount;
+	fwBodySpec bodies[3];
+} fwSceneSpec;
+
+// The seeds' house body (scenes/house.json) with @p material at the seeds' Lame constants.
+#define FW_HOUSE(material)                                                                         \
+	{                                                                                              \
+		.mesh = fw_meshHouse, .model = material, .lambda = 20000.0, .mu = 5000.0,                  \
+		.perParticle = true, .mass = 1.0, .damping = 0.999, .smoothing = 0.1                       \
+	}
+// The house of scenes/house_implicit.json (Neo-Hookean, no velocity filters), moved by (x, y, z).
+#define FW_IMPLICIT_HOUSE(x, y, z)                                                                 \
+	{                                                                                              \
+		.mesh = fw_meshHouse, .translate = {x, y, z}, .model = fm_neoHookean, .lambda = 20000.0,   \
+		.mu = 5000.0, .perParticle = true, .mass = 1.0, .damping = 1.0, .smoothing = 0.0           \
+	}
+// A Neo-Hookean box of scenes/pile.json.
+#define FW_PILE_BOX(x0, y0, z0, x1, y1, z1)                                                        \
+	{                                                                                              \
+		.mesh = fw_meshBox, .cells = {3, 3, 3}, .boxMin = {x0, y0, z0}, .boxMax = {x1, y1, z1},    \
+		.model = fm_neoHookean, .youngs = 1e5, .poisson = 0.3, .mass = 500.0, .damping = 0.999,    \
+		.smoothing = 0.1                                                                           \
+	}
+
+// scenes/house.json and scenes/house_<model>.json: 10 substeps of 3 ms a frame, stick floor.
+#define FW_HOUSE_SCENE(title, material)                                                            \
+	{                                                                                              \
+		.name = title, .dt = 0.003, .substeps = 10, .integrator = fm_explicit,                     \
+		.floorHeight = -3.0, .floorFriction = -1.0, .bodyCount = 1, .bodies = {                    \
+			FW_HOUSE(material)                                                                     \
+		}                                                                                          \
+	}
+
+static const fwSceneSpec fw_scenes[] = {
+    FW_HOUSE_SCENE("house (StVK, the seeds)", fm_stvk),
+    FW_HOUSE_SCENE("house, linear", fm_linear),
+    FW_HOUSE_SCENE("house, corotated", fm_corotated),
+    FW_HOUSE_SCENE("house, Neo-Hookean", fm_neoHookean),
+    FW_HOUSE_SCENE("house, Mooney-Rivlin", fm_mooneyRivlin),
+    // scenes/pile.json: three soft boxes dropped on each other (body-body contact,
+    // docs/contact.md).
+    {.name = "pile of boxes",
+     .dt = 0.001,
+     .substeps = 16,
+     .integrator = fm_explicit,
+     .floorFriction = 0.5,
+     .bodyCount = 3,
+     .bodies = {FW_PILE_BOX(-0.3, 0.1, -0.3, 0.3, 0.7, 0.3),
+                FW_PILE_BOX(-0.25, 0.9, -0.25, 0.35, 1.5, 0.35),
+                FW_PILE_BOX(-0.35, 1.7, -0.3, 0.25, 2.3, 0.3)}},
+    // scenes/drop.json: a corotated cube thrown sideways onto a bouncy Coulomb floor.
+    {.name = "thrown cube",
+     .dt = 0.001,
+     .substeps = 16,
+     .integrator = fm_explicit,
+     .floorFriction = 0.4,
+     .restitution = 0.3,
+     .bodyCount = 1,
+     .bodies = {{.mesh = fw_meshBox,
+                 .cells = {6, 6, 6},
+                 .boxMin = {-0.5, 1, -0.5},
+                 .boxMax = {0.5, 2, 0.5},
+                 .model = fm_corotated,
+                 .youngs = 2e5,
+                 .poisson = 0.3,
+                 .mass = 500.0,
+                 .damping = 0.9999,
+                 .smoothing = 0.02,
+                 .velocity = {2, 0, 0}}}},
+    // Two houses of femto bench's contact pile (bench/contact.c): Neo-Hookean, backward Euler at
+    // one step a 1/60 s frame to the game tolerance, a Coulomb floor; the upper one lands on the
+    // lower one (body-body contact inside the Newton solve, docs/contact.md).
+    {.name = "two houses (implicit)",
+     .dt = 1.0 / 60.0,
+     .substeps = 1,
+     .integrator = fm_implicit,
+     .tolerance = FM_TOLERANCE_GAME,
+     .floorHeight = -3.0,
+     .floorFriction = 0.5,
+     .bodyCount = 2,
+     .bodies = {FW_IMPLICIT_HOUSE(-0.4, 0.0, -0.3), FW_IMPLICIT_HOUSE(0.4, 4.2, -0.3)}},
+};
+#define FW_SCENE_COUNT ((int)(sizeof fw_scenes / sizeof fw_scenes[0]))
+
+// The world the page shows, and the sliders' values applied to it.
+typedef struct fwApp
+{
+	fmWorldId world;
+	fwSceneSpec scene; // what was loaded (a copy: a user mesh's scene is made here)
+	bool deterministic;
+	int bodyCount;
+	fmBodyId bodies[FW_MAX_BODIES];
+	fmTetMesh meshes[FW_MAX_BODIES];
+	float* floatPositions[FW_MAX_BODIES];
+	double* doublePositions[FW_MAX_BODIES];
+	fmTetMesh userMesh; // the last dropped mesh (kept for reloading its scene)
+	// sliders
+	fmMaterial material; // every body's: the scene's (Lame constants as given), then the sliders'
+	fmMaterialModel model;
+	double youngs, poisson, damping;
+	int substeps;
+	fmIntegrator integrator;
+	// input
+	int pendingJumps;
+	bool dragging;
+	int dragBody;
+	int dragCount;        // vertices held: those within FW_DRAG_RADIUS of the anchor
+	int* dragVertices;    // dragCount vertices (user numbering)
+	fmVec3* dragRest;     // where each was at the grab
+	fmVec3* dragTargets;  // where each is pulled now: rest + (dragTarget - dragAnchor)
+	fmVec3 dragAnchor;    // the point picked (m)
+	fmVec3 dragTarget;    // where the anchor is pulled now
+	fmVec3 dragGoal;      // where the page asked, reached at FW_DRAG_MAX_MOVE a frame
+	double dragStiffness; // N/m, each spring
+	fmRayHit hit;
+	int hitBody;
+	double stepMs;
+	char error[1024];
+	char warning[512]; // the last loaded mesh's (skipped elements), or ""
+} fwApp;
+
+static fwApp s_app;
+
+static void fwFreeDrag(void);
+FW_EXPORT void fw_drag_end(void);
+
+static void fwSetError(const char* what, const fmDiagnostic* diag)
+{
+	char text[900];
+	snprintf(s_app.error, sizeof s_app.error, "%s: %s", what,
+	         diag != NULL ? fmDiagnostic_Format(diag, text, sizeof text) : "");
+}
+
+// Young's modulus and Poisson ratio of Lame constants (the inverse of fmMakeMaterial's).
+static void fwFromLame(double lambda, double mu, double* youngs, double* poisson)
+{
+	*youngs = mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu);
+	*poisson = lambda / (2.0 * (lambda + mu));
+}
+
+static fmResult fwMakeMesh(const fwBodySpec* spec, fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	if (spec->mesh == fw_meshBox)
+		return fmMakeBoxMesh(spec->cells[0], spec->cells[1], spec->cells[2], spec->boxMin,
+		                     spec->boxMax, mesh);
+	if (spec->mesh == fw_meshUser)
+		return fmCopyTetMesh(&s_app.userMesh, mesh);
+	fmResult r = fmLoadTetGenFromMemory((const char*)fw_house_node, fw_house_node_size,
+	                                    "house2.node", (const char*)fw_house_ele, fw_house_ele_size,
+	                                    "house2.ele", mesh, diag);
+	if (r != fm_ok)
+		return r;
+	fmMeshTransform placement = fmDefaultMeshTransform();
+	placement.scale = 0.4;
+	placement.center = true;
+	placement.swapYZ = true;
+	placement.translate = spec->translate;
+	fmTetMesh_Transform(mesh, &placement);
+	return fm_ok;
+}
+
+static fmBodyDef fwBodyDef(const fwApp* app, int b)
+{
+	const fwBodySpec* spec = &app->scene.bodies[b];
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &app->meshes[b];
+	def.material = app->material;
+	def.forceModel = fm_fem;
+	def.massMode = spec->perParticle ? fm_massPerParticle : fm_massFromDensity;
+	if (spec->perParticle)
+		def.particleMass = spec->mass;
+	else
+		def.density = spec->mass;
+	def.damping = app->damping;
+	def.smoothing = spec->smoothing;
+	return def;
+}
+
+static void fwFreeScene(void)
+{
+	if (fmWorld_IsValid(s_app.world))
+		fmDestroyWorld(s_app.world);
+	for (int b = 0; b < s_app.bodyCount; ++b)
+	{
+		fmFreeTetMesh(&s_app.meshes[b]);
+		free(s_app.floatPositions[b]);
+		free(s_app.doublePositions[b]);
+	}
+	memset(s_app.bodies, 0, sizeof s_app.bodies);
+	memset(s_app.meshes, 0, sizeof s_app.meshes);
+	memset(s_app.floatPositions, 0, sizeof s_app.floatPositions);
+	memset(s_app.doublePositions, 0, sizeof s_app.doublePositions);
+	s_app.world = (fmWorldId){0, 0};
+	s_app.bodyCount = 0;
+	fwFreeDrag();
+	s_app.pendingJumps = 0;
+}
+
+// Build the world of s_app.scene with the sliders' values set from its first body.
+static fmResult fwBuildScene(void)
+{
+	const fwSceneSpec* scene = &s_app.scene;
+	const fwBodySpec* first = &scene->bodies[0];
+	s_app.model = first->model;
+	if (first->youngs > 0.0)
+	{
+		s_app.youngs = first->youngs;
+		s_app.poisson = first->poisson;
+		s_app.material = fmMakeMaterial(first->model, first->youngs, first->poisson);
+	}
+	else
+	{
+		// The seeds' constants as they are (E and nu only for the sliders): the same bits as
+		// femto run's house.
+		fwFromLame(first->lambda, first->mu, &s_app.youngs, &s_app.poisson);
+		s_app.material = fmMakeMaterialLame(first->model, first->lambda, first->mu);
+	}
+	s_app.damping = first->damping;
+	s_app.substeps = scene->substeps;
+	s_app.integrator = scene->integrator;
+
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	worldDef.gravity = fmMakeVec3(0.0, -9.8, 0.0);
+	worldDef.integrator = scene->integrator;
+	worldDef.floor.enabled = true;
+	worldDef.floor.height = scene->floorHeight;
+	worldDef.floor.friction = scene->floorFriction < 0.0 ? fm_floorStick : fm_floorCoulomb;
+	worldDef.floor.frictionCoefficient = fmax(scene->floorFriction, 0.0);
+	worldDef.floor.restitution = scene->restitution;
+	worldDef.workerCount = 1; // threads need cross-origin isolation on the web (docs/web.md)
+	worldDef.crossPlatformDeterminism = s_app.deterministic;
+	if (scene->tolerance > 0.0)
+		worldDef.tolerance = scene->tolerance;
+	s_app.world = fmCreateWorld(&worldDef);
+	if (!fmWorld_IsValid(s_app.world))
+	{
+		snprintf(s_app.error, sizeof s_app.error, "cannot create the world");
+		return fm_errOutOfMemory;
+	}
+	for (int b = 0; b < scene->bodyCount; ++b)
+	{
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
+		fmResult r = fwMakeMesh(&scene->bodies[b], &s_app.meshes[b], &diag);
+		s_app.bodyCount = b + 1; // the mesh is freed with the scene from here on
+		fmBodyDef def = fwBodyDef(&s_app, b);
+		if (r == fm_ok)
+			r = fmCreateBody(s_app.world, &def, &s_app.bodies[b], &diag);
+		int n = r == fm_ok ? fmBody_GetVertexCount(s_app.bodies[b]) : 0;
+		s_app.floatPositions[b] = r == fm_ok ? calloc(3 * (size_t)n, sizeof(float)) : NULL;
+		s_app.doublePositions[b] = r == fm_ok ? calloc(3 * (size_t)n, sizeof(double)) : NULL;
+		if (r == fm_ok && (s_app.floatPositions[b] == NULL || s_app.doublePositions[b] == NULL))
+			r = fm_errOutOfMemory;
+		if (r != fm_ok)
+		{
+			fwSetError("the scene's body was refused", &diag);
+			fwFreeScene();
+			return r;
+		}
+		fmVec3 v = scene->bodies[b].velocity;
+		if (v.x != 0.0 || v.y != 0.0 || v.z != 0.0)
+		{
+			double* velocities = s_app.doublePositions[b];
+			for (int i = 0; i < n; ++i)
+			{
+				velocities[3 * i] = v.x;
+				velocities[3 * i + 1] = v.y;
+				velocities[3 * i + 2] = v.z;
+			}
+			fmBody_SetVelocities(s_app.bodies[b], velocities);
+		}
+	}
+	s_app.error[0] = 0;
+	return fm_ok;
+}
+
+/// Number of built-in scenes.
+FW_EXPORT int fw_scene_count(void)
+{
+	return FW_SCENE_COUNT;
+}
+
+/// The name of built-in scene @p index (NUL-terminated), or "" out of range.
+FW_EXPORT const char* fw_scene_name(int index)
+{
+	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].name : "";
+}
+
+/// Load built-in scene @p index; @p deterministic sets fmWorldDef.crossPlatformDeterminism.
+FW_EXPORT int fw_load_scene(int index, int deterministic)
+{
+	if (index < 0 || index >= FW_SCENE_COUNT)
+	{
+		snprintf(s_app.error, sizeof s_app.error, "no scene %d", index);
+		return fm_errParameter;
+	}
+	fwFreeScene();
+	s_app.scene = fw_scenes[index];
+	s_app.deterministic = deterministic != 0;
+	return fwBuildScene();
+}
+
+// Make a scene of a loaded mesh (@p r its reader's result): checked as fmCreateBody would check
+// it, placed (scaled down to fit FW_USER_MESH_SIZE when bigger, centred, FW_USER_MESH_DROP above
+// the floor) and given the seeds' house material. A mesh that was not read or that
+// fmBodyDef_Validate refuses (repeated nodes, flat tets) leaves the current scene.
+static fmResult fwLoadUserMesh(fmResult r, fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	if (r == fm_ok)
+	{
+		fmBodyDef check = fmDefaultBodyDef();
+		check.mesh = mesh;
+		r = fmBodyDef_Validate(&check, diag);
+		if (r != fm_ok)
+			fmFreeTetMesh(mesh);
+	}
+	if (r != fm_ok)
+	{
+		fwSetError("the mesh was refused", diag);
+		return r;
+	}
+	snprintf(s_app.warning, sizeof s_app.warning, "%s",
+	         diag->warningCount > 0 ? diag->warning : "");
+	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	fmVec3 hi = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
+	for (int i = 0; i < mesh->nodeCount; ++i)
+	{
+		const double* p = mesh->positions + 3 * i;
+		lo = fmMakeVec3(fmin(lo.x, p[0]), fmin(lo.y, p[1]), fmin(lo.z, p[2]));
+		hi = fmMakeVec3(fmax(hi.x, p[0]), fmax(hi.y, p[1]), fmax(hi.z, p[2]));
+	}
+	double size = fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
+	fmMeshTransform placement = fmDefaultMeshTransform();
+	placement.scale = size > FW_USER_MESH_SIZE ? FW_USER_MESH_SIZE / size : 1.0;
+	placement.center = true;
+	fmTetMesh_Transform(mesh, &placement);
+	double lowest = INFINITY;
+	for (int i = 0; i < mesh->nodeCount; ++i)
+		lowest = fmin(lowest, mesh->positions[3 * i + 1]);
+	placement = fmDefaultMeshTransform();
+	placement.translate =
+	    fmMakeVec3(0.0, fw_scenes[0].floorHeight + FW_USER_MESH_DROP - lowest, 0.0);
+	fmTetMesh_Transform(mesh, &placement);
+
+	fmTetMesh previous = s_app.userMesh;
+	s_app.userMesh = *mesh;
+	fwFreeScene();
+	s_app.scene = fw_scenes[0];
+	s_app.scene.name = "dropped mesh";
+	s_app.scene.bodies[0].mesh = fw_meshUser;
+	r = fwBuildScene();
+	fmFreeTetMesh(&previous);
+	return r;
+}
+
+/// Load a scene of a TetGen .node and .ele pair (the texts need not be NUL-terminated), read by
+/// fmLoadTetGenFromMemory, placed as fwLoadUserMesh says. On failure the current scene stays
+/// and fw_error() says where the files are wrong.
+FW_EXPORT int fw_load_tetgen(const char* nodeText, int nodeSize, const char* eleText, int eleSize)
+{
+	fmTetMesh mesh;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	fmResult r =
+	    fmLoadTetGenFromMemory(nodeText, (size_t)(nodeSize > 0 ? nodeSize : 0), "node", eleText,
+	                           (size_t)(eleSize > 0 ? eleSize : 0), "ele", &mesh, &diag);
+	return fwLoadUserMesh(r, &mesh, &diag);
+}
+
+/// Load a scene of a one-file mesh: Gmsh .msh, VTK .vtk or .vtu, Medit .mesh, the format chosen
+/// by @p name's extension (fmMeshFormatFromPath), read by fmLoadMeshFromMemory, placed as
+/// fw_load_tetgen places its mesh. TetGen files come in pairs: fw_load_tetgen.
+FW_EXPORT int fw_load_mesh(const char* name, const void* data, int size)
+{
+	fmMeshFormat format = fmMeshFormatFromPath(name);
+	if (format == fm_meshFormatUnknown || format == fm_meshFormatTetGen)
+	{
+		snprintf(s_app.error, sizeof s_app.error,
+		         "%s: expected a .msh, .vtk, .vtu or .mesh file, or a TetGen .node and .ele pair",
+		         name != NULL ? name : "");
+		return fm_errParameter;
+	}
+	fmTetMesh mesh;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	fmResult r =
+	    fmLoadMeshFromMemory(data, (size_t)(size > 0 ? size : 0), name, format, &mesh, &diag);
+	return fwLoadUserMesh(r, &mesh, &diag);
+}
+
+/// The warning of the last mesh loaded (e.g. the triangles a .msh file had beside its tets,
+/// skipped), or "".
+FW_EXPORT const char* fw_warning(void)
+{
+	return s_app.warning;
+}
+
+/// The reason of the last failure ("" after a success).
+FW_EXPORT const char* fw_error(void)
+{
+	return s_app.error;
+}
+
+/// Bodies in the scene.
+FW_EXPORT int fw_body_count(void)
+{
+	return s_app.bodyCount;
+}
+
+static bool fwBodyOk(int b)
+{
+	return b >= 0 && b < s_app.bodyCount;
+}
+
+/// Vertices of body @p b.
+FW_EXPORT int fw_vertex_count(int b)
+{
+	return fwBodyOk(b) ? fmBody_GetVertexCount(s_app.bodies[b]) : 0;
+}
+
+/// Tets of body @p b.
+FW_EXPORT int fw_tet_count(int b)
+{
+	return fwBodyOk(b) ? fmBody_GetTetCount(s_app.bodies[b]) : 0;
+}
+
+/// Surface triangles of body @p b (3 vertex indices each, counter-clockwise from outside).
+FW_EXPORT const int* fw_surface(int b)
+{
+	return fwBodyOk(b) ? fmBody_GetSurface(s_app.bodies[b], NULL) : NULL;
+}
+
+/// Number of surface triangles of body @p b.
+FW_EXPORT int fw_surface_count(int b)
+{
+	int count = 0;
+	if (fwBodyOk(b))
+		fmBody_GetSurface(s_app.bodies[b], &count);
+	return count;
+}
+
+/// Copy body @p b's positions into its float buffer (3 a vertex) and return the buffer.
+FW_EXPORT const float* fw_positions(int b)
+{
+	if (!fwBodyOk(b))
+		return NULL;
+	fmBody_CopyPositionsFloat(s_app.bodies[b], s_app.floatPositions[b],
+	                          fmBody_GetVertexCount(s_app.bodies[b]));
+	return s_app.floatPositions[b];
+}
+
+/// Copy body @p b's positions into its double buffer (the comparison's exact read-back).
+FW_EXPORT const double* fw_positions_double(int b)
+{
+	if (!fwBodyOk(b))
+		return NULL;
+	fmBody_CopyPositions(s_app.bodies[b], s_app.doublePositions[b],
+	                     fmBody_GetVertexCount(s_app.bodies[b]));
+	return s_app.doublePositions[b];
+}
+
+/// The floor's height (m).
+FW_EXPORT double fw_floor_height(void)
+{
+	return s_app.scene.floorHeight;
+}
+
+// One frame: whole, or substep by substep with the jump's impulses (as viewer/session.c).
+static fmResult fwStepFrame(void)
+{
+	double frame = s_app.scene.dt * s_app.scene.substeps;
+	int substeps = s_app.substeps;
+	if (s_app.pendingJumps == 0)
+		return fmWorld_Step(s_app.world, frame, substeps);
+	fmVec3 kick = fmMakeVec3(0.0, s_app.pendingJumps * FW_JUMP_SPEED / substeps, 0.0);
+	s_app.pendingJumps = 0;
+	for (int k = 0; k < substeps; ++k)
+	{
+		for (int b = 0; b < s_app.bodyCount; ++b)
+			fmBody_ApplyImpulse(s_app.bodies[b], kick);
+		fmResult r = fmWorld_Step(s_app.world, frame / substeps, 1);
+		if (r != fm_ok)
+			return r;
+	}
+	return fm_ok;
+}
+
+/// Step one frame of the scene: the scene's frame time (its dt times its substeps) in
+/// fw_set_substeps() substeps. On a failed step the library has restored the last good state
+/// and fw_error() has its diagnostic.
+FW_EXPORT int fw_step(void)
+{
+	if (!fmWorld_IsValid(s_app.world))
+		return fm_errInvalidId;
+	if (s_app.dragging)
+	{
+		fmVec3 move = fmSub(s_app.dragGoal, s_app.dragTarget);
+		double distance = fmLength(move);
+		if (distance > FW_DRAG_MAX_MOVE)
+			move = fmScale(FW_DRAG_MAX_MOVE / distance, move);
+		s_app.dragTarget = fmAdd(s_app.dragTarget, move);
+		fmVec3 offset = fmSub(s_app.dragTarget, s_app.dragAnchor);
+		for (int k = 0; k < s_app.dragCount; ++k)
+			s_app.dragTargets[k] = fmAdd(s_app.dragRest[k], offset);
+		fmBody_SetTargets(s_app.bodies[s_app.dragBody], s_app.dragVertices, s_app.dragTargets,
+		                  s_app.dragCount, s_app.dragStiffness);
+	}
+	fmResult r = fwStepFrame();
+	s_app.stepMs = fmWorld_GetProfile(s_app.world).step;
+	if (r != fm_ok)
+		fwSetError("the step failed", fmWorld_GetLastError(s_app.world));
+	return r;
+}
+
+/// The library's wall time of the last fmWorld_Step (ms, fmProfile.step).
+FW_EXPORT double fw_step_ms(void)
+{
+	return s_app.stepMs;
+}
+
+/// A stage of the last step's profile (ms, fmProfile): 0 step, 1 forces, 2 integrate, 3 solve,
+/// 4 finish, 5 check, 6 contact, 7 broad phase, 8 narrow phase.
+FW_EXPORT double fw_profile(int which)
+{
+	if (!fmWorld_IsValid(s_app.world))
+		return 0.0;
+	fmProfile p = fmWorld_GetProfile(s_app.world);
+	const double stages[] = {p.step,  p.forces,  p.integrate,  p.solve,      p.finish,
+	                         p.check, p.contact, p.broadPhase, p.narrowPhase};
+	return which >= 0 && which < 9 ? stages[which] : 0.0;
+}
+
+/// Queue the seeds' jump for the next frame.
+FW_EXPORT void fw_jump(void)
+{
+	s_app.pendingJumps += 1;
+}
+
+/// Set the material of every body: model (fmMaterialModel), Young's modulus (Pa), Poisson ratio.
+FW_EXPORT int fw_set_material(int model, double youngs, double poisson)
+{
+	if (model < 0 || model >= fm_stretchEnergy)
+	{
+		snprintf(s_app.error, sizeof s_app.error, "no material model %d", model);
+		return fm_errParameter;
+	}
+	fmMaterial material = fmMakeMaterial((fmMaterialModel)model, youngs, poisson);
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	fmResult r = fmMaterial_Validate(&material, &diag);
+	for (int b = 0; r == fm_ok && b < s_app.bodyCount; ++b)
+		r = fmBody_SetMaterial(s_app.bodies[b], &material, &diag);
+	if (r != fm_ok)
+	{
+		fwSetError("the material was refused", &diag);
+		return r;
+	}
+	s_app.material = material;
+	s_app.model = (fmMaterialModel)model;
+	s_app.youngs = youngs;
+	s_app.poisson = poisson;
+	return fm_ok;
+}
+
+/// The sliders' values: 0 model, 1 Young's modulus, 2 Poisson ratio, 3 damping, 4 substeps,
+/// 5 integrator; 6 the scene's frame time (s).
+FW_EXPORT double fw_get_param(int which)
+{
+	switch (which)
+	{
+	case 0:
+		return s_app.model;
+	case 1:
+		return s_app.youngs;
+	case 2:
+		return s_app.poisson;
+	case 3:
+		return s_app.damping;
+	case 4:
+		return s_app.substeps;
+	case 5:
+		return s_app.integrator;
+	case 6:
+		return s_app.scene.dt * s_app.scene.substeps;
+	default:
+		return 0.0;
+	}
+}
+
+/// Velocity damping factor per 3 ms, in (0, 1]: the bodies are made again in their current
+/// state (fmBodyDef.damping is fixed at creation).
+FW_EXPORT int fw_set_damping(double damping)
+{
+	double previous = s_app.damping;
+	s_app.damping = damping;
+	for (int b = 0; b < s_app.bodyCount; ++b)
+	{
+		fmBodyDef def = fwBodyDef(&s_app, b);
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
+		fmBodyId made;
+		fmResult r = fmCreateBody(s_app.world, &def, &made, &diag);
+		if (r != fm_ok)
+		{
+			s_app.damping = previous;
+			fwSetError("the damping was refused", &diag);
+			return r;
+		}
+		fmBodyId old = s_app.bodies[b];
+		double* state = s_app.doublePositions[b];
+		fmBody_CopyPositions(old, state, fmBody_GetVertexCount(old));
+		fmBody_SetPositions(made, state);
+		fmBody_CopyVelocities(old, state, fmBody_GetVertexCount(old));
+		fmBody_SetVelocities(made, state);
+		fmDestroyBody(old);
+		s_app.bodies[b] = made;
+	}
+	// A drag goes on: fw_step sets its target on the new body.
+	return fm_ok;
+}
+
+/// Substeps a frame, in [1, 1000]; the frame time stays the scene's (more substeps: shorter
+/// ones, stable with stiffer materials).
+FW_EXPORT int fw_set_substeps(int substeps)
+{
+	if (substeps < 1 || substeps > 1000)
+	{
+		snprintf(s_app.error, sizeof s_app.error, "substeps %d not in [1, 1000]", substeps);
+		return fm_errParameter;
+	}
+	s_app.substeps = substeps;
+	return fm_ok;
+}
+
+/// 0 explicit, 1 implicit (fmWorld_SetIntegrator).
+FW_EXPORT void fw_set_integrator(int integrator)
+{
+	s_app.integrator = integrator != 0 ? fm_implicit : fm_explicit;
+	if (fmWorld_IsValid(s_app.world))
+		fmWorld_SetIntegrator(s_app.world, s_app.integrator);
+}
+
+/// Cast a ray (origin, direction times range) against the bodies; returns the body hit or -1.
+/// fw_hit(0..3) then gives the vertex hit and the point.
+FW_EXPORT int fw_pick(double ox, double oy, double oz, double dx, double dy, double dz)
+{
+	s_app.hitBody = -1;
+	if (!fmWorld_IsValid(s_app.world) ||
+	    !fmWorld_CastRay(s_app.world, fmMakeVec3(ox, oy, oz), fmMakeVec3(dx, dy, dz),
+	                     fmDefaultFilter(), &s_app.hit))
+		return -1;
+	for (int b = 0; b < s_app.bodyCount; ++b)
+		if (s_app.hit.body.index1 == s_app.bodies[b].index1 &&
+		    s_app.hit.body.generation == s_app.bodies[b].generation)
+			s_app.hitBody = b;
+	return s_app.hitBody;
+}
+
+/// The last pick: 0 the vertex, 1-3 the point (m).
+FW_EXPORT double fw_hit(int which)
+{
+	switch (which)
+	{
+	case 0:
+		return s_app.hit.vertex;
+	case 1:
+		return s_app.hit.point.x;
+	case 2:
+		return s_app.hit.point.y;
+	default:
+		return s_app.hit.point.z;
+	}
+}
+
+// The springs' stiffness, each: together they hold the scene's weight FW_DRAG_SAG below the
+// target (explicit) or within a centimetre (implicit, stable at any stiffness, as
+// viewer/session.c); explicit springs no stiffer than half of m / h^2, the substep's limit.
+static double fwDragStiffness(int body)
+{
+	double h = s_app.scene.dt * s_app.scene.substeps / s_app.substeps;
+	const double* masses = fmBody_GetMasses(s_app.bodies[body]);
+	double lightest = INFINITY;
+	for (int k = 0; k < s_app.dragCount; ++k)
+		lightest = fmin(lightest, masses[s_app.dragVertices[k]]);
+	double weight = 0.0;
+	for (int b = 0; b < s_app.bodyCount; ++b)
+	{
+		const double* m = fmBody_GetMasses(s_app.bodies[b]);
+		for (int i = 0; i < fmBody_GetVertexCount(s_app.bodies[b]); ++i)
+			weight += m[i] * 9.8;
+	}
+	if (s_app.integrator == fm_implicit)
+		return weight / 0.01 / s_app.dragCount;
+	return fmin(0.5 * lightest / (h * h), weight / FW_DRAG_SAG / s_app.dragCount);
+}
+
+static void fwFreeDrag(void)
+{
+	free(s_app.dragVertices);
+	free(s_app.dragRest);
+	free(s_app.dragTargets);
+	s_app.dragVertices = NULL;
+	s_app.dragRest = NULL;
+	s_app.dragTargets = NULL;
+	s_app.dragCount = 0;
+	s_app.dragging = false;
+}
+
+/// Start dragging body @p b at the point (x, y, z) on it (fw_pick's): the vertices within
+/// FW_DRAG_RADIUS of its size around the point, @p vertex among them, are pulled by kinematic
+/// targets (fmBody_SetTargets) that follow fw_drag_move().
+FW_EXPORT int fw_drag_start(int b, int vertex, double x, double y, double z)
+{
+	fw_drag_end();
+	if (!fwBodyOk(b) || vertex < 0 || vertex >= fmBody_GetVertexCount(s_app.bodies[b]))
+		return fm_errParameter;
+	int n = fmBody_GetVertexCount(s_app.bodies[b]);
+	const double* p = fw_positions_double(b);
+	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	fmVec3 hi = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
+	for (int i = 0; i < n; ++i)
+	{
+		lo = fmMakeVec3(fmin(lo.x, p[3 * i]), fmin(lo.y, p[3 * i + 1]), fmin(lo.z, p[3 * i + 2]));
+		hi = fmMakeVec3(fmax(hi.x, p[3 * i]), fmax(hi.y, p[3 * i + 1]), fmax(hi.z, p[3 * i + 2]));
+	}
+	double radius = FW_DRAG_RADIUS * fmLength(fmSub(hi, lo));
+	fmVec3 anchor = fmMakeVec3(x, y, z);
+	s_app.dragVertices = malloc((size_t)n * sizeof(int));
+	s_app.dragRest = malloc((size_t)n * sizeof(fmVec3));
+	s_app.dragTargets = malloc((size_t)n * sizeof(fmVec3));
+	if (s_app.dragVertices == NULL || s_app.dragRest == NULL || s_app.dragTargets == NULL)
+	{
+		fwFreeDrag();
+		return fm_errOutOfMemory;
+	}
+	for (int i = 0; i < n; ++i)
+	{
+		fmVec3 q = fmMakeVec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+		if (i == vertex || fmLength(fmSub(q, anchor)) <= radius)
+		{
+			s_app.dragVertices[s_app.dragCount] = i;
+			s_app.dragRest[s_app.dragCount] = q;
+			s_app.dragTargets[s_app.dragCount] = q;
+			s_app.dragCount += 1;
+		}
+	}
+	s_app.dragging = true;
+	s_app.dragBody = b;
+	s_app.dragAnchor = anchor;
+	s_app.dragTarget = anchor;
+	s_app.dragGoal = anchor;
+	s_app.dragStiffness = fwDragStiffness(b);
+	fmResult r = fmBody_SetTargets(s_app.bodies[b], s_app.dragVertices, s_app.dragTargets,
+	                               s_app.dragCount, s_app.dragStiffness);
+	if (r != fm_ok)
+	{
+		fwSetError("the drag was refused", fmWorld_GetLastError(s_app.world));
+		fwFreeDrag();
+	}
+	return r;
+}
+
+/// Vertices the drag holds (0 when none).
+FW_EXPORT int fw_drag_count(void)
+{
+	return s_app.dragging ? s_app.dragCount : 0;
+}
+
+/// Move the drag's target (m); the spring's end follows at up to FW_DRAG_MAX_MOVE a frame.
+FW_EXPORT void fw_drag_move(double x, double y, double z)
+{
+	s_app.dragGoal = fmMakeVec3(x, y, z);
+}
+
+/// Let go.
+FW_EXPORT void fw_drag_end(void)
+{
+	if (s_app.dragging && fwBodyOk(s_app.dragBody))
+		fmBody_SetTargets(s_app.bodies[s_app.dragBody], NULL, NULL, 0, 0.0);
+	fwFreeDrag();
+}
+
+/// Bytes the page may write into with fw_alloc (a dropped file's text), freed by fw_free.
+FW_EXPORT void* fw_alloc(int size)
+{
+	return size > 0 ? malloc((size_t)size) : NULL;
+}
+
+/// Free what fw_alloc gave.
+FW_EXPORT void fw_free(void* memory)
+{
+	free(memory);
+}

@@ -1,0 +1,315 @@
+// The page under headless Chromium (docs/web.md, scripts/check-web.sh), through the DevTools
+// protocol with Node's own WebSocket and zlib (no packages, no network):
+//   1. open the page, wait for 40 simulated frames: no console error or exception, no failed step;
+//   2. the canvas is not blank: enough pixels of the house's colour;
+//   3. the house's pixels move between two screenshots half a second apart;
+//   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
+//      and a finger (touch events) drags it too;
+//   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
+//   6. a TetGen .node/.ele pair and a Gmsh .msh given to the page's file input (the drop's path)
+//      load (and the pair steps);
+//   7. the build without WebAssembly SIMD (?nosimd=1) loads and steps.
+//
+//   node --experimental-websocket web/test/browser_check.mjs URL [SCREENSHOT.png]
+// (Node 22 and later have WebSocket without the flag.) CHROMIUM names the browser (default
+// chromium). Exit status 0 when every check passes, 1 otherwise.
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { inflateSync } from 'node:zlib';
+
+const url = process.argv[2];
+const screenshotOut = process.argv[3];
+const WIDTH = 1024, HEIGHT = 768;
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+let failures = 0;
+
+function check(ok, what) {
+  console.log(`browser: ${ok ? 'ok' : 'FAILED'}: ${what}`);
+  if (!ok) failures += 1;
+}
+
+// ---- a minimal PNG reader: 8-bit RGB or RGBA, not interlaced (what Chromium writes) ----------
+function decodePng(buffer) {
+  let offset = 8;
+  let width = 0, height = 0, channels = 0;
+  const idat = [];
+  while (offset < buffer.length) {
+    const length = buffer.readUInt32BE(offset);
+    const type = buffer.toString('ascii', offset + 4, offset + 8);
+    const data = buffer.subarray(offset + 8, offset + 8 + length);
+    if (type === 'IHDR') {
+      width = data.readUInt32BE(0);
+      height = data.readUInt32BE(4);
+      if (data[8] !== 8 || data[12] !== 0) throw new Error('PNG: only 8-bit, non-interlaced');
+      channels = { 2: 3, 6: 4 }[data[9]];
+      if (!channels) throw new Error(`PNG: colour type ${data[9]} not read`);
+    } else if (type === 'IDAT') idat.push(data);
+    offset += 12 + length;
+  }
+  const raw = inflateSync(Buffer.concat(idat));
+  const stride = width * channels;
+  const pixels = new Uint8Array(width * height * 4);
+  let previous = new Uint8Array(stride);
+  for (let y = 0; y < height; ++y) {
+    const filter = raw[y * (stride + 1)];
+    const line = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+    const out = new Uint8Array(stride);
+    for (let i = 0; i < stride; ++i) {
+      const a = i >= channels ? out[i - channels] : 0;
+      const b = previous[i];
+      const c = i >= channels ? previous[i - channels] : 0;
+      let predictor = 0;
+      if (filter === 1) predictor = a;
+      else if (filter === 2) predictor = b;
+      else if (filter === 3) predictor = (a + b) >> 1;
+      else if (filter === 4) {
+        const p = a + b - c, pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
+        predictor = pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      }
+      out[i] = (line[i] + predictor) & 255;
+    }
+    for (let x = 0; x < width; ++x) {
+      for (let k = 0; k < 3; ++k) pixels[4 * (y * width + x) + k] = out[x * channels + k];
+      pixels[4 * (y * width + x) + 3] = 255;
+    }
+    previous = out;
+  }
+  return { width, height, pixels };
+}
+
+// The house's pixels: its orange (renderer.js's first palette colour, lit), far from the grey
+// floor, the blue-grey sky and the white panel.
+function houseMask(image) {
+  const mask = new Uint8Array(image.width * image.height);
+  let count = 0, sumY = 0, top = image.height;
+  for (let i = 0; i < mask.length; ++i) {
+    const r = image.pixels[4 * i], g = image.pixels[4 * i + 1], b = image.pixels[4 * i + 2];
+    if (r > g + 25 && g > b + 10 && r > 60) {
+      mask[i] = 1;
+      count += 1;
+      const y = Math.floor(i / image.width);
+      sumY += y;
+      top = Math.min(top, y);
+    }
+  }
+  return { mask, count, centroidY: count ? sumY / count : NaN, top };
+}
+
+function maskDifference(a, b) {
+  let d = 0;
+  for (let i = 0; i < a.mask.length; ++i) d += a.mask[i] !== b.mask[i];
+  return d;
+}
+
+// ---- the browser -------------------------------------------------------------------------------
+async function launch() {
+  const profile = mkdtempSync(join(tmpdir(), 'femto-chromium-'));
+  const browser = spawn(process.env.CHROMIUM || 'chromium', [
+    '--headless=new', '--no-sandbox', '--no-first-run', '--no-default-browser-check',
+    '--disable-extensions', '--disable-background-networking', '--use-angle=swiftshader',
+    '--enable-unsafe-swiftshader', `--window-size=${WIDTH},${HEIGHT}`,
+    '--remote-debugging-port=0', `--user-data-dir=${profile}`, 'about:blank',
+  ], { stdio: ['ignore', 'ignore', 'pipe'] });
+  const endpoint = await new Promise((resolve, reject) => {
+    let text = '';
+    const timer = setTimeout(() => reject(new Error('Chromium did not start in 30 s')), 30000);
+    browser.stderr.on('data', (chunk) => {
+      text += chunk;
+      const match = text.match(/DevTools listening on (ws:\/\/\S+)/);
+      if (match) {
+        clearTimeout(timer);
+        resolve(match[1]);
+      }
+    });
+    browser.on('exit', (code) => reject(new Error(`Chromium exited (${code}): ${text.slice(-500)}`)));
+  });
+  return { browser, endpoint, profile };
+}
+
+class Session {
+  constructor(socket) {
+    this.socket = socket;
+    this.next = 1;
+    this.pending = new Map();
+    this.listeners = [];
+    socket.addEventListener('message', (event) => {
+      const message = JSON.parse(event.data);
+      if (message.id && this.pending.has(message.id)) {
+        const { resolve, reject } = this.pending.get(message.id);
+        this.pending.delete(message.id);
+        if (message.error) reject(new Error(JSON.stringify(message.error)));
+        else resolve(message.result);
+      } else if (message.method) for (const listener of this.listeners) listener(message);
+    });
+  }
+
+  static async open(wsUrl) {
+    const socket = new WebSocket(wsUrl);
+    await new Promise((resolve, reject) => {
+      socket.addEventListener('open', resolve);
+      socket.addEventListener('error', () => reject(new Error(`cannot connect to ${wsUrl}`)));
+    });
+    return new Session(socket);
+  }
+
+  send(method, params = {}, sessionId) {
+    const id = this.next++;
+    this.socket.send(JSON.stringify({ id, method, params, sessionId }));
+    return new Promise((resolve, reject) => this.pending.set(id, { resolve, reject }));
+  }
+}
+
+async function main() {
+  const { browser, endpoint, profile } = await launch();
+  const cdp = await Session.open(endpoint);
+  try {
+    const { targetId } = await cdp.send('Target.createTarget', { url: 'about:blank' });
+    const { sessionId } = await cdp.send('Target.attachToTarget', { targetId, flatten: true });
+    const page = (method, params) => cdp.send(method, params, sessionId);
+    const errors = [];
+    cdp.listeners.push((m) => {
+      if (m.sessionId !== sessionId) return;
+      if (m.method === 'Runtime.consoleAPICalled' && (m.params.type === 'error' ||
+          m.params.type === 'assert'))
+        errors.push(m.params.args.map((a) => a.value ?? a.description).join(' '));
+      else if (m.method === 'Runtime.exceptionThrown')
+        errors.push(m.params.exceptionDetails.exception?.description ??
+          m.params.exceptionDetails.text);
+      else if (m.method === 'Log.entryAdded' && m.params.entry.level === 'error')
+        errors.push(`${m.params.entry.text} ${m.params.entry.url ?? ''}`);
+    });
+    await page('Runtime.enable');
+    await page('Log.enable');
+    await page('Page.enable');
+    await page('Emulation.setDeviceMetricsOverride', { width: WIDTH, height: HEIGHT,
+      deviceScaleFactor: 1, mobile: false });
+    await page('Page.navigate', { url });
+    const evaluate = async (expression) => (await page('Runtime.evaluate',
+      { expression, returnByValue: true, awaitPromise: true })).result.value;
+    const waitFor = async (expression, seconds) => {
+      for (let t = 0; t < seconds * 10; ++t) {
+        if (await evaluate(expression)) return true;
+        await sleep(100);
+      }
+      return false;
+    };
+    const screenshot = async () => Buffer.from((await page('Page.captureScreenshot',
+      { format: 'png' })).data, 'base64');
+
+    const started = await waitFor('window.femto && window.femto.ready', 20);
+    check(started, 'the page loaded femto\'s WebAssembly');
+    if (!started) return;
+    // 40 frames: 1.2 s of the house's simulated time, landed and bouncing.
+    check(await waitFor('window.femto.frames >= 40', 20), 'the page stepped 40 frames');
+    const a = await screenshot();
+    await sleep(500);
+    const b = await screenshot();
+    const imageA = decodePng(a), imageB = decodePng(b);
+    const maskA = houseMask(imageA), maskB = houseMask(imageB);
+    const pixels = imageA.width * imageA.height;
+    check(maskA.count > 0.02 * pixels,
+      `the canvas is not blank: ${(100 * maskA.count / pixels).toFixed(1)}% of the pixels are ` +
+      'the house\'s (more than 2% needed)');
+    const moved = maskDifference(maskA, maskB);
+    check(moved > 0.002 * pixels,
+      `the house's pixels move between two screenshots 0.5 s apart: ${moved} pixels changed ` +
+      `(more than ${Math.round(0.002 * pixels)} needed)`);
+
+    // Let it settle a little, then drag from its centre 200 px up, in steps, and hold.
+    await waitFor('window.femto.frames >= 150', 20);
+    const before = houseMask(decodePng(await screenshot()));
+    const center = await evaluate('window.femto.bodyCenterOnCanvas(0)');
+    const mouse = (type, x, y, extra = {}) => page('Input.dispatchMouseEvent',
+      { type, x, y, button: 'left', buttons: type === 'mouseReleased' ? 0 : 1, ...extra });
+    await mouse('mousePressed', center.x, center.y, { clickCount: 1 });
+    const dragging = await evaluate('window.femto.dragging');
+    for (let k = 1; k <= 20; ++k) {
+      await mouse('mouseMoved', center.x, center.y - 10 * k);
+      await sleep(50);
+    }
+    await sleep(700);
+    const during = houseMask(decodePng(await screenshot()));
+    await mouse('mouseReleased', center.x, center.y - 200, { clickCount: 1 });
+    check(dragging, 'a press on the house picked it (ray cast) and started a drag');
+    check(before.top - during.top > 30,
+      `the drag lifted the house in the picture: its top went from row ${before.top} to ` +
+      `${during.top} (more than 30 px up needed)`);
+
+    // A finger: a touch on the house drags it too (pointer events), and lifting it lets go.
+    await sleep(1000);
+    await page('Emulation.setTouchEmulationEnabled', { enabled: true, maxTouchPoints: 2 });
+    const finger = await evaluate('window.femto.bodyCenterOnCanvas(0)');
+    const touch = (type, points) => page('Input.dispatchTouchEvent', { type, touchPoints: points });
+    await touch('touchStart', [{ x: finger.x, y: finger.y }]);
+    const touchDrags = await evaluate('window.femto.dragging');
+    for (let k = 1; k <= 5; ++k) {
+      await touch('touchMove', [{ x: finger.x + 10 * k, y: finger.y - 10 * k }]);
+      await sleep(50);
+    }
+    await touch('touchEnd', []);
+    await sleep(100);
+    const touchReleased = !(await evaluate('window.femto.dragging'));
+    check(touchDrags && touchReleased, 'a finger on the house drags it and lifting it lets go');
+    await page('Emulation.setTouchEmulationEnabled', { enabled: false });
+
+    await sleep(300);
+    const stats = await evaluate('({ fps: femto.fps, stepMs: femto.stepMs, ' +
+      'libraryMs: femto.libraryMs, frames: femto.frames, error: femto.error })');
+    console.log(`browser: measured in headless Chromium (software WebGL): ${stats.fps.toFixed(0)} ` +
+      `fps, ${stats.stepMs.toFixed(2)} ms a frame in fw_step (library ${stats.libraryMs.toFixed(2)}` +
+      ` ms), ${stats.frames} frames`);
+    check(stats.error === '', `no step failed${stats.error ? `: ${stats.error}` : ''}`);
+    check(errors.length === 0, `no console error or exception${errors.length ? ': ' +
+      errors.join(' | ') : ''}`);
+    if (screenshotOut) writeFileSync(screenshotOut, a);
+
+    // Load a TetGen pair through the page's file input (what a drop does too): data/house2.
+    const data = join(dirname(fileURLToPath(import.meta.url)), '../../data');
+    const { root } = await page('DOM.getDocument');
+    const { nodeId } = await page('DOM.querySelector', { nodeId: root.nodeId, selector: '#files' });
+    await page('DOM.setFileInputFiles', { nodeId,
+      files: [join(data, 'house2.node'), join(data, 'house2.ele')] });
+    const loaded = await waitFor('window.femto.scene === -1 && window.femto.bodyCount === 1 && ' +
+      'document.getElementById("status").textContent.startsWith("loaded house2")', 10);
+    const framesAtLoad = await evaluate('window.femto.frames');
+    await sleep(500);
+    const stepping = (await evaluate('window.femto.frames')) > framesAtLoad;
+    check(loaded && stepping, 'a TetGen .node and .ele pair given to the page loads and steps');
+    await page('DOM.setFileInputFiles', { nodeId,
+      files: [join(data, '../tests/data/mesh/cube_gmsh41.msh')] });
+    const gmsh = await waitFor('window.femto.bodyCount === 1 && document.getElementById("status")' +
+      '.textContent.startsWith("loaded cube_gmsh41.msh")', 10);
+    check(gmsh, 'a Gmsh .msh file given to the page loads: ' +
+      `"${await evaluate('document.getElementById("status").textContent')}"`);
+
+    // The build without WebAssembly SIMD, which browsers without it get, runs too.
+    const plain = url + (url.includes('?') ? '&' : '?') + 'nosimd=1';
+    await page('Page.navigate', { url: plain });
+    await sleep(300);
+    const plainRuns = await waitFor('window.femto && window.femto.ready && ' +
+      '!window.femto.simd && window.femto.frames >= 20', 20);
+    check(plainRuns && errors.length === 0, 'the build without SIMD (?nosimd=1) loads and steps ' +
+      `with no console error${errors.length ? ': ' + errors.join(' | ') : ''}`);
+  } finally {
+    cdp.socket.close();
+    const exited = new Promise((resolve) => browser.on('exit', resolve));
+    browser.kill();
+    await Promise.race([exited, sleep(5000)]);
+    try {
+      rmSync(profile, { recursive: true, force: true, maxRetries: 5 });
+    } catch {
+      // a helper process still writing: the profile is in the temporary folder anyway
+    }
+  }
+}
+
+main().then(() => {
+  console.log(failures ? `browser: ${failures} check(s) FAILED` : 'browser: all checks passed');
+  process.exit(failures ? 1 : 0);
+}, (error) => {
+  console.log(`browser: FAILED: ${error.message}`);
+  process.exit(1);
+});
