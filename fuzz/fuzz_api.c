@@ -127,6 +127,7 @@ static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
 	fuzzFixBool(&def.autoSubstep);
 	fuzzFixBool(&def.crossPlatformDeterminism);
 	fuzzFixBool(&def.contact.bodies);
+	fuzzFixBool(&def.contact.enableSleep);
 	// Pointers no API can check: the task callbacks are the engine's, never fuzzed bytes; and a
 	// few workers at most per input (threads are started per world).
 	def.enqueueTask = NULL;
@@ -150,6 +151,8 @@ static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
 	fmBodyDef def;
 	if (fuzzStruct(r, &def, sizeof def, &defaults))
 		def.internalValue = defaults.internalValue;
+	fuzzFixBool(&def.selfCollision);
+	fuzzFixBool(&def.enableSleep);
 	def.mesh = fmFuzzPick(r, 8) == 0 ? NULL : mesh;
 	fmMaterial material = fuzzMaterial(r);
 	if (fmFuzzPick(r, 2))
@@ -179,6 +182,41 @@ static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world)
 	fmWorld_RestoreSnapshot(world, buffer, fmFuzzPick(r, 4) ? written : written / 2);
 }
 
+// A collider of a fuzzed shape, a mesh among them (small fuzzed vertices and triangles, some of
+// them out of range), created, moved and perhaps destroyed again.
+static void fuzzCollider(fmFuzzReader* r, fmWorldId world)
+{
+	fmVec3 vertices[6];
+	int triangles[12];
+	fmColliderDef def = fmDefaultColliderDef();
+	def.shape = (fmShapeType)(fmFuzzPick(r, fm_shapeTypeCount + 1) - 1);
+	def.center = fmFuzzVec3(r, -2.0, 2.0);
+	def.normal = fmFuzzVec3(r, -1.0, 1.0);
+	def.offset = fmFuzzDouble(r, -2.0, 2.0);
+	def.radius = fmFuzzDouble(r, -0.1, 1.0);
+	def.halfExtents = fmFuzzVec3(r, -0.1, 1.0);
+	def.rotation = fmFuzzVec3(r, -4.0, 4.0);
+	def.a = fmFuzzVec3(r, -2.0, 2.0);
+	def.b = fmFuzzVec3(r, -2.0, 2.0);
+	def.friction = fmFuzzDouble(r, -0.1, 1.0);
+	def.velocity = fmFuzzPick(r, 2) ? fmFuzzVec3(r, -5.0, 5.0) : def.velocity;
+	for (int k = 0; k < 6; ++k)
+		vertices[k] = fmFuzzVec3(r, -2.0, 2.0);
+	for (int k = 0; k < 12; ++k)
+		triangles[k] = fmFuzzPick(r, 8) - 1;
+	def.vertices = fmFuzzPick(r, 8) ? vertices : NULL;
+	def.vertexCount = fmFuzzPick(r, 7); // the arrays' sizes are the caller's promise
+	def.triangles = triangles;
+	def.triangleCount = fmFuzzPick(r, 5);
+	fmColliderId id;
+	if (fmCreateCollider(world, &def, &id, NULL) != fm_ok)
+		return;
+	if (fmFuzzPick(r, 2))
+		fmCollider_SetTransform(id, fmFuzzVec3(r, -2.0, 2.0), fmFuzzVec3(r, -3.0, 3.0));
+	if (fmFuzzPick(r, 4) == 0)
+		fmDestroyCollider(id);
+}
+
 static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
 	int n = fmBody_IsValid(body) ? fmBody_GetVertexCount(body) : 0;
@@ -187,7 +225,7 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	for (int c = 0; c < calls; ++c)
 	{
 		int vertex = fmFuzzPick(r, n + 3) - 1;
-		switch (fmFuzzPick(r, 13))
+		switch (fmFuzzPick(r, 16))
 		{
 		case 0:
 			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
@@ -237,6 +275,22 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			break;
 		case 11:
 			fuzzSnapshot(r, world);
+			break;
+		case 12:
+			fuzzCollider(r, world);
+			break;
+		case 13:
+		{
+			fmOverlap overlaps[4];
+			fmRayHit hit;
+			fmFilter filter = {fmFuzzPick(r, 4), fmFuzzPick(r, 4)};
+			fmWorld_OverlapSphere(world, fmFuzzVec3(r, -3.0, 3.0), fmFuzzDouble(r, -0.5, 2.0), filter,
+			                      fmFuzzPick(r, 2) ? overlaps : NULL, fmFuzzPick(r, 6) - 1);
+			fmWorld_CastRay(world, fmFuzzVec3(r, -3.0, 3.0), fmFuzzVec3(r, -6.0, 6.0), filter, &hit);
+			break;
+		}
+		case 14:
+			fmBody_SetAwake(body, fmFuzzPick(r, 2) == 0);
 			break;
 		default:
 		{
