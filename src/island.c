@@ -37,20 +37,27 @@ static void fmJoinPairs(const fmWorld* w, int* parent)
 	}
 }
 
+// Room for at least @p capacity sleep events (those stored kept). False when memory is short.
+static bool fmReserveSleepEvents(fmWorld* w, int capacity)
+{
+	if (capacity <= w->sleepEventCapacity)
+		return true;
+	fmSleepEvent* fresh = FM_ALLOC_ARRAY(fmSleepEvent, capacity);
+	if (fresh == NULL)
+		return false;
+	if (w->sleepEventCount > 0)
+		memcpy(fresh, w->sleepEvents, sizeof(fmSleepEvent) * (size_t)w->sleepEventCount);
+	FM_FREE_ARRAY(w->sleepEvents, fmSleepEvent, w->sleepEventCapacity);
+	w->sleepEvents = fresh;
+	w->sleepEventCapacity = capacity;
+	return true;
+}
+
 static bool fmAddSleepEvent(fmWorld* w, int slot, bool asleep)
 {
-	if (w->sleepEventCount == w->sleepEventCapacity)
-	{
-		int grown = w->sleepEventCapacity ? 2 * w->sleepEventCapacity : 16;
-		fmSleepEvent* fresh = FM_ALLOC_ARRAY(fmSleepEvent, grown);
-		if (fresh == NULL)
-			return false;
-		if (w->sleepEventCount > 0)
-			memcpy(fresh, w->sleepEvents, sizeof(fmSleepEvent) * (size_t)w->sleepEventCount);
-		FM_FREE_ARRAY(w->sleepEvents, fmSleepEvent, w->sleepEventCapacity);
-		w->sleepEvents = fresh;
-		w->sleepEventCapacity = grown;
-	}
+	if (w->sleepEventCount == w->sleepEventCapacity &&
+	    !fmReserveSleepEvents(w, w->sleepEventCapacity ? 2 * w->sleepEventCapacity : 16))
+		return false;
 	fmSleepEvent* e = &w->sleepEvents[w->sleepEventCount++];
 	e->body = fmWorldBodyId(w, slot);
 	e->asleep = asleep;
@@ -96,14 +103,33 @@ static void fmSleepIsland(fmWorld* w, const int* parent, int root)
 	}
 }
 
+// The union-find's arrays for every body slot, kept by the world (no allocation per step once
+// they exist). False when memory is short.
+static bool fmIslandArrays(fmWorld* w)
+{
+	if (w->islandCapacity >= w->bodyCapacity)
+		return true;
+	FM_FREE_ARRAY(w->islandParent, int, w->islandCapacity);
+	FM_FREE_ARRAY(w->islandLeast, double, w->islandCapacity);
+	w->islandParent = FM_ALLOC_ARRAY(int, w->bodyCapacity);
+	w->islandLeast = FM_ALLOC_ARRAY(double, w->bodyCapacity);
+	w->islandCapacity = w->bodyCapacity;
+	// Room for a sleep and a wake of every body in one step, so that events do not allocate.
+	if (w->islandParent != NULL && w->islandLeast != NULL &&
+	    fmReserveSleepEvents(w, 2 * w->bodyCapacity))
+		return true;
+	FM_FREE_ARRAY(w->islandParent, int, w->bodyCapacity);
+	FM_FREE_ARRAY(w->islandLeast, double, w->bodyCapacity);
+	w->islandCapacity = 0;
+	return false;
+}
+
 void fmIsland_Sleep(fmWorld* w, int slot)
 {
-	int* parent = FM_ALLOC_ARRAY(int, w->bodyCapacity);
-	if (parent == NULL)
+	if (!fmIslandArrays(w))
 		return;
-	fmJoinPairs(w, parent);
-	fmSleepIsland(w, parent, fmFindRoot(parent, slot));
-	FM_FREE_ARRAY(parent, int, w->bodyCapacity);
+	fmJoinPairs(w, w->islandParent);
+	fmSleepIsland(w, w->islandParent, fmFindRoot(w->islandParent, slot));
 }
 
 // The fastest vertex of a body (m/s).
@@ -144,32 +170,28 @@ bool fmIsland_EndFrame(fmWorld* w, double frameTime)
 			fmIsland_Wake(w, k);
 	if (!def->enableSleep)
 		return true;
-	int* parent = FM_ALLOC_ARRAY(int, w->bodyCapacity);
-	double* least = FM_ALLOC_ARRAY(double, w->bodyCapacity);
-	bool ok = parent != NULL && least != NULL;
-	if (ok)
+	if (!fmIslandArrays(w))
+		return false;
+	int* parent = w->islandParent;
+	double* least = w->islandLeast;
+	fmJoinPairs(w, parent);
+	for (int k = 0; k < w->bodyCapacity; ++k)
+		least[k] = INFINITY;
+	for (int k = 0; k < w->bodyCapacity; ++k)
 	{
-		fmJoinPairs(w, parent);
-		for (int k = 0; k < w->bodyCapacity; ++k)
-			least[k] = INFINITY;
-		for (int k = 0; k < w->bodyCapacity; ++k)
-		{
-			fmBody* b = &w->bodies[k];
-			if (!fmIsland_Stepping(b))
-				continue;
-			bool still = b->canSleep && b->targetCount == 0 && fmFastest(b) < def->sleepSpeed &&
-			             !fmTouchesMovingCollider(w, k);
-			b->sleepTimer = still ? b->sleepTimer + frameTime : 0.0;
-			int root = fmFindRoot(parent, k);
-			least[root] = fmin(least[root], b->sleepTimer);
-		}
-		for (int k = 0; k < w->bodyCapacity; ++k)
-			if (fmFindRoot(parent, k) == k && least[k] >= def->sleepTime && isfinite(least[k]))
-				fmSleepIsland(w, parent, k);
+		fmBody* b = &w->bodies[k];
+		if (!fmIsland_Stepping(b))
+			continue;
+		bool still = b->canSleep && b->targetCount == 0 && fmFastest(b) < def->sleepSpeed &&
+		             !fmTouchesMovingCollider(w, k);
+		b->sleepTimer = still ? b->sleepTimer + frameTime : 0.0;
+		int root = fmFindRoot(parent, k);
+		least[root] = fmin(least[root], b->sleepTimer);
 	}
-	FM_FREE_ARRAY(parent, int, w->bodyCapacity);
-	FM_FREE_ARRAY(least, double, w->bodyCapacity);
-	return ok;
+	for (int k = 0; k < w->bodyCapacity; ++k)
+		if (fmFindRoot(parent, k) == k && least[k] >= def->sleepTime && isfinite(least[k]))
+			fmSleepIsland(w, parent, k);
+	return true;
 }
 
 void fmIsland_WakeBody(fmBodyId bodyId)

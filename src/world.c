@@ -272,6 +272,8 @@ void fmDestroyWorld(fmWorldId worldId)
 		fmShapeBuffer_Free(w->drawShape);
 	FM_FREE_ARRAY(w->drawShape, fmShapeBuffer, 1);
 	FM_FREE_ARRAY(w->sleepEvents, fmSleepEvent, w->sleepEventCapacity);
+	FM_FREE_ARRAY(w->islandParent, int, w->islandCapacity);
+	FM_FREE_ARRAY(w->islandLeast, double, w->islandCapacity);
 	fmArena_Free(&w->arena);
 	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;

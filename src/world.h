@@ -31,6 +31,9 @@ typedef struct fmWorld
 	int drawPointCapacity;
 	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
 	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)
+	int* islandParent;               // island.c's union-find (bodyCapacity), made at need
+	double* islandLeast;             // per island root: its bodies' least sleep timer
+	int islandCapacity;
 	int sleepEventCount;
 	int sleepEventCapacity;
 } fmWorld;

@@ -860,6 +860,74 @@ TEST(self_collision_folds_a_beam)
 	CHECK(inside[1] > 0);   // without, it passes into itself
 }
 
+static int s_allocations;
+
+static void* countingAlloc(size_t size, size_t alignment)
+{
+	s_allocations += 1;
+	size_t rounded = (size + alignment - 1) / alignment * alignment;
+	return aligned_alloc(alignment, rounded > 0 ? rounded : alignment);
+}
+
+static void countingFree(void* memory, size_t size)
+{
+	(void)size;
+	free(memory);
+}
+
+// Once warmed up, contact steps allocate nothing: two boxes touching, a mesh collider, sleep
+// and events on, both integrators (the buffers grow to the scene and stay).
+TEST(warm_contact_steps_allocate_nothing)
+{
+	fmSetAllocator(countingAlloc, countingFree);
+	const fmIntegrator integrators[2] = {fm_implicit, fm_explicit};
+	int counts[2] = {-1, -1};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = integrators[k];
+		wdef.floor.enabled = false;
+		wdef.contact.enableSleep = true;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmVec3 vertices[4] = {fmMakeVec3(-3, 0, -3), fmMakeVec3(3, 0, -3), fmMakeVec3(3, 0, 3),
+		                      fmMakeVec3(-3, 0, 3)};
+		int triangles[6] = {0, 2, 1, 0, 3, 2};
+		fmColliderDef ground = fmDefaultColliderDef();
+		ground.shape = fm_shapeMesh;
+		ground.vertices = vertices;
+		ground.vertexCount = 4;
+		ground.triangles = triangles;
+		ground.triangleCount = 2;
+		fmColliderId id;
+		CHECK_INT(fmCreateCollider(world, &ground, &id, NULL), fm_ok);
+		fmBodyDef def = fmDefaultBodyDef();
+		def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+		def.massMode = fm_massFromDensity;
+		def.density = 500.0;
+		addBox(failures_, world, 2, fmMakeVec3(-0.3, 0.0, -0.3), fmMakeVec3(0.3, 0.6, 0.3), &def);
+		addBox(failures_, world, 2, fmMakeVec3(-0.2, 0.65, -0.2), fmMakeVec3(0.2, 1.05, 0.2), &def);
+		int substeps = k == 0 ? 1 : 20;
+		for (int f = 0; f < 30; ++f)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+		s_allocations = 0;
+		int contacts = 0;
+		for (int f = 0; f < 30; ++f)
+		{
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+			contacts = fmWorld_GetContacts(world, NULL, 0) > contacts
+			               ? fmWorld_GetContacts(world, NULL, 0)
+			               : contacts;
+		}
+		counts[k] = s_allocations;
+		CHECK(contacts > 0);
+		fmDestroyWorld(world);
+	}
+	fmSetAllocator(NULL, NULL);
+	printf("  allocations in 30 warm frames: implicit %d, explicit %d\n", counts[0], counts[1]);
+	CHECK_INT(counts[0], 0);
+	CHECK_INT(counts[1], 0);
+}
+
 TEST(filters_and_events)
 {
 	for (int filtered = 0; filtered < 2; ++filtered)
