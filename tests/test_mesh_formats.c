@@ -618,7 +618,7 @@ static size_t buildVtu(char* out, size_t capacity, VtuMode mode, int headerSize)
 	static const char* const attributes[4] = {
 	    "type=\"Float64\" NumberOfComponents=\"3\"", "type=\"Int32\" Name=\"connectivity\"",
 	    "type=\"UInt64\" Name=\"offsets\"", "type=\"UInt8\" Name=\"types\""};
-	char arrays[4][1024];
+	char arrays[4][1200]; // room for the encoded array (1024) and its tags
 	unsigned char appended[2048];
 	size_t appendedSize = 0;
 	char appendedText[4096] = "";
