@@ -89,6 +89,7 @@ typedef struct cliRunOptions
 // with (fmWorld_GetContacts: bodies and colliders).
 typedef struct cliSolveTotals
 {
+	long long steps; ///< substeps taken (fmStepStats.steps: automatic substeps vary)
 	int unconvergedSteps;
 	double maxResidual;
 	int maxContacts;
@@ -376,6 +377,7 @@ static double cliLowestY(const cliSimulation* sim)
 static fmResult cliBookStep(const cliSimulation* sim, fmResult result, cliSolveTotals* totals)
 {
 	fmStepStats stats = fmWorld_GetStepStats(sim->world);
+	totals->steps += stats.steps;
 	totals->unconvergedSteps += stats.unconvergedSteps;
 	if (stats.unconvergedSteps > 0)
 		totals->maxResidual = fmax(totals->maxResidual, stats.maxResidual);
@@ -526,13 +528,17 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
                             const cliSeries* series, const cliSolveTotals* solves)
 {
 	cliTotals totals = cliSumStats(sim);
-	double steps = (double)frames * scene->substeps;
+	double steps = (double)solves->steps;
 	double simulated = frames * cliScene_FrameTime(scene);
 	printf("scene            %s (%d bod%s, %d tets, %s)\n", scene->name, sim->bodyCount,
 	       sim->bodyCount == 1 ? "y" : "ies", totals.tets,
 	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
-	printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
-	       scene->substeps == 1 ? "" : "s", scene->dt);
+	if (scene->worldDef.autoSubstep && scene->worldDef.integrator == fm_explicit)
+		printf("frames           %d of %g s (automatic substeps: %lld in all, %.1f a frame)\n",
+		       frames, cliScene_FrameTime(scene), solves->steps, frames > 0 ? steps / frames : 0.0);
+	else
+		printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
+		       scene->substeps == 1 ? "" : "s", scene->dt);
 	if (scene->worldDef.crossPlatformDeterminism)
 		printf("determinism      cross-platform (femto's own log and pow: the same bits on any "
 		       "machine)\n");
@@ -619,7 +625,7 @@ int cliRun(int argc, char** argv)
 	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
 		code = cli_exitInput;
 	double stepSeconds = 0.0, lowestReached = 0.0;
-	cliSolveTotals solves = {0, 0.0, 0};
+	cliSolveTotals solves = {0, 0, 0.0, 0};
 	if (code == cli_exitOk)
 		code = cliRunFrames(&o, &scene, &sim, seriesPtr, video, frames, &stepSeconds,
 		                    &lowestReached, &solves);
