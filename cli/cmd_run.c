@@ -54,13 +54,17 @@ const char* const cliRunHelp =
     "  --draw LIST        what to draw: surfaces,stress,tets,inverted,pins,targets,floor,\n"
     "                     contacts, colliders, all or none (default surfaces,floor,pins,\n"
     "                     targets,colliders)\n"
-    "  --quiet            no progress line (by default one every 0.2 s on a terminal, one\n"
-    "                     every 5 s of wall time otherwise: CI logs, scripts)\n"
+    "  --progress S       off a terminal (CI logs, scripts), a progress line every S seconds\n"
+    "                     of wall time (default 5; on a terminal one line is redrawn)\n"
+    "  --quiet            no progress lines\n"
     "  --help             this text\n"
     "\n"
     "Exit status: 0 ok, 1 bad scene/file, I/O error or numerical failure, 2 usage error.\n";
 
 #define CLI_MAX_IMPULSES 64
+
+// Seconds between progress lines when stderr is not a terminal (--progress).
+#define CLI_PROGRESS_LOG_SECONDS 5.0
 
 typedef struct cliRunOptions
 {
@@ -82,7 +86,8 @@ typedef struct cliRunOptions
 	const char* simd;   ///< --simd, NULL if not given
 	bool deterministic; ///< --deterministic
 	bool quiet;
-	cliViewOptions view; ///< --gif, --png and their picture options
+	double progressSeconds; ///< --progress: wall seconds between lines off a terminal
+	cliViewOptions view;    ///< --gif, --png and their picture options
 } cliRunOptions;
 
 // Implicit solves of the run that ended above the tolerance, and the most contacts a step ended
@@ -120,6 +125,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 {
 	memset(o, 0, sizeof *o);
 	o->every = 1;
+	o->progressSeconds = CLI_PROGRESS_LOG_SECONDS;
 	cliViewOptions_Init(&o->view);
 	bool hasSeconds = false, hasFrames = false;
 	int code = -1;
@@ -158,6 +164,13 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 		}
 		else if (strcmp(arg, "--obj") == 0)
 			o->obj = true;
+		else if (strcmp(arg, "--progress") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseDouble(value, &o->progressSeconds) || !(o->progressSeconds >= 0.0))
+				return cliUsageError("run", "--progress: expected seconds >= 0, got '%s'", value);
+		}
 		else if (strcmp(arg, "--vtu-ascii") == 0)
 			o->vtuAscii = true;
 		else if (strcmp(arg, "--export-obj") == 0)
@@ -329,9 +342,6 @@ static void cliPrintProgress(int frame, int frames, double time, const cliSimula
 	fflush(stderr);
 }
 
-// Seconds between progress lines when stderr is not a terminal.
-#define CLI_PROGRESS_LOG_SECONDS 5.0
-
 // Mass-weighted mean height of all bodies (m).
 static double cliCenterOfMassY(const cliSimulation* sim)
 {
@@ -417,7 +427,7 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 	double frameTime = cliScene_FrameTime(scene);
 	bool tty = cliStderrIsTty();
 	bool progress = !o->quiet;
-	double progressEvery = tty ? 0.2 : CLI_PROGRESS_LOG_SECONDS;
+	double progressEvery = tty ? 0.2 : o->progressSeconds;
 	double runStart = cliNow();
 	bool applied[CLI_MAX_IMPULSES] = {false};
 	double lastProgress = -1.0;

@@ -532,3 +532,9 @@ femto_cli_test(mesh_bad_off ARGS "mesh|${FEMTO_CLI_DATA}/bad_surface.off|${FEMTO
 femto_cli_test(mesh_bad_out ARGS "mesh|a.obj|b.txt" CODE 2 REGEX "expected OUT to end in .node, .msh or .vtu")
 femto_cli_test(scene_substeps_word ARGS "run|${FEMTO_CLI_DATA}/bad_substeps.json" CODE 1
   REGEX "bad_substeps.json:1:[0-9]+: substeps: expected a whole number in \\[1, 100000\\] or \"auto\"")
+# Progress off a terminal (ctest captures stderr): a line of its own every --progress seconds,
+# none with --quiet.
+femto_cli_test(run_progress_log ARGS "run|--frames|30|--progress|0.000001" CODE 0
+  REGEX "femto: frame [0-9]+/30 \\([0-9]+%\\)  t = [0-9.e-]+ s  wall [0-9]+ s, about [0-9]+ s left")
+femto_cli_test(run_progress_quiet ARGS "run|--frames|30|--progress|0.000001|--quiet" CODE 0
+  REJECT "femto: frame")
