@@ -114,7 +114,12 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 	// its longest side squared so the cell size stays positive).
 	double volume =
 	    fmax(size.x, 1e-3 * extent) * fmax(size.y, 1e-3 * extent) * fmax(size.z, 1e-3 * extent);
-	g->h = cbrt(volume / (FM_RENDER_CELLS_PER_TET * b->tetCount));
+	// (No cbrt, whose last bits differ between C libraries: halving finds the cell size
+	// within a factor of 2, all the grid needs.)
+	double target = volume / (FM_RENDER_CELLS_PER_TET * b->tetCount);
+	g->h = fmax(extent, 1e-300);
+	while (g->h * g->h * g->h > target && g->h > 1e-150)
+		g->h *= 0.5;
 	double ext[3] = {size.x, size.y, size.z};
 	for (;;)
 	{
