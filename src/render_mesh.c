@@ -280,6 +280,22 @@ static fmBinding fmBindVertex(const fmBody* b, const fmTetGrid* g, fmVec3 p)
 	return best;
 }
 
+int fmRenderMesh_Binding(const fmBody* body, int vertex, double w[4])
+{
+	const fmRenderMesh* m = body->renderMesh;
+	if (m == NULL || vertex < 0 || vertex >= m->vertexCount)
+		return -1;
+	memcpy(w, m->weight + 4 * vertex, sizeof(double) * 4);
+	return m->tet[vertex];
+}
+
+double fmRenderMesh_TetDistance(const fmBody* body, int tet, fmVec3 p)
+{
+	double w[4];
+	fmBarycentric(body, tet, p, w);
+	return fmOutsideDistance(body, tet, p, w);
+}
+
 // ---- the public calls ---------------------------------------------------------------------
 
 static fmResult fmCheckRenderInput(const double* vertices, int vertexCount, const int* triangles,

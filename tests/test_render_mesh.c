@@ -5,6 +5,9 @@
 #include "support.h"
 #include "test.h"
 
+#include "body.h"
+#include "render_mesh.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -175,5 +178,56 @@ TEST(bad_input_and_no_mesh)
 	CHECK_NEAR(out[5], 0.2, 1e-15);
 	fmBody_ClearRenderMesh(body);
 	CHECK_INT(fmBody_GetRenderVertexCount(body), 0);
+	fmDestroyWorld(world);
+}
+
+// The grid search finds what a search of every tet finds: on TetGen's irregular cube, points
+// inside get a tet that contains them and points up to 0.3 m outside one at the smallest
+// distance any tet has.
+TEST(grid_search_matches_brute_force)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmLoadTetGen(FEMTO_TEST_DATA "/tetgen_cube.node", FEMTO_TEST_DATA "/tetgen_cube.ele",
+	                       &mesh, NULL),
+	          fm_ok);
+	fmWorldDef wdef = fmTestFreeWorldDef();
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef bdef = fmDefaultBodyDef();
+	bdef.mesh = &mesh;
+	fmBodyId id;
+	CHECK_INT(fmCreateBody(world, &bdef, &id, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	const int count = 300;
+	double* p = malloc(sizeof(double) * 3 * count);
+	for (int i = 0; i < 3 * count; ++i)
+		p[i] = fmTestRandom(-0.3, 1.3);
+	CHECK_INT(fmBody_SetRenderMesh(id, p, count, NULL, 0, NULL), fm_ok);
+	const fmBody* body = fmGetBody(id);
+	int outside = 0;
+	double worst = 0.0;
+	for (int i = 0; i < count; ++i)
+	{
+		double w[4];
+		fmVec3 q = fmLoad(p, i);
+		int tet = fmRenderMesh_Binding(body, i, w);
+		CHECK(tet >= 0 && tet < body->tetCount);
+		double found = fmRenderMesh_TetDistance(body, tet, q), best = INFINITY;
+		for (int t = 0; t < body->tetCount; ++t)
+			best = fmin(best, fmRenderMesh_TetDistance(body, t, q));
+		worst = fmax(worst, found - best);
+		outside += best > 0.0;
+		if (!(found <= best + 1e-12))
+			FAIL_AT("point %d: the grid's tet is %.17g m away, the nearest %.17g m", i, found,
+			        best);
+		// The weights reproduce the point (an affine map is exact, extrapolated or not).
+		fmVec3 back = fmMakeVec3(0, 0, 0);
+		for (int k = 0; k < 4; ++k)
+			back = fmMulAdd(back, w[k], fmLoad(body->x0, body->tets[4 * tet + k]));
+		CHECK_NEAR(fmLength(fmSub(back, q)), 0.0, 1e-12);
+	}
+	printf("  %d of %d points outside; largest excess over the brute-force distance %.3g m\n",
+	       outside, count, worst);
+	CHECK(outside > 50 && outside < count); // both kinds were tested
+	free(p);
 	fmDestroyWorld(world);
 }
