@@ -4,6 +4,7 @@
 #include "commands.h"
 
 #include "cli.h"
+#include "surface_read.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -39,394 +40,6 @@ const char* const cliMeshHelp =
     "\n"
     "Exit status: 0 ok, 1 bad input, missing tool or failed meshing, 2 usage error.\n";
 
-// ---- the surface ------------------------------------------------------------------------------
-
-typedef struct cliSurface
-{
-	int vertexCount;
-	double* x; // 3 per vertex
-	int triangleCount;
-	int* triangles; // 3 per triangle, 0-based
-	int vertexCapacity;
-	int triangleCapacity;
-} cliSurface;
-
-static void cliSurface_Free(cliSurface* s)
-{
-	free(s->x);
-	free(s->triangles);
-	memset(s, 0, sizeof *s);
-}
-
-static bool cliSurface_AddVertex(cliSurface* s, double x, double y, double z)
-{
-	if (s->vertexCount == FM_MAX_SURFACE_VERTICES)
-		return false;
-	if (s->vertexCount == s->vertexCapacity)
-	{
-		int capacity = s->vertexCapacity > 0 ? 2 * s->vertexCapacity : 1024;
-		double* grown = realloc(s->x, sizeof(double) * 3 * (size_t)capacity);
-		if (grown == NULL)
-			return false;
-		s->x = grown;
-		s->vertexCapacity = capacity;
-	}
-	double* p = s->x + 3 * (size_t)s->vertexCount++;
-	p[0] = x;
-	p[1] = y;
-	p[2] = z;
-	return true;
-}
-
-static bool cliSurface_AddTriangle(cliSurface* s, int a, int b, int c)
-{
-	if (s->triangleCount == FM_MAX_SURFACE_TRIANGLES)
-		return false;
-	if (s->triangleCount == s->triangleCapacity)
-	{
-		int capacity = s->triangleCapacity > 0 ? 2 * s->triangleCapacity : 1024;
-		int* grown = realloc(s->triangles, sizeof(int) * 3 * (size_t)capacity);
-		if (grown == NULL)
-			return false;
-		s->triangles = grown;
-		s->triangleCapacity = capacity;
-	}
-	int* t = s->triangles + 3 * (size_t)s->triangleCount++;
-	t[0] = a;
-	t[1] = b;
-	t[2] = c;
-	return true;
-}
-
-// A text being read line by line, with the line number for messages.
-typedef struct cliText
-{
-	const char* path;
-	char* text;
-	char* at;
-	int line;
-} cliText;
-
-// The next line that is not empty or a '#' comment, NUL-terminated in place; NULL at the end.
-static char* cliText_Line(cliText* t)
-{
-	while (*t->at != 0)
-	{
-		char* line = t->at;
-		char* end = strchr(line, '\n');
-		t->at = end != NULL ? end + 1 : line + strlen(line);
-		if (end != NULL)
-			*end = 0;
-		t->line += 1;
-		char* hash = strchr(line, '#');
-		if (hash != NULL)
-			*hash = 0;
-		while (isspace((unsigned char)*line))
-			++line;
-		if (*line != 0)
-			return line;
-	}
-	return NULL;
-}
-
-static bool cliTextFail(const cliText* t, const char* format, const char* detail)
-{
-	fprintf(stderr, "%s:%d: ", t->path, t->line);
-	fprintf(stderr, format, detail);
-	fputc('\n', stderr);
-	return false;
-}
-
-// Read @p count numbers from @p line; false on junk, missing or non-finite numbers.
-static bool cliReadNumbers(char** line, double* out, int count)
-{
-	for (int k = 0; k < count; ++k)
-	{
-		char* end = NULL;
-		out[k] = strtod(*line, &end);
-		if (end == *line || !(out[k] - out[k] == 0.0))
-			return false;
-		*line = end;
-	}
-	return true;
-}
-
-static bool cliReadCount(char** line, long* out, long limit)
-{
-	char* end = NULL;
-	*out = strtol(*line, &end, 10);
-	if (end == *line || *out < 0 || *out > limit)
-		return false;
-	*line = end;
-	return true;
-}
-
-// A polygon of @p count vertex indices from @p line, fan-triangulated.
-static bool cliReadPolygon(cliText* t, char* line, long count, cliSurface* s)
-{
-	long first = 0, previous = 0;
-	for (long k = 0; k < count; ++k)
-	{
-		long index;
-		if (!cliReadCount(&line, &index, (long)s->vertexCount - 1))
-			return cliTextFail(t, "expected %s vertex indices of existing vertices", "the face's");
-		if (k == 0)
-			first = index;
-		else if (k >= 2 && !cliSurface_AddTriangle(s, (int)first, (int)previous, (int)index))
-			return cliTextFail(t, "too many triangles or out of memory%s", "");
-		previous = index;
-	}
-	return true;
-}
-
-// OFF (Geomview): "OFF", counts "V F E", V lines "x y z", F lines "n i0 .. in-1" (0-based).
-static bool cliReadOff(cliText* t, cliSurface* s)
-{
-	char* line = cliText_Line(t);
-	if (line == NULL || strncmp(line, "OFF", 3) != 0)
-		return cliTextFail(t, "expected the %s header", "OFF");
-	line += 3;
-	while (isspace((unsigned char)*line))
-		++line;
-	if (*line == 0 && (line = cliText_Line(t)) == NULL)
-		return cliTextFail(t, "expected the counts %s", "V F E");
-	long vertices, faces;
-	if (!cliReadCount(&line, &vertices, FM_MAX_SURFACE_VERTICES) ||
-	    !cliReadCount(&line, &faces, FM_MAX_SURFACE_TRIANGLES))
-		return cliTextFail(t, "expected the counts %s (within the limits)", "V F E");
-	for (long i = 0; i < vertices; ++i)
-	{
-		double p[3];
-		if ((line = cliText_Line(t)) == NULL || !cliReadNumbers(&line, p, 3))
-			return cliTextFail(t, "expected a vertex %s", "x y z");
-		if (!cliSurface_AddVertex(s, p[0], p[1], p[2]))
-			return cliTextFail(t, "out of memory%s", "");
-	}
-	for (long f = 0; f < faces; ++f)
-	{
-		long count;
-		if ((line = cliText_Line(t)) == NULL || !cliReadCount(&line, &count, 1000) || count < 3)
-			return cliTextFail(t, "expected a face: %s", "a vertex count >= 3, then the indices");
-		if (!cliReadPolygon(t, line, count, s))
-			return false;
-	}
-	return true;
-}
-
-// PLY in ASCII: the header's "element vertex N" (the properties x, y, z among others) and
-// "element face M" ("property list ... vertex_indices"); other elements are skipped.
-static bool cliReadPly(cliText* t, cliSurface* s)
-{
-	char* line = cliText_Line(t);
-	if (line == NULL || strcmp(line, "ply") != 0)
-		return cliTextFail(t, "expected the %s header", "ply");
-	typedef struct
-	{
-		char name[32];
-		long count;
-		int properties;
-		int xyz[3];
-	} cliPlyElement;
-	cliPlyElement elements[16];
-	int elementCount = 0;
-	while ((line = cliText_Line(t)) != NULL && strcmp(line, "end_header") != 0)
-	{
-		char word[32], type[32], name[64];
-		if (strncmp(line, "format", 6) == 0 && strstr(line, "ascii") == NULL)
-			return cliTextFail(t, "%s PLY is not read: save it as ASCII PLY (or STL, OBJ)",
-			                   "binary");
-		if (sscanf(line, "element %31s %ld", word, &elements[elementCount].count) == 2)
-		{
-			if (elementCount == 16 || elements[elementCount].count < 0)
-				return cliTextFail(t, "too many elements or a negative count%s", "");
-			cliPlyElement* e = &elements[elementCount++];
-			snprintf(e->name, sizeof e->name, "%s", word);
-			e->properties = 0;
-			e->xyz[0] = e->xyz[1] = e->xyz[2] = -1;
-		}
-		else if (sscanf(line, "property %31s %63s", type, name) == 2 && elementCount > 0)
-		{
-			cliPlyElement* e = &elements[elementCount - 1];
-			for (int k = 0; k < 3 && strcmp(type, "list") != 0; ++k)
-				if (name[0] == "xyz"[k] && name[1] == 0)
-					e->xyz[k] = e->properties;
-			e->properties += 1;
-		}
-	}
-	if (line == NULL)
-		return cliTextFail(t, "the header has no %s", "end_header");
-	for (int e = 0; e < elementCount; ++e)
-	{
-		bool isVertex = strcmp(elements[e].name, "vertex") == 0;
-		bool isFace = strcmp(elements[e].name, "face") == 0;
-		if (isVertex &&
-		    (elements[e].xyz[0] < 0 || elements[e].xyz[1] < 0 || elements[e].xyz[2] < 0))
-			return cliTextFail(t, "the vertex element lacks the properties %s", "x, y, z");
-		if ((isVertex && elements[e].count > FM_MAX_SURFACE_VERTICES) ||
-		    (isFace && elements[e].count > FM_MAX_SURFACE_TRIANGLES))
-			return cliTextFail(t, "element %s has more entries than femto takes", elements[e].name);
-		for (long i = 0; i < elements[e].count; ++i)
-		{
-			if ((line = cliText_Line(t)) == NULL)
-				return cliTextFail(t, "the file ends inside element %s", elements[e].name);
-			if (isVertex)
-			{
-				double values[64];
-				int n = elements[e].properties < 64 ? elements[e].properties : 64;
-				if (!cliReadNumbers(&line, values, n))
-					return cliTextFail(t, "expected %s numbers a vertex", "the header's");
-				if (!cliSurface_AddVertex(s, values[elements[e].xyz[0]], values[elements[e].xyz[1]],
-				                          values[elements[e].xyz[2]]))
-					return cliTextFail(t, "out of memory%s", "");
-			}
-			else if (isFace)
-			{
-				long count;
-				if (!cliReadCount(&line, &count, 1000) || count < 3)
-					return cliTextFail(t, "expected a face: %s",
-					                   "a vertex count >= 3, then the indices");
-				if (!cliReadPolygon(t, line, count, s))
-					return false;
-			}
-		}
-	}
-	return true;
-}
-
-// An STL's corners welded: the same coordinates are the same vertex (STL repeats each corner in
-// every facet). Sorting the corners by coordinates finds equal ones in n log n.
-static const double* s_weldCorners;
-
-static int cliCompareCorners(const void* a, const void* b)
-{
-	const double* p = s_weldCorners + 3 * (size_t) * (const int*)a;
-	const double* q = s_weldCorners + 3 * (size_t) * (const int*)b;
-	for (int k = 0; k < 3; ++k)
-		if (p[k] != q[k])
-			return p[k] < q[k] ? -1 : 1;
-	return *(const int*)a < *(const int*)b ? -1 : 1;
-}
-
-static bool cliWeldCorners(const double* corners, int cornerCount, cliSurface* s)
-{
-	int* order = malloc(sizeof(int) * (size_t)cornerCount);
-	int* vertex = malloc(sizeof(int) * (size_t)cornerCount);
-	bool ok = order != NULL && vertex != NULL;
-	for (int i = 0; ok && i < cornerCount; ++i)
-		order[i] = i;
-	s_weldCorners = corners;
-	if (ok)
-		qsort(order, (size_t)cornerCount, sizeof(int), cliCompareCorners);
-	for (int i = 0; ok && i < cornerCount; ++i)
-	{
-		const double* p = corners + 3 * (size_t)order[i];
-		const double* q = i > 0 ? corners + 3 * (size_t)order[i - 1] : NULL;
-		if (q == NULL || p[0] != q[0] || p[1] != q[1] || p[2] != q[2])
-			ok = cliSurface_AddVertex(s, p[0], p[1], p[2]);
-		vertex[order[i]] = s->vertexCount - 1;
-	}
-	for (int t = 0; ok && t < cornerCount / 3; ++t)
-		ok = cliSurface_AddTriangle(s, vertex[3 * t], vertex[3 * t + 1], vertex[3 * t + 2]);
-	free(order);
-	free(vertex);
-	return ok;
-}
-
-static float cliFloatLE(const unsigned char* p)
-{
-	uint32_t bits =
-	    (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-	float value;
-	memcpy(&value, &bits, sizeof value);
-	return value;
-}
-
-// STL: binary (an 80-byte header, a little-endian facet count, 50 bytes a facet) when the size
-// matches the count, else ASCII ("solid", "facet normal", "outer loop", three "vertex x y z").
-static bool cliReadStl(const char* path, char* data, size_t size, cliSurface* s)
-{
-	const unsigned char* bytes = (const unsigned char*)data;
-	uint32_t facets = size >= 84 ? (uint32_t)bytes[80] | (uint32_t)bytes[81] << 8 |
-	                                   (uint32_t)bytes[82] << 16 | (uint32_t)bytes[83] << 24
-	                             : 0;
-	bool binary = size >= 84 && (size - 84) / 50 == facets && (size - 84) % 50 == 0;
-	double* corners = NULL;
-	int cornerCount = 0;
-	if (binary)
-	{
-		if (facets > (uint32_t)FM_MAX_SURFACE_TRIANGLES / 3)
-		{
-			fprintf(stderr, "%s: %u facets, more than femto takes\n", path, facets);
-			return false;
-		}
-		corners = malloc(sizeof(double) * 9 * (size_t)(facets > 0 ? facets : 1));
-		for (uint32_t f = 0; corners != NULL && f < facets; ++f)
-			for (int k = 0; k < 9; ++k)
-			{
-				double v = cliFloatLE(bytes + 84 + 50 * (size_t)f + 12 + 4 * (size_t)k);
-				if (!(v - v == 0.0))
-				{
-					fprintf(stderr, "%s: byte %zu: facet %u has a coordinate that is not finite\n",
-					        path, (size_t)(84 + 50 * (size_t)f + 12 + 4 * (size_t)k), f);
-					free(corners);
-					return false;
-				}
-				corners[9 * (size_t)f + (size_t)k] = v;
-			}
-		cornerCount = 3 * (int)facets;
-	}
-	else
-	{
-		cliText t = {path, data, data, 0};
-		char* line = cliText_Line(&t);
-		if (line == NULL || strncmp(line, "solid", 5) != 0)
-		{
-			fprintf(stderr,
-			        "%s: neither binary STL (the size does not match the facet count) nor "
-			        "ASCII STL (no \"solid\" at the start)\n",
-			        path);
-			return false;
-		}
-		int capacity = 0;
-		while ((line = cliText_Line(&t)) != NULL)
-		{
-			if (strncmp(line, "vertex", 6) != 0)
-				continue;
-			line += 6;
-			double p[3];
-			if (!cliReadNumbers(&line, p, 3))
-			{
-				free(corners);
-				return cliTextFail(&t, "expected %s", "vertex x y z");
-			}
-			if (cornerCount == capacity)
-			{
-				capacity = capacity > 0 ? 2 * capacity : 3072;
-				double* grown = capacity <= FM_MAX_SURFACE_TRIANGLES
-				                    ? realloc(corners, sizeof(double) * 3 * (size_t)capacity)
-				                    : NULL;
-				if (grown == NULL)
-				{
-					free(corners);
-					return cliTextFail(&t, "too many facets or out of memory%s", "");
-				}
-				corners = grown;
-			}
-			memcpy(corners + 3 * (size_t)cornerCount++, p, sizeof p);
-		}
-		if (cornerCount % 3 != 0)
-		{
-			free(corners);
-			return cliTextFail(&t, "the vertices are not a whole number of %s", "triangles");
-		}
-	}
-	bool ok = corners != NULL && cliWeldCorners(corners, cornerCount, s);
-	if (!ok)
-		fprintf(stderr, "%s: out of memory\n", path);
-	free(corners);
-	return ok;
-}
-
 static bool cliHasExtension(const char* path, const char* extension)
 {
 	size_t n = strlen(path), e = strlen(extension);
@@ -438,7 +51,7 @@ static bool cliHasExtension(const char* path, const char* extension)
 	return true;
 }
 
-static bool cliLoadSurface(const char* path, cliSurface* s)
+static bool cliReadSurfaceFile(const char* path, cliSurface* s)
 {
 	memset(s, 0, sizeof *s);
 	if (cliHasExtension(path, ".obj"))
@@ -474,28 +87,24 @@ static bool cliLoadSurface(const char* path, cliSurface* s)
 	char* data = cliReadFile(path, &size);
 	if (data == NULL)
 		return false;
-	bool ok;
-	if (stl)
-		ok = cliReadStl(path, data, size, s);
-	else
-	{
-		cliText t = {path, data, data, 0};
-		if (memchr(data, 0, size) != NULL)
-		{
-			cliError("%s: a NUL byte in a text file (binary %s is not read)", path,
-			         ply ? "PLY" : "data");
-			ok = false;
-		}
-		else
-			ok = off ? cliReadOff(&t, s) : cliReadPly(&t, s);
-	}
+	bool ok = cliReadSurface(path, data, size,
+	                         stl   ? cli_surfaceStl
+	                         : off ? cli_surfaceOff
+	                               : cli_surfacePly,
+	                         stderr, s);
 	free(data);
-	if (ok && s->triangleCount < 4)
-	{
-		cliError("%s: %d triangles: a closed surface has at least 4", path, s->triangleCount);
-		ok = false;
-	}
 	return ok;
+}
+
+// The surface of @p path by its extension, and at least a tetrahedron's worth of it.
+static bool cliLoadSurface(const char* path, cliSurface* s)
+{
+	if (!cliReadSurfaceFile(path, s))
+		return false;
+	if (s->triangleCount >= 4)
+		return true;
+	cliError("%s: %d triangles: a closed surface has at least 4", path, s->triangleCount);
+	return false;
 }
 
 // ---- the external mesher --------------------------------------------------------------------
