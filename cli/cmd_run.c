@@ -18,9 +18,15 @@ const char* const cliRunHelp =
     "options:\n"
     "  --seconds S        simulate S seconds (rounded up to whole frames)\n"
     "  --frames N         simulate N frames (a frame is dt * substeps of the scene)\n"
-    "  --out DIR          write DIR/NAME.pvd and DIR/NAME_NNNNNN.vtu (created if missing)\n"
+    "  --out DIR          write DIR/NAME.pvd and DIR/NAME_NNNNNN.vtu (created if missing):\n"
+    "                     binary appended data, zlib-compressed where femto was built with\n"
+    "                     zlib; the .pvd lists every frame written so far at any moment\n"
+    "  --vtu-ascii        with --out: the .vtu files in ASCII (larger, readable as text)\n"
     "  --every N          with --out: write every Nth frame (default 1)\n"
-    "  --obj              with --out: also write DIR/NAME_NNNNNN.obj surfaces\n"
+    "  --obj              with --out: also write DIR/NAME_NNNNNN.obj surfaces with normals:\n"
+    "                     a body's render mesh (\"render_mesh\" in the scene) when it has\n"
+    "                     one, else its tet surface\n"
+    "  --export-obj FILE  write the final surfaces (as --obj) to FILE\n"
     "  --export-node FILE write the final positions as a TetGen .node (FILE_B.node per body\n"
     "                     B when the scene has several bodies)\n"
     "  --impulse-at T     the seeds' space-bar jump in the first frame that starts at or after\n"
@@ -48,12 +54,17 @@ const char* const cliRunHelp =
     "  --draw LIST        what to draw: surfaces,stress,tets,inverted,pins,targets,floor,\n"
     "                     contacts, colliders, all or none (default surfaces,floor,pins,\n"
     "                     targets,colliders)\n"
-    "  --quiet            no progress line\n"
+    "  --progress S       off a terminal (CI logs, scripts), a progress line every S seconds\n"
+    "                     of wall time (default 5; on a terminal one line is redrawn)\n"
+    "  --quiet            no progress lines\n"
     "  --help             this text\n"
     "\n"
     "Exit status: 0 ok, 1 bad scene/file, I/O error or numerical failure, 2 usage error.\n";
 
 #define CLI_MAX_IMPULSES 64
+
+// Seconds between progress lines when stderr is not a terminal (--progress).
+#define CLI_PROGRESS_LOG_SECONDS 5.0
 
 typedef struct cliRunOptions
 {
@@ -63,7 +74,9 @@ typedef struct cliRunOptions
 	const char* outDir;
 	int every;
 	bool obj;
+	bool vtuAscii;
 	const char* exportNode;
+	const char* exportObj;
 	double impulseTimes[CLI_MAX_IMPULSES];
 	int impulseCount;
 	double impulseSpeed; ///< m/s added once by a custom jump (only with hasImpulseSpeed)
@@ -73,13 +86,15 @@ typedef struct cliRunOptions
 	const char* simd;   ///< --simd, NULL if not given
 	bool deterministic; ///< --deterministic
 	bool quiet;
-	cliViewOptions view; ///< --gif, --png and their picture options
+	double progressSeconds; ///< --progress: wall seconds between lines off a terminal
+	cliViewOptions view;    ///< --gif, --png and their picture options
 } cliRunOptions;
 
 // Implicit solves of the run that ended above the tolerance, and the most contacts a step ended
 // with (fmWorld_GetContacts: bodies and colliders).
 typedef struct cliSolveTotals
 {
+	long long steps; ///< substeps taken (fmStepStats.steps: automatic substeps vary)
 	int unconvergedSteps;
 	double maxResidual;
 	int maxContacts;
@@ -110,6 +125,7 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 {
 	memset(o, 0, sizeof *o);
 	o->every = 1;
+	o->progressSeconds = CLI_PROGRESS_LOG_SECONDS;
 	cliViewOptions_Init(&o->view);
 	bool hasSeconds = false, hasFrames = false;
 	int code = -1;
@@ -148,6 +164,20 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 		}
 		else if (strcmp(arg, "--obj") == 0)
 			o->obj = true;
+		else if (strcmp(arg, "--progress") == 0)
+		{
+			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+			if (!cliParseDouble(value, &o->progressSeconds) || !(o->progressSeconds >= 0.0))
+				return cliUsageError("run", "--progress: expected seconds >= 0, got '%s'", value);
+		}
+		else if (strcmp(arg, "--vtu-ascii") == 0)
+			o->vtuAscii = true;
+		else if (strcmp(arg, "--export-obj") == 0)
+		{
+			if ((o->exportObj = cliOptionValue("run", argc, argv, &i)) == NULL)
+				return cli_exitUsage;
+		}
 		else if (strcmp(arg, "--seconds") == 0)
 		{
 			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
@@ -219,6 +249,8 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 		return cliUsageError("run", "give --seconds or --frames, not both");
 	if (o->obj && o->outDir == NULL)
 		return cliUsageError("run", "--obj needs --out DIR");
+	if (o->vtuAscii && o->outDir == NULL)
+		return cliUsageError("run", "--vtu-ascii needs --out DIR");
 	if (!hasSeconds && !hasFrames)
 		o->seconds = -1.0; // the scene decides
 	return cliCheckPictureOptions(&o->view);
@@ -290,11 +322,23 @@ static cliTotals cliSumStats(const cliSimulation* sim)
 	return totals;
 }
 
-static void cliPrintProgress(int frame, int frames, double time, const cliSimulation* sim)
+// On a terminal the line is rewritten in place (\r); elsewhere (a CI log, a pipe) each is a line
+// of its own, with the elapsed wall time and an estimate of what is left.
+static void cliPrintProgress(int frame, int frames, double time, const cliSimulation* sim, bool tty,
+                             double elapsed)
 {
 	cliTotals totals = cliSumStats(sim);
-	fprintf(stderr, "\rframe %d/%d  t = %.2f s  lowest y = %.3f m  KE = %.4g J  inverted = %d   ",
-	        frame, frames, time, totals.lowestY, totals.kinetic, totals.inverted);
+	if (tty)
+		fprintf(stderr,
+		        "\rframe %d/%d  t = %.2f s  lowest y = %.3f m  KE = %.4g J  inverted = %d   ",
+		        frame, frames, time, totals.lowestY, totals.kinetic, totals.inverted);
+	else
+		fprintf(stderr,
+		        "femto: frame %d/%d (%.0f%%)  t = %.3g s  wall %.0f s, about %.0f s left  "
+		        "lowest y = %.3f m  KE = %.4g J  inverted = %d\n",
+		        frame, frames, 100.0 * frame / frames, time, elapsed,
+		        frame > 0 ? elapsed * (frames - frame) / frame : 0.0, totals.lowestY,
+		        totals.kinetic, totals.inverted);
 	fflush(stderr);
 }
 
@@ -343,6 +387,7 @@ static double cliLowestY(const cliSimulation* sim)
 static fmResult cliBookStep(const cliSimulation* sim, fmResult result, cliSolveTotals* totals)
 {
 	fmStepStats stats = fmWorld_GetStepStats(sim->world);
+	totals->steps += stats.steps;
 	totals->unconvergedSteps += stats.unconvergedSteps;
 	if (stats.unconvergedSteps > 0)
 		totals->maxResidual = fmax(totals->maxResidual, stats.maxResidual);
@@ -380,7 +425,10 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 {
 	*lowestReached = cliLowestY(sim);
 	double frameTime = cliScene_FrameTime(scene);
-	bool progress = !o->quiet && cliStderrIsTty();
+	bool tty = cliStderrIsTty();
+	bool progress = !o->quiet;
+	double progressEvery = tty ? 0.2 : o->progressSeconds;
+	double runStart = cliNow();
 	bool applied[CLI_MAX_IMPULSES] = {false};
 	double lastProgress = -1.0;
 	*stepSeconds = 0.0;
@@ -402,7 +450,7 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 		*lowestReached = fmin(*lowestReached, cliLowestY(sim));
 		if (result != fm_ok)
 		{
-			if (progress)
+			if (progress && tty)
 				fputc('\n', stderr);
 			const fmDiagnostic* diag = fmWorld_GetLastError(sim->world);
 			char text[1024];
@@ -417,13 +465,16 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 		if (video != NULL && !cliVideo_Advance(video, sim, time + frameTime))
 			return cli_exitInput;
 		double now = cliNow();
-		if (progress && (now - lastProgress > 0.2 || frame + 1 == frames))
+		if (lastProgress < 0.0)
+			lastProgress = runStart;
+		// Off a terminal, the last frame gets no line: the summary follows at once.
+		if (progress && (now - lastProgress > progressEvery || (tty && frame + 1 == frames)))
 		{
 			lastProgress = now;
-			cliPrintProgress(frame + 1, frames, time + frameTime, sim);
+			cliPrintProgress(frame + 1, frames, time + frameTime, sim, tty, now - runStart);
 		}
 	}
-	if (progress && frames > 0)
+	if (progress && tty && frames > 0)
 		fputc('\n', stderr);
 	for (int k = 0; k < o->impulseCount; ++k)
 		if (!applied[k])
@@ -487,13 +538,17 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
                             const cliSeries* series, const cliSolveTotals* solves)
 {
 	cliTotals totals = cliSumStats(sim);
-	double steps = (double)frames * scene->substeps;
+	double steps = (double)solves->steps;
 	double simulated = frames * cliScene_FrameTime(scene);
 	printf("scene            %s (%d bod%s, %d tets, %s)\n", scene->name, sim->bodyCount,
 	       sim->bodyCount == 1 ? "y" : "ies", totals.tets,
 	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
-	printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
-	       scene->substeps == 1 ? "" : "s", scene->dt);
+	if (scene->worldDef.autoSubstep && scene->worldDef.integrator == fm_explicit)
+		printf("frames           %d of %g s (automatic substeps: %lld in all, %.1f a frame)\n",
+		       frames, cliScene_FrameTime(scene), solves->steps, frames > 0 ? steps / frames : 0.0);
+	else
+		printf("frames           %d (%d substep%s of %g s each)\n", frames, scene->substeps,
+		       scene->substeps == 1 ? "" : "s", scene->dt);
 	if (scene->worldDef.crossPlatformDeterminism)
 		printf("determinism      cross-platform (femto's own log and pow: the same bits on any "
 		       "machine)\n");
@@ -565,7 +620,7 @@ int cliRun(int argc, char** argv)
 		char name[256];
 		cliSeriesName(o.scenePath, name, sizeof name);
 		seriesPtr = &series;
-		if (!cliSeries_Open(&series, o.outDir, name, o.obj))
+		if (!cliSeries_Open(&series, o.outDir, name, o.obj, o.vtuAscii))
 			code = cli_exitInput;
 		else if (series.removed > 0 && !o.quiet)
 			fprintf(stderr,
@@ -580,7 +635,7 @@ int cliRun(int argc, char** argv)
 	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
 		code = cli_exitInput;
 	double stepSeconds = 0.0, lowestReached = 0.0;
-	cliSolveTotals solves = {0, 0.0, 0};
+	cliSolveTotals solves = {0, 0, 0.0, 0};
 	if (code == cli_exitOk)
 		code = cliRunFrames(&o, &scene, &sim, seriesPtr, video, frames, &stepSeconds,
 		                    &lowestReached, &solves);
@@ -592,6 +647,8 @@ int cliRun(int argc, char** argv)
 	if (seriesPtr != NULL)
 		cliSeries_Free(&series);
 	if (code == cli_exitOk && o.exportNode != NULL && !cliWriteNodes(o.exportNode, &sim, false))
+		code = cli_exitInput;
+	if (code == cli_exitOk && o.exportObj != NULL && !cliWriteObj(o.exportObj, &sim))
 		code = cli_exitInput;
 	if (code == cli_exitOk)
 	{

@@ -15,6 +15,7 @@ static const char* const cliMainHelp =
     "  run [SCENE.json]     simulate a scene (default: the built-in bouncy house)\n"
     "  info MESH            mesh statistics: counts, volumes, angles, quality, bad tets\n"
     "  convert IN OUT       a tet mesh between TetGen, Gmsh .msh, VTK .vtu (.vtk, .mesh in)\n"
+    "  mesh IN OUT          a surface (OBJ, STL, OFF, PLY) to tets with TetGen or Gmsh\n"
     "  static SCENE.json    static equilibrium under gravity and pins\n"
     "  bench                explicit and implicit step timings\n"
     "  view [SCENE.json]    the interactive viewer: drag, jump, sliders (docs/viewer.md)\n"
@@ -54,6 +55,8 @@ int main(int argc, char** argv)
 		return cliInfo(argc - 1, argv + 1);
 	if (strcmp(command, "convert") == 0)
 		return cliConvert(argc - 1, argv + 1);
+	if (strcmp(command, "mesh") == 0)
+		return cliMesh(argc - 1, argv + 1);
 	if (strcmp(command, "static") == 0)
 		return cliStatic(argc - 1, argv + 1);
 	if (strcmp(command, "bench") == 0)
@@ -63,5 +66,6 @@ int main(int argc, char** argv)
 	if (command[0] == '-')
 		return cliUsageError(NULL, "unknown option '%s'", command);
 	return cliUsageError(
-	    NULL, "unknown command '%s' (commands: run, info, convert, static, bench, view)", command);
+	    NULL, "unknown command '%s' (commands: run, info, convert, mesh, static, bench, view)",
+	    command);
 }

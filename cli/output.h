@@ -17,6 +17,7 @@ typedef struct cliSeries
 	char name[256];
 	char pvdPath[CLI_MAX_PATH];
 	bool obj;
+	bool ascii;             ///< .vtu in ASCII instead of binary appended data
 	char* entries;          ///< malloc'd: the <DataSet .../> lines so far
 	size_t entriesLength;   ///< bytes used in entries
 	size_t entriesCapacity; ///< bytes allocated
@@ -26,8 +27,10 @@ typedef struct cliSeries
 
 /// Create @p directory (and parents), remove the files an earlier series of the same NAME left
 /// there (NAME.pvd, NAME_NNNNNN.vtu, NAME_NNNNNN.obj and their temporary files: exactly the
-/// names femto writes, nothing else), and write an empty NAME.pvd.
-bool cliSeries_Open(cliSeries* series, const char* directory, const char* name, bool obj);
+/// names femto writes, nothing else), and write an empty NAME.pvd. @p ascii: the frames' .vtu
+/// in ASCII (else binary, cliWriteVtu).
+bool cliSeries_Open(cliSeries* series, const char* directory, const char* name, bool obj,
+                    bool ascii);
 
 /// Write frame @p frame at simulated time @p time (s) and rewrite the collection with it.
 bool cliSeries_WriteFrame(cliSeries* series, const cliSimulation* sim, int frame, double time);
@@ -41,10 +44,17 @@ void cliSeries_Free(cliSeries* series);
 bool cliSeries_IsOwnFile(const char* name, const char* fileName);
 
 /// Write every body of @p sim as one piece of a VTK unstructured grid (tets, VTK_TETRA = 10),
-/// with point data "velocity" (m/s).
-bool cliWriteVtu(const char* path, const cliSimulation* sim);
+/// with point data "velocity" (m/s): with @p ascii as text (positions to 17 digits), else as
+/// binary arrays in the appended data section (encoding raw, header_type UInt64, little-endian),
+/// compressed with zlib (vtkZLibDataCompressor, 32 KiB blocks) when cliVtuCompressed().
+bool cliWriteVtu(const char* path, const cliSimulation* sim, bool ascii);
 
-/// Write the outward surface of every body (one OBJ object per body).
+/// Whether binary .vtu data is zlib-compressed (the tool was built with zlib).
+bool cliVtuCompressed(void);
+
+/// Write every body as one OBJ object with vertex normals (area-weighted, unit): its render mesh
+/// (fmBody_SetRenderMesh) deformed now when it has one, else its outward tet surface with only
+/// the vertices on it.
 bool cliWriteObj(const char* path, const cliSimulation* sim);
 
 /// Write the current positions of every body as TetGen .node files with the input numbering:

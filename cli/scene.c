@@ -587,20 +587,63 @@ static bool cliParseBodyContact(const cliJson* j, const cJSON* body, const char*
 	       cliParseFilter(j, body, path, &def->filter);
 }
 
+// A scene body's defaults: the library's default body, except that its mass comes from its
+// density (1000 kg/m^3 unless the material gives "density"), so a body weighs the same at any
+// resolution; "particle_mass" asks for the seeds' per-vertex mass instead.
+static void cliBodyDefaults(cliBodySpec* spec)
+{
+	spec->def = fmDefaultBodyDef();
+	spec->def.massMode = fm_massFromDensity;
+	spec->initialVelocity = fmMakeVec3(0, 0, 0);
+	spec->renderMeshPath[0] = 0;
+}
+
+// A body's "render_mesh": an OBJ surface (relative to the scene's folder) that follows the body,
+// placed by the body's own transform (fmBody_SetRenderMesh).
+static bool cliParseRenderMesh(const cliJson* j, const cJSON* body, const char* parent,
+                               cliBodySpec* spec)
+{
+	const char* text = NULL;
+	if (!cliGetString(j, body, parent, "render_mesh", &text))
+		return false;
+	if (text == NULL)
+		return true;
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "render_mesh");
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(body, "render_mesh");
+	size_t length = strlen(text);
+	if (length < 5 ||
+	    (strcmp(text + length - 4, ".obj") != 0 && strcmp(text + length - 4, ".OBJ") != 0))
+		return cliJsonFail(j, path, item, "expected a Wavefront .obj path");
+	int written =
+	    text[0] == '/'
+	        ? snprintf(spec->renderMeshPath, sizeof spec->renderMeshPath, "%s", text)
+	        : snprintf(spec->renderMeshPath, sizeof spec->renderMeshPath, "%s%s", j->folder, text);
+	if (written < 0 || (size_t)written >= sizeof spec->renderMeshPath)
+		return cliJsonFail(j, path, item, "path too long");
+	if (!cliFileReadable(spec->renderMeshPath))
+		return cliJsonFail(j, path, NULL,
+		                   "cannot open %s (\"%s\" is relative to the scene's folder)",
+		                   spec->renderMeshPath, text);
+	return true;
+}
+
 static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
 {
-	static const char* const keys[] = {
-	    "mesh",           "box_min",   "box_max",  "transform",      "material", "force_model",
-	    "damping",        "smoothing", "rayleigh", "spring_damping", "pin",      "initial_velocity",
-	    "self_collision", "friction",  "sleep",    "filter",         NULL};
+	static const char* const keys[] = {"mesh",           "box_min",     "box_max",
+	                                   "transform",      "material",    "force_model",
+	                                   "damping",        "smoothing",   "rayleigh",
+	                                   "spring_damping", "pin",         "initial_velocity",
+	                                   "self_collision", "friction",    "sleep",
+	                                   "filter",         "render_mesh", NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
 	if (!cJSON_IsObject(body))
 		return cliJsonFail(j, path, body, "expected a body object {\"mesh\": ...}");
-	spec->def = fmDefaultBodyDef();
-	spec->initialVelocity = fmMakeVec3(0, 0, 0);
+	cliBodyDefaults(spec);
 	if (!cliCheckKeys(j, body, path, keys) || !cliParseMesh(j, body, path, spec) ||
+	    !cliParseRenderMesh(j, body, path, spec) ||
 	    !cliParseTransform(j, body, path, &spec->transform) ||
 	    !cliParseMaterial(j, body, path, spec))
 		return false;
@@ -921,6 +964,39 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 	return true;
 }
 
+// The frame length of a scene with automatic substeps that gives no "dt": a 60 Hz frame.
+#define CLI_AUTO_FRAME (1.0 / 60.0)
+
+// "substeps": a count, or "auto"; an explicit scene without it is "auto" too. Automatic substeps
+// (fmWorldDef.autoSubstep) make "dt" the frame length (default 1/60 s): each frame is split into
+// steps of at most 0.3 of the estimated stability limit at the current deformation, so a mesh
+// with slivers or a stiff material is stable without tuning (docs/scene-format.md).
+static bool cliParseSubsteps(const cliJson* j, const cJSON* root, cliScene* scene)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "substeps");
+	bool automatic = item == NULL && scene->worldDef.integrator == fm_explicit;
+	if (cJSON_IsString(item))
+	{
+		if (item->valuestring == NULL || strcmp(item->valuestring, "auto") != 0)
+			return cliJsonFail(j, "substeps", item,
+			                   "expected a whole number in [1, 100000] or \"auto\"");
+		if (scene->worldDef.integrator != fm_explicit)
+			return cliJsonFail(j, "substeps", item,
+			                   "\"auto\" is for the explicit integrator (an implicit step is "
+			                   "stable at any size: give a count)");
+		automatic = true;
+	}
+	else if (!cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL))
+		return false;
+	if (!automatic)
+		return true;
+	scene->worldDef.autoSubstep = true;
+	scene->substeps = 1;
+	if (cJSON_GetObjectItemCaseSensitive(root, "dt") == NULL)
+		scene->dt = CLI_AUTO_FRAME;
+	return true;
+}
+
 static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 {
 	fmWorldDef* def = &scene->worldDef;
@@ -937,7 +1013,6 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	bool hasBudget = false;
 	if (!cliGetVec3(j, root, "", "gravity", &def->gravity, NULL) ||
 	    !cliGetNumber(j, root, "", "dt", dtRange, &scene->dt, NULL) ||
-	    !cliGetInt(j, root, "", "substeps", 1, 100000, &scene->substeps, NULL) ||
 	    !cliGetInt(j, root, "", "frames", 1, CLI_MAX_FRAMES, &scene->frames, &hasFrames) ||
 	    !cliGetNumber(j, root, "", "seconds", secondsRange, &scene->seconds, &hasSeconds) ||
 	    !cliGetString(j, root, "", "integrator", &integrator) ||
@@ -995,6 +1070,8 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 			                   cJSON_GetObjectItemCaseSensitive(root, "integrator"),
 			                   "expected \"explicit\" or \"implicit\"");
 	}
+	if (!cliParseSubsteps(j, root, scene))
+		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	if (fmWorldDef_Validate(def, &diag) != fm_ok)

@@ -35,6 +35,8 @@ typedef struct cliBodySpec
 	cliPinBox* pins;             ///< malloc'd, pinCount boxes
 	int pinCount;
 	fmVec3 initialVelocity; ///< m/s
+	/// "render_mesh": the resolved OBJ path, empty without one; placed by @p transform
+	char renderMeshPath[CLI_MAX_PATH];
 } cliBodySpec;
 
 /// One rigid collider of a scene (docs/scene-format.md, "Colliders").
@@ -50,8 +52,8 @@ typedef struct cliScene
 {
 	char name[CLI_MAX_PATH]; ///< the scene file as given, or "builtin:house"
 	fmWorldDef worldDef;     ///< gravity, floor, integrator settings
-	double dt;               ///< s, one substep
-	int substeps;            ///< substeps a frame (a frame is dt * substeps)
+	double dt;               ///< s, one substep (with worldDef.autoSubstep: the frame)
+	int substeps;            ///< substeps a frame (a frame is dt * substeps); 1 with autoSubstep
 	int frames;              ///< default frame count for run, 0 if not given
 	double seconds;          ///< default duration for run, 0 if not given
 	cliBodySpec* bodies;     ///< malloc'd

@@ -103,6 +103,36 @@ static void cliMeshBounds(const fmTetMesh* mesh, fmVec3* lo, fmVec3* hi)
 	*hi = fmMakeVec3(b[3], b[4], b[5]);
 }
 
+// A body's "render_mesh": the OBJ placed by the body's transform and bound to its rest tets.
+// Vertices outside the tets are a note (they follow the nearest tet); errors name the file.
+static bool cliSetRenderMesh(const cliScene* scene, int index, cliSimulation* sim)
+{
+	const cliBodySpec* spec = &scene->bodies[index];
+	fmSurfaceMesh surface;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	char prefix[CLI_MAX_PATH + 48];
+	snprintf(prefix, sizeof prefix, "%s: bodies[%d].render_mesh", scene->name, index);
+	if (fmLoadObj(spec->renderMeshPath, &surface, &diag) != fm_ok)
+	{
+		cliPrintDiagnostic(prefix, &diag);
+		return false;
+	}
+	fmSurfaceMesh_Transform(&surface, &spec->transform);
+	memset(&diag, 0, sizeof diag);
+	cliMuteLibraryWarnings(true); // said once below, with the scene's path
+	fmResult result =
+	    fmBody_SetRenderMesh(sim->bodies[index], surface.positions, surface.vertexCount,
+	                         surface.triangles, surface.triangleCount, &diag);
+	cliMuteLibraryWarnings(false);
+	if (result != fm_ok)
+		cliPrintDiagnostic(prefix, &diag);
+	else if (diag.warningCount > 0)
+		fprintf(stderr, "femto: note: %s: %s\n", prefix, diag.warning);
+	fmFreeSurfaceMesh(&surface);
+	return result == fm_ok;
+}
+
 static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 {
 	const cliBodySpec* spec = &scene->bodies[index];
@@ -139,7 +169,7 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 	fmVec3 v = spec->initialVelocity;
 	if (v.x != 0.0 || v.y != 0.0 || v.z != 0.0)
 		fmBody_ApplyImpulse(sim->bodies[index], v);
-	return true;
+	return spec->renderMeshPath[0] == 0 || cliSetRenderMesh(scene, index, sim);
 }
 
 // A mesh collider's def from its OBJ: the surface loaded and placed by its transform, its

@@ -38,8 +38,8 @@ int main(int argc, char** argv)
 			return 1;
 	fmBodyStats stats = fmBody_GetStats(body);
 	printf("centre of mass (%.3f, %.3f, %.3f), lowest y %.3f, kinetic energy %.4f J\n",
-		   stats.centerOfMass.x, stats.centerOfMass.y, stats.centerOfMass.z, stats.lowestY,
-		   stats.kineticEnergy);
+	       stats.centerOfMass.x, stats.centerOfMass.y, stats.centerOfMass.z, stats.lowestY,
+	       stats.kineticEnergy);
 	fmDestroyWorld(world);
 	return 0;
 }

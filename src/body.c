@@ -9,6 +9,7 @@
 #include "island.h"
 #include "mesh_internal.h"
 #include "multigrid.h"
+#include "render_mesh.h"
 #include "reorder.h"
 #include "solver_cache.h"
 #include "tet_blocks.h"
@@ -197,6 +198,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->triangleCount);
 	FM_FREE_ARRAY(b->userMass, double, n);
 	fmDrawCache_Free(b->drawCache);
+	fmRenderMesh_Free(b->renderMesh);
 	FM_FREE_ARRAY(b->surfaceVertex, int, b->surfaceVertexCount);
 	FM_FREE_ARRAY(b->contactStart, double, 3 * n);
 	FM_FREE_ARRAY(b->contactMark, int, n);

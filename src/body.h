@@ -115,8 +115,9 @@ typedef struct fmBody
 	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
 	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
 	double* contactFriction;
-	double* contactFrictionNext;   // 8n: what the contact stage found this step, for the next one
-	struct fmDrawCache* drawCache; // fmWorld_Draw's buffers (draw.h), made on the first draw
+	double* contactFrictionNext;     // 8n: what the contact stage found this step, for the next one
+	struct fmDrawCache* drawCache;   // fmWorld_Draw's buffers (draw.h), made on the first draw
+	struct fmRenderMesh* renderMesh; // fmBody_SetRenderMesh's embedded surface, or NULL
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
 	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need
 	size_t memoryEstimate;         // fmEstimateBodyMemory() at creation, counted against the budget

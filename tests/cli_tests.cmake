@@ -131,7 +131,7 @@ femto_cli_test(run_out ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/seri
 femto_cli_test(run_out_pvd ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WORK}/series/b" CODE 0
   CLEAN "${FEMTO_CLI_WORK}/series/b" CHECK_FILE "${FEMTO_CLI_WORK}/series/b/house.pvd"
   CHECK_FILE_REGEX "type=\"Collection\".*timestep=\"0\".*house_000000.vtu.*timestep=\"0.03\".*timestep=\"0.06\".*timestep=\"0.09\" group=\"\" part=\"0\" file=\"house_000003.vtu\"/>.*</Collection>")
-femto_cli_test(run_out_vtu ARGS "run|--frames|1|--quiet|--out|${FEMTO_CLI_WORK}/series/c" CODE 0
+femto_cli_test(run_out_vtu ARGS "run|--frames|1|--quiet|--vtu-ascii|--out|${FEMTO_CLI_WORK}/series/c" CODE 0
   CLEAN "${FEMTO_CLI_WORK}/series/c" CHECK_FILE "${FEMTO_CLI_WORK}/series/c/house_000001.vtu"
   CHECK_FILE_REGEX "type=\"UnstructuredGrid\".*NumberOfPoints=\"400\" NumberOfCells=\"1389\".*Name=\"velocity\" NumberOfComponents=\"3\".*Name=\"connectivity\".*Name=\"offsets\"[^<]*\n4\n8\n.*\n5556\n</DataArray>.*Name=\"types\"[^<]*\n10\n10\n")
 # Every frame's files are renamed into place whole and the .pvd is rewritten after each frame:
@@ -504,3 +504,37 @@ endforeach()
 
 # The renderer and the viewer (viewer/): pictures, femto view under a virtual display.
 include(${CMAKE_CURRENT_LIST_DIR}/viewer_tests.cmake)
+
+# --- the pipeline: binary .vtu, OBJ surfaces and render meshes, femto mesh (tests/cli/pipeline.cmake)
+find_program(FEMTO_TETGEN_PROGRAM tetgen)
+set(FEMTO_PIPELINE_PARTS vtu obj)
+if(FEMTO_TETGEN_PROGRAM)
+  list(APPEND FEMTO_PIPELINE_PARTS mesh)
+else()
+  # Said, not hidden: the test reports itself skipped with the reason.
+  add_test(NAME cli_pipeline_mesh COMMAND ${CMAKE_COMMAND} -E echo
+    "skipped: tetgen is not installed (apt-get install tetgen); femto mesh is not tested")
+  set_tests_properties(cli_pipeline_mesh PROPERTIES SKIP_REGULAR_EXPRESSION "skipped" LABELS cli)
+endif()
+foreach(part ${FEMTO_PIPELINE_PARTS})
+  add_test(NAME cli_pipeline_${part} COMMAND ${CMAKE_COMMAND} -DFEMTO=$<TARGET_FILE:femto>
+    -DWORK=${FEMTO_CLI_WORK}/pipeline_${part} -DDATA=${FEMTO_CLI_DATA}
+    -DSURFACES=${PROJECT_SOURCE_DIR}/tests/data/surface -DPART=${part}
+    -P ${FEMTO_CLI_DATA}/pipeline.cmake)
+  set_tests_properties(cli_pipeline_${part} PROPERTIES TIMEOUT 300 LABELS cli)
+endforeach()
+# Without tetgen or gmsh on the PATH, femto mesh names the Debian packages.
+femto_cli_test(mesh_no_tool PROGRAM ${CMAKE_COMMAND}
+  ARGS "-E|env|PATH=/nonexistent|$<TARGET_FILE:femto>|mesh|${PROJECT_SOURCE_DIR}/tests/data/surface/cube.obj|${FEMTO_CLI_WORK}/no_tool.node"
+  CODE 1 REGEX "neither tetgen nor gmsh is installed.*apt-get install tetgen")
+femto_cli_test(mesh_bad_off ARGS "mesh|${FEMTO_CLI_DATA}/bad_surface.off|${FEMTO_CLI_WORK}/bad.node"
+  CODE 1 REGEX "bad_surface.off:5: expected a vertex x y z")
+femto_cli_test(mesh_bad_out ARGS "mesh|a.obj|b.txt" CODE 2 REGEX "expected OUT to end in .node, .msh or .vtu")
+femto_cli_test(scene_substeps_word ARGS "run|${FEMTO_CLI_DATA}/bad_substeps.json" CODE 1
+  REGEX "bad_substeps.json:1:[0-9]+: substeps: expected a whole number in \\[1, 100000\\] or \"auto\"")
+# Progress off a terminal (ctest captures stderr): a line of its own every --progress seconds,
+# none with --quiet.
+femto_cli_test(run_progress_log ARGS "run|--frames|30|--progress|0.000001" CODE 0
+  REGEX "femto: frame [0-9]+/30 \\([0-9]+%\\)  t = [0-9.e-]+ s  wall [0-9]+ s, about [0-9]+ s left")
+femto_cli_test(run_progress_quiet ARGS "run|--frames|30|--progress|0.000001|--quiet" CODE 0
+  REJECT "femto: frame")

@@ -274,6 +274,48 @@ FM_API fmResult fmBody_SetTargets(fmBodyId bodyId, const int* vertices, const fm
 /// The number of kinematic targets set on the body (0 for a stale id).
 FM_API int fmBody_GetTargetCount(fmBodyId bodyId);
 
+/// Give the body a render mesh: a triangle surface of any resolution (an artist's mesh) that
+/// follows the body's deformation. @p vertices (3 per vertex, m) are in the frame of the mesh the
+/// body was created from, at rest; each is bound once to the tet that contains it at rest, or,
+/// for a vertex outside every tet (a surface slightly larger than the tet mesh), to the nearest
+/// tet, whose affine map it then follows extrapolated: rigid motions are reproduced exactly and
+/// smooth deformations to first order (docs/embedding.md). A uniform grid over the tets makes the
+/// binding about linear in vertices plus tets. @p triangles (3 per triangle, 0-based,
+/// counter-clockwise seen from outside; may be NULL when @p triangleCount is 0) are copied and
+/// used for the normals. Replaces any previous render mesh. Vertices outside the tets are a
+/// warning in @p diag (how many, how far). Errors, the previous render mesh kept: fm_errParameter
+/// for counts out of [1, FM_MAX_SURFACE_VERTICES] / [0, FM_MAX_SURFACE_TRIANGLES] or NULL
+/// arrays, fm_errRange for a non-finite coordinate, fm_errIndex for a triangle's vertex out of
+/// range, fm_errOutOfMemory, fm_errInvalidId for a stale id (also asserted).
+FM_API fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int vertexCount,
+                                     const int* triangles, int triangleCount, fmDiagnostic* diag);
+
+/// Remove the body's render mesh (nothing when it has none).
+FM_API void fmBody_ClearRenderMesh(fmBodyId bodyId);
+
+/// Vertices of the body's render mesh (0 when it has none).
+FM_API int fmBody_GetRenderVertexCount(fmBodyId bodyId);
+
+/// The render mesh's triangles as given to fmBody_SetRenderMesh (3 per triangle); NULL and a
+/// count of 0 when the body has none.
+FM_API const int* fmBody_GetRenderTriangles(fmBodyId bodyId, int* triangleCount);
+
+/// The render mesh deformed with the body's current positions: positions (m, 3 per vertex)
+/// into @p positions and, when @p normals is not NULL, unit vertex normals (the area-weighted
+/// mean of the normals of the triangles around each vertex; 0 for a vertex on no triangle) into
+/// @p normals. Computed on each call (call it once a frame, after fmWorld_Step); not to be called
+/// for the same body from two threads at once. Errors (buffers untouched, the reason in
+/// fmWorld_GetLastError()): fm_errInvalidId, fm_errParameter for a NULL @p positions,
+/// fm_errEmpty when the body has no render mesh, fm_errLimit when @p vertexCapacity is below
+/// fmBody_GetRenderVertexCount().
+FM_API fmResult fmBody_CopyRenderPositions(fmBodyId bodyId, double* positions, double* normals,
+                                           int vertexCapacity);
+
+/// fmBody_CopyRenderPositions() into floats (an engine's vertex buffer for GPU upload), each
+/// rounded to nearest.
+FM_API fmResult fmBody_CopyRenderPositionsFloat(fmBodyId bodyId, float* positions, float* normals,
+                                                int vertexCapacity);
+
 /// Energies, lowest point, inverted tets.
 FM_API fmBodyStats fmBody_GetStats(fmBodyId bodyId);
 
