@@ -7,6 +7,7 @@
 #include "forces.h"
 #include "fp_env.h"
 #include "island.h"
+#include "loads.h"
 #include "mesh_internal.h"
 #include "multigrid.h"
 #include "reorder.h"
@@ -206,6 +207,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
+	fmLoads_Free(b->loads);
 	fmSolverCache_Free(b->implicitCache);
 	fmTetBlocks_Destroy(b->tetBlocks);
 	uint32_t generation = b->generation;

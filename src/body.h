@@ -104,6 +104,9 @@ typedef struct fmBody
 	double* targetPosition; // 3 per target (m)
 	double targetStiffness; // N/m, each spring
 
+	// Loads and prescribed displacements (loads.h), NULL until the first is added.
+	struct fmLoadSet* loads;
+
 	// Contact (contact.c), made when the contact stage first needs them.
 	int surfaceVertexCount;
 	int* surfaceVertex;      // the vertices on the surface, ascending

@@ -67,6 +67,10 @@ typedef enum fmMaterialModel
 	fm_mooneyRivlin,    ///< compressible Mooney-Rivlin
 	fm_stretchEnergy,   ///< user energy of the principal stretches (fmMaterial.stretchEnergy)
 	fm_invariantEnergy, ///< user energy of the invariants I1, I2, J (fmMaterial.invariantEnergy)
+	/// CalculiX's and Abaqus's Neo-Hookean, with the isochoric split:
+	/// psi = C10 (J^-2/3 I1 - 3) + (J - 1)^2 / D1, C10 = mu/2, D1 = 2/kappa,
+	/// kappa = lambda + 2/3 mu (docs/materials.md); defined for inverted tets
+	fm_neoHookeanIsochoric,
 	fm_materialModelCount
 } fmMaterialModel;
 
