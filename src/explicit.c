@@ -102,7 +102,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 
 	// 0. Prescribed displacements move their vertices along their paths (loads.h).
 	double start = fmSeconds();
-	fmLoads_StepPrescribed(b, dt);
+	fmLoads_StepPrescribed(b, dt, dt);
 
 	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmGravityTask, &context);

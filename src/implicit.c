@@ -143,7 +143,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    Prescribed displacements move their vertices first; the loads are frozen at the start
 	//    (follower pressure lagged by one step, loads.h).
 	double start = fmSeconds();
-	fmLoads_StepPrescribed(b, h);
+	fmLoads_StepPrescribed(b, h, 0.0);
 	fmLoads_Freeze(b, b->x, 1.0);
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)

@@ -25,6 +25,7 @@ void fmLoads_Free(fmLoadSet* s)
 	FM_FREE_ARRAY(s->followerTriangle, int, 3 * (size_t)s->followerCapacity);
 	FM_FREE_ARRAY(s->followerPressure, double, s->followerCapacity);
 	FM_FREE_ARRAY(s->prescribed, fmPrescribed, s->prescribedCapacity);
+	FM_FREE_ARRAY(s->shadowForces, double, 2 * n3);
 	FM_FREE_ARRAY(s, fmLoadSet, 1);
 }
 
@@ -152,14 +153,30 @@ static void fmPlace(fmBody* b, const fmPrescribed* p, const double* origin, doub
 		}
 }
 
-void fmLoads_StepPrescribed(fmBody* b, double dt)
+// Elastic energy at the body's positions, and the forces into @p f when it is not NULL.
+static double fmElasticWithForces(fmBody* b, double* f)
+{
+	if (f == NULL)
+		return fmElasticEnergy(b, b->x);
+	memset(f, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	return fmAddElasticForces(b, b->x, f);
+}
+
+void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 {
 	if (!fmLoads_Moving(b))
 		return;
 	// The motion changes the elastic energy by what the supports do on the body: booked as
-	// work, exactly (two energy passes while a prescribed motion runs).
-	double before = fmElasticEnergy(b, b->x);
+	// work, exactly (two force passes while a prescribed motion runs). The explicit step's
+	// ledger measures the shadow energy T + Psi + h/2 v . f (energy_ledger.h), whose force term
+	// the motion changes too: booked with it.
 	fmLoadSet* s = b->loads;
+	size_t n3 = 3 * (size_t)b->vertexCount;
+	if (shadowStep > 0.0 && s->shadowForces == NULL)
+		s->shadowForces = FM_ALLOC_ARRAY(double, 2 * n3);
+	double* before = shadowStep > 0.0 ? s->shadowForces : NULL;
+	double* after = before != NULL ? before + n3 : NULL;
+	double energy = fmElasticWithForces(b, before);
 	for (int i = 0; i < s->prescribedCount; ++i)
 	{
 		fmPrescribed* p = &s->prescribed[i];
@@ -170,7 +187,10 @@ void fmLoads_StepPrescribed(fmBody* b, double dt)
 		p->reached = fraction >= 1.0;
 		fmPlace(b, p, p->start, fraction);
 	}
-	fmLedger_AddLoadWork(b, fmElasticEnergy(b, b->x) - before);
+	double work = fmElasticWithForces(b, after) - energy;
+	for (size_t k = 0; after != NULL && k < n3; ++k)
+		work += 0.5 * shadowStep * b->v[k] * (after[k] - before[k]);
+	fmLedger_AddLoadWork(b, work);
 }
 
 void fmLoads_BeginStatic(fmBody* b)

@@ -40,6 +40,7 @@ typedef struct fmLoadSet
 	int prescribedCount;
 	int prescribedCapacity;
 	fmPrescribed* prescribed;
+	double* shadowForces; // 6n: elastic forces before and after a prescribed move (explicit)
 } fmLoadSet;
 
 // Free a body's load set (NULL is fine).
@@ -69,8 +70,9 @@ double fmLoads_Work(const fmBody* body, const double* d, double scale);
 double fmLoads_FrozenNorm(const fmBody* body);
 
 // Dynamics: move the prescribed vertices along their paths by @p dt seconds (before a step),
-// booking the elastic energy their motion adds in the ledger as work.
-void fmLoads_StepPrescribed(fmBody* body, double dt);
+// booking the elastic energy their motion adds in the ledger as work, and the change of the
+// shadow energy's force term measured with @p shadowStep (the explicit substep; 0 implicit).
+void fmLoads_StepPrescribed(fmBody* body, double dt, double shadowStep);
 
 // Statics: record where each prescribed vertex starts its ramp.
 void fmLoads_BeginStatic(fmBody* body);
