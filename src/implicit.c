@@ -159,7 +159,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.scale = fmStepForceScale(b, c, pb.gravity, h);
 	pb.maxNewton = world->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
-	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = arena;

@@ -128,7 +128,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	pb.maxNewton = maxIterations;
 	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
-	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = &world->arena;

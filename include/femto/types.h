@@ -376,6 +376,9 @@ typedef struct fmWorldDef
 /// The default world: the seeds' gravity and floor, explicit integration.
 FM_API fmWorldDef fmDefaultWorldDef(void);
 
+/// Most materials a body may have by region (fmBodyDef.regionCount).
+#define FM_MAX_REGIONS 1024
+
 /// How vertex masses are found.
 typedef enum fmMassMode
 {
@@ -407,7 +410,16 @@ typedef struct fmBodyDef
 	/// the body's surface vertices against its own surface triangles that do not share a tet
 	/// with them: a beam folding onto itself (default false; costs a broad phase of its own)
 	bool selfCollision;
-	bool enableSleep;  ///< may fall asleep when fmContactDef.enableSleep (default true)
+	bool enableSleep; ///< may fall asleep when fmContactDef.enableSleep (default true)
+	/// Per-region materials (docs/materials.md): a tet whose region, the mesh's first tet
+	/// attribute (TetGen's region attribute, Gmsh's physical group), equals regionIds[k] gets
+	/// regionMaterials[k]; the other tets get `material`. regionCount in [0, FM_MAX_REGIONS]
+	/// (default 0: one material); both arrays are copied. The mesh must have tet attributes
+	/// when regionCount > 0; ids must be distinct. Mass still comes from `density` (or
+	/// particleMass) for every tet.
+	const fmMaterial* regionMaterials;
+	const int* regionIds; ///< regionCount region numbers
+	int regionCount;
 	int internalValue; ///< set by fmDefaultBodyDef; create calls check it
 } fmBodyDef;
 
