@@ -552,7 +552,7 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 // ---- loads and boundary conditions: pin axes and displacements, nodal forces, pressure --------
 
 // A body's keys for loads and per-region materials (docs/scene-format.md, docs/loads.md).
-#define CLI_BODY_LOAD_KEYS "loads", "pressure"
+#define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions"
 
 // "axes": a string of the letters x, y, z, each at most once (e.g. "y", "xz").
 static bool cliGetAxes(const cliJson* j, const cJSON* box, const char* boxPath, unsigned* axes)
@@ -724,6 +724,102 @@ static bool cliParsePressures(const cliJson* j, const cJSON* body, const char* p
 	return true;
 }
 
+// One region's material: the body's material changed by the keys given ("model", and
+// "youngs_modulus" + "poisson_ratio" or "lambda" + "mu", "mooney_c01"), validated.
+static bool cliParseRegionMaterial(const cliJson* j, const cJSON* object, const char* path,
+                                   const fmMaterial* base, fmMaterial* out)
+{
+	static const char* const keys[] = {
+	    "model", "youngs_modulus", "poisson_ratio", "lambda", "mu", "mooney_c01", NULL};
+	if (!cJSON_IsObject(object))
+		return cliJsonFail(j, path, object,
+		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
+		                   "\"poisson_ratio\": ...}");
+	if (!cliCheckKeys(j, object, path, keys))
+		return false;
+	fmMaterialModel model = base->model;
+	const char* name = NULL;
+	if (!cliGetString(j, object, path, "model", &name))
+		return false;
+	if (name != NULL && !fmMaterialModelFromName(name, &model))
+	{
+		char modelPath[300];
+		cliJoinKey(modelPath, sizeof modelPath, path, "model");
+		return cliJsonFail(j, modelPath, cJSON_GetObjectItemCaseSensitive(object, "model"),
+		                   "unknown material model (docs/materials.md lists them)");
+	}
+	double youngs = 0, poisson = 0, lambda = base->lambda, mu = base->mu;
+	bool hasE = false, hasNu = false, hasLambda = false, hasMu = false, hasC01 = false;
+	const cliRange poissonRange = {-1.0, 0.5, true, true};
+	if (!cliGetNumber(j, object, path, "youngs_modulus", cliPositive, &youngs, &hasE) ||
+	    !cliGetNumber(j, object, path, "poisson_ratio", poissonRange, &poisson, &hasNu) ||
+	    !cliGetNumber(j, object, path, "lambda", cliAnyFinite, &lambda, &hasLambda) ||
+	    !cliGetNumber(j, object, path, "mu", cliPositive, &mu, &hasMu))
+		return false;
+	if ((hasE || hasNu) && (hasLambda || hasMu))
+		return cliJsonFail(j, path, NULL,
+		                   "give youngs_modulus + poisson_ratio or lambda + mu, not both pairs");
+	if (hasE != hasNu || hasLambda != hasMu)
+		return cliJsonFail(j, path, NULL,
+		                   "youngs_modulus and poisson_ratio (or lambda and mu) go together");
+	*out = hasE ? fmMakeMaterial(model, youngs, poisson) : fmMakeMaterialLame(model, lambda, mu);
+	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01))
+		return false;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (fmMaterial_Validate(out, &diag) != fm_ok)
+		return cliJsonFail(j, path, NULL, "%s",
+		                   diag.message[0] ? diag.message : "invalid material");
+	return true;
+}
+
+// "regions": {"1": {material}, "2": {...}}: a material per region number of the mesh (its tets'
+// first attribute: TetGen's region attribute, Gmsh's physical group).
+static bool cliParseRegions(const cliJson* j, const cJSON* body, const char* parent,
+                            cliBodySpec* spec)
+{
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "regions");
+	const cJSON* regions = NULL;
+	if (!cliGetObject(j, body, parent, "regions", &regions))
+		return false;
+	if (regions == NULL)
+		return true;
+	int count = cJSON_GetArraySize(regions);
+	if (count < 1 || count > FM_MAX_REGIONS)
+		return cliJsonFail(j, path, NULL, "expected 1 to %d regions {\"1\": {material}, ...}",
+		                   FM_MAX_REGIONS);
+	spec->regionMaterials = calloc((size_t)count, sizeof *spec->regionMaterials);
+	spec->regionIds = calloc((size_t)count, sizeof *spec->regionIds);
+	if (spec->regionMaterials == NULL || spec->regionIds == NULL)
+		return cliJsonFail(j, path, NULL, "out of memory");
+	int i = 0;
+	const cJSON* region = NULL;
+	cJSON_ArrayForEach(region, regions)
+	{
+		char regionPath[300];
+		cliJoinKey(regionPath, sizeof regionPath, path, region->string);
+		char* end = NULL;
+		errno = 0;
+		long id = strtol(region->string, &end, 10);
+		if (region->string[0] == 0 || *end != 0 || errno != 0 || id < INT_MIN || id > INT_MAX)
+			return cliJsonFail(j, regionPath, NULL,
+			                   "a region is named by its number in the mesh, e.g. \"1\"");
+		for (int other = 0; other < i; ++other)
+			if (spec->regionIds[other] == (int)id)
+				return cliJsonFail(j, regionPath, NULL, "region %ld is given twice", id);
+		spec->regionIds[i] = (int)id;
+		if (!cliParseRegionMaterial(j, region, regionPath, &spec->def.material,
+		                            &spec->regionMaterials[i]))
+			return false;
+		++i;
+	}
+	spec->def.regionMaterials = spec->regionMaterials;
+	spec->def.regionIds = spec->regionIds;
+	spec->def.regionCount = i;
+	return true;
+}
+
 // ---- contact: filters, bodies' contact keys, colliders, the contact object --------------------
 
 // A 32-bit mask: an integer in [0, 2^32 - 1] (JSON numbers hold it exactly).
@@ -826,7 +922,7 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 	                                       &spec->def.rayleighStiffness, NULL)))
 		return false;
 	return cliParsePins(j, body, path, spec) && cliParseLoads(j, body, path, spec) &&
-	       cliParsePressures(j, body, path, spec) &&
+	       cliParsePressures(j, body, path, spec) && cliParseRegions(j, body, path, spec) &&
 	       cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL) &&
 	       cliParseBodyContact(j, body, path, &spec->def);
 }
@@ -1513,6 +1609,8 @@ void cliScene_Free(cliScene* scene)
 		free(scene->bodies[i].pins);
 		free(scene->bodies[i].loads);
 		free(scene->bodies[i].pressures);
+		free(scene->bodies[i].regionMaterials);
+		free(scene->bodies[i].regionIds);
 	}
 	free(scene->bodies);
 	scene->bodies = NULL;

@@ -59,7 +59,9 @@ typedef struct cliBodySpec
 	int loadCount;
 	cliPressureBox* pressures; ///< malloc'd, pressureCount boxes ("pressure")
 	int pressureCount;
-	fmVec3 initialVelocity; ///< m/s
+	fmMaterial* regionMaterials; ///< malloc'd, def.regionCount ("regions"), def points at them
+	int* regionIds;              ///< malloc'd, def.regionCount
+	fmVec3 initialVelocity;      ///< m/s
 } cliBodySpec;
 
 /// One rigid collider of a scene (docs/scene-format.md, "Colliders").

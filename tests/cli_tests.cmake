@@ -533,3 +533,12 @@ femto_cli_test(scene_pressure_missing ARGS "run|${FEMTO_CLI_DATA}/loads_no_press
 femto_cli_test(scene_load_misses ARGS "run|${FEMTO_CLI_DATA}/loads_misses.json|--frames|2|--quiet" CODE 0
   REGEX "note: .*bodies\\[0\\].loads\\[0\\]: box \\[5 5 5\\]..\\[6 6 6\\] catches no vertex; the body spans \\[0 0 0\\]..\\[1 1 1\\]"
   REJECT "pressure\\[0\\]")
+# Per-region materials from a TetGen mesh's region attribute: two regions in series.
+femto_cli_test(static_two_regions ARGS "static|${FEMTO_CLI_DATA}/two_regions.json|--export-node|${FEMTO_CLI_WORK}/two_regions.node"
+  CODE 0 REGEX "converged"
+  CHECK_FILE "${FEMTO_CLI_WORK}/two_regions.node"
+  CHECK_FILE_REGEX "\n1 1\\.0(0999999|1000000)[0-9]* .*\n8 2\\.01333333333[0-9]* ")
+femto_cli_test(scene_region_bad_name ARGS "run|${FEMTO_CLI_DATA}/regions_bad.json" CODE 1
+  REGEX "regions_bad.json:5:20: bodies\\[0\\].regions.one: a region is named by its number in the mesh")
+femto_cli_test(scene_regions_without_attributes ARGS "run|${FEMTO_CLI_DATA}/regions_no_attributes.json" CODE 1
+  REGEX "bodies\\[0\\]: per-region materials need a mesh with region numbers")
