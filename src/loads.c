@@ -153,6 +153,25 @@ static void fmPlace(fmBody* b, const fmPrescribed* p, const double* origin, doub
 		}
 }
 
+// A moving support must not stall: the body may not fall asleep (island.c) while prescribed
+// vertices are on their way.
+static void fmLoadsKeepAwake(fmBody* b, fmLoadSet* s)
+{
+	if (s->keptAwake)
+		return;
+	s->keptAwake = true;
+	s->canSleep = b->canSleep;
+	b->canSleep = false;
+}
+
+static void fmLoadsLetSleep(fmBody* b)
+{
+	if (b->loads == NULL || !b->loads->keptAwake)
+		return;
+	b->loads->keptAwake = false;
+	b->canSleep = b->loads->canSleep;
+}
+
 // Elastic energy at the body's positions, and the forces into @p f when it is not NULL.
 static double fmElasticWithForces(fmBody* b, double* f)
 {
@@ -191,6 +210,8 @@ void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 	for (size_t k = 0; after != NULL && k < n3; ++k)
 		work += 0.5 * shadowStep * b->v[k] * (after[k] - before[k]);
 	fmLedger_AddLoadWork(b, work);
+	if (!fmLoads_Moving(b))
+		fmLoadsLetSleep(b);
 }
 
 void fmLoads_BeginStatic(fmBody* b)
@@ -215,6 +236,7 @@ void fmLoads_FinishStatic(fmBody* b)
 		b->loads->prescribed[i].reached = true;
 		b->loads->prescribed[i].elapsed = b->loads->prescribed[i].time;
 	}
+	fmLoadsLetSleep(b);
 }
 
 // ---- the public calls --------------------------------------------------------------------------
@@ -414,6 +436,8 @@ int fmBody_PrescribeDisplacement(fmBodyId bodyId, fmVec3 min, fmVec3 max, unsign
 		fmBody_SetPinnedAxes(bodyId, b->userVertex[i], b->pinned[i] | axes);
 		++count;
 	}
+	if (count > 0)
+		fmLoadsKeepAwake(b, s);
 	return count;
 }
 

@@ -41,6 +41,8 @@ typedef struct fmLoadSet
 	int prescribedCapacity;
 	fmPrescribed* prescribed;
 	double* shadowForces; // 6n: elastic forces before and after a prescribed move (explicit)
+	bool keptAwake;       // a prescribed motion holds the body awake (body->canSleep false)
+	bool canSleep;        // body->canSleep to give back when the motion ends
 } fmLoadSet;
 
 // Free a body's load set (NULL is fine).
