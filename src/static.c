@@ -89,8 +89,9 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	fmVec3 gravity = world->def.gravity;
 	if (pins == 0 && (fmLength(gravity) > 0.0 || fmLoads_Active(b)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "the body has no pinned vertex, so under gravity it has no equilibrium "
-		                   "(it would fall forever): pin something (fmBody_PinBox) first");
+		                   "the body has no pinned vertex, so under gravity or loads it has no "
+		                   "equilibrium (it would fall or drift forever): pin something "
+		                   "(fmBody_PinBox, fmBody_PinBoxAxes) first");
 	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(b) : NULL;
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,

@@ -505,3 +505,52 @@ TEST(two_region_bar_in_series_stretches_each_by_its_compliance)
 	free(rest);
 	fmDestroyWorld(world);
 }
+
+// Programmer errors in the load calls (NaN, an empty box, bad axes, a negative time, a stale
+// id) return -1 and change nothing; a box that catches nothing returns 0; a load on a body
+// with no support makes the static solve refuse with a reason.
+TEST(load_calls_refuse_bad_arguments)
+{
+	fmWorldId world;
+	fmBodyId body =
+	    fmTestMakeBox(&world, 1, 1, 1, v3(1, 1, 1), fmMakeMaterial(fm_linear, 1e5, 0.3), fm_fem);
+	const fmVec3 lo = v3(-1, -1, -1), hi = v3(2, 2, 2);
+	fmTestRecordAssertsBegin();
+	int before = fmTestAssertCount();
+	CHECK_INT(fmBody_AddNodalForce(body, lo, hi, v3(NAN, 0, 0)), -1);
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
+	CHECK_INT(fmBody_AddNodalForce(body, hi, lo, v3(1, 0, 0)), -1);
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
+	CHECK_INT(fmBody_AddPressure(body, lo, hi, INFINITY, true), -1);
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
+	CHECK_INT(fmBody_PinBoxAxes(body, lo, hi, 8u), -1);
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
+	CHECK_INT(fmBody_PrescribeDisplacement(body, lo, hi, 0u, v3(0, 0, 0), 1.0), -1);
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
+	CHECK_INT(fmBody_PrescribeDisplacement(body, lo, hi, 1u, v3(1, 0, 0), -1.0), -1);
+	CHECK_ASSERTED_SINCE(before);
+	before = fmTestAssertCount();
+	fmBodyId stale = {0, 0, 0, 0};
+	CHECK_INT(fmBody_AddNodalForce(stale, lo, hi, v3(1, 0, 0)), -1);
+	CHECK_ASSERTED_SINCE(before);
+	fmTestRecordAssertsEnd();
+	// Nothing was added: no load, no pin.
+	fmVec3 sum = loadResultant(body);
+	CHECK(sum.x == 0.0 && sum.y == 0.0 && sum.z == 0.0);
+	CHECK(!fmBody_IsPinned(body, 0));
+	CHECK_INT(fmBody_AddNodalForce(body, v3(5, 5, 5), v3(6, 6, 6), v3(1, 0, 0)), 0);
+	CHECK_INT(fmBody_AddPressure(body, v3(-1, -1, -1), v3(0.5, 0.5, 2), 10.0, false), 0);
+	CHECK_INT(fmBody_AddNodalForce(body, lo, hi, v3(1, 0, 0)), 8);
+	fmDiagnostic diag;
+	CHECK_INT(fmBody_SolveStatic(body, 1e-8, 10, NULL, &diag), fm_errParameter);
+	CHECK_STR_CONTAINS(diag.message, "no pinned vertex");
+	fmBody_ClearLoads(body);
+	sum = loadResultant(body);
+	CHECK(sum.x == 0.0);
+	fmDestroyWorld(world);
+}
