@@ -195,9 +195,12 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
-	for (int k = 0; k < n3; ++k)
-		c->trial[k] = b->x[k] - c->xStart[k];
-	fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
+	if (fmLoads_Active(b))
+	{
+		for (int k = 0; k < n3; ++k)
+			c->trial[k] = b->x[k] - c->xStart[k]; // free after the solve
+		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
+	}
 	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb.contact, b, c->xStart));
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
