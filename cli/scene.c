@@ -503,9 +503,12 @@ static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* pa
 	return true;
 }
 
+static bool cliParsePinExtras(const cliJson* j, const cJSON* box, const char* boxPath,
+                              cliPinBox* pin);
+
 static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent, cliBodySpec* spec)
 {
-	static const char* const keys[] = {"min", "max", NULL};
+	static const char* const keys[] = {"min", "max", "axes", "displacement", "time", NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "pin");
 	const cJSON* pins = cJSON_GetObjectItemCaseSensitive(body, "pin");
@@ -539,8 +542,281 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 			return cliJsonFail(j, boxPath, NULL, "a pin box needs both \"min\" and \"max\"");
 		if (!(pin->min.x <= pin->max.x && pin->min.y <= pin->max.y && pin->min.z <= pin->max.z))
 			return cliJsonFail(j, boxPath, NULL, "min must not exceed max on any axis");
+		if (!cliParsePinExtras(j, box, boxPath, pin))
+			return false;
 		spec->pinCount = ++i;
 	}
+	return true;
+}
+
+// ---- loads and boundary conditions: pin axes and displacements, nodal forces, pressure --------
+
+// A body's keys for loads and per-region materials (docs/scene-format.md, docs/loads.md).
+#define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions"
+
+// "axes": a string of the letters x, y, z, each at most once (e.g. "y", "xz").
+static bool cliGetAxes(const cliJson* j, const cJSON* box, const char* boxPath, unsigned* axes)
+{
+	const cJSON* item = cJSON_GetObjectItemCaseSensitive(box, "axes");
+	if (item == NULL)
+		return true;
+	char path[300];
+	cliJoinKey(path, sizeof path, boxPath, "axes");
+	const char* text = cJSON_IsString(item) ? item->valuestring : NULL;
+	unsigned bits = 0;
+	for (const char* c = text; c != NULL && *c != 0; ++c)
+	{
+		unsigned bit = *c == 'x' ? 1u : *c == 'y' ? 2u : *c == 'z' ? 4u : 0u;
+		if (bit == 0 || (bits & bit))
+		{
+			bits = 0;
+			break;
+		}
+		bits |= bit;
+	}
+	if (bits == 0)
+		return cliJsonFail(j, path, item,
+		                   "expected the axes the pin holds: \"x\", \"y\", \"z\" or several "
+		                   "of them, each once (e.g. \"xz\")");
+	*axes = bits;
+	return true;
+}
+
+// A pin entry's "axes", "displacement" and "time".
+static bool cliParsePinExtras(const cliJson* j, const cJSON* box, const char* boxPath,
+                              cliPinBox* pin)
+{
+	pin->axes = 7u;
+	bool hasTime = false;
+	const cliRange timeRange = {0.0, 1e9, false, false};
+	if (!cliGetAxes(j, box, boxPath, &pin->axes) ||
+	    !cliGetVec3(j, box, boxPath, "displacement", &pin->displacement, &pin->hasDisplacement) ||
+	    !cliGetNumber(j, box, boxPath, "time", timeRange, &pin->time, &hasTime))
+		return false;
+	char path[300];
+	cliJoinKey(path, sizeof path, boxPath, hasTime ? "time" : "displacement");
+	if (hasTime && !pin->hasDisplacement)
+		return cliJsonFail(j, path, NULL,
+		                   "\"time\" is the time a \"displacement\" takes: give "
+		                   "the displacement too");
+	const double d[3] = {pin->displacement.x, pin->displacement.y, pin->displacement.z};
+	for (int axis = 0; pin->hasDisplacement && axis < 3; ++axis)
+	{
+		if (fabs(d[axis]) > FM_MAX_COORDINATE)
+			return cliJsonFail(j, path, NULL, "the displacement must be within %g m",
+			                   FM_MAX_COORDINATE);
+		if (d[axis] != 0.0 && !(pin->axes & (1u << axis)))
+			return cliJsonFail(j, path, NULL,
+			                   "the displacement moves %c, which the pin does not hold (its "
+			                   "\"axes\"): add %c to the axes or set that component to 0",
+			                   "xyz"[axis], "xyz"[axis]);
+	}
+	return true;
+}
+
+// A load or pressure entry's "min" and "max": both given, finite, ordered.
+static bool cliGetBox(const cliJson* j, const cJSON* entry, const char* path, fmVec3* min,
+                      fmVec3* max)
+{
+	bool hasMin = false, hasMax = false;
+	if (!cliGetVec3(j, entry, path, "min", min, &hasMin) ||
+	    !cliGetVec3(j, entry, path, "max", max, &hasMax))
+		return false;
+	if (!hasMin || !hasMax)
+		return cliJsonFail(j, path, NULL, "a load box needs both \"min\" and \"max\"");
+	if (!(min->x <= max->x && min->y <= max->y && min->z <= max->z))
+		return cliJsonFail(j, path, NULL, "the box is empty: min must not exceed max on any axis");
+	return true;
+}
+
+// The array @p key of a body, counted: NULL when absent; false (with a message) when not an
+// array. @p entries gets calloc'd room for its elements.
+static bool cliGetEntries(const cliJson* j, const cJSON* body, const char* path, const char* key,
+                          const char* expected, size_t size, const cJSON** array, void** entries)
+{
+	*array = cJSON_GetObjectItemCaseSensitive(body, key);
+	if (*array == NULL)
+		return true;
+	if (!cJSON_IsArray(*array))
+		return cliJsonFail(j, path, *array, "expected a list of %s", expected);
+	int count = cJSON_GetArraySize(*array);
+	*entries = calloc((size_t)(count > 0 ? count : 1), size);
+	if (*entries == NULL)
+		return cliJsonFail(j, path, NULL, "out of memory");
+	return true;
+}
+
+// "loads": [{"min": [..], "max": [..], "force": [fx, fy, fz]}] (N on each vertex in the box).
+static bool cliParseLoads(const cliJson* j, const cJSON* body, const char* parent,
+                          cliBodySpec* spec)
+{
+	static const char* const keys[] = {"min", "max", "force", NULL};
+	static const char* const expected = "{\"min\": [x,y,z], \"max\": [x,y,z], \"force\": "
+	                                    "[fx,fy,fz]}";
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "loads");
+	const cJSON* array = NULL;
+	void* entries = NULL;
+	if (!cliGetEntries(j, body, path, "loads", expected, sizeof *spec->loads, &array, &entries))
+		return false;
+	spec->loads = entries;
+	int i = 0;
+	const cJSON* entry = NULL;
+	cJSON_ArrayForEach(entry, array)
+	{
+		char entryPath[300];
+		if (snprintf(entryPath, sizeof entryPath, "%s[%d]", path, i) < 0)
+			entryPath[0] = 0;
+		cliLoadBox* load = &spec->loads[i];
+		bool hasForce = false;
+		if (!cJSON_IsObject(entry))
+			return cliJsonFail(j, entryPath, entry, "expected %s", expected);
+		if (!cliCheckKeys(j, entry, entryPath, keys) ||
+		    !cliGetBox(j, entry, entryPath, &load->min, &load->max) ||
+		    !cliGetVec3(j, entry, entryPath, "force", &load->force, &hasForce))
+			return false;
+		if (!hasForce)
+			return cliJsonFail(j, entryPath, NULL,
+			                   "a load needs \"force\": [fx, fy, fz] (N on each vertex)");
+		spec->loadCount = ++i;
+	}
+	return true;
+}
+
+// "pressure": [{"min": [..], "max": [..], "pressure": Pa, "follower": true}].
+static bool cliParsePressures(const cliJson* j, const cJSON* body, const char* parent,
+                              cliBodySpec* spec)
+{
+	static const char* const keys[] = {"min", "max", "pressure", "follower", NULL};
+	static const char* const expected = "{\"min\": [x,y,z], \"max\": [x,y,z], \"pressure\": Pa}";
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "pressure");
+	const cJSON* array = NULL;
+	void* entries = NULL;
+	if (!cliGetEntries(j, body, path, "pressure", expected, sizeof *spec->pressures, &array,
+	                   &entries))
+		return false;
+	spec->pressures = entries;
+	int i = 0;
+	const cJSON* entry = NULL;
+	cJSON_ArrayForEach(entry, array)
+	{
+		char entryPath[300];
+		if (snprintf(entryPath, sizeof entryPath, "%s[%d]", path, i) < 0)
+			entryPath[0] = 0;
+		cliPressureBox* load = &spec->pressures[i];
+		load->follower = true;
+		bool hasPressure = false;
+		if (!cJSON_IsObject(entry))
+			return cliJsonFail(j, entryPath, entry, "expected %s", expected);
+		if (!cliCheckKeys(j, entry, entryPath, keys) ||
+		    !cliGetBox(j, entry, entryPath, &load->min, &load->max) ||
+		    !cliGetNumber(j, entry, entryPath, "pressure", cliAnyFinite, &load->pressure,
+		                  &hasPressure) ||
+		    !cliGetBool(j, entry, entryPath, "follower", &load->follower))
+			return false;
+		if (!hasPressure)
+			return cliJsonFail(j, entryPath, NULL,
+			                   "a pressure entry needs \"pressure\": Pa (positive pushes into "
+			                   "the body)");
+		spec->pressureCount = ++i;
+	}
+	return true;
+}
+
+// One region's material: the body's material changed by the keys given ("model", and
+// "youngs_modulus" + "poisson_ratio" or "lambda" + "mu", "mooney_c01"), validated.
+static bool cliParseRegionMaterial(const cliJson* j, const cJSON* object, const char* path,
+                                   const fmMaterial* base, fmMaterial* out)
+{
+	static const char* const keys[] = {
+	    "model", "youngs_modulus", "poisson_ratio", "lambda", "mu", "mooney_c01", NULL};
+	if (!cJSON_IsObject(object))
+		return cliJsonFail(j, path, object,
+		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
+		                   "\"poisson_ratio\": ...}");
+	if (!cliCheckKeys(j, object, path, keys))
+		return false;
+	fmMaterialModel model = base->model;
+	const char* name = NULL;
+	if (!cliGetString(j, object, path, "model", &name))
+		return false;
+	if (name != NULL && !fmMaterialModelFromName(name, &model))
+	{
+		char modelPath[300];
+		cliJoinKey(modelPath, sizeof modelPath, path, "model");
+		return cliJsonFail(j, modelPath, cJSON_GetObjectItemCaseSensitive(object, "model"),
+		                   "unknown material model (docs/materials.md lists them)");
+	}
+	double youngs = 0, poisson = 0, lambda = base->lambda, mu = base->mu;
+	bool hasE = false, hasNu = false, hasLambda = false, hasMu = false, hasC01 = false;
+	const cliRange poissonRange = {-1.0, 0.5, true, true};
+	if (!cliGetNumber(j, object, path, "youngs_modulus", cliPositive, &youngs, &hasE) ||
+	    !cliGetNumber(j, object, path, "poisson_ratio", poissonRange, &poisson, &hasNu) ||
+	    !cliGetNumber(j, object, path, "lambda", cliAnyFinite, &lambda, &hasLambda) ||
+	    !cliGetNumber(j, object, path, "mu", cliPositive, &mu, &hasMu))
+		return false;
+	if ((hasE || hasNu) && (hasLambda || hasMu))
+		return cliJsonFail(j, path, NULL,
+		                   "give youngs_modulus + poisson_ratio or lambda + mu, not both pairs");
+	if (hasE != hasNu || hasLambda != hasMu)
+		return cliJsonFail(j, path, NULL,
+		                   "youngs_modulus and poisson_ratio (or lambda and mu) go together");
+	*out = hasE ? fmMakeMaterial(model, youngs, poisson) : fmMakeMaterialLame(model, lambda, mu);
+	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01))
+		return false;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	if (fmMaterial_Validate(out, &diag) != fm_ok)
+		return cliJsonFail(j, path, NULL, "%s",
+		                   diag.message[0] ? diag.message : "invalid material");
+	return true;
+}
+
+// "regions": {"1": {material}, "2": {...}}: a material per region number of the mesh (its tets'
+// first attribute: TetGen's region attribute, Gmsh's physical group).
+static bool cliParseRegions(const cliJson* j, const cJSON* body, const char* parent,
+                            cliBodySpec* spec)
+{
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "regions");
+	const cJSON* regions = NULL;
+	if (!cliGetObject(j, body, parent, "regions", &regions))
+		return false;
+	if (regions == NULL)
+		return true;
+	int count = cJSON_GetArraySize(regions);
+	if (count < 1 || count > FM_MAX_REGIONS)
+		return cliJsonFail(j, path, NULL, "expected 1 to %d regions {\"1\": {material}, ...}",
+		                   FM_MAX_REGIONS);
+	spec->regionMaterials = calloc((size_t)count, sizeof *spec->regionMaterials);
+	spec->regionIds = calloc((size_t)count, sizeof *spec->regionIds);
+	if (spec->regionMaterials == NULL || spec->regionIds == NULL)
+		return cliJsonFail(j, path, NULL, "out of memory");
+	int i = 0;
+	const cJSON* region = NULL;
+	cJSON_ArrayForEach(region, regions)
+	{
+		char regionPath[300];
+		cliJoinKey(regionPath, sizeof regionPath, path, region->string);
+		char* end = NULL;
+		errno = 0;
+		long id = strtol(region->string, &end, 10);
+		if (region->string[0] == 0 || *end != 0 || errno != 0 || id < INT_MIN || id > INT_MAX)
+			return cliJsonFail(j, regionPath, NULL,
+			                   "a region is named by its number in the mesh, e.g. \"1\"");
+		for (int other = 0; other < i; ++other)
+			if (spec->regionIds[other] == (int)id)
+				return cliJsonFail(j, regionPath, NULL, "region %ld is given twice", id);
+		spec->regionIds[i] = (int)id;
+		if (!cliParseRegionMaterial(j, region, regionPath, &spec->def.material,
+		                            &spec->regionMaterials[i]))
+			return false;
+		++i;
+	}
+	spec->def.regionMaterials = spec->regionMaterials;
+	spec->def.regionIds = spec->regionIds;
+	spec->def.regionCount = i;
 	return true;
 }
 
@@ -630,12 +906,25 @@ static bool cliParseRenderMesh(const cliJson* j, const cJSON* body, const char* 
 
 static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
 {
-	static const char* const keys[] = {"mesh",           "box_min",     "box_max",
-	                                   "transform",      "material",    "force_model",
-	                                   "damping",        "smoothing",   "rayleigh",
-	                                   "spring_damping", "pin",         "initial_velocity",
-	                                   "self_collision", "friction",    "sleep",
-	                                   "filter",         "render_mesh", NULL};
+	static const char* const keys[] = {"mesh",
+	                                   "box_min",
+	                                   "box_max",
+	                                   "transform",
+	                                   "material",
+	                                   "force_model",
+	                                   "damping",
+	                                   "smoothing",
+	                                   "rayleigh",
+	                                   "spring_damping",
+	                                   "pin",
+	                                   "initial_velocity",
+	                                   "self_collision",
+	                                   "friction",
+	                                   "sleep",
+	                                   "filter",
+	                                   "render_mesh",
+	                                   CLI_BODY_LOAD_KEYS,
+	                                   NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
@@ -674,7 +963,8 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 	                         !cliGetNumber(j, rayleigh, rayleighPath, "stiffness", cliNonNegative,
 	                                       &spec->def.rayleighStiffness, NULL)))
 		return false;
-	return cliParsePins(j, body, path, spec) &&
+	return cliParsePins(j, body, path, spec) && cliParseLoads(j, body, path, spec) &&
+	       cliParsePressures(j, body, path, spec) && cliParseRegions(j, body, path, spec) &&
 	       cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL) &&
 	       cliParseBodyContact(j, body, path, &spec->def);
 }
@@ -1391,7 +1681,13 @@ bool cliScene_LoadText(const char* name, const char* text, size_t size, FILE* me
 void cliScene_Free(cliScene* scene)
 {
 	for (int i = 0; i < scene->bodyCount; ++i)
+	{
 		free(scene->bodies[i].pins);
+		free(scene->bodies[i].loads);
+		free(scene->bodies[i].pressures);
+		free(scene->bodies[i].regionMaterials);
+		free(scene->bodies[i].regionIds);
+	}
 	free(scene->bodies);
 	scene->bodies = NULL;
 	scene->bodyCount = 0;

@@ -17,9 +17,30 @@ typedef enum cliMeshSource
 /// A pin box in scene coordinates (after the body's transform).
 typedef struct cliPinBox
 {
-	fmVec3 min; ///< m
-	fmVec3 max; ///< m
+	fmVec3 min;           ///< m
+	fmVec3 max;           ///< m
+	unsigned axes;        ///< held axes: bit 0 x, 1 y, 2 z ("axes", default all three)
+	bool hasDisplacement; ///< "displacement" given: a prescribed displacement
+	fmVec3 displacement;  ///< m, along the held axes
+	double time;          ///< s to reach it in a dynamic run (0: at the first step)
 } cliPinBox;
+
+/// A nodal force box ("loads" on a body): @p force on each vertex in the box.
+typedef struct cliLoadBox
+{
+	fmVec3 min;   ///< m
+	fmVec3 max;   ///< m
+	fmVec3 force; ///< N on each vertex
+} cliLoadBox;
+
+/// A pressure box ("pressure" on a body): every surface triangle with its vertices in the box.
+typedef struct cliPressureBox
+{
+	fmVec3 min;      ///< m
+	fmVec3 max;      ///< m
+	double pressure; ///< Pa, positive pushes into the body
+	bool follower;   ///< follows the deformation (default true)
+} cliPressureBox;
 
 /// One body of a scene, before it exists in a world.
 typedef struct cliBodySpec
@@ -34,7 +55,13 @@ typedef struct cliBodySpec
 	fmBodyDef def;               ///< material, masses, damping (mesh set when built)
 	cliPinBox* pins;             ///< malloc'd, pinCount boxes
 	int pinCount;
-	fmVec3 initialVelocity; ///< m/s
+	cliLoadBox* loads; ///< malloc'd, loadCount boxes ("loads")
+	int loadCount;
+	cliPressureBox* pressures; ///< malloc'd, pressureCount boxes ("pressure")
+	int pressureCount;
+	fmMaterial* regionMaterials; ///< malloc'd, def.regionCount ("regions"), def points at them
+	int* regionIds;              ///< malloc'd, def.regionCount
+	fmVec3 initialVelocity;      ///< m/s
 	/// "render_mesh": the resolved OBJ path, empty without one; placed by @p transform
 	char renderMeshPath[CLI_MAX_PATH];
 } cliBodySpec;

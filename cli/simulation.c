@@ -133,6 +133,51 @@ static bool cliSetRenderMesh(const cliScene* scene, int index, cliSimulation* si
 	return result == fm_ok;
 }
 
+// A pin entry: a prescribed displacement, rollers on some axes, or a plain pin. Returns the
+// vertices caught.
+static int cliApplyPin(fmBodyId body, const cliPinBox* box)
+{
+	if (box->hasDisplacement)
+		return fmBody_PrescribeDisplacement(body, box->min, box->max, box->axes, box->displacement,
+		                                    box->time);
+	if (box->axes != 7u)
+		return fmBody_PinBoxAxes(body, box->min, box->max, box->axes);
+	return fmBody_PinBox(body, box->min, box->max);
+}
+
+// A note for a load box that catches nothing (the body still runs, unloaded there).
+static void cliNoteEmptyLoad(const cliScene* scene, int index, const char* key, int entry,
+                             const char* what, fmVec3 min, fmVec3 max, const fmTetMesh* mesh)
+{
+	fmVec3 lo, hi;
+	cliMeshBounds(mesh, &lo, &hi);
+	fprintf(stderr,
+	        "femto: note: %s: bodies[%d].%s[%d]: box [%g %g %g]..[%g %g %g] catches no %s; the "
+	        "body spans [%g %g %g]..[%g %g %g] (scene coordinates, after the transform)\n",
+	        scene->name, index, key, entry, min.x, min.y, min.z, max.x, max.y, max.z, what, lo.x,
+	        lo.y, lo.z, hi.x, hi.y, hi.z);
+}
+
+// A body's "loads" (nodal forces) and "pressure" entries.
+static void cliApplyLoads(const cliScene* scene, int index, const fmTetMesh* mesh, fmBodyId body)
+{
+	const cliBodySpec* spec = &scene->bodies[index];
+	for (int p = 0; p < spec->loadCount; ++p)
+	{
+		const cliLoadBox* load = &spec->loads[p];
+		if (fmBody_AddNodalForce(body, load->min, load->max, load->force) == 0)
+			cliNoteEmptyLoad(scene, index, "loads", p, "vertex", load->min, load->max, mesh);
+	}
+	for (int p = 0; p < spec->pressureCount; ++p)
+	{
+		const cliPressureBox* load = &spec->pressures[p];
+		if (fmBody_AddPressure(body, load->min, load->max, load->pressure, load->follower) == 0)
+			cliNoteEmptyLoad(scene, index, "pressure", p,
+			                 "surface triangle (all three vertices must be in the box)", load->min,
+			                 load->max, mesh);
+	}
+}
+
 static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 {
 	const cliBodySpec* spec = &scene->bodies[index];
@@ -153,7 +198,7 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 	for (int p = 0; p < spec->pinCount; ++p)
 	{
 		const cliPinBox* box = &spec->pins[p];
-		if (fmBody_PinBox(sim->bodies[index], box->min, box->max) == 0)
+		if (cliApplyPin(sim->bodies[index], box) == 0)
 		{
 			// Most likely the box was written for the untransformed mesh: show where it is.
 			fmVec3 lo, hi;
@@ -166,6 +211,7 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 			return false;
 		}
 	}
+	cliApplyLoads(scene, index, mesh, sim->bodies[index]);
 	fmVec3 v = spec->initialVelocity;
 	if (v.x != 0.0 || v.y != 0.0 || v.z != 0.0)
 		fmBody_ApplyImpulse(sim->bodies[index], v);

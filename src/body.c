@@ -7,6 +7,7 @@
 #include "forces.h"
 #include "fp_env.h"
 #include "island.h"
+#include "loads.h"
 #include "mesh_internal.h"
 #include "multigrid.h"
 #include "render_mesh.h"
@@ -16,6 +17,7 @@
 #include "world.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 fmBodyDef fmDefaultBodyDef(void)
@@ -113,6 +115,42 @@ static fmResult fmCheckMeshData(const fmTetMesh* mesh, fmDiagnostic* diag)
 	return fm_ok;
 }
 
+// Per-region materials: a count in range, the arrays, distinct ids, valid materials, and a
+// mesh with tet attributes to read the regions from.
+static fmResult fmValidateRegions(const fmBodyDef* def, fmDiagnostic* diag)
+{
+	int count = def->regionCount;
+	if (count == 0)
+		return fm_ok;
+	if (count < 0 || count > FM_MAX_REGIONS || def->regionMaterials == NULL ||
+	    def->regionIds == NULL)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "regionCount must be in [0, %d] with non-NULL regionMaterials and "
+		                   "regionIds, got %d",
+		                   FM_MAX_REGIONS, count);
+	if (def->mesh->tetAttributeCount < 1 || def->mesh->tetAttributes == NULL)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "per-region materials need a mesh with region numbers (tet "
+		                   "attributes: TetGen's region attribute, Gmsh's physical groups); this "
+		                   "mesh has none");
+	for (int k = 0; k < count; ++k)
+	{
+		for (int other = 0; other < k; ++other)
+			if (def->regionIds[other] == def->regionIds[k])
+				return fmDiagError(diag, fm_errParameter, "", 0, 0,
+				                   "region %d is given two materials (regionIds[%d] and [%d])",
+				                   def->regionIds[k], other, k);
+		fmResult r = fmMaterial_Validate(&def->regionMaterials[k], diag);
+		if (r != fm_ok)
+		{
+			char message[sizeof diag->message];
+			snprintf(message, sizeof message, "%s", diag != NULL ? diag->message : "");
+			return fmDiagError(diag, r, "", 0, 0, "region %d: %s", def->regionIds[k], message);
+		}
+	}
+	return fm_ok;
+}
+
 static fmResult fmBodyDefValidateIn(const fmBodyDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
@@ -164,7 +202,7 @@ static fmResult fmBodyDefValidateIn(const fmBodyDef* def, fmDiagnostic* diag)
 		                   "friction must be finite and >= 0, or -1 for the world's contact "
 		                   "friction, got %g",
 		                   def->friction);
-	return fm_ok;
+	return fmValidateRegions(def, diag);
 }
 
 // Free every array of a body; safe on a partially built body.
@@ -208,6 +246,9 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
+	fmLoads_Free(b->loads);
+	FM_FREE_ARRAY(b->materials, fmMaterial, b->materialCount);
+	FM_FREE_ARRAY(b->tetMaterial, uint16_t, m);
 	fmSolverCache_Free(b->implicitCache);
 	fmTetBlocks_Destroy(b->tetBlocks);
 	uint32_t generation = b->generation;
@@ -368,6 +409,31 @@ static bool fmBodyUserSurface(fmBody* b)
 
 // The body takes only positions and tets from the (validated) def mesh: no copy of the mesh,
 // its attributes or markers is made, and the caller's mesh is not modified.
+// Per-region materials: each tet's material from its region (the mesh's first tet attribute,
+// read through the body's tet order), the default material for regions not listed.
+static bool fmBodyAssignRegions(fmBody* b, const fmBodyDef* def)
+{
+	if (def->regionCount <= 0)
+		return true;
+	b->materialCount = def->regionCount + 1;
+	b->materials = FM_ALLOC_ARRAY(fmMaterial, b->materialCount);
+	b->tetMaterial = FM_ALLOC_ZERO(uint16_t, b->tetCount);
+	if (b->materials == NULL || b->tetMaterial == NULL)
+		return false;
+	b->materials[0] = def->material;
+	memcpy(b->materials + 1, def->regionMaterials, sizeof(fmMaterial) * (size_t)def->regionCount);
+	const fmTetMesh* mesh = def->mesh;
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		double region =
+		    mesh->tetAttributes[(size_t)b->userTet[t] * (size_t)mesh->tetAttributeCount];
+		for (int k = 0; k < def->regionCount; ++k)
+			if (region == (double)def->regionIds[k])
+				b->tetMaterial[t] = (uint16_t)(k + 1);
+	}
+	return true;
+}
+
 static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 {
 	const fmTetMesh* source = def->mesh;
@@ -418,6 +484,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 	if (r == fm_ok)
 		for (int i = 0; i < b->vertexCount; ++i)
 			b->userMass[b->userVertex[i]] = b->mass[i];
+	if (r == fm_ok && !fmBodyAssignRegions(b, def))
+		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for region materials");
 	if (r == fm_ok && b->forceModel == fm_massSpring && fmBuildSprings(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
 	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
@@ -467,6 +535,9 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
 	if (def && def->forceModel == fm_fvm)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
+	if (def && def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS) // per-region materials
+		body += fmArrayBytes(m, sizeof(uint16_t)) +
+		        fmArrayBytes((uint64_t)def->regionCount + 1, sizeof(fmMaterial));
 
 	// The implicit cache: slots (16 ints a tet, 4 a spring), the Hessian's blocks (9 doubles, a
 	// second matrix for damping), the block pattern, 3x3 preconditioner blocks, 11 vectors, the
@@ -841,6 +912,35 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 	return count;
 }
 
+// The springs of a body built again as if every tet had @p material (the same edges); on
+// failure the old ones are kept.
+static bool fmBodyRebuildSprings(fmBody* b, const fmMaterial* material)
+{
+	fmBody old = *b;
+	uint16_t* tetMaterial = b->tetMaterial;
+	fmMaterial saved = b->material;
+	b->tetMaterial = NULL;
+	b->material = *material;
+	bool ok = fmBuildSprings(b) == 0;
+	b->tetMaterial = tetMaterial;
+	b->material = saved;
+	if (!ok)
+	{
+		FM_FREE_ARRAY(b->edges, int, 2 * (size_t)b->edgeCount);
+		FM_FREE_ARRAY(b->restLength, double, b->edgeCount);
+		FM_FREE_ARRAY(b->springK, double, b->edgeCount);
+		b->edges = old.edges;
+		b->restLength = old.restLength;
+		b->springK = old.springK;
+		b->edgeCount = old.edgeCount;
+		return false;
+	}
+	FM_FREE_ARRAY(old.edges, int, 2 * (size_t)old.edgeCount);
+	FM_FREE_ARRAY(old.restLength, double, old.edgeCount);
+	FM_FREE_ARRAY(old.springK, double, old.edgeCount);
+	return true;
+}
+
 static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
@@ -850,10 +950,26 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 	fmResult r = fmMaterial_Validate(material, diag);
 	if (r != fm_ok)
 		return r;
-	// Spring stiffness is proportional to Young's modulus (force_spring.c).
-	double ratio = fmYoungsModulus(material) / fmYoungsModulus(&b->material);
-	for (int e = 0; e < b->edgeCount; ++e)
-		b->springK[e] *= ratio;
+	if (b->tetMaterial != NULL)
+	{
+		// Per-region materials give way to the one material for every tet; springs, whose
+		// stiffness summed each tet's own modulus, are rebuilt.
+		if (b->forceModel == fm_massSpring && !fmBodyRebuildSprings(b, material))
+			return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory rebuilding the springs");
+		FM_FREE_ARRAY(b->materials, fmMaterial, b->materialCount);
+		FM_FREE_ARRAY(b->tetMaterial, uint16_t, b->tetCount);
+		b->materials = NULL;
+		b->tetMaterial = NULL;
+		b->materialCount = 0;
+	}
+	else
+	{
+		// Spring stiffness is proportional to Young's modulus (force_spring.c).
+		double ratio = fmYoungsModulus(material) / fmYoungsModulus(&b->material);
+		for (int e = 0; e < b->edgeCount; ++e)
+			b->springK[e] *= ratio;
+	}
 	b->material = *material;
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;

@@ -78,6 +78,11 @@ typedef struct fmBody
 	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)
 
 	fmMaterial material;
+	// Per-region materials (fmBodyDef.regionMaterials): tet t has materials[tetMaterial[t]];
+	// both NULL for a body of one material (then every tet has `material`).
+	fmMaterial* materials; // materialCount: [0] is `material`, then the regions'
+	int materialCount;
+	uint16_t* tetMaterial; // tetCount, in the body's tet order
 	fmForceModel forceModel;
 	double damping;
 	double smoothing;
@@ -103,6 +108,9 @@ typedef struct fmBody
 	int* targetVertex;      // targetCount: the body's index of each pulled vertex
 	double* targetPosition; // 3 per target (m)
 	double targetStiffness; // N/m, each spring
+
+	// Loads and prescribed displacements (loads.h), NULL until the first is added.
+	struct fmLoadSet* loads;
 
 	// Contact (contact.c), made when the contact stage first needs them.
 	int surfaceVertexCount;
@@ -152,6 +160,21 @@ static inline void fmZeroPinnedAxes(const fmBody* body, int vertex, double* v)
 	for (int k = 0; k < 3; ++k)
 		if (fmIsDofPinned(body, 3 * vertex + k))
 			v[k] = 0.0;
+}
+
+// The material of tet @p t.
+static inline const fmMaterial* fmTetMaterial(const fmBody* body, int t)
+{
+	return body->tetMaterial != NULL ? &body->materials[body->tetMaterial[t]] : &body->material;
+}
+
+// Whether every tet's material is the linear model (a quadratic elastic energy).
+static inline bool fmBodyIsLinear(const fmBody* body)
+{
+	for (int k = 0; k < body->materialCount; ++k)
+		if (body->materials[k].model != fm_linear)
+			return false;
+	return body->material.model == fm_linear;
 }
 
 // Resolve an id; NULL if stale.

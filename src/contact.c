@@ -1229,7 +1229,7 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 		int t = tets[k];
 		fmMat3 F = fmTetDeformation(b, b->x, t), P;
 		double V0 = b->restVolume[t];
-		*energy += V0 * fmMaterial_Evaluate(&b->material, &F, &P, NULL);
+		*energy += V0 * fmMaterial_Evaluate(fmTetMaterial(b, t), &F, &P, NULL);
 		fmMat3 H = fmMatMulT(&P, &b->DmInv[t]);
 		fmVec3 sum = {0.0, 0.0, 0.0};
 		for (int a = 1; a < 4; ++a)

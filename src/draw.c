@@ -183,8 +183,9 @@ static void fmDrawStrainColors(const fmBody* b, fmDrawCache* c)
 		int count = b->vertexTetStart[i + 1] - b->vertexTetStart[i];
 		for (int k = b->vertexTetStart[i]; k < b->vertexTetStart[i + 1]; ++k)
 		{
-			fmMat3 F = fmTetDeformation(b, b->x, b->vertexTets[k] / 4);
-			double psi = fmMaterial_Evaluate(&b->material, &F, NULL, NULL);
+			int t = b->vertexTets[k] / 4;
+			fmMat3 F = fmTetDeformation(b, b->x, t);
+			double psi = fmMaterial_Evaluate(fmTetMaterial(b, t), &F, NULL, NULL);
 			sum += E > 0.0 && psi > 0.0 ? sqrt(2.0 * psi / E) : 0.0;
 		}
 		double strain = count > 0 ? sum / count : 0.0;

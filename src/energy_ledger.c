@@ -3,6 +3,7 @@
 
 #include "body.h"
 #include "forces.h"
+#include "loads.h"
 
 #include <math.h>
 #include <string.h>
@@ -21,6 +22,7 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		if (f == NULL)
 			return NAN;
 		elastic = fmAddElasticForces(b, b->x, f);
+		fmLoads_AddForces(b, b->x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->vertexCount; ++i)
 		{
 			fmVec3 force = fmMulAdd(fmLoad(f, i), b->mass[i], gravity);
@@ -106,6 +108,15 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* 
 	}
 	ledger->gravityStart = fmGravityPotential(b, gravity);
 	ledger->frameContactWork = 0.0;
+	ledger->frameLoadWork = 0.0;
+	ledger->frameLoadWorkIn = 0.0;
+}
+
+void fmLedger_AddLoadWork(fmBody* b, double work)
+{
+	b->ledger.frameLoadWork += work;
+	if (work > 0.0)
+		b->ledger.frameLoadWorkIn += work;
 }
 
 void fmLedger_AddContactWork(fmBody* b, double work)
@@ -120,8 +131,9 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->frameGravityWork = fmGravityPotential(b, gravity) - ledger->gravityStart;
 	ledger->framePlain = plain;
-	double frameWork = ledger->frameGravityWork + ledger->frameContactWork;
-	double frameWorkIn = fmax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork;
+	double frameWork = ledger->frameGravityWork + ledger->frameContactWork + ledger->frameLoadWork;
+	double frameWorkIn =
+	    fmax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork + ledger->frameLoadWorkIn;
 	double allowed =
 	    ledger->initialEnergy + ledger->work + frameWork +
 	    FM_LEDGER_RELATIVE * (fabs(ledger->initialEnergy) + ledger->workIn + frameWorkIn) +
@@ -132,6 +144,7 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	// does not multiply its energy by 1000 on top of that.
 	double g = fmLength(gravity);
 	double backstop = 1000.0 * (fmax(ledger->plainGood, 0.0) + ledger->frameContactWork +
+	                            ledger->frameLoadWorkIn +
 	                            b->totalMass * g * (b->restSize + g * frameTime * frameTime)) +
 	                  ledger->floor;
 	fmLedgerVerdict verdict = {true, false, energy, allowed};
@@ -155,7 +168,11 @@ void fmLedger_Commit(fmBody* b, double shadowStep)
 	ledger->measureStep = shadowStep;
 	fmLedgerBook(ledger, ledger->frameGravityWork);
 	fmLedgerBook(ledger, ledger->frameContactWork);
+	ledger->work += ledger->frameLoadWork;
+	ledger->workIn += ledger->frameLoadWorkIn;
 	ledger->frameGravityWork = 0.0;
 	ledger->frameContactWork = 0.0;
+	ledger->frameLoadWork = 0.0;
+	ledger->frameLoadWorkIn = 0.0;
 	ledger->plainGood = ledger->framePlain;
 }

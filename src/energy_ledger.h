@@ -25,6 +25,8 @@ typedef struct fmEnergyLedger
 	double gravityStart;     // J, sum of m g . x at the start of the frame
 	double frameContactWork; // J, positive work of contacts during the frame being stepped
 	double frameGravityWork; // J, gravity's work over the frame (set by fmLedger_Check)
+	double frameLoadWork;    // J, net work of loads and prescribed displacements in the frame
+	double frameLoadWorkIn;  // J, its positive substep contributions
 	double measureStep;      // s, the shadow step energyGood was measured with
 	double plainGood;        // J, plain kinetic + elastic energy of the good state
 	double framePlain;       // J, the same at the end of the frame being checked
@@ -49,6 +51,10 @@ void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep,
 // Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor,
 // or by the kinematic targets' springs.
 void fmLedger_AddContactWork(struct fmBody* body, double work);
+
+// Work done by loads (nodal forces, pressure) or prescribed displacements during a substep
+// (J, either sign: a load does negative work when the body moves against it).
+void fmLedger_AddLoadWork(struct fmBody* body, double work);
 
 // The verdict on a frame: ok, or which check failed with the energy it measured and the bound.
 typedef struct fmLedgerVerdict

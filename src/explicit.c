@@ -4,6 +4,7 @@
 
 #include "floor.h"
 #include "forces.h"
+#include "loads.h"
 #include "targets.h"
 #include "tet_blocks.h"
 #include "timer.h"
@@ -99,14 +100,20 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	const fmTaskSystem* tasks = &world->tasks;
 	fmExplicitTask context = {b, dt, world->def.gravity};
 
-	// 1. Gravity, elastic, damping and kinematic targets' forces.
+	// 0. Prescribed displacements move their vertices along their paths (loads.h).
 	double start = fmSeconds();
+	fmLoads_StepPrescribed(b, dt, dt);
+
+	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmGravityTask, &context);
 	fmAddExplicitElasticForces(world, b, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);
 	fmTargets_AddExplicitForces(b, dt, b->f);
+	const double* loads = fmLoads_Freeze(b, b->x, 1.0);
+	for (int k = 0; loads != NULL && k < 3 * n; ++k)
+		b->f[k] += loads[k];
 	double forced = fmSeconds();
 
 	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
@@ -115,6 +122,8 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
 	fmFilterVelocities(b, dt, arena, tasks);
 	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
+	// The loads' work over the coming position update x += dt v: exact for constant loads.
+	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));
 
 	// 4. Positions, then the floor.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmPositionsTask, &context);

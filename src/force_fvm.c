@@ -57,7 +57,7 @@ double fmAddFvmForces(const fmBody* body, const double* x, double* f)
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
 		fmMat3 P;
-		energy += body->restVolume[t] * fmMaterial_Evaluate(&body->material, &F, &P, NULL);
+		energy += body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
 		const int* n = body->tets + 4 * t;
 		for (int a = 0; a < 4; ++a)
 		{

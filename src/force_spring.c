@@ -39,7 +39,6 @@ double fmYoungsModulus(const fmMaterial* m)
 
 static void fmEmitSprings(fmBody* body, const fmEdgeKey* keys, size_t keyCount)
 {
-	const double E = fmYoungsModulus(&body->material);
 	int e = -1;
 	for (size_t k = 0; k < keyCount; ++k)
 	{
@@ -52,10 +51,12 @@ static void fmEmitSprings(fmBody* body, const fmEdgeKey* keys, size_t keyCount)
 			    fmLength(fmSub(fmLoad(body->x0, keys[k].b), fmLoad(body->x0, keys[k].a)));
 			body->springK[e] = 0.0;
 		}
-		body->springK[e] += body->restVolume[keys[k].tet];
+		// Each tet's share with its own material's Young's modulus (per-region materials).
+		body->springK[e] +=
+		    body->restVolume[keys[k].tet] * fmYoungsModulus(fmTetMaterial(body, keys[k].tet));
 	}
 	for (int i = 0; i < body->edgeCount; ++i)
-		body->springK[i] *= E / (body->restLength[i] * body->restLength[i]);
+		body->springK[i] *= 1.0 / (body->restLength[i] * body->restLength[i]);
 }
 
 int fmBuildSprings(fmBody* body)

@@ -36,7 +36,7 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 		fmMat3 F = fmTetDeformation(body, x, t);
 		fmMat3 P;
 		double V0 = body->restVolume[t];
-		energy += V0 * fmMaterial_Evaluate(&body->material, &F, &P, NULL);
+		energy += V0 * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
 
 		// H = -V0 P Dm^-T: column a-1 is the force on node a; node 0 balances them.
 		fmMat3 H = fmMatMulT(&P, &body->DmInv[t]);
@@ -61,7 +61,7 @@ void fmTetForces(const fmBody* body, const double* x, int first, int end, double
 		fmMat3 F = fmTetDeformation(body, x, t);
 		fmMat3 P;
 		double V0 = body->restVolume[t];
-		energies[t] = V0 * fmMaterial_Evaluate(&body->material, &F, &P, NULL);
+		energies[t] = V0 * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
 		// The same arithmetic as fmAddFemForces; node 0 keeps minus the sum (a - b == a + -b).
 		fmMat3 H = fmMatMulT(&P, &body->DmInv[t]);
 		fmVec3 sum = {0, 0, 0};
@@ -115,19 +115,20 @@ double fmElasticEnergy(const fmBody* body, const double* x)
 	for (int t = 0; t < body->tetCount; ++t)
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
-		energy += body->restVolume[t] * fmMaterial_Evaluate(&body->material, &F, NULL, NULL);
+		energy += body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, NULL, NULL);
 	}
 	return energy;
 }
 
 // dP/dF of the body's material at F, projected to PSD when asked (in the SVD frame where the
 // material allows: ~7x cheaper than the 9x9 eigen-solver).
-static void fmTetStressDerivative(const fmBody* body, const fmMat3* F, double* dPdF, int project)
+static void fmTetStressDerivative(const fmBody* body, int t, const fmMat3* F, double* dPdF,
+                                  int project)
 {
 	if (project)
-		fmMaterial_EvaluateProjected(&body->material, F, NULL, dPdF);
+		fmMaterial_EvaluateProjected(fmTetMaterial(body, t), F, NULL, dPdF);
 	else
-		fmMaterial_Evaluate(&body->material, F, NULL, dPdF);
+		fmMaterial_Evaluate(fmTetMaterial(body, t), F, NULL, dPdF);
 }
 
 // K = V0 B^T (dP/dF) B with B the map from node displacements to dF (dF_ij = sum_a u_ai g_a[j]),
@@ -170,7 +171,7 @@ void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int pro
 {
 	fmMat3 F = fmTetDeformation(body, x, t);
 	double dPdF[81];
-	fmTetStressDerivative(body, &F, dPdF, project);
+	fmTetStressDerivative(body, t, &F, dPdF, project);
 	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K
 	// because K = V0 B^T (dP/dF) B.
 	fmContractTetHessian(dPdF, &body->DmInv[t], body->restVolume[t], K);
@@ -207,7 +208,7 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
 		double dPdF[81];
-		fmTetStressDerivative(body, &F, dPdF, project);
+		fmTetStressDerivative(body, t, &F, dPdF, project);
 		fmVec3 g[4];
 		fmShapeGradients(&body->DmInv[t], g);
 		const int* n = body->tets + 4 * t;
@@ -265,7 +266,7 @@ static void fmTetEnergiesTask(int start, int end, int worker, void* context)
 	{
 		fmMat3 F = fmTetDeformation(c->body, c->x, t);
 		c->tetEnergies[t] =
-		    c->body->restVolume[t] * fmMaterial_Evaluate(&c->body->material, &F, NULL, NULL);
+		    c->body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(c->body, t), &F, NULL, NULL);
 	}
 }
 

@@ -10,6 +10,7 @@
 #include "core.h"
 #include "floor.h"
 #include "forces.h"
+#include "loads.h"
 #include "newton.h"
 #include "targets.h"
 #include "timer.h"
@@ -51,7 +52,7 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, do
 			double f = b->targetStiffness * (b->targetPosition[3 * t + e] - b->x[3 * i + e]);
 			pull += fmIsDofPinned(b, 3 * i + e) ? 0.0 : f * f;
 		}
-	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull);
+	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull) + fmLoads_FrozenNorm(b);
 }
 
 // Lagged damping matrix D / h at the start of the step: beta K(x_n) (Rayleigh stiffness part)
@@ -139,7 +140,11 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    free flight x + h v + h^2 g held above the floor: a body in free fall is then solved
 	//    before the first iteration, however stiff or light it is (E / density of 1e17 and
 	//    more leaves the rigid motion to round-off in the elastic forces otherwise).
+	//    Prescribed displacements move their vertices first; the loads are frozen at the start
+	//    (follower pressure lagged by one step, loads.h).
 	double start = fmSeconds();
+	fmLoads_StepPrescribed(b, h, 0.0);
+	fmLoads_Freeze(b, b->x, 1.0);
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
 		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
@@ -154,7 +159,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.scale = fmStepForceScale(b, c, pb.gravity, h);
 	pb.maxNewton = world->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
-	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
@@ -178,7 +183,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	fmChooseFirstGuess(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
-	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0
+	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&
+	                 !fmLoads_Active(b)
 	             ? fmVbd_Solve(b, c, &pb)
 	             : fmNewton_Solve(b, c, &pb);
 	double solved = fmSeconds();
@@ -189,6 +195,12 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
+	if (fmLoads_Active(b))
+	{
+		for (int k = 0; k < n3; ++k)
+			c->trial[k] = b->x[k] - c->xStart[k]; // free after the solve
+		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
+	}
 	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb.contact, b, c->xStart));
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;

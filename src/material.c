@@ -40,9 +40,9 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 	if ((int)m->model < 0 || m->model >= fm_materialModelCount)
 		return fmDiagError(
 		    diag, fm_errParameter, NULL, 0, 0,
-		    "material model %d is unknown; use one of fm_linear .. fm_invariantEnergy "
+		    "material model %d is unknown; use one of fm_linear .. fm_neoHookeanIsochoric "
 		    "(\"linear\", \"corotated\", \"stvk\", \"neohookean\", \"mooney-rivlin\", "
-		    "\"stretch-energy\", \"invariant-energy\")",
+		    "\"stretch-energy\", \"invariant-energy\", \"neohookean-isochoric\")",
 		    (int)m->model);
 	if (!isfinite(m->lambda) || !isfinite(m->mu) || !isfinite(m->c01))
 		return fmDiagError(
@@ -79,8 +79,14 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 }
 
 static const char* const s_modelNames[fm_materialModelCount] = {
-    "linear",         "corotated",        "stvk", "neohookean", "mooney-rivlin",
-    "stretch-energy", "invariant-energy",
+    "linear",
+    "corotated",
+    "stvk",
+    "neohookean",
+    "mooney-rivlin",
+    "stretch-energy",
+    "invariant-energy",
+    "neohookean-isochoric",
 };
 
 const char* fmMaterialModelName(fmMaterialModel model)
@@ -221,6 +227,7 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 	}
 	case fm_mooneyRivlin:
 	case fm_invariantEnergy:
+	case fm_neoHookeanIsochoric:
 		return fmInvariantModel_Evaluate(material, F, P, dPdF);
 	default:
 		FM_ASSERT(0 && "unknown material model (validate materials before use)");

@@ -86,6 +86,52 @@ static void fmMooneyRivlinEnergy(const double v[3], const void* params, double* 
 	}
 }
 
+// J^-2/3 for J >= FM_LOG_J_CLAMP, continued below by its second-order Taylor polynomial at the
+// clamp (as ln J in fmClampedLogJ): C2, finite for J <= 0, and decreasing there (the parabola's
+// vertex lies at 1.6 times the clamp), so the isochoric term C10 g(J) I1 keeps growing as a tet
+// collapses and inverts. out = {g, g', g''}.
+static void fmClampedIsochoric(double J, double out[3])
+{
+	const double c = FM_LOG_J_CLAMP;
+	double at = J >= c ? J : c;
+	double g = fmMathPow(at, -2.0 / 3.0);
+	double g1 = -2.0 / 3.0 * g / at, g2 = 10.0 / 9.0 * g / (at * at);
+	if (J >= c)
+	{
+		out[0] = g;
+		out[1] = g1;
+		out[2] = g2;
+		return;
+	}
+	double d = J - c;
+	out[0] = g + g1 * d + 0.5 * g2 * d * d;
+	out[1] = g1 + g2 * d;
+	out[2] = g2;
+}
+
+// CalculiX's and Abaqus's Neo-Hookean, params = {lambda, mu}: the isochoric split
+// psi = C10 (J^-2/3 I1 - 3) + (J - 1)^2 / D1 with C10 = mu/2 and 1/D1 = kappa/2,
+// kappa = lambda + 2/3 mu the bulk modulus: linear elasticity with (lambda, mu) at small strain.
+static void fmIsochoricNeoHookeanEnergy(const double v[3], const void* params, double* psi,
+                                        double dpsi[3], double* d2psi)
+{
+	const double* p = (const double*)params;
+	double c10 = 0.5 * p[1], halfKappa = 0.5 * (p[0] + 2.0 / 3.0 * p[1]);
+	double g[3];
+	fmClampedIsochoric(v[2], g);
+	double dJ = v[2] - 1.0;
+	*psi = c10 * (g[0] * v[0] - 3.0) + halfKappa * dJ * dJ;
+	dpsi[0] = c10 * g[0];
+	dpsi[1] = 0.0;
+	dpsi[2] = c10 * g[1] * v[0] + 2.0 * halfKappa * dJ;
+	if (d2psi)
+	{
+		memset(d2psi, 0, 9 * sizeof(double));
+		d2psi[2] = d2psi[6] = c10 * g[1];
+		d2psi[8] = c10 * g[2] * v[0] + 2.0 * halfKappa;
+	}
+}
+
 double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P,
                                  double* dPdF)
 {
@@ -96,7 +142,8 @@ double fmInvariantModel_Evaluate(const fmMaterial* material, const fmMat3* F, fm
 	{
 		if (material->model == fm_mooneyRivlin)
 			builtin[2] = material->c01;
-		energy = fmMooneyRivlinEnergy;
+		energy = material->model == fm_neoHookeanIsochoric ? fmIsochoricNeoHookeanEnergy
+		                                                   : fmMooneyRivlinEnergy;
 		params = builtin;
 	}
 

@@ -6,6 +6,7 @@
 
 #include "core.h"
 #include "forces.h"
+#include "loads.h"
 #include "targets.h"
 
 #include <float.h>
@@ -82,10 +83,11 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 				gradient[k] += pushed[k];
 		}
 	}
-	double pulled =
-	    fmTargets_Energy(b, x, gradient) + fmContactPenalty_Energy(pb->contact, b, x, gradient);
+	double loaded = fmLoads_Energy(b, x, c->xStart, gradient); // -f . (x - xStart), f frozen
+	double pulled = fmTargets_Energy(b, x, gradient) +
+	                fmContactPenalty_Energy(pb->contact, b, x, gradient) + loaded;
 	if (magnitude)
-		*magnitude = fabs(psi) + inertial + size + damping + pulled;
+		*magnitude = fabs(psi) + inertial + size + damping + pulled + 2.0 * fabs(loaded);
 	return inertial + damping + psi + external + pulled;
 }
 

@@ -127,6 +127,10 @@ fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* c)
 // pass (FVM forces come from another loop; a user energy's parameters may change unseen).
 static bool fmForcesMemoizable(const fmBody* b)
 {
+	for (int k = 0; k < b->materialCount; ++k)
+		if (b->materials[k].model == fm_stretchEnergy ||
+		    b->materials[k].model == fm_invariantEnergy)
+			return false;
 	return b->forceModel == fm_fem && b->material.model != fm_stretchEnergy &&
 	       b->material.model != fm_invariantEnergy;
 }

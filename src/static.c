@@ -5,11 +5,16 @@
 #include "core.h"
 #include "forces.h"
 #include "fp_env.h"
+#include "loads.h"
 #include "newton.h"
 #include "world.h"
 
 #include <math.h>
 #include <string.h>
+
+// Fixed-point rounds of a follower load at full load (loads.h): the solve is repeated with the
+// load re-frozen at its result until that result already balances it.
+#define FM_MAX_FOLLOWER_ROUNDS 50
 
 // Smallest load fraction increment before giving up.
 #define FM_MIN_LOAD_STEP (1.0 / 256.0)
@@ -29,7 +34,38 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 		weight += m * m * g[k % 3] * g[k % 3];
 		elastic += c->forces[k] * c->forces[k];
 	}
-	return weight > 0.0 ? sqrt(weight) : sqrt(elastic);
+	fmLoads_Freeze(b, b->x, 1.0);
+	double loads = fmLoads_FrozenNorm(b);
+	if (weight > 0.0 || loads > 0.0)
+		return sqrt(weight) + loads;
+	return sqrt(elastic);
+}
+
+// Place the prescribed vertices and freeze the loads at fraction @p load, then solve.
+static fmNewtonResult fmStaticSolveAt(fmBody* b, fmImplicitCache* c, fmNewtonProblem* pb,
+                                      fmVec3 gravity, double load)
+{
+	pb->gravity = fmScale(load, gravity);
+	fmLoads_PlaceStatic(b, load);
+	fmLoads_Freeze(b, b->x, load);
+	return fmNewton_Solve(b, c, pb);
+}
+
+// A follower load at full load: re-freeze at the result and solve again until the solve starts
+// converged (Newton takes no step). Returns the last solve's result.
+static fmNewtonResult fmStaticFollowerRounds(fmBody* b, fmImplicitCache* c, fmNewtonProblem* pb,
+                                             fmVec3 gravity, fmNewtonResult r, int* iterations)
+{
+	if (b->loads == NULL || b->loads->followerCount == 0)
+		return r;
+	for (int round = 0; round < FM_MAX_FOLLOWER_ROUNDS && (r.converged || r.stagnated); ++round)
+	{
+		r = fmStaticSolveAt(b, c, pb, gravity, 1.0);
+		*iterations += r.iterations;
+		if (r.converged && r.iterations == 0)
+			break;
+	}
+	return r;
 }
 
 static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIterations,
@@ -51,10 +87,11 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	for (int i = 0; i < b->vertexCount; ++i)
 		pins += b->pinned[i] != 0; // rollers count: a well-posed set of them holds the body
 	fmVec3 gravity = world->def.gravity;
-	if (pins == 0 && fmLength(gravity) > 0.0)
+	if (pins == 0 && (fmLength(gravity) > 0.0 || fmLoads_Active(b)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "the body has no pinned vertex, so under gravity it has no equilibrium "
-		                   "(it would fall forever): pin something (fmBody_PinBox) first");
+		                   "the body has no pinned vertex, so under gravity or loads it has no "
+		                   "equilibrium (it would fall or drift forever): pin something "
+		                   "(fmBody_PinBox, fmBody_PinBoxAxes) first");
 	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(b) : NULL;
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
@@ -68,15 +105,31 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		                   "out of memory for the static solver");
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
+	fmLoads_BeginStatic(b);
 	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.tolerance = tolerance;
 	pb.scale = fmStaticForceScale(b, c, gravity);
+	if (pb.scale <= 0.0 && b->loads != NULL && b->loads->prescribedCount > 0)
+	{
+		// Driven by prescribed displacements alone: the scale is the elastic force of the full
+		// displacement applied to the supports only.
+		double* f = FM_ALLOC_ZERO(double, (size_t)n3);
+		fmLoads_PlaceStatic(b, 1.0);
+		double sum = 0.0;
+		if (f != NULL)
+			fmAddElasticForces(b, b->x, f);
+		for (int k = 0; f != NULL && k < n3; ++k)
+			sum += f[k] * f[k];
+		FM_FREE_ARRAY(f, double, (size_t)n3);
+		pb.scale = sqrt(sum);
+		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
+	}
 	pb.maxNewton = maxIterations;
 	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
-	pb.quadratic = b->material.model == fm_linear && b->forceModel != fm_massSpring;
+	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = &world->arena;
@@ -102,8 +155,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	while (done < 1.0)
 	{
 		double load = fmin(1.0, done + step);
-		pb.gravity = fmScale(load, gravity);
-		r = fmNewton_Solve(b, c, &pb);
+		r = fmStaticSolveAt(b, c, &pb, gravity, load);
 		iterations += r.iterations;
 		if (r.projected)
 		{
@@ -133,8 +185,12 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		if (step < FM_MIN_LOAD_STEP || !r.finite)
 			break;
 	}
+	if (done >= 1.0)
+		r = fmStaticFollowerRounds(b, c, &pb, gravity, r, &iterations);
 	if (done < 1.0)
 		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
+	else
+		fmLoads_FinishStatic(b);
 	FM_FREE_ARRAY(equilibrium, double, (size_t)n3);
 	if (residual)
 		*residual = r.residual;

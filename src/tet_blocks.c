@@ -12,7 +12,7 @@
 bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
 {
 	fmMaterialModel m = body->material.model;
-	return level != fm_simdOff && body->forceModel == fm_fem &&
+	return level != fm_simdOff && body->forceModel == fm_fem && body->tetMaterial == NULL &&
 	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_corotated);
 }
 

@@ -80,7 +80,7 @@ static void fmVbdVertexSystem(const fmBody* b, const fmImplicitCache* c, const f
 		int t = b->vertexTets[e] / 4, a = b->vertexTets[e] % 4;
 		fmMat3 F = fmTetDeformation(b, b->x, t), P;
 		double dPdF[81];
-		fmMaterial_EvaluateProjected(&b->material, &F, &P, dPdF);
+		fmMaterial_EvaluateProjected(fmTetMaterial(b, t), &F, &P, dPdF);
 		const fmMat3* D = &b->DmInv[t];
 		double ga[3];
 		for (int j = 0; j < 3; ++j) // g_a: row a - 1 of Dm^-1, g_0 = minus their sum

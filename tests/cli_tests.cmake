@@ -538,3 +538,41 @@ femto_cli_test(run_progress_log ARGS "run|--frames|30|--progress|0.000001" CODE 
   REGEX "femto: frame [0-9]+/30 \\([0-9]+%\\)  t = [0-9.e-]+ s  wall [0-9]+ s, about [0-9]+ s left")
 femto_cli_test(run_progress_quiet ARGS "run|--frames|30|--progress|0.000001|--quiet" CODE 0
   REJECT "femto: frame")
+
+# --- loads and boundary conditions (issue 12) ----------------------------------------------------
+# The pressure patch test from the scene: rollers from "axes", a fixed-direction pressure; the
+# corner x = y = z = 1 ends at (1 - p/E, 1 + nu p/E, 1 + nu p/E) = (0.999, 1.00025, 1.00025).
+femto_cli_test(static_pressure_patch ARGS "static|${FEMTO_CLI_DATA}/loads_patch.json|--export-node|${FEMTO_CLI_WORK}/patch.node"
+  CODE 0 REGEX "converged"
+  CHECK_FILE "${FEMTO_CLI_WORK}/patch.node"
+  CHECK_FILE_REGEX "\n26 0\\.99(8999999|9000000)[0-9]* 1\\.000(2499999|2500000)[0-9]* 1\\.000(2499999|2500000)[0-9]*\n")
+# Follower pressure, a nodal force and a prescribed displacement over time on the isochoric
+# Neo-Hookean, explicit: every frame passes the energy ledger.
+femto_cli_test(run_loads_dynamic ARGS "run|${FEMTO_CLI_DATA}/loads_dynamic.json|--quiet" CODE 0
+  REJECT "error|failed|ran away")
+femto_cli_test(scene_pin_bad_axes ARGS "run|${FEMTO_CLI_DATA}/loads_bad_axes.json" CODE 1
+  REGEX "loads_bad_axes.json:5:57: bodies\\[0\\].pin\\[0\\].axes: expected the axes the pin holds.*got \"xw\"")
+femto_cli_test(scene_pin_displacement_off_axis ARGS "run|${FEMTO_CLI_DATA}/loads_bad_displacement.json" CODE 1
+  REGEX "loads_bad_displacement.json:5:70: bodies\\[0\\].pin\\[0\\].displacement: the displacement moves x, which the pin does not hold")
+femto_cli_test(scene_pin_bad_time ARGS "run|${FEMTO_CLI_DATA}/loads_bad_time.json" CODE 1
+  REGEX "loads_bad_time.json:5:57: bodies\\[0\\].pin\\[0\\].time: expected a number in \\[0, 1e\\+09\\], got -1")
+femto_cli_test(scene_load_empty_box ARGS "run|${FEMTO_CLI_DATA}/loads_empty_box.json" CODE 1
+  REGEX "loads_empty_box.json:6:18: bodies\\[0\\].loads\\[1\\]: the box is empty")
+femto_cli_test(scene_load_bad_force ARGS "run|${FEMTO_CLI_DATA}/loads_bad_force.json" CODE 1
+  REGEX "loads_bad_force.json:5:56: bodies\\[0\\].loads\\[0\\].force: expected an array of 3 finite numbers")
+femto_cli_test(scene_pressure_not_finite ARGS "run|${FEMTO_CLI_DATA}/loads_bad_pressure.json" CODE 1
+  REGEX "loads_bad_pressure.json:5:59: bodies\\[0\\].pressure\\[0\\].pressure: expected a finite number")
+femto_cli_test(scene_pressure_missing ARGS "run|${FEMTO_CLI_DATA}/loads_no_pressure.json" CODE 1
+  REGEX "loads_no_pressure.json:5:21: bodies\\[0\\].pressure\\[0\\]: a pressure entry needs \"pressure\"")
+femto_cli_test(scene_load_misses ARGS "run|${FEMTO_CLI_DATA}/loads_misses.json|--frames|2|--quiet" CODE 0
+  REGEX "note: .*bodies\\[0\\].loads\\[0\\]: box \\[5 5 5\\]..\\[6 6 6\\] catches no vertex; the body spans \\[0 0 0\\]..\\[1 1 1\\]"
+  REJECT "pressure\\[0\\]")
+# Per-region materials from a TetGen mesh's region attribute: two regions in series.
+femto_cli_test(static_two_regions ARGS "static|${FEMTO_CLI_DATA}/two_regions.json|--export-node|${FEMTO_CLI_WORK}/two_regions.node"
+  CODE 0 REGEX "converged"
+  CHECK_FILE "${FEMTO_CLI_WORK}/two_regions.node"
+  CHECK_FILE_REGEX "\n1 1\\.0(0999999|1000000)[0-9]* .*\n8 2\\.01333333333[0-9]* ")
+femto_cli_test(scene_region_bad_name ARGS "run|${FEMTO_CLI_DATA}/regions_bad.json" CODE 1
+  REGEX "regions_bad.json:5:20: bodies\\[0\\].regions.one: a region is named by its number in the mesh")
+femto_cli_test(scene_regions_without_attributes ARGS "run|${FEMTO_CLI_DATA}/regions_no_attributes.json" CODE 1
+  REGEX "bodies\\[0\\]: per-region materials need a mesh with region numbers")

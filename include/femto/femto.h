@@ -316,6 +316,48 @@ FM_API fmResult fmBody_CopyRenderPositions(fmBodyId bodyId, double* positions, d
 FM_API fmResult fmBody_CopyRenderPositionsFloat(fmBodyId bodyId, float* positions, float* normals,
                                                 int vertexCapacity);
 
+/// Nodal force: add @p force (N, on each vertex, not shared out) to every vertex within the
+/// box [min, max] (inclusive, at its current position). Returns how many vertices it caught (0:
+/// the box catches nothing), -1 when memory is short (fmWorld_GetLastError() says so). A NaN or
+/// non-finite force, a NaN or empty box (min > max on an axis) is a programmer error (asserted,
+/// -1). Loads act in the explicit step, the implicit step and fmBody_SolveStatic() (scaled by
+/// its load fraction, as gravity); their work is booked in the body's energy ledger. They stay
+/// until fmBody_ClearLoads() and are not saved in snapshots. docs/loads.md.
+FM_API int fmBody_AddNodalForce(fmBodyId bodyId, fmVec3 min, fmVec3 max, fmVec3 force);
+
+/// Pressure (Pa) on every surface triangle whose three vertices lie in the box [min, max]:
+/// positive pushes against the outward normal (into the body), as in CalculiX and Abaqus; each
+/// triangle's force p A n is shared in thirds among its vertices. @p follower true: the normal
+/// and the area follow the deformation (evaluated every explicit substep, at the start of each
+/// implicit step, and lagged to a fixed point in fmBody_SolveStatic; its non-symmetric stiffness
+/// never enters the Newton matrix); false: fixed direction and area, those of the rest shape.
+/// The scene's default is the follower, as CalculiX's and Abaqus's pressure under large
+/// deformation. Returns the number of triangles caught, -1 as fmBody_AddNodalForce().
+FM_API int fmBody_AddPressure(fmBodyId bodyId, fmVec3 min, fmVec3 max, double pressure,
+                              bool follower);
+
+/// Remove every nodal force and pressure of the body (pins and prescribed displacements stay).
+FM_API void fmBody_ClearLoads(fmBodyId bodyId);
+
+/// The body's loads at its current positions (N), 3 doubles a vertex in the user's numbering:
+/// what the next step applies (follower pressure at the current shape).
+FM_API void fmBody_ComputeLoadForces(fmBodyId bodyId, double* forces);
+
+/// Pin the vertices within the box [min, max] on @p axes (bit 0 x, bit 1 y, bit 2 z, as
+/// fmBody_SetPinnedAxes), combined with the axes they are already pinned on: rollers. Returns
+/// how many vertices it caught; a bad box or axes above 7 is a programmer error (-1).
+FM_API int fmBody_PinBoxAxes(fmBodyId bodyId, fmVec3 min, fmVec3 max, unsigned axes);
+
+/// Prescribed displacement: the vertices within the box [min, max] are pinned on @p axes
+/// (1 to 7, combined with their pins) and moved along those axes by the matching components
+/// of @p displacement (m) from where they are now: linearly over @p time seconds of simulated
+/// time in fmWorld_Step() (0: at the next step), or over the load steps of fmBody_SolveStatic(),
+/// which reaches the full displacement (a dynamic run after it keeps it). The elastic energy
+/// the motion puts into the body is booked in its energy ledger. Returns how many vertices it
+/// caught, -1 as fmBody_AddNodalForce(). Not saved in snapshots. docs/loads.md.
+FM_API int fmBody_PrescribeDisplacement(fmBodyId bodyId, fmVec3 min, fmVec3 max, unsigned axes,
+                                        fmVec3 displacement, double time);
+
 /// Energies, lowest point, inverted tets.
 FM_API fmBodyStats fmBody_GetStats(fmBodyId bodyId);
 

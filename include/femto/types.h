@@ -67,6 +67,10 @@ typedef enum fmMaterialModel
 	fm_mooneyRivlin,    ///< compressible Mooney-Rivlin
 	fm_stretchEnergy,   ///< user energy of the principal stretches (fmMaterial.stretchEnergy)
 	fm_invariantEnergy, ///< user energy of the invariants I1, I2, J (fmMaterial.invariantEnergy)
+	/// CalculiX's and Abaqus's Neo-Hookean, with the isochoric split:
+	/// psi = C10 (J^-2/3 I1 - 3) + (J - 1)^2 / D1, C10 = mu/2, D1 = 2/kappa,
+	/// kappa = lambda + 2/3 mu (docs/materials.md); defined for inverted tets
+	fm_neoHookeanIsochoric,
 	fm_materialModelCount
 } fmMaterialModel;
 
@@ -372,6 +376,9 @@ typedef struct fmWorldDef
 /// The default world: the seeds' gravity and floor, explicit integration.
 FM_API fmWorldDef fmDefaultWorldDef(void);
 
+/// Most materials a body may have by region (fmBodyDef.regionCount).
+#define FM_MAX_REGIONS 1024
+
 /// How vertex masses are found.
 typedef enum fmMassMode
 {
@@ -403,7 +410,16 @@ typedef struct fmBodyDef
 	/// the body's surface vertices against its own surface triangles that do not share a tet
 	/// with them: a beam folding onto itself (default false; costs a broad phase of its own)
 	bool selfCollision;
-	bool enableSleep;  ///< may fall asleep when fmContactDef.enableSleep (default true)
+	bool enableSleep; ///< may fall asleep when fmContactDef.enableSleep (default true)
+	/// Per-region materials (docs/materials.md): a tet whose region, the mesh's first tet
+	/// attribute (TetGen's region attribute, Gmsh's physical group), equals regionIds[k] gets
+	/// regionMaterials[k]; the other tets get `material`. regionCount in [0, FM_MAX_REGIONS]
+	/// (default 0: one material); both arrays are copied. The mesh must have tet attributes
+	/// when regionCount > 0; ids must be distinct. Mass still comes from `density` (or
+	/// particleMass) for every tet.
+	const fmMaterial* regionMaterials;
+	const int* regionIds; ///< regionCount region numbers
+	int regionCount;
 	int internalValue; ///< set by fmDefaultBodyDef; create calls check it
 } fmBodyDef;
 
