@@ -12,7 +12,7 @@ function(femto_cli_test name)
   cmake_parse_arguments(T "" "ARGS;CODE;REGEX;REJECT;FILES;NO_FILES;CLEAN;CHECK_FILE;CHECK_FILE_REGEX;CHECK_SERIES;SERIES_NO_TEMP;SERIES_KILLED;PROGRAM"
     "" ${ARGN})
   if(NOT DEFINED T_PROGRAM)
-    set(T_PROGRAM "$<TARGET_FILE:femto>")
+    set(T_PROGRAM "$<TARGET_FILE:femto_cli>")
   endif()
   set(defs "-DCOMMAND=${T_PROGRAM}|${T_ARGS}")
   if(DEFINED T_CODE)
@@ -143,7 +143,7 @@ femto_cli_test(run_out_series ARGS "run|--frames|3|--quiet|--out|${FEMTO_CLI_WOR
 find_program(FEMTO_TIMEOUT timeout)
 if(FEMTO_TIMEOUT)
   femto_cli_test(run_out_killed PROGRAM "${FEMTO_TIMEOUT}"
-    ARGS "-s|KILL|2|$<TARGET_FILE:femto>|run|--seconds|1000|--quiet|--out|${FEMTO_CLI_WORK}/killed"
+    ARGS "-s|KILL|2|$<TARGET_FILE:femto_cli>|run|--seconds|1000|--quiet|--out|${FEMTO_CLI_WORK}/killed"
     CLEAN "${FEMTO_CLI_WORK}/killed"
     CHECK_SERIES "${FEMTO_CLI_WORK}/killed/house.pvd" SERIES_KILLED 1)
 endif()
@@ -175,7 +175,7 @@ femto_cli_test(run_impulse ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|
 femto_cli_test(run_impulse_custom ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet|--impulse-at|0.05|--impulse-speed|0.2"
   CODE 0 REGEX "kinetic energy +8 J.*elastic energy +[0-9.]+e-[0-9]+ J")
 # The seeds' jump lifts the settled house off the floor, its centre of mass about 0.2 m.
-add_test(NAME cli_run_jump COMMAND ${CMAKE_COMMAND} -DFEMTO=$<TARGET_FILE:femto>
+add_test(NAME cli_run_jump COMMAND ${CMAKE_COMMAND} -DFEMTO=$<TARGET_FILE:femto_cli>
   -P ${FEMTO_CLI_DATA}/jump.cmake)
 set_tests_properties(cli_run_jump PROPERTIES TIMEOUT 300 LABELS cli)
 femto_cli_test(run_no_impulse ARGS "run|${FEMTO_CLI_DATA}/weightless.json|--frames|5|--quiet"
@@ -390,7 +390,7 @@ femto_cli_test(bench_bad_simd ARGS "bench|--simd|avx9" CODE 2
 # Without tetgen and gnuplot on PATH the beams and the plot are skipped, with the reason, and
 # the run succeeds: the CSV is written, no PNG.
 femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
-  ARGS "-E|env|PATH=${FEMTO_CLI_WORK}/no_such_folder|$<TARGET_FILE:femto>|bench|--meshes|house,beam|--implicit|--max-tets|1500|--repeats|1|--no-peers|--csv|${FEMTO_CLI_WORK}/bench_no_tools.csv"
+  ARGS "-E|env|PATH=${FEMTO_CLI_WORK}/no_such_folder|$<TARGET_FILE:femto_cli>|bench|--meshes|house,beam|--implicit|--max-tets|1500|--repeats|1|--no-peers|--csv|${FEMTO_CLI_WORK}/bench_no_tools.csv"
   CODE 0
   REGEX "beams: skipped: tetgen is not on PATH \\(Debian: apt-get install tetgen\\).*house2 +1389 neohookean +game +[0-9.]+ .*plot: skipped: gnuplot is not on PATH"
   REJECT "failed|beam 1k +[0-9]"
@@ -517,7 +517,7 @@ else()
   set_tests_properties(cli_pipeline_mesh PROPERTIES SKIP_REGULAR_EXPRESSION "skipped" LABELS cli)
 endif()
 foreach(part ${FEMTO_PIPELINE_PARTS})
-  add_test(NAME cli_pipeline_${part} COMMAND ${CMAKE_COMMAND} -DFEMTO=$<TARGET_FILE:femto>
+  add_test(NAME cli_pipeline_${part} COMMAND ${CMAKE_COMMAND} -DFEMTO=$<TARGET_FILE:femto_cli>
     -DWORK=${FEMTO_CLI_WORK}/pipeline_${part} -DDATA=${FEMTO_CLI_DATA}
     -DSURFACES=${PROJECT_SOURCE_DIR}/tests/data/surface -DPART=${part}
     -P ${FEMTO_CLI_DATA}/pipeline.cmake)
@@ -525,7 +525,7 @@ foreach(part ${FEMTO_PIPELINE_PARTS})
 endforeach()
 # Without tetgen or gmsh on the PATH, femto mesh names the Debian packages.
 femto_cli_test(mesh_no_tool PROGRAM ${CMAKE_COMMAND}
-  ARGS "-E|env|PATH=/nonexistent|$<TARGET_FILE:femto>|mesh|${PROJECT_SOURCE_DIR}/tests/data/surface/cube.obj|${FEMTO_CLI_WORK}/no_tool.node"
+  ARGS "-E|env|PATH=/nonexistent|$<TARGET_FILE:femto_cli>|mesh|${PROJECT_SOURCE_DIR}/tests/data/surface/cube.obj|${FEMTO_CLI_WORK}/no_tool.node"
   CODE 1 REGEX "neither tetgen nor gmsh is installed.*apt-get install tetgen")
 femto_cli_test(mesh_bad_off ARGS "mesh|${FEMTO_CLI_DATA}/bad_surface.off|${FEMTO_CLI_WORK}/bad.node"
   CODE 1 REGEX "bad_surface.off:5: expected a vertex x y z")

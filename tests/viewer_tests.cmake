@@ -82,10 +82,10 @@ femto_cli_test(view_bad_script ARGS "view|--script|${FEMTO_VIEW_DATA}/bad_script
 femto_cli_test(view_missing_script ARGS "view|--script|${FEMTO_VIEW_WORK}/none.txt|--frames|5"
   CODE 1 REGEX "none.txt: cannot open")
 add_test(NAME cli_view_no_display COMMAND ${CMAKE_COMMAND} -E env --unset=DISPLAY
-  --unset=WAYLAND_DISPLAY $<TARGET_FILE:femto> view --frames 1)
+  --unset=WAYLAND_DISPLAY $<TARGET_FILE:femto_cli> view --frames 1)
 set_tests_properties(cli_view_no_display PROPERTIES LABELS cli PASS_REGULAR_EXPRESSION "no display \\(DISPLAY is not set\\)")
 
-add_test(NAME viewer_window COMMAND ${FEMTO_VIEW_DATA}/view_test.sh $<TARGET_FILE:femto>
+add_test(NAME viewer_window COMMAND ${FEMTO_VIEW_DATA}/view_test.sh $<TARGET_FILE:femto_cli>
   $<TARGET_FILE:femto_check_images> ${FEMTO_VIEW_DATA} ${FEMTO_VIEW_WORK}/window)
 set_tests_properties(viewer_window PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120 LABELS viewer)
 if(FEMTO_SANITIZE)
