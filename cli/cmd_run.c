@@ -1,5 +1,7 @@
 // `femto run`: step a scene frame by frame, show progress, write a VTK series, print a summary.
 #include "commands.h"
+
+#include "attachments.h"
 #include "output.h"
 #include "scene.h"
 #include "viewer_hook.h"
@@ -400,6 +402,9 @@ static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliS
                              int jumps, cliSolveTotals* totals)
 {
 	double frameTime = cliScene_FrameTime(scene);
+	if (sim->attachedCount > 0 && !cliAttachments_Update(sim, sim->time + frameTime))
+		return fm_errParameter;
+	sim->time += frameTime;
 	if (jumps == 0 || o->hasImpulseSpeed)
 	{
 		for (int b = 0; b < sim->bodyCount && jumps > 0; ++b)

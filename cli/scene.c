@@ -552,7 +552,7 @@ static bool cliParsePins(const cliJson* j, const cJSON* body, const char* parent
 // ---- loads and boundary conditions: pin axes and displacements, nodal forces, pressure --------
 
 // A body's keys for loads and per-region materials (docs/scene-format.md, docs/loads.md).
-#define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions"
+#define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions", "attachments"
 
 // "axes": a string of the letters x, y, z, each at most once (e.g. "y", "xz").
 static bool cliGetAxes(const cliJson* j, const cJSON* box, const char* boxPath, unsigned* axes)
@@ -679,6 +679,51 @@ static bool cliParseLoads(const cliJson* j, const cJSON* body, const char* paren
 			return cliJsonFail(j, entryPath, NULL,
 			                   "a load needs \"force\": [fx, fy, fz] (N on each vertex)");
 		spec->loadCount = ++i;
+	}
+	return true;
+}
+
+// "attachments": [{"min": [..], "max": [..], "velocity": [..], "angular_velocity": [..],
+// "stiffness": N/m}]: kinematic attachments (cliAttachment).
+static bool cliParseAttachments(const cliJson* j, const cJSON* body, const char* parent,
+                                cliBodySpec* spec)
+{
+	static const char* const keys[] = {"min",       "max", "velocity", "angular_velocity",
+	                                   "stiffness", NULL};
+	static const char* const expected = "{\"min\": [x,y,z], \"max\": [x,y,z], \"velocity\": "
+	                                    "[vx,vy,vz], \"angular_velocity\": [wx,wy,wz]}";
+	char path[256];
+	cliJoinKey(path, sizeof path, parent, "attachments");
+	const cJSON* array = NULL;
+	void* entries = NULL;
+	if (!cliGetEntries(j, body, path, "attachments", expected, sizeof *spec->attachments, &array,
+	                   &entries))
+		return false;
+	spec->attachments = entries;
+	int i = 0;
+	const cJSON* entry = NULL;
+	cJSON_ArrayForEach(entry, array)
+	{
+		char entryPath[300];
+		if (snprintf(entryPath, sizeof entryPath, "%s[%d]", path, i) < 0)
+			entryPath[0] = 0;
+		cliAttachment* a = &spec->attachments[i];
+		a->stiffness = CLI_ATTACHMENT_STIFFNESS;
+		if (!cJSON_IsObject(entry))
+			return cliJsonFail(j, entryPath, entry, "expected %s", expected);
+		if (!cliCheckKeys(j, entry, entryPath, keys) ||
+		    !cliGetBox(j, entry, entryPath, &a->min, &a->max) ||
+		    !cliGetVec3(j, entry, entryPath, "velocity", &a->velocity, NULL) ||
+		    !cliGetVec3(j, entry, entryPath, "angular_velocity", &a->angularVelocity, NULL) ||
+		    !cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, &a->stiffness, NULL))
+			return false;
+		const double v[6] = {a->velocity.x,        a->velocity.y,        a->velocity.z,
+		                     a->angularVelocity.x, a->angularVelocity.y, a->angularVelocity.z};
+		for (int k = 0; k < 6; ++k)
+			if (!(fabs(v[k]) <= 1e6))
+				return cliJsonFail(j, entryPath, NULL,
+				                   "velocity and angular_velocity must be within 1e6 (m/s, rad/s)");
+		spec->attachmentCount = ++i;
 	}
 	return true;
 }
@@ -906,25 +951,11 @@ static bool cliParseRenderMesh(const cliJson* j, const cJSON* body, const char* 
 
 static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
 {
-	static const char* const keys[] = {"mesh",
-	                                   "box_min",
-	                                   "box_max",
-	                                   "transform",
-	                                   "material",
-	                                   "force_model",
-	                                   "damping",
-	                                   "smoothing",
-	                                   "rayleigh",
-	                                   "spring_damping",
-	                                   "pin",
-	                                   "initial_velocity",
-	                                   "self_collision",
-	                                   "friction",
-	                                   "sleep",
-	                                   "filter",
-	                                   "render_mesh",
-	                                   CLI_BODY_LOAD_KEYS,
-	                                   NULL};
+	static const char* const keys[] = {
+	    "mesh",        "box_min",          "box_max",          "transform", "material",
+	    "force_model", "damping",          "smoothing",        "rayleigh",  "spring_damping",
+	    "pin",         "initial_velocity", "self_collision",   "friction",  "sleep",
+	    "filter",      "render_mesh",      CLI_BODY_LOAD_KEYS, NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
@@ -965,6 +996,7 @@ static bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBody
 		return false;
 	return cliParsePins(j, body, path, spec) && cliParseLoads(j, body, path, spec) &&
 	       cliParsePressures(j, body, path, spec) && cliParseRegions(j, body, path, spec) &&
+	       cliParseAttachments(j, body, path, spec) &&
 	       cliGetVec3(j, body, path, "initial_velocity", &spec->initialVelocity, NULL) &&
 	       cliParseBodyContact(j, body, path, &spec->def);
 }
@@ -1685,6 +1717,7 @@ void cliScene_Free(cliScene* scene)
 		free(scene->bodies[i].pins);
 		free(scene->bodies[i].loads);
 		free(scene->bodies[i].pressures);
+		free(scene->bodies[i].attachments);
 		free(scene->bodies[i].regionMaterials);
 		free(scene->bodies[i].regionIds);
 	}

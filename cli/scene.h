@@ -33,6 +33,22 @@ typedef struct cliLoadBox
 	fmVec3 force; ///< N on each vertex
 } cliLoadBox;
 
+/// An attachment's default stiffness (N/m on each vertex): stiff against a vertex's share of a
+/// game-sized body's weight; the explicit integrator caps it at m / h^2 (fmBody_SetTargets).
+#define CLI_ATTACHMENT_STIFFNESS 1e5
+
+/// A kinematic attachment ("attachments" on a body): the vertices in the box (at creation) are
+/// pulled by kinematic targets (fmBody_SetTargets) along a rigid motion: their rest positions
+/// turned by angular_velocity * t about the box's centre and moved by velocity * t.
+typedef struct cliAttachment
+{
+	fmVec3 min;             ///< m
+	fmVec3 max;             ///< m
+	fmVec3 velocity;        ///< m/s
+	fmVec3 angularVelocity; ///< rad/s, about the box's centre
+	double stiffness;       ///< N/m on each vertex
+} cliAttachment;
+
 /// A pressure box ("pressure" on a body): every surface triangle with its vertices in the box.
 typedef struct cliPressureBox
 {
@@ -59,6 +75,8 @@ typedef struct cliBodySpec
 	int loadCount;
 	cliPressureBox* pressures; ///< malloc'd, pressureCount boxes ("pressure")
 	int pressureCount;
+	cliAttachment* attachments; ///< malloc'd, attachmentCount ("attachments")
+	int attachmentCount;
 	fmMaterial* regionMaterials; ///< malloc'd, def.regionCount ("regions"), def points at them
 	int* regionIds;              ///< malloc'd, def.regionCount
 	fmVec3 initialVelocity;      ///< m/s
@@ -98,7 +116,10 @@ typedef struct cliSimulation
 	fmBodyId* bodies;  ///< malloc'd
 	fmTetMesh* meshes; ///< malloc'd, the placed rest meshes, input numbering
 	int colliderCount;
-	fmColliderId* colliders; ///< malloc'd, the scene's colliders in order
+	fmColliderId* colliders;      ///< malloc'd, the scene's colliders in order
+	struct cliAttached* attached; ///< malloc'd, every attached vertex (attachments.h)
+	int attachedCount;
+	double time; ///< s simulated, for the attachments' motion
 } cliSimulation;
 
 /// The built-in bouncy house: data/house2 scaled 0.4, centred, y/z swapped, floor y = -3

@@ -2,6 +2,8 @@
 // initial velocities applied, and the explicit step checked against its stability estimate.
 #include "scene.h"
 
+#include "attachments.h"
+
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -354,6 +356,11 @@ bool cliSimulation_Create(const cliScene* scene, cliStepCheck check, cliSimulati
 			return false;
 		}
 	}
+	if (!cliAttachments_Create(scene, sim))
+	{
+		cliSimulation_Destroy(sim);
+		return false;
+	}
 	if (scene->worldDef.integrator == fm_explicit && check != cli_stepCheckOff)
 		cliCheckExplicitStep(scene, sim, check == cli_stepCheckAll);
 	return true;
@@ -369,5 +376,6 @@ void cliSimulation_Destroy(cliSimulation* sim)
 	free(sim->meshes);
 	free(sim->bodies);
 	free(sim->colliders);
+	free(sim->attached);
 	memset(sim, 0, sizeof *sim);
 }

@@ -576,3 +576,13 @@ femto_cli_test(scene_region_bad_name ARGS "run|${FEMTO_CLI_DATA}/regions_bad.jso
   REGEX "regions_bad.json:5:20: bodies\\[0\\].regions.one: a region is named by its number in the mesh")
 femto_cli_test(scene_regions_without_attributes ARGS "run|${FEMTO_CLI_DATA}/regions_no_attributes.json" CODE 1
   REGEX "bodies\\[0\\]: per-region materials need a mesh with region numbers")
+
+# Kinematic attachments ("attachments" on a body): a soft box hanging from its top face, which
+# rises at 1 m/s for 0.5 s while turning a quarter turn, is lifted by it: its lowest point ends
+# near 0.5 m (it started at 0; the box is 0.6 m tall and hangs a little stretched).
+femto_cli_test(attachment_lift ARGS "run|${FEMTO_CLI_DATA}/attachment_lift.json|--quiet" CODE 0
+  REGEX "lowest vertex y +0\\.4[6-9][0-9]* m")
+femto_cli_test(bad_attachment_box ARGS "run|${FEMTO_CLI_DATA}/bad_attachment_box.json|--quiet" CODE 1
+  REGEX "bodies\\[0\\]\\.attachments\\[0\\]: box \\[5 5 5\\]\\.\\.\\[6 6 6\\] catches no vertex")
+femto_cli_test(bad_attachment_stiffness ARGS "run|${FEMTO_CLI_DATA}/bad_attachment_stiffness.json|--quiet" CODE 1
+  REGEX "bad_attachment_stiffness\\.json:6:[0-9]+: bodies\\[0\\]\\.attachments\\[0\\]\\.stiffness: expected a number > 0")
