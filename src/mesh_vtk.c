@@ -1310,7 +1310,8 @@ static fmResult fmVtuLoadArrays(fmVtu* x, double** positions, fmVtkCells* c)
 		                          x->pointCount);
 	if (result == fm_ok)
 		result = fmVtuValues(x, &x->points, "Points", 3 * n, *positions);
-	c->start[0] = 0;
+	if (c->start != NULL)
+		c->start[0] = 0;
 	if (result == fm_ok)
 		result =
 		    fmVtuIntegers(x, &x->offsets, "offsets", (size_t)c->count, 0, INT_MAX, c->start + 1);
@@ -1318,7 +1319,8 @@ static fmResult fmVtuLoadArrays(fmVtu* x, double** positions, fmVtkCells* c)
 		if (c->start[k + 1] < c->start[k])
 			result = fmVtuArrayError(x, &x->offsets, fm_errRange, "offsets",
 			                         "the offsets decrease: expected each cell's end, in order");
-	c->connCount = c->count > 0 ? c->start[c->count] : 0;
+	// (Read only when the offsets were: after a failure the array holds no values.)
+	c->connCount = result == fm_ok && c->count > 0 ? c->start[c->count] : 0;
 	// Each connectivity value takes at least a byte of the file (or of its inflated data).
 	unsigned long long bound = (x->compressed ? FM_DEFLATE_MAX_RATIO : 1u) * x->s.size + 64u;
 	if (result == fm_ok && (unsigned long long)c->connCount > bound)
