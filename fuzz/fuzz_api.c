@@ -284,9 +284,10 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			fmOverlap overlaps[4];
 			fmRayHit hit;
 			fmFilter filter = {fmFuzzPick(r, 4), fmFuzzPick(r, 4)};
-			fmWorld_OverlapSphere(world, fmFuzzVec3(r, -3.0, 3.0), fmFuzzDouble(r, -0.5, 2.0), filter,
-			                      fmFuzzPick(r, 2) ? overlaps : NULL, fmFuzzPick(r, 6) - 1);
-			fmWorld_CastRay(world, fmFuzzVec3(r, -3.0, 3.0), fmFuzzVec3(r, -6.0, 6.0), filter, &hit);
+			fmWorld_OverlapSphere(world, fmFuzzVec3(r, -3.0, 3.0), fmFuzzDouble(r, -0.5, 2.0),
+			                      filter, fmFuzzPick(r, 2) ? overlaps : NULL, fmFuzzPick(r, 6) - 1);
+			fmWorld_CastRay(world, fmFuzzVec3(r, -3.0, 3.0), fmFuzzVec3(r, -6.0, 6.0), filter,
+			                &hit);
 			break;
 		}
 		case 14:

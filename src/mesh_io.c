@@ -377,10 +377,11 @@ fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const char* 
 		if (memcmp(keys[k].v, keys[k - 1].v, sizeof keys[k].v) != 0)
 			continue;
 		int first = keys[k - 1].tet, second = keys[k].tet;
-		result = fmDiagError(diag, fm_errIndex, name, lines ? lines[second] : 0, 0,
-		                     "tet %d has the same nodes as tet %d on line %d: expected each tet "
-		                     "once",
-		                     second + m->firstIndex, first + m->firstIndex, lines ? lines[first] : 0);
+		result =
+		    fmDiagError(diag, fm_errIndex, name, lines ? lines[second] : 0, 0,
+		                "tet %d has the same nodes as tet %d on line %d: expected each tet "
+		                "once",
+		                second + m->firstIndex, first + m->firstIndex, lines ? lines[first] : 0);
 	}
 	FM_FREE_ARRAY(keys, fmTetKey, m->tetCount);
 	return result;

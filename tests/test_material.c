@@ -189,7 +189,8 @@ TEST(tangent_is_stress_derivative_and_symmetric)
 					fmMaterial_Evaluate(&m, &Fm2, &Pm2, NULL);
 					for (int r = 0; r < 9; ++r)
 					{
-						double fd = (8.0 * (Pp.m[r] - Pm.m[r]) - (Pp2.m[r] - Pm2.m[r])) / (12.0 * h);
+						double fd =
+						    (8.0 * (Pp.m[r] - Pm.m[r]) - (Pp2.m[r] - Pm2.m[r])) / (12.0 * h);
 						worst = fmax(worst, fabs(fd - dPdF[9 * r + c]) / scale);
 						asym = fmax(asym, fabs(dPdF[9 * r + c] - dPdF[9 * c + r]) / scale);
 					}
