@@ -179,6 +179,8 @@ static fmResult fmObjCountRecords(fmTextReader* r, fmObjCounts* counts)
 // one or if its magnitude exceeds INT_MAX.
 static bool fmObjParseIndex(const char* text, int length, long long* value)
 {
+	if (length <= 0)
+		return false; // an empty reference ("3/1/" at the end of the file): nothing to read
 	int i = text[0] == '-' || text[0] == '+' ? 1 : 0;
 	if (i >= length)
 		return false;
