@@ -380,13 +380,10 @@ static fmResult fmVtkLegacyTypes(fmVtkLegacy* v)
 		                      count, v->cells.count);
 	if (result == fm_ok && v->binary)
 		result = fmVtkToBinary(&v->s);
-	v->cells.types = FM_ALLOC_ARRAY(unsigned char, count > 0 ? count : 1);
-	if (count == 0)
-	{
-		FM_FREE_ARRAY(v->cells.types, unsigned char, 1);
-		v->cells.types = NULL;
-	}
-	if (result == fm_ok && count > 0 && v->cells.types == NULL)
+	if (result != fm_ok || count == 0)
+		return result; // the count is only trusted once it matches the cells already read
+	v->cells.types = FM_ALLOC_ARRAY(unsigned char, count);
+	if (v->cells.types == NULL)
 		result = fmScan_Error(&v->s, fm_errOutOfMemory, "out of memory for %lld cells", count);
 	for (long long k = 0; k < count && result == fm_ok; ++k)
 	{

@@ -73,15 +73,36 @@ static void expectLoad(int* failures_, int callerLine, fmMeshFormat format, cons
 	CHECK_INT(fmGetAllocatedBytes(), before);
 }
 
+// A malformed file of a few hundred bytes must be refused without a large allocation, whatever
+// counts it declares: requests over this many bytes are refused here and reported.
+#define SMALL_FILE_ALLOC_LIMIT ((size_t)1 << 20)
+static size_t s_largestRequest;
+static void* boundedAlloc(size_t size, size_t alignment)
+{
+	s_largestRequest = size > s_largestRequest ? size : s_largestRequest;
+	return size > SMALL_FILE_ALLOC_LIMIT ? NULL : aligned_alloc(alignment, size);
+}
+static void boundedFree(void* memory, size_t size)
+{
+	(void)size;
+	free(memory);
+}
+
 // Expect @p expected at line:column (column 0: not checked) with @p message in the text; the
-// mesh left zeroed and nothing leaked.
+// mesh left zeroed, nothing leaked and no allocation over SMALL_FILE_ALLOC_LIMIT.
 static void expectError(int* failures_, int callerLine, fmMeshFormat format, const void* text,
                         size_t size, fmResult expected, int line, int column, const char* message)
 {
 	size_t before = fmGetAllocatedBytes();
 	fmTetMesh mesh;
 	fmDiagnostic diag;
+	s_largestRequest = 0;
+	fmSetAllocator(boundedAlloc, boundedFree);
 	fmResult r = loadText(format, text, size, &mesh, &diag);
+	fmSetAllocator(NULL, NULL);
+	if (s_largestRequest > SMALL_FILE_ALLOC_LIMIT)
+		FAIL_AT("case at line %d: a %zu-byte file asked for %zu bytes at once", callerLine, size,
+		        s_largestRequest);
 	char formatted[1024];
 	fmDiagnostic_Format(&diag, formatted, sizeof formatted);
 	bool ok = r == expected && diag.result == expected && strcmp(diag.file, "t") == 0 &&
@@ -512,6 +533,11 @@ TEST(vtk_legacy_errors)
 	    "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
 	    "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 2\n10\n10\n",
 	    fm_errCount, 9, 12, "CELL_TYPES declares 2 cells: CELLS has 1");
+	EXPECT_ERROR(fm_meshFormatVtk,
+	             "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+	             "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES "
+	             "11250000000\n10\n",
+	             fm_errCount, 9, 12, "CELL_TYPES declares 11250000000 cells: CELLS has 1");
 	EXPECT_ERROR(fm_meshFormatVtk,
 	             "# vtk DataFile Version 2.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\n"
 	             "POINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n10\n",
