@@ -124,6 +124,7 @@ typedef struct fmBody
 	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
 	double* contactFriction;
 	double* contactFrictionNext;     // 8n: what the contact stage found this step, for the next one
+	double contactThinness;          // 2 V / S at rest (m): how thick the body is (contact.c)
 	struct fmDrawCache* drawCache;   // fmWorld_Draw's buffers (draw.h), made on the first draw
 	struct fmRenderMesh* renderMesh; // fmBody_SetRenderMesh's embedded surface, or NULL
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)

@@ -82,7 +82,8 @@ struct fmContactState
 	int candidateCapacity;
 	fmVec3* bodyLower; // per body slot: its surface's box, grown (the mid phase)
 	fmVec3* bodyUpper;
-	bool* bodyNear; // per body slot: another body's box (or its own, self-colliding) overlaps
+	bool* bodyNear;    // per body slot: another body's box (or its own, self-colliding) overlaps
+	double* bodySpeed; // per body slot: its surface vertices' fastest speed (fmContact_Pieces)
 	int bodyBoxCapacity;
 	int triangleCount; // the triangles in the hash (those of bodies near another)
 	fmPairContact* pairContacts;
@@ -147,6 +148,7 @@ void fmContact_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->bodyLower, fmVec3, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->bodyUpper, fmVec3, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->bodyNear, bool, s->bodyBoxCapacity);
+	FM_FREE_ARRAY(s->bodySpeed, double, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->pairContacts, fmPairContact, s->pairContactCapacity);
 	FM_FREE_ARRAY(s->edgeContacts, fmEdgeContact, s->edgeContactCapacity);
 	FM_FREE_ARRAY(s->points, fmContactPoint, s->pointCapacity);
@@ -247,6 +249,23 @@ static bool fmFiltersMeet(fmFilter a, fmFilter b)
 // ---- per-body buffers --------------------------------------------------------------------------
 
 // The body's surface vertices (ascending) and its substep-start positions.
+// How thick a body is at rest, as 2 V / S (its volume over half its surface area): a plate's
+// thickness, a third of a cube's side. What a step may close in on it without passing through.
+static double fmRestThinness(const fmBody* b)
+{
+	double volume = 0.0, area = 0.0;
+	for (int t = 0; t < b->tetCount; ++t)
+		volume += b->restVolume[t];
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * (size_t)t;
+		fmVec3 p = fmLoad(b->x0, tri[0]);
+		area += 0.5 *
+		        fmLength(fmCross(fmSub(fmLoad(b->x0, tri[1]), p), fmSub(fmLoad(b->x0, tri[2]), p)));
+	}
+	return area > 0.0 ? 2.0 * volume / area : b->restSize;
+}
+
 static bool fmBodyContactArrays(fmBody* b)
 {
 	if (b->contactStart == NULL)
@@ -279,6 +298,7 @@ static bool fmBodyContactArrays(fmBody* b)
 					b->surfaceVertex[count++] = i;
 		}
 		FM_FREE_ARRAY(on, uint8_t, b->vertexCount);
+		b->contactThinness = fmRestThinness(b);
 	}
 	return b->contactStart != NULL && b->surfaceVertex != NULL && b->contactMark != NULL &&
 	       b->contactTetMark != NULL && b->contactPlane != NULL;
@@ -566,27 +586,35 @@ static bool fmNearOtherBody(const fmWorld* w, const fmContactState* s, int slot,
 // Every body's box: its surface vertices' box grown by the thickness and by the most any of
 // them moved in the substep; and whether another body's box (or its own, when it collides with
 // itself) overlaps it.
+// Room for a box, a flag and a speed per body slot.
+static bool fmReserveBodyBoxes(const fmWorld* w, fmContactState* s)
+{
+	if (w->bodyCapacity <= s->bodyBoxCapacity)
+		return true;
+	int old = s->bodyBoxCapacity;
+	FM_FREE_ARRAY(s->bodyLower, fmVec3, old);
+	FM_FREE_ARRAY(s->bodyUpper, fmVec3, old);
+	FM_FREE_ARRAY(s->bodyNear, bool, old);
+	FM_FREE_ARRAY(s->bodySpeed, double, old);
+	s->bodyLower = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
+	s->bodyUpper = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
+	s->bodyNear = FM_ALLOC_ARRAY(bool, w->bodyCapacity);
+	s->bodySpeed = FM_ALLOC_ARRAY(double, w->bodyCapacity);
+	s->bodyBoxCapacity = w->bodyCapacity;
+	if (s->bodyLower && s->bodyUpper && s->bodyNear && s->bodySpeed)
+		return true;
+	FM_FREE_ARRAY(s->bodyLower, fmVec3, w->bodyCapacity);
+	FM_FREE_ARRAY(s->bodyUpper, fmVec3, w->bodyCapacity);
+	FM_FREE_ARRAY(s->bodyNear, bool, w->bodyCapacity);
+	FM_FREE_ARRAY(s->bodySpeed, double, w->bodyCapacity);
+	s->bodyBoxCapacity = 0;
+	return false;
+}
+
 static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickness)
 {
-	if (w->bodyCapacity > s->bodyBoxCapacity)
-	{
-		int old = s->bodyBoxCapacity;
-		FM_FREE_ARRAY(s->bodyLower, fmVec3, old);
-		FM_FREE_ARRAY(s->bodyUpper, fmVec3, old);
-		FM_FREE_ARRAY(s->bodyNear, bool, old);
-		s->bodyLower = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
-		s->bodyUpper = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
-		s->bodyNear = FM_ALLOC_ARRAY(bool, w->bodyCapacity);
-		s->bodyBoxCapacity = w->bodyCapacity;
-		if (!s->bodyLower || !s->bodyUpper || !s->bodyNear)
-		{
-			FM_FREE_ARRAY(s->bodyLower, fmVec3, w->bodyCapacity);
-			FM_FREE_ARRAY(s->bodyUpper, fmVec3, w->bodyCapacity);
-			FM_FREE_ARRAY(s->bodyNear, bool, w->bodyCapacity);
-			s->bodyBoxCapacity = 0;
-			return false;
-		}
-	}
+	if (!fmReserveBodyBoxes(w, s))
+		return false;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		const fmBody* b = &w->bodies[slot];
@@ -1349,6 +1377,71 @@ static bool fmBookWork(fmWorld* w, fmContactState* s, int slot)
 
 // ---- the stage ---------------------------------------------------------------------------------
 
+// Whether an implicit step of @p h keeps bodies apart with frozen planes in its solve: not in
+// the pieces of a cut step, nor at steps no longer than FM_PLANE_STEP_FACTOR times the
+// explicit stability limit of a body, where the stage's projection alone holds them (as in
+// the explicit integrator) and the planes, which each body sees as immovable, made two plates
+// meeting at 20 m/s each cross at 1/12000 s (they held at 1/6000 s and longer).
+static bool fmPlanesHold(const fmWorld* w, double h)
+{
+	if (w->contactPieces > 1)
+		return false;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x && h <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
+			return false;
+	return true;
+}
+
+int fmContact_Pieces(fmWorld* w, double h, int most)
+{
+	if (!fmBodiesMeet(w))
+		return 1;
+	fmContactState* s = fmGetState(w);
+	if (s == NULL || !fmReserveBodyBoxes(w, s))
+		return -1;
+	double thickness = fmContact_Thickness(w);
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		fmBody* b = &w->bodies[slot];
+		if (b->x == NULL)
+			continue;
+		if (!fmBodyContactArrays(b))
+			return -1;
+		fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
+		double speed = 0.0;
+		for (int p = 0; p < b->surfaceVertexCount; ++p)
+		{
+			int i = b->surfaceVertex[p];
+			fmVec3 x = fmLoad(b->x, i);
+			lo = fmMakeVec3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
+			hi = fmMakeVec3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
+			speed = fmax(speed, fmLength(fmLoad(b->v, i)));
+		}
+		double grow = thickness + speed * h;
+		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
+		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
+		s->bodySpeed[slot] = speed;
+	}
+	double pieces = 1.0;
+	for (int a = 0; a < w->bodyCapacity; ++a)
+	{
+		const fmBody* A = &w->bodies[a];
+		for (int c = a + 1; A->x && c < w->bodyCapacity; ++c)
+		{
+			const fmBody* C = &w->bodies[c];
+			fmVec3 al = s->bodyLower[a], ah = s->bodyUpper[a];
+			fmVec3 cl = s->bodyLower[c], ch = s->bodyUpper[c];
+			if (C->x == NULL || !fmFiltersMeet(A->filter, C->filter) || ah.x < cl.x ||
+			    al.x > ch.x || ah.y < cl.y || al.y > ch.y || ah.z < cl.z || al.z > ch.z)
+				continue;
+			double allowed =
+			    fmax(FM_PIECE_FRACTION * fmin(A->contactThinness, C->contactThinness), thickness);
+			pieces = fmax(pieces, ceil((s->bodySpeed[a] + s->bodySpeed[c]) * h / allowed));
+		}
+	}
+	return pieces <= most ? (int)pieces : most + 1;
+}
+
 bool fmContact_BeginSubstep(fmWorld* w, double h)
 {
 	for (int i = 0; i < w->bodyCapacity; ++i)
@@ -1371,7 +1464,7 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmGetState(w);
-	return s != NULL && fmPredictPlanes(w, s, fmContact_Thickness(w), h);
+	return s != NULL && (!fmPlanesHold(w, h) || fmPredictPlanes(w, s, fmContact_Thickness(w), h));
 }
 
 bool fmContact_Substep(fmWorld* w, double h)

@@ -22,6 +22,21 @@ bool fmContact_Active(const fmWorld* world);
 // Start of a frame: collider impulses zeroed.
 void fmContact_BeginFrame(fmWorld* world);
 
+// The share of the thinner body's thickness two bodies may close in by in one implicit piece.
+#define FM_PIECE_FRACTION 0.5
+
+// Implicit steps no longer than this times a body's explicit stability limit keep bodies apart
+// by the contact stage's projection alone, without frozen planes in the solve (contact.c).
+#define FM_PLANE_STEP_FACTOR 2.0
+
+// Implicit steps: how many equal pieces a step of @p h seconds is cut into (1 to @p most;
+// @p most + 1 when it would take more) so
+// that no two bodies that may meet close in on each other by more than FM_PIECE_FRACTION of the
+// thinner one's rest thickness (2 V / S) in a piece, at their surfaces' fastest speeds: each
+// body's solve sees the others frozen where they started, and the stage after it finds a
+// vertex that crossed a surface only while it is still inside. -1 when memory is short.
+int fmContact_Pieces(fmWorld* world, double h, int most);
+
 // Start of a substep of @p h seconds: every body's positions kept as the start of its motion
 // (for the swept tests); before an implicit step, the other bodies' surfaces near each surface
 // vertex frozen as planes for the step's penalty (body->contactPlane). False when memory is

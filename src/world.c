@@ -727,11 +727,35 @@ static fmResult fmSubstep(fmWorld* w, double h)
 	return fm_ok;
 }
 
+// An implicit substep of @p h, cut into the pieces fmContact_Pieces asks for where bodies close
+// in fast (within what is left of maxSubstepsPerFrame and FM_MIN_SUBSTEP).
+static fmResult fmImplicitPieces(fmWorld* w, double h, int substepsLeft)
+{
+	int most = w->def.maxSubstepsPerFrame - w->stats.steps - (substepsLeft - 1);
+	most = (int)fmin(most, floor(h / FM_MIN_SUBSTEP));
+	int pieces = most > 1 && fmContact_Active(w) ? fmContact_Pieces(w, h, most) : 1;
+	if (pieces < 0)
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact buffers");
+	if (pieces > most)
+	{
+		pieces = most;
+		fmBudgetHit(w, "an implicit step was cut into fewer pieces than fast bodies closing in "
+		               "need (maxSubstepsPerFrame): they may pass through each other");
+	}
+	fmResult r = fm_ok;
+	w->contactPieces = pieces;
+	for (int k = 0; k < pieces && r == fm_ok; ++k)
+		r = fmSubstep(w, h / pieces);
+	w->contactPieces = 1;
+	return r;
+}
+
 static fmResult fmFixedSubsteps(fmWorld* w, double h, int count)
 {
 	fmResult r = fm_ok;
 	for (int s = 0; s < count && r == fm_ok; ++s)
-		r = fmSubstep(w, h);
+		r = w->def.integrator == fm_implicit ? fmImplicitPieces(w, h, count - s) : fmSubstep(w, h);
 	return r;
 }
 
