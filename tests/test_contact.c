@@ -7,6 +7,8 @@
 #include "support.h"
 #include "test.h"
 
+#include "geometry.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,8 +66,46 @@ static bool insideTet(fmVec3 p, fmVec3 a, fmVec3 b, fmVec3 c, fmVec3 d)
 	return l.x > eps && l.y > eps && l.z > eps && l.x + l.y + l.z < 1.0 - eps;
 }
 
-// Surface vertices of @p body inside a tet of @p other.
-static int verticesInside(fmBodyId body, fmBodyId other)
+// The diagonal of @p body's bounding box (m).
+static double bodyDiagonal(fmBodyId body)
+{
+	int n = fmBody_GetVertexCount(body);
+	const double* x = fmTestPositions(body);
+	fmVec3 lo = fmLoad(x, 0), hi = lo;
+	for (int i = 0; i < n; ++i)
+	{
+		fmVec3 p = fmLoad(x, i);
+		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+	}
+	return fmLength(fmSub(hi, lo));
+}
+
+// How far point @p p is from the surface of @p other (positions @p y).
+static double surfaceDistance(fmVec3 p, fmBodyId other, const double* y)
+{
+	int triangles = 0;
+	const int* surface = fmBody_GetSurface(other, &triangles);
+	double closest = INFINITY;
+	for (int t = 0; t < triangles; ++t)
+	{
+		fmVec3 a = fmLoad(y, surface[3 * t]), b = fmLoad(y, surface[3 * t + 1]),
+		       c = fmLoad(y, surface[3 * t + 2]);
+		double w[3];
+		fmClosestOnTriangle(p, a, b, c, w);
+		fmVec3 q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], b)), fmScale(w[2], c));
+		closest = fmin(closest, fmLength(fmSub(p, q)));
+	}
+	return closest;
+}
+
+// The deepest a surface vertex of any body in @p bodies is inside another's tets (m, 0 when
+// none is), and in @p count how many are inside.
+static double deepestInside(const fmBodyId* bodies, int bodyCount, int* count);
+
+// Surface vertices of @p body inside a tet of @p other; @p deepest (may be NULL) gets the
+// largest distance of one of them from @p other's surface.
+static int verticesInsideDepth(fmBodyId body, fmBodyId other, double* deepest)
 {
 	int n = fmBody_GetVertexCount(body), m = fmBody_GetVertexCount(other);
 	double* x = malloc(sizeof(double) * 3 * (size_t)n);
@@ -87,6 +127,8 @@ static int verticesInside(fmBodyId body, fmBodyId other)
 			              fmLoad(y, tets[4 * t + 2]), fmLoad(y, tets[4 * t + 3])))
 			{
 				inside += 1;
+				if (deepest)
+					*deepest = fmax(*deepest, surfaceDistance(p, other, y));
 				break;
 			}
 	}
@@ -94,6 +136,21 @@ static int verticesInside(fmBodyId body, fmBodyId other)
 	free(x);
 	free(y);
 	return inside;
+}
+
+static int verticesInside(fmBodyId body, fmBodyId other)
+{
+	return verticesInsideDepth(body, other, NULL);
+}
+
+static double deepestInside(const fmBodyId* bodies, int bodyCount, int* count)
+{
+	double deepest = 0.0;
+	*count = 0;
+	for (int a = 0; a < bodyCount; ++a)
+		for (int b = 0; b < bodyCount; ++b)
+			*count += a != b ? verticesInsideDepth(bodies[a], bodies[b], &deepest) : 0;
+	return deepest;
 }
 
 // Three soft boxes dropped on each other come to rest stacked, in both integrators: every
@@ -146,9 +203,9 @@ TEST(three_boxes_stack)
 
 // Three of the seeds' houses dropped on each other (offset sideways, so the upper ones land on
 // the roofs below and slide off them), 5 s in both integrators: no frame refused, nothing below
-// the floor, everything finite. The surface vertices that end inside another house's tets are
-// printed, not checked: the roofs' ridges still cut into the houses (measured: 1 vertex
-// implicit, 6 explicit with the edge test, 43 without; docs/contact.md, Limits).
+// the floor, everything finite; implicit, no surface vertex deeper inside another house than the
+// thickness. The explicit count and depth are printed, not checked (measured: 6 vertices, the
+// deepest 8.4 cm against a thickness of 6.9 cm; docs/contact.md, Limits).
 TEST(three_houses_dropped_on_each_other)
 {
 	const fmIntegrator integrators[2] = {fm_implicit, fm_explicit};
@@ -162,6 +219,8 @@ TEST(three_houses_dropped_on_each_other)
 		fmBodyId houses[3];
 		for (int h = 0; h < 3; ++h)
 			houses[h] = addHouse(failures_, world, fmMakeVec3(0.3 * h, 4.3 * h, 0.0), &def);
+		// The default thickness: 1% of the smallest body's rest bounding-box diagonal.
+		double thickness = 0.01 * bodyDiagonal(houses[0]);
 		int failed = 0;
 		for (int f = 0; f < 300; ++f)
 			failed += fmWorld_Step(world, 1.0 / 60.0, k == 0 ? 1 : 10) != fm_ok;
@@ -173,15 +232,18 @@ TEST(three_houses_dropped_on_each_other)
 			fmBodyStats stats = fmBody_GetStats(houses[a]);
 			lowest = fmin(lowest, stats.lowestY);
 			finite = finite && isfinite(stats.kineticEnergy) && isfinite(stats.centerOfMass.y);
-			for (int b = 0; b < 3; ++b)
-				inside += a != b ? verticesInside(houses[a], houses[b]) : 0;
 		}
-		printf("  %s: %d refused frames, %d surface vertices inside another house, lowest y %.4f "
-		       "(floor -2.1)\n",
-		       k == 0 ? "implicit" : "explicit", failed, inside, lowest);
+		double deepest = deepestInside(houses, 3, &inside);
+		printf("  %s: %d refused frames, %d surface vertices inside another house, the deepest "
+		       "%.4f m (thickness %.4f), lowest y %.4f (floor -2.1)\n",
+		       k == 0 ? "implicit" : "explicit", failed, inside, deepest, thickness, lowest);
 		CHECK_INT(failed, 0);
 		CHECK(lowest >= -2.1 - 1e-9);
 		CHECK(finite);
+		// The bound: nothing inside another body beyond the thickness. Implicit holds
+		// it; the explicit seeds' house (StVK at mu 5 kPa, squashed between the pile and the
+		// floor) does not yet: printed above, docs/contact.md, Limits.
+		CHECK(k == 1 || deepest <= thickness);
 		fmDestroyWorld(world);
 	}
 }
