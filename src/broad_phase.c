@@ -19,8 +19,28 @@ void fmSpatialHash_Free(fmSpatialHash* h)
 	FM_FREE_ARRAY(h->bucketStart, int, h->tableCapacity);
 	FM_FREE_ARRAY(h->entries, int, h->entryCapacity);
 	FM_FREE_ARRAY(h->entryBucket, int, h->entryCapacity);
-	FM_FREE_ARRAY(h->stamp, unsigned, h->itemCapacity);
 	memset(h, 0, sizeof *h);
+}
+
+void fmHashQuery_Free(fmHashQuery* q)
+{
+	FM_FREE_ARRAY(q->stamp, unsigned, q->stampCapacity);
+	FM_FREE_ARRAY(q->items, int, q->itemCapacity);
+	memset(q, 0, sizeof *q);
+}
+
+bool fmHashQuery_Reserve(fmHashQuery* q, const fmSpatialHash* h)
+{
+	if (h->itemCount <= q->stampCapacity)
+		return true;
+	unsigned* stamp = FM_ALLOC_ZERO(unsigned, h->itemCount);
+	if (stamp == NULL)
+		return false;
+	FM_FREE_ARRAY(q->stamp, unsigned, q->stampCapacity);
+	q->stamp = stamp;
+	q->stampCapacity = h->itemCount;
+	q->query = 0;
+	return true;
 }
 
 static int fmCellOf(double x, double cell)
@@ -48,7 +68,7 @@ static void fmCellRange(double cell, fmVec3 lower, fmVec3 upper, int lo[3], int 
 	}
 }
 
-static bool fmReserve(fmSpatialHash* h, int entries, int items)
+static bool fmReserve(fmSpatialHash* h, int entries)
 {
 	int table = 1;
 	while (table < 2 * entries && table < (1 << 26))
@@ -79,17 +99,22 @@ static bool fmReserve(fmSpatialHash* h, int entries, int items)
 		h->bucketStart = fresh;
 		h->tableCapacity = table + 1;
 	}
-	if (items > h->itemCapacity)
-	{
-		unsigned* stamp = FM_ALLOC_ZERO(unsigned, items);
-		if (stamp == NULL)
-			return false;
-		FM_FREE_ARRAY(h->stamp, unsigned, h->itemCapacity);
-		h->stamp = stamp;
-		h->itemCapacity = items;
-		h->query = 0;
-	}
 	h->tableSize = table;
+	return true;
+}
+
+// Double a querier's list of items, keeping the @p found first ones.
+static bool fmGrowItems(fmHashQuery* q, int found)
+{
+	int grown = 2 * found + 16;
+	int* fresh = FM_ALLOC_ARRAY(int, grown);
+	if (fresh == NULL)
+		return false;
+	if (found > 0)
+		memcpy(fresh, q->items, sizeof(int) * (size_t)found);
+	FM_FREE_ARRAY(q->items, int, q->itemCapacity);
+	q->items = fresh;
+	q->itemCapacity = grown;
 	return true;
 }
 
@@ -114,11 +139,13 @@ bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* up
 			break;
 	}
 	h->cell = cell;
-	if (entries > (1 << 28) || !fmReserve(h, (int)entries, count))
+	h->itemCount = 0;
+	if (entries > (1 << 28) || !fmReserve(h, (int)entries))
 	{
 		h->tableSize = 0;
 		return false;
 	}
+	h->itemCount = count;
 	memset(h->bucketStart, 0, sizeof(int) * ((size_t)h->tableSize + 1));
 	int n = 0;
 	for (int k = 0; k < count; ++k)
@@ -152,14 +179,16 @@ bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* up
 	return true;
 }
 
-int fmSpatialHash_Query(fmSpatialHash* h, fmVec3 lower, fmVec3 upper, int** out, int* capacity)
+int fmSpatialHash_Query(const fmSpatialHash* h, fmHashQuery* q, fmVec3 lower, fmVec3 upper)
 {
 	if (h->tableSize == 0)
 		return 0;
-	if (++h->query == 0) // the stamps wrapped: start them again
+	if (q->stampCapacity < h->itemCount)
+		return -1;       // (fmHashQuery_Reserve was not called after the build)
+	if (++q->query == 0) // the stamps wrapped: start them again
 	{
-		memset(h->stamp, 0, sizeof(unsigned) * (size_t)h->itemCapacity);
-		h->query = 1;
+		memset(q->stamp, 0, sizeof(unsigned) * (size_t)q->stampCapacity);
+		q->query = 1;
 	}
 	int lo[3], hi[3], found = 0;
 	fmCellRange(h->cell, lower, upper, lo, hi);
@@ -171,22 +200,12 @@ int fmSpatialHash_Query(fmSpatialHash* h, fmVec3 lower, fmVec3 upper, int** out,
 				for (int e = h->bucketStart[bucket]; e < h->bucketStart[bucket + 1]; ++e)
 				{
 					int item = h->entries[e];
-					if (h->stamp[item] == h->query)
+					if (q->stamp[item] == q->query)
 						continue;
-					h->stamp[item] = h->query;
-					if (found == *capacity)
-					{
-						int grown = 2 * found + 16;
-						int* fresh = FM_ALLOC_ARRAY(int, grown);
-						if (fresh == NULL)
-							return -1;
-						if (found > 0)
-							memcpy(fresh, *out, sizeof(int) * (size_t)found);
-						FM_FREE_ARRAY(*out, int, *capacity);
-						*out = fresh;
-						*capacity = grown;
-					}
-					(*out)[found++] = item;
+					q->stamp[item] = q->query;
+					if (found == q->itemCapacity && !fmGrowItems(q, found))
+						return -1;
+					q->items[found++] = item;
 				}
 			}
 	return found;

@@ -17,19 +17,35 @@ typedef struct fmSpatialHash
 	int entryCapacity;
 	int* entries;     // the item of each entry, grouped by bucket
 	int* entryBucket; // scratch: the bucket of each entry before grouping
-	int itemCapacity;
-	unsigned* stamp; // per item: the query that last returned it
-	unsigned query;  // the current query's stamp
+	int itemCount;    // items in the last build
 } fmSpatialHash;
+
+// One querier's buffers: queries with distinct ones may run in parallel on the same hash (one
+// per worker). Zeroed to start.
+typedef struct fmHashQuery
+{
+	unsigned* stamp; // per item: the query that last returned it
+	int stampCapacity;
+	unsigned query; // the current query's stamp
+	int* items;     // the last query's items
+	int itemCapacity;
+} fmHashQuery;
 
 // Rebuild over @p count items, item k covering [lower[k], upper[k]], with cells of @p cell m.
 // False when memory is short (the hash is then empty).
 bool fmSpatialHash_Build(fmSpatialHash* hash, const fmVec3* lower, const fmVec3* upper, int count,
                          double cell);
 
-// The items whose cells overlap [lower, upper], each once, into @p out (grown as needed, its
-// capacity in @p capacity); returns how many, or -1 when memory is short.
-int fmSpatialHash_Query(fmSpatialHash* hash, fmVec3 lower, fmVec3 upper, int** out, int* capacity);
+// Room in @p query's stamps for every item of @p hash's last build; call it after the build,
+// before the queries (it allocates). False when memory is short.
+bool fmHashQuery_Reserve(fmHashQuery* query, const fmSpatialHash* hash);
+
+// The items whose cells overlap [lower, upper], each once, into query->items (grown as
+// needed); returns how many, or -1 when memory is short. Reads @p hash only.
+int fmSpatialHash_Query(const fmSpatialHash* hash, fmHashQuery* query, fmVec3 lower, fmVec3 upper);
+
+// Release a querier's buffers; safe on a zeroed one.
+void fmHashQuery_Free(fmHashQuery* query);
 
 // Release the arrays; safe on a zeroed hash.
 void fmSpatialHash_Free(fmSpatialHash* hash);

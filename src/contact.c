@@ -58,6 +58,18 @@ typedef struct fmPairContact
 	double reach; // m, the most the projections may still separate the pair in this substep
 } fmPairContact;
 
+// What one worker of the parallel detection found (fmDetect): its queries' buffers, the edge
+// contacts it found in item order, its broad-phase time and whether memory ran short.
+typedef struct fmWorkerFinds
+{
+	fmHashQuery query;
+	struct fmEdgeContact* edges;
+	int edgeCount;
+	int edgeCapacity;
+	double broadPhase; // s
+	bool failed;
+} fmWorkerFinds;
+
 // An edge of one body's surface within the thickness of an edge of another's (both ways
 // between the bodies' surfaces, the endpoints excluded: those are vertex-triangle contacts).
 typedef struct fmEdgeContact
@@ -68,6 +80,8 @@ typedef struct fmEdgeContact
 	fmVec3 normal;   // unit, from b's edge toward a's
 	double reach;    // m, the most the projections may still separate them in this substep
 	double impulse;  // N s
+	int item;        // the detection item (surface edge) that found it, for a fixed order
+	int sequence;    // its place among that item's contacts
 } fmEdgeContact;
 
 struct fmContactState
@@ -76,10 +90,14 @@ struct fmContactState
 	int triangleCapacity;
 	fmVec3* lower; // per global triangle: its box
 	fmVec3* upper;
-	int* triangleBody;  // per global triangle: its body slot
-	int* triangleIndex; // per global triangle: its index in that body's surface
-	int* candidates;    // a query's result
-	int candidateCapacity;
+	int* triangleBody;                     // per global triangle: its body slot
+	int* triangleIndex;                    // per global triangle: its index in that body's surface
+	fmWorkerFinds workers[FM_MAX_WORKERS]; // the parallel detection's per-worker buffers
+	int* items; // the detection's items: (body slot, vertex or surface edge) pairs
+	int itemCapacity;
+	fmPairContact* found; // per vertex item: its contact, where hit[k]
+	uint8_t* hit;
+	int foundCapacity;
 	fmVec3* bodyLower; // per body slot: its surface's box, grown (the mid phase)
 	fmVec3* bodyUpper;
 	bool* bodyNear;    // per body slot: another body's box (or its own, self-colliding) overlaps
@@ -144,7 +162,14 @@ void fmContact_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->upper, fmVec3, t);
 	FM_FREE_ARRAY(s->triangleBody, int, t);
 	FM_FREE_ARRAY(s->triangleIndex, int, t);
-	FM_FREE_ARRAY(s->candidates, int, s->candidateCapacity);
+	for (int k = 0; k < FM_MAX_WORKERS; ++k)
+	{
+		fmHashQuery_Free(&s->workers[k].query);
+		FM_FREE_ARRAY(s->workers[k].edges, fmEdgeContact, s->workers[k].edgeCapacity);
+	}
+	FM_FREE_ARRAY(s->items, int, s->itemCapacity);
+	FM_FREE_ARRAY(s->found, fmPairContact, s->foundCapacity);
+	FM_FREE_ARRAY(s->hit, uint8_t, s->foundCapacity);
 	FM_FREE_ARRAY(s->bodyLower, fmVec3, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->bodyUpper, fmVec3, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->bodyNear, bool, s->bodyBoxCapacity);
@@ -729,8 +754,12 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 	return fmLength(fmSub(p, q)) > 2.0 * thickness;
 }
 
-static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, double thickness,
-                              fmPairContact* found)
+// The contact of surface vertex i of body @p slot: the nearest triangle of another body (or
+// its own, self-colliding) it touches or crossed in the substep, queried with @p wf's buffers
+// (safe in parallel with other workers'). False when none, or when memory ran short
+// (wf->failed).
+static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf,
+                              int slot, int i, double thickness, fmPairContact* found)
 {
 	const fmBody* b = &w->bodies[slot];
 	fmVec3 p = fmLoad(b->x, i);
@@ -742,13 +771,14 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	if (!fmNearOtherBody(w, s, slot, lo, hi))
 		return false;
 	double start = fmSeconds();
-	int count = fmSpatialHash_Query(&s->hash, lo, hi, &s->candidates, &s->candidateCapacity);
-	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
+	int count = fmSpatialHash_Query(&s->hash, &wf->query, lo, hi);
+	wf->broadPhase += fmSeconds() - start;
+	wf->failed = wf->failed || count < 0;
 	double best = INFINITY;
 	int bestItem = -1;
 	for (int c = 0; c < count; ++c)
 	{
-		int item = s->candidates[c], other = s->triangleBody[item];
+		int item = wf->query.items[c], other = s->triangleBody[item];
 		fmVec3 tlo = s->lower[item], thi = s->upper[item];
 		if (hi.x < tlo.x || lo.x > thi.x || hi.y < tlo.y || lo.y > thi.y || hi.z < tlo.z ||
 		    lo.z > thi.z)
@@ -801,12 +831,6 @@ static bool fmFindPairContact(fmWorld* w, fmContactState* s, int slot, int i, do
 	found->body = slot;
 	found->vertex = i;
 	found->impulse = 0.0;
-	if (bestItem >= 0 && (b->asleep || w->bodies[found->other].asleep))
-	{
-		// An awake body touches a sleeping one: the sleeper stays still (no inverse mass) and
-		// wakes, with its island, at the end of the frame (island.h).
-		w->bodies[b->asleep ? slot : found->other].wakeRequested = true;
-	}
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -948,8 +972,9 @@ static fmVec3 fmEdgePoint(const double* x, const int e[2], double s)
 // Edge e of body b against the edges of triangle @p tri of body o: a contact when their closest
 // points are inside both edges and within the thickness, or when the edges crossed during the
 // substep (the direction between the closest points turned over). Appends to the edge list.
-static bool fmEdgeAgainstTriangle(fmContactState* s, const fmBody* b, int slot, const int e[2],
-                                  const fmBody* o, int other, const int* tri, double thickness)
+static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, const fmBody* b,
+                                  int slot, const int e[2], const fmBody* o, int other,
+                                  const int* tri, double thickness, int item)
 {
 	for (int k = 0; k < 3; ++k)
 	{
@@ -971,62 +996,56 @@ static bool fmEdgeAgainstTriangle(fmContactState* s, const fmBody* b, int slot, 
 		bool crossed = fmDot(d, d0) < 0.0 && start > 0.0 && start < reach;
 		if (!(crossed || (distance < thickness && distance > 0.0)))
 			continue;
-		if (!fmGrow((void**)&s->edgeContacts, &s->edgeContactCapacity, s->edgeContactCount,
-		            s->edgeContactCount + 1, sizeof(fmEdgeContact)))
+		if (!fmGrow((void**)&wf->edges, &wf->edgeCapacity, wf->edgeCount, wf->edgeCount + 1,
+		            sizeof(fmEdgeContact)))
 			return false;
-		fmEdgeContact* c = &s->edgeContacts[s->edgeContactCount++];
+		fmEdgeContact* c = &wf->edges[wf->edgeCount++];
 		c->body = slot, c->other = other;
 		c->a[0] = e[0], c->a[1] = e[1], c->b[0] = f[0], c->b[1] = f[1];
 		c->s = sa, c->t = tb;
 		c->normal = crossed ? fmScale(1.0 / start, d0) : fmScale(1.0 / distance, d);
 		c->reach = reach;
 		c->impulse = 0.0;
+		c->item = item;
+		c->sequence = wf->edgeCount; // increasing within the item
 	}
 	return true;
 }
 
-// Every surface edge of body @p slot against the surface edges of the bodies of higher slots
-// near it (so each pair of bodies once).
-static bool fmFindEdgeContacts(fmWorld* w, fmContactState* s, int slot, double thickness)
+// Surface edge @p edge (triangle edge / 3, edge % 3) of body @p slot against the surface edges
+// of the bodies of higher slots near it (so each pair of bodies once), into @p wf's list.
+static void fmFindEdgeContacts(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf,
+                               int slot, int edge, double thickness, int item)
 {
 	const fmBody* b = &w->bodies[slot];
-	for (int t = 0; t < b->triangleCount; ++t)
-		for (int k = 0; k < 3; ++k)
-		{
-			const int* tri = fmTriangleOf(b, t);
-			int e[2] = {tri[k], tri[(k + 1) % 3]};
-			if (e[0] > e[1])
-				continue;
-			fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
-			double reach = thickness + fmax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
-			fmVec3 lo =
-			    fmMakeVec3(fmin(p.x, q.x) - reach, fmin(p.y, q.y) - reach, fmin(p.z, q.z) - reach);
-			fmVec3 hi =
-			    fmMakeVec3(fmax(p.x, q.x) + reach, fmax(p.y, q.y) + reach, fmax(p.z, q.z) + reach);
-			if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) <
-			      1e30))
-				continue; // non-finite: the frame's checks report it
-			if (!fmNearOtherBody(w, s, slot, lo, hi))
-				continue;
-			int count =
-			    fmSpatialHash_Query(&s->hash, lo, hi, &s->candidates, &s->candidateCapacity);
-			if (count < 0)
-				return false;
-			for (int c = 0; c < count; ++c)
-			{
-				int item = s->candidates[c], other = s->triangleBody[item];
-				const fmBody* o = &w->bodies[other];
-				fmVec3 ilo = s->lower[item], ihi = s->upper[item];
-				if (other <= slot || !fmFiltersMeet(b->filter, o->filter) ||
-				    (b->asleep && o->asleep) || hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y ||
-				    lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)
-					continue;
-				if (!fmEdgeAgainstTriangle(s, b, slot, e, o, other,
-				                           fmTriangleOf(o, s->triangleIndex[item]), thickness))
-					return false;
-			}
-		}
-	return true;
+	const int* tri = fmTriangleOf(b, edge / 3);
+	int e[2] = {tri[edge % 3], tri[(edge % 3 + 1) % 3]};
+	if (e[0] > e[1])
+		return;
+	fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
+	double reach = thickness + fmax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
+	fmVec3 lo = fmMakeVec3(fmin(p.x, q.x) - reach, fmin(p.y, q.y) - reach, fmin(p.z, q.z) - reach);
+	fmVec3 hi = fmMakeVec3(fmax(p.x, q.x) + reach, fmax(p.y, q.y) + reach, fmax(p.z, q.z) + reach);
+	if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) < 1e30))
+		return; // non-finite: the frame's checks report it
+	if (!fmNearOtherBody(w, s, slot, lo, hi))
+		return;
+	double start = fmSeconds();
+	int count = fmSpatialHash_Query(&s->hash, &wf->query, lo, hi);
+	wf->broadPhase += fmSeconds() - start;
+	wf->failed = wf->failed || count < 0;
+	for (int c = 0; c < count && !wf->failed; ++c)
+	{
+		int found = wf->query.items[c], other = s->triangleBody[found];
+		const fmBody* o = &w->bodies[other];
+		fmVec3 ilo = s->lower[found], ihi = s->upper[found];
+		if (other <= slot || !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) ||
+		    hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y || lo.y > ihi.y || hi.z < ilo.z ||
+		    lo.z > ihi.z)
+			continue;
+		wf->failed = !fmEdgeAgainstTriangle(
+		    s, wf, b, slot, e, o, other, fmTriangleOf(o, s->triangleIndex[found]), thickness, item);
+	}
 }
 
 // The four weights of an edge contact's vertices in its projection and response.
@@ -1126,6 +1145,162 @@ static bool fmRecordEdgeContact(fmWorld* w, fmContactState* s, const fmEdgeConta
 	return fmRecordPair(s, ((uint64_t)(uint32_t)c->body << 32) | (uint32_t)c->other);
 }
 
+// ---- parallel detection ------------------------------------------------------------------------
+
+// Detection items a task range takes at least (each is a hash query and its narrow tests).
+#define FM_CONTACT_MIN_RANGE 256
+
+typedef struct fmDetectTask
+{
+	const fmWorld* w;
+	fmContactState* s;
+	double thickness;
+} fmDetectTask;
+
+// The workers' buffers ready for this detection: stamps for the hash's items, lists emptied.
+static bool fmStartWorkers(const fmWorld* w, fmContactState* s)
+{
+	for (int k = 0; k < w->tasks.workerCount; ++k)
+	{
+		fmWorkerFinds* wf = &s->workers[k];
+		if (!fmHashQuery_Reserve(&wf->query, &s->hash))
+			return false;
+		wf->edgeCount = 0;
+		wf->broadPhase = 0.0;
+		wf->failed = false;
+	}
+	return true;
+}
+
+// The workers' broad-phase time into the profile; false when one ran out of memory.
+static bool fmEndWorkers(fmWorld* w, const fmContactState* s)
+{
+	bool ok = true;
+	for (int k = 0; k < w->tasks.workerCount; ++k)
+	{
+		w->profile.broadPhase += 1e3 * s->workers[k].broadPhase;
+		ok = ok && !s->workers[k].failed;
+	}
+	return ok;
+}
+
+// The detection items: (body slot, surface vertex) or, with @p edges, (body slot, triangle
+// edge 3 t + k) for every body near another.
+// Returns how many, or -1 when memory is short.
+static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
+{
+	int n = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+		if (w->bodies[slot].x && s->bodyNear[slot])
+			n += edges ? 3 * w->bodies[slot].triangleCount : w->bodies[slot].surfaceVertexCount;
+	if (!fmGrow((void**)&s->items, &s->itemCapacity, 0, 2 * n, sizeof(int)))
+		return -1;
+	n = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		int count =
+		    b->x && s->bodyNear[slot] ? edges ? 3 * b->triangleCount : b->surfaceVertexCount : 0;
+		for (int k = 0; k < count; ++k, ++n)
+		{
+			s->items[2 * n] = slot;
+			s->items[2 * n + 1] = edges ? k : b->surfaceVertex[k];
+		}
+	}
+	return n;
+}
+
+static void fmDetectVertexRange(int start, int end, int worker, void* context)
+{
+	fmDetectTask* t = context;
+	fmContactState* s = t->s;
+	for (int k = start; k < end; ++k)
+		s->hit[k] = fmFindPairContact(t->w, s, &s->workers[worker], s->items[2 * k],
+		                              s->items[2 * k + 1], t->thickness, &s->found[k]);
+}
+
+// Every surface vertex of the bodies near another, in parallel: its contact into s->found[k]
+// where s->hit[k], in a fixed order whatever the workers. Returns how many items, or -1 when
+// memory is short.
+static int fmDetectVertices(fmWorld* w, fmContactState* s, double thickness)
+{
+	int n = fmListItems(w, s, false);
+	if (n < 0 || !fmStartWorkers(w, s))
+		return -1;
+	if (n > s->foundCapacity)
+	{
+		FM_FREE_ARRAY(s->found, fmPairContact, s->foundCapacity);
+		FM_FREE_ARRAY(s->hit, uint8_t, s->foundCapacity);
+		s->found = FM_ALLOC_ARRAY(fmPairContact, n);
+		s->hit = FM_ALLOC_ARRAY(uint8_t, n);
+		s->foundCapacity = s->found && s->hit ? n : 0;
+		if (s->foundCapacity == 0)
+		{
+			FM_FREE_ARRAY(s->found, fmPairContact, n);
+			FM_FREE_ARRAY(s->hit, uint8_t, n);
+			return -1;
+		}
+	}
+	fmDetectTask task = {w, s, thickness};
+	fmParallelFor(&w->tasks, n, FM_CONTACT_MIN_RANGE, fmDetectVertexRange, &task);
+	return fmEndWorkers(w, s) ? n : -1;
+}
+
+static void fmDetectEdgeRange(int start, int end, int worker, void* context)
+{
+	fmDetectTask* t = context;
+	fmContactState* s = t->s;
+	for (int k = start; k < end; ++k)
+		fmFindEdgeContacts(t->w, s, &s->workers[worker], s->items[2 * k], s->items[2 * k + 1],
+		                   t->thickness, k);
+}
+
+static int fmCompareEdgeContacts(const void* a, const void* b)
+{
+	const fmEdgeContact *x = a, *y = b;
+	if (x->item != y->item)
+		return x->item < y->item ? -1 : 1;
+	return (x->sequence > y->sequence) - (x->sequence < y->sequence);
+}
+
+// Every surface edge of the bodies near another against the other bodies' edges, in parallel:
+// the contacts into s->edgeContacts in item order whatever the workers. False when memory is
+// short.
+static bool fmDetectEdges(fmWorld* w, fmContactState* s, double thickness)
+{
+	int n = fmListItems(w, s, true);
+	if (n < 0 || !fmStartWorkers(w, s))
+		return false;
+	fmDetectTask task = {w, s, thickness};
+	fmParallelFor(&w->tasks, n, FM_CONTACT_MIN_RANGE, fmDetectEdgeRange, &task);
+	if (!fmEndWorkers(w, s))
+		return false;
+	int total = 0;
+	for (int k = 0; k < w->tasks.workerCount; ++k)
+		total += s->workers[k].edgeCount;
+	if (!fmGrow((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total, sizeof(fmEdgeContact)))
+		return false;
+	for (int k = 0; k < w->tasks.workerCount; ++k)
+	{
+		memcpy(s->edgeContacts + s->edgeContactCount, s->workers[k].edges,
+		       sizeof(fmEdgeContact) * (size_t)s->workers[k].edgeCount);
+		s->edgeContactCount += s->workers[k].edgeCount;
+	}
+	qsort(s->edgeContacts, (size_t)s->edgeContactCount, sizeof(fmEdgeContact),
+	      fmCompareEdgeContacts);
+	return true;
+}
+
+// An awake body touches a sleeping one: the sleeper stays still (no inverse mass) and wakes,
+// with its island, at the end of the frame (island.h).
+static void fmWakeSleeper(fmWorld* w, const fmPairContact* found)
+{
+	fmBody* b = &w->bodies[found->body];
+	fmBody* o = &w->bodies[found->other];
+	if (b->asleep || o->asleep)
+		(b->asleep ? b : o)->wakeRequested = true;
+}
+
 static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 {
 	double start = fmSeconds();
@@ -1133,29 +1308,23 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		return false;
 	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
 	s->pairContactCount = 0;
-	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-	{
-		const fmBody* b = &w->bodies[slot];
-		bool near = s->bodyNear[slot];
-		for (int p = 0; near && p < b->surfaceVertexCount; ++p)
+	int n = fmDetectVertices(w, s, thickness);
+	if (n < 0 ||
+	    !fmGrow((void**)&s->pairContacts, &s->pairContactCapacity, 0, n, sizeof(fmPairContact)))
+		return false;
+	for (int k = 0; k < n; ++k)
+		if (s->hit[k])
 		{
-			fmPairContact found;
-			if (!fmFindPairContact(w, s, slot, b->surfaceVertex[p], thickness, &found))
-				continue;
-			if (!fmGrow((void**)&s->pairContacts, &s->pairContactCapacity, s->pairContactCount,
-			            s->pairContactCount + 1, sizeof(fmPairContact)))
-				return false;
-			s->pairContacts[s->pairContactCount++] = found;
+			fmWakeSleeper(w, &s->found[k]);
+			s->pairContacts[s->pairContactCount++] = s->found[k];
 		}
-	}
 	// Edge against edge, explicit substeps only: after an implicit step, whose solve saw only
 	// the vertex-triangle planes, the edges' projections fought the solve's result (three
 	// houses dropped on each other: 12 vertices ended inside another house with them, 1
 	// without; docs/contact.md).
 	s->edgeContactCount = 0;
-	for (int slot = 0; slot < w->bodyCapacity && w->def.integrator != fm_implicit; ++slot)
-		if (s->bodyNear[slot] && !fmFindEdgeContacts(w, s, slot, thickness))
-			return false;
+	if (w->def.integrator != fm_implicit && !fmDetectEdges(w, s, thickness))
+		return false;
 	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
 	{
 		for (int c = 0; c < s->pairContactCount; ++c)
@@ -1199,32 +1368,28 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 // penalty (penalty.h); NaN where there is none.
 static bool fmPredictPlanes(fmWorld* w, fmContactState* s, double thickness, double h)
 {
+	// (fmContact_BeginSubstep has set every plane to none.)
 	s->predict = h;
-	bool ok = fmBuildTriangles(w, s, thickness);
-	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
+	int n = fmBuildTriangles(w, s, thickness) ? fmDetectVertices(w, s, thickness) : -1;
+	for (int k = 0; k < n; ++k)
 	{
-		fmBody* b = &w->bodies[slot];
-		for (int p = 0; b->x && p < b->surfaceVertexCount; ++p)
-		{
-			int i = b->surfaceVertex[p];
-			fmPairContact found;
-			double* plane = b->contactPlane + 4 * (size_t)i;
-			plane[3] = NAN;
-			if (!fmFindPairContact(w, s, slot, i, thickness, &found))
-				continue;
-			const fmBody* o = &w->bodies[found.other];
-			const int* tri = fmTriangleOf(o, found.triangle);
-			fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
-			for (int c = 0; c < 3; ++c)
-				q = fmMulAdd(q, found.w[c], fmLoad(o->x, tri[c]));
-			plane[0] = found.normal.x;
-			plane[1] = found.normal.y;
-			plane[2] = found.normal.z;
-			plane[3] = fmDot(found.normal, q);
-		}
+		if (!s->hit[k])
+			continue;
+		const fmPairContact* found = &s->found[k];
+		fmWakeSleeper(w, found);
+		const fmBody* o = &w->bodies[found->other];
+		const int* tri = fmTriangleOf(o, found->triangle);
+		fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
+		for (int c = 0; c < 3; ++c)
+			q = fmMulAdd(q, found->w[c], fmLoad(o->x, tri[c]));
+		double* plane = w->bodies[found->body].contactPlane + 4 * (size_t)found->vertex;
+		plane[0] = found->normal.x;
+		plane[1] = found->normal.y;
+		plane[2] = found->normal.z;
+		plane[3] = fmDot(found->normal, q);
 	}
 	s->predict = 0.0;
-	return ok;
+	return n >= 0;
 }
 
 // ---- the energy ledger -------------------------------------------------------------------------
