@@ -1280,14 +1280,16 @@ static bool fmDetectEdges(fmWorld* w, fmContactState* s, double thickness)
 		total += s->workers[k].edgeCount;
 	if (!fmGrow((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total, sizeof(fmEdgeContact)))
 		return false;
-	for (int k = 0; k < w->tasks.workerCount; ++k)
+	for (int k = 0; k < w->tasks.workerCount && total > 0; ++k)
 	{
-		memcpy(s->edgeContacts + s->edgeContactCount, s->workers[k].edges,
-		       sizeof(fmEdgeContact) * (size_t)s->workers[k].edgeCount);
+		if (s->workers[k].edgeCount > 0)
+			memcpy(s->edgeContacts + s->edgeContactCount, s->workers[k].edges,
+			       sizeof(fmEdgeContact) * (size_t)s->workers[k].edgeCount);
 		s->edgeContactCount += s->workers[k].edgeCount;
 	}
-	qsort(s->edgeContacts, (size_t)s->edgeContactCount, sizeof(fmEdgeContact),
-	      fmCompareEdgeContacts);
+	if (total > 1)
+		qsort(s->edgeContacts, (size_t)s->edgeContactCount, sizeof(fmEdgeContact),
+		      fmCompareEdgeContacts);
 	return true;
 }
 
