@@ -294,7 +294,8 @@ static double positionDifference(const ContactScene* scene, const double* a, con
 }
 
 // Run @p frames frames: every step must succeed; the contact events of each frame into
-// @p events, and how many of the frames' contacts were with the paddle and with the other body.
+// @p events (unless NULL), and how many of the frames' contacts were with the paddle and with the
+// other body.
 static void runScene(int* failures_, const ContactScene* scene, int frames, int* events,
                      int* paddle, int* bodyBody)
 {
@@ -302,7 +303,8 @@ static void runScene(int* failures_, const ContactScene* scene, int frames, int*
 	for (int f = 0; f < frames; ++f)
 	{
 		CHECK_INT(fmWorld_Step(scene->world, scene->frame, scene->substeps), fm_ok);
-		events[f] = fmWorld_GetContactEvents(scene->world, NULL, 0);
+		if (events != NULL)
+			events[f] = fmWorld_GetContactEvents(scene->world, NULL, 0);
 		int count = fmWorld_GetContacts(scene->world, points, 4096);
 		for (int k = 0; k < count && k < 4096; ++k)
 		{
@@ -364,7 +366,7 @@ static void checkContactReplay(int* failures_, fmIntegrator integrator)
 	const char* name = integrator == fm_implicit ? "implicit" : "explicit";
 	ContactScene scene = makeContactScene(failures_, integrator);
 	int events[sceneFrames], replayed[sceneFrames], paddle = 0, bodyBody = 0;
-	runScene(failures_, &scene, sceneSaveFrame, events, &paddle, &bodyBody); // landing
+	runScene(failures_, &scene, sceneSaveFrame, NULL, &paddle, &bodyBody); // landing
 	size_t size = fmWorld_GetSnapshotSize(scene.world), written = 0;
 	void* snapshot = malloc(size);
 	CHECK_INT(fmWorld_SaveSnapshot(scene.world, snapshot, size, &written), fm_ok);
