@@ -166,22 +166,6 @@ static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
 	return def;
 }
 
-// Public calls with fuzzed arguments on a live (or stale) body.
-// Save a snapshot, corrupt a few bytes of it (or cut it short) and restore it: a bad snapshot is
-// refused, a corrupted value is reported by the next step, nothing crashes.
-static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world)
-{
-	static unsigned char buffer[1 << 16];
-	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
-	if (size == 0 || size > sizeof buffer ||
-	    fmWorld_SaveSnapshot(world, buffer, size, &written) != fm_ok)
-		return;
-	int flips = fmFuzzPick(r, 4);
-	for (int k = 0; k < flips; ++k)
-		buffer[fmFuzzPick(r, (int)written)] ^= (unsigned char)fmFuzzByte(r);
-	fmWorld_RestoreSnapshot(world, buffer, fmFuzzPick(r, 4) ? written : written / 2);
-}
-
 // A collider of a fuzzed shape, a mesh among them (small fuzzed vertices and triangles, some of
 // them out of range), created, moved and perhaps destroyed again.
 static void fuzzCollider(fmFuzzReader* r, fmWorldId world)
@@ -200,6 +184,7 @@ static void fuzzCollider(fmFuzzReader* r, fmWorldId world)
 	def.b = fmFuzzVec3(r, -2.0, 2.0);
 	def.friction = fmFuzzDouble(r, -0.1, 1.0);
 	def.velocity = fmFuzzPick(r, 2) ? fmFuzzVec3(r, -5.0, 5.0) : def.velocity;
+	def.angularVelocity = fmFuzzPick(r, 2) ? fmFuzzVec3(r, -5.0, 5.0) : def.angularVelocity;
 	for (int k = 0; k < 6; ++k)
 		vertices[k] = fmFuzzVec3(r, -2.0, 2.0);
 	for (int k = 0; k < 12; ++k)
@@ -214,9 +199,44 @@ static void fuzzCollider(fmFuzzReader* r, fmWorldId world)
 	if (fmFuzzPick(r, 2))
 		fmCollider_SetTransform(id, fmFuzzVec3(r, -2.0, 2.0), fmFuzzVec3(r, -3.0, 3.0));
 	if (fmFuzzPick(r, 4) == 0)
+		fmCollider_SetVelocity(id, fmFuzzVec3(r, -5.0, 5.0), fmFuzzVec3(r, -5.0, 5.0));
+	if (fmFuzzPick(r, 4) == 0)
 		fmDestroyCollider(id);
 }
 
+// Save a snapshot, change the world or not (a step, a collider created or destroyed, a kinematic
+// one's velocity, a body put to sleep or woken), corrupt a few bytes of it (or cut it short) and
+// restore it: a bad snapshot or one of other colliders is refused, a corrupted value is reported
+// by the next step, nothing crashes.
+static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world, fmBodyId body)
+{
+	static unsigned char buffer[1 << 16];
+	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
+	if (size == 0 || size > sizeof buffer ||
+	    fmWorld_SaveSnapshot(world, buffer, size, &written) != fm_ok)
+		return;
+	switch (fmFuzzPick(r, 6))
+	{
+	case 0:
+		fmWorld_Step(world, fmFuzzDouble(r, 0.0, 0.05), fmFuzzPick(r, 3));
+		break;
+	case 1:
+		fuzzCollider(r, world);
+		break;
+	case 2:
+		fmBody_SetAwake(body, fmFuzzPick(r, 2) == 0);
+		break;
+	default:
+		break;
+	}
+	int flips = fmFuzzPick(r, 4);
+	for (int k = 0; k < flips; ++k)
+		buffer[fmFuzzPick(r, (int)written)] ^= (unsigned char)fmFuzzByte(r);
+	fmWorld_RestoreSnapshot(world, buffer,
+	                        fmFuzzPick(r, 4) ? written : (size_t)fmFuzzPick(r, (int)written + 1));
+}
+
+// Public calls with fuzzed arguments on a live (or stale) body.
 static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
 	int n = fmBody_IsValid(body) ? fmBody_GetVertexCount(body) : 0;
@@ -274,7 +294,7 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			fmWorld_Step(world, fmFuzzDouble(r, 0.0, 0.05), fmFuzzPick(r, 4) - 1);
 			break;
 		case 11:
-			fuzzSnapshot(r, world);
+			fuzzSnapshot(r, world, body);
 			break;
 		case 12:
 			fuzzCollider(r, world);

@@ -1772,3 +1772,19 @@ int fmWorld_GetContactEvents(fmWorldId worldId, fmContactEvent* events, int capa
 		memcpy(events, s->events, sizeof(fmContactEvent) * (size_t)copy);
 	return s->eventCount;
 }
+
+// ---- snapshots ---------------------------------------------------------------------------------
+
+bool fmContact_SetFramePairs(fmWorld* w, const void* pairs, int count)
+{
+	if (count == 0 && w->contactState == NULL)
+		return true;
+	fmContactState* s = fmGetState(w);
+	if (s == NULL ||
+	    !fmGrow((void**)&s->lastPairs, &s->lastPairCapacity, 0, count, sizeof(uint64_t)))
+		return false;
+	if (count > 0)
+		memcpy(s->lastPairs, pairs, sizeof(uint64_t) * (size_t)count);
+	s->lastPairCount = count;
+	return true;
+}

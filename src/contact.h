@@ -54,6 +54,10 @@ bool fmContact_EndFrame(fmWorld* world, double frameTime);
 // slot), or | 0x80000000 | collider slot for a collider (valid until the next step).
 int fmContact_FramePairs(const fmWorld* world, const uint64_t** pairs);
 
+// Replace the last frame's pairs with @p count sorted keys read from @p pairs (any alignment;
+// a snapshot's, snapshot.c). False, and nothing changed, when memory is short.
+bool fmContact_SetFramePairs(fmWorld* world, const void* pairs, int count);
+
 // The last substep's contacts (valid until the next step); returns how many.
 int fmContact_Points(const fmWorld* world, const fmContactPoint** points);
 

@@ -5,19 +5,35 @@
 // (inverse masses follow from them), material and spring stiffness, energy ledger, the cached
 // stability limit, and the implicit solver's kept Newton matrix with what it was built with (the
 // lazy Hessian reuses it across steps, so a restored world without it would take other Newton
-// steps). The world's settings that setters change are saved too. Per-step temporaries (the
-// solver's vectors, the damping matrix, the arena) are rebuilt by every step and are not. Bodies
-// are matched by slot, generation and counts: a snapshot restores into the world it was taken from,
-// with the same bodies (created or destroyed bodies make it refuse, untouched).
+// steps). The world's settings that setters change are saved too, and the contact state a step
+// reads from the one before (format version 3): every collider's pose (kinematic ones move),
+// velocity and angular velocity (fmCollider_SetVelocity) and last force and torque; every body's
+// sleep state (asleep, a wake asked for, its sleep timer and island) and the implicit collider
+// friction found in the last step, which the next step's solve uses (body->contactFrictionNext,
+// saved for the vertices that have some); and the pairs that touched in the last frame (the next
+// frame's begin and end events and islands come from them). Per-step temporaries (the solver's
+// vectors, the damping matrix, the arena, the contact stage's buffers, its contact list and
+// events) are rebuilt by every step and are not. Bodies are matched by slot, generation and
+// counts, colliders by slot, generation, shape and (meshes) vertex and triangle counts: a snapshot
+// restores into the world it was taken from, with the same bodies and colliders (created or
+// destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
 #include "snapshot.h"
 
+#include "collider.h"
+#include "contact.h"
 #include "core.h"
 #include "world.h"
 
+#include <float.h>
+#include <math.h>
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 2u
+#define FM_SNAPSHOT_VERSION 3u
+
+// The header: magic, version, live bodies, live colliders.
+#define FM_SNAPSHOT_HEADER_WORDS 4
+#define FM_SNAPSHOT_HEADER_BYTES (FM_SNAPSHOT_HEADER_WORDS * sizeof(uint32_t))
 
 // A cursor over the buffer: writing with data == NULL only counts.
 typedef struct fmStream
@@ -248,10 +264,125 @@ static void fmMoveWorldSettings(fmStream* s, bool save, fmWorld* w)
 	fmMoveBool(s, save, &w->warnedStep);
 }
 
+// ---- contact state (format version 3) ----------------------------------------------------------
+
+// A collider's identity in the snapshot: slot, generation, shape and a mesh's counts.
+typedef struct fmColliderKey
+{
+	int32_t slot;
+	uint32_t generation;
+	int32_t shape;
+	int32_t vertexCount;
+	int32_t triangleCount;
+} fmColliderKey;
+
+static fmColliderKey fmColliderKeyOf(const fmCollider* c, int slot)
+{
+	fmColliderKey key = {slot, c->generation, (int32_t)c->def.shape,
+	                     c->mesh != NULL ? c->mesh->vertexCount : 0,
+	                     c->mesh != NULL ? c->mesh->triangleCount : 0};
+	return key;
+}
+
+static int fmLiveColliders(const fmWorld* w)
+{
+	int live = 0;
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		live += w->colliders[k].inUse;
+	return live;
+}
+
+// A collider's state: its pose (a kinematic one moves), its velocities (fmCollider_SetVelocity)
+// and the force and torque of the last step (fmCollider_GetContactForce).
+static void fmMoveColliderState(fmStream* s, bool save, fmCollider* c)
+{
+	fmMove(s, save, &c->position, sizeof c->position);
+	fmMove(s, save, &c->rotation, sizeof c->rotation);
+	fmMove(s, save, &c->def.velocity, sizeof c->def.velocity);
+	fmMove(s, save, &c->def.angularVelocity, sizeof c->def.angularVelocity);
+	fmMove(s, save, &c->force, sizeof c->force);
+	fmMove(s, save, &c->torque, sizeof c->torque);
+}
+
+#define FM_COLLIDER_RECORD_BYTES (sizeof(fmColliderKey) + 5 * sizeof(fmVec3) + sizeof(fmMat3))
+
+static bool fmVecWithin(fmVec3 v, double limit)
+{
+	return fabs(v.x) <= limit && fabs(v.y) <= limit && fabs(v.z) <= limit;
+}
+
+// A pose and velocities the contact stage can work with: finite, a rotation's entries within
+// [-2, 2] (a rotation drifts by round-off only), velocities within fmCollider_SetVelocity's 1e6.
+static bool fmColliderStateValid(const fmCollider* c)
+{
+	bool rotation = true;
+	for (int k = 0; k < 9; ++k)
+		rotation = rotation && fabs(c->rotation.m[k]) <= 2.0;
+	return rotation && fmVecWithin(c->position, DBL_MAX) && fmVecWithin(c->def.velocity, 1e6) &&
+	       fmVecWithin(c->def.angularVelocity, 1e6);
+}
+
+// The implicit collider friction the last step found for vertex i (penalty.h), or NULL: its
+// limit mu lambda is > 0 exactly where the contact stage wrote it (the rest is zero).
+static const double* fmFrictionFound(const fmBody* b, int i)
+{
+	const double* f = b->contactFrictionNext ? b->contactFrictionNext + 8 * (size_t)i : NULL;
+	return f != NULL && f[3] > 0.0 ? f : NULL;
+}
+
+#define FM_FRICTION_RECORD_BYTES (sizeof(int32_t) + 8 * sizeof(double))
+
+// A body's contact state: a flags byte (bit 0 asleep, bit 1 a wake asked for), its sleep timer
+// and island, then the count of vertices with friction for the next step, each as its index and
+// its 8 doubles.
+static void fmPutBodyContact(fmStream* s, const fmBody* b)
+{
+	uint8_t flags = (uint8_t)((b->asleep ? 1u : 0u) | (b->wakeRequested ? 2u : 0u));
+	int32_t island = b->island, count = 0;
+	fmPut(s, &flags, 1);
+	fmPut(s, &b->sleepTimer, sizeof b->sleepTimer);
+	fmPut(s, &island, sizeof island);
+	for (int i = 0; i < b->vertexCount; ++i)
+		count += fmFrictionFound(b, i) != NULL;
+	fmPut(s, &count, sizeof count);
+	for (int32_t i = 0; i < b->vertexCount; ++i)
+	{
+		const double* f = fmFrictionFound(b, i);
+		if (f == NULL)
+			continue;
+		fmPut(s, &i, sizeof i);
+		fmPut(s, f, 8 * sizeof(double));
+	}
+}
+
+// The contact section: the substep the contact stage last worked on, every live collider (key
+// and state), every live body's contact state, the last frame's pairs (a count and the sorted
+// keys of fmContact_FramePairs).
+static void fmPutContact(fmStream* s, fmWorld* w)
+{
+	fmPut(s, &w->contactStep, sizeof w->contactStep);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		if (!w->colliders[k].inUse)
+			continue;
+		fmColliderKey key = fmColliderKeyOf(&w->colliders[k], k);
+		fmPut(s, &key, sizeof key);
+		fmMoveColliderState(s, true, &w->colliders[k]);
+	}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmPutBodyContact(s, &w->bodies[i]);
+	const uint64_t* pairs;
+	int32_t count = fmContact_FramePairs(w, &pairs);
+	fmPut(s, &count, sizeof count);
+	fmPut(s, pairs, sizeof(uint64_t) * (size_t)count);
+}
+
 // Write the snapshot (or count it, when @p s->out is NULL).
 static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 {
-	uint32_t header[3] = {FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0};
+	uint32_t header[FM_SNAPSHOT_HEADER_WORDS] = {FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0,
+	                                             (uint32_t)fmLiveColliders(w)};
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		header[2] += w->bodies[i].x != NULL;
 	fmPut(s, header, sizeof header);
@@ -265,6 +396,7 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 		fmPut(s, &key, sizeof key);
 		fmMoveBody(s, true, b);
 	}
+	fmPutContact(s, w);
 }
 
 size_t fmWorld_GetSnapshotSize(fmWorldId worldId)
@@ -301,11 +433,13 @@ fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size, size
 	return fm_ok;
 }
 
-// Check that every body record matches a live body of the world, without changing anything.
+// ---- restoring: everything checked first, then applied ----------------------------------------
+
+// Check the header: a snapshot of this version, of as many bodies and colliders as the world has.
 static fmResult fmCheckSnapshot(fmWorld* w, const void* buffer, size_t size)
 {
 	fmStream s = {NULL, buffer, size, 0, false};
-	uint32_t header[3];
+	uint32_t header[FM_SNAPSHOT_HEADER_WORDS];
 	fmGet(&s, header, sizeof header);
 	if (s.overflow || header[0] != FM_SNAPSHOT_MAGIC || header[1] != FM_SNAPSHOT_VERSION)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
@@ -318,6 +452,264 @@ static fmResult fmCheckSnapshot(fmWorld* w, const void* buffer, size_t size)
 		                   "the snapshot holds %u bodies, the world %u: bodies were created or "
 		                   "destroyed since it was taken",
 		                   header[2], live);
+	if (header[3] != (uint32_t)fmLiveColliders(w))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot holds %u colliders, the world %d: colliders were created "
+		                   "or destroyed since it was taken",
+		                   header[3], fmLiveColliders(w));
+	return fm_ok;
+}
+
+// The world settings at the stream's position into @p settings (a copy of the world), checked.
+static fmResult fmCheckSettings(fmWorld* w, fmStream* s, fmWorld* settings)
+{
+	*settings = *w;
+	fmMoveWorldSettings(s, false, settings);
+	if (s->overflow || fmWorldDef_Validate(&settings->def, NULL) != fm_ok ||
+	    (unsigned)settings->solverOptions.product > (unsigned)fm_productMatrixFree ||
+	    (unsigned)settings->solverOptions.preconditioner > (unsigned)fm_precondAuto)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's world settings are invalid: not restored");
+	return fm_ok;
+}
+
+// One pass over the body records at the stream's position: pass 0 checks every key and record
+// (changing nothing), pass 1 restores them.
+static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		fmBodyKey key, expected = fmKeyOf(b, i);
+		fmGet(s, &key, sizeof key);
+		if (s->overflow || memcmp(&key, &expected, sizeof key) != 0)
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "the snapshot's body in slot %d does not match the world's "
+			                   "(another body, or other sizes): not restored",
+			                   i);
+		if (pass == 0)
+		{
+			size_t bytes = fmBodyRecordBytes(b, s->in, s->size, s->used);
+			if (bytes == SIZE_MAX)
+				return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+				                   "the snapshot's body in slot %d is truncated or has "
+				                   "another solver matrix: not restored",
+				                   i);
+			s->used += bytes;
+			continue;
+		}
+		if (!fmMoveBody(s, false, b))
+			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory restoring body %d's solver matrix", i);
+		for (int k = 0; k < b->vertexCount; ++k) // pins are axis masks; inverse masses follow
+		{
+			b->pinned[k] &= FM_PIN_ALL;
+			b->invMass[k] = b->pinned[k] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[k];
+		}
+	}
+	if (s->overflow)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot is truncated (%zu bytes)", s->size);
+	return fm_ok;
+}
+
+// Step over @p bytes, or mark the stream overflowed when they are not there.
+static void fmSkip(fmStream* s, size_t bytes)
+{
+	if (s->overflow || bytes > s->size - s->used)
+		s->overflow = true;
+	else
+		s->used += bytes;
+}
+
+static const char* fmShapeName(int32_t shape)
+{
+	static const char* const names[] = {"plane", "sphere", "box", "capsule", "mesh"};
+	return shape >= 0 && shape < (int32_t)fm_shapeTypeCount ? names[shape] : "unknown shape";
+}
+
+// The error for a collider record whose key is not the world's collider in that slot.
+static fmResult fmColliderMismatch(fmWorld* w, const fmColliderKey* saved,
+                                   const fmColliderKey* live)
+{
+	int slot = live->slot;
+	if (saved->slot != live->slot || saved->generation != live->generation ||
+	    saved->shape != live->shape)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's collider in slot %d (a %s, generation %u) is not the "
+		                   "world's (a %s in slot %d, generation %u): colliders were destroyed "
+		                   "and created since it was taken: not restored",
+		                   saved->slot, fmShapeName(saved->shape), saved->generation,
+		                   fmShapeName(live->shape), slot, live->generation);
+	return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+	                   "the snapshot's mesh collider in slot %d has %d triangles and %d vertices, "
+	                   "the world's %d and %d: not restored",
+	                   slot, saved->triangleCount, saved->vertexCount, live->triangleCount,
+	                   live->vertexCount);
+}
+
+// Check every collider record (key and state) at the stream's position, changing nothing.
+static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		fmCollider copy = w->colliders[k];
+		if (!copy.inUse)
+			continue;
+		fmColliderKey key, expected = fmColliderKeyOf(&copy, k);
+		fmGet(s, &key, sizeof key);
+		if (!s->overflow && memcmp(&key, &expected, sizeof key) != 0)
+			return fmColliderMismatch(w, &key, &expected);
+		fmMoveColliderState(s, false, &copy);
+		if (s->overflow || !fmColliderStateValid(&copy))
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "the snapshot's collider in slot %d is truncated or has a "
+			                   "non-finite pose or velocity: not restored",
+			                   k);
+	}
+	return fm_ok;
+}
+
+// Check body @p b's contact record at the stream's position and step over it: flags, an island
+// that is a body slot, friction vertices ascending within the body. A body that gets friction
+// and has no array for it yet gets a zeroed one (what a missing array means to the step).
+static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
+{
+	uint8_t flags = 0;
+	int32_t island = 0, count = 0, last = -1;
+	fmGet(s, &flags, 1);
+	fmSkip(s, sizeof(double)); // the sleep timer
+	fmGet(s, &island, sizeof island);
+	fmGet(s, &count, sizeof count);
+	if (s->overflow || flags > 3u || island < 0 || island >= w->bodyCapacity || count < 0 ||
+	    count > b->vertexCount || (size_t)count * FM_FRICTION_RECORD_BYTES > s->size - s->used)
+		return fm_errParameter;
+	for (int32_t k = 0; k < count; ++k)
+	{
+		int32_t vertex = -1;
+		fmGet(s, &vertex, sizeof vertex);
+		fmSkip(s, 8 * sizeof(double));
+		if (s->overflow || vertex <= last || vertex >= b->vertexCount)
+			return fm_errParameter;
+		last = vertex;
+	}
+	if (count > 0 && b->contactFrictionNext == NULL)
+		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
+	return count == 0 || b->contactFrictionNext != NULL ? fm_ok : fm_errOutOfMemory;
+}
+
+// Step over a body's contact record (checked).
+static void fmSkipBodyContact(fmStream* s)
+{
+	int32_t count = 0;
+	fmSkip(s, 1 + sizeof(double) + sizeof(int32_t));
+	fmGet(s, &count, sizeof count);
+	fmSkip(s, (size_t)count * FM_FRICTION_RECORD_BYTES);
+}
+
+// Restore body @p b's contact record (checked) from the stream's position.
+static void fmApplyBodyContact(fmStream* s, fmBody* b)
+{
+	uint8_t flags = 0;
+	int32_t island = 0, count = 0;
+	fmGet(s, &flags, 1);
+	fmGet(s, &b->sleepTimer, sizeof b->sleepTimer);
+	fmGet(s, &island, sizeof island);
+	fmGet(s, &count, sizeof count);
+	b->asleep = (flags & 1u) != 0;
+	b->wakeRequested = (flags & 2u) != 0;
+	b->island = island;
+	if (b->contactFrictionNext != NULL)
+		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
+	for (int32_t k = 0; k < count; ++k)
+	{
+		int32_t vertex = 0;
+		fmGet(s, &vertex, sizeof vertex);
+		fmGet(s, b->contactFrictionNext + 8 * (size_t)vertex, 8 * sizeof(double));
+	}
+}
+
+// Check the last frame's pairs at the stream's position: a count that fits, keys ascending, each
+// of a body slot and another body's slot or a collider's (0x80000000 | slot) within the world's
+// tables. Returns the count, or -1.
+static int32_t fmCheckPairs(const fmWorld* w, fmStream* s)
+{
+	int32_t count = -1;
+	fmGet(s, &count, sizeof count);
+	if (s->overflow || count < 0 || (size_t)count > (s->size - s->used) / sizeof(uint64_t))
+		return -1;
+	uint64_t last = 0;
+	for (int32_t k = 0; k < count; ++k)
+	{
+		uint64_t key = 0;
+		fmGet(s, &key, sizeof key);
+		uint32_t a = (uint32_t)(key >> 32), b = (uint32_t)key;
+		bool other = (b & 0x80000000u) ? (b & 0x7fffffffu) < (uint32_t)w->colliderCapacity
+		                               : b < (uint32_t)w->bodyCapacity;
+		if ((k > 0 && key <= last) || a >= (uint32_t)w->bodyCapacity || !other)
+			return -1;
+		last = key;
+	}
+	return count;
+}
+
+// Check the contact section at the stream's position (changing nothing the step sees).
+static fmResult fmCheckContact(fmWorld* w, fmStream* s)
+{
+	double step = 0.0;
+	fmGet(s, &step, sizeof step);
+	if (s->overflow || !(step >= 0.0 && step <= FM_MAX_SUBSTEP))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's contact section is truncated or invalid: not restored");
+	fmResult r = fmCheckColliders(w, s);
+	for (int i = 0; r == fm_ok && i < w->bodyCapacity; ++i)
+	{
+		fmResult body = w->bodies[i].x != NULL ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
+		if (body == fm_errOutOfMemory)
+			r = fmDiagError(&w->lastError, body, "", 0, 0,
+			                "out of memory restoring body %d's collider friction", i);
+		else if (body != fm_ok)
+			r = fmDiagError(&w->lastError, body, "", 0, 0,
+			                "the snapshot's contact state of the body in slot %d (sleep, island, "
+			                "collider friction) is truncated or invalid: not restored",
+			                i);
+	}
+	if (r == fm_ok && fmCheckPairs(w, s) < 0)
+		r = fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                "the snapshot's contact pairs of the last frame are truncated or "
+		                "invalid: not restored");
+	return r;
+}
+
+// Restore the contact section (checked) at @p at: the pairs first (the only part that may need
+// memory: out of memory leaves the world as it was), then the colliders and the bodies.
+static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size_t at)
+{
+	int colliders = fmLiveColliders(w);
+	fmStream s = {NULL, buffer, size, at + sizeof w->contactStep, false};
+	fmSkip(&s, (size_t)colliders * FM_COLLIDER_RECORD_BYTES);
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmSkipBodyContact(&s);
+	int32_t count = 0;
+	fmGet(&s, &count, sizeof count);
+	if (!fmContact_SetFramePairs(w, (const unsigned char*)buffer + s.used, count))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory restoring the contact pairs");
+	s.used = at;
+	fmGet(&s, &w->contactStep, sizeof w->contactStep);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		if (!w->colliders[k].inUse)
+			continue;
+		fmSkip(&s, sizeof(fmColliderKey));
+		fmMoveColliderState(&s, false, &w->colliders[k]);
+	}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmApplyBodyContact(&s, &w->bodies[i]);
 	return fm_ok;
 }
 
@@ -329,59 +721,25 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 		return fm_errInvalidId;
 	if (buffer == NULL)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
+	// Everything is checked before anything is written: a mismatch leaves the world as it was.
 	fmResult r = fmCheckSnapshot(w, buffer, size);
+	fmStream s = {NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false};
+	fmWorld settings;
+	if (r == fm_ok)
+		r = fmCheckSettings(w, &s, &settings); // applied last
+	size_t bodiesAt = s.used;
+	if (r == fm_ok)
+		r = fmBodiesPass(w, &s, 0);
+	size_t contactAt = s.used;
+	if (r == fm_ok)
+		r = fmCheckContact(w, &s);
+	if (r == fm_ok)
+		r = fmApplyContact(w, buffer, size, contactAt);
+	s.used = bodiesAt;
+	if (r == fm_ok)
+		r = fmBodiesPass(w, &s, 1);
 	if (r != fm_ok)
 		return r;
-	// Every body's key is checked before anything is written: a mismatch leaves the world as
-	// it was.
-	fmStream s = {NULL, buffer, size, 3 * sizeof(uint32_t), false};
-	fmWorld settings = *w;
-	fmMoveWorldSettings(&s, false, &settings); // to find the bodies; applied last
-	size_t bodiesAt = s.used;
-	if (s.overflow || fmWorldDef_Validate(&settings.def, NULL) != fm_ok ||
-	    (unsigned)settings.solverOptions.product > (unsigned)fm_productMatrixFree ||
-	    (unsigned)settings.solverOptions.preconditioner > (unsigned)fm_precondAuto)
-		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-		                   "the snapshot's world settings are invalid: not restored");
-	for (int pass = 0; pass < 2; ++pass)
-	{
-		s.used = bodiesAt;
-		for (int i = 0; i < w->bodyCapacity; ++i)
-		{
-			fmBody* b = &w->bodies[i];
-			if (b->x == NULL)
-				continue;
-			fmBodyKey key, expected = fmKeyOf(b, i);
-			fmGet(&s, &key, sizeof key);
-			if (s.overflow || memcmp(&key, &expected, sizeof key) != 0)
-				return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-				                   "the snapshot's body in slot %d does not match the world's "
-				                   "(another body, or other sizes): not restored",
-				                   i);
-			if (pass == 0)
-			{
-				size_t bytes = fmBodyRecordBytes(b, buffer, size, s.used);
-				if (bytes == SIZE_MAX)
-					return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-					                   "the snapshot's body in slot %d is truncated or has "
-					                   "another solver matrix: not restored",
-					                   i);
-				s.used += bytes;
-				continue;
-			}
-			if (!fmMoveBody(&s, false, b))
-				return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
-				                   "out of memory restoring body %d's solver matrix", i);
-			for (int k = 0; k < b->vertexCount; ++k) // pins are axis masks; inverse masses follow
-			{
-				b->pinned[k] &= FM_PIN_ALL;
-				b->invMass[k] = b->pinned[k] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[k];
-			}
-		}
-		if (s.overflow)
-			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-			                   "the snapshot is truncated (%zu bytes)", size);
-	}
-	fmMoveWorldSettings(&(fmStream){NULL, buffer, size, 3 * sizeof(uint32_t), false}, false, w);
+	fmMoveWorldSettings(&(fmStream){NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false}, false, w);
 	return fm_ok;
 }

@@ -92,21 +92,32 @@ FM_API void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator);
 /// Costs one tangent-stiffness pass (about a microsecond per tet). Returns 0 for an empty world.
 FM_API double fmWorld_EstimateExplicitStep(fmWorldId worldId);
 
-/// Bytes fmWorld_SaveSnapshot() writes for the world as it is now (it changes when bodies are
-/// created or destroyed, or an implicit step first builds a body's solver matrix).
+/// Bytes fmWorld_SaveSnapshot() writes for the world as it is now. It changes when bodies or
+/// colliders are created or destroyed, when an implicit step first builds a body's solver
+/// matrix, and from step to step with the contacts (the pairs that touched in the last frame and
+/// the vertices with implicit collider friction are saved as lists): ask before each save, or
+/// keep a buffer with room to spare.
 FM_API size_t fmWorld_GetSnapshotSize(fmWorldId worldId);
 
 /// Save the world's complete simulation state into @p buffer (@p size bytes): every body's
 /// state, last good state, pins, material, energy ledger and the implicit solver's kept matrix,
-/// and the world's settings. fm_errLimit when the buffer is smaller than
-/// fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the bytes used. The snapshot is for
-/// this process: user energy functions are saved as pointers.
+/// the world's settings, and the contact state the next step reads: every collider's pose,
+/// velocity and angular velocity (and last contact force and torque), every body's sleep state
+/// (asleep, sleep timer, island) and the implicit collider friction found in the last step, and
+/// the pairs that touched in the last frame. Not saved: a mesh collider's triangles (they cannot
+/// change), targets and loads (the caller's input), the last step's results (contacts, events,
+/// statistics). fm_errLimit when the buffer is smaller than fmWorld_GetSnapshotSize(); @p written
+/// (may be NULL) gets the bytes used. The snapshot is for this process: user energy functions are
+/// saved as pointers.
 FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size, size_t* written);
 
-/// Restore a snapshot saved from this world with the same bodies: the world then continues
-/// bit-identically to the world that saved it. fm_errParameter (and nothing changed, the reason
-/// in fmWorld_GetLastError) when the buffer is not a snapshot, is truncated, or its bodies do
-/// not match the world's (created or destroyed since).
+/// Restore a snapshot saved from this world with the same bodies and colliders: the world then
+/// continues bit-identically to the world that saved it, kinematic colliders where they were.
+/// Bodies are matched by slot, generation and sizes, colliders by slot, generation, shape and (a
+/// mesh) vertex and triangle counts. fm_errParameter (and nothing changed, the reason in
+/// fmWorld_GetLastError: which body or collider differs, or which part is truncated or invalid)
+/// when the buffer is not a snapshot of this format version, is truncated or corrupt, or its
+/// bodies or colliders do not match the world's (created or destroyed since).
 FM_API fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t size);
 
 /// Create a body from a def with a mesh. The mesh's positions and tets are copied (the mesh is
