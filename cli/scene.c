@@ -1010,7 +1010,7 @@ typedef struct cliShapeInfo
 } cliShapeInfo;
 
 #define CLI_COLLIDER_COMMON_KEYS                                                                   \
-	"shape", "friction", "restitution", "velocity", "angular_velocity", "filter"
+	"shape", "friction", "stick", "restitution", "velocity", "angular_velocity", "filter"
 static const char* const cliPlaneKeys[] = {CLI_COLLIDER_COMMON_KEYS, "normal", "offset", NULL};
 static const char* const cliSphereKeys[] = {CLI_COLLIDER_COMMON_KEYS, "center", "radius", NULL};
 static const char* const cliBoxKeys[] = {CLI_COLLIDER_COMMON_KEYS, "center", "half_extents",
@@ -1172,6 +1172,7 @@ static bool cliParseCollider(const cliJson* j, const cJSON* item, int index, cli
 	              : info->shape == fm_shapeMesh ? cliParseMeshCollider(j, item, path, spec)
 	                                            : cliParseSolidShape(j, item, path, d->shape, d);
 	if (!shaped || !cliGetNumber(j, item, path, "friction", cliNonNegative, &d->friction, NULL) ||
+	    !cliGetBool(j, item, path, "stick", &d->stick) ||
 	    !cliGetNumber(j, item, path, "restitution", cliUnit, &d->restitution, NULL) ||
 	    !cliGetVec3In(j, item, path, "velocity", speed, fast, &d->velocity) ||
 	    !cliGetVec3In(j, item, path, "angular_velocity", speed, fast, &d->angularVelocity) ||

@@ -183,6 +183,7 @@ static void fuzzCollider(fmFuzzReader* r, fmWorldId world)
 	def.a = fmFuzzVec3(r, -2.0, 2.0);
 	def.b = fmFuzzVec3(r, -2.0, 2.0);
 	def.friction = fmFuzzDouble(r, -0.1, 1.0);
+	def.stick = fmFuzzPick(r, 2) == 1;
 	def.velocity = fmFuzzPick(r, 2) ? fmFuzzVec3(r, -5.0, 5.0) : def.velocity;
 	def.angularVelocity = fmFuzzPick(r, 2) ? fmFuzzVec3(r, -5.0, 5.0) : def.angularVelocity;
 	for (int k = 0; k < 6; ++k)

@@ -418,15 +418,27 @@ static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double p
 // ---- colliders ---------------------------------------------------------------------------------
 
 // Friction for vertex i's next implicit step (penalty.h): the contact normal, the Coulomb
-// limit mu lambda (N) and the surface's velocity; the strongest contact of the step wins.
-static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface)
+// limit mu lambda (N; a stick collider's: lambda, with next[7] = 1, no limit) and the
+// surface's velocity; a stick contact wins over friction, else the strongest of the step.
+static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface, bool stick)
 {
 	double* next = b->contactFrictionNext + 8 * (size_t)i;
-	if (!(limit > next[3]))
+	bool held = next[7] != 0.0;
+	if (held != stick ? held : !(limit > next[3]))
 		return;
 	next[0] = n.x, next[1] = n.y, next[2] = n.z;
 	next[3] = limit;
 	next[4] = surface.x, next[5] = surface.y, next[6] = surface.z;
+	next[7] = stick ? 1.0 : 0.0;
+}
+
+// A stick collider's response (infinite friction, as the seeds' floor): the relative velocity
+// @p relative keeps its normal part (an approaching one reflected by the restitution @p e) and
+// loses its tangential part.
+static void fmStickImpact(fmVec3* relative, fmVec3 n, double e)
+{
+	double vn = fmDot(*relative, n);
+	*relative = fmScale(vn < 0.0 ? -e * vn : vn, n);
 }
 
 // Keep vertex @p i of body @p slot on or outside collider @p k (exact shapes: no gap; the
@@ -470,9 +482,13 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->x, b->contactStart, h)
 	                         : fmMakeVec3(0.0, 0.0, 0.0);
 	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contactFriction[8 * i + 3] > 0.0);
-	fmImpact(&relative, n, c->def.restitution, c->def.friction, inSolve ? 0.0 : pushed);
+	if (c->def.stick)
+		fmStickImpact(&relative, n, c->def.restitution);
+	else
+		fmImpact(&relative, n, c->def.restitution, c->def.friction, inSolve ? 0.0 : pushed);
+	double mu = c->def.stick ? 1.0 : c->def.friction;
 	if (pushed > 0.0)
-		fmKeepFriction(b, i, n, c->def.friction * b->mass[i] * pushed / h, vc);
+		fmKeepFriction(b, i, n, mu * b->mass[i] * pushed / h, vc, c->def.stick);
 	if (!fmTouch(s, b, slot, i))
 		return false;
 	fmStore(b->x, i, x);

@@ -69,6 +69,15 @@ static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
 	return fmax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
 }
 
+// A stick collider's friction (f[7] set by contact.c): infinite friction as the limit of the
+// widened slip width, whose stick spring 2 mu lambda / eps is the normal penalty's kappa m / h^2
+// at any mu: the quadratic spring k/2 |u|^2 with that k, without a Coulomb limit. Returns k
+// (N/m), 0 for a Coulomb contact.
+static double fmStickStiffness(const fmBody* b, int i, const double* f, double h)
+{
+	return f[7] != 0.0 ? FM_PENALTY_KAPPA * b->mass[i] / (h * h) : 0.0;
+}
+
 // f0(y) / limit: IPC's C1 friction potential with slip width eps.
 static double fmFrictionPotential(double y, double eps)
 {
@@ -88,6 +97,9 @@ fmVec3 fmContactFriction_Force(const fmBody* b, int i, const double* x, const do
 	if (f == NULL)
 		return fmMakeVec3(0.0, 0.0, 0.0);
 	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(xStart, i), h);
+	double stick = fmStickStiffness(b, i, f, h);
+	if (stick > 0.0)
+		return fmScale(-stick, u);
 	double eps = fmSlipWidth(b, i, f, h);
 	return fmScale(-f[3] * fmFrictionRatio(fmLength(u), eps), u);
 }
@@ -105,10 +117,11 @@ static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const
 			continue;
 		fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
 		double y = fmLength(u), eps = fmSlipWidth(b, i, f, p->step);
-		energy += f[3] * fmFrictionPotential(y, eps);
+		double stick = fmStickStiffness(b, i, f, p->step);
+		energy += stick > 0.0 ? 0.5 * stick * y * y : f[3] * fmFrictionPotential(y, eps);
 		if (gradient)
 		{
-			double r = f[3] * fmFrictionRatio(y, eps);
+			double r = stick > 0.0 ? stick : f[3] * fmFrictionRatio(y, eps);
 			gradient[3 * i] += r * u.x;
 			gradient[3 * i + 1] += r * u.y;
 			gradient[3 * i + 2] += r * u.z;
@@ -118,7 +131,7 @@ static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const
 }
 
 // Vertex i's friction Hessian block (positive semi-definite: IPC's, whose eigenvalue along the
-// slip, 2 / eps - 2 y / eps^2 or 0, is never negative).
+// slip, 2 / eps - 2 y / eps^2 or 0, is never negative; a stick contact's: k (I - n n^T)).
 static void fmFrictionBlock(const fmContactPenalty* p, const fmBody* b, const double* x, int i,
                             const double* f, double block[9])
 {
@@ -128,11 +141,13 @@ static void fmFrictionBlock(const fmContactPenalty* p, const fmBody* b, const do
 	double y = fmLength(u), along = y >= eps  ? -1.0 / (y * y * y)
 	                                : y > 0.0 ? -1.0 / (eps * eps * y)
 	                                          : 0.0;
-	double ratio = fmFrictionRatio(y, eps);
+	double ratio = fmFrictionRatio(y, eps), stick = fmStickStiffness(b, i, f, p->step);
 	const double nn[3] = {n.x, n.y, n.z}, uu[3] = {u.x, u.y, u.z};
 	for (int r = 0; r < 3; ++r)
 		for (int c = 0; c < 3; ++c)
-			block[3 * r + c] = f[3] * (ratio * ((r == c) - nn[r] * nn[c]) + along * uu[r] * uu[c]);
+			block[3 * r + c] =
+			    stick > 0.0 ? stick * ((r == c) - nn[r] * nn[c])
+			                : f[3] * (ratio * ((r == c) - nn[r] * nn[c]) + along * uu[r] * uu[c]);
 }
 
 typedef struct fmEnergyVisit

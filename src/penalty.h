@@ -6,7 +6,9 @@
 // a vertex that pressed on a collider with normal force lambda in the last step adds
 // D = mu lambda f0(|u|), u its tangential motion relative to the collider's surface, f0 the
 // C1 blend of a stiff spring below a slip of FM_FRICTION_SLIP_SPEED h and |u| above it: static
-// friction holds, sliding friction is Coulomb's. The contact stage after the solve then removes
+// friction holds, sliding friction is Coulomb's. A stick collider's contact (fmColliderDef.stick)
+// is the limit of infinite mu: the spring k/2 |u|^2 at the normal penalty's k = kappa m / h^2,
+// with no Coulomb limit. The contact stage after the solve then removes
 // what penetration is left and applies friction to new contacts (contact.c).
 #pragma once
 

@@ -254,9 +254,13 @@ typedef struct fmColliderDef
 	/// an open mesh (a level's ground) is solid behind its triangles' fronts, the side their
 	/// counter-clockwise winding faces away from (docs/contact.md)
 	const int* triangles;
-	int triangleCount;      ///< mesh: in [1, FM_MAX_COLLIDER_TRIANGLES]
-	double friction;        ///< Coulomb coefficient, >= 0 (default 0.5)
-	double restitution;     ///< in [0, 1] (default 0)
+	int triangleCount;  ///< mesh: in [1, FM_MAX_COLLIDER_TRIANGLES]
+	double friction;    ///< Coulomb coefficient, >= 0 (default 0.5)
+	double restitution; ///< in [0, 1] (default 0)
+	/// Infinite friction, as the seeds' floor (fm_floorStick): a vertex in contact has its
+	/// velocity along the surface, relative to the collider's, zeroed; `friction` is then
+	/// ignored, restitution still acts on the normal (default false; docs/contact.md)
+	bool stick;
 	fmVec3 velocity;        ///< m/s: kinematic translation (default 0)
 	fmVec3 angularVelocity; ///< rad/s about the shape's centre (default 0)
 	fmFilter filter;        ///< default: fmDefaultFilter()
