@@ -545,9 +545,10 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	cliTotals totals = cliSumStats(sim);
 	double steps = (double)solves->steps;
 	double simulated = frames * cliScene_FrameTime(scene);
-	printf("scene            %s (%d bod%s, %d tets, %s)\n", scene->name, sim->bodyCount,
-	       sim->bodyCount == 1 ? "y" : "ies", totals.tets,
-	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit");
+	printf("scene            %s (%d bod%s, %d tets, %s, %d worker%s)\n", scene->name,
+	       sim->bodyCount, sim->bodyCount == 1 ? "y" : "ies", totals.tets,
+	       scene->worldDef.integrator == fm_explicit ? "explicit" : "implicit",
+	       scene->worldDef.workerCount, scene->worldDef.workerCount == 1 ? "" : "s");
 	if (scene->worldDef.autoSubstep && scene->worldDef.integrator == fm_explicit)
 		printf("frames           %d of %g s (automatic substeps: %lld in all, %.1f a frame)\n",
 		       frames, cliScene_FrameTime(scene), solves->steps, frames > 0 ? steps / frames : 0.0);
@@ -605,10 +606,10 @@ int cliRun(int argc, char** argv)
 		scene.worldDef.crossPlatformDeterminism = true;
 	if (o.workers > 0)
 		scene.worldDef.workerCount = o.workers;
-	if (o.simd != NULL)
-		fmSimdLevelFromName(o.simd, &scene.worldDef.simd);
 	else if (!scene.hasWorkers)
 		scene.worldDef.workerCount = cliCoresAvailable();
+	if (o.simd != NULL)
+		fmSimdLevelFromName(o.simd, &scene.worldDef.simd);
 	cliSimulation sim;
 	if (scene.bodies == NULL ||
 	    !cliSimulation_Create(&scene, o.quiet ? cli_stepCheckWarnings : cli_stepCheckAll, &sim))

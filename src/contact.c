@@ -59,10 +59,11 @@ typedef struct fmPairContact
 } fmPairContact;
 
 // What one worker of the parallel detection found (fmDetect): its queries' buffers, the edge
-// contacts it found in item order, its broad-phase time and whether memory ran short.
+// contacts it found in item order, its broad-phase time and whether memory ran short. Each on
+// cache lines of its own: the workers write theirs at every query.
 typedef struct fmWorkerFinds
 {
-	fmHashQuery query;
+	_Alignas(64) fmHashQuery query;
 	struct fmEdgeContact* edges;
 	int edgeCount;
 	int edgeCapacity;
@@ -1163,8 +1164,9 @@ static bool fmRecordEdgeContact(fmWorld* w, fmContactState* s, const fmEdgeConta
 
 // ---- parallel detection ------------------------------------------------------------------------
 
-// Detection items a task range takes at least (each is a hash query and its narrow tests).
-#define FM_CONTACT_MIN_RANGE 256
+// Detection items a task range takes at least (each is a box test, or a hash query and its
+// narrow tests).
+#define FM_CONTACT_MIN_RANGE 64
 
 typedef struct fmDetectTask
 {
@@ -1258,7 +1260,7 @@ static int fmDetectVertices(fmWorld* w, fmContactState* s, double thickness)
 		}
 	}
 	fmDetectTask task = {w, s, thickness};
-	fmParallelFor(&w->tasks, n, FM_CONTACT_MIN_RANGE, fmDetectVertexRange, &task);
+	fmParallelForBalanced(&w->tasks, n, FM_CONTACT_MIN_RANGE, fmDetectVertexRange, &task);
 	return fmEndWorkers(w, s) ? n : -1;
 }
 
@@ -1288,7 +1290,7 @@ static bool fmDetectEdges(fmWorld* w, fmContactState* s, double thickness)
 	if (n < 0 || !fmStartWorkers(w, s))
 		return false;
 	fmDetectTask task = {w, s, thickness};
-	fmParallelFor(&w->tasks, n, FM_CONTACT_MIN_RANGE, fmDetectEdgeRange, &task);
+	fmParallelForBalanced(&w->tasks, n, FM_CONTACT_MIN_RANGE, fmDetectEdgeRange, &task);
 	if (!fmEndWorkers(w, s))
 		return false;
 	int total = 0;

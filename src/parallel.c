@@ -206,8 +206,24 @@ static void fmRunWrappedTask(int startIndex, int endIndex, int workerIndex, void
 	fmFpEnv_Leave(&env);
 }
 
+// fmParallelFor and fmParallelForBalanced: @p rangesPerWorker ranges per worker at most.
+static void fmParallelRanges(const fmTaskSystem* system, int itemCount, int minRange,
+                             int rangesPerWorker, fmTaskCallback* task, void* taskContext);
+
 void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTaskCallback* task,
                    void* taskContext)
+{
+	fmParallelRanges(system, itemCount, minRange, 1, task, taskContext);
+}
+
+void fmParallelForBalanced(const fmTaskSystem* system, int itemCount, int minRange,
+                           fmTaskCallback* task, void* taskContext)
+{
+	fmParallelRanges(system, itemCount, minRange, FM_BALANCED_RANGES, task, taskContext);
+}
+
+static void fmParallelRanges(const fmTaskSystem* system, int itemCount, int minRange,
+                             int rangesPerWorker, fmTaskCallback* task, void* taskContext)
 {
 	if (itemCount <= 0)
 		return;
@@ -225,7 +241,7 @@ void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTa
 			system->finishTask(handle, system->userTaskContext);
 		return;
 	}
-	int ranges = system->workerCount;
+	int ranges = system->workerCount * rangesPerWorker;
 	if (minRange > 0 && itemCount / minRange < ranges)
 		ranges = itemCount / minRange > 1 ? itemCount / minRange : 1;
 	if (ranges <= 1 || system->pool == NULL)

@@ -36,3 +36,13 @@ void fmTaskSystem_Shutdown(fmTaskSystem* system);
 // A NULL @p system runs it serially.
 void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTaskCallback* task,
                    void* taskContext);
+
+// Ranges per worker fmParallelForBalanced cuts at most.
+#define FM_BALANCED_RANGES 8
+
+// As fmParallelFor, for items whose costs differ widely (the contact detection: vertices far
+// from every other body cost a box test, those in a pile a hash query and tens of triangle
+// tests): up to FM_BALANCED_RANGES ranges per worker, which the workers take as they finish,
+// instead of one each. The results do not depend on the ranges.
+void fmParallelForBalanced(const fmTaskSystem* system, int itemCount, int minRange,
+                           fmTaskCallback* task, void* taskContext);

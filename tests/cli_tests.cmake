@@ -97,6 +97,12 @@ add_test(NAME cli_simd_off_differs COMMAND ${CMAKE_COMMAND} -E compare_files
 set_tests_properties(cli_simd_levels_identical cli_simd_off_differs
   PROPERTIES FIXTURES_REQUIRED cli_simd_nodes LABELS cli)
 set_tests_properties(cli_simd_off_differs PROPERTIES WILL_FAIL TRUE)
+# --workers is honoured with or without --simd (it was overridden by the cores available when
+# --simd was not given and the scene had no "workers").
+femto_cli_test(run_workers_one ARGS "run|--frames|2|--workers|1" CODE 0
+  REGEX "1389 tets, explicit, 1 worker\\)")
+femto_cli_test(run_workers_three ARGS "run|${PROJECT_SOURCE_DIR}/scenes/pile.json|--frames|2|--workers|3" CODE 0
+  REGEX "486 tets, explicit, 3 workers\\)")
 femto_cli_test(run_bad_simd ARGS "run|--simd|avx9" CODE 2
   REGEX "--simd: expected auto, off, scalar, sse2, avx2 or avx512, got 'avx9'")
 # "implicit_solver": "vbd" runs vertex block descent (the summary counts its sweeps as Newton
