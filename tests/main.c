@@ -84,7 +84,8 @@ int main(int argc, char** argv)
 		TestEntry* e = &s_tests[i];
 		if (suite && strcmp(suite, e->suite) != 0)
 			continue;
-		if (only && strcmp(only, e->name) != 0)
+		// "name" runs that test alone, "-name" every test of the suite but that one.
+		if (only && (only[0] == '-' ? strcmp(only + 1, e->name) == 0 : strcmp(only, e->name) != 0))
 			continue;
 		int failures = 0;
 		int asserts = s_assertCount;

@@ -1076,6 +1076,8 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 {
 	double* result[3] = {NULL, NULL, NULL};
 	int n = 0, contacts = 0;
+	// (The explicit frames take about 40 substeps each: 30 of them see the houses touch.)
+	const int frames = integrator == fm_implicit ? 60 : 30;
 	for (int k = 0; k < 3; ++k)
 	{
 		fmWorldDef wdef = fmDefaultWorldDef();
@@ -1091,7 +1093,7 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 		sphere.center = fmMakeVec3(1.5, -2.5, 0.0);
 		fmColliderId collider;
 		CHECK_INT(fmCreateCollider(world, &sphere, &collider, NULL), fm_ok);
-		for (int f = 0; f < 60; ++f)
+		for (int f = 0; f < frames; ++f)
 		{
 			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, integrator == fm_implicit ? 1 : 10), fm_ok);
 			contacts += k == 0 ? bodyContacts(world) : 0;
@@ -1102,8 +1104,8 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 		fmBody_CopyPositions(b, result[k] + 3 * n, n);
 		fmDestroyWorld(world);
 	}
-	printf("  %s: %d body-body contacts at the frames' ends over 60 frames\n",
-	       integrator == fm_implicit ? "implicit" : "explicit", contacts);
+	printf("  %s: %d body-body contacts at the frames' ends over %d frames\n",
+	       integrator == fm_implicit ? "implicit" : "explicit", contacts, frames);
 	CHECK(contacts > 0); // the houses did meet
 	for (int k = 1; k < 3; ++k)
 		CHECK(memcmp(result[0], result[k], sizeof(double) * 6 * (size_t)n) == 0);
