@@ -13,6 +13,8 @@
 //    triangle's normal and the triangle the other way, by inverse masses (momentum is kept),
 //    in a few Gauss-Seidel passes; then the same velocity response between the vertex and the
 //    triangle's point.
+//    Once a frame, a vertex no triangle's reach found but another body's tet holds (embedded.h)
+//    is pushed toward that body's nearest surface triangle at the depenetration speed.
 // Everything runs in a fixed order (bodies, vertices, colliders, triangles ascending), serially:
 // the same bits for any number of workers.
 #include "contact.h"
@@ -20,6 +22,7 @@
 #include "broad_phase.h"
 #include "collider.h"
 #include "core.h"
+#include "embedded.h"
 #include "energy_ledger.h"
 #include "force_spring.h"
 #include "forces.h"
@@ -64,6 +67,7 @@ typedef struct fmPairContact
 typedef struct fmWorkerFinds
 {
 	_Alignas(64) fmHashQuery query;
+	fmHashQuery tetQuery; // for the tet hash (embedded.h)
 	struct fmEdgeContact* edges;
 	int edgeCount;
 	int edgeCapacity;
@@ -88,6 +92,8 @@ typedef struct fmEdgeContact
 struct fmContactState
 {
 	fmSpatialHash hash;
+	fmTetHash tetHash; // the near bodies' tets: vertices embedded deeper than the reach
+	bool tetHashReady; // built for this detection (the frame's first)
 	int triangleCapacity;
 	fmVec3* lower; // per global triangle: its box
 	fmVec3* upper;
@@ -158,6 +164,7 @@ void fmContact_Free(fmContactState* s)
 	if (s == NULL)
 		return;
 	fmSpatialHash_Free(&s->hash);
+	fmTetHash_Free(&s->tetHash);
 	size_t t = (size_t)s->triangleCapacity;
 	FM_FREE_ARRAY(s->lower, fmVec3, t);
 	FM_FREE_ARRAY(s->upper, fmVec3, t);
@@ -166,6 +173,7 @@ void fmContact_Free(fmContactState* s)
 	for (int k = 0; k < FM_MAX_WORKERS; ++k)
 	{
 		fmHashQuery_Free(&s->workers[k].query);
+		fmHashQuery_Free(&s->workers[k].tetQuery);
 		FM_FREE_ARRAY(s->workers[k].edges, fmEdgeContact, s->workers[k].edgeCapacity);
 	}
 	FM_FREE_ARRAY(s->items, int, s->itemCapacity);
@@ -330,8 +338,9 @@ static bool fmBodyContactArrays(fmBody* b)
 	       b->contactTetMark != NULL && b->contactPlane != NULL;
 }
 
-void fmContact_BeginFrame(fmWorld* w)
+void fmContact_BeginFrame(fmWorld* w, double frameTime)
 {
+	w->embeddedReach = w->def.floor.maxDepenetrationSpeed * frameTime;
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
 
@@ -771,6 +780,74 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 	return fmLength(fmSub(p, q)) > 2.0 * thickness;
 }
 
+// Whether body slot @p other may hold a vertex of body slot @p slot inside its tets (embedded.h).
+static bool fmMayHold(const fmWorld* w, int slot, int other)
+{
+	const fmBody *b = &w->bodies[slot], *o = &w->bodies[other];
+	return other != slot && fmFiltersMeet(b->filter, o->filter) && !(b->asleep && o->asleep);
+}
+
+// The surface triangle of body slot @p other nearest to point @p p, from the broad phase's
+// triangles in query boxes growing from @p radius until the nearest found lies within the box
+// (or the box covers the body's): its index, weights and normal into @p found, the distance
+// along the normal into *side. False when none is found or a query ran out of memory.
+static bool fmNearestTriangle(const fmContactState* s, const fmWorld* w, fmWorkerFinds* wf,
+                              int other, fmVec3 p, double radius, fmPairContact* found,
+                              double* side)
+{
+	double limit = fmLength(fmSub(s->bodyUpper[other], s->bodyLower[other]));
+	double best = INFINITY;
+	const fmBody* o = &w->bodies[other];
+	for (double r = radius; r > 0.0; r *= 2.0)
+	{
+		int count = fmSpatialHash_Query(&s->hash, &wf->query, fmSub(p, fmMakeVec3(r, r, r)),
+		                                fmAdd(p, fmMakeVec3(r, r, r)));
+		wf->failed = wf->failed || count < 0;
+		for (int c = 0; c < count; ++c)
+		{
+			int item = wf->query.items[c];
+			if (s->triangleBody[item] != other)
+				continue;
+			const int* tri = fmTriangleOf(o, s->triangleIndex[item]);
+			fmVec3 a = fmLoad(o->x, tri[0]), bb = fmLoad(o->x, tri[1]), cc = fmLoad(o->x, tri[2]);
+			double wt[3];
+			fmClosestOnTriangle(p, a, bb, cc, wt);
+			fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], cc));
+			fmVec3 n = fmCross(fmSub(bb, a), fmSub(cc, a));
+			double area = fmLength(n), distance = fmLength(fmSub(p, q));
+			if (!(area > 0.0) || !(distance < best))
+				continue;
+			best = distance;
+			found->other = other;
+			found->triangle = s->triangleIndex[item];
+			memcpy(found->w, wt, sizeof wt);
+			found->normal = fmScale(1.0 / area, n);
+			*side = fmDot(found->normal, fmSub(p, q));
+		}
+		if (best <= r || r >= limit || count < 0)
+			break;
+	}
+	return best < INFINITY && !wf->failed;
+}
+
+// Surface vertex i of body @p slot, which no triangle's reach found, when a tet of another body
+// holds it (it went in deeper than the thickness and the substep's motion, squeezed between
+// bodies or the floor): a contact with that body's nearest surface triangle into @p found,
+// pushing it out at most at the depenetration speed. False when no tet holds it.
+static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf, int slot,
+                           int i, double thickness, fmPairContact* found)
+{
+	fmVec3 p = fmLoad(w->bodies[slot].x, i);
+	int holder = fmTetHash_Holder(&s->tetHash, w, &wf->tetQuery, slot, p, fmMayHold);
+	wf->failed = wf->failed || holder == -2;
+	double side = 0.0;
+	if (holder < 0 || !fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side))
+		return false;
+	found->depth = thickness - side;
+	found->reach = w->embeddedReach;
+	return true;
+}
+
 // The contact of surface vertex i of body @p slot: the nearest triangle of another body (or
 // its own, self-colliding) it touches or crossed in the substep, queried with @p wf's buffers
 // (safe in parallel with other workers'). False when none, or when memory ran short
@@ -848,6 +925,8 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 	found->body = slot;
 	found->vertex = i;
 	found->impulse = 0.0;
+	if (bestItem < 0 && s->tetHashReady)
+		return fmFindEmbedded(w, s, wf, slot, i, thickness, found);
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -1181,7 +1260,8 @@ static bool fmStartWorkers(const fmWorld* w, fmContactState* s)
 	for (int k = 0; k < w->tasks.workerCount; ++k)
 	{
 		fmWorkerFinds* wf = &s->workers[k];
-		if (!fmHashQuery_Reserve(&wf->query, &s->hash))
+		if (!fmHashQuery_Reserve(&wf->query, &s->hash) ||
+		    (s->tetHashReady && !fmHashQuery_Reserve(&wf->tetQuery, &s->tetHash.hash)))
 			return false;
 		wf->edgeCount = 0;
 		wf->broadPhase = 0.0;
@@ -1326,9 +1406,15 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	double start = fmSeconds();
 	if (!fmBuildTriangles(w, s, thickness))
 		return false;
+	// Embedded vertices are looked for once a frame (a tet hash every substep cost a tenth of
+	// the frame of ten houses piled, implicit), and pushed out by a frame's depenetration.
+	s->tetHashReady = w->embeddedReach > 0.0 && fmTetHash_Build(&s->tetHash, w, s->bodyNear);
 	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
 	s->pairContactCount = 0;
 	int n = fmDetectVertices(w, s, thickness);
+	if (s->tetHashReady)
+		w->embeddedReach = 0.0;
+	s->tetHashReady = false;
 	if (n < 0 ||
 	    !fmGrow((void**)&s->pairContacts, &s->pairContactCapacity, 0, n, sizeof(fmPairContact)))
 		return false;

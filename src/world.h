@@ -27,7 +27,8 @@ typedef struct fmWorld
 	int colliderCapacity;                // grows by doubling up to FM_MAX_COLLIDERS
 	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
 	double contactStep;                  // s, the substep the contact stage is working on
-	int contactPieces; // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the
+	double embeddedReach; // m: embedded vertices' push this frame; 0 once they were looked for
+	int contactPieces;    // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the
 	                   // body-body contact is then the stage's projection alone, no frozen planes
 	float* drawPoints; // fmWorld_Draw's buffer of contact points (3 floats each)
 	int drawPointCapacity;
