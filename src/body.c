@@ -10,6 +10,7 @@
 #include "loads.h"
 #include "mesh_internal.h"
 #include "multigrid.h"
+#include "penalty.h"
 #include "render_mesh.h"
 #include "reorder.h"
 #include "solver_cache.h"
@@ -244,6 +245,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->contactFriction, double, 8 * n);
 	FM_FREE_ARRAY(b->contactFrictionNext, double, 8 * n);
 	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
+	FM_FREE_ARRAY(b->edgePlanes, fmEdgePlane, b->edgePlaneCapacity);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
 	fmLoads_Free(b->loads);

@@ -120,6 +120,11 @@ typedef struct fmBody
 	double* contactPlane;    // 4n: an implicit step's frozen plane of another body near each
 	                         // surface vertex (n, n . q), NaN where none (penalty.h)
 	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
+	// An implicit step's frozen planes of other bodies' surface edges near this body's surface
+	// edges (penalty.h), made before the step like contactPlane
+	struct fmEdgePlane* edgePlanes;
+	int edgePlaneCount;
+	int edgePlaneCapacity;
 	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
 	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
 	double* contactFriction;

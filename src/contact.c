@@ -1065,13 +1065,17 @@ static fmVec3 fmEdgePoint(const double* x, const int e[2], double s)
 	return fmMulAdd(fmLoad(x, e[0]), s, fmSub(fmLoad(x, e[1]), fmLoad(x, e[0])));
 }
 
-// Edge e of body b against the edges of triangle @p tri of body o: a contact when their closest
-// points are inside both edges and within the thickness, or when the edges crossed during the
-// substep (the direction between the closest points turned over). Appends to the edge list.
+// Edge e of body b (@p side: the normal of a triangle of b's with that edge) against the edges
+// of triangle @p tri of body o: a contact when their closest points are inside both edges and
+// within the thickness, or when the edges crossed during the substep (the direction between the
+// closest points turned over); before an implicit step (s->predict), when they are within
+// reach of the step's motion and face each other. Appends to the edge list.
 static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, const fmBody* b,
-                                  int slot, const int e[2], const fmBody* o, int other,
+                                  int slot, const int e[2], fmVec3 side, const fmBody* o, int other,
                                   const int* tri, double thickness, int item)
 {
+	fmVec3 face = fmCross(fmSub(fmLoad(o->x, tri[1]), fmLoad(o->x, tri[0])),
+	                      fmSub(fmLoad(o->x, tri[2]), fmLoad(o->x, tri[0])));
 	for (int k = 0; k < 3; ++k)
 	{
 		int f[2] = {tri[k], tri[(k + 1) % 3]};
@@ -1088,9 +1092,16 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		double reach = thickness + fmMotionOf(s, b, e[0]) + fmMotionOf(s, b, e[1]) +
 		               fmMotionOf(s, o, f[0]) + fmMotionOf(s, o, f[1]);
 		// A crossing: the direction between the closest points turned over within the substep
-		// while they were within reach of each other.
-		bool crossed = fmDot(d, d0) < 0.0 && start > 0.0 && start < reach;
-		if (!(crossed || (distance < thickness && distance > 0.0)))
+		// while they were within reach of each other. (Before an implicit step: edges within
+		// reach of the step's motion, for its frozen edge planes.)
+		bool crossed = s->predict == 0.0 && fmDot(d, d0) < 0.0 && start > 0.0 && start < reach;
+		double near = s->predict > 0.0 ? reach : thickness;
+		if (!(crossed || (distance < near && distance > 0.0)))
+			continue;
+		// A frozen plane only between edges that face each other: the direction from o's edge
+		// to b's leaves o through the face and enters b against the face of b's edge (@p side).
+		// Edges of bodies already inside each other would otherwise be held there.
+		if (s->predict > 0.0 && !(fmDot(d, face) > 0.0 && fmDot(d, side) < 0.0))
 			continue;
 		if (!fmGrow((void**)&wf->edges, &wf->edgeCapacity, wf->edgeCount, wf->edgeCount + 1,
 		            sizeof(fmEdgeContact)))
@@ -1118,6 +1129,8 @@ static void fmFindEdgeContacts(const fmWorld* w, const fmContactState* s, fmWork
 	int e[2] = {tri[edge % 3], tri[(edge % 3 + 1) % 3]};
 	if (e[0] > e[1])
 		return;
+	fmVec3 side = fmCross(fmSub(fmLoad(b->x, tri[1]), fmLoad(b->x, tri[0])),
+	                      fmSub(fmLoad(b->x, tri[2]), fmLoad(b->x, tri[0])));
 	fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
 	double reach = thickness + fmax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
 	fmVec3 lo = fmMakeVec3(fmin(p.x, q.x) - reach, fmin(p.y, q.y) - reach, fmin(p.z, q.z) - reach);
@@ -1139,8 +1152,9 @@ static void fmFindEdgeContacts(const fmWorld* w, const fmContactState* s, fmWork
 		    hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y || lo.y > ihi.y || hi.z < ilo.z ||
 		    lo.z > ihi.z)
 			continue;
-		wf->failed = !fmEdgeAgainstTriangle(
-		    s, wf, b, slot, e, o, other, fmTriangleOf(o, s->triangleIndex[found]), thickness, item);
+		wf->failed =
+		    !fmEdgeAgainstTriangle(s, wf, b, slot, e, side, o, other,
+		                           fmTriangleOf(o, s->triangleIndex[found]), thickness, item);
 	}
 }
 
@@ -1374,6 +1388,7 @@ static bool fmDetectEdges(fmWorld* w, fmContactState* s, double thickness)
 	if (!fmEndWorkers(w, s))
 		return false;
 	int total = 0;
+	s->edgeContactCount = 0;
 	for (int k = 0; k < w->tasks.workerCount; ++k)
 		total += s->workers[k].edgeCount;
 	if (!fmGrow((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total, sizeof(fmEdgeContact)))
@@ -1424,10 +1439,10 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 			fmWakeSleeper(w, &s->found[k]);
 			s->pairContacts[s->pairContactCount++] = s->found[k];
 		}
-	// Edge against edge, explicit substeps only: after an implicit step, whose solve saw only
-	// the vertex-triangle planes, the edges' projections fought the solve's result (three
-	// houses dropped on each other: 12 vertices ended inside another house with them, 1
-	// without; docs/contact.md).
+	// Edge against edge, explicit substeps only: implicit steps hold edges apart inside the
+	// solve (frozen edge planes, fmPredictPlanes). Projecting them after the solve as well made
+	// the three-house pile crawl (over 300 s against 49 s; before the edge planes it put 12
+	// vertices inside another house against 1; docs/contact.md).
 	s->edgeContactCount = 0;
 	if (w->def.integrator != fm_implicit && !fmDetectEdges(w, s, thickness))
 		return false;
@@ -1469,9 +1484,19 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 
 // ---- the implicit step's planes ----------------------------------------------------------------
 
+static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
+{
+	if (!fmGrow((void**)&b->edgePlanes, &b->edgePlaneCapacity, b->edgePlaneCount,
+	            b->edgePlaneCount + 1, sizeof(fmEdgePlane)))
+		return false;
+	b->edgePlanes[b->edgePlaneCount++] = *plane;
+	return true;
+}
+
 // Before an implicit step: each surface vertex's nearest triangle of another body that the
 // step's motion may reach, frozen as a plane (n, n . q) in b->contactPlane for the step's
-// penalty (penalty.h); NaN where there is none.
+// penalty (penalty.h), NaN where there is none; and each pair of surface edges of two bodies
+// within that reach, frozen as a plane for each edge (b->edgePlanes).
 static bool fmPredictPlanes(fmWorld* w, fmContactState* s, double thickness, double h)
 {
 	// (fmContact_BeginSubstep has set every plane to none.)
@@ -1494,8 +1519,21 @@ static bool fmPredictPlanes(fmWorld* w, fmContactState* s, double thickness, dou
 		plane[2] = found->normal.z;
 		plane[3] = fmDot(found->normal, q);
 	}
+	bool ok = n >= 0 && fmDetectEdges(w, s, thickness);
+	for (int k = 0; ok && k < s->edgeContactCount; ++k)
+	{
+		const fmEdgeContact* c = &s->edgeContacts[k];
+		fmBody* b = &w->bodies[c->body];
+		fmBody* o = &w->bodies[c->other];
+		fmVec3 p = fmEdgePoint(b->x, c->a, c->s), q = fmEdgePoint(o->x, c->b, c->t);
+		fmEdgePlane mine = {c->a[0], c->a[1], c->s, c->normal, fmDot(c->normal, q)};
+		fmVec3 away = fmScale(-1.0, c->normal);
+		fmEdgePlane theirs = {c->b[0], c->b[1], c->t, away, fmDot(away, p)};
+		ok = fmAddEdgePlane(b, &mine) && fmAddEdgePlane(o, &theirs);
+	}
+	s->edgeContactCount = 0;
 	s->predict = 0.0;
-	return n >= 0;
+	return ok;
 }
 
 // ---- the energy ledger -------------------------------------------------------------------------
@@ -1730,6 +1768,7 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
 		for (int k = 0; k < b->vertexCount; ++k)
 			b->contactPlane[4 * (size_t)k + 3] = NAN;
+		b->edgePlaneCount = 0;
 	}
 	bool bodies = fmBodiesMeet(w);
 	if (w->def.integrator != fm_implicit || !bodies)

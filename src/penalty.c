@@ -9,9 +9,48 @@ static bool fmPenaltyMeets(const fmBody* b, const fmCollider* c)
 	       (c->def.filter.categoryBits & b->filter.maskBits) != 0;
 }
 
+// One penalty term: the point sum_j weight[j] x[vertex[j]] (one vertex, or an edge's point),
+// @p depth (m) behind where it should be along the outward unit @p normal, with stiffness k.
+typedef struct fmPenaltyTerm
+{
+	int vertex[2];
+	double weight[2];
+	int count;
+	double k;
+	double depth;
+	fmVec3 normal;
+} fmPenaltyTerm;
+
 // Calls @p visit for every surface vertex inside a collider (depth -d) or within the thickness
-// of its frozen plane of another body (depth thickness - d), with the outward normal.
-typedef void fmPenaltyVisit(void* context, int vertex, double k, double depth, fmVec3 normal);
+// of its frozen plane of another body (depth thickness - d), and every surface edge within the
+// thickness of its frozen edge plane.
+typedef void fmPenaltyVisit(void* context, const fmPenaltyTerm* term);
+
+static void fmVertexTerm(fmPenaltyVisit* visit, void* context, int i, double k, double depth,
+                         fmVec3 n)
+{
+	fmPenaltyTerm t = {{i, i}, {1.0, 0.0}, 1, k, depth, n};
+	visit(context, &t);
+}
+
+static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double* x,
+                        fmPenaltyVisit* visit, void* context)
+{
+	for (int e = 0; e < b->edgePlaneCount; ++e)
+	{
+		const fmEdgePlane* plane = &b->edgePlanes[e];
+		if (b->pinned[plane->a] == FM_PIN_ALL && b->pinned[plane->b] == FM_PIN_ALL)
+			continue;
+		double s = plane->s;
+		fmVec3 q = fmAdd(fmScale(1.0 - s, fmLoad(x, plane->a)), fmScale(s, fmLoad(x, plane->b)));
+		double depth = p->thickness - (fmDot(plane->normal, q) - plane->offset);
+		double mass = (1.0 - s) * b->mass[plane->a] + s * b->mass[plane->b];
+		fmPenaltyTerm t = {{plane->a, plane->b}, {1.0 - s, s}, 2,
+		                   p->stiffness * mass,  depth,        plane->normal};
+		if (depth > 0.0)
+			visit(context, &t);
+	}
+}
 
 static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const double* x,
                            fmPenaltyVisit* visit, void* context)
@@ -29,7 +68,7 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 			fmVec3 n = fmMakeVec3(plane[0], plane[1], plane[2]);
 			double depth = p->thickness - (fmDot(n, fmLoad(x, i)) - plane[3]);
 			if (depth > 0.0)
-				visit(context, i, p->stiffness * b->mass[i], depth, n);
+				fmVertexTerm(visit, context, i, p->stiffness * b->mass[i], depth, n);
 		}
 		for (int k = 0; k < p->colliderCount; ++k)
 		{
@@ -39,9 +78,10 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 			fmVec3 n;
 			double depth = -fmCollider_Distance(c, fmLoad(x, i), &n);
 			if (depth > 0.0)
-				visit(context, i, p->stiffness * b->mass[i], depth, n);
+				fmVertexTerm(visit, context, i, p->stiffness * b->mass[i], depth, n);
 		}
 	}
+	fmEdgeTerms(p, b, x, visit, context);
 }
 
 // ---- friction ----------------------------------------------------------------------------------
@@ -156,15 +196,16 @@ typedef struct fmEnergyVisit
 	double* gradient;
 } fmEnergyVisit;
 
-static void fmVisitEnergy(void* context, int i, double k, double depth, fmVec3 n)
+static void fmVisitEnergy(void* context, const fmPenaltyTerm* t)
 {
 	fmEnergyVisit* e = context;
-	e->energy += 0.5 * k * depth * depth;
-	if (e->gradient)
+	e->energy += 0.5 * t->k * t->depth * t->depth;
+	for (int j = 0; e->gradient && j < t->count; ++j)
 	{
-		e->gradient[3 * i] -= k * depth * n.x;
-		e->gradient[3 * i + 1] -= k * depth * n.y;
-		e->gradient[3 * i + 2] -= k * depth * n.z;
+		double f = t->k * t->depth * t->weight[j];
+		e->gradient[3 * t->vertex[j]] -= f * t->normal.x;
+		e->gradient[3 * t->vertex[j] + 1] -= f * t->normal.y;
+		e->gradient[3 * t->vertex[j] + 2] -= f * t->normal.z;
 	}
 }
 
@@ -183,15 +224,22 @@ typedef struct fmHessianVisit
 	double* values;
 } fmHessianVisit;
 
-static void fmVisitHessian(void* context, int i, double k, double depth, fmVec3 n)
+// The Gauss-Newton Hessian k w w^T (x) n n^T, its diagonal blocks only (an edge's coupling of
+// its two vertices is left out: the matrix stays positive semi-definite, the operator the same
+// in the assembled and matrix-free products, and Newton's line search takes the rest).
+static void fmVisitHessian(void* context, const fmPenaltyTerm* t)
 {
-	(void)depth;
 	fmHessianVisit* h = context;
-	double* block = h->values + 9 * (size_t)(h->diagonal ? h->diagonal[i] : i);
-	const double u[3] = {n.x, n.y, n.z};
-	for (int r = 0; r < 3; ++r)
-		for (int c = 0; c < 3; ++c)
-			block[3 * r + c] += k * u[r] * u[c];
+	const double u[3] = {t->normal.x, t->normal.y, t->normal.z};
+	for (int j = 0; j < t->count; ++j)
+	{
+		int i = t->vertex[j];
+		double* block = h->values + 9 * (size_t)(h->diagonal ? h->diagonal[i] : i);
+		double k = t->k * t->weight[j] * t->weight[j];
+		for (int r = 0; r < 3; ++r)
+			for (int c = 0; c < 3; ++c)
+				block[3 * r + c] += k * u[r] * u[c];
+	}
 }
 
 void fmContactPenalty_AddHessian(const fmContactPenalty* p, const fmBody* b, const double* x,
@@ -218,14 +266,20 @@ typedef struct fmProductVisit
 	double* y;
 } fmProductVisit;
 
-static void fmVisitProduct(void* context, int i, double k, double depth, fmVec3 n)
+// The product with fmVisitHessian's blocks.
+static void fmVisitProduct(void* context, const fmPenaltyTerm* t)
 {
-	(void)depth;
 	fmProductVisit* v = context;
-	double along = k * (n.x * v->dx[3 * i] + n.y * v->dx[3 * i + 1] + n.z * v->dx[3 * i + 2]);
-	v->y[3 * i] += along * n.x;
-	v->y[3 * i + 1] += along * n.y;
-	v->y[3 * i + 2] += along * n.z;
+	fmVec3 n = t->normal;
+	for (int j = 0; j < t->count; ++j)
+	{
+		int i = t->vertex[j];
+		double along = t->k * t->weight[j] * t->weight[j] *
+		               (n.x * v->dx[3 * i] + n.y * v->dx[3 * i + 1] + n.z * v->dx[3 * i + 2]);
+		v->y[3 * i] += along * n.x;
+		v->y[3 * i + 1] += along * n.y;
+		v->y[3 * i + 2] += along * n.z;
+	}
 }
 
 void fmContactPenalty_AddProduct(const fmContactPenalty* p, const fmBody* b, const double* at,
@@ -254,11 +308,14 @@ typedef struct fmWorkVisit
 	double work;
 } fmWorkVisit;
 
-static void fmVisitWork(void* context, int i, double k, double depth, fmVec3 n)
+static void fmVisitWork(void* context, const fmPenaltyTerm* t)
 {
 	fmWorkVisit* v = context;
-	fmVec3 moved = fmSub(fmLoad(v->x, i), fmLoad(v->xStart, i));
-	v->work += fmax(0.0, k * depth * fmDot(n, moved));
+	fmVec3 moved = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int j = 0; j < t->count; ++j)
+		moved = fmMulAdd(moved, t->weight[j],
+		                 fmSub(fmLoad(v->x, t->vertex[j]), fmLoad(v->xStart, t->vertex[j])));
+	v->work += fmax(0.0, t->k * t->depth * fmDot(t->normal, moved));
 }
 
 double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const double* xStart)

@@ -1,19 +1,33 @@
 // The implicit step's contact penalty (penalty.c): inside the Newton solve, each surface vertex
-// closer than the gap to a collider, or to the frozen plane of another body's surface near it,
-// adds the energy k/2 (gap - d)^2, with d the signed distance and k = kappa m / h^2 (a stiffness
-// that scales with the step's own inertia term), its gradient and its Gauss-Newton Hessian k n n^T.
-// Friction against colliders is in the solve too, lagged one step as in IPC (Li et al. 2020):
-// a vertex that pressed on a collider with normal force lambda in the last step adds
-// D = mu lambda f0(|u|), u its tangential motion relative to the collider's surface, f0 the
-// C1 blend of a stiff spring below a slip of FM_FRICTION_SLIP_SPEED h and |u| above it: static
-// friction holds, sliding friction is Coulomb's. A stick collider's contact (fmColliderDef.stick)
-// is the limit of infinite mu: the spring k/2 |u|^2 at the normal penalty's k = kappa m / h^2,
-// with no Coulomb limit. The contact stage after the solve then removes
-// what penetration is left and applies friction to new contacts (contact.c).
+// closer than the gap to a collider, or to the frozen plane of another body's surface near it
+// (and each surface edge closer than the gap to its frozen edge plane, fmEdgePlane), adds the
+// energy k/2 (gap - d)^2, with d the signed distance and k = kappa m / h^2 (a stiffness that scales
+// with the step's own inertia term), its gradient and its Gauss-Newton Hessian k n n^T. Friction
+// against colliders is in the solve too, lagged one step as in IPC (Li et al. 2020): a vertex that
+// pressed on a collider with normal force lambda in the last step adds D = mu lambda f0(|u|), u its
+// tangential motion relative to the collider's surface, f0 the C1 blend of a stiff spring below a
+// slip of FM_FRICTION_SLIP_SPEED h and |u| above it: static friction holds, sliding friction is
+// Coulomb's. A stick collider's contact (fmColliderDef.stick) is the limit of infinite mu: the
+// spring k/2 |u|^2 at the normal penalty's k = kappa m / h^2, with no Coulomb limit. The contact
+// stage after the solve then removes what penetration is left and applies friction to new contacts
+// (contact.c).
 #pragma once
 
 #include "body.h"
 #include "collider.h"
+
+// A surface edge's frozen plane for one implicit step (made by contact.c before the step,
+// in body->edgePlanes): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,
+// is kept the thickness in front of the plane n . x = offset through that edge's point, with
+// the same penalty as a vertex (its mass the edge point's, (1 - s) m[a] + s m[b]). Where two
+// bodies' edges cross, vertex-triangle planes alone let coarse meshes pass through each other.
+typedef struct fmEdgePlane
+{
+	int a, b;      // the edge's vertices
+	double s;      // the point's place along the edge, in (0, 1)
+	fmVec3 normal; // unit, away from the other body's edge
+	double offset; // n . (the other edge's closest point) (m)
+} fmEdgePlane;
 
 // Stiffness of the penalty relative to the inertia term m / h^2 (dimensionless): a vertex
 // resting on a collider under its own weight sinks g h^2 / kappa into it.
