@@ -46,13 +46,19 @@ static fmBodyId addBox(int* failures_, fmWorldId world, int cells, fmVec3 lo, fm
 	return r == fm_ok ? body : none;
 }
 
-static fmBodyDef implicitHouseDef(void)
+// A Neo-Hookean body of Young's modulus @p youngs (Pa), nu = 0.3, 500 kg/m^3.
+static fmBodyDef softDef(double youngs)
 {
 	fmBodyDef def = fmDefaultBodyDef();
-	def.material = fmMakeMaterial(fm_neoHookean, 5e4, 0.3);
+	def.material = fmMakeMaterial(fm_neoHookean, youngs, 0.3);
 	def.massMode = fm_massFromDensity;
 	def.density = 500.0;
 	return def;
+}
+
+static fmBodyDef implicitHouseDef(void)
+{
+	return softDef(5e4);
 }
 
 // Whether point p lies inside tet abcd (barycentric coordinates all above -eps).
@@ -167,10 +173,7 @@ TEST(three_boxes_stack)
 		wdef.floor.friction = fm_floorCoulomb;
 		wdef.floor.frictionCoefficient = 0.5;
 		fmWorldId world = fmCreateWorld(&wdef);
-		fmBodyDef def = fmDefaultBodyDef();
-		def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
-		def.massMode = fm_massFromDensity;
-		def.density = 500.0;
+		fmBodyDef def = softDef(1e5);
 		fmBodyId boxes[3];
 		for (int h = 0; h < 3; ++h)
 			boxes[h] = addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.1 + 0.8 * h, -0.3),
@@ -289,10 +292,7 @@ TEST(crossed_edges_do_not_pass)
 		wdef.floor.enabled = false;
 		wdef.integrator = integrators[k];
 		fmWorldId world = fmCreateWorld(&wdef);
-		fmBodyDef def = fmDefaultBodyDef();
-		def.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
-		def.massMode = fm_massFromDensity;
-		def.density = 500.0;
+		fmBodyDef def = softDef(1e6);
 		fmBodyId low = addTurnedCube(failures_, world, 2, fmMakeVec3(0.0, 0.0, 0.0), &def);
 		fmBodyId high = addTurnedCube(failures_, world, 0, fmMakeVec3(0.0, 0.62, 0.0), &def);
 		CHECK(fmBody_PinBox(low, fmMakeVec3(-1.0, -1.0, -1.0), fmMakeVec3(1.0, 0.0, 1.0)) > 0);
@@ -553,10 +553,7 @@ TEST(kinematic_paddle_pushes)
 	wdef.floor.friction = fm_floorCoulomb;
 	wdef.floor.frictionCoefficient = 0.3;
 	fmWorldId world = fmCreateWorld(&wdef);
-	fmBodyDef def = fmDefaultBodyDef();
-	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
-	def.massMode = fm_massFromDensity;
-	def.density = 500.0;
+	fmBodyDef def = softDef(1e5);
 	fmBodyId body =
 	    addBox(failures_, world, 3, fmMakeVec3(0.0, 0.0, -0.15), fmMakeVec3(0.3, 0.3, 0.15), &def);
 	fmColliderDef paddle = fmDefaultColliderDef();
@@ -763,10 +760,7 @@ TEST(islands_sleep_and_wake)
 	wdef.floor.friction = fm_floorCoulomb;
 	wdef.contact.enableSleep = true;
 	fmWorldId world = fmCreateWorld(&wdef);
-	fmBodyDef def = fmDefaultBodyDef();
-	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
-	def.massMode = fm_massFromDensity;
-	def.density = 500.0;
+	fmBodyDef def = softDef(1e5);
 	fmBodyId low =
 	    addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.05, -0.3), fmMakeVec3(0.3, 0.65, 0.3), &def);
 	fmBodyId high =
@@ -978,10 +972,7 @@ TEST(warm_contact_steps_allocate_nothing)
 		ground.triangleCount = 2;
 		fmColliderId id;
 		CHECK_INT(fmCreateCollider(world, &ground, &id, NULL), fm_ok);
-		fmBodyDef def = fmDefaultBodyDef();
-		def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
-		def.massMode = fm_massFromDensity;
-		def.density = 500.0;
+		fmBodyDef def = softDef(1e5);
 		addBox(failures_, world, 2, fmMakeVec3(-0.3, 0.0, -0.3), fmMakeVec3(0.3, 0.6, 0.3), &def);
 		addBox(failures_, world, 2, fmMakeVec3(-0.2, 0.65, -0.2), fmMakeVec3(0.2, 1.05, 0.2), &def);
 		int substeps = k == 0 ? 1 : 20;
@@ -1014,10 +1005,7 @@ TEST(filters_and_events)
 		wdef.integrator = fm_implicit;
 		wdef.floor.height = 0.0;
 		fmWorldId world = fmCreateWorld(&wdef);
-		fmBodyDef def = fmDefaultBodyDef();
-		def.material = fmMakeMaterial(fm_neoHookean, 2e5, 0.3);
-		def.massMode = fm_massFromDensity;
-		def.density = 500.0;
+		fmBodyDef def = softDef(2e5);
 		fmBodyId lower = addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.0, -0.3),
 		                        fmMakeVec3(0.3, 0.3, 0.3), &def);
 		if (filtered)
@@ -1165,10 +1153,7 @@ TEST(blow_up_near_contact_is_reported)
 	fmWorldDef wdef = fmDefaultWorldDef();
 	wdef.floor.height = 0.0;
 	fmWorldId world = fmCreateWorld(&wdef);
-	fmBodyDef def = fmDefaultBodyDef();
-	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
-	def.massMode = fm_massFromDensity;
-	def.density = 500.0;
+	fmBodyDef def = softDef(1e5);
 	addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.0, -0.3), fmMakeVec3(0.3, 0.6, 0.3), &def);
 	addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.61, -0.3), fmMakeVec3(0.3, 1.21, 0.3), &def);
 	fmResult result = fm_ok;
@@ -1420,10 +1405,7 @@ TEST(overlapping_bodies_come_apart)
 	wdef.integrator = fm_implicit;
 	wdef.floor.height = 0.0;
 	fmWorldId world = fmCreateWorld(&wdef);
-	fmBodyDef def = fmDefaultBodyDef();
-	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
-	def.massMode = fm_massFromDensity;
-	def.density = 500.0;
+	fmBodyDef def = softDef(1e5);
 	fmBodyId boxes[2] = {
 	    addBox(failures_, world, 4, fmMakeVec3(-0.5, 0.0, -0.5), fmMakeVec3(0.5, 1.0, 0.5), &def),
 	    addBox(failures_, world, 4, fmMakeVec3(-0.3, 0.5, -0.3), fmMakeVec3(0.7, 1.5, 0.7), &def)};
