@@ -38,6 +38,19 @@
 // The automatic thickness: this fraction of the smallest body's bounding-box diagonal.
 #define FM_CONTACT_THICKNESS_FRACTION 0.01
 
+// Detection items a task range takes at least (each is a box test, or a hash query and its
+// narrow tests).
+#define FM_CONTACT_MIN_RANGE 64
+
+// Where a vertex goes back to against a collider (fmFindVertexVsCollider).
+typedef struct fmColliderFind
+{
+	fmVec3 x;      // its position on the collider's surface
+	fmVec3 normal; // the surface's outward normal there
+	double depth;  // m, how far in it was
+	bool hit;      // false: outside, and it did not cross the surface
+} fmColliderFind;
+
 // A vertex the contact stage changed, with its state before (the ledger's bookkeeping).
 typedef struct fmTouched
 {
@@ -100,6 +113,8 @@ struct fmContactState
 	int* triangleBody;                     // per global triangle: its body slot
 	int* triangleIndex;                    // per global triangle: its index in that body's surface
 	fmWorkerFinds workers[FM_MAX_WORKERS]; // the parallel detection's per-worker buffers
+	fmColliderFind* colliderFinds;         // per surface vertex of the body against a collider
+	int colliderFindCapacity;
 	int* items; // the detection's items: (body slot, vertex or surface edge) pairs
 	int itemCapacity;
 	fmPairContact* found; // per vertex item: its contact, where hit[k]
@@ -177,6 +192,7 @@ void fmContact_Free(fmContactState* s)
 		FM_FREE_ARRAY(s->workers[k].edges, fmEdgeContact, s->workers[k].edgeCapacity);
 	}
 	FM_FREE_ARRAY(s->items, int, s->itemCapacity);
+	FM_FREE_ARRAY(s->colliderFinds, fmColliderFind, s->colliderFindCapacity);
 	FM_FREE_ARRAY(s->found, fmPairContact, s->foundCapacity);
 	FM_FREE_ARRAY(s->hit, uint8_t, s->foundCapacity);
 	FM_FREE_ARRAY(s->bodyLower, fmVec3, s->bodyBoxCapacity);
@@ -454,13 +470,16 @@ static void fmStickImpact(fmVec3* relative, fmVec3 n, double e)
 // Keep vertex @p i of body @p slot on or outside collider @p k (exact shapes: no gap; the
 // thickness is for the vertex-triangle tests between bodies). Returns false when
 // the contact list could not grow.
-static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k)
+// Where vertex i of body @p b goes back to against collider @p c (@p found: the position, the
+// surface normal and the depth it was in), or nothing (found->hit false) when it is outside
+// and did not cross it. Reads only: it runs on the workers (fmCollideWithColliders).
+static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, const fmCollider* c,
+                                   fmColliderFind* found)
 {
-	fmBody* b = &w->bodies[slot];
-	fmCollider* c = &w->colliders[k];
-	fmVec3 x = fmLoad(b->x, i), start = fmLoad(b->contactStart, i), v = fmLoad(b->v, i), n;
+	fmVec3 x = fmLoad(b->x, i), start = fmLoad(b->contactStart, i), n;
 	double d = fmCollider_Distance(c, x, &n), fraction;
 	double depth = -d;
+	found->hit = true;
 	if (fmCollider_CastSegment(c, start, x, 0.0, &fraction, &n))
 	{
 		// It came from outside the grown shape: back onto the surface where it entered it,
@@ -480,7 +499,22 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		x = fmMulAdd(x, fmin(depth, reach), n);
 	}
 	else
-		return true;
+		found->hit = false;
+	found->x = x;
+	found->normal = n;
+	found->depth = depth;
+}
+
+// Keep vertex @p i of body @p slot on or outside collider @p k, as @p found says: its position,
+// the velocity response (restitution, friction), the collider's reaction, the contact list.
+// Returns false when the contact list could not grow.
+static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k,
+                               const fmColliderFind* found)
+{
+	fmBody* b = &w->bodies[slot];
+	fmCollider* c = &w->colliders[k];
+	fmVec3 x = found->x, n = found->normal, v = fmLoad(b->v, i);
+	double depth = found->depth;
 	fmVec3 before = fmLoad(b->x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
 	// After an implicit step the penalty pushed the vertex out of the collider during the
@@ -566,6 +600,28 @@ static void fmWakeIfPushed(fmBody* b, const fmCollider* c)
 	}
 }
 
+typedef struct fmColliderTask
+{
+	const fmWorld* w;
+	const fmBody* b;
+	const fmCollider* c;
+	fmColliderFind* finds; // per surface vertex of b
+} fmColliderTask;
+
+static void fmFindColliderRange(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmColliderTask* t = context;
+	for (int p = start; p < end; ++p)
+	{
+		int i = t->b->surfaceVertex[p];
+		if (t->b->pinned[i] == FM_PIN_ALL)
+			t->finds[p].hit = false;
+		else
+			fmFindVertexVsCollider(t->w, t->b, i, t->c, &t->finds[p]);
+	}
+}
+
 static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
@@ -585,10 +641,18 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 				fmWakeIfPushed(b, &w->colliders[k]);
 				continue;
 			}
+			// Found on the workers (each vertex reads only its own state), applied in order.
+			if (!fmGrow((void**)&s->colliderFinds, &s->colliderFindCapacity, 0,
+			            b->surfaceVertexCount, sizeof(fmColliderFind)))
+				return false;
+			fmColliderTask task = {w, b, &w->colliders[k], s->colliderFinds};
+			fmParallelForBalanced(&w->tasks, b->surfaceVertexCount, FM_CONTACT_MIN_RANGE,
+			                      fmFindColliderRange, &task);
 			for (int p = 0; p < b->surfaceVertexCount; ++p)
 			{
 				int i = b->surfaceVertex[p];
-				if (b->pinned[i] != FM_PIN_ALL && !fmVertexVsCollider(w, s, slot, i, k))
+				if (s->colliderFinds[p].hit &&
+				    !fmVertexVsCollider(w, s, slot, i, k, &s->colliderFinds[p]))
 					return false;
 			}
 		}
@@ -1256,10 +1320,6 @@ static bool fmRecordEdgeContact(fmWorld* w, fmContactState* s, const fmEdgeConta
 }
 
 // ---- parallel detection ------------------------------------------------------------------------
-
-// Detection items a task range takes at least (each is a box test, or a hash query and its
-// narrow tests).
-#define FM_CONTACT_MIN_RANGE 64
 
 typedef struct fmDetectTask
 {

@@ -1,9 +1,10 @@
 // The contact stage (contact.c): after every body has taken a substep, kinematic colliders
 // move, and every body's surface vertices are kept out of the colliders and out of the other
 // bodies' surfaces, by position projection with restitution and Coulomb friction on the
-// velocities (docs/contact.md). The body-body detection runs on the workers, the responses on
-// one, in a fixed order: the same bits for any number of workers. The contact list, the pairs'
-// begin and end events and the colliders' forces come out of it.
+// velocities (docs/contact.md). The body-body detection and the body-collider queries run on
+// the workers, the responses on one, in a fixed order: the same bits for any number of
+// workers. The contact list, the pairs' begin and end events and the colliders' forces come
+// out of it.
 #pragma once
 
 #include "world.h"
