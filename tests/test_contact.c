@@ -7,7 +7,10 @@
 #include "support.h"
 #include "test.h"
 
+#include "body.h"
+#include "core.h"
 #include "geometry.h"
+#include "penalty.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -1421,5 +1424,84 @@ TEST(overlapping_bodies_come_apart)
 	CHECK(start > 20);
 	CHECK_INT(failed, 0);
 	CHECK(deepest <= thickness);
+	fmDestroyWorld(world);
+}
+
+// The implicit edge planes' penalty (penalty.c, fmEdgePlane): its gradient is its energy's
+// (central differences over the edge's six coordinates), and the matrix-free product is the
+// assembled diagonal blocks' (one operator on both solver paths).
+TEST(edge_plane_penalty_gradient)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = softDef(1e5);
+	fmBodyId id =
+	    addBox(failures_, world, 2, fmMakeVec3(0.0, 0.0, 0.0), fmMakeVec3(0.4, 0.4, 0.4), &def);
+	fmColliderDef far = fmDefaultColliderDef(); // (a collider: the contact stage's arrays)
+	far.shape = fm_shapeSphere;
+	far.center = fmMakeVec3(0.0, -50.0, 0.0);
+	fmColliderId collider;
+	CHECK_INT(fmCreateCollider(world, &far, &collider, NULL), fm_ok);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	fmBody* b = fmGetBody(id);
+	CHECK(b != NULL && b->surfaceVertex != NULL);
+	if (b == NULL || b->surfaceVertex == NULL)
+	{
+		fmDestroyWorld(world);
+		return;
+	}
+	int a = b->surface[0], c = b->surface[1];
+	const double h = 1.0 / 60.0, thickness = 0.01;
+	fmVec3 n = fmScale(1.0 / sqrt(1.05), fmMakeVec3(0.2, 1.0, 0.1));
+	fmVec3 q = fmAdd(fmScale(0.7, fmLoad(b->x, a)), fmScale(0.3, fmLoad(b->x, c)));
+	FM_FREE_ARRAY(b->edgePlanes, fmEdgePlane, b->edgePlaneCapacity);
+	b->edgePlanes = FM_ALLOC_ARRAY(fmEdgePlane, 1);
+	b->edgePlaneCapacity = b->edgePlanes ? 1 : 0;
+	b->edgePlaneCount = b->edgePlaneCapacity;
+	if (b->edgePlaneCount == 1)
+		b->edgePlanes[0] = (fmEdgePlane){a, c, 0.3, n, fmDot(n, q) + 0.5 * thickness};
+	fmContactPenalty penalty = {NULL, 0, FM_PENALTY_KAPPA / (h * h), thickness, b->x, h};
+	int n3 = 3 * b->vertexCount;
+	double* x = malloc(sizeof(double) * (size_t)n3);
+	double* gradient = calloc((size_t)n3, sizeof(double));
+	double* dx = calloc((size_t)n3, sizeof(double));
+	double* y = calloc((size_t)n3, sizeof(double));
+	double* blocks = calloc(9 * (size_t)b->vertexCount, sizeof(double));
+	memcpy(x, b->x, sizeof(double) * (size_t)n3);
+	double energy = fmContactPenalty_Energy(&penalty, b, x, gradient), worst = 0.0;
+	const int vertices[2] = {a, c};
+	for (int k = 0; k < 6; ++k)
+	{
+		int dof = 3 * vertices[k / 3] + k % 3;
+		const double e = 1e-7;
+		x[dof] += e;
+		double up = fmContactPenalty_Energy(&penalty, b, x, NULL);
+		x[dof] -= 2.0 * e;
+		double down = fmContactPenalty_Energy(&penalty, b, x, NULL);
+		x[dof] += e;
+		worst = fmax(worst, fabs((up - down) / (2.0 * e) - gradient[dof]) /
+		                        fmax(1e-12, fabs(gradient[dof])));
+		dx[dof] = 0.1 * (k + 1);
+	}
+	fmContactPenalty_AddProduct(&penalty, b, x, dx, y);
+	fmContactPenalty_AddHessian(&penalty, b, x, NULL, blocks);
+	double product = 0.0;
+	for (int k = 0; k < 6; ++k)
+	{
+		int i = vertices[k / 3], r = k % 3;
+		double expected = 0.0;
+		for (int col = 0; col < 3; ++col)
+			expected += blocks[9 * (size_t)i + 3 * r + col] * dx[3 * i + col];
+		product = fmax(product, fabs(y[3 * i + r] - expected));
+	}
+	printf("  energy %.4g J, gradient against central differences within %.2g (relative), "
+	       "product against the blocks within %.2g\n",
+	       energy, worst, product);
+	CHECK(energy > 0.0);
+	CHECK(worst < 1e-5);
+	CHECK(product < 1e-9 * fmax(1.0, fabs(y[3 * a + 1])));
+	free(x), free(gradient), free(dx), free(y), free(blocks);
 	fmDestroyWorld(world);
 }
