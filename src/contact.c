@@ -667,6 +667,13 @@ static const int* fmTriangleOf(const fmBody* b, int t)
 	return b->surface + 3 * t;
 }
 
+// The cross product of surface triangle @p tri's edges (its normal times twice its area).
+static fmVec3 fmTriangleCross(const fmBody* b, const int* tri)
+{
+	fmVec3 a = fmLoad(b->x, tri[0]);
+	return fmCross(fmSub(fmLoad(b->x, tri[1]), a), fmSub(fmLoad(b->x, tri[2]), a));
+}
+
 // How far vertex i may have moved in the substep: since its start, and before an implicit
 // step what its velocity will carry it (both bounds of the broad phase's boxes and reaches).
 static double fmMotionOf(const fmContactState* s, const fmBody* b, int i)
@@ -844,6 +851,22 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 	return fmLength(fmSub(p, q)) > 2.0 * thickness;
 }
 
+// The point of surface triangle @p tri of body @p o nearest to @p p (weights @p w, point @p q)
+// and the triangle's unit normal @p n; false when the triangle is degenerate.
+static bool fmNearestOnTriangle(const fmBody* o, const int* tri, fmVec3 p, double w[3], fmVec3* q,
+                                fmVec3* n)
+{
+	fmVec3 a = fmLoad(o->x, tri[0]), b = fmLoad(o->x, tri[1]), c = fmLoad(o->x, tri[2]);
+	fmClosestOnTriangle(p, a, b, c, w);
+	*q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], b)), fmScale(w[2], c));
+	*n = fmCross(fmSub(b, a), fmSub(c, a));
+	double area = fmLength(*n);
+	if (!(area > 0.0))
+		return false;
+	*n = fmScale(1.0 / area, *n);
+	return true;
+}
+
 // Whether body slot @p other may hold a vertex of body slot @p slot inside its tets (embedded.h).
 static bool fmMayHold(const fmWorld* w, int slot, int other)
 {
@@ -872,21 +895,19 @@ static bool fmNearestTriangle(const fmContactState* s, const fmWorld* w, fmWorke
 			int item = wf->query.items[c];
 			if (s->triangleBody[item] != other)
 				continue;
-			const int* tri = fmTriangleOf(o, s->triangleIndex[item]);
-			fmVec3 a = fmLoad(o->x, tri[0]), bb = fmLoad(o->x, tri[1]), cc = fmLoad(o->x, tri[2]);
 			double wt[3];
-			fmClosestOnTriangle(p, a, bb, cc, wt);
-			fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], cc));
-			fmVec3 n = fmCross(fmSub(bb, a), fmSub(cc, a));
-			double area = fmLength(n), distance = fmLength(fmSub(p, q));
-			if (!(area > 0.0) || !(distance < best))
+			fmVec3 q, n;
+			if (!fmNearestOnTriangle(o, fmTriangleOf(o, s->triangleIndex[item]), p, wt, &q, &n))
+				continue;
+			double distance = fmLength(fmSub(p, q));
+			if (!(distance < best))
 				continue;
 			best = distance;
 			found->other = other;
 			found->triangle = s->triangleIndex[item];
 			memcpy(found->w, wt, sizeof wt);
-			found->normal = fmScale(1.0 / area, n);
-			*side = fmDot(found->normal, fmSub(p, q));
+			found->normal = n;
+			*side = fmDot(n, fmSub(p, q));
 		}
 		if (best <= r || r >= limit || count < 0)
 			break;
@@ -948,15 +969,10 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 		const int* tri = fmTriangleOf(o, s->triangleIndex[item]);
 		if (other == slot && !fmSelfCandidate(b, i, tri, thickness))
 			continue;
-		fmVec3 a = fmLoad(o->x, tri[0]), bb = fmLoad(o->x, tri[1]), cc = fmLoad(o->x, tri[2]);
 		double wt[3];
-		fmClosestOnTriangle(p, a, bb, cc, wt);
-		fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], cc));
-		fmVec3 n = fmCross(fmSub(bb, a), fmSub(cc, a));
-		double area = fmLength(n);
-		if (!(area > 0.0))
+		fmVec3 q, n;
+		if (!fmNearestOnTriangle(o, tri, p, wt, &q, &n))
 			continue;
-		n = fmScale(1.0 / area, n);
 		double bound = reach + fmax(fmMotionOf(s, o, tri[0]),
 		                            fmax(fmMotionOf(s, o, tri[1]), fmMotionOf(s, o, tri[2])));
 		double distance = fmLength(fmSub(p, q)), side = fmDot(n, fmSub(p, q));
@@ -1138,8 +1154,8 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
                                   int slot, const int e[2], fmVec3 side, const fmBody* o, int other,
                                   const int* tri, double thickness, int item)
 {
-	fmVec3 face = fmCross(fmSub(fmLoad(o->x, tri[1]), fmLoad(o->x, tri[0])),
-	                      fmSub(fmLoad(o->x, tri[2]), fmLoad(o->x, tri[0])));
+	// (Only the frozen planes before an implicit step ask which way the faces look.)
+	fmVec3 face = s->predict > 0.0 ? fmTriangleCross(o, tri) : fmMakeVec3(0.0, 0.0, 0.0);
 	for (int k = 0; k < 3; ++k)
 	{
 		int f[2] = {tri[k], tri[(k + 1) % 3]};
@@ -1193,8 +1209,7 @@ static void fmFindEdgeContacts(const fmWorld* w, const fmContactState* s, fmWork
 	int e[2] = {tri[edge % 3], tri[(edge % 3 + 1) % 3]};
 	if (e[0] > e[1])
 		return;
-	fmVec3 side = fmCross(fmSub(fmLoad(b->x, tri[1]), fmLoad(b->x, tri[0])),
-	                      fmSub(fmLoad(b->x, tri[2]), fmLoad(b->x, tri[0])));
+	fmVec3 side = s->predict > 0.0 ? fmTriangleCross(b, tri) : fmMakeVec3(0.0, 0.0, 0.0);
 	fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
 	double reach = thickness + fmax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
 	fmVec3 lo = fmMakeVec3(fmin(p.x, q.x) - reach, fmin(p.y, q.y) - reach, fmin(p.z, q.z) - reach);

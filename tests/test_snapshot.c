@@ -145,6 +145,19 @@ static fmBodyId makeRestingBox(fmWorldId* world)
 	return r == fm_ok ? body : none;
 }
 
+// Step worlds @p a and @p b @p frames implicit frames of 1/60 s each, then check that body
+// @p x of a and body @p y of b are at the same positions, bit for bit.
+static void stepTwins(int* failures_, fmWorldId a, fmWorldId b, int frames, fmBodyId x, fmBodyId y)
+{
+	for (int f = 0; f < frames; ++f)
+	{
+		CHECK_INT(fmWorld_Step(a, 1.0 / 60.0, 1), fm_ok);
+		CHECK_INT(fmWorld_Step(b, 1.0 / 60.0, 1), fm_ok);
+	}
+	size_t n3 = 3 * (size_t)fmBody_GetVertexCount(x);
+	CHECK(memcmp(fmGetBody(x)->x, fmGetBody(y)->x, sizeof(double) * n3) == 0);
+}
+
 // The implicit solver's warm start (which first guess the last step took: a body at rest
 // starts from x + h v; and when the other is tried again) is part of a snapshot, restored into a
 // world whose solver state has drifted and into a fresh world that has taken no implicit step yet.
@@ -174,13 +187,7 @@ TEST(implicit_warm_start_is_saved)
 	CHECK(restored != NULL && restored->coasted);
 	CHECK_INT(restored != NULL ? restored->guessRecheck : -1, 5);
 	// Both continue with the same bits.
-	for (int frame = 0; frame < 10; ++frame)
-	{
-		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
-		CHECK_INT(fmWorld_Step(fresh, 1.0 / 60.0, 1), fm_ok);
-	}
-	size_t n3 = 3 * (size_t)fmBody_GetVertexCount(body);
-	CHECK(memcmp(fmGetBody(body)->x, fmGetBody(twin)->x, sizeof(double) * n3) == 0);
+	stepTwins(failures_, world, fresh, 10, body, twin);
 	free(snapshot);
 	fmDestroyWorld(world);
 	fmDestroyWorld(fresh);
@@ -538,13 +545,7 @@ TEST(colliders_that_differ_are_refused)
 	                   "mesh collider in slot 0 has 12 triangles and 8 vertices, the world's 10");
 	fmWorldId same = makeMeshWorld(failures_, 12, &twin);
 	CHECK_INT(fmWorld_RestoreSnapshot(same, meshSnapshot, meshSize), fm_ok);
-	for (int f = 0; f < 5; ++f)
-	{
-		CHECK_INT(fmWorld_Step(closed, 1.0 / 60.0, 1), fm_ok);
-		CHECK_INT(fmWorld_Step(same, 1.0 / 60.0, 1), fm_ok);
-	}
-	size_t n3 = 3 * (size_t)fmBody_GetVertexCount(body);
-	CHECK(memcmp(fmGetBody(body)->x, fmGetBody(twin)->x, sizeof(double) * n3) == 0);
+	stepTwins(failures_, closed, same, 5, body, twin);
 	fmDestroyWorld(closed);
 	fmDestroyWorld(open);
 	fmDestroyWorld(same);
