@@ -497,8 +497,9 @@ static const char* cliShapeName(fmShapeType shape)
 	return shape >= 0 && shape < fm_shapeTypeCount ? names[shape] : "collider";
 }
 
-// When bodies touched colliders or each other during the run: the last substep's contacts,
-// split by kind, and the force the bodies exert on each collider (fmCollider_GetContactForce).
+// When bodies touched the floor, colliders or each other during the run: the last substep's
+// contacts, split by kind, and the force the bodies exert on the floor and on each collider
+// (fmCollider_GetContactForce).
 static void cliPrintContacts(const cliScene* scene, const cliSimulation* sim,
                              const cliSolveTotals* solves)
 {
@@ -517,6 +518,13 @@ static void cliPrintContacts(const cliScene* scene, const cliSimulation* sim,
 	printf("contacts         %d at the end (%d on colliders, %d between bodies); at most %d after "
 	       "a step\n",
 	       count, withColliders, count - withColliders, solves->maxContacts);
+	fmColliderId floor = fmWorld_GetFloorCollider(sim->world);
+	fmVec3 floorForce = {0.0, 0.0, 0.0};
+	if (fmCollider_IsValid(floor))
+		fmCollider_GetContactForce(floor, &floorForce, NULL);
+	if (fmLength(floorForce) > 0.0)
+		printf("floor            force %.4g N (%.4g, %.4g, %.4g)\n", fmLength(floorForce),
+		       floorForce.x, floorForce.y, floorForce.z);
 	for (int c = 0; c < sim->colliderCount && c < CLI_LISTED_COLLIDERS; ++c)
 	{
 		fmVec3 force, torque;

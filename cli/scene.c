@@ -1253,7 +1253,7 @@ static bool cliGetTolerance(const cliJson* j, const cJSON* root, cliRange range,
 static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floorDef)
 {
 	static const char* const keys[] = {"height", "friction", "restitution",
-	                                   "max_depenetration_speed", NULL};
+	                                   "max_depenetration_speed", "filter", NULL};
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "floor");
 	if (item == NULL)
 		return true;
@@ -1269,7 +1269,8 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 	    !cliGetNumber(j, item, "floor", "height", cliAnyFinite, &floorDef->height, NULL) ||
 	    !cliGetNumber(j, item, "floor", "restitution", cliUnit, &floorDef->restitution, NULL) ||
 	    !cliGetNumber(j, item, "floor", "max_depenetration_speed", cliPositive,
-	                  &floorDef->maxDepenetrationSpeed, NULL))
+	                  &floorDef->maxDepenetrationSpeed, NULL) ||
+	    !cliParseFilter(j, item, "floor", &floorDef->filter))
 		return false;
 	const cJSON* friction = cJSON_GetObjectItemCaseSensitive(item, "friction");
 	if (friction == NULL)

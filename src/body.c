@@ -4,6 +4,7 @@
 #include "core.h"
 #include "det_math.h"
 #include "draw.h"
+#include "floor.h"
 #include "forces.h"
 #include "fp_env.h"
 #include "island.h"
@@ -246,6 +247,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->contactFrictionNext, double, 8 * n);
 	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
 	FM_FREE_ARRAY(b->edgePlanes, fmEdgePlane, b->edgePlaneCapacity);
+	FM_FREE_ARRAY(b->floorHits, fmFloorHit, b->floorHitCapacity);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
 	fmLoads_Free(b->loads);

@@ -130,6 +130,11 @@ typedef struct fmBody
 	double* contactFriction;
 	double* contactFrictionNext;     // 8n: what the contact stage found this step, for the next one
 	double contactThinness;          // 2 V / S at rest (m): how thick the body is (contact.c)
+	// The floor's contacts of the last substep (floor.h), for the contact list and the floor's
+	// reaction
+	struct fmFloorHit* floorHits;
+	int floorHitCount;
+	int floorHitCapacity;
 	struct fmDrawCache* drawCache;   // fmWorld_Draw's buffers (draw.h), made on the first draw
 	struct fmRenderMesh* renderMesh; // fmBody_SetRenderMesh's embedded surface, or NULL
 	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)

@@ -216,6 +216,11 @@ fmFilter fmDefaultFilter(void)
 	return filter;
 }
 
+bool fmFiltersMeet(fmFilter a, fmFilter b)
+{
+	return (a.categoryBits & b.maskBits) != 0 && (b.categoryBits & a.maskBits) != 0;
+}
+
 fmColliderDef fmDefaultColliderDef(void)
 {
 	fmColliderDef def;
@@ -343,28 +348,46 @@ fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def, fmCollide
 	return fm_ok;
 }
 
-static fmCollider* fmGetCollider(fmColliderId id)
+// The collider an id names (its world in @p world when given), or NULL when stale.
+static fmCollider* fmGetCollider(fmColliderId id, fmWorld** world)
 {
 	fmWorldId worldId = {id.world0 + 1, id.worldGeneration};
 	fmWorld* w = id.index1 > 0 ? fmGetWorld(worldId) : NULL;
-	if (w == NULL || id.index1 > w->colliderCapacity)
+	bool floor = id.index1 == FM_FLOOR_SLOT + 1;
+	if (w == NULL || (id.index1 > w->colliderCapacity && !floor))
 		return NULL;
-	fmCollider* c = &w->colliders[id.index1 - 1];
+	fmCollider* c = fmWorldCollider(w, id.index1 - 1);
+	if (world != NULL)
+		*world = w;
 	return c->inUse && c->generation == id.generation ? c : NULL;
 }
 
 static fmCollider* fmColliderOrAssert(fmColliderId id)
 {
-	fmCollider* c = fmGetCollider(id);
+	fmCollider* c = fmGetCollider(id, NULL);
 	FM_ASSERT(c != NULL);
 	return c;
 }
 
+// A collider that may be moved: not the floor (fmWorld_SetFloor moves that one).
+static fmCollider* fmMovableCollider(fmColliderId id)
+{
+	fmCollider* c = fmColliderOrAssert(id);
+	bool floor = id.index1 == FM_FLOOR_SLOT + 1;
+	FM_ASSERT(!floor);
+	return floor ? NULL : c;
+}
+
 void fmDestroyCollider(fmColliderId colliderId)
 {
-	fmCollider* c = fmColliderOrAssert(colliderId);
-	if (c != NULL)
-		fmCollider_Release(c);
+	fmWorld* w = NULL;
+	fmCollider* c = fmGetCollider(colliderId, &w);
+	FM_ASSERT(c != NULL);
+	if (c == NULL)
+		return;
+	if (c == &w->floorCollider)
+		w->def.floor.enabled = false;
+	fmCollider_Release(c);
 }
 
 void fmCollider_Release(fmCollider* c)
@@ -413,12 +436,12 @@ bool fmCollider_Bounds(const fmCollider* c, fmVec3* lo, fmVec3* hi)
 
 bool fmCollider_IsValid(fmColliderId colliderId)
 {
-	return fmGetCollider(colliderId) != NULL;
+	return fmGetCollider(colliderId, NULL) != NULL;
 }
 
 void fmCollider_SetTransform(fmColliderId colliderId, fmVec3 position, fmVec3 rotation)
 {
-	fmCollider* c = fmColliderOrAssert(colliderId);
+	fmCollider* c = fmMovableCollider(colliderId);
 	bool finite = fmFiniteVec(position, FM_MAX_COORDINATE) && fmFiniteVec(rotation, 1e3);
 	FM_ASSERT(finite);
 	if (c == NULL || !finite)
@@ -432,7 +455,7 @@ void fmCollider_SetTransform(fmColliderId colliderId, fmVec3 position, fmVec3 ro
 
 void fmCollider_SetVelocity(fmColliderId colliderId, fmVec3 velocity, fmVec3 angularVelocity)
 {
-	fmCollider* c = fmColliderOrAssert(colliderId);
+	fmCollider* c = fmMovableCollider(colliderId);
 	bool finite = fmFiniteVec(velocity, 1e6) && fmFiniteVec(angularVelocity, 1e6);
 	FM_ASSERT(finite);
 	if (c == NULL || !finite)

@@ -52,5 +52,8 @@ fmVec3 fmCollider_VelocityAt(const fmCollider* collider, fmVec3 p);
 // Advance a kinematic collider by @p h seconds of its velocity and angular velocity.
 void fmCollider_Move(fmCollider* collider, double h);
 
+// Whether two filters collide: each one's category is in the other's mask.
+bool fmFiltersMeet(fmFilter a, fmFilter b);
+
 // The rotation matrix of an axis-angle vector (Rodrigues).
 fmMat3 fmRotationFromAxisAngle(fmVec3 axisAngle);

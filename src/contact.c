@@ -25,8 +25,10 @@
 #include "embedded.h"
 #include "energy_ledger.h"
 #include "force_spring.h"
+#include "floor.h"
 #include "forces.h"
 #include "geometry.h"
+#include "island.h"
 #include "material.h"
 #include "penalty.h"
 #include "timer.h"
@@ -158,22 +160,6 @@ struct fmContactState
 // ---- small buffers -----------------------------------------------------------------------------
 
 // Grow @p array of @p size-byte elements (keeping its @p count first ones) to hold @p needed.
-static bool fmGrow(void** array, int* capacity, int count, int needed, size_t size)
-{
-	if (needed <= *capacity)
-		return true;
-	int grown = needed + needed / 2 + 16;
-	void* fresh = fmAlloc(fmMulSize((size_t)grown, size));
-	if (fresh == NULL)
-		return false;
-	if (count > 0)
-		memcpy(fresh, *array, (size_t)count * size);
-	fmDealloc(*array, fmMulSize((size_t)*capacity, size));
-	*array = fresh;
-	*capacity = grown;
-	return true;
-}
-
 void fmContact_Free(fmContactState* s)
 {
 	if (s == NULL)
@@ -291,11 +277,6 @@ bool fmContact_Active(const fmWorld* w)
 	return fmHasColliders(w) || fmBodiesMeet(w);
 }
 
-static bool fmFiltersMeet(fmFilter a, fmFilter b)
-{
-	return (a.categoryBits & b.maskBits) != 0 && (b.categoryBits & a.maskBits) != 0;
-}
-
 // ---- per-body buffers --------------------------------------------------------------------------
 
 // The body's surface vertices (ascending) and its substep-start positions.
@@ -360,10 +341,11 @@ void fmContact_BeginFrame(fmWorld* w, double frameTime)
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
 
-	for (int k = 0; k < w->colliderCapacity; ++k)
+	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
-		w->colliders[k].impulse = fmMakeVec3(0.0, 0.0, 0.0);
-		w->colliders[k].angularImpulse = fmMakeVec3(0.0, 0.0, 0.0);
+		fmCollider* c = fmWorldCollider(w, k < w->colliderCapacity ? k : FM_FLOOR_SLOT);
+		c->impulse = fmMakeVec3(0.0, 0.0, 0.0);
+		c->angularImpulse = fmMakeVec3(0.0, 0.0, 0.0);
 	}
 }
 
@@ -373,7 +355,7 @@ static bool fmRecordPair(fmContactState* s, uint64_t key)
 {
 	if (s->pairCount > 0 && s->pairs[s->pairCount - 1] == key)
 		return true;
-	if (!fmGrow((void**)&s->pairs, &s->pairCapacity, s->pairCount, s->pairCount + 1,
+	if (!fmGrowArray((void**)&s->pairs, &s->pairCapacity, s->pairCount, s->pairCount + 1,
 	            sizeof(uint64_t)))
 		return false;
 	s->pairs[s->pairCount++] = key;
@@ -382,7 +364,7 @@ static bool fmRecordPair(fmContactState* s, uint64_t key)
 
 static fmContactPoint* fmNewPoint(fmContactState* s)
 {
-	if (!fmGrow((void**)&s->points, &s->pointCapacity, s->pointCount, s->pointCount + 1,
+	if (!fmGrowArray((void**)&s->points, &s->pointCapacity, s->pointCount, s->pointCount + 1,
 	            sizeof(fmContactPoint)))
 		return NULL;
 	fmContactPoint* p = &s->points[s->pointCount++];
@@ -395,7 +377,7 @@ static bool fmTouch(fmContactState* s, fmBody* b, int slot, int i)
 {
 	if (b->contactMark[i] != 0)
 		return true;
-	if (!fmGrow((void**)&s->touched, &s->touchedCapacity, s->touchedCount, s->touchedCount + 1,
+	if (!fmGrowArray((void**)&s->touched, &s->touchedCapacity, s->touchedCount, s->touchedCount + 1,
 	            sizeof(fmTouched)))
 		return false;
 	fmTouched t = {slot, i, fmLoad(b->x, i), fmLoad(b->v, i)};
@@ -408,7 +390,7 @@ static bool fmTouch(fmContactState* s, fmBody* b, int slot, int i)
 static void fmKeepAboveFloor(const fmWorld* w, fmBody* b, int i)
 {
 	const fmFloorDef* floor = &w->def.floor;
-	if (floor->enabled && b->x[3 * i + 1] < floor->height && !(b->pinned[i] & FM_PIN_Y))
+	if (fmFloor_Holds(floor, b) && b->x[3 * i + 1] < floor->height && !(b->pinned[i] & FM_PIN_Y))
 		b->x[3 * i + 1] = floor->height;
 }
 
@@ -642,7 +624,7 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 				continue;
 			}
 			// Found on the workers (each vertex reads only its own state), applied in order.
-			if (!fmGrow((void**)&s->colliderFinds, &s->colliderFindCapacity, 0,
+			if (!fmGrowArray((void**)&s->colliderFinds, &s->colliderFindCapacity, 0,
 			            b->surfaceVertexCount, sizeof(fmColliderFind)))
 				return false;
 			fmColliderTask task = {w, b, &w->colliders[k], s->colliderFinds};
@@ -1183,7 +1165,7 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		// Edges of bodies already inside each other would otherwise be held there.
 		if (s->predict > 0.0 && !(fmDot(d, face) > 0.0 && fmDot(d, side) < 0.0))
 			continue;
-		if (!fmGrow((void**)&wf->edges, &wf->edgeCapacity, wf->edgeCount, wf->edgeCount + 1,
+		if (!fmGrowArray((void**)&wf->edges, &wf->edgeCapacity, wf->edgeCount, wf->edgeCount + 1,
 		            sizeof(fmEdgeContact)))
 			return false;
 		fmEdgeContact* c = &wf->edges[wf->edgeCount++];
@@ -1380,7 +1362,7 @@ static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 		if (w->bodies[slot].x && s->bodyNear[slot])
 			n += edges ? 3 * w->bodies[slot].triangleCount : w->bodies[slot].surfaceVertexCount;
-	if (!fmGrow((void**)&s->items, &s->itemCapacity, 0, 2 * n, sizeof(int)))
+	if (!fmGrowArray((void**)&s->items, &s->itemCapacity, 0, 2 * n, sizeof(int)))
 		return -1;
 	n = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
@@ -1466,7 +1448,7 @@ static bool fmDetectEdges(fmWorld* w, fmContactState* s, double thickness)
 	s->edgeContactCount = 0;
 	for (int k = 0; k < w->tasks.workerCount; ++k)
 		total += s->workers[k].edgeCount;
-	if (!fmGrow((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total, sizeof(fmEdgeContact)))
+	if (!fmGrowArray((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total, sizeof(fmEdgeContact)))
 		return false;
 	for (int k = 0; k < w->tasks.workerCount && total > 0; ++k)
 	{
@@ -1506,7 +1488,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		w->embeddedReach = 0.0;
 	s->tetHashReady = false;
 	if (n < 0 ||
-	    !fmGrow((void**)&s->pairContacts, &s->pairContactCapacity, 0, n, sizeof(fmPairContact)))
+	    !fmGrowArray((void**)&s->pairContacts, &s->pairContactCapacity, 0, n, sizeof(fmPairContact)))
 		return false;
 	for (int k = 0; k < n; ++k)
 		if (s->hit[k])
@@ -1561,7 +1543,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 
 static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
 {
-	if (!fmGrow((void**)&b->edgePlanes, &b->edgePlaneCapacity, b->edgePlaneCount,
+	if (!fmGrowArray((void**)&b->edgePlanes, &b->edgePlaneCapacity, b->edgePlaneCount,
 	            b->edgePlaneCount + 1, sizeof(fmEdgePlane)))
 		return false;
 	b->edgePlanes[b->edgePlaneCount++] = *plane;
@@ -1658,7 +1640,7 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* energy, double* power)
 {
 	int n3 = 3 * b->vertexCount;
-	if (!fmGrow((void**)&s->forces, &s->forceCapacity, 0, n3, sizeof(double)))
+	if (!fmGrowArray((void**)&s->forces, &s->forceCapacity, 0, n3, sizeof(double)))
 		return false;
 	memset(s->forces, 0, sizeof(double) * (size_t)n3);
 	*energy = fmAddElasticForces(b, b->x, s->forces);
@@ -1684,7 +1666,7 @@ static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
 			int t = b->vertexTets[e] / 4;
 			if (b->contactTetMark[t])
 				continue;
-			if (!fmGrow((void**)&s->tets, &s->tetCapacity, count, count + 1, sizeof(int)))
+			if (!fmGrowArray((void**)&s->tets, &s->tetCapacity, count, count + 1, sizeof(int)))
 				return -1;
 			b->contactTetMark[t] = 1;
 			s->tets[count++] = t;
@@ -1882,7 +1864,7 @@ static int fmCompareKeys(const void* a, const void* b)
 
 static bool fmAddEvent(fmWorld* w, fmContactState* s, uint64_t key, bool begin)
 {
-	if (!fmGrow((void**)&s->events, &s->eventCapacity, s->eventCount, s->eventCount + 1,
+	if (!fmGrowArray((void**)&s->events, &s->eventCapacity, s->eventCount, s->eventCount + 1,
 	            sizeof(fmContactEvent)))
 		return false;
 	fmContactEvent* e = &s->events[s->eventCount++];
@@ -1897,11 +1879,51 @@ static bool fmAddEvent(fmWorld* w, fmContactState* s, uint64_t key, bool begin)
 	return true;
 }
 
+bool fmContact_ReportFloor(fmWorld* w, bool listed)
+{
+	fmContactState* s = w->contactState;
+	if (s == NULL && !w->def.floor.enabled)
+		return true;
+	if (s == NULL && (s = fmGetState(w)) == NULL)
+		return false;
+	if (!listed)
+		s->pointCount = 0;
+	fmCollider* floor = &w->floorCollider;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		fmBody* b = &w->bodies[slot];
+		if (!fmIsland_Stepping(b) || b->floorHitCount == 0)
+			continue;
+		for (int k = 0; k < b->floorHitCount; ++k)
+		{
+			const fmFloorHit* hit = &b->floorHits[k];
+			fmContactPoint* p = fmNewPoint(s);
+			if (p == NULL)
+				return false;
+			p->body = fmWorldBodyId(w, slot);
+			p->vertex = b->userVertex[hit->vertex];
+			p->collider = fmWorldColliderId(w, FM_FLOOR_SLOT);
+			p->point = fmLoad(b->x, hit->vertex);
+			p->normal = floor->def.normal;
+			p->depth = hit->depth;
+			p->impulse = hit->impulse.y;
+			floor->impulse = fmSub(floor->impulse, hit->impulse);
+			floor->angularImpulse = fmSub(
+			    floor->angularImpulse, fmCross(fmSub(p->point, floor->position), hit->impulse));
+		}
+		b->floorHitCount = 0;
+		uint64_t key = ((uint64_t)(uint32_t)slot << 32) | (0x80000000u | (uint32_t)FM_FLOOR_SLOT);
+		if (!fmRecordPair(s, key))
+			return false;
+	}
+	return true;
+}
+
 bool fmContact_EndFrame(fmWorld* w, double frameTime)
 {
-	for (int k = 0; k < w->colliderCapacity; ++k)
+	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
-		fmCollider* c = &w->colliders[k];
+		fmCollider* c = fmWorldCollider(w, k < w->colliderCapacity ? k : FM_FLOOR_SLOT);
 		c->force = fmScale(1.0 / frameTime, c->impulse);
 		c->torque = fmScale(1.0 / frameTime, c->angularImpulse);
 	}
@@ -1999,7 +2021,7 @@ bool fmContact_SetFramePairs(fmWorld* w, const void* pairs, int count)
 		return true;
 	fmContactState* s = fmGetState(w);
 	if (s == NULL ||
-	    !fmGrow((void**)&s->lastPairs, &s->lastPairCapacity, 0, count, sizeof(uint64_t)))
+	    !fmGrowArray((void**)&s->lastPairs, &s->lastPairCapacity, 0, count, sizeof(uint64_t)))
 		return false;
 	if (count > 0)
 		memcpy(s->lastPairs, pairs, sizeof(uint64_t) * (size_t)count);

@@ -49,6 +49,12 @@ bool fmContact_BeginSubstep(fmWorld* world, double h);
 // The contact stage of a substep of @p h seconds. False when memory is short.
 bool fmContact_Substep(fmWorld* world, double h);
 
+// After a substep's contact stage (@p listed: it ran and began the contact list; otherwise the
+// list is emptied first): the floor's contacts of the stepping bodies (body->floorHits), in body
+// order, appended to the contact list as the floor collider's, with their pairs and the floor's
+// reaction; the bodies' hits are then cleared. False when memory is short.
+bool fmContact_ReportFloor(fmWorld* world, bool listed);
+
 // End of a frame of @p frameTime seconds: the colliders' forces, the frame's begin and end
 // events. False when memory is short (the events are then lost).
 bool fmContact_EndFrame(fmWorld* world, double frameTime);

@@ -63,6 +63,22 @@ size_t fmMulSize(size_t a, size_t b)
 	return a * b;
 }
 
+bool fmGrowArray(void** array, int* capacity, int count, int needed, size_t size)
+{
+	if (needed <= *capacity)
+		return true;
+	int grown = needed + needed / 2 + 16;
+	void* fresh = fmAlloc(fmMulSize((size_t)grown, size));
+	if (fresh == NULL)
+		return false;
+	if (count > 0)
+		memcpy(fresh, *array, (size_t)count * size);
+	fmDealloc(*array, fmMulSize((size_t)*capacity, size));
+	*array = fresh;
+	*capacity = grown;
+	return true;
+}
+
 enum
 {
 	fm_alignment = 64

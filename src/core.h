@@ -16,6 +16,10 @@ void fmDealloc(void* memory, size_t size);
 // a * b, or SIZE_MAX if it overflows (fmAlloc then fails cleanly).
 size_t fmMulSize(size_t a, size_t b);
 
+// Room for @p needed elements of @p size bytes in *@p array (its first @p count kept), grown by
+// half again when short. False, and nothing changed, when memory is short.
+bool fmGrowArray(void** array, int* capacity, int count, int needed, size_t size);
+
 // Typed helpers: count elements of type T.
 #define FM_ALLOC_ARRAY(T, count) ((T*)fmAlloc(fmMulSize((size_t)(count), sizeof(T))))
 #define FM_ALLOC_ZERO(T, count) ((T*)fmAllocZero(fmMulSize((size_t)(count), sizeof(T))))

@@ -1,13 +1,12 @@
 // fmWorld_Draw (draw.h): each body's surface (compacted to its surface vertices, smooth
-// normals, strain colours), tet edges, inverted tets, pins, kinematic targets and floor
-// contacts as float arrays for the caller's callbacks, and the floor plane.
+// normals, strain colours), tet edges, inverted tets, pins, kinematic targets and the contact
+// list's points as float arrays for the caller's callbacks, the floor plane and the colliders.
 #include "draw.h"
 
 #include "draw_shapes.h"
 
 #include "contact.h"
 #include "core.h"
-#include "floor.h"
 #include "force_spring.h"
 #include "forces.h"
 #include "fp_env.h"
@@ -313,32 +312,19 @@ static bool fmDrawInverted(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 	return true;
 }
 
-// Points at the vertices for which @p select is true.
-static void fmDrawVertexPoints(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw,
-                               bool (*select)(const fmBody*, const fmFloorDef*, int),
-                               const fmFloorDef* floor, fmHexColor color)
+// Points at the pinned vertices.
+static void fmDrawPins(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw)
 {
 	int count = 0;
 	for (int i = 0; i < b->vertexCount; ++i)
-		if (select(b, floor, i))
+		if (b->pinned[i] != 0)
 		{
 			for (int e = 0; e < 3; ++e)
 				c->points[3 * count + e] = (float)b->x[3 * i + e];
 			count += 1;
 		}
 	if (count > 0)
-		draw->drawPoints(c->points, count, FM_DRAW_POINT_SIZE, color, draw->context);
-}
-
-static bool fmIsPinnedVertex(const fmBody* b, const fmFloorDef* floor, int i)
-{
-	(void)floor;
-	return b->pinned[i] != 0;
-}
-
-static bool fmIsOnFloor(const fmBody* b, const fmFloorDef* floor, int i)
-{
-	return fmFloor_Touches(floor, b, i);
+		draw->drawPoints(c->points, count, FM_DRAW_POINT_SIZE, FM_COLOR_PINS, draw->context);
 }
 
 // Targets: their positions as points, and a line from each to its vertex.
@@ -364,7 +350,7 @@ static bool fmDrawTargets(const fmBody* b, fmDrawCache* c, const fmDebugDraw* dr
 }
 
 // Everything the flags ask for of one body; false when a buffer could not be had.
-static bool fmDrawBody(const fmWorld* w, fmBody* b, fmBodyId id, const fmDebugDraw* draw)
+static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 {
 	fmDrawCache* c = fmGetDrawCache(b);
 	if (c == NULL)
@@ -378,15 +364,13 @@ static bool fmDrawBody(const fmWorld* w, fmBody* b, fmBodyId id, const fmDebugDr
 	if (ok && (flags & fm_drawInvertedTets) && draw->drawLines)
 		ok = fmDrawInverted(b, c, draw);
 	if ((flags & fm_drawPins) && draw->drawPoints)
-		fmDrawVertexPoints(b, c, draw, fmIsPinnedVertex, &w->def.floor, FM_COLOR_PINS);
-	if ((flags & fm_drawContacts) && draw->drawPoints)
-		fmDrawVertexPoints(b, c, draw, fmIsOnFloor, &w->def.floor, FM_COLOR_CONTACTS);
+		fmDrawPins(b, c, draw);
 	if (ok && (flags & fm_drawTargets))
 		ok = fmDrawTargets(b, c, draw);
 	return ok;
 }
 
-// The contact stage's contacts (colliders, other bodies) as points.
+// The last substep's contacts (the floor, colliders, other bodies) as points.
 static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
 {
 	const fmContactPoint* points;
@@ -472,7 +456,7 @@ static fmResult fmWorldDrawIn(fmWorldId worldId, const fmDebugDraw* draw)
 		if (b->x == NULL)
 			continue;
 		fmBodyId id = fmWorldBodyId(w, i);
-		if (!fmDrawBody(w, b, id, draw))
+		if (!fmDrawBody(b, id, draw))
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "fmWorld_Draw: out of memory for body %d's draw buffers", i);
 	}

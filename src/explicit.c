@@ -127,8 +127,8 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 
 	// 4. Positions, then the floor.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmPositionsTask, &context);
-	fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
+	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
 	b->stepStage[0] = forced - start;
 	b->stepStage[1] = fmSeconds() - forced;
-	return fm_ok;
+	return floorContacts >= 0 ? fm_ok : fm_errOutOfMemory;
 }

@@ -1,7 +1,8 @@
 // The floor, y = height with normal +y: its one home. Explicit steps get a position and velocity
 // response after the step; implicit steps get per-vertex bounds inside the Newton solve and a
 // velocity response after it. Both limit depenetration and book the floor's work in the body's
-// energy ledger. (When colliders arrive the floor becomes one of them.)
+// energy ledger. The vertices it held and the impulses it gave them are kept per body
+// (fmFloorHit) for the contact stage, which reports the floor as the world's plane collider.
 //
 // Depenetration is limited (as PhysX's max depenetration velocity): a vertex found below the
 // floor rises by at most maxDepenetrationSpeed * dt a step (beyond undoing the step's own
@@ -11,7 +12,33 @@
 // catapulted.
 #include "floor.h"
 
+#include "collider.h"
+#include "core.h"
+
 #include <math.h>
+
+bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* b)
+{
+	return floor->enabled && fmFiltersMeet(floor->filter, b->filter);
+}
+
+// Note that the floor held vertex @p i of @p b, @p depth below it, giving it @p impulse (N s).
+static bool fmAddHit(fmBody* b, int i, double depth, fmVec3 impulse)
+{
+	if (!fmGrowArray((void**)&b->floorHits, &b->floorHitCapacity, b->floorHitCount,
+	                 b->floorHitCount + 1, sizeof(fmFloorHit)))
+		return false;
+	fmFloorHit hit = {i, depth, impulse};
+	b->floorHits[b->floorHitCount++] = hit;
+	return true;
+}
+
+// The impulse (N s) that took vertex @p i of @p b from velocity @p before to its velocity now.
+static fmVec3 fmImpulseSince(const fmBody* b, int i, const double before[3])
+{
+	const double* v = b->v + 3 * i;
+	return fmScale(b->mass[i], fmMakeVec3(v[0] - before[0], v[1] - before[1], v[2] - before[2]));
+}
 
 // ---- explicit ---------------------------------------------------------------------------------
 
@@ -32,50 +59,63 @@ static double fmLiftOutOfFloor(const fmFloorDef* floor, fmVec3 gravity, fmBody* 
 	return -b->mass[i] * gravity.y * lift;
 }
 
+// The explicit response of vertex @p i, found @p penetration below the floor with velocity vIn
+// along y; returns the kinetic energy it adds along y (J).
+static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, double penetration,
+                                double vIn, double dt)
+{
+	const double h = floor->height, pushLimit = floor->maxDepenetrationSpeed;
+	double* x = b->x + 3 * i;
+	double* v = b->v + 3 * i;
+	if (floor->friction == fm_floorStick)
+	{
+		// GAMES103 HW3 1.1: tangential velocity zeroed; the penetration depth is turned into an
+		// upward velocity (it pushes the vertex out over the next step), up to the limit.
+		v[0] = 0.0;
+		v[2] = 0.0;
+		v[1] = fmin(vIn + penetration / dt, fmax(vIn, pushLimit));
+		return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
+	}
+	// Coulomb: reflect the approaching normal velocity with restitution e; the normal velocity
+	// change dvn bounds the tangential change by mu * dvn (friction cone). A vertex still below
+	// the floor after its lift moves up at the depenetration speed, as in stick mode, so that
+	// the body rises as a whole.
+	double vn = v[1];
+	double dvn = vn < 0.0 ? -(1.0 + floor->restitution) * vn : 0.0;
+	v[1] = vn < 0.0 ? -floor->restitution * vn : vn;
+	if (x[1] < h)
+		v[1] = fmax(v[1], fmin(penetration / dt, pushLimit));
+	double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
+	double scale = vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * dvn / vt) : 0.0;
+	v[0] *= scale;
+	v[2] *= scale;
+	return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
+}
+
 int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt)
 {
-	if (!floor->enabled)
+	b->floorHitCount = 0;
+	if (!fmFloor_Holds(floor, b))
 		return 0;
 	const double h = floor->height;
-	const double pushLimit = floor->maxDepenetrationSpeed;
 	int contacts = 0;
 	double work = 0.0;
+	bool listed = true;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		double* x = b->x + 3 * i;
-		double* v = b->v + 3 * i;
+		const double* x = b->x + 3 * i;
+		const double* v = b->v + 3 * i;
 		if ((b->pinned[i] & FM_PIN_Y) || x[1] >= h) // a vertex held in y does not touch
 			continue;
 		++contacts;
-		double penetration = h - x[1], vIn = v[1];
+		const double before[3] = {v[0], v[1], v[2]};
+		double penetration = h - x[1];
 		work += fmLiftOutOfFloor(floor, gravity, b, i, dt);
-		if (floor->friction == fm_floorStick)
-		{
-			// GAMES103 HW3 1.1: tangential velocity zeroed; the penetration depth is turned into
-			// an upward velocity (it pushes the vertex out over the next step), up to the limit.
-			v[0] = 0.0;
-			v[2] = 0.0;
-			v[1] = fmin(vIn + penetration / dt, fmax(vIn, pushLimit));
-			work += 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
-			continue;
-		}
-		// Coulomb: reflect the approaching normal velocity with restitution e; the normal
-		// velocity change dvn bounds the tangential change by mu * dvn (friction cone). A vertex
-		// still below the floor after its lift moves up at the depenetration speed, as in stick
-		// mode, so that the body rises as a whole.
-		double vn = v[1];
-		double dvn = vn < 0.0 ? -(1.0 + floor->restitution) * vn : 0.0;
-		v[1] = vn < 0.0 ? -floor->restitution * vn : vn;
-		if (x[1] < h)
-			v[1] = fmax(v[1], fmin(penetration / dt, pushLimit));
-		work += 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
-		double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
-		double scale = vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * dvn / vt) : 0.0;
-		v[0] *= scale;
-		v[2] *= scale;
+		work += fmRespondExplicit(floor, b, i, penetration, before[1], dt);
+		listed = listed && fmAddHit(b, i, penetration, fmImpulseSince(b, i, before));
 	}
 	fmLedger_AddContactWork(b, work);
-	return contacts;
+	return listed ? contacts : -1;
 }
 
 // ---- implicit ---------------------------------------------------------------------------------
@@ -88,14 +128,18 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImplicitCache* c,
                                double h)
 {
+	b->floorHitCount = 0;
 	int contacts = 0;
+	bool listed = true;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		double* v = b->v + 3 * i;
 		if ((b->pinned[i] & FM_PIN_Y) || b->x[3 * i + 1] > c->floorBound[i])
 			continue;
 		++contacts;
-		double impulse = fmax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push
+		const double before[3] = {v[0], v[1], v[2]};
+		double push = fmax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push in the solve
+		double impulse = push;
 		if (v[1] < 0.0)
 		{
 			double e = floor->friction == fm_floorCoulomb ? floor->restitution : 0.0;
@@ -106,16 +150,21 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		{
 			v[0] = 0.0;
 			v[2] = 0.0;
-			continue;
 		}
-		double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
-		double keep =
-		    vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
-		             : 0.0;
-		v[0] *= keep;
-		v[2] *= keep;
+		else
+		{
+			double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
+			double keep = vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse /
+			                                             (b->mass[i] * vt))
+			                       : 0.0;
+			v[0] *= keep;
+			v[2] *= keep;
+		}
+		fmVec3 given = fmImpulseSince(b, i, before);
+		given.y += push;
+		listed = listed && fmAddHit(b, i, fmax(0.0, floor->height - b->x[3 * i + 1]), given);
 	}
-	return contacts;
+	return listed ? contacts : -1;
 }
 
 // Lowest y of every vertex this step: the floor, except for a vertex deep below it, which may
@@ -141,17 +190,4 @@ double fmFloor_ImplicitWork(const fmBody* b, const fmImplicitCache* c, double fl
 			work += fmax(0.0, c->gradient[3 * i + 1]) *
 			        fmax(0.0, b->x[3 * i + 1] - c->xStart[3 * i + 1]);
 	return work;
-}
-
-bool fmFloor_Touches(const fmFloorDef* floor, const fmBody* b, int i)
-{
-	return floor->enabled && b->x[3 * i + 1] <= floor->height + 1e-9;
-}
-
-int fmFloor_CountContacts(const fmFloorDef* floor, const fmBody* b)
-{
-	int contacts = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
-		contacts += fmFloor_Touches(floor, b, i);
-	return contacts;
 }

@@ -133,7 +133,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	if (c == NULL)
 		return fm_errOutOfMemory;
 	const int n3 = 3 * b->vertexCount;
-	const fmFloorDef* floor = world->def.floor.enabled ? &world->def.floor : NULL;
+	const fmFloorDef* floor = fmFloor_Holds(&world->def.floor, b) ? &world->def.floor : NULL;
+	b->floorHitCount = 0;
 	const double g[3] = {world->def.gravity.x, world->def.gravity.y, world->def.gravity.z};
 
 	// 1. Start state and inertial prediction (pinned axes stay put). The first guess is the
@@ -211,7 +212,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	if (floor)
 	{
 		fmLedger_AddContactWork(b, fmFloor_ImplicitWork(b, c, floor->height));
-		fmFloor_ImplicitVelocities(floor, b, c, h);
+		if (fmFloor_ImplicitVelocities(floor, b, c, h) < 0)
+			return fm_errOutOfMemory;
 	}
 	b->stepStage[1] = fmSeconds() - solved;
 	return fm_ok;

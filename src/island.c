@@ -145,7 +145,7 @@ static double fmFastest(const fmBody* b)
 }
 
 // Whether body @p slot touched a moving collider in the last frame (it keeps it awake).
-static bool fmTouchesMovingCollider(const fmWorld* w, int slot)
+static bool fmTouchesMovingCollider(fmWorld* w, int slot)
 {
 	const uint64_t* pairs;
 	int count = fmContact_FramePairs(w, &pairs);
@@ -154,7 +154,7 @@ static bool fmTouchesMovingCollider(const fmWorld* w, int slot)
 		int a = (int)(pairs[p] >> 32), b = (int)(uint32_t)pairs[p];
 		if (a != slot || !(b & (int)0x80000000u))
 			continue;
-		const fmColliderDef* d = &w->colliders[b & 0x7fffffff].def;
+		const fmColliderDef* d = &fmWorldCollider(w, b & 0x7fffffff)->def;
 		if (fmDot(d->velocity, d->velocity) > 0.0 ||
 		    fmDot(d->angularVelocity, d->angularVelocity) > 0.0)
 			return true;

@@ -58,9 +58,10 @@ static void fmCastAtBody(const fmWorld* w, int slot, fmVec3 o, fmVec3 d, fmRayHi
 	}
 }
 
-static bool fmMeets(fmFilter a, fmFilter b)
+// The collider slot the queries' k-th look goes to: the table's, then the floor's.
+static int fmQuerySlot(const fmWorld* w, int k)
 {
-	return (a.categoryBits & b.maskBits) != 0 && (b.categoryBits & a.maskBits) != 0;
+	return k < w->colliderCapacity ? k : FM_FLOOR_SLOT;
 }
 
 static bool fmCastRayIn(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
@@ -79,19 +80,20 @@ static bool fmCastRayIn(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fm
 	if (!finite)
 		return false;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		if (w->bodies[slot].x != NULL && fmMeets(filter, w->bodies[slot].filter))
+		if (w->bodies[slot].x != NULL && fmFiltersMeet(filter, w->bodies[slot].filter))
 			fmCastAtBody(w, slot, origin, translation, hit);
-	for (int k = 0; k < w->colliderCapacity; ++k)
+	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
-		const fmCollider* c = &w->colliders[k];
+		int slot = fmQuerySlot(w, k);
+		const fmCollider* c = fmWorldCollider(w, slot);
 		double f;
 		fmVec3 n;
-		if (!c->inUse || !fmMeets(filter, c->def.filter) ||
+		if (!c->inUse || !fmFiltersMeet(filter, c->def.filter) ||
 		    !fmCollider_CastSegment(c, origin, fmAdd(origin, translation), 0.0, &f, &n) ||
 		    !(f < hit->fraction))
 			continue;
 		memset(hit, 0, sizeof *hit);
-		hit->collider = fmWorldColliderId(w, k);
+		hit->collider = fmWorldColliderId(w, slot);
 		hit->triangle = hit->vertex = -1;
 		hit->point = fmMulAdd(origin, f, translation);
 		hit->normal = n;
@@ -178,18 +180,19 @@ static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter
 	{
 		fmOverlap o;
 		memset(&o, 0, sizeof o);
-		if (w->bodies[slot].x == NULL || !fmMeets(filter, w->bodies[slot].filter) ||
+		if (w->bodies[slot].x == NULL || !fmFiltersMeet(filter, w->bodies[slot].filter) ||
 		    !fmOverlapBody(w, slot, center, radius, &o))
 			continue;
 		if (count < capacity && overlaps != NULL)
 			overlaps[count] = o;
 		count += 1;
 	}
-	for (int k = 0; k < w->colliderCapacity; ++k)
+	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
-		const fmCollider* c = &w->colliders[k];
+		int slot = fmQuerySlot(w, k);
+		const fmCollider* c = fmWorldCollider(w, slot);
 		fmVec3 n;
-		double d = c->inUse && fmMeets(filter, c->def.filter) ? fmCollider_Distance(c, center, &n)
+		double d = c->inUse && fmFiltersMeet(filter, c->def.filter) ? fmCollider_Distance(c, center, &n)
 		                                                      : INFINITY;
 		if (!(d <= radius))
 			continue;
@@ -197,7 +200,7 @@ static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter
 		{
 			fmOverlap* o = &overlaps[count];
 			memset(o, 0, sizeof *o);
-			o->collider = fmWorldColliderId(w, k);
+			o->collider = fmWorldColliderId(w, slot);
 			o->vertex = -1;
 			o->point = fmMulAdd(center, -d, n);
 			o->distance = fmax(d, 0.0);

@@ -5,8 +5,9 @@
 // (inverse masses follow from them), material and spring stiffness, energy ledger, the cached
 // stability limit, and the implicit solver's kept Newton matrix with what it was built with (the
 // lazy Hessian reuses it across steps, so a restored world without it would take other Newton
-// steps). The world's settings that setters change are saved too, and the contact state a step
-// reads from the one before (format version 3): every collider's pose (kinematic ones move),
+// steps). The world's settings that setters change are saved too (the floor with its filter and
+// the force it reported), and the contact state a step reads from the one before (format
+// version 3, the floor's filter and force since 4): every collider's pose (kinematic ones move),
 // velocity and angular velocity (fmCollider_SetVelocity) and last force and torque; every body's
 // sleep state (asleep, a wake asked for, its sleep timer and island) and the implicit collider
 // friction found in the last step, which the next step's solve uses (body->contactFrictionNext,
@@ -29,7 +30,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 3u
+#define FM_SNAPSHOT_VERSION 4u
 
 // The header: magic, version, live bodies, live colliders.
 #define FM_SNAPSHOT_HEADER_WORDS 4
@@ -258,6 +259,9 @@ static void fmMoveWorldSettings(fmStream* s, bool save, fmWorld* w)
 	fmMoveDouble(s, save, &d->floor.frictionCoefficient);
 	fmMoveDouble(s, save, &d->floor.restitution);
 	fmMoveDouble(s, save, &d->floor.maxDepenetrationSpeed);
+	fmMove(s, save, &d->floor.filter, sizeof d->floor.filter);
+	fmMove(s, save, &w->floorCollider.force, sizeof w->floorCollider.force);
+	fmMove(s, save, &w->floorCollider.torque, sizeof w->floorCollider.torque);
 	fmMoveDouble(s, save, &d->tolerance);
 	fmMoveBool(s, save, &d->notConvergedIsError);
 	fmMoveBool(s, save, &d->autoSubstep);
@@ -466,6 +470,8 @@ static fmResult fmCheckSettings(fmWorld* w, fmStream* s, fmWorld* settings)
 	*settings = *w;
 	fmMoveWorldSettings(s, false, settings);
 	if (s->overflow || fmWorldDef_Validate(&settings->def, NULL) != fm_ok ||
+	    !fmVecWithin(settings->floorCollider.force, DBL_MAX) ||
+	    !fmVecWithin(settings->floorCollider.torque, DBL_MAX) ||
 	    (unsigned)settings->solverOptions.product > (unsigned)fm_productMatrixFree ||
 	    (unsigned)settings->solverOptions.preconditioner > (unsigned)fm_precondAuto)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
@@ -633,7 +639,7 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 
 // Check the last frame's pairs at the stream's position: a count that fits, keys ascending, each
 // of a body slot and another body's slot or a collider's (0x80000000 | slot) within the world's
-// tables. Returns the count, or -1.
+// tables (or the floor's, FM_FLOOR_SLOT). Returns the count, or -1.
 static int32_t fmCheckPairs(const fmWorld* w, fmStream* s)
 {
 	int32_t count = -1;
@@ -646,7 +652,9 @@ static int32_t fmCheckPairs(const fmWorld* w, fmStream* s)
 		uint64_t key = 0;
 		fmGet(s, &key, sizeof key);
 		uint32_t a = (uint32_t)(key >> 32), b = (uint32_t)key;
-		bool other = (b & 0x80000000u) ? (b & 0x7fffffffu) < (uint32_t)w->colliderCapacity
+		uint32_t collider = b & 0x7fffffffu;
+		bool other = (b & 0x80000000u) ? collider < (uint32_t)w->colliderCapacity ||
+		                                     collider == (uint32_t)FM_FLOOR_SLOT
 		                               : b < (uint32_t)w->bodyCapacity;
 		if ((k > 0 && key <= last) || a >= (uint32_t)w->bodyCapacity || !other)
 			return -1;
@@ -741,5 +749,6 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	if (r != fm_ok)
 		return r;
 	fmMoveWorldSettings(&(fmStream){NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false}, false, w);
+	fmWorldSyncFloor(w);
 	return fm_ok;
 }

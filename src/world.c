@@ -32,6 +32,7 @@ fmFloorDef fmDefaultFloorDef(void)
 	floor.frictionCoefficient = 0.5;
 	floor.restitution = 0.0;
 	floor.maxDepenetrationSpeed = 1.0;
+	floor.filter = fmDefaultFilter();
 	return floor;
 }
 
@@ -204,6 +205,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->solverOptions = fmDefaultSolverOptions();
 		w->simd = fmSimd_Resolve(def->simd);
 		fmTaskSystem_Init(&w->tasks, def); // without threads it runs serially
+		fmWorldSyncFloor(w);
 		id.index1 = i + 1;
 		id.generation = generation;
 		return id;
@@ -235,9 +237,38 @@ fmBodyId fmWorldBodyId(const fmWorld* w, int slot)
 fmColliderId fmWorldColliderId(const fmWorld* w, int slot)
 {
 	fmWorldId world = fmWorldIdOf(w);
-	fmColliderId id = {slot + 1, w->colliders[slot].generation, world.index1 - 1, world.generation};
+	uint32_t generation =
+	    slot == FM_FLOOR_SLOT ? w->floorCollider.generation : w->colliders[slot].generation;
+	fmColliderId id = {slot + 1, generation, world.index1 - 1, world.generation};
 	return id;
 }
+
+fmCollider* fmWorldCollider(fmWorld* w, int slot)
+{
+	return slot == FM_FLOOR_SLOT ? &w->floorCollider : &w->colliders[slot];
+}
+
+void fmWorldSyncFloor(fmWorld* w)
+{
+	const fmFloorDef* floor = &w->def.floor;
+	fmColliderDef def = fmDefaultColliderDef();
+	def.offset = floor->height;
+	def.stick = floor->friction == fm_floorStick;
+	def.friction = floor->frictionCoefficient;
+	def.restitution = floor->restitution;
+	def.filter = floor->filter;
+	fmCollider* c = &w->floorCollider;
+	fmCollider kept = *c;
+	fmCollider_Init(c, &def); // a plane: nothing to allocate
+	// A floor put back (after fmDestroyCollider or a disabled floor) gets a new id.
+	c->generation = kept.generation + (!kept.inUse && floor->enabled ? 1u : 0u);
+	c->inUse = floor->enabled;
+	c->impulse = kept.impulse;
+	c->angularImpulse = kept.angularImpulse;
+	c->force = kept.force;
+	c->torque = kept.torque;
+}
+
 
 fmWorld* fmGetWorldOfBody(fmBodyId id)
 {
@@ -341,8 +372,18 @@ fmResult fmWorld_SetFloor(fmWorldId worldId, const fmFloorDef* floor)
 		return fm_errInvalidId;
 	fmResult r = fmFloorDef_Validate(floor, &w->lastError);
 	if (r == fm_ok)
+	{
 		w->def.floor = *floor;
+		fmWorldSyncFloor(w);
+	}
 	return r;
+}
+
+fmColliderId fmWorld_GetFloorCollider(fmWorldId worldId)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	fmColliderId none = {0, 0, 0, 0};
+	return w != NULL && w->def.floor.enabled ? fmWorldColliderId(w, FM_FLOOR_SLOT) : none;
 }
 
 static size_t fmMaxSize(size_t a, size_t b)
@@ -708,9 +749,8 @@ static fmResult fmSubstep(fmWorld* w, double h)
 			fmStepBody(w, i, h);
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
 	double contactStart = fmSeconds();
-	bool contactOk = !contact || fmContact_Substep(w, h);
-	if (contact)
-		w->profile.contact += 1e3 * (fmSeconds() - contactStart);
+	bool contactOk = (!contact || fmContact_Substep(w, h)) && fmContact_ReportFloor(w, contact);
+	w->profile.contact += 1e3 * (fmSeconds() - contactStart);
 	if (!contactOk)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
@@ -867,10 +907,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		b->energyGood = b->energyAfter;
 		b->energyStale = false;
 		w->stats.invertedTets += fmBodyCountInverted(b);
-		w->stats.contacts += fmFloor_CountContacts(&w->def.floor, b);
 	}
 	const fmContactPoint* points;
-	w->stats.contacts += fmContact_Points(w, &points);
+	w->stats.contacts = fmContact_Points(w, &points);
 	if (!fmContact_EndFrame(w, timeStep) || !fmIsland_EndFrame(w, timeStep))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact or sleep events");

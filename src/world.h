@@ -3,6 +3,7 @@
 
 #include "arena.h"
 #include "body.h"
+#include "collider.h"
 #include "newton.h"
 #include "parallel.h"
 #include "stability.h"
@@ -24,6 +25,7 @@ typedef struct fmWorld
 	int newtonLimit;  // Newton iterations an implicit step may take now (the frame budget)
 	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
 	struct fmCollider* colliders;        // colliderCapacity slots (collider.h)
+	fmCollider floorCollider; // def.floor as a plane collider: its id, reports and queries
 	int colliderCapacity;                // grows by doubling up to FM_MAX_COLLIDERS
 	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
 	double contactStep;                  // s, the substep the contact stage is working on
@@ -44,9 +46,21 @@ typedef struct fmWorld
 // The id of a live world.
 fmWorldId fmWorldIdOf(const fmWorld* world);
 
-// The public ids of body slot @p slot and collider slot @p slot of a live world.
+// The floor's collider slot: outside the colliders table, so that its id (index1
+// FM_FLOOR_SLOT + 1) is never a created collider's.
+#define FM_FLOOR_SLOT FM_MAX_COLLIDERS
+
+// The public ids of body slot @p slot and collider slot @p slot (FM_FLOOR_SLOT: the floor's) of
+// a live world.
 fmBodyId fmWorldBodyId(const fmWorld* world, int slot);
 fmColliderId fmWorldColliderId(const fmWorld* world, int slot);
+
+// The collider in slot @p slot (FM_FLOOR_SLOT: the floor's), live or not.
+fmCollider* fmWorldCollider(fmWorld* world, int slot);
+
+// Set the floor's collider from def.floor (at creation and by fmWorld_SetFloor), keeping the
+// force it reports.
+void fmWorldSyncFloor(fmWorld* world);
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
 fmWorld* fmGetWorld(fmWorldId id);

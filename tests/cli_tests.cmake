@@ -482,7 +482,7 @@ femto_cli_test(contact_bodies_on ARGS "run|${FEMTO_CLI_DATA}/contact_on.json|--q
   CHECK_FILE "${FEMTO_CLI_WORK}/contact_on_1.node"
   CHECK_FILE_REGEX "^27 3 0 0\n0 -?[0-9.e-]+ 0\\.5[5-9][0-9]* ")
 femto_cli_test(contact_bodies_off ARGS "run|${FEMTO_CLI_DATA}/contact_off.json|--quiet|--export-node|${FEMTO_CLI_WORK}/contact_off.node"
-  CODE 0 REJECT "contacts "
+  CODE 0 REGEX "contacts +[0-9]+ at the end \\([0-9]+ on colliders, 0 between bodies\\)"
   CHECK_FILE "${FEMTO_CLI_WORK}/contact_off_1.node"
   CHECK_FILE_REGEX "^27 3 0 0\n0 -?[0-9.e-]+ 0\\.[0-3][0-9]* ")
 # self_collision, sleep and the contact object's sleep keys are read and the scene runs.

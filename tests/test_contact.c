@@ -1051,6 +1051,122 @@ TEST(filters_and_events)
 	}
 }
 
+// Whether two collider ids name the same collider.
+static bool sameCollider(fmColliderId a, fmColliderId b)
+{
+	return a.index1 == b.index1 && a.generation == b.generation && a.world0 == b.world0 &&
+	       a.worldGeneration == b.worldGeneration;
+}
+
+// The world floor reports as a collider in both integrators: a box dropped on it begins a pair
+// with the floor's collider id (ending it again only when it bounces off), rests with the floor carrying its weight (the reaction
+// force), its contacts are in the list with the floor's normal, a ray hits the floor, lifting
+// the box ends the pair, and destroying the floor's collider lets the box fall; a body whose
+// filter does not meet the floor's falls through it.
+static void floorReports(int* failures_, fmIntegrator integrator, bool filtered)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = integrator;
+	wdef.floor.height = 0.0;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmColliderId floor = fmWorld_GetFloorCollider(world);
+	CHECK(fmCollider_IsValid(floor));
+	fmBodyDef def = softDef(2e5);
+	if (filtered)
+		def.filter.maskBits = ~1u; // ignores category 1, the floor's
+	fmBodyId box = addBox(failures_, world, 3, fmMakeVec3(-0.3, 0.1, -0.3),
+	                      fmMakeVec3(0.3, 0.4, 0.3), &def);
+	int substeps = integrator == fm_implicit ? 1 : 20;
+	int begins = 0, ends = 0, late = 0;
+	double weight = 0.0;
+	const double* masses = fmBody_GetMasses(box);
+	for (int i = 0; i < fmBody_GetVertexCount(box); ++i)
+		weight += 9.8 * masses[i];
+	for (int f = 0; f < 150; ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+		fmContactEvent events[4];
+		int count = fmWorld_GetContactEvents(world, events, 4);
+		for (int e = 0; e < count && e < 4; ++e)
+		{
+			begins += sameCollider(events[e].collider, floor) && events[e].begin;
+			ends += sameCollider(events[e].collider, floor) && !events[e].begin;
+		}
+		late += f >= 90 ? count : 0;
+	}
+	fmVec3 force, torque;
+	fmCollider_GetContactForce(floor, &force, &torque);
+	int count = fmWorld_GetContacts(world, NULL, 0), onFloor = 0;
+	fmContactPoint* points = malloc(sizeof(fmContactPoint) * (size_t)(count > 0 ? count : 1));
+	count = fmWorld_GetContacts(world, points, count);
+	bool alongNormal = true;
+	for (int k = 0; k < count; ++k)
+	{
+		if (!sameCollider(points[k].collider, floor))
+			continue;
+		onFloor += 1;
+		alongNormal = alongNormal && points[k].normal.y == 1.0 && points[k].impulse >= 0.0 &&
+		              fabs(points[k].point.y) < 1e-6;
+	}
+	free(points);
+	double lowest = fmBody_GetStats(box).lowestY;
+	printf("  %s%s: %d begin, %d end events; %d floor contacts; the floor carries %.2f N of the "
+	       "box's %.2f N (torque %.2e N m), lowest y %.4f\n",
+	       integrator == fm_implicit ? "implicit" : "explicit", filtered ? ", filtered" : "",
+	       begins, ends, onFloor, -force.y, weight, fmLength(torque), lowest);
+	if (filtered)
+	{
+		CHECK(lowest < -1.0); // fell through
+		CHECK_INT(begins + onFloor, 0);
+		fmDestroyWorld(world);
+		return;
+	}
+	CHECK(begins >= 1);       // landing (an explicit box may bounce off and land again)
+	CHECK_INT(ends, begins - 1); // and on the floor now
+	CHECK_INT(late, 0);          // resting: no events in the last second
+	CHECK(onFloor > 0 && alongNormal);
+	CHECK_INT(fmWorld_GetStepStats(world).contacts, count);
+	CHECK_REL(-force.y, weight, 0.02, 0.0); // the box pushes the floor down
+	CHECK(fabs(force.x) < 0.02 * weight && fabs(force.z) < 0.02 * weight);
+	// A ray beside the box hits the floor's plane.
+	fmRayHit hit;
+	CHECK(fmWorld_CastRay(world, fmMakeVec3(2.0, 1.0, 0.5), fmMakeVec3(0.0, -2.0, 0.0),
+	                      fmDefaultFilter(), &hit));
+	CHECK(sameCollider(hit.collider, floor));
+	CHECK_NEAR(hit.point.y, 0.0, 1e-12);
+	// Thrown up, the box leaves the floor: the pair ends.
+	fmBody_ApplyImpulse(box, fmMakeVec3(0.0, 3.0, 0.0));
+	for (int f = 0; f < 10; ++f)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+		fmContactEvent events[4];
+		int n = fmWorld_GetContactEvents(world, events, 4);
+		for (int e = 0; e < n && e < 4; ++e)
+			ends += sameCollider(events[e].collider, floor) && !events[e].begin;
+	}
+	CHECK_INT(ends, begins);
+	// Without its floor the box falls.
+	fmDestroyCollider(floor);
+	CHECK(!fmCollider_IsValid(floor));
+	CHECK(!fmCollider_IsValid(fmWorld_GetFloorCollider(world)));
+	for (int f = 0; f < 60; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+	CHECK(fmBody_GetStats(box).lowestY < -1.0);
+	// A floor put back is a new collider: the old id stays stale.
+	CHECK_INT(fmWorld_SetFloor(world, &wdef.floor), fm_ok);
+	CHECK(fmCollider_IsValid(fmWorld_GetFloorCollider(world)) && !fmCollider_IsValid(floor));
+	fmDestroyWorld(world);
+}
+
+TEST(floor_reports_as_a_collider)
+{
+	for (int filtered = 0; filtered < 2; ++filtered)
+	{
+		floorReports(failures_, fm_explicit, filtered);
+		floorReports(failures_, fm_implicit, filtered);
+	}
+}
+
 // The same contact scene on 1 and 3 workers: the same bits.
 // The last substep's contacts between two bodies.
 static int bodyContacts(fmWorldId world)

@@ -75,15 +75,22 @@ static void checkContinuesBitIdentically(int* failures_, fmIntegrator integrator
 	CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size - 1, &written), fm_errLimit);
 	CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size, &written), fm_ok);
 	CHECK(written == size);
+	// The floor's reaction is part of the state the snapshot keeps.
+	fmColliderId floor = fmWorld_GetFloorCollider(world);
+	fmVec3 savedForce, firstForce, force;
+	fmCollider_GetContactForce(floor, &savedForce, NULL);
 
 	runOn(failures_, world, bodies, 2, 20, frame, substeps, false);
 	size_t length;
 	double* first = stateOf(bodies, 2, &length);
 	fmStepStats firstStats = fmWorld_GetStepStats(world);
+	fmCollider_GetContactForce(floor, &firstForce, NULL);
 
 	// Disturb, run, restore, run again: the same bits as the first continuation.
 	runOn(failures_, world, bodies, 2, 5, frame, substeps, true);
 	CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_ok);
+	fmCollider_GetContactForce(floor, &force, NULL);
+	CHECK(memcmp(&force, &savedForce, sizeof force) == 0);
 	runOn(failures_, world, bodies, 2, 20, frame, substeps, false);
 	size_t length2;
 	double* second = stateOf(bodies, 2, &length2);
@@ -92,6 +99,10 @@ static void checkContinuesBitIdentically(int* failures_, fmIntegrator integrator
 	fmStepStats secondStats = fmWorld_GetStepStats(world);
 	CHECK_INT(secondStats.newtonIterations, firstStats.newtonIterations);
 	CHECK_INT(secondStats.cgIterations, firstStats.cgIterations);
+	CHECK_INT(secondStats.contacts, firstStats.contacts);
+	fmCollider_GetContactForce(floor, &force, NULL);
+	CHECK(memcmp(&force, &firstForce, sizeof force) == 0);
+	CHECK(integrator == fm_implicit || firstForce.y < 0.0); // explicit: landed by then
 	printf("  %s: %zu-byte snapshot, continuation bit-identical: %s\n",
 	       integrator == fm_implicit ? "implicit" : "explicit", size,
 	       memcmp(first, second, sizeof(double) * length) == 0 ? "yes" : "NO");

@@ -215,8 +215,17 @@ FM_API bool fmBody_IsPinned(fmBodyId bodyId, int vertex);
 FM_API fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def,
                                  fmColliderId* colliderId, fmDiagnostic* diag);
 
-/// Destroy a collider.
+/// Destroy a collider. The floor's collider (fmWorld_GetFloorCollider) may be destroyed too:
+/// the world then has no floor (as fmWorld_SetFloor with enabled false).
 FM_API void fmDestroyCollider(fmColliderId colliderId);
+
+/// The world floor's collider id (the null id while the world has no floor). The floor's
+/// response stays the seeds' (src/floor.c), but it is reported as a collider: its contacts in
+/// fmWorld_GetContacts, its begin and end events, the force the bodies exert on it
+/// (fmCollider_GetContactForce: a resting body's weight), and ray casts and overlap queries hit
+/// it. It is moved and changed only through fmWorld_SetFloor: fmCollider_SetTransform and
+/// fmCollider_SetVelocity on it assert and do nothing.
+FM_API fmColliderId fmWorld_GetFloorCollider(fmWorldId worldId);
 
 /// True if the id refers to a live collider.
 FM_API bool fmCollider_IsValid(fmColliderId colliderId);

@@ -174,7 +174,19 @@ typedef enum fmFloorFriction
 	fm_floorCoulomb, ///< Coulomb friction with a coefficient and restitution
 } fmFloorFriction;
 
-/// A horizontal floor plane y = height; bodies stay above it.
+/// Collision filtering: two things collide when each one's category is in the other's mask.
+typedef struct fmFilter
+{
+	uint32_t categoryBits; ///< what this is (default 1)
+	uint32_t maskBits;     ///< what it collides with (default all bits)
+} fmFilter;
+
+/// The default filter: category 1, collides with everything.
+FM_API fmFilter fmDefaultFilter(void);
+
+/// A horizontal floor plane y = height; bodies stay above it. The floor is the world's
+/// half-space collider (fmWorld_GetFloorCollider): its contacts, begin and end events and the
+/// force the bodies exert on it are reported as a collider's (docs/contact.md).
 typedef struct fmFloorDef
 {
 	bool enabled;               ///< false: no floor
@@ -187,6 +199,9 @@ typedef struct fmFloorDef
 	/// catapulted; penetration that the step's own motion explains is removed at once (as
 	/// PhysX's max depenetration velocity). See docs/robustness.md.
 	double maxDepenetrationSpeed;
+	/// Which bodies the floor holds (default fmDefaultFilter(): every body); a body whose
+	/// filter does not meet it falls through, as through a collider
+	fmFilter filter;
 } fmFloorDef;
 
 /// The default floor: enabled at y = 0, the seeds' stick friction, depenetration at 1 m/s.
@@ -194,16 +209,6 @@ FM_API fmFloorDef fmDefaultFloorDef(void);
 
 /// Check a floor; the diagnostic says which field is wrong.
 FM_API fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag);
-
-/// Collision filtering: two things collide when each one's category is in the other's mask.
-typedef struct fmFilter
-{
-	uint32_t categoryBits; ///< what this is (default 1)
-	uint32_t maskBits;     ///< what it collides with (default all bits)
-} fmFilter;
-
-/// The default filter: category 1, collides with everything.
-FM_API fmFilter fmDefaultFilter(void);
 
 /// How soft bodies touch each other (fmWorldDef.contact; docs/contact.md).
 typedef struct fmContactDef
@@ -537,7 +542,7 @@ typedef struct fmStepStats
 	int unconvergedSteps; ///< implicit: steps that ended above the tolerance (warning given)
 	bool budgetHit;       ///< the frame budget (maxNewtonPerFrame, maxSubstepsPerFrame) was spent
 	int invertedTets;     ///< all bodies, after the step
-	int contacts;         ///< vertices on the floor after the step
+	int contacts;         ///< the last substep's contacts (fmWorld_GetContacts), the floor's too
 } fmStepStats;
 
 /// Where the last world step spent its time (ms, wall clock), for a HUD (fmWorld_GetProfile).
@@ -568,7 +573,7 @@ typedef enum fmDrawFlags
 	fm_drawPins = 1u << 4,         ///< pinned vertices as points
 	fm_drawTargets = 1u << 5,      ///< kinematic targets: points and lines to their vertices
 	fm_drawFloor = 1u << 6,        ///< the floor plane
-	fm_drawContacts = 1u << 7,     ///< vertices on the floor and the last substep's contacts
+	fm_drawContacts = 1u << 7,     ///< the last substep's contacts, the floor's too
 	fm_drawColliders = 1u << 8,    ///< colliders: triangles (planes through drawPlane)
 	fm_drawAll = 0x1ffu,           ///< everything above
 } fmDrawFlags;
