@@ -1252,8 +1252,8 @@ static bool cliGetTolerance(const cliJson* j, const cJSON* root, cliRange range,
 
 static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floorDef)
 {
-	static const char* const keys[] = {"height", "friction", "restitution",
-	                                   "max_depenetration_speed", "filter", NULL};
+	static const char* const keys[] = {
+	    "height", "friction", "restitution", "max_depenetration_speed", "filter", NULL};
 	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "floor");
 	if (item == NULL)
 		return true;

@@ -128,8 +128,8 @@ typedef struct fmBody
 	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
 	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
 	double* contactFriction;
-	double* contactFrictionNext;     // 8n: what the contact stage found this step, for the next one
-	double contactThinness;          // 2 V / S at rest (m): how thick the body is (contact.c)
+	double* contactFrictionNext; // 8n: what the contact stage found this step, for the next one
+	double contactThinness;      // 2 V / S at rest (m): how thick the body is (contact.c)
 	// The floor's contacts of the last substep (floor.h), for the contact list and the floor's
 	// reaction
 	struct fmFloorHit* floorHits;

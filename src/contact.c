@@ -24,8 +24,8 @@
 #include "core.h"
 #include "embedded.h"
 #include "energy_ledger.h"
-#include "force_spring.h"
 #include "floor.h"
+#include "force_spring.h"
 #include "forces.h"
 #include "geometry.h"
 #include "island.h"
@@ -349,6 +349,10 @@ void fmContact_BeginFrame(fmWorld* w, double frameTime)
 	}
 }
 
+// The largest slip (a share of the thickness) an implicit step's friction between bodies takes
+// back from the positions as well as the velocities (fmRespondPair).
+#define FM_CREEP_FRACTION 0.1
+
 // ---- bookkeeping -------------------------------------------------------------------------------
 
 static bool fmRecordPair(fmContactState* s, uint64_t key)
@@ -356,7 +360,7 @@ static bool fmRecordPair(fmContactState* s, uint64_t key)
 	if (s->pairCount > 0 && s->pairs[s->pairCount - 1] == key)
 		return true;
 	if (!fmGrowArray((void**)&s->pairs, &s->pairCapacity, s->pairCount, s->pairCount + 1,
-	            sizeof(uint64_t)))
+	                 sizeof(uint64_t)))
 		return false;
 	s->pairs[s->pairCount++] = key;
 	return true;
@@ -365,7 +369,7 @@ static bool fmRecordPair(fmContactState* s, uint64_t key)
 static fmContactPoint* fmNewPoint(fmContactState* s)
 {
 	if (!fmGrowArray((void**)&s->points, &s->pointCapacity, s->pointCount, s->pointCount + 1,
-	            sizeof(fmContactPoint)))
+	                 sizeof(fmContactPoint)))
 		return NULL;
 	fmContactPoint* p = &s->points[s->pointCount++];
 	memset(p, 0, sizeof *p);
@@ -378,7 +382,7 @@ static bool fmTouch(fmContactState* s, fmBody* b, int slot, int i)
 	if (b->contactMark[i] != 0)
 		return true;
 	if (!fmGrowArray((void**)&s->touched, &s->touchedCapacity, s->touchedCount, s->touchedCount + 1,
-	            sizeof(fmTouched)))
+	                 sizeof(fmTouched)))
 		return false;
 	fmTouched t = {slot, i, fmLoad(b->x, i), fmLoad(b->v, i)};
 	s->touched[s->touchedCount++] = t;
@@ -625,7 +629,7 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 			}
 			// Found on the workers (each vertex reads only its own state), applied in order.
 			if (!fmGrowArray((void**)&s->colliderFinds, &s->colliderFindCapacity, 0,
-			            b->surfaceVertexCount, sizeof(fmColliderFind)))
+			                 b->surfaceVertexCount, sizeof(fmColliderFind)))
 				return false;
 			fmColliderTask task = {w, b, &w->colliders[k], s->colliderFinds};
 			fmParallelForBalanced(&w->tasks, b->surfaceVertexCount, FM_CONTACT_MIN_RANGE,
@@ -1093,13 +1097,28 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o), pushed);
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
 	pc->impulse = fmDot(impulse, pc->normal);
+	// Implicit: the step's positions follow its velocities (x = x0 + h v), so the friction's
+	// velocity change moves them too, h dv along the surface, where the slip it takes back is
+	// a creep (at most FM_CREEP_FRACTION of the thickness): the slip friction took back is not
+	// kept in the positions (it was, and stacks crept sideways). A faster slip is an impact's:
+	// moving the contact's vertices alone by it would crush their tets.
+	double h = w->def.integrator == fm_implicit ? w->contactStep : 0.0;
+	fmVec3 taken = fmSub(relative, before);
+	taken = fmMulAdd(taken, -fmDot(taken, pc->normal), pc->normal);
+	if (h * fmLength(taken) > FM_CREEP_FRACTION * fmContact_Thickness(w))
+		h = 0.0;
+	fmVec3 slip = fmScale(h, fmMulAdd(impulse, -pc->impulse, pc->normal));
 	fmVec3 x = fmLoad(b->x, pc->vertex);
-	fmStore(b->v, pc->vertex, fmMulAdd(vp, fmInverseMass(b, pc->vertex), impulse));
+	double inverse = fmInverseMass(b, pc->vertex);
+	fmStore(b->v, pc->vertex, fmMulAdd(vp, inverse, impulse));
+	fmStore(b->x, pc->vertex, fmMulAdd(x, inverse, slip));
 	fmKeepPins(b, pc->vertex, x);
 	for (int c = 0; c < 3; ++c)
 	{
 		fmVec3 v0 = fmLoad(o->v, tri[c]), y = fmLoad(o->x, tri[c]);
-		fmStore(o->v, tri[c], fmMulAdd(v0, -pc->w[c] * fmInverseMass(o, tri[c]), impulse));
+		double share = -pc->w[c] * fmInverseMass(o, tri[c]);
+		fmStore(o->v, tri[c], fmMulAdd(v0, share, impulse));
+		fmStore(o->x, tri[c], fmMulAdd(y, share, slip));
 		fmKeepPins(o, tri[c], y);
 	}
 	return true;
@@ -1166,7 +1185,7 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		if (s->predict > 0.0 && !(fmDot(d, face) > 0.0 && fmDot(d, side) < 0.0))
 			continue;
 		if (!fmGrowArray((void**)&wf->edges, &wf->edgeCapacity, wf->edgeCount, wf->edgeCount + 1,
-		            sizeof(fmEdgeContact)))
+		                 sizeof(fmEdgeContact)))
 			return false;
 		fmEdgeContact* c = &wf->edges[wf->edgeCount++];
 		c->body = slot, c->other = other;
@@ -1448,7 +1467,8 @@ static bool fmDetectEdges(fmWorld* w, fmContactState* s, double thickness)
 	s->edgeContactCount = 0;
 	for (int k = 0; k < w->tasks.workerCount; ++k)
 		total += s->workers[k].edgeCount;
-	if (!fmGrowArray((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total, sizeof(fmEdgeContact)))
+	if (!fmGrowArray((void**)&s->edgeContacts, &s->edgeContactCapacity, 0, total,
+	                 sizeof(fmEdgeContact)))
 		return false;
 	for (int k = 0; k < w->tasks.workerCount && total > 0; ++k)
 	{
@@ -1487,8 +1507,8 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	if (s->tetHashReady)
 		w->embeddedReach = 0.0;
 	s->tetHashReady = false;
-	if (n < 0 ||
-	    !fmGrowArray((void**)&s->pairContacts, &s->pairContactCapacity, 0, n, sizeof(fmPairContact)))
+	if (n < 0 || !fmGrowArray((void**)&s->pairContacts, &s->pairContactCapacity, 0, n,
+	                          sizeof(fmPairContact)))
 		return false;
 	for (int k = 0; k < n; ++k)
 		if (s->hit[k])
@@ -1544,7 +1564,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
 {
 	if (!fmGrowArray((void**)&b->edgePlanes, &b->edgePlaneCapacity, b->edgePlaneCount,
-	            b->edgePlaneCount + 1, sizeof(fmEdgePlane)))
+	                 b->edgePlaneCount + 1, sizeof(fmEdgePlane)))
 		return false;
 	b->edgePlanes[b->edgePlaneCount++] = *plane;
 	return true;
@@ -1865,7 +1885,7 @@ static int fmCompareKeys(const void* a, const void* b)
 static bool fmAddEvent(fmWorld* w, fmContactState* s, uint64_t key, bool begin)
 {
 	if (!fmGrowArray((void**)&s->events, &s->eventCapacity, s->eventCount, s->eventCount + 1,
-	            sizeof(fmContactEvent)))
+	                 sizeof(fmContactEvent)))
 		return false;
 	fmContactEvent* e = &s->events[s->eventCount++];
 	memset(e, 0, sizeof *e);
@@ -1908,8 +1928,8 @@ bool fmContact_ReportFloor(fmWorld* w, bool listed)
 			p->depth = hit->depth;
 			p->impulse = hit->impulse.y;
 			floor->impulse = fmSub(floor->impulse, hit->impulse);
-			floor->angularImpulse = fmSub(
-			    floor->angularImpulse, fmCross(fmSub(p->point, floor->position), hit->impulse));
+			floor->angularImpulse = fmSub(floor->angularImpulse,
+			                              fmCross(fmSub(p->point, floor->position), hit->impulse));
 		}
 		b->floorHitCount = 0;
 		uint64_t key = ((uint64_t)(uint32_t)slot << 32) | (0x80000000u | (uint32_t)FM_FLOOR_SLOT);

@@ -154,9 +154,9 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		else
 		{
 			double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
-			double keep = vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse /
-			                                             (b->mass[i] * vt))
-			                       : 0.0;
+			double keep =
+			    vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
+			             : 0.0;
 			v[0] *= keep;
 			v[2] *= keep;
 		}

@@ -192,8 +192,9 @@ static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter
 		int slot = fmQuerySlot(w, k);
 		const fmCollider* c = fmWorldCollider(w, slot);
 		fmVec3 n;
-		double d = c->inUse && fmFiltersMeet(filter, c->def.filter) ? fmCollider_Distance(c, center, &n)
-		                                                      : INFINITY;
+		double d = c->inUse && fmFiltersMeet(filter, c->def.filter)
+		               ? fmCollider_Distance(c, center, &n)
+		               : INFINITY;
 		if (!(d <= radius))
 			continue;
 		if (count < capacity && overlaps != NULL)

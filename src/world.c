@@ -269,7 +269,6 @@ void fmWorldSyncFloor(fmWorld* w)
 	c->torque = kept.torque;
 }
 
-
 fmWorld* fmGetWorldOfBody(fmBodyId id)
 {
 	if (id.index1 == 0 || id.world0 < 0 || id.world0 >= FM_MAX_WORLDS)

@@ -24,9 +24,9 @@ typedef struct fmWorld
 	fmTaskSystem tasks;            // how the stages run in parallel
 	int newtonLimit;  // Newton iterations an implicit step may take now (the frame budget)
 	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
-	struct fmCollider* colliders;        // colliderCapacity slots (collider.h)
-	fmCollider floorCollider; // def.floor as a plane collider: its id, reports and queries
-	int colliderCapacity;                // grows by doubling up to FM_MAX_COLLIDERS
+	struct fmCollider* colliders; // colliderCapacity slots (collider.h)
+	fmCollider floorCollider;     // def.floor as a plane collider: its id, reports and queries
+	int colliderCapacity;         // grows by doubling up to FM_MAX_COLLIDERS
 	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
 	double contactStep;                  // s, the substep the contact stage is working on
 	double embeddedReach; // m: embedded vertices' push this frame; 0 once they were looked for
