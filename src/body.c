@@ -242,6 +242,7 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->surfaceVertex, int, b->surfaceVertexCount);
 	FM_FREE_ARRAY(b->contactStart, double, 3 * n);
 	FM_FREE_ARRAY(b->contactMark, int, n);
+	FM_FREE_ARRAY(b->embeddedHolder, int, n);
 	FM_FREE_ARRAY(b->contactPlane, double, 4 * n);
 	FM_FREE_ARRAY(b->contactFriction, double, 8 * n);
 	FM_FREE_ARRAY(b->contactFrictionNext, double, 8 * n);

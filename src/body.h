@@ -120,6 +120,8 @@ typedef struct fmBody
 	double* contactPlane;    // 4n: an implicit step's frozen plane of another body near each
 	                         // surface vertex (n, n . q), NaN where none (penalty.h)
 	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
+	int* embeddedHolder;     // n: 1 + the slot of the body whose tet held the vertex this frame
+	                         // (its later substeps push it on), or 0
 	// An implicit step's frozen planes of other bodies' surface edges near this body's surface
 	// edges (penalty.h), made before the step like contactPlane
 	struct fmEdgePlane* edgePlanes;

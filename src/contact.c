@@ -73,7 +73,8 @@ typedef struct fmPairContact
 	fmVec3 normal;
 	double depth;
 	double impulse;
-	double reach; // m, the most the projections may still separate the pair in this substep
+	double reach;  // m, the most the projections may still separate the pair in this substep
+	bool embedded; // the vertex was inside the other body, beyond any triangle's reach
 } fmPairContact;
 
 // What one worker of the parallel detection found (fmDetect): its queries' buffers, the edge
@@ -311,6 +312,8 @@ static bool fmBodyContactArrays(fmBody* b)
 		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
 	if (b->contactTetMark == NULL)
 		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
+	if (b->embeddedHolder == NULL)
+		b->embeddedHolder = FM_ALLOC_ZERO(int, b->vertexCount);
 	if (b->surfaceVertex == NULL)
 	{
 		uint8_t* on = FM_ALLOC_ZERO(uint8_t, b->vertexCount);
@@ -332,12 +335,15 @@ static bool fmBodyContactArrays(fmBody* b)
 		b->contactThinness = fmRestThinness(b);
 	}
 	return b->contactStart != NULL && b->surfaceVertex != NULL && b->contactMark != NULL &&
-	       b->contactTetMark != NULL && b->contactPlane != NULL;
+	       b->contactTetMark != NULL && b->contactPlane != NULL && b->embeddedHolder != NULL;
 }
 
-void fmContact_BeginFrame(fmWorld* w, double frameTime)
+void fmContact_BeginFrame(fmWorld* w)
 {
-	w->embeddedReach = w->def.floor.maxDepenetrationSpeed * frameTime;
+	w->embeddedSearch = true;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].embeddedHolder != NULL)
+			memset(w->bodies[i].embeddedHolder, 0, sizeof(int) * (size_t)w->bodies[i].vertexCount);
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
 
@@ -915,7 +921,26 @@ static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFi
 	if (holder < 0 || !fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side))
 		return false;
 	found->depth = thickness - side;
-	found->reach = w->embeddedReach;
+	found->reach = w->def.floor.maxDepenetrationSpeed * w->contactStep;
+	found->embedded = true;
+	return true;
+}
+
+// Surface vertex i of body @p slot, which no triangle's reach found, when a tet of body
+// @p holder held it earlier in the frame (fmFindEmbedded): while it is still behind that body's
+// nearest surface triangle, a contact with it into @p found, pushing it out at most at the
+// depenetration speed, in every substep of the frame. False when it is out.
+static bool fmFindStillEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf,
+                                int slot, int i, int holder, double thickness, fmPairContact* found)
+{
+	fmVec3 p = fmLoad(w->bodies[slot].x, i);
+	double side = 0.0;
+	if (!fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side) ||
+	    !(side < thickness))
+		return false;
+	found->depth = thickness - side;
+	found->reach = w->def.floor.maxDepenetrationSpeed * w->contactStep;
+	found->embedded = true;
 	return true;
 }
 
@@ -991,8 +1016,11 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 	found->body = slot;
 	found->vertex = i;
 	found->impulse = 0.0;
+	found->embedded = false;
 	if (bestItem < 0 && s->tetHashReady)
 		return fmFindEmbedded(w, s, wf, slot, i, thickness, found);
+	if (bestItem < 0 && b->embeddedHolder[i] > 0)
+		return fmFindStillEmbedded(w, s, wf, slot, i, b->embeddedHolder[i] - 1, thickness, found);
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -1095,6 +1123,14 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 	                    ? FM_PENALTY_KAPPA * pc->depth / w->contactStep
 	                    : 0.0;
 	fmImpact(&relative, pc->normal, w->def.contact.restitution, fmPairFriction(w, b, o), pushed);
+	// Explicit: a vertex caught inside the other body leaves it at the depenetration speed, as
+	// one below the floor does: pushed out by the projection alone, it had no velocity to leave
+	// with, and the elastic forces pulled it back in every substep (boxes created half inside
+	// each other stayed so). The implicit solve carries the push into the velocities itself.
+	double separating = fmDot(relative, pc->normal);
+	if (pc->embedded && w->def.integrator != fm_implicit &&
+	    separating < w->def.floor.maxDepenetrationSpeed)
+		relative = fmMulAdd(relative, w->def.floor.maxDepenetrationSpeed - separating, pc->normal);
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
 	pc->impulse = fmDot(impulse, pc->normal);
 	// Implicit: the step's positions follow its velocities (x = x0 + h v), so the friction's
@@ -1500,12 +1536,12 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		return false;
 	// Embedded vertices are looked for once a frame (a tet hash every substep cost a tenth of
 	// the frame of ten houses piled, implicit), and pushed out by a frame's depenetration.
-	s->tetHashReady = w->embeddedReach > 0.0 && fmTetHash_Build(&s->tetHash, w, s->bodyNear);
+	s->tetHashReady = w->embeddedSearch && fmTetHash_Build(&s->tetHash, w, s->bodyNear);
 	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
 	s->pairContactCount = 0;
 	int n = fmDetectVertices(w, s, thickness);
 	if (s->tetHashReady)
-		w->embeddedReach = 0.0;
+		w->embeddedSearch = false;
 	s->tetHashReady = false;
 	if (n < 0 || !fmGrowArray((void**)&s->pairContacts, &s->pairContactCapacity, 0, n,
 	                          sizeof(fmPairContact)))
@@ -1513,8 +1549,11 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	for (int k = 0; k < n; ++k)
 		if (s->hit[k])
 		{
-			fmWakeSleeper(w, &s->found[k]);
-			s->pairContacts[s->pairContactCount++] = s->found[k];
+			const fmPairContact* found = &s->found[k];
+			fmWakeSleeper(w, found);
+			if (found->embedded)
+				w->bodies[found->body].embeddedHolder[found->vertex] = found->other + 1;
+			s->pairContacts[s->pairContactCount++] = *found;
 		}
 	// Edge against edge, explicit substeps only: implicit steps hold edges apart inside the
 	// solve (frozen edge planes, fmPredictPlanes). Projecting them after the solve as well made

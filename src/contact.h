@@ -20,10 +20,10 @@ double fmContact_Thickness(const fmWorld* world);
 // between two or more bodies).
 bool fmContact_Active(const fmWorld* world);
 
-// Start of a frame of @p frameTime seconds: collider impulses zeroed; the frame's first
-// body-body detection will look for vertices embedded in another body (embedded.h), to be
-// pushed out by at most the floor's depenetration speed times @p frameTime.
-void fmContact_BeginFrame(fmWorld* world, double frameTime);
+// Start of a frame: collider impulses zeroed; the frame's first body-body detection will look
+// for vertices embedded in another body (embedded.h), to be pushed out by at most the floor's
+// depenetration speed in that substep and in the frame's later ones.
+void fmContact_BeginFrame(fmWorld* world);
 
 // The share of the thinner body's thickness two bodies may close in by in one implicit piece.
 #define FM_PIECE_FRACTION 0.5

@@ -862,7 +862,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	// Stage 2: open every body's energy ledger. The state to fall back on (xGood, vGood) is the
 	// last one that passed the checks, kept from the previous frame: a state the user set to
 	// NaN or Inf between steps is not "good". What the caller changed since is booked as work.
-	fmContact_BeginFrame(w, timeStep);
+	fmContact_BeginFrame(w);
 	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
 	w->sleepEventCount = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)

@@ -29,10 +29,10 @@ typedef struct fmWorld
 	int colliderCapacity;         // grows by doubling up to FM_MAX_COLLIDERS
 	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
 	double contactStep;                  // s, the substep the contact stage is working on
-	double embeddedReach; // m: embedded vertices' push this frame; 0 once they were looked for
-	int contactPieces;    // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the
-	                   // body-body contact is then the stage's projection alone, no frozen planes
-	float* drawPoints; // fmWorld_Draw's buffer of contact points (3 floats each)
+	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
+	int contactPieces;   // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the
+	                     // body-body contact is then the stage's projection alone, no frozen planes
+	float* drawPoints;   // fmWorld_Draw's buffer of contact points (3 floats each)
 	int drawPointCapacity;
 	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
 	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)

@@ -1564,14 +1564,16 @@ TEST(stick_collider_carries_on_a_conveyor)
 	}
 }
 
-// Two boxes created half inside each other come apart (implicit, 1/60 s): the vertices deeper
-// in than the thickness and a step's motion, which no surface triangle's reach finds, are found
-// in the other box's tets once a frame and pushed out toward its nearest surface at the
-// depenetration speed (embedded.h). Without that, 19 vertices stay 0.41 m deep for good.
-TEST(overlapping_bodies_come_apart)
+// Two boxes created half inside each other come apart: the vertices deeper in than the
+// thickness and a step's motion, which no surface triangle's reach finds, are found in the
+// other box's tets once a frame and pushed out toward its nearest surface at the depenetration
+// speed (embedded.h), in every substep of the frame. Implicit at 1/60 s, none is inside after
+// 3 s (without the search 19 stayed 0.41 m deep for good); explicit at 20 substeps, fewer than
+// half.
+static void overlappingComeApart(int* failures_, fmIntegrator integrator)
 {
 	fmWorldDef wdef = fmDefaultWorldDef();
-	wdef.integrator = fm_implicit;
+	wdef.integrator = integrator;
 	wdef.floor.height = 0.0;
 	fmWorldId world = fmCreateWorld(&wdef);
 	fmBodyDef def = softDef(1e5);
@@ -1580,17 +1582,30 @@ TEST(overlapping_bodies_come_apart)
 	    addBox(failures_, world, 4, fmMakeVec3(-0.3, 0.5, -0.3), fmMakeVec3(0.7, 1.5, 0.7), &def)};
 	int inside = 0, start = 0, failed = 0;
 	deepestInside(boxes, 2, &start);
+	bool implicit = integrator == fm_implicit;
 	for (int f = 0; f < 180; ++f)
-		failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+		failed += fmWorld_Step(world, 1.0 / 60.0, implicit ? 1 : 20) != fm_ok;
 	double deepest = deepestInside(boxes, 2, &inside);
 	double thickness = 0.01 * bodyDiagonal(boxes[0]);
-	printf("  %d surface vertices inside the other box at the start, %d after 3 s (the deepest "
-	       "%.4f m, thickness %.4f)\n",
-	       start, inside, deepest, thickness);
+	printf("  %s: %d surface vertices inside the other box at the start, %d after 3 s (the "
+	       "deepest %.4f m, thickness %.4f)\n",
+	       implicit ? "implicit" : "explicit", start, inside, deepest, thickness);
 	CHECK(start > 20);
 	CHECK_INT(failed, 0);
-	CHECK(deepest <= thickness);
+	// Explicit substeps leave them interlocked (docs/contact.md, "Limits"): fewer than half
+	// stay inside (40, 0.44 m deep, before the embedded vertices were pushed in every substep
+	// of the frame at the depenetration speed; now 28, 0.25 m).
+	if (implicit)
+		CHECK(deepest <= thickness);
+	else
+		CHECK(inside < start / 2 && deepest < 0.3);
 	fmDestroyWorld(world);
+}
+
+TEST(overlapping_bodies_come_apart)
+{
+	overlappingComeApart(failures_, fm_implicit);
+	overlappingComeApart(failures_, fm_explicit);
 }
 
 // The implicit edge planes' penalty (penalty.c, fmEdgePlane): its gradient is its energy's
