@@ -160,7 +160,6 @@ struct fmContactState
 
 // ---- small buffers -----------------------------------------------------------------------------
 
-// Grow @p array of @p size-byte elements (keeping its @p count first ones) to hold @p needed.
 void fmContact_Free(fmContactState* s)
 {
 	if (s == NULL)
@@ -1098,7 +1097,7 @@ static double fmPairFriction(const fmWorld* w, const fmBody* a, const fmBody* b)
 // The velocity response of a vertex-triangle contact: the relative velocity of the vertex and
 // the triangle's point loses its approach (restitution) and some slip (friction), the impulse
 // shared by inverse masses. False when memory is short.
-static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
+static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc, double thickness)
 {
 	fmBody* b = &w->bodies[pc->body];
 	fmBody* o = &w->bodies[pc->other];
@@ -1141,7 +1140,7 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc)
 	double h = w->def.integrator == fm_implicit ? w->contactStep : 0.0;
 	fmVec3 taken = fmSub(relative, before);
 	taken = fmMulAdd(taken, -fmDot(taken, pc->normal), pc->normal);
-	if (h * fmLength(taken) > FM_CREEP_FRACTION * fmContact_Thickness(w))
+	if (h * fmLength(taken) > FM_CREEP_FRACTION * thickness)
 		h = 0.0;
 	fmVec3 slip = fmScale(h, fmMulAdd(impulse, -pc->impulse, pc->normal));
 	fmVec3 x = fmLoad(b->x, pc->vertex);
@@ -1578,7 +1577,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	for (int c = 0; c < s->pairContactCount; ++c)
 	{
 		fmPairContact* pc = &s->pairContacts[c];
-		if (!fmRespondPair(w, s, pc))
+		if (!fmRespondPair(w, s, pc, thickness))
 			return false;
 		fmContactPoint* point = fmNewPoint(s);
 		if (point == NULL)

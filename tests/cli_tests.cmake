@@ -408,10 +408,10 @@ femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
 femto_cli_test(bench_contact
   ARGS "bench|--quick|--meshes|contact|--repeats|1|--workers|1|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_contact.csv"
   CODE 0
-  REGEX "houses 3 +4167 explicit +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ "
+  REGEX "houses 3 +4167 explicit auto +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ "
   REJECT "failed|ground 100k|memory bandwidth|house2"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_contact.csv"
-  CHECK_FILE_REGEX "\nhouses 3,4167,explicit,stvk,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\n$")
+  CHECK_FILE_REGEX "\nhouses 3,4167,explicit auto,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\n$")
 set_tests_properties(cli_bench_contact PROPERTIES TIMEOUT 200)
 femto_cli_test(bench_unknown_family ARGS "bench|--meshes|house,tree" CODE 2
   REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam, contact\\)")
