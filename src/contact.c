@@ -354,8 +354,8 @@ void fmContact_BeginFrame(fmWorld* w)
 	}
 }
 
-// The largest slip (a share of the thickness) an implicit step's friction between bodies takes
-// back from the positions as well as the velocities (fmRespondPair).
+// The largest slip (a share of the thickness) an implicit step's friction takes back from the
+// positions as well as the velocities (fmVertexVsCollider, fmRespondPair): a creep's.
 #define FM_CREEP_FRACTION 0.1
 
 // ---- bookkeeping -------------------------------------------------------------------------------
@@ -500,7 +500,7 @@ static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, con
 // the velocity response (restitution, friction), the collider's reaction, the contact list.
 // Returns false when the contact list could not grow.
 static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k,
-                               const fmColliderFind* found)
+                               const fmColliderFind* found, double thickness)
 {
 	fmBody* b = &w->bodies[slot];
 	fmCollider* c = &w->colliders[k];
@@ -526,6 +526,12 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		fmKeepFriction(b, i, n, mu * b->mass[i] * pushed / h, vc, c->def.stick);
 	if (!fmTouch(s, b, slot, i))
 		return false;
+	// Implicit: the step's positions follow its velocities, as between bodies (fmRespondPair):
+	// a creeping slip that friction or the stick takes back leaves the position too.
+	fmVec3 taken = fmSub(fmAdd(vc, relative), v);
+	taken = fmMulAdd(taken, -fmDot(taken, n), n);
+	if (implicit && h * fmLength(taken) <= FM_CREEP_FRACTION * thickness)
+		x = fmMulAdd(x, h, taken);
 	fmStore(b->x, i, x);
 	fmStore(b->v, i, fmAdd(vc, relative));
 	fmKeepPins(b, i, before);
@@ -613,7 +619,7 @@ static void fmFindColliderRange(int start, int end, int worker, void* context)
 	}
 }
 
-static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
+static bool fmCollideWithColliders(fmWorld* w, fmContactState* s, double thickness)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
@@ -643,7 +649,7 @@ static bool fmCollideWithColliders(fmWorld* w, fmContactState* s)
 			{
 				int i = b->surfaceVertex[p];
 				if (s->colliderFinds[p].hit &&
-				    !fmVertexVsCollider(w, s, slot, i, k, &s->colliderFinds[p]))
+				    !fmVertexVsCollider(w, s, slot, i, k, &s->colliderFinds[p], thickness))
 					return false;
 			}
 		}
@@ -1903,7 +1909,7 @@ bool fmContact_Substep(fmWorld* w, double h)
 		if (w->colliders[k].inUse)
 			fmCollider_Move(&w->colliders[k], h);
 	s->pointCount = 0;
-	bool ok = fmCollideWithColliders(w, s);
+	bool ok = fmCollideWithColliders(w, s, thickness);
 	if (ok && fmBodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
