@@ -458,9 +458,6 @@ static void fmStickImpact(fmVec3* relative, fmVec3 n, double e)
 	*relative = fmScale(vn < 0.0 ? -e * vn : vn, n);
 }
 
-// Keep vertex @p i of body @p slot on or outside collider @p k (exact shapes: no gap; the
-// thickness is for the vertex-triangle tests between bodies). Returns false when
-// the contact list could not grow.
 // Where vertex i of body @p b goes back to against collider @p c (@p found: the position, the
 // surface normal and the depth it was in), or nothing (found->hit false) when it is outside
 // and did not cross it. Reads only: it runs on the workers (fmCollideWithColliders).
@@ -496,9 +493,10 @@ static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, con
 	found->depth = depth;
 }
 
-// Keep vertex @p i of body @p slot on or outside collider @p k, as @p found says: its position,
-// the velocity response (restitution, friction), the collider's reaction, the contact list.
-// Returns false when the contact list could not grow.
+// Keep vertex @p i of body @p slot on or outside collider @p k, as @p found says (exact shapes:
+// no gap; @p thickness, the one between bodies, only bounds what an implicit creep takes back):
+// its position, the velocity response (restitution, friction), the collider's reaction, the
+// contact list. Returns false when the contact list could not grow.
 static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k,
                                const fmColliderFind* found, double thickness)
 {
@@ -679,8 +677,6 @@ static double fmMotionOf(const fmContactState* s, const fmBody* b, int i)
 	       s->predict * fmLength(fmLoad(b->v, i));
 }
 
-// Every body's surface triangles with their boxes (grown by the thickness and by how far their
-// vertices moved in the substep) into the broad phase.
 // Whether the box [lo, hi] of something of body @p slot overlaps the box of a body it may touch
 // (another one whose filter meets its own, or itself when it collides with itself): most
 // vertices of a pile of bodies apart from each other skip the spatial hash entirely.
@@ -702,9 +698,6 @@ static bool fmNearOtherBody(const fmWorld* w, const fmContactState* s, int slot,
 	return false;
 }
 
-// Every body's box: its surface vertices' box grown by the thickness and by the most any of
-// them moved in the substep; and whether another body's box (or its own, when it collides with
-// itself) overlaps it.
 // Room for a box, a flag and a speed per body slot.
 static bool fmReserveBodyBoxes(const fmWorld* w, fmContactState* s)
 {
@@ -730,6 +723,9 @@ static bool fmReserveBodyBoxes(const fmWorld* w, fmContactState* s)
 	return false;
 }
 
+// Every body's box: its surface vertices' box grown by the thickness and by the most any of
+// them moved in the substep; and whether another body's box (or its own, when it collides with
+// itself) overlaps it.
 static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickness)
 {
 	if (!fmReserveBodyBoxes(w, s))
@@ -757,6 +753,8 @@ static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickne
 	return true;
 }
 
+// Every body's surface triangles with their boxes (grown by the thickness and by how far their
+// vertices moved in the substep) into the broad phase.
 static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 {
 	int total = 0;
@@ -822,7 +820,6 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 	return fmSpatialHash_Build(&s->hash, s->lower, s->upper, k, cell > 0.0 ? cell : 1.0);
 }
 
-// The nearest triangle of another body that vertex i of body @p slot touches, into @p found.
 // Whether vertex i of body b was in front of its own triangle @p tri (normal @p n now) at the
 // start of the substep: then it crossed the triangle during it, rather than being inside.
 static bool fmInFrontAtStart(const fmBody* b, int i, const int* tri, fmVec3 n, double thickness)
