@@ -678,13 +678,14 @@ static double fmMotionOf(const fmContactState* s, const fmBody* b, int i)
 }
 
 // Whether the box [lo, hi] of something of body @p slot overlaps the box of a body it may touch
-// (another one whose filter meets its own, or itself when it collides with itself): most
-// vertices of a pile of bodies apart from each other skip the spatial hash entirely.
+// (another one whose filter meets its own, or itself when it collides with itself; with
+// @p higher, only the bodies of higher slots, which the edges test against): most vertices of a
+// pile of bodies apart from each other skip the spatial hash entirely.
 static bool fmNearOtherBody(const fmWorld* w, const fmContactState* s, int slot, fmVec3 lo,
-                            fmVec3 hi)
+                            fmVec3 hi, bool higher)
 {
 	const fmBody* b = &w->bodies[slot];
-	for (int k = 0; k < w->bodyCapacity; ++k)
+	for (int k = higher ? slot + 1 : 0; k < w->bodyCapacity; ++k)
 	{
 		const fmBody* o = &w->bodies[k];
 		if (o->x == NULL || (k == slot && !b->selfCollision) ||
@@ -748,8 +749,9 @@ static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickne
 		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
 	}
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		s->bodyNear[slot] = w->bodies[slot].x != NULL &&
-		                    fmNearOtherBody(w, s, slot, s->bodyLower[slot], s->bodyUpper[slot]);
+		s->bodyNear[slot] =
+		    w->bodies[slot].x != NULL &&
+		    fmNearOtherBody(w, s, slot, s->bodyLower[slot], s->bodyUpper[slot], false);
 	return true;
 }
 
@@ -931,14 +933,14 @@ static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFi
 // Surface vertex i of body @p slot, which no triangle's reach found, when a tet of body
 // @p holder held it earlier in the frame (fmFindEmbedded): while it is still behind that body's
 // nearest surface triangle, a contact with it into @p found, pushing it out at most at the
-// depenetration speed, in every substep of the frame. False when it is out.
+// depenetration speed, in every substep of the frame. False when it is in front (out, or within
+// the thickness, where a triangle's reach finds it).
 static bool fmFindStillEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf,
                                 int slot, int i, int holder, double thickness, fmPairContact* found)
 {
 	fmVec3 p = fmLoad(w->bodies[slot].x, i);
 	double side = 0.0;
-	if (!fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side) ||
-	    !(side < thickness))
+	if (!fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side) || !(side < 0.0))
 		return false;
 	found->depth = thickness - side;
 	found->reach = w->def.floor.maxDepenetrationSpeed * w->contactStep;
@@ -960,7 +962,7 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 		return false; // non-finite: the frame's checks report it
 	fmVec3 lo = fmSub(p, fmMakeVec3(reach, reach, reach));
 	fmVec3 hi = fmAdd(p, fmMakeVec3(reach, reach, reach));
-	if (!fmNearOtherBody(w, s, slot, lo, hi))
+	if (!fmNearOtherBody(w, s, slot, lo, hi, false))
 		return false;
 	double start = fmSeconds();
 	int count = fmSpatialHash_Query(&s->hash, &wf->query, lo, hi);
@@ -1255,7 +1257,7 @@ static void fmFindEdgeContacts(const fmWorld* w, const fmContactState* s, fmWork
 	fmVec3 hi = fmMakeVec3(fmax(p.x, q.x) + reach, fmax(p.y, q.y) + reach, fmax(p.z, q.z) + reach);
 	if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) < 1e30))
 		return; // non-finite: the frame's checks report it
-	if (!fmNearOtherBody(w, s, slot, lo, hi))
+	if (!fmNearOtherBody(w, s, slot, lo, hi, true))
 		return;
 	double start = fmSeconds();
 	int count = fmSpatialHash_Query(&s->hash, &wf->query, lo, hi);
@@ -1410,14 +1412,22 @@ static bool fmEndWorkers(fmWorld* w, const fmContactState* s)
 	return ok;
 }
 
+// Whether body @p slot has detection items: it is near another body (with @p edges, one of a
+// higher slot: an edge is tested against those only).
+static bool fmHasItems(const fmWorld* w, const fmContactState* s, int slot, bool edges)
+{
+	return w->bodies[slot].x && s->bodyNear[slot] &&
+	       (!edges || fmNearOtherBody(w, s, slot, s->bodyLower[slot], s->bodyUpper[slot], true));
+}
+
 // The detection items: (body slot, surface vertex) or, with @p edges, (body slot, triangle
-// edge 3 t + k) for every body near another.
-// Returns how many, or -1 when memory is short.
+// edge 3 t + k) for every body that has some (fmHasItems). Returns how many, or -1 when memory
+// is short.
 static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
 {
 	int n = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		if (w->bodies[slot].x && s->bodyNear[slot])
+		if (fmHasItems(w, s, slot, edges))
 			n += edges ? 3 * w->bodies[slot].triangleCount : w->bodies[slot].surfaceVertexCount;
 	if (!fmGrowArray((void**)&s->items, &s->itemCapacity, 0, 2 * n, sizeof(int)))
 		return -1;
@@ -1425,8 +1435,9 @@ static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		const fmBody* b = &w->bodies[slot];
-		int count =
-		    b->x && s->bodyNear[slot] ? edges ? 3 * b->triangleCount : b->surfaceVertexCount : 0;
+		int count = !fmHasItems(w, s, slot, edges) ? 0
+		            : edges                        ? 3 * b->triangleCount
+		                                           : b->surfaceVertexCount;
 		for (int k = 0; k < count; ++k, ++n)
 		{
 			s->items[2 * n] = slot;
