@@ -358,6 +358,21 @@ void fmContact_BeginFrame(fmWorld* w)
 // positions as well as the velocities (fmVertexVsCollider, fmRespondPair): a creep's.
 #define FM_CREEP_FRACTION 0.1
 
+// Implicit steps: the step's positions follow its velocities (x = x0 + h v), so a velocity
+// change @p dv that friction or the stick made along the surface (normal @p n) moves them by
+// h dv too, where the slip it takes back is a creep (h |dv| at most FM_CREEP_FRACTION of the
+// thickness): the slip is not kept in the positions (it was, and stacks and stick contacts
+// crept). A faster slip is an impact's: moving the contact's vertices alone by it would crush
+// their tets. Returns the move per unit of @p dv's scale (h, or 0).
+static double fmCreepStep(const fmWorld* w, fmVec3 dv, fmVec3 n, double thickness)
+{
+	if (w->def.integrator != fm_implicit)
+		return 0.0;
+	double h = w->contactStep;
+	fmVec3 along = fmMulAdd(dv, -fmDot(dv, n), n);
+	return h * fmLength(along) <= FM_CREEP_FRACTION * thickness ? h : 0.0;
+}
+
 // ---- bookkeeping -------------------------------------------------------------------------------
 
 static bool fmRecordPair(fmContactState* s, uint64_t key)
@@ -524,12 +539,11 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		fmKeepFriction(b, i, n, mu * b->mass[i] * pushed / h, vc, c->def.stick);
 	if (!fmTouch(s, b, slot, i))
 		return false;
-	// Implicit: the step's positions follow its velocities, as between bodies (fmRespondPair):
-	// a creeping slip that friction or the stick takes back leaves the position too.
+	// A creeping slip that friction or the stick takes back leaves the position too.
 	fmVec3 taken = fmSub(fmAdd(vc, relative), v);
-	taken = fmMulAdd(taken, -fmDot(taken, n), n);
-	if (implicit && h * fmLength(taken) <= FM_CREEP_FRACTION * thickness)
-		x = fmMulAdd(x, h, taken);
+	double creep = fmCreepStep(w, taken, n, thickness);
+	if (creep > 0.0)
+		x = fmMulAdd(x, creep, fmMulAdd(taken, -fmDot(taken, n), n));
 	fmStore(b->x, i, x);
 	fmStore(b->v, i, fmAdd(vc, relative));
 	fmKeepPins(b, i, before);
@@ -911,18 +925,18 @@ static bool fmNearestTriangle(const fmContactState* s, const fmWorld* w, fmWorke
 	return best < INFINITY && !wf->failed;
 }
 
-// Surface vertex i of body @p slot, which no triangle's reach found, when a tet of another body
-// holds it (it went in deeper than the thickness and the substep's motion, squeezed between
-// bodies or the floor): a contact with that body's nearest surface triangle into @p found,
-// pushing it out at most at the depenetration speed. False when no tet holds it.
-static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf, int slot,
-                           int i, double thickness, fmPairContact* found)
+// A contact of surface vertex i of body @p slot, inside body @p holder, with the holder's
+// nearest surface triangle into @p found, pushing it out at most at the depenetration speed.
+// With @p behind, only while the vertex is still behind that triangle (in front it is out, or
+// within the thickness, where a triangle's reach finds it). False when there is none.
+static bool fmEmbeddedContact(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf,
+                              int slot, int i, int holder, double thickness, bool behind,
+                              fmPairContact* found)
 {
 	fmVec3 p = fmLoad(w->bodies[slot].x, i);
-	int holder = fmTetHash_Holder(&s->tetHash, w, &wf->tetQuery, slot, p, fmMayHold);
-	wf->failed = wf->failed || holder == -2;
 	double side = 0.0;
-	if (holder < 0 || !fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side))
+	if (!fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side) ||
+	    (behind && !(side < 0.0)))
 		return false;
 	found->depth = thickness - side;
 	found->reach = w->def.floor.maxDepenetrationSpeed * w->contactStep;
@@ -930,22 +944,17 @@ static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFi
 	return true;
 }
 
-// Surface vertex i of body @p slot, which no triangle's reach found, when a tet of body
-// @p holder held it earlier in the frame (fmFindEmbedded): while it is still behind that body's
-// nearest surface triangle, a contact with it into @p found, pushing it out at most at the
-// depenetration speed, in every substep of the frame. False when it is in front (out, or within
-// the thickness, where a triangle's reach finds it).
-static bool fmFindStillEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf,
-                                int slot, int i, int holder, double thickness, fmPairContact* found)
+// Surface vertex i of body @p slot, which no triangle's reach found, when a tet of another body
+// holds it (it went in deeper than the thickness and the substep's motion, squeezed between
+// bodies or the floor): its contact with that body (fmEmbeddedContact). False when no tet holds
+// it.
+static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf, int slot,
+                           int i, double thickness, fmPairContact* found)
 {
 	fmVec3 p = fmLoad(w->bodies[slot].x, i);
-	double side = 0.0;
-	if (!fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side) || !(side < 0.0))
-		return false;
-	found->depth = thickness - side;
-	found->reach = w->def.floor.maxDepenetrationSpeed * w->contactStep;
-	found->embedded = true;
-	return true;
+	int holder = fmTetHash_Holder(&s->tetHash, w, &wf->tetQuery, slot, p, fmMayHold);
+	wf->failed = wf->failed || holder == -2;
+	return holder >= 0 && fmEmbeddedContact(w, s, wf, slot, i, holder, thickness, false, found);
 }
 
 // The contact of surface vertex i of body @p slot: the nearest triangle of another body (or
@@ -1023,8 +1032,10 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 	found->embedded = false;
 	if (bestItem < 0 && s->tetHashReady)
 		return fmFindEmbedded(w, s, wf, slot, i, thickness, found);
+	// Held earlier in the frame (fmFindEmbedded): pushed on in every substep while still inside.
 	if (bestItem < 0 && b->embeddedHolder[i] > 0)
-		return fmFindStillEmbedded(w, s, wf, slot, i, b->embeddedHolder[i] - 1, thickness, found);
+		return fmEmbeddedContact(w, s, wf, slot, i, b->embeddedHolder[i] - 1, thickness, true,
+		                         found);
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -1137,16 +1148,8 @@ static bool fmRespondPair(fmWorld* w, fmContactState* s, fmPairContact* pc, doub
 		relative = fmMulAdd(relative, w->def.floor.maxDepenetrationSpeed - separating, pc->normal);
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
 	pc->impulse = fmDot(impulse, pc->normal);
-	// Implicit: the step's positions follow its velocities (x = x0 + h v), so the friction's
-	// velocity change moves them too, h dv along the surface, where the slip it takes back is
-	// a creep (at most FM_CREEP_FRACTION of the thickness): the slip friction took back is not
-	// kept in the positions (it was, and stacks crept sideways). A faster slip is an impact's:
-	// moving the contact's vertices alone by it would crush their tets.
-	double h = w->def.integrator == fm_implicit ? w->contactStep : 0.0;
-	fmVec3 taken = fmSub(relative, before);
-	taken = fmMulAdd(taken, -fmDot(taken, pc->normal), pc->normal);
-	if (h * fmLength(taken) > FM_CREEP_FRACTION * thickness)
-		h = 0.0;
+	// A creeping slip that friction takes back leaves the positions too (fmCreepStep).
+	double h = fmCreepStep(w, fmSub(relative, before), pc->normal, thickness);
 	fmVec3 slip = fmScale(h, fmMulAdd(impulse, -pc->impulse, pc->normal));
 	fmVec3 x = fmLoad(b->x, pc->vertex);
 	double inverse = fmInverseMass(b, pc->vertex);

@@ -5,8 +5,7 @@
 
 static bool fmPenaltyMeets(const fmBody* b, const fmCollider* c)
 {
-	return c->inUse && (b->filter.categoryBits & c->def.filter.maskBits) != 0 &&
-	       (c->def.filter.categoryBits & b->filter.maskBits) != 0;
+	return c->inUse && fmFiltersMeet(b->filter, c->def.filter);
 }
 
 // One penalty term: the point sum_j weight[j] x[vertex[j]] (one vertex, or an edge's point),
