@@ -97,21 +97,48 @@ static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double ma
 	return 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
 }
 
+// Stiffness of vertex i's y DOF in the Newton matrix: the kept assembled diagonal when there is
+// one, else the inertia alone (which makes the estimate of a step's reach an upper bound).
+static double fmVerticalStiffness(const fmBody* b, const fmImplicitCache* c,
+                                  const fmNewtonProblem* pb, int i)
+{
+	if (c->hessianValid && pb->options.product == fm_productAssembled)
+		return c->hessian[9 * (size_t)c->pattern.diagonal[i] + 4];
+	return (pb->inertia + pb->massDamping) * b->mass[i];
+}
+
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
 // floor whose energy gradient points down is held; one the energy pulls up is released).
+// With @p reach, a vertex that is pushed down and above the floor by less than its Newton step
+// would move it (push over stiffness) counts as on it too: Bertsekas' epsilon-active set. The
+// step then puts it on the floor (fmReachFloor). Left free, the CG aims it through the floor,
+// the clamp of the trial point bends the path, and the line search halves the step until it
+// is the size of the gap (a resting box's vertices 4e-8 m up cost nine energy passes a frame).
 static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
-                        const double* x)
+                        const double* x, bool reach)
 {
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		unsigned pin = b->pinned[i];
-		bool onFloor = pb->floor && !(pin & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i] &&
-		               c->gradient[3 * i + 1] > 0.0;
+		double push = c->gradient[3 * i + 1];
+		double gap = pb->floor ? x[3 * i + 1] - c->floorBound[i] : INFINITY;
+		bool onFloor = !(pin & FM_PIN_Y) && push > 0.0 &&
+		               (gap <= 0.0 || (reach && gap * fmVerticalStiffness(b, c, pb, i) <= push));
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
 		c->fixed[3 * i] = (pin & 1u) || stick;
 		c->fixed[3 * i + 1] = (pin & FM_PIN_Y) || onFloor;
 		c->fixed[3 * i + 2] = (pin & 4u) || stick;
 	}
+}
+
+// The direction of the vertices held within reach of the floor: onto it.
+static void fmReachFloor(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	if (pb->floor == NULL)
+		return;
+	for (int i = 0; i < b->vertexCount; ++i)
+		if (c->fixed[3 * i + 1] && !(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] > c->floorBound[i])
+			c->direction[3 * i + 1] = c->floorBound[i] - b->x[3 * i + 1];
 }
 
 static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
@@ -126,7 +153,7 @@ static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
 double fmNewton_Residual(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x)
 {
 	fmNewtonEnergy(b, c, pb, x, c->gradient, NULL);
-	fmMarkFixed(b, c, pb, x);
+	fmMarkFixed(b, c, pb, x, false);
 	double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
 	return fmFreeNorm(3 * b->vertexCount, c->gradient, c->fixed) / scale;
 }
@@ -395,7 +422,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	{
 		double magnitude;
 		double energy = fmNewtonEnergy(b, c, pb, b->x, c->gradient, &magnitude);
-		fmMarkFixed(b, c, pb, b->x);
+		fmMarkFixed(b, c, pb, b->x, false);
 		double gradientNorm = fmFreeNorm(n3, c->gradient, c->fixed);
 		if (!isfinite(energy) || !isfinite(gradientNorm))
 		{
@@ -442,6 +469,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		}
 		lastResidual = result.residual;
 		lastFresh = refresh;
+		fmMarkFixed(b, c, pb, b->x, true);
 		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
 		result.cgIterations += cg.iterations;
 		if (cg.indefinite && pb->exactHessian)
@@ -452,6 +480,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		}
 		result.iterations += 1;
 		fmEnsureDescent(b, c);
+		fmReachFloor(b, c, pb);
 		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm, &inNoise))
 		{
 			result.stalled = true;
