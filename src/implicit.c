@@ -29,9 +29,10 @@
 
 // Force scale of a step: |M g| + |M v / h| + |elastic forces at the start|, over free vertices.
 // The forces at the start are usually those of the last step's final iterate, still cached.
-static double fmStepForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, double h)
+static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double h)
 {
-	fmSolverCache_ForcesAtPositions(b, c);
+	fmSolverCache_ForcesAtPositions(b, c, pb->tasks, pb->arena);
+	const fmVec3 gravity = pb->gravity;
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
@@ -157,13 +158,13 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.gravity = world->def.gravity;
 	pb.floor = floor;
 	pb.tolerance = world->def.tolerance;
-	pb.scale = fmStepForceScale(b, c, pb.gravity, h);
+	pb.tasks = &world->tasks;
+	pb.arena = arena;
+	pb.scale = fmStepForceScale(b, c, &pb, h);
 	pb.maxNewton = world->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
 	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
-	pb.tasks = &world->tasks;
-	pb.arena = arena;
 	fmContactPenalty penalty = {world->colliders,
 	                            world->colliderCapacity,
 	                            FM_PENALTY_KAPPA / (h * h),

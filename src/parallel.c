@@ -13,7 +13,7 @@
 // Polls of a new loop (a worker) or of the last range (the caller) before sleeping on the
 // condition variable: a sleeping thread takes tens of microseconds to wake on a shared machine,
 // more than a small body's whole stage. About 20-80 microseconds of polling.
-#define FM_SPIN_POLLS 2000
+#define FM_SPIN_POLLS 20000
 
 // Let a sibling hyperthread run while polling.
 static void fmPause(void)

@@ -168,12 +168,13 @@ void fmSolverCache_SwapForces(fmImplicitCache* c)
 	c->spare = last;
 }
 
-void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c)
+void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c, const fmTaskSystem* tasks,
+                                     fmArena* arena)
 {
 	if (fmSolverCache_HasForcesAt(b, c, b->x))
 		return;
 	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmSolverCache_NoteForces(b, c, b->x, fmAddElasticForces(b, b->x, c->forces));
+	fmSolverCache_NoteForces(b, c, b->x, fmAddElasticForcesOn(b, b->x, c->forces, tasks, arena));
 }
 
 // One tet's 16 blocks, times scale, into the rows [first, end) of the matrix.

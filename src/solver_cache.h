@@ -85,8 +85,10 @@ void fmSolverCache_NoteForces(const fmBody* body, fmImplicitCache* cache, const 
 // back without evaluating again).
 void fmSolverCache_SwapForces(fmImplicitCache* cache);
 
-// Make cache->forces the elastic forces at body->x (computed unless they are already).
-void fmSolverCache_ForcesAtPositions(const fmBody* body, fmImplicitCache* cache);
+// Make cache->forces the elastic forces at body->x (computed unless they are already), on the
+// workers of @p tasks (NULL: serially) with temporaries from @p arena.
+void fmSolverCache_ForcesAtPositions(const fmBody* body, fmImplicitCache* cache,
+                                     const fmTaskSystem* tasks, fmArena* arena);
 
 // values += scale * (PSD-projected if @p project) elastic Hessian at x, element by element in a
 // fixed order, into the cache's block pattern; on the workers of @p tasks (NULL: serial), the

@@ -25,7 +25,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
 {
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, elastic = 0.0;
-	fmSolverCache_ForcesAtPositions(b, c);
+	fmSolverCache_ForcesAtPositions(b, c, NULL, NULL); // once a solve: serial
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
 		if (fmIsDofPinned(b, k))
