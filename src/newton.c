@@ -176,7 +176,7 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		block[8] += diagonal;
 	}
 	fmTargets_AddDiagonal(b, c->pattern.diagonal, c->hessian);
-	fmContactPenalty_AddHessian(pb->contact, b, b->x, c->pattern.diagonal, c->hessian);
+	fmContactPenalty_AddHessian(pb->contact, b, b->x, &c->pattern, c->hessian);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first

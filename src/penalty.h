@@ -15,6 +15,7 @@
 
 #include "body.h"
 #include "collider.h"
+#include "pcg.h"
 
 // A surface edge's frozen plane for one implicit step (made by contact.c before the step,
 // in body->edgePlanes): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,
@@ -62,10 +63,11 @@ fmVec3 fmContactFriction_Force(const fmBody* body, int i, const double* x, const
 double fmContactPenalty_Work(const fmContactPenalty* penalty, const fmBody* body,
                              const double* xStart);
 
-// Its Gauss-Newton Hessian k n n^T added to the vertices' diagonal blocks (9 doubles a block;
-// @p diagonal[i] the slot of vertex i's block, NULL for one block per vertex).
+// Its Gauss-Newton Hessian k (w w^T) (x) n n^T added into the blocks of @p pattern (9 doubles a
+// block, an edge's term coupling its two vertices); with a NULL @p pattern, one block per vertex
+// and the diagonal blocks only (a preconditioner's).
 void fmContactPenalty_AddHessian(const fmContactPenalty* penalty, const fmBody* body,
-                                 const double* x, const int* diagonal, double* values);
+                                 const double* x, const fmBsrMatrix* pattern, double* values);
 
 // y += the Hessian at @p at times @p dx (the matrix-free product).
 void fmContactPenalty_AddProduct(const fmContactPenalty* penalty, const fmBody* body,
