@@ -12,7 +12,8 @@
 // the conserved one, and contacts change elastic energy in ways the ledger does not book.
 #define FM_LEDGER_RELATIVE 0.01
 
-double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain, fmArena* arena)
+double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain, fmArena* arena,
+                    const fmTaskSystem* tasks)
 {
 	double kinetic = 0.0, shadow = 0.0, elastic;
 	if (shadowStep > 0.0)
@@ -21,7 +22,7 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		double* f = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
 		if (f == NULL)
 			return NAN;
-		elastic = fmAddElasticForces(b, b->x, f);
+		elastic = fmAddElasticForcesOn(b, b->x, f, tasks, arena);
 		fmLoads_AddForces(b, b->x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->vertexCount; ++i)
 		{
@@ -31,7 +32,7 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		fmArena_Release(arena, mark);
 	}
 	else
-		elastic = fmElasticEnergy(b, b->x);
+		elastic = fmElasticEnergyOn(b, b->x, tasks, arena);
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		fmVec3 v = fmLoad(b->v, i);
@@ -69,13 +70,14 @@ static void fmLedgerBook(fmEnergyLedger* ledger, double work)
 		ledger->workIn += work;
 }
 
-void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* arena)
+void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* arena,
+                         const fmTaskSystem* tasks)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 	if (!ledger->started)
 	{
-		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, arena);
+		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, arena, tasks);
 		ledger->measureStep = shadowStep;
 		ledger->started = true;
 		ledger->initialEnergy = b->energyGood;
@@ -88,7 +90,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* 
 		// difference is work the caller did.
 		// A state set to NaN or Inf books nothing: the frame fails on it and restores.
 		double plain;
-		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, arena);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, arena, tasks);
 		if (isfinite(energy))
 		{
 			ledger->plainGood = plain;
@@ -101,7 +103,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* 
 	{
 		// Same state, another step or integrator: only the shadow term changed. Its change is
 		// neither work nor a runaway; re-measure without counting it as work done.
-		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, arena);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, arena, tasks);
 		ledger->work += energy - b->energyGood;
 		b->energyGood = energy;
 		ledger->measureStep = shadowStep;
@@ -156,10 +158,10 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 }
 
 void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep,
-                            fmArena* arena)
+                            fmArena* arena, const fmTaskSystem* tasks)
 {
-	double before = fmBodyEnergy(b, gravity, fromStep, NULL, arena);
-	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, arena) - before;
+	double before = fmBodyEnergy(b, gravity, fromStep, NULL, arena, tasks);
+	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, arena, tasks) - before;
 }
 
 void fmLedger_Commit(fmBody* b, double shadowStep)

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "arena.h"
+#include "parallel.h"
 
 #include <femto/types.h>
 
@@ -39,14 +40,16 @@ typedef struct fmEnergyLedger
 // frames measure with @p shadowStep = h, implicit ones (dissipative) with 0. The gravity part
 // of the correction is included; the potential -M g . x itself is booked as gravity's work.
 // @p plain (may be NULL) gets the plain kinetic + elastic energy. The forces of the shadow term
-// go to a buffer of @p arena (one vector of 3n doubles).
+// go to a buffer of @p arena (one vector of 3n doubles); the elastic pass runs on the workers of
+// @p tasks (NULL: serially), the same bits on any number.
 double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, double* plain,
-                    fmArena* arena);
+                    fmArena* arena, const fmTaskSystem* tasks);
 
 // Start a frame measured with @p shadowStep (fmBodyEnergy): on the first frame record E0;
 // otherwise book what the caller changed since the last good state (impulses, set positions or
 // velocities, material) as work. Updates body->energyGood.
-void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep, fmArena* arena);
+void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep, fmArena* arena,
+                         const fmTaskSystem* tasks);
 
 // Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor,
 // or by the kinematic targets' springs.
@@ -77,7 +80,7 @@ fmLedgerVerdict fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energ
 // measure changed with it. Book the difference at the current state as neutral work (not in
 // workIn), as BeginFrame does between frames.
 void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep, double toStep,
-                            fmArena* arena);
+                            fmArena* arena, const fmTaskSystem* tasks);
 
 // Book the frame's work (after every body of the world passed fmLedger_Check); the good state's
 // energy was measured with @p shadowStep.

@@ -324,7 +324,9 @@ double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
 double fmElasticEnergyOn(const fmBody* body, const double* x, const fmTaskSystem* tasks,
                          fmArena* arena)
 {
-	if (!fmRunsInParallel(body, tasks))
+	const fmImplicitCache* cache = body->implicitCache; // as fmElasticEnergy
+	if (!fmRunsInParallel(body, tasks) ||
+	    (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x)))
 		return fmElasticEnergy(body, x);
 	size_t mark = fmArena_Mark(arena);
 	fmForcesTask c = {body, x, NULL, NULL, fmArena_DoublesUninit(arena, (size_t)body->tetCount)};

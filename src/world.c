@@ -541,7 +541,7 @@ static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double fra
 	fmBody* b = &w->bodies[index];
 	double plain = NAN;
 	double energy = fmFirstNonFiniteVertex(b) < 0
-	                    ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain, &w->arena)
+	                    ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain, &w->arena, &w->tasks)
 	                    : NAN;
 	*energyAfter = energy;
 	if (!isfinite(energy) || !isfinite(plain))
@@ -831,7 +831,8 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		// which is neither work nor a runaway.
 		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)
 			if (w->bodies[i].x)
-				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &w->arena);
+				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &w->arena,
+				                       &w->tasks);
 		*lastStep = h;
 	}
 	return fm_ok;
@@ -867,7 +868,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	w->sleepEventCount = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
-			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &w->arena);
+			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &w->arena, &w->tasks);
 
 	fmWarnExplicitStep(w, timeStep, subStepCount);
 
