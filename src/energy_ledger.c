@@ -4,6 +4,7 @@
 #include "body.h"
 #include "forces.h"
 #include "loads.h"
+#include "tet_blocks.h"
 
 #include <math.h>
 #include <string.h>
@@ -12,27 +13,29 @@
 // the conserved one, and contacts change elastic energy in ways the ledger does not book.
 #define FM_LEDGER_RELATIVE 0.01
 
-double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain, fmArena* arena,
-                    const fmTaskSystem* tasks)
+double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
+                    const fmEnergyPass* pass)
 {
 	double kinetic = 0.0, shadow = 0.0, elastic;
 	if (shadowStep > 0.0)
 	{
-		size_t mark = fmArena_Mark(arena);
-		double* f = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+		size_t mark = fmArena_Mark(pass->arena);
+		double* f = fmArena_Doubles(pass->arena, 3 * (size_t)b->vertexCount);
 		if (f == NULL)
 			return NAN;
-		elastic = fmAddElasticForcesOn(b, b->x, f, tasks, arena);
+		const fmTetBlocks* blocks = fmTetBlocks_Used(b, pass->simd);
+		elastic = blocks ? fmTetBlocks_AddForces(blocks, b, b->x, f, pass->simd, pass->tasks, true)
+		                 : fmAddElasticForcesOn(b, b->x, f, pass->tasks, pass->arena);
 		fmLoads_AddForces(b, b->x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->vertexCount; ++i)
 		{
 			fmVec3 force = fmMulAdd(fmLoad(f, i), b->mass[i], gravity);
 			shadow += fmDot(fmLoad(b->v, i), force);
 		}
-		fmArena_Release(arena, mark);
+		fmArena_Release(pass->arena, mark);
 	}
 	else
-		elastic = fmElasticEnergyOn(b, b->x, tasks, arena);
+		elastic = fmElasticEnergyOn(b, b->x, pass->tasks, pass->arena);
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		fmVec3 v = fmLoad(b->v, i);
@@ -70,14 +73,13 @@ static void fmLedgerBook(fmEnergyLedger* ledger, double work)
 		ledger->workIn += work;
 }
 
-void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* arena,
-                         const fmTaskSystem* tasks)
+void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmEnergyPass* pass)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 	if (!ledger->started)
 	{
-		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, arena, tasks);
+		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, pass);
 		ledger->measureStep = shadowStep;
 		ledger->started = true;
 		ledger->initialEnergy = b->energyGood;
@@ -90,7 +92,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* 
 		// difference is work the caller did.
 		// A state set to NaN or Inf books nothing: the frame fails on it and restores.
 		double plain;
-		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, arena, tasks);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, pass);
 		if (isfinite(energy))
 		{
 			ledger->plainGood = plain;
@@ -103,7 +105,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, fmArena* 
 	{
 		// Same state, another step or integrator: only the shadow term changed. Its change is
 		// neither work nor a runaway; re-measure without counting it as work done.
-		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, arena, tasks);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, pass);
 		ledger->work += energy - b->energyGood;
 		b->energyGood = energy;
 		ledger->measureStep = shadowStep;
@@ -158,10 +160,10 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 }
 
 void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep,
-                            fmArena* arena, const fmTaskSystem* tasks)
+                            const fmEnergyPass* pass)
 {
-	double before = fmBodyEnergy(b, gravity, fromStep, NULL, arena, tasks);
-	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, arena, tasks) - before;
+	double before = fmBodyEnergy(b, gravity, fromStep, NULL, pass);
+	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, pass) - before;
 }
 
 void fmLedger_Commit(fmBody* b, double shadowStep)

@@ -16,6 +16,19 @@
 
 struct fmBody;
 
+// How the ledger's elastic pass runs: the forces of the shadow term in a buffer of @p arena (one
+// vector of 3n doubles), on the workers of @p tasks (NULL: serially; the same bits on any
+// number). An explicit body whose steps take their forces from the batched kernels (tet_blocks.h,
+// at @p simd) is measured by them too, forces and energy in one pass at their speed (float per
+// tet, summed in double: a relative error of about 1e-7 / strain, far inside the ledger's 1% and
+// its floor); any other body by the double-precision reference.
+typedef struct fmEnergyPass
+{
+	fmArena* arena;
+	const fmTaskSystem* tasks;
+	fmSimdLevel simd;
+} fmEnergyPass;
+
 typedef struct fmEnergyLedger
 {
 	bool started;            // the first frame has set initialEnergy
@@ -39,17 +52,16 @@ typedef struct fmEnergyLedger
 // difference from E swings by several percent at steps near the stability limit. Explicit
 // frames measure with @p shadowStep = h, implicit ones (dissipative) with 0. The gravity part
 // of the correction is included; the potential -M g . x itself is booked as gravity's work.
-// @p plain (may be NULL) gets the plain kinetic + elastic energy. The forces of the shadow term
-// go to a buffer of @p arena (one vector of 3n doubles); the elastic pass runs on the workers of
-// @p tasks (NULL: serially), the same bits on any number.
+// @p plain (may be NULL) gets the plain kinetic + elastic energy. @p pass says how the elastic
+// pass runs (below).
 double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, double* plain,
-                    fmArena* arena, const fmTaskSystem* tasks);
+                    const struct fmEnergyPass* pass);
 
 // Start a frame measured with @p shadowStep (fmBodyEnergy): on the first frame record E0;
 // otherwise book what the caller changed since the last good state (impulses, set positions or
 // velocities, material) as work. Updates body->energyGood.
-void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep, fmArena* arena,
-                         const fmTaskSystem* tasks);
+void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep,
+                         const fmEnergyPass* pass);
 
 // Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor,
 // or by the kinematic targets' springs.
@@ -80,7 +92,7 @@ fmLedgerVerdict fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energ
 // measure changed with it. Book the difference at the current state as neutral work (not in
 // workIn), as BeginFrame does between frames.
 void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep, double toStep,
-                            fmArena* arena, const fmTaskSystem* tasks);
+                            const fmEnergyPass* pass);
 
 // Book the frame's work (after every body of the world passed fmLedger_Check); the good state's
 // energy was measured with @p shadowStep.

@@ -81,17 +81,13 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 // is short).
 static void fmAddExplicitElasticForces(const fmWorld* world, fmBody* b, fmArena* arena)
 {
-	if (fmTetBlocks_Applies(b, world->simd))
-	{
-		if (b->tetBlocks == NULL)
-			b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
-		if (b->tetBlocks != NULL && fmTetBlocks_Accurate(b->tetBlocks, b))
-		{
-			fmTetBlocks_AddForces(b->tetBlocks, b, b->x, b->f, world->simd, &world->tasks);
-			return;
-		}
-	}
-	fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
+	if (b->tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
+		b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
+	const fmTetBlocks* blocks = fmTetBlocks_Used(b, world->simd);
+	if (blocks != NULL)
+		fmTetBlocks_AddForces(blocks, b, b->x, b->f, world->simd, &world->tasks, false);
+	else
+		fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
 }
 
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)

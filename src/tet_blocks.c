@@ -23,6 +23,13 @@ bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
 	return density * 10.0 * b->restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
 }
 
+const fmTetBlocks* fmTetBlocks_Used(const fmBody* body, fmSimdLevel level)
+{
+	const fmTetBlocks* tb = body->tetBlocks;
+	return tb != NULL && fmTetBlocks_Applies(body, level) && fmTetBlocks_Accurate(tb, body) ? tb
+	                                                                                        : NULL;
+}
+
 fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
 {
 	switch (level)
@@ -128,9 +135,10 @@ uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount)
 	// third of 4 per tet on a tet mesh; 4 per tet is the most), colours, one worker's scratch.
 	// Incidences: 4 per tet, with a start per vertex list entry; the smoothing's vertex graph:
 	// at most 16 entries per tet, two ints each, and a start per vertex.
+	// And one energy per block.
 	return batches * (sizeof(fmTetBatch) + 1) + 2 * (blocks + 1) * sizeof(int) +
-	       8 * tetCount * sizeof(int) + 4 * tetCount * sizeof(uint16_t) + 66 * sizeof(int) +
-	       32 * tetCount * sizeof(int) + (vertexCount + 1) * sizeof(int) +
+	       blocks * sizeof(double) + 8 * tetCount * sizeof(int) + 4 * tetCount * sizeof(uint16_t) +
+	       66 * sizeof(int) + 32 * tetCount * sizeof(int) + (vertexCount + 1) * sizeof(int) +
 	       fmScratchBytes((int)(vertexCount < blockVertices ? vertexCount : blockVertices)) +
 	       sizeof(fmTetBlocks);
 }
@@ -142,6 +150,7 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb->batches, fmTetBatch, tb->batchCount);
 	FM_FREE_ARRAY(tb->laneCount, uint8_t, tb->batchCount);
 	FM_FREE_ARRAY(tb->blockStart, int, tb->blockCount + 1);
+	FM_FREE_ARRAY(tb->blockEnergy, double, tb->blockCount);
 	FM_FREE_ARRAY(tb->colourStart, int, tb->colourCount + 1);
 	FM_FREE_ARRAY(tb->blockVertexStart, int, tb->blockCount + 1);
 	FM_FREE_ARRAY(tb->blockVertices, int, 4 * (size_t)tb->tetCount);
@@ -244,7 +253,8 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->tetCount);
 	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->tetCount + 1);
 	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->tetCount);
-	return tb->batches && tb->laneCount && tb->blockStart && tb->colourStart &&
+	tb->blockEnergy = FM_ALLOC_ZERO(double, blockCount);
+	return tb->batches && tb->laneCount && tb->blockStart && tb->colourStart && tb->blockEnergy &&
 	       tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
 
@@ -334,6 +344,7 @@ typedef struct fmForcePass
 	double* f;
 	fmTetKernelFcn* kernel;
 	fmKernelMaterial material;
+	bool energy;    // the blocks' energies wanted
 	int firstBlock; // of the colour being run
 } fmForcePass;
 
@@ -370,9 +381,10 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 	fmMat3 F = fmMatMul(&Du, &DmInv), P;
 	for (int i = 0; i < 3; ++i)
 		F.m[4 * i] += 1.0;
-	fmMaterial_Evaluate(&p->body->material, &F, &P, NULL);
+	double psi = fmMaterial_Evaluate(&p->body->material, &F, &P, NULL);
 	fmMat3 M = fmMatMulT(&P, &DmInv);
 	double V0 = (double)batch->volume[l];
+	out->energy[l] = (float)(V0 * psi);
 	for (int i = 0; i < 3; ++i)
 	{
 		double sum = 0.0;
@@ -387,7 +399,8 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 }
 
 // One block: gather its vertices' displacements, run its batches, then every vertex sums its
-// entries of the block's forces in a fixed order and adds them to the body's.
+// entries of the block's forces in a fixed order and adds them to the body's; the block's
+// energy is its tets' in order.
 static void fmForceBlock(const fmForcePass* p, int k, int worker)
 {
 	const fmTetBlocks* tb = p->blocks;
@@ -396,6 +409,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	fmTetBatchForces* out;
 	double* u = fmScratch(tb, worker, &out);
 	fmGatherDisplacements(verts, count, p->x, p->body->x0, u);
+	double energy = 0.0;
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
 		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
@@ -403,7 +417,11 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			if (o->fallback[l])
 				fmReferenceLane(p, &tb->batches[j], l, u, o);
+		for (int l = 0; p->energy && l < tb->laneCount[j]; ++l)
+			energy += (double)o->energy[l];
 	}
+	if (p->energy)
+		tb->blockEnergy[k] = energy;
 	const float* forces = &out[0].force[0][0];
 	// Three named sums: an array here would be kept in memory, a chain of stores and reloads.
 	for (int i = 0; i < count; ++i)
@@ -428,8 +446,8 @@ static void fmForceBlocksTask(int start, int end, int worker, void* context)
 		fmForceBlock(p, k, worker);
 }
 
-void fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x, double* f,
-                           fmSimdLevel level, const fmTaskSystem* tasks)
+double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x, double* f,
+                             fmSimdLevel level, const fmTaskSystem* tasks, bool energy)
 {
 	fmForcePass p = {tb,
 	                 body,
@@ -437,6 +455,7 @@ void fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const doub
 	                 f,
 	                 fmTetBlocks_Kernel(level),
 	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
+	                 energy,
 	                 0};
 	// A colour at a time, its blocks in ranges of at least minBlocksPerRange; workers beyond
 	// the layout's scratch run serially (the same bits).
@@ -447,6 +466,10 @@ void fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const doub
 		fmParallelFor(run, tb->colourStart[c + 1] - p.firstBlock, tb->minBlocksPerRange,
 		              fmForceBlocksTask, &p);
 	}
+	double sum = 0.0; // in block order: the same bits on any number of workers
+	for (int k = 0; energy && k < tb->blockCount; ++k)
+		sum += tb->blockEnergy[k];
+	return energy ? sum : 0.0;
 }
 
 // ---- the smoothing sums -------------------------------------------------------------------------

@@ -21,7 +21,8 @@ typedef struct fmTetBlocks
 	fmTetBatch* batches; // in colour order, then block order
 	uint8_t* laneCount;  // tets in each batch (FM_LANES but in a block's last batch)
 	int blockCount;
-	int* blockStart; // blockCount + 1 batch offsets
+	int* blockStart;     // blockCount + 1 batch offsets
+	double* blockEnergy; // blockCount: each block's energy in the last pass that asked for it
 	int colourCount;
 	int* colourStart; // colourCount + 1 block offsets
 	// The vertices of block k are blockVertices[blockVertexStart[k] .. blockVertexStart[k + 1]),
@@ -64,6 +65,10 @@ bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
 // Whether the typical strain of @p body is large enough for the float kernels (above).
 bool fmTetBlocks_Accurate(const fmTetBlocks* blocks, const fmBody* body);
 
+// The body's layout when its explicit steps take their forces from it at @p level (made, the
+// kernels apply and are accurate for it), else NULL.
+const fmTetBlocks* fmTetBlocks_Used(const fmBody* body, fmSimdLevel level);
+
 // Build the layout of a body (from its rest shape) for force passes on up to @p workerCount
 // workers; NULL when memory is short.
 fmTetBlocks* fmTetBlocks_Create(const fmBody* body, int workerCount);
@@ -83,6 +88,8 @@ void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, doubl
                                const fmTaskSystem* tasks);
 
 // f += the elastic forces at positions @p x, with the kernel of @p level, on the workers (at most
-// the count the layout was made for).
-void fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
-                           double* f, fmSimdLevel level, const fmTaskSystem* tasks);
+// the count the layout was made for). With @p energy, returns the elastic energy (J): each
+// tet's from the kernel (float), summed in double block by block, then over the blocks in order
+// (the same bits on any number of workers); else 0.
+double fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
+                             double* f, fmSimdLevel level, const fmTaskSystem* tasks, bool energy);

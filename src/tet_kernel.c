@@ -110,23 +110,55 @@ FM_INLINE fmFloatV fmV_Log1p(fmFloatV j)
 	return fmV_Add(fmV_Mul(kf, ln2Hi), fmV_Add(fmV_Add(lnm, c), fmV_Mul(kf, ln2Lo)));
 }
 
-FM_INLINE void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+// psi = P : eps / 2 for the quadratic energies (linear: mu eps:eps + lambda/2 tr(eps)^2; StVK
+// the same in G), the double contraction of a matrix of lanes with another.
+FM_INLINE fmFloatV fmMat3V_Contract(const fmMat3V* a, const fmMat3V* b)
+{
+	fmFloatV sum = fmV_Mul(a->m[0], b->m[0]);
+	for (int k = 1; k < 9; ++k)
+		sum = fmV_Add(sum, fmV_Mul(a->m[k], b->m[k]));
+	return sum;
+}
+
+FM_INLINE fmFloatV fmV_Abs(fmFloatV a)
+{
+	return fmV_FromBits(fmI_And(fmV_Bits(a), fmI_Set(0x7fffffff)));
+}
+
+// j - ln(1 + j) given ln(1 + j): its series j^2/2 - j^3/3 + ... to j^10 for |j| < 1/4 (the
+// difference would lose the digits the two share), the difference above.
+FM_INLINE fmFloatV fmV_JMinusLog1p(fmFloatV j, fmFloatV lnJ)
+{
+	fmFloatV series = fmV_Set(1.0f / 10.0f);
+	for (int n = 9; n >= 2; --n)
+		series = fmV_Sub(fmV_Set(1.0f / (float)n), fmV_Mul(j, series));
+	series = fmV_Mul(fmV_Mul(j, j), series);
+	fmIntV small = fmV_Less(fmV_Abs(j), fmV_Set(0.25f));
+	return fmV_Select(small, series, fmV_Sub(j, lnJ));
+}
+
+FM_INLINE void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
+                              fmFloatV* psi)
 {
 	fmFloatV twoMu = fmV_Add(mu, mu), half = fmV_Set(0.5f);
 	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(H));
+	fmMat3V eps;
 	for (int i = 0; i < 3; ++i)
 		for (int j = 0; j < 3; ++j)
 		{
-			fmFloatV eps = fmV_Mul(half, fmV_Add(H->m[3 * i + j], H->m[3 * j + i]));
-			P->m[3 * i + j] = fmV_Mul(twoMu, eps);
+			eps.m[3 * i + j] = fmV_Mul(half, fmV_Add(H->m[3 * i + j], H->m[3 * j + i]));
+			P->m[3 * i + j] = fmV_Mul(twoMu, eps.m[3 * i + j]);
 		}
 	for (int i = 0; i < 3; ++i)
 		P->m[4 * i] = fmV_Add(P->m[4 * i], lt);
+	*psi = fmV_Mul(half, fmMat3V_Contract(P, &eps));
 }
 
-FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
+                            fmFloatV* psi)
 {
-	// G = (H + H^T + H^T H) / 2, symmetric; S = 2 mu G + lambda tr(G) I; P = S + H S.
+	// G = (H + H^T + H^T H) / 2, symmetric; S = 2 mu G + lambda tr(G) I; P = S + H S;
+	// psi = S : G / 2.
 	fmMat3V S;
 	const fmFloatV half = fmV_Set(0.5f), twoMu = fmV_Add(mu, mu);
 	for (int i = 0; i < 3; ++i)
@@ -138,11 +170,13 @@ FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMa
 			fmFloatV g = fmV_Mul(half, fmV_Add(fmV_Add(H->m[3 * i + j], H->m[3 * j + i]), hth));
 			S.m[3 * i + j] = S.m[3 * j + i] = g;
 		}
+	const fmMat3V G = S;
 	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(&S));
 	for (int k = 0; k < 9; ++k)
 		S.m[k] = fmV_Mul(twoMu, S.m[k]);
 	for (int i = 0; i < 3; ++i)
 		S.m[4 * i] = fmV_Add(S.m[4 * i], lt);
+	*psi = fmV_Mul(half, fmMat3V_Contract(&S, &G));
 	fmMat3V HS = fmMat3V_Mul(H, &S);
 	for (int k = 0; k < 9; ++k)
 		P->m[k] = fmV_Add(S.m[k], HS.m[k]);
@@ -167,14 +201,9 @@ FM_INLINE void fmNearIdentity_Make(const fmMat3V* A, fmNearIdentity* n)
 	n->j = fmV_Add(fmV_Add(n->t, n->c2), n->det);
 }
 
-FM_INLINE fmFloatV fmV_Abs(fmFloatV a)
-{
-	return fmV_FromBits(fmI_And(fmV_Bits(a), fmI_Set(0x7fffffff)));
-}
-
 // Corotated; @p fallback gets the lanes left to the reference.
 FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
-                                 fmIntV* fallback)
+                                 fmIntV* fallback, fmFloatV* psi)
 {
 	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f), half = fmV_Set(0.5f);
 	fmNearIdentity h;
@@ -203,17 +232,70 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 		moving = fmV_Less(fmV_Set(1e-6f), change);
 	}
 	*fallback = fmI_Or(flat, moving);
+	// psi = mu |F - R|^2 + lambda/2 (J - 1)^2, F - R = H - Y.
 	fmFloatV twoMu = fmV_Add(mu, mu), lj = fmV_Mul(lambda, h.j), onePlusT = fmV_Add(one, h.t);
+	fmFloatV stretch = zero;
 	for (int k = 0; k < 9; ++k)
 	{
 		fmFloatV diag = (k % 4 == 0) ? fmV_Add(onePlusT, h.c2) : zero;
 		fmFloatV cof = fmV_Add(fmV_Sub(diag, fmV_Mul(onePlusT, h.AT.m[k])), h.AT2.m[k]);
-		P->m[k] = fmV_Add(fmV_Mul(twoMu, fmV_Sub(H->m[k], Y.m[k])), fmV_Mul(lj, cof));
+		fmFloatV d = fmV_Sub(H->m[k], Y.m[k]);
+		stretch = fmV_Add(stretch, fmV_Mul(d, d));
+		P->m[k] = fmV_Add(fmV_Mul(twoMu, d), fmV_Mul(lj, cof));
 	}
+	*psi = fmV_Add(fmV_Mul(mu, stretch), fmV_Mul(fmV_Mul(half, lj), h.j));
 }
 
 // Neo-Hookean: P = alpha (F J - cof F) + beta cof F + gamma F, alpha, beta, gamma per lane.
-FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P)
+// Green's strain G = (H + H^T + H^T H) / 2, symmetric.
+FM_INLINE fmMat3V fmGreenStrain(const fmMat3V* H)
+{
+	fmMat3V G;
+	const fmFloatV half = fmV_Set(0.5f);
+	for (int i = 0; i < 3; ++i)
+		for (int j = i; j < 3; ++j)
+		{
+			fmFloatV hth =
+			    fmV_Add(fmV_Add(fmV_Mul(H->m[i], H->m[j]), fmV_Mul(H->m[3 + i], H->m[3 + j])),
+			            fmV_Mul(H->m[6 + i], H->m[6 + j]));
+			G.m[3 * i + j] = G.m[3 * j + i] =
+			    fmV_Mul(half, fmV_Add(fmV_Add(H->m[3 * i + j], H->m[3 * j + i]), hth));
+		}
+	return G;
+}
+
+// Neo-Hookean psi = mu (tr G - ln J) + lambda/2 (ln J)^2 above the clamp (I1 - 3 = 2 tr G), from
+// Green's strain, which a rotation does not disturb beyond float's 1e-7 of its entries (H's are
+// of order 1 under a rotation and would cancel): with k = J^2 - 1 = det(I + 2G) - 1 =
+// 2 tr G + 4 c2(G) + 8 det G, ln J = ln(1 + k) / 2 and tr G - ln J = (k - ln(1 + k)) / 2 -
+// 2 c2(G) - 4 det G, every term of second order at small strain.
+FM_INLINE fmFloatV fmNeoHookeanEnergy(const fmMat3V* H, fmFloatV mu, fmFloatV lambda)
+{
+	const fmFloatV half = fmV_Set(0.5f), two = fmV_Set(2.0f), four = fmV_Set(4.0f);
+	fmMat3V G = fmGreenStrain(H);
+	fmMat3V G2 = fmMat3V_Mul(&G, &G);
+	fmFloatV t = fmMat3V_Trace(&G), det = fmMat3V_Det(&G);
+	fmFloatV c2 = fmV_Mul(half, fmV_Sub(fmV_Mul(t, t), fmMat3V_Trace(&G2)));
+	fmFloatV k = fmV_Add(fmV_Mul(two, t), fmV_Add(fmV_Mul(four, c2), fmV_Mul(fmV_Set(8.0f), det)));
+	fmFloatV log1pK = fmV_Log1p(k), lnJ = fmV_Mul(half, log1pK);
+	fmFloatV trMinusLn = fmV_Sub(fmV_Mul(half, fmV_JMinusLog1p(k, log1pK)),
+	                             fmV_Add(fmV_Mul(two, c2), fmV_Mul(four, det)));
+	return fmV_Add(fmV_Mul(mu, trMinusLn), fmV_Mul(fmV_Mul(half, lambda), fmV_Mul(lnJ, lnJ)));
+}
+
+// Below the clamp (a collapsed or inverted tet, far from small strain): the plain formula
+// mu/2 (2 tr H + |H|^2) - mu l + lambda/2 l^2 with the clamped l.
+FM_INLINE fmFloatV fmNeoHookeanPlainEnergy(const fmMat3V* H, fmFloatV t, fmFloatV l, fmFloatV mu,
+                                           fmFloatV lambda)
+{
+	const fmFloatV half = fmV_Set(0.5f);
+	fmFloatV i1 = fmV_Add(fmV_Add(t, t), fmMat3V_Contract(H, H));
+	return fmV_Add(fmV_Sub(fmV_Mul(fmV_Mul(half, mu), i1), fmV_Mul(mu, l)),
+	               fmV_Mul(fmV_Mul(half, lambda), fmV_Mul(l, l)));
+}
+
+FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
+                                  fmFloatV* psi)
 {
 	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f);
 	fmNearIdentity h;
@@ -237,6 +319,8 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 	fmFloatV beta = fmV_Select(below, fmV_Mul(fmV_Sub(fmV_Mul(lambda, lBelow), mu), dlBelow),
 	                           fmV_Div(fmV_Mul(lambda, lnJ), safeJ));
 	fmFloatV gamma = fmV_Select(below, mu, zero);
+	*psi = fmV_Select(below, fmNeoHookeanPlainEnergy(H, t, lBelow, mu, lambda),
+	                  fmNeoHookeanEnergy(H, mu, lambda));
 
 	for (int k = 0; k < 9; ++k)
 	{
@@ -273,19 +357,22 @@ void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);
 	fmMat3V P;
+	fmFloatV psi;
 	fmIntV fallback = fmI_Set(0);
 	if (material->model == fm_stvk)
-		fmStvkStress(&H, mu, lambda, &P);
+		fmStvkStress(&H, mu, lambda, &P, &psi);
 	else if (material->model == fm_corotated)
-		fmCorotatedStress(&H, mu, lambda, &P, &fallback);
+		fmCorotatedStress(&H, mu, lambda, &P, &fallback, &psi);
 	else if (material->model == fm_neoHookean)
-		fmNeoHookeanStress(&H, mu, lambda, &P);
+		fmNeoHookeanStress(&H, mu, lambda, &P, &psi);
 	else
-		fmLinearStress(&H, mu, lambda, &P);
+		fmLinearStress(&H, mu, lambda, &P, &psi);
 	// force on node k + 1 = -V0 P (row k of Dm^-1): M = P Dm^-T, column k.
 	fmMat3V DmInvT = fmMat3V_Transpose(&DmInv);
 	fmMat3V M = fmMat3V_Mul(&P, &DmInvT);
-	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), fmV_Load(batch->volume));
+	fmFloatV volume = fmV_Load(batch->volume);
+	fmV_Store(out->energy, fmV_Mul(volume, psi));
+	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), volume);
 	for (int i = 0; i < 3; ++i)
 	{
 		fmFloatV sum = fmV_Set(0.0f);

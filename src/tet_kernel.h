@@ -17,10 +17,11 @@ typedef struct fmTetBatch
 } fmTetBatch;
 
 // A batch's output: the elastic force on node a (0..3), component i, at force[3 a + i] (node 0
-// gets minus the sum of the others).
+// gets minus the sum of the others), and each tet's elastic energy.
 typedef struct fmTetBatchForces
 {
 	float force[12][FM_LANES];
+	float energy[FM_LANES]; // V0 psi (J); 0 in unused lanes
 	// Non-zero in lanes the kernel leaves to the double-precision reference (corotated: tets
 	// near flat or inverted, where its polar iteration does not apply; tet_blocks.c redoes
 	// them). Set on every variant alike, so the choice does not depend on the instruction set.

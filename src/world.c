@@ -534,14 +534,22 @@ static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double en
 	return fm_errNumerical;
 }
 
+// How the energy ledger measures the world's bodies (energy_ledger.h).
+static fmEnergyPass fmWorldEnergyPass(fmWorld* w)
+{
+	fmEnergyPass pass = {&w->arena, &w->tasks, w->simd};
+	return pass;
+}
+
 // Health of a body after a frame: finite state, and energy within the ledger's bound.
 static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double frameTime,
                             double* energyAfter)
 {
 	fmBody* b = &w->bodies[index];
 	double plain = NAN;
+	fmEnergyPass pass = fmWorldEnergyPass(w);
 	double energy = fmFirstNonFiniteVertex(b) < 0
-	                    ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain, &w->arena, &w->tasks)
+	                    ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain, &pass)
 	                    : NAN;
 	*energyAfter = energy;
 	if (!isfinite(energy) || !isfinite(plain))
@@ -829,10 +837,10 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		}
 		// The ledger measures the shadow energy with the step: a new step changes the measure,
 		// which is neither work nor a runaway.
+		fmEnergyPass pass = fmWorldEnergyPass(w);
 		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)
 			if (w->bodies[i].x)
-				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &w->arena,
-				                       &w->tasks);
+				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &pass);
 		*lastStep = h;
 	}
 	return fm_ok;
@@ -866,9 +874,10 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	fmContact_BeginFrame(w);
 	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
 	w->sleepEventCount = 0;
+	fmEnergyPass pass = fmWorldEnergyPass(w);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
-			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &w->arena, &w->tasks);
+			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &pass);
 
 	fmWarnExplicitStep(w, timeStep, subStepCount);
 

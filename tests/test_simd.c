@@ -7,6 +7,7 @@
 
 #include "body.h"
 #include "forces.h"
+#include "material.h"
 #include "simd.h"
 #include "tet_blocks.h"
 
@@ -38,8 +39,8 @@ static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
 }
 
 // The batched forces at the body's positions (caller frees), every colour split into ranges of
-// one block, so that even a small body runs on every worker.
-static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers)
+// one block, so that even a small body runs on every worker; their energy into @p energy.
+static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, double* energy)
 {
 	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
 	if (blocks != NULL)
@@ -55,25 +56,49 @@ static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers)
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	fmTetBlocks_AddForces(blocks, b, b->x, f, level, &tasks);
+	*energy = fmTetBlocks_AddForces(blocks, b, b->x, f, level, &tasks, true);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
 }
 
-// max |batched - reference| / max |reference| at the body's positions.
-static double relativeError(int* failures_, const fmBody* b)
+// The body's energy in linear elasticity with its material's Lame constants: every model's to
+// a relative O(strain) at small strain, and free of the cancellation that leaves the double
+// reference of Neo-Hookean (mu/2 (I1 - 3) - mu ln J, terms of first order) with about 1e-16 / e^2
+// relative error at strain e (1e-2 at 1e-7).
+static double linearEnergy(const fmBody* b)
+{
+	fmMaterial linear = b->material;
+	linear.model = fm_linear;
+	double energy = 0.0;
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(b, b->x, t);
+		energy += b->restVolume[t] * fmMaterial_Evaluate(&linear, &F, NULL, NULL);
+	}
+	return energy;
+}
+
+// max |batched - reference| / max |reference| of the forces at the body's positions; the
+// relative error of the batched energy into @p energyError (against the double reference, or
+// with @p smallStrain against linear elasticity's).
+static double relativeError(int* failures_, const fmBody* b, double* energyError, bool smallStrain)
 {
 	size_t n3 = 3 * (size_t)b->vertexCount;
 	double* ref = calloc(n3, sizeof *ref);
-	double* fast = batchedForces(b, fm_simdScalar, 1);
+	double energy = 0.0;
+	double* fast = batchedForces(b, fm_simdScalar, 1, &energy);
+	*energyError = INFINITY;
 	CHECK(ref != NULL && fast != NULL);
 	if (ref == NULL || fast == NULL)
 	{
 		free(ref), free(fast);
 		return INFINITY;
 	}
-	fmAddElasticForces(b, b->x, ref);
+	double reference = fmAddElasticForces(b, b->x, ref);
+	if (smallStrain)
+		reference = linearEnergy(b);
+	*energyError = fabs(energy - reference) / fabs(reference);
 	double err = 0.0, scale = 0.0;
 	for (size_t k = 0; k < n3; ++k)
 	{
@@ -101,6 +126,7 @@ TEST(batched_forces_match_the_reference_kernel)
 	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean, fm_corotated};
 	// From 1e-7 strain (where forming F = I + H in float would lose every digit) to 30% strain.
 	const double amplitudes[] = {1e-7, 1e-4, 1e-2, 0.1};
+	double worstEnergy = 0.0;
 	for (int m = 0; m < 4; ++m)
 		for (int a = 0; a < 4; ++a)
 		{
@@ -113,12 +139,21 @@ TEST(batched_forces_match_the_reference_kernel)
 			// A fixed displacement of the whole body must not matter (u = x - X in double).
 			for (int k = 0; k < 3 * b->vertexCount; ++k)
 				b->x[k] += 1000.0;
-			double err = relativeError(failures_, b);
+			double energyErr, err = relativeError(failures_, b, &energyErr, a == 0);
 			if (!(err < 5e-7)) // float: about 1e-7 measured
 				FAIL_AT("%s at amplitude %g: relative error %g", fmMaterialModelName(models[m]),
 				        amplitudes[a], err);
+			// The energy too, at every strain (Neo-Hookean's in a form that does not cancel; at
+			// 1e-7 against linear elasticity's).
+			if (!(energyErr < 1e-6))
+				FAIL_AT("%s at amplitude %g: energy's relative error %g",
+				        fmMaterialModelName(models[m]), amplitudes[a], energyErr);
+			worstEnergy = fmax(worstEnergy, energyErr);
 			fmDestroyWorld(world);
 		}
+	printf("  energies within %.2g (relative) of the double-precision reference (at strain 1e-7: "
+	       "of linear elasticity)\n",
+	       worstEnergy);
 }
 
 // Uniform dilation and compression, F = s I: J = s^3 from 0.008 (below the ln J clamp of 0.2)
@@ -138,10 +173,10 @@ TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 			return;
 		for (int k = 0; k < 3 * b->vertexCount; ++k)
 			b->x[k] = scales[s] * b->x0[k] + (k % 3 == 1 ? 0.01 * b->x0[k - 1] : 0.0);
-		double err = relativeError(failures_, b);
-		if (!(err < 5e-6)) // 1e-7 above the clamp, 2.4e-6 far below it measured
-			FAIL_AT("%s, F = %g I (plus shear): relative error %g", fmMaterialModelName(model),
-			        scales[s], err);
+		double energyErr, err = relativeError(failures_, b, &energyErr, false);
+		if (!(err < 5e-6) || !(energyErr < 5e-6)) // 1e-7 above the clamp, 2.4e-6 far below it
+			FAIL_AT("%s, F = %g I (plus shear): relative error %g, energy's %g",
+			        fmMaterialModelName(model), scales[s], err, energyErr);
 		fmDestroyWorld(world);
 	}
 }
@@ -168,10 +203,10 @@ TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotatio
 			deform(b, strains[s]);
 			for (int i = 0; i < b->vertexCount; ++i)
 				fmStore(b->x, i, fmMatVec(&R, fmLoad(b->x, i)));
-			double err = relativeError(failures_, b);
-			if (!(err < 3e-6 / strains[s] + 5e-7))
-				FAIL_AT("%s rotated at strain %g: relative error %g",
-				        fmMaterialModelName(models[m]), strains[s], err);
+			double energyErr, err = relativeError(failures_, b, &energyErr, false);
+			if (!(err < 3e-6 / strains[s] + 5e-7) || !(energyErr < 3e-6 / strains[s] + 5e-7))
+				FAIL_AT("%s rotated at strain %g: relative error %g, energy's %g",
+				        fmMaterialModelName(models[m]), strains[s], err, energyErr);
 			fmDestroyWorld(world);
 		}
 }
@@ -184,14 +219,16 @@ TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 		return;
 	deform(b, 0.05);
 	size_t bytes = 3 * (size_t)b->vertexCount * sizeof(double);
-	double* scalar = batchedForces(b, fm_simdScalar, 1);
+	double scalarEnergy = 0.0, energy = 0.0;
+	double* scalar = batchedForces(b, fm_simdScalar, 1, &scalarEnergy);
 	int compared = 0;
 	for (int level = fm_simdScalar; level <= (int)fmSimd_Detect(); ++level)
 		for (int workers = 1; workers <= 4; ++workers)
 		{
-			double* f = batchedForces(b, (fmSimdLevel)level, workers);
+			double* f = batchedForces(b, (fmSimdLevel)level, workers, &energy);
 			CHECK(scalar != NULL && f != NULL);
-			if (scalar != NULL && f != NULL && memcmp(f, scalar, bytes) != 0)
+			if (scalar != NULL && f != NULL &&
+			    (memcmp(f, scalar, bytes) != 0 || memcmp(&energy, &scalarEnergy, sizeof energy)))
 				FAIL_AT("%s on %d workers differs from scalar on one",
 				        fmSimdLevelName((fmSimdLevel)level), workers);
 			free(f);
