@@ -253,8 +253,7 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->tetCount);
 	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->tetCount + 1);
 	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->tetCount);
-	tb->blockEnergy = FM_ALLOC_ZERO(double, blockCount);
-	return tb->batches && tb->laneCount && tb->blockStart && tb->colourStart && tb->blockEnergy &&
+	return tb->batches && tb->laneCount && tb->blockStart && tb->colourStart &&
 	       tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
 
@@ -321,7 +320,8 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 		tb->minBlocksPerRange = (FM_PARALLEL_MIN_RANGE + perBlock - 1) / perBlock;
 		tb->scratchBytes = fmScratchBytes(tb->maxBlockVertices);
 		tb->scratch = FM_ALLOC_ARRAY(unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
-		ok = tb->scratch != NULL;
+		tb->blockEnergy = FM_ALLOC_ZERO(double, tb->blockCount);
+		ok = tb->scratch != NULL && tb->blockEnergy != NULL;
 	}
 	FM_FREE_ARRAY(colour, int, blockCount);
 	FM_FREE_ARRAY(bv.local, int, b->vertexCount);
@@ -369,7 +369,7 @@ static void fmGatherDisplacements(const int* verts, int count, const double* x, 
 // Lane @p l of a batch by the double-precision reference: F = I + Du Dm^-1 from the block's
 // displacements @p u, the material's P, and the forces -V0 P Dm^-T into the batch's output.
 static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l, const double* u,
-                            fmTetBatchForces* out)
+                            fmTetBatchForces* out, float* energy)
 {
 	fmMat3 Du, DmInv;
 	for (int i = 0; i < 3; ++i)
@@ -384,7 +384,8 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 	double psi = fmMaterial_Evaluate(&p->body->material, &F, &P, NULL);
 	fmMat3 M = fmMatMulT(&P, &DmInv);
 	double V0 = (double)batch->volume[l];
-	out->energy[l] = (float)(V0 * psi);
+	if (energy)
+		energy[l] = (float)(V0 * psi);
 	for (int i = 0; i < 3; ++i)
 	{
 		double sum = 0.0;
@@ -410,15 +411,17 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	double* u = fmScratch(tb, worker, &out);
 	fmGatherDisplacements(verts, count, p->x, p->body->x0, u);
 	double energy = 0.0;
+	float laneEnergy[FM_LANES];
+	float* lanes = p->energy ? laneEnergy : NULL;
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
 		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
-		p->kernel(&tb->batches[j], u, &p->material, o);
+		p->kernel(&tb->batches[j], u, &p->material, o, lanes);
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			if (o->fallback[l])
-				fmReferenceLane(p, &tb->batches[j], l, u, o);
-		for (int l = 0; p->energy && l < tb->laneCount[j]; ++l)
-			energy += (double)o->energy[l];
+				fmReferenceLane(p, &tb->batches[j], l, u, o, lanes);
+		for (int l = 0; lanes && l < tb->laneCount[j]; ++l)
+			energy += (double)lanes[l];
 	}
 	if (p->energy)
 		tb->blockEnergy[k] = energy;

@@ -151,7 +151,8 @@ FM_INLINE void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fm
 		}
 	for (int i = 0; i < 3; ++i)
 		P->m[4 * i] = fmV_Add(P->m[4 * i], lt);
-	*psi = fmV_Mul(half, fmMat3V_Contract(P, &eps));
+	if (psi)
+		*psi = fmV_Mul(half, fmMat3V_Contract(P, &eps));
 }
 
 FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
@@ -176,7 +177,8 @@ FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMa
 		S.m[k] = fmV_Mul(twoMu, S.m[k]);
 	for (int i = 0; i < 3; ++i)
 		S.m[4 * i] = fmV_Add(S.m[4 * i], lt);
-	*psi = fmV_Mul(half, fmMat3V_Contract(&S, &G));
+	if (psi)
+		*psi = fmV_Mul(half, fmMat3V_Contract(&S, &G));
 	fmMat3V HS = fmMat3V_Mul(H, &S);
 	for (int k = 0; k < 9; ++k)
 		P->m[k] = fmV_Add(S.m[k], HS.m[k]);
@@ -243,7 +245,8 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 		stretch = fmV_Add(stretch, fmV_Mul(d, d));
 		P->m[k] = fmV_Add(fmV_Mul(twoMu, d), fmV_Mul(lj, cof));
 	}
-	*psi = fmV_Add(fmV_Mul(mu, stretch), fmV_Mul(fmV_Mul(half, lj), h.j));
+	if (psi)
+		*psi = fmV_Add(fmV_Mul(mu, stretch), fmV_Mul(fmV_Mul(half, lj), h.j));
 }
 
 // Neo-Hookean: P = alpha (F J - cof F) + beta cof F + gamma F, alpha, beta, gamma per lane.
@@ -319,8 +322,9 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 	fmFloatV beta = fmV_Select(below, fmV_Mul(fmV_Sub(fmV_Mul(lambda, lBelow), mu), dlBelow),
 	                           fmV_Div(fmV_Mul(lambda, lnJ), safeJ));
 	fmFloatV gamma = fmV_Select(below, mu, zero);
-	*psi = fmV_Select(below, fmNeoHookeanPlainEnergy(H, t, lBelow, mu, lambda),
-	                  fmNeoHookeanEnergy(H, mu, lambda));
+	if (psi)
+		*psi = fmV_Select(below, fmNeoHookeanPlainEnergy(H, t, lBelow, mu, lambda),
+		                  fmNeoHookeanEnergy(H, mu, lambda));
 
 	for (int k = 0; k < 9; ++k)
 	{
@@ -347,8 +351,10 @@ FM_INLINE void fmGatherDu(const fmTetBatch* batch, const double* u, float du[9][
 				    (float)(u[3 * batch->nodes[k + 1][l] + i] - u[3 * batch->nodes[0][l] + i]);
 }
 
-void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
-                                        const fmKernelMaterial* material, fmTetBatchForces* out)
+// The kernel, inlined twice by the entry point: with @p laneEnergy NULL the energy's terms are
+// compiled out (a step's pass does not pay for them).
+FM_INLINE void fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
+                        fmTetBatchForces* out, float* laneEnergy)
 {
 	float du[9][FM_LANES];
 	fmGatherDu(batch, u, du);
@@ -357,21 +363,23 @@ void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);
 	fmMat3V P;
-	fmFloatV psi;
+	fmFloatV psi = fmV_Set(0.0f);
+	fmFloatV* energy = laneEnergy ? &psi : NULL;
 	fmIntV fallback = fmI_Set(0);
 	if (material->model == fm_stvk)
-		fmStvkStress(&H, mu, lambda, &P, &psi);
+		fmStvkStress(&H, mu, lambda, &P, energy);
 	else if (material->model == fm_corotated)
-		fmCorotatedStress(&H, mu, lambda, &P, &fallback, &psi);
+		fmCorotatedStress(&H, mu, lambda, &P, &fallback, energy);
 	else if (material->model == fm_neoHookean)
-		fmNeoHookeanStress(&H, mu, lambda, &P, &psi);
+		fmNeoHookeanStress(&H, mu, lambda, &P, energy);
 	else
-		fmLinearStress(&H, mu, lambda, &P, &psi);
+		fmLinearStress(&H, mu, lambda, &P, energy);
 	// force on node k + 1 = -V0 P (row k of Dm^-1): M = P Dm^-T, column k.
 	fmMat3V DmInvT = fmMat3V_Transpose(&DmInv);
 	fmMat3V M = fmMat3V_Mul(&P, &DmInvT);
 	fmFloatV volume = fmV_Load(batch->volume);
-	fmV_Store(out->energy, fmV_Mul(volume, psi));
+	if (energy)
+		fmV_Store(laneEnergy, fmV_Mul(volume, psi));
 	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), volume);
 	for (int i = 0; i < 3; ++i)
 	{
@@ -385,4 +393,14 @@ void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
 		fmV_Store(out->force[i], fmV_Sub(fmV_Set(0.0f), sum));
 	}
 	memcpy(out->fallback, &fallback, sizeof out->fallback);
+}
+
+void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
+                                        const fmKernelMaterial* material, fmTetBatchForces* out,
+                                        float* laneEnergy)
+{
+	if (laneEnergy)
+		fmKernel(batch, u, material, out, laneEnergy);
+	else
+		fmKernel(batch, u, material, out, NULL);
 }

@@ -17,11 +17,10 @@ typedef struct fmTetBatch
 } fmTetBatch;
 
 // A batch's output: the elastic force on node a (0..3), component i, at force[3 a + i] (node 0
-// gets minus the sum of the others), and each tet's elastic energy.
+// gets minus the sum of the others).
 typedef struct fmTetBatchForces
 {
 	float force[12][FM_LANES];
-	float energy[FM_LANES]; // V0 psi (J); 0 in unused lanes
 	// Non-zero in lanes the kernel leaves to the double-precision reference (corotated: tets
 	// near flat or inverted, where its polar iteration does not apply; tet_blocks.c redoes
 	// them). Set on every variant alike, so the choice does not depend on the instruction set.
@@ -39,9 +38,11 @@ typedef struct fmKernelMaterial
 // fmTetKernel_Forces_<variant>: the forces of one batch, from the displacements u = x - X of
 // its block's vertices (3 doubles each, in the block's numbering). The kernel forms
 // Du = [u1 - u0, u2 - u0, u3 - u0] in double, rounds it once to float, and works from
-// H = F - I = Du Dm^-1, so a small strain keeps its relative accuracy in float.
+// H = F - I = Du Dm^-1, so a small strain keeps its relative accuracy in float. With a non-NULL
+// @p energy, each lane's elastic energy V0 psi (J; 0 in unused lanes) goes to energy[lane]
+// (Neo-Hookean's from Green's strain, free of first-order cancellation).
 typedef void fmTetKernelFcn(const fmTetBatch* batch, const double* u,
-                            const fmKernelMaterial* material, fmTetBatchForces* out);
+                            const fmKernelMaterial* material, fmTetBatchForces* out, float* energy);
 
 fmTetKernelFcn fmTetKernel_Forces_scalar;
 fmTetKernelFcn fmTetKernel_Forces_baseline;
