@@ -46,6 +46,7 @@ void fmMultigrid_Free(fmMultigrid* mg)
 {
 	size_t dense = 3 * (size_t)mg->denseRows;
 	FM_FREE_ARRAY(mg->dense, double, dense* dense);
+	FM_FREE_ARRAY(mg->setupFixed, uint8_t, 3 * (size_t)mg->level[0].pattern.rows);
 	for (int l = 0; l < mg->levelCount; ++l)
 		fmMgFreeLevel(&mg->level[l], l > 0);
 	memset(mg, 0, sizeof *mg);
@@ -246,6 +247,8 @@ bool fmMultigrid_Build(fmMultigrid* mg, const fmBsrMatrix* fine)
 	mg->level[0].pattern = *fine;
 	mg->levelCount = 1;
 	bool ok = fmMgAllocLevel(&mg->level[0], false, false);
+	mg->setupFixed = FM_ALLOC_ARRAY(uint8_t, 3 * (size_t)fine->rows);
+	ok = ok && mg->setupFixed != NULL;
 	for (bool added = true; ok && added;)
 		ok = fmMgAddLevel(mg, &added);
 	mg->denseRows = mg->level[mg->levelCount - 1].pattern.rows;
@@ -271,7 +274,7 @@ size_t fmMultigrid_EstimateBytes(size_t rows, size_t blocks)
 	// fewer rows and blocks than level 0 (each aggregate holds a vertex and its neighbours),
 	// each with values, a pattern, block inverses, flags and three vectors.
 	size_t fine =
-	    rows * (9 * sizeof(double) + 3 * sizeof(double) + sizeof(int)) + blocks * sizeof(int);
+	    rows * (9 * sizeof(double) + 3 * sizeof(double) + sizeof(int) + 3) + blocks * sizeof(int);
 	size_t coarse = blocks * (9 * sizeof(double) + sizeof(int)) +
 	                rows * (15 * sizeof(double) + 3 + 3 * sizeof(int) + 9 * sizeof(double));
 	size_t dense = 3 * 2 * (size_t)FM_MG_COARSE_ROWS;
@@ -353,10 +356,17 @@ static bool fmMgFactorBottom(fmMultigrid* mg)
 }
 
 void fmMultigrid_Setup(fmMultigrid* mg, const double* values, const double* blockInverse,
-                       const uint8_t* fixed, const struct fmTaskSystem* tasks)
+                       const uint8_t* fixed, unsigned valuesVersion,
+                       const struct fmTaskSystem* tasks)
 {
 	mg->tasks = tasks;
 	fmMgLevel* top = &mg->level[0];
+	const size_t n3 = 3 * (size_t)top->pattern.rows;
+	if (mg->ready && top->values == values && mg->setupVersion == valuesVersion &&
+	    memcmp(mg->setupFixed, fixed, n3) == 0)
+		return;
+	mg->setupVersion = valuesVersion;
+	memcpy(mg->setupFixed, fixed, n3);
 	top->values = values;
 	top->fixed = (uint8_t*)fixed; // never written at level 0
 	memcpy(top->blockInverse, blockInverse, sizeof(double) * 9 * (size_t)top->pattern.rows);

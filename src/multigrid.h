@@ -51,6 +51,10 @@ typedef struct fmMultigrid
 	double* dense; // (3 denseRows)^2: the bottom matrix's Cholesky factor
 	bool denseOk;  // the factor exists (else the bottom level gets a Gauss-Seidel sweep)
 	bool ready;    // Setup has run since the last Build
+	// What the levels were set up from: the caller's version of the fine values and a copy of
+	// the fine fixed flags (3 per row), so that a Setup with both unchanged costs nothing.
+	unsigned setupVersion;
+	uint8_t* setupFixed;
 	const struct fmTaskSystem* tasks; // the workers of the sweeps and products (NULL: serial)
 } fmMultigrid;
 
@@ -68,9 +72,13 @@ size_t fmMultigrid_EstimateBytes(size_t rows, size_t blocks);
 // Fill the coarse matrices from the fine one (values: 9 per block, blockInverse: its inverted
 // diagonal blocks as fmPcg_BuildPreconditioner makes them, fixed: 3 per row) by Galerkin
 // projection over the free DOFs, invert their diagonal blocks and factor the bottom one. The
-// fine arrays are kept by reference until the next Setup.
+// fine arrays are kept by reference until the next Setup. @p valuesVersion is the caller's
+// count of changes to @p values: a Setup with the same array, version and fixed flags as the
+// last one keeps the levels as they are (a Newton iteration that reuses its matrix with the same
+// active set; the levels are a pure function of those, so the bits are the same).
 void fmMultigrid_Setup(fmMultigrid* mg, const double* values, const double* blockInverse,
-                       const uint8_t* fixed, const struct fmTaskSystem* tasks);
+                       const uint8_t* fixed, unsigned valuesVersion,
+                       const struct fmTaskSystem* tasks);
 
 // z = B r, one symmetric W-cycle (forward sweeps down, backward sweeps up, each coarse level
 // visited twice, the coarse corrections over-corrected by 1.5): B is symmetric,

@@ -162,6 +162,7 @@ double fmNewton_Residual(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	const size_t values = 9 * (size_t)c->pattern.blocks;
+	c->hessianVersion += 1;
 	if (pb->useDamping)
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
@@ -317,7 +318,8 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 		fmMultigrid* mg = fmSolverCache_Multigrid(c);
 		pre.kind = mg ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
 		if (mg)
-			fmMultigrid_Setup(mg, c->hessian, c->blockInverse, c->fixed, pb->tasks);
+			fmMultigrid_Setup(mg, c->hessian, c->blockInverse, c->fixed, c->hessianVersion,
+			                  pb->tasks);
 		pre.multigrid = mg;
 	}
 	return fmPcg_Solve(n3, op, &ctx, &pre, c->fixed, c->temp, c->direction, tolerance, pb->maxCg,

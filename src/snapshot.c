@@ -158,6 +158,8 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 	fmMoveBool(s, save, &c->hessianDamping);
 	fmMoveBool(s, save, &c->hessianExact);
 	fmMove(s, save, c->hessian, sizeof(double) * 9 * (size_t)blocks);
+	if (!save)
+		c->hessianVersion += 1; // the multigrid's levels are set up again from it
 	return true;
 }
 

@@ -59,6 +59,7 @@ typedef struct fmImplicitCache
 	// The Newton matrix is kept between iterations and steps and refreshed when it stops
 	// paying (see fmNewton_Solve); these say what it was built with.
 	bool hessianValid;
+	unsigned hessianVersion; // counts the changes of `hessian` (the multigrid's setup follows)
 	double hessianInertia;
 	double hessianMassDamping;
 	bool hessianDamping;

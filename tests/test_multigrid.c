@@ -86,7 +86,8 @@ TEST(cycle_is_symmetric_positive_definite)
 		printf(" -> %d", mg->level[l].pattern.rows);
 	printf(" block rows, bottom %s\n", mg->denseRows > 0 ? "dense" : "smoothed");
 	CHECK(mg->levelCount >= 3);
-	fmMultigrid_Setup(mg, s.cache->hessian, s.cache->blockInverse, s.cache->fixed, NULL);
+	fmMultigrid_Setup(mg, s.cache->hessian, s.cache->blockInverse, s.cache->fixed,
+	                  ++s.cache->hessianVersion, NULL);
 	CHECK(mg->denseOk);
 	const int n = s.n3;
 	double* u = malloc(sizeof(double) * 4 * (size_t)n);
@@ -133,7 +134,8 @@ static int iterations(fmTestSystem* s, fmPreconditioner kind)
 	if (kind == fm_precondMultigrid)
 	{
 		pre.multigrid = fmSolverCache_Multigrid(c);
-		fmMultigrid_Setup(&c->multigrid, c->hessian, c->blockInverse, c->fixed, NULL);
+		fmMultigrid_Setup(&c->multigrid, c->hessian, c->blockInverse, c->fixed, ++c->hessianVersion,
+		                  NULL);
 	}
 	fmPcgWork work = {c->work, c->work + n, c->work + 2 * n, c->work + 3 * n};
 	fmTestOperator op = {c};
