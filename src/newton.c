@@ -97,8 +97,9 @@ static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double ma
 	return 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
 }
 
-// Stiffness of vertex i's y DOF in the Newton matrix: the kept assembled diagonal when there is
-// one, else the inertia alone (which makes the estimate of a step's reach an upper bound).
+// Stiffness of vertex i's y DOF in the Newton matrix this direction uses (assembled just before
+// when it is refreshed), or without one (matrix-free) the inertia alone, which makes the
+// estimate of a step's reach an upper bound.
 static double fmVerticalStiffness(const fmBody* b, const fmImplicitCache* c,
                                   const fmNewtonProblem* pb, int i)
 {
@@ -122,8 +123,12 @@ static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		unsigned pin = b->pinned[i];
 		double push = c->gradient[3 * i + 1];
 		double gap = pb->floor ? x[3 * i + 1] - c->floorBound[i] : INFINITY;
+		// (The inertia alone bounds the stiffness from below: most vertices are out of reach
+		// by it, without a look into the matrix.)
+		double inertia = (pb->inertia + pb->massDamping) * b->mass[i];
 		bool onFloor = !(pin & FM_PIN_Y) && push > 0.0 &&
-		               (gap <= 0.0 || (reach && gap * fmVerticalStiffness(b, c, pb, i) <= push));
+		               (gap <= 0.0 || (reach && gap * inertia <= push &&
+		                               gap * fmVerticalStiffness(b, c, pb, i) <= push));
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
 		c->fixed[3 * i] = (pin & 1u) || stick;
 		c->fixed[3 * i + 1] = (pin & FM_PIN_Y) || onFloor;
@@ -276,6 +281,7 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	fmLinearOperator* op = fmAssembledProduct;
 	if (pb->options.product == fm_productMatrixFree)
 	{
+		fmMarkFixed(b, c, pb, b->x, true); // (the reach from the inertia alone: no matrix)
 		fmDiagonalBlocksMatrixFree(b, c, pb, c->work); // blocks in the CG's scratch, used below
 		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, pb->options.preconditioner,
 		                          c->blockInverse);
@@ -285,6 +291,8 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	{
 		if (refresh)
 			fmAssembleNewtonMatrix(b, c, pb);
+		// The epsilon-active set, from the matrix this direction uses.
+		fmMarkFixed(b, c, pb, b->x, true);
 		for (int i = 0; i < b->vertexCount; ++i)
 			memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
 			       9 * sizeof(double));
@@ -471,7 +479,6 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		}
 		lastResidual = result.residual;
 		lastFresh = refresh;
-		fmMarkFixed(b, c, pb, b->x, true);
 		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
 		result.cgIterations += cg.iterations;
 		if (cg.indefinite && pb->exactHessian)
