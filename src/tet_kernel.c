@@ -155,26 +155,33 @@ FM_INLINE void fmLinearStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fm
 		*psi = fmV_Mul(half, fmMat3V_Contract(P, &eps));
 }
 
-FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
-                            fmFloatV* psi)
+// Green's strain G = (H + H^T + H^T H) / 2, symmetric.
+FM_INLINE fmMat3V fmGreenStrain(const fmMat3V* H)
 {
-	// G = (H + H^T + H^T H) / 2, symmetric; S = 2 mu G + lambda tr(G) I; P = S + H S;
-	// psi = S : G / 2.
-	fmMat3V S;
-	const fmFloatV half = fmV_Set(0.5f), twoMu = fmV_Add(mu, mu);
+	fmMat3V G;
+	const fmFloatV half = fmV_Set(0.5f);
 	for (int i = 0; i < 3; ++i)
 		for (int j = i; j < 3; ++j)
 		{
 			fmFloatV hth =
 			    fmV_Add(fmV_Add(fmV_Mul(H->m[i], H->m[j]), fmV_Mul(H->m[3 + i], H->m[3 + j])),
 			            fmV_Mul(H->m[6 + i], H->m[6 + j]));
-			fmFloatV g = fmV_Mul(half, fmV_Add(fmV_Add(H->m[3 * i + j], H->m[3 * j + i]), hth));
-			S.m[3 * i + j] = S.m[3 * j + i] = g;
+			G.m[3 * i + j] = G.m[3 * j + i] =
+			    fmV_Mul(half, fmV_Add(fmV_Add(H->m[3 * i + j], H->m[3 * j + i]), hth));
 		}
-	const fmMat3V G = S;
-	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(&S));
+	return G;
+}
+
+FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
+                            fmFloatV* psi)
+{
+	// S = 2 mu G + lambda tr(G) I; P = S + H S; psi = S : G / 2.
+	const fmFloatV half = fmV_Set(0.5f), twoMu = fmV_Add(mu, mu);
+	const fmMat3V G = fmGreenStrain(H);
+	fmMat3V S;
+	fmFloatV lt = fmV_Mul(lambda, fmMat3V_Trace(&G));
 	for (int k = 0; k < 9; ++k)
-		S.m[k] = fmV_Mul(twoMu, S.m[k]);
+		S.m[k] = fmV_Mul(twoMu, G.m[k]);
 	for (int i = 0; i < 3; ++i)
 		S.m[4 * i] = fmV_Add(S.m[4 * i], lt);
 	if (psi)
@@ -250,23 +257,6 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 }
 
 // Neo-Hookean: P = alpha (F J - cof F) + beta cof F + gamma F, alpha, beta, gamma per lane.
-// Green's strain G = (H + H^T + H^T H) / 2, symmetric.
-FM_INLINE fmMat3V fmGreenStrain(const fmMat3V* H)
-{
-	fmMat3V G;
-	const fmFloatV half = fmV_Set(0.5f);
-	for (int i = 0; i < 3; ++i)
-		for (int j = i; j < 3; ++j)
-		{
-			fmFloatV hth =
-			    fmV_Add(fmV_Add(fmV_Mul(H->m[i], H->m[j]), fmV_Mul(H->m[3 + i], H->m[3 + j])),
-			            fmV_Mul(H->m[6 + i], H->m[6 + j]));
-			G.m[3 * i + j] = G.m[3 * j + i] =
-			    fmV_Mul(half, fmV_Add(fmV_Add(H->m[3 * i + j], H->m[3 * j + i]), hth));
-		}
-	return G;
-}
-
 // Neo-Hookean psi = mu (tr G - ln J) + lambda/2 (ln J)^2 above the clamp (I1 - 3 = 2 tr G), from
 // Green's strain, which a rotation does not disturb beyond float's 1e-7 of its entries (H's are
 // of order 1 under a rotation and would cancel): with k = J^2 - 1 = det(I + 2G) - 1 =
