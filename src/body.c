@@ -1013,6 +1013,43 @@ int fmBodyCountInverted(const fmBody* b)
 	return inverted;
 }
 
+typedef struct fmInvertedTask
+{
+	const fmBody* body;
+	unsigned char* inverted; // a flag a tet
+} fmInvertedTask;
+
+static void fmInvertedRange(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmInvertedTask* c = context;
+	for (int t = start; t < end; ++t)
+	{
+		fmMat3 F = fmTetDeformation(c->body, c->body->x, t);
+		c->inverted[t] = !(fmDet(&F) > 0.0);
+	}
+}
+
+int fmBodyCountInvertedOn(const fmBody* b, const fmTaskSystem* tasks, fmArena* arena)
+{
+	if (tasks == NULL || tasks->workerCount < 2 || b->tetCount < 2 * FM_PARALLEL_MIN_RANGE)
+		return fmBodyCountInverted(b);
+	size_t mark = fmArena_Mark(arena);
+	double* room = fmArena_DoublesUninit(arena, ((size_t)b->tetCount + 7) / 8);
+	int inverted = 0;
+	if (room == NULL)
+		inverted = fmBodyCountInverted(b);
+	else
+	{
+		fmInvertedTask c = {b, (unsigned char*)room};
+		fmParallelFor(tasks, b->tetCount, FM_PARALLEL_MIN_RANGE, fmInvertedRange, &c);
+		for (int t = 0; t < b->tetCount; ++t)
+			inverted += c.inverted[t];
+	}
+	fmArena_Release(arena, mark);
+	return inverted;
+}
+
 static fmBodyStats fmBodyGetStatsIn(fmBodyId bodyId)
 {
 	fmBodyStats s;

@@ -915,7 +915,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		memcpy(b->vGood, b->v, bytes);
 		b->energyGood = b->energyAfter;
 		b->energyStale = false;
-		w->stats.invertedTets += fmBodyCountInverted(b);
+		w->stats.invertedTets += fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
 	}
 	const fmContactPoint* points;
 	w->stats.contacts = fmContact_Points(w, &points);
