@@ -310,7 +310,7 @@ double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
 		// The gather is split as the tets were (vertex ranges of as many tets' corners), so
 		// each worker mostly reads the forces it wrote: gathered on one worker, half of them
 		// cross between the cores' caches twice a pass (a 10k-tet pass took 0.77 ms on 2
-		// workers, 0.46 ms split, against 0.72 ms on one).
+		// workers, 0.52 ms split, against 0.72 ms on one).
 		int vertexRange =
 		    (int)((int64_t)FM_PARALLEL_MIN_RANGE * body->vertexCount / body->tetCount);
 		fmParallelFor(tasks, body->vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,
