@@ -101,7 +101,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmLoads_StepPrescribed(b, dt, dt);
 
 	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
-	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmGravityTask, &context);
+	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmGravityTask, &context);
 	fmAddExplicitElasticForces(world, b, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
@@ -113,7 +113,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	double forced = fmSeconds();
 
 	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
-	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmVelocitiesTask, &context);
+	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
 
 	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
 	fmFilterVelocities(b, dt, arena, tasks);
@@ -122,7 +122,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));
 
 	// 4. Positions, then the floor.
-	fmParallelFor(tasks, n, FM_PARALLEL_MIN_RANGE, fmPositionsTask, &context);
+	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
 	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
 	b->stepStage[0] = forced - start;
 	b->stepStage[1] = fmSeconds() - forced;

@@ -16,6 +16,22 @@
 // ones. The batch width is the same on every variant, so a batch's arithmetic is too.
 #define FM_LANES 16
 
+// The lanes of one vector of the kernel's translation unit: a batch is FM_LANES / FM_VLANES
+// vectors, and the kernel runs them one after another, so that a 3x3 matrix of lanes fits the
+// registers (AVX2 has 16 of 8 floats: a matrix of 16-float pairs would not). Each lane's
+// arithmetic is its own, so the width changes no bit.
+#if !defined(FM_KERNEL_VARIANT)
+// (nothing: only the kernels' translation units have a width)
+#elif defined(FM_SIMD_SCALAR) || !(defined(__GNUC__) || defined(__clang__))
+#define FM_VLANES 1
+#elif defined(__AVX512F__)
+#define FM_VLANES 16
+#elif defined(__AVX__)
+#define FM_VLANES 8
+#else
+#define FM_VLANES 4
+#endif
+
 // The instruction set the running CPU supports best (never fm_simdAuto or fm_simdOff).
 fmSimdLevel fmSimd_Detect(void);
 
@@ -34,8 +50,8 @@ fmSimdLevel fmSimd_Resolve(fmSimdLevel requested);
 // (nothing: the lane types are the kernels' own)
 #elif (defined(__GNUC__) || defined(__clang__)) && !defined(FM_SIMD_SCALAR)
 
-typedef float fmFloatV __attribute__((vector_size(4 * FM_LANES)));
-typedef int32_t fmIntV __attribute__((vector_size(4 * FM_LANES)));
+typedef float fmFloatV __attribute__((vector_size(4 * FM_VLANES)));
+typedef int32_t fmIntV __attribute__((vector_size(4 * FM_VLANES)));
 
 static inline fmFloatV fmV_Set(float s)
 {
@@ -108,7 +124,7 @@ static inline fmFloatV fmI_ToFloat(fmIntV a)
 static inline bool fmI_Any(fmIntV mask)
 {
 	int32_t any = 0;
-	for (int l = 0; l < FM_LANES; ++l)
+	for (int l = 0; l < FM_VLANES; ++l)
 		any |= mask[l];
 	return any != 0;
 }
@@ -117,16 +133,16 @@ static inline bool fmI_Any(fmIntV mask)
 
 typedef struct fmFloatV
 {
-	float v[FM_LANES];
+	float v[FM_VLANES];
 } fmFloatV;
 typedef struct fmIntV
 {
-	int32_t v[FM_LANES];
+	int32_t v[FM_VLANES];
 } fmIntV;
 
 #define FM_LANEWISE(T, expr)                                                                       \
 	T r;                                                                                           \
-	for (int l = 0; l < FM_LANES; ++l)                                                             \
+	for (int l = 0; l < FM_VLANES; ++l)                                                            \
 		r.v[l] = (expr);                                                                           \
 	return r
 
@@ -169,7 +185,7 @@ static inline fmFloatV fmV_FromBits(fmIntV a)
 static inline fmFloatV fmV_Select(fmIntV mask, fmFloatV a, fmFloatV b)
 {
 	fmIntV x = fmV_Bits(a), y = fmV_Bits(b), r;
-	for (int l = 0; l < FM_LANES; ++l)
+	for (int l = 0; l < FM_VLANES; ++l)
 		r.v[l] = (x.v[l] & mask.v[l]) | (y.v[l] & ~mask.v[l]);
 	return fmV_FromBits(r);
 }
@@ -204,7 +220,7 @@ static inline fmFloatV fmI_ToFloat(fmIntV a)
 static inline bool fmI_Any(fmIntV mask)
 {
 	int32_t any = 0;
-	for (int l = 0; l < FM_LANES; ++l)
+	for (int l = 0; l < FM_VLANES; ++l)
 		any |= mask.v[l];
 	return any != 0;
 }
@@ -214,7 +230,7 @@ static inline bool fmI_Any(fmIntV mask)
 #endif
 
 #if defined(FM_KERNEL_VARIANT)
-// Unaligned loads and stores of FM_LANES floats (memcpy: the compiler emits vector moves).
+// Unaligned loads and stores of FM_VLANES floats (memcpy: the compiler emits vector moves).
 static inline fmFloatV fmV_Load(const float* p)
 {
 	fmFloatV v;

@@ -45,9 +45,6 @@ typedef struct fmTetBlocks
 	int* neighbourWeight;
 	int vertexCount;
 	int workerCount;
-	// Blocks a task range takes at least: FM_PARALLEL_MIN_RANGE tets' worth (smaller ranges
-	// cost more to hand out than they give); tests lower it to split small bodies.
-	int minBlocksPerRange;
 	size_t scratchBytes; // per worker: the block's displacements and its batches' forces
 	unsigned char* scratch;
 } fmTetBlocks;

@@ -240,9 +240,11 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 			fmFloatV next = fmV_Mul(half, fmV_Add(Y.m[k], z));
 			fmFloatV delta = fmV_Abs(fmV_Sub(next, Y.m[k]));
 			change = fmV_Select(fmV_Less(change, delta), delta, change);
-			Y.m[k] = next;
+			Y.m[k] = fmV_Select(moving, next, Y.m[k]);
 		}
-		moving = fmV_Less(fmV_Set(1e-6f), change);
+		// A lane stops at its own convergence, whatever its neighbours in the vector do: the
+		// same bits at any vector width.
+		moving = fmI_And(moving, fmV_Less(fmV_Set(1e-6f), change));
 	}
 	*fallback = fmI_Or(flat, moving);
 	// psi = mu |F - R|^2 + lambda/2 (J - 1)^2, F - R = H - Y.
@@ -338,22 +340,26 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 // compiler may turn into gathers.
 FM_INLINE void fmGatherDu(const fmTetBatch* batch, const double* u, float du[9][FM_LANES])
 {
-	for (int k = 0; k < 3; ++k)
-		for (int i = 0; i < 3; ++i)
-			for (int l = 0; l < FM_LANES; ++l)
-				du[3 * i + k][l] =
-				    (float)(u[3 * batch->nodes[k + 1][l] + i] - u[3 * batch->nodes[0][l] + i]);
+	for (int l = 0; l < FM_LANES; ++l)
+	{
+		const double* u0 = u + 3 * batch->nodes[0][l];
+		for (int k = 0; k < 3; ++k)
+		{
+			const double* uk = u + 3 * batch->nodes[k + 1][l];
+			for (int i = 0; i < 3; ++i)
+				du[3 * i + k][l] = (float)(uk[i] - u0[i]);
+		}
+	}
 }
 
-// The kernel; with @p laneEnergy NULL the energy's terms are skipped (a step's pass does not
-// pay for them).
-FM_INLINE void fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
-                        fmTetBatchForces* out, float* laneEnergy)
+// Lanes [o, o + FM_VLANES) of the batch, their Du gathered in @p du; with @p laneEnergy NULL the
+// energy's terms are skipped (a step's pass does not pay for them).
+FM_INLINE void fmKernelVector(const fmTetBatch* batch, const float du[9][FM_LANES], int o,
+                              const fmKernelMaterial* material, fmTetBatchForces* out,
+                              float* laneEnergy)
 {
-	float du[9][FM_LANES];
-	fmGatherDu(batch, u, du);
-	fmMat3V Du = fmMat3V_Load(&du[0][0]);
-	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][0]);
+	fmMat3V Du = fmMat3V_Load(&du[0][o]);
+	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][o]);
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);
 	fmMat3V P;
@@ -371,9 +377,9 @@ FM_INLINE void fmKernel(const fmTetBatch* batch, const double* u, const fmKernel
 	// force on node k + 1 = -V0 P (row k of Dm^-1): M = P Dm^-T, column k.
 	fmMat3V DmInvT = fmMat3V_Transpose(&DmInv);
 	fmMat3V M = fmMat3V_Mul(&P, &DmInvT);
-	fmFloatV volume = fmV_Load(batch->volume);
+	fmFloatV volume = fmV_Load(batch->volume + o);
 	if (energy)
-		fmV_Store(laneEnergy, fmV_Mul(volume, psi));
+		fmV_Store(laneEnergy + o, fmV_Mul(volume, psi));
 	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), volume);
 	for (int i = 0; i < 3; ++i)
 	{
@@ -381,12 +387,22 @@ FM_INLINE void fmKernel(const fmTetBatch* batch, const double* u, const fmKernel
 		for (int k = 0; k < 3; ++k)
 		{
 			fmFloatV fk = fmV_Mul(minusV, M.m[3 * i + k]);
-			fmV_Store(out->force[3 * (k + 1) + i], fk);
+			fmV_Store(out->force[3 * (k + 1) + i] + o, fk);
 			sum = fmV_Add(sum, fk);
 		}
-		fmV_Store(out->force[i], fmV_Sub(fmV_Set(0.0f), sum));
+		fmV_Store(out->force[i] + o, fmV_Sub(fmV_Set(0.0f), sum));
 	}
-	memcpy(out->fallback, &fallback, sizeof out->fallback);
+	memcpy(out->fallback + o, &fallback, sizeof fallback);
+}
+
+// The kernel: the batch's Du, then its vectors one after another.
+FM_INLINE void fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
+                        fmTetBatchForces* out, float* laneEnergy)
+{
+	float du[9][FM_LANES];
+	fmGatherDu(batch, u, du);
+	for (int o = 0; o < FM_LANES; o += FM_VLANES)
+		fmKernelVector(batch, du, o, material, out, laneEnergy);
 }
 
 void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,

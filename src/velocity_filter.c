@@ -73,8 +73,8 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
 		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, tasks);
 	else if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	         b->vertexCount >= 2 * FM_PARALLEL_MIN_RANGE)
-		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmGatherSumsTask, &context);
+	         b->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES)
+		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
 	else
 		for (int t = 0; t < b->tetCount; ++t)
 		{
@@ -83,7 +83,7 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 			for (int a = 0; a < 4; ++a)
 				fmStore(context.sum, n[a], fmAdd(fmLoad(context.sum, n[a]), s));
 		}
-	fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmBlendTask, &context);
+	fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
 	fmArena_Release(arena, mark);
 }
 
@@ -108,7 +108,7 @@ void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem
 	if (b->damping < 1.0)
 	{
 		fmDampTask damp = {b->v, fmMathPow(b->damping, steps)};
-		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_RANGE, fmDampTaskRun, &damp);
+		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
 	if (b->smoothing > 0.0)
 		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, steps), arena, tasks);

@@ -38,13 +38,11 @@ static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
 	                     fmMakeMaterial(model, 1e6, 0.3), fm_fem);
 }
 
-// The batched forces at the body's positions (caller frees), every colour split into ranges of
-// one block, so that even a small body runs on every worker; their energy into @p energy.
+// The batched forces at the body's positions (caller frees; every colour's blocks are split
+// one to a range, so a small body runs on every worker too); their energy into @p energy.
 static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, double* energy)
 {
 	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
-	if (blocks != NULL)
-		blocks->minBlocksPerRange = 1;
 	double* f = calloc(3 * (size_t)b->vertexCount, sizeof *f);
 	if (blocks == NULL || f == NULL)
 	{
