@@ -49,41 +49,6 @@ fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
 
 // ---- the layout ---------------------------------------------------------------------------------
 
-// Greedy colours of the blocks (consecutive runs of FM_BLOCK_BATCHES * FM_LANES tets of
-// the body's tets): the lowest colour no block sharing a vertex has. -1 when 64 are not enough.
-static int fmColourBlocks(const fmBody* b, int blockCount, int* colour)
-{
-	uint64_t* used = FM_ALLOC_ZERO(uint64_t, b->vertexCount); // colours around each vertex
-	if (used == NULL)
-		return -1;
-	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
-	int count = 0;
-	for (int k = 0; k < blockCount; ++k)
-	{
-		int first = k * perBlock,
-		    end = first + perBlock < b->tetCount ? first + perBlock : b->tetCount;
-		uint64_t taken = 0;
-		for (int t = first; t < end; ++t)
-			for (int a = 0; a < 4; ++a)
-				taken |= used[b->tets[4 * t + a]];
-		if (taken == UINT64_MAX)
-		{
-			count = -1;
-			break;
-		}
-		int c = 0;
-		while (taken >> c & 1u)
-			++c;
-		colour[k] = c;
-		count = c + 1 > count ? c + 1 : count;
-		for (int t = first; t < end; ++t)
-			for (int a = 0; a < 4; ++a)
-				used[b->tets[4 * t + a]] |= (uint64_t)1 << c;
-	}
-	FM_FREE_ARRAY(used, uint64_t, b->vertexCount);
-	return count;
-}
-
 // A block's own numbering of the vertices: local[v] is vertex v's number in the block being
 // packed, or -1; verts lists them in the order of first use.
 typedef struct fmBlockVertices
@@ -132,13 +97,14 @@ uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount)
 	uint64_t batches = (tetCount + FM_LANES - 1) / FM_LANES;
 	uint64_t blocks = (batches + FM_BLOCK_BATCHES - 1) / FM_BLOCK_BATCHES;
 	// Batches, their lane counts, block offsets (two arrays), the blocks' vertex lists (about a
-	// third of 4 per tet on a tet mesh; 4 per tet is the most), colours, one worker's scratch.
-	// Incidences: 4 per tet, with a start per vertex list entry; the smoothing's vertex graph:
-	// at most 16 entries per tet, two ints each, and a start per vertex.
-	// And one energy per block.
+	// third of 4 per tet on a tet mesh; 4 per tet is the most) with their sums (3 doubles each)
+	// and each vertex's entries in them (a start per vertex), one worker's scratch, one energy
+	// per block. Incidences: 4 per tet, with a start per vertex list entry; the smoothing's
+	// vertex graph: at most 16 entries per tet, two ints each, and a start per vertex.
 	return batches * (sizeof(fmTetBatch) + 1) + 2 * (blocks + 1) * sizeof(int) +
-	       blocks * sizeof(double) + 8 * tetCount * sizeof(int) + 4 * tetCount * sizeof(uint16_t) +
-	       66 * sizeof(int) + 32 * tetCount * sizeof(int) + (vertexCount + 1) * sizeof(int) +
+	       blocks * sizeof(double) + 12 * tetCount * (sizeof(int) + sizeof(double)) +
+	       4 * tetCount * sizeof(uint16_t) + 32 * tetCount * sizeof(int) +
+	       2 * (vertexCount + 1) * sizeof(int) +
 	       fmScratchBytes((int)(vertexCount < blockVertices ? vertexCount : blockVertices)) +
 	       sizeof(fmTetBlocks);
 }
@@ -151,9 +117,11 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb->laneCount, uint8_t, tb->batchCount);
 	FM_FREE_ARRAY(tb->blockStart, int, tb->blockCount + 1);
 	FM_FREE_ARRAY(tb->blockEnergy, double, tb->blockCount);
-	FM_FREE_ARRAY(tb->colourStart, int, tb->colourCount + 1);
 	FM_FREE_ARRAY(tb->blockVertexStart, int, tb->blockCount + 1);
 	FM_FREE_ARRAY(tb->blockVertices, int, 4 * (size_t)tb->tetCount);
+	FM_FREE_ARRAY(tb->blockSums, double, 3 * (size_t)tb->entryCount);
+	FM_FREE_ARRAY(tb->vertexEntryStart, int, (size_t)tb->vertexCount + 1);
+	FM_FREE_ARRAY(tb->vertexEntries, int, (size_t)tb->entryCount);
 	FM_FREE_ARRAY(tb->incidenceStart, int, 4 * (size_t)tb->tetCount + 1);
 	FM_FREE_ARRAY(tb->incidences, uint16_t, 4 * (size_t)tb->tetCount);
 	FM_FREE_ARRAY(tb->neighbourStart, int, (size_t)tb->vertexCount + 1);
@@ -203,39 +171,54 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 				    (uint16_t)((j - first) * FM_BATCH_FLOATS + 3 * a * FM_LANES + l);
 }
 
-// Blocks in colour order (a counting sort, stable: within a colour, in Morton order); packs
-// their batches and vertex lists.
-static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, const int* colour, fmBlockVertices* bv)
+// Packs the blocks' batches and vertex lists, in the body's (Morton) order.
+static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, fmBlockVertices* bv)
 {
+	int batch = 0, vertexCount = 0;
 	for (int k = 0; k < tb->blockCount; ++k)
-		tb->colourStart[colour[k] + 1] += 1;
-	for (int c = 0; c < tb->colourCount; ++c)
-		tb->colourStart[c + 1] += tb->colourStart[c];
-	int batch = 0, slot = 0, vertexCount = 0;
-	for (int c = 0; c < tb->colourCount; ++c)
-		for (int k = 0; k < tb->blockCount; ++k)
-		{
-			if (colour[k] != c)
-				continue;
-			tb->blockStart[slot] = batch;
-			tb->blockVertexStart[slot++] = vertexCount;
-			bv->verts = tb->blockVertices + vertexCount;
-			bv->count = 0;
-			int first = batch;
-			batch = fmPackBlock(tb, b, k, batch, bv);
-			fmBuildIncidences(tb, first, batch, vertexCount, bv->count, bv->cursor);
-			for (int i = 0; i < bv->count; ++i)
-				bv->local[bv->verts[i]] = -1;
-			vertexCount += bv->count;
-			tb->maxBlockVertices =
-			    bv->count > tb->maxBlockVertices ? bv->count : tb->maxBlockVertices;
-		}
+	{
+		tb->blockStart[k] = batch;
+		tb->blockVertexStart[k] = vertexCount;
+		bv->verts = tb->blockVertices + vertexCount;
+		bv->count = 0;
+		int first = batch;
+		batch = fmPackBlock(tb, b, k, batch, bv);
+		fmBuildIncidences(tb, first, batch, vertexCount, bv->count, bv->cursor);
+		for (int i = 0; i < bv->count; ++i)
+			bv->local[bv->verts[i]] = -1;
+		vertexCount += bv->count;
+		tb->maxBlockVertices = bv->count > tb->maxBlockVertices ? bv->count : tb->maxBlockVertices;
+	}
 	tb->blockStart[tb->blockCount] = batch;
 	tb->blockVertexStart[tb->blockCount] = vertexCount;
+	tb->entryCount = vertexCount;
 	return batch == tb->batchCount;
 }
 
-// The arrays of a layout of @p blockCount blocks and @p colourCount colours; false when short.
+// Each vertex's entries of the blocks' vertex lists, in block order (a stable counting sort),
+// and room for the blocks' sums.
+static bool fmBuildVertexEntries(fmTetBlocks* tb, int vertexCount)
+{
+	tb->vertexCount = vertexCount;
+	tb->vertexEntryStart = FM_ALLOC_ZERO(int, (size_t)vertexCount + 1);
+	tb->vertexEntries = FM_ALLOC_ARRAY(int, (size_t)tb->entryCount);
+	tb->blockSums = FM_ALLOC_ARRAY(double, 3 * (size_t)tb->entryCount);
+	if (tb->vertexEntryStart == NULL || tb->vertexEntries == NULL || tb->blockSums == NULL)
+		return false;
+	for (int e = 0; e < tb->entryCount; ++e)
+		tb->vertexEntryStart[tb->blockVertices[e] + 1] += 1;
+	for (int i = 0; i < vertexCount; ++i)
+		tb->vertexEntryStart[i + 1] += tb->vertexEntryStart[i];
+	// Placing moves each vertex's start to its end (the next one's start); then shift back.
+	for (int e = 0; e < tb->entryCount; ++e)
+		tb->vertexEntries[tb->vertexEntryStart[tb->blockVertices[e]]++] = e;
+	for (int i = vertexCount; i > 0; --i)
+		tb->vertexEntryStart[i] = tb->vertexEntryStart[i - 1];
+	tb->vertexEntryStart[0] = 0;
+	return true;
+}
+
+// The arrays of a layout of @p blockCount blocks; false when short.
 static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 {
 	tb->tetCount = b->tetCount;
@@ -248,13 +231,11 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 	tb->batches = FM_ALLOC_ARRAY(fmTetBatch, tb->batchCount);
 	tb->laneCount = FM_ALLOC_ARRAY(uint8_t, tb->batchCount);
 	tb->blockStart = FM_ALLOC_ZERO(int, blockCount + 1);
-	tb->colourStart = FM_ALLOC_ZERO(int, tb->colourCount + 1);
 	tb->blockVertexStart = FM_ALLOC_ZERO(int, blockCount + 1);
 	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->tetCount);
 	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->tetCount + 1);
 	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->tetCount);
-	return tb->batches && tb->laneCount && tb->blockStart && tb->colourStart &&
-	       tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
+	return tb->batches && tb->laneCount && tb->blockStart && tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
 
 // The weighted vertex graph of the smoothing sums (fmTetBlocks.neighbours): for each vertex,
@@ -262,7 +243,6 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
 {
 	const int n = b->vertexCount;
-	tb->vertexCount = n;
 	tb->neighbourStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
 	int* slot = FM_ALLOC_ARRAY(int, n); // the place of vertex j in the current list, or -1
 	// At most 4 entries per tet around each vertex: 16 per tet in all.
@@ -302,17 +282,15 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 	// The body keeps its tets in Morton order already (reorder.h): blocks are runs of it.
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
 	int blockCount = (b->tetCount + perBlock - 1) / perBlock;
-	int* colour = FM_ALLOC_ZERO(int, blockCount);
 	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, b->vertexCount), NULL, 0,
 	                      FM_ALLOC_ARRAY(int, 4 * perBlock)};
-	bool ok = tb != NULL && colour != NULL && bv.local != NULL && bv.cursor != NULL;
+	bool ok = tb != NULL && bv.local != NULL && bv.cursor != NULL;
 	if (ok)
 	{
 		for (int i = 0; i < b->vertexCount; ++i)
 			bv.local[i] = -1;
-		tb->colourCount = fmColourBlocks(b, blockCount, colour);
-		ok = tb->colourCount > 0 && fmAllocateBlocks(tb, b, blockCount) &&
-		     fmPackBlocks(tb, b, colour, &bv) && fmBuildNeighbours(tb, b);
+		ok = fmAllocateBlocks(tb, b, blockCount) && fmPackBlocks(tb, b, &bv) &&
+		     fmBuildVertexEntries(tb, b->vertexCount) && fmBuildNeighbours(tb, b);
 	}
 	if (ok)
 	{
@@ -322,7 +300,6 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 		tb->blockEnergy = FM_ALLOC_ZERO(double, tb->blockCount);
 		ok = tb->scratch != NULL && tb->blockEnergy != NULL;
 	}
-	FM_FREE_ARRAY(colour, int, blockCount);
 	FM_FREE_ARRAY(bv.local, int, b->vertexCount);
 	FM_FREE_ARRAY(bv.cursor, int, 4 * perBlock);
 	if (!ok)
@@ -343,8 +320,7 @@ typedef struct fmForcePass
 	double* f;
 	fmTetKernelFcn* kernel;
 	fmKernelMaterial material;
-	bool energy;    // the blocks' energies wanted
-	int firstBlock; // of the colour being run
+	bool energy; // the blocks' energies wanted
 } fmForcePass;
 
 // A worker's scratch: 3 doubles per block vertex, then the block's batch forces.
@@ -399,8 +375,8 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 }
 
 // One block: gather its vertices' displacements, run its batches, then every vertex sums its
-// entries of the block's forces in a fixed order and adds them to the body's; the block's
-// energy is its tets' in order.
+// entries of the block's forces in a fixed order into the block's sums; the block's energy is
+// its tets' in order.
 static void fmForceBlock(const fmForcePass* p, int k, int worker)
 {
 	const fmTetBlocks* tb = p->blocks;
@@ -436,38 +412,32 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 			sy += (double)entry[FM_LANES];
 			sz += (double)entry[2 * FM_LANES];
 		}
-		double* fi = p->f + 3 * verts[i];
-		fi[0] += sx, fi[1] += sy, fi[2] += sz;
+		double* sum = tb->blockSums + 3 * (size_t)(base + i);
+		sum[0] = sx, sum[1] = sy, sum[2] = sz;
 	}
-}
-
-// Ask for block @p k's vertices' positions, rest positions and forces ahead of its pass: on a
-// large body they come from the last-level cache or memory.
-static void fmPrefetchBlock(const fmForcePass* p, int k)
-{
-#if defined(__GNUC__) || defined(__clang__)
-	const fmTetBlocks* tb = p->blocks;
-	const double* X = p->body->x0;
-	for (int e = tb->blockVertexStart[k]; e < tb->blockVertexStart[k + 1]; ++e)
-	{
-		size_t at = 3 * (size_t)tb->blockVertices[e];
-		__builtin_prefetch(p->x + at, 0);
-		__builtin_prefetch(X + at, 0);
-		__builtin_prefetch(p->f + at, 1);
-	}
-#else
-	(void)p, (void)k;
-#endif
 }
 
 static void fmForceBlocksTask(int start, int end, int worker, void* context)
 {
 	const fmForcePass* p = context;
-	for (int k = p->firstBlock + start; k < p->firstBlock + end; ++k)
-	{
-		if (k + 1 < p->firstBlock + end)
-			fmPrefetchBlock(p, k + 1);
+	for (int k = start; k < end; ++k)
 		fmForceBlock(p, k, worker);
+}
+
+// f += the blocks' sums for vertices [start, end), each vertex's in block order.
+static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmForcePass* p = context;
+	const fmTetBlocks* tb = p->blocks;
+	for (int i = start; i < end; ++i)
+	{
+		double* fi = p->f + 3 * i;
+		for (int e = tb->vertexEntryStart[i]; e < tb->vertexEntryStart[i + 1]; ++e)
+		{
+			const double* sum = tb->blockSums + 3 * (size_t)tb->vertexEntries[e];
+			fi[0] += sum[0], fi[1] += sum[1], fi[2] += sum[2];
+		}
 	}
 }
 
@@ -480,18 +450,14 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	                 f,
 	                 fmTetBlocks_Kernel(level),
 	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
-	                 energy,
-	                 0};
-	// A colour at a time, its blocks one to a range: a block (512 tets, 5-10 us) is worth ten
-	// times what handing out a range costs a spinning pool (about 0.5 us; a 10k-tet step on 2
-	// workers 23.5 -> 18.7 ns a tet against ranges of 4096 tets). Workers beyond the layout's
-	// scratch run serially (the same bits).
+	                 energy};
+	// The blocks, in ranges as small as one block: a block (512 tets, 5-10 us) is worth ten
+	// times what handing out a range costs a polling pool (about 0.5 us). Workers beyond the
+	// layout's scratch run serially (the same bits). Then the vertices gather their blocks'
+	// sums.
 	const fmTaskSystem* run = tasks != NULL && tasks->workerCount <= tb->workerCount ? tasks : NULL;
-	for (int c = 0; c < tb->colourCount; ++c)
-	{
-		p.firstBlock = tb->colourStart[c];
-		fmParallelFor(run, tb->colourStart[c + 1] - p.firstBlock, 1, fmForceBlocksTask, &p);
-	}
+	fmParallelFor(run, tb->blockCount, 1, fmForceBlocksTask, &p);
+	fmParallelFor(tasks, tb->vertexCount, FM_PARALLEL_MIN_VERTICES, fmAddBlockSumsTask, &p);
 	double sum = 0.0; // in block order: the same bits on any number of workers
 	for (int k = 0; energy && k < tb->blockCount; ++k)
 		sum += tb->blockEnergy[k];

@@ -1,9 +1,11 @@
 // The explicit FEM step's element layout and force pass (tet_blocks.c): a body's tets (in the
 // body's Morton order, reorder.h) packed FM_LANES to a batch in float for the batched kernels of
-// tet_kernel.c, grouped in blocks, and the blocks coloured so that blocks of one colour share no
-// vertex. The force pass runs colour by colour; within a colour the workers take blocks, and
-// every vertex receives its tets' forces in the same order for any number of workers: the same
-// bits on 1 or N workers, with no per-tet force buffer and no atomics.
+// tet_kernel.c, grouped in blocks. The force pass runs the blocks on the workers, each block
+// summing its tets' forces on each of its vertices into a sum of its own; then each vertex adds
+// its blocks' sums in block order. Every vertex receives its tets' forces in the same order for
+// any number of workers: the same bits on 1 or N workers, with no atomics and no colouring (whose
+// passes, one a colour, swept a large body's vertex arrays once a colour and left a small one's
+// few blocks a colour on one worker).
 #pragma once
 
 #include "body.h"
@@ -18,23 +20,27 @@ typedef struct fmTetBlocks
 	int tetCount;
 	double restVolume; // of the body (m^3)
 	int batchCount;
-	fmTetBatch* batches; // in colour order, then block order
+	fmTetBatch* batches; // in block order
 	uint8_t* laneCount;  // tets in each batch (FM_LANES but in a block's last batch)
 	int blockCount;
 	int* blockStart;     // blockCount + 1 batch offsets
 	double* blockEnergy; // blockCount: each block's energy in the last pass that asked for it
-	int colourCount;
-	int* colourStart; // colourCount + 1 block offsets
 	// The vertices of block k are blockVertices[blockVertexStart[k] .. blockVertexStart[k + 1]),
 	// in the order its tets first use them; its batches number them from 0. A block gathers
 	// their displacements once, runs its batches into a buffer of fmTetBatchForces, and then
-	// each vertex sums its entries there (no read-modify-write chains through memory) and adds
-	// the sum to the body's force: entry j of the block's vertex list has the buffer offsets
-	// (floats, of its x component) incidences[incidenceStart[j] .. incidenceStart[j + 1]).
+	// each vertex sums its entries there (no read-modify-write chains through memory) into
+	// blockSums: entry j of the block's vertex list has the buffer offsets (floats, of its x
+	// component) incidences[incidenceStart[j] .. incidenceStart[j + 1]).
 	int* blockVertexStart; // blockCount + 1
 	int* blockVertices;    // 4 per tet at most
+	int entryCount;        // entries of blockVertices used
 	int* incidenceStart;   // one per entry of blockVertices, and one more
 	uint16_t* incidences;  // 4 per tet
+	double* blockSums;     // 3 per entry: the force of the entry's block on its vertex
+	// Vertex i's entries of blockVertices, in block order: vertexEntries[vertexEntryStart[i] ..
+	// vertexEntryStart[i + 1]).
+	int* vertexEntryStart; // vertexCount + 1
+	int* vertexEntries;    // entryCount
 	int maxBlockVertices;
 	// The seeds' smoothing sums as a weighted vertex graph: sum_i = sum over the tets around i
 	// of their 4 velocities = sum_j w_ij v_j, w_ij the tets holding both i and j (w_ii: the tets

@@ -238,7 +238,10 @@ TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 	fmDestroyWorld(world);
 }
 
-TEST(blocks_of_one_colour_share_no_vertex)
+// The layout the force pass relies on: every tet in one lane of one block, and every vertex
+// listed once in each block that holds it, its entries in block order (the order its force sums
+// are added in), and in no other block.
+TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 {
 	fmWorldId world;
 	fmBody* b = makeCube(failures_, &world, 14, fm_stvk);
@@ -246,29 +249,48 @@ TEST(blocks_of_one_colour_share_no_vertex)
 	CHECK(tb != NULL);
 	if (tb == NULL)
 		return;
-	int* owner = malloc(sizeof(int) * (size_t)b->vertexCount);
+	int* holds = calloc((size_t)tb->entryCount, sizeof(int)); // tets using each entry
 	int* seen = calloc((size_t)b->tetCount, sizeof(int));
 	int lanes = 0;
-	for (int c = 0; c < tb->colourCount; ++c)
-	{
-		for (int i = 0; i < b->vertexCount; ++i)
-			owner[i] = -1;
-		for (int k = tb->colourStart[c]; k < tb->colourStart[c + 1]; ++k)
-			for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
-				for (int l = 0; l < tb->laneCount[j]; ++l, ++lanes)
-					for (int a = 0; a < 4; ++a)
-					{
-						int v =
-						    tb->blockVertices[tb->blockVertexStart[k] + tb->batches[j].nodes[a][l]];
-						if (owner[v] != -1 && owner[v] != k)
-							FAIL_AT("colour %d: blocks %d and %d share vertex %d", c, owner[v], k,
-							        v);
-						owner[v] = k;
-					}
-	}
+	for (int k = 0; k < tb->blockCount; ++k)
+		for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
+			for (int l = 0; l < tb->laneCount[j]; ++l, ++lanes)
+				for (int a = 0; a < 4; ++a)
+				{
+					int e = tb->blockVertexStart[k] + tb->batches[j].nodes[a][l];
+					if (e >= tb->blockVertexStart[k + 1])
+						FAIL_AT("block %d: node %d of lane %d out of its list", k, a, l);
+					else
+						holds[e] += 1;
+				}
 	CHECK_INT(lanes, b->tetCount); // every tet once
-	printf("  %d tets in %d blocks of %d colours\n", b->tetCount, tb->blockCount, tb->colourCount);
-	free(owner), free(seen);
+	int placed = 0;
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		int last = -1;
+		for (int q = tb->vertexEntryStart[i]; q < tb->vertexEntryStart[i + 1]; ++q, ++placed)
+		{
+			int e = tb->vertexEntries[q];
+			if (tb->blockVertices[e] != i || holds[e] == 0 || e <= last)
+				FAIL_AT("vertex %d: entry %d (of vertex %d, %d tets) after %d", i, e,
+				        tb->blockVertices[e], holds[e], last);
+			last = e;
+		}
+	}
+	CHECK_INT(placed, tb->entryCount); // every entry gathered by its vertex
+	// The tets around a vertex sum to its valence: no block misses one of them.
+	for (int i = 0; i < b->vertexCount; ++i)
+	{
+		int tets = 0;
+		for (int q = tb->vertexEntryStart[i]; q < tb->vertexEntryStart[i + 1]; ++q)
+			tets += holds[tb->vertexEntries[q]];
+		if (tets != b->vertexTetStart[i + 1] - b->vertexTetStart[i])
+			FAIL_AT("vertex %d: %d tets in its blocks, %d around it", i, tets,
+			        b->vertexTetStart[i + 1] - b->vertexTetStart[i]);
+	}
+	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->tetCount,
+	       tb->blockCount, tb->entryCount, (double)tb->entryCount / b->tetCount);
+	free(holds), free(seen);
 	fmTetBlocks_Destroy(tb);
 	fmDestroyWorld(world);
 }
