@@ -235,7 +235,8 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->tetCount);
 	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->tetCount + 1);
 	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->tetCount);
-	return tb->batches && tb->laneCount && tb->blockStart && tb->blockVertexStart && tb->blockVertices && tb->incidenceStart && tb->incidences;
+	return tb->batches && tb->laneCount && tb->blockStart && tb->blockVertexStart &&
+	       tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
 
 // The weighted vertex graph of the smoothing sums (fmTetBlocks.neighbours): for each vertex,
@@ -391,8 +392,8 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
 		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
-		p->kernel(&tb->batches[j], u, &p->material, o, lanes);
-		for (int l = 0; l < tb->laneCount[j]; ++l)
+		bool fallback = p->kernel(&tb->batches[j], u, &p->material, o, lanes);
+		for (int l = 0; fallback && l < tb->laneCount[j]; ++l)
 			if (o->fallback[l])
 				fmReferenceLane(p, &tb->batches[j], l, u, o, lanes);
 		for (int l = 0; lanes && l < tb->laneCount[j]; ++l)

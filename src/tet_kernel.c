@@ -354,7 +354,7 @@ FM_INLINE void fmGatherDu(const fmTetBatch* batch, const double* u, float du[9][
 
 // Lanes [o, o + FM_VLANES) of the batch, their Du gathered in @p du; with @p laneEnergy NULL the
 // energy's terms are skipped (a step's pass does not pay for them).
-FM_INLINE void fmKernelVector(const fmTetBatch* batch, const float du[9][FM_LANES], int o,
+FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const float du[9][FM_LANES], int o,
                               const fmKernelMaterial* material, fmTetBatchForces* out,
                               float* laneEnergy)
 {
@@ -393,21 +393,24 @@ FM_INLINE void fmKernelVector(const fmTetBatch* batch, const float du[9][FM_LANE
 		fmV_Store(out->force[i] + o, fmV_Sub(fmV_Set(0.0f), sum));
 	}
 	memcpy(out->fallback + o, &fallback, sizeof fallback);
+	return fmI_Any(fallback);
 }
 
 // The kernel: the batch's Du, then its vectors one after another.
-FM_INLINE void fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
+FM_INLINE bool fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
                         fmTetBatchForces* out, float* laneEnergy)
 {
 	float du[9][FM_LANES];
 	fmGatherDu(batch, u, du);
+	bool fallback = false;
 	for (int o = 0; o < FM_LANES; o += FM_VLANES)
-		fmKernelVector(batch, du, o, material, out, laneEnergy);
+		fallback |= fmKernelVector(batch, du, o, material, out, laneEnergy);
+	return fallback;
 }
 
-void FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
+bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
                                         const fmKernelMaterial* material, fmTetBatchForces* out,
                                         float* laneEnergy)
 {
-	fmKernel(batch, u, material, out, laneEnergy);
+	return fmKernel(batch, u, material, out, laneEnergy);
 }

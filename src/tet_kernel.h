@@ -40,8 +40,9 @@ typedef struct fmKernelMaterial
 // Du = [u1 - u0, u2 - u0, u3 - u0] in double, rounds it once to float, and works from
 // H = F - I = Du Dm^-1, so a small strain keeps its relative accuracy in float. With a non-NULL
 // @p energy, each lane's elastic energy V0 psi (J; 0 in unused lanes) goes to energy[lane]
-// (Neo-Hookean's from Green's strain, free of first-order cancellation).
-typedef void fmTetKernelFcn(const fmTetBatch* batch, const double* u,
+// (Neo-Hookean's from Green's strain, free of first-order cancellation). Returns whether any lane
+// was left to the reference (out->fallback).
+typedef bool fmTetKernelFcn(const fmTetBatch* batch, const double* u,
                             const fmKernelMaterial* material, fmTetBatchForces* out, float* energy);
 
 fmTetKernelFcn fmTetKernel_Forces_scalar;

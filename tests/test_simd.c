@@ -288,8 +288,8 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 			FAIL_AT("vertex %d: %d tets in its blocks, %d around it", i, tets,
 			        b->vertexTetStart[i + 1] - b->vertexTetStart[i]);
 	}
-	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->tetCount,
-	       tb->blockCount, tb->entryCount, (double)tb->entryCount / b->tetCount);
+	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->tetCount, tb->blockCount,
+	       tb->entryCount, (double)tb->entryCount / b->tetCount);
 	free(holds), free(seen);
 	fmTetBlocks_Destroy(tb);
 	fmDestroyWorld(world);
