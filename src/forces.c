@@ -6,7 +6,9 @@
 #include "forces.h"
 
 #include "material.h"
+#include "material_stretch.h"
 #include "solver_cache.h"
+#include "tet_kernel.h"
 
 #include <string.h>
 
@@ -28,27 +30,98 @@ fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
 	return fmMatMul(&Ds, &body->DmInv[t]);
 }
 
+// The batched polar kernel of the CPU's instruction set (every variant gives the same bits).
+static fmPolarKernelFcn* fmPolarKernel(void)
+{
+	switch (fmSimd_Detect())
+	{
+#if defined(__x86_64__) || defined(_M_X64)
+	case fm_simdAvx512:
+		return fmTetKernel_Polar_avx512;
+	case fm_simdAvx2:
+		return fmTetKernel_Polar_avx2;
+#endif
+	case fm_simdScalar:
+		return fmTetKernel_Polar_scalar;
+	default:
+		return fmTetKernel_Polar_baseline;
+	}
+}
+
+// F, P and psi of tets [first, first + count), count <= FM_POLAR_LANES, at x: the corotated tets
+// take their rotations from the batched polar kernel (about a third of a corotated implicit
+// frame one tet at a time), the same bits as fmMaterial_Evaluate's.
+static void fmTetStresses(const fmBody* body, const double* x, int first, int count,
+                          fmPolarKernelFcn* polar, fmMat3* F, fmMat3* P, double* psi)
+{
+	fmPolarBatch batch;
+	int lane[FM_POLAR_LANES], lanes = 0;
+	for (int j = 0; j < count; ++j)
+	{
+		F[j] = fmTetDeformation(body, x, first + j);
+		lane[j] = fmTetMaterial(body, first + j)->model == fm_corotated ? lanes++ : -1;
+		for (int k = 0; lane[j] >= 0 && k < 9; ++k)
+			batch.F[k][lane[j]] = F[j].m[k];
+	}
+	if (lanes > 0)
+	{
+		for (int k = 0; k < 9; ++k)
+			for (int l = lanes; l < FM_POLAR_LANES; ++l)
+				batch.F[k][l] = k % 4 == 0 ? 1.0 : 0.0;
+		polar(&batch);
+	}
+	for (int j = 0; j < count; ++j)
+	{
+		const fmMaterial* m = fmTetMaterial(body, first + j);
+		if (lane[j] >= 0 && batch.ok[lane[j]])
+		{
+			fmMat3 R;
+			for (int k = 0; k < 9; ++k)
+				R.m[k] = batch.R[k][lane[j]];
+			psi[j] = fmCorotated_Stress(m, &F[j], &R, &P[j]);
+		}
+		else
+			psi[j] = fmMaterial_Evaluate(m, &F[j], &P[j], NULL);
+	}
+}
+
+// The forces of tet @p t from its first Piola-Kirchhoff stress: the columns of -V0 P Dm^-T on
+// nodes 1..3, minus their sum on node 0, into out[0..3].
+static void fmTetNodeForces(const fmBody* body, int t, const fmMat3* P, fmVec3 out[4])
+{
+	double V0 = body->restVolume[t];
+	fmMat3 H = fmMatMulT(P, &body->DmInv[t]);
+	fmVec3 sum = {0, 0, 0};
+	for (int a = 1; a < 4; ++a)
+	{
+		out[a] = fmScale(-V0, fmColumn(&H, a - 1));
+		sum = fmAdd(sum, out[a]);
+	}
+	out[0] = sum;
+}
+
 static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 {
+	fmPolarKernelFcn* polar = fmPolarKernel();
 	double energy = 0.0;
-	for (int t = 0; t < body->tetCount; ++t)
+	for (int first = 0; first < body->tetCount; first += FM_POLAR_LANES)
 	{
-		fmMat3 F = fmTetDeformation(body, x, t);
-		fmMat3 P;
-		double V0 = body->restVolume[t];
-		energy += V0 * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
-
-		// H = -V0 P Dm^-T: column a-1 is the force on node a; node 0 balances them.
-		fmMat3 H = fmMatMulT(&P, &body->DmInv[t]);
-		const int* n = body->tets + 4 * t;
-		fmVec3 sum = {0, 0, 0};
-		for (int a = 1; a < 4; ++a)
+		int count =
+		    body->tetCount - first < FM_POLAR_LANES ? body->tetCount - first : FM_POLAR_LANES;
+		fmMat3 F[FM_POLAR_LANES], P[FM_POLAR_LANES];
+		double psi[FM_POLAR_LANES];
+		fmTetStresses(body, x, first, count, polar, F, P, psi);
+		for (int j = 0; j < count; ++j)
 		{
-			fmVec3 fa = fmScale(-V0, fmColumn(&H, a - 1));
-			sum = fmAdd(sum, fa);
-			fmStore(f, n[a], fmAdd(fmLoad(f, n[a]), fa));
+			int t = first + j;
+			energy += body->restVolume[t] * psi[j];
+			fmVec3 fa[4];
+			fmTetNodeForces(body, t, &P[j], fa);
+			const int* n = body->tets + 4 * t;
+			for (int a = 1; a < 4; ++a)
+				fmStore(f, n[a], fmAdd(fmLoad(f, n[a]), fa[a]));
+			fmStore(f, n[0], fmSub(fmLoad(f, n[0]), fa[0]));
 		}
-		fmStore(f, n[0], fmSub(fmLoad(f, n[0]), sum));
 	}
 	return energy;
 }
@@ -56,23 +129,25 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
                  double* energies)
 {
-	for (int t = first; t < end; ++t)
+	fmPolarKernelFcn* polar = fmPolarKernel();
+	for (int start = first; start < end; start += FM_POLAR_LANES)
 	{
-		fmMat3 F = fmTetDeformation(body, x, t);
-		fmMat3 P;
-		double V0 = body->restVolume[t];
-		energies[t] = V0 * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
-		// The same arithmetic as fmAddFemForces; node 0 keeps minus the sum (a - b == a + -b).
-		fmMat3 H = fmMatMulT(&P, &body->DmInv[t]);
-		fmVec3 sum = {0, 0, 0};
-		double* out = forces + 12 * (size_t)t;
-		for (int a = 1; a < 4; ++a)
+		int count = end - start < FM_POLAR_LANES ? end - start : FM_POLAR_LANES;
+		fmMat3 F[FM_POLAR_LANES], P[FM_POLAR_LANES];
+		double psi[FM_POLAR_LANES];
+		fmTetStresses(body, x, start, count, polar, F, P, psi);
+		for (int j = 0; j < count; ++j)
 		{
-			fmVec3 fa = fmScale(-V0, fmColumn(&H, a - 1));
-			sum = fmAdd(sum, fa);
-			fmStore(out, a, fa);
+			int t = start + j;
+			energies[t] = body->restVolume[t] * psi[j];
+			// The same arithmetic as fmAddFemForces; node 0 keeps minus the sum (a - b == a + -b).
+			fmVec3 fa[4];
+			fmTetNodeForces(body, t, &P[j], fa);
+			double* out = forces + 12 * (size_t)t;
+			for (int a = 1; a < 4; ++a)
+				fmStore(out, a, fa[a]);
+			fmStore(out, 0, fmScale(-1.0, fa[0]));
 		}
-		fmStore(out, 0, fmScale(-1.0, sum));
 	}
 }
 

@@ -246,22 +246,28 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 }
 
 // Fixed corotated without the SVD, for psi and P only: psi = mu |F - R|^2 + lambda/2 (J - 1)^2,
-// P = 2 mu (F - R) + lambda (J - 1) cof F, with R from fmPolarRotationFast (the same R = U V^T
-// as the SVD's when det F > 0). False where that declines F.
-static bool fmCorotatedByPolar(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* psi)
+// P = 2 mu (F - R) + lambda (J - 1) cof F.
+double fmCorotated_Stress(const fmMaterial* m, const fmMat3* F, const fmMat3* R, fmMat3* P)
 {
-	fmMat3 R;
-	if (!fmPolarRotationFast(F, &R))
-		return false;
-	fmMat3 D = fmMatMulAdd(F, -1.0, &R);
+	fmMat3 D = fmMatMulAdd(F, -1.0, R);
 	double J = fmDet(F);
-	*psi = m->mu * fmDDot(&D, &D) + 0.5 * m->lambda * (J - 1.0) * (J - 1.0);
 	if (P)
 	{
 		fmMat3 C = fmCofactor(F);
 		for (int k = 0; k < 9; ++k)
 			P->m[k] = 2.0 * m->mu * D.m[k] + m->lambda * (J - 1.0) * C.m[k];
 	}
+	return m->mu * fmDDot(&D, &D) + 0.5 * m->lambda * (J - 1.0) * (J - 1.0);
+}
+
+// With R from fmPolarRotationFast (the same R = U V^T as the SVD's when det F > 0). False where
+// that declines F.
+static bool fmCorotatedByPolar(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* psi)
+{
+	fmMat3 R;
+	if (!fmPolarRotationFast(F, &R))
+		return false;
+	*psi = fmCorotated_Stress(m, F, &R, P);
 	return true;
 }
 

@@ -10,6 +10,10 @@
 // truncation).
 #define FM_STRETCH_GAP 1e-8
 
+// Fixed corotated psi and, when not NULL, P = 2 mu (F - R) + lambda (J - 1) cof F, given F's
+// rotation R (fmPolarRotationFast, or the batched polar kernel of tet_kernel.h: the same bits).
+double fmCorotated_Stress(const fmMaterial* material, const fmMat3* F, const fmMat3* R, fmMat3* P);
+
 // Fixed corotated, the user's fmStretchEnergyFcn, and StVK / Neo-Hookean / Mooney-Rivlin in
 // stretches: psi, and P and dPdF (layout of material.h) when not NULL. With project, dPdF is
 // projected onto the PSD cone analytically (its eigenvectors are known in closed form).

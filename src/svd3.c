@@ -10,13 +10,6 @@
 
 #include <float.h>
 
-// fmPolarRotationFast: the smallest det F / |F|_F^3 it takes (a condition number of about
-// 500), its most iterations, and the last change (Frobenius) after which X is orthogonal to
-// round-off.
-#define FM_POLAR_MIN_SHAPE 1e-3
-#define FM_POLAR_MAX_ITERATIONS 12
-#define FM_POLAR_DONE 1e-9
-
 // Rotation (c, s) zeroing the off-diagonal of the symmetric 2x2 [[a, g], [g, b]] when applied
 // as J = [[c, s], [-s, c]] on both sides (Golub, Van Loan, "symmetric Schur"). The smaller
 // of the two possible angles, so the iteration converges.
@@ -265,7 +258,11 @@ bool fmPolarRotationFast(const fmMat3* F, fmMat3* R)
 	if (!(det > FM_POLAR_MIN_SHAPE * norm2 * sqrt(norm2)) || !isfinite(norm2))
 		return false;
 	fmMat3 X = *F;
-	bool scaled = true;
+	// Near a rotation (|F|^2 = 3 + 2 tr E + |E|^2 and det F = 1 + tr E + ... for F = R (I + E))
+	// the plain iteration converges quadratically from the first step, and the scaling's three
+	// square roots would be wasted.
+	bool scaled =
+	    fabs(norm2 - 3.0) > FM_POLAR_NEAR_ROTATION || fabs(det - 1.0) > FM_POLAR_NEAR_ROTATION;
 	for (int iteration = 0; iteration < FM_POLAR_MAX_ITERATIONS; ++iteration)
 	{
 		fmMat3 C = fmCofactor(&X);

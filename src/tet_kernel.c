@@ -23,6 +23,10 @@
 #define FM_KERNEL_VARIANT baseline
 #endif
 #include "tet_kernel.h"
+
+#include "svd3.h"
+
+#include <math.h>
 #define FM_PASTE2(a, b) a##_##b
 #define FM_PASTE(a, b) FM_PASTE2(a, b)
 #define FM_KERNEL_NAME(name) FM_PASTE(name, FM_KERNEL_VARIANT)
@@ -413,4 +417,114 @@ bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
                                         float* laneEnergy)
 {
 	return fmKernel(batch, u, material, out, laneEnergy);
+}
+
+// ---- batched polar rotations --------------------------------------------------------------------
+// Plain loops over the lanes, which the compiler vectorises at the variant's width; every
+// expression is fmPolarRotationFast's (fmDDot, fmDet and fmCofactor of fm_math.h written out in
+// their order), and square roots, taken lane by lane, are rare (only for scaled steps).
+
+#define FM_PL FM_POLAR_LANES
+
+// C = cof(X) and d = det X by its first row, lane by lane.
+FM_INLINE void fmPolarCofactor(const double X[9][FM_PL], double C[9][FM_PL], double d[FM_PL])
+{
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		C[0][l] = X[4][l] * X[8][l] - X[5][l] * X[7][l];
+		C[1][l] = X[5][l] * X[6][l] - X[3][l] * X[8][l];
+		C[2][l] = X[3][l] * X[7][l] - X[4][l] * X[6][l];
+		C[3][l] = X[2][l] * X[7][l] - X[1][l] * X[8][l];
+		C[4][l] = X[0][l] * X[8][l] - X[2][l] * X[6][l];
+		C[5][l] = X[1][l] * X[6][l] - X[0][l] * X[7][l];
+		C[6][l] = X[1][l] * X[5][l] - X[2][l] * X[4][l];
+		C[7][l] = X[2][l] * X[3][l] - X[0][l] * X[5][l];
+		C[8][l] = X[0][l] * X[4][l] - X[1][l] * X[3][l];
+		d[l] = X[0][l] * C[0][l] + X[1][l] * C[1][l] + X[2][l] * C[2][l];
+	}
+}
+
+// The sum over k of A[k] B[k] of one lane, in k order (fmDDot).
+FM_INLINE double fmPolarDot(const double A[9][FM_PL], const double B[9][FM_PL], int l)
+{
+	double s = 0.0;
+	for (int k = 0; k < 9; ++k)
+		s += A[k][l] * B[k][l];
+	return s;
+}
+
+// Which lanes start: fmPolarRotationFast's shape test, and whether their first step is scaled
+// (masks of all bits set, as wide as a double, which the compiler blends with).
+FM_INLINE void fmPolarStart(const fmPolarBatch* batch, int64_t active[FM_PL], int64_t scaled[FM_PL])
+{
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		const double* m[9];
+		for (int k = 0; k < 9; ++k)
+			m[k] = &batch->F[k][l];
+		double norm2 = fmPolarDot(batch->F, batch->F, l);
+		double det = *m[0] * (*m[4] * *m[8] - *m[5] * *m[7]) -
+		             *m[1] * (*m[3] * *m[8] - *m[5] * *m[6]) +
+		             *m[2] * (*m[3] * *m[7] - *m[4] * *m[6]);
+		active[l] = det > FM_POLAR_MIN_SHAPE * norm2 * sqrt(norm2) && isfinite(norm2) ? -1 : 0;
+		scaled[l] =
+		    fabs(norm2 - 3.0) > FM_POLAR_NEAR_ROTATION || fabs(det - 1.0) > FM_POLAR_NEAR_ROTATION
+		        ? -1
+		        : 0;
+	}
+}
+
+// One step X <- a X + b C of every lane (a lane done or refused keeps its X), with each lane's
+// change |step|^2.
+FM_INLINE void fmPolarStep(double X[9][FM_PL], const double C[9][FM_PL], const double d[FM_PL],
+                           const int64_t active[FM_PL], const int64_t scaled[FM_PL],
+                           double change[FM_PL])
+{
+	double z[FM_PL], a[FM_PL], b[FM_PL];
+	for (int l = 0; l < FM_PL; ++l)
+		z[l] = scaled[l] & active[l]
+		           ? sqrt(sqrt(fmPolarDot(C, C, l) / (d[l] * d[l])) / sqrt(fmPolarDot(X, X, l)))
+		           : 1.0;
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		// Lanes done or refused divide by 1 instead (their steps are discarded).
+		a[l] = 0.5 * z[l], b[l] = 0.5 / (z[l] * (active[l] ? d[l] : 1.0));
+		change[l] = 0.0;
+	}
+	for (int k = 0; k < 9; ++k)
+		for (int l = 0; l < FM_PL; ++l)
+		{
+			double next = a[l] * X[k][l] + b[l] * C[k][l];
+			change[l] += (next - X[k][l]) * (next - X[k][l]);
+			X[k][l] = active[l] ? next : X[k][l];
+		}
+}
+
+void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
+{
+	double X[9][FM_PL], C[9][FM_PL], d[FM_PL], change[FM_PL];
+	int64_t active[FM_PL], scaled[FM_PL];
+	memcpy(X, batch->F, sizeof X);
+	fmPolarStart(batch, active, scaled);
+	bool any = false;
+	for (int l = 0; l < FM_PL; ++l)
+		batch->ok[l] = false, any |= active[l] != 0;
+	for (int iteration = 0; iteration < FM_POLAR_MAX_ITERATIONS && any; ++iteration)
+	{
+		fmPolarCofactor(X, C, d);
+		fmPolarStep(X, C, d, active, scaled, change);
+		any = false;
+		for (int l = 0; l < FM_PL; ++l)
+		{
+			if (active[l] && change[l] <= FM_POLAR_DONE * FM_POLAR_DONE)
+			{
+				for (int k = 0; k < 9; ++k)
+					batch->R[k][l] = X[k][l];
+				batch->ok[l] = true;
+				active[l] = 0;
+			}
+			scaled[l] = change[l] > 1e-4 ? -1 : 0;
+			any |= active[l] != 0;
+		}
+	}
 }

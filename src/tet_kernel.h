@@ -51,3 +51,29 @@ fmTetKernelFcn fmTetKernel_Forces_baseline;
 fmTetKernelFcn fmTetKernel_Forces_avx2;
 fmTetKernelFcn fmTetKernel_Forces_avx512;
 #endif
+
+// ---- batched polar rotations (the implicit solver's corotated tets) ----------------------------
+
+// Matrices the polar kernel takes at once.
+#define FM_POLAR_LANES 8
+
+// The deformation gradients of up to FM_POLAR_LANES tets (row-major, entry k of lane l at
+// F[k][l]; unused lanes hold the identity) and their rotations.
+typedef struct fmPolarBatch
+{
+	double F[9][FM_POLAR_LANES];
+	double R[9][FM_POLAR_LANES]; // where ok
+	bool ok[FM_POLAR_LANES];     // false where fmPolarRotationFast refuses F (R untouched)
+} fmPolarBatch;
+
+// fmTetKernel_Polar_<variant>: fmPolarRotationFast (svd3.h) of every lane, in double, with the
+// same operations in the same order lane by lane (each lane stops at its own convergence), so the
+// same bits as one matrix at a time on every variant.
+typedef void fmPolarKernelFcn(fmPolarBatch* batch);
+
+fmPolarKernelFcn fmTetKernel_Polar_scalar;
+fmPolarKernelFcn fmTetKernel_Polar_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmPolarKernelFcn fmTetKernel_Polar_avx2;
+fmPolarKernelFcn fmTetKernel_Polar_avx512;
+#endif

@@ -9,6 +9,7 @@
 #include "forces.h"
 #include "material.h"
 #include "simd.h"
+#include "svd3.h"
 #include "tet_blocks.h"
 
 #include <math.h>
@@ -384,4 +385,69 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 	free(v), free(seeds), free(sums), free(other);
 	fmTetBlocks_Destroy(tb);
 	fmDestroyWorld(world);
+}
+
+// The batched polar kernel of the implicit solver's corotated tets (tet_kernel.h): on every
+// instruction set the CPU has, the same bits and the same refusals as fmPolarRotationFast, one
+// matrix at a time, for rotations with small and large stretches, flat, inverted and non-finite
+// matrices side by side in one batch (each lane stops on its own).
+TEST(batched_polar_rotations_are_the_scalar_ones_bit_for_bit)
+{
+	fmPolarKernelFcn* kernels[] = {fmTetKernel_Polar_scalar, fmTetKernel_Polar_baseline,
+#if defined(__x86_64__) || defined(_M_X64)
+	                               fmTetKernel_Polar_avx2, fmTetKernel_Polar_avx512
+#endif
+	};
+	const int kernelCount = (int)(sizeof kernels / sizeof kernels[0]);
+	int compared = 0, refused = 0, differ = 0;
+	for (int round = 0; round < 200; ++round)
+	{
+		fmPolarBatch batch;
+		fmMat3 F[FM_POLAR_LANES];
+		for (int l = 0; l < FM_POLAR_LANES; ++l)
+		{
+			// Stretches from 1e-6 to 2 (lane by lane a different scale), a flat or inverted
+			// matrix every few lanes, a NaN now and then.
+			double strain = pow(10.0, fmTestRandom(-6.0, 0.3));
+			fmMat3 R = fmTestRandomRotation(), S = fmIdentity3();
+			for (int k = 0; k < 9; ++k)
+				S.m[k] += strain * fmTestRandom(-1.0, 1.0);
+			if ((round + l) % 7 == 3)
+				S.m[0] = -S.m[0]; // inverted
+			if ((round + l) % 11 == 5)
+				S.m[8] = S.m[4] = 1e-5; // near flat
+			F[l] = fmMatMul(&R, &S);
+			if ((round + l) % 53 == 7)
+				F[l].m[4] = NAN;
+			for (int k = 0; k < 9; ++k)
+				batch.F[k][l] = F[l].m[k];
+		}
+		bool ok[FM_POLAR_LANES];
+		fmMat3 R[FM_POLAR_LANES];
+		for (int l = 0; l < FM_POLAR_LANES; ++l)
+		{
+			ok[l] = fmPolarRotationFast(&F[l], &R[l]);
+			refused += !ok[l];
+		}
+		for (int v = 0; v < kernelCount; ++v)
+		{
+			if ((v == 2 && fmSimd_Detect() < fm_simdAvx2) ||
+			    (v == 3 && fmSimd_Detect() < fm_simdAvx512))
+				continue;
+			fmPolarBatch b = batch;
+			kernels[v](&b);
+			for (int l = 0; l < FM_POLAR_LANES; ++l, ++compared)
+			{
+				bool same = b.ok[l] == ok[l];
+				for (int k = 0; same && ok[l] && k < 9; ++k)
+					same = memcmp(&b.R[k][l], &R[l].m[k], sizeof(double)) == 0;
+				if (!same && ++differ <= 5)
+					FAIL_AT("kernel %d, round %d, lane %d: ok %d against %d", v, round, l,
+					        b.ok[l], ok[l]);
+			}
+		}
+	}
+	CHECK_INT(differ, 0);
+	CHECK(refused > 0 && refused < 200 * FM_POLAR_LANES / 2);
+	printf("  %d lanes compared, %d matrices refused by both\n", compared, refused);
 }
