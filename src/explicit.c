@@ -37,6 +37,7 @@ typedef struct fmExplicitTask
 	fmBody* body;
 	double dt;
 	fmVec3 gravity;
+	double damping; // the step's damping factor, 1 for none
 } fmExplicitTask;
 
 // Stage 1 for vertices [start, end): f = m g.
@@ -49,7 +50,8 @@ static void fmGravityTask(int start, int end, int worker, void* context)
 		fmStore(b->f, i, fmScale(b->mass[i], c->gravity));
 }
 
-// Stage 2 for vertices [start, end): v += dt f / m; pinned vertices stay at rest.
+// Stage 2 for vertices [start, end): v += dt f / m, then the seeds' damping factor (one pass:
+// the same bits as the velocity filter's own); pinned vertices stay at rest.
 static void fmVelocitiesTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
@@ -57,11 +59,14 @@ static void fmVelocitiesTask(int start, int end, int worker, void* context)
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
 	{
-		if (b->pinned[i] == FM_PIN_ALL)
-			continue;
-		fmVec3 v = fmMulAdd(fmLoad(b->v, i), c->dt * b->invMass[i], fmLoad(b->f, i));
-		fmStore(b->v, i, v);
-		fmZeroPinnedAxes(b, i, b->v + 3 * i); // rollers: free only along their open axes
+		double* vi = b->v + 3 * i;
+		if (b->pinned[i] != FM_PIN_ALL)
+		{
+			fmStore(b->v, i, fmMulAdd(fmLoad(b->v, i), c->dt * b->invMass[i], fmLoad(b->f, i)));
+			fmZeroPinnedAxes(b, i, vi); // rollers: free only along their open axes
+		}
+		if (b->damping < 1.0)
+			vi[0] *= c->damping, vi[1] *= c->damping, vi[2] *= c->damping;
 	}
 }
 
@@ -76,33 +81,37 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
 }
 
-// f += the elastic forces: the batched float kernels where they apply and are accurate (made on
-// the body's first explicit step), else the double-precision reference kernel (also when memory
-// is short).
-static void fmAddExplicitElasticForces(const fmWorld* world, fmBody* b, fmArena* arena)
+// f = m g + the elastic forces: the batched float kernels where they apply and are accurate
+// (made on the body's first explicit step; gravity then comes with their last pass), else the
+// double-precision reference kernel (also when memory is short).
+static void fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
+                                      fmArena* arena)
 {
 	if (b->tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
 		b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
 	const fmTetBlocks* blocks = fmTetBlocks_Used(b, world->simd);
 	if (blocks != NULL)
-		fmTetBlocks_AddForces(blocks, b, b->x, b->f, world->simd, &world->tasks, false);
-	else
-		fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
+	{
+		fmTetBlocks_AddForces(blocks, b, b->x, &context->gravity, b->f, world->simd, &world->tasks,
+		                      false);
+		return;
+	}
+	fmParallelFor(&world->tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
+	fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
 }
 
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {b, dt, world->def.gravity};
+	fmExplicitTask context = {b, dt, world->def.gravity, fmVelocityFilter_DampingFactor(b, dt)};
 
 	// 0. Prescribed displacements move their vertices along their paths (loads.h).
 	double start = fmSeconds();
 	fmLoads_StepPrescribed(b, dt, dt);
 
 	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
-	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmGravityTask, &context);
-	fmAddExplicitElasticForces(world, b, arena);
+	fmGravityAndElasticForces(world, b, &context, arena);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);
@@ -112,11 +121,11 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 		b->f[k] += loads[k];
 	double forced = fmSeconds();
 
-	// 2. Velocities: v += dt f / m. Pinned vertices stay at rest.
+	// 2. Velocities: v += dt f / m, and the seeds' damping factor. Pinned vertices stay at rest.
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
 
-	// 3. The seeds' damping factor and Laplacian smoothing against high-frequency oscillation.
-	fmFilterVelocities(b, dt, arena, tasks);
+	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
+	fmVelocityFilter_Smooth(b, dt, arena, tasks);
 	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
 	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));

@@ -318,6 +318,7 @@ typedef struct fmForcePass
 	const fmTetBlocks* blocks;
 	const fmBody* body;
 	const double* x;
+	const fmVec3* gravity; // f = m g + the forces, or NULL: f += the forces
 	double* f;
 	fmTetKernelFcn* kernel;
 	fmKernelMaterial material;
@@ -425,7 +426,7 @@ static void fmForceBlocksTask(int start, int end, int worker, void* context)
 		fmForceBlock(p, k, worker);
 }
 
-// f += the blocks' sums for vertices [start, end), each vertex's in block order.
+// f (or m g) += the blocks' sums for vertices [start, end), each vertex's in block order.
 static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
@@ -434,6 +435,8 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 	for (int i = start; i < end; ++i)
 	{
 		double* fi = p->f + 3 * i;
+		if (p->gravity != NULL)
+			fmStore(p->f, i, fmScale(p->body->mass[i], *p->gravity));
 		for (int e = tb->vertexEntryStart[i]; e < tb->vertexEntryStart[i + 1]; ++e)
 		{
 			const double* sum = tb->blockSums + 3 * (size_t)tb->vertexEntries[e];
@@ -442,12 +445,14 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 	}
 }
 
-double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x, double* f,
-                             fmSimdLevel level, const fmTaskSystem* tasks, bool energy)
+double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x,
+                             const fmVec3* gravity, double* f, fmSimdLevel level,
+                             const fmTaskSystem* tasks, bool energy)
 {
 	fmForcePass p = {tb,
 	                 body,
 	                 x,
+	                 gravity,
 	                 f,
 	                 fmTetBlocks_Kernel(level),
 	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
@@ -457,7 +462,7 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	// layout's scratch run serially (the same bits). Then the vertices gather their blocks'
 	// sums.
 	const fmTaskSystem* run = tasks != NULL && tasks->workerCount <= tb->workerCount ? tasks : NULL;
-	fmParallelFor(run, tb->blockCount, 1, fmForceBlocksTask, &p);
+	fmParallelForBalanced(run, tb->blockCount, 1, fmForceBlocksTask, &p);
 	fmParallelFor(tasks, tb->vertexCount, FM_PARALLEL_MIN_VERTICES, fmAddBlockSumsTask, &p);
 	double sum = 0.0; // in block order: the same bits on any number of workers
 	for (int k = 0; energy && k < tb->blockCount; ++k)

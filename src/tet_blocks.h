@@ -91,8 +91,10 @@ void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, doubl
                                const fmTaskSystem* tasks);
 
 // f += the elastic forces at positions @p x, with the kernel of @p level, on the workers (at most
-// the count the layout was made for). With @p energy, returns the elastic energy (J): each
-// tet's from the kernel (float), summed in double block by block, then over the blocks in order
-// (the same bits on any number of workers); else 0.
+// the count the layout was made for); with @p gravity, f = m g + the elastic forces instead (the
+// explicit step's gravity, the same bits as setting it first). With @p energy, returns the
+// elastic energy (J): each tet's from the kernel (float), summed in double block by block, then
+// over the blocks in order (the same bits on any number of workers); else 0.
 double fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
-                             double* f, fmSimdLevel level, const fmTaskSystem* tasks, bool energy);
+                             const fmVec3* gravity, double* f, fmSimdLevel level,
+                             const fmTaskSystem* tasks, bool energy);

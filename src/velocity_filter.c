@@ -102,14 +102,23 @@ static void fmDampTaskRun(int start, int end, int worker, void* context)
 		c->v[k] *= c->factor;
 }
 
+double fmVelocityFilter_DampingFactor(const fmBody* b, double dt)
+{
+	return b->damping < 1.0 ? fmMathPow(b->damping, dt / FM_SEED_STEP) : 1.0;
+}
+
+void fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, const fmTaskSystem* tasks)
+{
+	if (b->smoothing > 0.0)
+		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena, tasks);
+}
+
 void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem* tasks)
 {
-	const double steps = dt / FM_SEED_STEP;
 	if (b->damping < 1.0)
 	{
-		fmDampTask damp = {b->v, fmMathPow(b->damping, steps)};
+		fmDampTask damp = {b->v, fmVelocityFilter_DampingFactor(b, dt)};
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
-	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, steps), arena, tasks);
+	fmVelocityFilter_Smooth(b, dt, arena, tasks);
 }

@@ -10,3 +10,10 @@
 // damping per second does not depend on the step. Smoothing takes a vector of 3n doubles from
 // @p arena; it runs on @p tasks (NULL: serially), the same bits for any worker count.
 void fmFilterVelocities(fmBody* body, double dt, fmArena* arena, const fmTaskSystem* tasks);
+
+// The damping factor of a step of @p dt: damping^(dt / 3 ms), 1 for a body without damping.
+double fmVelocityFilter_DampingFactor(const fmBody* body, double dt);
+
+// fmFilterVelocities without the damping factor (a step that has applied
+// fmVelocityFilter_DampingFactor itself, in its velocity update: the same bits).
+void fmVelocityFilter_Smooth(fmBody* body, double dt, fmArena* arena, const fmTaskSystem* tasks);

@@ -55,7 +55,7 @@ static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, do
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	*energy = fmTetBlocks_AddForces(blocks, b, b->x, f, level, &tasks, true);
+	*energy = fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, level, &tasks, true);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
@@ -393,9 +393,12 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 // matrices side by side in one batch (each lane stops on its own).
 TEST(batched_polar_rotations_are_the_scalar_ones_bit_for_bit)
 {
-	fmPolarKernelFcn* kernels[] = {fmTetKernel_Polar_scalar, fmTetKernel_Polar_baseline,
+	fmPolarKernelFcn* kernels[] = {
+		fmTetKernel_Polar_scalar,
+		fmTetKernel_Polar_baseline,
 #if defined(__x86_64__) || defined(_M_X64)
-	                               fmTetKernel_Polar_avx2, fmTetKernel_Polar_avx512
+		fmTetKernel_Polar_avx2,
+		fmTetKernel_Polar_avx512
 #endif
 	};
 	const int kernelCount = (int)(sizeof kernels / sizeof kernels[0]);
@@ -442,8 +445,8 @@ TEST(batched_polar_rotations_are_the_scalar_ones_bit_for_bit)
 				for (int k = 0; same && ok[l] && k < 9; ++k)
 					same = memcmp(&b.R[k][l], &R[l].m[k], sizeof(double)) == 0;
 				if (!same && ++differ <= 5)
-					FAIL_AT("kernel %d, round %d, lane %d: ok %d against %d", v, round, l,
-					        b.ok[l], ok[l]);
+					FAIL_AT("kernel %d, round %d, lane %d: ok %d against %d", v, round, l, b.ok[l],
+					        ok[l]);
 			}
 		}
 	}
