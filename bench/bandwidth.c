@@ -1,6 +1,7 @@
 // The machine's memory bandwidth, measured in the same run as the benchmarks (bandwidth.h): a
 // STREAM-style triad a[i] = b[i] + s c[i] over arrays far larger than the caches, on 1 to W
 // threads, the median of several passes. 24 bytes move per element (two reads, one write).
+// And the scaling of work that needs no memory at all, on the same threads.
 #include "bandwidth.h"
 
 #include "cli.h"
@@ -85,4 +86,63 @@ void cliTriadBandwidths(int threads, double* one, double* many)
 	free(a);
 	free(b);
 	free(c);
+}
+
+// ---- compute scaling ----------------------------------------------------------------------------
+
+#define CLI_COMPUTE_STEPS 20000000 // a thread's multiply-add steps: about 30 ms
+
+typedef struct cliComputeSlice
+{
+	double result; // kept, so that the work is not optimised away
+} cliComputeSlice;
+
+// Eight independent chains x <- x * a + b (a < 1: bounded, never denormal), enough to keep a
+// core's floating-point units busy whatever their latency.
+static void* cliComputeRun(void* argument)
+{
+	cliComputeSlice* s = argument;
+	double x[8] = {1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0};
+	for (int k = 0; k < CLI_COMPUTE_STEPS / 8; ++k)
+		for (int c = 0; c < 8; ++c)
+			x[c] = x[c] * 0.999999 + 0.5;
+	s->result = x[0] + x[1] + x[2] + x[3] + x[4] + x[5] + x[6] + x[7];
+	return NULL;
+}
+
+// Seconds for @p threads threads to run a slice each (the caller runs the first); < 0 when a
+// thread cannot be started.
+static double cliComputeSeconds(int threads)
+{
+	cliComputeSlice slices[64];
+	pthread_t ids[64];
+	double start = cliNow();
+	int started = 1;
+	for (int t = 1; t < threads; ++t, ++started)
+		if (pthread_create(&ids[t], NULL, cliComputeRun, &slices[t]) != 0)
+			break;
+	cliComputeRun(&slices[0]);
+	for (int t = 1; t < started; ++t)
+		pthread_join(ids[t], NULL);
+	return started == threads ? cliNow() - start : -1.0;
+}
+
+double cliComputeScaling(int threads)
+{
+	enum
+	{
+		passes = 5
+	};
+	if (threads < 1 || threads > 64)
+		return 0.0;
+	double ratio[passes];
+	for (int p = 0; p < passes; ++p)
+	{
+		double one = cliComputeSeconds(1), many = cliComputeSeconds(threads);
+		if (one < 0.0 || many <= 0.0)
+			return 0.0;
+		ratio[p] = threads * one / many;
+	}
+	qsort(ratio, passes, sizeof ratio[0], cliCompareSeconds);
+	return ratio[passes / 2];
 }

@@ -25,10 +25,11 @@ const char* const cliBenchHelp =
     "Time explicit StVK and Neo-Hookean steps (ns per tet per step) and implicit 1/60 s\n"
     "Neo-Hookean and corotated frames (ms per frame, Newton and CG iterations) on the bouncy\n"
     "house, on generated boxes and on TetGen beams (meshed by `tetgen` when it is on PATH) of\n"
-    "about 1k, 10k, 100k and 1M tets, and the machine's memory bandwidth (a triad) in the same\n"
-    "run: every explicit row says what fraction of the bound (60 bytes a tet-step at that\n"
-    "bandwidth) it reaches. Prints medians. When femto-bench-bullet was built (Bullet found at\n"
-    "configure time), Bullet's deformable world runs on the same meshes up to 10k tets.\n"
+    "about 1k, 10k, 100k and 1M tets, and the machine's memory bandwidth (a triad) and its\n"
+    "threads' scaling on work in registers in the same run: every explicit row says what\n"
+    "fraction of the bound (60 bytes a tet-step at that bandwidth) it reaches. Prints\n"
+    "medians. When femto-bench-bullet was built (Bullet found at configure time), Bullet's\n"
+    "deformable world runs on the same meshes up to 10k tets.\n"
     "\n"
     "options:\n"
     "  --quick            stop at 10k tets, 3 repetitions (a few seconds)\n"
@@ -338,6 +339,10 @@ int cliBench(int argc, char** argv)
 	else
 	{
 		run.meshes = &meshes;
+		if (o.workers > 1 && meshes.count > 0)
+			printf("compute scaling (independent work in registers, %d threads against 1): "
+			       "%.2fx; the reference for the workers' speed-ups below\n",
+			       o.workers, cliComputeScaling(o.workers));
 		if (o.explicitSteps && meshes.count > 0)
 			cliBenchExplicitRows(&run);
 		if (o.implicitFrames && meshes.count > 0)

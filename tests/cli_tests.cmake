@@ -333,7 +333,7 @@ femto_cli_test(static_beam ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--exp
 
 # --- bench ---------------------------------------------------------------------------------------
 femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--repeats|1|--workers|2|--csv|${FEMTO_CLI_WORK}/bench.csv" CODE 0
-  REGEX "memory bandwidth \\(triad\\): [0-9.]+ GB/s on 1 thread, [0-9.]+ GB/s on 2.*house2 +1389 stvk +1 +[0-9.]+ +[0-9.]+ +[0-9.]+%.*house2 +1389 stvk +2 .*box 1k +1080 neohookean +2 "
+  REGEX "compute scaling \\(independent work in registers, 2 threads against 1\\): [0-9.]+x.*memory bandwidth \\(triad\\): [0-9.]+ GB/s on 1 thread, [0-9.]+ GB/s on 2.*house2 +1389 stvk +1 +[0-9.]+ +[0-9.]+ +[0-9.]+%.*house2 +1389 stvk +2 .*box 1k +1080 neohookean +2 "
   REJECT "failed|box 10k"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench.csv"
   CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,\n")
