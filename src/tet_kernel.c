@@ -1,6 +1,6 @@
 // Batched element kernels (tet_kernel.h), written once on the lane wrapper of simd.h and compiled
 // once per instruction set: FM_KERNEL_VARIANT names the variant (scalar, baseline, avx2,
-// avx512) and the build adds its -m flags. Everything here is static except the entry point, so
+// avx512) and the build adds its -m flags. Everything here is static except the entry points, so
 // no function compiled for a wider instruction set can be picked by the linker for a narrower one.
 //
 // Per tet, with H = F - I = Du Dm^-1 (a small strain keeps its relative accuracy in float):

@@ -1,7 +1,9 @@
-// Batched element kernels of the explicit FEM step: FM_LANES tets at once, in float, on the
-// lane wrapper of simd.h. tet_kernel.c is compiled once per instruction set (CMakeLists.txt);
-// each compilation defines the functions with its own suffix, and tet_blocks.c calls the one
-// simd.c chose. Formulas: docs/performance.md ("The explicit kernel").
+// Batched element kernels: the explicit FEM step's forces, FM_LANES tets at once in float on the
+// lane wrapper of simd.h, and the implicit passes' polar rotations of corotated tets,
+// FM_POLAR_LANES at once in double. tet_kernel.c is compiled once per instruction set
+// (CMakeLists.txt); each compilation defines the functions with its own suffix, and tet_blocks.c
+// and forces.c call the ones simd.c's level chose. Formulas: docs/performance.md ("The explicit
+// kernel") and docs/implicit.md ("Material kernels").
 #pragma once
 
 #include <femto/types.h>
