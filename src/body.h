@@ -170,8 +170,9 @@ static inline bool fmIsDofPinned(const fmBody* body, int dof)
 // Zero the components of a velocity (3 doubles) along the axes the vertex is pinned on.
 static inline void fmZeroPinnedAxes(const fmBody* body, int vertex, double* v)
 {
-	for (int k = 0; k < 3; ++k)
-		if (fmIsDofPinned(body, 3 * vertex + k))
+	unsigned pins = body->pinned[vertex];
+	for (int k = 0; pins != 0u && k < 3; ++k)
+		if ((pins >> k) & 1u)
 			v[k] = 0.0;
 }
 

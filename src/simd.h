@@ -241,4 +241,111 @@ static inline void fmV_Store(float* p, fmFloatV v)
 {
 	memcpy(p, &v, sizeof v);
 }
+
+// ---- the edge gather ----------------------------------------------------------------------------
+// fmV_GatherEdges: the edge matrices Du = [u1 - u0, u2 - u0, u3 - u0] of lanes [o, o + FM_VLANES)
+// of a batch, du[3 i + k] = (float)(u[4 n_{k+1} + i] - u[4 n_0 + i]) with n_a = nodes[a][lane]
+// and u the displacements of the batch's vertices, 4 doubles each (the fourth unused). The
+// difference is taken in double and rounded once to float on every variant, so every variant
+// gives the same bits. On x86 each lane's edges are three vector subtractions of its vertices'
+// 4-double rows and three conversions, and the lanes' rows are then transposed in registers;
+// elsewhere a lane at a time.
+
+#if !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__)) &&                       \
+    (defined(__x86_64__) || defined(_M_X64))
+#include <immintrin.h>
+#endif
+
+#if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
+// Edge k of lanes [o, o + 8) as rows x, y, z of 8 floats.
+static inline void fmGatherEdge8(const double* u, const uint16_t (*nodes)[FM_LANES], int o, int k,
+                                 __m256 row[3])
+{
+	__m128 e[8];
+	for (int l = 0; l < 8; ++l)
+	{
+		const double* u0 = u + 4 * nodes[0][o + l];
+		__m256d d =
+		    _mm256_sub_pd(_mm256_loadu_pd(u + 4 * nodes[k + 1][o + l]), _mm256_loadu_pd(u0));
+		e[l] = _mm256_cvtpd_ps(d);
+	}
+	// Lanes l and l + 4 side by side, then a 4x4 transpose in each half.
+	__m256 p[4];
+	for (int l = 0; l < 4; ++l)
+		p[l] = _mm256_insertf128_ps(_mm256_castps128_ps256(e[l]), e[l + 4], 1);
+	__m256 t0 = _mm256_unpacklo_ps(p[0], p[1]), t1 = _mm256_unpackhi_ps(p[0], p[1]);
+	__m256 t2 = _mm256_unpacklo_ps(p[2], p[3]), t3 = _mm256_unpackhi_ps(p[2], p[3]);
+	row[0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+	row[1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+	row[2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+}
+#endif
+
+#if defined(FM_SIMD_SCALAR) || !(defined(__GNUC__) || defined(__clang__)) ||                       \
+    !(defined(__x86_64__) || defined(_M_X64))
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+                                   fmFloatV du[9])
+{
+	float rows[9][FM_VLANES];
+	for (int l = 0; l < FM_VLANES; ++l)
+	{
+		const double* u0 = u + 4 * nodes[0][o + l];
+		for (int k = 0; k < 3; ++k)
+		{
+			const double* uk = u + 4 * nodes[k + 1][o + l];
+			for (int i = 0; i < 3; ++i)
+				rows[3 * i + k][l] = (float)(uk[i] - u0[i]);
+		}
+	}
+	for (int k = 0; k < 9; ++k)
+		du[k] = fmV_Load(rows[k]);
+}
+#elif defined(__AVX512F__)
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+                                   fmFloatV du[9])
+{
+	for (int k = 0; k < 3; ++k)
+	{
+		__m256 lo[3], hi[3];
+		fmGatherEdge8(u, nodes, o, k, lo);
+		fmGatherEdge8(u, nodes, o + 8, k, hi);
+		for (int i = 0; i < 3; ++i)
+			du[3 * i + k] = (fmFloatV)_mm512_insertf64x4(
+			    _mm512_castpd256_pd512(_mm256_castps_pd(lo[i])), _mm256_castps_pd(hi[i]), 1);
+	}
+}
+#elif defined(__AVX__)
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+                                   fmFloatV du[9])
+{
+	for (int k = 0; k < 3; ++k)
+	{
+		__m256 row[3];
+		fmGatherEdge8(u, nodes, o, k, row);
+		for (int i = 0; i < 3; ++i)
+			du[3 * i + k] = (fmFloatV)row[i];
+	}
+}
+#else
+// Lane l's edge k as (x, y, z, unused) in float.
+static inline __m128 fmEdge4(const double* u, const uint16_t (*nodes)[FM_LANES], int k, int l)
+{
+	__m128d x0 = _mm_loadu_pd(u + 4 * nodes[0][l]), z0 = _mm_loadu_pd(u + 4 * nodes[0][l] + 2);
+	__m128d xk = _mm_loadu_pd(u + 4 * nodes[k + 1][l]);
+	__m128d zk = _mm_loadu_pd(u + 4 * nodes[k + 1][l] + 2);
+	return _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(xk, x0)), _mm_cvtpd_ps(_mm_sub_pd(zk, z0)));
+}
+
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+                                   fmFloatV du[9])
+{
+	for (int k = 0; k < 3; ++k)
+	{
+		__m128 e0 = fmEdge4(u, nodes, k, o), e1 = fmEdge4(u, nodes, k, o + 1);
+		__m128 e2 = fmEdge4(u, nodes, k, o + 2), e3 = fmEdge4(u, nodes, k, o + 3);
+		_MM_TRANSPOSE4_PS(e0, e1, e2, e3);
+		du[k] = (fmFloatV)e0, du[3 + k] = (fmFloatV)e1, du[6 + k] = (fmFloatV)e2;
+	}
+}
+#endif
 #endif

@@ -83,11 +83,12 @@ static void fmPackBatch(const fmBody* b, int first, int end, fmBlockVertices* bv
 	}
 }
 
-// A worker's scratch for blocks of up to @p vertices vertices: their displacements, 3 doubles
-// each, then the forces of a block's batches (64-byte aligned).
+// A worker's scratch for blocks of up to @p vertices vertices: their displacements, 4 doubles
+// each (the kernel loads a vertex's as one vector), then the forces of a block's batches (64-byte
+// aligned).
 static size_t fmScratchBytes(int vertices)
 {
-	size_t u = (3 * (size_t)vertices * sizeof(double) + 63) / 64 * 64;
+	size_t u = (4 * (size_t)vertices * sizeof(double) + 63) / 64 * 64;
 	return u + FM_BLOCK_BATCHES * sizeof(fmTetBatchForces);
 }
 
@@ -100,10 +101,11 @@ uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount)
 	// third of 4 per tet on a tet mesh; 4 per tet is the most) with their sums (3 doubles each)
 	// and each vertex's entries in them (a start per vertex), one worker's scratch, one energy
 	// per block. Incidences: 4 per tet, with a start per vertex list entry; the smoothing's
-	// vertex graph: at most 16 entries per tet, two ints each, and a start per vertex.
+	// vertex graph: at most 16 entries per tet (about 3 on a tet mesh), an int and a double
+	// each, and a start per vertex.
 	return batches * (sizeof(fmTetBatch) + 1) + 2 * (blocks + 1) * sizeof(int) +
 	       blocks * sizeof(double) + 12 * tetCount * (sizeof(int) + sizeof(double)) +
-	       4 * tetCount * sizeof(uint16_t) + 32 * tetCount * sizeof(int) +
+	       4 * tetCount * sizeof(uint16_t) + 16 * tetCount * (sizeof(int) + sizeof(double)) +
 	       2 * (vertexCount + 1) * sizeof(int) +
 	       fmScratchBytes((int)(vertexCount < blockVertices ? vertexCount : blockVertices)) +
 	       sizeof(fmTetBlocks);
@@ -125,8 +127,8 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb->incidenceStart, int, 4 * (size_t)tb->tetCount + 1);
 	FM_FREE_ARRAY(tb->incidences, uint16_t, 4 * (size_t)tb->tetCount);
 	FM_FREE_ARRAY(tb->neighbourStart, int, (size_t)tb->vertexCount + 1);
-	FM_FREE_ARRAY(tb->neighbours, int, 16 * (size_t)tb->tetCount);
-	FM_FREE_ARRAY(tb->neighbourWeight, int, 16 * (size_t)tb->tetCount);
+	FM_FREE_ARRAY(tb->neighbourOffset, int, tb->neighbourCount);
+	FM_FREE_ARRAY(tb->neighbourWeight, double, tb->neighbourCount);
 	FM_FREE_ARRAY(tb->scratch, unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
 	FM_FREE_ARRAY(tb, fmTetBlocks, 1);
 }
@@ -239,21 +241,15 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 	       tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
 
-// The weighted vertex graph of the smoothing sums (fmTetBlocks.neighbours): for each vertex,
-// the vertices of its tets with how many of its tets hold each, in first-named order.
-static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
+// One pass over the vertex graph of the smoothing sums (fmTetBlocks.neighbourOffset): for each
+// vertex, the vertices of its tets with how many of its tets hold each, in first-named order.
+// With @p offsets NULL it only counts the entries; else it fills offsets and weights. @p slot
+// (the place of vertex j in the current list) is -1 for every vertex, and again on return.
+static int fmNeighbourPass(fmTetBlocks* tb, const fmBody* b, int* slot, int* offsets,
+                           double* weights)
 {
-	const int n = b->vertexCount;
-	tb->neighbourStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
-	int* slot = FM_ALLOC_ARRAY(int, n); // the place of vertex j in the current list, or -1
-	// At most 4 entries per tet around each vertex: 16 per tet in all.
-	tb->neighbours = FM_ALLOC_ARRAY(int, 16 * (size_t)b->tetCount);
-	tb->neighbourWeight = FM_ALLOC_ARRAY(int, 16 * (size_t)b->tetCount);
-	bool ok = tb->neighbourStart && slot && tb->neighbours && tb->neighbourWeight;
-	for (int j = 0; ok && j < n; ++j)
-		slot[j] = -1;
 	int count = 0;
-	for (int i = 0; ok && i < n; ++i)
+	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		tb->neighbourStart[i] = count;
 		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
@@ -262,17 +258,39 @@ static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
 				int j = b->tets[4 * (b->vertexTets[e] / 4) + a];
 				if (slot[j] < 0)
 				{
-					slot[j] = count;
-					tb->neighbours[count] = j;
-					tb->neighbourWeight[count++] = 0;
+					slot[j] = count++;
+					if (offsets != NULL)
+						offsets[slot[j]] = 3 * j, weights[slot[j]] = 0.0;
 				}
-				tb->neighbourWeight[slot[j]] += 1;
+				if (offsets != NULL)
+					weights[slot[j]] += 1.0;
 			}
-		for (int k = tb->neighbourStart[i]; k < count; ++k)
-			slot[tb->neighbours[k]] = -1;
+		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
+			for (int a = 0; a < 4; ++a)
+				slot[b->tets[4 * (b->vertexTets[e] / 4) + a]] = -1;
+	}
+	tb->neighbourStart[b->vertexCount] = count;
+	return count;
+}
+
+// The smoothing's vertex graph: counted, then filled into arrays of its size.
+static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
+{
+	const int n = b->vertexCount;
+	tb->neighbourStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
+	int* slot = FM_ALLOC_ARRAY(int, n);
+	bool ok = tb->neighbourStart != NULL && slot != NULL;
+	for (int j = 0; ok && j < n; ++j)
+		slot[j] = -1;
+	if (ok)
+	{
+		tb->neighbourCount = fmNeighbourPass(tb, b, slot, NULL, NULL);
+		tb->neighbourOffset = FM_ALLOC_ARRAY(int, tb->neighbourCount);
+		tb->neighbourWeight = FM_ALLOC_ARRAY(double, tb->neighbourCount);
+		ok = tb->neighbourOffset != NULL && tb->neighbourWeight != NULL;
 	}
 	if (ok)
-		tb->neighbourStart[n] = count;
+		fmNeighbourPass(tb, b, slot, tb->neighbourOffset, tb->neighbourWeight);
 	FM_FREE_ARRAY(slot, int, n);
 	return ok;
 }
@@ -325,7 +343,7 @@ typedef struct fmForcePass
 	bool energy; // the blocks' energies wanted
 } fmForcePass;
 
-// A worker's scratch: 3 doubles per block vertex, then the block's batch forces.
+// A worker's scratch: 4 doubles per block vertex, then the block's batch forces.
 static double* fmScratch(const fmTetBlocks* tb, int worker, fmTetBatchForces** forces)
 {
 	unsigned char* base = tb->scratch + tb->scratchBytes * (size_t)worker;
@@ -334,13 +352,16 @@ static double* fmScratch(const fmTetBlocks* tb, int worker, fmTetBatchForces** f
 	return (double*)base;
 }
 
-// u[3 i + c] = x[3 v + c] - X[3 v + c] for the block's vertices v = verts[i].
+// u[4 i + c] = x[3 v + c] - X[3 v + c] for the block's vertices v = verts[i] (u[4 i + 3] = 0).
 static void fmGatherDisplacements(const int* verts, int count, const double* x, const double* X,
                                   double* u)
 {
 	for (int i = 0; i < count; ++i)
+	{
 		for (int c = 0; c < 3; ++c)
-			u[3 * i + c] = x[3 * verts[i] + c] - X[3 * verts[i] + c];
+			u[4 * i + c] = x[3 * verts[i] + c] - X[3 * verts[i] + c];
+		u[4 * i + 3] = 0.0;
+	}
 }
 
 // Lane @p l of a batch by the double-precision reference: F = I + Du Dm^-1 from the block's
@@ -352,7 +373,7 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 	for (int i = 0; i < 3; ++i)
 		for (int k = 0; k < 3; ++k)
 		{
-			Du.m[3 * i + k] = u[3 * batch->nodes[k + 1][l] + i] - u[3 * batch->nodes[0][l] + i];
+			Du.m[3 * i + k] = u[4 * batch->nodes[k + 1][l] + i] - u[4 * batch->nodes[0][l] + i];
 			DmInv.m[3 * i + k] = (double)batch->dmInv[3 * i + k][l];
 		}
 	fmMat3 F = fmMatMul(&Du, &DmInv), P;
@@ -489,8 +510,8 @@ static void fmSmoothVerticesTask(int start, int end, int worker, void* context)
 		double sx = 0.0, sy = 0.0, sz = 0.0;
 		for (int k = tb->neighbourStart[i]; k < tb->neighbourStart[i + 1]; ++k)
 		{
-			const double* vj = p->v + 3 * tb->neighbours[k];
-			double w = (double)tb->neighbourWeight[k];
+			const double* vj = p->v + tb->neighbourOffset[k];
+			double w = tb->neighbourWeight[k];
 			sx += w * vj[0], sy += w * vj[1], sz += w * vj[2];
 		}
 		p->sums[3 * i] = sx, p->sums[3 * i + 1] = sy, p->sums[3 * i + 2] = sz;

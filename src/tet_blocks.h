@@ -44,11 +44,13 @@ typedef struct fmTetBlocks
 	int maxBlockVertices;
 	// The seeds' smoothing sums as a weighted vertex graph: sum_i = sum over the tets around i
 	// of their 4 velocities = sum_j w_ij v_j, w_ij the tets holding both i and j (w_ii: the tets
-	// around i). Vertex i's terms are neighbours / neighbourWeight[neighbourStart[i] ..
-	// neighbourStart[i + 1]), in the order its tets first name them.
+	// around i). Vertex i's terms are neighbourOffset / neighbourWeight[neighbourStart[i] ..
+	// neighbourStart[i + 1]), in the order its tets first name them: 3 j (where v_j starts in
+	// the velocity array) and w_ij.
 	int* neighbourStart; // vertexCount + 1
-	int* neighbours;
-	int* neighbourWeight;
+	int neighbourCount;  // neighbourStart[vertexCount]
+	int* neighbourOffset;
+	double* neighbourWeight;
 	int vertexCount;
 	int workerCount;
 	size_t scratchBytes; // per worker: the block's displacements and its batches' forces

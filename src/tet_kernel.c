@@ -340,29 +340,15 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 	}
 }
 
-// Du of every lane, row-major (du[3 i + k] = (u_{k+1} - u_0)_i), lane-innermost loops the
-// compiler may turn into gathers.
-FM_INLINE void fmGatherDu(const fmTetBatch* batch, const double* u, float du[9][FM_LANES])
-{
-	for (int l = 0; l < FM_LANES; ++l)
-	{
-		const double* u0 = u + 3 * batch->nodes[0][l];
-		for (int k = 0; k < 3; ++k)
-		{
-			const double* uk = u + 3 * batch->nodes[k + 1][l];
-			for (int i = 0; i < 3; ++i)
-				du[3 * i + k][l] = (float)(uk[i] - u0[i]);
-		}
-	}
-}
-
-// Lanes [o, o + FM_VLANES) of the batch, their Du gathered in @p du; with @p laneEnergy NULL the
-// energy's terms are skipped (a step's pass does not pay for them).
-FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const float du[9][FM_LANES], int o,
+// Lanes [o, o + FM_VLANES) of the batch, from the displacements @p u of its block (4 doubles a
+// vertex); with @p laneEnergy NULL the energy's terms are skipped (a step's pass does not pay for
+// them).
+FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
                               const fmKernelMaterial* material, fmTetBatchForces* out,
                               float* laneEnergy)
 {
-	fmMat3V Du = fmMat3V_Load(&du[0][o]);
+	fmMat3V Du;
+	fmV_GatherEdges(u, batch->nodes, o, Du.m);
 	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][o]);
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);
@@ -400,15 +386,13 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const float du[9][FM_LANE
 	return fmI_Any(fallback);
 }
 
-// The kernel: the batch's Du, then its vectors one after another.
+// The kernel: the batch's vectors one after another.
 FM_INLINE bool fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
                         fmTetBatchForces* out, float* laneEnergy)
 {
-	float du[9][FM_LANES];
-	fmGatherDu(batch, u, du);
 	bool fallback = false;
 	for (int o = 0; o < FM_LANES; o += FM_VLANES)
-		fallback |= fmKernelVector(batch, du, o, material, out, laneEnergy);
+		fallback |= fmKernelVector(batch, u, o, material, out, laneEnergy);
 	return fallback;
 }
 

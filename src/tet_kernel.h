@@ -38,9 +38,9 @@ typedef struct fmKernelMaterial
 } fmKernelMaterial;
 
 // fmTetKernel_Forces_<variant>: the forces of one batch, from the displacements u = x - X of
-// its block's vertices (3 doubles each, in the block's numbering). The kernel forms
-// Du = [u1 - u0, u2 - u0, u3 - u0] in double, rounds it once to float, and works from
-// H = F - I = Du Dm^-1, so a small strain keeps its relative accuracy in float. With a non-NULL
+// its block's vertices (4 doubles each, the fourth unused, in the block's numbering). The kernel
+// forms Du = [u1 - u0, u2 - u0, u3 - u0] in double, rounds it once to float, and works from H = F -
+// I = Du Dm^-1, so a small strain keeps its relative accuracy in float. With a non-NULL
 // @p energy, each lane's elastic energy V0 psi (J; 0 in unused lanes) goes to energy[lane]
 // (Neo-Hookean's from Green's strain, free of first-order cancellation). Returns whether any lane
 // was left to the reference (out->fallback).

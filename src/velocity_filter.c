@@ -67,13 +67,18 @@ static void fmBlendTask(int start, int end, int worker, void* context)
 static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fmTaskSystem* tasks)
 {
 	size_t mark = fmArena_Mark(arena);
-	fmSmoothTask context = {b, blend, fmArena_Doubles(arena, 3 * (size_t)b->vertexCount)};
+	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
+	bool gather = b->tetBlocks != NULL ||
+	              (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
+	               b->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
+	size_t count = 3 * (size_t)b->vertexCount;
+	fmSmoothTask context = {
+	    b, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count)};
 	if (context.sum == NULL)
 		return;
 	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
 		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, tasks);
-	else if (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	         b->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES)
+	else if (gather)
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
 	else
 		for (int t = 0; t < b->tetCount; ++t)
