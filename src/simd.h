@@ -348,4 +348,88 @@ static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_L
 	}
 }
 #endif
+
+// ---- the node forces out, and a vertex's sum of them --------------------------------------------
+// fmV_StoreNodes: out[l] = (x[l], y[l], z[l], 0) for the FM_VLANES lanes (one node's forces on
+// the lanes of a vector), so that a vertex's sum loads each entry as one vector.
+// fmSumEntries: sum[c] = the sum over e < count, in order, of (double)forces[offsets[e] + c],
+// c = 0, 1, 2, each component in double in the same order on every variant.
+
+#if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
+// Lanes 0..7 of rows x, y, z transposed to 8 rows of 4 (a 4x4 transpose in each half).
+static inline void fmStoreNodes8(float (*out)[4], __m256 x, __m256 y, __m256 z)
+{
+	__m256 zero = _mm256_setzero_ps();
+	__m256 t0 = _mm256_unpacklo_ps(x, y), t1 = _mm256_unpackhi_ps(x, y);
+	__m256 t2 = _mm256_unpacklo_ps(z, zero), t3 = _mm256_unpackhi_ps(z, zero);
+	__m256 a[4] = {_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0)),
+	               _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2)),
+	               _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0)),
+	               _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2))};
+	for (int l = 0; l < 4; ++l)
+	{
+		_mm_storeu_ps(out[l], _mm256_castps256_ps128(a[l]));
+		_mm_storeu_ps(out[l + 4], _mm256_extractf128_ps(a[l], 1));
+	}
+}
+
+static inline void fmSumEntries(const float* forces, const uint16_t* offsets, int count,
+                                double sum[3])
+{
+	__m256d s = _mm256_setzero_pd();
+	for (int e = 0; e < count; ++e)
+		s = _mm256_add_pd(s, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e])));
+	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
+	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+}
+#else
+static inline void fmSumEntries(const float* forces, const uint16_t* offsets, int count,
+                                double sum[3])
+{
+	double sx = 0.0, sy = 0.0, sz = 0.0;
+	for (int e = 0; e < count; ++e)
+	{
+		const float* entry = forces + offsets[e];
+		sx += (double)entry[0], sy += (double)entry[1], sz += (double)entry[2];
+	}
+	sum[0] = sx, sum[1] = sy, sum[2] = sz;
+}
+#endif
+
+#if defined(FM_SIMD_SCALAR) || !(defined(__GNUC__) || defined(__clang__)) ||                       \
+    !(defined(__x86_64__) || defined(_M_X64))
+static inline void fmV_StoreNodes(float (*out)[4], fmFloatV x, fmFloatV y, fmFloatV z)
+{
+	float rows[3][FM_VLANES];
+	fmV_Store(rows[0], x), fmV_Store(rows[1], y), fmV_Store(rows[2], z);
+	for (int l = 0; l < FM_VLANES; ++l)
+		out[l][0] = rows[0][l], out[l][1] = rows[1][l], out[l][2] = rows[2][l], out[l][3] = 0.0f;
+}
+#elif defined(__AVX512F__)
+// (The halves by literal immediates: the instructions take no variable.)
+static inline void fmV_StoreNodes(float (*out)[4], fmFloatV x, fmFloatV y, fmFloatV z)
+{
+	__m512d dx = _mm512_castps_pd((__m512)x), dy = _mm512_castps_pd((__m512)y),
+	        dz = _mm512_castps_pd((__m512)z);
+	fmStoreNodes8(out, _mm256_castpd_ps(_mm512_castpd512_pd256(dx)),
+	              _mm256_castpd_ps(_mm512_castpd512_pd256(dy)),
+	              _mm256_castpd_ps(_mm512_castpd512_pd256(dz)));
+	fmStoreNodes8(out + 8, _mm256_castpd_ps(_mm512_extractf64x4_pd(dx, 1)),
+	              _mm256_castpd_ps(_mm512_extractf64x4_pd(dy, 1)),
+	              _mm256_castpd_ps(_mm512_extractf64x4_pd(dz, 1)));
+}
+#elif defined(__AVX__)
+static inline void fmV_StoreNodes(float (*out)[4], fmFloatV x, fmFloatV y, fmFloatV z)
+{
+	fmStoreNodes8(out, (__m256)x, (__m256)y, (__m256)z);
+}
+#else
+static inline void fmV_StoreNodes(float (*out)[4], fmFloatV x, fmFloatV y, fmFloatV z)
+{
+	__m128 a = (__m128)x, b = (__m128)y, c = (__m128)z, d = _mm_setzero_ps();
+	_MM_TRANSPOSE4_PS(a, b, c, d);
+	_mm_storeu_ps(out[0], a), _mm_storeu_ps(out[1], b);
+	_mm_storeu_ps(out[2], c), _mm_storeu_ps(out[3], d);
+}
+#endif
 #endif

@@ -30,20 +30,20 @@ const fmTetBlocks* fmTetBlocks_Used(const fmBody* body, fmSimdLevel level)
 	                                                                                        : NULL;
 }
 
-fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level)
+fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level)
 {
 	switch (level)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return fmTetKernel_Forces_avx512;
+		return (fmTetKernels){fmTetKernel_Forces_avx512, fmTetKernel_SumForces_avx512};
 	case fm_simdAvx2:
-		return fmTetKernel_Forces_avx2;
+		return (fmTetKernels){fmTetKernel_Forces_avx2, fmTetKernel_SumForces_avx2};
 #endif
 	case fm_simdScalar:
-		return fmTetKernel_Forces_scalar;
+		return (fmTetKernels){fmTetKernel_Forces_scalar, fmTetKernel_SumForces_scalar};
 	default:
-		return fmTetKernel_Forces_baseline;
+		return (fmTetKernels){fmTetKernel_Forces_baseline, fmTetKernel_SumForces_baseline};
 	}
 }
 
@@ -149,8 +149,8 @@ static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, int k, int batch, fmBlo
 }
 
 // The incidences of the block whose vertex list starts at entry @p base (@p count vertices) and
-// whose batches are [first, end): for each vertex, the buffer offsets of its x force component
-// in batch, lane, node order. @p cursor has room for @p count ints.
+// whose batches are [first, end): for each vertex, the buffer offsets (floats) of its force
+// entries in batch, lane, node order. @p cursor has room for @p count ints.
 static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int count, int* cursor)
 {
 	memset(cursor, 0, sizeof(int) * (size_t)count);
@@ -170,7 +170,7 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			for (int a = 0; a < 4; ++a)
 				tb->incidences[cursor[tb->batches[j].nodes[a][l]]++] =
-				    (uint16_t)((j - first) * FM_BATCH_FLOATS + 3 * a * FM_LANES + l);
+				    (uint16_t)((j - first) * FM_BATCH_FLOATS + 4 * (FM_LANES * a + l));
 }
 
 // Packs the blocks' batches and vertex lists, in the body's (Morton) order.
@@ -338,7 +338,7 @@ typedef struct fmForcePass
 	const double* x;
 	const fmVec3* gravity; // f = m g + the forces, or NULL: f += the forces
 	double* f;
-	fmTetKernelFcn* kernel;
+	fmTetKernels kernels;
 	fmKernelMaterial material;
 	bool energy; // the blocks' energies wanted
 } fmForcePass;
@@ -390,10 +390,10 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 		for (int k = 0; k < 3; ++k)
 		{
 			double fk = -V0 * M.m[3 * i + k];
-			out->force[3 * (k + 1) + i][l] = (float)fk;
+			out->force[k + 1][l][i] = (float)fk;
 			sum += fk;
 		}
-		out->force[i][l] = (float)-sum;
+		out->force[0][l][i] = (float)-sum;
 	}
 }
 
@@ -414,7 +414,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
 	{
 		fmTetBatchForces* o = &out[j - tb->blockStart[k]];
-		bool fallback = p->kernel(&tb->batches[j], u, &p->material, o, lanes);
+		bool fallback = p->kernels.forces(&tb->batches[j], u, &p->material, o, lanes);
 		for (int l = 0; fallback && l < tb->laneCount[j]; ++l)
 			if (o->fallback[l])
 				fmReferenceLane(p, &tb->batches[j], l, u, o, lanes);
@@ -423,21 +423,8 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	}
 	if (p->energy)
 		tb->blockEnergy[k] = energy;
-	const float* forces = &out[0].force[0][0];
-	// Three named sums: an array here would be kept in memory, a chain of stores and reloads.
-	for (int i = 0; i < count; ++i)
-	{
-		double sx = 0.0, sy = 0.0, sz = 0.0;
-		for (int e = tb->incidenceStart[base + i]; e < tb->incidenceStart[base + i + 1]; ++e)
-		{
-			const float* entry = forces + tb->incidences[e];
-			sx += (double)entry[0];
-			sy += (double)entry[FM_LANES];
-			sz += (double)entry[2 * FM_LANES];
-		}
-		double* sum = tb->blockSums + 3 * (size_t)(base + i);
-		sum[0] = sx, sum[1] = sy, sum[2] = sz;
-	}
+	p->kernels.sums(&out[0].force[0][0][0], tb->incidences, tb->incidenceStart + base, count,
+	                tb->blockSums + 3 * (size_t)base);
 }
 
 static void fmForceBlocksTask(int start, int end, int worker, void* context)
@@ -475,7 +462,7 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	                 x,
 	                 gravity,
 	                 f,
-	                 fmTetBlocks_Kernel(level),
+	                 fmTetBlocks_Kernels(level),
 	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
 	                 energy};
 	// The blocks, in ranges as small as one block: a block (512 tets, 5-10 us) is worth ten

@@ -29,8 +29,8 @@ typedef struct fmTetBlocks
 	// in the order its tets first use them; its batches number them from 0. A block gathers
 	// their displacements once, runs its batches into a buffer of fmTetBatchForces, and then
 	// each vertex sums its entries there (no read-modify-write chains through memory) into
-	// blockSums: entry j of the block's vertex list has the buffer offsets (floats, of its x
-	// component) incidences[incidenceStart[j] .. incidenceStart[j + 1]).
+	// blockSums: entry j of the block's vertex list has the buffer offsets (floats, where an
+	// (x, y, z, 0) entry starts) incidences[incidenceStart[j] .. incidenceStart[j + 1]).
 	int* blockVertexStart; // blockCount + 1
 	int* blockVertices;    // 4 per tet at most
 	int entryCount;        // entries of blockVertices used
@@ -84,8 +84,15 @@ void fmTetBlocks_Destroy(fmTetBlocks* blocks);
 // memory estimate).
 uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount);
 
-// The kernel variant of an instruction set fmSimd_Resolve returned (not fm_simdOff).
-fmTetKernelFcn* fmTetBlocks_Kernel(fmSimdLevel level);
+// The kernels of one instruction set: a batch's forces, and a block's vertices' sums of them.
+typedef struct fmTetKernels
+{
+	fmTetKernelFcn* forces;
+	fmTetSumFcn* sums;
+} fmTetKernels;
+
+// The kernel variants of an instruction set fmSimd_Resolve returned (not fm_simdOff).
+fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level);
 
 // sums[i] = the sum over the tets around vertex i of their 4 velocities (the seeds' Laplacian
 // smoothing, velocity_filter.c), vertex by vertex on the workers.

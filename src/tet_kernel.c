@@ -370,18 +370,19 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
 	fmFloatV volume = fmV_Load(batch->volume + o);
 	if (energy)
 		fmV_Store(laneEnergy + o, fmV_Mul(volume, psi));
-	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), volume);
+	fmFloatV minusV = fmV_Sub(fmV_Set(0.0f), volume), zero = fmV_Set(0.0f);
+	fmFloatV node0[3];
 	for (int i = 0; i < 3; ++i)
 	{
-		fmFloatV sum = fmV_Set(0.0f);
+		fmFloatV sum = zero;
 		for (int k = 0; k < 3; ++k)
-		{
-			fmFloatV fk = fmV_Mul(minusV, M.m[3 * i + k]);
-			fmV_Store(out->force[3 * (k + 1) + i] + o, fk);
-			sum = fmV_Add(sum, fk);
-		}
-		fmV_Store(out->force[i] + o, fmV_Sub(fmV_Set(0.0f), sum));
+			sum = fmV_Add(sum, fmV_Mul(minusV, M.m[3 * i + k]));
+		node0[i] = fmV_Sub(zero, sum);
 	}
+	fmV_StoreNodes(out->force[0] + o, node0[0], node0[1], node0[2]);
+	for (int k = 0; k < 3; ++k)
+		fmV_StoreNodes(out->force[k + 1] + o, fmV_Mul(minusV, M.m[k]), fmV_Mul(minusV, M.m[3 + k]),
+		               fmV_Mul(minusV, M.m[6 + k]));
 	memcpy(out->fallback + o, &fallback, sizeof fallback);
 	return fmI_Any(fallback);
 }
@@ -401,6 +402,13 @@ bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
                                         float* laneEnergy)
 {
 	return fmKernel(batch, u, material, out, laneEnergy);
+}
+
+void FM_KERNEL_NAME(fmTetKernel_SumForces)(const float* forces, const uint16_t* offsets,
+                                           const int* start, int count, double* sums)
+{
+	for (int i = 0; i < count; ++i)
+		fmSumEntries(forces, offsets + start[i], start[i + 1] - start[i], sums + 3 * i);
 }
 
 // ---- batched polar rotations --------------------------------------------------------------------

@@ -18,11 +18,12 @@ typedef struct fmTetBatch
 	float volume[FM_LANES];      // V0 (m^3); 0 in unused lanes, which then give zero forces
 } fmTetBatch;
 
-// A batch's output: the elastic force on node a (0..3), component i, at force[3 a + i] (node 0
-// gets minus the sum of the others).
+// A batch's output: the elastic force on node a (0..3) of lane l at force[a][l] as (x, y, z, 0)
+// (node 0 gets minus the sum of the others): a vertex's sum loads each of its entries as one
+// vector.
 typedef struct fmTetBatchForces
 {
-	float force[12][FM_LANES];
+	float force[4][FM_LANES][4];
 	// Non-zero in lanes the kernel leaves to the double-precision reference (corotated: tets
 	// near flat or inverted, where its polar iteration does not apply; tet_blocks.c redoes
 	// them). Set on every variant alike, so the choice does not depend on the instruction set.
@@ -52,6 +53,20 @@ fmTetKernelFcn fmTetKernel_Forces_baseline;
 #if defined(__x86_64__) || defined(_M_X64)
 fmTetKernelFcn fmTetKernel_Forces_avx2;
 fmTetKernelFcn fmTetKernel_Forces_avx512;
+#endif
+
+// fmTetKernel_SumForces_<variant>: the sums of @p count vertices' entries in a block's batch
+// outputs @p forces (floats from the first batch's force[0][0]): vertex i's entries start at the
+// float offsets offsets[start[i] .. start[i + 1]), and sums[3 i + c] is the sum of their
+// component c in double, in that order (the same bits on every variant).
+typedef void fmTetSumFcn(const float* forces, const uint16_t* offsets, const int* start, int count,
+                         double* sums);
+
+fmTetSumFcn fmTetKernel_SumForces_scalar;
+fmTetSumFcn fmTetKernel_SumForces_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmTetSumFcn fmTetKernel_SumForces_avx2;
+fmTetSumFcn fmTetKernel_SumForces_avx512;
 #endif
 
 // ---- batched polar rotations (the implicit solver's corotated tets) ----------------------------
