@@ -125,7 +125,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
 
 	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
-	fmVelocityFilter_Smooth(b, dt, arena, tasks);
+	fmVelocityFilter_Smooth(b, dt, arena, world->simd, tasks);
 	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
 	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));

@@ -206,7 +206,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb.contact, b, c->xStart));
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
-	fmFilterVelocities(b, h, arena, &world->tasks);
+	fmFilterVelocities(b, h, arena, world->simd, &world->tasks);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
 	//    vertices on it.

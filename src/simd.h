@@ -353,7 +353,8 @@ static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_L
 // fmV_StoreNodes: out[l] = (x[l], y[l], z[l], 0) for the FM_VLANES lanes (one node's forces on
 // the lanes of a vector), so that a vertex's sum loads each entry as one vector.
 // fmSumEntries: sum[c] = the sum over e < count, in order, of (double)forces[offsets[e] + c],
-// c = 0, 1, 2, each component in double in the same order on every variant.
+// c = 0, 1, 2, each component in double in the same order on every variant. fmWeightedSum: the
+// same of weights[e] * v[offsets[e] + c] (v: 3 doubles a vertex).
 
 #if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
 // Lanes 0..7 of rows x, y, z transposed to 8 rows of 4 (a 4x4 transpose in each half).
@@ -373,6 +374,19 @@ static inline void fmStoreNodes8(float (*out)[4], __m256 x, __m256 y, __m256 z)
 	}
 }
 
+static inline void fmWeightedSum(const double* v, const int* offsets, const double* weights,
+                                 int count, double sum[3])
+{
+	// (The fourth lane is not loaded: the last vertex's row ends the array.)
+	const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);
+	__m256d s = _mm256_setzero_pd();
+	for (int e = 0; e < count; ++e)
+		s = _mm256_add_pd(
+		    s, _mm256_mul_pd(_mm256_set1_pd(weights[e]), _mm256_maskload_pd(v + offsets[e], xyz)));
+	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
+	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+}
+
 static inline void fmSumEntries(const float* forces, const uint16_t* offsets, int count,
                                 double sum[3])
 {
@@ -383,6 +397,19 @@ static inline void fmSumEntries(const float* forces, const uint16_t* offsets, in
 	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
 }
 #else
+static inline void fmWeightedSum(const double* v, const int* offsets, const double* weights,
+                                 int count, double sum[3])
+{
+	double sx = 0.0, sy = 0.0, sz = 0.0;
+	for (int e = 0; e < count; ++e)
+	{
+		const double* vj = v + offsets[e];
+		double w = weights[e];
+		sx += w * vj[0], sy += w * vj[1], sz += w * vj[2];
+	}
+	sum[0] = sx, sum[1] = sy, sum[2] = sz;
+}
+
 static inline void fmSumEntries(const float* forces, const uint16_t* offsets, int count,
                                 double sum[3])
 {

@@ -36,14 +36,18 @@ fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmTetKernels){fmTetKernel_Forces_avx512, fmTetKernel_SumForces_avx512};
+		return (fmTetKernels){fmTetKernel_Forces_avx512, fmTetKernel_SumForces_avx512,
+		                      fmTetKernel_WeightedSums_avx512};
 	case fm_simdAvx2:
-		return (fmTetKernels){fmTetKernel_Forces_avx2, fmTetKernel_SumForces_avx2};
+		return (fmTetKernels){fmTetKernel_Forces_avx2, fmTetKernel_SumForces_avx2,
+		                      fmTetKernel_WeightedSums_avx2};
 #endif
 	case fm_simdScalar:
-		return (fmTetKernels){fmTetKernel_Forces_scalar, fmTetKernel_SumForces_scalar};
+		return (fmTetKernels){fmTetKernel_Forces_scalar, fmTetKernel_SumForces_scalar,
+		                      fmTetKernel_WeightedSums_scalar};
 	default:
-		return (fmTetKernels){fmTetKernel_Forces_baseline, fmTetKernel_SumForces_baseline};
+		return (fmTetKernels){fmTetKernel_Forces_baseline, fmTetKernel_SumForces_baseline,
+		                      fmTetKernel_WeightedSums_baseline};
 	}
 }
 
@@ -485,6 +489,7 @@ typedef struct fmSmoothPass
 	const fmTetBlocks* blocks;
 	const double* v;
 	double* sums;
+	fmTetWeightedSumFcn* kernel;
 } fmSmoothPass;
 
 static void fmSmoothVerticesTask(int start, int end, int worker, void* context)
@@ -492,22 +497,13 @@ static void fmSmoothVerticesTask(int start, int end, int worker, void* context)
 	(void)worker;
 	const fmSmoothPass* p = context;
 	const fmTetBlocks* tb = p->blocks;
-	for (int i = start; i < end; ++i)
-	{
-		double sx = 0.0, sy = 0.0, sz = 0.0;
-		for (int k = tb->neighbourStart[i]; k < tb->neighbourStart[i + 1]; ++k)
-		{
-			const double* vj = p->v + tb->neighbourOffset[k];
-			double w = tb->neighbourWeight[k];
-			sx += w * vj[0], sy += w * vj[1], sz += w * vj[2];
-		}
-		p->sums[3 * i] = sx, p->sums[3 * i + 1] = sy, p->sums[3 * i + 2] = sz;
-	}
+	p->kernel(p->v, tb->neighbourOffset, tb->neighbourWeight, tb->neighbourStart, start, end,
+	          p->sums);
 }
 
 void fmTetBlocks_SmoothingSums(const fmTetBlocks* tb, const double* v, double* sums,
-                               const fmTaskSystem* tasks)
+                               fmSimdLevel level, const fmTaskSystem* tasks)
 {
-	fmSmoothPass p = {tb, v, sums};
+	fmSmoothPass p = {tb, v, sums, fmTetBlocks_Kernels(level).weightedSums};
 	fmParallelFor(tasks, tb->vertexCount, FM_PARALLEL_MIN_VERTICES, fmSmoothVerticesTask, &p);
 }

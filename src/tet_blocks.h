@@ -89,15 +89,17 @@ typedef struct fmTetKernels
 {
 	fmTetKernelFcn* forces;
 	fmTetSumFcn* sums;
+	fmTetWeightedSumFcn* weightedSums; // the smoothing's
 } fmTetKernels;
 
 // The kernel variants of an instruction set fmSimd_Resolve returned (not fm_simdOff).
 fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level);
 
 // sums[i] = the sum over the tets around vertex i of their 4 velocities (the seeds' Laplacian
-// smoothing, velocity_filter.c), vertex by vertex on the workers.
+// smoothing, velocity_filter.c), vertex by vertex on the workers, with the kernel of @p level
+// (the same bits on every level).
 void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, double* sums,
-                               const fmTaskSystem* tasks);
+                               fmSimdLevel level, const fmTaskSystem* tasks);
 
 // f += the elastic forces at positions @p x, with the kernel of @p level, on the workers (at most
 // the count the layout was made for); with @p gravity, f = m g + the elastic forces instead (the

@@ -411,6 +411,15 @@ void FM_KERNEL_NAME(fmTetKernel_SumForces)(const float* forces, const uint16_t* 
 		fmSumEntries(forces, offsets + start[i], start[i + 1] - start[i], sums + 3 * i);
 }
 
+void FM_KERNEL_NAME(fmTetKernel_WeightedSums)(const double* v, const int* offsets,
+                                              const double* weights, const int* start, int first,
+                                              int end, double* sums)
+{
+	for (int i = first; i < end; ++i)
+		fmWeightedSum(v, offsets + start[i], weights + start[i], start[i + 1] - start[i],
+		              sums + 3 * i);
+}
+
 // ---- batched polar rotations --------------------------------------------------------------------
 // Plain loops over the lanes, which the compiler vectorises at the variant's width; every
 // expression is fmPolarRotationFast's (fmDDot, fmDet and fmCofactor of fm_math.h written out in

@@ -69,6 +69,19 @@ fmTetSumFcn fmTetKernel_SumForces_avx2;
 fmTetSumFcn fmTetKernel_SumForces_avx512;
 #endif
 
+// fmTetKernel_WeightedSums_<variant>: for vertices i in [first, end), sums[3 i + c] = the sum
+// over e in [start[i], start[i + 1]) of weights[e] * v[offsets[e] + c], in double, in that
+// order (the same bits on every variant); v holds 3 doubles a vertex.
+typedef void fmTetWeightedSumFcn(const double* v, const int* offsets, const double* weights,
+                                 const int* start, int first, int end, double* sums);
+
+fmTetWeightedSumFcn fmTetKernel_WeightedSums_scalar;
+fmTetWeightedSumFcn fmTetKernel_WeightedSums_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx2;
+fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx512;
+#endif
+
 // ---- batched polar rotations (the implicit solver's corotated tets) ----------------------------
 
 // Matrices the polar kernel takes at once.

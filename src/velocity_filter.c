@@ -64,7 +64,8 @@ static void fmBlendTask(int start, int end, int worker, void* context)
 	}
 }
 
-static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fmTaskSystem* tasks)
+static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLevel level,
+                               const fmTaskSystem* tasks)
 {
 	size_t mark = fmArena_Mark(arena);
 	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
@@ -77,7 +78,7 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, const fm
 	if (context.sum == NULL)
 		return;
 	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
-		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, tasks);
+		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, level, tasks);
 	else if (gather)
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
 	else
@@ -112,18 +113,21 @@ double fmVelocityFilter_DampingFactor(const fmBody* b, double dt)
 	return b->damping < 1.0 ? fmMathPow(b->damping, dt / FM_SEED_STEP) : 1.0;
 }
 
-void fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, const fmTaskSystem* tasks)
+void fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+                             const fmTaskSystem* tasks)
 {
 	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena, tasks);
+		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena, level,
+		                   tasks);
 }
 
-void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, const fmTaskSystem* tasks)
+void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+                        const fmTaskSystem* tasks)
 {
 	if (b->damping < 1.0)
 	{
 		fmDampTask damp = {b->v, fmVelocityFilter_DampingFactor(b, dt)};
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
-	fmVelocityFilter_Smooth(b, dt, arena, tasks);
+	fmVelocityFilter_Smooth(b, dt, arena, level, tasks);
 }

@@ -8,12 +8,15 @@
 
 // Apply the body's damping and smoothing, scaled from the seeds' 3 ms step to @p dt so that
 // damping per second does not depend on the step. Smoothing takes a vector of 3n doubles from
-// @p arena; it runs on @p tasks (NULL: serially), the same bits for any worker count.
-void fmFilterVelocities(fmBody* body, double dt, fmArena* arena, const fmTaskSystem* tasks);
+// @p arena; it runs on @p tasks (NULL: serially), the same bits for any worker count, and with
+// the kernels of @p level where the body has the explicit layout (the same bits on every level).
+void fmFilterVelocities(fmBody* body, double dt, fmArena* arena, fmSimdLevel level,
+                        const fmTaskSystem* tasks);
 
 // The damping factor of a step of @p dt: damping^(dt / 3 ms), 1 for a body without damping.
 double fmVelocityFilter_DampingFactor(const fmBody* body, double dt);
 
 // fmFilterVelocities without the damping factor (a step that has applied
 // fmVelocityFilter_DampingFactor itself, in its velocity update: the same bits).
-void fmVelocityFilter_Smooth(fmBody* body, double dt, fmArena* arena, const fmTaskSystem* tasks);
+void fmVelocityFilter_Smooth(fmBody* body, double dt, fmArena* arena, fmSimdLevel level,
+                             const fmTaskSystem* tasks);

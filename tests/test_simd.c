@@ -342,7 +342,8 @@ TEST(very_stiff_bodies_take_the_double_precision_kernel)
 }
 
 // The smoothing sums of the explicit kernels' vertex graph are the seeds' per-tet sums (each
-// tet adds the sum of its 4 velocities to each of its vertices), on 1 to 4 workers alike.
+// tet adds the sum of its 4 velocities to each of its vertices), on 1 to 4 workers and on every
+// instruction set the CPU has alike.
 TEST(smoothing_sums_are_the_seeds_tet_sums)
 {
 	fmWorldId world;
@@ -367,7 +368,7 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 			for (int a = 0; a < 4; ++a)
 				seeds[3 * n[a] + c] += s;
 		}
-	fmTetBlocks_SmoothingSums(tb, v, sums, NULL);
+	fmTetBlocks_SmoothingSums(tb, v, sums, fm_simdScalar, NULL);
 	double err = 0.0;
 	for (size_t k = 0; k < n3; ++k)
 		err = fmax(err, fabs(sums[k] - seeds[k]));
@@ -378,8 +379,14 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 		def.workerCount = workers;
 		fmTaskSystem tasks;
 		fmTaskSystem_Init(&tasks, &def);
-		fmTetBlocks_SmoothingSums(tb, v, other, &tasks);
+		fmTetBlocks_SmoothingSums(tb, v, other, fmSimd_Detect(), &tasks);
 		fmTaskSystem_Shutdown(&tasks);
+		CHECK(memcmp(sums, other, sizeof(double) * n3) == 0);
+	}
+	for (int level = fm_simdScalar; level <= (int)fmSimd_Detect(); ++level)
+	{
+		memset(other, 0, sizeof(double) * n3);
+		fmTetBlocks_SmoothingSums(tb, v, other, (fmSimdLevel)level, NULL);
 		CHECK(memcmp(sums, other, sizeof(double) * n3) == 0);
 	}
 	free(v), free(seeds), free(sums), free(other);
