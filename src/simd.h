@@ -264,9 +264,9 @@ static inline void fmGatherEdge8(const double* u, const uint16_t (*nodes)[FM_LAN
 	__m128 e[8];
 	for (int l = 0; l < 8; ++l)
 	{
-		const double* u0 = u + 4 * nodes[0][o + l];
-		__m256d d =
-		    _mm256_sub_pd(_mm256_loadu_pd(u + 4 * nodes[k + 1][o + l]), _mm256_loadu_pd(u0));
+		const double* u0 = u + 4 * (size_t)nodes[0][o + l];
+		__m256d d = _mm256_sub_pd(_mm256_loadu_pd(u + 4 * (size_t)nodes[k + 1][o + l]),
+		                          _mm256_loadu_pd(u0));
 		e[l] = _mm256_cvtpd_ps(d);
 	}
 	// Lanes l and l + 4 side by side, then a 4x4 transpose in each half.
@@ -289,10 +289,10 @@ static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_L
 	float rows[9][FM_VLANES];
 	for (int l = 0; l < FM_VLANES; ++l)
 	{
-		const double* u0 = u + 4 * nodes[0][o + l];
+		const double* u0 = u + 4 * (size_t)nodes[0][o + l];
 		for (int k = 0; k < 3; ++k)
 		{
-			const double* uk = u + 4 * nodes[k + 1][o + l];
+			const double* uk = u + 4 * (size_t)nodes[k + 1][o + l];
 			for (int i = 0; i < 3; ++i)
 				rows[3 * i + k][l] = (float)(uk[i] - u0[i]);
 		}
@@ -330,9 +330,10 @@ static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_L
 // Lane l's edge k as (x, y, z, unused) in float.
 static inline __m128 fmEdge4(const double* u, const uint16_t (*nodes)[FM_LANES], int k, int l)
 {
-	__m128d x0 = _mm_loadu_pd(u + 4 * nodes[0][l]), z0 = _mm_loadu_pd(u + 4 * nodes[0][l] + 2);
-	__m128d xk = _mm_loadu_pd(u + 4 * nodes[k + 1][l]);
-	__m128d zk = _mm_loadu_pd(u + 4 * nodes[k + 1][l] + 2);
+	__m128d x0 = _mm_loadu_pd(u + 4 * (size_t)nodes[0][l]),
+	        z0 = _mm_loadu_pd(u + 4 * (size_t)nodes[0][l] + 2);
+	__m128d xk = _mm_loadu_pd(u + 4 * (size_t)nodes[k + 1][l]);
+	__m128d zk = _mm_loadu_pd(u + 4 * (size_t)nodes[k + 1][l] + 2);
 	return _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(xk, x0)), _mm_cvtpd_ps(_mm_sub_pd(zk, z0)));
 }
 
