@@ -344,8 +344,8 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 // vertex); with @p laneEnergy NULL the energy's terms are skipped (a step's pass does not pay for
 // them).
 FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
-                              const fmKernelMaterial* material, fmTetBatchForces* out,
-                              float* laneEnergy)
+                              fmMaterialModel model, const fmKernelMaterial* material,
+                              fmTetBatchForces* out, float* laneEnergy)
 {
 	fmMat3V Du;
 	fmV_GatherEdges(u, batch->nodes, o, Du.m);
@@ -356,11 +356,11 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
 	fmFloatV psi = fmV_Set(0.0f);
 	fmFloatV* energy = laneEnergy ? &psi : NULL;
 	fmIntV fallback = fmI_Set(0);
-	if (material->model == fm_stvk)
+	if (model == fm_stvk)
 		fmStvkStress(&H, mu, lambda, &P, energy);
-	else if (material->model == fm_corotated)
+	else if (model == fm_corotated)
 		fmCorotatedStress(&H, mu, lambda, &P, &fallback, energy);
-	else if (material->model == fm_neoHookean)
+	else if (model == fm_neoHookean)
 		fmNeoHookeanStress(&H, mu, lambda, &P, energy);
 	else
 		fmLinearStress(&H, mu, lambda, &P, energy);
@@ -387,21 +387,39 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
 	return fmI_Any(fallback);
 }
 
-// The kernel: the batch's vectors one after another.
-FM_INLINE bool fmKernel(const fmTetBatch* batch, const double* u, const fmKernelMaterial* material,
-                        fmTetBatchForces* out, float* laneEnergy)
-{
-	bool fallback = false;
-	for (int o = 0; o < FM_LANES; o += FM_VLANES)
-		fallback |= fmKernelVector(batch, u, o, material, out, laneEnergy);
-	return fallback;
-}
+// The kernel of one material model: the batch's vectors one after another. A function of its
+// own per model (the model a constant in it): one body for all four left the compiler spilling
+// StVK's matrices.
+#define FM_MODEL_KERNEL(name, model)                                                               \
+	FM_NOINLINE bool name(const fmTetBatch* batch, const double* u,                                \
+	                      const fmKernelMaterial* material, fmTetBatchForces* out,                 \
+	                      float* laneEnergy)                                                       \
+	{                                                                                              \
+		bool fallback = false;                                                                     \
+		for (int o = 0; o < FM_LANES; o += FM_VLANES)                                              \
+			fallback |= fmKernelVector(batch, u, o, model, material, out, laneEnergy);             \
+		return fallback;                                                                           \
+	}
+FM_MODEL_KERNEL(fmKernelLinear, fm_linear)
+FM_MODEL_KERNEL(fmKernelStvk, fm_stvk)
+FM_MODEL_KERNEL(fmKernelNeoHookean, fm_neoHookean)
+FM_MODEL_KERNEL(fmKernelCorotated, fm_corotated)
 
 bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
                                         const fmKernelMaterial* material, fmTetBatchForces* out,
                                         float* laneEnergy)
 {
-	return fmKernel(batch, u, material, out, laneEnergy);
+	switch (material->model)
+	{
+	case fm_stvk:
+		return fmKernelStvk(batch, u, material, out, laneEnergy);
+	case fm_neoHookean:
+		return fmKernelNeoHookean(batch, u, material, out, laneEnergy);
+	case fm_corotated:
+		return fmKernelCorotated(batch, u, material, out, laneEnergy);
+	default:
+		return fmKernelLinear(batch, u, material, out, laneEnergy);
+	}
 }
 
 void FM_KERNEL_NAME(fmTetKernel_SumForces)(const float* forces, const uint16_t* offsets,
