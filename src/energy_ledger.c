@@ -24,9 +24,9 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		if (f == NULL)
 			return NAN;
 		const fmTetBlocks* blocks = fmTetBlocks_Used(b, pass->simd);
-		elastic =
-		    blocks ? fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, pass->simd, pass->tasks, true)
-		           : fmAddElasticForcesOn(b, b->x, f, pass->tasks, pass->arena);
+		elastic = blocks ? fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, pass->simd, pass->tasks,
+		                                         true, NULL)
+		                 : fmAddElasticForcesOn(b, b->x, f, pass->tasks, pass->arena);
 		fmLoads_AddForces(b, b->x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->vertexCount; ++i)
 		{

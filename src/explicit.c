@@ -83,9 +83,10 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 
 // f = m g + the elastic forces: the batched float kernels where they apply and are accurate
 // (made on the body's first explicit step; gravity then comes with their last pass), else the
-// double-precision reference kernel (also when memory is short).
-static void fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
-                                      fmArena* arena)
+// double-precision reference kernel (also when memory is short). With the kernels, a non-NULL
+// @p then runs on each vertex range right after its forces; returns whether it ran.
+static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
+                                      fmArena* arena, const fmThenTask* then)
 {
 	if (b->tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
 		b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
@@ -93,11 +94,22 @@ static void fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplici
 	if (blocks != NULL)
 	{
 		fmTetBlocks_AddForces(blocks, b, b->x, &context->gravity, b->f, world->simd, &world->tasks,
-		                      false);
-		return;
+		                      false, then);
+		return then != NULL;
 	}
 	fmParallelFor(&world->tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
 	fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
+	return false;
+}
+
+// Whether nothing comes between the elastic forces and the velocity update, nor between the
+// smoothing and the position update (no spring or Rayleigh damping, kinematic targets or loads):
+// then each stage runs on a vertex range right after the one before (two passes fewer, the same
+// operations in the same order).
+static bool fmPlainStep(const fmBody* b)
+{
+	return b->forceModel != fm_massSpring && b->rayleighMass <= 0.0 &&
+	       b->rayleighStiffness <= 0.0 && b->targetCount == 0 && !fmLoads_Active(b);
 }
 
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
@@ -111,7 +123,10 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmLoads_StepPrescribed(b, dt, dt);
 
 	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
-	fmGravityAndElasticForces(world, b, &context, arena);
+	const bool plain = fmPlainStep(b);
+	const fmThenTask velocities = {fmVelocitiesTask, &context},
+	                 positions = {fmPositionsTask, &context};
+	bool moved = fmGravityAndElasticForces(world, b, &context, arena, plain ? &velocities : NULL);
 	if (b->forceModel == fm_massSpring)
 		fmAddSpringDamping(b, b->x, b->v, b->f);
 	fmAddRayleighForces(b, arena);
@@ -122,16 +137,20 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	double forced = fmSeconds();
 
 	// 2. Velocities: v += dt f / m, and the seeds' damping factor. Pinned vertices stay at rest.
-	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
+	if (!moved)
+		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
 
 	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
-	fmVelocityFilter_Smooth(b, dt, arena, world->simd, tasks);
+	bool placed =
+	    fmVelocityFilter_Smooth(b, dt, arena, world->simd, tasks, plain ? &positions : NULL) &&
+	    plain;
 	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
 	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));
 
 	// 4. Positions, then the floor.
-	fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
+	if (!placed)
+		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
 	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
 	b->stepStage[0] = forced - start;
 	b->stepStage[1] = fmSeconds() - forced;

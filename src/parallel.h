@@ -43,6 +43,15 @@ void fmTaskSystem_Shutdown(fmTaskSystem* system);
 void fmParallelFor(const fmTaskSystem* system, int itemCount, int minRange, fmTaskCallback* task,
                    void* taskContext);
 
+// A task to run on each range of a vertex pass right after the pass's own work on it (while the
+// range is in cache): a stage that needs only its own vertices' results of the pass, without a
+// pass and a wait of its own.
+typedef struct fmThenTask
+{
+	fmTaskCallback* task;
+	void* context;
+} fmThenTask;
+
 // Ranges per worker fmParallelForBalanced cuts at most.
 #define FM_BALANCED_RANGES 8
 

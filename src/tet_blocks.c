@@ -344,7 +344,8 @@ typedef struct fmForcePass
 	double* f;
 	fmTetKernels kernels;
 	fmKernelMaterial material;
-	bool energy; // the blocks' energies wanted
+	bool energy;            // the blocks' energies wanted
+	const fmThenTask* then; // on each vertex range after its sums, or NULL
 } fmForcePass;
 
 // A worker's scratch: 4 doubles per block vertex, then the block's batch forces.
@@ -455,11 +456,13 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 			fi[0] += sum[0], fi[1] += sum[1], fi[2] += sum[2];
 		}
 	}
+	if (p->then != NULL)
+		p->then->task(start, end, worker, p->then->context);
 }
 
 double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x,
                              const fmVec3* gravity, double* f, fmSimdLevel level,
-                             const fmTaskSystem* tasks, bool energy)
+                             const fmTaskSystem* tasks, bool energy, const fmThenTask* then)
 {
 	fmForcePass p = {tb,
 	                 body,
@@ -468,7 +471,8 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	                 f,
 	                 fmTetBlocks_Kernels(level),
 	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
-	                 energy};
+	                 energy,
+	                 then};
 	// The blocks, in ranges as small as one block: a block (512 tets, 5-10 us) is worth ten
 	// times what handing out a range costs a polling pool (about 0.5 us). Workers beyond the
 	// layout's scratch run serially (the same bits). Then the vertices gather their blocks'

@@ -105,7 +105,8 @@ void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, doubl
 // the count the layout was made for); with @p gravity, f = m g + the elastic forces instead (the
 // explicit step's gravity, the same bits as setting it first). With @p energy, returns the
 // elastic energy (J): each tet's from the kernel (float), summed in double block by block, then
-// over the blocks in order (the same bits on any number of workers); else 0.
+// over the blocks in order (the same bits on any number of workers); else 0. A non-NULL @p then
+// runs on each range of vertices right after their forces are complete.
 double fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
                              const fmVec3* gravity, double* f, fmSimdLevel level,
-                             const fmTaskSystem* tasks, bool energy);
+                             const fmTaskSystem* tasks, bool energy, const fmThenTask* then);

@@ -24,7 +24,8 @@ typedef struct fmSmoothTask
 {
 	fmBody* body;
 	double blend;
-	double* sum; // 3 per vertex
+	double* sum;            // 3 per vertex
+	const fmThenTask* then; // after the blend of each range, or NULL
 } fmSmoothTask;
 
 static fmVec3 fmTetVelocitySum(const fmBody* b, int t)
@@ -50,7 +51,6 @@ static void fmGatherSumsTask(int start, int end, int worker, void* context)
 
 static void fmBlendTask(int start, int end, int worker, void* context)
 {
-	(void)worker;
 	fmSmoothTask* c = context;
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
@@ -62,10 +62,12 @@ static void fmBlendTask(int start, int end, int worker, void* context)
 		        fmAdd(fmScale(1.0 - c->blend, fmLoad(b->v, i)), fmScale(c->blend, average)));
 		fmZeroPinnedAxes(b, i, b->v + 3 * i);
 	}
+	if (c->then != NULL)
+		c->then->task(start, end, worker, c->then->context);
 }
 
-static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLevel level,
-                               const fmTaskSystem* tasks)
+static bool fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLevel level,
+                               const fmTaskSystem* tasks, const fmThenTask* then)
 {
 	size_t mark = fmArena_Mark(arena);
 	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
@@ -74,9 +76,10 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLe
 	               b->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
 	size_t count = 3 * (size_t)b->vertexCount;
 	fmSmoothTask context = {
-	    b, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count)};
+	    b, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count),
+	    then};
 	if (context.sum == NULL)
-		return;
+		return false;
 	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
 		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, level, tasks);
 	else if (gather)
@@ -91,6 +94,7 @@ static void fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLe
 		}
 	fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
 	fmArena_Release(arena, mark);
+	return true;
 }
 
 typedef struct fmDampTask
@@ -113,12 +117,12 @@ double fmVelocityFilter_DampingFactor(const fmBody* b, double dt)
 	return b->damping < 1.0 ? fmMathPow(b->damping, dt / FM_SEED_STEP) : 1.0;
 }
 
-void fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
-                             const fmTaskSystem* tasks)
+bool fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+                             const fmTaskSystem* tasks, const fmThenTask* then)
 {
-	if (b->smoothing > 0.0)
-		fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena, level,
-		                   tasks);
+	return b->smoothing > 0.0 &&
+	       fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena,
+	                          level, tasks, then);
 }
 
 void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
@@ -129,5 +133,5 @@ void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
 		fmDampTask damp = {b->v, fmVelocityFilter_DampingFactor(b, dt)};
 		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
-	fmVelocityFilter_Smooth(b, dt, arena, level, tasks);
+	fmVelocityFilter_Smooth(b, dt, arena, level, tasks, NULL);
 }

@@ -17,6 +17,9 @@ void fmFilterVelocities(fmBody* body, double dt, fmArena* arena, fmSimdLevel lev
 double fmVelocityFilter_DampingFactor(const fmBody* body, double dt);
 
 // fmFilterVelocities without the damping factor (a step that has applied
-// fmVelocityFilter_DampingFactor itself, in its velocity update: the same bits).
-void fmVelocityFilter_Smooth(fmBody* body, double dt, fmArena* arena, fmSimdLevel level,
-                             const fmTaskSystem* tasks);
+// fmVelocityFilter_DampingFactor itself, in its velocity update: the same bits). A non-NULL
+// @p then runs on each range of vertices right after their velocities are smoothed. Returns
+// whether it smoothed (and so ran @p then on every vertex): false for a body without smoothing
+// (or when the arena is short, which asserts).
+bool fmVelocityFilter_Smooth(fmBody* body, double dt, fmArena* arena, fmSimdLevel level,
+                             const fmTaskSystem* tasks, const fmThenTask* then);

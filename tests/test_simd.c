@@ -55,7 +55,7 @@ static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, do
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	*energy = fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, level, &tasks, true);
+	*energy = fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, level, &tasks, true, NULL);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
