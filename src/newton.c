@@ -56,17 +56,23 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 	double psi = fmElasticAt(b, c, pb, x, gradient != NULL);
 	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	double inertial = 0.0, external = 0.0, size = 0.0;
-	for (int k = 0; k < n3; ++k)
+	// DOF k = 3 i + e, in k order (a vertex, then its axes: no division per DOF).
+	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		double m = b->mass[k / 3];
-		double toPred = x[k] - c->xPred[k], moved = x[k] - c->xStart[k];
-		double term = 0.5 * m * (pb->inertia * toPred * toPred + pb->massDamping * moved * moved);
-		inertial += term;
-		external -= m * g[k % 3] * moved;
-		size += fabs(m * g[k % 3] * moved);
-		if (gradient)
-			gradient[k] =
-			    m * (pb->inertia * toPred + pb->massDamping * moved - g[k % 3]) - c->forces[k];
+		double m = b->mass[i];
+		for (int e = 0; e < 3; ++e)
+		{
+			int k = 3 * i + e;
+			double toPred = x[k] - c->xPred[k], moved = x[k] - c->xStart[k];
+			double term =
+			    0.5 * m * (pb->inertia * toPred * toPred + pb->massDamping * moved * moved);
+			inertial += term;
+			external -= m * g[e] * moved;
+			size += fabs(m * g[e] * moved);
+			if (gradient)
+				gradient[k] =
+				    m * (pb->inertia * toPred + pb->massDamping * moved - g[e]) - c->forces[k];
+		}
 	}
 	double damping = 0.0;
 	if (pb->useDamping)
