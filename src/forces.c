@@ -30,27 +30,65 @@ fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
 	return fmMatMul(&Ds, &body->DmInv[t]);
 }
 
-// The batched polar kernel of the CPU's instruction set (every variant gives the same bits) when
-// some tet of @p body is corotated; NULL otherwise.
+// The batched double-precision kernels of the force passes, of the CPU's instruction set (every
+// variant gives the same bits).
+typedef struct fmPassKernels
+{
+	fmPolarKernelFcn* polar;
+	fmNeoHookeanKernelFcn* neoHookean;
+} fmPassKernels;
+
+static fmPassKernels fmPassKernelsOfCpu(void)
+{
+	switch (fmSimd_Detect())
+	{
+#if defined(__x86_64__) || defined(_M_X64)
+	case fm_simdAvx512:
+		return (fmPassKernels){fmTetKernel_Polar_avx512, fmTetKernel_NeoHookean_avx512};
+	case fm_simdAvx2:
+		return (fmPassKernels){fmTetKernel_Polar_avx2, fmTetKernel_NeoHookean_avx2};
+#endif
+	case fm_simdScalar:
+		return (fmPassKernels){fmTetKernel_Polar_scalar, fmTetKernel_NeoHookean_scalar};
+	default:
+		return (fmPassKernels){fmTetKernel_Polar_baseline, fmTetKernel_NeoHookean_baseline};
+	}
+}
+
+// The batched polar kernel when some tet of @p body is corotated; NULL otherwise.
 static fmPolarKernelFcn* fmPolarKernel(const fmBody* body)
 {
 	bool corotated = body->material.model == fm_corotated;
 	for (int k = 0; k < body->materialCount; ++k)
 		corotated = corotated || body->materials[k].model == fm_corotated;
-	if (!corotated)
-		return NULL;
-	switch (fmSimd_Detect())
+	return corotated ? fmPassKernelsOfCpu().polar : NULL;
+}
+
+// The batched Neo-Hookean kernel when every tet of @p body is Neo-Hookean (one material); NULL
+// otherwise.
+static fmNeoHookeanKernelFcn* fmNeoHookeanKernel(const fmBody* body)
+{
+	bool neoHookean = body->material.model == fm_neoHookean && body->tetMaterial == NULL;
+	return neoHookean ? fmPassKernelsOfCpu().neoHookean : NULL;
+}
+
+// Tets [first, first + count), count <= FM_NH_LANES, into a Neo-Hookean batch at x (the edge
+// matrices of fmTetDeformation; unused lanes zero).
+static void fmFillNeoHookeanBatch(const fmBody* body, const double* x, int first, int count,
+                                  fmNeoHookeanBatch* batch)
+{
+	batch->mu = body->material.mu;
+	batch->lambda = body->material.lambda;
+	for (int l = 0; l < FM_NH_LANES; ++l)
 	{
-#if defined(__x86_64__) || defined(_M_X64)
-	case fm_simdAvx512:
-		return fmTetKernel_Polar_avx512;
-	case fm_simdAvx2:
-		return fmTetKernel_Polar_avx2;
-#endif
-	case fm_simdScalar:
-		return fmTetKernel_Polar_scalar;
-	default:
-		return fmTetKernel_Polar_baseline;
+		int t = first + (l < count ? l : 0);
+		const int* n = body->tets + 4 * t;
+		for (int i = 0; i < 3; ++i)
+			for (int k = 0; k < 3; ++k)
+				batch->Ds[3 * i + k][l] = l < count ? x[3 * n[k + 1] + i] - x[3 * n[0] + i] : 0.0;
+		for (int e = 0; e < 9; ++e)
+			batch->dmInv[e][l] = body->DmInv[t].m[e];
+		batch->volume[l] = l < count ? body->restVolume[t] : 0.0;
 	}
 }
 
@@ -134,8 +172,37 @@ FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* 
 	fmStore(out, 0, fmScale(-1.0, sum));
 }
 
+// f += the forces of a Neo-Hookean body, a batch at a time; returns the elastic energy (J), in
+// tet order.
+static double fmAddNeoHookeanForces(const fmBody* body, const double* x, double* f,
+                                    fmNeoHookeanKernelFcn* kernel)
+{
+	double energy = 0.0;
+	fmNeoHookeanBatch batch;
+	for (int first = 0; first < body->tetCount; first += FM_NH_LANES)
+	{
+		int count = body->tetCount - first < FM_NH_LANES ? body->tetCount - first : FM_NH_LANES;
+		fmFillNeoHookeanBatch(body, x, first, count, &batch);
+		kernel(&batch);
+		for (int l = 0; l < count; ++l)
+		{
+			const int* n = body->tets + 4 * (first + l);
+			energy += body->restVolume[first + l] * batch.psi[l];
+			for (int a = 1; a < 4; ++a)
+				for (int i = 0; i < 3; ++i)
+					f[3 * n[a] + i] = f[3 * n[a] + i] + batch.force[a][i][l];
+			for (int i = 0; i < 3; ++i)
+				f[3 * n[0] + i] = f[3 * n[0] + i] - batch.force[0][i][l];
+		}
+	}
+	return energy;
+}
+
 static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 {
+	fmNeoHookeanKernelFcn* neoHookean = fmNeoHookeanKernel(body);
+	if (neoHookean != NULL)
+		return fmAddNeoHookeanForces(body, x, f, neoHookean);
 	fmPolarKernelFcn* polar = fmPolarKernel(body);
 	double energy = 0.0;
 	if (polar == NULL) // one tet at a time: no batch to fill
@@ -165,9 +232,40 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 	return energy;
 }
 
+// Tets [first, end) of a Neo-Hookean body into their 12 entries of @p forces and their energies,
+// a batch at a time.
+static void fmStoreNeoHookeanForces(const fmBody* body, const double* x, int first, int end,
+                                    double* forces, double* energies, fmNeoHookeanKernelFcn* kernel)
+{
+	fmNeoHookeanBatch batch;
+	for (int start = first; start < end; start += FM_NH_LANES)
+	{
+		int count = end - start < FM_NH_LANES ? end - start : FM_NH_LANES;
+		fmFillNeoHookeanBatch(body, x, start, count, &batch);
+		kernel(&batch);
+		for (int l = 0; l < count; ++l)
+		{
+			double* out = forces + 12 * (size_t)(start + l);
+			energies[start + l] = body->restVolume[start + l] * batch.psi[l];
+			for (int i = 0; i < 3; ++i)
+			{
+				out[i] = -1.0 * batch.force[0][i][l];
+				for (int a = 1; a < 4; ++a)
+					out[3 * a + i] = batch.force[a][i][l];
+			}
+		}
+	}
+}
+
 void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
                  double* energies)
 {
+	fmNeoHookeanKernelFcn* neoHookean = fmNeoHookeanKernel(body);
+	if (neoHookean != NULL)
+	{
+		fmStoreNeoHookeanForces(body, x, first, end, forces, energies, neoHookean);
+		return;
+	}
 	fmPolarKernelFcn* polar = fmPolarKernel(body);
 	if (polar == NULL)
 	{

@@ -24,6 +24,7 @@
 #endif
 #include "tet_kernel.h"
 
+#include "material_invariant.h"
 #include "svd3.h"
 
 #include <math.h>
@@ -545,5 +546,48 @@ void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
 			scaled[l] = change[l] > 1e-4 ? -1 : 0;
 			any |= active[l] != 0;
 		}
+	}
+}
+
+// ---- batched Neo-Hookean forces -----------------------------------------------------------------
+// Plain loops over the lanes, which the compiler vectorises at the variant's width; every
+// expression is the scalar path's (fm_math.h's products and fmNeoHookean_Evaluate written out in
+// their order; fmPolarCofactor and fmPolarDot above are fmCofactor with det F along the first row
+// and the double contraction from 0.0).
+
+void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmNeoHookeanBatch* b)
+{
+	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], k[FM_PL], P[9][FM_PL];
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			for (int l = 0; l < FM_PL; ++l)
+				F[3 * i + j][l] = b->Ds[3 * i][l] * b->dmInv[j][l] +
+				                  b->Ds[3 * i + 1][l] * b->dmInv[3 + j][l] +
+				                  b->Ds[3 * i + 2][l] * b->dmInv[6 + j][l];
+	fmPolarCofactor(F, C, J);
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		double I1 = fmPolarDot(F, F, l), ln[3];
+		fmClampedLogJ(J[l], ln);
+		k[l] = (b->lambda * ln[0] - b->mu) * ln[1];
+		b->psi[l] = 0.5 * b->mu * (I1 - 3.0) - b->mu * ln[0] + 0.5 * b->lambda * ln[0] * ln[0];
+	}
+	for (int e = 0; e < 9; ++e)
+		for (int l = 0; l < FM_PL; ++l)
+			P[e][l] = b->mu * F[e][l] + k[l] * C[e][l];
+	// H = P Dm^-T; node a's force is -V0 times H's column a - 1; the sum from 0.0 in node order.
+	for (int i = 0; i < 3; ++i)
+	{
+		for (int l = 0; l < FM_PL; ++l)
+			b->force[0][i][l] = 0.0;
+		for (int a = 1; a < 4; ++a)
+			for (int l = 0; l < FM_PL; ++l)
+			{
+				double h = P[3 * i][l] * b->dmInv[3 * (a - 1)][l] +
+				           P[3 * i + 1][l] * b->dmInv[3 * (a - 1) + 1][l] +
+				           P[3 * i + 2][l] * b->dmInv[3 * (a - 1) + 2][l];
+				b->force[a][i][l] = -b->volume[l] * h;
+				b->force[0][i][l] = b->force[0][i][l] + b->force[a][i][l];
+			}
 	}
 }

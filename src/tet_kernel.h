@@ -107,3 +107,35 @@ fmPolarKernelFcn fmTetKernel_Polar_baseline;
 fmPolarKernelFcn fmTetKernel_Polar_avx2;
 fmPolarKernelFcn fmTetKernel_Polar_avx512;
 #endif
+
+// ---- batched Neo-Hookean forces (the implicit solver's force passes) ---------------------------
+
+// Tets the Neo-Hookean kernel takes at once.
+#define FM_NH_LANES FM_POLAR_LANES
+
+// Up to FM_NH_LANES tets of a Neo-Hookean body (entry k of lane l at [k][l]; unused lanes: zero
+// Ds, zero volume) and their forces and energy densities.
+typedef struct fmNeoHookeanBatch
+{
+	double Ds[9][FM_NH_LANES];    // in: [x1 - x0, x2 - x0, x3 - x0] (columns), row-major
+	double dmInv[9][FM_NH_LANES]; // in: Dm^-1
+	double volume[FM_NH_LANES];   // in: V0 (m^3)
+	double mu, lambda;            // in: the material's Lame constants (Pa)
+	// out: force[a][i] the force on node a = 1..3, component i; force[0][i] their sum, in node
+	// order (node 0 takes minus it)
+	double force[4][3][FM_NH_LANES];
+	double psi[FM_NH_LANES]; // out: energy density (J/m^3)
+} fmNeoHookeanBatch;
+
+// fmTetKernel_NeoHookean_<variant>: F = Ds Dm^-1, fmNeoHookean_Evaluate's P and psi, and the
+// nodal forces -V0 P Dm^-T of every lane, with the operations of fmTetDeformation,
+// fmNeoHookean_Evaluate (ln J by fmClampedLogJ, lane by lane) and fmAddTetForces in their order
+// (forces.c): the same bits as one tet at a time, on every variant.
+typedef void fmNeoHookeanKernelFcn(fmNeoHookeanBatch* batch);
+
+fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_scalar;
+fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_avx2;
+fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_avx512;
+#endif
