@@ -80,8 +80,9 @@ static inline fmVec3 fmColumn(const fmMat3* a, int j)
 {
 	return fmMakeVec3(a->m[j], a->m[3 + j], a->m[6 + j]);
 }
+// (The 3x3 products below are written out: GCC at -O2 keeps such loops, three times the
+// instructions.)
 /// A * B
-/// (The 3x3 products are written out: GCC at -O2 keeps the loops, three times the instructions.)
 static inline fmMat3 fmMatMul(const fmMat3* a, const fmMat3* b)
 {
 	const double* x = a->m;
