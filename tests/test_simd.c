@@ -396,6 +396,13 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 	fmDestroyWorld(world);
 }
 
+// Whether the CPU runs variant @p v of a kernel list {scalar, baseline, avx2, avx512}.
+static bool cpuRunsVariant(int v)
+{
+	return !((v == 2 && fmSimd_Detect() < fm_simdAvx2) ||
+	         (v == 3 && fmSimd_Detect() < fm_simdAvx512));
+}
+
 // The batched polar kernel of the implicit solver's corotated tets (tet_kernel.h): on every
 // instruction set the CPU has, the same bits and the same refusals as fmPolarRotationFast, one
 // matrix at a time, for rotations with small and large stretches, flat, inverted and non-finite
@@ -443,8 +450,7 @@ TEST(batched_polar_rotations_are_the_scalar_ones_bit_for_bit)
 		}
 		for (int v = 0; v < kernelCount; ++v)
 		{
-			if ((v == 2 && fmSimd_Detect() < fm_simdAvx2) ||
-			    (v == 3 && fmSimd_Detect() < fm_simdAvx512))
+			if (!cpuRunsVariant(v))
 				continue;
 			fmPolarBatch b = batch;
 			kernels[v](&b);
@@ -539,8 +545,7 @@ TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
 		}
 		for (int v = 0; v < kernelCount; ++v)
 		{
-			if ((v == 2 && fmSimd_Detect() < fm_simdAvx2) ||
-			    (v == 3 && fmSimd_Detect() < fm_simdAvx512))
+			if (!cpuRunsVariant(v))
 				continue;
 			fmNeoHookeanBatch b = batch;
 			kernels[v](&b);

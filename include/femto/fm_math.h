@@ -88,10 +88,10 @@ static inline fmMat3 fmMatMul(const fmMat3* a, const fmMat3* b)
 	const double* x = a->m;
 	const double* y = b->m;
 	fmMat3 r = {{x[0] * y[0] + x[1] * y[3] + x[2] * y[6], x[0] * y[1] + x[1] * y[4] + x[2] * y[7],
-				 x[0] * y[2] + x[1] * y[5] + x[2] * y[8], x[3] * y[0] + x[4] * y[3] + x[5] * y[6],
-				 x[3] * y[1] + x[4] * y[4] + x[5] * y[7], x[3] * y[2] + x[4] * y[5] + x[5] * y[8],
-				 x[6] * y[0] + x[7] * y[3] + x[8] * y[6], x[6] * y[1] + x[7] * y[4] + x[8] * y[7],
-				 x[6] * y[2] + x[7] * y[5] + x[8] * y[8]}};
+	             x[0] * y[2] + x[1] * y[5] + x[2] * y[8], x[3] * y[0] + x[4] * y[3] + x[5] * y[6],
+	             x[3] * y[1] + x[4] * y[4] + x[5] * y[7], x[3] * y[2] + x[4] * y[5] + x[5] * y[8],
+	             x[6] * y[0] + x[7] * y[3] + x[8] * y[6], x[6] * y[1] + x[7] * y[4] + x[8] * y[7],
+	             x[6] * y[2] + x[7] * y[5] + x[8] * y[8]}};
 	return r;
 }
 /// A^T * B
@@ -100,10 +100,10 @@ static inline fmMat3 fmMatTMul(const fmMat3* a, const fmMat3* b)
 	const double* x = a->m;
 	const double* y = b->m;
 	fmMat3 r = {{x[0] * y[0] + x[3] * y[3] + x[6] * y[6], x[0] * y[1] + x[3] * y[4] + x[6] * y[7],
-				 x[0] * y[2] + x[3] * y[5] + x[6] * y[8], x[1] * y[0] + x[4] * y[3] + x[7] * y[6],
-				 x[1] * y[1] + x[4] * y[4] + x[7] * y[7], x[1] * y[2] + x[4] * y[5] + x[7] * y[8],
-				 x[2] * y[0] + x[5] * y[3] + x[8] * y[6], x[2] * y[1] + x[5] * y[4] + x[8] * y[7],
-				 x[2] * y[2] + x[5] * y[5] + x[8] * y[8]}};
+	             x[0] * y[2] + x[3] * y[5] + x[6] * y[8], x[1] * y[0] + x[4] * y[3] + x[7] * y[6],
+	             x[1] * y[1] + x[4] * y[4] + x[7] * y[7], x[1] * y[2] + x[4] * y[5] + x[7] * y[8],
+	             x[2] * y[0] + x[5] * y[3] + x[8] * y[6], x[2] * y[1] + x[5] * y[4] + x[8] * y[7],
+	             x[2] * y[2] + x[5] * y[5] + x[8] * y[8]}};
 	return r;
 }
 /// A * B^T
@@ -112,10 +112,10 @@ static inline fmMat3 fmMatMulT(const fmMat3* a, const fmMat3* b)
 	const double* x = a->m;
 	const double* y = b->m;
 	fmMat3 r = {{x[0] * y[0] + x[1] * y[1] + x[2] * y[2], x[0] * y[3] + x[1] * y[4] + x[2] * y[5],
-				 x[0] * y[6] + x[1] * y[7] + x[2] * y[8], x[3] * y[0] + x[4] * y[1] + x[5] * y[2],
-				 x[3] * y[3] + x[4] * y[4] + x[5] * y[5], x[3] * y[6] + x[4] * y[7] + x[5] * y[8],
-				 x[6] * y[0] + x[7] * y[1] + x[8] * y[2], x[6] * y[3] + x[7] * y[4] + x[8] * y[5],
-				 x[6] * y[6] + x[7] * y[7] + x[8] * y[8]}};
+	             x[0] * y[6] + x[1] * y[7] + x[2] * y[8], x[3] * y[0] + x[4] * y[1] + x[5] * y[2],
+	             x[3] * y[3] + x[4] * y[4] + x[5] * y[5], x[3] * y[6] + x[4] * y[7] + x[5] * y[8],
+	             x[6] * y[0] + x[7] * y[1] + x[8] * y[2], x[6] * y[3] + x[7] * y[4] + x[8] * y[5],
+	             x[6] * y[6] + x[7] * y[7] + x[8] * y[8]}};
 	return r;
 }
 /// A * v
@@ -136,16 +136,17 @@ static inline fmMat3 fmMatMulAdd(const fmMat3* a, double s, const fmMat3* b)
 {
 	const double* x = a->m;
 	const double* y = b->m;
-	fmMat3 r = {{x[0] + s * y[0], x[1] + s * y[1], x[2] + s * y[2], x[3] + s * y[3], x[4] + s * y[4],
-				 x[5] + s * y[5], x[6] + s * y[6], x[7] + s * y[7], x[8] + s * y[8]}};
+	fmMat3 r = {{x[0] + s * y[0], x[1] + s * y[1], x[2] + s * y[2], x[3] + s * y[3],
+	             x[4] + s * y[4], x[5] + s * y[5], x[6] + s * y[6], x[7] + s * y[7],
+	             x[8] + s * y[8]}};
 	return r;
 }
 /// s * A
 static inline fmMat3 fmMatScale(double s, const fmMat3* a)
 {
 	const double* x = a->m;
-	fmMat3 r = {{s * x[0], s * x[1], s * x[2], s * x[3], s * x[4], s * x[5], s * x[6], s * x[7],
-				 s * x[8]}};
+	fmMat3 r = {
+	    {s * x[0], s * x[1], s * x[2], s * x[3], s * x[4], s * x[5], s * x[6], s * x[7], s * x[8]}};
 	return r;
 }
 /// Trace.
@@ -156,7 +157,7 @@ static inline double fmDDot(const fmMat3* a, const fmMat3* b)
 	const double* x = a->m;
 	const double* y = b->m;
 	return 0.0 + x[0] * y[0] + x[1] * y[1] + x[2] * y[2] + x[3] * y[3] + x[4] * y[4] + x[5] * y[5] +
-		   x[6] * y[6] + x[7] * y[7] + x[8] * y[8];
+	       x[6] * y[6] + x[7] * y[7] + x[8] * y[8];
 }
 /// Determinant.
 static inline double fmDet(const fmMat3* a)
