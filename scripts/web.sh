@@ -71,7 +71,7 @@ compile() { # source object flags...
 objects=()
 for source in src/*.c web/femto_web.c "$out/house_data.c"; do
   name=$(basename "$source" .c)
-  [ "$name" = tet_kernel ] && continue
+  case "$name" in tet_kernel | bsr_kernel) continue ;; esac
   # The mesh readers and the glue run once a load, not once a step: -Os (9 KiB less).
   case "$name" in
     mesh_* | text_reader | surface_mesh | femto_web | house_data) level=-Os ;;
@@ -80,7 +80,7 @@ for source in src/*.c web/femto_web.c "$out/house_data.c"; do
   compile "$source" "$obj/$name.o" "$level"
   objects+=("$obj/$name.o")
 done
-# The element kernels, as natively (CMakeLists.txt), in the vector variant and the plain-C one
+# The element and sparse-row kernels, as natively (CMakeLists.txt), in the vector variant and the plain-C one
 # (fmWorldDef.simd = fm_simdScalar) -- twice: with WebAssembly SIMD (-msimd128: the 16-lane
 # vectors become v128 instructions, 2.4 times faster on the house; every current desktop browser
 # has them) and without (the same code lowered to scalar instructions, for browsers without
@@ -89,14 +89,20 @@ done
 for variant in simd plain; do
   flags=()
   [ "$variant" = simd ] && flags=(-msimd128)
-  compile src/tet_kernel.c "$obj/tet_kernel_baseline_$variant.o" -O3 -Wno-psabi "${flags[@]}" \
-    -DFM_KERNEL_VARIANT=baseline
-  compile src/tet_kernel.c "$obj/tet_kernel_scalar_$variant.o" -O3 "${flags[@]}" \
-    -DFM_KERNEL_VARIANT=scalar -DFM_SIMD_SCALAR
+  for kernel in tet_kernel bsr_kernel; do
+    compile "src/$kernel.c" "$obj/${kernel}_baseline_$variant.o" -O3 -Wno-psabi "${flags[@]}" \
+      -DFM_KERNEL_VARIANT=baseline
+    compile "src/$kernel.c" "$obj/${kernel}_scalar_$variant.o" -O3 "${flags[@]}" \
+      -DFM_KERNEL_VARIANT=scalar -DFM_SIMD_SCALAR
+  done
 done
 for job in "${jobs[@]}"; do wait "$job"; done
-simd_objects=("${objects[@]}" "$obj/tet_kernel_baseline_simd.o" "$obj/tet_kernel_scalar_simd.o")
-plain_objects=("${objects[@]}" "$obj/tet_kernel_baseline_plain.o" "$obj/tet_kernel_scalar_plain.o")
+simd_objects=("${objects[@]}")
+plain_objects=("${objects[@]}")
+for kernel in tet_kernel bsr_kernel; do
+  simd_objects+=("$obj/${kernel}_baseline_simd.o" "$obj/${kernel}_scalar_simd.o")
+  plain_objects+=("$obj/${kernel}_baseline_plain.o" "$obj/${kernel}_scalar_plain.o")
+done
 
 # --- link ------------------------------------------------------------------------------------
 # Only what the page calls is exported; no file system, no exceptions, memory that grows.

@@ -3,9 +3,11 @@
 // Without the Agonizing Pain", 1994, algorithm B3).
 #include "pcg.h"
 
+#include "bsr_kernel.h"
 #include "core.h"
 #include "multigrid.h"
 #include "parallel.h"
+#include "simd.h"
 
 #include <math.h>
 
@@ -137,26 +139,6 @@ void fmBsr_Multiply(const fmBsrMatrix* m, const double* values, const double* x,
 	fmBsr_MultiplyRows(m, values, x, y, 0, m->rows);
 }
 
-void fmBsr_MultiplyRows(const fmBsrMatrix* m, const double* values, const double* x, double* y,
-                        int first, int end)
-{
-	for (int i = first; i < end; ++i)
-	{
-		double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-		for (int k = m->rowStart[i]; k < m->rowStart[i + 1]; ++k)
-		{
-			const double* a = values + 9 * (size_t)k;
-			const double* u = x + 3 * (size_t)m->columns[k];
-			s0 += a[0] * u[0] + a[1] * u[1] + a[2] * u[2];
-			s1 += a[3] * u[0] + a[4] * u[1] + a[5] * u[2];
-			s2 += a[6] * u[0] + a[7] * u[1] + a[8] * u[2];
-		}
-		y[3 * i] = s0;
-		y[3 * i + 1] = s1;
-		y[3 * i + 2] = s2;
-	}
-}
-
 // Fixed-order dot product over all entries (fixed DOFs hold zeros).
 static double fmDotN(int n, const double* a, const double* b)
 {
@@ -178,69 +160,46 @@ static void fmApplyBlocks(int n, const double* blockInverse, const double* r, do
 	}
 }
 
-// z = B_i t for one vertex, with the fixed DOFs of the result zeroed.
-static void fmSolveBlock(const double* B, const double* t, const uint8_t* fixed, double* z)
+// The row kernels of the instruction set the CPU runs (bsr_kernel.h): every variant gives the
+// same bits.
+static fmBsrKernels fmBsrKernelsOfCpu(void)
 {
-	for (int r = 0; r < 3; ++r)
-		z[r] = fixed[r] ? 0.0 : B[3 * r] * t[0] + B[3 * r + 1] * t[1] + B[3 * r + 2] * t[2];
-}
-
-// t = A_i u over one block of row i (a: its 9 values, x: u at its column).
-static inline void fmBlockAdd(const double* a, const double* x, double* t)
-{
-	t[0] += a[0] * x[0] + a[1] * x[1] + a[2] * x[2];
-	t[1] += a[3] * x[0] + a[4] * x[1] + a[5] * x[2];
-	t[2] += a[6] * x[0] + a[7] * x[1] + a[8] * x[2];
-}
-
-// sum of A_ik u_k over the blocks [first, end) of a row, into t: two interleaved partial sums,
-// half the dependency chain of one (the sweeps' row-after-row order exposes it).
-static void fmRowSum(const fmBsrMatrix* m, const double* values, const double* u, int first,
-                     int end, double* t)
-{
-	double even[3] = {0.0, 0.0, 0.0}, odd[3] = {0.0, 0.0, 0.0};
-	int k = first;
-	for (; k + 1 < end; k += 2)
+	switch (fmSimd_Detect())
 	{
-		fmBlockAdd(values + 9 * (size_t)k, u + 3 * (size_t)m->columns[k], even);
-		fmBlockAdd(values + 9 * (size_t)k + 9, u + 3 * (size_t)m->columns[k + 1], odd);
+#if defined(__x86_64__) || defined(_M_X64)
+	case fm_simdAvx512:
+		return (fmBsrKernels){fmBsrKernel_MultiplyRows_avx512, fmBsrKernel_ForwardSweep_avx512,
+		                      fmBsrKernel_BackwardSweep_avx512};
+	case fm_simdAvx2:
+		return (fmBsrKernels){fmBsrKernel_MultiplyRows_avx2, fmBsrKernel_ForwardSweep_avx2,
+		                      fmBsrKernel_BackwardSweep_avx2};
+#endif
+	case fm_simdScalar:
+		return (fmBsrKernels){fmBsrKernel_MultiplyRows_scalar, fmBsrKernel_ForwardSweep_scalar,
+		                      fmBsrKernel_BackwardSweep_scalar};
+	default:
+		return (fmBsrKernels){fmBsrKernel_MultiplyRows_baseline,
+		                      fmBsrKernel_ForwardSweep_baseline,
+		                      fmBsrKernel_BackwardSweep_baseline};
 	}
-	if (k < end)
-		fmBlockAdd(values + 9 * (size_t)k, u + 3 * (size_t)m->columns[k], even);
-	for (int e = 0; e < 3; ++e)
-		t[e] = even[e] + odd[e];
+}
+
+void fmBsr_MultiplyRows(const fmBsrMatrix* m, const double* values, const double* x, double* y,
+                        int first, int end)
+{
+	fmBsrKernelsOfCpu().multiplyRows(m, values, x, y, first, end);
 }
 
 void fmBsr_ForwardSweep(const fmBsrMatrix* m, const double* values, const double* blockInverse,
                         const uint8_t* fixed, const double* r, double* z, int first, int end)
 {
-	for (int i = first; i < end; ++i)
-	{
-		int k = m->rowStart[i];
-		while (m->columns[k] < first)
-			++k;
-		double t[3];
-		fmRowSum(m, values, z, k, m->diagonal[i], t);
-		for (int e = 0; e < 3; ++e)
-			t[e] = r[3 * i + e] - t[e];
-		fmSolveBlock(blockInverse + 9 * (size_t)i, t, fixed + 3 * i, z + 3 * i);
-	}
+	fmBsrKernelsOfCpu().forwardSweep(m, values, blockInverse, fixed, r, z, first, end);
 }
 
 void fmBsr_BackwardSweep(const fmBsrMatrix* m, const double* values, const double* blockInverse,
                          const uint8_t* fixed, double* z, int first, int end)
 {
-	for (int i = end - 1; i >= first; --i)
-	{
-		int k = m->rowStart[i + 1];
-		while (m->columns[k - 1] >= end)
-			--k;
-		double t[3], d[3];
-		fmRowSum(m, values, z, m->diagonal[i] + 1, k, t);
-		fmSolveBlock(blockInverse + 9 * (size_t)i, t, fixed + 3 * i, d);
-		for (int e = 0; e < 3; ++e)
-			z[3 * i + e] -= d[e];
-	}
+	fmBsrKernelsOfCpu().backwardSweep(m, values, blockInverse, fixed, z, first, end);
 }
 
 // Symmetric block Gauss-Seidel on the rows [first, end), coupled to no other row: a forward

@@ -20,6 +20,12 @@
 // vectors, and the kernel runs them one after another, so that a 3x3 matrix of lanes fits the
 // registers (AVX2 has 16 of 8 floats: a matrix of 16-float pairs would not). Each lane's
 // arithmetic is its own, so the width changes no bit.
+// A kernel's entry point with its variant's suffix: FM_KERNEL_NAME(fmTetKernel_Forces) is
+// fmTetKernel_Forces_avx2 in the AVX2 compilation.
+#define FM_PASTE2(a, b) a##_##b
+#define FM_PASTE(a, b) FM_PASTE2(a, b)
+#define FM_KERNEL_NAME(name) FM_PASTE(name, FM_KERNEL_VARIANT)
+
 #if !defined(FM_KERNEL_VARIANT)
 // (nothing: only the kernels' translation units have a width)
 #elif defined(FM_SIMD_SCALAR) || !(defined(__GNUC__) || defined(__clang__))
@@ -421,6 +427,117 @@ static inline void fmSumEntries(const float* forces, const uint16_t* offsets, in
 		sx += (double)entry[0], sy += (double)entry[1], sz += (double)entry[2];
 	}
 	sum[0] = sx, sum[1] = sy, sum[2] = sz;
+}
+#endif
+
+// ---- block rows ----------------------------------------------------------------------------------
+// fmBlockSums: the running sums of one row of a 3x3-block sparse matrix (pcg.h, blocks
+// row-major), one lane per block entry: fmV_BlockAdd adds the products a[j] x[j % 3] of a block a
+// and its column's x to lanes j = 0..8, fmV_BlockMerge adds one row's sums to another's lane by
+// lane, and fmV_BlockResult gives the row's three sums t_r = (s_3r + s_3r+1) + s_3r+2. Each lane
+// is a chain of double additions in block order on every variant: the same bits. AVX holds the
+// lanes as (0..3) and (4..7) times (x0, x1, x2, x0) and (x1, x2, x0, x1); other vector units in
+// pairs; the scalar variant in nine doubles.
+
+#if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
+typedef struct fmBlockSums
+{
+	__m256d low, high; // lanes 0..3, 4..7
+	double last;       // lane 8
+} fmBlockSums;
+
+static inline fmBlockSums fmV_BlockZero(void)
+{
+	return (fmBlockSums){_mm256_setzero_pd(), _mm256_setzero_pd(), 0.0};
+}
+static inline void fmV_BlockAdd(fmBlockSums* s, const double* a, const double* x)
+{
+	__m128d x01 = _mm_loadu_pd(x), x12 = _mm_loadu_pd(x + 1), x2 = _mm_load_sd(x + 2);
+	__m256d low = _mm256_insertf128_pd(_mm256_castpd128_pd256(x01), _mm_loadh_pd(x2, x), 1);
+	__m256d high = _mm256_insertf128_pd(_mm256_castpd128_pd256(x12), x01, 1);
+	s->low = _mm256_add_pd(s->low, _mm256_mul_pd(_mm256_loadu_pd(a), low));
+	s->high = _mm256_add_pd(s->high, _mm256_mul_pd(_mm256_loadu_pd(a + 4), high));
+	s->last += a[8] * x[2];
+}
+static inline void fmV_BlockMerge(fmBlockSums* s, const fmBlockSums* t)
+{
+	s->low = _mm256_add_pd(s->low, t->low);
+	s->high = _mm256_add_pd(s->high, t->high);
+	s->last += t->last;
+}
+static inline void fmV_BlockResult(const fmBlockSums* s, double t[3])
+{
+	double lane[8];
+	_mm256_storeu_pd(lane, s->low);
+	_mm256_storeu_pd(lane + 4, s->high);
+	t[0] = (lane[0] + lane[1]) + lane[2];
+	t[1] = (lane[3] + lane[4]) + lane[5];
+	t[2] = (lane[6] + lane[7]) + s->last;
+}
+#elif (defined(__GNUC__) || defined(__clang__)) && !defined(FM_SIMD_SCALAR)
+typedef double fmDoublePair __attribute__((vector_size(16)));
+
+typedef struct fmBlockSums
+{
+	fmDoublePair pair[4]; // lanes (0, 1), (2, 3), (4, 5), (6, 7)
+	double last;          // lane 8
+} fmBlockSums;
+
+static inline fmDoublePair fmLoadPair(const double* p)
+{
+	fmDoublePair v;
+	memcpy(&v, p, sizeof v);
+	return v;
+}
+static inline fmBlockSums fmV_BlockZero(void)
+{
+	return (fmBlockSums){{{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}}, 0.0};
+}
+static inline void fmV_BlockAdd(fmBlockSums* s, const double* a, const double* x)
+{
+	fmDoublePair x01 = fmLoadPair(x), x12 = fmLoadPair(x + 1), x20 = {x[2], x[0]};
+	s->pair[0] += fmLoadPair(a) * x01;
+	s->pair[1] += fmLoadPair(a + 2) * x20;
+	s->pair[2] += fmLoadPair(a + 4) * x12;
+	s->pair[3] += fmLoadPair(a + 6) * x01;
+	s->last += a[8] * x[2];
+}
+static inline void fmV_BlockMerge(fmBlockSums* s, const fmBlockSums* t)
+{
+	for (int p = 0; p < 4; ++p)
+		s->pair[p] += t->pair[p];
+	s->last += t->last;
+}
+static inline void fmV_BlockResult(const fmBlockSums* s, double t[3])
+{
+	t[0] = (s->pair[0][0] + s->pair[0][1]) + s->pair[1][0];
+	t[1] = (s->pair[1][1] + s->pair[2][0]) + s->pair[2][1];
+	t[2] = (s->pair[3][0] + s->pair[3][1]) + s->last;
+}
+#else
+typedef struct fmBlockSums
+{
+	double lane[9];
+} fmBlockSums;
+
+static inline fmBlockSums fmV_BlockZero(void)
+{
+	return (fmBlockSums){{0.0}};
+}
+static inline void fmV_BlockAdd(fmBlockSums* s, const double* a, const double* x)
+{
+	for (int j = 0; j < 9; ++j)
+		s->lane[j] += a[j] * x[j % 3];
+}
+static inline void fmV_BlockMerge(fmBlockSums* s, const fmBlockSums* t)
+{
+	for (int j = 0; j < 9; ++j)
+		s->lane[j] += t->lane[j];
+}
+static inline void fmV_BlockResult(const fmBlockSums* s, double t[3])
+{
+	for (int r = 0; r < 3; ++r)
+		t[r] = (s->lane[3 * r] + s->lane[3 * r + 1]) + s->lane[3 * r + 2];
 }
 #endif
 

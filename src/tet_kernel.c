@@ -28,9 +28,6 @@
 #include "svd3.h"
 
 #include <math.h>
-#define FM_PASTE2(a, b) a##_##b
-#define FM_PASTE(a, b) FM_PASTE2(a, b)
-#define FM_KERNEL_NAME(name) FM_PASTE(name, FM_KERNEL_VARIANT)
 
 // The helpers are inlined into the entry point: 64-byte vectors stay in registers. The
 // Neo-Hookean energy (the ledger's, once a frame) is not: inlined, clang took over ten minutes

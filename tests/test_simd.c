@@ -6,6 +6,7 @@
 #include "test.h"
 
 #include "body.h"
+#include "bsr_kernel.h"
 #include "forces.h"
 #include "material.h"
 #include "material_invariant.h"
@@ -564,4 +565,140 @@ TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
 	CHECK_INT(differ, 0);
 	CHECK(clamped > 0);
 	printf("  %d lanes compared, %d below the clamp or inverted\n", compared, clamped);
+}
+
+// ---- the sparse rows' kernels (bsr_kernel.c) ---------------------------------------------------
+
+// The largest error of rows [first, end) of (L + D) z = r (lower: blocks left of the diagonal;
+// diagonal: the diagonal block with the fixed DOFs cut out), over free DOFs, relative to the
+// size of the terms. With lower false: D (z0 - z) = U z (the backward sweep from z0).
+static double sweepError(const fmBsrMatrix* m, const double* values, const uint8_t* fixed,
+                         const double* rhs, const double* z, int first, int end, bool lower)
+{
+	double worst = 0.0;
+	for (int i = first; i < end; ++i)
+		for (int e = 0; e < 3; ++e)
+		{
+			if (fixed[3 * i + e])
+				continue;
+			double left = 0.0, right = lower ? rhs[3 * i + e] : 0.0, size = fabs(right);
+			for (int k = m->rowStart[i]; k < m->rowStart[i + 1]; ++k)
+			{
+				int j = m->columns[k];
+				const double* a = values + 9 * (size_t)k + 3 * e;
+				for (int f = 0; f < 3; ++f)
+				{
+					if (j == i && !fixed[3 * i + f])
+					{
+						double d = lower ? z[3 * i + f] : rhs[3 * i + f] - z[3 * i + f];
+						left += a[f] * d, size += fabs(a[f] * d);
+					}
+					else if (j >= first && j < end && (lower ? j < i : j > i))
+						(lower ? (left += a[f] * z[3 * j + f]) : (right += a[f] * z[3 * j + f])),
+						    size += fabs(a[f] * z[3 * j + f]);
+				}
+			}
+			worst = fmax(worst, fabs(left - right) / size);
+		}
+	return worst;
+}
+
+// The product and the Gauss-Seidel sweeps of a random block matrix on a tet mesh's pattern, with
+// fixed DOFs and on a part of the rows: each solves its triangle to round-off, and every
+// instruction set the CPU has gives the scalar variant's bits.
+TEST(sparse_row_kernels_solve_their_triangles_with_the_same_bits_on_every_instruction_set)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(4, 3, 3, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
+	fmBsrMatrix m;
+	CHECK(fmBsr_Build(&m, mesh.nodeCount, mesh.tets, mesh.tetCount));
+	const int rows = m.rows, n = 3 * rows;
+	double* values = malloc(sizeof(double) * 9 * (size_t)m.blocks);
+	double* diagonal = malloc(sizeof(double) * 9 * (size_t)rows);
+	double* blockInverse = malloc(sizeof(double) * 9 * (size_t)rows);
+	uint8_t* fixed = malloc((size_t)n);
+	double *x = malloc(sizeof(double) * (size_t)n), *out[4][3];
+	for (int k = 0; k < 9 * m.blocks; ++k)
+		values[k] = fmTestRandom(-1.0, 1.0);
+	for (int i = 0; i < rows; ++i)
+	{
+		double* D = values + 9 * (size_t)m.diagonal[i];
+		for (int r = 0; r < 3; ++r)
+			for (int c = 0; c < r; ++c)
+				D[3 * c + r] = D[3 * r + c];
+		for (int r = 0; r < 3; ++r)
+			D[4 * r] = fmTestRandom(10.0, 20.0);
+		memcpy(diagonal + 9 * (size_t)i, D, sizeof(double) * 9);
+	}
+	for (int k = 0; k < n; ++k)
+	{
+		x[k] = fmTestRandom(-1.0, 1.0);
+		fixed[k] = fmTestRandom(0.0, 1.0) < 0.1;
+	}
+	fmPcg_BuildPreconditioner(rows, diagonal, fixed, fm_precondSymmetricGaussSeidel, blockInverse);
+	fmBsrKernels kernels[] = {
+		{fmBsrKernel_MultiplyRows_scalar, fmBsrKernel_ForwardSweep_scalar,
+		 fmBsrKernel_BackwardSweep_scalar},
+		{fmBsrKernel_MultiplyRows_baseline, fmBsrKernel_ForwardSweep_baseline,
+		 fmBsrKernel_BackwardSweep_baseline},
+#if defined(__x86_64__) || defined(_M_X64)
+		{fmBsrKernel_MultiplyRows_avx2, fmBsrKernel_ForwardSweep_avx2,
+		 fmBsrKernel_BackwardSweep_avx2},
+		{fmBsrKernel_MultiplyRows_avx512, fmBsrKernel_ForwardSweep_avx512,
+		 fmBsrKernel_BackwardSweep_avx512},
+#endif
+	};
+	const int kernelCount = (int)(sizeof kernels / sizeof kernels[0]);
+	const int first = rows / 3, end = 2 * rows / 3; // a part: its rows ignore the others
+	int differ = 0, ran = 0;
+	for (int v = 0; v < kernelCount; ++v)
+	{
+		for (int o = 0; o < 3; ++o)
+			out[v][o] = calloc((size_t)n, sizeof(double));
+		if (!cpuRunsVariant(v))
+			continue;
+		ran += 1;
+		kernels[v].multiplyRows(&m, values, x, out[v][0], 0, rows);
+		kernels[v].forwardSweep(&m, values, blockInverse, fixed, x, out[v][1], first, end);
+		memcpy(out[v][2], out[v][1], sizeof(double) * (size_t)n);
+		kernels[v].backwardSweep(&m, values, blockInverse, fixed, out[v][2], first, end);
+		for (int o = 0; o < 3; ++o)
+			if (memcmp(out[v][o], out[0][o], sizeof(double) * (size_t)n) != 0 && ++differ <= 5)
+				FAIL_AT("variant %d, kernel %d: not the scalar variant's bits", v, o);
+	}
+	// The product against the definition, one DOF at a time.
+	double worst = 0.0;
+	for (int i = 0; i < rows; ++i)
+		for (int e = 0; e < 3; ++e)
+		{
+			double s = 0.0, size = 0.0;
+			for (int k = m.rowStart[i]; k < m.rowStart[i + 1]; ++k)
+				for (int f = 0; f < 3; ++f)
+				{
+					double term = values[9 * (size_t)k + 3 * e + f] * x[3 * m.columns[k] + f];
+					s += term, size += fabs(term);
+				}
+			worst = fmax(worst, fabs(out[0][0][3 * i + e] - s) / size);
+		}
+	double forward = sweepError(&m, values, fixed, x, out[0][1], first, end, true);
+	double backward = sweepError(&m, values, fixed, out[0][1], out[0][2], first, end, false);
+	bool untouched = true, fixedZero = true;
+	for (int k = 0; k < n; ++k)
+	{
+		bool inside = k >= 3 * first && k < 3 * end;
+		untouched = untouched && (inside || (out[0][1][k] == 0.0 && out[0][2][k] == 0.0));
+		fixedZero = fixedZero && (!fixed[k] || (out[0][1][k] == 0.0 && out[0][2][k] == 0.0));
+	}
+	printf("  %d variants; relative errors: product %.2g, forward %.2g, backward %.2g\n", ran,
+	       worst, forward, backward);
+	CHECK_INT(differ, 0);
+	CHECK(worst < 1e-14);
+	CHECK(forward < 1e-13 && backward < 1e-13);
+	CHECK(untouched && fixedZero);
+	for (int v = 0; v < kernelCount; ++v)
+		for (int o = 0; o < 3; ++o)
+			free(out[v][o]);
+	free(values), free(diagonal), free(blockInverse), free(fixed), free(x);
+	fmBsr_Free(&m);
+	fmFreeTetMesh(&mesh);
 }
