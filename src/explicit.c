@@ -38,6 +38,11 @@ typedef struct fmExplicitTask
 	double dt;
 	fmVec3 gravity;
 	double damping; // the step's damping factor, 1 for none
+	// With a floor that holds the body: fmFloor_Takes of each vertex after its position update,
+	// and the floor's response to the vertices it takes.
+	const fmFloorDef* floor;
+	uint8_t* floorTaken;
+	fmFloorResponse* floorResponses;
 } fmExplicitTask;
 
 // Stage 1 for vertices [start, end): f = m g.
@@ -70,7 +75,8 @@ static void fmVelocitiesTask(int start, int end, int worker, void* context)
 	}
 }
 
-// Stage 4 for vertices [start, end): x += dt v.
+// Stage 4 for vertices [start, end): x += dt v, then the floor's response to each vertex it
+// takes (collected in vertex order by fmFloor_ApplyExplicit).
 static void fmPositionsTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
@@ -79,6 +85,12 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 	for (int i = start; i < end; ++i)
 		if (b->pinned[i] != FM_PIN_ALL)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
+	for (int i = start; c->floorTaken != NULL && i < end; ++i)
+	{
+		c->floorTaken[i] = fmFloor_Takes(b, i, c->floor->height);
+		if (c->floorTaken[i])
+			fmFloor_RespondExplicit(c->floor, c->gravity, b, i, c->dt, c->floorResponses + i);
+	}
 }
 
 // f = m g + the elastic forces: the batched float kernels where they apply and are accurate
@@ -116,7 +128,19 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {b, dt, world->def.gravity, fmVelocityFilter_DampingFactor(b, dt)};
+	fmExplicitTask context = {
+	    b, dt, world->def.gravity, fmVelocityFilter_DampingFactor(b, dt), NULL, NULL, NULL};
+	const size_t mark = fmArena_Mark(arena);
+	if (fmFloor_Holds(&world->def.floor, b))
+	{
+		// (Both from the arena's doubles; without the memory the floor pass responds serially.)
+		context.floorTaken = (uint8_t*)fmArena_DoublesUninit(arena, (size_t)n / 8 + 1);
+		context.floorResponses = (fmFloorResponse*)fmArena_DoublesUninit(
+		    arena, (size_t)n * sizeof(fmFloorResponse) / sizeof(double));
+		context.floor = &world->def.floor;
+		if (context.floorResponses == NULL)
+			context.floorTaken = NULL;
+	}
 
 	// 0. Prescribed displacements move their vertices along their paths (loads.h).
 	double start = fmSeconds();
@@ -151,7 +175,9 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	// 4. Positions, then the floor.
 	if (!placed)
 		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
-	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt);
+	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt,
+	                                          context.floorTaken, context.floorResponses);
+	fmArena_Release(arena, mark);
 	b->stepStage[0] = forced - start;
 	b->stepStage[1] = fmSeconds() - forced;
 	return floorContacts >= 0 ? fm_ok : fm_errOutOfMemory;

@@ -92,27 +92,38 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 	return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
 }
 
-int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt)
+void fmFloor_RespondExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int i, double dt,
+                             fmFloorResponse* r)
+{
+	const double* v = b->v + 3 * i;
+	const double before[3] = {v[0], v[1], v[2]};
+	r->depth = floor->height - b->x[3 * i + 1];
+	r->liftWork = fmLiftOutOfFloor(floor, gravity, b, i, dt);
+	r->pushEnergy = fmRespondExplicit(floor, b, i, r->depth, before[1], dt);
+	r->impulse = fmImpulseSince(b, i, before);
+}
+
+int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt,
+                          const uint8_t* taken, const fmFloorResponse* responses)
 {
 	b->floorHitCount = 0;
 	if (!fmFloor_Holds(floor, b))
 		return 0;
-	const double h = floor->height;
 	int contacts = 0;
 	double work = 0.0;
 	bool listed = true;
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
-		const double* x = b->x + 3 * i;
-		const double* v = b->v + 3 * i;
-		if ((b->pinned[i] & FM_PIN_Y) || x[1] >= h) // a vertex held in y does not touch
+		fmFloorResponse own;
+		const fmFloorResponse* r = responses != NULL ? responses + i : &own;
+		if (responses != NULL ? !taken[i] : !fmFloor_Takes(b, i, floor->height))
 			continue;
+		if (responses == NULL)
+			fmFloor_RespondExplicit(floor, gravity, b, i, dt, &own);
 		++contacts;
-		const double before[3] = {v[0], v[1], v[2]};
-		double penetration = h - x[1];
-		work += fmLiftOutOfFloor(floor, gravity, b, i, dt);
-		work += fmRespondExplicit(floor, b, i, penetration, before[1], dt);
-		listed = listed && fmAddHit(b, i, penetration, fmImpulseSince(b, i, before));
+		work += r->liftWork;
+		work += r->pushEnergy;
+		listed = listed && fmAddHit(b, i, r->depth, r->impulse);
 	}
 	fmLedger_AddContactWork(b, work);
 	return listed ? contacts : -1;

@@ -16,11 +16,35 @@ typedef struct fmFloorHit
 // Whether the floor holds @p body: it is enabled and their filters meet.
 bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* body);
 
-// Explicit: positions lifted to the plane (at most at the floor's depenetration speed),
-// velocities by the floor's friction mode; push-out work (against gravity, and the normal
-// kinetic energy it adds) goes to the body's energy ledger. The vertices in contact go to
-// body->floorHits. Returns how many, or -1 when that list could not grow.
-int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, double dt);
+// Whether the floor at @p height takes vertex @p i of @p body: it is below the plane (or not a
+// number) and free in y.
+static inline bool fmFloor_Takes(const fmBody* body, int i, double height)
+{
+	return !(body->pinned[i] & FM_PIN_Y) && !(body->x[3 * i + 1] >= height);
+}
+
+// What the explicit floor did to one vertex it took.
+typedef struct fmFloorResponse
+{
+	double depth;      // m below the floor when found
+	fmVec3 impulse;    // N s
+	double liftWork;   // J against gravity, lifting it
+	double pushEnergy; // J of kinetic energy along y it added
+} fmFloorResponse;
+
+// Explicit, one vertex the floor takes (fmFloor_Takes): its position lifted to the plane (at
+// most at the floor's depenetration speed), its velocity by the floor's friction mode. Touches
+// that vertex only: vertex ranges respond in parallel.
+void fmFloor_RespondExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, int vertex,
+                             double dt, fmFloorResponse* response);
+
+// Explicit: fmFloor_RespondExplicit on every vertex the floor takes; the push-out work goes to
+// the body's energy ledger and the vertices in contact to body->floorHits, both in vertex order.
+// With @p taken and @p responses (one a vertex) the responses were made already (the position
+// update does them on each vertex range, where the vertices are in cache): they are only
+// collected. Returns how many vertices, or -1 when the list could not grow.
+int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, double dt,
+                          const uint8_t* taken, const fmFloorResponse* responses);
 
 // Implicit: the lowest y of every vertex this step into cache->floorBound: the floor, except for
 // a vertex deep below it, which may rise by at most the depenetration speed times h.
