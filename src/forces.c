@@ -36,6 +36,7 @@ typedef struct fmPassKernels
 {
 	fmPolarKernelFcn* polar;
 	fmNeoHookeanKernelFcn* neoHookean;
+	fmNeoHookeanFillFcn* neoHookeanFill;
 } fmPassKernels;
 
 static fmPassKernels fmPassKernelsOfCpu(void)
@@ -44,14 +45,18 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmPassKernels){fmTetKernel_Polar_avx512, fmTetKernel_NeoHookean_avx512};
+		return (fmPassKernels){fmTetKernel_Polar_avx512, fmTetKernel_NeoHookean_avx512,
+		                       fmTetKernel_FillNeoHookean_avx512};
 	case fm_simdAvx2:
-		return (fmPassKernels){fmTetKernel_Polar_avx2, fmTetKernel_NeoHookean_avx2};
+		return (fmPassKernels){fmTetKernel_Polar_avx2, fmTetKernel_NeoHookean_avx2,
+		                       fmTetKernel_FillNeoHookean_avx2};
 #endif
 	case fm_simdScalar:
-		return (fmPassKernels){fmTetKernel_Polar_scalar, fmTetKernel_NeoHookean_scalar};
+		return (fmPassKernels){fmTetKernel_Polar_scalar, fmTetKernel_NeoHookean_scalar,
+		                       fmTetKernel_FillNeoHookean_scalar};
 	default:
-		return (fmPassKernels){fmTetKernel_Polar_baseline, fmTetKernel_NeoHookean_baseline};
+		return (fmPassKernels){fmTetKernel_Polar_baseline, fmTetKernel_NeoHookean_baseline,
+		                       fmTetKernel_FillNeoHookean_baseline};
 	}
 }
 
@@ -64,21 +69,27 @@ static fmPolarKernelFcn* fmPolarKernel(const fmBody* body)
 	return corotated ? fmPassKernelsOfCpu().polar : NULL;
 }
 
-// The batched Neo-Hookean kernel when every tet of @p body is Neo-Hookean (one material); NULL
-// otherwise.
-static fmNeoHookeanKernelFcn* fmNeoHookeanKernel(const fmBody* body)
+// The batched Neo-Hookean kernels when every tet of @p body is Neo-Hookean (one material);
+// kernels->neoHookean NULL otherwise.
+static fmPassKernels fmNeoHookeanKernels(const fmBody* body)
 {
 	bool neoHookean = body->material.model == fm_neoHookean && body->tetMaterial == NULL;
-	return neoHookean ? fmPassKernelsOfCpu().neoHookean : NULL;
+	fmPassKernels none = {NULL, NULL, NULL};
+	return neoHookean ? fmPassKernelsOfCpu() : none;
 }
 
 // Tets [first, first + count), count <= FM_NH_LANES, into a Neo-Hookean batch at x (the edge
-// matrices of fmTetDeformation; unused lanes zero).
+// matrices of fmTetDeformation; unused lanes zero): a full batch by the kernels' fill.
 static void fmFillNeoHookeanBatch(const fmBody* body, const double* x, int first, int count,
-                                  fmNeoHookeanBatch* batch)
+                                  const fmPassKernels* kernels, fmNeoHookeanBatch* batch)
 {
 	batch->mu = body->material.mu;
 	batch->lambda = body->material.lambda;
+	if (count == FM_NH_LANES)
+	{
+		kernels->neoHookeanFill(x, body->tets, body->DmInv, body->restVolume, first, batch);
+		return;
+	}
 	for (int l = 0; l < FM_NH_LANES; ++l)
 	{
 		int t = first + (l < count ? l : 0);
@@ -175,15 +186,15 @@ FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* 
 // f += the forces of a Neo-Hookean body, a batch at a time; returns the elastic energy (J), in
 // tet order.
 static double fmAddNeoHookeanForces(const fmBody* body, const double* x, double* f,
-                                    fmNeoHookeanKernelFcn* kernel)
+                                    const fmPassKernels* kernels)
 {
 	double energy = 0.0;
 	fmNeoHookeanBatch batch;
 	for (int first = 0; first < body->tetCount; first += FM_NH_LANES)
 	{
 		int count = body->tetCount - first < FM_NH_LANES ? body->tetCount - first : FM_NH_LANES;
-		fmFillNeoHookeanBatch(body, x, first, count, &batch);
-		kernel(&batch);
+		fmFillNeoHookeanBatch(body, x, first, count, kernels, &batch);
+		kernels->neoHookean(&batch);
 		for (int l = 0; l < count; ++l)
 		{
 			const int* n = body->tets + 4 * (first + l);
@@ -200,9 +211,9 @@ static double fmAddNeoHookeanForces(const fmBody* body, const double* x, double*
 
 static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 {
-	fmNeoHookeanKernelFcn* neoHookean = fmNeoHookeanKernel(body);
-	if (neoHookean != NULL)
-		return fmAddNeoHookeanForces(body, x, f, neoHookean);
+	fmPassKernels neoHookean = fmNeoHookeanKernels(body);
+	if (neoHookean.neoHookean != NULL)
+		return fmAddNeoHookeanForces(body, x, f, &neoHookean);
 	fmPolarKernelFcn* polar = fmPolarKernel(body);
 	double energy = 0.0;
 	if (polar == NULL) // one tet at a time: no batch to fill
@@ -235,14 +246,14 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 // Tets [first, end) of a Neo-Hookean body into their 12 entries of @p forces and their energies,
 // a batch at a time.
 static void fmStoreNeoHookeanForces(const fmBody* body, const double* x, int first, int end,
-                                    double* forces, double* energies, fmNeoHookeanKernelFcn* kernel)
+                                    double* forces, double* energies, const fmPassKernels* kernels)
 {
 	fmNeoHookeanBatch batch;
 	for (int start = first; start < end; start += FM_NH_LANES)
 	{
 		int count = end - start < FM_NH_LANES ? end - start : FM_NH_LANES;
-		fmFillNeoHookeanBatch(body, x, start, count, &batch);
-		kernel(&batch);
+		fmFillNeoHookeanBatch(body, x, start, count, kernels, &batch);
+		kernels->neoHookean(&batch);
 		for (int l = 0; l < count; ++l)
 		{
 			double* out = forces + 12 * (size_t)(start + l);
@@ -260,10 +271,10 @@ static void fmStoreNeoHookeanForces(const fmBody* body, const double* x, int fir
 void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
                  double* energies)
 {
-	fmNeoHookeanKernelFcn* neoHookean = fmNeoHookeanKernel(body);
-	if (neoHookean != NULL)
+	fmPassKernels neoHookean = fmNeoHookeanKernels(body);
+	if (neoHookean.neoHookean != NULL)
 	{
-		fmStoreNeoHookeanForces(body, x, first, end, forces, energies, neoHookean);
+		fmStoreNeoHookeanForces(body, x, first, end, forces, energies, &neoHookean);
 		return;
 	}
 	fmPolarKernelFcn* polar = fmPolarKernel(body);

@@ -430,6 +430,72 @@ static inline void fmSumEntries(const float* forces, const uint16_t* offsets, in
 }
 #endif
 
+// ---- double rows of 4 tets ---------------------------------------------------------------------
+// The Neo-Hookean batch's inputs (tet_kernel.h), 4 lanes at a time, rows of @p stride doubles:
+// fmV_EdgesOf4Tets: out[(3 i + k) stride + l] = x[3 n_{k+1} + i] - x[3 n_0 + i] for the tets
+// l = 0..3 of @p nodes (4 vertex numbers a tet, x 3 doubles a vertex), in double;
+// fmV_TransposeOf4: out[e stride + l] = m[9 l + e] for 4 matrices of 9 doubles. Copies and
+// double subtractions: the same bits on every variant. On AVX each tet's vertices are one masked
+// 4-double load and its edges one subtraction, transposed in registers.
+
+#if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
+// (t0, t2) and (t1, t3): the unpacked rows of a 4x4 transpose; columns c = 0..3 to out rows.
+static inline void fmStoreColumns4(__m256d r[4], double* out, size_t stride, int columns)
+{
+	__m256d t0 = _mm256_unpacklo_pd(r[0], r[1]), t1 = _mm256_unpackhi_pd(r[0], r[1]);
+	__m256d t2 = _mm256_unpacklo_pd(r[2], r[3]), t3 = _mm256_unpackhi_pd(r[2], r[3]);
+	_mm256_storeu_pd(out, _mm256_permute2f128_pd(t0, t2, 0x20));
+	_mm256_storeu_pd(out + stride, _mm256_permute2f128_pd(t1, t3, 0x20));
+	_mm256_storeu_pd(out + 2 * stride, _mm256_permute2f128_pd(t0, t2, 0x31));
+	if (columns > 3)
+		_mm256_storeu_pd(out + 3 * stride, _mm256_permute2f128_pd(t1, t3, 0x31));
+}
+
+static inline void fmV_EdgesOf4Tets(const double* x, const int* nodes, double* out, int stride)
+{
+	const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);
+	__m256d origin[4], edge[4];
+	for (int l = 0; l < 4; ++l)
+		origin[l] = _mm256_maskload_pd(x + 3 * (size_t)nodes[4 * l], xyz);
+	for (int k = 0; k < 3; ++k)
+	{
+		for (int l = 0; l < 4; ++l)
+			edge[l] = _mm256_sub_pd(_mm256_maskload_pd(x + 3 * (size_t)nodes[4 * l + k + 1], xyz),
+			                        origin[l]);
+		fmStoreColumns4(edge, out + k * (size_t)stride, 3 * (size_t)stride, 3);
+	}
+}
+
+static inline void fmV_TransposeOf4(const double* m, double* out, int stride)
+{
+	for (int h = 0; h < 2; ++h)
+	{
+		__m256d r[4];
+		for (int l = 0; l < 4; ++l)
+			r[l] = _mm256_loadu_pd(m + 9 * l + 4 * h);
+		fmStoreColumns4(r, out + 4 * h * (size_t)stride, (size_t)stride, 4);
+	}
+	for (int l = 0; l < 4; ++l)
+		out[8 * (size_t)stride + l] = m[9 * l + 8];
+}
+#else
+static inline void fmV_EdgesOf4Tets(const double* x, const int* nodes, double* out, int stride)
+{
+	for (int l = 0; l < 4; ++l)
+		for (int i = 0; i < 3; ++i)
+			for (int k = 0; k < 3; ++k)
+				out[(3 * i + k) * (size_t)stride + l] =
+				    x[3 * (size_t)nodes[4 * l + k + 1] + i] - x[3 * (size_t)nodes[4 * l] + i];
+}
+
+static inline void fmV_TransposeOf4(const double* m, double* out, int stride)
+{
+	for (int l = 0; l < 4; ++l)
+		for (int e = 0; e < 9; ++e)
+			out[e * (size_t)stride + l] = m[9 * l + e];
+}
+#endif
+
 // ---- block rows ----------------------------------------------------------------------------------
 // fmBlockSums: the running sums of one row of a 3x3-block sparse matrix (pcg.h, blocks
 // row-major), one lane per block entry: fmV_BlockAdd adds the products a[j] x[j % 3] of a block a

@@ -552,6 +552,20 @@ void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
 // their order; fmPolarCofactor and fmPolarDot above are fmCofactor with det F along the first row
 // and the double contraction from 0.0).
 
+void FM_KERNEL_NAME(fmTetKernel_FillNeoHookean)(const double* x, const int* tets,
+                                                const fmMat3* dmInv, const double* volume,
+                                                int first, fmNeoHookeanBatch* b)
+{
+	// (The 4 lanes' matrices are consecutive: 36 doubles from the first one's.)
+	for (int o = 0; o < FM_NH_LANES; o += 4)
+	{
+		fmV_EdgesOf4Tets(x, tets + 4 * (size_t)(first + o), &b->Ds[0][o], FM_NH_LANES);
+		fmV_TransposeOf4(dmInv[first + o].m, &b->dmInv[0][o], FM_NH_LANES);
+	}
+	for (int l = 0; l < FM_NH_LANES; ++l)
+		b->volume[l] = volume[first + l];
+}
+
 void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmNeoHookeanBatch* b)
 {
 	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], k[FM_PL], P[9][FM_PL];

@@ -7,6 +7,7 @@
 // kernel") and docs/implicit.md ("Material kernels").
 #pragma once
 
+#include <femto/fm_math.h>
 #include <femto/types.h>
 
 #include "simd.h"
@@ -133,6 +134,20 @@ typedef struct fmNeoHookeanBatch
 // fmNeoHookean_Evaluate (ln J by fmClampedLogJ, lane by lane) and fmAddTetForces in their order
 // (forces.c): the same bits as one tet at a time, on every variant.
 typedef void fmNeoHookeanKernelFcn(fmNeoHookeanBatch* batch);
+
+// fmTetKernel_FillNeoHookean_<variant>: the full batch of tets [first, first + FM_NH_LANES) of a
+// body (tets: 4 vertex numbers each; dmInv, volume: its rest data) at positions x: Ds[3 i + k][l]
+// = x[3 n_{k+1} + i] - x[3 n_0 + i], Dm^-1 and V0 of each lane, the entries forces.c's one-lane
+// fill writes (the same bits). Leaves mu and lambda alone.
+typedef void fmNeoHookeanFillFcn(const double* x, const int* tets, const fmMat3* dmInv,
+                                 const double* volume, int first, fmNeoHookeanBatch* batch);
+
+fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_scalar;
+fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_avx2;
+fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_avx512;
+#endif
 
 fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_scalar;
 fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_baseline;

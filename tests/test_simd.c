@@ -702,3 +702,51 @@ TEST(sparse_row_kernels_solve_their_triangles_with_the_same_bits_on_every_instru
 	fmBsr_Free(&m);
 	fmFreeTetMesh(&mesh);
 }
+
+// The Neo-Hookean batch's fill (fmTetKernel_FillNeoHookean_*) on every instruction set the CPU
+// has: each lane's edge matrix, Dm^-1 and V0 of a moved box, bit for bit as one tet at a time.
+TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		b->x[k] += fmTestRandom(-0.05, 0.05);
+	fmNeoHookeanFillFcn* fills[] = {
+		fmTetKernel_FillNeoHookean_scalar,
+		fmTetKernel_FillNeoHookean_baseline,
+#if defined(__x86_64__) || defined(_M_X64)
+		fmTetKernel_FillNeoHookean_avx2,
+		fmTetKernel_FillNeoHookean_avx512
+#endif
+	};
+	const int fillCount = (int)(sizeof fills / sizeof fills[0]);
+	int compared = 0, differ = 0;
+	for (int v = 0; v < fillCount; ++v)
+	{
+		if (!cpuRunsVariant(v))
+			continue;
+		for (int first = 0; first + FM_NH_LANES <= b->tetCount; first += FM_NH_LANES)
+		{
+			fmNeoHookeanBatch batch;
+			fills[v](b->x, b->tets, b->DmInv, b->restVolume, first, &batch);
+			for (int l = 0; l < FM_NH_LANES; ++l, ++compared)
+			{
+				const int* n = b->tets + 4 * (first + l);
+				bool same = batch.volume[l] == b->restVolume[first + l];
+				for (int i = 0; i < 3; ++i)
+					for (int k = 0; k < 3; ++k)
+					{
+						double edge = b->x[3 * n[k + 1] + i] - b->x[3 * n[0] + i];
+						same = same && memcmp(&batch.Ds[3 * i + k][l], &edge, sizeof edge) == 0 &&
+						       memcmp(&batch.dmInv[3 * i + k][l], &b->DmInv[first + l].m[3 * i + k],
+						              sizeof(double)) == 0;
+					}
+				if (!same && ++differ <= 5)
+					FAIL_AT("variant %d, tet %d: not its edges or rest data", v, first + l);
+			}
+		}
+	}
+	CHECK_INT(differ, 0);
+	CHECK(compared >= 2 * b->tetCount);
+	fmDestroyWorld(world);
+}
