@@ -90,10 +90,10 @@ for variant in simd plain; do
   flags=()
   [ "$variant" = simd ] && flags=(-msimd128)
   for kernel in tet_kernel bsr_kernel; do
-    compile "src/$kernel.c" "$obj/${kernel}_baseline_$variant.o" -O3 -Wno-psabi "${flags[@]}" \
-      -DFM_KERNEL_VARIANT=baseline
-    compile "src/$kernel.c" "$obj/${kernel}_scalar_$variant.o" -O3 "${flags[@]}" \
-      -DFM_KERNEL_VARIANT=scalar -DFM_SIMD_SCALAR
+    compile "src/$kernel.c" "$obj/${kernel}_baseline_$variant.o" -O3 -Wno-psabi \
+      -fno-math-errno "${flags[@]}" -DFM_KERNEL_VARIANT=baseline
+    compile "src/$kernel.c" "$obj/${kernel}_scalar_$variant.o" -O3 -fno-math-errno \
+      "${flags[@]}" -DFM_KERNEL_VARIANT=scalar -DFM_SIMD_SCALAR
   done
 done
 for job in "${jobs[@]}"; do wait "$job"; done

@@ -461,25 +461,28 @@ FM_INLINE void fmPolarCofactor(const double X[9][FM_PL], double C[9][FM_PL], dou
 	}
 }
 
-// The sum over k of A[k] B[k] of one lane, in k order (fmDDot).
-FM_INLINE double fmPolarDot(const double A[9][FM_PL], const double B[9][FM_PL], int l)
+// The sum over k of A[k] B[k] of every lane, each in k order (fmDDot).
+FM_INLINE void fmPolarDots(const double A[9][FM_PL], const double B[9][FM_PL], double s[FM_PL])
 {
-	double s = 0.0;
+	for (int l = 0; l < FM_PL; ++l)
+		s[l] = 0.0;
 	for (int k = 0; k < 9; ++k)
-		s += A[k][l] * B[k][l];
-	return s;
+		for (int l = 0; l < FM_PL; ++l)
+			s[l] += A[k][l] * B[k][l];
 }
 
 // Which lanes start: fmPolarRotationFast's shape test, and whether their first step is scaled
 // (masks of all bits set, as wide as a double, which the compiler blends with).
 FM_INLINE void fmPolarStart(const fmPolarBatch* batch, int64_t active[FM_PL], int64_t scaled[FM_PL])
 {
+	double norms2[FM_PL];
+	fmPolarDots(batch->F, batch->F, norms2);
 	for (int l = 0; l < FM_PL; ++l)
 	{
 		const double* m[9];
 		for (int k = 0; k < 9; ++k)
 			m[k] = &batch->F[k][l];
-		double norm2 = fmPolarDot(batch->F, batch->F, l);
+		double norm2 = norms2[l];
 		double det = *m[0] * (*m[4] * *m[8] - *m[5] * *m[7]) -
 		             *m[1] * (*m[3] * *m[8] - *m[5] * *m[6]) +
 		             *m[2] * (*m[3] * *m[7] - *m[4] * *m[6]);
@@ -498,10 +501,23 @@ FM_INLINE void fmPolarStep(double X[9][FM_PL], const double C[9][FM_PL], const d
                            double change[FM_PL])
 {
 	double z[FM_PL], a[FM_PL], b[FM_PL];
+	int64_t anyScaled = 0;
 	for (int l = 0; l < FM_PL; ++l)
-		z[l] = scaled[l] & active[l]
-		           ? sqrt(sqrt(fmPolarDot(C, C, l) / (d[l] * d[l])) / sqrt(fmPolarDot(X, X, l)))
-		           : 1.0;
+		z[l] = 1.0, anyScaled |= scaled[l] & active[l];
+	if (anyScaled)
+	{
+		// Every lane at once; lanes not scaled take ones instead, whose root is exactly 1 (and
+		// raises no floating-point exception).
+		double cc[FM_PL], xx[FM_PL];
+		fmPolarDots(C, C, cc);
+		fmPolarDots(X, X, xx);
+		for (int l = 0; l < FM_PL; ++l)
+		{
+			bool scale = (scaled[l] & active[l]) != 0;
+			double num = scale ? cc[l] : 1.0, den = scale ? d[l] * d[l] : 1.0;
+			z[l] = sqrt(sqrt(num / den) / sqrt(scale ? xx[l] : 1.0));
+		}
+	}
 	for (int l = 0; l < FM_PL; ++l)
 	{
 		// Lanes done or refused divide by 1 instead (their steps are discarded).
@@ -533,23 +549,21 @@ void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
 		any = false;
 		for (int l = 0; l < FM_PL; ++l)
 		{
-			if (active[l] && change[l] <= FM_POLAR_DONE * FM_POLAR_DONE)
-			{
-				for (int k = 0; k < 9; ++k)
-					batch->R[k][l] = X[k][l];
-				batch->ok[l] = true;
-				active[l] = 0;
-			}
+			// A lane done keeps its X (fmPolarStep leaves lanes that are not active).
+			bool done = active[l] && change[l] <= FM_POLAR_DONE * FM_POLAR_DONE;
+			batch->ok[l] = batch->ok[l] || done;
+			active[l] = done ? 0 : active[l];
 			scaled[l] = change[l] > 1e-4 ? -1 : 0;
 			any |= active[l] != 0;
 		}
 	}
+	memcpy(batch->R, X, sizeof X);
 }
 
 // ---- batched Neo-Hookean forces -----------------------------------------------------------------
 // Plain loops over the lanes, which the compiler vectorises at the variant's width; every
 // expression is the scalar path's (fm_math.h's products and fmNeoHookean_Evaluate written out in
-// their order; fmPolarCofactor and fmPolarDot above are fmCofactor with det F along the first row
+// their order; fmPolarCofactor and fmPolarDots above are fmCofactor with det F along the first row
 // and the double contraction from 0.0).
 
 void FM_KERNEL_NAME(fmTetKernel_FillNeoHookean)(const double* x, const int* tets,
@@ -575,10 +589,12 @@ void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmNeoHookeanBatch* b)
 				F[3 * i + j][l] = b->Ds[3 * i][l] * b->dmInv[j][l] +
 				                  b->Ds[3 * i + 1][l] * b->dmInv[3 + j][l] +
 				                  b->Ds[3 * i + 2][l] * b->dmInv[6 + j][l];
+	double I1s[FM_PL];
 	fmPolarCofactor(F, C, J);
+	fmPolarDots(F, F, I1s);
 	for (int l = 0; l < FM_PL; ++l)
 	{
-		double I1 = fmPolarDot(F, F, l), ln[3];
+		double I1 = I1s[l], ln[3];
 		fmClampedLogJ(J[l], ln);
 		k[l] = (b->lambda * ln[0] - b->mu) * ln[1];
 		b->psi[l] = 0.5 * b->mu * (I1 - 3.0) - b->mu * ln[0] + 0.5 * b->lambda * ln[0] * ln[0];

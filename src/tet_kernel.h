@@ -94,8 +94,8 @@ fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx512;
 typedef struct fmPolarBatch
 {
 	double F[9][FM_POLAR_LANES];
-	double R[9][FM_POLAR_LANES]; // where ok
-	bool ok[FM_POLAR_LANES];     // false where fmPolarRotationFast refuses F (R untouched)
+	double R[9][FM_POLAR_LANES]; // where ok (elsewhere unspecified)
+	bool ok[FM_POLAR_LANES];     // false where fmPolarRotationFast refuses F
 } fmPolarBatch;
 
 // fmTetKernel_Polar_<variant>: fmPolarRotationFast (svd3.h) of every lane, in double, with the
