@@ -360,8 +360,10 @@ static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_L
 // fmV_StoreNodes: out[l] = (x[l], y[l], z[l], 0) for the FM_VLANES lanes (one node's forces on
 // the lanes of a vector), so that a vertex's sum loads each entry as one vector.
 // fmSumEntries: sum[c] = the sum over e < count, in order, of (double)forces[offsets[e] + c],
-// c = 0, 1, 2, each component in double in the same order on every variant. fmWeightedSum: the
-// same of weights[e] * v[offsets[e] + c] (v: 3 doubles a vertex).
+// c = 0, 1, 2, each component in double in the same order on every variant; fmSumEntriesPair:
+// the sums of two vertices whose entries follow each other (countA, then countB), side by side
+// where the vectors allow (two dependency chains, each sum in its own order). fmWeightedSum and
+// fmWeightedSumPair: the same of weights[e] * v[offsets[e] + c] (v: 3 doubles a vertex).
 
 #if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
 // Lanes 0..7 of rows x, y, z transposed to 8 rows of 4 (a 4x4 transpose in each half).
@@ -394,6 +396,33 @@ static inline void fmWeightedSum(const double* v, const int* offsets, const doub
 	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
 }
 
+static inline void fmWeightedSumPair(const double* v, const int* offsets, const double* weights,
+                                     int countA, int countB, double sumA[3], double sumB[3])
+{
+	const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);
+	const int* offsetsB = offsets + countA;
+	const double* weightsB = weights + countA;
+	__m256d a = _mm256_setzero_pd(), b = _mm256_setzero_pd();
+	int both = countA < countB ? countA : countB, e = 0;
+	for (; e < both; ++e)
+	{
+		a = _mm256_add_pd(
+		    a, _mm256_mul_pd(_mm256_set1_pd(weights[e]), _mm256_maskload_pd(v + offsets[e], xyz)));
+		b = _mm256_add_pd(b, _mm256_mul_pd(_mm256_set1_pd(weightsB[e]),
+		                                   _mm256_maskload_pd(v + offsetsB[e], xyz)));
+	}
+	for (int k = e; k < countA; ++k)
+		a = _mm256_add_pd(
+		    a, _mm256_mul_pd(_mm256_set1_pd(weights[k]), _mm256_maskload_pd(v + offsets[k], xyz)));
+	for (int k = e; k < countB; ++k)
+		b = _mm256_add_pd(b, _mm256_mul_pd(_mm256_set1_pd(weightsB[k]),
+		                                   _mm256_maskload_pd(v + offsetsB[k], xyz)));
+	_mm_storeu_pd(sumA, _mm256_castpd256_pd128(a));
+	_mm_store_sd(sumA + 2, _mm256_extractf128_pd(a, 1));
+	_mm_storeu_pd(sumB, _mm256_castpd256_pd128(b));
+	_mm_store_sd(sumB + 2, _mm256_extractf128_pd(b, 1));
+}
+
 static inline void fmSumEntries(const float* forces, const uint16_t* offsets, int count,
                                 double sum[3])
 {
@@ -402,6 +431,31 @@ static inline void fmSumEntries(const float* forces, const uint16_t* offsets, in
 		s = _mm256_add_pd(s, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e])));
 	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
 	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+}
+
+static inline void fmStoreSum(double sum[3], __m256d s)
+{
+	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
+	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+}
+
+static inline void fmSumEntriesPair(const float* forces, const uint16_t* offsets, int countA,
+                                    int countB, double sumA[3], double sumB[3])
+{
+	const uint16_t* offsetsB = offsets + countA;
+	__m256d a = _mm256_setzero_pd(), b = _mm256_setzero_pd();
+	int both = countA < countB ? countA : countB, e = 0;
+	for (; e < both; ++e)
+	{
+		a = _mm256_add_pd(a, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e])));
+		b = _mm256_add_pd(b, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsetsB[e])));
+	}
+	for (int k = e; k < countA; ++k)
+		a = _mm256_add_pd(a, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[k])));
+	for (int k = e; k < countB; ++k)
+		b = _mm256_add_pd(b, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsetsB[k])));
+	fmStoreSum(sumA, a);
+	fmStoreSum(sumB, b);
 }
 #else
 static inline void fmWeightedSum(const double* v, const int* offsets, const double* weights,
@@ -427,6 +481,20 @@ static inline void fmSumEntries(const float* forces, const uint16_t* offsets, in
 		sx += (double)entry[0], sy += (double)entry[1], sz += (double)entry[2];
 	}
 	sum[0] = sx, sum[1] = sy, sum[2] = sz;
+}
+
+static inline void fmSumEntriesPair(const float* forces, const uint16_t* offsets, int countA,
+                                    int countB, double sumA[3], double sumB[3])
+{
+	fmSumEntries(forces, offsets, countA, sumA);
+	fmSumEntries(forces, offsets + countA, countB, sumB);
+}
+
+static inline void fmWeightedSumPair(const double* v, const int* offsets, const double* weights,
+                                     int countA, int countB, double sumA[3], double sumB[3])
+{
+	fmWeightedSum(v, offsets, weights, countA, sumA);
+	fmWeightedSum(v, offsets + countA, weights + countA, countB, sumB);
 }
 #endif
 
