@@ -35,8 +35,9 @@ fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
 typedef struct fmPassKernels
 {
 	fmPolarKernelFcn* polar;
-	fmNeoHookeanKernelFcn* neoHookean;
-	fmNeoHookeanFillFcn* neoHookeanFill;
+	fmForceBatchKernelFcn* neoHookean;
+	fmForceBatchKernelFcn* corotated;
+	fmForceBatchFillFcn* fill;
 } fmPassKernels;
 
 static fmPassKernels fmPassKernelsOfCpu(void)
@@ -46,17 +47,17 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
 		return (fmPassKernels){fmTetKernel_Polar_avx512, fmTetKernel_NeoHookean_avx512,
-		                       fmTetKernel_FillNeoHookean_avx512};
+		                       fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512};
 	case fm_simdAvx2:
 		return (fmPassKernels){fmTetKernel_Polar_avx2, fmTetKernel_NeoHookean_avx2,
-		                       fmTetKernel_FillNeoHookean_avx2};
+		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2};
 #endif
 	case fm_simdScalar:
 		return (fmPassKernels){fmTetKernel_Polar_scalar, fmTetKernel_NeoHookean_scalar,
-		                       fmTetKernel_FillNeoHookean_scalar};
+		                       fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar};
 	default:
 		return (fmPassKernels){fmTetKernel_Polar_baseline, fmTetKernel_NeoHookean_baseline,
-		                       fmTetKernel_FillNeoHookean_baseline};
+		                       fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline};
 	}
 }
 
@@ -69,28 +70,31 @@ static fmPolarKernelFcn* fmPolarKernel(const fmBody* body)
 	return corotated ? fmPassKernelsOfCpu().polar : NULL;
 }
 
-// The batched Neo-Hookean kernels when every tet of @p body is Neo-Hookean (one material);
-// kernels->neoHookean NULL otherwise.
-static fmPassKernels fmNeoHookeanKernels(const fmBody* body)
+// The batched force kernel of a body of one material (no per-tet materials) when its model has
+// one (Neo-Hookean, corotated); NULL otherwise. @p kernels gets the CPU's kernels.
+static fmForceBatchKernelFcn* fmForceBatchKernel(const fmBody* body, fmPassKernels* kernels)
 {
-	bool neoHookean = body->material.model == fm_neoHookean && body->tetMaterial == NULL;
-	fmPassKernels none = {NULL, NULL, NULL};
-	return neoHookean ? fmPassKernelsOfCpu() : none;
+	*kernels = fmPassKernelsOfCpu();
+	if (body->tetMaterial != NULL)
+		return NULL;
+	if (body->material.model == fm_neoHookean)
+		return kernels->neoHookean;
+	return body->material.model == fm_corotated ? kernels->corotated : NULL;
 }
 
-// Tets [first, first + count), count <= FM_NH_LANES, into a Neo-Hookean batch at x (the edge
+// Tets [first, first + count), count <= FM_FORCE_LANES, into a force batch at x (the edge
 // matrices of fmTetDeformation; unused lanes zero): a full batch by the kernels' fill.
-static void fmFillNeoHookeanBatch(const fmBody* body, const double* x, int first, int count,
-                                  const fmPassKernels* kernels, fmNeoHookeanBatch* batch)
+static void fmFillForceBatch(const fmBody* body, const double* x, int first, int count,
+                             const fmPassKernels* kernels, fmForceBatch* batch)
 {
 	batch->mu = body->material.mu;
 	batch->lambda = body->material.lambda;
-	if (count == FM_NH_LANES)
+	if (count == FM_FORCE_LANES)
 	{
-		kernels->neoHookeanFill(x, body->tets, body->DmInv, body->restVolume, first, batch);
+		kernels->fill(x, body->tets, body->DmInv, body->restVolume, first, batch);
 		return;
 	}
-	for (int l = 0; l < FM_NH_LANES; ++l)
+	for (int l = 0; l < FM_FORCE_LANES; ++l)
 	{
 		int t = first + (l < count ? l : 0);
 		const int* n = body->tets + 4 * t;
@@ -183,20 +187,35 @@ FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* 
 	fmStore(out, 0, fmScale(-1.0, sum));
 }
 
-// f += the forces of a Neo-Hookean body, a batch at a time; returns the elastic energy (J), in
-// tet order.
-static double fmAddNeoHookeanForces(const fmBody* body, const double* x, double* f,
-                                    const fmPassKernels* kernels)
+// P and psi of tet @p t at x one tet at a time (a lane a batched kernel left to the scalar path).
+static double fmScalarStress(const fmBody* body, const double* x, int t, fmMat3* P)
+{
+	fmMat3 F = fmTetDeformation(body, x, t);
+	return fmMaterial_Evaluate(fmTetMaterial(body, t), &F, P, NULL);
+}
+
+// f += the forces of a body of one material, a batch at a time through @p kernel; returns the
+// elastic energy (J), in tet order.
+static double fmAddBatchedForces(const fmBody* body, const double* x, double* f,
+                                 const fmPassKernels* kernels, fmForceBatchKernelFcn* kernel)
 {
 	double energy = 0.0;
-	fmNeoHookeanBatch batch;
-	for (int first = 0; first < body->tetCount; first += FM_NH_LANES)
+	fmForceBatch batch;
+	for (int first = 0; first < body->tetCount; first += FM_FORCE_LANES)
 	{
-		int count = body->tetCount - first < FM_NH_LANES ? body->tetCount - first : FM_NH_LANES;
-		fmFillNeoHookeanBatch(body, x, first, count, kernels, &batch);
-		kernels->neoHookean(&batch);
+		int count =
+		    body->tetCount - first < FM_FORCE_LANES ? body->tetCount - first : FM_FORCE_LANES;
+		fmFillForceBatch(body, x, first, count, kernels, &batch);
+		kernel(&batch);
 		for (int l = 0; l < count; ++l)
 		{
+			if (!batch.ok[l])
+			{
+				fmMat3 P;
+				energy += body->restVolume[first + l] * fmScalarStress(body, x, first + l, &P);
+				fmAddTetForces(body, first + l, &P, f);
+				continue;
+			}
 			const int* n = body->tets + 4 * (first + l);
 			energy += body->restVolume[first + l] * batch.psi[l];
 			for (int a = 1; a < 4; ++a)
@@ -211,9 +230,10 @@ static double fmAddNeoHookeanForces(const fmBody* body, const double* x, double*
 
 static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 {
-	fmPassKernels neoHookean = fmNeoHookeanKernels(body);
-	if (neoHookean.neoHookean != NULL)
-		return fmAddNeoHookeanForces(body, x, f, &neoHookean);
+	fmPassKernels kernels;
+	fmForceBatchKernelFcn* batched = fmForceBatchKernel(body, &kernels);
+	if (batched != NULL)
+		return fmAddBatchedForces(body, x, f, &kernels, batched);
 	fmPolarKernelFcn* polar = fmPolarKernel(body);
 	double energy = 0.0;
 	if (polar == NULL) // one tet at a time: no batch to fill
@@ -243,19 +263,28 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 	return energy;
 }
 
-// Tets [first, end) of a Neo-Hookean body into their 12 entries of @p forces and their energies,
-// a batch at a time.
-static void fmStoreNeoHookeanForces(const fmBody* body, const double* x, int first, int end,
-                                    double* forces, double* energies, const fmPassKernels* kernels)
+// Tets [first, end) of a body of one material into their 12 entries of @p forces and their
+// energies, a batch at a time through @p kernel.
+static void fmStoreBatchedForces(const fmBody* body, const double* x, int first, int end,
+                                 double* forces, double* energies, const fmPassKernels* kernels,
+                                 fmForceBatchKernelFcn* kernel)
 {
-	fmNeoHookeanBatch batch;
-	for (int start = first; start < end; start += FM_NH_LANES)
+	fmForceBatch batch;
+	for (int start = first; start < end; start += FM_FORCE_LANES)
 	{
-		int count = end - start < FM_NH_LANES ? end - start : FM_NH_LANES;
-		fmFillNeoHookeanBatch(body, x, start, count, kernels, &batch);
-		kernels->neoHookean(&batch);
+		int count = end - start < FM_FORCE_LANES ? end - start : FM_FORCE_LANES;
+		fmFillForceBatch(body, x, start, count, kernels, &batch);
+		kernel(&batch);
 		for (int l = 0; l < count; ++l)
 		{
+			if (!batch.ok[l])
+			{
+				fmMat3 P;
+				energies[start + l] =
+				    body->restVolume[start + l] * fmScalarStress(body, x, start + l, &P);
+				fmStoreTetForces(body, start + l, &P, forces);
+				continue;
+			}
 			double* out = forces + 12 * (size_t)(start + l);
 			energies[start + l] = body->restVolume[start + l] * batch.psi[l];
 			for (int i = 0; i < 3; ++i)
@@ -271,10 +300,11 @@ static void fmStoreNeoHookeanForces(const fmBody* body, const double* x, int fir
 void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
                  double* energies)
 {
-	fmPassKernels neoHookean = fmNeoHookeanKernels(body);
-	if (neoHookean.neoHookean != NULL)
+	fmPassKernels kernels;
+	fmForceBatchKernelFcn* batched = fmForceBatchKernel(body, &kernels);
+	if (batched != NULL)
 	{
-		fmStoreNeoHookeanForces(body, x, first, end, forces, energies, &neoHookean);
+		fmStoreBatchedForces(body, x, first, end, forces, energies, &kernels, batched);
 		return;
 	}
 	fmPolarKernelFcn* polar = fmPolarKernel(body);

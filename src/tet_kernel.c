@@ -542,7 +542,8 @@ FM_INLINE void fmPolarStep(double X[9][FM_PL], const double C[9][FM_PL], const d
 		}
 }
 
-void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
+// fmPolarRotationFast of every lane (one function for both entry points: not inlined twice).
+FM_NOINLINE void fmPolarRun(fmPolarBatch* batch)
 {
 	double X[9][FM_PL], C[9][FM_PL], d[FM_PL], change[FM_PL];
 	int64_t active[FM_PL], scaled[FM_PL];
@@ -569,49 +570,46 @@ void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
 	memcpy(batch->R, X, sizeof X);
 }
 
+void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
+{
+	fmPolarRun(batch);
+}
+
 // ---- batched Neo-Hookean forces -----------------------------------------------------------------
 // Plain loops over the lanes, which the compiler vectorises at the variant's width; every
 // expression is the scalar path's (fm_math.h's products and fmNeoHookean_Evaluate written out in
 // their order; fmPolarCofactor and fmPolarDots above are fmCofactor with det F along the first row
 // and the double contraction from 0.0).
 
-void FM_KERNEL_NAME(fmTetKernel_FillNeoHookean)(const double* x, const int* tets,
+void FM_KERNEL_NAME(fmTetKernel_FillForceBatch)(const double* x, const int* tets,
                                                 const fmMat3* dmInv, const double* volume,
-                                                int first, fmNeoHookeanBatch* b)
+                                                int first, fmForceBatch* b)
 {
 	// (The 4 lanes' matrices are consecutive: 36 doubles from the first one's.)
-	for (int o = 0; o < FM_NH_LANES; o += 4)
+	for (int o = 0; o < FM_FORCE_LANES; o += 4)
 	{
-		fmV_EdgesOf4Tets(x, tets + 4 * (size_t)(first + o), &b->Ds[0][o], FM_NH_LANES);
-		fmV_TransposeOf4(dmInv[first + o].m, &b->dmInv[0][o], FM_NH_LANES);
+		fmV_EdgesOf4Tets(x, tets + 4 * (size_t)(first + o), &b->Ds[0][o], FM_FORCE_LANES);
+		fmV_TransposeOf4(dmInv[first + o].m, &b->dmInv[0][o], FM_FORCE_LANES);
 	}
-	for (int l = 0; l < FM_NH_LANES; ++l)
+	for (int l = 0; l < FM_FORCE_LANES; ++l)
 		b->volume[l] = volume[first + l];
 }
 
-void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmNeoHookeanBatch* b)
+// F = Ds Dm^-1 of every lane (fmTetDeformation's products).
+FM_INLINE void fmLaneDeformation(const fmForceBatch* b, double F[9][FM_PL])
 {
-	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], k[FM_PL], P[9][FM_PL];
 	for (int i = 0; i < 3; ++i)
 		for (int j = 0; j < 3; ++j)
 			for (int l = 0; l < FM_PL; ++l)
 				F[3 * i + j][l] = b->Ds[3 * i][l] * b->dmInv[j][l] +
 				                  b->Ds[3 * i + 1][l] * b->dmInv[3 + j][l] +
 				                  b->Ds[3 * i + 2][l] * b->dmInv[6 + j][l];
-	double I1s[FM_PL];
-	fmPolarCofactor(F, C, J);
-	fmPolarDots(F, F, I1s);
-	for (int l = 0; l < FM_PL; ++l)
-	{
-		double I1 = I1s[l], ln[3];
-		fmClampedLogJ(J[l], ln);
-		k[l] = (b->lambda * ln[0] - b->mu) * ln[1];
-		b->psi[l] = 0.5 * b->mu * (I1 - 3.0) - b->mu * ln[0] + 0.5 * b->lambda * ln[0] * ln[0];
-	}
-	for (int e = 0; e < 9; ++e)
-		for (int l = 0; l < FM_PL; ++l)
-			P[e][l] = b->mu * F[e][l] + k[l] * C[e][l];
-	// H = P Dm^-T; node a's force is -V0 times H's column a - 1; the sum from 0.0 in node order.
+}
+
+// The nodal forces of P (fmAddTetForces): H = P Dm^-T; node a's force is -V0 times H's column
+// a - 1; node 0's entry their sum from 0.0 in node order.
+FM_INLINE void fmLaneNodalForces(fmForceBatch* b, const double P[9][FM_PL])
+{
 	for (int i = 0; i < 3; ++i)
 	{
 		for (int l = 0; l < FM_PL; ++l)
@@ -626,4 +624,50 @@ void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmNeoHookeanBatch* b)
 				b->force[0][i][l] = b->force[0][i][l] + b->force[a][i][l];
 			}
 	}
+}
+
+void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmForceBatch* b)
+{
+	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], k[FM_PL], P[9][FM_PL], I1s[FM_PL];
+	fmLaneDeformation(b, F);
+	fmPolarCofactor(F, C, J);
+	fmPolarDots(F, F, I1s);
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		double I1 = I1s[l], ln[3];
+		fmClampedLogJ(J[l], ln);
+		k[l] = (b->lambda * ln[0] - b->mu) * ln[1];
+		b->psi[l] = 0.5 * b->mu * (I1 - 3.0) - b->mu * ln[0] + 0.5 * b->lambda * ln[0] * ln[0];
+		b->ok[l] = true;
+	}
+	for (int e = 0; e < 9; ++e)
+		for (int l = 0; l < FM_PL; ++l)
+			P[e][l] = b->mu * F[e][l] + k[l] * C[e][l];
+	fmLaneNodalForces(b, P);
+}
+
+// fmCorotated_Stress (material_stretch.c) lane by lane: D = F - R, J = det F (by the first row of
+// cof F, the same bits as fmDet), P = 2 mu D + lambda (J - 1) cof F, psi = mu D : D +
+// lambda (J - 1)^2 / 2. A lane the polar iteration declines takes D = F - F instead (its results
+// are discarded; no exception from a rotation it did not find).
+void FM_KERNEL_NAME(fmTetKernel_Corotated)(fmForceBatch* b)
+{
+	fmPolarBatch polar;
+	double C[9][FM_PL], J[FM_PL], D[9][FM_PL], P[9][FM_PL], DD[FM_PL];
+	fmLaneDeformation(b, polar.F);
+	fmPolarRun(&polar);
+	fmPolarCofactor(polar.F, C, J);
+	for (int e = 0; e < 9; ++e)
+		for (int l = 0; l < FM_PL; ++l)
+			D[e][l] = polar.F[e][l] + -1.0 * (polar.ok[l] ? polar.R[e][l] : polar.F[e][l]);
+	fmPolarDots(D, D, DD);
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		b->psi[l] = b->mu * DD[l] + 0.5 * b->lambda * (J[l] - 1.0) * (J[l] - 1.0);
+		b->ok[l] = polar.ok[l];
+	}
+	for (int e = 0; e < 9; ++e)
+		for (int l = 0; l < FM_PL; ++l)
+			P[e][l] = 2.0 * b->mu * D[e][l] + b->lambda * (J[l] - 1.0) * C[e][l];
+	fmLaneNodalForces(b, P);
 }

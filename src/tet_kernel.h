@@ -110,48 +110,59 @@ fmPolarKernelFcn fmTetKernel_Polar_avx2;
 fmPolarKernelFcn fmTetKernel_Polar_avx512;
 #endif
 
-// ---- batched Neo-Hookean forces (the implicit solver's force passes) ---------------------------
+// ---- batched forces of one material (the implicit solver's force passes) -----------------------
 
-// Tets the Neo-Hookean kernel takes at once.
-#define FM_NH_LANES FM_POLAR_LANES
+// Tets the force batch takes at once.
+#define FM_FORCE_LANES FM_POLAR_LANES
 
-// Up to FM_NH_LANES tets of a Neo-Hookean body (entry k of lane l at [k][l]; unused lanes: zero
-// Ds, zero volume) and their forces and energy densities.
-typedef struct fmNeoHookeanBatch
+// Up to FM_FORCE_LANES tets of a body of one Neo-Hookean or corotated material (entry k of lane l
+// at [k][l]; unused lanes: zero Ds, zero volume) and their forces and energy densities.
+typedef struct fmForceBatch
 {
-	double Ds[9][FM_NH_LANES];    // in: [x1 - x0, x2 - x0, x3 - x0] (columns), row-major
-	double dmInv[9][FM_NH_LANES]; // in: Dm^-1
-	double volume[FM_NH_LANES];   // in: V0 (m^3)
-	double mu, lambda;            // in: the material's Lame constants (Pa)
+	double Ds[9][FM_FORCE_LANES];    // in: [x1 - x0, x2 - x0, x3 - x0] (columns), row-major
+	double dmInv[9][FM_FORCE_LANES]; // in: Dm^-1
+	double volume[FM_FORCE_LANES];   // in: V0 (m^3)
+	double mu, lambda;               // in: the material's Lame constants (Pa)
 	// out: force[a][i] the force on node a = 1..3, component i; force[0][i] their sum, in node
 	// order (node 0 takes minus it)
-	double force[4][3][FM_NH_LANES];
-	double psi[FM_NH_LANES]; // out: energy density (J/m^3)
-} fmNeoHookeanBatch;
+	double force[4][3][FM_FORCE_LANES];
+	double psi[FM_FORCE_LANES]; // out: energy density (J/m^3)
+	// out: false in lanes the kernel leaves to the scalar path (corotated: where the polar
+	// iteration declines F), whose forces and psi are then meaningless
+	bool ok[FM_FORCE_LANES];
+} fmForceBatch;
 
-// fmTetKernel_NeoHookean_<variant>: F = Ds Dm^-1, fmNeoHookean_Evaluate's P and psi, and the
-// nodal forces -V0 P Dm^-T of every lane, with the operations of fmTetDeformation,
-// fmNeoHookean_Evaluate (ln J by fmClampedLogJ, lane by lane) and fmAddTetForces in their order
-// (forces.c): the same bits as one tet at a time, on every variant.
-typedef void fmNeoHookeanKernelFcn(fmNeoHookeanBatch* batch);
+// A force kernel: P, psi and the nodal forces -V0 P Dm^-T of every lane from F = Ds Dm^-1, with
+// the operations of the scalar path in their order (fmTetDeformation, the material, and
+// fmAddTetForces in forces.c): the same bits as one tet at a time, on every variant.
+// fmTetKernel_NeoHookean_<variant>: fmNeoHookean_Evaluate (ln J by fmClampedLogJ, lane by lane);
+// every lane ok. fmTetKernel_Corotated_<variant>: R by fmTetKernel_Polar's iteration, then
+// fmCorotated_Stress; lanes the iteration declines are not ok.
+typedef void fmForceBatchKernelFcn(fmForceBatch* batch);
 
-// fmTetKernel_FillNeoHookean_<variant>: the full batch of tets [first, first + FM_NH_LANES) of a
-// body (tets: 4 vertex numbers each; dmInv, volume: its rest data) at positions x: Ds[3 i + k][l]
-// = x[3 n_{k+1} + i] - x[3 n_0 + i], Dm^-1 and V0 of each lane, the entries forces.c's one-lane
-// fill writes (the same bits). Leaves mu and lambda alone.
-typedef void fmNeoHookeanFillFcn(const double* x, const int* tets, const fmMat3* dmInv,
-                                 const double* volume, int first, fmNeoHookeanBatch* batch);
+// fmTetKernel_FillForceBatch_<variant>: the full batch of tets [first, first + FM_FORCE_LANES) of
+// a body (tets: 4 vertex numbers each; dmInv, volume: its rest data) at positions x:
+// Ds[3 i + k][l] = x[3 n_{k+1} + i] - x[3 n_0 + i], Dm^-1 and V0 of each lane, the entries
+// forces.c's one-lane fill writes (the same bits). Leaves mu and lambda alone.
+typedef void fmForceBatchFillFcn(const double* x, const int* tets, const fmMat3* dmInv,
+                                 const double* volume, int first, fmForceBatch* batch);
 
-fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_scalar;
-fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_baseline;
+fmForceBatchFillFcn fmTetKernel_FillForceBatch_scalar;
+fmForceBatchFillFcn fmTetKernel_FillForceBatch_baseline;
 #if defined(__x86_64__) || defined(_M_X64)
-fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_avx2;
-fmNeoHookeanFillFcn fmTetKernel_FillNeoHookean_avx512;
+fmForceBatchFillFcn fmTetKernel_FillForceBatch_avx2;
+fmForceBatchFillFcn fmTetKernel_FillForceBatch_avx512;
 #endif
 
-fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_scalar;
-fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_baseline;
+fmForceBatchKernelFcn fmTetKernel_Corotated_scalar;
+fmForceBatchKernelFcn fmTetKernel_Corotated_baseline;
 #if defined(__x86_64__) || defined(_M_X64)
-fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_avx2;
-fmNeoHookeanKernelFcn fmTetKernel_NeoHookean_avx512;
+fmForceBatchKernelFcn fmTetKernel_Corotated_avx2;
+fmForceBatchKernelFcn fmTetKernel_Corotated_avx512;
+#endif
+fmForceBatchKernelFcn fmTetKernel_NeoHookean_scalar;
+fmForceBatchKernelFcn fmTetKernel_NeoHookean_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmForceBatchKernelFcn fmTetKernel_NeoHookean_avx2;
+fmForceBatchKernelFcn fmTetKernel_NeoHookean_avx512;
 #endif

@@ -11,6 +11,7 @@
 #include "material.h"
 #include "material_invariant.h"
 #include "material_neohookean.h"
+#include "material_stretch.h"
 #include "simd.h"
 #include "svd3.h"
 #include "tet_blocks.h"
@@ -477,13 +478,19 @@ static bool sameDouble(double a, double b)
 	return (isnan(a) && isnan(b)) || memcmp(&a, &b, sizeof a) == 0;
 }
 
-// One tet of a Neo-Hookean batch by the scalar path: F = Ds Dm^-1, fmNeoHookean_Evaluate, and
-// fmAddTetForces' forces -V0 P Dm^-T (node a's, and their sum from 0.0 in node order).
-static double neoHookeanLane(const fmMaterial* m, const fmMat3* Ds, const fmMat3* DmInv, double V0,
-                             double force[4][3])
+// One tet of a force batch by the scalar path: F = Ds Dm^-1, the material (Neo-Hookean:
+// fmNeoHookean_Evaluate; corotated: fmPolarRotationFast and fmCorotated_Stress, not ok where the
+// former declines F), and fmAddTetForces' forces -V0 P Dm^-T (node a's, and their sum from 0.0
+// in node order).
+static double forceLane(const fmMaterial* m, const fmMat3* Ds, const fmMat3* DmInv, double V0,
+                        double force[4][3], bool* ok)
 {
-	fmMat3 F = fmMatMul(Ds, DmInv), P;
-	double psi = fmNeoHookean_Evaluate(m, &F, &P);
+	fmMat3 F = fmMatMul(Ds, DmInv), P, R;
+	*ok = m->model == fm_neoHookean || fmPolarRotationFast(&F, &R);
+	if (!*ok)
+		return 0.0;
+	double psi = m->model == fm_neoHookean ? fmNeoHookean_Evaluate(m, &F, &P)
+	                                       : fmCorotated_Stress(m, &F, &R, &P);
 	fmMat3 H = fmMatMulT(&P, DmInv);
 	fmVec3 sum = {0, 0, 0};
 	for (int a = 1; a < 4; ++a)
@@ -496,29 +503,23 @@ static double neoHookeanLane(const fmMaterial* m, const fmMat3* Ds, const fmMat3
 	return psi;
 }
 
-// The batched Neo-Hookean kernel of the implicit force passes (tet_kernel.h): on every
-// instruction set the CPU has, the same bits as the scalar path one tet at a time, for small and
-// large strains, compression below the ln J clamp, inverted and non-finite tets side by side.
-TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
+// A force kernel of the implicit force passes (tet_kernel.h) of every instruction set the CPU
+// has against the scalar path one tet at a time, bit for bit, for small and large strains,
+// compression (below Neo-Hookean's ln J clamp), inverted and non-finite tets side by side.
+// Returns how many lanes were compressed below the clamp or inverted.
+static int checkForceKernels(int* failures_, fmMaterialModel model,
+                             fmForceBatchKernelFcn* const* kernels, int kernelCount)
 {
-	fmNeoHookeanKernelFcn* kernels[] = {
-		fmTetKernel_NeoHookean_scalar,
-		fmTetKernel_NeoHookean_baseline,
-#if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_NeoHookean_avx2,
-		fmTetKernel_NeoHookean_avx512
-#endif
-	};
-	const int kernelCount = (int)(sizeof kernels / sizeof kernels[0]);
-	const fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e6, 0.45);
-	int compared = 0, clamped = 0, differ = 0;
+	const fmMaterial m = fmMakeMaterial(model, 1e6, 0.45);
+	int compared = 0, special = 0, differ = 0, declined = 0;
 	fmTestSeed(29);
 	for (int round = 0; round < 200; ++round)
 	{
-		fmNeoHookeanBatch batch;
+		fmForceBatch batch;
 		batch.mu = m.mu, batch.lambda = m.lambda;
-		double psi[FM_NH_LANES], force[FM_NH_LANES][4][3];
-		for (int l = 0; l < FM_NH_LANES; ++l)
+		double psi[FM_FORCE_LANES], force[FM_FORCE_LANES][4][3];
+		bool ok[FM_FORCE_LANES];
+		for (int l = 0; l < FM_FORCE_LANES; ++l)
 		{
 			double strain = pow(10.0, fmTestRandom(-6.0, 0.0));
 			fmMat3 R = fmTestRandomRotation(), S = fmIdentity3(), DmInv;
@@ -540,31 +541,69 @@ TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
 			for (int k = 0; k < 9; ++k)
 				batch.Ds[k][l] = Ds.m[k], batch.dmInv[k][l] = DmInv.m[k];
 			batch.volume[l] = V0;
-			psi[l] = neoHookeanLane(&m, &Ds, &DmInv, V0, force[l]);
+			psi[l] = forceLane(&m, &Ds, &DmInv, V0, force[l], &ok[l]);
+			declined += !ok[l];
 			fmMat3 Fk = fmMatMul(&Ds, &DmInv);
-			clamped += fmDet(&Fk) < FM_LOG_J_CLAMP;
+			special += fmDet(&Fk) < FM_LOG_J_CLAMP;
 		}
 		for (int v = 0; v < kernelCount; ++v)
 		{
 			if (!cpuRunsVariant(v))
 				continue;
-			fmNeoHookeanBatch b = batch;
+			fmForceBatch b = batch;
 			kernels[v](&b);
-			for (int l = 0; l < FM_NH_LANES; ++l, ++compared)
+			for (int l = 0; l < FM_FORCE_LANES; ++l, ++compared)
 			{
-				bool same = sameDouble(b.psi[l], psi[l]);
-				for (int a = 0; a < 4; ++a)
-					for (int i = 0; i < 3; ++i)
-						same = same && sameDouble(b.force[a][i][l], force[l][a][i]);
+				bool same = b.ok[l] == ok[l];
+				if (same && ok[l])
+				{
+					same = sameDouble(b.psi[l], psi[l]);
+					for (int a = 0; a < 4; ++a)
+						for (int i = 0; i < 3; ++i)
+							same = same && sameDouble(b.force[a][i][l], force[l][a][i]);
+				}
 				if (!same && ++differ <= 5)
-					FAIL_AT("kernel %d, round %d, lane %d: psi %.17g against %.17g", v, round, l,
-					        b.psi[l], psi[l]);
+					FAIL_AT("kernel %d, round %d, lane %d: psi %.17g against %.17g, ok %d/%d", v,
+					        round, l, b.psi[l], psi[l], b.ok[l], ok[l]);
 			}
 		}
 	}
 	CHECK_INT(differ, 0);
-	CHECK(clamped > 0);
-	printf("  %d lanes compared, %d below the clamp or inverted\n", compared, clamped);
+	CHECK(model == fm_neoHookean ? declined == 0 : declined > 0 && declined < special);
+	printf("  %d lanes compared, %d below the clamp or inverted, %d left to the scalar path\n",
+	       compared, special, declined);
+	return special;
+}
+
+TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
+{
+	fmForceBatchKernelFcn* kernels[] = {
+		fmTetKernel_NeoHookean_scalar,
+		fmTetKernel_NeoHookean_baseline,
+#if defined(__x86_64__) || defined(_M_X64)
+		fmTetKernel_NeoHookean_avx2,
+		fmTetKernel_NeoHookean_avx512
+#endif
+	};
+	CHECK(checkForceKernels(failures_, fm_neoHookean, kernels,
+	                        (int)(sizeof kernels / sizeof kernels[0])) > 0);
+}
+
+// The corotated force kernel: its own polar iteration declines the same tets as
+// fmPolarRotationFast (inverted, nearly flat, non-finite), which the pass then leaves to the
+// scalar path.
+TEST(batched_corotated_forces_are_the_scalar_ones_bit_for_bit)
+{
+	fmForceBatchKernelFcn* kernels[] = {
+		fmTetKernel_Corotated_scalar,
+		fmTetKernel_Corotated_baseline,
+#if defined(__x86_64__) || defined(_M_X64)
+		fmTetKernel_Corotated_avx2,
+		fmTetKernel_Corotated_avx512
+#endif
+	};
+	CHECK(checkForceKernels(failures_, fm_corotated, kernels,
+	                        (int)(sizeof kernels / sizeof kernels[0])) > 0);
 }
 
 // ---- the sparse rows' kernels (bsr_kernel.c) ---------------------------------------------------
@@ -703,7 +742,7 @@ TEST(sparse_row_kernels_solve_their_triangles_with_the_same_bits_on_every_instru
 	fmFreeTetMesh(&mesh);
 }
 
-// The Neo-Hookean batch's fill (fmTetKernel_FillNeoHookean_*) on every instruction set the CPU
+// The Neo-Hookean batch's fill (fmTetKernel_FillForceBatch_*) on every instruction set the CPU
 // has: each lane's edge matrix, Dm^-1 and V0 of a moved box, bit for bit as one tet at a time.
 TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 {
@@ -711,12 +750,12 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		b->x[k] += fmTestRandom(-0.05, 0.05);
-	fmNeoHookeanFillFcn* fills[] = {
-		fmTetKernel_FillNeoHookean_scalar,
-		fmTetKernel_FillNeoHookean_baseline,
+	fmForceBatchFillFcn* fills[] = {
+		fmTetKernel_FillForceBatch_scalar,
+		fmTetKernel_FillForceBatch_baseline,
 #if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_FillNeoHookean_avx2,
-		fmTetKernel_FillNeoHookean_avx512
+		fmTetKernel_FillForceBatch_avx2,
+		fmTetKernel_FillForceBatch_avx512
 #endif
 	};
 	const int fillCount = (int)(sizeof fills / sizeof fills[0]);
@@ -725,11 +764,11 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 	{
 		if (!cpuRunsVariant(v))
 			continue;
-		for (int first = 0; first + FM_NH_LANES <= b->tetCount; first += FM_NH_LANES)
+		for (int first = 0; first + FM_FORCE_LANES <= b->tetCount; first += FM_FORCE_LANES)
 		{
-			fmNeoHookeanBatch batch;
+			fmForceBatch batch;
 			fills[v](b->x, b->tets, b->DmInv, b->restVolume, first, &batch);
-			for (int l = 0; l < FM_NH_LANES; ++l, ++compared)
+			for (int l = 0; l < FM_FORCE_LANES; ++l, ++compared)
 			{
 				const int* n = b->tets + 4 * (first + l);
 				bool same = batch.volume[l] == b->restVolume[first + l];
