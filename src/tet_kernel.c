@@ -522,9 +522,12 @@ FM_INLINE void fmPolarStep(double X[9][FM_PL], const double C[9][FM_PL], const d
 		fmPolarDots(X, X, xx);
 		for (int l = 0; l < FM_PL; ++l)
 		{
-			bool scale = (scaled[l] & active[l]) != 0;
-			double num = scale ? cc[l] : 1.0, den = scale ? d[l] * d[l] : 1.0;
-			z[l] = sqrt(sqrt(num / den) / sqrt(scale ? xx[l] : 1.0));
+			// (Selects of values computed in every lane, masks as wide as a double: the loop
+			// vectorises.)
+			int64_t scale = scaled[l] & active[l];
+			double dd = d[l] * d[l];
+			double num = scale ? cc[l] : 1.0, den = scale ? dd : 1.0, xs = scale ? xx[l] : 1.0;
+			z[l] = sqrt(sqrt(num / den) / sqrt(xs));
 		}
 	}
 	for (int l = 0; l < FM_PL; ++l)
@@ -546,27 +549,28 @@ FM_INLINE void fmPolarStep(double X[9][FM_PL], const double C[9][FM_PL], const d
 FM_NOINLINE void fmPolarRun(fmPolarBatch* batch)
 {
 	double X[9][FM_PL], C[9][FM_PL], d[FM_PL], change[FM_PL];
-	int64_t active[FM_PL], scaled[FM_PL];
+	int64_t active[FM_PL], scaled[FM_PL], ok[FM_PL], any = 0; // masks: all bits set or none
 	memcpy(X, batch->F, sizeof X);
 	fmPolarStart(batch, active, scaled);
-	bool any = false;
 	for (int l = 0; l < FM_PL; ++l)
-		batch->ok[l] = false, any |= active[l] != 0;
+		ok[l] = 0, any |= active[l];
 	for (int iteration = 0; iteration < FM_POLAR_MAX_ITERATIONS && any; ++iteration)
 	{
 		fmPolarCofactor(X, C, d);
 		fmPolarStep(X, C, d, active, scaled, change);
-		any = false;
+		any = 0;
 		for (int l = 0; l < FM_PL; ++l)
 		{
 			// A lane done keeps its X (fmPolarStep leaves lanes that are not active).
-			bool done = active[l] && change[l] <= FM_POLAR_DONE * FM_POLAR_DONE;
-			batch->ok[l] = batch->ok[l] || done;
-			active[l] = done ? 0 : active[l];
-			scaled[l] = change[l] > 1e-4 ? -1 : 0;
-			any |= active[l] != 0;
+			int64_t done = active[l] & -(int64_t)(change[l] <= FM_POLAR_DONE * FM_POLAR_DONE);
+			ok[l] |= done;
+			active[l] &= ~done;
+			scaled[l] = -(int64_t)(change[l] > 1e-4);
+			any |= active[l];
 		}
 	}
+	for (int l = 0; l < FM_PL; ++l)
+		batch->ok[l] = ok[l] != 0;
 	memcpy(batch->R, X, sizeof X);
 }
 
