@@ -139,13 +139,19 @@ void fmBsr_Multiply(const fmBsrMatrix* m, const double* values, const double* x,
 	fmBsr_MultiplyRows(m, values, x, y, 0, m->rows);
 }
 
-// Fixed-order dot product over all entries (fixed DOFs hold zeros).
+// Fixed-order dot product over all entries (fixed DOFs hold zeros): four running sums, of the
+// entries k = 0, 1, 2, 3 mod 4, added as (s0 + s1) + (s2 + s3) at the end. Four chains instead of
+// one (a CG iteration takes three of these); the same order on every target and worker count.
 static double fmDotN(int n, const double* a, const double* b)
 {
-	double s = 0.0;
-	for (int k = 0; k < n; ++k)
-		s += a[k] * b[k];
-	return s;
+	double s[4] = {0.0, 0.0, 0.0, 0.0};
+	int k = 0;
+	for (; k + 3 < n; k += 4)
+		for (int j = 0; j < 4; ++j)
+			s[j] += a[k + j] * b[k + j];
+	for (int j = 0; k < n; ++k, ++j)
+		s[j] += a[k] * b[k];
+	return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
 static void fmApplyBlocks(int n, const double* blockInverse, const double* r, double* z)
