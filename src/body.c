@@ -1004,11 +1004,13 @@ static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 int fmBodyCountInverted(const fmBody* b)
 {
 	int inverted = 0;
-	for (int t = 0; t < b->tetCount; ++t)
+	unsigned char flags[256];
+	for (int first = 0; first < b->tetCount; first += 256)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
-		if (!(fmDet(&F) > 0.0))
-			++inverted;
+		int end = b->tetCount - first < 256 ? b->tetCount : first + 256;
+		fmInvertedTets(b, b->x, first, end, flags);
+		for (int t = 0; t < end - first; ++t)
+			inverted += flags[t];
 	}
 	return inverted;
 }
@@ -1023,11 +1025,7 @@ static void fmInvertedRange(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmInvertedTask* c = context;
-	for (int t = start; t < end; ++t)
-	{
-		fmMat3 F = fmTetDeformation(c->body, c->body->x, t);
-		c->inverted[t] = !(fmDet(&F) > 0.0);
-	}
+	fmInvertedTets(c->body, c->body->x, start, end, c->inverted + start);
 }
 
 int fmBodyCountInvertedOn(const fmBody* b, const fmTaskSystem* tasks, fmArena* arena)

@@ -38,6 +38,7 @@ typedef struct fmPassKernels
 	fmForceBatchKernelFcn* neoHookean;
 	fmForceBatchKernelFcn* corotated;
 	fmForceBatchFillFcn* fill;
+	fmInvertedKernelFcn* inverted;
 } fmPassKernels;
 
 static fmPassKernels fmPassKernelsOfCpu(void)
@@ -47,17 +48,21 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
 		return (fmPassKernels){fmTetKernel_Polar_avx512, fmTetKernel_NeoHookean_avx512,
-		                       fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512};
+		                       fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512,
+		                       fmTetKernel_Inverted_avx512};
 	case fm_simdAvx2:
 		return (fmPassKernels){fmTetKernel_Polar_avx2, fmTetKernel_NeoHookean_avx2,
-		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2};
+		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2,
+		                       fmTetKernel_Inverted_avx2};
 #endif
 	case fm_simdScalar:
 		return (fmPassKernels){fmTetKernel_Polar_scalar, fmTetKernel_NeoHookean_scalar,
-		                       fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar};
+		                       fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar,
+		                       fmTetKernel_Inverted_scalar};
 	default:
 		return (fmPassKernels){fmTetKernel_Polar_baseline, fmTetKernel_NeoHookean_baseline,
-		                       fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline};
+		                       fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline,
+		                       fmTetKernel_Inverted_baseline};
 	}
 }
 
@@ -185,6 +190,19 @@ FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* 
 		fmStore(out, a, fa);
 	}
 	fmStore(out, 0, fmScale(-1.0, sum));
+}
+
+void fmInvertedTets(const fmBody* body, const double* x, int first, int end,
+                    unsigned char* inverted)
+{
+	fmPassKernels kernels = fmPassKernelsOfCpu();
+	fmForceBatch batch;
+	for (int start = first; start < end; start += FM_FORCE_LANES)
+	{
+		int count = end - start < FM_FORCE_LANES ? end - start : FM_FORCE_LANES;
+		fmFillForceBatch(body, x, start, count, &kernels, &batch);
+		kernels.inverted(&batch, count, inverted + (start - first));
+	}
 }
 
 // P and psi of tet @p t at x one tet at a time (a lane a batched kernel left to the scalar path).

@@ -10,6 +10,11 @@
 // Deformation gradient of tet t at positions x: F = Ds Dm^-1.
 fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t);
 
+// inverted[t - first] = !(det F > 0) for tets [first, end) at positions x (F and det with the
+// bits of fmTetDeformation and fmDet), eight tets at a time on the CPU's vectors.
+void fmInvertedTets(const fmBody* body, const double* x, int first, int end,
+                    unsigned char* inverted);
+
 // Add elastic forces at positions x into f (3 * vertexCount); returns the elastic energy (J).
 // Dispatches on body->forceModel.
 double fmAddElasticForces(const fmBody* body, const double* x, double* f);

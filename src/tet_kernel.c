@@ -650,6 +650,15 @@ void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmForceBatch* b)
 	fmLaneNodalForces(b, P);
 }
 
+void FM_KERNEL_NAME(fmTetKernel_Inverted)(const fmForceBatch* b, int count, unsigned char* inverted)
+{
+	double F[9][FM_PL], C[9][FM_PL], J[FM_PL];
+	fmLaneDeformation(b, F);
+	fmPolarCofactor(F, C, J);
+	for (int l = 0; l < count; ++l)
+		inverted[l] = !(J[l] > 0.0);
+}
+
 // fmCorotated_Stress (material_stretch.c) lane by lane: D = F - R, J = det F (by the first row of
 // cof F, the same bits as fmDet), P = 2 mu D + lambda (J - 1) cof F, psi = mu D : D +
 // lambda (J - 1)^2 / 2. A lane the polar iteration declines takes D = F - F instead (its results

@@ -154,6 +154,17 @@ fmForceBatchFillFcn fmTetKernel_FillForceBatch_avx2;
 fmForceBatchFillFcn fmTetKernel_FillForceBatch_avx512;
 #endif
 
+// fmTetKernel_Inverted_<variant>: inverted[l] = !(det F > 0) for lanes l < count, F = Ds Dm^-1
+// (fmTetDeformation's products, det by the first row of cof F: fmDet's bits).
+typedef void fmInvertedKernelFcn(const fmForceBatch* batch, int count, unsigned char* inverted);
+
+fmInvertedKernelFcn fmTetKernel_Inverted_scalar;
+fmInvertedKernelFcn fmTetKernel_Inverted_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmInvertedKernelFcn fmTetKernel_Inverted_avx2;
+fmInvertedKernelFcn fmTetKernel_Inverted_avx512;
+#endif
+
 fmForceBatchKernelFcn fmTetKernel_Corotated_scalar;
 fmForceBatchKernelFcn fmTetKernel_Corotated_baseline;
 #if defined(__x86_64__) || defined(_M_X64)

@@ -789,3 +789,31 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 	CHECK(compared >= 2 * b->tetCount);
 	fmDestroyWorld(world);
 }
+
+// The inverted-tet flags of the frame's health check (fmInvertedTets, eight tets at a time on
+// the CPU's vectors) against fmDet of fmTetDeformation one tet at a time, on a box shaken hard
+// enough to turn some of its tets inside out.
+TEST(inverted_tets_are_flagged_as_one_tet_at_a_time)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
+	fmTestSeed(31);
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		b->x[k] += fmTestRandom(-0.25, 0.25);
+	unsigned char* flags = malloc((size_t)b->tetCount);
+	fmInvertedTets(b, b->x, 0, b->tetCount, flags);
+	int inverted = 0, differ = 0;
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(b, b->x, t);
+		bool expected = !(fmDet(&F) > 0.0);
+		inverted += expected;
+		differ += flags[t] != expected;
+	}
+	printf("  %d of %d tets inverted\n", inverted, b->tetCount);
+	CHECK_INT(differ, 0);
+	CHECK(inverted > 0 && inverted < b->tetCount);
+	CHECK_INT(fmBodyCountInverted(b), inverted);
+	free(flags);
+	fmDestroyWorld(world);
+}
