@@ -1,5 +1,5 @@
-// The block sparse rows' kernels (bsr_kernel.h), compiled once per instruction set: FM_KERNEL_VARIANT
-// names the variant and the build adds its -m flags (as for tet_kernel.c).
+// The block sparse rows' kernels (bsr_kernel.h), compiled once per instruction set:
+// FM_KERNEL_VARIANT names the variant and the build adds its -m flags (as for tet_kernel.c).
 #ifndef FM_KERNEL_VARIANT
 #define FM_KERNEL_VARIANT baseline
 #endif

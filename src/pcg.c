@@ -184,8 +184,7 @@ static fmBsrKernels fmBsrKernelsOfCpu(void)
 		return (fmBsrKernels){fmBsrKernel_MultiplyRows_scalar, fmBsrKernel_ForwardSweep_scalar,
 		                      fmBsrKernel_BackwardSweep_scalar};
 	default:
-		return (fmBsrKernels){fmBsrKernel_MultiplyRows_baseline,
-		                      fmBsrKernel_ForwardSweep_baseline,
+		return (fmBsrKernels){fmBsrKernel_MultiplyRows_baseline, fmBsrKernel_ForwardSweep_baseline,
 		                      fmBsrKernel_BackwardSweep_baseline};
 	}
 }

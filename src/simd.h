@@ -564,14 +564,15 @@ static inline void fmV_TransposeOf4(const double* m, double* out, int stride)
 }
 #endif
 
-// ---- block rows ----------------------------------------------------------------------------------
-// fmBlockSums: the running sums of one row of a 3x3-block sparse matrix (pcg.h, blocks
-// row-major), one lane per block entry: fmV_BlockAdd adds the products a[j] x[j % 3] of a block a
-// and its column's x to lanes j = 0..8, fmV_BlockMerge adds one row's sums to another's lane by
-// lane, and fmV_BlockResult gives the row's three sums t_r = (s_3r + s_3r+1) + s_3r+2. Each lane
-// is a chain of double additions in block order on every variant: the same bits. AVX holds the
-// lanes as (0..3) and (4..7) times (x0, x1, x2, x0) and (x1, x2, x0, x1); other vector units in
-// pairs; the scalar variant in nine doubles.
+// ---- block rows
+// ---------------------------------------------------------------------------------- fmBlockSums:
+// the running sums of one row of a 3x3-block sparse matrix (pcg.h, blocks row-major), one lane per
+// block entry: fmV_BlockAdd adds the products a[j] x[j % 3] of a block a and its column's x to
+// lanes j = 0..8, fmV_BlockMerge adds one row's sums to another's lane by lane, and fmV_BlockResult
+// gives the row's three sums t_r = (s_3r + s_3r+1) + s_3r+2. Each lane is a chain of double
+// additions in block order on every variant: the same bits. AVX holds the lanes as (0..3) and
+// (4..7) times (x0, x1, x2, x0) and (x1, x2, x0, x1); other vector units in pairs; the scalar
+// variant in nine doubles.
 
 #if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
 typedef struct fmBlockSums
