@@ -1,10 +1,10 @@
 // Batched element kernels: the explicit FEM step's forces, FM_LANES tets at once in float on the
 // lane wrapper of simd.h, with its blocks' per-vertex force sums and smoothing sums; and the
-// implicit passes' polar rotations of corotated tets and Neo-Hookean forces, FM_POLAR_LANES at
-// once in double. tet_kernel.c is compiled once per instruction set
-// (CMakeLists.txt); each compilation defines the functions with its own suffix, and tet_blocks.c
-// and forces.c call the ones simd.c's level chose. Formulas: docs/performance.md ("The explicit
-// kernel") and docs/implicit.md ("Material kernels").
+// implicit passes' polar rotations of corotated tets, Neo-Hookean and corotated forces and the
+// inverted-tet flags, FM_POLAR_LANES at once in double. tet_kernel.c is compiled once per
+// instruction set (CMakeLists.txt); each compilation defines the functions with its own suffix,
+// and tet_blocks.c and forces.c call the ones simd.c's level chose. Formulas:
+// docs/performance.md ("The explicit kernel") and docs/implicit.md ("Material kernels").
 #pragma once
 
 #include <femto/fm_math.h>
