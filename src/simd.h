@@ -383,6 +383,13 @@ static inline void fmStoreNodes8(float (*out)[4], __m256 x, __m256 y, __m256 z)
 	}
 }
 
+// sum[0..2] = lanes 0..2 of s.
+static inline void fmStoreSum(double sum[3], __m256d s)
+{
+	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
+	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+}
+
 static inline void fmWeightedSum(const double* v, const int* offsets, const double* weights,
                                  int count, double sum[3])
 {
@@ -392,8 +399,7 @@ static inline void fmWeightedSum(const double* v, const int* offsets, const doub
 	for (int e = 0; e < count; ++e)
 		s = _mm256_add_pd(
 		    s, _mm256_mul_pd(_mm256_set1_pd(weights[e]), _mm256_maskload_pd(v + offsets[e], xyz)));
-	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
-	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+	fmStoreSum(sum, s);
 }
 
 static inline void fmWeightedSumPair(const double* v, const int* offsets, const double* weights,
@@ -417,10 +423,8 @@ static inline void fmWeightedSumPair(const double* v, const int* offsets, const 
 	for (int k = e; k < countB; ++k)
 		b = _mm256_add_pd(b, _mm256_mul_pd(_mm256_set1_pd(weightsB[k]),
 		                                   _mm256_maskload_pd(v + offsetsB[k], xyz)));
-	_mm_storeu_pd(sumA, _mm256_castpd256_pd128(a));
-	_mm_store_sd(sumA + 2, _mm256_extractf128_pd(a, 1));
-	_mm_storeu_pd(sumB, _mm256_castpd256_pd128(b));
-	_mm_store_sd(sumB + 2, _mm256_extractf128_pd(b, 1));
+	fmStoreSum(sumA, a);
+	fmStoreSum(sumB, b);
 }
 
 static inline void fmSumEntries(const float* forces, const uint16_t* offsets, int count,
@@ -429,14 +433,7 @@ static inline void fmSumEntries(const float* forces, const uint16_t* offsets, in
 	__m256d s = _mm256_setzero_pd();
 	for (int e = 0; e < count; ++e)
 		s = _mm256_add_pd(s, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e])));
-	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
-	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
-}
-
-static inline void fmStoreSum(double sum[3], __m256d s)
-{
-	_mm_storeu_pd(sum, _mm256_castpd256_pd128(s));
-	_mm_store_sd(sum + 2, _mm256_extractf128_pd(s, 1));
+	fmStoreSum(sum, s);
 }
 
 static inline void fmSumEntriesPair(const float* forces, const uint16_t* offsets, int countA,
@@ -499,7 +496,7 @@ static inline void fmWeightedSumPair(const double* v, const int* offsets, const 
 #endif
 
 // ---- double rows of 4 tets ---------------------------------------------------------------------
-// The Neo-Hookean batch's inputs (tet_kernel.h), 4 lanes at a time, rows of @p stride doubles:
+// The force batch's inputs (tet_kernel.h), 4 lanes at a time, rows of @p stride doubles:
 // fmV_EdgesOf4Tets: out[(3 i + k) stride + l] = x[3 n_{k+1} + i] - x[3 n_0 + i] for the tets
 // l = 0..3 of @p nodes (4 vertex numbers a tet, x 3 doubles a vertex), in double;
 // fmV_TransposeOf4: out[e stride + l] = m[9 l + e] for 4 matrices of 9 doubles. Copies and
