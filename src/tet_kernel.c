@@ -632,13 +632,17 @@ FM_INLINE void fmLaneNodalForces(fmForceBatch* b, const double P[9][FM_PL])
 
 void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmForceBatch* b)
 {
-	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], k[FM_PL], P[9][FM_PL], I1s[FM_PL];
+	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], k[FM_PL], P[9][FM_PL];
 	fmLaneDeformation(b, F);
 	fmPolarCofactor(F, C, J);
-	fmPolarDots(F, F, I1s);
 	for (int l = 0; l < FM_PL; ++l)
 	{
-		double I1 = I1s[l], ln[3];
+		// (I1 lane by lane: with fmPolarDots before this loop, Emscripten's clang 14 at -O3 with
+		// -msimd128 got k wrong in every other lane; simd.batched_neo_hookean_forces_... caught
+		// it in a WebAssembly build of the tests.)
+		double I1 = 0.0, ln[3];
+		for (int q = 0; q < 9; ++q)
+			I1 += F[q][l] * F[q][l];
 		fmClampedLogJ(J[l], ln);
 		k[l] = (b->lambda * ln[0] - b->mu) * ln[1];
 		b->psi[l] = 0.5 * b->mu * (I1 - 3.0) - b->mu * ln[0] + 0.5 * b->lambda * ln[0] * ln[0];
