@@ -83,10 +83,11 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 	fmExplicitTask* c = context;
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
+	{
 		if (b->pinned[i] != FM_PIN_ALL)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
-	for (int i = start; c->floorTaken != NULL && i < end; ++i)
-	{
+		if (c->floorTaken == NULL)
+			continue;
 		c->floorTaken[i] = fmFloor_Takes(b, i, c->floor->height);
 		if (c->floorTaken[i])
 			fmFloor_RespondExplicit(c->floor, c->gravity, b, i, c->dt, c->floorResponses + i);

@@ -579,7 +579,7 @@ void FM_KERNEL_NAME(fmTetKernel_Polar)(fmPolarBatch* batch)
 	fmPolarRun(batch);
 }
 
-// ---- batched Neo-Hookean forces -----------------------------------------------------------------
+// ---- batched forces of one material: the fill, Neo-Hookean, corotated, inverted tets -----------
 // Plain loops over the lanes, which the compiler vectorises at the variant's width; every
 // expression is the scalar path's (fm_math.h's products and fmNeoHookean_Evaluate written out in
 // their order; fmPolarCofactor and fmPolarDots above are fmCofactor with det F along the first row
