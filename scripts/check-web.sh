@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The browser build (docs/web.md): builds it (scripts/web.sh, which installs Debian's emscripten
 # when missing and fails when the .wasm reaches 512 KiB), then
+#   0. tests/test_simd.c compiled to WebAssembly and run under Node.js, with the SIMD kernels and
+#      with the ones built without (emscripten's compiler checked on every kernel's lanes);
 #   1. Node.js comparison: scenes of web/femto_web.c run by the WebAssembly build under Node.js
 #      and by the native build (web/test/compare_native.c on libfemto built by CMake, FMA
 #      contraction off) must end at bit-identical positions with crossPlatformDeterminism on, and
@@ -42,6 +44,33 @@ fi
 
 start=$(date +%s)
 bash scripts/web.sh
+
+# --- 0. the kernels' own tests, compiled to WebAssembly ----------------------------------------
+# tests/test_simd.c against the objects web.sh built, once with the SIMD kernels and once with
+# the ones without: every kernel's lanes against the scalar variant and the double reference.
+# Emscripten's own compiler is not the native one (its clang 14 at -O3 with -msimd128 once got
+# every other lane of a kernel wrong while the native build passed), so only this run sees it.
+export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}" # as in web.sh: emcc's acorn
+library=()
+for object in build-web/obj/*.o; do
+  case "$(basename "$object" .o)" in
+    femto_web | house_data | tet_kernel_* | bsr_kernel_*) ;;
+    *) library+=("$object") ;;
+  esac
+done
+for variant in simd plain; do
+  kernels=(build-web/obj/{tet,bsr}_kernel_{baseline,scalar}_"$variant".o)
+  emcc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude -Isrc -Itests \
+    -DFEMTO_MESH_DIR="\"$PWD/data\"" tests/main.c tests/support.c tests/test_simd.c \
+    "${library[@]}" "${kernels[@]}" -sENVIRONMENT=node -sNODERAWFS=1 -sSINGLE_FILE=1 \
+    -sALLOW_MEMORY_GROWTH=1 -o "build-web/node/simd_tests_$variant.js"
+  if ! node "build-web/node/simd_tests_$variant.js" simd >"build-web/node/simd_tests_$variant.txt" 2>&1; then
+    tail -n 40 "build-web/node/simd_tests_$variant.txt"
+    echo "check-web: the SIMD tests compiled to WebAssembly ($variant kernels) failed" >&2
+    exit 1
+  fi
+  echo "check-web: the SIMD tests pass in WebAssembly ($variant kernels): $(tail -n 1 "build-web/node/simd_tests_$variant.txt")"
+done
 
 # --- 1. Node.js against the native build ---------------------------------------------------
 cmake -S . -B build-web/native -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_CLI=OFF \
