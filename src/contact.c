@@ -1964,20 +1964,25 @@ bool fmContact_ReportFloor(fmWorld* w, bool listed)
 	if (!listed)
 		s->pointCount = 0;
 	fmCollider* floor = &w->floorCollider;
+	const fmColliderId floorId = fmWorldColliderId(w, FM_FLOOR_SLOT);
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		fmBody* b = &w->bodies[slot];
 		if (!fmIsland_Stepping(b) || b->floorHitCount == 0)
 			continue;
+		// The body's points at once (a resting body has hundreds a substep, all serial here).
+		if (!fmGrowArray((void**)&s->points, &s->pointCapacity, s->pointCount,
+		                 s->pointCount + b->floorHitCount, sizeof(fmContactPoint)))
+			return false;
+		memset(s->points + s->pointCount, 0, (size_t)b->floorHitCount * sizeof(fmContactPoint));
+		const fmBodyId id = fmWorldBodyId(w, slot);
 		for (int k = 0; k < b->floorHitCount; ++k)
 		{
 			const fmFloorHit* hit = &b->floorHits[k];
-			fmContactPoint* p = fmNewPoint(s);
-			if (p == NULL)
-				return false;
-			p->body = fmWorldBodyId(w, slot);
+			fmContactPoint* p = &s->points[s->pointCount++];
+			p->body = id;
 			p->vertex = b->userVertex[hit->vertex];
-			p->collider = fmWorldColliderId(w, FM_FLOOR_SLOT);
+			p->collider = floorId;
 			p->point = fmLoad(b->x, hit->vertex);
 			p->normal = floor->def.normal;
 			p->depth = hit->depth;

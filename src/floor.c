@@ -25,7 +25,8 @@ bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* b)
 // Note that the floor held vertex @p i of @p b, @p depth below it, giving it @p impulse (N s).
 static bool fmAddHit(fmBody* b, int i, double depth, fmVec3 impulse)
 {
-	if (!fmGrowArray((void**)&b->floorHits, &b->floorHitCapacity, b->floorHitCount,
+	if (b->floorHitCount == b->floorHitCapacity &&
+	    !fmGrowArray((void**)&b->floorHits, &b->floorHitCapacity, b->floorHitCount,
 	                 b->floorHitCount + 1, sizeof(fmFloorHit)))
 		return false;
 	fmFloorHit hit = {i, depth, impulse};
