@@ -73,6 +73,7 @@ typedef struct fmBody
 	bool stepConverged;      // implicit: reached the tolerance
 	const char* stepStopped; // implicit, not converged: why it stopped
 	double energyAfter;      // kinetic + elastic energy at the end of the frame being checked
+	int invertedAfter;       // its inverted tets when the check's energy pass counted them, or -1
 	double stepStage[2];     // s, the last substep's two stages (explicit: forces, then
 	                         // integration; implicit: the solve, then velocities and floor)
 	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)

@@ -13,10 +13,12 @@
 // the conserved one, and contacts change elastic energy in ways the ledger does not book.
 #define FM_LEDGER_RELATIVE 0.01
 
-double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
+double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain, int* inverted,
                     const fmEnergyPass* pass)
 {
 	double kinetic = 0.0, shadow = 0.0, elastic;
+	if (inverted != NULL)
+		*inverted = -1;
 	if (shadowStep > 0.0)
 	{
 		size_t mark = fmArena_Mark(pass->arena);
@@ -25,7 +27,7 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 			return NAN;
 		const fmTetBlocks* blocks = fmTetBlocks_Used(b, pass->simd);
 		elastic = blocks ? fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, pass->simd, pass->tasks,
-		                                         true, NULL)
+		                                         true, inverted, NULL)
 		                 : fmAddElasticForcesOn(b, b->x, f, pass->tasks, pass->arena);
 		fmLoads_AddForces(b, b->x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->vertexCount; ++i)
@@ -80,7 +82,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
 	if (!ledger->started)
 	{
-		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, pass);
+		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, NULL, pass);
 		ledger->measureStep = shadowStep;
 		ledger->started = true;
 		ledger->initialEnergy = b->energyGood;
@@ -93,7 +95,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 		// difference is work the caller did.
 		// A state set to NaN or Inf books nothing: the frame fails on it and restores.
 		double plain;
-		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, pass);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, &plain, NULL, pass);
 		if (isfinite(energy))
 		{
 			ledger->plainGood = plain;
@@ -106,7 +108,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 	{
 		// Same state, another step or integrator: only the shadow term changed. Its change is
 		// neither work nor a runaway; re-measure without counting it as work done.
-		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, pass);
+		double energy = fmBodyEnergy(b, gravity, shadowStep, NULL, NULL, pass);
 		ledger->work += energy - b->energyGood;
 		b->energyGood = energy;
 		ledger->measureStep = shadowStep;
@@ -163,8 +165,8 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep,
                             const fmEnergyPass* pass)
 {
-	double before = fmBodyEnergy(b, gravity, fromStep, NULL, pass);
-	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, pass) - before;
+	double before = fmBodyEnergy(b, gravity, fromStep, NULL, NULL, pass);
+	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, NULL, pass) - before;
 }
 
 void fmLedger_Commit(fmBody* b, double shadowStep)

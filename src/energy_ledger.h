@@ -53,9 +53,10 @@ typedef struct fmEnergyLedger
 // frames measure with @p shadowStep = h, implicit ones (dissipative) with 0. The gravity part
 // of the correction is included; the potential -M g . x itself is booked as gravity's work.
 // @p plain (may be NULL) gets the plain kinetic + elastic energy. @p pass says how the elastic
-// pass runs (below).
+// pass runs (below). A non-NULL @p inverted gets the body's inverted tets (fmBodyCountInverted)
+// when the pass counted them on the way (the explicit kernels' blocks), else -1.
 double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, double* plain,
-                    const struct fmEnergyPass* pass);
+                    int* inverted, const struct fmEnergyPass* pass);
 
 // Start a frame measured with @p shadowStep (fmBodyEnergy): on the first frame record E0;
 // otherwise book what the caller changed since the last good state (impulses, set positions or

@@ -107,7 +107,7 @@ static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplici
 	if (blocks != NULL)
 	{
 		fmTetBlocks_AddForces(blocks, b, b->x, &context->gravity, b->f, world->simd, &world->tasks,
-		                      false, then);
+		                      false, NULL, then);
 		return then != NULL;
 	}
 	fmParallelFor(&world->tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);

@@ -2,6 +2,7 @@
 #include "tet_blocks.h"
 
 #include "core.h"
+#include "forces.h"
 #include "material.h"
 
 #include <string.h>
@@ -123,6 +124,7 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb->laneCount, uint8_t, tb->batchCount);
 	FM_FREE_ARRAY(tb->blockStart, int, tb->blockCount + 1);
 	FM_FREE_ARRAY(tb->blockEnergy, double, tb->blockCount);
+	FM_FREE_ARRAY(tb->blockInverted, int, tb->blockCount);
 	FM_FREE_ARRAY(tb->blockVertexStart, int, tb->blockCount + 1);
 	FM_FREE_ARRAY(tb->blockVertices, int, 4 * (size_t)tb->tetCount);
 	FM_FREE_ARRAY(tb->blockSums, double, 3 * (size_t)tb->entryCount);
@@ -321,7 +323,8 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 		tb->scratchBytes = fmScratchBytes(tb->maxBlockVertices);
 		tb->scratch = FM_ALLOC_ARRAY(unsigned char, tb->scratchBytes*(size_t)tb->workerCount);
 		tb->blockEnergy = FM_ALLOC_ZERO(double, tb->blockCount);
-		ok = tb->scratch != NULL && tb->blockEnergy != NULL;
+		tb->blockInverted = FM_ALLOC_ZERO(int, tb->blockCount);
+		ok = tb->scratch != NULL && tb->blockEnergy != NULL && tb->blockInverted != NULL;
 	}
 	FM_FREE_ARRAY(bv.local, int, b->vertexCount);
 	FM_FREE_ARRAY(bv.cursor, int, 4 * perBlock);
@@ -414,6 +417,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	double* u = fmScratch(tb, worker, &out);
 	fmGatherDisplacements(verts, count, p->x, p->body->x0, u);
 	double energy = 0.0;
+	int inverted = 0;
 	float laneEnergy[FM_LANES];
 	float* lanes = p->energy ? laneEnergy : NULL;
 	for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
@@ -424,10 +428,20 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 			if (o->fallback[l])
 				fmReferenceLane(p, &tb->batches[j], l, u, o, lanes);
 		for (int l = 0; lanes && l < tb->laneCount[j]; ++l)
+		{
 			energy += (double)lanes[l];
+			// Batch j holds the body's tets FM_LANES j ... (blocks are runs of its order).
+			unsigned char flat = 0;
+			if (!o->upright[l])
+				fmInvertedTets(p->body, p->x, FM_LANES * j + l, FM_LANES * j + l + 1, &flat);
+			inverted += flat;
+		}
 	}
 	if (p->energy)
+	{
 		tb->blockEnergy[k] = energy;
+		tb->blockInverted[k] = inverted;
+	}
 	p->kernels.sums(&out[0].force[0][0][0], tb->incidences, tb->incidenceStart + base, count,
 	                tb->blockSums + 3 * (size_t)base);
 }
@@ -462,7 +476,8 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 
 double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x,
                              const fmVec3* gravity, double* f, fmSimdLevel level,
-                             const fmTaskSystem* tasks, bool energy, const fmThenTask* then)
+                             const fmTaskSystem* tasks, bool energy, int* inverted,
+                             const fmThenTask* then)
 {
 	fmForcePass p = {tb,
 	                 body,
@@ -481,8 +496,14 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	fmParallelForBalanced(run, tb->blockCount, 1, fmForceBlocksTask, &p);
 	fmParallelFor(tasks, tb->vertexCount, FM_PARALLEL_MIN_VERTICES, fmAddBlockSumsTask, &p);
 	double sum = 0.0; // in block order: the same bits on any number of workers
+	int flat = 0;
 	for (int k = 0; energy && k < tb->blockCount; ++k)
+	{
 		sum += tb->blockEnergy[k];
+		flat += tb->blockInverted[k];
+	}
+	if (energy && inverted != NULL)
+		*inverted = flat;
 	return energy ? sum : 0.0;
 }
 

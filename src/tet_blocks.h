@@ -25,6 +25,7 @@ typedef struct fmTetBlocks
 	int blockCount;
 	int* blockStart;     // blockCount + 1 batch offsets
 	double* blockEnergy; // blockCount: each block's energy in the last pass that asked for it
+	int* blockInverted;  // blockCount: its inverted tets in that pass
 	// The vertices of block k are blockVertices[blockVertexStart[k] .. blockVertexStart[k + 1]),
 	// in the order its tets first use them; its batches number them from 0. A block gathers
 	// their displacements once, runs its batches into a buffer of fmTetBatchForces, and then
@@ -105,8 +106,12 @@ void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, doubl
 // the count the layout was made for); with @p gravity, f = m g + the elastic forces instead (the
 // explicit step's gravity, the same bits as setting it first). With @p energy, returns the
 // elastic energy (J): each tet's from the kernel (float), summed in double block by block, then
-// over the blocks in order (the same bits on any number of workers); else 0. A non-NULL @p then
-// runs on each range of vertices right after their forces are complete.
+// over the blocks in order (the same bits on any number of workers); else 0. With @p energy, a
+// non-NULL @p inverted gets the count of tets with !(det F > 0) at @p x, exactly
+// fmInvertedTets's: the kernels' float det F proves most tets upright, and the others are
+// rechecked in double. A non-NULL @p then runs on each range of vertices right after their forces
+// are complete.
 double fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
                              const fmVec3* gravity, double* f, fmSimdLevel level,
-                             const fmTaskSystem* tasks, bool energy, const fmThenTask* then);
+                             const fmTaskSystem* tasks, bool energy, int* inverted,
+                             const fmThenTask* then);

@@ -30,6 +30,10 @@ typedef struct fmTetBatchForces
 	// near flat or inverted, where its polar iteration does not apply; tet_blocks.c redoes
 	// them). Set on every variant alike, so the choice does not depend on the instruction set.
 	int32_t fallback[FM_LANES];
+	// Energy passes only (a non-NULL energy): non-zero in lanes whose float det F proves the
+	// double-precision det F > 0 (fmTetKernel_Forces); tet_blocks.c rechecks the others in double
+	// for the frame's inverted-tet count.
+	int32_t upright[FM_LANES];
 } fmTetBatchForces;
 
 // The material as the kernels take it.
@@ -45,8 +49,9 @@ typedef struct fmKernelMaterial
 // forms Du = [u1 - u0, u2 - u0, u3 - u0] in double, rounds it once to float, and works from H = F -
 // I = Du Dm^-1, so a small strain keeps its relative accuracy in float. With a non-NULL
 // @p energy, each lane's elastic energy V0 psi (J; 0 in unused lanes) goes to energy[lane]
-// (Neo-Hookean's from Green's strain, free of first-order cancellation). Returns whether any lane
-// was left to the reference (out->fallback).
+// (Neo-Hookean's from Green's strain, free of first-order cancellation), and out->upright says
+// which lanes' det F is surely positive. Returns whether any lane was left to the reference
+// (out->fallback).
 typedef bool fmTetKernelFcn(const fmTetBatch* batch, const double* u,
                             const fmKernelMaterial* material, fmTetBatchForces* out, float* energy);
 

@@ -546,16 +546,16 @@ static fmEnergyPass fmWorldEnergyPass(fmWorld* w)
 }
 
 // Health of a body after a frame: finite state, and energy within the ledger's bound.
-static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double frameTime,
-                            double* energyAfter)
+static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double frameTime)
 {
 	fmBody* b = &w->bodies[index];
 	double plain = NAN;
 	fmEnergyPass pass = fmWorldEnergyPass(w);
-	double energy = fmFirstNonFiniteVertex(b) < 0
-	                    ? fmBodyEnergy(b, w->def.gravity, shadowStep, &plain, &pass)
-	                    : NAN;
-	*energyAfter = energy;
+	b->invertedAfter = -1;
+	double energy = fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep,
+	                                                             &plain, &b->invertedAfter, &pass)
+	                                              : NAN;
+	b->energyAfter = energy;
 	if (!isfinite(energy) || !isfinite(plain))
 		return fmReportBadBody(w, index, fm_badState, energy, NAN, NAN);
 	fmLedgerVerdict verdict = fmLedger_Check(b, w->def.gravity, energy, plain, frameTime);
@@ -900,8 +900,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (fmIsland_Stepping(b) &&
-		    fmCheckBody(w, i, shadowStep, timeStep, &b->energyAfter) != fm_ok)
+		if (fmIsland_Stepping(b) && fmCheckBody(w, i, shadowStep, timeStep) != fm_ok)
 		{
 			fmRestoreAll(w);
 			return fm_errNumerical;
@@ -919,7 +918,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		memcpy(b->vGood, b->v, bytes);
 		b->energyGood = b->energyAfter;
 		b->energyStale = false;
-		w->stats.invertedTets += fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
+		w->stats.invertedTets += b->invertedAfter >= 0
+		                             ? b->invertedAfter
+		                             : fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
 	}
 	const fmContactPoint* points;
 	w->stats.contacts = fmContact_Points(w, &points);

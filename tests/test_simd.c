@@ -44,8 +44,10 @@ static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
 }
 
 // The batched forces at the body's positions (caller frees; every colour's blocks are split
-// one to a range, so a small body runs on every worker too); their energy into @p energy.
-static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, double* energy)
+// one to a range, so a small body runs on every worker too); their energy into @p energy, the
+// count of inverted tets into @p inverted (may be NULL).
+static double* batchedForcesCounting(const fmBody* b, fmSimdLevel level, int workers,
+                                     double* energy, int* inverted)
 {
 	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
 	double* f = calloc(3 * (size_t)b->vertexCount, sizeof *f);
@@ -59,10 +61,15 @@ static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, do
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	*energy = fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, level, &tasks, true, NULL);
+	*energy = fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, level, &tasks, true, inverted, NULL);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
+}
+
+static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, double* energy)
+{
+	return batchedForcesCounting(b, level, workers, energy, NULL);
 }
 
 // The body's energy in linear elasticity with its material's Lame constants: every model's to
@@ -815,5 +822,60 @@ TEST(inverted_tets_are_flagged_as_one_tet_at_a_time)
 	CHECK(inverted > 0 && inverted < b->tetCount);
 	CHECK_INT(fmBodyCountInverted(b), inverted);
 	free(flags);
+	fmDestroyWorld(world);
+}
+
+// The count of inverted tets the health check takes from the explicit kernels' energy pass (their
+// float det F proves most tets upright; the rest are rechecked in double) against
+// fmBodyCountInverted, on every instruction set and worker count: a box at rest, shaken from
+// gently to inside out, with tets flattened to within rounding of zero volume, and with a vertex
+// thrown far enough that float's det F overflows.
+TEST(the_energy_pass_counts_the_inverted_tets_exactly)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 8, fm_stvk); // 3072 tets: six blocks
+	if (b == NULL)
+		return;
+	fmTestSeed(47);
+	const double amplitudes[] = {0.0, 0.01, 0.05, 0.2, 0.01, 0.01}; // the cells are 0.125 m
+	for (int c = 0; c < 6; ++c)
+	{
+		for (int k = 0; k < 3 * b->vertexCount; ++k)
+			b->x[k] = b->x0[k] + fmTestRandom(-amplitudes[c], amplitudes[c]);
+		int nearFlat = 0;
+		for (int t = 0; c == 4 && t < b->tetCount; t += 5)
+		{
+			// Node 3 onto the plane of the other three (a point of it in rounding).
+			const int* n = b->tets + 4 * t;
+			fmVec3 x0 = fmLoad(b->x, n[0]), x1 = fmLoad(b->x, n[1]), x2 = fmLoad(b->x, n[2]);
+			fmVec3 p = fmAdd(x0, fmAdd(fmScale(0.3, fmSub(x1, x0)), fmScale(0.4, fmSub(x2, x0))));
+			fmStore(b->x, n[3], p);
+		}
+		if (c == 5)
+			b->x[3 * 17 + 1] = 1e30;
+		for (int t = 0; t < b->tetCount; ++t)
+		{
+			fmMat3 F = fmTetDeformation(b, b->x, t);
+			nearFlat += fabs(fmDet(&F)) < 1e-6;
+		}
+		int expected = fmBodyCountInverted(b);
+		printf("  shaken by %g m%s: %d inverted, %d with |det F| < 1e-6\n", amplitudes[c],
+		       c == 4   ? ", every fifth tet flattened"
+		       : c == 5 ? ", a vertex at 1e30 m"
+		                : "",
+		       expected, nearFlat);
+		CHECK(c != 3 || expected > 0);
+		CHECK(c != 4 || nearFlat > 0);
+		for (int level = fm_simdScalar; level <= (int)fmSimd_Detect(); ++level)
+			for (int workers = 1; workers <= 3; workers += 2)
+			{
+				double energy;
+				int counted = -1;
+				free(batchedForcesCounting(b, (fmSimdLevel)level, workers, &energy, &counted));
+				if (counted != expected)
+					FAIL_AT("case %d, %s on %d workers: %d inverted counted, %d expected", c,
+					        fmSimdLevelName((fmSimdLevel)level), workers, counted, expected);
+			}
+	}
 	fmDestroyWorld(world);
 }
