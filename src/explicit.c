@@ -38,11 +38,10 @@ typedef struct fmExplicitTask
 	double dt;
 	fmVec3 gravity;
 	double damping; // the step's damping factor, 1 for none
-	// With a floor that holds the body: fmFloor_Takes of each vertex after its position update,
-	// and the floor's response to the vertices it takes.
+	// With a floor that holds the body: its responses to the vertices it takes, made after
+	// their position update on each range.
 	const fmFloorDef* floor;
-	uint8_t* floorTaken;
-	fmFloorResponse* floorResponses;
+	fmFloorTaken* floorTaken;
 } fmExplicitTask;
 
 // Stage 1 for vertices [start, end): f = m g.
@@ -86,12 +85,9 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 	{
 		if (b->pinned[i] != FM_PIN_ALL)
 			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
-		if (c->floorTaken == NULL)
-			continue;
-		c->floorTaken[i] = fmFloor_Takes(b, i, c->floor->height);
-		if (c->floorTaken[i])
-			fmFloor_RespondExplicit(c->floor, c->gravity, b, i, c->dt, c->floorResponses + i);
 	}
+	if (c->floorTaken != NULL)
+		fmFloor_RespondRange(c->floor, c->gravity, b, start, end, c->dt, c->floorTaken);
 }
 
 // f = m g + the elastic forces: the batched float kernels where they apply and are accurate
@@ -129,18 +125,15 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {
-	    b, dt, world->def.gravity, fmVelocityFilter_DampingFactor(b, dt), NULL, NULL, NULL};
+	fmExplicitTask context = {b,    dt,  world->def.gravity, fmVelocityFilter_DampingFactor(b, dt),
+	                          NULL, NULL};
 	const size_t mark = fmArena_Mark(arena);
-	if (fmFloor_Holds(&world->def.floor, b))
+	fmFloorTaken floorTaken;
+	if (fmFloor_Holds(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
 	{
-		// (Both from the arena's doubles; without the memory the floor pass responds serially.)
-		context.floorTaken = (uint8_t*)fmArena_DoublesUninit(arena, (size_t)n / 8 + 1);
-		context.floorResponses = (fmFloorResponse*)fmArena_DoublesUninit(
-		    arena, (size_t)n * sizeof(fmFloorResponse) / sizeof(double));
+		// (Without the memory the floor responds serially, after the position update.)
 		context.floor = &world->def.floor;
-		if (context.floorResponses == NULL)
-			context.floorTaken = NULL;
+		context.floorTaken = &floorTaken;
 	}
 
 	// 0. Prescribed displacements move their vertices along their paths (loads.h).
@@ -176,8 +169,8 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	// 4. Positions, then the floor.
 	if (!placed)
 		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
-	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt,
-	                                          context.floorTaken, context.floorResponses);
+	int floorContacts =
+	    fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt, context.floorTaken);
 	fmArena_Release(arena, mark);
 	b->stepStage[0] = forced - start;
 	b->stepStage[1] = fmSeconds() - forced;

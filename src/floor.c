@@ -93,8 +93,9 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 	return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
 }
 
-void fmFloor_RespondExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int i, double dt,
-                             fmFloorResponse* r)
+// The response of vertex @p i, which the floor takes.
+static void fmRespondVertex(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int i, double dt,
+                            fmFloorResponse* r)
 {
 	const double* v = b->v + 3 * i;
 	const double before[3] = {v[0], v[1], v[2]};
@@ -104,8 +105,59 @@ void fmFloor_RespondExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b,
 	r->impulse = fmImpulseSince(b, i, before);
 }
 
+// The doubles of a fmFloorTaken's responses and of its three ints a vertex.
+static size_t fmResponseDoubles(size_t n)
+{
+	return n * sizeof(fmFloorResponse) / sizeof(double);
+}
+
+static size_t fmListDoubles(size_t n)
+{
+	return (3 * n * sizeof(int) + sizeof(double) - 1) / sizeof(double);
+}
+
+size_t fmFloorTaken_Bytes(size_t vertexCount)
+{
+	return fmArena_Bytes(1, fmResponseDoubles(vertexCount)) +
+	       fmArena_Bytes(1, fmListDoubles(vertexCount));
+}
+
+bool fmFloorTaken_Make(fmFloorTaken* taken, fmArena* arena, int vertexCount)
+{
+	const size_t n = (size_t)vertexCount;
+	taken->responses = (fmFloorResponse*)fmArena_DoublesUninit(arena, fmResponseDoubles(n));
+	int* ints = (int*)fmArena_DoublesUninit(arena, fmListDoubles(n));
+	taken->vertex = ints;
+	taken->count = ints != NULL ? ints + n : NULL;
+	taken->rangeEnd = ints != NULL ? ints + 2 * n : NULL;
+	return taken->responses != NULL && ints != NULL;
+}
+
+void fmFloor_RespondRange(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int start, int end,
+                          double dt, fmFloorTaken* taken)
+{
+	int count = 0;
+	for (int i = start; i < end; ++i)
+		if (fmFloor_Takes(b, i, floor->height))
+		{
+			taken->vertex[start + count] = i;
+			fmRespondVertex(floor, gravity, b, i, dt, taken->responses + start + count);
+			++count;
+		}
+	taken->count[start] = count;
+	taken->rangeEnd[start] = end;
+}
+
+// Books the response @p r of vertex @p i: its work, and its hit in body->floorHits.
+static bool fmCollectResponse(fmBody* b, int i, const fmFloorResponse* r, double* work)
+{
+	*work += r->liftWork;
+	*work += r->pushEnergy;
+	return fmAddHit(b, i, r->depth, r->impulse);
+}
+
 int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt,
-                          const uint8_t* taken, const fmFloorResponse* responses)
+                          const fmFloorTaken* taken)
 {
 	b->floorHitCount = 0;
 	if (!fmFloor_Holds(floor, b))
@@ -113,18 +165,17 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 	int contacts = 0;
 	double work = 0.0;
 	bool listed = true;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int start = 0; taken != NULL && start < b->vertexCount; start = taken->rangeEnd[start])
+		for (int k = start; k < start + taken->count[start]; ++k, ++contacts)
+			listed = fmCollectResponse(b, taken->vertex[k], taken->responses + k, &work) && listed;
+	for (int i = 0; taken == NULL && i < b->vertexCount; ++i)
 	{
-		fmFloorResponse own;
-		const fmFloorResponse* r = responses != NULL ? responses + i : &own;
-		if (responses != NULL ? !taken[i] : !fmFloor_Takes(b, i, floor->height))
+		if (!fmFloor_Takes(b, i, floor->height))
 			continue;
-		if (responses == NULL)
-			fmFloor_RespondExplicit(floor, gravity, b, i, dt, &own);
+		fmFloorResponse own;
+		fmRespondVertex(floor, gravity, b, i, dt, &own);
 		++contacts;
-		work += r->liftWork;
-		work += r->pushEnergy;
-		listed = listed && fmAddHit(b, i, r->depth, r->impulse);
+		listed = fmCollectResponse(b, i, &own, &work) && listed;
 	}
 	fmLedger_AddContactWork(b, work);
 	return listed ? contacts : -1;

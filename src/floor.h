@@ -2,6 +2,7 @@
 // fmFloorDef.maxDepenetrationSpeed, and the work it does booked in the energy ledger.
 #pragma once
 
+#include "arena.h"
 #include "body.h"
 #include "solver_cache.h"
 
@@ -32,19 +33,37 @@ typedef struct fmFloorResponse
 	double pushEnergy; // J of kinetic energy along y it added
 } fmFloorResponse;
 
-// Explicit, one vertex the floor takes (fmFloor_Takes): its position lifted to the plane (at
-// most at the floor's depenetration speed), its velocity by the floor's friction mode. Touches
-// that vertex only: vertex ranges respond in parallel.
-void fmFloor_RespondExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, int vertex,
-                             double dt, fmFloorResponse* response);
+// The explicit floor's responses, made on vertex ranges in parallel (fmFloor_RespondRange) and
+// collected in vertex order (fmFloor_ApplyExplicit). Each range lists what it took from its own
+// first slot on, so that the collection visits the taken vertices only.
+typedef struct fmFloorTaken
+{
+	int* vertex;                // a range's taken vertices, from the slot of its first vertex on
+	fmFloorResponse* responses; // their responses, in the same slots
+	int* count;                 // at a range's first vertex: how many it took
+	int* rangeEnd;              // at a range's first vertex: the vertex after its last
+} fmFloorTaken;
 
-// Explicit: fmFloor_RespondExplicit on every vertex the floor takes; the push-out work goes to
-// the body's energy ledger and the vertices in contact to body->floorHits, both in vertex order.
-// With @p taken and @p responses (one a vertex) the responses were made already (the position
-// update does them on each vertex range, where the vertices are in cache): they are only
-// collected. Returns how many vertices, or -1 when the list could not grow.
+// A fmFloorTaken for @p vertexCount vertices from @p arena; false when short of memory.
+bool fmFloorTaken_Make(fmFloorTaken* taken, fmArena* arena, int vertexCount);
+
+// The arena bytes fmFloorTaken_Make takes for @p vertexCount vertices.
+size_t fmFloorTaken_Bytes(size_t vertexCount);
+
+// Explicit, on the vertices [start, end) of @p body after their position update: each that the
+// floor takes (fmFloor_Takes) lifted to the plane (at most at the floor's depenetration speed),
+// its velocity by the floor's friction mode, its response listed in @p taken. Touches those
+// vertices and their slots only: vertex ranges respond in parallel.
+void fmFloor_RespondRange(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, int start, int end,
+                          double dt, fmFloorTaken* taken);
+
+// Explicit: the floor's push-out work to the body's energy ledger and the vertices in contact to
+// body->floorHits, both in vertex order. With @p taken the ranges responded already (the
+// position update does it on each vertex range, where the vertices are in cache) and they are
+// only collected; without (NULL) every vertex is tested and responds here. Returns how many
+// vertices, or -1 when the list could not grow.
 int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, double dt,
-                          const uint8_t* taken, const fmFloorResponse* responses);
+                          const fmFloorTaken* taken);
 
 // Implicit: the lowest y of every vertex this step into cache->floorBound: the floor, except for
 // a vertex deep below it, which may rise by at most the depenetration speed times h.

@@ -404,10 +404,9 @@ bool fmWorldReserveArena(fmWorld* w)
 	size_t bytes = fmArena_Bytes(2, 3 * vertices);
 	if (w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL)
 		bytes += fmArena_Bytes(1, 12 * tets) + fmArena_Bytes(1, tets);
-	// The explicit floor's byte a vertex and responses (explicit.c), under the smoothing's sums.
+	// The explicit floor's responses and lists (fmFloorTaken), under the smoothing's sums.
 	if (w->def.integrator != fm_implicit && w->def.floor.enabled)
-		bytes += fmArena_Bytes(1, vertices / 8 + 1) +
-		         fmArena_Bytes(1, vertices * sizeof(fmFloorResponse) / sizeof(double));
+		bytes += fmFloorTaken_Bytes(vertices);
 	return fmArena_Reserve(&w->arena, bytes);
 }
 
