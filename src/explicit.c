@@ -125,8 +125,10 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 {
 	const int n = b->vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
-	fmExplicitTask context = {b,    dt,  world->def.gravity, fmVelocityFilter_DampingFactor(b, dt),
-	                          NULL, NULL};
+	fmExplicitTask context = {.body = b,
+	                          .dt = dt,
+	                          .gravity = world->def.gravity,
+	                          .damping = fmVelocityFilter_DampingFactor(b, dt)};
 	const size_t mark = fmArena_Mark(arena);
 	fmFloorTaken floorTaken;
 	if (fmFloor_Holds(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
