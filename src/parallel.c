@@ -1,5 +1,6 @@
 // Parallel loops (parallel.h) and femto's own thread pool: the caller and workerCount - 1
-// threads each take one contiguous range of a loop, in a fixed split; the caller waits for all.
+// threads claim the contiguous ranges of a loop's fixed split, without a lock; the caller waits
+// for all.
 #include "parallel.h"
 
 #include "core.h"
@@ -33,6 +34,12 @@ typedef struct fmWorkerArgs
 	int workerIndex;
 } fmWorkerArgs;
 
+// The pool hands out a loop's ranges without a lock: one 64-bit word holds the loop's range count
+// (high half) and the ranges claimed (low half), and a fetch-and-add on it is a claim, valid when
+// the count it returns is below the range count. The caller sets the word for the next loop only
+// when every range of the last one finished, so a late claim on a finished loop's word fails and
+// a claim on the new word is the new loop's (its fields published before the word, with release).
+// The mutex and condition variables serve only the threads that sleep.
 struct fmTaskPool
 {
 	pthread_mutex_t mutex;
@@ -42,20 +49,16 @@ struct fmTaskPool
 	fmWorkerArgs* args; // one per thread, owned by the pool
 	int threadCount;
 	int capacity; // threads and args allocated
-	// The loop being run.
+	// The loop being run: set by the caller before it publishes the loop's claims word.
 	fmTaskCallback* task;
 	void* context;
 	int itemCount;
-	int rangeCount;
-	int nextRange;   // ranges handed out
-	int rangesLeft;  // ranges not finished
-	unsigned loopId; // changes with every loop
-	bool stop;
-	// Copies of loopId and rangesLeft that threads poll without the mutex (hints only: every
-	// decision is taken again under the mutex).
-	atomic_uint loopSignal;
-	atomic_int leftSignal;
 	bool deterministicMath; // the det_math mode of the thread that started the loop
+	atomic_uint_least64_t claims; // range count << 32 | ranges claimed
+	atomic_int rangesLeft;        // ranges not finished
+	atomic_uint loopId;           // changes with every loop
+	atomic_int sleepers;          // workers waiting on wake (changed under the mutex)
+	atomic_bool stop;
 };
 
 // Range @p k of @p count ranges over @p items items: contiguous, sizes differing by at most one.
@@ -66,21 +69,36 @@ static void fmRange(int items, int count, int k, int* start, int* end)
 	*end = *start + base + (k < extra ? 1 : 0);
 }
 
-// Take and run ranges of the current loop until none is left; called with the mutex held.
+// Claim and run ranges of the current loop until none is left, each in femto's floating-point
+// environment and the loop's det_math mode (fp_env.h), whatever state the thread is in.
 static void fmRunRanges(fmTaskPool* pool, int workerIndex)
 {
-	while (pool->nextRange < pool->rangeCount)
+	for (;;)
 	{
-		int k = pool->nextRange++;
+		uint64_t claim = atomic_fetch_add_explicit(&pool->claims, 1, memory_order_acq_rel);
+		int k = (int)(uint32_t)claim, count = (int)(claim >> 32);
+		if (k >= count)
+			return;
 		int start, end;
-		fmRange(pool->itemCount, pool->rangeCount, k, &start, &end);
-		pthread_mutex_unlock(&pool->mutex);
+		fmRange(pool->itemCount, count, k, &start, &end);
+		fmFpEnv env = fmFpEnv_Enter(pool->deterministicMath);
 		pool->task(start, end, workerIndex, pool->context);
-		pthread_mutex_lock(&pool->mutex);
-		atomic_store_explicit(&pool->leftSignal, --pool->rangesLeft, memory_order_release);
-		if (pool->rangesLeft == 0)
+		fmFpEnv_Leave(&env);
+		if (atomic_fetch_sub_explicit(&pool->rangesLeft, 1, memory_order_acq_rel) == 1 &&
+		    workerIndex != 0)
+		{
+			// The last range: wake the caller if it sleeps.
+			pthread_mutex_lock(&pool->mutex);
 			pthread_cond_broadcast(&pool->done);
+			pthread_mutex_unlock(&pool->mutex);
+		}
 	}
+}
+
+// Whether a worker that last ran loop @p seen has nothing new to do.
+static bool fmIdle(fmTaskPool* pool, unsigned seen)
+{
+	return !atomic_load(&pool->stop) && atomic_load(&pool->loopId) == seen;
 }
 
 static void* fmWorkerMain(void* argument)
@@ -88,38 +106,32 @@ static void* fmWorkerMain(void* argument)
 	fmWorkerArgs args = *(fmWorkerArgs*)argument;
 	fmTaskPool* pool = args.pool;
 	unsigned seen = 0;
-	pthread_mutex_lock(&pool->mutex);
 	for (;;)
 	{
-		if (!pool->stop && pool->loopId == seen)
+		// Poll a while for the next loop (stages come back to back), then sleep.
+		for (int k = 0; k < FM_SPIN_POLLS && fmIdle(pool, seen); ++k)
+			fmPause();
+		if (fmIdle(pool, seen))
 		{
-			// Poll a while for the next loop (stages come back to back), then sleep.
-			pthread_mutex_unlock(&pool->mutex);
-			for (int k = 0; k < FM_SPIN_POLLS &&
-			                atomic_load_explicit(&pool->loopSignal, memory_order_acquire) == seen;
-			     ++k)
-				fmPause();
 			pthread_mutex_lock(&pool->mutex);
+			atomic_fetch_add(&pool->sleepers, 1);
+			while (fmIdle(pool, seen))
+				pthread_cond_wait(&pool->wake, &pool->mutex);
+			atomic_fetch_sub(&pool->sleepers, 1);
+			pthread_mutex_unlock(&pool->mutex);
 		}
-		while (!pool->stop && pool->loopId == seen)
-			pthread_cond_wait(&pool->wake, &pool->mutex);
-		if (pool->stop)
+		if (atomic_load(&pool->stop))
 			break;
-		seen = pool->loopId;
-		// The loop runs in femto's floating-point environment and the caller's det_math mode
-		// (fp_env.h), whatever state the thread was started in.
-		fmFpEnv env = fmFpEnv_Enter(pool->deterministicMath);
+		seen = atomic_load(&pool->loopId);
 		fmRunRanges(pool, args.workerIndex);
-		fmFpEnv_Leave(&env);
 	}
-	pthread_mutex_unlock(&pool->mutex);
 	return NULL;
 }
 
 static void fmPoolFree(fmTaskPool* pool)
 {
 	pthread_mutex_lock(&pool->mutex);
-	pool->stop = true;
+	atomic_store(&pool->stop, true);
 	pthread_cond_broadcast(&pool->wake);
 	pthread_mutex_unlock(&pool->mutex);
 	for (int k = 0; k < pool->threadCount; ++k)
@@ -149,8 +161,11 @@ static fmTaskPool* fmPoolCreate(int threads)
 	}
 	pthread_cond_init(&pool->wake, NULL);
 	pthread_cond_init(&pool->done, NULL);
-	atomic_init(&pool->loopSignal, 0u);
-	atomic_init(&pool->leftSignal, 0);
+	atomic_init(&pool->claims, 0u); // no ranges: every claim fails
+	atomic_init(&pool->rangesLeft, 0);
+	atomic_init(&pool->loopId, 0u);
+	atomic_init(&pool->sleepers, 0);
+	atomic_init(&pool->stop, false);
 	for (int k = 0; k < threads; ++k)
 	{
 		pool->args[k].pool = pool;
@@ -254,30 +269,30 @@ static void fmParallelRanges(const fmTaskSystem* system, int itemCount, int minR
 		return;
 	}
 	fmTaskPool* pool = system->pool;
-	pthread_mutex_lock(&pool->mutex);
 	pool->task = task;
 	pool->context = taskContext;
 	pool->itemCount = itemCount;
-	pool->rangeCount = ranges;
-	pool->nextRange = 0;
-	pool->rangesLeft = ranges;
-	pool->loopId += 1;
-	atomic_store_explicit(&pool->leftSignal, ranges, memory_order_relaxed);
-	atomic_store_explicit(&pool->loopSignal, pool->loopId, memory_order_release);
 	pool->deterministicMath = fmDetMath_Enabled();
-	pthread_cond_broadcast(&pool->wake);
-	fmRunRanges(pool, 0);
-	if (pool->rangesLeft > 0)
+	atomic_store_explicit(&pool->rangesLeft, ranges, memory_order_relaxed);
+	atomic_store_explicit(&pool->claims, (uint64_t)ranges << 32, memory_order_release);
+	atomic_fetch_add(&pool->loopId, 1u);
+	if (atomic_load(&pool->sleepers) > 0)
 	{
-		// The other ranges are running: poll a while before sleeping.
-		pthread_mutex_unlock(&pool->mutex);
-		for (int k = 0;
-		     k < FM_SPIN_POLLS && atomic_load_explicit(&pool->leftSignal, memory_order_acquire) > 0;
-		     ++k)
-			fmPause();
 		pthread_mutex_lock(&pool->mutex);
+		pthread_cond_broadcast(&pool->wake);
+		pthread_mutex_unlock(&pool->mutex);
 	}
-	while (pool->rangesLeft > 0)
-		pthread_cond_wait(&pool->done, &pool->mutex);
-	pthread_mutex_unlock(&pool->mutex);
+	fmRunRanges(pool, 0);
+	// The other ranges are running: poll a while before sleeping.
+	for (int k = 0;
+	     k < FM_SPIN_POLLS && atomic_load_explicit(&pool->rangesLeft, memory_order_acquire) > 0;
+	     ++k)
+		fmPause();
+	if (atomic_load_explicit(&pool->rangesLeft, memory_order_acquire) > 0)
+	{
+		pthread_mutex_lock(&pool->mutex);
+		while (atomic_load_explicit(&pool->rangesLeft, memory_order_acquire) > 0)
+			pthread_cond_wait(&pool->done, &pool->mutex);
+		pthread_mutex_unlock(&pool->mutex);
+	}
 }
