@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Build femto and run every test: a normal build, then the whole suite under
-# AddressSanitizer + UndefinedBehaviorSanitizer, then the fuzzers and valgrind (scripts/check-*.sh).
+# AddressSanitizer + UndefinedBehaviorSanitizer, then the fuzzers, valgrind, ThreadSanitizer on the
+# thread pool, the consumer projects and the browser build (scripts/check-*.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
