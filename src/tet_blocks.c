@@ -14,7 +14,8 @@ bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
 {
 	fmMaterialModel m = body->material.model;
 	return level != fm_simdOff && body->forceModel == fm_fem && body->tetMaterial == NULL &&
-	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_corotated);
+	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_mooneyRivlin ||
+	        m == fm_corotated);
 }
 
 bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
@@ -485,7 +486,8 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	                 gravity,
 	                 f,
 	                 fmTetBlocks_Kernels(level),
-	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda},
+	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda,
+	                  (float)body->material.c01},
 	                 energy,
 	                 then};
 	// The blocks, in ranges as small as one block: a block (512 tets, 5-10 us) is worth ten

@@ -12,6 +12,9 @@
 //                clamp P = (mu (F J - cof F) + lambda ln J cof F) / J (no cancellation at small
 //                strain); below it P = mu F + (lambda l - mu) l' cof F with the clamped l(J) of
 //                material_invariant.c.
+//   Mooney-Rivlin: with a = mu + 2 C01, b = lambda - 4 C01 and G Green's strain, Neo-Hookean's
+//                P with mu -> a and lambda -> b, plus 4 C01 F (tr G I - G) (the I2 term; the
+//                derivation is at fmNeoHookeanStress).
 //   corotated:   P = 2 mu (F - R) + lambda (J - 1) cof F, R the rotation of F's polar
 //                decomposition by Newton's iteration X <- (X + X^-T)/2 from X = F, kept as
 //                Y = X - I: X^-T - I = (-det Y I - (1 + tr Y) Y^T + (Y^T)^2) / det X, so F - R =
@@ -270,7 +273,8 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 // of order 1 under a rotation and would cancel): with k = J^2 - 1 = det(I + 2G) - 1 =
 // 2 tr G + 4 c2(G) + 8 det G, ln J = ln(1 + k) / 2 and tr G - ln J = (k - ln(1 + k)) / 2 -
 // 2 c2(G) - 4 det G, every term of second order at small strain.
-FM_NOINLINE fmFloatV fmNeoHookeanEnergy(const fmMat3V* H, fmFloatV mu, fmFloatV lambda)
+// Mooney-Rivlin's (@p c01 > 0, with mu -> a and lambda -> b, fmNeoHookeanStress) adds 4 C01 c2(G).
+FM_NOINLINE fmFloatV fmNeoHookeanEnergy(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, float c01)
 {
 	const fmFloatV half = fmV_Set(0.5f), two = fmV_Set(2.0f), four = fmV_Set(4.0f);
 	fmMat3V G = fmGreenStrain(H);
@@ -281,7 +285,11 @@ FM_NOINLINE fmFloatV fmNeoHookeanEnergy(const fmMat3V* H, fmFloatV mu, fmFloatV 
 	fmFloatV log1pK = fmV_Log1p(k), lnJ = fmV_Mul(half, log1pK);
 	fmFloatV trMinusLn = fmV_Sub(fmV_Mul(half, fmV_JMinusLog1p(k, log1pK)),
 	                             fmV_Add(fmV_Mul(two, c2), fmV_Mul(four, det)));
-	return fmV_Add(fmV_Mul(mu, trMinusLn), fmV_Mul(fmV_Mul(half, lambda), fmV_Mul(lnJ, lnJ)));
+	fmFloatV psi =
+	    fmV_Add(fmV_Mul(mu, trMinusLn), fmV_Mul(fmV_Mul(half, lambda), fmV_Mul(lnJ, lnJ)));
+	if (c01 != 0.0f)
+		psi = fmV_Add(psi, fmV_Mul(fmV_Set(4.0f * c01), c2));
+	return psi;
 }
 
 // Below the clamp (a collapsed or inverted tet, far from small strain): the plain formula
@@ -295,10 +303,34 @@ FM_INLINE fmFloatV fmNeoHookeanPlainEnergy(const fmMat3V* H, fmFloatV t, fmFloat
 	               fmV_Mul(fmV_Mul(half, lambda), fmV_Mul(l, l)));
 }
 
-FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
-                                  fmFloatV* psi)
+// Mooney-Rivlin below the clamp: C10 (I1 - 3) + C01 (I2 - 3) - a l + b/2 l^2, with I1 - 3 =
+// 2 tr H + |H|^2 and I2 - 3 = 4 tr G + 4 c2(G).
+FM_INLINE fmFloatV fmMooneyRivlinPlainEnergy(const fmMat3V* H, fmFloatV t, fmFloatV l, fmFloatV a,
+                                             fmFloatV b, float c01, float c10)
+{
+	const fmFloatV half = fmV_Set(0.5f), four = fmV_Set(4.0f);
+	fmFloatV i1 = fmV_Add(fmV_Add(t, t), fmMat3V_Contract(H, H));
+	fmMat3V G = fmGreenStrain(H);
+	fmMat3V G2 = fmMat3V_Mul(&G, &G);
+	fmFloatV tG = fmMat3V_Trace(&G);
+	fmFloatV c2 = fmV_Mul(half, fmV_Sub(fmV_Mul(tG, tG), fmMat3V_Trace(&G2)));
+	fmFloatV i2 = fmV_Mul(four, fmV_Add(tG, c2));
+	fmFloatV invariants = fmV_Add(fmV_Mul(fmV_Set(c10), i1), fmV_Mul(fmV_Set(c01), i2));
+	return fmV_Add(fmV_Sub(invariants, fmV_Mul(a, l)), fmV_Mul(fmV_Mul(half, b), fmV_Mul(l, l)));
+}
+
+// Neo-Hookean, and Mooney-Rivlin when @p mooney (C01 = @p c01). Mooney-Rivlin's P = 2 C10 F +
+// 2 C01 (I1 F - F C) + (b l - a) l' cof F (material_invariant.c) with C10 = mu/2 - C01,
+// a = mu + 2 C01, b = lambda - 4 C01; C = I + 2 G and I1 = 3 + 2 tr G give 2 C01 (I1 F - F C) =
+// 2 C01 F + 4 C01 F (tr G I - G), so P = a F + 4 C01 F (tr G I - G) + (b l - a) l' cof F:
+// Neo-Hookean's with mu -> a and lambda -> b, plus a term that G keeps free of cancellation.
+FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, const fmKernelMaterial* material, bool mooney,
+                                  fmMat3V* P, fmFloatV* psi)
 {
 	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f);
+	const float c01 = mooney ? material->c01 : 0.0f;
+	const fmFloatV mu = fmV_Set(material->mu + 2.0f * c01);
+	const fmFloatV lambda = fmV_Set(material->lambda - 4.0f * c01);
 	fmNearIdentity h;
 	fmNearIdentity_Make(H, &h);
 	const fmMat3V HT = h.AT, HT2 = h.AT2;
@@ -320,9 +352,14 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 	fmFloatV beta = fmV_Select(below, fmV_Mul(fmV_Sub(fmV_Mul(lambda, lBelow), mu), dlBelow),
 	                           fmV_Div(fmV_Mul(lambda, lnJ), safeJ));
 	fmFloatV gamma = fmV_Select(below, mu, zero);
-	if (psi)
+	if (psi && mooney)
+		*psi = fmV_Select(
+		    below,
+		    fmMooneyRivlinPlainEnergy(H, t, lBelow, mu, lambda, c01, 0.5f * material->mu - c01),
+		    fmNeoHookeanEnergy(H, mu, lambda, c01));
+	else if (psi)
 		*psi = fmV_Select(below, fmNeoHookeanPlainEnergy(H, t, lBelow, mu, lambda),
-		                  fmNeoHookeanEnergy(H, mu, lambda));
+		                  fmNeoHookeanEnergy(H, mu, lambda, 0.0f));
 
 	for (int k = 0; k < 9; ++k)
 	{
@@ -336,6 +373,16 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda
 		P->m[k] =
 		    fmV_Add(fmV_Add(fmV_Mul(alpha, fjMinusCof), fmV_Mul(beta, cof)), fmV_Mul(gamma, F));
 	}
+	if (!mooney)
+		return;
+	// Mooney-Rivlin's 4 C01 F (tr G I - G) = 4 C01 (tr G F - F G).
+	fmMat3V G = fmGreenStrain(H), F = *H;
+	for (int k = 0; k < 9; k += 4)
+		F.m[k] = fmV_Add(one, F.m[k]);
+	fmMat3V FG = fmMat3V_Mul(&F, &G);
+	fmFloatV trG = fmMat3V_Trace(&G), fourC01 = fmV_Set(4.0f * c01);
+	for (int k = 0; k < 9; ++k)
+		P->m[k] = fmV_Add(P->m[k], fmV_Mul(fourC01, fmV_Sub(fmV_Mul(trG, F.m[k]), FG.m[k])));
 }
 
 FM_INLINE fmFloatV fmV_Max(fmFloatV a, fmFloatV b)
@@ -388,7 +435,9 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
 	else if (model == fm_corotated)
 		fmCorotatedStress(&H, mu, lambda, &P, &fallback, energy);
 	else if (model == fm_neoHookean)
-		fmNeoHookeanStress(&H, mu, lambda, &P, energy);
+		fmNeoHookeanStress(&H, material, false, &P, energy);
+	else if (model == fm_mooneyRivlin)
+		fmNeoHookeanStress(&H, material, true, &P, energy);
 	else
 		fmLinearStress(&H, mu, lambda, &P, energy);
 	// force on node k + 1 = -V0 P (row k of Dm^-1): M = P Dm^-T, column k.
@@ -435,6 +484,7 @@ FM_MODEL_KERNEL(fmKernelLinear, fm_linear)
 FM_MODEL_KERNEL(fmKernelStvk, fm_stvk)
 FM_MODEL_KERNEL(fmKernelNeoHookean, fm_neoHookean)
 FM_MODEL_KERNEL(fmKernelCorotated, fm_corotated)
+FM_MODEL_KERNEL(fmKernelMooneyRivlin, fm_mooneyRivlin)
 
 bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
                                         const fmKernelMaterial* material, fmTetBatchForces* out,
@@ -448,6 +498,8 @@ bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
 		return fmKernelNeoHookean(batch, u, material, out, laneEnergy);
 	case fm_corotated:
 		return fmKernelCorotated(batch, u, material, out, laneEnergy);
+	case fm_mooneyRivlin:
+		return fmKernelMooneyRivlin(batch, u, material, out, laneEnergy);
 	default:
 		return fmKernelLinear(batch, u, material, out, laneEnergy);
 	}

@@ -39,9 +39,10 @@ typedef struct fmTetBatchForces
 // The material as the kernels take it.
 typedef struct fmKernelMaterial
 {
-	fmMaterialModel model; // fm_linear, fm_stvk, fm_neoHookean or fm_corotated
+	fmMaterialModel model; // fm_linear, fm_stvk, fm_neoHookean, fm_mooneyRivlin or fm_corotated
 	float mu;
 	float lambda;
+	float c01; // Mooney-Rivlin's second constant (unused by the other models)
 } fmKernelMaterial;
 
 // fmTetKernel_Forces_<variant>: the forces of one batch, from the displacements u = x - X of

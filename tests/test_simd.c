@@ -133,11 +133,12 @@ static void deform(fmBody* b, double amplitude)
 
 TEST(batched_forces_match_the_reference_kernel)
 {
-	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean, fm_corotated};
+	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean, fm_mooneyRivlin,
+	                                  fm_corotated};
 	// From 1e-7 strain (where forming F = I + H in float would lose every digit) to 30% strain.
 	const double amplitudes[] = {1e-7, 1e-4, 1e-2, 0.1};
 	double worstEnergy = 0.0;
-	for (int m = 0; m < 4; ++m)
+	for (int m = 0; m < 5; ++m)
 		for (int a = 0; a < 4; ++a)
 		{
 			fmWorldId world;
@@ -167,15 +168,17 @@ TEST(batched_forces_match_the_reference_kernel)
 }
 
 // Uniform dilation and compression, F = s I: J = s^3 from 0.008 (below the ln J clamp of 0.2)
-// to 64, and inverted (s < 0): the Neo-Hookean ln J and its continuation, and the corotated
-// polar iteration and its reference fallback for near-flat and inverted tets (J < 0.1).
+// to 64, and inverted (s < 0): the Neo-Hookean and Mooney-Rivlin ln J and its continuation, and
+// the corotated polar iteration and its reference fallback for near-flat and inverted tets
+// (J < 0.1).
 TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 {
 	const double scales[] = {-0.5, 0.2, 0.5, 0.58, 0.6, 0.9, 0.999, 1.001, 1.5, 4.0};
-	for (int c = 0; c < 20; ++c)
+	const fmMaterialModel models[] = {fm_neoHookean, fm_mooneyRivlin, fm_corotated};
+	for (int c = 0; c < 30; ++c)
 	{
 		int s = c % 10;
-		fmMaterialModel model = c < 10 ? fm_neoHookean : fm_corotated;
+		fmMaterialModel model = models[c / 10];
 		fmWorldId world;
 		fmBody* b = fmGetBody(makeBox(&world, model));
 		CHECK(b != NULL);
@@ -198,9 +201,9 @@ TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotation)
 {
 	const double strains[] = {1e-5, 1e-3, 1e-1};
-	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean, fm_corotated};
+	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean, fm_mooneyRivlin, fm_corotated};
 	fmMat3 R = fmTestRandomRotation();
-	for (int m = 0; m < 3; ++m)
+	for (int m = 0; m < 4; ++m)
 		for (int s = 0; s < 3; ++s)
 		{
 			fmWorldId world;
