@@ -15,7 +15,7 @@ bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
 	fmMaterialModel m = body->material.model;
 	return level != fm_simdOff && body->forceModel == fm_fem && body->tetMaterial == NULL &&
 	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_mooneyRivlin ||
-	        m == fm_corotated);
+	        m == fm_neoHookeanIsochoric || m == fm_corotated);
 }
 
 bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)

@@ -15,6 +15,8 @@
 //   Mooney-Rivlin: with a = mu + 2 C01, b = lambda - 4 C01 and G Green's strain, Neo-Hookean's
 //                P with mu -> a and lambda -> b, plus 4 C01 F (tr G I - G) (the I2 term; the
 //                derivation is at fmNeoHookeanStress).
+//   isochoric Neo-Hookean: P = 2 mu J^(-5/3) cof(F) dev(G) + kappa (J - 1) cof F above the clamp
+//                (fmIsochoricStress), J^(-1/3) by Newton's iteration.
 //   corotated:   P = 2 mu (F - R) + lambda (J - 1) cof F, R the rotation of F's polar
 //                decomposition by Newton's iteration X <- (X + X^-T)/2 from X = F, kept as
 //                Y = X - I: X^-T - I = (-det Y I - (1 + tr Y) Y^T + (Y^T)^2) / det X, so F - R =
@@ -273,15 +275,33 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 // of order 1 under a rotation and would cancel): with k = J^2 - 1 = det(I + 2G) - 1 =
 // 2 tr G + 4 c2(G) + 8 det G, ln J = ln(1 + k) / 2 and tr G - ln J = (k - ln(1 + k)) / 2 -
 // 2 c2(G) - 4 det G, every term of second order at small strain.
-// Mooney-Rivlin's (@p c01 > 0, with mu -> a and lambda -> b, fmNeoHookeanStress) adds 4 C01 c2(G).
-FM_NOINLINE fmFloatV fmNeoHookeanEnergy(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, float c01)
+// Green's strain G's invariants: t = tr G, c2 = (t^2 - tr(G^2)) / 2, det G, and
+// k = J^2 - 1 = det(I + 2 G) - 1 = 2 t + 4 c2 + 8 det G, each free of cancellation at small
+// strain.
+typedef struct fmGreenInvariants
+{
+	fmFloatV t, c2, det, k;
+} fmGreenInvariants;
+
+FM_INLINE fmGreenInvariants fmGreenInvariants_Make(const fmMat3V* H)
 {
 	const fmFloatV half = fmV_Set(0.5f), two = fmV_Set(2.0f), four = fmV_Set(4.0f);
 	fmMat3V G = fmGreenStrain(H);
 	fmMat3V G2 = fmMat3V_Mul(&G, &G);
-	fmFloatV t = fmMat3V_Trace(&G), det = fmMat3V_Det(&G);
-	fmFloatV c2 = fmV_Mul(half, fmV_Sub(fmV_Mul(t, t), fmMat3V_Trace(&G2)));
-	fmFloatV k = fmV_Add(fmV_Mul(two, t), fmV_Add(fmV_Mul(four, c2), fmV_Mul(fmV_Set(8.0f), det)));
+	fmGreenInvariants g;
+	g.t = fmMat3V_Trace(&G);
+	g.det = fmMat3V_Det(&G);
+	g.c2 = fmV_Mul(half, fmV_Sub(fmV_Mul(g.t, g.t), fmMat3V_Trace(&G2)));
+	g.k = fmV_Add(fmV_Mul(two, g.t), fmV_Add(fmV_Mul(four, g.c2), fmV_Mul(fmV_Set(8.0f), g.det)));
+	return g;
+}
+
+// Mooney-Rivlin's (@p c01 > 0, with mu -> a and lambda -> b, fmNeoHookeanStress) adds 4 C01 c2(G).
+FM_NOINLINE fmFloatV fmNeoHookeanEnergy(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, float c01)
+{
+	const fmFloatV half = fmV_Set(0.5f), two = fmV_Set(2.0f), four = fmV_Set(4.0f);
+	fmGreenInvariants g = fmGreenInvariants_Make(H);
+	fmFloatV c2 = g.c2, det = g.det, k = g.k;
 	fmFloatV log1pK = fmV_Log1p(k), lnJ = fmV_Mul(half, log1pK);
 	fmFloatV trMinusLn = fmV_Sub(fmV_Mul(half, fmV_JMinusLog1p(k, log1pK)),
 	                             fmV_Add(fmV_Mul(two, c2), fmV_Mul(four, det)));
@@ -310,11 +330,8 @@ FM_INLINE fmFloatV fmMooneyRivlinPlainEnergy(const fmMat3V* H, fmFloatV t, fmFlo
 {
 	const fmFloatV half = fmV_Set(0.5f), four = fmV_Set(4.0f);
 	fmFloatV i1 = fmV_Add(fmV_Add(t, t), fmMat3V_Contract(H, H));
-	fmMat3V G = fmGreenStrain(H);
-	fmMat3V G2 = fmMat3V_Mul(&G, &G);
-	fmFloatV tG = fmMat3V_Trace(&G);
-	fmFloatV c2 = fmV_Mul(half, fmV_Sub(fmV_Mul(tG, tG), fmMat3V_Trace(&G2)));
-	fmFloatV i2 = fmV_Mul(four, fmV_Add(tG, c2));
+	fmGreenInvariants g = fmGreenInvariants_Make(H);
+	fmFloatV i2 = fmV_Mul(four, fmV_Add(g.t, g.c2));
 	fmFloatV invariants = fmV_Add(fmV_Mul(fmV_Set(c10), i1), fmV_Mul(fmV_Set(c01), i2));
 	return fmV_Add(fmV_Sub(invariants, fmV_Mul(a, l)), fmV_Mul(fmV_Mul(half, b), fmV_Mul(l, l)));
 }
@@ -385,6 +402,108 @@ FM_INLINE void fmNeoHookeanStress(const fmMat3V* H, const fmKernelMaterial* mate
 		P->m[k] = fmV_Add(P->m[k], fmV_Mul(fourC01, fmV_Sub(fmV_Mul(trG, F.m[k]), FG.m[k])));
 }
 
+// ---- isochoric Neo-Hookean (CalculiX's, material_invariant.c) ----------------------------------
+// psi = C10 (g I1 - 3) + kappa/2 (J - 1)^2, C10 = mu/2, kappa = lambda + 2/3 mu, g = J^(-2/3)
+// (continued below the clamp c by its Taylor polynomial, as the reference). P = 2 C10 g F +
+// (C10 g' I1 + kappa (J - 1)) cof F; above the clamp g' = -2/3 g / J and F - I1/3 F^-T =
+// F^-T dev(C) = 2 F^-T dev(G), so P = 2 mu (g / J) cof(F) dev(G) + kappa (J - 1) cof F: no term
+// of order one cancels at small strain.
+
+// J^(-1/3) for finite J > 0, from +, -, *, / and bit operations (the same bits on every target):
+// a first guess from the bits (their third by shifts, within 1% of the exponent's third) and
+// four Newton steps y <- y (4 - J y^3) / 3 (the error e goes to about 2 e^2).
+FM_INLINE fmFloatV fmV_InvCbrt(fmFloatV J)
+{
+	fmIntV i = fmV_Bits(J), third = fmI_Set(0);
+	for (int shift = 2; shift <= 16; shift += 2)
+		third = fmI_Add(third, fmI_ShiftRight(i, shift));
+	fmFloatV y = fmV_FromBits(fmI_Sub(fmI_Set(0x54a2fa8c), third));
+	const fmFloatV four = fmV_Set(4.0f), oneThird = fmV_Set(1.0f / 3.0f);
+	for (int k = 0; k < 4; ++k)
+		y = fmV_Mul(fmV_Mul(y, oneThird), fmV_Sub(four, fmV_Mul(J, fmV_Mul(y, fmV_Mul(y, y)))));
+	return y;
+}
+
+// r = 3 ((1 + k)^(-1/3) - 1) + k, of second order in k: its series to k^9 for |k| < 0.15 (the next
+// term below 1e-7 of r), else directly from @p g = (1 + k)^(-1/3).
+FM_INLINE fmFloatV fmIsochoricRemainder(fmFloatV k, fmFloatV g)
+{
+	static const float c[] = {-135850.0f / 531441.0f, 5434.0f / 19683.0f, -1976.0f / 6561.0f,
+	                          728.0f / 2187.0f,       -91.0f / 243.0f,    35.0f / 81.0f,
+	                          -14.0f / 27.0f,         2.0f / 3.0f};
+	fmFloatV series = fmV_Set(c[0]);
+	for (int n = 1; n < 8; ++n)
+		series = fmV_Add(fmV_Set(c[n]), fmV_Mul(k, series));
+	series = fmV_Mul(fmV_Mul(k, k), series);
+	fmFloatV direct = fmV_Add(fmV_Mul(fmV_Set(3.0f), fmV_Sub(g, fmV_Set(1.0f))), k);
+	return fmV_Select(fmV_Less(fmV_Abs(k), fmV_Set(0.15f)), series, direct);
+}
+
+// Above the clamp: C10 (g I1 - 3) with I1 = 3 + 2 tr G, g = 1 + q: 3 q + 2 tr G + 2 q tr G, and
+// 3 q + 2 tr G = r - 4 c2(G) - 8 det G (k = J^2 - 1 = 2 tr G + 4 c2 + 8 det G, as Neo-Hookean's).
+FM_NOINLINE fmFloatV fmIsochoricEnergy(const fmMat3V* H, fmFloatV J, fmFloatV j, fmFloatV mu,
+                                       fmFloatV kappa)
+{
+	const fmFloatV half = fmV_Set(0.5f), two = fmV_Set(2.0f), four = fmV_Set(4.0f);
+	fmGreenInvariants g = fmGreenInvariants_Make(H);
+	fmFloatV t = g.t, c2 = g.c2, det = g.det, k = g.k;
+	fmFloatV y = fmV_InvCbrt(J);
+	fmFloatV r = fmIsochoricRemainder(k, fmV_Mul(y, y));
+	fmFloatV q = fmV_Mul(fmV_Sub(r, k), fmV_Set(1.0f / 3.0f));
+	fmFloatV iso = fmV_Add(fmV_Sub(r, fmV_Add(fmV_Mul(four, c2), fmV_Mul(fmV_Set(8.0f), det))),
+	                       fmV_Mul(two, fmV_Mul(q, t)));
+	return fmV_Add(fmV_Mul(fmV_Mul(half, mu), iso), fmV_Mul(fmV_Mul(half, kappa), fmV_Mul(j, j)));
+}
+
+FM_INLINE void fmIsochoricStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
+                                 fmFloatV* psi)
+{
+	const fmFloatV one = fmV_Set(1.0f), zero = fmV_Set(0.0f), half = fmV_Set(0.5f);
+	const fmFloatV kappa = fmV_Add(lambda, fmV_Mul(fmV_Set(2.0f / 3.0f), mu));
+	fmNearIdentity h;
+	fmNearIdentity_Make(H, &h);
+	fmFloatV J = fmV_Add(one, h.j), onePlusT = fmV_Add(one, h.t);
+	// Below the clamp c = 0.2: g = gc + g1 d + g2 d^2 / 2, g' = g1 + g2 d, d = J - c.
+	const float clamp = 0.2f, gc = 2.9240177382128656f, g1 = -9.746725794042884f,
+	            g2 = 81.22271495035737f;
+	fmIntV below = fmV_Less(J, fmV_Set(clamp));
+	fmFloatV d = fmV_Sub(J, fmV_Set(clamp));
+	fmFloatV gBelow =
+	    fmV_Add(fmV_Set(gc), fmV_Mul(d, fmV_Add(fmV_Set(g1), fmV_Mul(fmV_Set(0.5f * g2), d))));
+	fmFloatV dgBelow = fmV_Add(fmV_Set(g1), fmV_Mul(fmV_Set(g2), d));
+	fmFloatV i1 = fmV_Add(fmV_Set(3.0f), fmV_Add(fmV_Add(h.t, h.t), fmMat3V_Contract(H, H)));
+	// Above it (J >= c > 0): 2 mu g / J, with g = (J^(-1/3))^2.
+	fmFloatV safeJ = fmV_Select(below, one, J), y = fmV_InvCbrt(safeJ);
+	fmFloatV alpha = fmV_Div(fmV_Mul(fmV_Add(mu, mu), fmV_Mul(y, y)), safeJ);
+	fmFloatV gammaBelow = fmV_Mul(mu, gBelow);
+	fmFloatV beta =
+	    fmV_Add(fmV_Select(below, fmV_Mul(fmV_Mul(half, mu), fmV_Mul(dgBelow, i1)), zero),
+	            fmV_Mul(kappa, h.j));
+	fmMat3V cof, G = fmGreenStrain(H);
+	for (int k = 0; k < 9; ++k)
+	{
+		fmFloatV diag = (k % 4 == 0) ? fmV_Add(onePlusT, h.c2) : zero;
+		cof.m[k] = fmV_Add(fmV_Sub(diag, fmV_Mul(onePlusT, h.AT.m[k])), h.AT2.m[k]);
+	}
+	fmFloatV trG3 = fmV_Mul(fmMat3V_Trace(&G), fmV_Set(1.0f / 3.0f));
+	for (int k = 0; k < 9; k += 4)
+		G.m[k] = fmV_Sub(G.m[k], trG3); // dev(G)
+	fmMat3V M = fmMat3V_Mul(&cof, &G);
+	for (int k = 0; k < 9; ++k)
+	{
+		fmFloatV F = (k % 4 == 0) ? fmV_Add(one, H->m[k]) : H->m[k];
+		fmFloatV first = fmV_Select(below, fmV_Mul(gammaBelow, F), fmV_Mul(alpha, M.m[k]));
+		P->m[k] = fmV_Add(first, fmV_Mul(beta, cof.m[k]));
+	}
+	if (psi)
+	{
+		fmFloatV plain =
+		    fmV_Add(fmV_Mul(fmV_Mul(half, mu), fmV_Sub(fmV_Mul(gBelow, i1), fmV_Set(3.0f))),
+		            fmV_Mul(fmV_Mul(half, kappa), fmV_Mul(h.j, h.j)));
+		*psi = fmV_Select(below, plain, fmIsochoricEnergy(H, safeJ, h.j, mu, kappa));
+	}
+}
+
 FM_INLINE fmFloatV fmV_Max(fmFloatV a, fmFloatV b)
 {
 	return fmV_Select(fmV_Less(a, b), b, a);
@@ -438,6 +557,8 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
 		fmNeoHookeanStress(&H, material, false, &P, energy);
 	else if (model == fm_mooneyRivlin)
 		fmNeoHookeanStress(&H, material, true, &P, energy);
+	else if (model == fm_neoHookeanIsochoric)
+		fmIsochoricStress(&H, mu, lambda, &P, energy);
 	else
 		fmLinearStress(&H, mu, lambda, &P, energy);
 	// force on node k + 1 = -V0 P (row k of Dm^-1): M = P Dm^-T, column k.
@@ -485,6 +606,7 @@ FM_MODEL_KERNEL(fmKernelStvk, fm_stvk)
 FM_MODEL_KERNEL(fmKernelNeoHookean, fm_neoHookean)
 FM_MODEL_KERNEL(fmKernelCorotated, fm_corotated)
 FM_MODEL_KERNEL(fmKernelMooneyRivlin, fm_mooneyRivlin)
+FM_MODEL_KERNEL(fmKernelIsochoric, fm_neoHookeanIsochoric)
 
 bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u,
                                         const fmKernelMaterial* material, fmTetBatchForces* out,
@@ -500,6 +622,8 @@ bool FM_KERNEL_NAME(fmTetKernel_Forces)(const fmTetBatch* batch, const double* u
 		return fmKernelCorotated(batch, u, material, out, laneEnergy);
 	case fm_mooneyRivlin:
 		return fmKernelMooneyRivlin(batch, u, material, out, laneEnergy);
+	case fm_neoHookeanIsochoric:
+		return fmKernelIsochoric(batch, u, material, out, laneEnergy);
 	default:
 		return fmKernelLinear(batch, u, material, out, laneEnergy);
 	}

@@ -39,7 +39,7 @@ typedef struct fmTetBatchForces
 // The material as the kernels take it.
 typedef struct fmKernelMaterial
 {
-	fmMaterialModel model; // fm_linear, fm_stvk, fm_neoHookean, fm_mooneyRivlin or fm_corotated
+	fmMaterialModel model; // linear, StVK, (isochoric) Neo-Hookean, Mooney-Rivlin or corotated
 	float mu;
 	float lambda;
 	float c01; // Mooney-Rivlin's second constant (unused by the other models)

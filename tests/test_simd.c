@@ -133,12 +133,12 @@ static void deform(fmBody* b, double amplitude)
 
 TEST(batched_forces_match_the_reference_kernel)
 {
-	const fmMaterialModel models[] = {fm_linear, fm_stvk, fm_neoHookean, fm_mooneyRivlin,
-	                                  fm_corotated};
+	const fmMaterialModel models[] = {fm_linear,       fm_stvk,      fm_neoHookean,
+	                                  fm_mooneyRivlin, fm_corotated, fm_neoHookeanIsochoric};
 	// From 1e-7 strain (where forming F = I + H in float would lose every digit) to 30% strain.
 	const double amplitudes[] = {1e-7, 1e-4, 1e-2, 0.1};
 	double worstEnergy = 0.0;
-	for (int m = 0; m < 5; ++m)
+	for (int m = 0; m < 6; ++m)
 		for (int a = 0; a < 4; ++a)
 		{
 			fmWorldId world;
@@ -174,8 +174,9 @@ TEST(batched_forces_match_the_reference_kernel)
 TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 {
 	const double scales[] = {-0.5, 0.2, 0.5, 0.58, 0.6, 0.9, 0.999, 1.001, 1.5, 4.0};
-	const fmMaterialModel models[] = {fm_neoHookean, fm_mooneyRivlin, fm_corotated};
-	for (int c = 0; c < 30; ++c)
+	const fmMaterialModel models[] = {fm_neoHookean, fm_mooneyRivlin, fm_neoHookeanIsochoric,
+	                                  fm_corotated};
+	for (int c = 0; c < 40; ++c)
 	{
 		int s = c % 10;
 		fmMaterialModel model = models[c / 10];
@@ -187,7 +188,12 @@ TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 		for (int k = 0; k < 3 * b->vertexCount; ++k)
 			b->x[k] = scales[s] * b->x0[k] + (k % 3 == 1 ? 0.01 * b->x0[k - 1] : 0.0);
 		double energyErr, err = relativeError(failures_, b, &energyErr, false);
-		if (!(err < 5e-6) || !(energyErr < 5e-6)) // 1e-7 above the clamp, 2.4e-6 far below it
+		// 1e-7 above the clamp, 2.4e-6 far below it. Isochoric Neo-Hookean at F = 0.5 I (J =
+		// 0.125, below the clamp) is the exception: its stress's terms nearly cancel there (mu g F
+		// = 1.94 mu, C10 g' I1 cof F = -1.49 mu, kappa (J - 1) cof F = -0.47 mu at nu = 0.3: the
+		// net is 1% of them), so float's 1e-7 of the terms is 1e-5 of the net (measured 1.0e-5).
+		double bound = model == fm_neoHookeanIsochoric && scales[s] == 0.5 ? 2e-5 : 5e-6;
+		if (!(err < bound) || !(energyErr < 5e-6))
 			FAIL_AT("%s, F = %g I (plus shear): relative error %g, energy's %g",
 			        fmMaterialModelName(model), scales[s], err, energyErr);
 		fmDestroyWorld(world);
@@ -201,9 +207,10 @@ TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotation)
 {
 	const double strains[] = {1e-5, 1e-3, 1e-1};
-	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean, fm_mooneyRivlin, fm_corotated};
+	const fmMaterialModel models[] = {fm_stvk, fm_neoHookean, fm_mooneyRivlin,
+	                                  fm_neoHookeanIsochoric, fm_corotated};
 	fmMat3 R = fmTestRandomRotation();
-	for (int m = 0; m < 4; ++m)
+	for (int m = 0; m < 5; ++m)
 		for (int s = 0; s < 3; ++s)
 		{
 			fmWorldId world;
