@@ -142,6 +142,11 @@ static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
 		def.cgIterations = 1 + def.cgIterations % 100;
 	if (def.maxBodies > 64 && def.maxBodies <= (1 << 20))
 		def.maxBodies = 1 + def.maxBodies % 64;
+	// The frame budget too: a collapsing body runs its whole budget of substeps before the frame
+	// is refused, which at the default (FM_MAX_SUBSTEPS) took 10 s of an instrumented build
+	// (tests/data/fuzz/api_collapse_substep_budget).
+	if (def.maxSubstepsPerFrame > 1000 && def.maxSubstepsPerFrame <= FM_MAX_SUBSTEPS)
+		def.maxSubstepsPerFrame = 1000;
 	return def;
 }
 
