@@ -809,6 +809,9 @@ static fmResult fmFixedSubsteps(fmWorld* w, double h, int count)
 	return r;
 }
 
+// Substeps between autoSubstep's checks for non-finite state within a frame.
+#define FM_FINITE_CHECK_SUBSTEPS 256
+
 // autoSubstep: substeps planned by fmAutoStep_Next until the frame is done. @p lastStep gets the
 // length of the last one (the ledger measures the shadow energy with it).
 static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep, int count,
@@ -827,6 +830,11 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		fmResult r = fmSubstep(w, h);
 		if (r != fm_ok)
 			return r;
+		// A body gone non-finite (collapsed, or blown up by substeps the budget made longer than
+		// stable) is refused now, not after the rest of the frame's substeps.
+		for (int i = 0; w->stats.steps % FM_FINITE_CHECK_SUBSTEPS == 0 && i < w->bodyCapacity; ++i)
+			if (fmIsland_Stepping(&w->bodies[i]) && fmFirstNonFiniteVertex(&w->bodies[i]) >= 0)
+				return fmReportBadBody(w, i, fm_badState, NAN, 0.0, 0.0);
 		remaining -= h;
 		if (!(remaining > 1e-12 * timeStep))
 			break;

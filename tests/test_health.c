@@ -417,3 +417,32 @@ TEST(frame_budget_caps_the_work_of_a_frame)
 	CHECK(fmWorld_GetStepStats(world).budgetHit);
 	fmDestroyWorld(world);
 }
+
+// A body blown up within a frame (here by substeps the frame budget made 50 times longer than
+// stable) is refused at the next check, every 256 substeps, not after the frame's whole budget of
+// substeps: a collapsing body used to run 100000 of them (seconds) before the frame was refused.
+TEST(a_body_gone_non_finite_is_refused_within_the_frame)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.autoSubstep = true;
+	wdef.maxSubstepsPerFrame = 20000;
+	wdef.floor.enabled = false;
+	fmWorldId world;
+	fmBodyId body = makeBody(&world, &wdef, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(0.1, 0.1, 0.1),
+	                         fmMakeMaterial(fm_stvk, 1e11, 0.3), 1000.0);
+	CHECK(fmBody_IsValid(body));
+	double limit = fmWorld_EstimateExplicitStep(world);
+	double frame = 50.0 * limit * wdef.maxSubstepsPerFrame;
+	fmBody_ApplyVertexImpulse(body, 0, fmMakeVec3(1e-3, 0, 0));
+	double before[3 * 27], after[3 * 27];
+	CHECK_INT(fmBody_GetVertexCount(body), 27);
+	fmBody_CopyPositions(body, before, 27);
+	CHECK_INT(fmWorld_Step(world, frame, 1), fm_errNumerical);
+	fmStepStats stats = fmWorld_GetStepStats(world);
+	printf("  refused after %d substeps of %d budgeted\n", stats.steps, wdef.maxSubstepsPerFrame);
+	CHECK(stats.steps < wdef.maxSubstepsPerFrame / 4);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "non-finite");
+	fmBody_CopyPositions(body, after, 27);
+	CHECK(memcmp(before, after, sizeof before) == 0); // restored to the frame's start
+	fmDestroyWorld(world);
+}
