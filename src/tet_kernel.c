@@ -336,7 +336,7 @@ FM_INLINE fmFloatV fmMooneyRivlinPlainEnergy(const fmMat3V* H, fmFloatV t, fmFlo
 	return fmV_Add(fmV_Sub(invariants, fmV_Mul(a, l)), fmV_Mul(fmV_Mul(half, b), fmV_Mul(l, l)));
 }
 
-// Neo-Hookean, and Mooney-Rivlin when @p mooney (C01 = @p c01). Mooney-Rivlin's P = 2 C10 F +
+// Neo-Hookean, and Mooney-Rivlin when @p mooney (C01 from @p material). Its P = 2 C10 F +
 // 2 C01 (I1 F - F C) + (b l - a) l' cof F (material_invariant.c) with C10 = mu/2 - C01,
 // a = mu + 2 C01, b = lambda - 4 C01; C = I + 2 G and I1 = 3 + 2 tr G give 2 C01 (I1 F - F C) =
 // 2 C01 F + 4 C01 F (tr G I - G), so P = a F + 4 C01 F (tr G I - G) + (b l - a) l' cof F:
