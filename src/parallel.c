@@ -53,7 +53,7 @@ struct fmTaskPool
 	fmTaskCallback* task;
 	void* context;
 	int itemCount;
-	bool deterministicMath; // the det_math mode of the thread that started the loop
+	bool deterministicMath;       // the det_math mode of the thread that started the loop
 	atomic_uint_least64_t claims; // range count << 32 | ranges claimed
 	atomic_int rangesLeft;        // ranges not finished
 	atomic_uint loopId;           // changes with every loop
