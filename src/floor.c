@@ -136,6 +136,8 @@ bool fmFloorTaken_Make(fmFloorTaken* taken, fmArena* arena, int vertexCount)
 void fmFloor_RespondRange(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int start, int end,
                           double dt, fmFloorTaken* taken)
 {
+	if (start >= end) // (an engine's job system may hand out an empty range: nothing to list)
+		return;
 	int count = 0;
 	for (int i = start; i < end; ++i)
 		if (fmFloor_Takes(b, i, floor->height))

@@ -221,6 +221,14 @@ FM_INLINE void fmNearIdentity_Make(const fmMat3V* A, fmNearIdentity* n)
 	n->j = fmV_Add(fmV_Add(n->t, n->c2), n->det);
 }
 
+// Entry @p k (row-major) of cof(I + A) = (1 + t + c2) I - (1 + t) A^T + (A^T)^2.
+FM_INLINE fmFloatV fmNearIdentity_Cofactor(const fmNearIdentity* n, int k)
+{
+	const fmFloatV onePlusT = fmV_Add(fmV_Set(1.0f), n->t);
+	fmFloatV diag = (k % 4 == 0) ? fmV_Add(onePlusT, n->c2) : fmV_Set(0.0f);
+	return fmV_Add(fmV_Sub(diag, fmV_Mul(onePlusT, n->AT.m[k])), n->AT2.m[k]);
+}
+
 // Corotated; @p fallback gets the lanes left to the reference.
 FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMat3V* P,
                                  fmIntV* fallback, fmFloatV* psi)
@@ -255,12 +263,11 @@ FM_INLINE void fmCorotatedStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 	}
 	*fallback = fmI_Or(flat, moving);
 	// psi = mu |F - R|^2 + lambda/2 (J - 1)^2, F - R = H - Y.
-	fmFloatV twoMu = fmV_Add(mu, mu), lj = fmV_Mul(lambda, h.j), onePlusT = fmV_Add(one, h.t);
+	fmFloatV twoMu = fmV_Add(mu, mu), lj = fmV_Mul(lambda, h.j);
 	fmFloatV stretch = zero;
 	for (int k = 0; k < 9; ++k)
 	{
-		fmFloatV diag = (k % 4 == 0) ? fmV_Add(onePlusT, h.c2) : zero;
-		fmFloatV cof = fmV_Add(fmV_Sub(diag, fmV_Mul(onePlusT, h.AT.m[k])), h.AT2.m[k]);
+		fmFloatV cof = fmNearIdentity_Cofactor(&h, k);
 		fmFloatV d = fmV_Sub(H->m[k], Y.m[k]);
 		stretch = fmV_Add(stretch, fmV_Mul(d, d));
 		P->m[k] = fmV_Add(fmV_Mul(twoMu, d), fmV_Mul(lj, cof));
@@ -441,13 +448,13 @@ FM_INLINE fmFloatV fmIsochoricRemainder(fmFloatV k, fmFloatV g)
 
 // Above the clamp: C10 (g I1 - 3) with I1 = 3 + 2 tr G, g = 1 + q: 3 q + 2 tr G + 2 q tr G, and
 // 3 q + 2 tr G = r - 4 c2(G) - 8 det G (k = J^2 - 1 = 2 tr G + 4 c2 + 8 det G, as Neo-Hookean's).
-FM_NOINLINE fmFloatV fmIsochoricEnergy(const fmMat3V* H, fmFloatV J, fmFloatV j, fmFloatV mu,
+// @p y = J^(-1/3), @p j = J - 1.
+FM_NOINLINE fmFloatV fmIsochoricEnergy(const fmMat3V* H, fmFloatV y, fmFloatV j, fmFloatV mu,
                                        fmFloatV kappa)
 {
 	const fmFloatV half = fmV_Set(0.5f), two = fmV_Set(2.0f), four = fmV_Set(4.0f);
 	fmGreenInvariants g = fmGreenInvariants_Make(H);
 	fmFloatV t = g.t, c2 = g.c2, det = g.det, k = g.k;
-	fmFloatV y = fmV_InvCbrt(J);
 	fmFloatV r = fmIsochoricRemainder(k, fmV_Mul(y, y));
 	fmFloatV q = fmV_Mul(fmV_Sub(r, k), fmV_Set(1.0f / 3.0f));
 	fmFloatV iso = fmV_Add(fmV_Sub(r, fmV_Add(fmV_Mul(four, c2), fmV_Mul(fmV_Set(8.0f), det))),
@@ -462,7 +469,7 @@ FM_INLINE void fmIsochoricStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 	const fmFloatV kappa = fmV_Add(lambda, fmV_Mul(fmV_Set(2.0f / 3.0f), mu));
 	fmNearIdentity h;
 	fmNearIdentity_Make(H, &h);
-	fmFloatV J = fmV_Add(one, h.j), onePlusT = fmV_Add(one, h.t);
+	fmFloatV J = fmV_Add(one, h.j);
 	// Below the clamp c = 0.2: g = gc + g1 d + g2 d^2 / 2, g' = g1 + g2 d, d = J - c.
 	const float clamp = 0.2f, gc = 2.9240177382128656f, g1 = -9.746725794042884f,
 	            g2 = 81.22271495035737f;
@@ -481,10 +488,7 @@ FM_INLINE void fmIsochoricStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 	            fmV_Mul(kappa, h.j));
 	fmMat3V cof, G = fmGreenStrain(H);
 	for (int k = 0; k < 9; ++k)
-	{
-		fmFloatV diag = (k % 4 == 0) ? fmV_Add(onePlusT, h.c2) : zero;
-		cof.m[k] = fmV_Add(fmV_Sub(diag, fmV_Mul(onePlusT, h.AT.m[k])), h.AT2.m[k]);
-	}
+		cof.m[k] = fmNearIdentity_Cofactor(&h, k);
 	fmFloatV trG3 = fmV_Mul(fmMat3V_Trace(&G), fmV_Set(1.0f / 3.0f));
 	for (int k = 0; k < 9; k += 4)
 		G.m[k] = fmV_Sub(G.m[k], trG3); // dev(G)
@@ -500,7 +504,7 @@ FM_INLINE void fmIsochoricStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda,
 		fmFloatV plain =
 		    fmV_Add(fmV_Mul(fmV_Mul(half, mu), fmV_Sub(fmV_Mul(gBelow, i1), fmV_Set(3.0f))),
 		            fmV_Mul(fmV_Mul(half, kappa), fmV_Mul(h.j, h.j)));
-		*psi = fmV_Select(below, plain, fmIsochoricEnergy(H, safeJ, h.j, mu, kappa));
+		*psi = fmV_Select(below, plain, fmIsochoricEnergy(H, y, h.j, mu, kappa));
 	}
 }
 
