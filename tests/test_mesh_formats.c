@@ -986,13 +986,6 @@ TEST(gmsh_made_files)
 	fmFreeTetMesh(&first);
 }
 
-static bool haveTool(const char* name)
-{
-	char command[128];
-	snprintf(command, sizeof command, "command -v %s >/dev/null 2>&1", name);
-	return system(command) == 0;
-}
-
 // Gmsh, TetGen and meshio run here, when installed, on the unit cube: every route gives volume 1.
 TEST(real_tools_cube_volume)
 {
@@ -1001,8 +994,9 @@ TEST(real_tools_cube_volume)
 	char command[1024], path[256];
 	fmTetMesh mesh;
 	fmDiagnostic diag;
-	if (!haveTool("gmsh"))
-		printf("  skipped gmsh: not installed (scripts/install-deps.sh installs Debian's gmsh)\n");
+	if (!fmTestHaveProgram("gmsh"))
+		TEST_SKIP("gmsh is not installed (scripts/install-deps.sh installs Debian's gmsh): the "
+		          "cube in Gmsh's formats is not read");
 	else
 	{
 		static const char* const formats[][2] = {
@@ -1020,9 +1014,9 @@ TEST(real_tools_cube_volume)
 			fmFreeTetMesh(&mesh);
 		}
 	}
-	if (!haveTool("tetgen"))
-		printf(
-		    "  skipped tetgen: not installed (scripts/install-deps.sh installs Debian's tetgen)\n");
+	if (!fmTestHaveProgram("tetgen"))
+		TEST_SKIP("tetgen is not installed (scripts/install-deps.sh installs Debian's tetgen): "
+		          "TetGen's cube is not read");
 	else
 	{
 		// The unit cube as a TetGen .poly (8 points, 6 facets), meshed with a volume bound and
@@ -1071,8 +1065,8 @@ TEST(real_tools_cube_volume)
 	// meshio (Debian's python3-meshio) writes .vtu the way most Python tools do: zlib-compressed
 	// base64 by default, plain base64, ascii; and VTK 5.1 legacy files.
 	if (system("/usr/bin/python3 -c 'import meshio' >/dev/null 2>&1") != 0)
-		printf(
-		    "  skipped meshio: not installed (scripts/install-deps.sh installs python3-meshio)\n");
+		TEST_SKIP("meshio is not installed (scripts/install-deps.sh installs python3-meshio): "
+		          "its .vtu and .vtk files are not read");
 	else
 	{
 		snprintf(path, sizeof path, "%s/convert.py", dir);

@@ -1,7 +1,7 @@
 # Tests of the renderer and the viewer (viewer/): the pictures of femto run --gif/--png decode
 # to what was asked, and femto view plays a script under a virtual display. Included by
 # cli_tests.cmake. Where the viewer's packages (or xvfb) are missing the tests are reported as
-# skipped, with the reason, not failed.
+# skipped, with the reason (femto_missing_tool_test), and fail under CI=true.
 set(FEMTO_VIEW_WORK ${CMAKE_CURRENT_BINARY_DIR}/viewer_work)
 set(FEMTO_VIEW_DATA ${PROJECT_SOURCE_DIR}/viewer/tests)
 file(MAKE_DIRECTORY ${FEMTO_VIEW_WORK})
@@ -18,9 +18,7 @@ femto_cli_test(gif_bad_target ARGS "run|--png|d|--camera-target|1,2" CODE 2
   REGEX "--camera-target: expected X,Y,Z")
 
 if(NOT TARGET femto_viewer)
-  add_test(NAME viewer_skipped COMMAND sh -c
-    "echo 'skipped: femto was built without the renderer (apt-get install libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev)'; exit 77")
-  set_tests_properties(viewer_skipped PROPERTIES SKIP_RETURN_CODE 77)
+  femto_missing_tool_test(viewer_skipped "femto was built without the renderer (apt-get install libepoxy-dev libegl-dev libgl-dev libgif-dev libspng-dev)")
   femto_cli_test(gif_without_renderer ARGS "run|--frames|1|--gif|${FEMTO_VIEW_WORK}/x.gif" CODE 1
     REGEX "--gif needs femto's renderer.*apt-get install" REJECT "note: builtin:house")
   femto_cli_test(view_without_renderer ARGS "view" CODE 1 REGEX "femto view needs.*apt-get install")
@@ -64,9 +62,7 @@ if(FEMTO_SANITIZE)
 endif()
 
 if(NOT TARGET femto_view)
-  add_test(NAME viewer_window_skipped COMMAND sh -c
-    "echo 'skipped: femto view was not built (apt-get install libglfw3-dev libimgui-dev g++)'; exit 77")
-  set_tests_properties(viewer_window_skipped PROPERTIES SKIP_RETURN_CODE 77)
+  femto_missing_tool_test(viewer_window_skipped "femto view was not built (apt-get install libglfw3-dev libimgui-dev g++)")
   femto_cli_test(view_without_window ARGS "view" CODE 1 REGEX "femto view needs.*apt-get install")
   return()
 endif()

@@ -1,13 +1,12 @@
 #!/bin/sh
 # The viewer under a virtual display: femto view plays a script with a drag, a jump and a slider,
 # the same script without the drag, and one with every key, slider and view and the panel on; femto_check_images checks the screenshots and the
-# report (docs/viewer.md, "Tests"). Exit 77 (CTest: skipped) without xvfb-run.
+# report (docs/viewer.md, "Tests"). Without xvfb-run: exit 77 (CTest: skipped), a failure under CI=true.
 #   view_test.sh FEMTO CHECK_IMAGES SCRIPTS_DIR WORK_DIR
 set -eu
 femto=$1 check=$2 scripts=$3 work=$4
 if ! command -v xvfb-run >/dev/null 2>&1; then
-  echo "skipped: xvfb-run is not installed (apt-get install xvfb)"
-  exit 77
+  exec sh "$(dirname "$0")/../../tests/missing_tool.sh" "xvfb-run is not installed (apt-get install xvfb): femto view is not tested"
 fi
 mkdir -p "$work"
 rm -f "$work"/drag.png "$work"/drag.txt "$work"/no_drag.png "$work"/no_drag.txt
