@@ -2,11 +2,15 @@
 // fuzzer's bytes, with a fuzzed material, force model, mass, damping, floor, gravity and pins,
 // takes a few frames with each integrator (switched between frames) and a short static solve.
 // Any failure must come back as a result code: never a crash, hang, leak, assert or undefined
-// behaviour. Input: a header of structured values (fuzz_reader.h), then the mesh as raw nodes
+// behaviour; and a body is never left non-finite: after every step and static solve, whatever it
+// returned, its positions, velocities and energies are finite (a failed step restores the last
+// good state), or the fuzzer traps. Input: a header of structured values (fuzz_reader.h), then the mesh as raw nodes
 // and tets, a generated box, or TetGen text ("<node text>\n%%\n<ele text>").
 #include "fuzz_reader.h"
 
 #include <femto/femto.h>
+
+#include <stdlib.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
@@ -120,6 +124,26 @@ static fmVec3 fuzzVector(fmFuzzReader* r, double lo, double hi)
 	return fmMakeVec3(isnan(v.x) ? 0.0 : v.x, isnan(v.y) ? 0.0 : v.y, isnan(v.z) ? 0.0 : v.z);
 }
 
+// Traps (a crash the fuzzer and the replay report) when the body's state is not finite.
+static void checkFinite(fmBodyId body)
+{
+	int n = fmBody_GetVertexCount(body);
+	double* state = malloc(sizeof(double) * 6 * (size_t)n);
+	if (state == NULL)
+		return;
+	if (fmBody_CopyPositions(body, state, n) != fm_ok ||
+	    fmBody_CopyVelocities(body, state + 3 * (size_t)n, n) != fm_ok)
+		__builtin_trap();
+	for (size_t k = 0; k < 6 * (size_t)n; ++k)
+		if (!isfinite(state[k]))
+			__builtin_trap();
+	free(state);
+	fmBodyStats stats = fmBody_GetStats(body);
+	if (!isfinite(stats.kineticEnergy) || !isfinite(stats.elasticEnergy) ||
+	    !isfinite(stats.centerOfMass.x + stats.centerOfMass.y + stats.centerOfMass.z))
+		__builtin_trap();
+}
+
 // Pins, rollers and a pin box, a kick; then frames with each integrator and a static solve.
 static void fuzzRun(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
@@ -150,6 +174,7 @@ static void fuzzRun(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 		{
 			double dt = s_steps[fmFuzzPick(r, 6)];
 			fmWorld_Step(world, dt, 1 + fmFuzzPick(r, 3));
+			checkFinite(body);
 			(void)fmWorld_GetLastError(world);
 			(void)fmWorld_GetStepStats(world);
 		}
@@ -164,6 +189,7 @@ static void fuzzRun(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 		double residual;
 		fmBody_SolveStatic(body, pow(10.0, -fmFuzzDouble(r, 1.0, 10.0)), 1 + fmFuzzPick(r, 5),
 		                   &residual, NULL);
+		checkFinite(body);
 	}
 	double forces[3 * fuzz_maxNodes];
 	if (n <= fuzz_maxNodes)

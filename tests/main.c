@@ -81,6 +81,12 @@ void fmTestSkipped(int* failures, const char* file, int line, const char* reason
 	++s_skipCount;
 }
 
+int fmTestCount(int full, int quick)
+{
+	const char* q = getenv("FEMTO_TEST_QUICK");
+	return q != NULL && strcmp(q, "1") == 0 ? quick : full;
+}
+
 bool fmTestHaveProgram(const char* name)
 {
 	char command[160];

@@ -16,6 +16,11 @@ void fmRegisterTest(const char* file, const char* name, fmTestFcn* fcn);
 void fmTestSkipped(int* failures, const char* file, int line, const char* reason);
 #define TEST_SKIP(reason) fmTestSkipped(failures_, __FILE__, __LINE__, reason)
 
+// The size of a slow test's loop: @p full, or @p quick where FEMTO_TEST_QUICK=1 (the
+// sanitizer and ThreadSanitizer runs set it; the Release suite runs the full count). A quick
+// count must still test the same thing (the test's own checks hold at both).
+int fmTestCount(int full, int quick);
+
 // Whether a program is on PATH (command -v).
 bool fmTestHaveProgram(const char* name);
 
