@@ -191,10 +191,16 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 bool cliBenchPeer_Rows(const char* program, const cliBenchMeshSet* set, const char* folder,
                        int repeats, cliBenchReport* report)
 {
+	// The peer built beside femto is named relative to the build folder: the report goes into
+	// docs/ and must not carry the path of the machine it ran on.
+	const char* shown = program;
+	const char* inBuild = strstr(program, "/bench/peers/");
+	if (cliBulletBuilt != NULL && strcmp(program, cliBulletBuilt) == 0 && inBuild != NULL)
+		shown = inBuild + 1;
 	printf("Bullet's deformable world (%s): implicit Neo-Hookean, same mesh, Lame constants, "
 	       "masses, gravity and floor, 1/60 s frames after 1 s of settling, median of %d; "
 	       "femto: implicit Neo-Hookean, game tolerance, 1 worker\n",
-	       program, repeats);
+	       shown, repeats);
 	printf("%-10s %9s %15s %14s %13s  %s\n", "mesh", "tets", "bullet ms/frame", "femto ms/frame",
 	       "bullet/femto", "bullet state");
 	bool ok = true;

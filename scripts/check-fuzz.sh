@@ -45,4 +45,19 @@ for target in build-fuzz/fuzz/fuzz_*; do
     }
   grep -E "stat::number_of_executed_units|cov:" "build-fuzz/$name.log" | tail -n 2 || true
 done
+# The README states how many fuzzers run for how long: those counts are these.
+long=0 short=0
+for target in build-fuzz/fuzz/fuzz_*; do
+  [ -x "$target" ] || continue
+  case "$(basename "$target")" in
+    fuzz_obj | fuzz_gmsh | fuzz_vtk | fuzz_vtu | fuzz_medit) short=$((short + 1)) ;;
+    *) long=$((long + 1)) ;;
+  esac
+done
+stated=$(sed -n 's/.*the fuzzers (\([0-9]*\) targets \([0-9]*\) s each.*/\1 \2/p' README.md | head -n 1)
+stated_short=$(sed -n 's/.*the \([0-9]*\) surface and mesh format readers \([0-9]*\) s each.*/\1 \2/p' README.md | head -n 1)
+if [ "$stated" != "$long ${FEMTO_FUZZ_SECONDS:-60}" ] || [ "$stated_short" != "$short ${FEMTO_FUZZ_FORMAT_SECONDS:-30}" ]; then
+  echo "check-fuzz: ran $long targets for ${FEMTO_FUZZ_SECONDS:-60} s and $short for ${FEMTO_FUZZ_FORMAT_SECONDS:-30} s; README.md says '${stated:-?}' and '${stated_short:-?}' (update it)" >&2
+  [ -z "${FEMTO_FUZZ_SECONDS:-}${FEMTO_FUZZ_FORMAT_SECONDS:-}" ] && exit 1
+fi
 echo "check-fuzz: all fuzzers clean"

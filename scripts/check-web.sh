@@ -15,15 +15,19 @@
 #      opens the page from a local server: no console error, the canvas not blank, the house's
 #      pixels move, a scripted drag lifts the house, the build without SIMD runs; it prints the
 #      page's step cost.
-# A part whose tools cannot be had (no emcc, no Node.js 20.10+, no chromium) is skipped with the
-# reason, exit status 0; a part that runs and fails fails the check.
+# The tools are checked first (installed when missing, unless FEMTO_NO_INSTALL=1): emcc, Node.js
+# 18 or newer, chromium, and a WebSocket client for Node.js (its own from 22, behind
+# --experimental-websocket from 20.10, else the `ws` module: Debian's node-ws). Under CI=true a
+# missing tool fails the check at once, naming what it could not test; elsewhere the parts that
+# need it are skipped with the reason.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export DEBIAN_FRONTEND=noninteractive
+export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}" # emcc's acorn, node-ws
 
 install() { # command package: install a Debian package when its command is missing
   command -v "$1" >/dev/null && return 0
-  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+  if [ "${FEMTO_NO_INSTALL:-0}" != 1 ] && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
     echo "check-web: installing $2"
     apt-get install -y --no-install-recommends "$2" >/dev/null 2>&1 ||
       { apt-get update >/dev/null 2>&1 && apt-get install -y --no-install-recommends "$2" >/dev/null 2>&1; } ||
@@ -32,25 +36,64 @@ install() { # command package: install a Debian package when its command is miss
   command -v "$1" >/dev/null
 }
 
-if ! install emcc emscripten; then
-  echo "check-web: SKIPPED: emscripten cannot be installed (apt-get install emscripten)"
-  exit 0
-fi
+missing=() # what cannot be tested, and why
+have_emcc=true have_browser=true
+install emcc emscripten || { have_emcc=false; missing+=("the WebAssembly build: emcc is missing (apt-get install emscripten)"); }
 node_major=$(node -p 'process.versions.node.split(".")[0]' 2>/dev/null || echo 0)
 if [ "$node_major" -lt 18 ]; then
-  echo "check-web: SKIPPED: Node.js 18 or newer needed (found: $(node --version 2>/dev/null || echo none))"
-  exit 0
+  have_emcc=false
+  missing+=("the WebAssembly build under Node.js: Node.js 18 or newer needed (found: $(node --version 2>/dev/null || echo none))")
+fi
+install chromium chromium || { have_browser=false; missing+=("the page in a browser: chromium is missing (apt-get install chromium)"); }
+# Node.js's WebSocket (22 and later), else the ws module (Debian's node-ws, installed here), else
+# the one behind --experimental-websocket (20.10 and later). Stock Debian 12's Node.js 18 takes ws.
+websocket=()
+has_ws() { node -e 'require("ws")' 2>/dev/null; }
+if [ "$node_major" -ge 18 ] && ! node -e 'process.exit(typeof WebSocket === "function" ? 0 : 1)'; then
+  if ! has_ws && [ "${FEMTO_NO_INSTALL:-0}" != 1 ] && [ "$(id -u)" = 0 ]; then
+    echo "check-web: installing node-ws"
+    apt-get install -y --no-install-recommends node-ws >/dev/null 2>&1 || true
+  fi
+  if has_ws; then
+    echo "check-web: Node.js $(node --version) talks to Chromium through the ws module"
+  elif node --experimental-websocket -e 'process.exit(typeof WebSocket === "function" ? 0 : 1)' 2>/dev/null; then
+    websocket=(--experimental-websocket)
+  else
+    have_browser=false
+    missing+=("the page in a browser: Node.js $(node --version) has no WebSocket and no ws module (apt-get install node-ws)")
+  fi
+fi
+if [ ${#missing[@]} -gt 0 ]; then
+  for m in "${missing[@]}"; do
+    if [ "${CI:-}" = true ]; then
+      echo "check-web: CI=true and not tested: $m" >&2
+    else
+      echo "check-web: SKIPPED: $m"
+    fi
+  done
+  [ "${CI:-}" = true ] && exit 1
+  $have_emcc || exit 0
 fi
 
 start=$(date +%s)
 bash scripts/web.sh
+
+# The sizes docs/web.md states are the build's, within 2%.
+for build in "with SIMD|web/dist/femto_wasm.wasm" "without SIMD|web/dist/femto_wasm_nosimd.wasm"; do
+  stated=$(sed -n "s/^| ${build%%|*} | [0-9]* KiB (\([0-9 ]*\) bytes).*/\1/p" docs/web.md | tr -d ' ')
+  size=$(stat -c %s "${build#*|}")
+  if [ -z "$stated" ] || [ $((size * 100)) -gt $((stated * 102)) ] || [ $((size * 100)) -lt $((stated * 98)) ]; then
+    echo "check-web: ${build#*|} is $size bytes; docs/web.md says ${stated:-nothing} for the build ${build%%|*} (update its table)" >&2
+    exit 1
+  fi
+done
+echo "check-web: the .wasm sizes are docs/web.md's within 2%"
 
 # --- 0. the kernels' own tests, compiled to WebAssembly ----------------------------------------
 # tests/test_simd.c against the objects web.sh built, once with the SIMD kernels and once with
 # the ones without: every kernel's lanes against the scalar variant and the double reference.
 # Emscripten's own compiler is not the native one (its clang 14 at -O3 with -msimd128 once got
 # every other lane of a kernel wrong while the native build passed), so only this run sees it.
-export NODE_PATH="/usr/share/nodejs${NODE_PATH:+:$NODE_PATH}" # as in web.sh: emcc's acorn
 library=()
 for object in build-web/obj/*.o; do
   case "$(basename "$object" .o)" in
@@ -120,18 +163,7 @@ fi
 node web/test/load_mesh.cjs
 
 # --- 2. headless Chromium ------------------------------------------------------------------
-if ! install chromium chromium; then
-  echo "check-web: browser part SKIPPED: chromium cannot be installed (apt-get install chromium)"
-  exit 0
-fi
-websocket=()
-if ! node -e 'process.exit(typeof WebSocket === "function" ? 0 : 1)'; then
-  websocket=(--experimental-websocket)
-  if ! node "${websocket[@]}" -e 'process.exit(typeof WebSocket === "function" ? 0 : 1)' 2>/dev/null; then
-    echo "check-web: browser part SKIPPED: Node.js $(node --version) has no WebSocket (20.10 or newer needed)"
-    exit 0
-  fi
-fi
+$have_browser || exit 0 # said above: SKIPPED (and a failure under CI=true)
 server_log=build-web/http.log
 python3 -u -m http.server 0 --bind 127.0.0.1 --directory web >"$server_log" 2>&1 &
 server=$!

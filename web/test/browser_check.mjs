@@ -1,5 +1,6 @@
 // The page under headless Chromium (docs/web.md, scripts/check-web.sh), through the DevTools
-// protocol with Node's own WebSocket and zlib (no packages, no network):
+// protocol with Node's own WebSocket (else the ws module: Debian's node-ws, found through
+// NODE_PATH=/usr/share/nodejs) and zlib (no network):
 //   1. open the page, wait for 40 simulated frames: no console error or exception, no failed step;
 //   2. the canvas is not blank: enough pixels of the house's colour;
 //   3. the house's pixels move between two screenshots half a second apart;
@@ -14,12 +15,17 @@
 // (Node 22 and later have WebSocket without the flag.) CHROMIUM names the browser (default
 // chromium). Exit status 0 when every check passes, 1 otherwise.
 import { spawn } from 'node:child_process';
+import { createRequire } from 'node:module';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { inflateSync } from 'node:zlib';
 
+// Node 22 has WebSocket; 20.10 behind --experimental-websocket; older ones take the ws module,
+// whose WebSocket has the same addEventListener and event.data.
+const WebSocketClient = typeof WebSocket === 'function' ? WebSocket
+  : createRequire(import.meta.url)('ws');
 const url = process.argv[2];
 const screenshotOut = process.argv[3];
 const WIDTH = 1024, HEIGHT = 768;
@@ -147,7 +153,7 @@ class Session {
   }
 
   static async open(wsUrl) {
-    const socket = new WebSocket(wsUrl);
+    const socket = new WebSocketClient(wsUrl);
     await new Promise((resolve, reject) => {
       socket.addEventListener('open', resolve);
       socket.addEventListener('error', () => reject(new Error(`cannot connect to ${wsUrl}`)));
