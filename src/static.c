@@ -19,26 +19,79 @@
 // Smallest load fraction increment before giving up.
 #define FM_MIN_LOAD_STEP (1.0 / 256.0)
 
-// |M g| over the free vertices, or |f_elastic| at the start when there is no gravity (a solve
-// driven by displaced pins).
-static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity)
+// |v| over every DOF.
+static double fmStaticNorm(int n3, const double* v)
 {
-	const double g[3] = {gravity.x, gravity.y, gravity.z};
-	double weight = 0.0, elastic = 0.0;
-	fmSolverCache_ForcesAtPositions(b, c, NULL, NULL); // once a solve: serial
+	double sum = 0.0;
+	for (int k = 0; k < n3; ++k)
+		sum += v[k] * v[k];
+	return sqrt(sum);
+}
+
+// The size of the round-off in the elastic forces: a relative 1e-13 (as the energy's noise
+// band, newton.c) of the force (mu + |lambda|) V / L that strains the body by one, V its
+// volume and L its largest extent (the rest forces of an unstructured mesh measure 1e-16 of
+// it). Forces below it strain the body by less than 1e-13: nothing pulls.
+static double fmStaticForceRoundOff(const fmBody* b)
+{
+	double stiffness = 0.0, lo[3], hi[3];
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		const fmMaterial* m = fmTetMaterial(b, t);
+		stiffness += (m->mu + fabs(m->lambda)) * b->restVolume[t];
+	}
+	for (int e = 0; e < 3; ++e)
+		lo[e] = hi[e] = b->x[e];
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
-		if (fmIsDofPinned(b, k))
-			continue;
-		double m = b->mass[k / 3];
-		weight += m * m * g[k % 3] * g[k % 3];
-		elastic += c->forces[k] * c->forces[k];
+		lo[k % 3] = fmin(lo[k % 3], b->x[k]);
+		hi[k % 3] = fmax(hi[k % 3], b->x[k]);
 	}
+	double extent = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+	return extent > 0.0 ? 1e-13 * stiffness / extent : 0.0;
+}
+
+// The force scale F of a static solve: its residual is |unbalanced force on the free DOFs| / F
+// (docs/implicit.md, "Static equilibrium"). F adds up the sizes of the forces the problem puts
+// on the body, measured at the start (b->x; the prescribed vertices not yet moved):
+//  - the weight |M g| and the frozen loads, on the free DOFs;
+//  - the elastic forces of the start shape, on every DOF: what is unbalanced on the free ones
+//    (a body set in a deformed shape) and the supports' reaction on the held ones (a body
+//    already deformed by its supports, solved again);
+//  - the reaction the prescribed displacements cause: the change of the elastic forces, on
+//    every DOF, when the held vertices are moved by their full displacement and the others
+//    left where they are (K u_p for a linear material). Without it a solve driven by
+//    prescribed displacements alone was measured against the rest shape's elastic forces:
+//    zero on a generated box, round-off on an unstructured (TetGen) mesh, where the residual
+//    was then divided by round-off and no state could be reported converged.
+// @p scratch holds 3n doubles. Returns 0 when nothing pulls.
+static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, double* scratch)
+{
+	const int n3 = 3 * b->vertexCount;
+	const double g[3] = {gravity.x, gravity.y, gravity.z};
+	double weight = 0.0;
+	for (int k = 0; k < n3; ++k)
+		if (!fmIsDofPinned(b, k))
+			weight += b->mass[k / 3] * b->mass[k / 3] * g[k % 3] * g[k % 3];
 	fmLoads_Freeze(b, b->x, 1.0);
 	double loads = fmLoads_FrozenNorm(b);
-	if (weight > 0.0 || loads > 0.0)
-		return sqrt(weight) + loads;
-	return sqrt(elastic);
+
+	fmSolverCache_ForcesAtPositions(b, c, NULL, NULL); // once a solve: serial
+	double elastic = fmStaticNorm(n3, c->forces);
+	double prescribed = 0.0;
+	if (b->loads != NULL && b->loads->prescribedCount > 0)
+	{
+		// (The same force function as c->forces: a displacement of zero changes no bit.)
+		fmLoads_PlaceStatic(b, 1.0);
+		memset(scratch, 0, sizeof(double) * (size_t)n3);
+		fmAddElasticForcesOn(b, b->x, scratch, NULL, NULL);
+		memcpy(b->x, c->xStart, sizeof(double) * (size_t)n3);
+		for (int k = 0; k < n3; ++k)
+			scratch[k] -= c->forces[k];
+		prescribed = fmStaticNorm(n3, scratch);
+	}
+	double scale = sqrt(weight) + loads + elastic + prescribed;
+	return scale > fmStaticForceRoundOff(b) ? scale : 0.0;
 }
 
 // Place the prescribed vertices and freeze the loads at fraction @p load, then solve.
@@ -99,10 +152,11 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 
 	const int n3 = 3 * b->vertexCount;
 	// The last equilibrium reached, to go back to when a load increment fails.
-	double* equilibrium = FM_ALLOC_ARRAY(double, (size_t)n3);
+	double* equilibrium = FM_ALLOC_ARRAY(double, 2 * (size_t)n3);
 	if (equilibrium == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");
+	double* scratch = equilibrium + n3; // the force scale's
 	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
 	memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
 	fmLoads_BeginStatic(b);
@@ -110,22 +164,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.tolerance = tolerance;
-	pb.scale = fmStaticForceScale(b, c, gravity);
-	if (pb.scale <= 0.0 && b->loads != NULL && b->loads->prescribedCount > 0)
-	{
-		// Driven by prescribed displacements alone: the scale is the elastic force of the full
-		// displacement applied to the supports only.
-		double* f = FM_ALLOC_ZERO(double, (size_t)n3);
-		fmLoads_PlaceStatic(b, 1.0);
-		double sum = 0.0;
-		if (f != NULL)
-			fmAddElasticForces(b, b->x, f);
-		for (int k = 0; f != NULL && k < n3; ++k)
-			sum += f[k] * f[k];
-		FM_FREE_ARRAY(f, double, (size_t)n3);
-		pb.scale = sqrt(sum);
-		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
-	}
+	pb.scale = fmStaticForceScale(b, c, gravity, scratch);
 	pb.maxNewton = maxIterations;
 	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
@@ -191,7 +230,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
 	else
 		fmLoads_FinishStatic(b);
-	FM_FREE_ARRAY(equilibrium, double, (size_t)n3);
+	FM_FREE_ARRAY(equilibrium, double, 2 * (size_t)n3);
 	if (residual)
 		*residual = r.residual;
 	memset(b->v, 0, sizeof(double) * (size_t)n3);

@@ -361,6 +361,18 @@ femto_cli_test(run_stiff_strict ARGS "run|${FEMTO_CLI_DATA}/stiff_fall.json|--qu
 femto_cli_test(static_round_off ARGS "static|${FEMTO_CLI_DATA}/static_steel.json|--tolerance|1e-12|--export-node|${FEMTO_CLI_WORK}/beam_best.node"
   CODE 1 REGEX "full load is applied.*stagnated.*best state reached is kept"
   FILES "${FEMTO_CLI_WORK}/beam_best.node")
+# Issue 27: a solve driven by a prescribed displacement alone (no gravity, no load) on a TetGen
+# mesh, whose rest shape's elastic forces are round-off: its residual was divided by them and
+# stagnated near 3 for every tolerance, exit 1. Measured against the reaction the displacement
+# causes, it converges (the corner (1, 1, 0) ends at y = 0.99); a displacement of 0.1 micrometre
+# still stagnates at round-off (2e-9) below it, and says so.
+femto_cli_test(static_prescribed_tetgen ARGS "static|${FEMTO_CLI_DATA}/static_prescribed_tetgen.json|--tolerance|1e-10|--export-node|${FEMTO_CLI_WORK}/prescribed_tetgen.node"
+  CODE 0 REGEX "residual [0-9.e-]+ \\(tolerance 1e-10\\) in [0-9.]+ s, converged"
+  REJECT "stagnated|warning"
+  CHECK_FILE "${FEMTO_CLI_WORK}/prescribed_tetgen.node"
+  CHECK_FILE_REGEX "\n2 1 0\\.98999999999999999 0\n")
+femto_cli_test(static_prescribed_round_off ARGS "static|${FEMTO_CLI_DATA}/static_prescribed_tiny.json|--tolerance|1e-12"
+  CODE 1 REGEX "full load is applied.*stagnated.*a tolerance above [1-9]\\.?[0-9]*e-0[89] is within reach")
 femto_cli_test(static_tolerance_too_small ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--tolerance|1e-300"
   CODE 2 REGEX "--tolerance: expected a number in \\[1e-12, 1\\)")
 femto_cli_test(scene_newton_too_large ARGS "run|${FEMTO_CLI_DATA}/newton_too_large.json" CODE 1

@@ -1,0 +1,373 @@
+// CalculiX computes the references live (issue 27, item 7): for each case below the test writes
+// a CalculiX input deck of the same TetGen mesh femto solves (C3D4 linear tets, node for node),
+// with the same material, supports and loads, runs ccx (Debian's calculix-ccx), reads the
+// displacements it prints and compares them node by node with fmBody_SolveStatic's.
+//
+// The same discrete problem: a C3D4 tet has one integration point and a constant deformation
+// gradient, as femto's tets; CalculiX's consistent gravity load of a linear tet is rho g V / 4 per
+// node, femto's lumped mass times g; *CLOAD is a fixed-direction nodal force, as
+// fmBody_AddNodalForce. The materials:
+//   linear                  *ELASTIC, small deformation (no NLGEOM): fm_linear
+//   St. Venant-Kirchhoff    *ELASTIC under NLGEOM (CalculiX applies the linear law to Green's
+//                           strain and the second Piola-Kirchhoff stress): fm_stvk
+//   isochoric Neo-Hookean   *HYPERELASTIC, NEO HOOKE under NLGEOM, C10 = mu/2, D1 = 2/kappa:
+//                           fm_neoHookeanIsochoric
+//
+// Tolerance: ccx prints displacements with 7 significant digits (E13.6), so a printed value is
+// within 5e-7 of itself of CalculiX's answer; both solvers converge far below that: femto to a
+// relative residual of 1e-12, ccx to its field controls set to 1e-12 (its last Newton correction
+// is about 1e-8 m of 0.25 m, which leaves, converging quadratically, about 5e-12 m). A value
+// passes when |u_femto - u_ccx| <= 5e-7 |u_ccx| + 1e-9 max |u|: the printing, and 100 times the
+// solvers' error. Every case also runs femto once more with the shear modulus 1e-4 too large
+// and checks that this answer fails the comparison: the tolerance catches a wrong material.
+// (femto solved only to 1e-9 fails it too, on the compressed Neo-Hookean cube.)
+//
+// Without ccx the test reports itself skipped (exit 77), and fails under CI=true (test.h).
+// Measured: docs/loads.md ("CalculiX references").
+#define _POSIX_C_SOURCE 200809L // mkdtemp
+#include "support.h"
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum CcxLoad
+{
+	ccx_move,   // the top face moved by `vector` (m; held on all three axes)
+	ccx_push,   // the force `vector` (N) on each top vertex
+	ccx_weight, // gravity `vector` (m/s^2)
+} CcxLoad;
+
+typedef struct CcxMaterial
+{
+	fmMaterialModel model;
+	double youngs, poisson, density; // Pa, -, kg/m^3
+} CcxMaterial;
+
+typedef struct CcxMesh
+{
+	const char* path; // TetGen files: path.node and path.ele
+	int up;           // the axis along which its base (min, clamped) and top (max) lie
+} CcxMesh;
+
+static const CcxMesh s_cube = {FEMTO_TEST_DATA "/tetgen_cube", 1}; // 254 nodes, 715 tets, 1 m
+static const CcxMesh s_house = {FEMTO_MESH_DIR "/house2", 2};      // 400 nodes, 1389 tets, 10 m
+
+typedef struct CcxCase
+{
+	const char* name;
+	const CcxMesh* mesh;
+	CcxMaterial material;
+	CcxLoad load;
+	fmVec3 vector;
+} CcxCase;
+
+#define ISO_NH fm_neoHookeanIsochoric
+
+static const CcxCase s_cases[] = {
+    // The issue's cube: clamped at y = 0, its top moved down 1 cm.
+    {"linear, cube, top moved", &s_cube, {fm_linear, 1e6, 0.3, 1e3}, ccx_move, {0, -0.01, 0}},
+    // Stretched 10% and sheared 5%: StVK stiffens in tension (in large compression it has
+    // several equilibria with inverted tets, which two solvers need not pick alike: loads.md).
+    {"StVK, cube, top moved", &s_cube, {fm_stvk, 1e6, 0.3, 1e3}, ccx_move, {0.05, 0.1, 0}},
+    // Compressed 25% and sheared 20%.
+    {"isochoric NH, cube, top moved", &s_cube, {ISO_NH, 1e6, 0.3, 1e3}, ccx_move, {0.2, -0.25, 0}},
+    // Pushed sideways and down by nodal forces on the top face, nearly incompressible.
+    {"isochoric NH, cube, top pushed", &s_cube, {ISO_NH, 1e6, 0.45, 1e3}, ccx_push, {2e3, -1e3, 0}},
+    // The bouncy house standing on its base under its own weight.
+    {"isochoric NH, house, weight", &s_house, {ISO_NH, 1e5, 0.3, 100}, ccx_weight, {0, 0, -9.8}},
+};
+
+// A number as CalculiX reads it: at most 20 characters (a longer field is cut, silently:
+// "2.400000000000000e-06" reads as 2.4), 14 significant digits when 17 do not fit.
+static const char* ccxNumber(char* text, double v)
+{
+	snprintf(text, 32, "%.17g", v);
+	if (strlen(text) > 20)
+		snprintf(text, 32, "%.14g", v);
+	return text;
+}
+
+// The base (the mesh's lowest level along the up axis) and the top (its highest): a vertex is on
+// one when within 1e-9 of the height of it.
+static double faceLevel(const fmTetMesh* m, int up, bool top)
+{
+	double lo = INFINITY, hi = -INFINITY;
+	for (int k = 0; k < m->nodeCount; ++k)
+	{
+		lo = fmin(lo, m->positions[3 * k + up]);
+		hi = fmax(hi, m->positions[3 * k + up]);
+	}
+	return top ? hi - 1e-9 * (hi - lo) : lo + 1e-9 * (hi - lo);
+}
+
+static bool onFace(const fmTetMesh* m, int up, int i, bool top)
+{
+	double v = m->positions[3 * i + up], level = faceLevel(m, up, top);
+	return top ? v >= level : v <= level;
+}
+
+// The deck: nodes (rounded as written; @p m gets the written values, so that femto solves the
+// same mesh), positively oriented C3D4 tets, the sets BASE and TOP, the material and one static
+// step in four increments. Returns false if the file cannot be written.
+static bool writeDeck(const char* path, const CcxCase* k, fmTetMesh* m)
+{
+	FILE* f = fopen(path, "w");
+	if (f == NULL)
+		return false;
+	char a[32], b[32], c[32];
+	fprintf(f, "*HEADING\nfemto tests/test_calculix.c: %s\n*NODE, NSET=NALL\n", k->name);
+	for (int i = 0; i < m->nodeCount; ++i)
+	{
+		double* p = m->positions + 3 * i;
+		fprintf(f, "%d, %s, %s, %s\n", i + 1, ccxNumber(a, p[0]), ccxNumber(b, p[1]),
+		        ccxNumber(c, p[2]));
+		p[0] = strtod(a, NULL);
+		p[1] = strtod(b, NULL);
+		p[2] = strtod(c, NULL);
+	}
+	fprintf(f, "*ELEMENT, TYPE=C3D4, ELSET=EALL\n");
+	for (int t = 0; t < m->tetCount; ++t)
+	{
+		int n[4];
+		memcpy(n, m->tets + 4 * t, sizeof n);
+		if (fmTetMesh_TetVolume(m, NULL, t) < 0.0) // CalculiX needs (2-1)x(3-1).(4-1) > 0
+		{
+			int swap = n[1];
+			n[1] = n[2];
+			n[2] = swap;
+		}
+		fprintf(f, "%d, %d, %d, %d, %d\n", t + 1, n[0] + 1, n[1] + 1, n[2] + 1, n[3] + 1);
+	}
+	const char* sets[2] = {"BASE", "TOP"};
+	for (int s = 0; s < 2; ++s)
+	{
+		fprintf(f, "*NSET, NSET=%s\n", sets[s]);
+		for (int i = 0; i < m->nodeCount; ++i)
+			if (onFace(m, k->mesh->up, i, s == 1))
+				fprintf(f, "%d\n", i + 1);
+	}
+	const CcxMaterial* cm = &k->material;
+	fmMaterial mat = fmMakeMaterial(cm->model, cm->youngs, cm->poisson);
+	fprintf(f, "*MATERIAL, NAME=M\n");
+	if (cm->model == fm_neoHookeanIsochoric)
+		fprintf(f, "*HYPERELASTIC, NEO HOOKE\n%s, %s\n", ccxNumber(a, mat.mu / 2.0),
+		        ccxNumber(b, 2.0 / (mat.lambda + 2.0 / 3.0 * mat.mu)));
+	else
+		fprintf(f, "*ELASTIC\n%s, %s\n", ccxNumber(a, cm->youngs), ccxNumber(b, cm->poisson));
+	fprintf(f, "*DENSITY\n%s\n*SOLID SECTION, ELSET=EALL, MATERIAL=M\n", ccxNumber(a, cm->density));
+	// Field controls (R_n, C_n, q0, qu, R_P, eps, C_eps, R_l) 1e-12 instead of CalculiX's
+	// 0.005, 0.01, ...: Newton runs until round-off.
+	fprintf(f,
+	        "*STEP%s, INC=1000\n*STATIC\n0.25, 1.0, 1e-6, 0.25\n"
+	        "*CONTROLS, PARAMETERS=FIELD\n1e-12, 1e-12, , , 1e-12, 1e-12, 1e-12, 1e-12\n"
+	        "*BOUNDARY\nBASE, 1, 3, 0.\n",
+	        cm->model == fm_linear ? "" : ", NLGEOM");
+	const double v[3] = {k->vector.x, k->vector.y, k->vector.z};
+	for (int e = 0; e < 3; ++e)
+	{
+		if (k->load == ccx_move)
+			fprintf(f, "TOP, %d, %d, %s\n", e + 1, e + 1, ccxNumber(a, v[e]));
+		else if (k->load == ccx_push && v[e] != 0.0)
+			fprintf(f, "*CLOAD\nTOP, %d, %s\n", e + 1, ccxNumber(a, v[e]));
+	}
+	if (k->load == ccx_weight)
+	{
+		// Magnitude, then direction.
+		double g = fmLength(k->vector);
+		char d[32];
+		fprintf(f, "*DLOAD\nEALL, GRAV, %s, %s, %s, %s\n", ccxNumber(a, g), ccxNumber(b, v[0] / g),
+		        ccxNumber(c, v[1] / g), ccxNumber(d, v[2] / g));
+	}
+	fprintf(f, "*NODE PRINT, NSET=NALL\nU\n*END STEP\n");
+	return fclose(f) == 0;
+}
+
+// The displacements of the last block ccx printed (its last increment), into @p u (3 a node);
+// false unless that block is at time 1 (the step's end) and lists every node.
+static bool readDisplacements(const char* path, int nodeCount, double* u)
+{
+	FILE* f = fopen(path, "rb");
+	if (f == NULL)
+		return false;
+	static char text[1 << 22];
+	size_t size = fread(text, 1, sizeof text - 1, f);
+	fclose(f);
+	text[size] = '\0';
+	const char* key = "displacements (vx,vy,vz) for set NALL and time";
+	char* block = NULL;
+	for (char* at = strstr(text, key); at != NULL; at = strstr(at + 1, key))
+		block = at;
+	if (block == NULL)
+		return false;
+	char* s = block + strlen(key);
+	double time = strtod(s, &s);
+	if (fabs(time - 1.0) > 1e-9)
+		return false;
+	for (int read = 0; read < nodeCount; ++read)
+	{
+		char* end;
+		long node = strtol(s, &end, 10);
+		if (end == s || node < 1 || node > nodeCount)
+			return false;
+		s = end;
+		for (int e = 0; e < 3; ++e)
+		{
+			u[3 * (node - 1) + e] = strtod(s, &end);
+			if (end == s)
+				return false;
+			s = end;
+		}
+	}
+	return true;
+}
+
+// femto's answer on @p mesh: the body at equilibrium, displacements into @p u. Returns false
+// (and fails) when the solve does not converge.
+static bool solveFemto(int* failures_, const CcxCase* k, const fmTetMesh* mesh, fmMaterial mat,
+                       double* u)
+{
+	fmWorldDef wdef = fmTestFreeWorldDef();
+	if (k->load == ccx_weight)
+		wdef.gravity = k->vector;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef bdef = fmDefaultBodyDef();
+	bdef.mesh = mesh;
+	bdef.material = mat;
+	bdef.massMode = fm_massFromDensity;
+	bdef.density = k->material.density;
+	const int up = k->mesh->up;
+	fmBodyId body;
+	fmDiagnostic diag;
+	CHECK_INT(fmCreateBody(world, &bdef, &body, &diag), fm_ok);
+	int base = 0, top = 0;
+	for (int i = 0; i < mesh->nodeCount; ++i)
+	{
+		if (onFace(mesh, up, i, false))
+		{
+			fmBody_SetPinned(body, i, true);
+			++base;
+		}
+		top += onFace(mesh, up, i, true);
+	}
+	// The top face by its box, as a user would give it.
+	fmVec3 lo = fmMakeVec3(-1e9, -1e9, -1e9), hi = fmMakeVec3(1e9, 1e9, 1e9);
+	double* lower = up == 0 ? &lo.x : up == 1 ? &lo.y : &lo.z;
+	*lower = faceLevel(mesh, up, true);
+	if (k->load == ccx_move)
+		CHECK_INT(fmBody_PrescribeDisplacement(body, lo, hi, 7u, k->vector, 0.0), top);
+	else if (k->load == ccx_push)
+		CHECK_INT(fmBody_AddNodalForce(body, lo, hi, k->vector), top);
+	CHECK(base > 0);
+	double residual = 1.0;
+	fmResult r = fmBody_SolveStatic(body, 1e-12, 100, &residual, &diag);
+	CHECK_INT(r, fm_ok);
+	if (r != fm_ok)
+		printf("  %s\n", diag.message);
+	const double* x = fmTestPositions(body);
+	for (int k3 = 0; k3 < 3 * mesh->nodeCount; ++k3)
+		u[k3] = x[k3] - mesh->positions[k3];
+	fmDestroyWorld(world);
+	return r == fm_ok;
+}
+
+// The largest |u_femto - u_ccx| over its allowance 5e-7 |u_ccx| + 1e-9 max |u| (pass: <= 1),
+// with the largest difference and displacement.
+static double compare(int n3, const double* femto, const double* ccx, double* difference,
+                      double* largest)
+{
+	*largest = 0.0;
+	*difference = 0.0;
+	for (int k = 0; k < n3; ++k)
+		*largest = fmax(*largest, fabs(ccx[k]));
+	double worst = 0.0;
+	for (int k = 0; k < n3; ++k)
+	{
+		double d = fabs(femto[k] - ccx[k]);
+		*difference = fmax(*difference, d);
+		worst = fmax(worst, d / (5e-7 * fabs(ccx[k]) + 1e-9 * *largest));
+	}
+	return worst;
+}
+
+static void runCase(int* failures_, const char* dir, int index)
+{
+	const CcxCase* k = &s_cases[index];
+	char path[512], ele[512], command[1200];
+	snprintf(path, sizeof path, "%s.node", k->mesh->path);
+	snprintf(ele, sizeof ele, "%s.ele", k->mesh->path);
+	fmTetMesh mesh;
+	fmDiagnostic diag;
+	CHECK_INT(fmLoadTetGen(path, ele, &mesh, &diag), fm_ok);
+	if (*failures_ > 0)
+		return;
+	snprintf(path, sizeof path, "%s/case%d.inp", dir, index);
+	CHECK(writeDeck(path, k, &mesh));
+	// One thread: the machine may be shared, and the answer does not depend on it.
+	snprintf(command, sizeof command,
+	         "cd '%s' && OMP_NUM_THREADS=1 ccx -i case%d > case%d.log 2>&1", dir, index, index);
+	int status = system(command);
+	size_t n3 = 3 * (size_t)mesh.nodeCount;
+	double* ccx = malloc(sizeof(double) * n3);
+	double* femto = malloc(sizeof(double) * n3);
+	snprintf(path, sizeof path, "%s/case%d.dat", dir, index);
+	bool read = status == 0 && readDisplacements(path, mesh.nodeCount, ccx);
+	if (!read)
+		FAIL_AT("%s: ccx failed (exit status %d) or printed no displacements at time 1: see "
+		        "%s/case%d.log",
+		        k->name, status, dir, index);
+	const CcxMaterial* cm = &k->material;
+	fmMaterial mat = fmMakeMaterial(cm->model, cm->youngs, cm->poisson);
+	if (read && solveFemto(failures_, k, &mesh, mat, femto))
+	{
+		double difference, largest;
+		double worst = compare((int)n3, femto, ccx, &difference, &largest);
+		// The control: the shear modulus 1e-4 too large must fail the same comparison.
+		fmMaterial wrong = fmMakeMaterialLame(cm->model, mat.lambda, mat.mu * (1.0 + 1e-4));
+		double controlDifference = 0.0, ignored, control = 0.0;
+		if (solveFemto(failures_, k, &mesh, wrong, femto))
+			control = compare((int)n3, femto, ccx, &controlDifference, &ignored);
+		printf("  %-31s max |u| %.4g m, femto - ccx %.2e m (%.1e of max |u|), %.2f of the "
+		       "allowance; mu + 1e-4: %.2e m, %.0f of it\n",
+		       k->name, largest, difference, difference / largest, worst, controlDifference,
+		       control);
+		CHECK(worst <= 1.0);
+		CHECK(control > 1.0);
+	}
+	free(ccx);
+	free(femto);
+	fmFreeTetMesh(&mesh);
+}
+
+TEST(static_solutions_match_calculix)
+{
+	if (!fmTestHaveProgram("ccx"))
+	{
+		TEST_SKIP("ccx is not installed (scripts/install-deps.sh installs Debian's calculix-ccx): "
+		          "femto's static solutions are not compared with CalculiX's");
+		return;
+	}
+	char dir[64];
+	snprintf(dir, sizeof dir, "/tmp/femto_ccx_XXXXXX");
+	if (mkdtemp(dir) == NULL)
+	{
+		FAIL_AT("cannot make a scratch folder %s", dir);
+		return;
+	}
+	int before = *failures_;
+	for (int c = 0; c < (int)(sizeof s_cases / sizeof s_cases[0]); ++c)
+	{
+		int failures = 0;
+		runCase(&failures, dir, c);
+		*failures_ += failures;
+	}
+	// The decks and logs are kept when something failed, to read.
+	if (*failures_ == before)
+	{
+		char command[128];
+		snprintf(command, sizeof command, "rm -rf '%s'", dir);
+		CHECK_INT(system(command), 0);
+	}
+	else
+		printf("  the decks, ccx's logs and output are in %s\n", dir);
+}
