@@ -195,7 +195,8 @@ bool cliBenchPeer_Rows(const char* program, const cliBenchMeshSet* set, const ch
 	// docs/ and must not carry the path of the machine it ran on.
 	const char* shown = program;
 	const char* inBuild = strstr(program, "/bench/peers/");
-	if (cliBulletBuilt != NULL && strcmp(program, cliBulletBuilt) == 0 && inBuild != NULL)
+	const char* built = cliBulletBuilt;
+	if (built != NULL && inBuild != NULL && strcmp(program, built) == 0)
 		shown = inBuild + 1;
 	printf("Bullet's deformable world (%s): implicit Neo-Hookean, same mesh, Lame constants, "
 	       "masses, gravity and floor, 1/60 s frames after 1 s of settling, median of %d; "
