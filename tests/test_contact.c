@@ -1242,7 +1242,7 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 	int n = 0, contacts = 0;
 	// (The explicit frames take about 40 substeps each: 30 of them see the houses touch. The
 	// quick count, under the sanitizers, still sees them touch: checked below.)
-	const int frames = integrator == fm_implicit ? fmTestCount(60, 30) : fmTestCount(30, 8);
+	const int frames = integrator == fm_implicit ? fmTestCount(60, 20) : fmTestCount(30, 5);
 	for (int k = 0; k < 3; ++k)
 	{
 		fmWorldDef wdef = fmDefaultWorldDef();
