@@ -12,34 +12,69 @@
 #include <stdlib.h>
 #include <string.h>
 
+// The host's flush control: on x86 MXCSR's flush-to-zero (bit 15) and denormals-are-zero (bit
+// 6), on AArch64 FPCR's FZ (bit 24: denormal inputs and results flushed to zero).
 #if defined(__SSE__) || defined(_M_X64)
 #include <xmmintrin.h>
-#define TEST_MXCSR 1
-#define TEST_FTZ_DAZ 0x8040u // MXCSR flush-to-zero (bit 15) and denormals-are-zero (bit 6)
+#define TEST_FLUSH 1
+#define TEST_FLUSH_BITS 0x8040ull
+static uint64_t getControl(void)
+{
+	return _mm_getcsr();
+}
+static void setControl(uint64_t control)
+{
+	_mm_setcsr((unsigned)control);
+}
+#elif defined(__aarch64__) && (defined(__GNUC__) || defined(__clang__))
+#define TEST_FLUSH 1
+#define TEST_FLUSH_BITS (1ull << 24)
+static uint64_t getControl(void)
+{
+	uint64_t control;
+	__asm__ __volatile__("mrs %0, fpcr" : "=r"(control));
+	return control;
+}
+static void setControl(uint64_t control)
+{
+	__asm__ __volatile__("msr fpcr, %0" : : "r"(control));
+}
 #else
-#define TEST_MXCSR 0
+#define TEST_FLUSH 0
+#endif
+
+// WebAssembly has round to nearest only and no flush control: a host cannot change the state
+// there, and the tests below compare the default state with itself (the first one checks that
+// the target indeed keeps rounding to nearest).
+#if defined(__wasm__)
+#define TEST_ROUNDING 0
+#else
+#define TEST_ROUNDING 1
 #endif
 
 // ---- the host's floating-point state ------------------------------------------------------------
 
-// What a host engine may leave behind: rounding toward zero and, on x86, FTZ and DAZ.
+// What a host engine may leave behind: rounding toward zero and, on x86, FTZ and DAZ (on
+// AArch64, FZ).
 typedef struct HostState
 {
 	fenv_t env;
-	unsigned mxcsr;
+	uint64_t control;
 } HostState;
 
 static HostState hostileBegin(void)
 {
 	HostState saved;
 	fegetenv(&saved.env);
-	saved.mxcsr = 0;
-#if TEST_MXCSR
-	saved.mxcsr = _mm_getcsr();
+	saved.control = 0;
+#if TEST_FLUSH
+	saved.control = getControl();
 #endif
+#if TEST_ROUNDING
 	fesetround(FE_TOWARDZERO);
-#if TEST_MXCSR
-	_mm_setcsr(_mm_getcsr() | TEST_FTZ_DAZ);
+#endif
+#if TEST_FLUSH
+	setControl(getControl() | TEST_FLUSH_BITS);
 #endif
 	return saved;
 }
@@ -47,9 +82,9 @@ static HostState hostileBegin(void)
 // The hostile state is in force (after a call that must have restored it).
 static bool hostileInForce(void)
 {
-	bool ok = fegetround() == FE_TOWARDZERO;
-#if TEST_MXCSR
-	ok = ok && (_mm_getcsr() & TEST_FTZ_DAZ) == TEST_FTZ_DAZ;
+	bool ok = fegetround() == (TEST_ROUNDING ? FE_TOWARDZERO : FE_TONEAREST);
+#if TEST_FLUSH
+	ok = ok && (getControl() & TEST_FLUSH_BITS) == TEST_FLUSH_BITS;
 #endif
 	return ok;
 }
@@ -57,8 +92,8 @@ static bool hostileInForce(void)
 static void hostileEnd(const HostState* saved)
 {
 	fesetenv(&saved->env);
-#if TEST_MXCSR
-	_mm_setcsr(saved->mxcsr);
+#if TEST_FLUSH
+	setControl(saved->control);
 #endif
 }
 
@@ -150,7 +185,8 @@ static bool sameBits(const double* a, const double* b, size_t length)
 	return memcmp(a, b, sizeof(double) * length) == 0;
 }
 
-// The hostile state really changes arithmetic here: otherwise the tests below prove nothing.
+// The hostile state really changes arithmetic here: otherwise the tests below prove nothing. (On
+// WebAssembly: no state can be set, so there is nothing a host could change.)
 TEST(hostile_host_state_changes_arithmetic)
 {
 	volatile double one = 1.0, half = 0x1p-53 * 1.5, tiny = 0x1p-1060;
@@ -158,13 +194,21 @@ TEST(hostile_host_state_changes_arithmetic)
 	// Volatile results: the compiler may not move the arithmetic past the calls that change the
 	// state (it assumes the default state everywhere).
 	volatile double rounded = one + half; // 1 + 2^-52 to nearest, 1 toward zero
-	volatile double scaled = tiny * one;  // 0 with DAZ
+	volatile double scaled = tiny * one;  // 0 with DAZ (x86) or FZ (AArch64)
 	hostileEnd(&saved);
+#if TEST_ROUNDING
 	CHECK(rounded == 1.0);
-#if TEST_MXCSR
+#else
+	// The target has no other mode: the change is ignored (Emscripten's fesetround even returns
+	// 0) and the arithmetic rounds to nearest.
+	fesetround(FE_TOWARDZERO);
+	CHECK(fegetround() == FE_TONEAREST);
+	CHECK(rounded == 1.0 + 0x1p-52);
+#endif
+#if TEST_FLUSH
 	CHECK(scaled == 0.0);
 #else
-	(void)scaled;
+	CHECK(scaled == 0x1p-1060);
 #endif
 	// And femto's state undoes it.
 	saved = hostileBegin();
@@ -267,26 +311,45 @@ TEST(deterministic_math_follows_the_library_closely)
 // ---- the golden hash: the cross-machine check -------------------------------------------------
 
 // The FNV-1a hash of the final positions and velocities of runBox with
-// crossPlatformDeterminism, recorded on x86-64 (gcc, glibc). It must match on EVERY target CI
-// builds (x86-64 scalar or vector builds, AArch64, WebAssembly; any compiler that honours
-// -ffp-contract=off): a different value there is a determinism bug. A changed constant is a
-// behaviour change of the step and must be reviewed as one (say why in the commit).
+// crossPlatformDeterminism, recorded on x86-64 (gcc, glibc). It must match on EVERY target: CI
+// runs this suite on x86-64 with gcc and glibc (ctest), and scripts/check-determinism.sh on
+// x86-64 with clang and with musl, on AArch64 under qemu-user and on WebAssembly under Node.js
+// (with and without SIMD); any compiler that honours -ffp-contract=off. A different value there
+// is a determinism bug. A changed constant is a behaviour change of the step and must be reviewed
+// as one (say why in the commit).
 #define GOLDEN_EXPLICIT 0xf8dc1b108f37c157ull
 #define GOLDEN_IMPLICIT 0x977d08c0820ce657ull
 
+#define GOLDEN_FRAMES 30
+
+// The hash of runBox with the option after @p frames frames on @p workers workers.
+static uint64_t goldenRunHash(int* failures_, fmIntegrator integrator, int workers, int frames)
+{
+	RunDef run = {integrator, workers, true, false, 4, NULL, NULL};
+	size_t n;
+	double* state = runBox(failures_, &run, frames, &n);
+	uint64_t hash = hashDoubles(state, n);
+	free(state);
+	return hash;
+}
+
+static const char* integratorName(fmIntegrator integrator)
+{
+	return integrator == fm_implicit ? "implicit" : "explicit";
+}
+
+// Prints each hash (scripts/check-determinism.sh compares the targets' lines too).
 static void checkGolden(int* failures_, fmIntegrator integrator, uint64_t golden)
 {
 	for (int workers = 1; workers <= 2; ++workers)
 	{
-		RunDef run = {integrator, workers, true, false, 4, NULL, NULL};
-		size_t n;
-		double* state = runBox(failures_, &run, 30, &n);
-		uint64_t hash = hashDoubles(state, n);
+		uint64_t hash = goldenRunHash(failures_, integrator, workers, GOLDEN_FRAMES);
+		printf("  golden %s, %d worker%s: 0x%016llx\n", integratorName(integrator), workers,
+		       workers > 1 ? "s" : "", (unsigned long long)hash);
 		if (hash != golden)
 			FAIL_AT("%s run on %d workers hashes to 0x%016llxull, expected 0x%016llxull",
-			        integrator == fm_implicit ? "implicit" : "explicit", workers,
-			        (unsigned long long)hash, (unsigned long long)golden);
-		free(state);
+			        integratorName(integrator), workers, (unsigned long long)hash,
+			        (unsigned long long)golden);
 	}
 }
 
@@ -298,6 +361,21 @@ TEST(golden_hash_explicit)
 TEST(golden_hash_implicit)
 {
 	checkGolden(failures_, fm_implicit, GOLDEN_IMPLICIT);
+}
+
+// The control: a run one frame shorter misses the golden hash, so the golden tests can fail (a
+// hash that ignored the state would pass them anywhere).
+TEST(golden_hash_tells_a_changed_run_apart)
+{
+	const fmIntegrator integrators[2] = {fm_explicit, fm_implicit};
+	const uint64_t goldens[2] = {GOLDEN_EXPLICIT, GOLDEN_IMPLICIT};
+	for (int i = 0; i < 2; ++i)
+	{
+		uint64_t shorter = goldenRunHash(failures_, integrators[i], 1, GOLDEN_FRAMES - 1);
+		printf("  control %s, %d frames: 0x%016llx\n", integratorName(integrators[i]),
+		       GOLDEN_FRAMES - 1, (unsigned long long)shorter);
+		CHECK(shorter != goldens[i]);
+	}
 }
 
 // ---- femto's elementary functions against the C library ---------------------------------------
