@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Build femto and run every test: a normal build, then the whole suite under
 # AddressSanitizer + UndefinedBehaviorSanitizer, then the fuzzers, valgrind, ThreadSanitizer on the
-# thread pool, the consumer projects and the browser build (scripts/check-*.sh).
+# thread pool, the consumer projects, the determinism suite on clang, musl, AArch64 and
+# WebAssembly, and the browser build (scripts/check-*.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
