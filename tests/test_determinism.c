@@ -1,7 +1,8 @@
 // Determinism beyond one machine (docs/determinism.md): the host's floating-point state does not
 // change a step's bits and is given back; femto's own log, exp and pow (det_math.c) follow the C
-// library's within an ulp or two; and a golden hash of a short run with
-// fmWorldDef.crossPlatformDeterminism that every target must reproduce bit for bit.
+// library's within an ulp or two; and golden hashes of short runs with
+// fmWorldDef.crossPlatformDeterminism (a box on the floor; a scene of four bodies, colliders of
+// every shape, pins, a load and a target) that every target must reproduce bit for bit.
 #include "det_math.h"
 #include "fp_env.h"
 #include "support.h"
@@ -376,6 +377,155 @@ TEST(golden_hash_tells_a_changed_run_apart)
 		       GOLDEN_FRAMES - 1, (unsigned long long)shorter);
 		CHECK(shorter != goldens[i]);
 	}
+}
+
+// ---- a second golden hash: the rest of what a step does --------------------------------------
+
+// A scene that reaches what the box above does not: the house (Mooney-Rivlin, finite volumes)
+// lands on the floor and on a spinning box collider (its rotation through sin and cos), a
+// corotated box lands on the house (body-body contact; the polar kernel), an isochoric
+// Neo-Hookean box lands on a closed triangle-mesh collider (pseudo-normals through atan2) beside
+// a capsule, and a St. Venant-Kirchhoff beam pinned at one end is pulled down by a nodal force
+// and sideways by a kinematic target onto a sphere. Returns the FNV-1a hash of every body's
+// final positions and velocities.
+static uint64_t runMixedScene(int* failures_, fmIntegrator integrator, int workers, int frames)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.height = 0.0;
+	wdef.integrator = integrator;
+	wdef.workerCount = workers;
+	wdef.crossPlatformDeterminism = true;
+	fmWorldId world = fmCreateWorld(&wdef);
+
+	fmColliderDef spinner = fmDefaultColliderDef();
+	spinner.shape = fm_shapeBox;
+	spinner.center = fmMakeVec3(0.2, 0.04, 0.0);
+	spinner.halfExtents = fmMakeVec3(0.12, 0.04, 0.3);
+	spinner.rotation = fmMakeVec3(0.0, 0.4, 0.1);
+	spinner.angularVelocity = fmMakeVec3(0.0, 2.0, 0.0);
+	fmColliderDef sphere = fmDefaultColliderDef();
+	sphere.shape = fm_shapeSphere;
+	sphere.center = fmMakeVec3(1.25, 0.25, 0.05);
+	sphere.radius = 0.1;
+	fmColliderDef capsule = fmDefaultColliderDef();
+	capsule.shape = fm_shapeCapsule;
+	capsule.a = fmMakeVec3(-0.84, 0.23, -0.3);
+	capsule.b = fmMakeVec3(-0.82, 0.21, 0.3);
+	capsule.radius = 0.03;
+	capsule.friction = 0.2;
+	static const fmVec3 tetVertices[4] = {
+	    {-0.2, 0.0, -0.15}, {0.2, 0.0, -0.15}, {0.0, 0.0, 0.2}, {0.02, 0.25, 0.0}};
+	static const int tetTriangles[12] = {0, 1, 2, 0, 3, 1, 1, 3, 2, 2, 3, 0};
+	fmColliderDef rock = fmDefaultColliderDef();
+	rock.shape = fm_shapeMesh;
+	rock.center = fmMakeVec3(-0.75, 0.0, 0.0);
+	rock.rotation = fmMakeVec3(0.1, 0.5, -0.05);
+	rock.vertices = tetVertices;
+	rock.vertexCount = 4;
+	rock.triangles = tetTriangles;
+	rock.triangleCount = 4;
+	const fmColliderDef* colliderDefs[4] = {&spinner, &sphere, &capsule, &rock};
+	fmColliderId colliders[4];
+	for (int c = 0; c < 4; ++c)
+		CHECK_INT(fmCreateCollider(world, colliderDefs[c], &colliders[c], NULL), fm_ok);
+
+	fmBodyId bodies[4];
+	fmTetMesh meshes[4];
+	// The house 0.6 m wide (the seeds' placement, scaled down), above the spinning box.
+	CHECK_INT(
+	    fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &meshes[0], NULL),
+	    fm_ok);
+	fmMeshTransform placement = fmDefaultMeshTransform();
+	placement.scale = 0.06;
+	placement.center = true;
+	placement.swapYZ = true;
+	placement.translate = fmMakeVec3(0.0, 0.4, 0.0);
+	fmTetMesh_Transform(&meshes[0], &placement);
+	CHECK_INT(fmMakeBoxMesh(2, 1, 2, fmMakeVec3(-0.08, 0.71, -0.08), fmMakeVec3(0.08, 0.79, 0.08),
+	                        &meshes[1]),
+	          fm_ok);
+	CHECK_INT(fmMakeBoxMesh(2, 2, 2, fmMakeVec3(-0.82, 0.27, -0.07), fmMakeVec3(-0.68, 0.37, 0.07),
+	                        &meshes[2]),
+	          fm_ok);
+	CHECK_INT(fmMakeBoxMesh(6, 1, 1, fmMakeVec3(0.7, 0.45, -0.04), fmMakeVec3(1.3, 0.53, 0.04),
+	                        &meshes[3]),
+	          fm_ok);
+	const fmMaterialModel models[4] = {fm_mooneyRivlin, fm_corotated, fm_neoHookeanIsochoric,
+	                                   fm_stvk};
+	for (int b = 0; b < 4; ++b)
+	{
+		fmBodyDef bdef = fmDefaultBodyDef();
+		bdef.mesh = &meshes[b];
+		bdef.material = fmMakeMaterial(models[b], 2e5, 0.3);
+		bdef.forceModel = b == 0 ? fm_fvm : fm_fem;
+		bdef.massMode = fm_massFromDensity;
+		CHECK_INT(fmCreateBody(world, &bdef, &bodies[b], NULL), fm_ok);
+		fmFreeTetMesh(&meshes[b]);
+	}
+	fmBody_ApplyVertexImpulse(bodies[0], 3, fmMakeVec3(0.5, 0.0, -0.4));
+	fmBody_ApplyImpulse(bodies[1], fmMakeVec3(0.1, -0.5, 0.05));
+	CHECK(fmBody_PinBox(bodies[3], fmMakeVec3(0.69, 0.4, -0.1), fmMakeVec3(0.71, 0.6, 0.1)) > 0);
+	CHECK(fmBody_AddNodalForce(bodies[3], fmMakeVec3(1.29, 0.4, -0.1), fmMakeVec3(1.31, 0.6, 0.1),
+	                           fmMakeVec3(0.0, -0.5, 0.0)) > 0);
+	int pulled = fmBody_GetVertexCount(bodies[3]) - 1;
+	fmVec3 target = fmMakeVec3(1.3, 0.4, 0.15);
+	CHECK_INT(fmBody_SetTargets(bodies[3], &pulled, &target, 1, 50.0), fm_ok);
+
+	// Explicit: substeps of 0.56 ms, below the house's stable step (0.67 ms).
+	int substeps = integrator == fm_explicit ? 30 : 1;
+	// Each collider and a body pair touch at some frame: the scene checks what it says.
+	bool touched[5] = {false, false, false, false, false};
+	fmContactPoint contacts[256];
+	for (int frame = 0; frame < frames; ++frame)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+		int count = fmWorld_GetContacts(world, contacts, 256);
+		for (int k = 0; k < count && k < 256; ++k)
+			for (int c = 0; c < 5; ++c)
+				touched[c] =
+				    touched[c] || (c < 4 ? contacts[k].collider.index1 == colliders[c].index1
+				                         : contacts[k].otherBody.index1 != 0);
+	}
+	static const char* const names[5] = {"the spinning box", "the sphere", "the capsule",
+	                                     "the mesh collider", "a body"};
+	for (int c = 0; c < 5; ++c)
+		if (!touched[c])
+			FAIL_AT("%s %s touched no body", integratorName(integrator), names[c]);
+
+	uint64_t hash = 14695981039346656037ull;
+	for (int b = 0; b < 4; ++b)
+	{
+		int n = fmBody_GetVertexCount(bodies[b]);
+		double* state = calloc(6 * (size_t)n, sizeof(double));
+		CHECK_INT(fmBody_CopyPositions(bodies[b], state, n), fm_ok);
+		CHECK_INT(fmBody_CopyVelocities(bodies[b], state + 3 * (size_t)n, n), fm_ok);
+		hash = (hash ^ hashDoubles(state, 6 * (size_t)n)) * 1099511628211ull;
+		free(state);
+	}
+	fmDestroyWorld(world);
+	return hash;
+}
+
+// Recorded as GOLDEN_EXPLICIT and GOLDEN_IMPLICIT were (x86-64, gcc, glibc), with the same rules.
+#define GOLDEN_MIXED_EXPLICIT 0xf920b1a7bcfce4f0ull
+#define GOLDEN_MIXED_IMPLICIT 0xd639af76d750437full
+
+TEST(golden_hash_mixed_scene)
+{
+	const uint64_t goldens[2] = {GOLDEN_MIXED_EXPLICIT, GOLDEN_MIXED_IMPLICIT};
+	for (int integrator = 0; integrator < 2; ++integrator)
+		for (int workers = 1; workers <= 2; ++workers)
+		{
+			uint64_t hash = runMixedScene(failures_, (fmIntegrator)integrator, workers, 12);
+			printf("  golden mixed %s, %d worker%s: 0x%016llx\n",
+			       integratorName((fmIntegrator)integrator), workers, workers > 1 ? "s" : "",
+			       (unsigned long long)hash);
+			if (hash != goldens[integrator])
+				FAIL_AT("the mixed scene, %s, on %d workers hashes to 0x%016llxull, expected "
+				        "0x%016llxull",
+				        integratorName((fmIntegrator)integrator), workers, (unsigned long long)hash,
+				        (unsigned long long)goldens[integrator]);
+		}
 }
 
 // ---- femto's elementary functions against the C library ---------------------------------------
