@@ -10,9 +10,10 @@
 #   wasm         WebAssembly (emcc), run under Node.js, the kernels with WebAssembly SIMD
 #   wasm-nosimd  the same, the kernels without SIMD (the page's build for browsers without it)
 # and run there. Every test must pass, among them the golden hashes (golden_hash_explicit,
-# golden_hash_implicit: a box thrown at the floor with crossPlatformDeterminism, explicit and
-# implicit, on one and two workers), constants recorded on x86-64 with gcc and glibc: passing
-# them is the same bits as there. The simd suite (every instruction set the same bits) runs
+# golden_hash_implicit: a box thrown at the floor with crossPlatformDeterminism;
+# golden_hash_mixed_scene: four bodies of four materials, body-body contact, a collider of each
+# shape, a pin, a load and a target; each explicit and implicit, on one and two workers),
+# constants recorded on x86-64 with gcc and glibc: passing them is the same bits as there. The simd suite (every instruction set the same bits) runs
 # beside it everywhere, the parallel one (every worker count) on x86-64 (150 s under qemu).
 # Then every target's printed hashes are compared, and two controls show the comparison can
 # fail: the suite's own (a run one frame shorter hashes differently), and
@@ -208,11 +209,13 @@ for target in "${targets[@]}"; do
   echo "check-determinism: $target passed ($(($(date +%s) - target_start)) s)"
 done
 
-# Every target passed the golden hashes and the suite's control, so their printed hashes are
-# equal; checked again here, so that a suite that stopped checking or printing them is seen too.
+# Every target passed the golden hashes and the suite's control, so their printed hashes (8: two
+# scenes, two integrators, one and two workers) are equal; checked again here, so that a suite
+# that stopped checking or printing them is seen too.
 reference=""
 for target in "${ran[@]}"; do
-  for test in golden_hash_explicit golden_hash_implicit golden_hash_tells_a_changed_run_apart; do
+  for test in golden_hash_explicit golden_hash_implicit golden_hash_mixed_scene \
+    golden_hash_tells_a_changed_run_apart; do
     if ! grep -qx "ok   determinism.$test" "$out/$target/determinism.txt"; then
       echo "check-determinism: $target: determinism.$test did not run and pass" >&2
       exit 1
@@ -220,8 +223,8 @@ for target in "${ran[@]}"; do
   done
   hashes=$(grep '^  golden .*: 0x[0-9a-f]\{16\}$' "$out/$target/determinism.txt" || true)
   count=$(printf '%s\n' "$hashes" | grep -c 0x || true)
-  if [ "$count" -ne 4 ]; then
-    echo "check-determinism: $target printed $count golden hashes, not 4" >&2
+  if [ "$count" -ne 8 ]; then
+    echo "check-determinism: $target printed $count golden hashes, not 8" >&2
     exit 1
   fi
   if [ -z "$reference" ]; then
