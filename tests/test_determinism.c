@@ -1,7 +1,8 @@
 // Determinism beyond one machine (docs/determinism.md): the host's floating-point state does not
 // change a step's bits and is given back; femto's own log, exp and pow (det_math.c) follow the C
-// library's within an ulp or two; and a golden hash of a short run with
-// fmWorldDef.crossPlatformDeterminism that every target must reproduce bit for bit.
+// library's within an ulp or two; and golden hashes of short runs with
+// fmWorldDef.crossPlatformDeterminism (a box on the floor; a scene of four bodies, colliders of
+// every shape, pins, a load and a target) that every target must reproduce bit for bit.
 #include "det_math.h"
 #include "fp_env.h"
 #include "support.h"
@@ -12,34 +13,69 @@
 #include <stdlib.h>
 #include <string.h>
 
+// The host's flush control: on x86 MXCSR's flush-to-zero (bit 15) and denormals-are-zero (bit
+// 6), on AArch64 FPCR's FZ (bit 24: denormal inputs and results flushed to zero).
 #if defined(__SSE__) || defined(_M_X64)
 #include <xmmintrin.h>
-#define TEST_MXCSR 1
-#define TEST_FTZ_DAZ 0x8040u // MXCSR flush-to-zero (bit 15) and denormals-are-zero (bit 6)
+#define TEST_FLUSH 1
+#define TEST_FLUSH_BITS 0x8040ull
+static uint64_t getControl(void)
+{
+	return _mm_getcsr();
+}
+static void setControl(uint64_t control)
+{
+	_mm_setcsr((unsigned)control);
+}
+#elif defined(__aarch64__) && (defined(__GNUC__) || defined(__clang__))
+#define TEST_FLUSH 1
+#define TEST_FLUSH_BITS (1ull << 24)
+static uint64_t getControl(void)
+{
+	uint64_t control;
+	__asm__ __volatile__("mrs %0, fpcr" : "=r"(control));
+	return control;
+}
+static void setControl(uint64_t control)
+{
+	__asm__ __volatile__("msr fpcr, %0" : : "r"(control));
+}
 #else
-#define TEST_MXCSR 0
+#define TEST_FLUSH 0
+#endif
+
+// WebAssembly has round to nearest only and no flush control: a host cannot change the state
+// there, and the tests below compare the default state with itself (the first one checks that
+// the target indeed keeps rounding to nearest).
+#if defined(__wasm__)
+#define TEST_ROUNDING 0
+#else
+#define TEST_ROUNDING 1
 #endif
 
 // ---- the host's floating-point state ------------------------------------------------------------
 
-// What a host engine may leave behind: rounding toward zero and, on x86, FTZ and DAZ.
+// What a host engine may leave behind: rounding toward zero and, on x86, FTZ and DAZ (on
+// AArch64, FZ).
 typedef struct HostState
 {
 	fenv_t env;
-	unsigned mxcsr;
+	uint64_t control;
 } HostState;
 
 static HostState hostileBegin(void)
 {
 	HostState saved;
 	fegetenv(&saved.env);
-	saved.mxcsr = 0;
-#if TEST_MXCSR
-	saved.mxcsr = _mm_getcsr();
+	saved.control = 0;
+#if TEST_FLUSH
+	saved.control = getControl();
 #endif
+#if TEST_ROUNDING
 	fesetround(FE_TOWARDZERO);
-#if TEST_MXCSR
-	_mm_setcsr(_mm_getcsr() | TEST_FTZ_DAZ);
+#endif
+#if TEST_FLUSH
+	setControl(getControl() | TEST_FLUSH_BITS);
 #endif
 	return saved;
 }
@@ -47,9 +83,9 @@ static HostState hostileBegin(void)
 // The hostile state is in force (after a call that must have restored it).
 static bool hostileInForce(void)
 {
-	bool ok = fegetround() == FE_TOWARDZERO;
-#if TEST_MXCSR
-	ok = ok && (_mm_getcsr() & TEST_FTZ_DAZ) == TEST_FTZ_DAZ;
+	bool ok = fegetround() == (TEST_ROUNDING ? FE_TOWARDZERO : FE_TONEAREST);
+#if TEST_FLUSH
+	ok = ok && (getControl() & TEST_FLUSH_BITS) == TEST_FLUSH_BITS;
 #endif
 	return ok;
 }
@@ -57,8 +93,8 @@ static bool hostileInForce(void)
 static void hostileEnd(const HostState* saved)
 {
 	fesetenv(&saved->env);
-#if TEST_MXCSR
-	_mm_setcsr(saved->mxcsr);
+#if TEST_FLUSH
+	setControl(saved->control);
 #endif
 }
 
@@ -150,7 +186,8 @@ static bool sameBits(const double* a, const double* b, size_t length)
 	return memcmp(a, b, sizeof(double) * length) == 0;
 }
 
-// The hostile state really changes arithmetic here: otherwise the tests below prove nothing.
+// The hostile state really changes arithmetic here: otherwise the tests below prove nothing. (On
+// WebAssembly: no state can be set, so there is nothing a host could change.)
 TEST(hostile_host_state_changes_arithmetic)
 {
 	volatile double one = 1.0, half = 0x1p-53 * 1.5, tiny = 0x1p-1060;
@@ -158,13 +195,21 @@ TEST(hostile_host_state_changes_arithmetic)
 	// Volatile results: the compiler may not move the arithmetic past the calls that change the
 	// state (it assumes the default state everywhere).
 	volatile double rounded = one + half; // 1 + 2^-52 to nearest, 1 toward zero
-	volatile double scaled = tiny * one;  // 0 with DAZ
+	volatile double scaled = tiny * one;  // 0 with DAZ (x86) or FZ (AArch64)
 	hostileEnd(&saved);
+#if TEST_ROUNDING
 	CHECK(rounded == 1.0);
-#if TEST_MXCSR
+#else
+	// The target has no other mode: the change is ignored (Emscripten's fesetround even returns
+	// 0) and the arithmetic rounds to nearest.
+	fesetround(FE_TOWARDZERO);
+	CHECK(fegetround() == FE_TONEAREST);
+	CHECK(rounded == 1.0 + 0x1p-52);
+#endif
+#if TEST_FLUSH
 	CHECK(scaled == 0.0);
 #else
-	(void)scaled;
+	CHECK(scaled == 0x1p-1060);
 #endif
 	// And femto's state undoes it.
 	saved = hostileBegin();
@@ -267,26 +312,45 @@ TEST(deterministic_math_follows_the_library_closely)
 // ---- the golden hash: the cross-machine check -------------------------------------------------
 
 // The FNV-1a hash of the final positions and velocities of runBox with
-// crossPlatformDeterminism, recorded on x86-64 (gcc, glibc). It must match on EVERY target CI
-// builds (x86-64 scalar or vector builds, AArch64, WebAssembly; any compiler that honours
-// -ffp-contract=off): a different value there is a determinism bug. A changed constant is a
-// behaviour change of the step and must be reviewed as one (say why in the commit).
+// crossPlatformDeterminism, recorded on x86-64 (gcc, glibc). It must match on EVERY target: CI
+// runs this suite on x86-64 with gcc and glibc (ctest), and scripts/check-determinism.sh on
+// x86-64 with clang and with musl, on AArch64 under qemu-user and on WebAssembly under Node.js
+// (with and without SIMD); any compiler that honours -ffp-contract=off. A different value there
+// is a determinism bug. A changed constant is a behaviour change of the step and must be reviewed
+// as one (say why in the commit).
 #define GOLDEN_EXPLICIT 0xf8dc1b108f37c157ull
 #define GOLDEN_IMPLICIT 0x977d08c0820ce657ull
 
+#define GOLDEN_FRAMES 30
+
+// The hash of runBox with the option after @p frames frames on @p workers workers.
+static uint64_t goldenRunHash(int* failures_, fmIntegrator integrator, int workers, int frames)
+{
+	RunDef run = {integrator, workers, true, false, 4, NULL, NULL};
+	size_t n;
+	double* state = runBox(failures_, &run, frames, &n);
+	uint64_t hash = hashDoubles(state, n);
+	free(state);
+	return hash;
+}
+
+static const char* integratorName(fmIntegrator integrator)
+{
+	return integrator == fm_implicit ? "implicit" : "explicit";
+}
+
+// Prints each hash (scripts/check-determinism.sh compares the targets' lines too).
 static void checkGolden(int* failures_, fmIntegrator integrator, uint64_t golden)
 {
 	for (int workers = 1; workers <= 2; ++workers)
 	{
-		RunDef run = {integrator, workers, true, false, 4, NULL, NULL};
-		size_t n;
-		double* state = runBox(failures_, &run, 30, &n);
-		uint64_t hash = hashDoubles(state, n);
+		uint64_t hash = goldenRunHash(failures_, integrator, workers, GOLDEN_FRAMES);
+		printf("  golden %s, %d worker%s: 0x%016llx\n", integratorName(integrator), workers,
+		       workers > 1 ? "s" : "", (unsigned long long)hash);
 		if (hash != golden)
 			FAIL_AT("%s run on %d workers hashes to 0x%016llxull, expected 0x%016llxull",
-			        integrator == fm_implicit ? "implicit" : "explicit", workers,
-			        (unsigned long long)hash, (unsigned long long)golden);
-		free(state);
+			        integratorName(integrator), workers, (unsigned long long)hash,
+			        (unsigned long long)golden);
 	}
 }
 
@@ -298,6 +362,170 @@ TEST(golden_hash_explicit)
 TEST(golden_hash_implicit)
 {
 	checkGolden(failures_, fm_implicit, GOLDEN_IMPLICIT);
+}
+
+// The control: a run one frame shorter misses the golden hash, so the golden tests can fail (a
+// hash that ignored the state would pass them anywhere).
+TEST(golden_hash_tells_a_changed_run_apart)
+{
+	const fmIntegrator integrators[2] = {fm_explicit, fm_implicit};
+	const uint64_t goldens[2] = {GOLDEN_EXPLICIT, GOLDEN_IMPLICIT};
+	for (int i = 0; i < 2; ++i)
+	{
+		uint64_t shorter = goldenRunHash(failures_, integrators[i], 1, GOLDEN_FRAMES - 1);
+		printf("  control %s, %d frames: 0x%016llx\n", integratorName(integrators[i]),
+		       GOLDEN_FRAMES - 1, (unsigned long long)shorter);
+		CHECK(shorter != goldens[i]);
+	}
+}
+
+// ---- a second golden hash: the rest of what a step does --------------------------------------
+
+// A scene that reaches what the box above does not: the house (Mooney-Rivlin, finite volumes)
+// lands on the floor and on a spinning box collider (its rotation through sin and cos), a
+// corotated box lands on the house (body-body contact; the polar kernel), an isochoric
+// Neo-Hookean box lands on a closed triangle-mesh collider (pseudo-normals through atan2) beside
+// a capsule, and a St. Venant-Kirchhoff beam pinned at one end is pulled down by a nodal force
+// and sideways by a kinematic target onto a sphere. Returns the FNV-1a hash of every body's
+// final positions and velocities.
+static uint64_t runMixedScene(int* failures_, fmIntegrator integrator, int workers, int frames)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.height = 0.0;
+	wdef.integrator = integrator;
+	wdef.workerCount = workers;
+	wdef.crossPlatformDeterminism = true;
+	fmWorldId world = fmCreateWorld(&wdef);
+
+	fmColliderDef spinner = fmDefaultColliderDef();
+	spinner.shape = fm_shapeBox;
+	spinner.center = fmMakeVec3(0.2, 0.04, 0.0);
+	spinner.halfExtents = fmMakeVec3(0.12, 0.04, 0.3);
+	spinner.rotation = fmMakeVec3(0.0, 0.4, 0.1);
+	spinner.angularVelocity = fmMakeVec3(0.0, 2.0, 0.0);
+	fmColliderDef sphere = fmDefaultColliderDef();
+	sphere.shape = fm_shapeSphere;
+	sphere.center = fmMakeVec3(1.25, 0.25, 0.05);
+	sphere.radius = 0.1;
+	fmColliderDef capsule = fmDefaultColliderDef();
+	capsule.shape = fm_shapeCapsule;
+	capsule.a = fmMakeVec3(-0.84, 0.23, -0.3);
+	capsule.b = fmMakeVec3(-0.82, 0.21, 0.3);
+	capsule.radius = 0.03;
+	capsule.friction = 0.2;
+	static const fmVec3 tetVertices[4] = {
+	    {-0.2, 0.0, -0.15}, {0.2, 0.0, -0.15}, {0.0, 0.0, 0.2}, {0.02, 0.25, 0.0}};
+	static const int tetTriangles[12] = {0, 1, 2, 0, 3, 1, 1, 3, 2, 2, 3, 0};
+	fmColliderDef rock = fmDefaultColliderDef();
+	rock.shape = fm_shapeMesh;
+	rock.center = fmMakeVec3(-0.75, 0.0, 0.0);
+	rock.rotation = fmMakeVec3(0.1, 0.5, -0.05);
+	rock.vertices = tetVertices;
+	rock.vertexCount = 4;
+	rock.triangles = tetTriangles;
+	rock.triangleCount = 4;
+	const fmColliderDef* colliderDefs[4] = {&spinner, &sphere, &capsule, &rock};
+	fmColliderId colliders[4];
+	for (int c = 0; c < 4; ++c)
+		CHECK_INT(fmCreateCollider(world, colliderDefs[c], &colliders[c], NULL), fm_ok);
+
+	fmBodyId bodies[4];
+	fmTetMesh meshes[4];
+	// The house 0.6 m wide (the seeds' placement, scaled down), above the spinning box.
+	CHECK_INT(
+	    fmLoadTetGen(FEMTO_MESH_DIR "/house2.node", FEMTO_MESH_DIR "/house2.ele", &meshes[0], NULL),
+	    fm_ok);
+	fmMeshTransform placement = fmDefaultMeshTransform();
+	placement.scale = 0.06;
+	placement.center = true;
+	placement.swapYZ = true;
+	placement.translate = fmMakeVec3(0.0, 0.4, 0.0);
+	fmTetMesh_Transform(&meshes[0], &placement);
+	CHECK_INT(fmMakeBoxMesh(2, 1, 2, fmMakeVec3(-0.08, 0.71, -0.08), fmMakeVec3(0.08, 0.79, 0.08),
+	                        &meshes[1]),
+	          fm_ok);
+	CHECK_INT(fmMakeBoxMesh(2, 2, 2, fmMakeVec3(-0.82, 0.27, -0.07), fmMakeVec3(-0.68, 0.37, 0.07),
+	                        &meshes[2]),
+	          fm_ok);
+	CHECK_INT(fmMakeBoxMesh(6, 1, 1, fmMakeVec3(0.7, 0.45, -0.04), fmMakeVec3(1.3, 0.53, 0.04),
+	                        &meshes[3]),
+	          fm_ok);
+	const fmMaterialModel models[4] = {fm_mooneyRivlin, fm_corotated, fm_neoHookeanIsochoric,
+	                                   fm_stvk};
+	for (int b = 0; b < 4; ++b)
+	{
+		fmBodyDef bdef = fmDefaultBodyDef();
+		bdef.mesh = &meshes[b];
+		bdef.material = fmMakeMaterial(models[b], 2e5, 0.3);
+		bdef.forceModel = b == 0 ? fm_fvm : fm_fem;
+		bdef.massMode = fm_massFromDensity;
+		CHECK_INT(fmCreateBody(world, &bdef, &bodies[b], NULL), fm_ok);
+		fmFreeTetMesh(&meshes[b]);
+	}
+	fmBody_ApplyVertexImpulse(bodies[0], 3, fmMakeVec3(0.5, 0.0, -0.4));
+	fmBody_ApplyImpulse(bodies[1], fmMakeVec3(0.1, -0.5, 0.05));
+	CHECK(fmBody_PinBox(bodies[3], fmMakeVec3(0.69, 0.4, -0.1), fmMakeVec3(0.71, 0.6, 0.1)) > 0);
+	CHECK(fmBody_AddNodalForce(bodies[3], fmMakeVec3(1.29, 0.4, -0.1), fmMakeVec3(1.31, 0.6, 0.1),
+	                           fmMakeVec3(0.0, -0.5, 0.0)) > 0);
+	int pulled = fmBody_GetVertexCount(bodies[3]) - 1;
+	fmVec3 target = fmMakeVec3(1.3, 0.4, 0.15);
+	CHECK_INT(fmBody_SetTargets(bodies[3], &pulled, &target, 1, 50.0), fm_ok);
+
+	// Explicit: substeps of 0.56 ms, below the house's stable step (0.67 ms).
+	int substeps = integrator == fm_explicit ? 30 : 1;
+	// Each collider and a body pair touch at some frame: the scene checks what it says.
+	bool touched[5] = {false, false, false, false, false};
+	fmContactPoint contacts[256];
+	for (int frame = 0; frame < frames; ++frame)
+	{
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, substeps), fm_ok);
+		int count = fmWorld_GetContacts(world, contacts, 256);
+		for (int k = 0; k < count && k < 256; ++k)
+			for (int c = 0; c < 5; ++c)
+				touched[c] =
+				    touched[c] || (c < 4 ? contacts[k].collider.index1 == colliders[c].index1
+				                         : contacts[k].otherBody.index1 != 0);
+	}
+	static const char* const names[5] = {"the spinning box", "the sphere", "the capsule",
+	                                     "the mesh collider", "a body"};
+	for (int c = 0; c < 5; ++c)
+		if (!touched[c])
+			FAIL_AT("%s %s touched no body", integratorName(integrator), names[c]);
+
+	uint64_t hash = 14695981039346656037ull;
+	for (int b = 0; b < 4; ++b)
+	{
+		int n = fmBody_GetVertexCount(bodies[b]);
+		double* state = calloc(6 * (size_t)n, sizeof(double));
+		CHECK_INT(fmBody_CopyPositions(bodies[b], state, n), fm_ok);
+		CHECK_INT(fmBody_CopyVelocities(bodies[b], state + 3 * (size_t)n, n), fm_ok);
+		hash = (hash ^ hashDoubles(state, 6 * (size_t)n)) * 1099511628211ull;
+		free(state);
+	}
+	fmDestroyWorld(world);
+	return hash;
+}
+
+// Recorded as GOLDEN_EXPLICIT and GOLDEN_IMPLICIT were (x86-64, gcc, glibc), with the same rules.
+#define GOLDEN_MIXED_EXPLICIT 0xf920b1a7bcfce4f0ull
+#define GOLDEN_MIXED_IMPLICIT 0xd639af76d750437full
+
+TEST(golden_hash_mixed_scene)
+{
+	const uint64_t goldens[2] = {GOLDEN_MIXED_EXPLICIT, GOLDEN_MIXED_IMPLICIT};
+	for (int integrator = 0; integrator < 2; ++integrator)
+		for (int workers = 1; workers <= 2; ++workers)
+		{
+			uint64_t hash = runMixedScene(failures_, (fmIntegrator)integrator, workers, 12);
+			printf("  golden mixed %s, %d worker%s: 0x%016llx\n",
+			       integratorName((fmIntegrator)integrator), workers, workers > 1 ? "s" : "",
+			       (unsigned long long)hash);
+			if (hash != goldens[integrator])
+				FAIL_AT("the mixed scene, %s, on %d workers hashes to 0x%016llxull, expected "
+				        "0x%016llxull",
+				        integratorName((fmIntegrator)integrator), workers, (unsigned long long)hash,
+				        (unsigned long long)goldens[integrator]);
+		}
 }
 
 // ---- femto's elementary functions against the C library ---------------------------------------
