@@ -4,8 +4,8 @@
 // Any failure must come back as a result code: never a crash, hang, leak, assert or undefined
 // behaviour; and a body is never left non-finite: after every step and static solve, whatever it
 // returned, its positions, velocities and energies are finite (a failed step restores the last
-// good state), or the fuzzer traps. Input: a header of structured values (fuzz_reader.h), then the mesh as raw nodes
-// and tets, a generated box, or TetGen text ("<node text>\n%%\n<ele text>").
+// good state), or the fuzzer traps. Input: a header of structured values (fuzz_reader.h), then the
+// mesh as raw nodes and tets, a generated box, or TetGen text ("<node text>\n%%\n<ele text>").
 #include "fuzz_reader.h"
 
 #include <femto/femto.h>

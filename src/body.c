@@ -320,8 +320,8 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		fmVec3 p = fmLoad(b->x0, i);
-		lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-		hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+		lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
+		hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
 		if (def->massMode == fm_massPerParticle)
 			b->mass[i] = def->particleMass;
 		b->smoothWeight[i] = tetsAround[i] > 0 ? 1.0 / (4.0 * tetsAround[i]) : 0.0;
@@ -1065,7 +1065,7 @@ static fmBodyStats fmBodyGetStatsIn(fmBodyId bodyId)
 		s.kineticEnergy += 0.5 * b->mass[i] * fmDot(v, v);
 		s.gravityEnergy -= b->mass[i] * fmDot(g, p);
 		moment = fmMulAdd(moment, b->mass[i], p);
-		s.lowestY = fmin(s.lowestY, p.y);
+		s.lowestY = fmMin(s.lowestY, p.y);
 	}
 	s.centerOfMass = fmScale(1.0 / b->totalMass, moment);
 	s.elasticEnergy = fmElasticEnergy(b, b->x);

@@ -82,7 +82,7 @@ static double fmBoxDistance(fmVec3 q, fmVec3 h, fmVec3* localNormal)
 	if (d[0] > 0.0 || d[1] > 0.0 || d[2] > 0.0)
 	{
 		fmVec3 out =
-		    fmMakeVec3(s[0] * fmax(d[0], 0.0), s[1] * fmax(d[1], 0.0), s[2] * fmax(d[2], 0.0));
+		    fmMakeVec3(s[0] * fmMax(d[0], 0.0), s[1] * fmMax(d[1], 0.0), s[2] * fmMax(d[2], 0.0));
 		double length = fmLength(out);
 		*localNormal = fmScale(1.0 / length, out);
 		return length;
@@ -142,7 +142,7 @@ double fmCollider_Distance(const fmCollider* c, fmVec3 p, fmVec3* normal)
 		fmVec3 a = fmSub(c->position, half), ab = fmScale(2.0, half);
 		double length2 = fmDot(ab, ab);
 		double t = length2 > 0.0 ? fmDot(fmSub(p, a), ab) / length2 : 0.0;
-		t = fmin(fmax(t, 0.0), 1.0);
+		t = fmMin(fmMax(t, 0.0), 1.0);
 		return fmRoundDistance(p, fmMulAdd(a, t, ab), c->def.radius, normal);
 	}
 	default:

@@ -18,6 +18,7 @@
 // Everything runs in a fixed order (bodies, vertices, colliders, triangles ascending), serially:
 // the same bits for any number of workers.
 #include "contact.h"
+#include "det_math.h"
 
 #include "broad_phase.h"
 #include "collider.h"
@@ -239,7 +240,7 @@ double fmContact_Thickness(const fmWorld* w)
 	double smallest = INFINITY;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x != NULL)
-			smallest = fmin(smallest, w->bodies[i].restSize);
+			smallest = fmMin(smallest, w->bodies[i].restSize);
 	return isfinite(smallest) ? FM_CONTACT_THICKNESS_FRACTION * smallest : 0.0;
 }
 
@@ -442,7 +443,7 @@ static double fmImpact(fmVec3* relative, fmVec3 n, double e, double mu, double p
 	double change = vn < 0.0 ? -(1.0 + e) * vn : 0.0;
 	fmVec3 tangent = fmMulAdd(*relative, -vn, n);
 	double speed = fmLength(tangent);
-	double keep = speed > 0.0 ? fmax(0.0, 1.0 - mu * (change + pushed) / speed) : 0.0;
+	double keep = speed > 0.0 ? fmMax(0.0, 1.0 - mu * (change + pushed) / speed) : 0.0;
 	*relative = fmAdd(fmScale(vn < 0.0 ? -e * vn : vn, n), fmScale(keep, tangent));
 	return change;
 }
@@ -497,9 +498,9 @@ static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, con
 		// at most the floor's depenetration speed beyond undoing the inward motion of the
 		// substep (the vertex's own, and a kinematic collider's toward it).
 		fmVec3 vc = fmCollider_VelocityAt(c, x);
-		double inward = fmax(0.0, -fmDot(fmSub(fmSub(x, start), fmScale(w->contactStep, vc)), n));
-		double reach = fmax(w->def.floor.maxDepenetrationSpeed * w->contactStep, inward);
-		x = fmMulAdd(x, fmin(depth, reach), n);
+		double inward = fmMax(0.0, -fmDot(fmSub(fmSub(x, start), fmScale(w->contactStep, vc)), n));
+		double reach = fmMax(w->def.floor.maxDepenetrationSpeed * w->contactStep, inward);
+		x = fmMulAdd(x, fmMin(depth, reach), n);
 	}
 	else
 		found->hit = false;
@@ -577,10 +578,10 @@ static void fmSweptBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 	{
 		int i = b->surfaceVertex[p];
 		fmVec3 x = fmLoad(b->x, i), x0 = fmLoad(b->contactStart, i);
-		*lo = fmMakeVec3(fmin(lo->x, fmin(x.x, x0.x)), fmin(lo->y, fmin(x.y, x0.y)),
-		                 fmin(lo->z, fmin(x.z, x0.z)));
-		*hi = fmMakeVec3(fmax(hi->x, fmax(x.x, x0.x)), fmax(hi->y, fmax(x.y, x0.y)),
-		                 fmax(hi->z, fmax(x.z, x0.z)));
+		*lo = fmMakeVec3(fmMin(lo->x, fmMin(x.x, x0.x)), fmMin(lo->y, fmMin(x.y, x0.y)),
+		                 fmMin(lo->z, fmMin(x.z, x0.z)));
+		*hi = fmMakeVec3(fmMax(hi->x, fmMax(x.x, x0.x)), fmMax(hi->y, fmMax(x.y, x0.y)),
+		                 fmMax(hi->z, fmMax(x.z, x0.z)));
 	}
 }
 
@@ -754,9 +755,9 @@ static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickne
 		{
 			int i = b->surfaceVertex[p];
 			fmVec3 x = fmLoad(b->x, i);
-			lo = fmMakeVec3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
-			hi = fmMakeVec3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
-			motion = fmax(motion, fmMotionOf(s, b, i));
+			lo = fmMakeVec3(fmMin(lo.x, x.x), fmMin(lo.y, x.y), fmMin(lo.z, x.z));
+			hi = fmMakeVec3(fmMax(hi.x, x.x), fmMax(hi.y, x.y), fmMax(hi.z, x.z));
+			motion = fmMax(motion, fmMotionOf(s, b, i));
 		}
 		double grow = thickness + motion;
 		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
@@ -810,9 +811,9 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 			for (int c = 0; c < 3; ++c)
 			{
 				fmVec3 p = fmLoad(b->x, tri[c]);
-				lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-				hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-				motion = fmax(motion, fmMotionOf(s, b, tri[c]));
+				lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
+				hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
+				motion = fmMax(motion, fmMotionOf(s, b, tri[c]));
 			}
 			if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) +
 			          motion <
@@ -823,7 +824,7 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 				lo = hi = fmMakeVec3(0.0, 0.0, 0.0);
 				motion = 0.0;
 			}
-			extent += fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
+			extent += fmMax(hi.x - lo.x, fmMax(hi.y - lo.y, hi.z - lo.z));
 			double grow = thickness + motion;
 			s->lower[k] = fmSub(lo, fmMakeVec3(grow, grow, grow));
 			s->upper[k] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
@@ -831,7 +832,7 @@ static bool fmBuildTriangles(fmWorld* w, fmContactState* s, double thickness)
 			s->triangleIndex[k] = t;
 		}
 	}
-	double cell = fmax(k > 0 ? extent / k : 0.0, 2.0 * thickness);
+	double cell = fmMax(k > 0 ? extent / k : 0.0, 2.0 * thickness);
 	s->triangleCount = k;
 	return fmSpatialHash_Build(&s->hash, s->lower, s->upper, k, cell > 0.0 ? cell : 1.0);
 }
@@ -997,8 +998,8 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 		fmVec3 q, n;
 		if (!fmNearestOnTriangle(o, tri, p, wt, &q, &n))
 			continue;
-		double bound = reach + fmax(fmMotionOf(s, o, tri[0]),
-		                            fmax(fmMotionOf(s, o, tri[1]), fmMotionOf(s, o, tri[2])));
+		double bound = reach + fmMax(fmMotionOf(s, o, tri[0]),
+		                             fmMax(fmMotionOf(s, o, tri[1]), fmMotionOf(s, o, tri[2])));
 		double distance = fmLength(fmSub(p, q)), side = fmDot(n, fmSub(p, q));
 		// (Before a step, a plane within the reach of the step's motion may be met.)
 		double near = s->predict > 0.0 ? bound : thickness;
@@ -1047,8 +1048,8 @@ static bool fmFindPairContact(const fmWorld* w, const fmContactState* s, fmWorke
 		for (int c = 0; c < 3; ++c)
 			approach = fmMulAdd(approach, -found->w[c],
 			                    fmSub(fmLoad(o->x, tri[c]), fmLoad(o->contactStart, tri[c])));
-		found->reach = fmax(w->def.floor.maxDepenetrationSpeed * w->contactStep,
-		                    fmax(0.0, -fmDot(approach, found->normal)) + thickness);
+		found->reach = fmMax(w->def.floor.maxDepenetrationSpeed * w->contactStep,
+		                     fmMax(0.0, -fmDot(approach, found->normal)) + thickness);
 	}
 	return bestItem >= 0;
 }
@@ -1081,7 +1082,7 @@ static bool fmProjectPair(fmWorld* w, fmContactState* s, fmPairContact* pc, doub
 		weight += pc->w[c] * pc->w[c] * fmInverseMass(o, tri[c]);
 	}
 	double gap = thickness - fmDot(pc->normal, fmSub(fmLoad(b->x, pc->vertex), q));
-	gap = fmin(gap, pc->reach);
+	gap = fmMin(gap, pc->reach);
 	if (!(gap > 0.0) || !(weight > 0.0))
 		return true;
 	if (!fmTouchPair(s, b, o, pc))
@@ -1175,12 +1176,12 @@ static void fmClosestSegments(fmVec3 p0, fmVec3 p1, fmVec3 q0, fmVec3 q1, double
 	fmVec3 d1 = fmSub(p1, p0), d2 = fmSub(q1, q0), r = fmSub(p0, q0);
 	double a = fmDot(d1, d1), e = fmDot(d2, d2), f = fmDot(d2, r), c = fmDot(d1, r);
 	double b = fmDot(d1, d2), denominator = a * e - b * b;
-	*s = denominator > 1e-12 * a * e ? fmin(fmax((b * f - c * e) / denominator, 0.0), 1.0) : 0.0;
+	*s = denominator > 1e-12 * a * e ? fmMin(fmMax((b * f - c * e) / denominator, 0.0), 1.0) : 0.0;
 	*t = e > 0.0 ? (b * *s + f) / e : 0.0;
 	if (*t < 0.0 || *t > 1.0)
 	{
-		*t = fmin(fmax(*t, 0.0), 1.0);
-		*s = a > 0.0 ? fmin(fmax((b * *t - c) / a, 0.0), 1.0) : 0.0;
+		*t = fmMin(fmMax(*t, 0.0), 1.0);
+		*s = a > 0.0 ? fmMin(fmMax((b * *t - c) / a, 0.0), 1.0) : 0.0;
 	}
 }
 
@@ -1255,9 +1256,11 @@ static void fmFindEdgeContacts(const fmWorld* w, const fmContactState* s, fmWork
 		return;
 	fmVec3 side = s->predict > 0.0 ? fmTriangleCross(b, tri) : fmMakeVec3(0.0, 0.0, 0.0);
 	fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
-	double reach = thickness + fmax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
-	fmVec3 lo = fmMakeVec3(fmin(p.x, q.x) - reach, fmin(p.y, q.y) - reach, fmin(p.z, q.z) - reach);
-	fmVec3 hi = fmMakeVec3(fmax(p.x, q.x) + reach, fmax(p.y, q.y) + reach, fmax(p.z, q.z) + reach);
+	double reach = thickness + fmMax(fmMotionOf(s, b, e[0]), fmMotionOf(s, b, e[1]));
+	fmVec3 lo =
+	    fmMakeVec3(fmMin(p.x, q.x) - reach, fmMin(p.y, q.y) - reach, fmMin(p.z, q.z) - reach);
+	fmVec3 hi =
+	    fmMakeVec3(fmMax(p.x, q.x) + reach, fmMax(p.y, q.y) + reach, fmMax(p.z, q.z) + reach);
 	if (!(fabs(lo.x) + fabs(lo.y) + fabs(lo.z) + fabs(hi.x) + fabs(hi.y) + fabs(hi.z) < 1e30))
 		return; // non-finite: the frame's checks report it
 	if (!fmNearOtherBody(w, s, slot, lo, hi, true))
@@ -1306,7 +1309,7 @@ static bool fmProjectEdges(fmWorld* w, fmContactState* s, fmEdgeContact* c, doub
 	for (int k = 0; k < 4; ++k)
 		sum += weights[k] * weights[k] * inverse[k];
 	fmVec3 d = fmSub(fmEdgePoint(b->x, c->a, c->s), fmEdgePoint(o->x, c->b, c->t));
-	double gap = fmin(thickness - fmDot(c->normal, d), c->reach);
+	double gap = fmMin(thickness - fmDot(c->normal, d), c->reach);
 	if (!(gap > 0.0) || !(sum > 0.0))
 		return true;
 	if (!fmTouchEdges(s, b, o, c))
@@ -1854,9 +1857,9 @@ int fmContact_Pieces(fmWorld* w, double h, int most)
 		{
 			int i = b->surfaceVertex[p];
 			fmVec3 x = fmLoad(b->x, i);
-			lo = fmMakeVec3(fmin(lo.x, x.x), fmin(lo.y, x.y), fmin(lo.z, x.z));
-			hi = fmMakeVec3(fmax(hi.x, x.x), fmax(hi.y, x.y), fmax(hi.z, x.z));
-			speed = fmax(speed, fmLength(fmLoad(b->v, i)));
+			lo = fmMakeVec3(fmMin(lo.x, x.x), fmMin(lo.y, x.y), fmMin(lo.z, x.z));
+			hi = fmMakeVec3(fmMax(hi.x, x.x), fmMax(hi.y, x.y), fmMax(hi.z, x.z));
+			speed = fmMax(speed, fmLength(fmLoad(b->v, i)));
 		}
 		double grow = thickness + speed * h;
 		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
@@ -1876,8 +1879,8 @@ int fmContact_Pieces(fmWorld* w, double h, int most)
 			    al.x > ch.x || ah.y < cl.y || al.y > ch.y || ah.z < cl.z || al.z > ch.z)
 				continue;
 			double allowed =
-			    fmax(FM_PIECE_FRACTION * fmin(A->contactThinness, C->contactThinness), thickness);
-			pieces = fmax(pieces, ceil((s->bodySpeed[a] + s->bodySpeed[c]) * h / allowed));
+			    fmMax(FM_PIECE_FRACTION * fmMin(A->contactThinness, C->contactThinness), thickness);
+			pieces = fmMax(pieces, ceil((s->bodySpeed[a] + s->bodySpeed[c]) * h / allowed));
 		}
 	}
 	return pieces <= most ? (int)pieces : most + 1;

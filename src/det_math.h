@@ -32,6 +32,36 @@ void fmDetSinCos(double x, double* sine, double* cosine);
 // pseudo-normals).
 double fmDetAtan2(double y, double x);
 
+// fmin and fmax with the same bits on every target: the C libraries disagree on the sign of
+// fmax(-0.0, +0.0) (glibc's x86-64 fmax returns its first argument, musl, AArch64 and
+// Emscripten +0). Here the minimum of -0 and +0 is -0 and the maximum +0 in either order; a
+// NaN argument gives the other, as C's. Inline, no library call.
+static inline double fmMin(double a, double b)
+{
+	if (a < b)
+		return a;
+	if (b < a)
+		return b;
+	if (a != a)
+		return b;
+	if (b != b)
+		return a;
+	return signbit(a) ? a : b;
+}
+
+static inline double fmMax(double a, double b)
+{
+	if (a > b)
+		return a;
+	if (b > a)
+		return b;
+	if (a != a)
+		return b;
+	if (b != b)
+		return a;
+	return signbit(a) ? b : a;
+}
+
 // The calling thread's det_math mode (off when a thread starts); set by fp_env.c.
 extern _Thread_local bool fmDetMathMode;
 

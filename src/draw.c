@@ -2,6 +2,7 @@
 // normals, strain colours), tet edges, inverted tets, pins, kinematic targets and the contact
 // list's points as float arrays for the caller's callbacks, the floor plane and the colliders.
 #include "draw.h"
+#include "det_math.h"
 
 #include "draw_shapes.h"
 
@@ -75,7 +76,7 @@ void fmStrainColor(double level, float rgb[3])
 	                                 {0.2f, 0.85f, 0.25f},
 	                                 {0.95f, 0.9f, 0.15f},
 	                                 {0.95f, 0.15f, 0.1f}};
-	double s = 4.0 * fmin(fmax(level, 0.0), 1.0);
+	double s = 4.0 * fmMin(fmMax(level, 0.0), 1.0);
 	int k = s >= 4.0 ? 3 : (int)s;
 	float u = (float)(s - k);
 	for (int e = 0; e < 3; ++e)

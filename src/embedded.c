@@ -1,6 +1,7 @@
 // Vertices caught inside another body (embedded.h): the tets of the bodies near another in a
 // spatial hash, and point-in-tet queries against it.
 #include "embedded.h"
+#include "det_math.h"
 
 #include "core.h"
 
@@ -46,8 +47,8 @@ static bool fmTetBox(const fmBody* b, int t, fmVec3* lo, fmVec3* hi)
 	for (int c = 1; c < 4; ++c)
 	{
 		fmVec3 p = fmLoad(b->x, tet[c]);
-		*lo = fmMakeVec3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
-		*hi = fmMakeVec3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
+		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
+		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
 	}
 	return fabs(lo->x) + fabs(lo->y) + fabs(lo->z) + fabs(hi->x) + fabs(hi->y) + fabs(hi->z) < 1e30;
 }
@@ -69,7 +70,7 @@ bool fmTetHash_Build(fmTetHash* th, const fmWorld* w, const bool* near)
 			fmVec3 lo, hi;
 			if (!fmTetBox(b, t, &lo, &hi))
 				continue;
-			extent += fmax(hi.x - lo.x, fmax(hi.y - lo.y, hi.z - lo.z));
+			extent += fmMax(hi.x - lo.x, fmMax(hi.y - lo.y, hi.z - lo.z));
 			th->lower[th->count] = lo;
 			th->upper[th->count] = hi;
 			th->body[th->count] = slot;

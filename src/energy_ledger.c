@@ -1,5 +1,6 @@
 // The energy ledger (energy_ledger.h): E <= E0 + W + 1% (E0 + W_in) + floor.
 #include "energy_ledger.h"
+#include "det_math.h"
 
 #include "body.h"
 #include "forces.h"
@@ -140,7 +141,7 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	ledger->framePlain = plain;
 	double frameWork = ledger->frameGravityWork + ledger->frameContactWork + ledger->frameLoadWork;
 	double frameWorkIn =
-	    fmax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork + ledger->frameLoadWorkIn;
+	    fmMax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork + ledger->frameLoadWorkIn;
 	double allowed =
 	    ledger->initialEnergy + ledger->work + frameWork +
 	    FM_LEDGER_RELATIVE * (fabs(ledger->initialEnergy) + ledger->workIn + frameWorkIn) +
@@ -150,7 +151,7 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	// per-frame backstop: gravity adds at most M g (size + g T^2) in a frame, and a stable body
 	// does not multiply its energy by 1000 on top of that.
 	double g = fmLength(gravity);
-	double backstop = 1000.0 * (fmax(ledger->plainGood, 0.0) + ledger->frameContactWork +
+	double backstop = 1000.0 * (fmMax(ledger->plainGood, 0.0) + ledger->frameContactWork +
 	                            ledger->frameLoadWorkIn +
 	                            b->totalMass * g * (b->restSize + g * frameTime * frameTime)) +
 	                  ledger->floor;

@@ -11,6 +11,7 @@
 // a body that starts (or is dragged) deep below the floor rises at the limit instead of being
 // catapulted.
 #include "floor.h"
+#include "det_math.h"
 
 #include "collider.h"
 #include "core.h"
@@ -51,7 +52,7 @@ static double fmLiftOutOfFloor(const fmFloorDef* floor, fmVec3 gravity, fmBody* 
 {
 	double* x = b->x + 3 * i;
 	double penetration = floor->height - x[1], vIn = b->v[3 * i + 1];
-	double reach = (fmax(floor->maxDepenetrationSpeed, vIn) - vIn) * dt;
+	double reach = (fmMax(floor->maxDepenetrationSpeed, vIn) - vIn) * dt;
 	double lift = penetration <= reach ? penetration : reach;
 	x[1] = penetration <= reach ? floor->height : x[1] + lift;
 	// Work against gravity only: the elastic forces of a body that is blowing up would
@@ -74,7 +75,7 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 		// upward velocity (it pushes the vertex out over the next step), up to the limit.
 		v[0] = 0.0;
 		v[2] = 0.0;
-		v[1] = fmin(vIn + penetration / dt, fmax(vIn, pushLimit));
+		v[1] = fmMin(vIn + penetration / dt, fmMax(vIn, pushLimit));
 		return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
 	}
 	// Coulomb: reflect the approaching normal velocity with restitution e; the normal velocity
@@ -85,9 +86,9 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 	double dvn = vn < 0.0 ? -(1.0 + floor->restitution) * vn : 0.0;
 	v[1] = vn < 0.0 ? -floor->restitution * vn : vn;
 	if (x[1] < h)
-		v[1] = fmax(v[1], fmin(penetration / dt, pushLimit));
+		v[1] = fmMax(v[1], fmMin(penetration / dt, pushLimit));
 	double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
-	double scale = vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * dvn / vt) : 0.0;
+	double scale = vt > 0.0 ? fmMax(0.0, 1.0 - floor->frictionCoefficient * dvn / vt) : 0.0;
 	v[0] *= scale;
 	v[2] *= scale;
 	return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
@@ -203,7 +204,7 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 			continue;
 		++contacts;
 		const double before[3] = {v[0], v[1], v[2]};
-		double push = fmax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push in the solve
+		double push = fmMax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push in the solve
 		double impulse = push;
 		if (v[1] < 0.0)
 		{
@@ -220,14 +221,15 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		{
 			double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
 			double keep =
-			    vt > 0.0 ? fmax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
-			             : 0.0;
+			    vt > 0.0
+			        ? fmMax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
+			        : 0.0;
 			v[0] *= keep;
 			v[2] *= keep;
 		}
 		fmVec3 given = fmImpulseSince(b, i, before);
 		given.y += push;
-		listed = listed && fmAddHit(b, i, fmax(0.0, floor->height - b->x[3 * i + 1]), given);
+		listed = listed && fmAddHit(b, i, fmMax(0.0, floor->height - b->x[3 * i + 1]), given);
 	}
 	return listed ? contacts : -1;
 }
@@ -239,7 +241,7 @@ void fmFloor_SetBounds(const fmFloorDef* floor, const fmBody* b, fmImplicitCache
 {
 	for (int i = 0; i < b->vertexCount; ++i)
 		c->floorBound[i] =
-		    fmin(floor->height, c->xStart[3 * i + 1] + floor->maxDepenetrationSpeed * h);
+		    fmMin(floor->height, c->xStart[3 * i + 1] + floor->maxDepenetrationSpeed * h);
 }
 
 // Work the floor did on the body in the step (J), for the energy ledger: its push (the energy
@@ -252,7 +254,7 @@ double fmFloor_ImplicitWork(const fmBody* b, const fmImplicitCache* c, double fl
 	for (int i = 0; i < b->vertexCount; ++i)
 		if (!(b->pinned[i] & FM_PIN_Y) && c->floorBound[i] < floorHeight &&
 		    b->x[3 * i + 1] <= c->floorBound[i])
-			work += fmax(0.0, c->gradient[3 * i + 1]) *
-			        fmax(0.0, b->x[3 * i + 1] - c->xStart[3 * i + 1]);
+			work += fmMax(0.0, c->gradient[3 * i + 1]) *
+			        fmMax(0.0, b->x[3 * i + 1] - c->xStart[3 * i + 1]);
 	return work;
 }

@@ -1,5 +1,6 @@
 // Closest points and bounding boxes (geometry.h).
 #include "geometry.h"
+#include "det_math.h"
 
 #include <math.h>
 
@@ -70,8 +71,8 @@ bool fmSegmentHitsBox(fmVec3 o, fmVec3 d, fmVec3 lo, fmVec3 hi)
 			continue;
 		}
 		double t0 = (low[e] - origin[e]) / dir[e], t1 = (high[e] - origin[e]) / dir[e];
-		enter = fmax(enter, fmin(t0, t1));
-		leave = fmin(leave, fmax(t0, t1));
+		enter = fmMax(enter, fmMin(t0, t1));
+		leave = fmMin(leave, fmMax(t0, t1));
 	}
 	return enter <= leave;
 }

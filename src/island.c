@@ -1,6 +1,7 @@
 // Islands and sleeping (island.h): a union-find over the bodies touching in the last frame,
 // rebuilt at the end of every frame (a world holds few bodies; the pairs are already sorted).
 #include "island.h"
+#include "det_math.h"
 
 #include "body.h"
 #include "contact.h"
@@ -139,7 +140,7 @@ static double fmFastest(const fmBody* b)
 	for (int i = 0; i < b->vertexCount; ++i)
 	{
 		const double* v = b->v + 3 * i;
-		fastest = fmax(fastest, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+		fastest = fmMax(fastest, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 	}
 	return sqrt(fastest);
 }
@@ -186,7 +187,7 @@ bool fmIsland_EndFrame(fmWorld* w, double frameTime)
 		             !fmTouchesMovingCollider(w, k);
 		b->sleepTimer = still ? b->sleepTimer + frameTime : 0.0;
 		int root = fmFindRoot(parent, k);
-		least[root] = fmin(least[root], b->sleepTimer);
+		least[root] = fmMin(least[root], b->sleepTimer);
 	}
 	for (int k = 0; k < w->bodyCapacity; ++k)
 		if (fmFindRoot(parent, k) == k && least[k] >= def->sleepTime && isfinite(least[k]))

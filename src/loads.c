@@ -2,6 +2,7 @@
 // fmBody_ClearLoads, fmBody_PinBoxAxes, fmBody_PrescribeDisplacement, and what the integrators
 // and the static solver call.
 #include "loads.h"
+#include "det_math.h"
 
 #include "core.h"
 #include "energy_ledger.h"
@@ -202,7 +203,7 @@ void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 		if (p->reached)
 			continue;
 		p->elapsed += dt;
-		double fraction = p->time > 0.0 ? fmin(p->elapsed / p->time, 1.0) : 1.0;
+		double fraction = p->time > 0.0 ? fmMin(p->elapsed / p->time, 1.0) : 1.0;
 		p->reached = fraction >= 1.0;
 		fmPlace(b, p, p->start, fraction);
 	}

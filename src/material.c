@@ -2,6 +2,7 @@
 // PSD projection of dP/dF. The SVD-based models live in material_stretch.c, Neo-Hookean,
 // Mooney-Rivlin and the user invariant energy in material_invariant.c. Formulas: docs/materials.md.
 #include "material.h"
+#include "det_math.h"
 
 #include "core.h"
 #include "material_invariant.h"
@@ -305,7 +306,7 @@ void fmProjectPSD9(double* A)
 	memcpy(a, A, sizeof a);
 	fmSymEigenN(a, 9, 1e-12, w, Q); // eigenvalues to ~1e-12 relative: ample for a Newton matrix
 	for (int e = 0; e < 9; ++e)
-		w[e] = fmax(w[e], 0.0);
+		w[e] = fmMax(w[e], 0.0);
 	for (int i = 0; i < 9; ++i)
 		for (int j = i; j < 9; ++j)
 		{

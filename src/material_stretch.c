@@ -9,6 +9,7 @@
 // with f_ij, t_ij = (u_i v_j^T +- u_j v_i^T) / sqrt 2, q_ij = (dpsi_i - dpsi_j) / (s_i - s_j) and
 // r_ij = (dpsi_i + dpsi_j) / (s_i + s_j).
 #include "material_stretch.h"
+#include "det_math.h"
 #include "material.h"
 #include "material_invariant.h"
 #include "svd3.h"
@@ -58,7 +59,7 @@ static void fmCorotatedStretch(const fmMaterial* m, const double s[3], bool hess
 		d->q[k] = 2.0 * m->mu - m->lambda * (J - 1.0) * sk;
 		// -4 mu / (s_i + s_j) is the rotation's own singularity (s_i = -s_j); bounded there.
 		d->r[k] = 2.0 * m->mu + m->lambda * (J - 1.0) * sk -
-		          4.0 * m->mu / fmax(s[i] + s[j], FM_STRETCH_GAP * fmax(fabs(s[0]), 1e-150));
+		          4.0 * m->mu / fmMax(s[i] + s[j], FM_STRETCH_GAP * fmMax(fabs(s[0]), 1e-150));
 	}
 	d->hasModes = true;
 }
@@ -157,7 +158,7 @@ static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian
 // Flip and twist eigenvalues from the gradient where the energy has no closed form for them.
 static void fmGuardedModes(const double s[3], fmStretchDerivs* d)
 {
-	double gap = FM_STRETCH_GAP * fmax(fabs(s[0]), 1e-150); // s[0] has the largest magnitude
+	double gap = FM_STRETCH_GAP * fmMax(fabs(s[0]), 1e-150); // s[0] has the largest magnitude
 	const double* g = d->g;
 	const double* H = d->H;
 	for (int k = 0; k < 3; ++k)
@@ -168,7 +169,7 @@ static void fmGuardedModes(const double s[3], fmStretchDerivs* d)
 		                            : 0.5 * (H[3 * i + i] + H[3 * j + j]) - H[3 * i + j];
 		// Twist: s_i + s_j >= 0 by the ordering; it vanishes only where the rotation of F is
 		// undefined (s_i = -s_j), where the bounded denominator keeps dP/dF finite.
-		d->r[k] = (g[i] + g[j]) / fmax(s[i] + s[j], gap);
+		d->r[k] = (g[i] + g[j]) / fmMax(s[i] + s[j], gap);
 	}
 }
 
@@ -210,7 +211,7 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 		fmMat3 Q;
 		fmVec3 w;
 		fmSymEigen3(&Hm, &w, &Q);
-		double wc[3] = {fmax(w.x, 0.0), fmax(w.y, 0.0), fmax(w.z, 0.0)};
+		double wc[3] = {fmMax(w.x, 0.0), fmMax(w.y, 0.0), fmMax(w.z, 0.0)};
 		for (int i = 0; i < 3; ++i)
 			for (int j = 0; j < 3; ++j)
 				H[3 * i + j] = Q.m[3 * i] * wc[0] * Q.m[3 * j] +
@@ -227,8 +228,8 @@ static void fmAssembleStretchHessian(const fmMat3* U, const fmMat3* V, const fmS
 	for (int k = 0; k < 3; ++k)
 	{
 		int i = s_pairs[k][0], j = s_pairs[k][1];
-		double q = project ? fmax(d->q[k], 0.0) : d->q[k];
-		double r = project ? fmax(d->r[k], 0.0) : d->r[k];
+		double q = project ? fmMax(d->q[k], 0.0) : d->q[k];
+		double r = project ? fmMax(d->r[k], 0.0) : d->r[k];
 		double ij[9], ji[9], f[9], t[9];
 		fmDyad(U, V, i, j, ij);
 		fmDyad(U, V, j, i, ji);

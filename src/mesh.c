@@ -1,6 +1,7 @@
 // Mesh utilities: ownership (free, copy), placement, orientation, volumes, statistics,
 // boundary extraction and generated box meshes.
 #include "core.h"
+#include "det_math.h"
 #include "mesh_internal.h"
 
 #include <float.h>
@@ -182,7 +183,7 @@ static fmTetShape fmMakeTetShape(const double* x, const int* tet)
 		q[k] = fmLoad(x, tet[k]);
 		if (!fmIsFiniteVec3(q[k]))
 			return s;
-		largest = fmax(largest, fmax(fabs(q[k].x), fmax(fabs(q[k].y), fabs(q[k].z))));
+		largest = fmMax(largest, fmMax(fabs(q[k].x), fmMax(fabs(q[k].y), fabs(q[k].z))));
 	}
 	s.finite = true;
 	// First bring the coordinates below 1 so the differences cannot overflow ...
@@ -195,7 +196,7 @@ static fmTetShape fmMakeTetShape(const double* x, const int* tet)
 		for (int j = i + 1; j < 4; ++j)
 		{
 			fmVec3 e = fmSub(q[j], q[i]);
-			l2 = fmax(l2, fmDot(e, e));
+			l2 = fmMax(l2, fmDot(e, e));
 		}
 	if (l2 == 0.0)
 		return s;
@@ -460,9 +461,9 @@ static void fmDihedralRange(const fmVec3* n, double* minAngle, double* maxAngle)
 		{
 			double denominator = fmLength(n[k]) * fmLength(n[l]);
 			double c = denominator > 0.0 ? -fmDot(n[k], n[l]) / denominator : 1.0;
-			double angle = acos(fmax(-1.0, fmin(1.0, c)));
-			*minAngle = fmin(*minAngle, angle);
-			*maxAngle = fmax(*maxAngle, angle);
+			double angle = acos(fmMax(-1.0, fmMin(1.0, c)));
+			*minAngle = fmMin(*minAngle, angle);
+			*maxAngle = fmMax(*maxAngle, angle);
 		}
 }
 
@@ -499,7 +500,7 @@ static fmTetQuality fmMeasureShape(const fmTetShape* s)
 	{
 		double rIn = six / area2;                 // 3V / A with A = area2 / 2 and V = six / 6
 		double rCirc = fmLength(r) / (2.0 * six); // |r| / (12 V)
-		q.radiusRatio = fmin(1.0, 3.0 * rIn / rCirc);
+		q.radiusRatio = fmMin(1.0, 3.0 * rIn / rCirc);
 	}
 	return q;
 }
@@ -525,13 +526,13 @@ fmResult fmTetMesh_GetTetQuality(const fmTetMesh* mesh, int tet, fmTetQuality* q
 static void fmInfoAddTet(fmMeshInfo* info, const fmTetQuality* q, bool first)
 {
 	info->totalVolume += fabs(q->volume);
-	info->minVolume = first ? q->volume : fmin(info->minVolume, q->volume);
-	info->maxVolume = first ? q->volume : fmax(info->maxVolume, q->volume);
+	info->minVolume = first ? q->volume : fmMin(info->minVolume, q->volume);
+	info->maxVolume = first ? q->volume : fmMax(info->maxVolume, q->volume);
 	info->minDihedralDeg =
-	    first ? q->minDihedralDeg : fmin(info->minDihedralDeg, q->minDihedralDeg);
+	    first ? q->minDihedralDeg : fmMin(info->minDihedralDeg, q->minDihedralDeg);
 	info->maxDihedralDeg =
-	    first ? q->maxDihedralDeg : fmax(info->maxDihedralDeg, q->maxDihedralDeg);
-	info->minQuality = first ? q->radiusRatio : fmin(info->minQuality, q->radiusRatio);
+	    first ? q->maxDihedralDeg : fmMax(info->maxDihedralDeg, q->maxDihedralDeg);
+	info->minQuality = first ? q->radiusRatio : fmMin(info->minQuality, q->radiusRatio);
 	bool inverted = !q->degenerate && q->volume < 0.0;
 	info->degenerateTets += q->degenerate;
 	info->invertedTets += inverted;
@@ -554,8 +555,8 @@ static bool fmInfoNodes(const fmTetMesh* mesh, fmMeshInfo* info)
 		fmVec3 p = fmLoad(mesh->positions, i);
 		fmVec3 lo = i == 0 ? p : info->boundsMin, hi = i == 0 ? p : info->boundsMax;
 		info->unreferencedNodes += !used[i];
-		info->boundsMin = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-		info->boundsMax = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+		info->boundsMin = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
+		info->boundsMax = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
 	}
 	FM_FREE_ARRAY(used, unsigned char, n);
 	return true;

@@ -145,12 +145,12 @@ static void fmBuildNode(fmMeshShape* m, fmCentroidKey* keys, int index, int firs
 		for (int k = 0; k < 3; ++k)
 		{
 			fmVec3 p = fmCorner(m, m->order[i], k);
-			lo = fmMakeVec3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-			hi = fmMakeVec3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+			lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
+			hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
 			c = fmAdd(c, p);
 		}
-		clo = fmMakeVec3(fmin(clo.x, c.x), fmin(clo.y, c.y), fmin(clo.z, c.z));
-		chi = fmMakeVec3(fmax(chi.x, c.x), fmax(chi.y, c.y), fmax(chi.z, c.z));
+		clo = fmMakeVec3(fmMin(clo.x, c.x), fmMin(clo.y, c.y), fmMin(clo.z, c.z));
+		chi = fmMakeVec3(fmMax(chi.x, c.x), fmMax(chi.y, c.y), fmMax(chi.z, c.z));
 	}
 	node->lo = lo;
 	node->hi = hi;
@@ -253,9 +253,9 @@ void fmMeshShape_Bounds(const fmMeshShape* m, fmVec3* lo, fmVec3* hi)
 // Squared distance from p to the box [lo, hi] (0 inside).
 static double fmBoxDistance2(fmVec3 p, fmVec3 lo, fmVec3 hi)
 {
-	double dx = fmax(fmax(lo.x - p.x, p.x - hi.x), 0.0);
-	double dy = fmax(fmax(lo.y - p.y, p.y - hi.y), 0.0);
-	double dz = fmax(fmax(lo.z - p.z, p.z - hi.z), 0.0);
+	double dx = fmMax(fmMax(lo.x - p.x, p.x - hi.x), 0.0);
+	double dy = fmMax(fmMax(lo.y - p.y, p.y - hi.y), 0.0);
+	double dz = fmMax(fmMax(lo.z - p.z, p.z - hi.z), 0.0);
 	return dx * dx + dy * dy + dz * dz;
 }
 

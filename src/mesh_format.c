@@ -2,6 +2,7 @@
 // mesh_io.c, Gmsh in mesh_gmsh.c, VTK in mesh_vtk.c, Medit in mesh_medit.c); the writers of
 // TetGen .ele, Gmsh .msh 4.1 ASCII and ASCII .vtu, and fmWriteMesh which picks one.
 #include "core.h"
+#include "det_math.h"
 #include "mesh_gmsh.h"
 #include "mesh_internal.h"
 #include "mesh_medit.h"
@@ -278,8 +279,8 @@ static bool fmWriteGmshText(FILE* f, const fmTetMesh* m, const double* x, const 
 	double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]};
 	for (size_t k = 0; k < 3 * (size_t)m->nodeCount; ++k)
 	{
-		lo[k % 3] = fmin(lo[k % 3], x[k]);
-		hi[k % 3] = fmax(hi[k % 3], x[k]);
+		lo[k % 3] = fmMin(lo[k % 3], x[k]);
+		hi[k % 3] = fmMax(hi[k % 3], x[k]);
 	}
 	bool ok =
 	    fprintf(f, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 0 %d\n", volumes) > 0;

@@ -3,6 +3,7 @@
 // preconditioned CG for each Newton system, a lazily refreshed assembled matrix, and a
 // backtracking (Armijo) line search on E along the path projected onto the bounds.
 #include "newton.h"
+#include "det_math.h"
 
 #include "core.h"
 #include "forces.h"
@@ -314,10 +315,10 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 	// than the Newton iteration (forces, line search, CG) it saves (measured: the house at the
 	// game preset took 1.87 Newton iterations a frame before, 1.56 after).
 	double floorTolerance = 0.1 * pb->tolerance * pb->scale;
-	double forcing = pb->quadratic ? 0.0 : fmin(0.1, residual);
-	double tolerance = fmax(forcing * gradientNorm, floorTolerance);
+	double forcing = pb->quadratic ? 0.0 : fmMin(0.1, residual);
+	double tolerance = fmMax(forcing * gradientNorm, floorTolerance);
 	if (residual < FM_NEWTON_FINISH * pb->tolerance)
-		tolerance = fmin(tolerance, fmax(0.5 * pb->tolerance * pb->scale, floorTolerance));
+		tolerance = fmMin(tolerance, fmMax(0.5 * pb->tolerance * pb->scale, floorTolerance));
 	fmPcgWork work = {c->work, c->work + n3, c->work + 2 * n3, c->work + 3 * n3};
 	fmPcgPreconditioner pre = {
 	    pb->options.preconditioner, c->blockInverse, &c->pattern, c->hessian, pb->tasks, NULL};

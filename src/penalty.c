@@ -1,5 +1,6 @@
 // The implicit step's contact penalty (penalty.h).
 #include "penalty.h"
+#include "det_math.h"
 
 #include <math.h>
 
@@ -105,7 +106,7 @@ static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
 // stiffer than the contact itself only stalls Newton: measured, docs/contact.md).
 static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
 {
-	return fmax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
+	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
 }
 
 // A stick collider's friction (f[7] set by contact.c): infinite friction as the limit of the
@@ -326,7 +327,7 @@ static void fmVisitWork(void* context, const fmPenaltyTerm* t)
 	for (int j = 0; j < t->count; ++j)
 		moved = fmMulAdd(moved, t->weight[j],
 		                 fmSub(fmLoad(v->x, t->vertex[j]), fmLoad(v->xStart, t->vertex[j])));
-	v->work += fmax(0.0, t->k * t->depth * fmDot(t->normal, moved));
+	v->work += fmMax(0.0, t->k * t->depth * fmDot(t->normal, moved));
 }
 
 double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const double* xStart)
@@ -338,7 +339,7 @@ double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const d
 	{
 		int i = b->surfaceVertex[s];
 		fmVec3 force = fmContactFriction_Force(b, i, b->x, xStart, p->step);
-		v.work += fmax(0.0, fmDot(force, fmSub(fmLoad(b->x, i), fmLoad(xStart, i))));
+		v.work += fmMax(0.0, fmDot(force, fmSub(fmLoad(b->x, i), fmLoad(xStart, i))));
 	}
 	return v.work;
 }

@@ -4,6 +4,7 @@
 // each body's nearest surface point (and a parity test for a centre inside it), each collider's
 // signed distance.
 #include "query.h"
+#include "det_math.h"
 
 #include "collider.h"
 #include "core.h"
@@ -20,8 +21,8 @@ static void fmBodyBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 	for (int i = 1; i < b->vertexCount; ++i)
 	{
 		fmVec3 p = fmLoad(b->x, i);
-		*lo = fmMakeVec3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
-		*hi = fmMakeVec3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
+		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
+		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
 	}
 }
 
@@ -204,7 +205,7 @@ static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter
 			o->collider = fmWorldColliderId(w, slot);
 			o->vertex = -1;
 			o->point = fmMulAdd(center, -d, n);
-			o->distance = fmax(d, 0.0);
+			o->distance = fmMax(d, 0.0);
 		}
 		count += 1;
 	}

@@ -63,8 +63,8 @@ static void fmTetBounds(const fmBody* b, int t, fmVec3* lo, fmVec3* hi)
 	for (int k = 1; k < 4; ++k)
 	{
 		fmVec3 p = fmLoad(b->x0, b->tets[4 * t + k]);
-		*lo = fmMakeVec3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
-		*hi = fmMakeVec3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
+		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
+		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
 	}
 }
 
@@ -105,19 +105,19 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 	{
 		fmVec3 l, u;
 		fmTetBounds(b, t, &l, &u);
-		lo = fmMakeVec3(fmin(lo.x, l.x), fmin(lo.y, l.y), fmin(lo.z, l.z));
-		hi = fmMakeVec3(fmax(hi.x, u.x), fmax(hi.y, u.y), fmax(hi.z, u.z));
+		lo = fmMakeVec3(fmMin(lo.x, l.x), fmMin(lo.y, l.y), fmMin(lo.z, l.z));
+		hi = fmMakeVec3(fmMax(hi.x, u.x), fmMax(hi.y, u.y), fmMax(hi.z, u.z));
 	}
 	fmVec3 size = fmSub(hi, lo);
-	double extent = fmax(size.x, fmax(size.y, size.z));
+	double extent = fmMax(size.x, fmMax(size.y, size.z));
 	// Cells of about a tet's size: the box's volume shared among the tets (a flat box counts
 	// its longest side squared so the cell size stays positive).
 	double volume =
-	    fmax(size.x, 1e-3 * extent) * fmax(size.y, 1e-3 * extent) * fmax(size.z, 1e-3 * extent);
+	    fmMax(size.x, 1e-3 * extent) * fmMax(size.y, 1e-3 * extent) * fmMax(size.z, 1e-3 * extent);
 	// (No cbrt, whose last bits differ between C libraries: halving finds the cell size
 	// within a factor of 2, all the grid needs.)
 	double target = volume / (FM_RENDER_CELLS_PER_TET * b->tetCount);
-	g->h = fmax(extent, 1e-300);
+	g->h = fmMax(extent, 1e-300);
 	while (g->h * g->h * g->h > target && g->h > 1e-150)
 		g->h *= 0.5;
 	double ext[3] = {size.x, size.y, size.z};
@@ -126,7 +126,7 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 		double cells = 1.0;
 		for (int k = 0; k < 3; ++k)
 		{
-			g->n[k] = (int)fmin(fmax(ceil(ext[k] / g->h), 1.0), 4096.0);
+			g->n[k] = (int)fmMin(fmMax(ceil(ext[k] / g->h), 1.0), 4096.0);
 			cells *= g->n[k];
 		}
 		if (cells <= FM_RENDER_CELLS_PER_TET * b->tetCount + 8.0)
@@ -199,7 +199,7 @@ static double fmOutsideDistance(const fmBody* b, int t, fmVec3 p, const double w
 	bool inside = true;
 	for (int k = 0; k < 4; ++k)
 	{
-		c[k] = fmax(w[k], 0.0);
+		c[k] = fmMax(w[k], 0.0);
 		sum += c[k];
 		inside = inside && w[k] >= 0.0;
 	}
@@ -254,15 +254,15 @@ static fmBinding fmBindVertex(const fmBody* b, const fmTetGrid* g, fmVec3 p)
 	maxRing = maxRing > g->n[2] ? maxRing : g->n[2];
 	// How far p lies outside the grid: rings are counted from its clamped cell.
 	fmVec3 hi = fmAdd(g->lo, fmMakeVec3(g->n[0] * g->h, g->n[1] * g->h, g->n[2] * g->h));
-	fmVec3 clamped = fmMakeVec3(fmin(fmax(p.x, g->lo.x), hi.x), fmin(fmax(p.y, g->lo.y), hi.y),
-	                            fmin(fmax(p.z, g->lo.z), hi.z));
+	fmVec3 clamped = fmMakeVec3(fmMin(fmMax(p.x, g->lo.x), hi.x), fmMin(fmMax(p.y, g->lo.y), hi.y),
+	                            fmMin(fmMax(p.z, g->lo.z), hi.z));
 	double away = fmLength(fmSub(p, clamped));
 	for (int r = 0; r <= maxRing; ++r)
 	{
 		// Every cell of ring r + 1 and beyond is at least r cells from p's cell.
 		// (Projection onto the grid's box does not lengthen distances: a point outside is at
 		// least as far from every cell as its projection is.)
-		if (best.tet >= 0 && best.distance <= fmax(away, (r - 1) * g->h))
+		if (best.tet >= 0 && best.distance <= fmMax(away, (r - 1) * g->h))
 			break;
 		for (int k = c[2] - r; k <= c[2] + r; ++k)
 			for (int j = c[1] - r; j <= c[1] + r; ++j)
@@ -377,7 +377,7 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 		if (bind.distance > 1e-9 * b->restSize)
 		{
 			outside += 1;
-			farthest = fmax(farthest, bind.distance);
+			farthest = fmMax(farthest, bind.distance);
 		}
 	}
 	if (m != NULL)

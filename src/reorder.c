@@ -1,5 +1,6 @@
 // The order a body keeps its vertices and tets in (reorder.h).
 #include "reorder.h"
+#include "det_math.h"
 
 #include "core.h"
 
@@ -30,7 +31,7 @@ static uint64_t fmMortonCode(const double p[3], const double lo[3], double exten
 	uint64_t code = 0;
 	for (int k = 0; k < 3; ++k)
 	{
-		double q = fmin(1023.0, fmax(0.0, (p[k] - lo[k]) / extent * 1024.0));
+		double q = fmMin(1023.0, fmMax(0.0, (p[k] - lo[k]) / extent * 1024.0));
 		code |= fmSpreadBits((uint32_t)q) << k;
 	}
 	return code;
@@ -45,8 +46,8 @@ static bool fmMortonTets(const double* x, int n, const int* tets, int m, int* te
 	double lo[3] = {x[0], x[1], x[2]}, hi[3] = {x[0], x[1], x[2]};
 	for (int i = 1; i < n; ++i)
 		for (int k = 0; k < 3; ++k)
-			lo[k] = fmin(lo[k], x[3 * i + k]), hi[k] = fmax(hi[k], x[3 * i + k]);
-	double extent = fmax(fmax(hi[0] - lo[0], hi[1] - lo[1]), fmax(hi[2] - lo[2], 1e-300));
+			lo[k] = fmMin(lo[k], x[3 * i + k]), hi[k] = fmMax(hi[k], x[3 * i + k]);
+	double extent = fmMax(fmMax(hi[0] - lo[0], hi[1] - lo[1]), fmMax(hi[2] - lo[2], 1e-300));
 	for (int t = 0; t < m; ++t)
 	{
 		double c[3] = {0.0, 0.0, 0.0};

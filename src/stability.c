@@ -8,6 +8,7 @@
 // (1 - ln J) / J^2 grows without bound as J -> 0), and the estimate follows. The 0.9 leaves
 // room for the deformation to grow further within the frame.
 #include "stability.h"
+#include "det_math.h"
 
 #include "body.h"
 #include "forces.h"
@@ -49,7 +50,7 @@ double fmBodyExplicitStepLimit(const fmBody* b, fmArena* arena)
 		}
 	double omega2 = 0.0;
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		omega2 = fmax(omega2, rowSum[k] * b->invMass[k / 3]);
+		omega2 = fmMax(omega2, rowSum[k] * b->invMass[k / 3]);
 	fmArena_Release(arena, mark);
 	return omega2 > 0.0 && isfinite(omega2) ? 0.9 * 2.0 / sqrt(omega2)
 	       : omega2 > 0.0                   ? 0.0
@@ -67,7 +68,7 @@ double fmBodyStiffeningProxy(const fmBody* b)
 			I1 += F.m[k] * F.m[k];
 		if (!(J > 0.0))
 			return INFINITY;
-		proxy = fmax(proxy, fmax(I1, I1 * I1 / (4.0 * J * J)));
+		proxy = fmMax(proxy, fmMax(I1, I1 * I1 / (4.0 * J * J)));
 	}
 	return proxy;
 }

@@ -3,6 +3,7 @@
 // (line search fails, or the iteration budget runs out) the load is ramped: gravity is applied
 // in fractions that are halved until each one converges from the last equilibrium.
 #include "core.h"
+#include "det_math.h"
 #include "forces.h"
 #include "fp_env.h"
 #include "loads.h"
@@ -44,10 +45,10 @@ static double fmStaticForceRoundOff(const fmBody* b)
 		lo[e] = hi[e] = b->x[e];
 	for (int k = 0; k < 3 * b->vertexCount; ++k)
 	{
-		lo[k % 3] = fmin(lo[k % 3], b->x[k]);
-		hi[k % 3] = fmax(hi[k % 3], b->x[k]);
+		lo[k % 3] = fmMin(lo[k % 3], b->x[k]);
+		hi[k % 3] = fmMax(hi[k % 3], b->x[k]);
 	}
-	double extent = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+	double extent = fmMax(hi[0] - lo[0], fmMax(hi[1] - lo[1], hi[2] - lo[2]));
 	return extent > 0.0 ? 1e-13 * stiffness / extent : 0.0;
 }
 
@@ -193,7 +194,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		done = 1.0;
 	while (done < 1.0)
 	{
-		double load = fmin(1.0, done + step);
+		double load = fmMin(1.0, done + step);
 		r = fmStaticSolveAt(b, c, &pb, gravity, load);
 		iterations += r.iterations;
 		if (r.projected)
@@ -211,7 +212,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		{
 			memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
 			done = load;
-			step = fmin(1.0, 2.0 * step);
+			step = fmMin(1.0, 2.0 * step);
 			continue;
 		}
 		// An attempt that ran out of iterations while still converging has moved towards the

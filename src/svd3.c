@@ -7,6 +7,7 @@
 // conventions of Irving, Teran, Fedkiw 2004 ("Invertible finite elements") are applied:
 // U, V proper rotations, the sign of det F on the smallest singular value.
 #include "svd3.h"
+#include "det_math.h"
 
 #include <float.h>
 
@@ -149,7 +150,7 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 	int finite = 1;
 	for (int k = 0; k < 9; ++k)
 	{
-		scale = fmax(scale, fabs(F->m[k]));
+		scale = fmMax(scale, fabs(F->m[k]));
 		finite = finite && isfinite(F->m[k]);
 	}
 	if (!finite || scale == 0.0)
@@ -186,10 +187,10 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 			double ab = alpha * beta;
 			if (gamma * gamma <= tol2 * ab)
 				continue;
-			worstCos2 = fmax(worstCos2, gamma * gamma / ab);
+			worstCos2 = fmMax(worstCos2, gamma * gamma / ab);
 			double c, sn;
 			fmColumnRotation(alpha, beta, gamma, &c, &sn);
-			worstTan = fmax(worstTan, fabs(sn / c));
+			worstTan = fmMax(worstTan, fabs(sn / c));
 			fmVec3 bp = b[p], vp = v[p];
 			b[p] = fmSub(fmScale(c, bp), fmScale(sn, b[q]));
 			b[q] = fmAdd(fmScale(sn, bp), fmScale(c, b[q]));
@@ -239,7 +240,7 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 	double s2 = fmDot(u2, b[2]);
 	// |s2| <= n[2] <= n[1] holds exactly in real arithmetic; keep the promised order when
 	// rounding breaks a tie (F = diag(a, a, -a)).
-	s2 = copysign(fmin(fabs(s2), n[1]), s2);
+	s2 = copysign(fmMin(fabs(s2), n[1]), s2);
 
 	*U = fmMat3FromColumns(u0, u1, u2);
 	*V = fmMat3FromColumns(v[0], v[1], v[2]);

@@ -1,5 +1,6 @@
 // Kinematic targets (targets.h) and fmBody_SetTargets.
 #include "targets.h"
+#include "det_math.h"
 
 #include "core.h"
 #include "fp_env.h"
@@ -14,7 +15,7 @@ void fmTargets_AddExplicitForces(const fmBody* b, double dt, double* f)
 	for (int t = 0; t < b->targetCount; ++t)
 	{
 		int i = b->targetVertex[t];
-		double k = fmin(b->targetStiffness, b->mass[i] / (dt * dt));
+		double k = fmMin(b->targetStiffness, b->mass[i] / (dt * dt));
 		for (int e = 0; e < 3; ++e)
 			f[3 * i + e] += k * (b->targetPosition[3 * t + e] - b->x[3 * i + e]);
 	}
@@ -26,7 +27,7 @@ double fmTargets_ExplicitWork(const fmBody* b, double dt)
 	for (int t = 0; t < b->targetCount; ++t)
 	{
 		int i = b->targetVertex[t];
-		double k = fmin(b->targetStiffness, b->mass[i] / (dt * dt));
+		double k = fmMin(b->targetStiffness, b->mass[i] / (dt * dt));
 		for (int e = 0; e < 3; ++e)
 			work += k * (b->targetPosition[3 * t + e] - b->x[3 * i + e]) * dt * b->v[3 * i + e];
 	}

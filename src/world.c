@@ -1,5 +1,6 @@
 // Worlds: creation, the frame step (substeps over bodies), health checks and state restore.
 #include "world.h"
+#include "det_math.h"
 
 #include "collider.h"
 #include "contact.h"
@@ -426,7 +427,7 @@ static double fmCurrentExplicitLimit(fmWorld* w)
 		if (b->x == NULL)
 			continue;
 		b->explicitLimit = fmBodyExplicitStepLimit(b, &w->arena);
-		dt = fmin(dt, b->explicitLimit);
+		dt = fmMin(dt, b->explicitLimit);
 	}
 	return dt; // INFINITY: nothing constrains the step; 0: a body has collapsed
 }
@@ -589,7 +590,7 @@ static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 	double limit = INFINITY;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x)
-			limit = fmin(limit, w->bodies[i].explicitLimit);
+			limit = fmMin(limit, w->bodies[i].explicitLimit);
 	if (!(limit > 0.0) || !(dt > 2.0 * limit)) // a collapsed body fails the step itself
 		return;
 	w->warnedStep = true;
@@ -640,7 +641,7 @@ static double fmWorldStiffeningProxy(const fmWorld* w)
 	double proxy = 1.0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].x)
-			proxy = fmax(proxy, fmBodyStiffeningProxy(&w->bodies[i]));
+			proxy = fmMax(proxy, fmBodyStiffeningProxy(&w->bodies[i]));
 	return proxy;
 }
 
@@ -663,9 +664,9 @@ static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double 
 	}
 	if (!(a->limit > 0.0))
 		return 0.0; // a body has collapsed: no step is stable
-	double h = fmin(nominal, FM_AUTO_STEP_FRACTION * a->limit);
+	double h = fmMin(nominal, FM_AUTO_STEP_FRACTION * a->limit);
 	double count = ceil(remaining / h * (1.0 - 1e-12));
-	return remaining / fmax(count, 1.0);
+	return remaining / fmMax(count, 1.0);
 }
 
 // Step body @p index by @p h with the world's integrator, keeping what it produced in the body
@@ -712,7 +713,7 @@ static fmResult fmMergeBodyStep(fmWorld* w, int index)
 	w->stats.newtonIterations += b->stepNewton;
 	w->stats.cgIterations += b->stepCg;
 	w->stats.residual = b->stepResidual;
-	w->stats.maxResidual = fmax(w->stats.maxResidual, b->stepResidual);
+	w->stats.maxResidual = fmMax(w->stats.maxResidual, b->stepResidual);
 	if (b->stepConverged)
 		return fm_ok;
 	w->stats.unconvergedSteps += 1;
@@ -782,7 +783,7 @@ static fmResult fmSubstep(fmWorld* w, double h)
 static fmResult fmImplicitPieces(fmWorld* w, double h, int substepsLeft)
 {
 	int most = w->def.maxSubstepsPerFrame - w->stats.steps - (substepsLeft - 1);
-	most = (int)fmin(most, floor(h / FM_MIN_SUBSTEP));
+	most = (int)fmMin(most, floor(h / FM_MIN_SUBSTEP));
 	int pieces = most > 1 && fmContact_Active(w) ? fmContact_Pieces(w, h, most) : 1;
 	if (pieces < 0)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -950,7 +951,7 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	memset(&w->profile, 0, sizeof w->profile);
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
 	w->profile.step = 1e3 * (fmSeconds() - start);
-	w->profile.narrowPhase = fmax(0.0, w->profile.contact - w->profile.broadPhase);
+	w->profile.narrowPhase = fmMax(0.0, w->profile.contact - w->profile.broadPhase);
 	fmFpEnv_Leave(&env);
 	return r;
 }

@@ -62,8 +62,8 @@ bool fmTestHaveProgram(const char* name);
 	{                                                                                              \
 		double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                             \
 		if (!(fabs(a_ - b_) <= t_))                                                                \
-			FAIL_AT("%s ~ %s failed: %.17g vs %.17g (diff %.3g, tol %.3g)", #a, #b, a_, b_,       \
-					fabs(a_ - b_), t_);                                                            \
+			FAIL_AT("%s ~ %s failed: %.17g vs %.17g (diff %.3g, tol %.3g)", #a, #b, a_, b_,        \
+			        fabs(a_ - b_), t_);                                                            \
 	} while (0)
 
 // |a - b| <= tol * max(|a|, |b|, floor)
@@ -71,10 +71,10 @@ bool fmTestHaveProgram(const char* name);
 	do                                                                                             \
 	{                                                                                              \
 		double a_ = (double)(a), b_ = (double)(b), t_ = (double)(tol);                             \
-		double s_ = fmax(fmax(fabs(a_), fabs(b_)), (double)(floor));                              \
+		double s_ = fmax(fmax(fabs(a_), fabs(b_)), (double)(floor));                               \
 		if (!(fabs(a_ - b_) <= t_ * s_))                                                           \
-			FAIL_AT("%s ~ %s failed: %.17g vs %.17g (rel diff %.3g, tol %.3g)", #a, #b, a_, b_,   \
-					fabs(a_ - b_) / s_, t_);                                                       \
+			FAIL_AT("%s ~ %s failed: %.17g vs %.17g (rel diff %.3g, tol %.3g)", #a, #b, a_, b_,    \
+			        fabs(a_ - b_) / s_, t_);                                                       \
 	} while (0)
 
 #define CHECK_STR_CONTAINS(haystack, needle)                                                       \

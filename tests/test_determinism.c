@@ -726,3 +726,22 @@ TEST(hot_path_functions_follow_the_mode)
 	CHECK(own == fmDetLog(x) && ownPow == fmDetPow(x, 3.3));
 	CHECK(fmMathLog(x) == log(x) && fmMathPow(x, 3.3) == pow(x, 3.3));
 }
+
+// fmMin and fmMax give one answer on every target: the minimum of -0 and +0 is -0 and the
+// maximum +0, in either order (glibc's x86-64 fmax(-0.0, +0.0) is -0, musl's +0); a NaN gives
+// the other argument, as C's fmin and fmax.
+TEST(min_and_max_of_signed_zeros_are_the_same_everywhere)
+{
+	const double zeros[2] = {-0.0, 0.0};
+	for (int k = 0; k < 2; ++k)
+	{
+		double a = zeros[k], b = zeros[1 - k];
+		CHECK(signbit(fmMin(a, b)) && fmMin(a, b) == 0.0);
+		CHECK(!signbit(fmMax(a, b)) && fmMax(a, b) == 0.0);
+	}
+	CHECK(fmMin(NAN, 2.0) == 2.0 && fmMin(2.0, NAN) == 2.0);
+	CHECK(fmMax(NAN, -2.0) == -2.0 && fmMax(-2.0, NAN) == -2.0);
+	CHECK(isnan(fmMin(NAN, NAN)) && isnan(fmMax(NAN, NAN)));
+	CHECK(fmMin(-1.0, 3.0) == -1.0 && fmMax(-1.0, 3.0) == 3.0);
+	CHECK(fmMin(-INFINITY, 1.0) == -INFINITY && fmMax(INFINITY, 1.0) == INFINITY);
+}

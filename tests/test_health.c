@@ -165,9 +165,9 @@ static int marginalRun(int* failures_, double excess, int frames, double* found,
 
 // "Catches runaways however slowly they grow" (README): a mode just past the stability limit
 // grows by at most (1 + 2 sqrt(excess))^2 a step: 13% at 1e-3 past it, 1.8% at 2e-5 (measured:
-// caught at frames 100, 5920 and 50407). Each is caught when its energy crosses the allowance (at most two
-// steps' growth above it), with the body still whole (no tet inverted); just as far below the
-// limit, twice as many frames never trip it. FEMTO_TEST_QUICK leaves out the slowest.
+// caught at frames 100, 5920 and 50407). Each is caught when its energy crosses the allowance (at
+// most two steps' growth above it), with the body still whole (no tet inverted); just as far below
+// the limit, twice as many frames never trip it. FEMTO_TEST_QUICK leaves out the slowest.
 TEST(ledger_catches_a_runaway_however_slowly_it_grows)
 {
 	static const double excesses[] = {1e-3, 1e-4, 2e-5};
@@ -180,7 +180,7 @@ TEST(ledger_catches_a_runaway_however_slowly_it_grows)
 		printf("  %g past the limit: caught at frame %d, %.4g J against %.4g J allowed, "
 		       "%d inverted\n",
 		       excesses[e], failedAt, found, allowed, inverted);
-		CHECK(failedAt > 2 * previous); // slower growth, later: it was a slow runaway
+		CHECK(failedAt > 2 * previous);  // slower growth, later: it was a slow runaway
 		CHECK(found >= 0.999 * allowed); // printed to 3 digits
 		CHECK(found <= growth * growth * allowed);
 		CHECK_INT(inverted, 0);

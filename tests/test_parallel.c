@@ -38,9 +38,9 @@ static void toyFinish(void* userTask, void* userContext)
 	(void)userContext;
 }
 
-// 8 frames (4 quick) of the house and a 20x20x20 box (landing on the floor when implicit) (48000 tets, 9261
-// vertices: loops of more than two FM_PARALLEL_MIN_RANGE) with @p workers, or on the toy engine;
-// the final positions and velocities of both (caller frees).
+// 8 frames (4 quick) of the house and a 20x20x20 box (landing on the floor when implicit) (48000
+// tets, 9261 vertices: loops of more than two FM_PARALLEL_MIN_RANGE) with @p workers, or on the toy
+// engine; the final positions and velocities of both (caller frees).
 static double* runWithCounting(int* failures_, int workers, fmToyEngine* engine,
                                fmIntegrator integrator, size_t* length, int* newton)
 {
