@@ -48,7 +48,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-O1 -g"
   "${suite[@]}"
 cmake --build build-asan -j"$jobs"
 export ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 FEMTO_TEST_QUICK=1
-run_suite build-asan ASan+UBSan 'ASan+UBSan suite (\([0-9]*\))'
+run_suite build-asan ASan+UBSan 'ASan+UBSan suite (\([0-9]*\)[;)]'
 unset ASAN_OPTIONS UBSAN_OPTIONS FEMTO_TEST_QUICK
 
 for extra in scripts/check-*.sh; do
