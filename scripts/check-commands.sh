@@ -14,6 +14,8 @@
 #   - `scripts/web.sh --serve` (a server): under a timeout on a free PORT, until the page answers;
 #   - the build, install and consumer lines: in a copy of the tree (build/ and docs/ of the
 #     checkout are the suite's), the install prefix /opt/femto replaced by a scratch prefix;
+#     each ```cmake block becomes a game's CMakeLists.txt (after its add_executable), built
+#     against that prefix or with the copy as third_party/femto, and run;
 #   - docs/performance.md: its build lines in the checkout (build/ is already that build), its
 #     `femto bench` in the copy (it writes docs/), with --quick --max-tets 1500 --repeats 1
 #     appended (the full run takes an hour); the libFuzzer run of docs/robustness.md: 10 s, not 3600 s;
@@ -289,6 +291,37 @@ while IFS=$'\t' read -r doc command; do
   count=$((count + 1))
   say "ok ($(($(date +%s) - t0)) s) $doc: $command"
 done <"$shown"
+# The ```cmake blocks (README.md's consumer lines): each, as written, is the body of a game's
+# CMakeLists.txt (after add_executable(game game.c), with the consumer test's program as game.c),
+# configured against the scratch prefix (find_package) or with the tree's copy as
+# third_party/femto (add_subdirectory), built and run.
+blocks=0
+for doc in README.md docs/*.md; do
+  awk -v out="$work/cmake_block" '
+    /^```cmake[[:space:]]*$/ { inside = 1; ++n; next }
+    /^```/ { inside = 0; next }
+    inside { print > (out "_" n ".txt") }' "$doc"
+  for block in "$work"/cmake_block_*.txt; do
+    [ -e "$block" ] || continue
+    blocks=$((blocks + 1))
+    game=$work/cmake_game_$blocks
+    mkdir -p "$game/third_party"
+    cp tests/consumers/consumer.c "$game/game.c"
+    { echo "cmake_minimum_required(VERSION 3.22)"; echo "project(game LANGUAGES C)"
+      echo "add_executable(game game.c)"; cat "$block"; } >"$game/CMakeLists.txt"
+    make_copy
+    ln -s "$copy" "$game/third_party/femto"
+    current="$doc's cmake block: $(grep -v '^[[:space:]]*$' "$block" | head -n 1 | sed 's/[[:space:]]*#.*//')"
+    t0=$(date +%s)
+    (cmake -S "$game" -B "$game/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUILD_TYPE=Release &&
+      cmake --build "$game/build" -j"$jobs" && "$game/build/game") >"$work/logs/last.log" 2>&1 ||
+      { tail -n 30 "$work/logs/last.log" >&2; fail "$current: the game did not build or run"; }
+    say "ok ($(($(date +%s) - t0)) s) $current"
+    rm -f "$block"
+  done
+done
+[ "$blocks" -gt 0 ] || fail "README.md shows no cmake block any more (the consumer lines)"
+
 if [ ${#skipped[@]} -gt 0 ]; then
   printf 'check-commands: SKIPPED (tool missing): %s\n' "${skipped[@]}"
 fi
