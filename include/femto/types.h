@@ -1,6 +1,12 @@
 /// @file types.h
 /// femto value types: result codes, diagnostics, materials and the definition structs
 /// (fill one with its fmDefault*() function, change what you need, pass it to a create call).
+///
+/// "The seeds" in these comments are the documents femto grew from: the GAMES103 course's
+/// homework 3, the "bouncy house" (a Unity program stepping a tet mesh of a house with explicit
+/// St. Venant-Kirchhoff FEM, a stick floor, damping 0.999, Laplacian velocity smoothing and a
+/// space-bar jump). femto's defaults reproduce it; docs/materials.md and docs/robustness.md say
+/// where femto departs from it.
 #pragma once
 
 #include "base.h"
