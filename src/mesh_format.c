@@ -1,12 +1,13 @@
 // Mesh files by extension (docs/mesh-format.md): fmLoadMesh picks the reader (TetGen in
-// mesh_io.c, Gmsh in mesh_gmsh.c, VTK in mesh_vtk.c, Medit in mesh_medit.c); the writers of
-// TetGen .ele, Gmsh .msh 4.1 ASCII and ASCII .vtu, and fmWriteMesh which picks one.
+// mesh_io.c, Gmsh in mesh_gmsh.c, VTK in mesh_vtk.c and mesh_vtu.c, Medit in mesh_medit.c); the
+// writers of TetGen .ele, Gmsh .msh 4.1 ASCII and ASCII .vtu, and fmWriteMesh which picks one.
 #include "core.h"
 #include "det_math.h"
 #include "mesh_gmsh.h"
 #include "mesh_internal.h"
 #include "mesh_medit.h"
 #include "mesh_vtk.h"
+#include "mesh_vtu.h"
 
 #include <errno.h>
 #include <math.h>
@@ -71,7 +72,7 @@ const char* fmMeshFormatName(fmMeshFormat format)
 
 bool fmMeshFormatHasZlib(void)
 {
-	return fmVtkHasZlib();
+	return fmVtuHasZlib();
 }
 
 // ---- loading ----------------------------------------------------------------------------------

@@ -1,6 +1,8 @@
-// VTK legacy .vtk (ASCII and BINARY, UNSTRUCTURED_GRID) and XML .vtu reading (mesh_vtk.c,
-// docs/mesh-format.md).
+// VTK legacy .vtk reading (ASCII and BINARY, UNSTRUCTURED_GRID; mesh_vtk.c,
+// docs/mesh-format.md), and the cells-to-tets step the XML reader (mesh_vtu.h) shares.
 #pragma once
+
+#include "mesh_reader.h"
 
 #include <femto/mesh.h>
 
@@ -8,10 +10,19 @@
 fmResult fmParseVtkLegacy(const void* data, size_t size, const char* name, fmTetMesh* mesh,
                           fmDiagnostic* diag);
 
-// Parse a whole .vtu (XML UnstructuredGrid) file held in memory: ascii, binary (base64) and
-// appended (raw or base64) data arrays; zlib-compressed ones where femto was built with zlib.
-fmResult fmParseVtu(const void* data, size_t size, const char* name, fmTetMesh* mesh,
-                    fmDiagnostic* diag);
+// The cells in offsets/connectivity form (cell c has nodes conn[start[c] .. start[c + 1])).
+typedef struct fmVtkCells
+{
+	long long count;
+	long long* start; // count + 1
+	int* conn;        // start[count] node numbers, each checked against the node count
+	long long connCount;
+	unsigned char* types; // count
+	double* regions;      // count, or NULL
+} fmVtkCells;
 
-// True when femto was built with zlib (compressed .vtu data can be read).
-bool fmVtkHasZlib(void);
+void fmVtkCells_Free(fmVtkCells* c);
+
+// Tets from the cells into @p list: linear tets (type 10), quadratic ones (24) by their corners,
+// other cell types counted as skipped; @p s locates errors (the CELL_TYPES or Piece).
+fmResult fmVtkCells_ToTets(const fmVtkCells* c, fmTetList* list, const fmScan* s);
