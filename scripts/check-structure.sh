@@ -15,7 +15,6 @@ function_limit=80
 exceptions="
 src/contact.c 2113
 cli/scene.c 1737
-src/body.c 1152
 cli/cmd_run.c:cliParseRunOptions 133
 src/static.c:fmBodySolveStaticIn 128
 src/svd3.c:fmSvd3 102

@@ -145,17 +145,6 @@ typedef struct fmBody
 	size_t memoryEstimate;         // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 
-// Estimated bytes of a body: its own arrays, and the implicit (and static) solver's cache.
-typedef struct fmBodyMemory
-{
-	size_t body;
-	size_t solver;
-} fmBodyMemory;
-
-// The estimate behind fmEstimateBodyMemory() for a mesh of these counts (@p def may be NULL:
-// the FEM force model without damping).
-fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def);
-
 // body->pinned value of a vertex held on every axis (fmBody_SetPinned); other non-zero values
 // are rollers (fmBody_SetPinnedAxes), free along the axes whose bit is clear.
 #define FM_PIN_ALL 7u
