@@ -103,6 +103,63 @@ static void cliListDegenerateTets(const fmTetMesh* mesh, int count)
 	printf(" (numbered as in the file)\n");
 }
 
+// Load the mesh `femto info` names: builtin:house2, a .node/.ele pair, or any format by its
+// extension (a .node loads the .ele beside it); @p elePath gets what the report calls its tets.
+static fmResult cliInfoLoad(const char* const* paths, int pathCount, fmTetMesh* mesh, char* elePath,
+                            size_t elePathSize, fmDiagnostic* diag)
+{
+	if (strcmp(paths[0], "builtin:house2") == 0 && pathCount == 1)
+	{
+		snprintf(elePath, elePathSize, "builtin:house2.ele");
+		return cliLoadHouseMesh(mesh, diag);
+	}
+	if (pathCount == 2)
+	{
+		snprintf(elePath, elePathSize, "%s", paths[1]);
+		return fmLoadTetGen(paths[0], elePath, mesh, diag);
+	}
+	fmMeshFormat format = fmMeshFormatFromPath(paths[0]);
+	size_t length = strlen(paths[0]);
+	if (format == fm_meshFormatTetGen && length >= 5 &&
+	    strcmp(paths[0] + length - 5, ".node") == 0 && length < elePathSize)
+		snprintf(elePath, elePathSize, "%.*s.ele", (int)(length - 5), paths[0]);
+	else
+		snprintf(elePath, elePathSize, "%s", fmMeshFormatName(format));
+	return fmLoadMesh(paths[0], mesh, diag);
+}
+
+// The report of a loaded mesh; exit 1 when a body cannot be made from it.
+static int cliInfoReport(const char* path, const char* elePath, fmTetMesh* mesh)
+{
+	fmMeshInfo info;
+	fmResult result = fmTetMesh_GetInfo(mesh, &info);
+	if (result != fm_ok)
+	{
+		cliError("%s: cannot compute mesh statistics: %s", path, fmResultMessage(result));
+		return cli_exitInput;
+	}
+	printf("mesh             %s, %s\n", path, elePath);
+	cliPrintMeshInfo(&info);
+	cliPrintRegions(mesh);
+	int code = cli_exitOk;
+	if (info.degenerateTets > 0)
+	{
+		cliListDegenerateTets(mesh, info.degenerateTets);
+		cliError("%s: %d degenerate tets (zero volume relative to their size): a body cannot be "
+		         "made from this mesh",
+		         path, info.degenerateTets);
+		code = cli_exitInput;
+	}
+	if (info.volumeOutOfRangeTets > 0)
+	{
+		cliError("%s: %d tets have volumes out of the range of a double: a body cannot be made "
+		         "from this mesh",
+		         path, info.volumeOutOfRangeTets);
+		code = cli_exitInput;
+	}
+	return code;
+}
+
 int cliInfo(int argc, char** argv)
 {
 	const char* paths[2] = {NULL, NULL};
@@ -122,66 +179,16 @@ int cliInfo(int argc, char** argv)
 	}
 	if (pathCount == 0)
 		return cliUsageError("info", "missing MESH");
-
 	fmTetMesh mesh;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
-	fmResult result;
 	char elePath[CLI_MAX_PATH];
-	if (strcmp(paths[0], "builtin:house2") == 0 && pathCount == 1)
-	{
-		result = cliLoadHouseMesh(&mesh, &diag);
-		snprintf(elePath, sizeof elePath, "builtin:house2.ele");
-	}
-	else if (pathCount == 2)
-	{
-		snprintf(elePath, sizeof elePath, "%s", paths[1]);
-		result = fmLoadTetGen(paths[0], elePath, &mesh, &diag);
-	}
-	else
-	{
-		// Any format by its extension (a .node loads the .ele beside it).
-		fmMeshFormat format = fmMeshFormatFromPath(paths[0]);
-		size_t length = strlen(paths[0]);
-		if (format == fm_meshFormatTetGen && length >= 5 &&
-		    strcmp(paths[0] + length - 5, ".node") == 0 && length < sizeof elePath)
-			snprintf(elePath, sizeof elePath, "%.*s.ele", (int)(length - 5), paths[0]);
-		else
-			snprintf(elePath, sizeof elePath, "%s", fmMeshFormatName(format));
-		result = fmLoadMesh(paths[0], &mesh, &diag);
-	}
-	if (result != fm_ok)
+	if (cliInfoLoad(paths, pathCount, &mesh, elePath, sizeof elePath, &diag) != fm_ok)
 	{
 		cliPrintDiagnostic(NULL, &diag);
 		return cli_exitInput;
 	}
-	fmMeshInfo info;
-	result = fmTetMesh_GetInfo(&mesh, &info);
-	if (result != fm_ok)
-	{
-		cliError("%s: cannot compute mesh statistics: %s", paths[0], fmResultMessage(result));
-		fmFreeTetMesh(&mesh);
-		return cli_exitInput;
-	}
-	printf("mesh             %s, %s\n", paths[0], elePath);
-	cliPrintMeshInfo(&info);
-	cliPrintRegions(&mesh);
-	int code = cli_exitOk;
-	if (info.degenerateTets > 0)
-	{
-		cliListDegenerateTets(&mesh, info.degenerateTets);
-		cliError("%s: %d degenerate tets (zero volume relative to their size): a body cannot be "
-		         "made from this mesh",
-		         paths[0], info.degenerateTets);
-		code = cli_exitInput;
-	}
-	if (info.volumeOutOfRangeTets > 0)
-	{
-		cliError("%s: %d tets have volumes out of the range of a double: a body cannot be made "
-		         "from this mesh",
-		         paths[0], info.volumeOutOfRangeTets);
-		code = cli_exitInput;
-	}
+	int code = cliInfoReport(paths[0], elePath, &mesh);
 	fmFreeTetMesh(&mesh);
 	return code;
 }

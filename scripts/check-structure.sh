@@ -23,7 +23,6 @@ cli/cmd_static.c:cliStatic 95
 src/implicit.c:fmImplicitStep 91
 src/contact.c:fmFindPairContact 89
 src/mesh_vtu.c:fmVtuWalk 82
-cli/cmd_info.c:cliInfo 81
 "
 
 measure() { # prints "path lines" for every file, "path:function lines" for every function
