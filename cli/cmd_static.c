@@ -25,12 +25,19 @@ const char* const cliStaticHelp =
     "\n"
     "Exit status: 0 converged, 1 bad scene/file, I/O error or no convergence, 2 usage error.\n";
 
-int cliStatic(int argc, char** argv)
+// What `femto static` was asked: the scene, where to export, the solve's tolerance and budget.
+typedef struct cliStaticOptions
 {
-	const char* scenePath = NULL;
-	const char* exportNode = NULL;
-	double tolerance = 1e-8;
-	int maxIterations = 200;
+	const char* scenePath;
+	const char* exportNode;
+	double tolerance;
+	int maxIterations;
+} cliStaticOptions;
+
+// Parse the command line into @p o: -1 to go on, else the exit code (help printed, usage error).
+static int cliStaticParse(int argc, char** argv, cliStaticOptions* o)
+{
+	*o = (cliStaticOptions){NULL, NULL, 1e-8, 200};
 	for (int i = 1; i < argc; ++i)
 	{
 		const char* arg = argv[i];
@@ -42,15 +49,15 @@ int cliStatic(int argc, char** argv)
 		}
 		else if (strcmp(arg, "--export-node") == 0)
 		{
-			if ((exportNode = cliOptionValue("static", argc, argv, &i)) == NULL)
+			if ((o->exportNode = cliOptionValue("static", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
 		}
 		else if (strcmp(arg, "--tolerance") == 0)
 		{
 			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
-			if (!cliParseDouble(value, &tolerance) ||
-			    !(tolerance >= FM_MIN_TOLERANCE && tolerance < 1.0))
+			if (!cliParseDouble(value, &o->tolerance) ||
+			    !(o->tolerance >= FM_MIN_TOLERANCE && o->tolerance < 1.0))
 				return cliUsageError("static",
 				                     "--tolerance: expected a number in [%g, 1), got '%s'",
 				                     FM_MIN_TOLERANCE, value);
@@ -60,21 +67,55 @@ int cliStatic(int argc, char** argv)
 			if ((value = cliOptionValue("static", argc, argv, &i)) == NULL)
 				return cli_exitUsage;
 			if (!cliParseIntOption("static", "--max-iterations", value, 1, FM_MAX_NEWTON_ITERATIONS,
-			                       &maxIterations))
+			                       &o->maxIterations))
 				return cli_exitUsage;
 		}
 		else if (arg[0] == '-' && arg[1] != 0)
 			return cliUsageError("static", "unknown option '%s'", arg);
-		else if (scenePath == NULL)
-			scenePath = arg;
+		else if (o->scenePath == NULL)
+			o->scenePath = arg;
 		else
-			return cliUsageError("static", "more than one scene ('%s' and '%s')", scenePath, arg);
+			return cliUsageError("static", "more than one scene ('%s' and '%s')", o->scenePath,
+			                     arg);
 	}
-	if (scenePath == NULL)
+	if (o->scenePath == NULL)
 		return cliUsageError("static", "missing SCENE.json");
+	return -1;
+}
 
+// Solve body @p b and report it; its result.
+static fmResult cliStaticSolve(const cliScene* scene, cliSimulation* sim, int b,
+                               const cliStaticOptions* o)
+{
+	double residual = 0.0;
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	double start = cliNow();
+	fmResult result =
+	    fmBody_SolveStatic(sim->bodies[b], o->tolerance, o->maxIterations, &residual, &diag);
+	double seconds = cliNow() - start;
+	fmBodyStats stats = fmBody_GetStats(sim->bodies[b]);
+	printf("body %d           residual %.3g (tolerance %.3g) in %.3f s, %s\n", b, residual,
+	       o->tolerance, seconds, result == fm_ok ? "converged" : fmResultName(result));
+	printf("                 elastic energy %.6g J, lowest y %.6g m, inverted tets %d\n",
+	       stats.elasticEnergy, stats.lowestY, stats.invertedTets);
+	if (result != fm_ok)
+	{
+		char prefix[CLI_MAX_PATH + 32];
+		snprintf(prefix, sizeof prefix, "%s: bodies[%d]", scene->name, b);
+		cliPrintDiagnostic(prefix, &diag);
+	}
+	return result;
+}
+
+int cliStatic(int argc, char** argv)
+{
+	cliStaticOptions o;
+	int parsed = cliStaticParse(argc, argv, &o);
+	if (parsed >= 0)
+		return parsed;
 	cliScene scene;
-	if (!cliScene_Load(scenePath, &scene))
+	if (!cliScene_Load(o.scenePath, &scene))
 		return cli_exitInput;
 	cliSimulation sim;
 	if (!cliSimulation_Create(&scene, cli_stepCheckOff, &sim))
@@ -86,36 +127,22 @@ int cliStatic(int argc, char** argv)
 	bool exportable = true;
 	for (int b = 0; b < sim.bodyCount && code == cli_exitOk; ++b)
 	{
-		double residual = 0.0;
-		fmDiagnostic diag;
-		memset(&diag, 0, sizeof diag);
-		double start = cliNow();
-		fmResult result =
-		    fmBody_SolveStatic(sim.bodies[b], tolerance, maxIterations, &residual, &diag);
-		double seconds = cliNow() - start;
-		fmBodyStats stats = fmBody_GetStats(sim.bodies[b]);
-		printf("body %d           residual %.3g (tolerance %.3g) in %.3f s, %s\n", b, residual,
-		       tolerance, seconds, result == fm_ok ? "converged" : fmResultName(result));
-		printf("                 elastic energy %.6g J, lowest y %.6g m, inverted tets %d\n",
-		       stats.elasticEnergy, stats.lowestY, stats.invertedTets);
+		fmResult result = cliStaticSolve(&scene, &sim, b, &o);
 		if (result != fm_ok)
 		{
-			char prefix[CLI_MAX_PATH + 32];
-			snprintf(prefix, sizeof prefix, "%s: bodies[%d]", scene.name, b);
-			cliPrintDiagnostic(prefix, &diag);
 			code = cli_exitInput;
 			// A solve that stopped short keeps its best state: still worth exporting.
 			exportable = exportable && result == fm_errNotConverged;
 		}
 	}
-	if (exportable && exportNode != NULL)
+	if (exportable && o.exportNode != NULL)
 	{
-		if (!cliWriteNodes(exportNode, &sim, true))
+		if (!cliWriteNodes(o.exportNode, &sim, true))
 			code = cli_exitInput;
 		else if (code != cli_exitOk)
 			cliWarn("%s: the best state reached was written, but it is not converged to the "
 			        "tolerance %g (see the residuals above)",
-			        exportNode, tolerance);
+			        o.exportNode, o.tolerance);
 	}
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);

@@ -19,7 +19,6 @@ cli/cmd_run.c:cliParseRunOptions 133
 src/static.c:fmBodySolveStaticIn 128
 src/svd3.c:fmSvd3 102
 src/newton.c:fmNewton_Solve 96
-cli/cmd_static.c:cliStatic 95
 src/implicit.c:fmImplicitStep 91
 src/contact.c:fmFindPairContact 89
 src/mesh_vtu.c:fmVtuWalk 82
