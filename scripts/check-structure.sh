@@ -16,7 +16,6 @@ exceptions="
 src/contact.c 2113
 cli/scene.c 1737
 cli/cmd_run.c:cliParseRunOptions 133
-src/static.c:fmBodySolveStaticIn 128
 src/svd3.c:fmSvd3 102
 src/newton.c:fmNewton_Solve 96
 src/implicit.c:fmImplicitStep 91

@@ -122,12 +122,11 @@ static fmNewtonResult fmStaticFollowerRounds(fmBody* b, fmImplicitCache* c, fmNe
 	return r;
 }
 
-static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIterations,
-                                    double* residual, fmDiagnostic* diag)
+// The arguments and the body a static solve needs: a live body, a tolerance and an iteration
+// budget in range, and something that holds it where gravity or loads pull.
+static fmResult fmStaticCheck(const fmBody* b, const fmWorld* world, double tolerance,
+                              int maxIterations, fmDiagnostic* diag)
 {
-	fmDiagClear(diag);
-	fmBody* b = fmGetBody(bodyId);
-	fmWorld* world = fmGetWorldOfBody(bodyId);
 	FM_ASSERT(b != NULL && world != NULL); // a stale id is a programmer error, as everywhere
 	if (b == NULL || world == NULL)
 		return fmDiagError(diag, fm_errInvalidId, "", 0, 0, "invalid or destroyed body id");
@@ -140,78 +139,71 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	int pins = 0;
 	for (int i = 0; i < b->vertexCount; ++i)
 		pins += b->pinned[i] != 0; // rollers count: a well-posed set of them holds the body
-	fmVec3 gravity = world->def.gravity;
-	if (pins == 0 && (fmLength(gravity) > 0.0 || fmLoads_Active(b)))
+	if (pins == 0 && (fmLength(world->def.gravity) > 0.0 || fmLoads_Active(b)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "the body has no pinned vertex, so under gravity or loads it has no "
 		                   "equilibrium (it would fall or drift forever): pin something "
 		                   "(fmBody_PinBox, fmBody_PinBoxAxes) first");
-	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(b) : NULL;
-	if (c == NULL)
-		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
-		                   "out of memory for the static solver");
+	return fm_ok;
+}
 
+// The Newton problem of a static solve: no mass term, the exact Hessian (projected ones slow
+// Newton to linear convergence without inertia; CG detects when it stops being positive
+// definite), the best state kept, CG given room (the system is as ill-conditioned as the
+// structure), the residual measured against fmStaticForceScale.
+static fmNewtonProblem fmStaticProblem(fmBody* b, fmImplicitCache* c, fmWorld* world,
+                                       double tolerance, int maxIterations, double* scratch)
+{
 	const int n3 = 3 * b->vertexCount;
-	// The last equilibrium reached, to go back to when a load increment fails.
-	double* equilibrium = FM_ALLOC_ARRAY(double, 2 * (size_t)n3);
-	if (equilibrium == NULL)
-		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
-		                   "out of memory for the static solver");
-	double* scratch = equilibrium + n3; // the force scale's
-	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
-	memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
-	fmLoads_BeginStatic(b);
-	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.tolerance = tolerance;
-	pb.scale = fmStaticForceScale(b, c, gravity, scratch);
+	pb.scale = fmStaticForceScale(b, c, world->def.gravity, scratch);
 	pb.maxNewton = maxIterations;
-	// No mass term: the system is as ill-conditioned as the structure; give CG room to finish.
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
 	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = &world->arena;
-	// Without inertia, projected element Hessians (which drop the negative curvature of
-	// compressed elements and springs) slow Newton to linear convergence; the exact Hessian
-	// keeps it quadratic as long as it stays positive definite, which CG detects.
 	pb.exactHessian = true;
-
 	pb.keepBest = true;
+	return pb;
+}
 
-	// Load stepping: from the last converged fraction `done`, try `done + step`; halve the step
-	// on failure, double it again after a success. A solve that stagnates close to the
-	// tolerance has met round-off, which a smaller load does not cure: its load level is kept
-	// (at its best state) and the result says how close it got.
-	double done = 0.0, step = 1.0;
-	int iterations = 0;
+// Load stepping: from the last converged fraction *@p done, try done + step; halve the step on
+// failure, double it again after a success. A solve that stagnates close to the tolerance has
+// met round-off, which a smaller load does not cure: its load level is kept (at its best state)
+// and the result says how close it got. @p equilibrium holds the last equilibrium reached.
+static fmNewtonResult fmStaticLoadSteps(fmBody* b, fmImplicitCache* c, fmNewtonProblem* pb,
+                                        fmVec3 gravity, double* equilibrium, double* done,
+                                        int* iterations)
+{
+	const size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+	double step = 1.0;
 	fmNewtonResult r;
 	memset(&r, 0, sizeof r);
 	r.converged = true;
 	r.finite = true;
-	if (pb.scale <= 0.0) // nothing pulls: already at equilibrium
-		done = 1.0;
-	while (done < 1.0)
+	while (*done < 1.0)
 	{
-		double load = fmMin(1.0, done + step);
-		r = fmStaticSolveAt(b, c, &pb, gravity, load);
-		iterations += r.iterations;
+		double load = fmMin(1.0, *done + step);
+		r = fmStaticSolveAt(b, c, pb, gravity, load);
+		*iterations += r.iterations;
 		if (r.projected)
 		{
 			// The true Hessian went indefinite (buckling-like states, compressed springs):
 			// continue from here with per-element projected Hessians, always descent.
-			pb.exactHessian = false;
-			r = fmNewton_Solve(b, c, &pb);
-			iterations += r.iterations;
+			pb->exactHessian = false;
+			r = fmNewton_Solve(b, c, pb);
+			*iterations += r.iterations;
 		}
 		// Stagnation means steps within the energy's round-off that no longer improve the
 		// residual: a smaller load does not cure that. (A stalled line search may.)
 		bool roundOff = r.finite && r.stagnated;
 		if (r.converged || roundOff)
 		{
-			memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
-			done = load;
+			memcpy(equilibrium, b->x, bytes);
+			*done = load;
 			step = fmMin(1.0, 2.0 * step);
 			continue;
 		}
@@ -220,21 +212,18 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		// stagnated far from the answer, non-finite) goes back to the last equilibrium.
 		bool progressing = r.finite && !r.stalled && !r.stagnated;
 		if (!progressing)
-			memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
+			memcpy(b->x, equilibrium, bytes);
 		step *= 0.5;
 		if (step < FM_MIN_LOAD_STEP || !r.finite)
 			break;
 	}
-	if (done >= 1.0)
-		r = fmStaticFollowerRounds(b, c, &pb, gravity, r, &iterations);
-	if (done < 1.0)
-		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
-	else
-		fmLoads_FinishStatic(b);
-	FM_FREE_ARRAY(equilibrium, double, 2 * (size_t)n3);
-	if (residual)
-		*residual = r.residual;
-	memset(b->v, 0, sizeof(double) * (size_t)n3);
+	return r;
+}
+
+// The result of a solve that reached load fraction @p done with the last attempt @p r.
+static fmResult fmStaticReport(fmNewtonResult r, double done, double tolerance, int iterations,
+                               fmDiagnostic* diag)
+{
 	if (done < 1.0)
 		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
 		                   "static solve did not converge: equilibrium reached up to %.3g of the "
@@ -251,6 +240,48 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 		                   "a tolerance above %.2g is within reach",
 		                   r.residual, tolerance, iterations, r.residual);
 	return fm_ok;
+}
+
+static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIterations,
+                                    double* residual, fmDiagnostic* diag)
+{
+	fmDiagClear(diag);
+	fmBody* b = fmGetBody(bodyId);
+	fmWorld* world = fmGetWorldOfBody(bodyId);
+	fmResult checked = fmStaticCheck(b, world, tolerance, maxIterations, diag);
+	if (checked != fm_ok)
+		return checked;
+	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(b) : NULL;
+	if (c == NULL)
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the static solver");
+	const int n3 = 3 * b->vertexCount;
+	// The last equilibrium reached, to go back to when a load increment fails.
+	double* equilibrium = FM_ALLOC_ARRAY(double, 2 * (size_t)n3);
+	if (equilibrium == NULL)
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the static solver");
+	double* scratch = equilibrium + n3; // the force scale's
+	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
+	memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
+	fmLoads_BeginStatic(b);
+	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
+	fmNewtonProblem pb = fmStaticProblem(b, c, world, tolerance, maxIterations, scratch);
+	fmVec3 gravity = world->def.gravity;
+	double done = pb.scale <= 0.0 ? 1.0 : 0.0; // nothing pulls: already at equilibrium
+	int iterations = 0;
+	fmNewtonResult r = fmStaticLoadSteps(b, c, &pb, gravity, equilibrium, &done, &iterations);
+	if (done >= 1.0)
+		r = fmStaticFollowerRounds(b, c, &pb, gravity, r, &iterations);
+	if (done < 1.0)
+		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
+	else
+		fmLoads_FinishStatic(b);
+	FM_FREE_ARRAY(equilibrium, double, 2 * (size_t)n3);
+	if (residual)
+		*residual = r.residual;
+	memset(b->v, 0, sizeof(double) * (size_t)n3);
+	return fmStaticReport(r, done, tolerance, iterations, diag);
 }
 
 fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations, double* residual,
