@@ -18,7 +18,6 @@ cli/scene.c 1737
 cli/cmd_run.c:cliParseRunOptions 133
 src/svd3.c:fmSvd3 102
 src/newton.c:fmNewton_Solve 96
-src/implicit.c:fmImplicitStep 91
 src/contact.c:fmFindPairContact 89
 src/mesh_vtu.c:fmVtuWalk 82
 "

@@ -126,30 +126,13 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
 }
 
-fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
-                        fmArena* arena)
+// The Newton problem of a step of @p h: inertia 1 / h^2, Rayleigh damping, gravity, the floor
+// (NULL when it does not hold the body), the contact penalty (@p penalty, filled here; NULL in
+// the problem without contact), the residual's scale and the world's solver settings.
+static fmNewtonProblem fmImplicitProblem(const fmWorld* world, fmBody* b, fmImplicitCache* c,
+                                         double h, const fmFloorDef* floor, fmArena* arena,
+                                         fmContactPenalty* penalty)
 {
-	memset(solve, 0, sizeof *solve);
-	fmImplicitCache* c = fmSolverCache_Get(b);
-	if (c == NULL)
-		return fm_errOutOfMemory;
-	const int n3 = 3 * b->vertexCount;
-	const fmFloorDef* floor = fmFloor_Holds(&world->def.floor, b) ? &world->def.floor : NULL;
-	b->floorHitCount = 0;
-	const double g[3] = {world->def.gravity.x, world->def.gravity.y, world->def.gravity.z};
-
-	// 1. Start state and inertial prediction (pinned axes stay put). The first guess is the
-	//    free flight x + h v + h^2 g held above the floor: a body in free fall is then solved
-	//    before the first iteration, however stiff or light it is (E / density of 1e17 and
-	//    more leaves the rigid motion to round-off in the elastic forces otherwise).
-	//    Prescribed displacements move their vertices first; the loads are frozen at the start
-	//    (follower pressure lagged by one step, loads.h).
-	double start = fmSeconds();
-	fmLoads_StepPrescribed(b, h, 0.0);
-	fmLoads_Freeze(b, b->x, 1.0);
-	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
-	for (int k = 0; k < n3; ++k)
-		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
@@ -165,14 +148,24 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	pb.maxCg = world->def.cgIterations;
 	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
-	fmContactPenalty penalty = {world->colliders,
-	                            world->colliderCapacity,
-	                            FM_PENALTY_KAPPA / (h * h),
-	                            fmContact_Thickness(world),
-	                            c->xStart,
-	                            h};
-	pb.contact = fmContact_Active(world) ? &penalty : NULL;
-	for (int k = 0; k < n3; ++k)
+	*penalty = (fmContactPenalty){world->colliders,
+	                              world->colliderCapacity,
+	                              FM_PENALTY_KAPPA / (h * h),
+	                              fmContact_Thickness(world),
+	                              c->xStart,
+	                              h};
+	pb.contact = fmContact_Active(world) ? penalty : NULL;
+	return pb;
+}
+
+// The free flight x + h v + h^2 g held above the floor, as the solve's start: a body in free
+// fall is then solved before the first iteration, however stiff or light it is (E / density of
+// 1e17 and more leaves the rigid motion to round-off in the elastic forces otherwise).
+static void fmImplicitFreeFlight(fmBody* b, fmImplicitCache* c, double h, fmVec3 gravity,
+                                 const fmFloorDef* floor)
+{
+	const double g[3] = {gravity.x, gravity.y, gravity.z};
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
 		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
 	if (floor)
 	{
@@ -181,7 +174,44 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 			if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < c->floorBound[i])
 				b->x[3 * i + 1] = c->floorBound[i];
 	}
+}
 
+// The work the step's targets, loads and contact penalty did, booked with the ledger.
+static void fmImplicitBookWork(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
+	if (fmLoads_Active(b))
+	{
+		for (int k = 0; k < 3 * b->vertexCount; ++k)
+			c->trial[k] = b->x[k] - c->xStart[k]; // free after the solve
+		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
+	}
+	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb->contact, b, c->xStart));
+}
+
+fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
+                        fmArena* arena)
+{
+	memset(solve, 0, sizeof *solve);
+	fmImplicitCache* c = fmSolverCache_Get(b);
+	if (c == NULL)
+		return fm_errOutOfMemory;
+	const int n3 = 3 * b->vertexCount;
+	const fmFloorDef* floor = fmFloor_Holds(&world->def.floor, b) ? &world->def.floor : NULL;
+	b->floorHitCount = 0;
+
+	// 1. Start state and inertial prediction (pinned axes stay put), the free flight as the first
+	//    guess. Prescribed displacements move their vertices first; the loads are frozen at the
+	//    start (follower pressure lagged by one step, loads.h).
+	double start = fmSeconds();
+	fmLoads_StepPrescribed(b, h, 0.0);
+	fmLoads_Freeze(b, b->x, 1.0);
+	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
+	for (int k = 0; k < n3; ++k)
+		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
+	fmContactPenalty penalty;
+	fmNewtonProblem pb = fmImplicitProblem(world, b, c, h, floor, arena, &penalty);
+	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
@@ -196,14 +226,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
-	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
-	if (fmLoads_Active(b))
-	{
-		for (int k = 0; k < n3; ++k)
-			c->trial[k] = b->x[k] - c->xStart[k]; // free after the solve
-		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
-	}
-	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb.contact, b, c->xStart));
+	fmImplicitBookWork(b, c, &pb);
 	for (int k = 0; k < n3; ++k)
 		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(b, h, arena, world->simd, &world->tasks);
