@@ -17,7 +17,6 @@ src/contact.c 2113
 cli/scene.c 1737
 cli/cmd_run.c:cliParseRunOptions 133
 src/svd3.c:fmSvd3 102
-src/newton.c:fmNewton_Solve 96
 src/contact.c:fmFindPairContact 89
 src/mesh_vtu.c:fmVtuWalk 82
 "

@@ -413,6 +413,70 @@ static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
 	}
 }
 
+// What the Newton loop remembers between iterations.
+typedef struct fmNewtonTrack
+{
+	double bestResidual; // the best residual by a margin (stagnation)
+	double keptResidual; // the best state's (pb->keepBest)
+	int sinceBest;       // iterations in the energy's noise without improving on bestResidual
+	bool inNoise;        // the last step changed the energy by less than its round-off
+	bool stale;          // the kept Hessian was assembled for other terms
+	double lastResidual;
+	bool lastFresh; // the last direction came from a freshly assembled Hessian
+} fmNewtonTrack;
+
+// After the residual of an iteration is known: keep the best state, and whether to stop
+// (converged, out of iterations, stagnated: steps that change the energy by less than its
+// round-off and no longer improve the residual; far from the solution the residual may rise
+// for many iterations while the energy falls, which is progress).
+static bool fmNewtonStops(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                          fmNewtonTrack* t, fmNewtonResult* result)
+{
+	if (pb->keepBest && result->residual < t->keptResidual)
+	{
+		t->keptResidual = result->residual;
+		memcpy(c->best, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+	}
+	if (result->residual <= pb->tolerance)
+	{
+		result->converged = true;
+		return true;
+	}
+	if (result->iterations >= pb->maxNewton)
+		return true;
+	bool improved = result->residual < 0.9 * t->bestResidual;
+	t->bestResidual = improved ? result->residual : t->bestResidual;
+	t->sinceBest = improved || !t->inNoise ? 0 : t->sinceBest + 1;
+	result->stagnated = t->sinceBest >= FM_NEWTON_STAGNATION;
+	return result->stagnated;
+}
+
+// Lazy Hessian: per-element projected Hessians dominate the cost of an iteration, so the
+// assembled matrix is reused (within a step and across steps: a body at rest hardly changes it)
+// as long as it still cuts the residual by FM_REUSE_RATIO per iteration; any SPD matrix gives a
+// descent direction, so a stale one only costs speed, never safety. A quadratic energy has a
+// constant Hessian (a fresh exact one cannot do better; only the floor's active set makes such
+// a step slow). The matrix-free path has no matrix to keep. True: assemble it afresh.
+static bool fmNewtonRefresh(fmImplicitCache* c, const fmNewtonProblem* pb, fmNewtonTrack* t,
+                            double residual)
+{
+	bool slow = residual > FM_REUSE_RATIO * t->lastResidual;
+	bool refresh = t->stale || (slow && !(pb->quadratic && t->lastFresh)) ||
+	               pb->options.product == fm_productMatrixFree;
+	if (refresh)
+	{
+		c->hessianValid = true;
+		c->hessianInertia = pb->inertia;
+		c->hessianMassDamping = pb->massDamping;
+		c->hessianDamping = pb->useDamping;
+		c->hessianExact = pb->exactHessian;
+		t->stale = false;
+	}
+	t->lastResidual = residual;
+	t->lastFresh = refresh;
+	return refresh;
+}
+
 fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	fmNewtonResult result;
@@ -420,21 +484,11 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	result.residual = INFINITY;
 	result.finite = true;
 	const int n3 = 3 * b->vertexCount;
-	double bestResidual = INFINITY, keptResidual = INFINITY;
-	int sinceBest = 0;
-	bool inNoise = false; // the last step changed the energy by less than its round-off
 	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
-	// Lazy Hessian: per-element projected Hessians dominate the cost of an iteration, so the
-	// assembled matrix is reused (within a step and across steps: a body at rest hardly
-	// changes it) as long as it still cuts the residual by FM_REUSE_RATIO per iteration; any
-	// SPD matrix gives a descent direction, so a stale one only costs speed, never safety.
-	// A quadratic energy has a constant Hessian. The matrix-free path has no matrix to keep.
 	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
 	                 c->hessianMassDamping == pb->massDamping &&
 	                 c->hessianDamping == pb->useDamping && c->hessianExact == pb->exactHessian;
-	bool stale = !sameTerms;
-	double lastResidual = INFINITY;
-	bool lastFresh = false;
+	fmNewtonTrack t = {INFINITY, INFINITY, 0, false, !sameTerms, INFINITY, false};
 	for (;;)
 	{
 		double magnitude;
@@ -447,45 +501,9 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 			break;
 		}
 		result.residual = gradientNorm / scale;
-		if (pb->keepBest && result.residual < keptResidual)
-		{
-			keptResidual = result.residual;
-			memcpy(c->best, b->x, sizeof(double) * (size_t)n3);
-		}
-		if (result.residual <= pb->tolerance)
-		{
-			result.converged = true;
+		if (fmNewtonStops(b, c, pb, &t, &result))
 			break;
-		}
-		if (result.iterations >= pb->maxNewton)
-			break;
-		// Stagnation: steps that change the energy by less than its round-off and no longer
-		// improve the residual. (Far from the solution the residual may rise for many
-		// iterations while the energy falls; that is progress.)
-		bool improved = result.residual < 0.9 * bestResidual;
-		bestResidual = improved ? result.residual : bestResidual;
-		sinceBest = improved || !inNoise ? 0 : sinceBest + 1;
-		if (sinceBest >= FM_NEWTON_STAGNATION)
-		{
-			result.stagnated = true;
-			break;
-		}
-		bool slow = result.residual > FM_REUSE_RATIO * lastResidual;
-		// (A fresh exact Hessian of a quadratic energy cannot do better; only the floor's active
-		// set makes such a step slow.)
-		bool refresh = stale || (slow && !(pb->quadratic && lastFresh)) ||
-		               pb->options.product == fm_productMatrixFree;
-		if (refresh)
-		{
-			c->hessianValid = true;
-			c->hessianInertia = pb->inertia;
-			c->hessianMassDamping = pb->massDamping;
-			c->hessianDamping = pb->useDamping;
-			c->hessianExact = pb->exactHessian;
-			stale = false;
-		}
-		lastResidual = result.residual;
-		lastFresh = refresh;
+		bool refresh = fmNewtonRefresh(c, pb, &t, result.residual);
 		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
 		result.cgIterations += cg.iterations;
 		if (cg.indefinite && pb->exactHessian)
@@ -497,16 +515,16 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 		result.iterations += 1;
 		fmEnsureDescent(b, c);
 		fmReachFloor(b, c, pb);
-		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm, &inNoise))
+		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm, &t.inNoise))
 		{
 			result.stalled = true;
 			break;
 		}
 	}
-	if (pb->keepBest && result.finite && !result.converged && keptResidual < result.residual)
+	if (pb->keepBest && result.finite && !result.converged && t.keptResidual < result.residual)
 	{
 		memcpy(b->x, c->best, sizeof(double) * (size_t)n3);
-		result.residual = keptResidual;
+		result.residual = t.keptResidual;
 	}
 	return result;
 }
