@@ -91,7 +91,7 @@ typedef struct fmBody
 	double rayleighStiffness;
 	double springDamping;
 	double friction;    // against other bodies, or -1 for the world's
-	bool selfCollision; // surface against its own non-adjacent surface (contact.c)
+	bool selfCollision; // surface against its own non-adjacent surface (contact_pair.c)
 	// Sleeping (island.c)
 	bool canSleep;      // fmBodyDef.enableSleep
 	bool asleep;        // not stepped until woken

@@ -6,7 +6,7 @@
 
 #include "draw_shapes.h"
 
-#include "contact.h"
+#include "contact_events.h"
 #include "core.h"
 #include "force_spring.h"
 #include "forces.h"
@@ -375,7 +375,7 @@ static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
 {
 	const fmContactPoint* points;
-	int count = fmContact_Points(w, &points);
+	int count = fmContactEvents_Points(w, &points);
 	if (count == 0)
 		return true;
 	if (count > w->drawPointCapacity)

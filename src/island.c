@@ -4,7 +4,7 @@
 #include "det_math.h"
 
 #include "body.h"
-#include "contact.h"
+#include "contact_events.h"
 #include "core.h"
 
 #include <math.h>
@@ -26,7 +26,7 @@ static void fmJoinPairs(const fmWorld* w, int* parent)
 	for (int k = 0; k < w->bodyCapacity; ++k)
 		parent[k] = k;
 	const uint64_t* pairs;
-	int count = fmContact_FramePairs(w, &pairs);
+	int count = fmContactEvents_FramePairs(w, &pairs);
 	for (int p = 0; p < count; ++p)
 	{
 		int a = (int)(pairs[p] >> 32), b = (int)(uint32_t)pairs[p];
@@ -149,7 +149,7 @@ static double fmFastest(const fmBody* b)
 static bool fmTouchesMovingCollider(fmWorld* w, int slot)
 {
 	const uint64_t* pairs;
-	int count = fmContact_FramePairs(w, &pairs);
+	int count = fmContactEvents_FramePairs(w, &pairs);
 	for (int p = 0; p < count; ++p)
 	{
 		int a = (int)(pairs[p] >> 32), b = (int)(uint32_t)pairs[p];

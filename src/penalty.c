@@ -109,10 +109,10 @@ static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
 	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
 }
 
-// A stick collider's friction (f[7] set by contact.c): infinite friction as the limit of the
-// widened slip width, whose stick spring 2 mu lambda / eps is the normal penalty's kappa m / h^2
-// at any mu: the quadratic spring k/2 |u|^2 with that k, without a Coulomb limit. Returns k
-// (N/m), 0 for a Coulomb contact.
+// A stick collider's friction (f[7] set by contact_collider.c): infinite friction as the limit
+// of the widened slip width, whose stick spring 2 mu lambda / eps is the normal penalty's
+// kappa m / h^2 at any mu: the quadratic spring k/2 |u|^2 with that k, without a Coulomb limit.
+// Returns k (N/m), 0 for a Coulomb contact.
 static double fmStickStiffness(const fmBody* b, int i, const double* f, double h)
 {
 	return f[7] != 0.0 ? FM_PENALTY_KAPPA * b->mass[i] / (h * h) : 0.0;

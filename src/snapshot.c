@@ -21,7 +21,7 @@
 #include "snapshot.h"
 
 #include "collider.h"
-#include "contact.h"
+#include "contact_events.h"
 #include "core.h"
 #include "world.h"
 
@@ -363,7 +363,7 @@ static void fmPutBodyContact(fmStream* s, const fmBody* b)
 
 // The contact section: the substep the contact stage last worked on, every live collider (key
 // and state), every live body's contact state, the last frame's pairs (a count and the sorted
-// keys of fmContact_FramePairs).
+// keys of fmContactEvents_FramePairs).
 static void fmPutContact(fmStream* s, fmWorld* w)
 {
 	fmPut(s, &w->contactStep, sizeof w->contactStep);
@@ -379,7 +379,7 @@ static void fmPutContact(fmStream* s, fmWorld* w)
 		if (w->bodies[i].x != NULL)
 			fmPutBodyContact(s, &w->bodies[i]);
 	const uint64_t* pairs;
-	int32_t count = fmContact_FramePairs(w, &pairs);
+	int32_t count = fmContactEvents_FramePairs(w, &pairs);
 	fmPut(s, &count, sizeof count);
 	fmPut(s, pairs, sizeof(uint64_t) * (size_t)count);
 }
@@ -705,7 +705,7 @@ static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size
 			fmSkipBodyContact(&s);
 	int32_t count = 0;
 	fmGet(&s, &count, sizeof count);
-	if (!fmContact_SetFramePairs(w, (const unsigned char*)buffer + s.used, count))
+	if (!fmContactEvents_SetFramePairs(w, (const unsigned char*)buffer + s.used, count))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory restoring the contact pairs");
 	s.used = at;

@@ -4,6 +4,8 @@
 
 #include "collider.h"
 #include "contact.h"
+#include "contact_events.h"
+#include "contact_state.h"
 #include "core.h"
 #include "draw_shapes.h"
 #include "explicit.h"
@@ -297,7 +299,7 @@ void fmDestroyWorld(fmWorldId worldId)
 	for (int k = 0; k < w->colliderCapacity; ++k)
 		fmCollider_Release(&w->colliders[k]);
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
-	fmContact_Free(w->contactState);
+	fmContactState_Free(w->contactState);
 	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
 	if (w->drawShape != NULL)
 		fmShapeBuffer_Free(w->drawShape);
@@ -760,7 +762,8 @@ static fmResult fmSubstep(fmWorld* w, double h)
 			fmStepBody(w, i, h);
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
 	double contactStart = fmSeconds();
-	bool contactOk = (!contact || fmContact_Substep(w, h)) && fmContact_ReportFloor(w, contact);
+	bool contactOk =
+	    (!contact || fmContact_Substep(w, h)) && fmContactEvents_ReportFloor(w, contact);
 	w->profile.contact += 1e3 * (fmSeconds() - contactStart);
 	if (!contactOk)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -931,8 +934,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		                             : fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
 	}
 	const fmContactPoint* points;
-	w->stats.contacts = fmContact_Points(w, &points);
-	if (!fmContact_EndFrame(w, timeStep) || !fmIsland_EndFrame(w, timeStep))
+	w->stats.contacts = fmContactEvents_Points(w, &points);
+	if (!fmContactEvents_EndFrame(w, timeStep) || !fmIsland_EndFrame(w, timeStep))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact or sleep events");
 	w->profile.check = 1e3 * (fmSeconds() - checking);

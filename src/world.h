@@ -27,7 +27,7 @@ typedef struct fmWorld
 	struct fmCollider* colliders; // colliderCapacity slots (collider.h)
 	fmCollider floorCollider;     // def.floor as a plane collider: its id, reports and queries
 	int colliderCapacity;         // grows by doubling up to FM_MAX_COLLIDERS
-	struct fmContactState* contactState; // the contact stage's buffers (contact.h)
+	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
 	double contactStep;                  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
 	int contactPieces;   // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the

@@ -8,7 +8,7 @@
 
 #include "body.h"
 #include "collider.h"
-#include "contact.h"
+#include "contact_events.h"
 #include "solver_cache.h"
 #include "world.h"
 
@@ -360,7 +360,7 @@ static double* replay(int* failures_, const ContactScene* scene, const void* sna
 		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
 	}
 	if (undo == 3)
-		CHECK(fmContact_SetFramePairs(fmGetWorld(scene->world), NULL, 0));
+		CHECK(fmContactEvents_SetFramePairs(fmGetWorld(scene->world), NULL, 0));
 	int paddle = 0, bodyBody = 0;
 	runScene(failures_, scene, sceneFrames, events, &paddle, &bodyBody);
 	size_t length;
