@@ -120,6 +120,54 @@ static bool fmEmbeddedContact(const fmWorld* w, const fmContactState* s, fmWorke
 	return true;
 }
 
+// How well triangle @p item of the hash fits vertex @p i of body @p slot at @p p (its box
+// [lo, hi] grown by @p reach): its score (the distance, weighted towards triangles the vertex
+// lies straight above or below), or INFINITY when the triangle is out of reach, filtered out,
+// or not touching. On a finite score @p wt, @p n and @p side describe the nearest point.
+static double fmCandidateScore(const fmWorld* w, const fmContactState* s, int slot, int i, fmVec3 p,
+                               fmVec3 lo, fmVec3 hi, double reach, double thickness, int item,
+                               double wt[3], fmVec3* n, double* side)
+{
+	const fmBody* b = &w->bodies[slot];
+	int other = s->triangleBody[item];
+	fmVec3 tlo = s->lower[item], thi = s->upper[item];
+	if (hi.x < tlo.x || lo.x > thi.x || hi.y < tlo.y || lo.y > thi.y || hi.z < tlo.z ||
+	    lo.z > thi.z)
+		return INFINITY; // the triangle's grown box is out of the vertex's reach
+	const fmBody* o = &w->bodies[other];
+	if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
+	    (b->asleep && o->asleep))
+		return INFINITY;
+	const int* tri = fmContactDetect_Triangle(o, s->triangleIndex[item]);
+	if (other == slot && !fmSelfCandidate(b, i, tri, thickness))
+		return INFINITY;
+	fmVec3 q;
+	if (!fmNearestOnTriangle(o, tri, p, wt, &q, n))
+		return INFINITY;
+	double bound = reach + fmMax(fmContactDetect_Motion(s, o, tri[0]),
+	                             fmMax(fmContactDetect_Motion(s, o, tri[1]),
+	                                   fmContactDetect_Motion(s, o, tri[2])));
+	double distance = fmLength(fmSub(p, q));
+	*side = fmDot(*n, fmSub(p, q));
+	// (Before a step, a plane within the reach of the step's motion may be met.)
+	double near = s->predict > 0.0 ? bound : thickness;
+	bool touches = distance <= bound && *side<near&& * side> - bound;
+	// A body's own interior lies behind all of its triangles: a vertex of it counts against its
+	// own surface only from the front (or just behind, within the thickness), and only within
+	// the thickness (with the motion's reach, a vertex would meet the triangles of its own flat
+	// face that move with it).
+	if (other == slot)
+		touches = *side > -thickness ? distance <= thickness && *side < thickness
+		                             : s->predict == 0.0 && distance <= bound &&
+		                                   fmInFrontAtStart(b, i, tri, *n, thickness);
+	if (!touches)
+		return INFINITY;
+	// The nearest triangle, preferring one the vertex lies straight above or below (near an
+	// edge, the face under the vertex, not the side face that shares the edge).
+	double along = distance > 0.0 ? fabs(*side) / distance : 1.0;
+	return distance * (2.0 - along);
+}
+
 // Surface vertex i of body @p slot, which no triangle's reach found, when a tet of another body
 // holds it (it went in deeper than the thickness and the substep's motion, squeezed between
 // bodies or the floor): its contact with that body (fmEmbeddedContact). False when no tet holds
@@ -153,46 +201,16 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 	int bestItem = -1;
 	for (int c = 0; c < count; ++c)
 	{
-		int item = wf->query.items[c], other = s->triangleBody[item];
-		fmVec3 tlo = s->lower[item], thi = s->upper[item];
-		if (hi.x < tlo.x || lo.x > thi.x || hi.y < tlo.y || lo.y > thi.y || hi.z < tlo.z ||
-		    lo.z > thi.z)
-			continue; // the triangle's grown box is out of the vertex's reach
-		const fmBody* o = &w->bodies[other];
-		if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
-		    (b->asleep && o->asleep))
-			continue;
-		const int* tri = fmContactDetect_Triangle(o, s->triangleIndex[item]);
-		if (other == slot && !fmSelfCandidate(b, i, tri, thickness))
-			continue;
-		double wt[3];
-		fmVec3 q, n;
-		if (!fmNearestOnTriangle(o, tri, p, wt, &q, &n))
-			continue;
-		double bound = reach + fmMax(fmContactDetect_Motion(s, o, tri[0]),
-		                             fmMax(fmContactDetect_Motion(s, o, tri[1]),
-		                                   fmContactDetect_Motion(s, o, tri[2])));
-		double distance = fmLength(fmSub(p, q)), side = fmDot(n, fmSub(p, q));
-		// (Before a step, a plane within the reach of the step's motion may be met.)
-		double near = s->predict > 0.0 ? bound : thickness;
-		bool touches = distance <= bound && side < near && side > -bound;
-		// A body's own interior lies behind all of its triangles: a vertex of it counts
-		// against its own surface only from the front (or just behind, within the thickness),
-		// and only within the thickness (with the motion's reach, a vertex would meet the
-		// triangles of its own flat face that move with it).
-		if (other == slot)
-			touches = side > -thickness ? distance <= thickness && side < thickness
-			                            : s->predict == 0.0 && distance <= bound &&
-			                                  fmInFrontAtStart(b, i, tri, n, thickness);
-		// The nearest triangle, preferring one the vertex lies straight above or below (near
-		// an edge, the face under the vertex, not the side face that shares the edge).
-		double along = distance > 0.0 ? fabs(side) / distance : 1.0;
-		double score = distance * (2.0 - along);
-		if (touches && (score < best || (score == best && item < bestItem)))
+		int item = wf->query.items[c];
+		double wt[3], side = 0.0;
+		fmVec3 n;
+		double score =
+		    fmCandidateScore(w, s, slot, i, p, lo, hi, reach, thickness, item, wt, &n, &side);
+		if (score < best || (score == best && item < bestItem))
 		{
 			best = score;
 			bestItem = item;
-			found->other = other;
+			found->other = s->triangleBody[item];
 			found->triangle = s->triangleIndex[item];
 			memcpy(found->w, wt, sizeof wt);
 			found->normal = n;
