@@ -59,6 +59,9 @@ const char* cliOptionValue(const char* command, int argc, char** argv, int* inde
 /// Prints "path: reason" and returns NULL on failure.
 char* cliReadFile(const char* path, size_t* size);
 
+/// Whether the file @p path can be opened for reading.
+bool cliFileReadable(const char* path);
+
 /// Create a directory and its parents (like mkdir -p). Prints "path: reason" on failure.
 bool cliMakeDirectories(const char* path);
 

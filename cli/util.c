@@ -201,6 +201,15 @@ char* cliReadFile(const char* path, size_t* size)
 	return buffer;
 }
 
+bool cliFileReadable(const char* path)
+{
+	FILE* file = fopen(path, "rb");
+	if (file == NULL)
+		return false;
+	fclose(file);
+	return true;
+}
+
 bool cliMakeDirectories(const char* path)
 {
 	char partial[CLI_MAX_PATH];

@@ -1,0 +1,18 @@
+// A scene's bodies (docs/scene-format.md, docs/loads.md): one entry of "bodies" read into a
+// cliBodySpec: its mesh, placement, material and regions, pins, loads, pressures, attachments
+// and contact keys. Part of the scene schema with scene.c, which reads the rest of a scene.
+#pragma once
+
+#include "json_check.h"
+#include "scene.h"
+
+/// Read bodies[@p index] into @p spec; what it allocates is kept in @p spec on failure too.
+bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec);
+
+/// The "transform" of @p object (a body or a mesh collider); the identity when absent.
+bool cliParseTransform(const cliJson* j, const cJSON* object, const char* parent,
+                       fmMeshTransform* out);
+
+/// The "filter" of @p object (a body, a collider or the floor): {"category": bits, "mask":
+/// bits} (fmFilter; absent keys keep the defaults).
+bool cliParseFilter(const cliJson* j, const cJSON* object, const char* parent, fmFilter* filter);
