@@ -6,7 +6,8 @@
 # runs this script with a short run into a temporary folder.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+# The demo needs the build and viewer packages only, not the tools the test suite runs beside femto.
+FEMTO_BENCH_DEPS=0 bash scripts/install-deps.sh
 # A build folder of its own: the demo's options (Release, no tests) never meet the test build's
 # cache in build/ (scripts/test.sh), whichever runs first.
 cmake -S . -B build-demo -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_TESTS=OFF
