@@ -376,16 +376,51 @@ static fmResult fmVtuArrayTag(fmVtu* x, const fmXmlTag* tag, fmVtuArray* a)
 }
 
 // Walk the elements up to <AppendedData> (whose raw bytes are never tokenized) or the end.
+// The section of the Piece the walk is in.
+typedef enum fmVtuSection
+{
+	fm_vtuInNone,
+	fm_vtuInPoints,
+	fm_vtuInCells,
+	fm_vtuInCellData,
+	fm_vtuInOther
+} fmVtuSection;
+
+// The array a DataArray tag fills: the first one of Points, Cells' connectivity, offsets and
+// types, a CellData "region" or "gmsh:physical"; NULL for any other (read and ignored).
+static fmVtuArray* fmVtuArrayFor(fmVtu* x, const fmXmlTag* tag, fmVtuSection where)
+{
+	if (where == fm_vtuInPoints && !x->points.present)
+		return &x->points;
+	if (where == fm_vtuInCells && fmXmlAttributeIs(tag, "Name", "connectivity"))
+		return &x->connectivity;
+	if (where == fm_vtuInCells && fmXmlAttributeIs(tag, "Name", "offsets"))
+		return &x->offsets;
+	if (where == fm_vtuInCells && fmXmlAttributeIs(tag, "Name", "types"))
+		return &x->types;
+	if (where == fm_vtuInCellData &&
+	    (fmXmlAttributeIs(tag, "Name", "region") || fmXmlAttributeIs(tag, "Name", "gmsh:physical")))
+		return &x->regions;
+	return NULL;
+}
+
+// <AppendedData encoding="raw|base64">: where its data start (after the '_').
+static fmResult fmVtuAppendedTag(fmVtu* x, const fmXmlTag* tag)
+{
+	x->appendedBase64 = fmXmlAttributeIs(tag, "encoding", "base64");
+	if (!x->appendedBase64 && !fmXmlAttributeIs(tag, "encoding", "raw"))
+		return fmXmlError(x, tag, fm_errSyntax, "AppendedData encoding: expected raw or base64");
+	const unsigned char* mark = memchr(x->s.data + x->s.pos, '_', x->s.size - x->s.pos);
+	if (mark == NULL)
+		return fmXmlError(x, tag, fm_errSyntax, "AppendedData has no '_' before its data");
+	x->appendedStart = (size_t)(mark - x->s.data) + 1;
+	x->haveAppended = true;
+	return fm_ok;
+}
+
 static fmResult fmVtuWalk(fmVtu* x)
 {
-	enum
-	{
-		inNone,
-		inPoints,
-		inCells,
-		inCellData,
-		inOther
-	} where = inNone;
+	fmVtuSection where = fm_vtuInNone;
 	bool haveFile = false;
 	fmXmlTag tag;
 	bool found = true;
@@ -402,7 +437,7 @@ static fmResult fmVtuWalk(fmVtu* x)
 		if (tag.closing)
 		{
 			if (section)
-				where = inNone;
+				where = fm_vtuInNone;
 			continue;
 		}
 		if (!haveFile && !fmXmlNameIs(nm, nl, "VTKFile"))
@@ -415,38 +450,21 @@ static fmResult fmVtuWalk(fmVtu* x)
 		else if (fmXmlNameIs(nm, nl, "Piece"))
 			result = fmVtuPieceTag(x, &tag);
 		else if (section && !tag.selfClosing)
-			where = fmXmlNameIs(nm, nl, "Points")     ? inPoints
-			        : fmXmlNameIs(nm, nl, "Cells")    ? inCells
-			        : fmXmlNameIs(nm, nl, "CellData") ? inCellData
-			                                          : inOther;
+			where = fmXmlNameIs(nm, nl, "Points")     ? fm_vtuInPoints
+			        : fmXmlNameIs(nm, nl, "Cells")    ? fm_vtuInCells
+			        : fmXmlNameIs(nm, nl, "CellData") ? fm_vtuInCellData
+			                                          : fm_vtuInOther;
 		else if (fmXmlNameIs(nm, nl, "DataArray"))
 		{
-			fmVtuArray* a = NULL;
-			if (where == inPoints && !x->points.present)
-				a = &x->points;
-			else if (where == inCells && fmXmlAttributeIs(&tag, "Name", "connectivity"))
-				a = &x->connectivity;
-			else if (where == inCells && fmXmlAttributeIs(&tag, "Name", "offsets"))
-				a = &x->offsets;
-			else if (where == inCells && fmXmlAttributeIs(&tag, "Name", "types"))
-				a = &x->types;
-			else if (where == inCellData && (fmXmlAttributeIs(&tag, "Name", "region") ||
-			                                 fmXmlAttributeIs(&tag, "Name", "gmsh:physical")))
-				a = &x->regions;
+			fmVtuArray* a = fmVtuArrayFor(x, &tag, where);
 			fmVtuArray ignored;
 			result = fmVtuArrayTag(x, &tag, a ? a : &ignored);
 		}
 		else if (fmXmlNameIs(nm, nl, "AppendedData"))
 		{
-			x->appendedBase64 = fmXmlAttributeIs(&tag, "encoding", "base64");
-			if (!x->appendedBase64 && !fmXmlAttributeIs(&tag, "encoding", "raw"))
-				return fmXmlError(x, &tag, fm_errSyntax,
-				                  "AppendedData encoding: expected raw or base64");
-			const unsigned char* mark = memchr(x->s.data + x->s.pos, '_', x->s.size - x->s.pos);
-			if (mark == NULL)
-				return fmXmlError(x, &tag, fm_errSyntax, "AppendedData has no '_' before its data");
-			x->appendedStart = (size_t)(mark - x->s.data) + 1;
-			x->haveAppended = true;
+			result = fmVtuAppendedTag(x, &tag);
+			if (result != fm_ok)
+				return result;
 			break;
 		}
 	}
