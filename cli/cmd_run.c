@@ -123,6 +123,94 @@ static int cliCheckPictureOptions(const cliViewOptions* v)
 }
 
 // Parse the options; returns -1 to go on, or an exit code.
+// The run's length and the seeds' jump: --seconds, --frames, --every, --impulse-at,
+// --impulse-speed. True when argv[*i] is one of them; *code is then -1, or the exit code of a
+// usage error. @p hasSeconds and @p hasFrames say which length was given.
+static bool cliParseRunTime(cliRunOptions* o, int argc, char** argv, int* i, bool* hasSeconds,
+                            bool* hasFrames, int* code)
+{
+	const char* arg = argv[*i];
+	const char* value = NULL;
+	*code = -1;
+	if (strcmp(arg, "--seconds") == 0)
+	{
+		if ((value = cliOptionValue("run", argc, argv, i)) == NULL)
+			*code = cli_exitUsage;
+		else if (!cliParseDouble(value, &o->seconds) || !(o->seconds > 0.0) || o->seconds > 1e6)
+			*code =
+			    cliUsageError("run", "--seconds: expected a number in (0, 1e6], got '%s'", value);
+		*hasSeconds = true;
+	}
+	else if (strcmp(arg, "--frames") == 0)
+	{
+		if ((value = cliOptionValue("run", argc, argv, i)) == NULL ||
+		    !cliParseIntOption("run", "--frames", value, 0, CLI_MAX_FRAMES, &o->frames))
+			*code = cli_exitUsage;
+		*hasFrames = true;
+	}
+	else if (strcmp(arg, "--every") == 0)
+	{
+		if ((value = cliOptionValue("run", argc, argv, i)) == NULL ||
+		    !cliParseIntOption("run", "--every", value, 1, INT_MAX, &o->every))
+			*code = cli_exitUsage;
+	}
+	else if (strcmp(arg, "--impulse-at") == 0)
+	{
+		double t = 0;
+		if ((value = cliOptionValue("run", argc, argv, i)) == NULL)
+			*code = cli_exitUsage;
+		else if (!cliParseDouble(value, &t) || t < 0.0)
+			*code = cliUsageError("run", "--impulse-at: expected a time >= 0 s, got '%s'", value);
+		else if (o->impulseCount == CLI_MAX_IMPULSES)
+			*code = cliUsageError("run", "--impulse-at: at most %d impulses", CLI_MAX_IMPULSES);
+		else
+			o->impulseTimes[o->impulseCount++] = t;
+	}
+	else if (strcmp(arg, "--impulse-speed") == 0)
+	{
+		if ((value = cliOptionValue("run", argc, argv, i)) == NULL)
+			*code = cli_exitUsage;
+		else if (!cliParseDouble(value, &o->impulseSpeed))
+			*code =
+			    cliUsageError("run", "--impulse-speed: expected a number (m/s), got '%s'", value);
+		o->hasImpulseSpeed = true;
+	}
+	else
+		return false;
+	return true;
+}
+
+// What the run writes and says: --out, --obj, --vtu-ascii, --export-obj, --export-node,
+// --progress, --quiet. As cliParseRunTime.
+static bool cliParseRunOutput(cliRunOptions* o, int argc, char** argv, int* i, int* code)
+{
+	const char* arg = argv[*i];
+	const char* value = NULL;
+	*code = -1;
+	if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0)
+		o->quiet = true;
+	else if (strcmp(arg, "--obj") == 0)
+		o->obj = true;
+	else if (strcmp(arg, "--vtu-ascii") == 0)
+		o->vtuAscii = true;
+	else if (strcmp(arg, "--progress") == 0)
+	{
+		if ((value = cliOptionValue("run", argc, argv, i)) == NULL)
+			*code = cli_exitUsage;
+		else if (!cliParseDouble(value, &o->progressSeconds) || !(o->progressSeconds >= 0.0))
+			*code = cliUsageError("run", "--progress: expected seconds >= 0, got '%s'", value);
+	}
+	else if (strcmp(arg, "--export-obj") == 0)
+		*code = (o->exportObj = cliOptionValue("run", argc, argv, i)) == NULL ? cli_exitUsage : -1;
+	else if (strcmp(arg, "--out") == 0)
+		*code = (o->outDir = cliOptionValue("run", argc, argv, i)) == NULL ? cli_exitUsage : -1;
+	else if (strcmp(arg, "--export-node") == 0)
+		*code = (o->exportNode = cliOptionValue("run", argc, argv, i)) == NULL ? cli_exitUsage : -1;
+	else
+		return false;
+	return true;
+}
+
 static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 {
 	memset(o, 0, sizeof *o);
@@ -134,23 +222,20 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 	for (int i = 1; i < argc; ++i)
 	{
 		const char* arg = argv[i];
-		const char* value = NULL;
 		if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)
 		{
 			fputs(cliRunHelp, stdout);
 			return cli_exitOk;
 		}
-		else if (strcmp(arg, "--quiet") == 0 || strcmp(arg, "-q") == 0)
-			o->quiet = true;
 		else if (strcmp(arg, "--strict") == 0)
 			o->strict = true;
 		else if (strcmp(arg, "--deterministic") == 0)
 			o->deterministic = true;
 		else if (strcmp(arg, "--workers") == 0)
 		{
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseIntOption("run", "--workers", value, 1, FM_MAX_WORKERS, &o->workers))
+			const char* value = cliOptionValue("run", argc, argv, &i);
+			if (value == NULL ||
+			    !cliParseIntOption("run", "--workers", value, 1, FM_MAX_WORKERS, &o->workers))
 				return cli_exitUsage;
 		}
 		else if (strcmp(arg, "--simd") == 0)
@@ -164,78 +249,9 @@ static int cliParseRunOptions(int argc, char** argv, cliRunOptions* o)
 				                     "got '%s'",
 				                     o->simd);
 		}
-		else if (strcmp(arg, "--obj") == 0)
-			o->obj = true;
-		else if (strcmp(arg, "--progress") == 0)
-		{
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseDouble(value, &o->progressSeconds) || !(o->progressSeconds >= 0.0))
-				return cliUsageError("run", "--progress: expected seconds >= 0, got '%s'", value);
-		}
-		else if (strcmp(arg, "--vtu-ascii") == 0)
-			o->vtuAscii = true;
-		else if (strcmp(arg, "--export-obj") == 0)
-		{
-			if ((o->exportObj = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-		}
-		else if (strcmp(arg, "--seconds") == 0)
-		{
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseDouble(value, &o->seconds) || !(o->seconds > 0.0) || o->seconds > 1e6)
-				return cliUsageError("run", "--seconds: expected a number in (0, 1e6], got '%s'",
-				                     value);
-			hasSeconds = true;
-		}
-		else if (strcmp(arg, "--frames") == 0)
-		{
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseIntOption("run", "--frames", value, 0, CLI_MAX_FRAMES, &o->frames))
-				return cli_exitUsage;
-			hasFrames = true;
-		}
-		else if (strcmp(arg, "--every") == 0)
-		{
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseIntOption("run", "--every", value, 1, INT_MAX, &o->every))
-				return cli_exitUsage;
-		}
-		else if (strcmp(arg, "--out") == 0)
-		{
-			if ((o->outDir = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-		}
-		else if (strcmp(arg, "--export-node") == 0)
-		{
-			if ((o->exportNode = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-		}
-		else if (strcmp(arg, "--impulse-at") == 0)
-		{
-			double t = 0;
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseDouble(value, &t) || t < 0.0)
-				return cliUsageError("run", "--impulse-at: expected a time >= 0 s, got '%s'",
-				                     value);
-			if (o->impulseCount == CLI_MAX_IMPULSES)
-				return cliUsageError("run", "--impulse-at: at most %d impulses", CLI_MAX_IMPULSES);
-			o->impulseTimes[o->impulseCount++] = t;
-		}
-		else if (strcmp(arg, "--impulse-speed") == 0)
-		{
-			if ((value = cliOptionValue("run", argc, argv, &i)) == NULL)
-				return cli_exitUsage;
-			if (!cliParseDouble(value, &o->impulseSpeed))
-				return cliUsageError("run", "--impulse-speed: expected a number (m/s), got '%s'",
-				                     value);
-			o->hasImpulseSpeed = true;
-		}
-		else if (cliViewOptions_Parse(&o->view, "run", argc, argv, &i, &code))
+		else if (cliParseRunTime(o, argc, argv, &i, &hasSeconds, &hasFrames, &code) ||
+		         cliParseRunOutput(o, argc, argv, &i, &code) ||
+		         cliViewOptions_Parse(&o->view, "run", argc, argv, &i, &code))
 		{
 			if (code >= 0)
 				return code;
