@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The tree's shape, so that later work cannot undo it (issue 28): no source file over 1,000
-# lines and no function over 80 lines in src/, cli/, bench/, viewer/ and web/. The ones over
-# today are listed below with their size today: each may shrink, never grow, and leaves the list
-# (the check says so) once it is within the limit. A function is counted from its opening brace
+# lines and no function over 80 lines in src/, cli/, bench/, viewer/ and web/. An exception, if
+# one is ever granted, is listed below with its size: it may shrink, never grow, and leaves the
+# list (the check says so) once it is within the limit. None today. A function is counted from its opening brace
 # to its closing one, both in column 0 (the house style, .clang-format).
 #   bash scripts/check-structure.sh          # the check
 #   bash scripts/check-structure.sh --list   # what is over the limits now
@@ -11,9 +11,8 @@ cd "$(dirname "$0")/.."
 file_limit=1000
 function_limit=80
 
-# path max-lines, and path:function max-lines: what is over the limits today.
+# path max-lines, and path:function max-lines: what may be over the limits (nothing today).
 exceptions="
-src/svd3.c:fmSvd3 102
 "
 
 measure() { # prints "path lines" for every file, "path:function lines" for every function
@@ -60,4 +59,4 @@ for item in "${!allowed[@]}"; do
     fail "$item is within the limits now (or gone): take it off the list in scripts/check-structure.sh"
 done
 [ "$failures" = 0 ] || exit 1
-echo "check-structure: no file over $file_limit lines and no function over $function_limit but the ${#allowed[@]} listed, none grown"
+echo "check-structure: no file over $file_limit lines and no function over $function_limit lines (${#allowed[@]} exceptions listed)"

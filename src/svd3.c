@@ -143,37 +143,12 @@ static void fmSwapColumns(fmVec3* b, fmVec3* v, int i, int j)
 	v[j] = t;
 }
 
-void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
+// One-sided Jacobi sweeps on the columns @p b, accumulating the rotations in @p v: rotate column
+// pairs until they are orthogonal to working precision relative to their own lengths. Norms are
+// recomputed, not updated, so a column that is only rounding noise (rank-deficient F) is still
+// judged against its own length.
+static void fmJacobiSweeps(fmVec3 b[3], fmVec3 v[3])
 {
-	// Scale to max |F_ij| = 1 so squared norms can neither overflow nor underflow.
-	double scale = 0.0;
-	int finite = 1;
-	for (int k = 0; k < 9; ++k)
-	{
-		scale = fmMax(scale, fabs(F->m[k]));
-		finite = finite && isfinite(F->m[k]);
-	}
-	if (!finite || scale == 0.0)
-	{
-		// F = 0: any rotations will do. Non-finite F: NaN singular values tell the caller.
-		*U = fmIdentity3();
-		*V = fmIdentity3();
-		double value = finite ? 0.0 : NAN;
-		*s = fmMakeVec3(value, value, value);
-		return;
-	}
-	fmVec3 b[3], v[3];
-	for (int j = 0; j < 3; ++j)
-	{
-		// Divide rather than multiply by 1 / scale, which overflows for subnormal scales.
-		fmVec3 col = fmColumn(F, j);
-		b[j] = fmMakeVec3(col.x / scale, col.y / scale, col.z / scale);
-		v[j] = fmMakeVec3(j == 0, j == 1, j == 2);
-	}
-
-	// One-sided Jacobi sweeps: rotate column pairs until they are orthogonal to working
-	// precision relative to their own lengths. Norms are recomputed, not updated, so a column
-	// that is only rounding noise (rank-deficient F) is still judged against its own length.
 	static const int pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
 	const double tol2 = (4.0 * DBL_EPSILON) * (4.0 * DBL_EPSILON);
 	for (int sweep = 0; sweep < 20; ++sweep)
@@ -203,9 +178,14 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 		if (worstCos2 < 1e-20 && worstTan < 1e-8)
 			break;
 	}
+}
 
-	// Sort by decreasing column norm; a swap of two columns flips det V, fixed below.
-	double n[3] = {fmLength(b[0]), fmLength(b[1]), fmLength(b[2])};
+// Sort the columns by decreasing norm (@p n gets the norms), keeping det V = +1: a swap of two
+// columns flips it, fixed by negating the last column of V and of B.
+static void fmSortColumns(fmVec3 b[3], fmVec3 v[3], double n[3])
+{
+	for (int k = 0; k < 3; ++k)
+		n[k] = fmLength(b[k]);
 	for (int i = 0; i < 2; ++i)
 		for (int j = i + 1; j < 3; ++j)
 			if (n[j] > n[i])
@@ -220,6 +200,40 @@ void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
 		v[2] = fmScale(-1.0, v[2]);
 		b[2] = fmScale(-1.0, b[2]);
 	}
+}
+
+void fmSvd3(const fmMat3* F, fmMat3* U, fmVec3* s, fmMat3* V)
+{
+	// Scale to max |F_ij| = 1 so squared norms can neither overflow nor underflow.
+	double scale = 0.0;
+	int finite = 1;
+	for (int k = 0; k < 9; ++k)
+	{
+		scale = fmMax(scale, fabs(F->m[k]));
+		finite = finite && isfinite(F->m[k]);
+	}
+	if (!finite || scale == 0.0)
+	{
+		// F = 0: any rotations will do. Non-finite F: NaN singular values tell the caller.
+		*U = fmIdentity3();
+		*V = fmIdentity3();
+		double value = finite ? 0.0 : NAN;
+		*s = fmMakeVec3(value, value, value);
+		return;
+	}
+	fmVec3 b[3], v[3];
+	for (int j = 0; j < 3; ++j)
+	{
+		// Divide rather than multiply by 1 / scale, which overflows for subnormal scales.
+		fmVec3 col = fmColumn(F, j);
+		b[j] = fmMakeVec3(col.x / scale, col.y / scale, col.z / scale);
+		v[j] = fmMakeVec3(j == 0, j == 1, j == 2);
+	}
+
+	fmJacobiSweeps(b, v);
+
+	double n[3];
+	fmSortColumns(b, v, n);
 
 	// Left vectors: normalised columns; a zero column gets any direction completing the frame.
 	// u2 = u0 x u1 makes U proper, and then s2 = u2 . b2 carries the sign of det F.
