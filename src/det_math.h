@@ -35,31 +35,21 @@ double fmDetAtan2(double y, double x);
 // fmin and fmax with the same bits on every target: the C libraries disagree on the sign of
 // fmax(-0.0, +0.0) (glibc's x86-64 fmax returns its first argument, musl, AArch64 and
 // Emscripten +0). Here the minimum of -0 and +0 is -0 and the maximum +0 in either order; a
-// NaN argument gives the other, as C's. Inline, no library call.
+// NaN argument gives the other, as C's. Inline: the common case is one compare-and-select
+// (minsd/maxsd, no branch on the data); the rare ones (equal arguments, a NaN second argument)
+// take a branch that is predictably not taken.
 static inline double fmMin(double a, double b)
 {
-	if (a < b)
-		return a;
-	if (b < a)
-		return b;
-	if (a != a)
-		return b;
-	if (b != b)
-		return a;
-	return signbit(a) ? a : b;
+	if (a == b || b != b)
+		return b != b ? a : (signbit(a) ? a : b);
+	return a < b ? a : b; // a NaN first argument gives b
 }
 
 static inline double fmMax(double a, double b)
 {
-	if (a > b)
-		return a;
-	if (b > a)
-		return b;
-	if (a != a)
-		return b;
-	if (b != b)
-		return a;
-	return signbit(a) ? b : a;
+	if (a == b || b != b)
+		return b != b ? a : (signbit(a) ? b : a);
+	return a > b ? a : b; // a NaN first argument gives b
 }
 
 // The calling thread's det_math mode (off when a thread starts); set by fp_env.c.
