@@ -48,7 +48,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 warnings=(-Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla)
 test_flags=(-O2 -Isrc -Itests -DFEMTO_MESH_DIR="\"$PWD/data\"" -DFEMTO_TEST_DATA="\"$PWD/tests/data\"")
 newest_header=""
-for header in include/femto/*.h src/*.h tests/*.h; do
+for header in include/femto/*.h src/*/*.h src/*/*/*.h tests/*.h; do
   if [ -z "$newest_header" ] || [ "$header" -nt "$newest_header" ]; then
     newest_header=$header
   fi
@@ -107,7 +107,7 @@ compile() { # source object flags...: with $cc in the background, at most $jobs 
      [ "$object" -nt "$0" ]; then
     return 0
   fi
-  "$cc" -c -std=c11 -ffp-contract="$contract" "${warnings[@]}" -Iinclude "$@" "$source" \
+  "$cc" -c -std=c11 -ffp-contract="$contract" "${warnings[@]}" -Iinclude -Isrc "$@" "$source" \
     -o "$object" &
   pids+=($!)
   if [ "${#pids[@]}" -ge "$jobs" ]; then
@@ -122,9 +122,8 @@ build() {
   # WebAssembly's two builds differ in their kernels only: the rest is compiled once.
   [ "$1" = wasm-nosimd ] && libdir=$out/wasm
   mkdir -p "$dir" "$libdir"
-  for source in src/*.c; do
+  for source in src/*/*.c; do
     name=$(basename "$source" .c)
-    case "$name" in tet_kernel | bsr_kernel) continue ;; esac
     compile "$source" "$libdir/$name.o" "${lib[@]}"
     objects+=("$libdir/$name.o")
   done
@@ -135,8 +134,9 @@ build() {
       avx2) flags+=(-mavx2) ;;
       avx512) flags+=(-mavx512f) ;;
     esac
-    for name in tet_kernel bsr_kernel; do
-      compile "src/$name.c" "$dir/${name}_$variant.o" "${flags[@]}"
+    for kernel in fem/kernels/tet_kernel solver/kernels/bsr_kernel; do
+      name=$(basename "$kernel")
+      compile "src/$kernel.c" "$dir/${name}_$variant.o" "${flags[@]}"
       objects+=("$dir/${name}_$variant.o")
     done
   done

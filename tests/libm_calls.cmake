@@ -16,7 +16,9 @@ set(functions acos asin atan atan2 cos sin tan cosh sinh tanh acosh asinh atanh 
 #   fm_math.h fmax: fmMat3's scale, the largest of 0 and fabs() values, none of them -0
 set(allowed "det_math.h:log" "det_math.h:pow" "mesh.c:acos" "body_def.c:cbrt" "fm_math.h:fmax")
 list(JOIN functions "|" alternatives)
-file(GLOB sources ${SOURCE_DIR}/src/*.c ${SOURCE_DIR}/src/*.h ${SOURCE_DIR}/include/femto/*.h)
+file(GLOB_RECURSE sources ${SOURCE_DIR}/src/*.c ${SOURCE_DIR}/src/*.h)
+file(GLOB public ${SOURCE_DIR}/include/femto/*.h)
+list(APPEND sources ${public})
 set(found "")
 foreach(source ${sources})
   get_filename_component(name ${source} NAME)

@@ -1,6 +1,6 @@
 #include "support.h"
 
-#include "core.h"
+#include "core/core.h"
 #include "test.h"
 
 #include <stddef.h>

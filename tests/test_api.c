@@ -2,10 +2,10 @@
 // invalid through any number of create/destroy cycles), body defs are validated for everything
 // fmCreateBody relies on, every public call checks its arguments (an assert through the hook in
 // debug builds, a safe result in every build), and bodies beyond the memory budget are refused.
-#include "core.h"
+#include "core/core.h"
 #include "support.h"
 #include "test.h"
-#include "world.h"
+#include "world/world.h"
 
 #include <femto/femto.h>
 #include <fenv.h>

@@ -1,4 +1,4 @@
-// Contact (src/contact.c, src/collider.c, src/query.c): bodies rest on colliders and on each
+// Contact (src/contact/contact.c, src/contact/collider.c, src/world/query.c): bodies rest on colliders and on each
 // other without interpenetrating beyond the thickness, Coulomb friction on an incline follows
 // g (sin a - mu cos a), fast bodies do not tunnel through thin colliders, kinematic colliders
 // push and feel the push, resting contact gains no energy, rays hit the deformed surface,
@@ -7,11 +7,11 @@
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
-#include "core.h"
-#include "geometry.h"
-#include "penalty.h"
-#include "solver_cache.h"
+#include "body/body.h"
+#include "core/core.h"
+#include "math/geometry.h"
+#include "contact/penalty.h"
+#include "solver/solver_cache.h"
 
 #include <math.h>
 #include <stdlib.h>

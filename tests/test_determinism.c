@@ -3,8 +3,8 @@
 // library's within an ulp or two; and golden hashes of short runs with
 // fmWorldDef.crossPlatformDeterminism (a box on the floor; a scene of four bodies, colliders of
 // every shape, pins, a load and a target) that every target must reproduce bit for bit.
-#include "det_math.h"
-#include "fp_env.h"
+#include "core/det_math.h"
+#include "core/fp_env.h"
 #include "support.h"
 #include "test.h"
 

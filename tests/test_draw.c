@@ -5,9 +5,9 @@
 #include "support.h"
 #include "test.h"
 
-#include "collider.h"
-#include "draw.h"
-#include "world.h"
+#include "contact/collider.h"
+#include "draw/draw.h"
+#include "world/world.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 // FEM forces: minus the energy gradient, zero under rigid motion, balanced, patch test,
 // Hessian against finite differences of the forces.
-#include "forces.h"
+#include "fem/forces.h"
 #include "support.h"
 #include "test.h"
 

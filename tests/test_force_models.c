@@ -2,8 +2,8 @@
 // FVM = FEM, spring forces and Hessians against finite differences, the spring stiffness rule,
 // spring damping, E and nu measured back from a cube, inversion recovery, the house with every
 // model.
-#include "body.h"
-#include "forces.h"
+#include "body/body.h"
+#include "fem/forces.h"
 #include "support.h"
 #include "test.h"
 

@@ -3,9 +3,9 @@
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
-#include "newton.h"
-#include "world.h"
+#include "body/body.h"
+#include "solver/newton.h"
+#include "world/world.h"
 
 #include <stdlib.h>
 #include <string.h>

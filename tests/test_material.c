@@ -2,11 +2,11 @@
 // differences) on random, near-singular, inverted and large deformations; rest state; rotation
 // invariance and isotropy; small-strain agreement with linear elasticity; user energies; the
 // inversion response; the PSD projection; parameters, validation and names.
-#include "material.h"
-#include "material_invariant.h"
-#include "material_stretch.h"
+#include "material/material.h"
+#include "material/material_invariant.h"
+#include "material/material_stretch.h"
 #include "support.h"
-#include "svd3.h"
+#include "math/svd3.h"
 #include "test.h"
 
 #include <string.h>

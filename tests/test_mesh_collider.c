@@ -1,12 +1,12 @@
-// Triangle-mesh colliders (src/mesh_collider.c): a closed box mesh has the analytic box's
+// Triangle-mesh colliders (src/contact/mesh_collider.c): a closed box mesh has the analytic box's
 // signed distance and normals everywhere (inside, outside, at edges and corners, rotated and
 // moved); an open ground is solid below; segment casts are exact; a house dropped on a mesh
 // ramp rests on it; a fast body does not pass through a thin mesh wall; rays hit meshes.
 #include "support.h"
 #include "test.h"
 
-#include "collider.h"
-#include "world.h"
+#include "contact/collider.h"
+#include "world/world.h"
 
 #include <math.h>
 #include <stdlib.h>

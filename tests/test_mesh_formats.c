@@ -7,7 +7,7 @@
 // POSIX for mkdtemp (scratch folders for written files).
 #define _POSIX_C_SOURCE 200809L
 
-#include "core.h"
+#include "core/core.h"
 #include "support.h"
 #include "test.h"
 

@@ -1,13 +1,13 @@
-// The aggregation multigrid preconditioner (src/multigrid.c): a symmetric positive definite
+// The aggregation multigrid preconditioner (src/solver/multigrid.c): a symmetric positive definite
 // operator that respects fixed DOFs, and CG iterations that stay about constant under mesh
 // refinement where the one-level symmetric Gauss-Seidel's grow with the mesh's diameter.
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
-#include "multigrid.h"
-#include "solver_cache.h"
-#include "world.h"
+#include "body/body.h"
+#include "solver/multigrid.h"
+#include "solver/solver_cache.h"
+#include "world/world.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -3,7 +3,7 @@
 #include "support.h"
 #include "test.h"
 
-#include "parallel.h"
+#include "core/parallel.h"
 
 #include <stdlib.h>
 #include <string.h>

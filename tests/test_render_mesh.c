@@ -5,8 +5,8 @@
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
-#include "render_mesh.h"
+#include "body/body.h"
+#include "draw/render_mesh.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,7 +4,7 @@
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
+#include "body/body.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,16 +5,16 @@
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
-#include "bsr_kernel.h"
-#include "forces.h"
-#include "material.h"
-#include "material_invariant.h"
-#include "material_neohookean.h"
-#include "material_stretch.h"
-#include "simd.h"
-#include "svd3.h"
-#include "tet_blocks.h"
+#include "body/body.h"
+#include "solver/kernels/bsr_kernel.h"
+#include "fem/forces.h"
+#include "material/material.h"
+#include "material/material_invariant.h"
+#include "material/material_neohookean.h"
+#include "material/material_stretch.h"
+#include "core/simd.h"
+#include "math/svd3.h"
+#include "fem/tet_blocks.h"
 
 #include <math.h>
 #include <stdlib.h>

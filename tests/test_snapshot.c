@@ -6,11 +6,11 @@
 #include "support.h"
 #include "test.h"
 
-#include "body.h"
-#include "collider.h"
-#include "contact_events.h"
-#include "solver_cache.h"
-#include "world.h"
+#include "body/body.h"
+#include "contact/collider.h"
+#include "contact/contact_events.h"
+#include "solver/solver_cache.h"
+#include "world/world.h"
 
 #include <stdlib.h>
 #include <string.h>

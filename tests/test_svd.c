@@ -2,7 +2,7 @@
 // factors, reconstruction, ordering and the inversion sign, on random, repeated, rank-deficient,
 // reflected and extreme-scale matrices.
 #include "support.h"
-#include "svd3.h"
+#include "math/svd3.h"
 #include "test.h"
 
 #include <string.h>

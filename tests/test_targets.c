@@ -6,7 +6,7 @@
 #include "support.h"
 #include "test.h"
 
-#include "world.h"
+#include "world/world.h"
 
 #include <math.h>
 #include <stdlib.h>

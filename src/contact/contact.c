@@ -1,0 +1,362 @@
+// The contact stage (contact.h).
+//
+// Model (docs/contact.md): contact keeps a gap of `thickness` between a body's surface
+// vertices and whatever they touch. After each substep (explicit) or each implicit step:
+// 1. kinematic colliders move;
+// 2. each surface vertex found inside a collider, or whose motion in the substep crossed it
+//    (a swept test: no tunnelling through thin colliders), is put back on its surface; its velocity
+//    relative to the collider loses its approaching normal part (or has it reflected by the
+//    restitution) and its tangential part shrinks by at most mu times the normal change (Coulomb's
+//    cone);
+// 3. body-body: each surface vertex is tested against the other bodies' surface triangles near
+//    it (spatial hash); a vertex inside the thickness of a triangle is pushed out along the
+//    triangle's normal and the triangle the other way, by inverse masses (momentum is kept),
+//    in a few Gauss-Seidel passes; then the same velocity response between the vertex and the
+//    triangle's point.
+//    Once a frame, a vertex no triangle's reach found but another body's tet holds (embedded.h)
+//    is pushed toward that body's nearest surface triangle at the depenetration speed.
+//    Explicit substeps also push surface edges of two bodies apart (contact_edge.h);
+// 4. the energy ledger books what the stage gave each body (contact_ledger.h).
+// The body-body detection (contact_detect.h) and the body-collider queries run on the workers,
+// each writing only its own items; the responses run on one thread, in a fixed order (bodies,
+// vertices, colliders, triangles ascending): the same bits for any number of workers.
+#include "contact/contact.h"
+#include "core/det_math.h"
+
+#include "contact/collider.h"
+#include "contact/contact_collider.h"
+#include "contact/contact_detect.h"
+#include "contact/contact_edge.h"
+#include "contact/contact_ledger.h"
+#include "contact/contact_pair.h"
+#include "contact/contact_planes.h"
+#include "contact/contact_state.h"
+#include "core/core.h"
+#include "contact/embedded.h"
+#include "core/timer.h"
+
+#include <math.h>
+#include <string.h>
+
+// The automatic thickness: this fraction of the smallest body's bounding-box diagonal.
+#define FM_CONTACT_THICKNESS_FRACTION 0.01
+
+fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag)
+{
+	if (!(def->thickness >= 0.0 && def->thickness < 1e6))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact thickness must be >= 0 m and finite (0: automatic, 1%% of the "
+		                   "smallest body), got %g",
+		                   def->thickness);
+	if (!(def->friction >= 0.0 && isfinite(def->friction)))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact friction must be finite and >= 0, got %g", def->friction);
+	if (!(def->restitution >= 0.0 && def->restitution <= 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact restitution must be in [0, 1], got %g", def->restitution);
+	if (def->iterations < 1 || def->iterations > 64)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact iterations must be in [1, 64] (default 4), got %d",
+		                   def->iterations);
+	if (!(def->sleepSpeed > 0.0 && def->sleepSpeed < 1e6) ||
+	    !(def->sleepTime > 0.0 && def->sleepTime < 1e6))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "contact sleepSpeed (m/s) and sleepTime (s) must be finite and > 0 "
+		                   "(defaults 0.05 and 0.5), got %g and %g",
+		                   def->sleepSpeed, def->sleepTime);
+	return fm_ok;
+}
+
+double fmContact_Thickness(const fmWorld* w)
+{
+	if (w->def.contact.thickness > 0.0)
+		return w->def.contact.thickness;
+	double smallest = INFINITY;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			smallest = fmMin(smallest, w->bodies[i].restSize);
+	return isfinite(smallest) ? FM_CONTACT_THICKNESS_FRACTION * smallest : 0.0;
+}
+
+static int fmLiveBodies(const fmWorld* w)
+{
+	int live = 0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		live += w->bodies[i].x != NULL;
+	return live;
+}
+
+static bool fmHasColliders(const fmWorld* w)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		if (w->colliders[k].inUse)
+			return true;
+	return false;
+}
+
+// Whether surfaces of bodies can meet: two or more bodies, or one that collides with itself.
+static bool fmBodiesMeet(const fmWorld* w)
+{
+	if (!w->def.contact.bodies)
+		return false;
+	if (fmLiveBodies(w) >= 2)
+		return true;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL && w->bodies[i].selfCollision)
+			return true;
+	return false;
+}
+
+bool fmContact_Active(const fmWorld* w)
+{
+	return fmHasColliders(w) || fmBodiesMeet(w);
+}
+
+// How thick a body is at rest, as 2 V / S (its volume over half its surface area): a plate's
+// thickness, a third of a cube's side. What a step may close in on it without passing through.
+static double fmRestThinness(const fmBody* b)
+{
+	double volume = 0.0, area = 0.0;
+	for (int t = 0; t < b->tetCount; ++t)
+		volume += b->restVolume[t];
+	for (int t = 0; t < b->triangleCount; ++t)
+	{
+		const int* tri = b->surface + 3 * (size_t)t;
+		fmVec3 p = fmLoad(b->x0, tri[0]);
+		area += 0.5 *
+		        fmLength(fmCross(fmSub(fmLoad(b->x0, tri[1]), p), fmSub(fmLoad(b->x0, tri[2]), p)));
+	}
+	return area > 0.0 ? 2.0 * volume / area : b->restSize;
+}
+
+// The body's contact arrays, made on first use: its surface vertices (ascending), its
+// substep-start positions, marks, planes, friction and embedded holders, and its rest
+// thickness. False when memory is short.
+static bool fmBodyContactArrays(fmBody* b)
+{
+	if (b->contactStart == NULL)
+		b->contactStart = FM_ALLOC_ARRAY(double, 3 * (size_t)b->vertexCount);
+	if (b->contactMark == NULL)
+		b->contactMark = FM_ALLOC_ZERO(int, b->vertexCount);
+	if (b->contactPlane == NULL)
+		b->contactPlane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->vertexCount);
+	if (b->contactFriction == NULL)
+		b->contactFriction = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
+	if (b->contactFrictionNext == NULL)
+		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
+	if (b->contactTetMark == NULL)
+		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
+	if (b->embeddedHolder == NULL)
+		b->embeddedHolder = FM_ALLOC_ZERO(int, b->vertexCount);
+	if (b->surfaceVertex == NULL)
+	{
+		uint8_t* on = FM_ALLOC_ZERO(uint8_t, b->vertexCount);
+		if (on == NULL)
+			return false;
+		int count = 0;
+		for (int k = 0; k < 3 * b->triangleCount; ++k)
+			count += on[b->surface[k]]++ == 0;
+		b->surfaceVertex = FM_ALLOC_ARRAY(int, count > 0 ? count : 1);
+		if (b->surfaceVertex != NULL)
+		{
+			b->surfaceVertexCount = count;
+			count = 0;
+			for (int i = 0; i < b->vertexCount; ++i)
+				if (on[i])
+					b->surfaceVertex[count++] = i;
+		}
+		FM_FREE_ARRAY(on, uint8_t, b->vertexCount);
+		b->contactThinness = fmRestThinness(b);
+	}
+	return b->contactStart != NULL && b->surfaceVertex != NULL && b->contactMark != NULL &&
+	       b->contactTetMark != NULL && b->contactPlane != NULL && b->embeddedHolder != NULL;
+}
+
+void fmContact_BeginFrame(fmWorld* w)
+{
+	w->embeddedSearch = true;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].embeddedHolder != NULL)
+			memset(w->bodies[i].embeddedHolder, 0, sizeof(int) * (size_t)w->bodies[i].vertexCount);
+	if (w->contactState != NULL)
+		w->contactState->pairCount = 0; // what a failed frame left
+
+	for (int k = 0; k <= w->colliderCapacity; ++k)
+	{
+		fmCollider* c = fmWorldCollider(w, k < w->colliderCapacity ? k : FM_FLOOR_SLOT);
+		c->impulse = fmMakeVec3(0.0, 0.0, 0.0);
+		c->angularImpulse = fmMakeVec3(0.0, 0.0, 0.0);
+	}
+}
+
+// Body against body (step 3): the broad phase, the parallel detection of vertex-triangle
+// contacts (and, explicit, edge-edge ones), the projections in Gauss-Seidel passes, then the
+// velocity responses and the contact list, in item order. False when memory is short.
+static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
+{
+	double start = fmSeconds();
+	if (!fmContactDetect_BuildTriangles(w, s, thickness))
+		return false;
+	// Embedded vertices are looked for once a frame (the frame's first detection: a tet hash is
+	// too dear for every substep; docs/contact.md, Measurements), and pushed out by a frame's
+	// depenetration.
+	s->tetHashReady = w->embeddedSearch && fmTetHash_Build(&s->tetHash, w, s->bodyNear);
+	w->profile.broadPhase += 1e3 * (fmSeconds() - start);
+	s->pairContactCount = 0;
+	int n = fmContactDetect_Vertices(w, s, thickness);
+	if (s->tetHashReady)
+		w->embeddedSearch = false;
+	s->tetHashReady = false;
+	if (n < 0 || !fmGrowArray((void**)&s->pairContacts, &s->pairContactCapacity, 0, n,
+	                          sizeof(fmPairContact)))
+		return false;
+	for (int k = 0; k < n; ++k)
+		if (s->hit[k])
+		{
+			const fmPairContact* found = &s->found[k];
+			fmContactPair_WakeSleeper(w, found);
+			if (found->embedded)
+				w->bodies[found->body].embeddedHolder[found->vertex] = found->other + 1;
+			s->pairContacts[s->pairContactCount++] = *found;
+		}
+	// Edge against edge, explicit substeps only: implicit steps hold edges apart inside the
+	// solve (frozen edge planes, fmContactPlanes_Predict) and do not project them again after
+	// it (docs/contact.md, Measurements).
+	s->edgeContactCount = 0;
+	if (w->def.integrator != fm_implicit && !fmContactDetect_Edges(w, s, thickness))
+		return false;
+	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
+	{
+		for (int c = 0; c < s->pairContactCount; ++c)
+			if (!fmContactPair_Project(w, s, &s->pairContacts[c], thickness))
+				return false;
+		for (int c = 0; c < s->edgeContactCount; ++c)
+			if (!fmContactEdge_Project(w, s, &s->edgeContacts[c], thickness))
+				return false;
+	}
+	for (int c = 0; c < s->edgeContactCount; ++c)
+		if (!fmContactEdge_Respond(w, s, &s->edgeContacts[c]) ||
+		    !fmContactEdge_Record(w, s, &s->edgeContacts[c]))
+			return false;
+	for (int c = 0; c < s->pairContactCount; ++c)
+	{
+		fmPairContact* pc = &s->pairContacts[c];
+		if (!fmContactPair_Respond(w, s, pc, thickness))
+			return false;
+		fmContactPoint* point = fmContactState_NewPoint(s);
+		if (point == NULL)
+			return false;
+		point->body = fmWorldBodyId(w, pc->body);
+		point->vertex = w->bodies[pc->body].userVertex[pc->vertex];
+		point->otherBody = fmWorldBodyId(w, pc->other);
+		point->point = fmLoad(w->bodies[pc->body].x, pc->vertex);
+		point->normal = pc->normal;
+		point->depth = pc->depth;
+		point->impulse = pc->impulse;
+		int low = pc->body < pc->other ? pc->body : pc->other;
+		int high = pc->body < pc->other ? pc->other : pc->body;
+		if (low != high &&
+		    !fmContactState_RecordPair(s, ((uint64_t)(uint32_t)low << 32) | (uint32_t)high))
+			return false;
+	}
+	return true;
+}
+
+int fmContact_Pieces(fmWorld* w, double h, int most)
+{
+	if (!fmBodiesMeet(w))
+		return 1;
+	fmContactState* s = fmContactState_Get(w);
+	if (s == NULL || !fmContactState_ReserveBodyBoxes(w, s))
+		return -1;
+	double thickness = fmContact_Thickness(w);
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		fmBody* b = &w->bodies[slot];
+		if (b->x == NULL)
+			continue;
+		if (!fmBodyContactArrays(b))
+			return -1;
+		fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
+		double speed = 0.0;
+		for (int p = 0; p < b->surfaceVertexCount; ++p)
+		{
+			int i = b->surfaceVertex[p];
+			fmVec3 x = fmLoad(b->x, i);
+			lo = fmMakeVec3(fmMin(lo.x, x.x), fmMin(lo.y, x.y), fmMin(lo.z, x.z));
+			hi = fmMakeVec3(fmMax(hi.x, x.x), fmMax(hi.y, x.y), fmMax(hi.z, x.z));
+			speed = fmMax(speed, fmLength(fmLoad(b->v, i)));
+		}
+		double grow = thickness + speed * h;
+		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
+		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
+		s->bodySpeed[slot] = speed;
+	}
+	double pieces = 1.0;
+	for (int a = 0; a < w->bodyCapacity; ++a)
+	{
+		const fmBody* A = &w->bodies[a];
+		for (int c = a + 1; A->x && c < w->bodyCapacity; ++c)
+		{
+			const fmBody* C = &w->bodies[c];
+			fmVec3 al = s->bodyLower[a], ah = s->bodyUpper[a];
+			fmVec3 cl = s->bodyLower[c], ch = s->bodyUpper[c];
+			if (C->x == NULL || !fmFiltersMeet(A->filter, C->filter) || ah.x < cl.x ||
+			    al.x > ch.x || ah.y < cl.y || al.y > ch.y || ah.z < cl.z || al.z > ch.z)
+				continue;
+			double allowed =
+			    fmMax(FM_PIECE_FRACTION * fmMin(A->contactThinness, C->contactThinness), thickness);
+			pieces = fmMax(pieces, ceil((s->bodySpeed[a] + s->bodySpeed[c]) * h / allowed));
+		}
+	}
+	return pieces <= most ? (int)pieces : most + 1;
+}
+
+bool fmContact_BeginSubstep(fmWorld* w, double h)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		if (!fmBodyContactArrays(b))
+			return false;
+		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+		// Friction found after the last step acts in this one's solve (penalty.h).
+		double* found = b->contactFrictionNext;
+		b->contactFrictionNext = b->contactFriction;
+		b->contactFriction = found;
+		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
+		for (int k = 0; k < b->vertexCount; ++k)
+			b->contactPlane[4 * (size_t)k + 3] = NAN;
+		b->edgePlaneCount = 0;
+	}
+	bool bodies = fmBodiesMeet(w);
+	if (w->def.integrator != fm_implicit || !bodies)
+		return true;
+	fmContactState* s = fmContactState_Get(w);
+	return s != NULL && (!fmContactPlanes_Hold(w, h) ||
+	                     fmContactPlanes_Predict(w, s, fmContact_Thickness(w), h));
+}
+
+bool fmContact_Substep(fmWorld* w, double h)
+{
+	fmContactState* s = fmContactState_Get(w);
+	if (s == NULL)
+		return false;
+	double thickness = fmContact_Thickness(w);
+	w->contactStep = h;
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		if (w->colliders[k].inUse)
+			fmCollider_Move(&w->colliders[k], h);
+	s->pointCount = 0;
+	bool ok = fmContactCollider_Collide(w, s, thickness);
+	if (ok && fmBodiesMeet(w))
+		ok = fmCollideBodies(w, s, thickness);
+	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
+		ok = fmContactLedger_BookWork(w, s, slot);
+	for (int k = 0; k < s->touchedCount; ++k)
+		w->bodies[s->touched[k].body].contactMark[s->touched[k].vertex] = 0;
+	s->touchedCount = 0;
+	return ok;
+}

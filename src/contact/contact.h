@@ -1,0 +1,51 @@
+// The contact stage (contact.c): after every body has taken a substep, kinematic colliders
+// move, and every body's surface vertices are kept out of the colliders and out of the other
+// bodies' surfaces, by position projection with restitution and Coulomb friction on the
+// velocities (docs/contact.md). This module is the stage's order and its settings; the work is
+// in its modules: contact_collider.h (vertices against colliders), contact_detect.h (the
+// body-body broad phase and parallel detection), contact_pair.h (vertex against triangle,
+// embedded vertices, self-collision), contact_edge.h (edge against edge), contact_planes.h (the
+// implicit step's frozen planes), contact_ledger.h (the energy ledger), contact_events.h (the
+// contact list, events, colliders' forces, snapshots), on the buffers of contact_state.h.
+// Rules: the body-body detection and the body-collider queries run on the workers, each writing
+// only its own items; the responses run on one thread, in a fixed order (bodies, vertices,
+// colliders, triangles ascending): the same bits for any number of workers.
+#pragma once
+
+#include "world/world.h"
+
+// The thickness contact keeps (m): fmContactDef.thickness, or 1% of the smallest body's
+// bounding-box diagonal.
+double fmContact_Thickness(const fmWorld* world);
+
+// Whether the world has anything for the contact stage to do (colliders, or body-body contact
+// between two or more bodies).
+bool fmContact_Active(const fmWorld* world);
+
+// Start of a frame: collider impulses zeroed; the frame's first body-body detection will look
+// for vertices embedded in another body (embedded.h), to be pushed out by at most the floor's
+// depenetration speed in that substep and in the frame's later ones.
+void fmContact_BeginFrame(fmWorld* world);
+
+// The share of the thinner body's thickness two bodies may close in by in one implicit piece.
+#define FM_PIECE_FRACTION 0.5
+
+// Implicit steps: how many equal pieces a step of @p h seconds is cut into (1 to @p most;
+// @p most + 1 when it would take more) so
+// that no two bodies that may meet close in on each other by more than FM_PIECE_FRACTION of the
+// thinner one's rest thickness (2 V / S) in a piece, at their surfaces' fastest speeds: each
+// body's solve sees the others frozen where they started, and the stage after it finds a
+// vertex that crossed a surface only while it is still inside. -1 when memory is short.
+int fmContact_Pieces(fmWorld* world, double h, int most);
+
+// Start of a substep of @p h seconds: every body's positions kept as the start of its motion
+// (for the swept tests); before an implicit step, the other bodies' surfaces near each surface
+// vertex frozen as planes for the step's penalty (body->contactPlane). False when memory is
+// short.
+bool fmContact_BeginSubstep(fmWorld* world, double h);
+
+// The contact stage of a substep of @p h seconds. False when memory is short.
+bool fmContact_Substep(fmWorld* world, double h);
+
+// Validate a contact def (part of fmWorldDef_Validate).
+fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag);

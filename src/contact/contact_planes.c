@@ -1,0 +1,68 @@
+// The frozen planes of an implicit step (contact_planes.h).
+#include "contact/contact_planes.h"
+
+#include "contact/contact_detect.h"
+#include "contact/contact_edge.h"
+#include "contact/contact_pair.h"
+#include "core/core.h"
+#include "core/det_math.h"
+
+bool fmContactPlanes_Hold(const fmWorld* w, double h)
+{
+	if (w->contactPieces > 1)
+		return false;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x && h <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
+			return false;
+	return true;
+}
+
+static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
+{
+	if (!fmGrowArray((void**)&b->edgePlanes, &b->edgePlaneCapacity, b->edgePlaneCount,
+	                 b->edgePlaneCount + 1, sizeof(fmEdgePlane)))
+		return false;
+	b->edgePlanes[b->edgePlaneCount++] = *plane;
+	return true;
+}
+
+bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness, double h)
+{
+	// (fmContact_BeginSubstep has set every plane to none.)
+	s->predict = h;
+	int n = fmContactDetect_BuildTriangles(w, s, thickness)
+	            ? fmContactDetect_Vertices(w, s, thickness)
+	            : -1;
+	for (int k = 0; k < n; ++k)
+	{
+		if (!s->hit[k])
+			continue;
+		const fmPairContact* found = &s->found[k];
+		fmContactPair_WakeSleeper(w, found);
+		const fmBody* o = &w->bodies[found->other];
+		const int* tri = fmContactDetect_Triangle(o, found->triangle);
+		fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
+		for (int c = 0; c < 3; ++c)
+			q = fmMulAdd(q, found->w[c], fmLoad(o->x, tri[c]));
+		double* plane = w->bodies[found->body].contactPlane + 4 * (size_t)found->vertex;
+		plane[0] = found->normal.x;
+		plane[1] = found->normal.y;
+		plane[2] = found->normal.z;
+		plane[3] = fmDot(found->normal, q);
+	}
+	bool ok = n >= 0 && fmContactDetect_Edges(w, s, thickness);
+	for (int k = 0; ok && k < s->edgeContactCount; ++k)
+	{
+		const fmEdgeContact* c = &s->edgeContacts[k];
+		fmBody* b = &w->bodies[c->body];
+		fmBody* o = &w->bodies[c->other];
+		fmVec3 p = fmContactEdge_Point(b->x, c->a, c->s), q = fmContactEdge_Point(o->x, c->b, c->t);
+		fmEdgePlane mine = {c->a[0], c->a[1], c->s, c->normal, fmDot(c->normal, q)};
+		fmVec3 away = fmScale(-1.0, c->normal);
+		fmEdgePlane theirs = {c->b[0], c->b[1], c->t, away, fmDot(away, p)};
+		ok = fmAddEdgePlane(b, &mine) && fmAddEdgePlane(o, &theirs);
+	}
+	s->edgeContactCount = 0;
+	s->predict = 0.0;
+	return ok;
+}

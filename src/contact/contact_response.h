@@ -1,0 +1,40 @@
+// The rules every contact response of the stage shares (contact_response.c): the impact on a
+// relative velocity (restitution and Coulomb's cone), the creep an implicit step's friction takes
+// back from the positions, pins, the floor under a pushed vertex, inverse masses and the
+// friction of a pair of bodies. Rules: pure functions of their arguments, or writes to the one
+// vertex they are given; called on the stage's one thread.
+#pragma once
+
+#include "world/world.h"
+
+// The largest slip (a share of the thickness) an implicit step's friction takes back from the
+// positions as well as the velocities (fmVertexVsCollider, fmContactPair_Respond): a creep's.
+#define FM_CREEP_FRACTION 0.1
+
+// The relative velocity @p relative after an impact along @p n with restitution @p e and
+// friction @p mu; @p pushed (m/s) is the normal velocity a push during the step already gave
+// (the implicit penalty's), which friction's cone counts too. Returns the normal velocity
+// change (>= 0).
+double fmContactResponse_Impact(fmVec3* relative, fmVec3 n, double e, double mu, double pushed);
+
+// Implicit steps: the step's positions follow its velocities (x = x0 + h v), so a velocity
+// change @p dv that friction or the stick made along the surface (normal @p n) moves them by
+// h dv too, where the slip it takes back is a creep (h |dv| at most FM_CREEP_FRACTION of the
+// thickness): the slip is not kept in the positions (where it is, stacks and stick contacts
+// creep). A faster slip is an impact's: moving the contact's vertices alone by it would crush
+// their tets. Returns the move per unit of @p dv's scale (h, or 0).
+double fmContactResponse_CreepStep(const fmWorld* w, fmVec3 dv, fmVec3 n, double thickness);
+
+// Pinned axes keep their coordinate and have no velocity.
+void fmContactResponse_KeepPins(fmBody* b, int i, fmVec3 x0);
+
+// A push between bodies never moves a vertex below the floor (the floor holds it there).
+void fmContactResponse_KeepAboveFloor(const fmWorld* w, fmBody* b, int i);
+
+// Vertex i's inverse mass in a projection or response: 0 when it is pinned on every axis or
+// its body sleeps.
+double fmContactResponse_InverseMass(const fmBody* b, int i);
+
+// The friction of two bodies in contact: sqrt(mu_a mu_b) of their friction (a negative one: the
+// world's fmContactDef.friction).
+double fmContactResponse_PairFriction(const fmWorld* w, const fmBody* a, const fmBody* b);

@@ -1,0 +1,345 @@
+// The implicit step's contact penalty (penalty.h).
+#include "contact/penalty.h"
+#include "core/det_math.h"
+
+#include <math.h>
+
+static bool fmPenaltyMeets(const fmBody* b, const fmCollider* c)
+{
+	return c->inUse && fmFiltersMeet(b->filter, c->def.filter);
+}
+
+// One penalty term: the point sum_j weight[j] x[vertex[j]] (one vertex, or an edge's point),
+// @p depth (m) behind where it should be along the outward unit @p normal, with stiffness k.
+typedef struct fmPenaltyTerm
+{
+	int vertex[2];
+	double weight[2];
+	int count;
+	double k;
+	double depth;
+	fmVec3 normal;
+} fmPenaltyTerm;
+
+// Calls @p visit for every surface vertex inside a collider (depth -d) or within the thickness
+// of its frozen plane of another body (depth thickness - d), and every surface edge within the
+// thickness of its frozen edge plane.
+typedef void fmPenaltyVisit(void* context, const fmPenaltyTerm* term);
+
+static void fmVertexTerm(fmPenaltyVisit* visit, void* context, int i, double k, double depth,
+                         fmVec3 n)
+{
+	fmPenaltyTerm t = {{i, i}, {1.0, 0.0}, 1, k, depth, n};
+	visit(context, &t);
+}
+
+static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double* x,
+                        fmPenaltyVisit* visit, void* context)
+{
+	for (int e = 0; e < b->edgePlaneCount; ++e)
+	{
+		const fmEdgePlane* plane = &b->edgePlanes[e];
+		if (b->pinned[plane->a] == FM_PIN_ALL && b->pinned[plane->b] == FM_PIN_ALL)
+			continue;
+		double s = plane->s;
+		fmVec3 q = fmAdd(fmScale(1.0 - s, fmLoad(x, plane->a)), fmScale(s, fmLoad(x, plane->b)));
+		double depth = p->thickness - (fmDot(plane->normal, q) - plane->offset);
+		double mass = (1.0 - s) * b->mass[plane->a] + s * b->mass[plane->b];
+		fmPenaltyTerm t = {{plane->a, plane->b}, {1.0 - s, s}, 2,
+		                   p->stiffness * mass,  depth,        plane->normal};
+		if (depth > 0.0)
+			visit(context, &t);
+	}
+}
+
+static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const double* x,
+                           fmPenaltyVisit* visit, void* context)
+{
+	if (p == NULL || b->surfaceVertex == NULL)
+		return;
+	for (int s = 0; s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		if (b->pinned[i] == FM_PIN_ALL)
+			continue;
+		const double* plane = b->contactPlane ? b->contactPlane + 4 * (size_t)i : NULL;
+		if (plane != NULL && !isnan(plane[3]))
+		{
+			fmVec3 n = fmMakeVec3(plane[0], plane[1], plane[2]);
+			double depth = p->thickness - (fmDot(n, fmLoad(x, i)) - plane[3]);
+			if (depth > 0.0)
+				fmVertexTerm(visit, context, i, p->stiffness * b->mass[i], depth, n);
+		}
+		for (int k = 0; k < p->colliderCount; ++k)
+		{
+			const fmCollider* c = &p->colliders[k];
+			if (!fmPenaltyMeets(b, c))
+				continue;
+			fmVec3 n;
+			double depth = -fmCollider_Distance(c, fmLoad(x, i), &n);
+			if (depth > 0.0)
+				fmVertexTerm(visit, context, i, p->stiffness * b->mass[i], depth, n);
+		}
+	}
+	fmEdgeTerms(p, b, x, visit, context);
+}
+
+// ---- friction ----------------------------------------------------------------------------------
+
+// Vertex i's friction data (normal, limit mu lambda, surface velocity), or NULL when none.
+static const double* fmFrictionOf(const fmBody* b, int i)
+{
+	const double* f = b->contactFriction ? b->contactFriction + 8 * (size_t)i : NULL;
+	return f != NULL && f[3] > 0.0 && b->pinned[i] != FM_PIN_ALL ? f : NULL;
+}
+
+// u: the tangential part of vertex i's motion relative to the collider's surface.
+static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
+{
+	fmVec3 n = fmMakeVec3(f[0], f[1], f[2]);
+	fmVec3 d = fmSub(fmSub(x, x0), fmScale(h, fmMakeVec3(f[4], f[5], f[6])));
+	return fmMulAdd(d, -fmDot(d, n), n);
+}
+
+// The slip width of vertex i's static friction (m): FM_FRICTION_SLIP_SPEED h, widened where the
+// stick spring 2 mu lambda / eps would be stiffer than the normal penalty kappa m / h^2 (a stick
+// stiffer than the contact itself only stalls Newton: measured, docs/contact.md).
+static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
+{
+	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
+}
+
+// A stick collider's friction (f[7] set by contact_collider.c): infinite friction as the limit
+// of the widened slip width, whose stick spring 2 mu lambda / eps is the normal penalty's
+// kappa m / h^2 at any mu: the quadratic spring k/2 |u|^2 with that k, without a Coulomb limit.
+// Returns k (N/m), 0 for a Coulomb contact.
+static double fmStickStiffness(const fmBody* b, int i, const double* f, double h)
+{
+	return f[7] != 0.0 ? FM_PENALTY_KAPPA * b->mass[i] / (h * h) : 0.0;
+}
+
+// f0(y) / limit: IPC's C1 friction potential with slip width eps.
+static double fmFrictionPotential(double y, double eps)
+{
+	return y >= eps ? y : y * y * (1.0 / eps - y / (3.0 * eps * eps)) + eps / 3.0;
+}
+
+// f1(y) / y: the force's magnitude per unit slip, over the limit.
+static double fmFrictionRatio(double y, double eps)
+{
+	return y >= eps ? 1.0 / y : 2.0 / eps - y / (eps * eps);
+}
+
+fmVec3 fmContactFriction_Force(const fmBody* b, int i, const double* x, const double* xStart,
+                               double h)
+{
+	const double* f = fmFrictionOf(b, i);
+	if (f == NULL)
+		return fmMakeVec3(0.0, 0.0, 0.0);
+	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(xStart, i), h);
+	double stick = fmStickStiffness(b, i, f, h);
+	if (stick > 0.0)
+		return fmScale(-stick, u);
+	double eps = fmSlipWidth(b, i, f, h);
+	return fmScale(-f[3] * fmFrictionRatio(fmLength(u), eps), u);
+}
+
+// The friction potential's energy, with its gradient added to @p gradient when not NULL.
+static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const double* x,
+                               double* gradient)
+{
+	double energy = 0.0;
+	for (int s = 0; s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
+		fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
+		double y = fmLength(u), eps = fmSlipWidth(b, i, f, p->step);
+		double stick = fmStickStiffness(b, i, f, p->step);
+		energy += stick > 0.0 ? 0.5 * stick * y * y : f[3] * fmFrictionPotential(y, eps);
+		if (gradient)
+		{
+			double r = stick > 0.0 ? stick : f[3] * fmFrictionRatio(y, eps);
+			gradient[3 * i] += r * u.x;
+			gradient[3 * i + 1] += r * u.y;
+			gradient[3 * i + 2] += r * u.z;
+		}
+	}
+	return energy;
+}
+
+// Vertex i's friction Hessian block (positive semi-definite: IPC's, whose eigenvalue along the
+// slip, 2 / eps - 2 y / eps^2 or 0, is never negative; a stick contact's: k (I - n n^T)).
+static void fmFrictionBlock(const fmContactPenalty* p, const fmBody* b, const double* x, int i,
+                            const double* f, double block[9])
+{
+	double eps = fmSlipWidth(b, i, f, p->step);
+	fmVec3 n = fmMakeVec3(f[0], f[1], f[2]);
+	fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
+	double y = fmLength(u), along = y >= eps  ? -1.0 / (y * y * y)
+	                                : y > 0.0 ? -1.0 / (eps * eps * y)
+	                                          : 0.0;
+	double ratio = fmFrictionRatio(y, eps), stick = fmStickStiffness(b, i, f, p->step);
+	const double nn[3] = {n.x, n.y, n.z}, uu[3] = {u.x, u.y, u.z};
+	for (int r = 0; r < 3; ++r)
+		for (int c = 0; c < 3; ++c)
+			block[3 * r + c] =
+			    stick > 0.0 ? stick * ((r == c) - nn[r] * nn[c])
+			                : f[3] * (ratio * ((r == c) - nn[r] * nn[c]) + along * uu[r] * uu[c]);
+}
+
+typedef struct fmEnergyVisit
+{
+	double energy;
+	double* gradient;
+} fmEnergyVisit;
+
+static void fmVisitEnergy(void* context, const fmPenaltyTerm* t)
+{
+	fmEnergyVisit* e = context;
+	e->energy += 0.5 * t->k * t->depth * t->depth;
+	for (int j = 0; e->gradient && j < t->count; ++j)
+	{
+		double f = t->k * t->depth * t->weight[j];
+		e->gradient[3 * t->vertex[j]] -= f * t->normal.x;
+		e->gradient[3 * t->vertex[j] + 1] -= f * t->normal.y;
+		e->gradient[3 * t->vertex[j] + 2] -= f * t->normal.z;
+	}
+}
+
+double fmContactPenalty_Energy(const fmContactPenalty* p, const fmBody* b, const double* x,
+                               double* gradient)
+{
+	fmEnergyVisit e = {0.0, gradient};
+	fmPenaltyPairs(p, b, x, fmVisitEnergy, &e);
+	return p != NULL && b->surfaceVertex != NULL ? e.energy + fmFrictionEnergy(p, b, x, gradient)
+	                                             : e.energy;
+}
+
+typedef struct fmHessianVisit
+{
+	const fmBsrMatrix* pattern; // NULL: one block per vertex, the diagonal blocks only
+	double* values;
+} fmHessianVisit;
+
+// The Gauss-Newton Hessian k w w^T (x) n n^T: an edge's point couples its two vertices, whose
+// block the pattern has (a surface edge is a tet's edge). Left out, the Newton step of an edge
+// pressed by another body's plane moved both ends as if alone, and a pile of implicit houses
+// crawled to its tolerance at a 0.93 residual ratio a Newton iteration, hitting the limit.
+static void fmVisitHessian(void* context, const fmPenaltyTerm* t)
+{
+	fmHessianVisit* h = context;
+	const double u[3] = {t->normal.x, t->normal.y, t->normal.z};
+	for (int j = 0; j < t->count; ++j)
+		for (int l = 0; l < t->count; ++l)
+		{
+			int row = t->vertex[j], column = t->vertex[l];
+			if (h->pattern == NULL && l != j)
+				continue;
+			int slot = h->pattern ? fmBsr_Find(h->pattern, row, column) : row;
+			if (slot < 0)
+				continue;
+			double* block = h->values + 9 * (size_t)slot;
+			double k = t->k * t->weight[j] * t->weight[l];
+			for (int r = 0; r < 3; ++r)
+				for (int c = 0; c < 3; ++c)
+					block[3 * r + c] += k * u[r] * u[c];
+		}
+}
+
+void fmContactPenalty_AddHessian(const fmContactPenalty* p, const fmBody* b, const double* x,
+                                 const fmBsrMatrix* pattern, double* values)
+{
+	fmHessianVisit h = {pattern, values};
+	fmPenaltyPairs(p, b, x, fmVisitHessian, &h);
+	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
+		double block[9], *out = values + 9 * (size_t)(pattern ? pattern->diagonal[i] : i);
+		fmFrictionBlock(p, b, x, i, f, block);
+		for (int k = 0; k < 9; ++k)
+			out[k] += block[k];
+	}
+}
+
+typedef struct fmProductVisit
+{
+	const double* dx;
+	double* y;
+} fmProductVisit;
+
+// The product with fmVisitHessian's matrix: k w (n . sum_l w_l dx_l) n.
+static void fmVisitProduct(void* context, const fmPenaltyTerm* t)
+{
+	fmProductVisit* v = context;
+	fmVec3 n = t->normal;
+	double along = 0.0;
+	for (int l = 0; l < t->count; ++l)
+	{
+		const double* d = v->dx + 3 * t->vertex[l];
+		along += t->weight[l] * (n.x * d[0] + n.y * d[1] + n.z * d[2]);
+	}
+	for (int j = 0; j < t->count; ++j)
+	{
+		double* y = v->y + 3 * t->vertex[j];
+		double f = t->k * t->weight[j] * along;
+		y[0] += f * n.x;
+		y[1] += f * n.y;
+		y[2] += f * n.z;
+	}
+}
+
+void fmContactPenalty_AddProduct(const fmContactPenalty* p, const fmBody* b, const double* at,
+                                 const double* dx, double* y)
+{
+	fmProductVisit v = {dx, y};
+	fmPenaltyPairs(p, b, at, fmVisitProduct, &v);
+	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
+		double block[9];
+		fmFrictionBlock(p, b, at, i, f, block);
+		for (int r = 0; r < 3; ++r)
+			y[3 * i + r] += block[3 * r] * dx[3 * i] + block[3 * r + 1] * dx[3 * i + 1] +
+			                block[3 * r + 2] * dx[3 * i + 2];
+	}
+}
+
+typedef struct fmWorkVisit
+{
+	const double* x;
+	const double* xStart;
+	double work;
+} fmWorkVisit;
+
+static void fmVisitWork(void* context, const fmPenaltyTerm* t)
+{
+	fmWorkVisit* v = context;
+	fmVec3 moved = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int j = 0; j < t->count; ++j)
+		moved = fmMulAdd(moved, t->weight[j],
+		                 fmSub(fmLoad(v->x, t->vertex[j]), fmLoad(v->xStart, t->vertex[j])));
+	v->work += fmMax(0.0, t->k * t->depth * fmDot(t->normal, moved));
+}
+
+double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const double* xStart)
+{
+	fmWorkVisit v = {b->x, xStart, 0.0};
+	fmPenaltyPairs(p, b, b->x, fmVisitWork, &v);
+	// Friction's work: negative against a resting collider, positive where a moving one drags.
+	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	{
+		int i = b->surfaceVertex[s];
+		fmVec3 force = fmContactFriction_Force(b, i, b->x, xStart, p->step);
+		v.work += fmMax(0.0, fmDot(force, fmSub(fmLoad(b->x, i), fmLoad(xStart, i))));
+	}
+	return v.work;
+}

@@ -1,0 +1,74 @@
+// The implicit step's contact penalty (penalty.c): inside the Newton solve, each surface vertex
+// closer than the gap to a collider, or to the frozen plane of another body's surface near it
+// (and each surface edge closer than the gap to its frozen edge plane, fmEdgePlane), adds the
+// energy k/2 (gap - d)^2, with d the signed distance and k = kappa m / h^2 (a stiffness that scales
+// with the step's own inertia term), its gradient and its Gauss-Newton Hessian k n n^T. Friction
+// against colliders is in the solve too, lagged one step as in IPC (Li et al. 2020): a vertex that
+// pressed on a collider with normal force lambda in the last step adds D = mu lambda f0(|u|), u its
+// tangential motion relative to the collider's surface, f0 the C1 blend of a stiff spring below a
+// slip of FM_FRICTION_SLIP_SPEED h and |u| above it: static friction holds, sliding friction is
+// Coulomb's. A stick collider's contact (fmColliderDef.stick) is the limit of infinite mu: the
+// spring k/2 |u|^2 at the normal penalty's k = kappa m / h^2, with no Coulomb limit. The contact
+// stage after the solve then removes what penetration is left and applies friction to new contacts
+// (contact.c).
+#pragma once
+
+#include "body/body.h"
+#include "contact/collider.h"
+#include "solver/pcg.h"
+
+// A surface edge's frozen plane for one implicit step (made by contact_planes.c before the step,
+// in body->edgePlanes): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,
+// is kept the thickness in front of the plane n . x = offset through that edge's point, with
+// the same penalty as a vertex (its mass the edge point's, (1 - s) m[a] + s m[b]). Where two
+// bodies' edges cross, vertex-triangle planes alone let coarse meshes pass through each other.
+typedef struct fmEdgePlane
+{
+	int a, b;      // the edge's vertices
+	double s;      // the point's place along the edge, in (0, 1)
+	fmVec3 normal; // unit, away from the other body's edge
+	double offset; // n . (the other edge's closest point) (m)
+} fmEdgePlane;
+
+// Stiffness of the penalty relative to the inertia term m / h^2 (dimensionless): a vertex
+// resting on a collider under its own weight sinks g h^2 / kappa into it.
+#define FM_PENALTY_KAPPA 100.0
+
+typedef struct fmContactPenalty
+{
+	const fmCollider* colliders; // the world's collider slots
+	int colliderCount;           // slots (unused ones are skipped)
+	double stiffness;            // kappa / h^2 (1/s^2): k = stiffness * m
+	double thickness;            // m, the gap kept from the planes of other bodies
+	                             // (body->contactPlane, made before the step by contact_planes.c);
+	                             // colliders are kept at their surface, without a gap
+	const double* xStart;        // 3n: positions at the start of the step (friction's anchors)
+	double step;                 // s, the step (h)
+} fmContactPenalty;
+
+// Friction's slip speed (m/s) below which it acts as a stiff spring (static friction): a body
+// that should stick creeps at most this fast.
+#define FM_FRICTION_SLIP_SPEED 1e-2
+
+// The penalty's energy at @p x (J), with its gradient added to @p gradient when not NULL.
+double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* body, const double* x,
+                               double* gradient);
+
+// The friction force (N) on vertex @p i at positions @p x (zero where it has none).
+fmVec3 fmContactFriction_Force(const fmBody* body, int i, const double* x, const double* xStart,
+                               double step);
+
+// The work (J) the penalty's push did on the body over a step from @p xStart to its positions:
+// the forces at the end (backward Euler's) times the motion, its positive part.
+double fmContactPenalty_Work(const fmContactPenalty* penalty, const fmBody* body,
+                             const double* xStart);
+
+// Its Gauss-Newton Hessian k (w w^T) (x) n n^T added into the blocks of @p pattern (9 doubles a
+// block, an edge's term coupling its two vertices); with a NULL @p pattern, one block per vertex
+// and the diagonal blocks only (a preconditioner's).
+void fmContactPenalty_AddHessian(const fmContactPenalty* penalty, const fmBody* body,
+                                 const double* x, const fmBsrMatrix* pattern, double* values);
+
+// y += the Hessian at @p at times @p dx (the matrix-free product).
+void fmContactPenalty_AddProduct(const fmContactPenalty* penalty, const fmBody* body,
+                                 const double* at, const double* dx, double* y);

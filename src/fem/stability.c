@@ -1,0 +1,74 @@
+// The explicit stability limit (stability.h).
+//
+// Symplectic Euler is stable for h < 2 / omega_max, omega_max^2 the largest eigenvalue of
+// M^-1 K. Gershgorin's theorem bounds it by the largest absolute row sum of K divided by the
+// vertex mass. K is the tangent stiffness at the current deformation, element by element (the
+// sum of the elements' absolute row sums bounds the assembled one's): at rest it is the linear
+// elastic one for every model, under compression Neo-Hookean and StVK stiffen (NH's lambda
+// (1 - ln J) / J^2 grows without bound as J -> 0), and the estimate follows. The 0.9 leaves
+// room for the deformation to grow further within the frame.
+#include "fem/stability.h"
+#include "core/det_math.h"
+
+#include "body/body.h"
+#include "fem/forces.h"
+
+#include <math.h>
+#include <string.h>
+
+// Add the absolute row sums of an element matrix K (size x size, rows node-major xyz) to the
+// rows of its nodes.
+static void fmAddRowSums(const double* K, int size, const int* nodes, double* rowSum)
+{
+	for (int r = 0; r < size; ++r)
+	{
+		double sum = 0.0;
+		for (int c = 0; c < size; ++c)
+			sum += fabs(K[size * r + c]);
+		rowSum[3 * nodes[r / 3] + r % 3] += sum;
+	}
+}
+
+double fmBodyExplicitStepLimit(const fmBody* b, fmArena* arena)
+{
+	size_t mark = fmArena_Mark(arena);
+	double* rowSum = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+	if (rowSum == NULL)
+		return 0.0;
+	double K[144];
+	if (b->forceModel == fm_massSpring)
+		for (int e = 0; e < b->edgeCount; ++e)
+		{
+			fmSpringHessian(b, b->x, e, K, 0);
+			fmAddRowSums(K, 6, b->edges + 2 * e, rowSum);
+		}
+	else
+		for (int t = 0; t < b->tetCount; ++t)
+		{
+			fmTetHessian(b, b->x, t, K, 0);
+			fmAddRowSums(K, 12, b->tets + 4 * t, rowSum);
+		}
+	double omega2 = 0.0;
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		omega2 = fmMax(omega2, rowSum[k] * b->invMass[k / 3]);
+	fmArena_Release(arena, mark);
+	return omega2 > 0.0 && isfinite(omega2) ? 0.9 * 2.0 / sqrt(omega2)
+	       : omega2 > 0.0                   ? 0.0
+	                                        : INFINITY;
+}
+
+double fmBodyStiffeningProxy(const fmBody* b)
+{
+	double proxy = 1.0;
+	for (int t = 0; t < b->tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(b, b->x, t);
+		double J = fmDet(&F), I1 = 0.0;
+		for (int k = 0; k < 9; ++k)
+			I1 += F.m[k] * F.m[k];
+		if (!(J > 0.0))
+			return INFINITY;
+		proxy = fmMax(proxy, fmMax(I1, I1 * I1 / (4.0 * J * J)));
+	}
+	return proxy;
+}

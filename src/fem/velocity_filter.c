@@ -1,0 +1,137 @@
+// The seeds' velocity damping factor and Laplacian velocity smoothing (GAMES103 HW3 1.1, 1.4),
+// shared by both integrators.
+//
+// The seeds give both per step of 3 ms. Applied per step as they are, a 1/60 s implicit step
+// would damp 5.6 times less per second than the explicit 3 ms steps of the same scene, and a
+// scene would change character with its time step. So both are rates: the factor d and the
+// blend s are what one 3 ms step does, and a step of dt applies d^(dt / 3 ms) and
+// 1 - (1 - s)^(dt / 3 ms). At the seeds' step this is exactly the seeds' filter.
+#include "fem/velocity_filter.h"
+
+#include "core/det_math.h"
+#include "fem/tet_blocks.h"
+
+#include <math.h>
+#include <string.h>
+
+#define FM_SEED_STEP 0.003
+
+// v <- (1 - s) v + s * (average velocity of the tets around each vertex), the GAMES103 Smooth_V:
+// every tet adds the sum of its 4 velocities to each of its vertices, divided by 4 * tets around.
+// On several workers each vertex gathers the sums of its tets in tet order instead: the same
+// additions in the same order as the scatter, so the same bits.
+typedef struct fmSmoothTask
+{
+	fmBody* body;
+	double blend;
+	double* sum;            // 3 per vertex
+	const fmThenTask* then; // after the blend of each range, or NULL
+} fmSmoothTask;
+
+static fmVec3 fmTetVelocitySum(const fmBody* b, int t)
+{
+	const int* n = b->tets + 4 * t;
+	return fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
+	             fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
+}
+
+static void fmGatherSumsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmSmoothTask* c = context;
+	const fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+	{
+		fmVec3 sum = {0, 0, 0};
+		for (int k = b->vertexTetStart[i]; k < b->vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmTetVelocitySum(b, b->vertexTets[k] / 4));
+		fmStore(c->sum, i, sum);
+	}
+}
+
+static void fmBlendTask(int start, int end, int worker, void* context)
+{
+	fmSmoothTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+	{
+		if (b->pinned[i] == FM_PIN_ALL)
+			continue;
+		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(c->sum, i));
+		fmStore(b->v, i,
+		        fmAdd(fmScale(1.0 - c->blend, fmLoad(b->v, i)), fmScale(c->blend, average)));
+		fmZeroPinnedAxes(b, i, b->v + 3 * i);
+	}
+	if (c->then != NULL)
+		c->then->task(start, end, worker, c->then->context);
+}
+
+static bool fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLevel level,
+                               const fmTaskSystem* tasks, const fmThenTask* then)
+{
+	size_t mark = fmArena_Mark(arena);
+	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
+	bool gather = b->tetBlocks != NULL ||
+	              (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
+	               b->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
+	size_t count = 3 * (size_t)b->vertexCount;
+	fmSmoothTask context = {
+	    b, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count),
+	    then};
+	if (context.sum == NULL)
+		return false;
+	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
+		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, level, tasks);
+	else if (gather)
+		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
+	else
+		for (int t = 0; t < b->tetCount; ++t)
+		{
+			fmVec3 s = fmTetVelocitySum(b, t);
+			const int* n = b->tets + 4 * t;
+			for (int a = 0; a < 4; ++a)
+				fmStore(context.sum, n[a], fmAdd(fmLoad(context.sum, n[a]), s));
+		}
+	fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
+	fmArena_Release(arena, mark);
+	return true;
+}
+
+typedef struct fmDampTask
+{
+	double* v;
+	double factor;
+} fmDampTask;
+
+// v *= factor for vertices [start, end).
+static void fmDampTaskRun(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmDampTask* c = context;
+	for (int k = 3 * start; k < 3 * end; ++k)
+		c->v[k] *= c->factor;
+}
+
+double fmVelocityFilter_DampingFactor(const fmBody* b, double dt)
+{
+	return b->damping < 1.0 ? fmMathPow(b->damping, dt / FM_SEED_STEP) : 1.0;
+}
+
+bool fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+                             const fmTaskSystem* tasks, const fmThenTask* then)
+{
+	return b->smoothing > 0.0 &&
+	       fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena,
+	                          level, tasks, then);
+}
+
+void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+                        const fmTaskSystem* tasks)
+{
+	if (b->damping < 1.0)
+	{
+		fmDampTask damp = {b->v, fmVelocityFilter_DampingFactor(b, dt)};
+		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
+	}
+	fmVelocityFilter_Smooth(b, dt, arena, level, tasks, NULL);
+}

@@ -1,0 +1,319 @@
+// Materials: parameters, validation, names, the cheap polynomial models (linear, StVK) and the
+// PSD projection of dP/dF. The SVD-based models live in material_stretch.c, Neo-Hookean,
+// Mooney-Rivlin and the user invariant energy in material_invariant.c. Formulas: docs/materials.md.
+#include "material/material.h"
+#include "core/det_math.h"
+
+#include "core/core.h"
+#include "material/material_invariant.h"
+#include "material/material_neohookean.h"
+#include "material/material_stretch.h"
+#include "math/svd3.h"
+
+#include <string.h>
+
+fmMaterial fmMakeMaterialLame(fmMaterialModel model, double lambda, double mu)
+{
+	fmMaterial m;
+	memset(&m, 0, sizeof m);
+	m.model = model;
+	m.lambda = lambda;
+	m.mu = mu;
+	m.c01 = mu / 8.0; // Mooney-Rivlin default: a quarter of the shear stiffness from I2
+	return m;
+}
+
+fmMaterial fmMakeMaterial(fmMaterialModel model, double youngsModulus, double poissonRatio)
+{
+	// Lame constants of isotropic linear elasticity (e.g. Game Development Reference, ch. 10).
+	// Out-of-range input gives non-finite or negative constants that fmMaterial_Validate names.
+	double nu = poissonRatio;
+	double lambda = youngsModulus * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+	double mu = youngsModulus / (2.0 * (1.0 + nu));
+	return fmMakeMaterialLame(model, lambda, mu);
+}
+
+fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
+{
+	const fmMaterial* m = material;
+	if (m == NULL)
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "material is NULL");
+	if ((int)m->model < 0 || m->model >= fm_materialModelCount)
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "material model %d is unknown; use one of fm_linear .. fm_neoHookeanIsochoric "
+		    "(\"linear\", \"corotated\", \"stvk\", \"neohookean\", \"mooney-rivlin\", "
+		    "\"stretch-energy\", \"invariant-energy\", \"neohookean-isochoric\")",
+		    (int)m->model);
+	if (!isfinite(m->lambda) || !isfinite(m->mu) || !isfinite(m->c01))
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "material constants must be finite (lambda = %g, mu = %g, c01 = %g Pa); a "
+		    "Poisson ratio of exactly 0.5 or -1 gives infinite lambda: use e.g. 0.49",
+		    m->lambda, m->mu, m->c01);
+	if (!(m->mu > 0.0))
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "shear modulus mu = %g Pa must be > 0 (Young's modulus E > 0 and Poisson "
+		    "ratio in (-1, 0.5) give mu = E / (2 (1 + nu)) > 0)",
+		    m->mu);
+	if (!(m->lambda > -2.0 / 3.0 * m->mu))
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "lambda = %g Pa must be > -2/3 mu = %g Pa (a positive bulk modulus; Poisson "
+		    "ratio in (-1, 0.5), e.g. 0.3)",
+		    m->lambda, -2.0 / 3.0 * m->mu);
+	if (m->model == fm_mooneyRivlin && !(m->c01 >= 0.0 && m->c01 <= 0.5 * m->mu))
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
+		                   "Mooney-Rivlin c01 = %g Pa must be in [0, mu/2] = [0, %g] Pa (0 is "
+		                   "Neo-Hookean; the default is mu/8 = %g)",
+		                   m->c01, 0.5 * m->mu, m->mu / 8.0);
+	if (m->model == fm_stretchEnergy && m->stretchEnergy == NULL)
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
+		                   "model stretch-energy needs material.stretchEnergy, a function of the "
+		                   "principal stretches (docs/materials.md has an example)");
+	if (m->model == fm_invariantEnergy && m->invariantEnergy == NULL)
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
+		                   "model invariant-energy needs material.invariantEnergy, a function of "
+		                   "(I1, I2, J) (docs/materials.md has an example)");
+	return fm_ok;
+}
+
+static const char* const s_modelNames[fm_materialModelCount] = {
+    "linear",
+    "corotated",
+    "stvk",
+    "neohookean",
+    "mooney-rivlin",
+    "stretch-energy",
+    "invariant-energy",
+    "neohookean-isochoric",
+};
+
+const char* fmMaterialModelName(fmMaterialModel model)
+{
+	if ((int)model < 0 || model >= fm_materialModelCount)
+		return "unknown";
+	return s_modelNames[model];
+}
+
+bool fmMaterialModelFromName(const char* name, fmMaterialModel* model)
+{
+	for (int i = 0; name != NULL && i < fm_materialModelCount; ++i)
+		if (strcmp(name, s_modelNames[i]) == 0)
+		{
+			*model = (fmMaterialModel)i;
+			return true;
+		}
+	return false;
+}
+
+static const char* const s_forceModelNames[fm_forceModelCount] = {"fem", "fvm", "mass-spring"};
+
+const char* fmForceModelName(fmForceModel model)
+{
+	if ((int)model < 0 || model >= fm_forceModelCount)
+		return "unknown";
+	return s_forceModelNames[model];
+}
+
+bool fmForceModelFromName(const char* name, fmForceModel* model)
+{
+	for (int i = 0; name != NULL && i < fm_forceModelCount; ++i)
+		if (strcmp(name, s_forceModelNames[i]) == 0)
+		{
+			*model = (fmForceModel)i;
+			return true;
+		}
+	return false;
+}
+
+// Linear elasticity: eps = (F + F^T)/2 - I, psi = mu eps:eps + lambda/2 tr(eps)^2,
+// P = 2 mu eps + lambda tr(eps) I, dP_ij/dF_kl = mu (d_ik d_jl + d_il d_jk) + lambda d_ij d_kl.
+static double fmLinear_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
+{
+	fmMat3 eps;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			eps.m[3 * i + j] = 0.5 * (F->m[3 * i + j] + F->m[3 * j + i]) - (i == j ? 1.0 : 0.0);
+	double tr = fmTrace(&eps);
+	if (P)
+	{
+		*P = fmMatScale(2.0 * m->mu, &eps);
+		for (int i = 0; i < 3; ++i)
+			P->m[4 * i] += m->lambda * tr;
+	}
+	if (dPdF)
+	{
+		memset(dPdF, 0, 81 * sizeof(double));
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j)
+			{
+				dPdF[9 * (3 * i + j) + (3 * i + j)] += m->mu;
+				dPdF[9 * (3 * i + j) + (3 * j + i)] += m->mu;
+				if (i == j)
+					for (int k = 0; k < 3; ++k)
+						dPdF[9 * (4 * i) + 4 * k] += m->lambda;
+			}
+	}
+	return m->mu * fmDDot(&eps, &eps) + 0.5 * m->lambda * tr * tr;
+}
+
+// St. Venant-Kirchhoff, the seeds' model: G = (F^T F - I)/2, S = 2 mu G + lambda tr(G) I,
+// P = F S, psi = mu G:G + lambda/2 tr(G)^2. Differentiating P = F S:
+// dP_ij/dF_kl = d_ik S_lj + mu (F_il F_kj + (F F^T)_ik d_jl) + lambda F_ij F_kl.
+// Green strain G = (F^T F - I) / 2, written out: it is symmetric, so 6 entries, not 9. This is
+// the explicit solver's inner loop (one call per tet per step).
+static fmMat3 fmGreenStrain(const fmMat3* F)
+{
+	const double* f = F->m;
+	double g00 = 0.5 * (f[0] * f[0] + f[3] * f[3] + f[6] * f[6] - 1.0);
+	double g11 = 0.5 * (f[1] * f[1] + f[4] * f[4] + f[7] * f[7] - 1.0);
+	double g22 = 0.5 * (f[2] * f[2] + f[5] * f[5] + f[8] * f[8] - 1.0);
+	double g01 = 0.5 * (f[0] * f[1] + f[3] * f[4] + f[6] * f[7]);
+	double g02 = 0.5 * (f[0] * f[2] + f[3] * f[5] + f[6] * f[8]);
+	double g12 = 0.5 * (f[1] * f[2] + f[4] * f[5] + f[7] * f[8]);
+	fmMat3 G = {{g00, g01, g02, g01, g11, g12, g02, g12, g22}};
+	return G;
+}
+
+static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
+{
+	fmMat3 G = fmGreenStrain(F);
+	double tr = fmTrace(&G);
+	fmMat3 S = fmMatScale(2.0 * m->mu, &G);
+	for (int i = 0; i < 3; ++i)
+		S.m[4 * i] += m->lambda * tr;
+	if (P)
+		*P = fmMatMul(F, &S);
+	if (dPdF)
+	{
+		fmMat3 B = fmMatMulT(F, F);
+		const double* f = F->m;
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j)
+				for (int k = 0; k < 3; ++k)
+					for (int l = 0; l < 3; ++l)
+					{
+						double v = m->mu * f[3 * i + l] * f[3 * k + j] +
+						           m->lambda * f[3 * i + j] * f[3 * k + l];
+						if (i == k)
+							v += S.m[3 * l + j];
+						if (j == l)
+							v += m->mu * B.m[3 * i + k];
+						dPdF[9 * (3 * i + j) + (3 * k + l)] = v;
+					}
+	}
+	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr;
+}
+
+double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)
+{
+	switch (material->model)
+	{
+	case fm_linear:
+		return fmLinear_Evaluate(material, F, P, dPdF);
+	case fm_stvk:
+		return fmStvk_Evaluate(material, F, P, dPdF);
+	case fm_corotated:
+	case fm_stretchEnergy:
+		return fmStretchModel_Evaluate(material, F, P, dPdF, false);
+	case fm_neoHookean:
+	{
+		// psi and P in closed form, whatever else is asked for (psi must not depend on it).
+		double psi = fmNeoHookean_Evaluate(material, F, P);
+		if (dPdF)
+			fmInvariantModel_Evaluate(material, F, NULL, dPdF);
+		return psi;
+	}
+	case fm_mooneyRivlin:
+	case fm_invariantEnergy:
+	case fm_neoHookeanIsochoric:
+		return fmInvariantModel_Evaluate(material, F, P, dPdF);
+	default:
+		FM_ASSERT(0 && "unknown material model (validate materials before use)");
+		if (P)
+			*P = fmZero3();
+		if (dPdF)
+			memset(dPdF, 0, 81 * sizeof(double));
+		return NAN;
+	}
+}
+
+double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F, fmMat3* P,
+                                    double* dPdF)
+{
+	switch (material->model)
+	{
+	case fm_linear:
+		// Eigenvalues 2 mu (deviatoric), 0 (rotations) and 2 mu + 3 lambda (volume): already PSD
+		// for every valid material.
+		return fmLinear_Evaluate(material, F, P, dPdF);
+	case fm_corotated:
+	case fm_stvk:
+	case fm_neoHookean:
+	case fm_mooneyRivlin:
+	case fm_stretchEnergy:
+		return fmStretchModel_Evaluate(material, F, P, dPdF, true);
+	default:
+	{
+		double psi = fmMaterial_Evaluate(material, F, P, dPdF);
+		if (dPdF)
+			fmProjectPSD9(dPdF);
+		return psi;
+	}
+	}
+}
+
+// Cholesky without storing the factor beyond need: true when A is positive definite, the
+// common case near rest, which then needs no eigen-decomposition.
+static bool fmIsPositiveDefinite9(const double* A)
+{
+	double L[81];
+	for (int j = 0; j < 9; ++j)
+	{
+		double d = A[9 * j + j];
+		for (int k = 0; k < j; ++k)
+			d -= L[9 * j + k] * L[9 * j + k];
+		if (!(d > 0.0))
+			return false;
+		L[9 * j + j] = sqrt(d);
+		for (int i = j + 1; i < 9; ++i)
+		{
+			double s = A[9 * i + j];
+			for (int k = 0; k < j; ++k)
+				s -= L[9 * i + k] * L[9 * j + k];
+			L[9 * i + j] = s / L[9 * j + j];
+		}
+	}
+	return true;
+}
+
+void fmProjectPSD9(double* A)
+{
+	// Work on the symmetric part so round-off asymmetry cannot leak through.
+	for (int i = 0; i < 9; ++i)
+		for (int j = i + 1; j < 9; ++j)
+		{
+			double s = 0.5 * (A[9 * i + j] + A[9 * j + i]);
+			A[9 * i + j] = s;
+			A[9 * j + i] = s;
+		}
+	if (fmIsPositiveDefinite9(A))
+		return;
+	// A = Q diag(w) Q^T; the nearest PSD matrix (Frobenius) keeps Q and clamps w at 0.
+	double a[81], w[9], Q[81];
+	memcpy(a, A, sizeof a);
+	fmSymEigenN(a, 9, 1e-12, w, Q); // eigenvalues to ~1e-12 relative: ample for a Newton matrix
+	for (int e = 0; e < 9; ++e)
+		w[e] = fmMax(w[e], 0.0);
+	for (int i = 0; i < 9; ++i)
+		for (int j = i; j < 9; ++j)
+		{
+			double s = 0.0;
+			for (int e = 0; e < 9; ++e)
+				s += Q[9 * i + e] * w[e] * Q[9 * j + e];
+			A[9 * i + j] = s;
+			A[9 * j + i] = s;
+		}
+}

@@ -1,0 +1,42 @@
+// Internal mesh helpers shared by mesh.c and mesh_tetgen.c.
+#pragma once
+
+#include <femto/mesh.h>
+
+#include <stddef.h>
+
+// Allocate an array that is handed to the user and released with fmFree(): the allocator's free
+// hook needs the size, so it is stored in a 64-byte header in front of the returned pointer
+// (64 keeps the array 64-byte aligned). NULL on failure.
+void* fmAllocUser(size_t size);
+
+// A tet is degenerate when |6 V| <= FM_DEGENERATE_RATIO * (longest edge)^3: relative to its own
+// size, so the test does not depend on units. A regular tet has 6 V / L^3 = 0.707.
+#define FM_DEGENERATE_RATIO 1e-12
+
+// Apply a placement (scale, centre, swap y and z, translate: fmTetMesh_Transform's) to @p n
+// points of 3 doubles (mesh.c).
+void fmTransformPoints(double* x, int n, const fmMeshTransform* transform);
+
+// ---- shared by the mesh readers (mesh_tetgen.c) -----------------------------------------------------
+
+// A whole file in one allocation of exactly its size.
+typedef struct fmFileText
+{
+	char* data;
+	size_t size;     // bytes read
+	size_t capacity; // bytes allocated (the size the file had when it was opened)
+} fmFileText;
+
+// Read a whole regular file of at most @p limit bytes into one buffer of its size (a FIFO, device
+// or directory is refused without waiting on it; the size is checked before allocating).
+fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagnostic* diag);
+void fmFileText_Free(fmFileText* t);
+
+// fm_errIndex naming both tets (and their lines, when @p lines is not NULL) when two tets use
+// the same four nodes.
+fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const char* name,
+                              fmDiagnostic* diag);
+
+// One warning when nodes are used by no tet (they are kept and do not move).
+void fmWarnUnreferenced(const fmTetMesh* m, const char* name, fmDiagnostic* diag);

@@ -1,0 +1,75 @@
+// The Newton minimiser shared by the implicit step and the static solver (newton.c):
+// minimise E(x) = inertia/2 |x - xPred|_M^2 + massDamping/2 |x - xStart|_M^2
+//               + 1/2 (x - xStart)^T D (x - xStart) + Psi(x) - M g . (x - xStart)
+// over the free DOFs, optionally with lower bounds on y (the floor) as bound constraints.
+#pragma once
+
+#include "body/body.h"
+#include "core/parallel.h"
+#include "solver/pcg.h"
+#include "contact/penalty.h"
+#include "solver/solver_cache.h"
+
+// How Hessian-vector products are formed (measured in docs/implicit.md).
+typedef enum fmProductMode
+{
+	fm_productAssembled, // block CSR matrix refilled each Newton iteration (default)
+	fm_productMatrixFree // fmAddHessianProduct per CG iteration
+} fmProductMode;
+
+// Solver knobs for measurements (tests and benchmarks): a world's (fmWorld.solverOptions).
+typedef struct fmSolverOptions
+{
+	fmProductMode product;
+	fmPreconditioner preconditioner;
+} fmSolverOptions;
+
+// The measured defaults: an assembled matrix and symmetric Gauss-Seidel (docs/implicit.md).
+fmSolverOptions fmDefaultSolverOptions(void);
+
+// One minimisation problem.
+typedef struct fmNewtonProblem
+{
+	double inertia;          // 1/h^2, 0 for statics
+	double massDamping;      // alpha / h
+	bool useDamping;         // the cache's damping matrix D (already divided by h) takes part
+	fmVec3 gravity;          // m/s^2 (times the load factor in statics)
+	const fmFloorDef* floor; // NULL: no floor; else cache->floorBound holds the bounds on y
+	double tolerance;        // stop at |gradient over free DOFs| <= tolerance * scale
+	double scale;            // force scale (N)
+	int maxNewton;
+	int maxCg;
+	bool quadratic;    // Psi is quadratic (linear material): solve each Newton system tightly
+	bool exactHessian; // unprojected element Hessians (statics); stop if CG finds them indefinite
+	bool keepBest;     // end at the iterate of smallest residual, not the last (statics)
+	fmSolverOptions options;   // how products are formed and preconditioned
+	const fmTaskSystem* tasks; // the world's workers for the matrix products (NULL: serial)
+	fmArena* arena;            // the world's step arena (buffers of the parallel force passes)
+	const fmContactPenalty* contact; // the colliders' penalty (NULL: none)
+} fmNewtonProblem;
+
+typedef struct fmNewtonResult
+{
+	int iterations;
+	int cgIterations;
+	double residual; // |gradient over free DOFs| / scale at the end
+	bool converged;
+	bool finite;    // false: the energy or gradient went non-finite
+	bool projected; // exactHessian was requested but the Hessian turned out indefinite
+	bool stagnated; // stopped: FM_NEWTON_STAGNATION steps within the energy's round-off that
+	                // did not improve the residual by 10%
+	bool stalled;   // stopped: the line search found no step that lowers the energy
+} fmNewtonResult;
+
+// Newton steps within the energy's round-off and without a 10% better residual after which a
+// solve has stagnated at round-off: it stops and says so instead of spinning.
+#define FM_NEWTON_STAGNATION 8
+
+// The relative residual the solve would see at @p x (its stopping rule: the gradient over the
+// free DOFs and the floor's active set, divided by the problem's scale); NaN if not finite.
+double fmNewton_Residual(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
+                         const double* x);
+
+// Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
+// set by the caller; xStart is also where pinned vertices stay.
+fmNewtonResult fmNewton_Solve(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem);

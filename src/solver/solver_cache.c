@@ -1,0 +1,294 @@
+// The implicit and static solvers' per-body cache: the block-sparse pattern of the Newton
+// matrix with the slot of every element block, the vectors of a solve, and the assembly of
+// element stiffness and spring damping into it (solver_cache.h).
+#include "solver/solver_cache.h"
+
+#include "core/core.h"
+#include "fem/forces.h"
+
+#include <math.h>
+
+// Block rows a range of the parallel assembly takes at least: a tet's Hessian costs about a
+// microsecond, so 1024 rows (some 6000 tets) are worth a worker's wake-up many times over.
+#define FM_STIFFNESS_MIN_ROWS 1024
+#include <string.h>
+
+void fmSolverCache_Free(void* memory)
+{
+	fmImplicitCache* c = memory;
+	if (c == NULL)
+		return;
+	size_t n3 = 3 * (size_t)c->vertexCount, blocks = (size_t)c->pattern.blocks;
+	FM_FREE_ARRAY(c->tetSlot, int, 16 * (size_t)c->tetCount);
+	FM_FREE_ARRAY(c->edgeSlot, int, 4 * (size_t)c->edgeCount);
+	FM_FREE_ARRAY(c->hessian, double, 9 * blocks);
+	FM_FREE_ARRAY(c->damping, double, 9 * blocks);
+	FM_FREE_ARRAY(c->blockInverse, double, 9 * (size_t)c->vertexCount);
+	FM_FREE_ARRAY(c->xPred, double, n3);
+	FM_FREE_ARRAY(c->xStart, double, n3);
+	FM_FREE_ARRAY(c->gradient, double, n3);
+	FM_FREE_ARRAY(c->direction, double, n3);
+	FM_FREE_ARRAY(c->trial, double, n3);
+	FM_FREE_ARRAY(c->forces, double, n3);
+	FM_FREE_ARRAY(c->temp, double, n3);
+	FM_FREE_ARRAY(c->work, double, 4 * n3);
+	FM_FREE_ARRAY(c->fixed, uint8_t, n3);
+	FM_FREE_ARRAY(c->floorBound, double, (size_t)c->vertexCount);
+	FM_FREE_ARRAY(c->best, double, n3);
+	FM_FREE_ARRAY(c->forcesX, double, n3);
+	FM_FREE_ARRAY(c->spare.forces, double, n3);
+	FM_FREE_ARRAY(c->spare.x, double, n3);
+	if (c->multigridBuilt)
+		fmMultigrid_Free(&c->multigrid);
+	fmBsr_Free(&c->pattern);
+	FM_FREE_ARRAY(c, fmImplicitCache, 1);
+}
+
+// Slots of every node pair of every tet (and of every spring), so that refilling the matrix
+// is a plain scatter in tet order (deterministic, no search).
+static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
+{
+	for (int t = 0; t < b->tetCount; ++t)
+		for (int a = 0; a < 4; ++a)
+			for (int d = 0; d < 4; ++d)
+				c->tetSlot[16 * t + 4 * a + d] =
+				    fmBsr_Find(&c->pattern, b->tets[4 * t + a], b->tets[4 * t + d]);
+	for (int e = 0; e < c->edgeCount; ++e)
+	{
+		int p = b->edges[2 * e], q = b->edges[2 * e + 1];
+		c->edgeSlot[4 * e + 0] = fmBsr_Find(&c->pattern, p, p);
+		c->edgeSlot[4 * e + 1] = fmBsr_Find(&c->pattern, p, q);
+		c->edgeSlot[4 * e + 2] = fmBsr_Find(&c->pattern, q, p);
+		c->edgeSlot[4 * e + 3] = fmBsr_Find(&c->pattern, q, q);
+		if (c->edgeSlot[4 * e + 1] < 0)
+			return false; // springs are tet edges, so this cannot happen
+	}
+	return true;
+}
+
+fmImplicitCache* fmSolverCache_Get(fmBody* b)
+{
+	if (b->implicitCache)
+		return b->implicitCache;
+	fmImplicitCache* c = FM_ALLOC_ZERO(fmImplicitCache, 1);
+	if (c == NULL)
+		return NULL;
+	b->implicitCache = c;
+	c->vertexCount = b->vertexCount;
+	c->tetCount = b->tetCount;
+	c->edgeCount = b->forceModel == fm_massSpring ? b->edgeCount : 0;
+	for (int t = 0; t < b->tetCount; ++t)
+		c->volume += b->restVolume[t];
+	size_t n3 = 3 * (size_t)b->vertexCount;
+	bool ok = fmBsr_Build(&c->pattern, b->vertexCount, b->tets, b->tetCount);
+	if (!ok)
+		c->pattern.blocks = 0;
+	c->tetSlot = FM_ALLOC_ARRAY(int, 16 * (size_t)c->tetCount);
+	c->edgeSlot = FM_ALLOC_ARRAY(int, 4 * (size_t)c->edgeCount);
+	c->hessian = FM_ALLOC_ZERO(double, 9 * (size_t)c->pattern.blocks);
+	c->blockInverse = FM_ALLOC_ZERO(double, 9 * (size_t)b->vertexCount);
+	c->xPred = FM_ALLOC_ZERO(double, n3);
+	c->xStart = FM_ALLOC_ZERO(double, n3);
+	c->gradient = FM_ALLOC_ZERO(double, n3);
+	c->direction = FM_ALLOC_ZERO(double, n3);
+	c->trial = FM_ALLOC_ZERO(double, n3);
+	c->forces = FM_ALLOC_ZERO(double, n3);
+	c->temp = FM_ALLOC_ZERO(double, n3);
+	c->work = FM_ALLOC_ZERO(double, 4 * n3);
+	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
+	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->vertexCount);
+	c->best = FM_ALLOC_ZERO(double, n3);
+	c->forcesX = FM_ALLOC_ZERO(double, n3);
+	c->spare.forces = FM_ALLOC_ZERO(double, n3);
+	c->spare.x = FM_ALLOC_ZERO(double, n3);
+	ok = ok && c->tetSlot && (c->edgeSlot || c->edgeCount == 0) && c->hessian && c->blockInverse &&
+	     c->xPred && c->xStart && c->gradient && c->direction && c->trial && c->forces && c->temp &&
+	     c->work && c->fixed && c->floorBound && c->best && c->forcesX && c->spare.forces &&
+	     c->spare.x;
+	if (ok)
+		ok = fmBuildSlots(b, c);
+	if (!ok)
+	{
+		fmSolverCache_Free(c);
+		b->implicitCache = NULL;
+		return NULL;
+	}
+	return c;
+}
+
+fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* c)
+{
+	if (!c->multigridBuilt)
+		c->multigridBuilt = c->pattern.rows > 0 && fmMultigrid_Build(&c->multigrid, &c->pattern);
+	return c->multigridBuilt ? &c->multigrid : NULL;
+}
+
+// Only FEM bodies with a built-in model: their energy is summed the same way by every force
+// pass (FVM forces come from another loop; a user energy's parameters may change unseen).
+static bool fmForcesMemoizable(const fmBody* b)
+{
+	for (int k = 0; k < b->materialCount; ++k)
+		if (b->materials[k].model == fm_stretchEnergy ||
+		    b->materials[k].model == fm_invariantEnergy)
+			return false;
+	return b->forceModel == fm_fem && b->material.model != fm_stretchEnergy &&
+	       b->material.model != fm_invariantEnergy;
+}
+
+static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
+{
+	return a->model == b->model && a->lambda == b->lambda && a->mu == b->mu && a->c01 == b->c01;
+}
+
+bool fmSolverCache_HasForcesAt(const fmBody* b, const fmImplicitCache* c, const double* x)
+{
+	return c->forcesValid && fmForcesMemoizable(b) &&
+	       fmSameMaterial(&c->forcesMaterial, &b->material) &&
+	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount) == 0;
+}
+
+void fmSolverCache_NoteForces(const fmBody* b, fmImplicitCache* c, const double* x, double psi)
+{
+	c->forcesValid = fmForcesMemoizable(b);
+	if (!c->forcesValid)
+		return;
+	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount);
+	c->forcesEnergy = psi;
+	c->forcesMaterial = b->material;
+}
+
+void fmSolverCache_SwapForces(fmImplicitCache* c)
+{
+	fmForcesMemo last = {c->forces, c->forcesX, c->forcesEnergy, c->forcesMaterial, c->forcesValid};
+	c->forces = c->spare.forces;
+	c->forcesX = c->spare.x;
+	c->forcesEnergy = c->spare.energy;
+	c->forcesMaterial = c->spare.material;
+	c->forcesValid = c->spare.valid;
+	c->spare = last;
+}
+
+void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c, const fmTaskSystem* tasks,
+                                     fmArena* arena)
+{
+	if (fmSolverCache_HasForcesAt(b, c, b->x))
+		return;
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	fmSolverCache_NoteForces(b, c, b->x, fmAddElasticForcesOn(b, b->x, c->forces, tasks, arena));
+}
+
+// One tet's 16 blocks, times scale, into the rows [first, end) of the matrix.
+static void fmScatterTet(const fmBody* b, const fmImplicitCache* c, int t, const double* K,
+                         double scale, int first, int end, double* values)
+{
+	for (int p = 0; p < 4; ++p)
+	{
+		int row = b->tets[4 * t + p];
+		if (row < first || row >= end)
+			continue;
+		for (int q = 0; q < 4; ++q)
+		{
+			double* block = values + 9 * (size_t)c->tetSlot[16 * t + 4 * p + q];
+			for (int r = 0; r < 3; ++r)
+				for (int s = 0; s < 3; ++s)
+					block[3 * r + s] += scale * K[12 * (3 * p + r) + (3 * q + s)];
+		}
+	}
+}
+
+typedef struct fmStiffnessTask
+{
+	const fmBody* body;
+	const fmImplicitCache* cache;
+	const double* x;
+	double scale;
+	int project;
+	double* values;
+} fmStiffnessTask;
+
+// The block rows [start, end): every tet with a node among them, in tet order, adds the blocks
+// of those rows only. Each block gets its tets' terms in tet order, as in a serial loop, so any
+// split into ranges gives the same bits (a tet across two ranges is evaluated by both).
+static void fmStiffnessRowsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	const fmStiffnessTask* k = context;
+	const fmBody* b = k->body;
+	int first = b->tetCount, last = -1;
+	for (int i = start; i < end; ++i)
+		if (b->vertexTetStart[i + 1] > b->vertexTetStart[i])
+		{
+			int lo = b->vertexTets[b->vertexTetStart[i]] / 4;
+			int hi = b->vertexTets[b->vertexTetStart[i + 1] - 1] / 4;
+			first = lo < first ? lo : first;
+			last = hi > last ? hi : last;
+		}
+	double K[144];
+	for (int t = first; t <= last; ++t)
+	{
+		const int* n = b->tets + 4 * t;
+		bool mine = false;
+		for (int p = 0; p < 4; ++p)
+			mine = mine || (n[p] >= start && n[p] < end);
+		if (!mine)
+			continue;
+		fmTetHessian(b, k->x, t, K, k->project);
+		fmScatterTet(b, k->cache, t, K, k->scale, start, end, k->values);
+	}
+}
+
+static void fmAddSpringStiffness(const fmBody* b, const fmImplicitCache* c, const double* x,
+                                 double scale, int project, double* values)
+{
+	double K[36];
+	for (int e = 0; e < c->edgeCount; ++e)
+	{
+		fmSpringHessian(b, x, e, K, project);
+		for (int p = 0; p < 2; ++p)
+			for (int q = 0; q < 2; ++q)
+			{
+				double* block = values + 9 * (size_t)c->edgeSlot[4 * e + 2 * p + q];
+				for (int r = 0; r < 3; ++r)
+					for (int s = 0; s < 3; ++s)
+						block[3 * r + s] += scale * K[6 * (3 * p + r) + (3 * q + s)];
+			}
+	}
+}
+
+// values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order:
+// by block rows on the world's workers (the same bits for any number of them).
+void fmSolverCache_AddStiffness(const fmBody* b, const fmImplicitCache* c, const double* x,
+                                double scale, int project, double* values,
+                                const fmTaskSystem* tasks)
+{
+	if (b->forceModel == fm_massSpring)
+	{
+		fmAddSpringStiffness(b, c, x, scale, project, values);
+		return;
+	}
+	fmStiffnessTask task = {b, c, x, scale, project, values};
+	fmParallelFor(tasks, b->vertexCount, FM_STIFFNESS_MIN_ROWS, fmStiffnessRowsTask, &task);
+}
+
+// Spring damping as a matrix: each spring resists the rate of change of its length with
+// c = 2 zeta sqrt(k / (1/ma + 1/mb)) (force_spring.c), i.e. the block c n n^T on [a, b].
+void fmSolverCache_AddSpringDamping(const fmBody* b, const fmImplicitCache* c, const double* x,
+                                    double scale, double* values)
+{
+	for (int e = 0; e < c->edgeCount; ++e)
+	{
+		fmVec3 direction;
+		double coefficient = fmSpringDashpot(b, x, e, &direction);
+		if (coefficient <= 0.0)
+			continue;
+		const double n[3] = {direction.x, direction.y, direction.z};
+		for (int k = 0; k < 4; ++k)
+		{
+			double sign = (k == 1 || k == 2) ? -1.0 : 1.0;
+			double* block = values + 9 * (size_t)c->edgeSlot[4 * e + k];
+			for (int r = 0; r < 3; ++r)
+				for (int s = 0; s < 3; ++s)
+					block[3 * r + s] += scale * sign * coefficient * n[r] * n[s];
+		}
+	}
+}

@@ -1,0 +1,180 @@
+// Explicit integration, as the seeds: symplectic Euler with a velocity damping factor and
+// Laplacian velocity smoothing (GAMES103 HW3 1.1 and 1.4), then the floor.
+#include "world/explicit.h"
+
+#include "contact/floor.h"
+#include "fem/forces.h"
+#include "body/loads.h"
+#include "body/targets.h"
+#include "fem/tet_blocks.h"
+#include "core/timer.h"
+#include "fem/velocity_filter.h"
+
+#include <string.h>
+
+// Rayleigh damping force -(alpha M + beta K) v, with K the (unprojected) stiffness at x.
+static void fmAddRayleighForces(fmBody* b, fmArena* arena)
+{
+	if (b->rayleighMass > 0.0)
+		for (int k = 0; k < 3 * b->vertexCount; ++k)
+			b->f[k] -= b->rayleighMass * b->mass[k / 3] * b->v[k];
+	if (b->rayleighStiffness > 0.0)
+	{
+		size_t mark = fmArena_Mark(arena);
+		double* kv = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+		if (kv == NULL)
+			return;
+		fmAddHessianProduct(b, b->x, b->v, kv, 0);
+		for (int k = 0; k < 3 * b->vertexCount; ++k)
+			b->f[k] -= b->rayleighStiffness * kv[k];
+		fmArena_Release(arena, mark);
+	}
+}
+
+// What the tasks of a parallel explicit step share (each writes only its own range).
+typedef struct fmExplicitTask
+{
+	fmBody* body;
+	double dt;
+	fmVec3 gravity;
+	double damping; // the step's damping factor, 1 for none
+	// With a floor that holds the body: its responses to the vertices it takes, made after
+	// their position update on each range.
+	const fmFloorDef* floor;
+	fmFloorTaken* floorTaken;
+} fmExplicitTask;
+
+// Stage 1 for vertices [start, end): f = m g.
+static void fmGravityTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+		fmStore(b->f, i, fmScale(b->mass[i], c->gravity));
+}
+
+// Stage 2 for vertices [start, end): v += dt f / m, then the seeds' damping factor (one pass:
+// the same bits as the velocity filter's own); pinned vertices stay at rest.
+static void fmVelocitiesTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+	{
+		double* vi = b->v + 3 * i;
+		if (b->pinned[i] != FM_PIN_ALL)
+		{
+			fmStore(b->v, i, fmMulAdd(fmLoad(b->v, i), c->dt * b->invMass[i], fmLoad(b->f, i)));
+			fmZeroPinnedAxes(b, i, vi); // rollers: free only along their open axes
+		}
+		if (b->damping < 1.0)
+			vi[0] *= c->damping, vi[1] *= c->damping, vi[2] *= c->damping;
+	}
+}
+
+// Stage 4 for vertices [start, end): x += dt v, then the floor's response to each vertex it
+// takes (collected in vertex order by fmFloor_ApplyExplicit).
+static void fmPositionsTask(int start, int end, int worker, void* context)
+{
+	(void)worker;
+	fmExplicitTask* c = context;
+	fmBody* b = c->body;
+	for (int i = start; i < end; ++i)
+	{
+		if (b->pinned[i] != FM_PIN_ALL)
+			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
+	}
+	if (c->floorTaken != NULL)
+		fmFloor_RespondRange(c->floor, c->gravity, b, start, end, c->dt, c->floorTaken);
+}
+
+// f = m g + the elastic forces: the batched float kernels where they apply and are accurate
+// (made on the body's first explicit step; gravity then comes with their last pass), else the
+// double-precision reference kernel (also when memory is short). With the kernels, a non-NULL
+// @p then runs on each vertex range right after its forces; returns whether it ran.
+static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
+                                      fmArena* arena, const fmThenTask* then)
+{
+	if (b->tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
+		b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
+	const fmTetBlocks* blocks = fmTetBlocks_Used(b, world->simd);
+	if (blocks != NULL)
+	{
+		fmTetBlocks_AddForces(blocks, b, b->x, &context->gravity, b->f, world->simd, &world->tasks,
+		                      false, NULL, then);
+		return then != NULL;
+	}
+	fmParallelFor(&world->tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
+	fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
+	return false;
+}
+
+// Whether nothing comes between the elastic forces and the velocity update, nor between the
+// smoothing and the position update (no spring or Rayleigh damping, kinematic targets or loads):
+// then each stage runs on a vertex range right after the one before (two passes fewer, the same
+// operations in the same order).
+static bool fmPlainStep(const fmBody* b)
+{
+	return b->forceModel != fm_massSpring && b->rayleighMass <= 0.0 &&
+	       b->rayleighStiffness <= 0.0 && b->targetCount == 0 && !fmLoads_Active(b);
+}
+
+fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
+{
+	const int n = b->vertexCount;
+	const fmTaskSystem* tasks = &world->tasks;
+	fmExplicitTask context = {.body = b,
+	                          .dt = dt,
+	                          .gravity = world->def.gravity,
+	                          .damping = fmVelocityFilter_DampingFactor(b, dt)};
+	const size_t mark = fmArena_Mark(arena);
+	fmFloorTaken floorTaken;
+	if (fmFloor_Holds(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
+	{
+		// (Without the memory the floor responds serially, after the position update.)
+		context.floor = &world->def.floor;
+		context.floorTaken = &floorTaken;
+	}
+
+	// 0. Prescribed displacements move their vertices along their paths (loads.h).
+	double start = fmSeconds();
+	fmLoads_StepPrescribed(b, dt, dt);
+
+	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
+	const bool plain = fmPlainStep(b);
+	const fmThenTask velocities = {fmVelocitiesTask, &context},
+	                 positions = {fmPositionsTask, &context};
+	bool moved = fmGravityAndElasticForces(world, b, &context, arena, plain ? &velocities : NULL);
+	if (b->forceModel == fm_massSpring)
+		fmAddSpringDamping(b, b->x, b->v, b->f);
+	fmAddRayleighForces(b, arena);
+	fmTargets_AddExplicitForces(b, dt, b->f);
+	const double* loads = fmLoads_Freeze(b, b->x, 1.0);
+	for (int k = 0; loads != NULL && k < 3 * n; ++k)
+		b->f[k] += loads[k];
+	double forced = fmSeconds();
+
+	// 2. Velocities: v += dt f / m, and the seeds' damping factor. Pinned vertices stay at rest.
+	if (!moved)
+		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
+
+	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
+	bool placed =
+	    fmVelocityFilter_Smooth(b, dt, arena, world->simd, tasks, plain ? &positions : NULL) &&
+	    plain;
+	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
+	// The loads' work over the coming position update x += dt v: exact for constant loads.
+	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));
+
+	// 4. Positions, then the floor.
+	if (!placed)
+		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
+	int floorContacts =
+	    fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt, context.floorTaken);
+	fmArena_Release(arena, mark);
+	b->stepStage[0] = forced - start;
+	b->stepStage[1] = fmSeconds() - forced;
+	return floorContacts >= 0 ? fm_ok : fm_errOutOfMemory;
+}

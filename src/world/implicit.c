@@ -1,0 +1,244 @@
+// Backward Euler as optimisation (docs/implicit.md): x_{n+1} minimises the incremental potential
+//   E(x) = 1/(2 h^2) |x - x_n - h v_n|_M^2 + Psi(x) - M g . x + Rayleigh damping terms
+// subject to the pins and the floor y >= height. Newton's method with per-element PSD-projected
+// Hessians (Teran et al. 2005), a preconditioned CG for each Newton system, and a backtracking
+// (Armijo) line search on E along the floor-projected path (Bertsekas' projected Newton).
+// v_{n+1} = (x_{n+1} - x_n) / h, then the body's damping factor, smoothing and floor friction.
+#include "world/implicit.h"
+
+#include "contact/contact.h"
+#include "core/core.h"
+#include "contact/floor.h"
+#include "fem/forces.h"
+#include "body/loads.h"
+#include "solver/newton.h"
+#include "body/targets.h"
+#include "core/timer.h"
+#include "solver/vbd.h"
+#include "fem/velocity_filter.h"
+
+#include <math.h>
+#include <string.h>
+
+// A first guess replaces the one the last step took when its residual is below this fraction of
+// the other's.
+#define FM_GUESS_SWITCH 0.5
+
+// Steps before a guess that lost by more than 1 / FM_GUESS_SWITCH is tried again.
+#define FM_GUESS_RECHECK 8
+
+// Force scale of a step: |M g| + |M v / h| + |elastic forces at the start|, over free vertices.
+// The forces at the start are usually those of the last step's final iterate, still cached.
+static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double h)
+{
+	fmSolverCache_ForcesAtPositions(b, c, pb->tasks, pb->arena);
+	const fmVec3 gravity = pb->gravity;
+	const double g[3] = {gravity.x, gravity.y, gravity.z};
+	double weight = 0.0, inertia = 0.0, elastic = 0.0;
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+	{
+		if (fmIsDofPinned(b, k))
+			continue;
+		double m = b->mass[k / 3];
+		weight += m * m * g[k % 3] * g[k % 3];
+		inertia += m * m * b->v[k] * b->v[k] / (h * h);
+		elastic += c->forces[k] * c->forces[k];
+	}
+	// The kinematic targets' pull is an external force too.
+	double pull = 0.0;
+	for (int t = 0; t < b->targetCount; ++t)
+		for (int e = 0; e < 3; ++e)
+		{
+			int i = b->targetVertex[t];
+			double f = b->targetStiffness * (b->targetPosition[3 * t + e] - b->x[3 * i + e]);
+			pull += fmIsDofPinned(b, 3 * i + e) ? 0.0 : f * f;
+		}
+	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull) + fmLoads_FrozenNorm(b);
+}
+
+// Lagged damping matrix D / h at the start of the step: beta K(x_n) (Rayleigh stiffness part)
+// plus the springs' dashpots. Returns false when there is none (or no memory for it).
+static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTaskSystem* tasks)
+{
+	bool springs = b->forceModel == fm_massSpring && b->springDamping > 0.0;
+	if (b->rayleighStiffness <= 0.0 && !springs)
+		return false;
+	size_t values = 9 * (size_t)c->pattern.blocks;
+	if (c->damping == NULL)
+		c->damping = FM_ALLOC_ARRAY(double, values);
+	if (c->damping == NULL)
+		return false;
+	memset(c->damping, 0, sizeof(double) * values);
+	if (b->rayleighStiffness > 0.0)
+		fmSolverCache_AddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping, tasks);
+	if (springs)
+		fmSolverCache_AddSpringDamping(b, c, c->xStart, 1.0 / h, c->damping);
+	return true;
+}
+
+// Whether a vertex of @p x (free to move in y) is on the floor.
+static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFloorDef* floor,
+                           const double* x)
+{
+	for (int i = 0; floor != NULL && i < b->vertexCount; ++i)
+		if (!(b->pinned[i] & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i])
+			return true;
+	return false;
+}
+
+// The first guess: the free flight already in b->x, or the inertial guess x + h v held above
+// the floor. A body resting on the floor or moving steadily starts far closer to the solution
+// from x + h v (the free flight sags every vertex by h^2 g against the elastic forces). The
+// guess the last step took is tried first and kept if the solve would stop there at once (a
+// body at rest: one force pass a frame); otherwise the other replaces it if its relative
+// residual is less than half (both are admissible starts; choosing by the lower potential
+// instead took x + h v for a wobbling house whose Newton solves then took twice as long).
+// x + h v is only considered for a body on the floor: in the air the free flight is right, and
+// for a body whose inertia is below the round-off of its elastic forces (density 1e-20,
+// E = 1e20) both residuals are noise, so a comparison could drop the free flight by chance.
+static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	const int n3 = 3 * b->vertexCount;
+	double* inertial = c->trial;
+	memcpy(inertial, c->xPred, sizeof(double) * (size_t)n3);
+	if (pb->floor)
+		for (int i = 0; i < b->vertexCount; ++i)
+			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
+				inertial[3 * i + 1] = c->floorBound[i];
+	double* favoured = c->coasted ? inertial : b->x;
+	double* other = c->coasted ? b->x : inertial;
+	double kept = fmNewton_Residual(b, c, pb, favoured);
+	// A guess that lost clearly is not tried again for a few steps (a wobbling body would
+	// otherwise pay a second force pass every step to find that the other guess is worse).
+	if (kept > pb->tolerance && c->guessRecheck > 0)
+		c->guessRecheck -= 1;
+	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->x)))
+	{
+		fmSolverCache_SwapForces(c); // the favoured guess's forces stay at hand
+		double challenger = fmNewton_Residual(b, c, pb, other);
+		bool switched = challenger < FM_GUESS_SWITCH * kept;
+		c->guessRecheck = challenger > kept / FM_GUESS_SWITCH ? FM_GUESS_RECHECK : 0;
+		if (!switched)
+			fmSolverCache_SwapForces(c);
+		c->coasted = c->coasted != switched;
+	}
+	if (c->coasted)
+		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
+}
+
+// The Newton problem of a step of @p h: inertia 1 / h^2, Rayleigh damping, gravity, the floor
+// (NULL when it does not hold the body), the contact penalty (@p penalty, filled here; NULL in
+// the problem without contact), the residual's scale and the world's solver settings.
+static fmNewtonProblem fmImplicitProblem(const fmWorld* world, fmBody* b, fmImplicitCache* c,
+                                         double h, const fmFloorDef* floor, fmArena* arena,
+                                         fmContactPenalty* penalty)
+{
+	fmNewtonProblem pb;
+	memset(&pb, 0, sizeof pb);
+	pb.inertia = 1.0 / (h * h);
+	pb.massDamping = b->rayleighMass / h;
+	pb.useDamping = fmPrepareDamping(b, c, h, &world->tasks);
+	pb.gravity = world->def.gravity;
+	pb.floor = floor;
+	pb.tolerance = world->def.tolerance;
+	pb.tasks = &world->tasks;
+	pb.arena = arena;
+	pb.scale = fmStepForceScale(b, c, &pb, h);
+	pb.maxNewton = world->newtonLimit;
+	pb.maxCg = world->def.cgIterations;
+	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
+	pb.options = world->solverOptions;
+	*penalty = (fmContactPenalty){world->colliders,
+	                              world->colliderCapacity,
+	                              FM_PENALTY_KAPPA / (h * h),
+	                              fmContact_Thickness(world),
+	                              c->xStart,
+	                              h};
+	pb.contact = fmContact_Active(world) ? penalty : NULL;
+	return pb;
+}
+
+// The free flight x + h v + h^2 g held above the floor, as the solve's start: a body in free
+// fall is then solved before the first iteration, however stiff or light it is (E / density of
+// 1e17 and more leaves the rigid motion to round-off in the elastic forces otherwise).
+static void fmImplicitFreeFlight(fmBody* b, fmImplicitCache* c, double h, fmVec3 gravity,
+                                 const fmFloorDef* floor)
+{
+	const double g[3] = {gravity.x, gravity.y, gravity.z};
+	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
+	if (floor)
+	{
+		fmFloor_SetBounds(floor, b, c, h);
+		for (int i = 0; i < b->vertexCount; ++i)
+			if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < c->floorBound[i])
+				b->x[3 * i + 1] = c->floorBound[i];
+	}
+}
+
+// The work the step's targets, loads and contact penalty did, booked with the ledger.
+static void fmImplicitBookWork(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
+	if (fmLoads_Active(b))
+	{
+		for (int k = 0; k < 3 * b->vertexCount; ++k)
+			c->trial[k] = b->x[k] - c->xStart[k]; // free after the solve
+		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
+	}
+	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb->contact, b, c->xStart));
+}
+
+fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
+                        fmArena* arena)
+{
+	memset(solve, 0, sizeof *solve);
+	fmImplicitCache* c = fmSolverCache_Get(b);
+	if (c == NULL)
+		return fm_errOutOfMemory;
+	const int n3 = 3 * b->vertexCount;
+	const fmFloorDef* floor = fmFloor_Holds(&world->def.floor, b) ? &world->def.floor : NULL;
+	b->floorHitCount = 0;
+
+	// 1. Start state and inertial prediction (pinned axes stay put), the free flight as the first
+	//    guess. Prescribed displacements move their vertices first; the loads are frozen at the
+	//    start (follower pressure lagged by one step, loads.h).
+	double start = fmSeconds();
+	fmLoads_StepPrescribed(b, h, 0.0);
+	fmLoads_Freeze(b, b->x, 1.0);
+	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
+	for (int k = 0; k < n3; ++k)
+		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
+	fmContactPenalty penalty;
+	fmNewtonProblem pb = fmImplicitProblem(world, b, c, h, floor, arena, &penalty);
+	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
+	fmChooseFirstGuess(b, c, &pb);
+
+	// 2. Newton on the incremental potential.
+	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&
+	                 !fmLoads_Active(b)
+	             ? fmVbd_Solve(b, c, &pb)
+	             : fmNewton_Solve(b, c, &pb);
+	double solved = fmSeconds();
+	b->stepStage[0] = solved - start;
+	if (!solve->finite)
+		return fm_errNumerical;
+
+	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
+	//    explicit mode, so that a scene behaves alike under both integrators).
+	fmImplicitBookWork(b, c, &pb);
+	for (int k = 0; k < n3; ++k)
+		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
+	fmFilterVelocities(b, h, arena, world->simd, &world->tasks);
+
+	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
+	//    vertices on it.
+	if (floor)
+	{
+		fmLedger_AddContactWork(b, fmFloor_ImplicitWork(b, c, floor->height));
+		if (fmFloor_ImplicitVelocities(floor, b, c, h) < 0)
+			return fm_errOutOfMemory;
+	}
+	b->stepStage[1] = fmSeconds() - solved;
+	return fm_ok;
+}

@@ -1,0 +1,756 @@
+// Snapshots: a world's complete simulation state in a caller's buffer, restored so that the
+// world continues bit-identically (lockstep networking, replays, rollback).
+//
+// What a step depends on is saved: every body's positions, velocities, last good state, pins
+// (inverse masses follow from them), material and spring stiffness, energy ledger, the cached
+// stability limit, and the implicit solver's kept Newton matrix with what it was built with (the
+// lazy Hessian reuses it across steps, so a restored world without it would take other Newton
+// steps). The world's settings that setters change are saved too (the floor with its filter and
+// the force it reported), and the contact state a step reads from the one before (format
+// version 3, the floor's filter and force since 4): every collider's pose (kinematic ones move),
+// velocity and angular velocity (fmCollider_SetVelocity) and last force and torque; every body's
+// sleep state (asleep, a wake asked for, its sleep timer and island) and the implicit collider
+// friction found in the last step, which the next step's solve uses (body->contactFrictionNext,
+// saved for the vertices that have some); and the pairs that touched in the last frame (the next
+// frame's begin and end events and islands come from them). Per-step temporaries (the solver's
+// vectors, the damping matrix, the arena, the contact stage's buffers, its contact list and
+// events) are rebuilt by every step and are not. Bodies are matched by slot, generation and
+// counts, colliders by slot, generation, shape and (meshes) vertex and triangle counts: a snapshot
+// restores into the world it was taken from, with the same bodies and colliders (created or
+// destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
+#include "world/snapshot.h"
+
+#include "contact/collider.h"
+#include "contact/contact_events.h"
+#include "core/core.h"
+#include "world/world.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+#define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
+#define FM_SNAPSHOT_VERSION 4u
+
+// The header: magic, version, live bodies, live colliders.
+#define FM_SNAPSHOT_HEADER_WORDS 4
+#define FM_SNAPSHOT_HEADER_BYTES (FM_SNAPSHOT_HEADER_WORDS * sizeof(uint32_t))
+
+// A cursor over the buffer: writing with data == NULL only counts.
+typedef struct fmStream
+{
+	unsigned char* out;      // writing; NULL to count
+	const unsigned char* in; // reading
+	size_t size;
+	size_t used;
+	bool overflow;
+} fmStream;
+
+static void fmPut(fmStream* s, const void* data, size_t bytes)
+{
+	if (bytes == 0) // an empty array may be a NULL pointer
+		return;
+	if (s->out != NULL && !s->overflow && bytes <= s->size - s->used)
+		memcpy(s->out + s->used, data, bytes);
+	else if (s->out != NULL)
+		s->overflow = true;
+	s->used += bytes;
+}
+
+static void fmGet(fmStream* s, void* data, size_t bytes)
+{
+	if (bytes == 0)
+		return;
+	if (s->overflow || bytes > s->size - s->used)
+	{
+		s->overflow = true;
+		memset(data, 0, bytes);
+		return;
+	}
+	memcpy(data, s->in + s->used, bytes);
+	s->used += bytes;
+}
+
+// One value or array through the stream in either direction.
+static void fmMove(fmStream* s, bool save, void* data, size_t bytes)
+{
+	if (save)
+		fmPut(s, data, bytes);
+	else
+		fmGet(s, data, bytes);
+}
+
+static void fmMoveBool(fmStream* s, bool save, bool* value)
+{
+	uint8_t byte = *value ? 1 : 0;
+	fmMove(s, save, &byte, 1);
+	*value = byte != 0;
+}
+
+static void fmMoveDouble(fmStream* s, bool save, double* value)
+{
+	fmMove(s, save, value, sizeof *value);
+}
+
+static void fmMoveLedger(fmStream* s, bool save, fmEnergyLedger* l)
+{
+	fmMoveBool(s, save, &l->started);
+	double* fields[] = {&l->initialEnergy,    &l->work,
+	                    &l->workIn,           &l->floor,
+	                    &l->gravityStart,     &l->frameContactWork,
+	                    &l->frameGravityWork, &l->measureStep,
+	                    &l->plainGood,        &l->framePlain};
+	for (size_t k = 0; k < sizeof fields / sizeof fields[0]; ++k)
+		fmMoveDouble(s, save, fields[k]);
+}
+
+static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
+{
+	int32_t model = (int32_t)m->model;
+	fmMove(s, save, &model, sizeof model);
+	m->model = (fmMaterialModel)model;
+	fmMoveDouble(s, save, &m->lambda);
+	fmMoveDouble(s, save, &m->mu);
+	fmMoveDouble(s, save, &m->c01);
+	// User energies: function and parameter pointers, valid within the process that saved them.
+	fmMove(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
+	fmMove(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
+	fmMove(s, save, &m->userParams, sizeof m->userParams);
+}
+
+// The implicit solver's state carried from step to step: a flags byte (bit 0: a kept matrix
+// follows, bit 1: the last step started from x + h v, the guess the next one tries first), the
+// steps before the other guess is tried again (a byte), then the kept matrix's terms and
+// values. A cache that does not exist (no implicit step yet) is saved as none of these;
+// restoring "no matrix" into a body that has one marks it stale, which is what the saved body
+// would have done.
+static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
+{
+	fmImplicitCache* c = b->implicitCache;
+	uint8_t flags =
+	    (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) | (c != NULL && c->coasted ? 2u : 0u));
+	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
+	fmMove(s, save, &flags, 1);
+	fmMove(s, save, &recheck, 1);
+	bool warm = (flags & 2u) || recheck > 0;
+	if (!save && warm && (c = fmSolverCache_Get(b)) == NULL)
+		return false;
+	if (!save && c != NULL)
+	{
+		c->coasted = (flags & 2u) != 0;
+		c->guessRecheck = recheck;
+	}
+	if (!(flags & 1u))
+	{
+		if (!save && c != NULL)
+			c->hessianValid = false;
+		return true;
+	}
+	if (!save && (c = fmSolverCache_Get(b)) == NULL)
+		return false;
+	int64_t blocks = c->pattern.blocks;
+	fmMove(s, save, &blocks, sizeof blocks);
+	if (blocks != c->pattern.blocks)
+		return false;
+	c->hessianValid = true;
+	fmMoveDouble(s, save, &c->hessianInertia);
+	fmMoveDouble(s, save, &c->hessianMassDamping);
+	fmMoveBool(s, save, &c->hessianDamping);
+	fmMoveBool(s, save, &c->hessianExact);
+	fmMove(s, save, c->hessian, sizeof(double) * 9 * (size_t)blocks);
+	if (!save)
+		c->hessianVersion += 1; // the multigrid's levels are set up again from it
+	return true;
+}
+
+// A body's identity in the snapshot: slot, generation and sizes.
+typedef struct fmBodyKey
+{
+	int32_t slot;
+	uint32_t generation;
+	int32_t vertexCount;
+	int32_t tetCount;
+	int32_t edgeCount;
+	int32_t forceModel;
+} fmBodyKey;
+
+static fmBodyKey fmKeyOf(const fmBody* b, int slot)
+{
+	fmBodyKey key = {slot,        b->generation, b->vertexCount,
+	                 b->tetCount, b->edgeCount,  (int32_t)b->forceModel};
+	return key;
+}
+
+static void fmMoveBodyState(fmStream* s, bool save, fmBody* b)
+{
+	size_t n3 = 3 * (size_t)b->vertexCount, n = (size_t)b->vertexCount;
+	fmMove(s, save, b->x, sizeof(double) * n3);
+	fmMove(s, save, b->v, sizeof(double) * n3);
+	fmMove(s, save, b->xGood, sizeof(double) * n3);
+	fmMove(s, save, b->vGood, sizeof(double) * n3);
+	fmMove(s, save, b->pinned, n);
+	fmMove(s, save, b->springK, sizeof(double) * (size_t)b->edgeCount);
+	fmMoveMaterial(s, save, &b->material);
+	fmMoveDouble(s, save, &b->energyGood);
+	fmMoveBool(s, save, &b->energyStale);
+	fmMoveDouble(s, save, &b->explicitLimit);
+	fmMoveLedger(s, save, &b->ledger);
+}
+
+static bool fmMoveBody(fmStream* s, bool save, fmBody* b)
+{
+	fmMoveBodyState(s, save, b);
+	return fmMoveSolverMatrix(s, save, b);
+}
+
+// The material saved in body @p b's record at @p offset is one fmMaterial_Validate accepts (a
+// corrupted model number would index past the model table).
+static bool fmRecordMaterialValid(const fmBody* b, const void* buffer, size_t size, size_t offset)
+{
+	size_t n = (size_t)b->vertexCount;
+	size_t at = offset + sizeof(double) * (12 * n + (size_t)b->edgeCount) + n;
+	fmStream s = {NULL, buffer, size, at, false};
+	fmMaterial material = b->material;
+	fmMoveMaterial(&s, false, &material);
+	return !s.overflow && fmMaterial_Validate(&material, NULL) == fm_ok;
+}
+
+// Bytes of body @p b's record at @p offset of the buffer (after its key), or SIZE_MAX when the
+// record does not fit @p b (another matrix size), the buffer, or holds an invalid material.
+static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size_t offset)
+{
+	if (!fmRecordMaterialValid(b, buffer, size, offset))
+		return SIZE_MAX;
+	fmStream count = {NULL, NULL, 0, 0, false};
+	fmMoveBodyState(&count, true, b);
+	fmStream s = {NULL, buffer, size, offset + count.used, false};
+	uint8_t present = 0;
+	fmGet(&s, &present, 1);
+	s.used += 1; // the first guess's recheck countdown
+	if (present & 1u)
+	{
+		int64_t blocks = 0;
+		fmGet(&s, &blocks, sizeof blocks);
+		fmImplicitCache* c = fmSolverCache_Get(b); // the same mesh gives the same pattern
+		if (c == NULL || blocks != c->pattern.blocks)
+			return SIZE_MAX;
+		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;
+	}
+	return s.overflow || s.used > size ? SIZE_MAX : s.used - offset;
+}
+
+static void fmMoveWorldSettings(fmStream* s, bool save, fmWorld* w)
+{
+	fmWorldDef* d = &w->def;
+	fmMove(s, save, &d->gravity, sizeof d->gravity);
+	fmMoveBool(s, save, &d->floor.enabled);
+	fmMoveDouble(s, save, &d->floor.height);
+	int32_t ints[6] = {(int32_t)d->floor.friction,
+	                   (int32_t)d->integrator,
+	                   d->newtonIterations,
+	                   d->cgIterations,
+	                   (int32_t)w->solverOptions.product,
+	                   (int32_t)w->solverOptions.preconditioner};
+	fmMove(s, save, ints, sizeof ints);
+	d->floor.friction = (fmFloorFriction)ints[0];
+	d->integrator = (fmIntegrator)ints[1];
+	d->newtonIterations = ints[2];
+	d->cgIterations = ints[3];
+	w->solverOptions.product = (fmProductMode)ints[4];
+	w->solverOptions.preconditioner = (fmPreconditioner)ints[5];
+	fmMoveDouble(s, save, &d->floor.frictionCoefficient);
+	fmMoveDouble(s, save, &d->floor.restitution);
+	fmMoveDouble(s, save, &d->floor.maxDepenetrationSpeed);
+	fmMove(s, save, &d->floor.filter, sizeof d->floor.filter);
+	fmMove(s, save, &w->floorCollider.force, sizeof w->floorCollider.force);
+	fmMove(s, save, &w->floorCollider.torque, sizeof w->floorCollider.torque);
+	fmMoveDouble(s, save, &d->tolerance);
+	fmMoveBool(s, save, &d->notConvergedIsError);
+	fmMoveBool(s, save, &d->autoSubstep);
+	fmMoveBool(s, save, &w->warnedStep);
+}
+
+// ---- contact state (format version 3) ----------------------------------------------------------
+
+// A collider's identity in the snapshot: slot, generation, shape and a mesh's counts.
+typedef struct fmColliderKey
+{
+	int32_t slot;
+	uint32_t generation;
+	int32_t shape;
+	int32_t vertexCount;
+	int32_t triangleCount;
+} fmColliderKey;
+
+static fmColliderKey fmColliderKeyOf(const fmCollider* c, int slot)
+{
+	fmColliderKey key = {slot, c->generation, (int32_t)c->def.shape,
+	                     c->mesh != NULL ? c->mesh->vertexCount : 0,
+	                     c->mesh != NULL ? c->mesh->triangleCount : 0};
+	return key;
+}
+
+static int fmLiveColliders(const fmWorld* w)
+{
+	int live = 0;
+	for (int k = 0; k < w->colliderCapacity; ++k)
+		live += w->colliders[k].inUse;
+	return live;
+}
+
+// A collider's state: its pose (a kinematic one moves), its velocities (fmCollider_SetVelocity)
+// and the force and torque of the last step (fmCollider_GetContactForce).
+static void fmMoveColliderState(fmStream* s, bool save, fmCollider* c)
+{
+	fmMove(s, save, &c->position, sizeof c->position);
+	fmMove(s, save, &c->rotation, sizeof c->rotation);
+	fmMove(s, save, &c->def.velocity, sizeof c->def.velocity);
+	fmMove(s, save, &c->def.angularVelocity, sizeof c->def.angularVelocity);
+	fmMove(s, save, &c->force, sizeof c->force);
+	fmMove(s, save, &c->torque, sizeof c->torque);
+}
+
+#define FM_COLLIDER_RECORD_BYTES (sizeof(fmColliderKey) + 5 * sizeof(fmVec3) + sizeof(fmMat3))
+
+static bool fmVecWithin(fmVec3 v, double limit)
+{
+	return fabs(v.x) <= limit && fabs(v.y) <= limit && fabs(v.z) <= limit;
+}
+
+// A pose and velocities the contact stage can work with: finite, a rotation's entries within
+// [-2, 2] (a rotation drifts by round-off only), velocities within fmCollider_SetVelocity's 1e6.
+static bool fmColliderStateValid(const fmCollider* c)
+{
+	bool rotation = true;
+	for (int k = 0; k < 9; ++k)
+		rotation = rotation && fabs(c->rotation.m[k]) <= 2.0;
+	return rotation && fmVecWithin(c->position, DBL_MAX) && fmVecWithin(c->def.velocity, 1e6) &&
+	       fmVecWithin(c->def.angularVelocity, 1e6);
+}
+
+// The implicit collider friction the last step found for vertex i (penalty.h), or NULL: its
+// limit mu lambda is > 0 exactly where the contact stage wrote it (the rest is zero).
+static const double* fmFrictionFound(const fmBody* b, int i)
+{
+	const double* f = b->contactFrictionNext ? b->contactFrictionNext + 8 * (size_t)i : NULL;
+	return f != NULL && f[3] > 0.0 ? f : NULL;
+}
+
+#define FM_FRICTION_RECORD_BYTES (sizeof(int32_t) + 8 * sizeof(double))
+
+// A body's contact state: a flags byte (bit 0 asleep, bit 1 a wake asked for), its sleep timer
+// and island, then the count of vertices with friction for the next step, each as its index and
+// its 8 doubles.
+static void fmPutBodyContact(fmStream* s, const fmBody* b)
+{
+	uint8_t flags = (uint8_t)((b->asleep ? 1u : 0u) | (b->wakeRequested ? 2u : 0u));
+	int32_t island = b->island, count = 0;
+	fmPut(s, &flags, 1);
+	fmPut(s, &b->sleepTimer, sizeof b->sleepTimer);
+	fmPut(s, &island, sizeof island);
+	for (int i = 0; i < b->vertexCount; ++i)
+		count += fmFrictionFound(b, i) != NULL;
+	fmPut(s, &count, sizeof count);
+	for (int32_t i = 0; i < b->vertexCount; ++i)
+	{
+		const double* f = fmFrictionFound(b, i);
+		if (f == NULL)
+			continue;
+		fmPut(s, &i, sizeof i);
+		fmPut(s, f, 8 * sizeof(double));
+	}
+}
+
+// The contact section: the substep the contact stage last worked on, every live collider (key
+// and state), every live body's contact state, the last frame's pairs (a count and the sorted
+// keys of fmContactEvents_FramePairs).
+static void fmPutContact(fmStream* s, fmWorld* w)
+{
+	fmPut(s, &w->contactStep, sizeof w->contactStep);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		if (!w->colliders[k].inUse)
+			continue;
+		fmColliderKey key = fmColliderKeyOf(&w->colliders[k], k);
+		fmPut(s, &key, sizeof key);
+		fmMoveColliderState(s, true, &w->colliders[k]);
+	}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmPutBodyContact(s, &w->bodies[i]);
+	const uint64_t* pairs;
+	int32_t count = fmContactEvents_FramePairs(w, &pairs);
+	fmPut(s, &count, sizeof count);
+	fmPut(s, pairs, sizeof(uint64_t) * (size_t)count);
+}
+
+// Write the snapshot (or count it, when @p s->out is NULL).
+static void fmWriteSnapshot(fmStream* s, fmWorld* w)
+{
+	uint32_t header[FM_SNAPSHOT_HEADER_WORDS] = {FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0,
+	                                             (uint32_t)fmLiveColliders(w)};
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		header[2] += w->bodies[i].x != NULL;
+	fmPut(s, header, sizeof header);
+	fmMoveWorldSettings(s, true, w);
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		fmBodyKey key = fmKeyOf(b, i);
+		fmPut(s, &key, sizeof key);
+		fmMoveBody(s, true, b);
+	}
+	fmPutContact(s, w);
+}
+
+size_t fmWorld_GetSnapshotSize(fmWorldId worldId)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL);
+	if (w == NULL)
+		return 0;
+	fmStream s = {NULL, NULL, 0, 0, false};
+	fmWriteSnapshot(&s, w);
+	return s.used;
+}
+
+fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size, size_t* written)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL && buffer != NULL);
+	if (written)
+		*written = 0;
+	if (w == NULL)
+		return fm_errInvalidId;
+	if (buffer == NULL)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
+	size_t needed = fmWorld_GetSnapshotSize(worldId);
+	if (size < needed)
+		return fmDiagError(&w->lastError, fm_errLimit, "", 0, 0,
+		                   "the snapshot needs %zu bytes, the buffer has %zu "
+		                   "(fmWorld_GetSnapshotSize)",
+		                   needed, size);
+	fmStream s = {buffer, NULL, size, 0, false};
+	fmWriteSnapshot(&s, w);
+	if (written)
+		*written = s.used;
+	return fm_ok;
+}
+
+// ---- restoring: everything checked first, then applied ----------------------------------------
+
+// Check the header: a snapshot of this version, of as many bodies and colliders as the world has.
+static fmResult fmCheckSnapshot(fmWorld* w, const void* buffer, size_t size)
+{
+	fmStream s = {NULL, buffer, size, 0, false};
+	uint32_t header[FM_SNAPSHOT_HEADER_WORDS];
+	fmGet(&s, header, sizeof header);
+	if (s.overflow || header[0] != FM_SNAPSHOT_MAGIC || header[1] != FM_SNAPSHOT_VERSION)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "not a femto snapshot of version %u", FM_SNAPSHOT_VERSION);
+	uint32_t live = 0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		live += w->bodies[i].x != NULL;
+	if (header[2] != live)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot holds %u bodies, the world %u: bodies were created or "
+		                   "destroyed since it was taken",
+		                   header[2], live);
+	if (header[3] != (uint32_t)fmLiveColliders(w))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot holds %u colliders, the world %d: colliders were created "
+		                   "or destroyed since it was taken",
+		                   header[3], fmLiveColliders(w));
+	return fm_ok;
+}
+
+// The world settings at the stream's position into @p settings (a copy of the world), checked.
+static fmResult fmCheckSettings(fmWorld* w, fmStream* s, fmWorld* settings)
+{
+	*settings = *w;
+	fmMoveWorldSettings(s, false, settings);
+	if (s->overflow || fmWorldDef_Validate(&settings->def, NULL) != fm_ok ||
+	    !fmVecWithin(settings->floorCollider.force, DBL_MAX) ||
+	    !fmVecWithin(settings->floorCollider.torque, DBL_MAX) ||
+	    (unsigned)settings->solverOptions.product > (unsigned)fm_productMatrixFree ||
+	    (unsigned)settings->solverOptions.preconditioner > (unsigned)fm_precondAuto)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's world settings are invalid: not restored");
+	return fm_ok;
+}
+
+// One pass over the body records at the stream's position: pass 0 checks every key and record
+// (changing nothing), pass 1 restores them.
+static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (b->x == NULL)
+			continue;
+		fmBodyKey key, expected = fmKeyOf(b, i);
+		fmGet(s, &key, sizeof key);
+		if (s->overflow || memcmp(&key, &expected, sizeof key) != 0)
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "the snapshot's body in slot %d does not match the world's "
+			                   "(another body, or other sizes): not restored",
+			                   i);
+		if (pass == 0)
+		{
+			size_t bytes = fmBodyRecordBytes(b, s->in, s->size, s->used);
+			if (bytes == SIZE_MAX)
+				return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+				                   "the snapshot's body in slot %d is truncated or has "
+				                   "another solver matrix: not restored",
+				                   i);
+			s->used += bytes;
+			continue;
+		}
+		if (!fmMoveBody(s, false, b))
+			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory restoring body %d's solver matrix", i);
+		for (int k = 0; k < b->vertexCount; ++k) // pins are axis masks; inverse masses follow
+		{
+			b->pinned[k] &= FM_PIN_ALL;
+			b->invMass[k] = b->pinned[k] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[k];
+		}
+	}
+	if (s->overflow)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot is truncated (%zu bytes)", s->size);
+	return fm_ok;
+}
+
+// Step over @p bytes, or mark the stream overflowed when they are not there.
+static void fmSkip(fmStream* s, size_t bytes)
+{
+	if (s->overflow || bytes > s->size - s->used)
+		s->overflow = true;
+	else
+		s->used += bytes;
+}
+
+static const char* fmShapeName(int32_t shape)
+{
+	static const char* const names[] = {"plane", "sphere", "box", "capsule", "mesh"};
+	return shape >= 0 && shape < (int32_t)fm_shapeTypeCount ? names[shape] : "unknown shape";
+}
+
+// The error for a collider record whose key is not the world's collider in that slot.
+static fmResult fmColliderMismatch(fmWorld* w, const fmColliderKey* saved,
+                                   const fmColliderKey* live)
+{
+	int slot = live->slot;
+	if (saved->slot != live->slot || saved->generation != live->generation ||
+	    saved->shape != live->shape)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's collider in slot %d (a %s, generation %u) is not the "
+		                   "world's (a %s in slot %d, generation %u): colliders were destroyed "
+		                   "and created since it was taken: not restored",
+		                   saved->slot, fmShapeName(saved->shape), saved->generation,
+		                   fmShapeName(live->shape), slot, live->generation);
+	return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+	                   "the snapshot's mesh collider in slot %d has %d triangles and %d vertices, "
+	                   "the world's %d and %d: not restored",
+	                   slot, saved->triangleCount, saved->vertexCount, live->triangleCount,
+	                   live->vertexCount);
+}
+
+// Check every collider record (key and state) at the stream's position, changing nothing.
+static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		fmCollider copy = w->colliders[k];
+		if (!copy.inUse)
+			continue;
+		fmColliderKey key, expected = fmColliderKeyOf(&copy, k);
+		fmGet(s, &key, sizeof key);
+		if (!s->overflow && memcmp(&key, &expected, sizeof key) != 0)
+			return fmColliderMismatch(w, &key, &expected);
+		fmMoveColliderState(s, false, &copy);
+		if (s->overflow || !fmColliderStateValid(&copy))
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "the snapshot's collider in slot %d is truncated or has a "
+			                   "non-finite pose or velocity: not restored",
+			                   k);
+	}
+	return fm_ok;
+}
+
+// Check body @p b's contact record at the stream's position and step over it: flags, an island
+// that is a body slot, friction vertices ascending within the body. A body that gets friction
+// and has no array for it yet gets a zeroed one (what a missing array means to the step).
+static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
+{
+	uint8_t flags = 0;
+	int32_t island = 0, count = 0, last = -1;
+	fmGet(s, &flags, 1);
+	fmSkip(s, sizeof(double)); // the sleep timer
+	fmGet(s, &island, sizeof island);
+	fmGet(s, &count, sizeof count);
+	if (s->overflow || flags > 3u || island < 0 || island >= w->bodyCapacity || count < 0 ||
+	    count > b->vertexCount || (size_t)count * FM_FRICTION_RECORD_BYTES > s->size - s->used)
+		return fm_errParameter;
+	for (int32_t k = 0; k < count; ++k)
+	{
+		int32_t vertex = -1;
+		fmGet(s, &vertex, sizeof vertex);
+		fmSkip(s, 8 * sizeof(double));
+		if (s->overflow || vertex <= last || vertex >= b->vertexCount)
+			return fm_errParameter;
+		last = vertex;
+	}
+	if (count > 0 && b->contactFrictionNext == NULL)
+		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
+	return count == 0 || b->contactFrictionNext != NULL ? fm_ok : fm_errOutOfMemory;
+}
+
+// Step over a body's contact record (checked).
+static void fmSkipBodyContact(fmStream* s)
+{
+	int32_t count = 0;
+	fmSkip(s, 1 + sizeof(double) + sizeof(int32_t));
+	fmGet(s, &count, sizeof count);
+	fmSkip(s, (size_t)count * FM_FRICTION_RECORD_BYTES);
+}
+
+// Restore body @p b's contact record (checked) from the stream's position.
+static void fmApplyBodyContact(fmStream* s, fmBody* b)
+{
+	uint8_t flags = 0;
+	int32_t island = 0, count = 0;
+	fmGet(s, &flags, 1);
+	fmGet(s, &b->sleepTimer, sizeof b->sleepTimer);
+	fmGet(s, &island, sizeof island);
+	fmGet(s, &count, sizeof count);
+	b->asleep = (flags & 1u) != 0;
+	b->wakeRequested = (flags & 2u) != 0;
+	b->island = island;
+	if (b->contactFrictionNext != NULL)
+		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
+	for (int32_t k = 0; k < count; ++k)
+	{
+		int32_t vertex = 0;
+		fmGet(s, &vertex, sizeof vertex);
+		fmGet(s, b->contactFrictionNext + 8 * (size_t)vertex, 8 * sizeof(double));
+	}
+}
+
+// Check the last frame's pairs at the stream's position: a count that fits, keys ascending, each
+// of a body slot and another body's slot or a collider's (0x80000000 | slot) within the world's
+// tables (or the floor's, FM_FLOOR_SLOT). Returns the count, or -1.
+static int32_t fmCheckPairs(const fmWorld* w, fmStream* s)
+{
+	int32_t count = -1;
+	fmGet(s, &count, sizeof count);
+	if (s->overflow || count < 0 || (size_t)count > (s->size - s->used) / sizeof(uint64_t))
+		return -1;
+	uint64_t last = 0;
+	for (int32_t k = 0; k < count; ++k)
+	{
+		uint64_t key = 0;
+		fmGet(s, &key, sizeof key);
+		uint32_t a = (uint32_t)(key >> 32), b = (uint32_t)key;
+		uint32_t collider = b & 0x7fffffffu;
+		bool other = (b & 0x80000000u) ? collider < (uint32_t)w->colliderCapacity ||
+		                                     collider == (uint32_t)FM_FLOOR_SLOT
+		                               : b < (uint32_t)w->bodyCapacity;
+		if ((k > 0 && key <= last) || a >= (uint32_t)w->bodyCapacity || !other)
+			return -1;
+		last = key;
+	}
+	return count;
+}
+
+// Check the contact section at the stream's position (changing nothing the step sees).
+static fmResult fmCheckContact(fmWorld* w, fmStream* s)
+{
+	double step = 0.0;
+	fmGet(s, &step, sizeof step);
+	if (s->overflow || !(step >= 0.0 && step <= FM_MAX_SUBSTEP))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot's contact section is truncated or invalid: not restored");
+	fmResult r = fmCheckColliders(w, s);
+	for (int i = 0; r == fm_ok && i < w->bodyCapacity; ++i)
+	{
+		fmResult body = w->bodies[i].x != NULL ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
+		if (body == fm_errOutOfMemory)
+			r = fmDiagError(&w->lastError, body, "", 0, 0,
+			                "out of memory restoring body %d's collider friction", i);
+		else if (body != fm_ok)
+			r = fmDiagError(&w->lastError, body, "", 0, 0,
+			                "the snapshot's contact state of the body in slot %d (sleep, island, "
+			                "collider friction) is truncated or invalid: not restored",
+			                i);
+	}
+	if (r == fm_ok && fmCheckPairs(w, s) < 0)
+		r = fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                "the snapshot's contact pairs of the last frame are truncated or "
+		                "invalid: not restored");
+	return r;
+}
+
+// Restore the contact section (checked) at @p at: the pairs first (the only part that may need
+// memory: out of memory leaves the world as it was), then the colliders and the bodies.
+static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size_t at)
+{
+	int colliders = fmLiveColliders(w);
+	fmStream s = {NULL, buffer, size, at + sizeof w->contactStep, false};
+	fmSkip(&s, (size_t)colliders * FM_COLLIDER_RECORD_BYTES);
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmSkipBodyContact(&s);
+	int32_t count = 0;
+	fmGet(&s, &count, sizeof count);
+	if (!fmContactEvents_SetFramePairs(w, (const unsigned char*)buffer + s.used, count))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory restoring the contact pairs");
+	s.used = at;
+	fmGet(&s, &w->contactStep, sizeof w->contactStep);
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		if (!w->colliders[k].inUse)
+			continue;
+		fmSkip(&s, sizeof(fmColliderKey));
+		fmMoveColliderState(&s, false, &w->colliders[k]);
+	}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].x != NULL)
+			fmApplyBodyContact(&s, &w->bodies[i]);
+	return fm_ok;
+}
+
+fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t size)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL && buffer != NULL);
+	if (w == NULL)
+		return fm_errInvalidId;
+	if (buffer == NULL)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
+	// Everything is checked before anything is written: a mismatch leaves the world as it was.
+	fmResult r = fmCheckSnapshot(w, buffer, size);
+	fmStream s = {NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false};
+	fmWorld settings;
+	if (r == fm_ok)
+		r = fmCheckSettings(w, &s, &settings); // applied last
+	size_t bodiesAt = s.used;
+	if (r == fm_ok)
+		r = fmBodiesPass(w, &s, 0);
+	size_t contactAt = s.used;
+	if (r == fm_ok)
+		r = fmCheckContact(w, &s);
+	if (r == fm_ok)
+		r = fmApplyContact(w, buffer, size, contactAt);
+	s.used = bodiesAt;
+	if (r == fm_ok)
+		r = fmBodiesPass(w, &s, 1);
+	if (r != fm_ok)
+		return r;
+	fmMoveWorldSettings(&(fmStream){NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false}, false, w);
+	fmWorldSyncFloor(w);
+	return fm_ok;
+}

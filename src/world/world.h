@@ -1,0 +1,78 @@
+// The world: bodies, gravity, floor, integrator settings, step statistics.
+#pragma once
+
+#include "core/arena.h"
+#include "body/body.h"
+#include "contact/collider.h"
+#include "solver/newton.h"
+#include "core/parallel.h"
+#include "fem/stability.h"
+
+typedef struct fmWorld
+{
+	uint32_t generation; // of the world in the slot; UINT32_MAX retires the slot
+	bool inUse;
+	fmWorldDef def;
+	int bodyCapacity;
+	fmBody* bodies; // bodyCapacity slots; a slot is live when its x != NULL
+	fmStepStats stats;
+	fmProfile profile; // the last step's stage times (ms)
+	fmDiagnostic lastError;
+	bool warnedStep;               // the explicit step-size warning was given
+	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
+	fmArena arena;                 // step temporaries, reserved for the largest body
+	fmTaskSystem tasks;            // how the stages run in parallel
+	int newtonLimit;  // Newton iterations an implicit step may take now (the frame budget)
+	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
+	struct fmCollider* colliders; // colliderCapacity slots (collider.h)
+	fmCollider floorCollider;     // def.floor as a plane collider: its id, reports and queries
+	int colliderCapacity;         // grows by doubling up to FM_MAX_COLLIDERS
+	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
+	double contactStep;                  // s, the substep the contact stage is working on
+	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
+	int contactPieces;   // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the
+	                     // body-body contact is then the stage's projection alone, no frozen planes
+	float* drawPoints;   // fmWorld_Draw's buffer of contact points (3 floats each)
+	int drawPointCapacity;
+	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
+	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)
+	int* islandParent;               // island.c's union-find (bodyCapacity), made at need
+	double* islandLeast;             // per island root: its bodies' least sleep timer
+	int islandCapacity;
+	int sleepEventCount;
+	int sleepEventCapacity;
+} fmWorld;
+
+// The id of a live world.
+fmWorldId fmWorldIdOf(const fmWorld* world);
+
+// The floor's collider slot: outside the colliders table, so that its id (index1
+// FM_FLOOR_SLOT + 1) is never a created collider's.
+#define FM_FLOOR_SLOT FM_MAX_COLLIDERS
+
+// The public ids of body slot @p slot and collider slot @p slot (FM_FLOOR_SLOT: the floor's) of
+// a live world.
+fmBodyId fmWorldBodyId(const fmWorld* world, int slot);
+fmColliderId fmWorldColliderId(const fmWorld* world, int slot);
+
+// The collider in slot @p slot (FM_FLOOR_SLOT: the floor's), live or not.
+fmCollider* fmWorldCollider(fmWorld* world, int slot);
+
+// Set the floor's collider from def.floor (at creation and by fmWorld_SetFloor), keeping the
+// force it reports.
+void fmWorldSyncFloor(fmWorld* world);
+
+// Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
+fmWorld* fmGetWorld(fmWorldId id);
+fmWorld* fmGetWorldOfBody(fmBodyId id);
+
+// Bytes of a world's body table (counted against fmWorldDef.memoryBudget).
+size_t fmWorldTableBytes(int maxBodies);
+
+// Reserve the world's arena for its largest body (the buffers a step takes at once); false when
+// memory is short. Allocates only when a larger body arrived.
+bool fmWorldReserveArena(fmWorld* world);
+
+// The explicit stability limit (s) of @p body at its current deformation, from the world's arena
+// (reserved for it).
+double fmWorldBodyStepLimit(fmWorld* world, const fmBody* body);
