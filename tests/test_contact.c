@@ -1635,30 +1635,30 @@ TEST(edge_plane_penalty_gradient)
 	CHECK_INT(fmCreateCollider(world, &far, &collider, NULL), fm_ok);
 	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
 	fmBody* b = fmGetBody(id);
-	CHECK(b != NULL && b->surfaceVertex != NULL);
-	if (b == NULL || b->surfaceVertex == NULL)
+	CHECK(b != NULL && b->contact.surfaceVertex != NULL);
+	if (b == NULL || b->contact.surfaceVertex == NULL)
 	{
 		fmDestroyWorld(world);
 		return;
 	}
-	int a = b->surface[0], c = b->surface[1];
+	int a = b->mesh.surface[0], c = b->mesh.surface[1];
 	const double h = 1.0 / 60.0, thickness = 0.01;
 	fmVec3 n = fmScale(1.0 / sqrt(1.05), fmMakeVec3(0.2, 1.0, 0.1));
-	fmVec3 q = fmAdd(fmScale(0.7, fmLoad(b->x, a)), fmScale(0.3, fmLoad(b->x, c)));
-	FM_FREE_ARRAY(b->edgePlanes, fmEdgePlane, b->edgePlaneCapacity);
-	b->edgePlanes = FM_ALLOC_ARRAY(fmEdgePlane, 1);
-	b->edgePlaneCapacity = b->edgePlanes ? 1 : 0;
-	b->edgePlaneCount = b->edgePlaneCapacity;
-	if (b->edgePlaneCount == 1)
-		b->edgePlanes[0] = (fmEdgePlane){a, c, 0.3, n, fmDot(n, q) + 0.5 * thickness};
-	fmContactPenalty penalty = {NULL, 0, FM_PENALTY_KAPPA / (h * h), thickness, b->x, h};
-	int n3 = 3 * b->vertexCount;
+	fmVec3 q = fmAdd(fmScale(0.7, fmLoad(b->state.x, a)), fmScale(0.3, fmLoad(b->state.x, c)));
+	FM_FREE_ARRAY(b->contact.edgePlanes, fmEdgePlane, b->contact.edgePlaneCapacity);
+	b->contact.edgePlanes = FM_ALLOC_ARRAY(fmEdgePlane, 1);
+	b->contact.edgePlaneCapacity = b->contact.edgePlanes ? 1 : 0;
+	b->contact.edgePlaneCount = b->contact.edgePlaneCapacity;
+	if (b->contact.edgePlaneCount == 1)
+		b->contact.edgePlanes[0] = (fmEdgePlane){a, c, 0.3, n, fmDot(n, q) + 0.5 * thickness};
+	fmContactPenalty penalty = {NULL, 0, FM_PENALTY_KAPPA / (h * h), thickness, b->state.x, h};
+	int n3 = 3 * b->mesh.vertexCount;
 	double* x = malloc(sizeof(double) * (size_t)n3);
 	double* gradient = calloc((size_t)n3, sizeof(double));
 	double* dx = calloc((size_t)n3, sizeof(double));
 	double* y = calloc((size_t)n3, sizeof(double));
-	double* blocks = calloc(9 * (size_t)b->vertexCount, sizeof(double));
-	memcpy(x, b->x, sizeof(double) * (size_t)n3);
+	double* blocks = calloc(9 * (size_t)b->mesh.vertexCount, sizeof(double));
+	memcpy(x, b->state.x, sizeof(double) * (size_t)n3);
 	double energy = fmContactPenalty_Energy(&penalty, b, x, gradient), worst = 0.0;
 	const int vertices[2] = {a, c};
 	for (int k = 0; k < 6; ++k)
@@ -1690,7 +1690,7 @@ TEST(edge_plane_penalty_gradient)
 	fmContactPenalty_Energy(&penalty, b, x, down);
 	for (int k = 0; k < n3; ++k)
 		x[k] += step * dx[k];
-	fmImplicitCache* cache = b->implicitCache;
+	fmImplicitCache* cache = b->solverCache;
 	CHECK(cache != NULL);
 	double* assembled = cache ? calloc(9 * (size_t)cache->pattern.blocks, sizeof(double)) : NULL;
 	if (assembled)

@@ -176,7 +176,7 @@ TEST(hessian_matches_force_differences)
 		}
 		fmTestPerturb(id, 0.05);
 		const fmBody* body = fmGetBody(id);
-		int n = body->vertexCount;
+		int n = body->mesh.vertexCount;
 		size_t bytes = sizeof(double) * 3 * (size_t)n;
 		double *dx = malloc(bytes), *kdx = calloc(1, bytes), *xp = malloc(bytes),
 		       *xm = malloc(bytes);
@@ -186,10 +186,10 @@ TEST(hessian_matches_force_differences)
 		const double h = 1e-6;
 		for (int k = 0; k < 3 * n; ++k)
 		{
-			xp[k] = body->x[k] + h * dx[k];
-			xm[k] = body->x[k] - h * dx[k];
+			xp[k] = body->state.x[k] + h * dx[k];
+			xm[k] = body->state.x[k] - h * dx[k];
 		}
-		fmAddHessianProduct(body, body->x, dx, kdx, 0);
+		fmAddHessianProduct(body, body->state.x, dx, kdx, 0);
 		fmAddElasticForces(body, xp, fp);
 		fmAddElasticForces(body, xm, fm);
 		double scale = 0.0;
@@ -201,11 +201,11 @@ TEST(hessian_matches_force_differences)
 
 		// The assembled 12x12 element matrices give the same product.
 		double* kdx2 = calloc(1, bytes);
-		for (int t = 0; t < body->tetCount; ++t)
+		for (int t = 0; t < body->mesh.tetCount; ++t)
 		{
 			double K[144];
-			fmTetHessian(body, body->x, t, K, 0);
-			const int* nodes = body->tets + 4 * t;
+			fmTetHessian(body, body->state.x, t, K, 0);
+			const int* nodes = body->mesh.tets + 4 * t;
 			for (int r = 0; r < 12; ++r)
 				for (int c = 0; c < 12; ++c)
 					kdx2[3 * nodes[r / 3] + r % 3] += K[12 * r + c] * dx[3 * nodes[c / 3] + c % 3];
@@ -230,12 +230,12 @@ TEST(stvk_matches_the_seed_formula)
 	}
 	fmTestPerturb(id, 0.2);
 	const fmBody* b = fmGetBody(id);
-	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+	size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
 	double *f = calloc(1, bytes), *seed = calloc(1, bytes);
-	fmAddElasticForces(b, b->x, f);
-	for (int t = 0; t < b->tetCount; ++t)
+	fmAddElasticForces(b, b->state.x, f);
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t);
 		fmMat3 G = fmMatTMul(&F, &F);
 		for (int k = 0; k < 9; ++k)
 			G.m[k] = 0.5 * (G.m[k] - (k % 4 == 0));
@@ -243,9 +243,9 @@ TEST(stvk_matches_the_seed_formula)
 		for (int k = 0; k < 3; ++k)
 			S.m[4 * k] += 20000.0 * fmTrace(&G);
 		fmMat3 FS = fmMatMul(&F, &S);
-		fmMat3 result = fmMatMulT(&FS, &b->DmInv[t]);
-		double scale = -1.0 / (fmDet(&b->DmInv[t]) * 6.0);
-		const int* n = b->tets + 4 * t;
+		fmMat3 result = fmMatMulT(&FS, &b->mesh.DmInv[t]);
+		double scale = -1.0 / (fmDet(&b->mesh.DmInv[t]) * 6.0);
+		const int* n = b->mesh.tets + 4 * t;
 		for (int a = 1; a < 4; ++a)
 			for (int c = 0; c < 3; ++c)
 			{
@@ -253,7 +253,7 @@ TEST(stvk_matches_the_seed_formula)
 				seed[3 * n[0] + c] -= scale * result.m[3 * c + a - 1];
 			}
 	}
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 		CHECK_NEAR(f[k], seed[k], 1e-9 * (1 + fabs(seed[k])));
 	free(f);
 	free(seed);

@@ -79,14 +79,14 @@ TEST(spring_hessian_matches_force_differences)
 	fmTestSeed(5);
 	fmTestPerturb(id, 0.15);
 	const fmBody* body = fmGetBody(id);
-	int n3 = 3 * body->vertexCount;
+	int n3 = 3 * body->mesh.vertexCount;
 	double* dx = calloc((size_t)n3, sizeof(double));
 	double* Kdx = calloc((size_t)n3, sizeof(double));
 	// The body's own arrays (its internal order), as the internal functions below take them.
 	double* xp = malloc(sizeof(double) * (size_t)n3);
 	double* xm = malloc(sizeof(double) * (size_t)n3);
-	memcpy(xp, body->x, sizeof(double) * (size_t)n3);
-	memcpy(xm, body->x, sizeof(double) * (size_t)n3);
+	memcpy(xp, body->state.x, sizeof(double) * (size_t)n3);
+	memcpy(xm, body->state.x, sizeof(double) * (size_t)n3);
 	double* fp = calloc((size_t)n3, sizeof(double));
 	double* fm = calloc((size_t)n3, sizeof(double));
 	const double h = 1e-6;
@@ -96,7 +96,7 @@ TEST(spring_hessian_matches_force_differences)
 		xp[k] += h * dx[k];
 		xm[k] -= h * dx[k];
 	}
-	fmAddHessianProduct(body, body->x, dx, Kdx, 0);
+	fmAddHessianProduct(body, body->state.x, dx, Kdx, 0);
 	fmAddSpringForces(body, xp, fp);
 	fmAddSpringForces(body, xm, fm);
 	double scale = maxAbs(Kdx, n3);
@@ -105,7 +105,7 @@ TEST(spring_hessian_matches_force_differences)
 		CHECK_NEAR(Kdx[k], -(fp[k] - fm[k]) / (2 * h), 1e-6 * scale);
 	// The projected edge Hessians are positive semi-definite: dx^T K dx >= 0 for any dx.
 	memset(Kdx, 0, sizeof(double) * (size_t)n3);
-	fmAddHessianProduct(body, body->x, dx, Kdx, 1);
+	fmAddHessianProduct(body, body->state.x, dx, Kdx, 1);
 	double quad = 0.0;
 	for (int k = 0; k < n3; ++k)
 		quad += dx[k] * Kdx[k];

@@ -32,7 +32,7 @@ static fmBodyId makeSwingingBeam(fmWorldId* world, fmIntegrator integrator)
 // Mean position of the vertices of the free end (x = 1 in the rest shape).
 static fmVec3 tipPosition(fmBodyId body)
 {
-	const double* rest = fmGetBody(body)->x0;
+	const double* rest = fmGetBody(body)->mesh.x0;
 	const double* x = fmTestPositions(body);
 	fmVec3 sum = {0, 0, 0};
 	int count = 0;

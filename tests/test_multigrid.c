@@ -36,22 +36,22 @@ static bool makeSystem(fmTestSystem* s, int cells)
 	if (s->cache == NULL)
 		return false;
 	fmImplicitCache* c = s->cache;
-	s->n3 = 3 * s->body->vertexCount;
+	s->n3 = 3 * s->body->mesh.vertexCount;
 	memset(c->hessian, 0, sizeof(double) * 9 * (size_t)c->pattern.blocks);
-	fmSolverCache_AddStiffness(s->body, c, s->body->x, 1.0, 1, c->hessian, NULL);
-	for (int i = 0; i < s->body->vertexCount; ++i)
+	fmSolverCache_AddStiffness(s->body, c, s->body->state.x, 1.0, 1, c->hessian, NULL);
+	for (int i = 0; i < s->body->mesh.vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
 		for (int e = 0; e < 3; ++e)
-			block[4 * e] += 3600.0 * s->body->mass[i];
-		bool bottom = s->body->x[3 * i + 1] < 1e-9;
+			block[4 * e] += 3600.0 * s->body->mesh.mass[i];
+		bool bottom = s->body->state.x[3 * i + 1] < 1e-9;
 		for (int e = 0; e < 3; ++e)
 			c->fixed[3 * i + e] = bottom;
 	}
-	for (int i = 0; i < s->body->vertexCount; ++i)
+	for (int i = 0; i < s->body->mesh.vertexCount; ++i)
 		memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
 		       9 * sizeof(double));
-	fmPcg_BuildPreconditioner(s->body->vertexCount, c->work, c->fixed, fm_precondBlockJacobi,
+	fmPcg_BuildPreconditioner(s->body->mesh.vertexCount, c->work, c->fixed, fm_precondBlockJacobi,
 	                          c->blockInverse);
 	return true;
 }
@@ -129,7 +129,7 @@ static int iterations(fmTestSystem* s, fmPreconditioner kind)
 	fmImplicitCache* c = s->cache;
 	const int n = s->n3;
 	for (int k = 0; k < n; ++k)
-		c->temp[k] = k % 3 == 1 ? -s->body->mass[k / 3] * 9.8 : 0.0;
+		c->temp[k] = k % 3 == 1 ? -s->body->mesh.mass[k / 3] * 9.8 : 0.0;
 	fmPcgPreconditioner pre = {kind, c->blockInverse, &c->pattern, c->hessian, NULL, NULL};
 	if (kind == fm_precondMultigrid)
 	{
@@ -174,7 +174,7 @@ TEST(iterations_grow_far_slower_with_resolution)
 		free(one);
 		printf("  %2d^3 cells (%5d vertices): CG iterations, symmetric Gauss-Seidel %3d, "
 		       "multigrid %3d\n",
-		       cells[k], s.body->vertexCount, sgs[k], mg[k]);
+		       cells[k], s.body->mesh.vertexCount, sgs[k], mg[k]);
 		fmDestroyWorld(s.world);
 	}
 	CHECK(sgs[0] > 0 && mg[0] > 0 && sgs[2] > 0 && mg[2] > 0);

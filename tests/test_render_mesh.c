@@ -210,9 +210,9 @@ TEST(grid_search_matches_brute_force)
 		double w[4];
 		fmVec3 q = fmLoad(p, i);
 		int tet = fmRenderMesh_Binding(body, i, w);
-		CHECK(tet >= 0 && tet < body->tetCount);
+		CHECK(tet >= 0 && tet < body->mesh.tetCount);
 		double found = fmRenderMesh_TetDistance(body, tet, q), best = INFINITY;
-		for (int t = 0; t < body->tetCount; ++t)
+		for (int t = 0; t < body->mesh.tetCount; ++t)
 			best = fmin(best, fmRenderMesh_TetDistance(body, t, q));
 		worst = fmax(worst, found - best);
 		outside += best > 0.0;
@@ -222,7 +222,7 @@ TEST(grid_search_matches_brute_force)
 		// The weights reproduce the point (an affine map is exact, extrapolated or not).
 		fmVec3 back = fmMakeVec3(0, 0, 0);
 		for (int k = 0; k < 4; ++k)
-			back = fmMulAdd(back, w[k], fmLoad(body->x0, body->tets[4 * tet + k]));
+			back = fmMulAdd(back, w[k], fmLoad(body->mesh.x0, body->mesh.tets[4 * tet + k]));
 		CHECK_NEAR(fmLength(fmSub(back, q)), 0.0, 1e-12);
 	}
 	printf("  %d of %d points outside; largest excess over the brute-force distance %.3g m\n",

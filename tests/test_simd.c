@@ -50,7 +50,7 @@ static double* batchedForcesCounting(const fmBody* b, fmSimdLevel level, int wor
                                      double* energy, int* inverted)
 {
 	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
-	double* f = calloc(3 * (size_t)b->vertexCount, sizeof *f);
+	double* f = calloc(3 * (size_t)b->mesh.vertexCount, sizeof *f);
 	if (blocks == NULL || f == NULL)
 	{
 		fmTetBlocks_Destroy(blocks);
@@ -61,7 +61,7 @@ static double* batchedForcesCounting(const fmBody* b, fmSimdLevel level, int wor
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	*energy = fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, level, &tasks, true, inverted, NULL);
+	*energy = fmTetBlocks_AddForces(blocks, b, b->state.x, NULL, f, level, &tasks, true, inverted, NULL);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
@@ -78,13 +78,13 @@ static double* batchedForces(const fmBody* b, fmSimdLevel level, int workers, do
 // relative error at strain e (1e-2 at 1e-7).
 static double linearEnergy(const fmBody* b)
 {
-	fmMaterial linear = b->material;
+	fmMaterial linear = b->mesh.material;
 	linear.model = fm_linear;
 	double energy = 0.0;
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
-		energy += b->restVolume[t] * fmMaterial_Evaluate(&linear, &F, NULL, NULL);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		energy += b->mesh.restVolume[t] * fmMaterial_Evaluate(&linear, &F, NULL, NULL);
 	}
 	return energy;
 }
@@ -94,7 +94,7 @@ static double linearEnergy(const fmBody* b)
 // with @p smallStrain against linear elasticity's).
 static double relativeError(int* failures_, const fmBody* b, double* energyError, bool smallStrain)
 {
-	size_t n3 = 3 * (size_t)b->vertexCount;
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
 	double* ref = calloc(n3, sizeof *ref);
 	double energy = 0.0;
 	double* fast = batchedForces(b, fm_simdScalar, 1, &energy);
@@ -105,7 +105,7 @@ static double relativeError(int* failures_, const fmBody* b, double* energyError
 		free(ref), free(fast);
 		return INFINITY;
 	}
-	double reference = fmAddElasticForces(b, b->x, ref);
+	double reference = fmAddElasticForces(b, b->state.x, ref);
 	if (smallStrain)
 		reference = linearEnergy(b);
 	*energyError = fabs(energy - reference) / fabs(reference);
@@ -122,12 +122,12 @@ static double relativeError(int* failures_, const fmBody* b, double* energyError
 // Map every vertex X to X + amplitude * (sin of its coordinates): a smooth, non-affine field.
 static void deform(fmBody* b, double amplitude)
 {
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		const double* X = b->x0 + 3 * i;
-		b->x[3 * i + 0] = X[0] + amplitude * sin(3.0 * X[1] + 1.0);
-		b->x[3 * i + 1] = X[1] + amplitude * sin(2.0 * X[2] + 2.0 * X[0]);
-		b->x[3 * i + 2] = X[2] + amplitude * sin(4.0 * X[0] - X[1]);
+		const double* X = b->mesh.x0 + 3 * i;
+		b->state.x[3 * i + 0] = X[0] + amplitude * sin(3.0 * X[1] + 1.0);
+		b->state.x[3 * i + 1] = X[1] + amplitude * sin(2.0 * X[2] + 2.0 * X[0]);
+		b->state.x[3 * i + 2] = X[2] + amplitude * sin(4.0 * X[0] - X[1]);
 	}
 }
 
@@ -148,8 +148,8 @@ TEST(batched_forces_match_the_reference_kernel)
 				return;
 			deform(b, amplitudes[a]);
 			// A fixed displacement of the whole body must not matter (u = x - X in double).
-			for (int k = 0; k < 3 * b->vertexCount; ++k)
-				b->x[k] += 1000.0;
+			for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+				b->state.x[k] += 1000.0;
 			double energyErr, err = relativeError(failures_, b, &energyErr, a == 0);
 			if (!(err < 5e-7)) // float: about 1e-7 measured
 				FAIL_AT("%s at amplitude %g: relative error %g", fmMaterialModelName(models[m]),
@@ -185,8 +185,8 @@ TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 		CHECK(b != NULL);
 		if (b == NULL)
 			return;
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
-			b->x[k] = scales[s] * b->x0[k] + (k % 3 == 1 ? 0.01 * b->x0[k - 1] : 0.0);
+		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+			b->state.x[k] = scales[s] * b->mesh.x0[k] + (k % 3 == 1 ? 0.01 * b->mesh.x0[k - 1] : 0.0);
 		double energyErr, err = relativeError(failures_, b, &energyErr, false);
 		// 1e-7 above the clamp, 2.4e-6 far below it. Isochoric Neo-Hookean at F = 0.5 I (J =
 		// 0.125, below the clamp) is the exception: its stress's terms nearly cancel there (mu g F
@@ -221,8 +221,8 @@ TEST(batched_forces_of_a_rotated_body_are_good_to_float_precision_of_the_rotatio
 				return;
 			}
 			deform(b, strains[s]);
-			for (int i = 0; i < b->vertexCount; ++i)
-				fmStore(b->x, i, fmMatVec(&R, fmLoad(b->x, i)));
+			for (int i = 0; i < b->mesh.vertexCount; ++i)
+				fmStore(b->state.x, i, fmMatVec(&R, fmLoad(b->state.x, i)));
 			double energyErr, err = relativeError(failures_, b, &energyErr, false);
 			if (!(err < 3e-6 / strains[s] + 5e-7) || !(energyErr < 3e-6 / strains[s] + 5e-7))
 				FAIL_AT("%s rotated at strain %g: relative error %g, energy's %g",
@@ -238,7 +238,7 @@ TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 	if (b == NULL)
 		return;
 	deform(b, 0.05);
-	size_t bytes = 3 * (size_t)b->vertexCount * sizeof(double);
+	size_t bytes = 3 * (size_t)b->mesh.vertexCount * sizeof(double);
 	double scalarEnergy = 0.0, energy = 0.0;
 	double* scalar = batchedForces(b, fm_simdScalar, 1, &scalarEnergy);
 	int compared = 0;
@@ -255,7 +255,7 @@ TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 			compared += 1;
 		}
 	printf("  scalar .. %s on 1-4 workers (%d runs, %d tets): the same bits\n",
-	       fmSimdLevelName(fmSimd_Detect()), compared, b->tetCount);
+	       fmSimdLevelName(fmSimd_Detect()), compared, b->mesh.tetCount);
 	free(scalar);
 	fmDestroyWorld(world);
 }
@@ -272,7 +272,7 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 	if (tb == NULL)
 		return;
 	int* holds = calloc((size_t)tb->entryCount, sizeof(int)); // tets using each entry
-	int* seen = calloc((size_t)b->tetCount, sizeof(int));
+	int* seen = calloc((size_t)b->mesh.tetCount, sizeof(int));
 	int lanes = 0;
 	for (int k = 0; k < tb->blockCount; ++k)
 		for (int j = tb->blockStart[k]; j < tb->blockStart[k + 1]; ++j)
@@ -285,9 +285,9 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 					else
 						holds[e] += 1;
 				}
-	CHECK_INT(lanes, b->tetCount); // every tet once
+	CHECK_INT(lanes, b->mesh.tetCount); // every tet once
 	int placed = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		int last = -1;
 		for (int q = tb->vertexEntryStart[i]; q < tb->vertexEntryStart[i + 1]; ++q, ++placed)
@@ -301,17 +301,17 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 	}
 	CHECK_INT(placed, tb->entryCount); // every entry gathered by its vertex
 	// The tets around a vertex sum to its valence: no block misses one of them.
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		int tets = 0;
 		for (int q = tb->vertexEntryStart[i]; q < tb->vertexEntryStart[i + 1]; ++q)
 			tets += holds[tb->vertexEntries[q]];
-		if (tets != b->vertexTetStart[i + 1] - b->vertexTetStart[i])
+		if (tets != b->mesh.vertexTetStart[i + 1] - b->mesh.vertexTetStart[i])
 			FAIL_AT("vertex %d: %d tets in its blocks, %d around it", i, tets,
-			        b->vertexTetStart[i + 1] - b->vertexTetStart[i]);
+			        b->mesh.vertexTetStart[i + 1] - b->mesh.vertexTetStart[i]);
 	}
-	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->tetCount, tb->blockCount,
-	       tb->entryCount, (double)tb->entryCount / b->tetCount);
+	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->mesh.tetCount, tb->blockCount,
+	       tb->entryCount, (double)tb->entryCount / b->mesh.tetCount);
 	free(holds), free(seen);
 	fmTetBlocks_Destroy(tb);
 	fmDestroyWorld(world);
@@ -353,11 +353,11 @@ TEST(very_stiff_bodies_take_the_double_precision_kernel)
 			CHECK(0);
 			return;
 		}
-		b->totalMass = 1000.0; // density 1000 kg/m^3: typical strain 1e-2 and 1e-8
+		b->mesh.totalMass = 1000.0; // density 1000 kg/m^3: typical strain 1e-2 and 1e-8
 		CHECK_INT(fmWorld_Step(world, 1e-6, 1), fm_ok);
-		CHECK(b->tetBlocks != NULL);
-		if (b->tetBlocks != NULL)
-			CHECK(fmTetBlocks_Accurate(b->tetBlocks, b) == (k == 0));
+		CHECK(b->mesh.tetBlocks != NULL);
+		if (b->mesh.tetBlocks != NULL)
+			CHECK(fmTetBlocks_Accurate(b->mesh.tetBlocks, b) == (k == 0));
 		fmDestroyWorld(world);
 	}
 }
@@ -373,7 +373,7 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 	CHECK(tb != NULL);
 	if (tb == NULL)
 		return;
-	size_t n3 = 3 * (size_t)b->vertexCount;
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
 	double* v = malloc(sizeof(double) * n3);
 	double* seeds = calloc(n3, sizeof(double));
 	double* sums = calloc(n3, sizeof(double));
@@ -381,10 +381,10 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 	fmTestSeed(17);
 	for (size_t k = 0; k < n3; ++k)
 		v[k] = fmTestRandom(-2.0, 2.0);
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 		for (int c = 0; c < 3; ++c)
 		{
-			const int* n = b->tets + 4 * t;
+			const int* n = b->mesh.tets + 4 * t;
 			double s = v[3 * n[0] + c] + v[3 * n[1] + c] + v[3 * n[2] + c] + v[3 * n[3] + c];
 			for (int a = 0; a < 4; ++a)
 				seeds[3 * n[a] + c] += s;
@@ -765,8 +765,8 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 {
 	fmWorldId world;
 	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		b->x[k] += fmTestRandom(-0.05, 0.05);
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		b->state.x[k] += fmTestRandom(-0.05, 0.05);
 	fmForceBatchFillFcn* fills[] = {
 		fmTetKernel_FillForceBatch_scalar,
 		fmTetKernel_FillForceBatch_baseline,
@@ -781,20 +781,20 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 	{
 		if (!cpuRunsVariant(v))
 			continue;
-		for (int first = 0; first + FM_FORCE_LANES <= b->tetCount; first += FM_FORCE_LANES)
+		for (int first = 0; first + FM_FORCE_LANES <= b->mesh.tetCount; first += FM_FORCE_LANES)
 		{
 			fmForceBatch batch;
-			fills[v](b->x, b->tets, b->DmInv, b->restVolume, first, &batch);
+			fills[v](b->state.x, b->mesh.tets, b->mesh.DmInv, b->mesh.restVolume, first, &batch);
 			for (int l = 0; l < FM_FORCE_LANES; ++l, ++compared)
 			{
-				const int* n = b->tets + 4 * (first + l);
-				bool same = batch.volume[l] == b->restVolume[first + l];
+				const int* n = b->mesh.tets + 4 * (first + l);
+				bool same = batch.volume[l] == b->mesh.restVolume[first + l];
 				for (int i = 0; i < 3; ++i)
 					for (int k = 0; k < 3; ++k)
 					{
-						double edge = b->x[3 * n[k + 1] + i] - b->x[3 * n[0] + i];
+						double edge = b->state.x[3 * n[k + 1] + i] - b->state.x[3 * n[0] + i];
 						same = same && memcmp(&batch.Ds[3 * i + k][l], &edge, sizeof edge) == 0 &&
-						       memcmp(&batch.dmInv[3 * i + k][l], &b->DmInv[first + l].m[3 * i + k],
+						       memcmp(&batch.dmInv[3 * i + k][l], &b->mesh.DmInv[first + l].m[3 * i + k],
 						              sizeof(double)) == 0;
 					}
 				if (!same && ++differ <= 5)
@@ -803,7 +803,7 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 		}
 	}
 	CHECK_INT(differ, 0);
-	CHECK(compared >= 2 * (b->tetCount / FM_FORCE_LANES) * FM_FORCE_LANES); // scalar, baseline
+	CHECK(compared >= 2 * (b->mesh.tetCount / FM_FORCE_LANES) * FM_FORCE_LANES); // scalar, baseline
 	fmDestroyWorld(world);
 }
 
@@ -815,21 +815,21 @@ TEST(inverted_tets_are_flagged_as_one_tet_at_a_time)
 	fmWorldId world;
 	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
 	fmTestSeed(31);
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		b->x[k] += fmTestRandom(-0.25, 0.25);
-	unsigned char* flags = malloc((size_t)b->tetCount);
-	fmInvertedTets(b, b->x, 0, b->tetCount, flags);
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		b->state.x[k] += fmTestRandom(-0.25, 0.25);
+	unsigned char* flags = malloc((size_t)b->mesh.tetCount);
+	fmInvertedTets(b, b->state.x, 0, b->mesh.tetCount, flags);
 	int inverted = 0, differ = 0;
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t);
 		bool expected = !(fmDet(&F) > 0.0);
 		inverted += expected;
 		differ += flags[t] != expected;
 	}
-	printf("  %d of %d tets inverted\n", inverted, b->tetCount);
+	printf("  %d of %d tets inverted\n", inverted, b->mesh.tetCount);
 	CHECK_INT(differ, 0);
-	CHECK(inverted > 0 && inverted < b->tetCount);
+	CHECK(inverted > 0 && inverted < b->mesh.tetCount);
 	CHECK_INT(fmBodyCountInverted(b), inverted);
 	free(flags);
 	fmDestroyWorld(world);
@@ -850,22 +850,22 @@ TEST(the_energy_pass_counts_the_inverted_tets_exactly)
 	const double amplitudes[] = {0.0, 0.01, 0.05, 0.2, 0.01, 0.01}; // the cells are 0.125 m
 	for (int c = 0; c < 6; ++c)
 	{
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
-			b->x[k] = b->x0[k] + fmTestRandom(-amplitudes[c], amplitudes[c]);
+		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+			b->state.x[k] = b->mesh.x0[k] + fmTestRandom(-amplitudes[c], amplitudes[c]);
 		int nearFlat = 0;
-		for (int t = 0; c == 4 && t < b->tetCount; t += 5)
+		for (int t = 0; c == 4 && t < b->mesh.tetCount; t += 5)
 		{
 			// Node 3 onto the plane of the other three (a point of it in rounding).
-			const int* n = b->tets + 4 * t;
-			fmVec3 x0 = fmLoad(b->x, n[0]), x1 = fmLoad(b->x, n[1]), x2 = fmLoad(b->x, n[2]);
+			const int* n = b->mesh.tets + 4 * t;
+			fmVec3 x0 = fmLoad(b->state.x, n[0]), x1 = fmLoad(b->state.x, n[1]), x2 = fmLoad(b->state.x, n[2]);
 			fmVec3 p = fmAdd(x0, fmAdd(fmScale(0.3, fmSub(x1, x0)), fmScale(0.4, fmSub(x2, x0))));
-			fmStore(b->x, n[3], p);
+			fmStore(b->state.x, n[3], p);
 		}
 		if (c == 5)
-			b->x[3 * 17 + 1] = 1e30;
-		for (int t = 0; t < b->tetCount; ++t)
+			b->state.x[3 * 17 + 1] = 1e30;
+		for (int t = 0; t < b->mesh.tetCount; ++t)
 		{
-			fmMat3 F = fmTetDeformation(b, b->x, t);
+			fmMat3 F = fmTetDeformation(b, b->state.x, t);
 			nearFlat += fabs(fmDet(&F)) < 1e-6;
 		}
 		int expected = fmBodyCountInverted(b);

@@ -166,7 +166,7 @@ static void stepTwins(int* failures_, fmWorldId a, fmWorldId b, int frames, fmBo
 		CHECK_INT(fmWorld_Step(b, 1.0 / 60.0, 1), fm_ok);
 	}
 	size_t n3 = 3 * (size_t)fmBody_GetVertexCount(x);
-	CHECK(memcmp(fmGetBody(x)->x, fmGetBody(y)->x, sizeof(double) * n3) == 0);
+	CHECK(memcmp(fmGetBody(x)->state.x, fmGetBody(y)->state.x, sizeof(double) * n3) == 0);
 }
 
 // The implicit solver's warm start (which first guess the last step took: a body at rest
@@ -179,7 +179,7 @@ TEST(implicit_warm_start_is_saved)
 	CHECK(fmBody_IsValid(body));
 	for (int frame = 0; frame < 60; ++frame)
 		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
-	fmImplicitCache* cache = fmGetBody(body)->implicitCache;
+	fmImplicitCache* cache = fmGetBody(body)->solverCache;
 	CHECK(cache != NULL && cache->coasted);
 	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
 	void* snapshot = malloc(size);
@@ -192,9 +192,9 @@ TEST(implicit_warm_start_is_saved)
 	CHECK_INT(cache->guessRecheck, 5);
 
 	fmBodyId twin = makeRestingBox(&fresh);
-	CHECK(fmGetBody(twin)->implicitCache == NULL);
+	CHECK(fmGetBody(twin)->solverCache == NULL);
 	CHECK_INT(fmWorld_RestoreSnapshot(fresh, snapshot, size), fm_ok);
-	const fmImplicitCache* restored = fmGetBody(twin)->implicitCache;
+	const fmImplicitCache* restored = fmGetBody(twin)->solverCache;
 	CHECK(restored != NULL && restored->coasted);
 	CHECK_INT(restored != NULL ? restored->guessRecheck : -1, 5);
 	// Both continue with the same bits.
@@ -357,7 +357,7 @@ static double* replay(int* failures_, const ContactScene* scene, const void* sna
 	for (int k = 0; undo == 2 && k < 2; ++k)
 	{
 		fmBody* b = fmGetBody(scene->bodies[k]);
-		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
+		memset(b->contact.frictionNext, 0, sizeof(double) * 8 * (size_t)b->mesh.vertexCount);
 	}
 	if (undo == 3)
 		CHECK(fmContactEvents_SetFramePairs(fmGetWorld(scene->world), NULL, 0));
@@ -373,8 +373,8 @@ static int frictionVertices(const ContactScene* scene)
 	for (int k = 0; k < 2; ++k)
 	{
 		const fmBody* b = fmGetBody(scene->bodies[k]);
-		for (int i = 0; b->contactFrictionNext && i < b->vertexCount; ++i)
-			count += b->contactFrictionNext[8 * i + 3] > 0.0;
+		for (int i = 0; b->contact.frictionNext && i < b->mesh.vertexCount; ++i)
+			count += b->contact.frictionNext[8 * i + 3] > 0.0;
 	}
 	return count;
 }
@@ -541,8 +541,8 @@ TEST(colliders_that_differ_are_refused)
 		CHECK_INT(fmWorld_Step(closed, 1.0 / 60.0, 1), fm_ok);
 	const fmBody* resting = fmGetBody(body);
 	int friction = 0;
-	for (int i = 0; resting->contactFrictionNext && i < resting->vertexCount; ++i)
-		friction += resting->contactFrictionNext[8 * i + 3] > 0.0;
+	for (int i = 0; resting->contact.frictionNext && i < resting->mesh.vertexCount; ++i)
+		friction += resting->contact.frictionNext[8 * i + 3] > 0.0;
 	CHECK(friction > 0); // restored into a world that has no friction arrays yet
 	size_t meshSize = fmWorld_GetSnapshotSize(closed);
 	void* meshSnapshot = malloc(meshSize);

@@ -31,52 +31,25 @@ static bool fmIsFiniteVec3(fmVec3 v)
 // Free every array of a body; safe on a partially built body.
 void fmBodyRelease(fmBody* b)
 {
-	size_t n = (size_t)b->vertexCount, m = (size_t)b->tetCount;
-	FM_FREE_ARRAY(b->x, double, 3 * n);
-	FM_FREE_ARRAY(b->v, double, 3 * n);
-	FM_FREE_ARRAY(b->f, double, 3 * n);
-	FM_FREE_ARRAY(b->x0, double, 3 * n);
+	int vertexCount = b->mesh.vertexCount, tetCount = b->mesh.tetCount;
+	size_t n = (size_t)vertexCount, m = (size_t)tetCount;
+	fmBodyState_Free(&b->state, vertexCount);
 	FM_FREE_ARRAY(b->xGood, double, 3 * n);
 	FM_FREE_ARRAY(b->vGood, double, 3 * n);
-	FM_FREE_ARRAY(b->mass, double, n);
-	FM_FREE_ARRAY(b->invMass, double, n);
-	FM_FREE_ARRAY(b->smoothWeight, double, n);
-	FM_FREE_ARRAY(b->vertexTetStart, int, n + 1);
-	FM_FREE_ARRAY(b->vertexTets, int, 4 * m);
-	FM_FREE_ARRAY(b->pinned, uint8_t, n);
-	FM_FREE_ARRAY(b->tets, int, 4 * m);
-	FM_FREE_ARRAY(b->DmInv, fmMat3, m);
-	FM_FREE_ARRAY(b->restVolume, double, m);
-	FM_FREE_ARRAY(b->edges, int, 2 * (size_t)b->edgeCount);
-	FM_FREE_ARRAY(b->restLength, double, b->edgeCount);
-	FM_FREE_ARRAY(b->springK, double, b->edgeCount);
-	FM_FREE_ARRAY(b->fvmNormals, fmVec3, 4 * (size_t)b->tetCount);
-	fmFree(b->surface);
 	FM_FREE_ARRAY(b->userVertex, int, n);
 	FM_FREE_ARRAY(b->internalVertex, int, n);
 	FM_FREE_ARRAY(b->userTet, int, m);
 	FM_FREE_ARRAY(b->userTets, int, 4 * m);
-	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->triangleCount);
+	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->mesh.triangleCount);
 	FM_FREE_ARRAY(b->userMass, double, n);
 	fmDrawCache_Free(b->drawCache);
 	fmRenderMesh_Free(b->renderMesh);
-	FM_FREE_ARRAY(b->surfaceVertex, int, b->surfaceVertexCount);
-	FM_FREE_ARRAY(b->contactStart, double, 3 * n);
-	FM_FREE_ARRAY(b->contactMark, int, n);
-	FM_FREE_ARRAY(b->embeddedHolder, int, n);
-	FM_FREE_ARRAY(b->contactPlane, double, 4 * n);
-	FM_FREE_ARRAY(b->contactFriction, double, 8 * n);
-	FM_FREE_ARRAY(b->contactFrictionNext, double, 8 * n);
-	FM_FREE_ARRAY(b->contactTetMark, uint8_t, m > 0 ? m : 1);
-	FM_FREE_ARRAY(b->edgePlanes, fmEdgePlane, b->edgePlaneCapacity);
-	FM_FREE_ARRAY(b->floorHits, fmFloorHit, b->floorHitCapacity);
+	fmBodyContact_Free(&b->contact, vertexCount, tetCount);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
 	fmLoads_Free(b->loads);
-	FM_FREE_ARRAY(b->materials, fmMaterial, b->materialCount);
-	FM_FREE_ARRAY(b->tetMaterial, uint16_t, m);
-	fmSolverCache_Free(b->implicitCache);
-	fmTetBlocks_Destroy(b->tetBlocks);
+	fmSolverCache_Free(b->solverCache);
+	fmElasticMesh_Free(&b->mesh);
 	uint32_t generation = b->generation;
 	memset(b, 0, sizeof *b);
 	b->generation = generation;
@@ -84,31 +57,15 @@ void fmBodyRelease(fmBody* b)
 
 static bool fmBodyAllocate(fmBody* b, int n, int m)
 {
-	b->vertexCount = n;
-	b->tetCount = m;
-	b->x = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
-	b->v = FM_ALLOC_ZERO(double, 3 * (size_t)n);
-	b->f = FM_ALLOC_ZERO(double, 3 * (size_t)n);
-	b->x0 = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
+	bool made = fmElasticMesh_Allocate(&b->mesh, n, m) && fmBodyState_Allocate(&b->state, n);
 	b->xGood = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
 	b->vGood = FM_ALLOC_ZERO(double, 3 * (size_t)n);
-	b->mass = FM_ALLOC_ZERO(double, n);
-	b->invMass = FM_ALLOC_ZERO(double, n);
-	b->smoothWeight = FM_ALLOC_ZERO(double, n);
-	b->vertexTetStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
-	b->vertexTets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
-	b->pinned = FM_ALLOC_ZERO(uint8_t, n);
-	b->tets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
-	b->DmInv = FM_ALLOC_ARRAY(fmMat3, m);
-	b->restVolume = FM_ALLOC_ARRAY(double, m);
 	b->userVertex = FM_ALLOC_ARRAY(int, n);
 	b->internalVertex = FM_ALLOC_ARRAY(int, n);
 	b->userTet = FM_ALLOC_ARRAY(int, m);
 	b->userTets = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
 	b->userMass = FM_ALLOC_ARRAY(double, n);
-	return b->x && b->v && b->f && b->x0 && b->xGood && b->vGood && b->mass && b->invMass &&
-	       b->smoothWeight && b->vertexTetStart && b->vertexTets && b->pinned && b->tets &&
-	       b->DmInv && b->restVolume && b->userVertex && b->internalVertex && b->userTet &&
+	return made && b->xGood && b->vGood && b->userVertex && b->internalVertex && b->userTet &&
 	       b->userTets && b->userMass;
 }
 
@@ -116,54 +73,54 @@ static bool fmBodyAllocate(fmBody* b, int n, int m)
 static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
                                      fmDiagnostic* diag, int* tetsAround)
 {
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		const int* n = b->tets + 4 * t;
-		fmVec3 X0 = fmLoad(b->x0, n[0]);
+		const int* n = b->mesh.tets + 4 * t;
+		fmVec3 X0 = fmLoad(b->mesh.x0, n[0]);
 		fmMat3 Dm =
-		    fmMat3FromColumns(fmSub(fmLoad(b->x0, n[1]), X0), fmSub(fmLoad(b->x0, n[2]), X0),
-		                      fmSub(fmLoad(b->x0, n[3]), X0));
+		    fmMat3FromColumns(fmSub(fmLoad(b->mesh.x0, n[1]), X0), fmSub(fmLoad(b->mesh.x0, n[2]), X0),
+		                      fmSub(fmLoad(b->mesh.x0, n[3]), X0));
 		double volume = fmDet(&Dm) / 6.0;
-		if (!(volume > 0.0) || !fmInverse(&Dm, &b->DmInv[t]))
+		if (!(volume > 0.0) || !fmInverse(&Dm, &b->mesh.DmInv[t]))
 			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
 			                   "tet %d (in the mesh's numbering) has zero volume",
 			                   b->userTet[t] + mesh->firstIndex);
-		b->restVolume[t] = volume;
+		b->mesh.restVolume[t] = volume;
 		for (int a = 0; a < 4; ++a)
 		{
 			tetsAround[n[a]] += 1;
 			if (def->massMode == fm_massFromDensity)
-				b->mass[n[a]] += def->density * volume / 4.0;
+				b->mesh.mass[n[a]] += def->density * volume / 4.0;
 		}
 	}
-	b->totalMass = 0.0;
-	fmVec3 lo = fmLoad(b->x0, 0), hi = lo;
-	for (int i = 0; i < b->vertexCount; ++i)
+	b->mesh.totalMass = 0.0;
+	fmVec3 lo = fmLoad(b->mesh.x0, 0), hi = lo;
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		fmVec3 p = fmLoad(b->x0, i);
+		fmVec3 p = fmLoad(b->mesh.x0, i);
 		lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
 		hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
 		if (def->massMode == fm_massPerParticle)
-			b->mass[i] = def->particleMass;
-		b->smoothWeight[i] = tetsAround[i] > 0 ? 1.0 / (4.0 * tetsAround[i]) : 0.0;
+			b->mesh.mass[i] = def->particleMass;
+		b->mesh.smoothWeight[i] = tetsAround[i] > 0 ? 1.0 / (4.0 * tetsAround[i]) : 0.0;
 		// A node no tet uses has no elastic tie to the body: keep it where it is.
 		if (tetsAround[i] == 0)
-			b->pinned[i] = FM_PIN_ALL;
-		b->invMass[i] = b->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[i];
-		b->totalMass += b->mass[i];
+			b->state.pinned[i] = FM_PIN_ALL;
+		b->state.invMass[i] = b->state.pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / b->mesh.mass[i];
+		b->mesh.totalMass += b->mesh.mass[i];
 	}
-	b->restSize = fmLength(fmSub(hi, lo));
+	b->mesh.restSize = fmLength(fmSub(hi, lo));
 	// Density times a tiny volume can underflow to a zero mass (an infinite inverse), a huge
 	// one overflow: the integrators divide by these.
-	for (int i = 0; i < b->vertexCount; ++i)
-		if (b->pinned[i] != FM_PIN_ALL && !(isfinite(b->invMass[i]) && b->invMass[i] > 0.0))
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		if (b->state.pinned[i] != FM_PIN_ALL && !(isfinite(b->state.invMass[i]) && b->state.invMass[i] > 0.0))
 			return fmDiagError(diag, fm_errRange, "", 0, 0,
 			                   "node %d gets mass %g kg: expected a finite mass > 0 (density %g "
 			                   "kg/m^3 times its tets' volume, or the particle mass)",
-			                   b->userVertex[i] + mesh->firstIndex, b->mass[i], def->density);
-	if (!isfinite(b->totalMass))
+			                   b->userVertex[i] + mesh->firstIndex, b->mesh.mass[i], def->density);
+	if (!isfinite(b->mesh.totalMass))
 		return fmDiagError(diag, fm_errRange, "", 0, 0, "the body's total mass overflows (%g kg)",
-		                   b->totalMass);
+		                   b->mesh.totalMass);
 	return fm_ok;
 }
 
@@ -171,29 +128,29 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 // @p tetsAround (consumed).
 static void fmBodyBuildIncidence(fmBody* b, int* tetsAround)
 {
-	b->vertexTetStart[0] = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	b->mesh.vertexTetStart[0] = 0;
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		b->vertexTetStart[i + 1] = b->vertexTetStart[i] + tetsAround[i];
-		tetsAround[i] = b->vertexTetStart[i]; // the next free place of vertex i
+		b->mesh.vertexTetStart[i + 1] = b->mesh.vertexTetStart[i] + tetsAround[i];
+		tetsAround[i] = b->mesh.vertexTetStart[i]; // the next free place of vertex i
 	}
-	for (int t = 0; t < b->tetCount; ++t) // tets in order: each list ends up ascending
+	for (int t = 0; t < b->mesh.tetCount; ++t) // tets in order: each list ends up ascending
 		for (int a = 0; a < 4; ++a)
-			b->vertexTets[tetsAround[b->tets[4 * t + a]]++] = 4 * t + a;
+			b->mesh.vertexTets[tetsAround[b->mesh.tets[4 * t + a]]++] = 4 * t + a;
 }
 
 // The same with a counter of the tets around each vertex, allocated for the call.
 static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMesh* mesh,
                                  fmDiagnostic* diag)
 {
-	int* tetsAround = FM_ALLOC_ZERO(int, (size_t)b->vertexCount);
+	int* tetsAround = FM_ALLOC_ZERO(int, (size_t)b->mesh.vertexCount);
 	if (tetsAround == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
-		                   "out of memory preparing a body of %d vertices", b->vertexCount);
+		                   "out of memory preparing a body of %d vertices", b->mesh.vertexCount);
 	fmResult r = fmBodyPrecomputeWith(b, def, mesh, diag, tetsAround);
 	if (r == fm_ok)
 		fmBodyBuildIncidence(b, tetsAround);
-	FM_FREE_ARRAY(tetsAround, int, (size_t)b->vertexCount);
+	FM_FREE_ARRAY(tetsAround, int, (size_t)b->mesh.vertexCount);
 	return r;
 }
 
@@ -201,21 +158,21 @@ static fmResult fmBodyPrecompute(fmBody* b, const fmBodyDef* def, const fmTetMes
 // (reorder.h), keeping the maps between the two numberings and the user's tets.
 static bool fmBodyReorder(fmBody* b)
 {
-	const int n = b->vertexCount, m = b->tetCount;
+	const int n = b->mesh.vertexCount, m = b->mesh.tetCount;
 	double* userX = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
-	bool ok = userX != NULL && fmReorder_Compute(b->x0, n, b->tets, m, b->userTet, b->userVertex);
+	bool ok = userX != NULL && fmReorder_Compute(b->mesh.x0, n, b->mesh.tets, m, b->userTet, b->userVertex);
 	if (ok)
 	{
-		memcpy(userX, b->x0, sizeof(double) * 3 * (size_t)n);
-		memcpy(b->userTets, b->tets, sizeof(int) * 4 * (size_t)m);
+		memcpy(userX, b->mesh.x0, sizeof(double) * 3 * (size_t)n);
+		memcpy(b->userTets, b->mesh.tets, sizeof(int) * 4 * (size_t)m);
 		for (int i = 0; i < n; ++i)
 		{
 			b->internalVertex[b->userVertex[i]] = i;
-			fmStore(b->x0, i, fmLoad(userX, b->userVertex[i]));
+			fmStore(b->mesh.x0, i, fmLoad(userX, b->userVertex[i]));
 		}
 		for (int t = 0; t < m; ++t)
 			for (int a = 0; a < 4; ++a)
-				b->tets[4 * t + a] = b->internalVertex[b->userTets[4 * b->userTet[t] + a]];
+				b->mesh.tets[4 * t + a] = b->internalVertex[b->userTets[4 * b->userTet[t] + a]];
 	}
 	FM_FREE_ARRAY(userX, double, 3 * (size_t)n);
 	return ok;
@@ -224,12 +181,12 @@ static bool fmBodyReorder(fmBody* b)
 // The surface in the user's numbering (what fmBody_GetSurface returns).
 static bool fmBodyUserSurface(fmBody* b)
 {
-	size_t count = 3 * (size_t)b->triangleCount;
+	size_t count = 3 * (size_t)b->mesh.triangleCount;
 	b->userSurface = FM_ALLOC_ARRAY(int, count);
 	if (b->userSurface == NULL && count > 0)
 		return false;
 	for (size_t k = 0; k < count; ++k)
-		b->userSurface[k] = b->userVertex[b->surface[k]];
+		b->userSurface[k] = b->userVertex[b->mesh.surface[k]];
 	return true;
 }
 
@@ -241,21 +198,21 @@ static bool fmBodyAssignRegions(fmBody* b, const fmBodyDef* def)
 {
 	if (def->regionCount <= 0)
 		return true;
-	b->materialCount = def->regionCount + 1;
-	b->materials = FM_ALLOC_ARRAY(fmMaterial, b->materialCount);
-	b->tetMaterial = FM_ALLOC_ZERO(uint16_t, b->tetCount);
-	if (b->materials == NULL || b->tetMaterial == NULL)
+	b->mesh.materialCount = def->regionCount + 1;
+	b->mesh.materials = FM_ALLOC_ARRAY(fmMaterial, b->mesh.materialCount);
+	b->mesh.tetMaterial = FM_ALLOC_ZERO(uint16_t, b->mesh.tetCount);
+	if (b->mesh.materials == NULL || b->mesh.tetMaterial == NULL)
 		return false;
-	b->materials[0] = def->material;
-	memcpy(b->materials + 1, def->regionMaterials, sizeof(fmMaterial) * (size_t)def->regionCount);
+	b->mesh.materials[0] = def->material;
+	memcpy(b->mesh.materials + 1, def->regionMaterials, sizeof(fmMaterial) * (size_t)def->regionCount);
 	const fmTetMesh* mesh = def->mesh;
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
 		double region =
 		    mesh->tetAttributes[(size_t)b->userTet[t] * (size_t)mesh->tetAttributeCount];
 		for (int k = 0; k < def->regionCount; ++k)
 			if (region == (double)def->regionIds[k])
-				b->tetMaterial[t] = (uint16_t)(k + 1);
+				b->mesh.tetMaterial[t] = (uint16_t)(k + 1);
 	}
 	return true;
 }
@@ -271,15 +228,15 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 	fmTetMesh mesh;
 	memset(&mesh, 0, sizeof mesh);
 	mesh.nodeCount = source->nodeCount;
-	mesh.positions = b->x0;
+	mesh.positions = b->mesh.x0;
 	mesh.tetCount = source->tetCount;
-	mesh.tets = b->tets;
+	mesh.tets = b->mesh.tets;
 	mesh.firstIndex = source->firstIndex;
 	if (r == fm_ok)
 	{
 		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
-		memcpy(b->x0, source->positions, n3);
-		memcpy(b->tets, source->tets, sizeof(int) * 4 * (size_t)mesh.tetCount);
+		memcpy(b->mesh.x0, source->positions, n3);
+		memcpy(b->mesh.tets, source->tets, sizeof(int) * 4 * (size_t)mesh.tetCount);
 		r = fmTetMesh_Orient(&mesh, NULL, diag);
 	}
 	if (r == fm_ok && !fmBodyReorder(b))
@@ -288,33 +245,33 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 	if (r == fm_ok)
 	{
 		b->firstIndex = mesh.firstIndex;
-		b->material = def->material;
-		b->forceModel = def->forceModel;
+		b->mesh.material = def->material;
+		b->mesh.forceModel = def->forceModel;
 		b->damping = def->damping;
 		b->smoothing = def->smoothing;
 		b->rayleighMass = def->rayleighMass;
 		b->rayleighStiffness = def->rayleighStiffness;
-		b->springDamping = def->springDamping;
+		b->mesh.springDamping = def->springDamping;
 		b->friction = def->friction;
 		b->filter = def->filter;
 		b->selfCollision = def->selfCollision;
 		b->canSleep = def->enableSleep;
 		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
-		memcpy(b->x, b->x0, n3);
-		memcpy(b->xGood, b->x0, n3);
+		memcpy(b->state.x, b->mesh.x0, n3);
+		memcpy(b->xGood, b->mesh.x0, n3);
 		r = fmBodyPrecompute(b, def, &mesh, diag);
 	}
-	if (r == fm_ok && (fmTetMesh_ExtractSurface(&mesh, &b->surface, &b->triangleCount) != fm_ok ||
+	if (r == fm_ok && (fmTetMesh_ExtractSurface(&mesh, &b->mesh.surface, &b->mesh.triangleCount) != fm_ok ||
 	                   !fmBodyUserSurface(b)))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory extracting the surface");
 	if (r == fm_ok)
-		for (int i = 0; i < b->vertexCount; ++i)
-			b->userMass[b->userVertex[i]] = b->mass[i];
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
+			b->userMass[b->userVertex[i]] = b->mesh.mass[i];
 	if (r == fm_ok && !fmBodyAssignRegions(b, def))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for region materials");
-	if (r == fm_ok && b->forceModel == fm_massSpring && fmBuildSprings(b) != 0)
+	if (r == fm_ok && b->mesh.forceModel == fm_massSpring && fmBuildSprings(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
-	if (r == fm_ok && b->forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
+	if (r == fm_ok && b->mesh.forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
 	if (r == fm_ok)
 		b->energyStale = true;
@@ -329,7 +286,7 @@ static size_t fmWorldMemoryInUse(const fmWorld* world)
 {
 	size_t used = fmWorldTableBytes(world->bodyCapacity);
 	for (int i = 0; i < world->bodyCapacity; ++i)
-		if (world->bodies[i].x)
+		if (fmBody_IsLive(&world->bodies[i]))
 			used = used > SIZE_MAX - world->bodies[i].memoryEstimate
 			           ? SIZE_MAX
 			           : used + world->bodies[i].memoryEstimate;
@@ -377,7 +334,7 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 	// A slot whose generation would wrap is retired: its old ids must never come back.
 	int slot = -1;
 	for (int i = 0; i < world->bodyCapacity && slot < 0; ++i)
-		if (world->bodies[i].x == NULL && world->bodies[i].generation != UINT32_MAX)
+		if (!fmBody_IsLive(&world->bodies[i]) && world->bodies[i].generation != UINT32_MAX)
 			slot = i;
 	if (slot < 0)
 		return fmDiagError(diag, fm_errLimit, "", 0, 0,
@@ -388,7 +345,7 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 	if (r == fm_ok && !fmWorldReserveArena(world))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                "out of memory for the step buffers of a body of %d vertices",
-		                b->vertexCount);
+		                b->mesh.vertexCount);
 	if (r == fm_ok)
 		b->explicitLimit = fmWorldBodyStepLimit(world, b);
 	if (r != fm_ok)
@@ -413,7 +370,7 @@ fmBody* fmGetBody(fmBodyId id)
 	if (world == NULL || id.index1 < 1 || id.index1 > world->bodyCapacity)
 		return NULL;
 	fmBody* b = &world->bodies[id.index1 - 1];
-	if (b->x == NULL || b->generation != id.generation)
+	if (!fmBody_IsLive(b) || b->generation != id.generation)
 		return NULL;
 	return b;
 }
@@ -442,13 +399,13 @@ bool fmBody_IsValid(fmBodyId bodyId)
 int fmBody_GetVertexCount(fmBodyId bodyId)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	return b ? b->vertexCount : 0;
+	return b ? b->mesh.vertexCount : 0;
 }
 
 int fmBody_GetTetCount(fmBodyId bodyId)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	return b ? b->tetCount : 0;
+	return b ? b->mesh.tetCount : 0;
 }
 
 // ---- copy-out read-back ------------------------------------------------------------------------
@@ -468,11 +425,11 @@ static fmResult fmCheckCopyOut(fmBodyId bodyId, const void* out, int vertexCapac
 	if (out == NULL)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "%s: the buffer is NULL (expected 3 values a vertex)", what);
-	if (vertexCapacity < (*body)->vertexCount)
+	if (vertexCapacity < (*body)->mesh.vertexCount)
 		return fmDiagError(diag, fm_errLimit, "", 0, 0,
 		                   "%s: a buffer of %d vertices is too small for body %d's %d vertices "
 		                   "(fmBody_GetVertexCount; 3 values a vertex)",
-		                   what, vertexCapacity, bodyId.index1 - 1, (*body)->vertexCount);
+		                   what, vertexCapacity, bodyId.index1 - 1, (*body)->mesh.vertexCount);
 	return fm_ok;
 }
 
@@ -480,7 +437,7 @@ static fmResult fmCheckCopyOut(fmBodyId bodyId, const void* out, int vertexCapac
 // node order) goes to out[3 i .. 3 i + 2], whatever order femto keeps its own arrays in.
 static void fmCopyOut(const fmBody* b, const double* state, double* out)
 {
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		fmStore(out, b->userVertex[i], fmLoad(state, i));
 }
 
@@ -489,7 +446,7 @@ static void fmCopyOut(const fmBody* b, const double* state, double* out)
 static void fmCopyOutFloat(const fmBody* b, const double* state, float* out)
 {
 	fmFpEnv env = fmFpEnv_Enter(fmDetMath_Enabled());
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		for (int k = 0; k < 3; ++k)
 			out[3 * b->userVertex[i] + k] = (float)state[3 * i + k];
 	fmFpEnv_Leave(&env);
@@ -505,9 +462,9 @@ static fmResult fmCopyState(fmBodyId bodyId, bool velocities, double* out, float
 	if (r != fm_ok)
 		return r;
 	if (out)
-		fmCopyOut(b, velocities ? b->v : b->x, out);
+		fmCopyOut(b, velocities ? b->state.v : b->state.x, out);
 	else
-		fmCopyOutFloat(b, velocities ? b->v : b->x, outFloat);
+		fmCopyOutFloat(b, velocities ? b->state.v : b->state.x, outFloat);
 	return fm_ok;
 }
 
@@ -548,7 +505,7 @@ const int* fmBody_GetSurface(fmBodyId bodyId, int* triangleCount)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (triangleCount)
-		*triangleCount = b ? b->triangleCount : 0;
+		*triangleCount = b ? b->mesh.triangleCount : 0;
 	return b ? b->userSurface : NULL;
 }
 
@@ -565,8 +522,8 @@ void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (fmHasState(b, positions))
-		for (int i = 0; i < b->vertexCount; ++i)
-			fmStore(b->x, i, fmLoad(positions, b->userVertex[i]));
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
+			fmStore(b->state.x, i, fmLoad(positions, b->userVertex[i]));
 }
 
 void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
@@ -575,10 +532,10 @@ void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)
 	fmBody* b = fmBodyOrAssert(bodyId);
 	if (!fmHasState(b, velocities))
 		return;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		fmStore(b->v, i, fmLoad(velocities, b->userVertex[i]));
-		fmZeroPinnedAxes(b, i, b->v + 3 * i);
+		fmStore(b->state.v, i, fmLoad(velocities, b->userVertex[i]));
+		fmZeroPinnedAxes(&b->state, i, b->state.v + 3 * i);
 	}
 }
 
@@ -588,10 +545,10 @@ static void fmBodyApplyImpulseIn(fmBodyId bodyId, fmVec3 deltaVelocity)
 	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
 	if (b == NULL || !fmIsFiniteVec3(deltaVelocity))
 		return;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		fmStore(b->v, i, fmAdd(fmLoad(b->v, i), deltaVelocity));
-		fmZeroPinnedAxes(b, i, b->v + 3 * i);
+		fmStore(b->state.v, i, fmAdd(fmLoad(b->state.v, i), deltaVelocity));
+		fmZeroPinnedAxes(&b->state, i, b->state.v + 3 * i);
 	}
 }
 
@@ -600,11 +557,11 @@ static void fmBodyApplyVertexImpulseIn(fmBodyId bodyId, int vertex, fmVec3 delta
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
 	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
-	if (b && vertex >= 0 && vertex < b->vertexCount && fmIsFiniteVec3(deltaVelocity))
+	if (b && vertex >= 0 && vertex < b->mesh.vertexCount && fmIsFiniteVec3(deltaVelocity))
 	{
 		vertex = b->internalVertex[vertex];
-		fmStore(b->v, vertex, fmAdd(fmLoad(b->v, vertex), deltaVelocity));
-		fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
+		fmStore(b->state.v, vertex, fmAdd(fmLoad(b->state.v, vertex), deltaVelocity));
+		fmZeroPinnedAxes(&b->state, vertex, b->state.v + 3 * vertex);
 	}
 }
 
@@ -613,7 +570,7 @@ void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
 	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
-	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
+	if (b == NULL || vertex < 0 || vertex >= b->mesh.vertexCount)
 		return;
 	fmBody_SetPinnedAxes(bodyId, vertex, pinned ? FM_PIN_ALL : 0u);
 }
@@ -623,20 +580,20 @@ static void fmBodySetPinnedAxesIn(fmBodyId bodyId, int vertex, unsigned axes)
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
 	FM_ASSERT(axes <= FM_PIN_ALL);
-	if (b == NULL || vertex < 0 || vertex >= b->vertexCount)
+	if (b == NULL || vertex < 0 || vertex >= b->mesh.vertexCount)
 		return;
 	vertex = b->internalVertex[vertex];
-	b->pinned[vertex] = (uint8_t)(axes & FM_PIN_ALL);
-	b->invMass[vertex] = b->pinned[vertex] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[vertex];
-	fmZeroPinnedAxes(b, vertex, b->v + 3 * vertex);
+	b->state.pinned[vertex] = (uint8_t)(axes & FM_PIN_ALL);
+	b->state.invMass[vertex] = b->state.pinned[vertex] == FM_PIN_ALL ? 0.0 : 1.0 / b->mesh.mass[vertex];
+	fmZeroPinnedAxes(&b->state, vertex, b->state.v + 3 * vertex);
 }
 
 bool fmBody_IsPinned(fmBodyId bodyId, int vertex)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
-	return b && vertex >= 0 && vertex < b->vertexCount &&
-	       b->pinned[b->internalVertex[vertex]] == FM_PIN_ALL;
+	return b && vertex >= 0 && vertex < b->mesh.vertexCount &&
+	       b->state.pinned[b->internalVertex[vertex]] == FM_PIN_ALL;
 }
 
 int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
@@ -650,9 +607,9 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 	if (b == NULL || !ordered)
 		return 0;
 	int count = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		fmVec3 p = fmLoad(b->x, i);
+		fmVec3 p = fmLoad(b->state.x, i);
 		if (p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z &&
 		    p.z <= max.z)
 		{
@@ -668,27 +625,27 @@ int fmBody_PinBox(fmBodyId bodyId, fmVec3 min, fmVec3 max)
 static bool fmBodyRebuildSprings(fmBody* b, const fmMaterial* material)
 {
 	fmBody old = *b;
-	uint16_t* tetMaterial = b->tetMaterial;
-	fmMaterial saved = b->material;
-	b->tetMaterial = NULL;
-	b->material = *material;
+	uint16_t* tetMaterial = b->mesh.tetMaterial;
+	fmMaterial saved = b->mesh.material;
+	b->mesh.tetMaterial = NULL;
+	b->mesh.material = *material;
 	bool ok = fmBuildSprings(b) == 0;
-	b->tetMaterial = tetMaterial;
-	b->material = saved;
+	b->mesh.tetMaterial = tetMaterial;
+	b->mesh.material = saved;
 	if (!ok)
 	{
-		FM_FREE_ARRAY(b->edges, int, 2 * (size_t)b->edgeCount);
-		FM_FREE_ARRAY(b->restLength, double, b->edgeCount);
-		FM_FREE_ARRAY(b->springK, double, b->edgeCount);
-		b->edges = old.edges;
-		b->restLength = old.restLength;
-		b->springK = old.springK;
-		b->edgeCount = old.edgeCount;
+		FM_FREE_ARRAY(b->mesh.edges, int, 2 * (size_t)b->mesh.edgeCount);
+		FM_FREE_ARRAY(b->mesh.restLength, double, b->mesh.edgeCount);
+		FM_FREE_ARRAY(b->mesh.springK, double, b->mesh.edgeCount);
+		b->mesh.edges = old.mesh.edges;
+		b->mesh.restLength = old.mesh.restLength;
+		b->mesh.springK = old.mesh.springK;
+		b->mesh.edgeCount = old.mesh.edgeCount;
 		return false;
 	}
-	FM_FREE_ARRAY(old.edges, int, 2 * (size_t)old.edgeCount);
-	FM_FREE_ARRAY(old.restLength, double, old.edgeCount);
-	FM_FREE_ARRAY(old.springK, double, old.edgeCount);
+	FM_FREE_ARRAY(old.mesh.edges, int, 2 * (size_t)old.mesh.edgeCount);
+	FM_FREE_ARRAY(old.mesh.restLength, double, old.mesh.edgeCount);
+	FM_FREE_ARRAY(old.mesh.springK, double, old.mesh.edgeCount);
 	return true;
 }
 
@@ -701,27 +658,27 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 	fmResult r = fmMaterial_Validate(material, diag);
 	if (r != fm_ok)
 		return r;
-	if (b->tetMaterial != NULL)
+	if (b->mesh.tetMaterial != NULL)
 	{
 		// Per-region materials give way to the one material for every tet; springs, whose
 		// stiffness summed each tet's own modulus, are rebuilt.
-		if (b->forceModel == fm_massSpring && !fmBodyRebuildSprings(b, material))
+		if (b->mesh.forceModel == fm_massSpring && !fmBodyRebuildSprings(b, material))
 			return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 			                   "out of memory rebuilding the springs");
-		FM_FREE_ARRAY(b->materials, fmMaterial, b->materialCount);
-		FM_FREE_ARRAY(b->tetMaterial, uint16_t, b->tetCount);
-		b->materials = NULL;
-		b->tetMaterial = NULL;
-		b->materialCount = 0;
+		FM_FREE_ARRAY(b->mesh.materials, fmMaterial, b->mesh.materialCount);
+		FM_FREE_ARRAY(b->mesh.tetMaterial, uint16_t, b->mesh.tetCount);
+		b->mesh.materials = NULL;
+		b->mesh.tetMaterial = NULL;
+		b->mesh.materialCount = 0;
 	}
 	else
 	{
 		// Spring stiffness is proportional to Young's modulus (force_spring.c).
-		double ratio = fmYoungsModulus(material) / fmYoungsModulus(&b->material);
-		for (int e = 0; e < b->edgeCount; ++e)
-			b->springK[e] *= ratio;
+		double ratio = fmYoungsModulus(material) / fmYoungsModulus(&b->mesh.material);
+		for (int e = 0; e < b->mesh.edgeCount; ++e)
+			b->mesh.springK[e] *= ratio;
 	}
-	b->material = *material;
+	b->mesh.material = *material;
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
 	return fm_ok;
@@ -733,7 +690,7 @@ static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 	FM_ASSERT(forces != NULL);
 	if (b == NULL || forces == NULL)
 		return 0.0;
-	size_t n3 = 3 * (size_t)b->vertexCount;
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
 	double* internal = FM_ALLOC_ZERO(double, n3);
 	if (internal == NULL)
 	{
@@ -741,7 +698,7 @@ static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 		memset(forces, 0, sizeof(double) * n3);
 		return 0.0;
 	}
-	double energy = fmAddElasticForces(b, b->x, internal);
+	double energy = fmAddElasticForces(b, b->state.x, internal);
 	fmCopyOut(b, internal, forces);
 	FM_FREE_ARRAY(internal, double, n3);
 	return energy;
@@ -751,10 +708,10 @@ int fmBodyCountInverted(const fmBody* b)
 {
 	int inverted = 0;
 	unsigned char flags[256];
-	for (int first = 0; first < b->tetCount; first += 256)
+	for (int first = 0; first < b->mesh.tetCount; first += 256)
 	{
-		int end = b->tetCount - first < 256 ? b->tetCount : first + 256;
-		fmInvertedTets(b, b->x, first, end, flags);
+		int end = b->mesh.tetCount - first < 256 ? b->mesh.tetCount : first + 256;
+		fmInvertedTets(b, b->state.x, first, end, flags);
 		for (int t = 0; t < end - first; ++t)
 			inverted += flags[t];
 	}
@@ -771,23 +728,23 @@ static void fmInvertedRange(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmInvertedTask* c = context;
-	fmInvertedTets(c->body, c->body->x, start, end, c->inverted + start);
+	fmInvertedTets(c->body, c->body->state.x, start, end, c->inverted + start);
 }
 
 int fmBodyCountInvertedOn(const fmBody* b, const fmTaskSystem* tasks, fmArena* arena)
 {
-	if (tasks == NULL || tasks->workerCount < 2 || b->tetCount < 2 * FM_PARALLEL_MIN_RANGE)
+	if (tasks == NULL || tasks->workerCount < 2 || b->mesh.tetCount < 2 * FM_PARALLEL_MIN_RANGE)
 		return fmBodyCountInverted(b);
 	size_t mark = fmArena_Mark(arena);
-	double* room = fmArena_DoublesUninit(arena, ((size_t)b->tetCount + 7) / 8);
+	double* room = fmArena_DoublesUninit(arena, ((size_t)b->mesh.tetCount + 7) / 8);
 	int inverted = 0;
 	if (room == NULL)
 		inverted = fmBodyCountInverted(b);
 	else
 	{
 		fmInvertedTask c = {b, (unsigned char*)room};
-		fmParallelFor(tasks, b->tetCount, FM_PARALLEL_MIN_RANGE, fmInvertedRange, &c);
-		for (int t = 0; t < b->tetCount; ++t)
+		fmParallelFor(tasks, b->mesh.tetCount, FM_PARALLEL_MIN_RANGE, fmInvertedRange, &c);
+		for (int t = 0; t < b->mesh.tetCount; ++t)
 			inverted += c.inverted[t];
 	}
 	fmArena_Release(arena, mark);
@@ -805,16 +762,16 @@ static fmBodyStats fmBodyGetStatsIn(fmBodyId bodyId)
 	fmVec3 g = world->def.gravity;
 	s.lowestY = INFINITY;
 	fmVec3 moment = {0, 0, 0};
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		fmVec3 p = fmLoad(b->x, i), v = fmLoad(b->v, i);
-		s.kineticEnergy += 0.5 * b->mass[i] * fmDot(v, v);
-		s.gravityEnergy -= b->mass[i] * fmDot(g, p);
-		moment = fmMulAdd(moment, b->mass[i], p);
+		fmVec3 p = fmLoad(b->state.x, i), v = fmLoad(b->state.v, i);
+		s.kineticEnergy += 0.5 * b->mesh.mass[i] * fmDot(v, v);
+		s.gravityEnergy -= b->mesh.mass[i] * fmDot(g, p);
+		moment = fmMulAdd(moment, b->mesh.mass[i], p);
 		s.lowestY = fmMin(s.lowestY, p.y);
 	}
-	s.centerOfMass = fmScale(1.0 / b->totalMass, moment);
-	s.elasticEnergy = fmElasticEnergy(b, b->x);
+	s.centerOfMass = fmScale(1.0 / b->mesh.totalMass, moment);
+	s.elasticEnergy = fmElasticEnergy(b, b->state.x);
 	s.invertedTets = fmBodyCountInverted(b);
 	s.work = b->ledger.work;
 	s.initialEnergy = b->ledger.initialEnergy;

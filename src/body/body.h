@@ -3,6 +3,8 @@
 
 #include <femto/femto.h>
 
+#include "contact/contact_body.h"
+#include "fem/elastic_mesh.h"
 #include "world/energy_ledger.h"
 
 #include <stdint.h>
@@ -10,27 +12,10 @@
 typedef struct fmBody
 {
 	uint32_t generation; // of the body in the slot; UINT32_MAX retires the slot
-	int vertexCount;
-	int tetCount;
-	int firstIndex; // numbering of the source mesh, for export
+	int firstIndex;      // numbering of the source mesh, for export
 
-	// per-vertex state, packed xyz
-	double* x;       // positions (m)
-	double* v;       // velocities (m/s)
-	double* f;       // force accumulator (N)
-	double* x0;      // rest positions
-	double* mass;    // kg
-	double* invMass; // 1/kg, 0 for pinned vertices
-	uint8_t* pinned; // axes held fixed: bit 0 x, 1 y, 2 z; FM_PIN_ALL = pinned vertex
-
-	// per-tet rest data
-	int* tets;          // 4 per tet, positively oriented
-	fmMat3* DmInv;      // inverse reference edge matrix [X1-X0, X2-X0, X3-X0]^-1
-	double* restVolume; // V0 (m^3), > 0
-
-	// surface, for rendering and export
-	int* surface;
-	int triangleCount;
+	fmElasticMesh mesh; // rest shape, materials, force model data: const to the stages
+	fmBodyState state;  // positions, velocities, forces, pins
 
 	// The user's numbering. The body keeps its vertices and tets in its own order (reorder.h:
 	// close in memory what is close in space); every public call translates.
@@ -40,24 +25,6 @@ typedef struct fmBody
 	int* userTets;       // 4 per tet: the (oriented) tets in the user's order and numbering
 	int* userSurface;    // 3 per surface triangle, in the user's numbering
 	double* userMass;    // vertexCount: masses in the user's numbering
-
-	// Laplacian smoothing: 1 / (4 * number of tets around each vertex)
-	double* smoothWeight;
-
-	// The tets around each vertex, for gathers in tet order (a parallel step's scatter-free
-	// sums): vertexTets[vertexTetStart[i] .. vertexTetStart[i + 1]) are 4 t + a, ascending,
-	// for every tet t whose node a is vertex i.
-	int* vertexTetStart; // vertexCount + 1
-	int* vertexTets;     // 4 * tetCount
-
-	// mass-spring force model (edges of the tets)
-	int edgeCount;
-	int* edges;         // 2 per edge
-	double* restLength; // m
-	double* springK;    // N/m
-
-	// finite volume force model: 4 per tet, 1/3 of the area-weighted rest normals at each node
-	fmVec3* fvmNormals;
 
 	// last good state, restored on numerical failure
 	double* xGood;
@@ -78,18 +45,10 @@ typedef struct fmBody
 	                         // integration; implicit: the solve, then velocities and floor)
 	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)
 
-	fmMaterial material;
-	// Per-region materials (fmBodyDef.regionMaterials): tet t has materials[tetMaterial[t]];
-	// both NULL for a body of one material (then every tet has `material`).
-	fmMaterial* materials; // materialCount: [0] is `material`, then the regions'
-	int materialCount;
-	uint16_t* tetMaterial; // tetCount, in the body's tet order
-	fmForceModel forceModel;
 	double damping;
 	double smoothing;
 	double rayleighMass;
 	double rayleighStiffness;
-	double springDamping;
 	double friction;    // against other bodies, or -1 for the world's
 	bool selfCollision; // surface against its own non-adjacent surface (contact_pair.c)
 	// Sleeping (island.c)
@@ -99,8 +58,6 @@ typedef struct fmBody
 	double sleepTimer;  // s the body has been slower than the sleep speed
 	int island;         // while asleep: the island's id (the slot of its first body)
 	fmFilter filter;    // collision filtering
-	double totalMass;
-	double restSize;      // diagonal of the rest shape's bounding box (m)
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
 	// Kinematic targets (targets.h): vertices pulled toward caller-given positions.
@@ -113,72 +70,18 @@ typedef struct fmBody
 	// Loads and prescribed displacements (loads.h), NULL until the first is added.
 	struct fmLoadSet* loads;
 
-	// Contact (contact.c), made when the contact stage first needs them.
-	int surfaceVertexCount;
-	int* surfaceVertex;      // the vertices on the surface, ascending
-	double* contactStart;    // 3n: positions at the start of the substep (the swept tests)
-	int* contactMark;        // n: 1 + the contact log entry of a vertex the stage changed, or 0
-	double* contactPlane;    // 4n: an implicit step's frozen plane of another body near each
-	                         // surface vertex (n, n . q), NaN where none (penalty.h)
-	uint8_t* contactTetMark; // tetCount: scratch marks of the ledger's energy change
-	int* embeddedHolder;     // n: 1 + the slot of the body whose tet held the vertex this frame
-	                         // (its later substeps push it on), or 0
-	// An implicit step's frozen planes of other bodies' surface edges near this body's surface
-	// edges (penalty.h), made before the step like contactPlane
-	struct fmEdgePlane* edgePlanes;
-	int edgePlaneCount;
-	int edgePlaneCapacity;
-	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
-	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
-	double* contactFriction;
-	double* contactFrictionNext; // 8n: what the contact stage found this step, for the next one
-	double contactThinness;      // 2 V / S at rest (m): how thick the body is (contact.c)
-	// The floor's contacts of the last substep (floor.h), for the contact list and the floor's
-	// reaction
-	struct fmFloorHit* floorHits;
-	int floorHitCount;
-	int floorHitCapacity;
-	struct fmDrawCache* drawCache;   // fmWorld_Draw's buffers (draw.h), made on the first draw
+	// Each stage's scratch, typed, made and freed by the stage
+	fmBodyContact contact;                 // the contact stage's (contact_body.h)
+	struct fmImplicitCache* solverCache;   // the implicit solve's (solver_cache.h), or NULL
+	struct fmDrawCache* drawCache;         // fmWorld_Draw's buffers (draw.h), or NULL
 	struct fmRenderMesh* renderMesh; // fmBody_SetRenderMesh's embedded surface, or NULL
-	void* implicitCache; // solver buffers (solver_cache.h: fmSolverCache_Get, fmSolverCache_Free)
-	struct fmTetBlocks* tetBlocks; // the explicit kernels' layout (tet_blocks.h), made at need
-	size_t memoryEstimate;         // fmEstimateBodyMemory() at creation, counted against the budget
+	size_t memoryEstimate;           // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 
-// body->pinned value of a vertex held on every axis (fmBody_SetPinned); other non-zero values
-// are rollers (fmBody_SetPinnedAxes), free along the axes whose bit is clear.
-#define FM_PIN_ALL 7u
-// The pin bit of the y axis (the floor's normal).
-#define FM_PIN_Y 2u
-
-// Whether degree of freedom @p dof (3 * vertex + axis) is pinned.
-static inline bool fmIsDofPinned(const fmBody* body, int dof)
+// Whether a body slot holds a live body (a retired or never used slot does not).
+static inline bool fmBody_IsLive(const fmBody* body)
 {
-	return (body->pinned[dof / 3] >> (dof % 3)) & 1u;
-}
-
-// Zero the components of a velocity (3 doubles) along the axes the vertex is pinned on.
-static inline void fmZeroPinnedAxes(const fmBody* body, int vertex, double* v)
-{
-	unsigned pins = body->pinned[vertex];
-	for (int k = 0; pins != 0u && k < 3; ++k)
-		if ((pins >> k) & 1u)
-			v[k] = 0.0;
-}
-
-// The material of tet @p t.
-static inline const fmMaterial* fmTetMaterial(const fmBody* body, int t)
-{
-	return body->tetMaterial != NULL ? &body->materials[body->tetMaterial[t]] : &body->material;
-}
-
-// Whether every tet's material is the linear model (a quadratic elastic energy).
-static inline bool fmBodyIsLinear(const fmBody* body)
-{
-	for (int k = 0; k < body->materialCount; ++k)
-		if (body->materials[k].model != fm_linear)
-			return false;
-	return body->material.model == fm_linear;
+	return body->state.x != NULL;
 }
 
 // Resolve an id; NULL if stale.

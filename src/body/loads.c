@@ -36,14 +36,14 @@ static fmLoadSet* fmLoadsGet(fmBody* b)
 	if (b->loads == NULL)
 	{
 		fmLoadSet* s = FM_ALLOC_ZERO(fmLoadSet, 1);
-		double* frozen = FM_ALLOC_ZERO(double, 3 * (size_t)b->vertexCount);
+		double* frozen = FM_ALLOC_ZERO(double, 3 * (size_t)b->mesh.vertexCount);
 		if (s == NULL || frozen == NULL)
 		{
 			FM_FREE_ARRAY(s, fmLoadSet, 1);
-			FM_FREE_ARRAY(frozen, double, 3 * (size_t)b->vertexCount);
+			FM_FREE_ARRAY(frozen, double, 3 * (size_t)b->mesh.vertexCount);
 			return NULL;
 		}
-		s->vertexCount = b->vertexCount;
+		s->vertexCount = b->mesh.vertexCount;
 		s->frozen = frozen;
 		b->loads = s;
 	}
@@ -85,7 +85,7 @@ const double* fmLoads_Freeze(fmBody* b, const double* x, double scale)
 	if (!fmLoads_Active(b))
 		return NULL;
 	fmLoadSet* s = b->loads;
-	size_t n3 = 3 * (size_t)b->vertexCount;
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
 	if (s->fixed != NULL)
 		for (size_t k = 0; k < n3; ++k)
 			s->frozen[k] = scale * s->fixed[k];
@@ -100,7 +100,7 @@ void fmLoads_AddForces(const fmBody* b, const double* x, double* f)
 	if (!fmLoads_Active(b))
 		return;
 	if (b->loads->fixed != NULL)
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
+		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 			f[k] += b->loads->fixed[k];
 	fmAddFollower(b->loads, x, 1.0, f);
 }
@@ -111,7 +111,7 @@ double fmLoads_Energy(const fmBody* b, const double* x, const double* xStart, do
 		return 0.0;
 	const double* f = b->loads->frozen;
 	double energy = 0.0;
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 	{
 		energy -= f[k] * (x[k] - xStart[k]);
 		if (gradient)
@@ -126,8 +126,8 @@ double fmLoads_Work(const fmBody* b, const double* d, double scale)
 		return 0.0;
 	const double* f = b->loads->frozen;
 	double work = 0.0;
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		work += fmIsDofPinned(b, k) ? 0.0 : f[k] * d[k];
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		work += fmIsDofPinned(&b->state, k) ? 0.0 : f[k] * d[k];
 	return scale * work;
 }
 
@@ -136,8 +136,8 @@ double fmLoads_FrozenNorm(const fmBody* b)
 	if (!fmLoads_Active(b))
 		return 0.0;
 	double sum = 0.0;
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		sum += fmIsDofPinned(b, k) ? 0.0 : b->loads->frozen[k] * b->loads->frozen[k];
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		sum += fmIsDofPinned(&b->state, k) ? 0.0 : b->loads->frozen[k] * b->loads->frozen[k];
 	return sqrt(sum);
 }
 
@@ -150,7 +150,7 @@ static void fmPlace(fmBody* b, const fmPrescribed* p, const double* origin, doub
 		if (p->axes & (1u << e))
 		{
 			double goal = p->start[e] + p->displacement[e];
-			b->x[3 * p->vertex + e] = origin[e] + s * (goal - origin[e]);
+			b->state.x[3 * p->vertex + e] = origin[e] + s * (goal - origin[e]);
 		}
 }
 
@@ -177,9 +177,9 @@ static void fmLoadsLetSleep(fmBody* b)
 static double fmElasticWithForces(fmBody* b, double* f)
 {
 	if (f == NULL)
-		return fmElasticEnergy(b, b->x);
-	memset(f, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	return fmAddElasticForces(b, b->x, f);
+		return fmElasticEnergy(b, b->state.x);
+	memset(f, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
+	return fmAddElasticForces(b, b->state.x, f);
 }
 
 void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
@@ -191,7 +191,7 @@ void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 	// ledger measures the shadow energy T + Psi + h/2 v . f (energy_ledger.h), whose force term
 	// the motion changes too: booked with it.
 	fmLoadSet* s = b->loads;
-	size_t n3 = 3 * (size_t)b->vertexCount;
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
 	if (shadowStep > 0.0 && s->shadowForces == NULL)
 		s->shadowForces = FM_ALLOC_ARRAY(double, 2 * n3);
 	double* before = shadowStep > 0.0 ? s->shadowForces : NULL;
@@ -209,7 +209,7 @@ void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 	}
 	double work = fmElasticWithForces(b, after) - energy;
 	for (size_t k = 0; after != NULL && k < n3; ++k)
-		work += 0.5 * shadowStep * b->v[k] * (after[k] - before[k]);
+		work += 0.5 * shadowStep * b->state.v[k] * (after[k] - before[k]);
 	fmLedger_AddLoadWork(b, work);
 	if (!fmLoads_Moving(b))
 		fmLoadsLetSleep(b);
@@ -220,7 +220,7 @@ void fmLoads_BeginStatic(fmBody* b)
 	for (int i = 0; b->loads != NULL && i < b->loads->prescribedCount; ++i)
 	{
 		fmPrescribed* p = &b->loads->prescribed[i];
-		memcpy(p->from, b->x + 3 * p->vertex, sizeof p->from);
+		memcpy(p->from, b->state.x + 3 * p->vertex, sizeof p->from);
 	}
 }
 
@@ -255,7 +255,7 @@ static bool fmGoodBox(fmVec3 min, fmVec3 max)
 
 static bool fmInBox(const fmBody* b, int i, fmVec3 min, fmVec3 max)
 {
-	fmVec3 p = fmLoad(b->x, i);
+	fmVec3 p = fmLoad(b->state.x, i);
 	return p.x >= min.x && p.x <= max.x && p.y >= min.y && p.y <= max.y && p.z >= min.z &&
 	       p.z <= max.z;
 }
@@ -287,11 +287,11 @@ int fmBody_AddNodalForce(fmBodyId bodyId, fmVec3 min, fmVec3 max, fmVec3 force)
 		return -1;
 	fmLoadSet* s = fmLoadsGet(b);
 	if (s != NULL && s->fixed == NULL)
-		s->fixed = FM_ALLOC_ZERO(double, 3 * (size_t)b->vertexCount);
+		s->fixed = FM_ALLOC_ZERO(double, 3 * (size_t)b->mesh.vertexCount);
 	if (s == NULL || s->fixed == NULL)
 		return fmOutOfMemory(bodyId, "fmBody_AddNodalForce");
 	int count = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		if (fmInBox(b, i, min, max))
 		{
 			fmStore(s->fixed, i, fmAdd(fmLoad(s->fixed, i), force));
@@ -333,13 +333,13 @@ int fmBody_AddPressure(fmBodyId bodyId, fmVec3 min, fmVec3 max, double pressure,
 		return -1;
 	fmLoadSet* s = fmLoadsGet(b);
 	if (s != NULL && !follower && s->fixed == NULL)
-		s->fixed = FM_ALLOC_ZERO(double, 3 * (size_t)b->vertexCount);
+		s->fixed = FM_ALLOC_ZERO(double, 3 * (size_t)b->mesh.vertexCount);
 	if (s == NULL || (!follower && s->fixed == NULL))
 		return fmOutOfMemory(bodyId, "fmBody_AddPressure");
 	int count = 0;
-	for (int t = 0; t < b->triangleCount; ++t)
+	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
-		const int* tri = b->surface + 3 * t;
+		const int* tri = b->mesh.surface + 3 * t;
 		if (!fmInBox(b, tri[0], min, max) || !fmInBox(b, tri[1], min, max) ||
 		    !fmInBox(b, tri[2], min, max))
 			continue;
@@ -351,7 +351,7 @@ int fmBody_AddPressure(fmBodyId bodyId, fmVec3 min, fmVec3 max, double pressure,
 			one.followerCount = 1;
 			one.followerTriangle = (int*)tri;
 			one.followerPressure = &pressure;
-			fmAddFollower(&one, b->x0, 1.0, s->fixed);
+			fmAddFollower(&one, b->mesh.x0, 1.0, s->fixed);
 			continue;
 		}
 		if (!fmReserveFollowers(s, s->followerCount + 1))
@@ -381,10 +381,10 @@ int fmBody_PinBoxAxes(fmBodyId bodyId, fmVec3 min, fmVec3 max, unsigned axes)
 	if (b == NULL)
 		return -1;
 	int count = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		if (fmInBox(b, i, min, max))
 		{
-			fmBody_SetPinnedAxes(bodyId, b->userVertex[i], b->pinned[i] | axes);
+			fmBody_SetPinnedAxes(bodyId, b->userVertex[i], b->state.pinned[i] | axes);
 			++count;
 		}
 	return count;
@@ -418,7 +418,7 @@ int fmBody_PrescribeDisplacement(fmBodyId bodyId, fmVec3 min, fmVec3 max, unsign
 	if (s == NULL)
 		return fmOutOfMemory(bodyId, "fmBody_PrescribeDisplacement");
 	int count = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		if (!fmInBox(b, i, min, max))
 			continue;
@@ -428,13 +428,13 @@ int fmBody_PrescribeDisplacement(fmBodyId bodyId, fmVec3 min, fmVec3 max, unsign
 		memset(p, 0, sizeof *p);
 		p->vertex = i;
 		p->axes = axes;
-		memcpy(p->start, b->x + 3 * i, sizeof p->start);
+		memcpy(p->start, b->state.x + 3 * i, sizeof p->start);
 		memcpy(p->from, p->start, sizeof p->from);
 		p->displacement[0] = displacement.x;
 		p->displacement[1] = displacement.y;
 		p->displacement[2] = displacement.z;
 		p->time = time;
-		fmBody_SetPinnedAxes(bodyId, b->userVertex[i], b->pinned[i] | axes);
+		fmBody_SetPinnedAxes(bodyId, b->userVertex[i], b->state.pinned[i] | axes);
 		++count;
 	}
 	if (count > 0)
@@ -450,14 +450,14 @@ void fmBody_ComputeLoadForces(fmBodyId bodyId, double* forces)
 		return;
 	fmWorld* w = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
-	memset(forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	double* f = FM_ALLOC_ZERO(double, 3 * (size_t)b->vertexCount);
+	memset(forces, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
+	double* f = FM_ALLOC_ZERO(double, 3 * (size_t)b->mesh.vertexCount);
 	if (f != NULL)
 	{
-		fmLoads_AddForces(b, b->x, f);
-		for (int i = 0; i < b->vertexCount; ++i)
+		fmLoads_AddForces(b, b->state.x, f);
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
 			memcpy(forces + 3 * (size_t)b->userVertex[i], f + 3 * i, 3 * sizeof(double));
 	}
-	FM_FREE_ARRAY(f, double, 3 * (size_t)b->vertexCount);
+	FM_FREE_ARRAY(f, double, 3 * (size_t)b->mesh.vertexCount);
 	fmFpEnv_Leave(&env);
 }

@@ -15,9 +15,9 @@ void fmTargets_AddExplicitForces(const fmBody* b, double dt, double* f)
 	for (int t = 0; t < b->targetCount; ++t)
 	{
 		int i = b->targetVertex[t];
-		double k = fmMin(b->targetStiffness, b->mass[i] / (dt * dt));
+		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
 		for (int e = 0; e < 3; ++e)
-			f[3 * i + e] += k * (b->targetPosition[3 * t + e] - b->x[3 * i + e]);
+			f[3 * i + e] += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]);
 	}
 }
 
@@ -27,9 +27,9 @@ double fmTargets_ExplicitWork(const fmBody* b, double dt)
 	for (int t = 0; t < b->targetCount; ++t)
 	{
 		int i = b->targetVertex[t];
-		double k = fmMin(b->targetStiffness, b->mass[i] / (dt * dt));
+		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
 		for (int e = 0; e < 3; ++e)
-			work += k * (b->targetPosition[3 * t + e] - b->x[3 * i + e]) * dt * b->v[3 * i + e];
+			work += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]) * dt * b->state.v[3 * i + e];
 	}
 	return work;
 }
@@ -79,8 +79,8 @@ double fmTargets_ImplicitWork(const fmBody* b, const double* xStart)
 	{
 		int i = b->targetVertex[t];
 		for (int e = 0; e < 3; ++e)
-			work += b->targetStiffness * (b->targetPosition[3 * t + e] - b->x[3 * i + e]) *
-			        (b->x[3 * i + e] - xStart[3 * i + e]);
+			work += b->targetStiffness * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]) *
+			        (b->state.x[3 * i + e] - xStart[3 * i + e]);
 	}
 	return work;
 }
@@ -100,7 +100,7 @@ static fmResult fmValidateTargets(const fmBody* b, fmWorld* w, const int* vertic
 	{
 		fmVec3 p = positions[t];
 		at = t;
-		if (vertices[t] < 0 || vertices[t] >= b->vertexCount)
+		if (vertices[t] < 0 || vertices[t] >= b->mesh.vertexCount)
 			what = "a vertex index in [0, vertexCount)";
 		else if (!(fabs(p.x) <= FM_MAX_COORDINATE && fabs(p.y) <= FM_MAX_COORDINATE &&
 		           fabs(p.z) <= FM_MAX_COORDINATE))

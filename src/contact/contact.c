@@ -73,8 +73,8 @@ double fmContact_Thickness(const fmWorld* w)
 		return w->def.contact.thickness;
 	double smallest = INFINITY;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x != NULL)
-			smallest = fmMin(smallest, w->bodies[i].restSize);
+		if (fmBody_IsLive(&w->bodies[i]))
+			smallest = fmMin(smallest, w->bodies[i].mesh.restSize);
 	return isfinite(smallest) ? FM_CONTACT_THICKNESS_FRACTION * smallest : 0.0;
 }
 
@@ -82,7 +82,7 @@ static int fmLiveBodies(const fmWorld* w)
 {
 	int live = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		live += w->bodies[i].x != NULL;
+		live += fmBody_IsLive(&w->bodies[i]);
 	return live;
 }
 
@@ -102,7 +102,7 @@ static bool fmBodiesMeet(const fmWorld* w)
 	if (fmLiveBodies(w) >= 2)
 		return true;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x != NULL && w->bodies[i].selfCollision)
+		if (fmBody_IsLive(&w->bodies[i]) && w->bodies[i].selfCollision)
 			return true;
 	return false;
 }
@@ -117,16 +117,16 @@ bool fmContact_Active(const fmWorld* w)
 static double fmRestThinness(const fmBody* b)
 {
 	double volume = 0.0, area = 0.0;
-	for (int t = 0; t < b->tetCount; ++t)
-		volume += b->restVolume[t];
-	for (int t = 0; t < b->triangleCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
+		volume += b->mesh.restVolume[t];
+	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
-		const int* tri = b->surface + 3 * (size_t)t;
-		fmVec3 p = fmLoad(b->x0, tri[0]);
+		const int* tri = b->mesh.surface + 3 * (size_t)t;
+		fmVec3 p = fmLoad(b->mesh.x0, tri[0]);
 		area += 0.5 *
-		        fmLength(fmCross(fmSub(fmLoad(b->x0, tri[1]), p), fmSub(fmLoad(b->x0, tri[2]), p)));
+		        fmLength(fmCross(fmSub(fmLoad(b->mesh.x0, tri[1]), p), fmSub(fmLoad(b->mesh.x0, tri[2]), p)));
 	}
-	return area > 0.0 ? 2.0 * volume / area : b->restSize;
+	return area > 0.0 ? 2.0 * volume / area : b->mesh.restSize;
 }
 
 // The body's contact arrays, made on first use: its surface vertices (ascending), its
@@ -134,50 +134,50 @@ static double fmRestThinness(const fmBody* b)
 // thickness. False when memory is short.
 static bool fmBodyContactArrays(fmBody* b)
 {
-	if (b->contactStart == NULL)
-		b->contactStart = FM_ALLOC_ARRAY(double, 3 * (size_t)b->vertexCount);
-	if (b->contactMark == NULL)
-		b->contactMark = FM_ALLOC_ZERO(int, b->vertexCount);
-	if (b->contactPlane == NULL)
-		b->contactPlane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->vertexCount);
-	if (b->contactFriction == NULL)
-		b->contactFriction = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
-	if (b->contactFrictionNext == NULL)
-		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
-	if (b->contactTetMark == NULL)
-		b->contactTetMark = FM_ALLOC_ZERO(uint8_t, b->tetCount > 0 ? b->tetCount : 1);
-	if (b->embeddedHolder == NULL)
-		b->embeddedHolder = FM_ALLOC_ZERO(int, b->vertexCount);
-	if (b->surfaceVertex == NULL)
+	if (b->contact.start == NULL)
+		b->contact.start = FM_ALLOC_ARRAY(double, 3 * (size_t)b->mesh.vertexCount);
+	if (b->contact.mark == NULL)
+		b->contact.mark = FM_ALLOC_ZERO(int, b->mesh.vertexCount);
+	if (b->contact.plane == NULL)
+		b->contact.plane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->mesh.vertexCount);
+	if (b->contact.friction == NULL)
+		b->contact.friction = FM_ALLOC_ZERO(double, 8 * (size_t)b->mesh.vertexCount);
+	if (b->contact.frictionNext == NULL)
+		b->contact.frictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->mesh.vertexCount);
+	if (b->contact.tetMark == NULL)
+		b->contact.tetMark = FM_ALLOC_ZERO(uint8_t, b->mesh.tetCount > 0 ? b->mesh.tetCount : 1);
+	if (b->contact.embeddedHolder == NULL)
+		b->contact.embeddedHolder = FM_ALLOC_ZERO(int, b->mesh.vertexCount);
+	if (b->contact.surfaceVertex == NULL)
 	{
-		uint8_t* on = FM_ALLOC_ZERO(uint8_t, b->vertexCount);
+		uint8_t* on = FM_ALLOC_ZERO(uint8_t, b->mesh.vertexCount);
 		if (on == NULL)
 			return false;
 		int count = 0;
-		for (int k = 0; k < 3 * b->triangleCount; ++k)
-			count += on[b->surface[k]]++ == 0;
-		b->surfaceVertex = FM_ALLOC_ARRAY(int, count > 0 ? count : 1);
-		if (b->surfaceVertex != NULL)
+		for (int k = 0; k < 3 * b->mesh.triangleCount; ++k)
+			count += on[b->mesh.surface[k]]++ == 0;
+		b->contact.surfaceVertex = FM_ALLOC_ARRAY(int, count > 0 ? count : 1);
+		if (b->contact.surfaceVertex != NULL)
 		{
-			b->surfaceVertexCount = count;
+			b->contact.surfaceVertexCount = count;
 			count = 0;
-			for (int i = 0; i < b->vertexCount; ++i)
+			for (int i = 0; i < b->mesh.vertexCount; ++i)
 				if (on[i])
-					b->surfaceVertex[count++] = i;
+					b->contact.surfaceVertex[count++] = i;
 		}
-		FM_FREE_ARRAY(on, uint8_t, b->vertexCount);
-		b->contactThinness = fmRestThinness(b);
+		FM_FREE_ARRAY(on, uint8_t, b->mesh.vertexCount);
+		b->contact.thinness = fmRestThinness(b);
 	}
-	return b->contactStart != NULL && b->surfaceVertex != NULL && b->contactMark != NULL &&
-	       b->contactTetMark != NULL && b->contactPlane != NULL && b->embeddedHolder != NULL;
+	return b->contact.start != NULL && b->contact.surfaceVertex != NULL && b->contact.mark != NULL &&
+	       b->contact.tetMark != NULL && b->contact.plane != NULL && b->contact.embeddedHolder != NULL;
 }
 
 void fmContact_BeginFrame(fmWorld* w)
 {
 	w->embeddedSearch = true;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].embeddedHolder != NULL)
-			memset(w->bodies[i].embeddedHolder, 0, sizeof(int) * (size_t)w->bodies[i].vertexCount);
+		if (w->bodies[i].contact.embeddedHolder != NULL)
+			memset(w->bodies[i].contact.embeddedHolder, 0, sizeof(int) * (size_t)w->bodies[i].mesh.vertexCount);
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
 
@@ -216,7 +216,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 			const fmPairContact* found = &s->found[k];
 			fmContactPair_WakeSleeper(w, found);
 			if (found->embedded)
-				w->bodies[found->body].embeddedHolder[found->vertex] = found->other + 1;
+				w->bodies[found->body].contact.embeddedHolder[found->vertex] = found->other + 1;
 			s->pairContacts[s->pairContactCount++] = *found;
 		}
 	// Edge against edge, explicit substeps only: implicit steps hold edges apart inside the
@@ -249,7 +249,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		point->body = fmWorldBodyId(w, pc->body);
 		point->vertex = w->bodies[pc->body].userVertex[pc->vertex];
 		point->otherBody = fmWorldBodyId(w, pc->other);
-		point->point = fmLoad(w->bodies[pc->body].x, pc->vertex);
+		point->point = fmLoad(w->bodies[pc->body].state.x, pc->vertex);
 		point->normal = pc->normal;
 		point->depth = pc->depth;
 		point->impulse = pc->impulse;
@@ -273,19 +273,19 @@ int fmContact_Pieces(fmWorld* w, double h, int most)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		fmBody* b = &w->bodies[slot];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		if (!fmBodyContactArrays(b))
 			return -1;
 		fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
 		double speed = 0.0;
-		for (int p = 0; p < b->surfaceVertexCount; ++p)
+		for (int p = 0; p < b->contact.surfaceVertexCount; ++p)
 		{
-			int i = b->surfaceVertex[p];
-			fmVec3 x = fmLoad(b->x, i);
+			int i = b->contact.surfaceVertex[p];
+			fmVec3 x = fmLoad(b->state.x, i);
 			lo = fmMakeVec3(fmMin(lo.x, x.x), fmMin(lo.y, x.y), fmMin(lo.z, x.z));
 			hi = fmMakeVec3(fmMax(hi.x, x.x), fmMax(hi.y, x.y), fmMax(hi.z, x.z));
-			speed = fmMax(speed, fmLength(fmLoad(b->v, i)));
+			speed = fmMax(speed, fmLength(fmLoad(b->state.v, i)));
 		}
 		double grow = thickness + speed * h;
 		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
@@ -296,16 +296,16 @@ int fmContact_Pieces(fmWorld* w, double h, int most)
 	for (int a = 0; a < w->bodyCapacity; ++a)
 	{
 		const fmBody* A = &w->bodies[a];
-		for (int c = a + 1; A->x && c < w->bodyCapacity; ++c)
+		for (int c = a + 1; fmBody_IsLive(A) && c < w->bodyCapacity; ++c)
 		{
 			const fmBody* C = &w->bodies[c];
 			fmVec3 al = s->bodyLower[a], ah = s->bodyUpper[a];
 			fmVec3 cl = s->bodyLower[c], ch = s->bodyUpper[c];
-			if (C->x == NULL || !fmFiltersMeet(A->filter, C->filter) || ah.x < cl.x ||
+			if (!fmBody_IsLive(C) || !fmFiltersMeet(A->filter, C->filter) || ah.x < cl.x ||
 			    al.x > ch.x || ah.y < cl.y || al.y > ch.y || ah.z < cl.z || al.z > ch.z)
 				continue;
 			double allowed =
-			    fmMax(FM_PIECE_FRACTION * fmMin(A->contactThinness, C->contactThinness), thickness);
+			    fmMax(FM_PIECE_FRACTION * fmMin(A->contact.thinness, C->contact.thinness), thickness);
 			pieces = fmMax(pieces, ceil((s->bodySpeed[a] + s->bodySpeed[c]) * h / allowed));
 		}
 	}
@@ -317,19 +317,19 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		if (!fmBodyContactArrays(b))
 			return false;
-		memcpy(b->contactStart, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+		memcpy(b->contact.start, b->state.x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
 		// Friction found after the last step acts in this one's solve (penalty.h).
-		double* found = b->contactFrictionNext;
-		b->contactFrictionNext = b->contactFriction;
-		b->contactFriction = found;
-		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
-		for (int k = 0; k < b->vertexCount; ++k)
-			b->contactPlane[4 * (size_t)k + 3] = NAN;
-		b->edgePlaneCount = 0;
+		double* found = b->contact.frictionNext;
+		b->contact.frictionNext = b->contact.friction;
+		b->contact.friction = found;
+		memset(b->contact.frictionNext, 0, sizeof(double) * 8 * (size_t)b->mesh.vertexCount);
+		for (int k = 0; k < b->mesh.vertexCount; ++k)
+			b->contact.plane[4 * (size_t)k + 3] = NAN;
+		b->contact.edgePlaneCount = 0;
 	}
 	bool bodies = fmBodiesMeet(w);
 	if (w->def.integrator != fm_implicit || !bodies)
@@ -356,7 +356,7 @@ bool fmContact_Substep(fmWorld* w, double h)
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
 		ok = fmContactLedger_BookWork(w, s, slot);
 	for (int k = 0; k < s->touchedCount; ++k)
-		w->bodies[s->touched[k].body].contactMark[s->touched[k].vertex] = 0;
+		w->bodies[s->touched[k].body].contact.mark[s->touched[k].vertex] = 0;
 	s->touchedCount = 0;
 	return ok;
 }

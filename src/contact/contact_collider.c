@@ -14,7 +14,7 @@
 // surface's velocity; a stick contact wins over friction, else the strongest of the step.
 static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface, bool stick)
 {
-	double* next = b->contactFrictionNext + 8 * (size_t)i;
+	double* next = b->contact.frictionNext + 8 * (size_t)i;
 	bool held = next[7] != 0.0;
 	if (held != stick ? held : !(limit > next[3]))
 		return;
@@ -39,7 +39,7 @@ static void fmStickImpact(fmVec3* relative, fmVec3 n, double e)
 static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, const fmCollider* c,
                                    fmColliderFind* found)
 {
-	fmVec3 x = fmLoad(b->x, i), start = fmLoad(b->contactStart, i), n;
+	fmVec3 x = fmLoad(b->state.x, i), start = fmLoad(b->contact.start, i), n;
 	double d = fmCollider_Distance(c, x, &n), fraction;
 	double depth = -d;
 	found->hit = true;
@@ -77,9 +77,9 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 {
 	fmBody* b = &w->bodies[slot];
 	fmCollider* c = &w->colliders[k];
-	fmVec3 x = found->x, n = found->normal, v = fmLoad(b->v, i);
+	fmVec3 x = found->x, n = found->normal, v = fmLoad(b->state.v, i);
 	double depth = found->depth;
-	fmVec3 before = fmLoad(b->x, i);
+	fmVec3 before = fmLoad(b->state.x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
 	// After an implicit step the penalty pushed the vertex out of the collider during the
 	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too, unless
@@ -87,9 +87,9 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	bool implicit = w->def.integrator == fm_implicit;
 	double h = w->contactStep;
 	double pushed = implicit && depth > 0.0 ? FM_PENALTY_KAPPA * depth / h : 0.0;
-	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->x, b->contactStart, h)
+	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->state.x, b->contact.start, h)
 	                         : fmMakeVec3(0.0, 0.0, 0.0);
-	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contactFriction[8 * i + 3] > 0.0);
+	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contact.friction[8 * i + 3] > 0.0);
 	if (c->def.stick)
 		fmStickImpact(&relative, n, c->def.restitution);
 	else
@@ -97,7 +97,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		                         inSolve ? 0.0 : pushed);
 	double mu = c->def.stick ? 1.0 : c->def.friction;
 	if (pushed > 0.0)
-		fmKeepFriction(b, i, n, mu * b->mass[i] * pushed / h, vc, c->def.stick);
+		fmKeepFriction(b, i, n, mu * b->mesh.mass[i] * pushed / h, vc, c->def.stick);
 	if (!fmContactState_Touch(s, b, slot, i))
 		return false;
 	// A creeping slip that friction or the stick takes back leaves the position too.
@@ -105,13 +105,13 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	double creep = fmContactResponse_CreepStep(w, taken, n, thickness);
 	if (creep > 0.0)
 		x = fmMulAdd(x, creep, fmMulAdd(taken, -fmDot(taken, n), n));
-	fmStore(b->x, i, x);
-	fmStore(b->v, i, fmAdd(vc, relative));
+	fmStore(b->state.x, i, x);
+	fmStore(b->state.v, i, fmAdd(vc, relative));
 	fmContactResponse_KeepPins(b, i, before);
 	// The collider's reaction: the velocity change here, and the implicit penalty's push
 	// during the step.
 	fmVec3 impulse =
-	    fmMulAdd(fmScale(b->mass[i], fmSub(fmLoad(b->v, i), v)), b->mass[i] * pushed, n);
+	    fmMulAdd(fmScale(b->mesh.mass[i], fmSub(fmLoad(b->state.v, i), v)), b->mesh.mass[i] * pushed, n);
 	impulse = fmMulAdd(impulse, h, solved);
 	c->impulse = fmSub(c->impulse, impulse);
 	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
@@ -121,7 +121,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	p->body = fmWorldBodyId(w, slot);
 	p->vertex = b->userVertex[i];
 	p->collider = fmWorldColliderId(w, k);
-	p->point = fmLoad(b->x, i);
+	p->point = fmLoad(b->state.x, i);
 	p->normal = n;
 	p->depth = depth;
 	p->impulse = fmDot(impulse, n);
@@ -134,10 +134,10 @@ static void fmSweptBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 {
 	*lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
 	*hi = fmScale(-1.0, *lo);
-	for (int p = 0; p < b->surfaceVertexCount; ++p)
+	for (int p = 0; p < b->contact.surfaceVertexCount; ++p)
 	{
-		int i = b->surfaceVertex[p];
-		fmVec3 x = fmLoad(b->x, i), x0 = fmLoad(b->contactStart, i);
+		int i = b->contact.surfaceVertex[p];
+		fmVec3 x = fmLoad(b->state.x, i), x0 = fmLoad(b->contact.start, i);
 		*lo = fmMakeVec3(fmMin(lo->x, fmMin(x.x, x0.x)), fmMin(lo->y, fmMin(x.y, x0.y)),
 		                 fmMin(lo->z, fmMin(x.z, x0.z)));
 		*hi = fmMakeVec3(fmMax(hi->x, fmMax(x.x, x0.x)), fmMax(hi->y, fmMax(x.y, x0.y)),
@@ -163,10 +163,10 @@ static void fmWakeIfPushed(fmBody* b, const fmCollider* c)
 	if (fmDot(d->velocity, d->velocity) == 0.0 &&
 	    fmDot(d->angularVelocity, d->angularVelocity) == 0.0)
 		return;
-	for (int p = 0; p < b->surfaceVertexCount && !b->wakeRequested; ++p)
+	for (int p = 0; p < b->contact.surfaceVertexCount && !b->wakeRequested; ++p)
 	{
 		fmVec3 n;
-		b->wakeRequested = fmCollider_Distance(c, fmLoad(b->x, b->surfaceVertex[p]), &n) < 0.0;
+		b->wakeRequested = fmCollider_Distance(c, fmLoad(b->state.x, b->contact.surfaceVertex[p]), &n) < 0.0;
 	}
 }
 
@@ -184,8 +184,8 @@ static void fmFindColliderRange(int start, int end, int worker, void* context)
 	const fmColliderTask* t = context;
 	for (int p = start; p < end; ++p)
 	{
-		int i = t->b->surfaceVertex[p];
-		if (t->b->pinned[i] == FM_PIN_ALL)
+		int i = t->b->contact.surfaceVertex[p];
+		if (t->b->state.pinned[i] == FM_PIN_ALL)
 			t->finds[p].hit = false;
 		else
 			fmFindVertexVsCollider(t->w, t->b, i, t->c, &t->finds[p]);
@@ -197,7 +197,7 @@ bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		fmBody* b = &w->bodies[slot];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		fmVec3 lo, hi;
 		fmSweptBox(b, &lo, &hi);
@@ -213,14 +213,14 @@ bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness)
 			}
 			// Found on the workers (each vertex reads only its own state), applied in order.
 			if (!fmGrowArray((void**)&s->colliderFinds, &s->colliderFindCapacity, 0,
-			                 b->surfaceVertexCount, sizeof(fmColliderFind)))
+			                 b->contact.surfaceVertexCount, sizeof(fmColliderFind)))
 				return false;
 			fmColliderTask task = {w, b, &w->colliders[k], s->colliderFinds};
-			fmParallelForBalanced(&w->tasks, b->surfaceVertexCount, FM_CONTACT_MIN_RANGE,
+			fmParallelForBalanced(&w->tasks, b->contact.surfaceVertexCount, FM_CONTACT_MIN_RANGE,
 			                      fmFindColliderRange, &task);
-			for (int p = 0; p < b->surfaceVertexCount; ++p)
+			for (int p = 0; p < b->contact.surfaceVertexCount; ++p)
 			{
-				int i = b->surfaceVertex[p];
+				int i = b->contact.surfaceVertex[p];
 				if (s->colliderFinds[p].hit &&
 				    !fmVertexVsCollider(w, s, slot, i, k, &s->colliderFinds[p], thickness))
 					return false;

@@ -13,13 +13,13 @@
 
 const int* fmContactDetect_Triangle(const fmBody* b, int t)
 {
-	return b->surface + 3 * t;
+	return b->mesh.surface + 3 * t;
 }
 
 double fmContactDetect_Motion(const fmContactState* s, const fmBody* b, int i)
 {
-	return fmLength(fmSub(fmLoad(b->x, i), fmLoad(b->contactStart, i))) +
-	       s->predict * fmLength(fmLoad(b->v, i));
+	return fmLength(fmSub(fmLoad(b->state.x, i), fmLoad(b->contact.start, i))) +
+	       s->predict * fmLength(fmLoad(b->state.v, i));
 }
 
 bool fmContactDetect_NearOtherBody(const fmWorld* w, const fmContactState* s, int slot, fmVec3 lo,
@@ -29,7 +29,7 @@ bool fmContactDetect_NearOtherBody(const fmWorld* w, const fmContactState* s, in
 	for (int k = higher ? slot + 1 : 0; k < w->bodyCapacity; ++k)
 	{
 		const fmBody* o = &w->bodies[k];
-		if (o->x == NULL || (k == slot && !b->selfCollision) ||
+		if (!fmBody_IsLive(o) || (k == slot && !b->selfCollision) ||
 		    !fmFiltersMeet(b->filter, o->filter))
 			continue;
 		fmVec3 ol = s->bodyLower[k], oh = s->bodyUpper[k];
@@ -52,10 +52,10 @@ static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickne
 		const fmBody* b = &w->bodies[slot];
 		fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
 		double motion = 0.0;
-		for (int p = 0; b->x && p < b->surfaceVertexCount; ++p)
+		for (int p = 0; fmBody_IsLive(b) && p < b->contact.surfaceVertexCount; ++p)
 		{
-			int i = b->surfaceVertex[p];
-			fmVec3 x = fmLoad(b->x, i);
+			int i = b->contact.surfaceVertex[p];
+			fmVec3 x = fmLoad(b->state.x, i);
 			lo = fmMakeVec3(fmMin(lo.x, x.x), fmMin(lo.y, x.y), fmMin(lo.z, x.z));
 			hi = fmMakeVec3(fmMax(hi.x, x.x), fmMax(hi.y, x.y), fmMax(hi.z, x.z));
 			motion = fmMax(motion, fmContactDetect_Motion(s, b, i));
@@ -65,7 +65,7 @@ static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickne
 		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
 	}
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		s->bodyNear[slot] = w->bodies[slot].x != NULL &&
+		s->bodyNear[slot] = fmBody_IsLive(&w->bodies[slot]) &&
 		                    fmContactDetect_NearOtherBody(w, s, slot, s->bodyLower[slot],
 		                                                  s->bodyUpper[slot], false);
 	return true;
@@ -75,7 +75,7 @@ bool fmContactDetect_BuildTriangles(fmWorld* w, fmContactState* s, double thickn
 {
 	int total = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		total += w->bodies[slot].x ? w->bodies[slot].triangleCount : 0;
+		total += fmBody_IsLive(&w->bodies[slot]) ? w->bodies[slot].mesh.triangleCount : 0;
 	if (total > s->triangleCapacity)
 	{
 		int old = s->triangleCapacity;
@@ -102,14 +102,14 @@ bool fmContactDetect_BuildTriangles(fmWorld* w, fmContactState* s, double thickn
 	{
 		const fmBody* b = &w->bodies[slot];
 		// Only the triangles of bodies near another one go into the hash.
-		for (int t = 0; b->x && s->bodyNear[slot] && t < b->triangleCount; ++t, ++k)
+		for (int t = 0; fmBody_IsLive(b) && s->bodyNear[slot] && t < b->mesh.triangleCount; ++t, ++k)
 		{
 			const int* tri = fmContactDetect_Triangle(b, t);
-			fmVec3 lo = fmLoad(b->x, tri[0]), hi = lo;
+			fmVec3 lo = fmLoad(b->state.x, tri[0]), hi = lo;
 			double motion = 0.0;
 			for (int c = 0; c < 3; ++c)
 			{
-				fmVec3 p = fmLoad(b->x, tri[c]);
+				fmVec3 p = fmLoad(b->state.x, tri[c]);
 				lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
 				hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
 				motion = fmMax(motion, fmContactDetect_Motion(s, b, tri[c]));
@@ -175,7 +175,7 @@ static bool fmEndWorkers(fmWorld* w, const fmContactState* s)
 // higher slot: an edge is tested against those only).
 static bool fmHasItems(const fmWorld* w, const fmContactState* s, int slot, bool edges)
 {
-	return w->bodies[slot].x && s->bodyNear[slot] &&
+	return fmBody_IsLive(&w->bodies[slot]) && s->bodyNear[slot] &&
 	       (!edges || fmContactDetect_NearOtherBody(w, s, slot, s->bodyLower[slot],
 	                                                s->bodyUpper[slot], true));
 }
@@ -188,7 +188,7 @@ static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
 	int n = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 		if (fmHasItems(w, s, slot, edges))
-			n += edges ? 3 * w->bodies[slot].triangleCount : w->bodies[slot].surfaceVertexCount;
+			n += edges ? 3 * w->bodies[slot].mesh.triangleCount : w->bodies[slot].contact.surfaceVertexCount;
 	if (!fmGrowArray((void**)&s->items, &s->itemCapacity, 0, 2 * n, sizeof(int)))
 		return -1;
 	n = 0;
@@ -196,12 +196,12 @@ static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
 	{
 		const fmBody* b = &w->bodies[slot];
 		int count = !fmHasItems(w, s, slot, edges) ? 0
-		            : edges                        ? 3 * b->triangleCount
-		                                           : b->surfaceVertexCount;
+		            : edges                        ? 3 * b->mesh.triangleCount
+		                                           : b->contact.surfaceVertexCount;
 		for (int k = 0; k < count; ++k, ++n)
 		{
 			s->items[2 * n] = slot;
-			s->items[2 * n + 1] = edges ? k : b->surfaceVertex[k];
+			s->items[2 * n + 1] = edges ? k : b->contact.surfaceVertex[k];
 		}
 	}
 	return n;

@@ -12,8 +12,8 @@
 // The cross product of surface triangle @p tri's edges (its normal times twice its area).
 static fmVec3 fmTriangleCross(const fmBody* b, const int* tri)
 {
-	fmVec3 a = fmLoad(b->x, tri[0]);
-	return fmCross(fmSub(fmLoad(b->x, tri[1]), a), fmSub(fmLoad(b->x, tri[2]), a));
+	fmVec3 a = fmLoad(b->state.x, tri[0]);
+	return fmCross(fmSub(fmLoad(b->state.x, tri[1]), a), fmSub(fmLoad(b->state.x, tri[2]), a));
 }
 
 // Parameters s, t in [0, 1] of the closest points of segments p0-p1 and q0-q1 (Ericson 5.1.9).
@@ -53,13 +53,13 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		if (f[0] > f[1])
 			continue; // each edge of o once (closed surfaces list it both ways)
 		double sa, tb;
-		fmClosestSegments(fmLoad(b->x, e[0]), fmLoad(b->x, e[1]), fmLoad(o->x, f[0]),
-		                  fmLoad(o->x, f[1]), &sa, &tb);
+		fmClosestSegments(fmLoad(b->state.x, e[0]), fmLoad(b->state.x, e[1]), fmLoad(o->state.x, f[0]),
+		                  fmLoad(o->state.x, f[1]), &sa, &tb);
 		if (sa <= 0.0 || sa >= 1.0 || tb <= 0.0 || tb >= 1.0)
 			continue;
-		fmVec3 d = fmSub(fmContactEdge_Point(b->x, e, sa), fmContactEdge_Point(o->x, f, tb));
-		fmVec3 d0 = fmSub(fmContactEdge_Point(b->contactStart, e, sa),
-		                  fmContactEdge_Point(o->contactStart, f, tb));
+		fmVec3 d = fmSub(fmContactEdge_Point(b->state.x, e, sa), fmContactEdge_Point(o->state.x, f, tb));
+		fmVec3 d0 = fmSub(fmContactEdge_Point(b->contact.start, e, sa),
+		                  fmContactEdge_Point(o->contact.start, f, tb));
 		double distance = fmLength(d), start = fmLength(d0);
 		double reach = thickness + fmContactDetect_Motion(s, b, e[0]) +
 		               fmContactDetect_Motion(s, b, e[1]) + fmContactDetect_Motion(s, o, f[0]) +
@@ -101,7 +101,7 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 	if (e[0] > e[1])
 		return;
 	fmVec3 side = s->predict > 0.0 ? fmTriangleCross(b, tri) : fmMakeVec3(0.0, 0.0, 0.0);
-	fmVec3 p = fmLoad(b->x, e[0]), q = fmLoad(b->x, e[1]);
+	fmVec3 p = fmLoad(b->state.x, e[0]), q = fmLoad(b->state.x, e[1]);
 	double reach =
 	    thickness + fmMax(fmContactDetect_Motion(s, b, e[0]), fmContactDetect_Motion(s, b, e[1]));
 	fmVec3 lo =
@@ -157,7 +157,7 @@ bool fmContactEdge_Project(fmWorld* w, fmContactState* s, fmEdgeContact* c, doub
 	double sum = 0.0;
 	for (int k = 0; k < 4; ++k)
 		sum += weights[k] * weights[k] * inverse[k];
-	fmVec3 d = fmSub(fmContactEdge_Point(b->x, c->a, c->s), fmContactEdge_Point(o->x, c->b, c->t));
+	fmVec3 d = fmSub(fmContactEdge_Point(b->state.x, c->a, c->s), fmContactEdge_Point(o->state.x, c->b, c->t));
 	double gap = fmMin(thickness - fmDot(c->normal, d), c->reach);
 	if (!(gap > 0.0) || !(sum > 0.0))
 		return true;
@@ -169,8 +169,8 @@ bool fmContactEdge_Project(fmWorld* w, fmContactState* s, fmEdgeContact* c, doub
 	const int vertices[4] = {c->a[0], c->a[1], c->b[0], c->b[1]};
 	for (int k = 0; k < 4; ++k)
 	{
-		fmVec3 x0 = fmLoad(bodies[k]->x, vertices[k]);
-		fmStore(bodies[k]->x, vertices[k],
+		fmVec3 x0 = fmLoad(bodies[k]->state.x, vertices[k]);
+		fmStore(bodies[k]->state.x, vertices[k],
 		        fmMulAdd(x0, lambda * weights[k] * inverse[k], c->normal));
 		fmContactResponse_KeepPins(bodies[k], vertices[k], x0);
 		fmContactResponse_KeepAboveFloor(w, bodies[k], vertices[k]);
@@ -194,7 +194,7 @@ bool fmContactEdge_Respond(fmWorld* w, fmContactState* s, fmEdgeContact* c)
 	for (int k = 0; k < 4; ++k)
 	{
 		sum += weights[k] * weights[k] * inverse[k];
-		relative = fmMulAdd(relative, weights[k], fmLoad(bodies[k]->v, vertices[k]));
+		relative = fmMulAdd(relative, weights[k], fmLoad(bodies[k]->state.v, vertices[k]));
 	}
 	if (!(sum > 0.0))
 		return true;
@@ -207,9 +207,9 @@ bool fmContactEdge_Respond(fmWorld* w, fmContactState* s, fmEdgeContact* c)
 	c->impulse = fmDot(impulse, c->normal);
 	for (int k = 0; k < 4; ++k)
 	{
-		fmVec3 x = fmLoad(bodies[k]->x, vertices[k]);
-		fmVec3 v = fmLoad(bodies[k]->v, vertices[k]);
-		fmStore(bodies[k]->v, vertices[k], fmMulAdd(v, weights[k] * inverse[k], impulse));
+		fmVec3 x = fmLoad(bodies[k]->state.x, vertices[k]);
+		fmVec3 v = fmLoad(bodies[k]->state.v, vertices[k]);
+		fmStore(bodies[k]->state.v, vertices[k], fmMulAdd(v, weights[k] * inverse[k], impulse));
 		fmContactResponse_KeepPins(bodies[k], vertices[k], x);
 	}
 	return true;
@@ -224,7 +224,7 @@ bool fmContactEdge_Record(fmWorld* w, fmContactState* s, const fmEdgeContact* c)
 	point->body = fmWorldBodyId(w, c->body);
 	point->vertex = b->userVertex[c->s < 0.5 ? c->a[0] : c->a[1]];
 	point->otherBody = fmWorldBodyId(w, c->other);
-	point->point = fmContactEdge_Point(b->x, c->a, c->s);
+	point->point = fmContactEdge_Point(b->state.x, c->a, c->s);
 	point->normal = c->normal;
 	point->impulse = c->impulse;
 	return fmContactState_RecordPair(s, ((uint64_t)(uint32_t)c->body << 32) | (uint32_t)c->other);

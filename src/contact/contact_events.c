@@ -47,22 +47,22 @@ bool fmContactEvents_ReportFloor(fmWorld* w, bool listed)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		fmBody* b = &w->bodies[slot];
-		if (!fmIsland_Stepping(b) || b->floorHitCount == 0)
+		if (!fmIsland_Stepping(b) || b->contact.floorHitCount == 0)
 			continue;
 		// The body's points at once (a resting body has hundreds a substep, all serial here).
 		if (!fmGrowArray((void**)&s->points, &s->pointCapacity, s->pointCount,
-		                 s->pointCount + b->floorHitCount, sizeof(fmContactPoint)))
+		                 s->pointCount + b->contact.floorHitCount, sizeof(fmContactPoint)))
 			return false;
-		memset(s->points + s->pointCount, 0, (size_t)b->floorHitCount * sizeof(fmContactPoint));
+		memset(s->points + s->pointCount, 0, (size_t)b->contact.floorHitCount * sizeof(fmContactPoint));
 		const fmBodyId id = fmWorldBodyId(w, slot);
-		for (int k = 0; k < b->floorHitCount; ++k)
+		for (int k = 0; k < b->contact.floorHitCount; ++k)
 		{
-			const fmFloorHit* hit = &b->floorHits[k];
+			const fmFloorHit* hit = &b->contact.floorHits[k];
 			fmContactPoint* p = &s->points[s->pointCount++];
 			p->body = id;
 			p->vertex = b->userVertex[hit->vertex];
 			p->collider = floorId;
-			p->point = fmLoad(b->x, hit->vertex);
+			p->point = fmLoad(b->state.x, hit->vertex);
 			p->normal = floor->def.normal;
 			p->depth = hit->depth;
 			p->impulse = hit->impulse.y;
@@ -70,7 +70,7 @@ bool fmContactEvents_ReportFloor(fmWorld* w, bool listed)
 			floor->angularImpulse = fmSub(floor->angularImpulse,
 			                              fmCross(fmSub(p->point, floor->position), hit->impulse));
 		}
-		b->floorHitCount = 0;
+		b->contact.floorHitCount = 0;
 		uint64_t key = ((uint64_t)(uint32_t)slot << 32) | (0x80000000u | (uint32_t)FM_FLOOR_SLOT);
 		if (!fmContactState_RecordPair(s, key))
 			return false;

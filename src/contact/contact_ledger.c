@@ -18,9 +18,9 @@ static void fmSwapTouched(fmWorld* w, fmContactState* s, int slot)
 		fmTouched* t = &s->touched[k];
 		if (t->body != slot)
 			continue;
-		fmVec3 x = fmLoad(b->x, t->vertex), v = fmLoad(b->v, t->vertex);
-		fmStore(b->x, t->vertex, t->x);
-		fmStore(b->v, t->vertex, t->v);
+		fmVec3 x = fmLoad(b->state.x, t->vertex), v = fmLoad(b->state.v, t->vertex);
+		fmStore(b->state.x, t->vertex, t->x);
+		fmStore(b->state.v, t->vertex, t->v);
 		t->x = x;
 		t->v = v;
 	}
@@ -34,32 +34,32 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 	for (int k = 0; k < count; ++k)
 	{
 		int t = tets[k];
-		fmMat3 F = fmTetDeformation(b, b->x, t), P;
-		double V0 = b->restVolume[t];
-		*energy += V0 * fmMaterial_Evaluate(fmTetMaterial(b, t), &F, &P, NULL);
-		fmMat3 H = fmMatMulT(&P, &b->DmInv[t]);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t), P;
+		double V0 = b->mesh.restVolume[t];
+		*energy += V0 * fmMaterial_Evaluate(fmTetMaterial(&b->mesh, t), &F, &P, NULL);
+		fmMat3 H = fmMatMulT(&P, &b->mesh.DmInv[t]);
 		fmVec3 sum = {0.0, 0.0, 0.0};
 		for (int a = 1; a < 4; ++a)
 		{
 			fmVec3 fa = fmScale(-V0, fmColumn(&H, a - 1));
 			sum = fmAdd(sum, fa);
-			*power += fmDot(fa, fmLoad(b->v, b->tets[4 * t + a]));
+			*power += fmDot(fa, fmLoad(b->state.v, b->mesh.tets[4 * t + a]));
 		}
-		*power -= fmDot(sum, fmLoad(b->v, b->tets[4 * t]));
+		*power -= fmDot(sum, fmLoad(b->state.v, b->mesh.tets[4 * t]));
 	}
 }
 
 // The same over a whole spring body.
 static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* energy, double* power)
 {
-	int n3 = 3 * b->vertexCount;
+	int n3 = 3 * b->mesh.vertexCount;
 	if (!fmGrowArray((void**)&s->forces, &s->forceCapacity, 0, n3, sizeof(double)))
 		return false;
 	memset(s->forces, 0, sizeof(double) * (size_t)n3);
-	*energy = fmAddElasticForces(b, b->x, s->forces);
+	*energy = fmAddElasticForces(b, b->state.x, s->forces);
 	*power = 0.0;
 	for (int k = 0; k < n3; ++k)
-		*power += s->forces[k] * b->v[k];
+		*power += s->forces[k] * b->state.v[k];
 	return true;
 }
 
@@ -74,19 +74,19 @@ static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
 		int i = s->touched[k].vertex;
 		if (s->touched[k].body != slot)
 			continue;
-		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
+		for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
 		{
-			int t = b->vertexTets[e] / 4;
-			if (b->contactTetMark[t])
+			int t = b->mesh.vertexTets[e] / 4;
+			if (b->contact.tetMark[t])
 				continue;
 			if (!fmGrowArray((void**)&s->tets, &s->tetCapacity, count, count + 1, sizeof(int)))
 				return -1;
-			b->contactTetMark[t] = 1;
+			b->contact.tetMark[t] = 1;
 			s->tets[count++] = t;
 		}
 	}
 	for (int k = 0; k < count; ++k)
-		b->contactTetMark[s->tets[k]] = 0;
+		b->contact.tetMark[s->tets[k]] = 0;
 	return count;
 }
 
@@ -97,7 +97,7 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 {
 	fmBody* b = &w->bodies[slot];
 	double e1 = 0.0, p1 = 0.0, e0 = 0.0, p0 = 0.0;
-	if (b->forceModel == fm_massSpring)
+	if (b->mesh.forceModel == fm_massSpring)
 	{
 		bool ok = fmSpringEnergyPower(s, b, &e1, &p1);
 		fmSwapTouched(w, s, slot);
@@ -132,8 +132,8 @@ bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, int slot)
 		if (t->body != slot)
 			continue;
 		touched = true;
-		double m = b->mass[t->vertex];
-		fmVec3 x = fmLoad(b->x, t->vertex), v = fmLoad(b->v, t->vertex);
+		double m = b->mesh.mass[t->vertex];
+		fmVec3 x = fmLoad(b->state.x, t->vertex), v = fmLoad(b->state.v, t->vertex);
 		gained += 0.5 * m * (fmDot(v, v) - fmDot(t->v, t->v));
 		gained -= m * fmDot(w->def.gravity, fmSub(x, t->x));
 		gravityPower += m * fmDot(w->def.gravity, fmSub(v, t->v));

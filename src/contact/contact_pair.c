@@ -16,9 +16,9 @@
 static bool fmInFrontAtStart(const fmBody* b, int i, const int* tri, fmVec3 n, double thickness)
 {
 	fmVec3 q = fmScale(
-	    1.0 / 3.0, fmAdd(fmAdd(fmLoad(b->contactStart, tri[0]), fmLoad(b->contactStart, tri[1])),
-	                     fmLoad(b->contactStart, tri[2])));
-	return fmDot(n, fmSub(fmLoad(b->contactStart, i), q)) > -thickness;
+	    1.0 / 3.0, fmAdd(fmAdd(fmLoad(b->contact.start, tri[0]), fmLoad(b->contact.start, tri[1])),
+	                     fmLoad(b->contact.start, tri[2])));
+	return fmDot(n, fmSub(fmLoad(b->contact.start, i), q)) > -thickness;
 }
 
 // Self-collision: vertex i of body b may touch its own surface triangle @p tri only when the
@@ -28,8 +28,8 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 {
 	if (tri[0] == i || tri[1] == i || tri[2] == i)
 		return false;
-	fmVec3 p = fmLoad(b->x0, i), a = fmLoad(b->x0, tri[0]), bb = fmLoad(b->x0, tri[1]),
-	       c = fmLoad(b->x0, tri[2]);
+	fmVec3 p = fmLoad(b->mesh.x0, i), a = fmLoad(b->mesh.x0, tri[0]), bb = fmLoad(b->mesh.x0, tri[1]),
+	       c = fmLoad(b->mesh.x0, tri[2]);
 	double w[3];
 	fmClosestOnTriangle(p, a, bb, c, w);
 	fmVec3 q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], bb)), fmScale(w[2], c));
@@ -41,7 +41,7 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 static bool fmNearestOnTriangle(const fmBody* o, const int* tri, fmVec3 p, double w[3], fmVec3* q,
                                 fmVec3* n)
 {
-	fmVec3 a = fmLoad(o->x, tri[0]), b = fmLoad(o->x, tri[1]), c = fmLoad(o->x, tri[2]);
+	fmVec3 a = fmLoad(o->state.x, tri[0]), b = fmLoad(o->state.x, tri[1]), c = fmLoad(o->state.x, tri[2]);
 	fmClosestOnTriangle(p, a, b, c, w);
 	*q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], b)), fmScale(w[2], c));
 	*n = fmCross(fmSub(b, a), fmSub(c, a));
@@ -109,7 +109,7 @@ static bool fmEmbeddedContact(const fmWorld* w, const fmContactState* s, fmWorke
                               int slot, int i, int holder, double thickness, bool behind,
                               fmPairContact* found)
 {
-	fmVec3 p = fmLoad(w->bodies[slot].x, i);
+	fmVec3 p = fmLoad(w->bodies[slot].state.x, i);
 	double side = 0.0;
 	if (!fmNearestTriangle(s, w, wf, holder, p, 2.0 * thickness, found, &side) ||
 	    (behind && !(side < 0.0)))
@@ -175,7 +175,7 @@ static double fmCandidateScore(const fmWorld* w, const fmContactState* s, int sl
 static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFinds* wf, int slot,
                            int i, double thickness, fmPairContact* found)
 {
-	fmVec3 p = fmLoad(w->bodies[slot].x, i);
+	fmVec3 p = fmLoad(w->bodies[slot].state.x, i);
 	int holder = fmTetHash_Holder(&s->tetHash, w, &wf->tetQuery, slot, p, fmMayHold);
 	wf->failed = wf->failed || holder == -2;
 	return holder >= 0 && fmEmbeddedContact(w, s, wf, slot, i, holder, thickness, false, found);
@@ -185,7 +185,7 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
                         int i, double thickness, fmPairContact* found)
 {
 	const fmBody* b = &w->bodies[slot];
-	fmVec3 p = fmLoad(b->x, i);
+	fmVec3 p = fmLoad(b->state.x, i);
 	double motion = fmContactDetect_Motion(s, b, i), reach = thickness + motion;
 	if (!(fabs(p.x) + fabs(p.y) + fabs(p.z) + reach < 1e30))
 		return false; // non-finite: the frame's checks report it
@@ -224,8 +224,8 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 	if (bestItem < 0 && s->tetHashReady)
 		return fmFindEmbedded(w, s, wf, slot, i, thickness, found);
 	// Held earlier in the frame (fmFindEmbedded): pushed on in every substep while still inside.
-	if (bestItem < 0 && b->embeddedHolder[i] > 0)
-		return fmEmbeddedContact(w, s, wf, slot, i, b->embeddedHolder[i] - 1, thickness, true,
+	if (bestItem < 0 && b->contact.embeddedHolder[i] > 0)
+		return fmEmbeddedContact(w, s, wf, slot, i, b->contact.embeddedHolder[i] - 1, thickness, true,
 		                         found);
 	if (bestItem >= 0)
 	{
@@ -234,10 +234,10 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		// created overlapping come apart gently instead of being catapulted).
 		const fmBody* o = &w->bodies[found->other];
 		const int* tri = fmContactDetect_Triangle(o, found->triangle);
-		fmVec3 approach = fmSub(p, fmLoad(b->contactStart, i));
+		fmVec3 approach = fmSub(p, fmLoad(b->contact.start, i));
 		for (int c = 0; c < 3; ++c)
 			approach = fmMulAdd(approach, -found->w[c],
-			                    fmSub(fmLoad(o->x, tri[c]), fmLoad(o->contactStart, tri[c])));
+			                    fmSub(fmLoad(o->state.x, tri[c]), fmLoad(o->contact.start, tri[c])));
 		found->reach = fmMax(w->def.floor.maxDepenetrationSpeed * w->contactStep,
 		                     fmMax(0.0, -fmDot(approach, found->normal)) + thickness);
 	}
@@ -263,10 +263,10 @@ bool fmContactPair_Project(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	double weight = fmContactResponse_InverseMass(b, pc->vertex);
 	for (int c = 0; c < 3; ++c)
 	{
-		q = fmMulAdd(q, pc->w[c], fmLoad(o->x, tri[c]));
+		q = fmMulAdd(q, pc->w[c], fmLoad(o->state.x, tri[c]));
 		weight += pc->w[c] * pc->w[c] * fmContactResponse_InverseMass(o, tri[c]);
 	}
-	double gap = thickness - fmDot(pc->normal, fmSub(fmLoad(b->x, pc->vertex), q));
+	double gap = thickness - fmDot(pc->normal, fmSub(fmLoad(b->state.x, pc->vertex), q));
 	gap = fmMin(gap, pc->reach);
 	if (!(gap > 0.0) || !(weight > 0.0))
 		return true;
@@ -274,16 +274,16 @@ bool fmContactPair_Project(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 		return false;
 	pc->reach -= gap;
 	double lambda = gap / weight;
-	fmVec3 x0 = fmLoad(b->x, pc->vertex);
-	fmStore(b->x, pc->vertex,
+	fmVec3 x0 = fmLoad(b->state.x, pc->vertex);
+	fmStore(b->state.x, pc->vertex,
 	        fmMulAdd(x0, lambda * fmContactResponse_InverseMass(b, pc->vertex), pc->normal));
 	fmContactResponse_KeepPins(b, pc->vertex, x0);
 	fmContactResponse_KeepAboveFloor(w, b, pc->vertex);
 	for (int c = 0; c < 3; ++c)
 	{
-		fmVec3 y0 = fmLoad(o->x, tri[c]);
+		fmVec3 y0 = fmLoad(o->state.x, tri[c]);
 		double share = -lambda * pc->w[c] * fmContactResponse_InverseMass(o, tri[c]);
-		fmStore(o->x, tri[c], fmMulAdd(y0, share, pc->normal));
+		fmStore(o->state.x, tri[c], fmMulAdd(y0, share, pc->normal));
 		fmContactResponse_KeepPins(o, tri[c], y0);
 		fmContactResponse_KeepAboveFloor(w, o, tri[c]);
 	}
@@ -299,14 +299,14 @@ bool fmContactPair_Respond(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	double weight = fmContactResponse_InverseMass(b, pc->vertex);
 	for (int c = 0; c < 3; ++c)
 	{
-		vq = fmMulAdd(vq, pc->w[c], fmLoad(o->v, tri[c]));
+		vq = fmMulAdd(vq, pc->w[c], fmLoad(o->state.v, tri[c]));
 		weight += pc->w[c] * pc->w[c] * fmContactResponse_InverseMass(o, tri[c]);
 	}
 	if (!(weight > 0.0))
 		return true;
 	if (!fmTouchPair(s, b, o, pc))
 		return false;
-	fmVec3 vp = fmLoad(b->v, pc->vertex), relative = fmSub(vp, vq), before = relative;
+	fmVec3 vp = fmLoad(b->state.v, pc->vertex), relative = fmSub(vp, vq), before = relative;
 	// After an implicit step the penalty held the pair apart during the step (penalty.h): its
 	// impulse per mass bounds friction too. Friction between bodies acts here, after the solve,
 	// not inside it as against colliders (docs/contact.md, Measurements).
@@ -329,17 +329,17 @@ bool fmContactPair_Respond(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	// (fmContactResponse_CreepStep).
 	double h = fmContactResponse_CreepStep(w, fmSub(relative, before), pc->normal, thickness);
 	fmVec3 slip = fmScale(h, fmMulAdd(impulse, -pc->impulse, pc->normal));
-	fmVec3 x = fmLoad(b->x, pc->vertex);
+	fmVec3 x = fmLoad(b->state.x, pc->vertex);
 	double inverse = fmContactResponse_InverseMass(b, pc->vertex);
-	fmStore(b->v, pc->vertex, fmMulAdd(vp, inverse, impulse));
-	fmStore(b->x, pc->vertex, fmMulAdd(x, inverse, slip));
+	fmStore(b->state.v, pc->vertex, fmMulAdd(vp, inverse, impulse));
+	fmStore(b->state.x, pc->vertex, fmMulAdd(x, inverse, slip));
 	fmContactResponse_KeepPins(b, pc->vertex, x);
 	for (int c = 0; c < 3; ++c)
 	{
-		fmVec3 v0 = fmLoad(o->v, tri[c]), y = fmLoad(o->x, tri[c]);
+		fmVec3 v0 = fmLoad(o->state.v, tri[c]), y = fmLoad(o->state.x, tri[c]);
 		double share = -pc->w[c] * fmContactResponse_InverseMass(o, tri[c]);
-		fmStore(o->v, tri[c], fmMulAdd(v0, share, impulse));
-		fmStore(o->x, tri[c], fmMulAdd(y, share, slip));
+		fmStore(o->state.v, tri[c], fmMulAdd(v0, share, impulse));
+		fmStore(o->state.x, tri[c], fmMulAdd(y, share, slip));
 		fmContactResponse_KeepPins(o, tri[c], y);
 	}
 	return true;

@@ -12,17 +12,17 @@ bool fmContactPlanes_Hold(const fmWorld* w, double h)
 	if (w->contactPieces > 1)
 		return false;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x && h <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
+		if (fmBody_IsLive(&w->bodies[i]) && h <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
 			return false;
 	return true;
 }
 
 static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
 {
-	if (!fmGrowArray((void**)&b->edgePlanes, &b->edgePlaneCapacity, b->edgePlaneCount,
-	                 b->edgePlaneCount + 1, sizeof(fmEdgePlane)))
+	if (!fmGrowArray((void**)&b->contact.edgePlanes, &b->contact.edgePlaneCapacity, b->contact.edgePlaneCount,
+	                 b->contact.edgePlaneCount + 1, sizeof(fmEdgePlane)))
 		return false;
-	b->edgePlanes[b->edgePlaneCount++] = *plane;
+	b->contact.edgePlanes[b->contact.edgePlaneCount++] = *plane;
 	return true;
 }
 
@@ -43,8 +43,8 @@ bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness, do
 		const int* tri = fmContactDetect_Triangle(o, found->triangle);
 		fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
 		for (int c = 0; c < 3; ++c)
-			q = fmMulAdd(q, found->w[c], fmLoad(o->x, tri[c]));
-		double* plane = w->bodies[found->body].contactPlane + 4 * (size_t)found->vertex;
+			q = fmMulAdd(q, found->w[c], fmLoad(o->state.x, tri[c]));
+		double* plane = w->bodies[found->body].contact.plane + 4 * (size_t)found->vertex;
 		plane[0] = found->normal.x;
 		plane[1] = found->normal.y;
 		plane[2] = found->normal.z;
@@ -56,7 +56,7 @@ bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness, do
 		const fmEdgeContact* c = &s->edgeContacts[k];
 		fmBody* b = &w->bodies[c->body];
 		fmBody* o = &w->bodies[c->other];
-		fmVec3 p = fmContactEdge_Point(b->x, c->a, c->s), q = fmContactEdge_Point(o->x, c->b, c->t);
+		fmVec3 p = fmContactEdge_Point(b->state.x, c->a, c->s), q = fmContactEdge_Point(o->state.x, c->b, c->t);
 		fmEdgePlane mine = {c->a[0], c->a[1], c->s, c->normal, fmDot(c->normal, q)};
 		fmVec3 away = fmScale(-1.0, c->normal);
 		fmEdgePlane theirs = {c->b[0], c->b[1], c->t, away, fmDot(away, p)};

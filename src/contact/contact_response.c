@@ -33,23 +33,23 @@ void fmContactResponse_KeepPins(fmBody* b, int i, fmVec3 x0)
 {
 	const double before[3] = {x0.x, x0.y, x0.z};
 	for (int e = 0; e < 3; ++e)
-		if (fmIsDofPinned(b, 3 * i + e))
+		if (fmIsDofPinned(&b->state, 3 * i + e))
 		{
-			b->x[3 * i + e] = before[e];
-			b->v[3 * i + e] = 0.0;
+			b->state.x[3 * i + e] = before[e];
+			b->state.v[3 * i + e] = 0.0;
 		}
 }
 
 void fmContactResponse_KeepAboveFloor(const fmWorld* w, fmBody* b, int i)
 {
 	const fmFloorDef* floor = &w->def.floor;
-	if (fmFloor_Holds(floor, b) && b->x[3 * i + 1] < floor->height && !(b->pinned[i] & FM_PIN_Y))
-		b->x[3 * i + 1] = floor->height;
+	if (fmFloor_Holds(floor, b) && b->state.x[3 * i + 1] < floor->height && !(b->state.pinned[i] & FM_PIN_Y))
+		b->state.x[3 * i + 1] = floor->height;
 }
 
 double fmContactResponse_InverseMass(const fmBody* b, int i)
 {
-	return b->pinned[i] == FM_PIN_ALL || b->asleep ? 0.0 : 1.0 / b->mass[i];
+	return b->state.pinned[i] == FM_PIN_ALL || b->asleep ? 0.0 : 1.0 / b->mesh.mass[i];
 }
 
 double fmContactResponse_PairFriction(const fmWorld* w, const fmBody* a, const fmBody* b)

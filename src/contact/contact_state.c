@@ -96,13 +96,13 @@ fmContactPoint* fmContactState_NewPoint(fmContactState* s)
 
 bool fmContactState_Touch(fmContactState* s, fmBody* b, int slot, int i)
 {
-	if (b->contactMark[i] != 0)
+	if (b->contact.mark[i] != 0)
 		return true;
 	if (!fmGrowArray((void**)&s->touched, &s->touchedCapacity, s->touchedCount, s->touchedCount + 1,
 	                 sizeof(fmTouched)))
 		return false;
-	fmTouched t = {slot, i, fmLoad(b->x, i), fmLoad(b->v, i)};
+	fmTouched t = {slot, i, fmLoad(b->state.x, i), fmLoad(b->state.v, i)};
 	s->touched[s->touchedCount++] = t;
-	b->contactMark[i] = s->touchedCount;
+	b->contact.mark[i] = s->touchedCount;
 	return true;
 }

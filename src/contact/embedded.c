@@ -42,11 +42,11 @@ static bool fmTetHash_Reserve(fmTetHash* th, int count)
 // report it; the tet then stays out of the hash).
 static bool fmTetBox(const fmBody* b, int t, fmVec3* lo, fmVec3* hi)
 {
-	const int* tet = b->tets + 4 * t;
-	*lo = *hi = fmLoad(b->x, tet[0]);
+	const int* tet = b->mesh.tets + 4 * t;
+	*lo = *hi = fmLoad(b->state.x, tet[0]);
 	for (int c = 1; c < 4; ++c)
 	{
-		fmVec3 p = fmLoad(b->x, tet[c]);
+		fmVec3 p = fmLoad(b->state.x, tet[c]);
 		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
 		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
 	}
@@ -57,7 +57,7 @@ bool fmTetHash_Build(fmTetHash* th, const fmWorld* w, const bool* near)
 {
 	int total = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		total += w->bodies[slot].x && near[slot] ? w->bodies[slot].tetCount : 0;
+		total += fmBody_IsLive(&w->bodies[slot]) && near[slot] ? w->bodies[slot].mesh.tetCount : 0;
 	th->count = 0;
 	if (!fmTetHash_Reserve(th, total))
 		return false;
@@ -65,7 +65,7 @@ bool fmTetHash_Build(fmTetHash* th, const fmWorld* w, const bool* near)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		const fmBody* b = &w->bodies[slot];
-		for (int t = 0; b->x && near[slot] && t < b->tetCount; ++t)
+		for (int t = 0; fmBody_IsLive(b) && near[slot] && t < b->mesh.tetCount; ++t)
 		{
 			fmVec3 lo, hi;
 			if (!fmTetBox(b, t, &lo, &hi))
@@ -86,9 +86,9 @@ bool fmTetHash_Build(fmTetHash* th, const fmWorld* w, const bool* near)
 // positive, by the signed volumes of the four tets p makes with the faces).
 static bool fmInsideTet(const fmBody* b, int t, fmVec3 p)
 {
-	const int* tet = b->tets + 4 * t;
-	fmVec3 a = fmLoad(b->x, tet[0]), e1 = fmSub(fmLoad(b->x, tet[1]), a),
-	       e2 = fmSub(fmLoad(b->x, tet[2]), a), e3 = fmSub(fmLoad(b->x, tet[3]), a);
+	const int* tet = b->mesh.tets + 4 * t;
+	fmVec3 a = fmLoad(b->state.x, tet[0]), e1 = fmSub(fmLoad(b->state.x, tet[1]), a),
+	       e2 = fmSub(fmLoad(b->state.x, tet[2]), a), e3 = fmSub(fmLoad(b->state.x, tet[3]), a);
 	fmVec3 d = fmSub(p, a);
 	double volume = fmDot(e1, fmCross(e2, e3));
 	if (!(volume != 0.0))

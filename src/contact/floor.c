@@ -26,20 +26,20 @@ bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* b)
 // Note that the floor held vertex @p i of @p b, @p depth below it, giving it @p impulse (N s).
 static bool fmAddHit(fmBody* b, int i, double depth, fmVec3 impulse)
 {
-	if (b->floorHitCount == b->floorHitCapacity &&
-	    !fmGrowArray((void**)&b->floorHits, &b->floorHitCapacity, b->floorHitCount,
-	                 b->floorHitCount + 1, sizeof(fmFloorHit)))
+	if (b->contact.floorHitCount == b->contact.floorHitCapacity &&
+	    !fmGrowArray((void**)&b->contact.floorHits, &b->contact.floorHitCapacity, b->contact.floorHitCount,
+	                 b->contact.floorHitCount + 1, sizeof(fmFloorHit)))
 		return false;
 	fmFloorHit hit = {i, depth, impulse};
-	b->floorHits[b->floorHitCount++] = hit;
+	b->contact.floorHits[b->contact.floorHitCount++] = hit;
 	return true;
 }
 
 // The impulse (N s) that took vertex @p i of @p b from velocity @p before to its velocity now.
 static fmVec3 fmImpulseSince(const fmBody* b, int i, const double before[3])
 {
-	const double* v = b->v + 3 * i;
-	return fmScale(b->mass[i], fmMakeVec3(v[0] - before[0], v[1] - before[1], v[2] - before[2]));
+	const double* v = b->state.v + 3 * i;
+	return fmScale(b->mesh.mass[i], fmMakeVec3(v[0] - before[0], v[1] - before[1], v[2] - before[2]));
 }
 
 // ---- explicit ---------------------------------------------------------------------------------
@@ -50,15 +50,15 @@ static fmVec3 fmImpulseSince(const fmBody* b, int i, const double before[3])
 // max(limit, v) dt in the step.
 static double fmLiftOutOfFloor(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int i, double dt)
 {
-	double* x = b->x + 3 * i;
-	double penetration = floor->height - x[1], vIn = b->v[3 * i + 1];
+	double* x = b->state.x + 3 * i;
+	double penetration = floor->height - x[1], vIn = b->state.v[3 * i + 1];
 	double reach = (fmMax(floor->maxDepenetrationSpeed, vIn) - vIn) * dt;
 	double lift = penetration <= reach ? penetration : reach;
 	x[1] = penetration <= reach ? floor->height : x[1] + lift;
 	// Work against gravity only: the elastic forces of a body that is blowing up would
 	// otherwise book its explosion as work done on it. A deep vertex rises by its velocity
 	// (set by the callers below), not by this lift.
-	return -b->mass[i] * gravity.y * lift;
+	return -b->mesh.mass[i] * gravity.y * lift;
 }
 
 // The explicit response of vertex @p i, found @p penetration below the floor with velocity vIn
@@ -67,8 +67,8 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
                                 double vIn, double dt)
 {
 	const double h = floor->height, pushLimit = floor->maxDepenetrationSpeed;
-	double* x = b->x + 3 * i;
-	double* v = b->v + 3 * i;
+	double* x = b->state.x + 3 * i;
+	double* v = b->state.v + 3 * i;
 	if (floor->friction == fm_floorStick)
 	{
 		// GAMES103 HW3 1.1: tangential velocity zeroed; the penetration depth is turned into an
@@ -76,7 +76,7 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 		v[0] = 0.0;
 		v[2] = 0.0;
 		v[1] = fmMin(vIn + penetration / dt, fmMax(vIn, pushLimit));
-		return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
+		return 0.5 * b->mesh.mass[i] * (v[1] * v[1] - vIn * vIn);
 	}
 	// Coulomb: reflect the approaching normal velocity with restitution e; the normal velocity
 	// change dvn bounds the tangential change by mu * dvn (friction cone). A vertex still below
@@ -91,16 +91,16 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 	double scale = vt > 0.0 ? fmMax(0.0, 1.0 - floor->frictionCoefficient * dvn / vt) : 0.0;
 	v[0] *= scale;
 	v[2] *= scale;
-	return 0.5 * b->mass[i] * (v[1] * v[1] - vIn * vIn);
+	return 0.5 * b->mesh.mass[i] * (v[1] * v[1] - vIn * vIn);
 }
 
 // The response of vertex @p i, which the floor takes.
 static void fmRespondVertex(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, int i, double dt,
                             fmFloorResponse* r)
 {
-	const double* v = b->v + 3 * i;
+	const double* v = b->state.v + 3 * i;
 	const double before[3] = {v[0], v[1], v[2]};
-	r->depth = floor->height - b->x[3 * i + 1];
+	r->depth = floor->height - b->state.x[3 * i + 1];
 	r->liftWork = fmLiftOutOfFloor(floor, gravity, b, i, dt);
 	r->pushEnergy = fmRespondExplicit(floor, b, i, r->depth, before[1], dt);
 	r->impulse = fmImpulseSince(b, i, before);
@@ -162,16 +162,16 @@ static bool fmCollectResponse(fmBody* b, int i, const fmFloorResponse* r, double
 int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt,
                           const fmFloorTaken* taken)
 {
-	b->floorHitCount = 0;
+	b->contact.floorHitCount = 0;
 	if (!fmFloor_Holds(floor, b))
 		return 0;
 	int contacts = 0;
 	double work = 0.0;
 	bool listed = true;
-	for (int start = 0; taken != NULL && start < b->vertexCount; start = taken->rangeEnd[start])
+	for (int start = 0; taken != NULL && start < b->mesh.vertexCount; start = taken->rangeEnd[start])
 		for (int k = start; k < start + taken->count[start]; ++k, ++contacts)
 			listed = fmCollectResponse(b, taken->vertex[k], taken->responses + k, &work) && listed;
-	for (int i = 0; taken == NULL && i < b->vertexCount; ++i)
+	for (int i = 0; taken == NULL && i < b->mesh.vertexCount; ++i)
 	{
 		if (!fmFloor_Takes(b, i, floor->height))
 			continue;
@@ -194,13 +194,13 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImplicitCache* c,
                                double h)
 {
-	b->floorHitCount = 0;
+	b->contact.floorHitCount = 0;
 	int contacts = 0;
 	bool listed = true;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		double* v = b->v + 3 * i;
-		if ((b->pinned[i] & FM_PIN_Y) || b->x[3 * i + 1] > c->floorBound[i])
+		double* v = b->state.v + 3 * i;
+		if ((b->state.pinned[i] & FM_PIN_Y) || b->state.x[3 * i + 1] > c->floorBound[i])
 			continue;
 		++contacts;
 		const double before[3] = {v[0], v[1], v[2]};
@@ -209,7 +209,7 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		if (v[1] < 0.0)
 		{
 			double e = floor->friction == fm_floorCoulomb ? floor->restitution : 0.0;
-			impulse += (1.0 + e) * b->mass[i] * -v[1];
+			impulse += (1.0 + e) * b->mesh.mass[i] * -v[1];
 			v[1] = -e * v[1];
 		}
 		if (floor->friction == fm_floorStick)
@@ -222,14 +222,14 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 			double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
 			double keep =
 			    vt > 0.0
-			        ? fmMax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mass[i] * vt))
+			        ? fmMax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mesh.mass[i] * vt))
 			        : 0.0;
 			v[0] *= keep;
 			v[2] *= keep;
 		}
 		fmVec3 given = fmImpulseSince(b, i, before);
 		given.y += push;
-		listed = listed && fmAddHit(b, i, fmMax(0.0, floor->height - b->x[3 * i + 1]), given);
+		listed = listed && fmAddHit(b, i, fmMax(0.0, floor->height - b->state.x[3 * i + 1]), given);
 	}
 	return listed ? contacts : -1;
 }
@@ -239,7 +239,7 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 // out, not catapulted; docs/robustness.md).
 void fmFloor_SetBounds(const fmFloorDef* floor, const fmBody* b, fmImplicitCache* c, double h)
 {
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		c->floorBound[i] =
 		    fmMin(floor->height, c->xStart[3 * i + 1] + floor->maxDepenetrationSpeed * h);
 }
@@ -251,10 +251,10 @@ void fmFloor_SetBounds(const fmFloorDef* floor, const fmBody* b, fmImplicitCache
 double fmFloor_ImplicitWork(const fmBody* b, const fmImplicitCache* c, double floorHeight)
 {
 	double work = 0.0;
-	for (int i = 0; i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & FM_PIN_Y) && c->floorBound[i] < floorHeight &&
-		    b->x[3 * i + 1] <= c->floorBound[i])
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		if (!(b->state.pinned[i] & FM_PIN_Y) && c->floorBound[i] < floorHeight &&
+		    b->state.x[3 * i + 1] <= c->floorBound[i])
 			work += fmMax(0.0, c->gradient[3 * i + 1]) *
-			        fmMax(0.0, b->x[3 * i + 1] - c->xStart[3 * i + 1]);
+			        fmMax(0.0, b->state.x[3 * i + 1] - c->xStart[3 * i + 1]);
 	return work;
 }

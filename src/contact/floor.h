@@ -21,7 +21,7 @@ bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* body);
 // number) and free in y.
 static inline bool fmFloor_Takes(const fmBody* body, int i, double height)
 {
-	return !(body->pinned[i] & FM_PIN_Y) && !(body->x[3 * i + 1] >= height);
+	return !(body->state.pinned[i] & FM_PIN_Y) && !(body->state.x[3 * i + 1] >= height);
 }
 
 // What the explicit floor did to one vertex it took.

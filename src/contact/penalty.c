@@ -36,15 +36,15 @@ static void fmVertexTerm(fmPenaltyVisit* visit, void* context, int i, double k, 
 static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double* x,
                         fmPenaltyVisit* visit, void* context)
 {
-	for (int e = 0; e < b->edgePlaneCount; ++e)
+	for (int e = 0; e < b->contact.edgePlaneCount; ++e)
 	{
-		const fmEdgePlane* plane = &b->edgePlanes[e];
-		if (b->pinned[plane->a] == FM_PIN_ALL && b->pinned[plane->b] == FM_PIN_ALL)
+		const fmEdgePlane* plane = &b->contact.edgePlanes[e];
+		if (b->state.pinned[plane->a] == FM_PIN_ALL && b->state.pinned[plane->b] == FM_PIN_ALL)
 			continue;
 		double s = plane->s;
 		fmVec3 q = fmAdd(fmScale(1.0 - s, fmLoad(x, plane->a)), fmScale(s, fmLoad(x, plane->b)));
 		double depth = p->thickness - (fmDot(plane->normal, q) - plane->offset);
-		double mass = (1.0 - s) * b->mass[plane->a] + s * b->mass[plane->b];
+		double mass = (1.0 - s) * b->mesh.mass[plane->a] + s * b->mesh.mass[plane->b];
 		fmPenaltyTerm t = {{plane->a, plane->b}, {1.0 - s, s}, 2,
 		                   p->stiffness * mass,  depth,        plane->normal};
 		if (depth > 0.0)
@@ -55,20 +55,20 @@ static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double
 static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const double* x,
                            fmPenaltyVisit* visit, void* context)
 {
-	if (p == NULL || b->surfaceVertex == NULL)
+	if (p == NULL || b->contact.surfaceVertex == NULL)
 		return;
-	for (int s = 0; s < b->surfaceVertexCount; ++s)
+	for (int s = 0; s < b->contact.surfaceVertexCount; ++s)
 	{
-		int i = b->surfaceVertex[s];
-		if (b->pinned[i] == FM_PIN_ALL)
+		int i = b->contact.surfaceVertex[s];
+		if (b->state.pinned[i] == FM_PIN_ALL)
 			continue;
-		const double* plane = b->contactPlane ? b->contactPlane + 4 * (size_t)i : NULL;
+		const double* plane = b->contact.plane ? b->contact.plane + 4 * (size_t)i : NULL;
 		if (plane != NULL && !isnan(plane[3]))
 		{
 			fmVec3 n = fmMakeVec3(plane[0], plane[1], plane[2]);
 			double depth = p->thickness - (fmDot(n, fmLoad(x, i)) - plane[3]);
 			if (depth > 0.0)
-				fmVertexTerm(visit, context, i, p->stiffness * b->mass[i], depth, n);
+				fmVertexTerm(visit, context, i, p->stiffness * b->mesh.mass[i], depth, n);
 		}
 		for (int k = 0; k < p->colliderCount; ++k)
 		{
@@ -78,7 +78,7 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 			fmVec3 n;
 			double depth = -fmCollider_Distance(c, fmLoad(x, i), &n);
 			if (depth > 0.0)
-				fmVertexTerm(visit, context, i, p->stiffness * b->mass[i], depth, n);
+				fmVertexTerm(visit, context, i, p->stiffness * b->mesh.mass[i], depth, n);
 		}
 	}
 	fmEdgeTerms(p, b, x, visit, context);
@@ -89,8 +89,8 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 // Vertex i's friction data (normal, limit mu lambda, surface velocity), or NULL when none.
 static const double* fmFrictionOf(const fmBody* b, int i)
 {
-	const double* f = b->contactFriction ? b->contactFriction + 8 * (size_t)i : NULL;
-	return f != NULL && f[3] > 0.0 && b->pinned[i] != FM_PIN_ALL ? f : NULL;
+	const double* f = b->contact.friction ? b->contact.friction + 8 * (size_t)i : NULL;
+	return f != NULL && f[3] > 0.0 && b->state.pinned[i] != FM_PIN_ALL ? f : NULL;
 }
 
 // u: the tangential part of vertex i's motion relative to the collider's surface.
@@ -106,7 +106,7 @@ static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
 // stiffer than the contact itself only stalls Newton: measured, docs/contact.md).
 static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
 {
-	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mass[i]));
+	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mesh.mass[i]));
 }
 
 // A stick collider's friction (f[7] set by contact_collider.c): infinite friction as the limit
@@ -115,7 +115,7 @@ static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
 // Returns k (N/m), 0 for a Coulomb contact.
 static double fmStickStiffness(const fmBody* b, int i, const double* f, double h)
 {
-	return f[7] != 0.0 ? FM_PENALTY_KAPPA * b->mass[i] / (h * h) : 0.0;
+	return f[7] != 0.0 ? FM_PENALTY_KAPPA * b->mesh.mass[i] / (h * h) : 0.0;
 }
 
 // f0(y) / limit: IPC's C1 friction potential with slip width eps.
@@ -149,9 +149,9 @@ static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const
                                double* gradient)
 {
 	double energy = 0.0;
-	for (int s = 0; s < b->surfaceVertexCount; ++s)
+	for (int s = 0; s < b->contact.surfaceVertexCount; ++s)
 	{
-		int i = b->surfaceVertex[s];
+		int i = b->contact.surfaceVertex[s];
 		const double* f = fmFrictionOf(b, i);
 		if (f == NULL)
 			continue;
@@ -214,7 +214,7 @@ double fmContactPenalty_Energy(const fmContactPenalty* p, const fmBody* b, const
 {
 	fmEnergyVisit e = {0.0, gradient};
 	fmPenaltyPairs(p, b, x, fmVisitEnergy, &e);
-	return p != NULL && b->surfaceVertex != NULL ? e.energy + fmFrictionEnergy(p, b, x, gradient)
+	return p != NULL && b->contact.surfaceVertex != NULL ? e.energy + fmFrictionEnergy(p, b, x, gradient)
 	                                             : e.energy;
 }
 
@@ -254,9 +254,9 @@ void fmContactPenalty_AddHessian(const fmContactPenalty* p, const fmBody* b, con
 {
 	fmHessianVisit h = {pattern, values};
 	fmPenaltyPairs(p, b, x, fmVisitHessian, &h);
-	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	for (int s = 0; p != NULL && s < b->contact.surfaceVertexCount; ++s)
 	{
-		int i = b->surfaceVertex[s];
+		int i = b->contact.surfaceVertex[s];
 		const double* f = fmFrictionOf(b, i);
 		if (f == NULL)
 			continue;
@@ -299,9 +299,9 @@ void fmContactPenalty_AddProduct(const fmContactPenalty* p, const fmBody* b, con
 {
 	fmProductVisit v = {dx, y};
 	fmPenaltyPairs(p, b, at, fmVisitProduct, &v);
-	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	for (int s = 0; p != NULL && s < b->contact.surfaceVertexCount; ++s)
 	{
-		int i = b->surfaceVertex[s];
+		int i = b->contact.surfaceVertex[s];
 		const double* f = fmFrictionOf(b, i);
 		if (f == NULL)
 			continue;
@@ -332,14 +332,14 @@ static void fmVisitWork(void* context, const fmPenaltyTerm* t)
 
 double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const double* xStart)
 {
-	fmWorkVisit v = {b->x, xStart, 0.0};
-	fmPenaltyPairs(p, b, b->x, fmVisitWork, &v);
+	fmWorkVisit v = {b->state.x, xStart, 0.0};
+	fmPenaltyPairs(p, b, b->state.x, fmVisitWork, &v);
 	// Friction's work: negative against a resting collider, positive where a moving one drags.
-	for (int s = 0; p != NULL && s < b->surfaceVertexCount; ++s)
+	for (int s = 0; p != NULL && s < b->contact.surfaceVertexCount; ++s)
 	{
-		int i = b->surfaceVertex[s];
-		fmVec3 force = fmContactFriction_Force(b, i, b->x, xStart, p->step);
-		v.work += fmMax(0.0, fmDot(force, fmSub(fmLoad(b->x, i), fmLoad(xStart, i))));
+		int i = b->contact.surfaceVertex[s];
+		fmVec3 force = fmContactFriction_Force(b, i, b->state.x, xStart, p->step);
+		v.work += fmMax(0.0, fmDot(force, fmSub(fmLoad(b->state.x, i), fmLoad(xStart, i))));
 	}
 	return v.work;
 }

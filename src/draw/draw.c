@@ -86,37 +86,37 @@ void fmStrainColor(double level, float rgb[3])
 // The surface's vertices, compacted in order of first use by the triangles.
 static bool fmDrawCacheSurface(const fmBody* b, fmDrawCache* c)
 {
-	int* map = FM_ALLOC_ARRAY(int, b->vertexCount);
+	int* map = FM_ALLOC_ARRAY(int, b->mesh.vertexCount);
 	if (map == NULL)
 		return false;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		map[i] = -1;
 	int count = 0;
-	for (int k = 0; k < 3 * b->triangleCount; ++k)
-		if (map[b->surface[k]] < 0)
-			map[b->surface[k]] = count++;
-	size_t n = (size_t)count, m = (size_t)b->triangleCount;
+	for (int k = 0; k < 3 * b->mesh.triangleCount; ++k)
+		if (map[b->mesh.surface[k]] < 0)
+			map[b->mesh.surface[k]] = count++;
+	size_t n = (size_t)count, m = (size_t)b->mesh.triangleCount;
 	c->vertexCount = count;
-	c->triangleCount = b->triangleCount;
+	c->triangleCount = b->mesh.triangleCount;
 	c->vertex = FM_ALLOC_ARRAY(int, n);
 	c->user = FM_ALLOC_ARRAY(int, n);
 	c->indices = FM_ALLOC_ARRAY(int, 3 * m);
 	c->positions = FM_ALLOC_ARRAY(float, 3 * n);
 	c->normals = FM_ALLOC_ARRAY(float, 3 * n);
 	c->colors = FM_ALLOC_ARRAY(float, 3 * n);
-	c->points = FM_ALLOC_ARRAY(float, 3 * (size_t)b->vertexCount);
-	c->pointCapacity = b->vertexCount;
+	c->points = FM_ALLOC_ARRAY(float, 3 * (size_t)b->mesh.vertexCount);
+	c->pointCapacity = b->mesh.vertexCount;
 	bool ok =
 	    c->vertex && c->user && c->indices && c->positions && c->normals && c->colors && c->points;
-	for (int i = 0; ok && i < b->vertexCount; ++i)
+	for (int i = 0; ok && i < b->mesh.vertexCount; ++i)
 		if (map[i] >= 0)
 		{
 			c->vertex[map[i]] = i;
 			c->user[map[i]] = b->userVertex[i];
 		}
-	for (int k = 0; ok && k < 3 * b->triangleCount; ++k)
-		c->indices[k] = map[b->surface[k]];
-	FM_FREE_ARRAY(map, int, b->vertexCount);
+	for (int k = 0; ok && k < 3 * b->mesh.triangleCount; ++k)
+		c->indices[k] = map[b->mesh.surface[k]];
+	FM_FREE_ARRAY(map, int, b->mesh.vertexCount);
 	return ok;
 }
 
@@ -142,7 +142,7 @@ static void fmDrawGeometry(const fmBody* b, fmDrawCache* c)
 	for (int v = 0; v < c->vertexCount; ++v)
 		for (int e = 0; e < 3; ++e)
 		{
-			c->positions[3 * v + e] = (float)b->x[3 * c->vertex[v] + e];
+			c->positions[3 * v + e] = (float)b->state.x[3 * c->vertex[v] + e];
 			c->normals[3 * v + e] = 0.0f;
 		}
 	for (int t = 0; t < c->triangleCount; ++t)
@@ -175,17 +175,17 @@ static void fmDrawGeometry(const fmBody* b, fmDrawCache* c)
 // around it (psi the strain energy density), on the blue-to-red ramp up to FM_DRAW_FULL_STRAIN.
 static void fmDrawStrainColors(const fmBody* b, fmDrawCache* c)
 {
-	double E = fmYoungsModulus(&b->material);
+	double E = fmYoungsModulus(&b->mesh.material);
 	for (int v = 0; v < c->vertexCount; ++v)
 	{
 		int i = c->vertex[v];
 		double sum = 0.0;
-		int count = b->vertexTetStart[i + 1] - b->vertexTetStart[i];
-		for (int k = b->vertexTetStart[i]; k < b->vertexTetStart[i + 1]; ++k)
+		int count = b->mesh.vertexTetStart[i + 1] - b->mesh.vertexTetStart[i];
+		for (int k = b->mesh.vertexTetStart[i]; k < b->mesh.vertexTetStart[i + 1]; ++k)
 		{
-			int t = b->vertexTets[k] / 4;
-			fmMat3 F = fmTetDeformation(b, b->x, t);
-			double psi = fmMaterial_Evaluate(fmTetMaterial(b, t), &F, NULL, NULL);
+			int t = b->mesh.vertexTets[k] / 4;
+			fmMat3 F = fmTetDeformation(b, b->state.x, t);
+			double psi = fmMaterial_Evaluate(fmTetMaterial(&b->mesh, t), &F, NULL, NULL);
 			sum += E > 0.0 && psi > 0.0 ? sqrt(2.0 * psi / E) : 0.0;
 		}
 		double strain = count > 0 ? sum / count : 0.0;
@@ -237,17 +237,17 @@ static int fmCompareEdges(const void* a, const void* b)
 
 static bool fmDrawCacheEdges(const fmBody* b, fmDrawCache* c)
 {
-	if (c->edges != NULL || b->tetCount == 0)
+	if (c->edges != NULL || b->mesh.tetCount == 0)
 		return true;
-	size_t all = 6 * (size_t)b->tetCount;
+	size_t all = 6 * (size_t)b->mesh.tetCount;
 	int* pairs = FM_ALLOC_ARRAY(int, 2 * all);
 	if (pairs == NULL)
 		return false;
 	static const int corner[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 		for (int e = 0; e < 6; ++e)
 		{
-			int i = b->tets[4 * t + corner[e][0]], j = b->tets[4 * t + corner[e][1]];
+			int i = b->mesh.tets[4 * t + corner[e][0]], j = b->mesh.tets[4 * t + corner[e][1]];
 			pairs[2 * (6 * (size_t)t + e)] = i < j ? i : j;
 			pairs[2 * (6 * (size_t)t + e) + 1] = i < j ? j : i;
 		}
@@ -284,7 +284,7 @@ static bool fmDrawTetEdges(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 	if (!fmDrawCacheEdges(b, c) || !fmReserveLines(c, c->edgeCount))
 		return false;
 	for (int k = 0; k < c->edgeCount; ++k)
-		fmPutLine(c->lines + 6 * k, b->x + 3 * c->edges[2 * k], b->x + 3 * c->edges[2 * k + 1]);
+		fmPutLine(c->lines + 6 * k, b->state.x + 3 * c->edges[2 * k], b->state.x + 3 * c->edges[2 * k + 1]);
 	draw->drawLines(c->lines, c->edgeCount, FM_COLOR_EDGES, draw->context);
 	return true;
 }
@@ -299,14 +299,14 @@ static bool fmDrawInverted(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 	if (!fmReserveLines(c, 6 * inverted))
 		return false;
 	int count = 0;
-	for (int t = 0; t < b->tetCount && count < 6 * inverted; ++t)
+	for (int t = 0; t < b->mesh.tetCount && count < 6 * inverted; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t);
 		if (fmDet(&F) > 0.0)
 			continue;
 		for (int e = 0; e < 6; ++e)
-			fmPutLine(c->lines + 6 * (count + e), b->x + 3 * b->tets[4 * t + corner[e][0]],
-			          b->x + 3 * b->tets[4 * t + corner[e][1]]);
+			fmPutLine(c->lines + 6 * (count + e), b->state.x + 3 * b->mesh.tets[4 * t + corner[e][0]],
+			          b->state.x + 3 * b->mesh.tets[4 * t + corner[e][1]]);
 		count += 6;
 	}
 	draw->drawLines(c->lines, count, FM_COLOR_INVERTED, draw->context);
@@ -317,11 +317,11 @@ static bool fmDrawInverted(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 static void fmDrawPins(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw)
 {
 	int count = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
-		if (b->pinned[i] != 0)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		if (b->state.pinned[i] != 0)
 		{
 			for (int e = 0; e < 3; ++e)
-				c->points[3 * count + e] = (float)b->x[3 * i + e];
+				c->points[3 * count + e] = (float)b->state.x[3 * i + e];
 			count += 1;
 		}
 	if (count > 0)
@@ -336,15 +336,15 @@ static bool fmDrawTargets(const fmBody* b, fmDrawCache* c, const fmDebugDraw* dr
 	if (!fmReserveLines(c, b->targetCount))
 		return false;
 	for (int t = 0; t < b->targetCount; ++t)
-		fmPutLine(c->lines + 6 * t, b->targetPosition + 3 * t, b->x + 3 * b->targetVertex[t]);
+		fmPutLine(c->lines + 6 * t, b->targetPosition + 3 * t, b->state.x + 3 * b->targetVertex[t]);
 	if (draw->drawLines)
 		draw->drawLines(c->lines, b->targetCount, FM_COLOR_TARGETS, draw->context);
 	if (draw->drawPoints)
 	{
-		for (int t = 0; t < b->targetCount && t < b->vertexCount; ++t)
+		for (int t = 0; t < b->targetCount && t < b->mesh.vertexCount; ++t)
 			for (int e = 0; e < 3; ++e)
 				c->points[3 * t + e] = (float)b->targetPosition[3 * t + e];
-		int count = b->targetCount < b->vertexCount ? b->targetCount : b->vertexCount;
+		int count = b->targetCount < b->mesh.vertexCount ? b->targetCount : b->mesh.vertexCount;
 		draw->drawPoints(c->points, count, FM_DRAW_POINT_SIZE, FM_COLOR_TARGETS, draw->context);
 	}
 	return true;
@@ -454,7 +454,7 @@ static fmResult fmWorldDrawIn(fmWorldId worldId, const fmDebugDraw* draw)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		fmBodyId id = fmWorldBodyId(w, i);
 		if (!fmDrawBody(b, id, draw))

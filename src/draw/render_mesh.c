@@ -59,10 +59,10 @@ typedef struct fmTetGrid
 
 static void fmTetBounds(const fmBody* b, int t, fmVec3* lo, fmVec3* hi)
 {
-	*lo = *hi = fmLoad(b->x0, b->tets[4 * t]);
+	*lo = *hi = fmLoad(b->mesh.x0, b->mesh.tets[4 * t]);
 	for (int k = 1; k < 4; ++k)
 	{
-		fmVec3 p = fmLoad(b->x0, b->tets[4 * t + k]);
+		fmVec3 p = fmLoad(b->mesh.x0, b->mesh.tets[4 * t + k]);
 		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
 		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
 	}
@@ -101,7 +101,7 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 	memset(g, 0, sizeof *g);
 	fmVec3 lo, hi;
 	fmTetBounds(b, 0, &lo, &hi);
-	for (int t = 1; t < b->tetCount; ++t)
+	for (int t = 1; t < b->mesh.tetCount; ++t)
 	{
 		fmVec3 l, u;
 		fmTetBounds(b, t, &l, &u);
@@ -116,7 +116,7 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 	    fmMax(size.x, 1e-3 * extent) * fmMax(size.y, 1e-3 * extent) * fmMax(size.z, 1e-3 * extent);
 	// (No cbrt, whose last bits differ between C libraries: halving finds the cell size
 	// within a factor of 2, all the grid needs.)
-	double target = volume / (FM_RENDER_CELLS_PER_TET * b->tetCount);
+	double target = volume / (FM_RENDER_CELLS_PER_TET * b->mesh.tetCount);
 	g->h = fmMax(extent, 1e-300);
 	while (g->h * g->h * g->h > target && g->h > 1e-150)
 		g->h *= 0.5;
@@ -129,7 +129,7 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 			g->n[k] = (int)fmMin(fmMax(ceil(ext[k] / g->h), 1.0), 4096.0);
 			cells *= g->n[k];
 		}
-		if (cells <= FM_RENDER_CELLS_PER_TET * b->tetCount + 8.0)
+		if (cells <= FM_RENDER_CELLS_PER_TET * b->mesh.tetCount + 8.0)
 			break;
 		g->h *= 1.25;
 	}
@@ -141,7 +141,7 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 	size_t total = 0;
 	for (int pass = 0; pass < 2; ++pass)
 	{
-		for (int t = 0; t < b->tetCount; ++t)
+		for (int t = 0; t < b->mesh.tetCount; ++t)
 		{
 			fmVec3 l, u;
 			int a[3], z[3];
@@ -182,7 +182,7 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 // Barycentric coordinates of @p p in rest tet @p t: (w1, w2, w3) = Dm^-1 (p - X0).
 static void fmBarycentric(const fmBody* b, int t, fmVec3 p, double w[4])
 {
-	fmVec3 r = fmMatVec(&b->DmInv[t], fmSub(p, fmLoad(b->x0, b->tets[4 * t])));
+	fmVec3 r = fmMatVec(&b->mesh.DmInv[t], fmSub(p, fmLoad(b->mesh.x0, b->mesh.tets[4 * t])));
 	w[1] = r.x;
 	w[2] = r.y;
 	w[3] = r.z;
@@ -207,7 +207,7 @@ static double fmOutsideDistance(const fmBody* b, int t, fmVec3 p, const double w
 		return 0.0;
 	fmVec3 q = fmMakeVec3(0, 0, 0);
 	for (int k = 0; k < 4; ++k)
-		q = fmMulAdd(q, c[k] / sum, fmLoad(b->x0, b->tets[4 * t + k]));
+		q = fmMulAdd(q, c[k] / sum, fmLoad(b->mesh.x0, b->mesh.tets[4 * t + k]));
 	return fmLength(fmSub(p, q));
 }
 
@@ -374,7 +374,7 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 		m->tet[i] = bind.tet;
 		memcpy(m->weight + 4 * i, bind.w, sizeof bind.w);
 		// Outside by more than round-off of the tet's own size: reported.
-		if (bind.distance > 1e-9 * b->restSize)
+		if (bind.distance > 1e-9 * b->mesh.restSize)
 		{
 			outside += 1;
 			farthest = fmMax(farthest, bind.distance);
@@ -388,7 +388,7 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 		fmRenderMesh_Free(m);
 		return fmDiagError(diag, r, "", 0, 0,
 		                   "fmBody_SetRenderMesh: %s binding %d vertices to %d tets",
-		                   fmResultMessage(r), vertexCount, b->tetCount);
+		                   fmResultMessage(r), vertexCount, b->mesh.tetCount);
 	}
 	if (triangleCount > 0)
 		memcpy(m->triangles, triangles, sizeof(int) * 3 * (size_t)triangleCount);
@@ -397,7 +397,7 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 		           "fmBody_SetRenderMesh: %d of %d render vertices lie outside the body's tets "
 		           "(the farthest %.3g m, %.3g of the body's size): each follows its nearest "
 		           "tet's map, extrapolated",
-		           outside, vertexCount, farthest, farthest / b->restSize);
+		           outside, vertexCount, farthest, farthest / b->mesh.restSize);
 	fmRenderMesh_Free(b->renderMesh);
 	b->renderMesh = m;
 	return fm_ok;
@@ -437,11 +437,11 @@ static void fmRenderMesh_Update(const fmBody* b, fmRenderMesh* m, bool normals)
 {
 	for (int i = 0; i < m->vertexCount; ++i)
 	{
-		const int* tet = b->tets + 4 * m->tet[i];
+		const int* tet = b->mesh.tets + 4 * m->tet[i];
 		const double* w = m->weight + 4 * i;
 		fmVec3 x = fmMakeVec3(0, 0, 0);
 		for (int k = 0; k < 4; ++k)
-			x = fmMulAdd(x, w[k], fmLoad(b->x, tet[k]));
+			x = fmMulAdd(x, w[k], fmLoad(b->state.x, tet[k]));
 		fmStore(m->positions, i, x);
 	}
 	if (!normals)

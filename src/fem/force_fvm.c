@@ -26,17 +26,17 @@ static fmVec3 fmFaceAreaNormal(fmVec3 p, fmVec3 q, fmVec3 r)
 
 int fmBuildFvmNormals(fmBody* body)
 {
-	body->fvmNormals = FM_ALLOC_ARRAY(fmVec3, 4 * (size_t)body->tetCount);
-	if (body->fvmNormals == NULL)
+	body->mesh.fvmNormals = FM_ALLOC_ARRAY(fmVec3, 4 * (size_t)body->mesh.tetCount);
+	if (body->mesh.fvmNormals == NULL)
 		return 1;
-	for (int t = 0; t < body->tetCount; ++t)
+	for (int t = 0; t < body->mesh.tetCount; ++t)
 	{
-		const int* n = body->tets + 4 * t;
+		const int* n = body->mesh.tets + 4 * t;
 		fmVec3 an[4];
 		for (int o = 0; o < 4; ++o)
-			an[o] = fmFaceAreaNormal(fmLoad(body->x0, n[s_faces[o][0]]),
-			                         fmLoad(body->x0, n[s_faces[o][1]]),
-			                         fmLoad(body->x0, n[s_faces[o][2]]));
+			an[o] = fmFaceAreaNormal(fmLoad(body->mesh.x0, n[s_faces[o][0]]),
+			                         fmLoad(body->mesh.x0, n[s_faces[o][1]]),
+			                         fmLoad(body->mesh.x0, n[s_faces[o][2]]));
 		// Vertex a touches every face but the one opposite it.
 		for (int a = 0; a < 4; ++a)
 		{
@@ -44,7 +44,7 @@ int fmBuildFvmNormals(fmBody* body)
 			for (int o = 0; o < 4; ++o)
 				if (o != a)
 					sum = fmAdd(sum, an[o]);
-			body->fvmNormals[4 * t + a] = fmScale(1.0 / 3.0, sum);
+			body->mesh.fvmNormals[4 * t + a] = fmScale(1.0 / 3.0, sum);
 		}
 	}
 	return 0;
@@ -53,15 +53,15 @@ int fmBuildFvmNormals(fmBody* body)
 double fmAddFvmForces(const fmBody* body, const double* x, double* f)
 {
 	double energy = 0.0;
-	for (int t = 0; t < body->tetCount; ++t)
+	for (int t = 0; t < body->mesh.tetCount; ++t)
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
 		fmMat3 P;
-		energy += body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
-		const int* n = body->tets + 4 * t;
+		energy += body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, &P, NULL);
+		const int* n = body->mesh.tets + 4 * t;
 		for (int a = 0; a < 4; ++a)
 		{
-			fmVec3 fa = fmScale(-1.0, fmMatVec(&P, body->fvmNormals[4 * t + a]));
+			fmVec3 fa = fmScale(-1.0, fmMatVec(&P, body->mesh.fvmNormals[4 * t + a]));
 			fmStore(f, n[a], fmAdd(fmLoad(f, n[a]), fa));
 		}
 	}

@@ -23,11 +23,11 @@ static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 
 fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
 {
-	const int* n = body->tets + 4 * t;
+	const int* n = body->mesh.tets + 4 * t;
 	fmVec3 x0 = fmLoad(x, n[0]);
 	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
 	                              fmSub(fmLoad(x, n[3]), x0));
-	return fmMatMul(&Ds, &body->DmInv[t]);
+	return fmMatMul(&Ds, &body->mesh.DmInv[t]);
 }
 
 // The batched double-precision kernels of the force passes, of the CPU's instruction set (every
@@ -69,9 +69,9 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 // The batched polar kernel when some tet of @p body is corotated; NULL otherwise.
 static fmPolarKernelFcn* fmPolarKernel(const fmBody* body)
 {
-	bool corotated = body->material.model == fm_corotated;
-	for (int k = 0; k < body->materialCount; ++k)
-		corotated = corotated || body->materials[k].model == fm_corotated;
+	bool corotated = body->mesh.material.model == fm_corotated;
+	for (int k = 0; k < body->mesh.materialCount; ++k)
+		corotated = corotated || body->mesh.materials[k].model == fm_corotated;
 	return corotated ? fmPassKernelsOfCpu().polar : NULL;
 }
 
@@ -80,11 +80,11 @@ static fmPolarKernelFcn* fmPolarKernel(const fmBody* body)
 static fmForceBatchKernelFcn* fmForceBatchKernel(const fmBody* body, fmPassKernels* kernels)
 {
 	*kernels = fmPassKernelsOfCpu();
-	if (body->tetMaterial != NULL)
+	if (body->mesh.tetMaterial != NULL)
 		return NULL;
-	if (body->material.model == fm_neoHookean)
+	if (body->mesh.material.model == fm_neoHookean)
 		return kernels->neoHookean;
-	return body->material.model == fm_corotated ? kernels->corotated : NULL;
+	return body->mesh.material.model == fm_corotated ? kernels->corotated : NULL;
 }
 
 // Tets [first, first + count), count <= FM_FORCE_LANES, into a force batch at x (the edge
@@ -92,23 +92,23 @@ static fmForceBatchKernelFcn* fmForceBatchKernel(const fmBody* body, fmPassKerne
 static void fmFillForceBatch(const fmBody* body, const double* x, int first, int count,
                              const fmPassKernels* kernels, fmForceBatch* batch)
 {
-	batch->mu = body->material.mu;
-	batch->lambda = body->material.lambda;
+	batch->mu = body->mesh.material.mu;
+	batch->lambda = body->mesh.material.lambda;
 	if (count == FM_FORCE_LANES)
 	{
-		kernels->fill(x, body->tets, body->DmInv, body->restVolume, first, batch);
+		kernels->fill(x, body->mesh.tets, body->mesh.DmInv, body->mesh.restVolume, first, batch);
 		return;
 	}
 	for (int l = 0; l < FM_FORCE_LANES; ++l)
 	{
 		int t = first + (l < count ? l : 0);
-		const int* n = body->tets + 4 * t;
+		const int* n = body->mesh.tets + 4 * t;
 		for (int i = 0; i < 3; ++i)
 			for (int k = 0; k < 3; ++k)
 				batch->Ds[3 * i + k][l] = l < count ? x[3 * n[k + 1] + i] - x[3 * n[0] + i] : 0.0;
 		for (int e = 0; e < 9; ++e)
-			batch->dmInv[e][l] = body->DmInv[t].m[e];
-		batch->volume[l] = l < count ? body->restVolume[t] : 0.0;
+			batch->dmInv[e][l] = body->mesh.DmInv[t].m[e];
+		batch->volume[l] = l < count ? body->mesh.restVolume[t] : 0.0;
 	}
 }
 
@@ -124,7 +124,7 @@ static void fmTetStresses(const fmBody* body, const double* x, int first, int co
 	for (int j = 0; j < count; ++j)
 	{
 		F[j] = fmTetDeformation(body, x, first + j);
-		lane[j] = fmTetMaterial(body, first + j)->model == fm_corotated ? lanes++ : -1;
+		lane[j] = fmTetMaterial(&body->mesh, first + j)->model == fm_corotated ? lanes++ : -1;
 		for (int k = 0; lane[j] >= 0 && k < 9; ++k)
 			batch.F[k][lane[j]] = F[j].m[k];
 	}
@@ -137,7 +137,7 @@ static void fmTetStresses(const fmBody* body, const double* x, int first, int co
 	}
 	for (int j = 0; j < count; ++j)
 	{
-		const fmMaterial* m = fmTetMaterial(body, first + j);
+		const fmMaterial* m = fmTetMaterial(&body->mesh, first + j);
 		if (lane[j] >= 0 && batch.ok[lane[j]])
 		{
 			fmMat3 R;
@@ -162,9 +162,9 @@ static void fmTetStresses(const fmBody* body, const double* x, int first, int co
 // sum on node 0 (the seeds' formula).
 FM_FORCES_INLINE void fmAddTetForces(const fmBody* body, int t, const fmMat3* P, double* f)
 {
-	double V0 = body->restVolume[t];
-	fmMat3 H = fmMatMulT(P, &body->DmInv[t]);
-	const int* n = body->tets + 4 * t;
+	double V0 = body->mesh.restVolume[t];
+	fmMat3 H = fmMatMulT(P, &body->mesh.DmInv[t]);
+	const int* n = body->mesh.tets + 4 * t;
 	fmVec3 sum = {0, 0, 0};
 	for (int a = 1; a < 4; ++a)
 	{
@@ -179,8 +179,8 @@ FM_FORCES_INLINE void fmAddTetForces(const fmBody* body, int t, const fmMat3* P,
 // (a - b == a + -b: the same bits once gathered).
 FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* P, double* forces)
 {
-	double V0 = body->restVolume[t];
-	fmMat3 H = fmMatMulT(P, &body->DmInv[t]);
+	double V0 = body->mesh.restVolume[t];
+	fmMat3 H = fmMatMulT(P, &body->mesh.DmInv[t]);
 	fmVec3 sum = {0, 0, 0};
 	double* out = forces + 12 * (size_t)t;
 	for (int a = 1; a < 4; ++a)
@@ -209,7 +209,7 @@ void fmInvertedTets(const fmBody* body, const double* x, int first, int end,
 static double fmScalarStress(const fmBody* body, const double* x, int t, fmMat3* P)
 {
 	fmMat3 F = fmTetDeformation(body, x, t);
-	return fmMaterial_Evaluate(fmTetMaterial(body, t), &F, P, NULL);
+	return fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, P, NULL);
 }
 
 // f += the forces of a body of one material, a batch at a time through @p kernel; returns the
@@ -219,10 +219,10 @@ static double fmAddBatchedForces(const fmBody* body, const double* x, double* f,
 {
 	double energy = 0.0;
 	fmForceBatch batch;
-	for (int first = 0; first < body->tetCount; first += FM_FORCE_LANES)
+	for (int first = 0; first < body->mesh.tetCount; first += FM_FORCE_LANES)
 	{
 		int count =
-		    body->tetCount - first < FM_FORCE_LANES ? body->tetCount - first : FM_FORCE_LANES;
+		    body->mesh.tetCount - first < FM_FORCE_LANES ? body->mesh.tetCount - first : FM_FORCE_LANES;
 		fmFillForceBatch(body, x, first, count, kernels, &batch);
 		kernel(&batch);
 		for (int l = 0; l < count; ++l)
@@ -230,12 +230,12 @@ static double fmAddBatchedForces(const fmBody* body, const double* x, double* f,
 			if (!batch.ok[l])
 			{
 				fmMat3 P;
-				energy += body->restVolume[first + l] * fmScalarStress(body, x, first + l, &P);
+				energy += body->mesh.restVolume[first + l] * fmScalarStress(body, x, first + l, &P);
 				fmAddTetForces(body, first + l, &P, f);
 				continue;
 			}
-			const int* n = body->tets + 4 * (first + l);
-			energy += body->restVolume[first + l] * batch.psi[l];
+			const int* n = body->mesh.tets + 4 * (first + l);
+			energy += body->mesh.restVolume[first + l] * batch.psi[l];
 			for (int a = 1; a < 4; ++a)
 				for (int i = 0; i < 3; ++i)
 					f[3 * n[a] + i] = f[3 * n[a] + i] + batch.force[a][i][l];
@@ -256,25 +256,25 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 	double energy = 0.0;
 	if (polar == NULL) // one tet at a time: no batch to fill
 	{
-		for (int t = 0; t < body->tetCount; ++t)
+		for (int t = 0; t < body->mesh.tetCount; ++t)
 		{
 			fmMat3 F = fmTetDeformation(body, x, t), P;
 			energy +=
-			    body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
+			    body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, &P, NULL);
 			fmAddTetForces(body, t, &P, f);
 		}
 		return energy;
 	}
-	for (int first = 0; first < body->tetCount; first += FM_POLAR_LANES)
+	for (int first = 0; first < body->mesh.tetCount; first += FM_POLAR_LANES)
 	{
 		int count =
-		    body->tetCount - first < FM_POLAR_LANES ? body->tetCount - first : FM_POLAR_LANES;
+		    body->mesh.tetCount - first < FM_POLAR_LANES ? body->mesh.tetCount - first : FM_POLAR_LANES;
 		fmMat3 P[FM_POLAR_LANES];
 		double psi[FM_POLAR_LANES];
 		fmTetStresses(body, x, first, count, polar, P, psi);
 		for (int j = 0; j < count; ++j)
 		{
-			energy += body->restVolume[first + j] * psi[j];
+			energy += body->mesh.restVolume[first + j] * psi[j];
 			fmAddTetForces(body, first + j, &P[j], f);
 		}
 	}
@@ -299,12 +299,12 @@ static void fmStoreBatchedForces(const fmBody* body, const double* x, int first,
 			{
 				fmMat3 P;
 				energies[start + l] =
-				    body->restVolume[start + l] * fmScalarStress(body, x, start + l, &P);
+				    body->mesh.restVolume[start + l] * fmScalarStress(body, x, start + l, &P);
 				fmStoreTetForces(body, start + l, &P, forces);
 				continue;
 			}
 			double* out = forces + 12 * (size_t)(start + l);
-			energies[start + l] = body->restVolume[start + l] * batch.psi[l];
+			energies[start + l] = body->mesh.restVolume[start + l] * batch.psi[l];
 			for (int i = 0; i < 3; ++i)
 			{
 				out[i] = -1.0 * batch.force[0][i][l];
@@ -332,7 +332,7 @@ void fmTetForces(const fmBody* body, const double* x, int first, int end, double
 		{
 			fmMat3 F = fmTetDeformation(body, x, t), P;
 			energies[t] =
-			    body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, &P, NULL);
+			    body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, &P, NULL);
 			fmStoreTetForces(body, t, &P, forces);
 		}
 		return;
@@ -345,7 +345,7 @@ void fmTetForces(const fmBody* body, const double* x, int first, int end, double
 		fmTetStresses(body, x, start, count, polar, P, psi);
 		for (int j = 0; j < count; ++j)
 		{
-			energies[start + j] = body->restVolume[start + j] * psi[j];
+			energies[start + j] = body->mesh.restVolume[start + j] * psi[j];
 			fmStoreTetForces(body, start + j, &P[j], forces);
 		}
 	}
@@ -356,15 +356,15 @@ void fmGatherTetForces(const fmBody* body, const double* forces, int first, int 
 	for (int i = first; i < end; ++i)
 	{
 		fmVec3 sum = fmLoad(f, i);
-		for (int k = body->vertexTetStart[i]; k < body->vertexTetStart[i + 1]; ++k)
-			sum = fmAdd(sum, fmLoad(forces, body->vertexTets[k])); // 3 doubles at 3 (4 t + a)
+		for (int k = body->mesh.vertexTetStart[i]; k < body->mesh.vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmLoad(forces, body->mesh.vertexTets[k])); // 3 doubles at 3 (4 t + a)
 		fmStore(f, i, sum);
 	}
 }
 
 double fmAddElasticForces(const fmBody* body, const double* x, double* f)
 {
-	switch (body->forceModel)
+	switch (body->mesh.forceModel)
 	{
 	case fm_fvm:
 		return fmAddFvmForces(body, x, f);
@@ -379,18 +379,18 @@ double fmElasticEnergy(const fmBody* body, const double* x)
 {
 	// The implicit solver's last evaluation, when it was at x (the world's energy check after
 	// an implicit step): the same bits as the loop below.
-	const fmImplicitCache* cache = body->implicitCache;
+	const fmImplicitCache* cache = body->solverCache;
 	if (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x))
 		return cache->forcesEnergy;
 	double energy = 0.0;
-	if (body->forceModel == fm_massSpring)
+	if (body->mesh.forceModel == fm_massSpring)
 	{
 		return fmSpringEnergy(body, x);
 	}
-	for (int t = 0; t < body->tetCount; ++t)
+	for (int t = 0; t < body->mesh.tetCount; ++t)
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
-		energy += body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(body, t), &F, NULL, NULL);
+		energy += body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, NULL, NULL);
 	}
 	return energy;
 }
@@ -401,9 +401,9 @@ static void fmTetStressDerivative(const fmBody* body, int t, const fmMat3* F, do
                                   int project)
 {
 	if (project)
-		fmMaterial_EvaluateProjected(fmTetMaterial(body, t), F, NULL, dPdF);
+		fmMaterial_EvaluateProjected(fmTetMaterial(&body->mesh, t), F, NULL, dPdF);
 	else
-		fmMaterial_Evaluate(fmTetMaterial(body, t), F, NULL, dPdF);
+		fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), F, NULL, dPdF);
 }
 
 // K = V0 B^T (dP/dF) B with B the map from node displacements to dF (dF_ij = sum_a u_ai g_a[j]),
@@ -449,18 +449,18 @@ void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int pro
 	fmTetStressDerivative(body, t, &F, dPdF, project);
 	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K
 	// because K = V0 B^T (dP/dF) B.
-	fmContractTetHessian(dPdF, &body->DmInv[t], body->restVolume[t], K);
+	fmContractTetHessian(dPdF, &body->mesh.DmInv[t], body->mesh.restVolume[t], K);
 }
 
 void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, double* out,
                          int project)
 {
-	if (body->forceModel == fm_massSpring)
+	if (body->mesh.forceModel == fm_massSpring)
 	{
 		double K[36];
-		for (int e = 0; e < body->edgeCount; ++e)
+		for (int e = 0; e < body->mesh.edgeCount; ++e)
 		{
-			const int* n = body->edges + 2 * e;
+			const int* n = body->mesh.edges + 2 * e;
 			fmSpringHessian(body, x, e, K, project);
 			double u[6], y[6] = {0};
 			for (int k = 0; k < 3; ++k)
@@ -479,14 +479,14 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 		}
 		return;
 	}
-	for (int t = 0; t < body->tetCount; ++t)
+	for (int t = 0; t < body->mesh.tetCount; ++t)
 	{
 		fmMat3 F = fmTetDeformation(body, x, t);
 		double dPdF[81];
 		fmTetStressDerivative(body, t, &F, dPdF, project);
 		fmVec3 g[4];
-		fmShapeGradients(&body->DmInv[t], g);
-		const int* n = body->tets + 4 * t;
+		fmShapeGradients(&body->mesh.DmInv[t], g);
+		const int* n = body->mesh.tets + 4 * t;
 		// dF = sum_a dx_a g_a^T; dP = dPdF : dF; out_a += V0 dP g_a.
 		fmMat3 dF = fmZero3();
 		for (int a = 0; a < 4; ++a)
@@ -506,7 +506,7 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 				s += dPdF[9 * r + c] * dF.m[c];
 			dP.m[r] = s;
 		}
-		const double V0 = body->restVolume[t];
+		const double V0 = body->mesh.restVolume[t];
 		for (int a = 0; a < 4; ++a)
 		{
 			fmVec3 y = fmScale(V0, fmMatVec(&dP, g[a]));
@@ -541,7 +541,7 @@ static void fmTetEnergiesTask(int start, int end, int worker, void* context)
 	{
 		fmMat3 F = fmTetDeformation(c->body, c->x, t);
 		c->tetEnergies[t] =
-		    c->body->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(c->body, t), &F, NULL, NULL);
+		    c->body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&c->body->mesh, t), &F, NULL, NULL);
 	}
 }
 
@@ -565,7 +565,7 @@ static bool fmRunsInParallel(const fmBody* body, const fmTaskSystem* tasks)
 {
 	// A body of fewer than two ranges of tets stays on the serial scatter (the same bits).
 	return tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	       body->forceModel == fm_fem && body->tetCount >= 2 * FM_PARALLEL_MIN_RANGE;
+	       body->mesh.forceModel == fm_fem && body->mesh.tetCount >= 2 * FM_PARALLEL_MIN_RANGE;
 }
 
 double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
@@ -574,23 +574,23 @@ double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
 	if (!fmRunsInParallel(body, tasks))
 		return fmAddElasticForces(body, x, f);
 	size_t mark = fmArena_Mark(arena);
-	fmForcesTask c = {body, x, f, fmArena_DoublesUninit(arena, 12 * (size_t)body->tetCount),
-	                  fmArena_DoublesUninit(arena, (size_t)body->tetCount)};
+	fmForcesTask c = {body, x, f, fmArena_DoublesUninit(arena, 12 * (size_t)body->mesh.tetCount),
+	                  fmArena_DoublesUninit(arena, (size_t)body->mesh.tetCount)};
 	double energy;
 	if (c.tetForces == NULL || c.tetEnergies == NULL)
 		energy = fmAddElasticForces(body, x, f);
 	else
 	{
-		fmParallelFor(tasks, body->tetCount, FM_PARALLEL_MIN_RANGE, fmTetForcesTask, &c);
+		fmParallelFor(tasks, body->mesh.tetCount, FM_PARALLEL_MIN_RANGE, fmTetForcesTask, &c);
 		// The gather is split as the tets were (vertex ranges of as many tets' corners), so
 		// each worker mostly reads the forces it wrote: gathered on one worker, half of them
 		// cross between the cores' caches twice a pass (a 10k-tet pass took 0.77 ms on 2
 		// workers, 0.52 ms split, against 0.72 ms on one).
 		int vertexRange =
-		    (int)((int64_t)FM_PARALLEL_MIN_RANGE * body->vertexCount / body->tetCount);
-		fmParallelFor(tasks, body->vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,
+		    (int)((int64_t)FM_PARALLEL_MIN_RANGE * body->mesh.vertexCount / body->mesh.tetCount);
+		fmParallelFor(tasks, body->mesh.vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,
 		              &c);
-		energy = fmSumInOrder(c.tetEnergies, body->tetCount);
+		energy = fmSumInOrder(c.tetEnergies, body->mesh.tetCount);
 	}
 	fmArena_Release(arena, mark);
 	return energy;
@@ -599,19 +599,19 @@ double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
 double fmElasticEnergyOn(const fmBody* body, const double* x, const fmTaskSystem* tasks,
                          fmArena* arena)
 {
-	const fmImplicitCache* cache = body->implicitCache; // as fmElasticEnergy
+	const fmImplicitCache* cache = body->solverCache; // as fmElasticEnergy
 	if (!fmRunsInParallel(body, tasks) ||
 	    (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x)))
 		return fmElasticEnergy(body, x);
 	size_t mark = fmArena_Mark(arena);
-	fmForcesTask c = {body, x, NULL, NULL, fmArena_DoublesUninit(arena, (size_t)body->tetCount)};
+	fmForcesTask c = {body, x, NULL, NULL, fmArena_DoublesUninit(arena, (size_t)body->mesh.tetCount)};
 	double energy;
 	if (c.tetEnergies == NULL)
 		energy = fmElasticEnergy(body, x);
 	else
 	{
-		fmParallelFor(tasks, body->tetCount, FM_PARALLEL_MIN_RANGE, fmTetEnergiesTask, &c);
-		energy = fmSumInOrder(c.tetEnergies, body->tetCount);
+		fmParallelFor(tasks, body->mesh.tetCount, FM_PARALLEL_MIN_RANGE, fmTetEnergiesTask, &c);
+		energy = fmSumInOrder(c.tetEnergies, body->mesh.tetCount);
 	}
 	fmArena_Release(arena, mark);
 	return energy;

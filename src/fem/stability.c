@@ -32,25 +32,25 @@ static void fmAddRowSums(const double* K, int size, const int* nodes, double* ro
 double fmBodyExplicitStepLimit(const fmBody* b, fmArena* arena)
 {
 	size_t mark = fmArena_Mark(arena);
-	double* rowSum = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+	double* rowSum = fmArena_Doubles(arena, 3 * (size_t)b->mesh.vertexCount);
 	if (rowSum == NULL)
 		return 0.0;
 	double K[144];
-	if (b->forceModel == fm_massSpring)
-		for (int e = 0; e < b->edgeCount; ++e)
+	if (b->mesh.forceModel == fm_massSpring)
+		for (int e = 0; e < b->mesh.edgeCount; ++e)
 		{
-			fmSpringHessian(b, b->x, e, K, 0);
-			fmAddRowSums(K, 6, b->edges + 2 * e, rowSum);
+			fmSpringHessian(b, b->state.x, e, K, 0);
+			fmAddRowSums(K, 6, b->mesh.edges + 2 * e, rowSum);
 		}
 	else
-		for (int t = 0; t < b->tetCount; ++t)
+		for (int t = 0; t < b->mesh.tetCount; ++t)
 		{
-			fmTetHessian(b, b->x, t, K, 0);
-			fmAddRowSums(K, 12, b->tets + 4 * t, rowSum);
+			fmTetHessian(b, b->state.x, t, K, 0);
+			fmAddRowSums(K, 12, b->mesh.tets + 4 * t, rowSum);
 		}
 	double omega2 = 0.0;
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		omega2 = fmMax(omega2, rowSum[k] * b->invMass[k / 3]);
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		omega2 = fmMax(omega2, rowSum[k] * b->state.invMass[k / 3]);
 	fmArena_Release(arena, mark);
 	return omega2 > 0.0 && isfinite(omega2) ? 0.9 * 2.0 / sqrt(omega2)
 	       : omega2 > 0.0                   ? 0.0
@@ -60,9 +60,9 @@ double fmBodyExplicitStepLimit(const fmBody* b, fmArena* arena)
 double fmBodyStiffeningProxy(const fmBody* b)
 {
 	double proxy = 1.0;
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t);
 		double J = fmDet(&F), I1 = 0.0;
 		for (int k = 0; k < 9; ++k)
 			I1 += F.m[k] * F.m[k];

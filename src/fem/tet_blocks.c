@@ -12,22 +12,22 @@
 
 bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
 {
-	fmMaterialModel m = body->material.model;
-	return level != fm_simdOff && body->forceModel == fm_fem && body->tetMaterial == NULL &&
+	fmMaterialModel m = body->mesh.material.model;
+	return level != fm_simdOff && body->mesh.forceModel == fm_fem && body->mesh.tetMaterial == NULL &&
 	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_mooneyRivlin ||
 	        m == fm_neoHookeanIsochoric || m == fm_corotated);
 }
 
 bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
 {
-	double density = b->totalMass / tb->restVolume;
-	double modulus = b->material.lambda + 2.0 * b->material.mu;
-	return density * 10.0 * b->restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
+	double density = b->mesh.totalMass / tb->restVolume;
+	double modulus = b->mesh.material.lambda + 2.0 * b->mesh.material.mu;
+	return density * 10.0 * b->mesh.restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
 }
 
 const fmTetBlocks* fmTetBlocks_Used(const fmBody* body, fmSimdLevel level)
 {
-	const fmTetBlocks* tb = body->tetBlocks;
+	const fmTetBlocks* tb = body->mesh.tetBlocks;
 	return tb != NULL && fmTetBlocks_Applies(body, level) && fmTetBlocks_Accurate(tb, body) ? tb
 	                                                                                        : NULL;
 }
@@ -82,10 +82,10 @@ static void fmPackBatch(const fmBody* b, int first, int end, fmBlockVertices* bv
 	{
 		int t = first + l < end ? first + l : first;
 		for (int a = 0; a < 4; ++a)
-			batch->nodes[a][l] = fmLocalVertex(bv, b->tets[4 * t + a]);
+			batch->nodes[a][l] = fmLocalVertex(bv, b->mesh.tets[4 * t + a]);
 		for (int k = 0; k < 9; ++k)
-			batch->dmInv[k][l] = (float)b->DmInv[t].m[k];
-		batch->volume[l] = first + l < end ? (float)b->restVolume[t] : 0.0f;
+			batch->dmInv[k][l] = (float)b->mesh.DmInv[t].m[k];
+		batch->volume[l] = first + l < end ? (float)b->mesh.restVolume[t] : 0.0f;
 	}
 }
 
@@ -230,20 +230,20 @@ static bool fmBuildVertexEntries(fmTetBlocks* tb, int vertexCount)
 // The arrays of a layout of @p blockCount blocks; false when short.
 static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 {
-	tb->tetCount = b->tetCount;
+	tb->tetCount = b->mesh.tetCount;
 	tb->blockCount = blockCount;
-	for (int t = 0; t < b->tetCount; ++t)
-		tb->restVolume += b->restVolume[t];
+	for (int t = 0; t < b->mesh.tetCount; ++t)
+		tb->restVolume += b->mesh.restVolume[t];
 	// Blocks hold whole batches and every block but the last is full, so only the last batch
 	// may be short.
-	tb->batchCount = (b->tetCount + FM_LANES - 1) / FM_LANES;
+	tb->batchCount = (b->mesh.tetCount + FM_LANES - 1) / FM_LANES;
 	tb->batches = FM_ALLOC_ARRAY(fmTetBatch, tb->batchCount);
 	tb->laneCount = FM_ALLOC_ARRAY(uint8_t, tb->batchCount);
 	tb->blockStart = FM_ALLOC_ZERO(int, blockCount + 1);
 	tb->blockVertexStart = FM_ALLOC_ZERO(int, blockCount + 1);
-	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->tetCount);
-	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->tetCount + 1);
-	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->tetCount);
+	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->mesh.tetCount);
+	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->mesh.tetCount + 1);
+	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->mesh.tetCount);
 	return tb->batches && tb->laneCount && tb->blockStart && tb->blockVertexStart &&
 	       tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
@@ -256,13 +256,13 @@ static int fmNeighbourPass(fmTetBlocks* tb, const fmBody* b, int* slot, int* off
                            double* weights)
 {
 	int count = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		tb->neighbourStart[i] = count;
-		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
+		for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
 			for (int a = 0; a < 4; ++a)
 			{
-				int j = b->tets[4 * (b->vertexTets[e] / 4) + a];
+				int j = b->mesh.tets[4 * (b->mesh.vertexTets[e] / 4) + a];
 				if (slot[j] < 0)
 				{
 					slot[j] = count++;
@@ -272,18 +272,18 @@ static int fmNeighbourPass(fmTetBlocks* tb, const fmBody* b, int* slot, int* off
 				if (offsets != NULL)
 					weights[slot[j]] += 1.0;
 			}
-		for (int e = b->vertexTetStart[i]; e < b->vertexTetStart[i + 1]; ++e)
+		for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
 			for (int a = 0; a < 4; ++a)
-				slot[b->tets[4 * (b->vertexTets[e] / 4) + a]] = -1;
+				slot[b->mesh.tets[4 * (b->mesh.vertexTets[e] / 4) + a]] = -1;
 	}
-	tb->neighbourStart[b->vertexCount] = count;
+	tb->neighbourStart[b->mesh.vertexCount] = count;
 	return count;
 }
 
 // The smoothing's vertex graph: counted, then filled into arrays of its size.
 static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
 {
-	const int n = b->vertexCount;
+	const int n = b->mesh.vertexCount;
 	tb->neighbourStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
 	int* slot = FM_ALLOC_ARRAY(int, n);
 	bool ok = tb->neighbourStart != NULL && slot != NULL;
@@ -307,16 +307,16 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 	fmTetBlocks* tb = FM_ALLOC_ZERO(fmTetBlocks, 1);
 	// The body keeps its tets in Morton order already (reorder.h): blocks are runs of it.
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
-	int blockCount = (b->tetCount + perBlock - 1) / perBlock;
-	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, b->vertexCount), NULL, 0,
+	int blockCount = (b->mesh.tetCount + perBlock - 1) / perBlock;
+	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, b->mesh.vertexCount), NULL, 0,
 	                      FM_ALLOC_ARRAY(int, 4 * perBlock)};
 	bool ok = tb != NULL && bv.local != NULL && bv.cursor != NULL;
 	if (ok)
 	{
-		for (int i = 0; i < b->vertexCount; ++i)
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
 			bv.local[i] = -1;
 		ok = fmAllocateBlocks(tb, b, blockCount) && fmPackBlocks(tb, b, &bv) &&
-		     fmBuildVertexEntries(tb, b->vertexCount) && fmBuildNeighbours(tb, b);
+		     fmBuildVertexEntries(tb, b->mesh.vertexCount) && fmBuildNeighbours(tb, b);
 	}
 	if (ok)
 	{
@@ -327,7 +327,7 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 		tb->blockInverted = FM_ALLOC_ZERO(int, tb->blockCount);
 		ok = tb->scratch != NULL && tb->blockEnergy != NULL && tb->blockInverted != NULL;
 	}
-	FM_FREE_ARRAY(bv.local, int, b->vertexCount);
+	FM_FREE_ARRAY(bv.local, int, b->mesh.vertexCount);
 	FM_FREE_ARRAY(bv.cursor, int, 4 * perBlock);
 	if (!ok)
 	{
@@ -388,7 +388,7 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 	fmMat3 F = fmMatMul(&Du, &DmInv), P;
 	for (int i = 0; i < 3; ++i)
 		F.m[4 * i] += 1.0;
-	double psi = fmMaterial_Evaluate(&p->body->material, &F, &P, NULL);
+	double psi = fmMaterial_Evaluate(&p->body->mesh.material, &F, &P, NULL);
 	fmMat3 M = fmMatMulT(&P, &DmInv);
 	double V0 = (double)batch->volume[l];
 	if (energy)
@@ -416,7 +416,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	const int* verts = tb->blockVertices + base;
 	fmTetBatchForces* out;
 	double* u = fmScratch(tb, worker, &out);
-	fmGatherDisplacements(verts, count, p->x, p->body->x0, u);
+	fmGatherDisplacements(verts, count, p->x, p->body->mesh.x0, u);
 	double energy = 0.0;
 	int inverted = 0;
 	float laneEnergy[FM_LANES];
@@ -464,7 +464,7 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 	{
 		double* fi = p->f + 3 * i;
 		if (p->gravity != NULL)
-			fmStore(p->f, i, fmScale(p->body->mass[i], *p->gravity));
+			fmStore(p->f, i, fmScale(p->body->mesh.mass[i], *p->gravity));
 		for (int e = tb->vertexEntryStart[i]; e < tb->vertexEntryStart[i + 1]; ++e)
 		{
 			const double* sum = tb->blockSums + 3 * (size_t)tb->vertexEntries[e];
@@ -486,8 +486,8 @@ double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const do
 	                 gravity,
 	                 f,
 	                 fmTetBlocks_Kernels(level),
-	                 {body->material.model, (float)body->material.mu, (float)body->material.lambda,
-	                  (float)body->material.c01},
+	                 {body->mesh.material.model, (float)body->mesh.material.mu, (float)body->mesh.material.lambda,
+	                  (float)body->mesh.material.c01},
 	                 energy,
 	                 then};
 	// The blocks, in ranges as small as one block: a block (512 tets, 5-10 us) is worth ten

@@ -30,9 +30,9 @@ typedef struct fmSmoothTask
 
 static fmVec3 fmTetVelocitySum(const fmBody* b, int t)
 {
-	const int* n = b->tets + 4 * t;
-	return fmAdd(fmAdd(fmLoad(b->v, n[0]), fmLoad(b->v, n[1])),
-	             fmAdd(fmLoad(b->v, n[2]), fmLoad(b->v, n[3])));
+	const int* n = b->mesh.tets + 4 * t;
+	return fmAdd(fmAdd(fmLoad(b->state.v, n[0]), fmLoad(b->state.v, n[1])),
+	             fmAdd(fmLoad(b->state.v, n[2]), fmLoad(b->state.v, n[3])));
 }
 
 static void fmGatherSumsTask(int start, int end, int worker, void* context)
@@ -43,8 +43,8 @@ static void fmGatherSumsTask(int start, int end, int worker, void* context)
 	for (int i = start; i < end; ++i)
 	{
 		fmVec3 sum = {0, 0, 0};
-		for (int k = b->vertexTetStart[i]; k < b->vertexTetStart[i + 1]; ++k)
-			sum = fmAdd(sum, fmTetVelocitySum(b, b->vertexTets[k] / 4));
+		for (int k = b->mesh.vertexTetStart[i]; k < b->mesh.vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmTetVelocitySum(b, b->mesh.vertexTets[k] / 4));
 		fmStore(c->sum, i, sum);
 	}
 }
@@ -55,12 +55,12 @@ static void fmBlendTask(int start, int end, int worker, void* context)
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
 	{
-		if (b->pinned[i] == FM_PIN_ALL)
+		if (b->state.pinned[i] == FM_PIN_ALL)
 			continue;
-		fmVec3 average = fmScale(b->smoothWeight[i], fmLoad(c->sum, i));
-		fmStore(b->v, i,
-		        fmAdd(fmScale(1.0 - c->blend, fmLoad(b->v, i)), fmScale(c->blend, average)));
-		fmZeroPinnedAxes(b, i, b->v + 3 * i);
+		fmVec3 average = fmScale(b->mesh.smoothWeight[i], fmLoad(c->sum, i));
+		fmStore(b->state.v, i,
+		        fmAdd(fmScale(1.0 - c->blend, fmLoad(b->state.v, i)), fmScale(c->blend, average)));
+		fmZeroPinnedAxes(&b->state, i, b->state.v + 3 * i);
 	}
 	if (c->then != NULL)
 		c->then->task(start, end, worker, c->then->context);
@@ -71,28 +71,28 @@ static bool fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLe
 {
 	size_t mark = fmArena_Mark(arena);
 	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
-	bool gather = b->tetBlocks != NULL ||
+	bool gather = b->mesh.tetBlocks != NULL ||
 	              (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	               b->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
-	size_t count = 3 * (size_t)b->vertexCount;
+	               b->mesh.vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
+	size_t count = 3 * (size_t)b->mesh.vertexCount;
 	fmSmoothTask context = {
 	    b, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count),
 	    then};
 	if (context.sum == NULL)
 		return false;
-	if (b->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
-		fmTetBlocks_SmoothingSums(b->tetBlocks, b->v, context.sum, level, tasks);
+	if (b->mesh.tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
+		fmTetBlocks_SmoothingSums(b->mesh.tetBlocks, b->state.v, context.sum, level, tasks);
 	else if (gather)
-		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
+		fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
 	else
-		for (int t = 0; t < b->tetCount; ++t)
+		for (int t = 0; t < b->mesh.tetCount; ++t)
 		{
 			fmVec3 s = fmTetVelocitySum(b, t);
-			const int* n = b->tets + 4 * t;
+			const int* n = b->mesh.tets + 4 * t;
 			for (int a = 0; a < 4; ++a)
 				fmStore(context.sum, n[a], fmAdd(fmLoad(context.sum, n[a]), s));
 		}
-	fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
+	fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
 	fmArena_Release(arena, mark);
 	return true;
 }
@@ -130,8 +130,8 @@ void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
 {
 	if (b->damping < 1.0)
 	{
-		fmDampTask damp = {b->v, fmVelocityFilter_DampingFactor(b, dt)};
-		fmParallelFor(tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
+		fmDampTask damp = {b->state.v, fmVelocityFilter_DampingFactor(b, dt)};
+		fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
 	fmVelocityFilter_Smooth(b, dt, arena, level, tasks, NULL);
 }

@@ -42,7 +42,7 @@ static double fmElasticAt(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* 
 		return c->forcesEnergy;
 	if (!forces)
 		return fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
 	double psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
 	fmSolverCache_NoteForces(b, c, x, psi);
 	return psi;
@@ -53,14 +53,14 @@ static double fmElasticAt(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* 
 static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                              const double* x, double* gradient, double* magnitude)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	double psi = fmElasticAt(b, c, pb, x, gradient != NULL);
 	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	double inertial = 0.0, external = 0.0, size = 0.0;
 	// DOF k = 3 i + e, in k order (a vertex, then its axes: no division per DOF).
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		double m = b->mass[i];
+		double m = b->mesh.mass[i];
 		for (int e = 0; e < 3; ++e)
 		{
 			int k = 3 * i + e;
@@ -101,7 +101,7 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 // Round-off band of E (see fmLineSearch): differences below it are noise.
 static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double magnitude)
 {
-	return 1e-13 * (magnitude + (b->material.mu + fabs(b->material.lambda)) * c->volume);
+	return 1e-13 * (magnitude + (b->mesh.material.mu + fabs(b->mesh.material.lambda)) * c->volume);
 }
 
 // Stiffness of vertex i's y DOF in the Newton matrix this direction uses (assembled just before
@@ -112,7 +112,7 @@ static double fmVerticalStiffness(const fmBody* b, const fmImplicitCache* c,
 {
 	if (c->hessianValid && pb->options.product == fm_productAssembled)
 		return c->hessian[9 * (size_t)c->pattern.diagonal[i] + 4];
-	return (pb->inertia + pb->massDamping) * b->mass[i];
+	return (pb->inertia + pb->massDamping) * b->mesh.mass[i];
 }
 
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
@@ -125,14 +125,14 @@ static double fmVerticalStiffness(const fmBody* b, const fmImplicitCache* c,
 static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                         const double* x, bool reach)
 {
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		unsigned pin = b->pinned[i];
+		unsigned pin = b->state.pinned[i];
 		double push = c->gradient[3 * i + 1];
 		double gap = pb->floor ? x[3 * i + 1] - c->floorBound[i] : INFINITY;
 		// (The inertia alone bounds the stiffness from below: most vertices are out of reach
 		// by it, without a look into the matrix.)
-		double inertia = (pb->inertia + pb->massDamping) * b->mass[i];
+		double inertia = (pb->inertia + pb->massDamping) * b->mesh.mass[i];
 		bool onFloor = !(pin & FM_PIN_Y) && push > 0.0 &&
 		               (gap <= 0.0 || (reach && gap * inertia <= push &&
 		                               gap * fmVerticalStiffness(b, c, pb, i) <= push));
@@ -148,9 +148,9 @@ static void fmReachFloor(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 {
 	if (pb->floor == NULL)
 		return;
-	for (int i = 0; i < b->vertexCount; ++i)
-		if (c->fixed[3 * i + 1] && !(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] > c->floorBound[i])
-			c->direction[3 * i + 1] = c->floorBound[i] - b->x[3 * i + 1];
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		if (c->fixed[3 * i + 1] && !(b->state.pinned[i] & FM_PIN_Y) && b->state.x[3 * i + 1] > c->floorBound[i])
+			c->direction[3 * i + 1] = c->floorBound[i] - b->state.x[3 * i + 1];
 }
 
 static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
@@ -167,7 +167,7 @@ double fmNewton_Residual(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 	fmNewtonEnergy(b, c, pb, x, c->gradient, NULL);
 	fmMarkFixed(b, c, pb, x, false);
 	double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
-	return fmFreeNorm(3 * b->vertexCount, c->gradient, c->fixed) / scale;
+	return fmFreeNorm(3 * b->mesh.vertexCount, c->gradient, c->fixed) / scale;
 }
 
 // The Newton matrix H = (inertia + massDamping) M + K(x) [+ D], assembled.
@@ -179,17 +179,17 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
 		memset(c->hessian, 0, sizeof(double) * values);
-	fmSolverCache_AddStiffness(b, c, b->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
-	for (int i = 0; i < b->vertexCount; ++i)
+	fmSolverCache_AddStiffness(b, c, b->state.x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
-		double diagonal = (pb->inertia + pb->massDamping) * b->mass[i];
+		double diagonal = (pb->inertia + pb->massDamping) * b->mesh.mass[i];
 		block[0] += diagonal;
 		block[4] += diagonal;
 		block[8] += diagonal;
 	}
 	fmTargets_AddDiagonal(b, c->pattern.diagonal, c->hessian);
-	fmContactPenalty_AddHessian(pb->contact, b, b->x, &c->pattern, c->hessian);
+	fmContactPenalty_AddHessian(pb->contact, b, b->state.x, &c->pattern, c->hessian);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
@@ -197,34 +197,34 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                                        double* blocks)
 {
-	memset(blocks, 0, sizeof(double) * 9 * (size_t)b->vertexCount);
-	if (b->forceModel == fm_massSpring)
+	memset(blocks, 0, sizeof(double) * 9 * (size_t)b->mesh.vertexCount);
+	if (b->mesh.forceModel == fm_massSpring)
 	{
 		double K[36];
 		for (int e = 0; e < c->edgeCount; ++e)
 		{
-			fmSpringHessian(b, b->x, e, K, pb->exactHessian ? 0 : 1);
+			fmSpringHessian(b, b->state.x, e, K, pb->exactHessian ? 0 : 1);
 			for (int p = 0; p < 2; ++p)
 				for (int r = 0; r < 9; ++r)
-					blocks[9 * (size_t)b->edges[2 * e + p] + r] +=
+					blocks[9 * (size_t)b->mesh.edges[2 * e + p] + r] +=
 					    K[6 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
 	}
 	else
 	{
 		double K[144];
-		for (int t = 0; t < b->tetCount; ++t)
+		for (int t = 0; t < b->mesh.tetCount; ++t)
 		{
-			fmTetHessian(b, b->x, t, K, pb->exactHessian ? 0 : 1);
+			fmTetHessian(b, b->state.x, t, K, pb->exactHessian ? 0 : 1);
 			for (int p = 0; p < 4; ++p)
 				for (int r = 0; r < 9; ++r)
-					blocks[9 * (size_t)b->tets[4 * t + p] + r] +=
+					blocks[9 * (size_t)b->mesh.tets[4 * t + p] + r] +=
 					    K[12 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
 	}
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		double diagonal = (pb->inertia + pb->massDamping) * b->mass[i];
+		double diagonal = (pb->inertia + pb->massDamping) * b->mesh.mass[i];
 		for (int r = 0; r < 3; ++r)
 			blocks[9 * (size_t)i + 4 * r] += diagonal;
 		if (pb->useDamping)
@@ -235,7 +235,7 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 		}
 	}
 	fmTargets_AddDiagonal(b, NULL, blocks);
-	fmContactPenalty_AddHessian(pb->contact, b, b->x, NULL, blocks);
+	fmContactPenalty_AddHessian(pb->contact, b, b->state.x, NULL, blocks);
 }
 
 // One range of block rows of the assembled product y = H x.
@@ -271,26 +271,26 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 	if (pb->useDamping)
 		fmBsr_Multiply(&ctx->cache->pattern, ctx->cache->damping, x, y);
 	else
-		memset(y, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmAddHessianProduct(b, b->x, x, y, pb->exactHessian ? 0 : 1);
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		y[k] += (pb->inertia + pb->massDamping) * b->mass[k / 3] * x[k];
+		memset(y, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
+	fmAddHessianProduct(b, b->state.x, x, y, pb->exactHessian ? 0 : 1);
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		y[k] += (pb->inertia + pb->massDamping) * b->mesh.mass[k / 3] * x[k];
 	fmTargets_AddProduct(b, x, y);
-	fmContactPenalty_AddProduct(pb->contact, b, b->x, x, y);
+	fmContactPenalty_AddProduct(pb->contact, b, b->state.x, x, y);
 }
 
 // Newton direction: solve H d = -gradient over the free DOFs.
 static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                                      double gradientNorm, double residual, bool refresh)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	fmNewtonContext ctx = {b, c, pb};
 	fmLinearOperator* op = fmAssembledProduct;
 	if (pb->options.product == fm_productMatrixFree)
 	{
-		fmMarkFixed(b, c, pb, b->x, true); // (the reach from the inertia alone: no matrix)
+		fmMarkFixed(b, c, pb, b->state.x, true); // (the reach from the inertia alone: no matrix)
 		fmDiagonalBlocksMatrixFree(b, c, pb, c->work); // blocks in the CG's scratch, used below
-		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, pb->options.preconditioner,
+		fmPcg_BuildPreconditioner(b->mesh.vertexCount, c->work, c->fixed, pb->options.preconditioner,
 		                          c->blockInverse);
 		op = fmMatrixFreeProduct;
 	}
@@ -299,11 +299,11 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 		if (refresh)
 			fmAssembleNewtonMatrix(b, c, pb);
 		// The epsilon-active set, from the matrix this direction uses.
-		fmMarkFixed(b, c, pb, b->x, true);
-		for (int i = 0; i < b->vertexCount; ++i)
+		fmMarkFixed(b, c, pb, b->state.x, true);
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
 			memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
 			       9 * sizeof(double));
-		fmPcg_BuildPreconditioner(b->vertexCount, c->work, c->fixed, pb->options.preconditioner,
+		fmPcg_BuildPreconditioner(b->mesh.vertexCount, c->work, c->fixed, pb->options.preconditioner,
 		                          c->blockInverse);
 	}
 	for (int k = 0; k < n3; ++k)
@@ -326,7 +326,7 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 		pre.kind = pre.kind == fm_precondJacobi ? fm_precondJacobi : fm_precondBlockJacobi;
 	if (pre.kind == fm_precondAuto)
 		pre.kind =
-		    b->vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
+		    b->mesh.vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
 	if (pre.kind == fm_precondMultigrid)
 	{
 		// Without memory for its levels, the one-level preconditioner.
@@ -345,12 +345,12 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
                          double alpha, double* out)
 {
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		out[k] = b->x[k] + alpha * c->direction[k];
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		out[k] = b->state.x[k] + alpha * c->direction[k];
 	if (pb->floor == NULL)
 		return;
-	for (int i = 0; i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		if (!(b->state.pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
 			out[3 * i + 1] = c->floorBound[i];
 }
 
@@ -363,7 +363,7 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
                          double magnitude, double gradientNorm, bool* inNoise)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	const double noise = fmEnergyNoise(b, c, magnitude);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
@@ -373,7 +373,7 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 		fmTrialPoint(b, c, pb, alpha, trial);
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)
-			slope += c->gradient[k] * (trial[k] - b->x[k]);
+			slope += c->gradient[k] * (trial[k] - b->state.x[k]);
 		// The full step is usually taken: its forces then serve the next iteration's gradient.
 		double value = fmNewtonEnergy(b, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
 		bool accept = value <= energy + 1e-4 * slope;
@@ -385,7 +385,7 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 		if (accept)
 		{
 			*inNoise = fabs(value - energy) <= noise;
-			memcpy(b->x, trial, sizeof(double) * (size_t)n3);
+			memcpy(b->state.x, trial, sizeof(double) * (size_t)n3);
 			return true;
 		}
 	}
@@ -395,13 +395,13 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 // Make sure the direction goes downhill; otherwise use the preconditioned gradient.
 static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	double slope = 0.0;
 	for (int k = 0; k < n3; ++k)
 		slope += c->gradient[k] * c->direction[k];
 	if (slope < 0.0)
 		return;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		const double* B = c->blockInverse + 9 * (size_t)i;
 		const double* g = c->gradient + 3 * (size_t)i;
@@ -435,7 +435,7 @@ static bool fmNewtonStops(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* 
 	if (pb->keepBest && result->residual < t->keptResidual)
 	{
 		t->keptResidual = result->residual;
-		memcpy(c->best, b->x, sizeof(double) * 3 * (size_t)b->vertexCount);
+		memcpy(c->best, b->state.x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
 	}
 	if (result->residual <= pb->tolerance)
 	{
@@ -483,7 +483,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	memset(&result, 0, sizeof result);
 	result.residual = INFINITY;
 	result.finite = true;
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
 	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
 	                 c->hessianMassDamping == pb->massDamping &&
@@ -492,8 +492,8 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	for (;;)
 	{
 		double magnitude;
-		double energy = fmNewtonEnergy(b, c, pb, b->x, c->gradient, &magnitude);
-		fmMarkFixed(b, c, pb, b->x, false);
+		double energy = fmNewtonEnergy(b, c, pb, b->state.x, c->gradient, &magnitude);
+		fmMarkFixed(b, c, pb, b->state.x, false);
 		double gradientNorm = fmFreeNorm(n3, c->gradient, c->fixed);
 		if (!isfinite(energy) || !isfinite(gradientNorm))
 		{
@@ -523,7 +523,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	}
 	if (pb->keepBest && result.finite && !result.converged && t.keptResidual < result.residual)
 	{
-		memcpy(b->x, c->best, sizeof(double) * (size_t)n3);
+		memcpy(b->state.x, c->best, sizeof(double) * (size_t)n3);
 		result.residual = t.keptResidual;
 	}
 	return result;

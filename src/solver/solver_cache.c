@@ -48,14 +48,14 @@ void fmSolverCache_Free(void* memory)
 // is a plain scatter in tet order (deterministic, no search).
 static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
 {
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 		for (int a = 0; a < 4; ++a)
 			for (int d = 0; d < 4; ++d)
 				c->tetSlot[16 * t + 4 * a + d] =
-				    fmBsr_Find(&c->pattern, b->tets[4 * t + a], b->tets[4 * t + d]);
+				    fmBsr_Find(&c->pattern, b->mesh.tets[4 * t + a], b->mesh.tets[4 * t + d]);
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
-		int p = b->edges[2 * e], q = b->edges[2 * e + 1];
+		int p = b->mesh.edges[2 * e], q = b->mesh.edges[2 * e + 1];
 		c->edgeSlot[4 * e + 0] = fmBsr_Find(&c->pattern, p, p);
 		c->edgeSlot[4 * e + 1] = fmBsr_Find(&c->pattern, p, q);
 		c->edgeSlot[4 * e + 2] = fmBsr_Find(&c->pattern, q, p);
@@ -68,25 +68,25 @@ static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
 
 fmImplicitCache* fmSolverCache_Get(fmBody* b)
 {
-	if (b->implicitCache)
-		return b->implicitCache;
+	if (b->solverCache)
+		return b->solverCache;
 	fmImplicitCache* c = FM_ALLOC_ZERO(fmImplicitCache, 1);
 	if (c == NULL)
 		return NULL;
-	b->implicitCache = c;
-	c->vertexCount = b->vertexCount;
-	c->tetCount = b->tetCount;
-	c->edgeCount = b->forceModel == fm_massSpring ? b->edgeCount : 0;
-	for (int t = 0; t < b->tetCount; ++t)
-		c->volume += b->restVolume[t];
-	size_t n3 = 3 * (size_t)b->vertexCount;
-	bool ok = fmBsr_Build(&c->pattern, b->vertexCount, b->tets, b->tetCount);
+	b->solverCache = c;
+	c->vertexCount = b->mesh.vertexCount;
+	c->tetCount = b->mesh.tetCount;
+	c->edgeCount = b->mesh.forceModel == fm_massSpring ? b->mesh.edgeCount : 0;
+	for (int t = 0; t < b->mesh.tetCount; ++t)
+		c->volume += b->mesh.restVolume[t];
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
+	bool ok = fmBsr_Build(&c->pattern, b->mesh.vertexCount, b->mesh.tets, b->mesh.tetCount);
 	if (!ok)
 		c->pattern.blocks = 0;
 	c->tetSlot = FM_ALLOC_ARRAY(int, 16 * (size_t)c->tetCount);
 	c->edgeSlot = FM_ALLOC_ARRAY(int, 4 * (size_t)c->edgeCount);
 	c->hessian = FM_ALLOC_ZERO(double, 9 * (size_t)c->pattern.blocks);
-	c->blockInverse = FM_ALLOC_ZERO(double, 9 * (size_t)b->vertexCount);
+	c->blockInverse = FM_ALLOC_ZERO(double, 9 * (size_t)b->mesh.vertexCount);
 	c->xPred = FM_ALLOC_ZERO(double, n3);
 	c->xStart = FM_ALLOC_ZERO(double, n3);
 	c->gradient = FM_ALLOC_ZERO(double, n3);
@@ -96,7 +96,7 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 	c->temp = FM_ALLOC_ZERO(double, n3);
 	c->work = FM_ALLOC_ZERO(double, 4 * n3);
 	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
-	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->vertexCount);
+	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->mesh.vertexCount);
 	c->best = FM_ALLOC_ZERO(double, n3);
 	c->forcesX = FM_ALLOC_ZERO(double, n3);
 	c->spare.forces = FM_ALLOC_ZERO(double, n3);
@@ -110,7 +110,7 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 	if (!ok)
 	{
 		fmSolverCache_Free(c);
-		b->implicitCache = NULL;
+		b->solverCache = NULL;
 		return NULL;
 	}
 	return c;
@@ -127,12 +127,12 @@ fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* c)
 // pass (FVM forces come from another loop; a user energy's parameters may change unseen).
 static bool fmForcesMemoizable(const fmBody* b)
 {
-	for (int k = 0; k < b->materialCount; ++k)
-		if (b->materials[k].model == fm_stretchEnergy ||
-		    b->materials[k].model == fm_invariantEnergy)
+	for (int k = 0; k < b->mesh.materialCount; ++k)
+		if (b->mesh.materials[k].model == fm_stretchEnergy ||
+		    b->mesh.materials[k].model == fm_invariantEnergy)
 			return false;
-	return b->forceModel == fm_fem && b->material.model != fm_stretchEnergy &&
-	       b->material.model != fm_invariantEnergy;
+	return b->mesh.forceModel == fm_fem && b->mesh.material.model != fm_stretchEnergy &&
+	       b->mesh.material.model != fm_invariantEnergy;
 }
 
 static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
@@ -143,8 +143,8 @@ static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
 bool fmSolverCache_HasForcesAt(const fmBody* b, const fmImplicitCache* c, const double* x)
 {
 	return c->forcesValid && fmForcesMemoizable(b) &&
-	       fmSameMaterial(&c->forcesMaterial, &b->material) &&
-	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount) == 0;
+	       fmSameMaterial(&c->forcesMaterial, &b->mesh.material) &&
+	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount) == 0;
 }
 
 void fmSolverCache_NoteForces(const fmBody* b, fmImplicitCache* c, const double* x, double psi)
@@ -152,9 +152,9 @@ void fmSolverCache_NoteForces(const fmBody* b, fmImplicitCache* c, const double*
 	c->forcesValid = fmForcesMemoizable(b);
 	if (!c->forcesValid)
 		return;
-	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)b->vertexCount);
+	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
 	c->forcesEnergy = psi;
-	c->forcesMaterial = b->material;
+	c->forcesMaterial = b->mesh.material;
 }
 
 void fmSolverCache_SwapForces(fmImplicitCache* c)
@@ -171,10 +171,10 @@ void fmSolverCache_SwapForces(fmImplicitCache* c)
 void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c, const fmTaskSystem* tasks,
                                      fmArena* arena)
 {
-	if (fmSolverCache_HasForcesAt(b, c, b->x))
+	if (fmSolverCache_HasForcesAt(b, c, b->state.x))
 		return;
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->vertexCount);
-	fmSolverCache_NoteForces(b, c, b->x, fmAddElasticForcesOn(b, b->x, c->forces, tasks, arena));
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
+	fmSolverCache_NoteForces(b, c, b->state.x, fmAddElasticForcesOn(b, b->state.x, c->forces, tasks, arena));
 }
 
 // One tet's 16 blocks, times scale, into the rows [first, end) of the matrix.
@@ -183,7 +183,7 @@ static void fmScatterTet(const fmBody* b, const fmImplicitCache* c, int t, const
 {
 	for (int p = 0; p < 4; ++p)
 	{
-		int row = b->tets[4 * t + p];
+		int row = b->mesh.tets[4 * t + p];
 		if (row < first || row >= end)
 			continue;
 		for (int q = 0; q < 4; ++q)
@@ -214,19 +214,19 @@ static void fmStiffnessRowsTask(int start, int end, int worker, void* context)
 	(void)worker;
 	const fmStiffnessTask* k = context;
 	const fmBody* b = k->body;
-	int first = b->tetCount, last = -1;
+	int first = b->mesh.tetCount, last = -1;
 	for (int i = start; i < end; ++i)
-		if (b->vertexTetStart[i + 1] > b->vertexTetStart[i])
+		if (b->mesh.vertexTetStart[i + 1] > b->mesh.vertexTetStart[i])
 		{
-			int lo = b->vertexTets[b->vertexTetStart[i]] / 4;
-			int hi = b->vertexTets[b->vertexTetStart[i + 1] - 1] / 4;
+			int lo = b->mesh.vertexTets[b->mesh.vertexTetStart[i]] / 4;
+			int hi = b->mesh.vertexTets[b->mesh.vertexTetStart[i + 1] - 1] / 4;
 			first = lo < first ? lo : first;
 			last = hi > last ? hi : last;
 		}
 	double K[144];
 	for (int t = first; t <= last; ++t)
 	{
-		const int* n = b->tets + 4 * t;
+		const int* n = b->mesh.tets + 4 * t;
 		bool mine = false;
 		for (int p = 0; p < 4; ++p)
 			mine = mine || (n[p] >= start && n[p] < end);
@@ -261,13 +261,13 @@ void fmSolverCache_AddStiffness(const fmBody* b, const fmImplicitCache* c, const
                                 double scale, int project, double* values,
                                 const fmTaskSystem* tasks)
 {
-	if (b->forceModel == fm_massSpring)
+	if (b->mesh.forceModel == fm_massSpring)
 	{
 		fmAddSpringStiffness(b, c, x, scale, project, values);
 		return;
 	}
 	fmStiffnessTask task = {b, c, x, scale, project, values};
-	fmParallelFor(tasks, b->vertexCount, FM_STIFFNESS_MIN_ROWS, fmStiffnessRowsTask, &task);
+	fmParallelFor(tasks, b->mesh.vertexCount, FM_STIFFNESS_MIN_ROWS, fmStiffnessRowsTask, &task);
 }
 
 // Spring damping as a matrix: each spring resists the rate of change of its length with

@@ -23,27 +23,27 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 	if (shadowStep > 0.0)
 	{
 		size_t mark = fmArena_Mark(pass->arena);
-		double* f = fmArena_Doubles(pass->arena, 3 * (size_t)b->vertexCount);
+		double* f = fmArena_Doubles(pass->arena, 3 * (size_t)b->mesh.vertexCount);
 		if (f == NULL)
 			return NAN;
 		const fmTetBlocks* blocks = fmTetBlocks_Used(b, pass->simd);
-		elastic = blocks ? fmTetBlocks_AddForces(blocks, b, b->x, NULL, f, pass->simd, pass->tasks,
+		elastic = blocks ? fmTetBlocks_AddForces(blocks, b, b->state.x, NULL, f, pass->simd, pass->tasks,
 		                                         true, inverted, NULL)
-		                 : fmAddElasticForcesOn(b, b->x, f, pass->tasks, pass->arena);
-		fmLoads_AddForces(b, b->x, f); // the loads' part of the shadow energy, as gravity's
-		for (int i = 0; i < b->vertexCount; ++i)
+		                 : fmAddElasticForcesOn(b, b->state.x, f, pass->tasks, pass->arena);
+		fmLoads_AddForces(b, b->state.x, f); // the loads' part of the shadow energy, as gravity's
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
 		{
-			fmVec3 force = fmMulAdd(fmLoad(f, i), b->mass[i], gravity);
-			shadow += fmDot(fmLoad(b->v, i), force);
+			fmVec3 force = fmMulAdd(fmLoad(f, i), b->mesh.mass[i], gravity);
+			shadow += fmDot(fmLoad(b->state.v, i), force);
 		}
 		fmArena_Release(pass->arena, mark);
 	}
 	else
-		elastic = fmElasticEnergyOn(b, b->x, pass->tasks, pass->arena);
-	for (int i = 0; i < b->vertexCount; ++i)
+		elastic = fmElasticEnergyOn(b, b->state.x, pass->tasks, pass->arena);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		fmVec3 v = fmLoad(b->v, i);
-		kinetic += 0.5 * b->mass[i] * fmDot(v, v);
+		fmVec3 v = fmLoad(b->state.v, i);
+		kinetic += 0.5 * b->mesh.mass[i] * fmDot(v, v);
 	}
 	if (plain)
 		*plain = kinetic + elastic;
@@ -54,8 +54,8 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 static double fmGravityPotential(const fmBody* b, fmVec3 gravity)
 {
 	double sum = 0.0;
-	for (int i = 0; i < b->vertexCount; ++i)
-		sum += b->mass[i] * fmDot(gravity, fmLoad(b->x, i));
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		sum += b->mesh.mass[i] * fmDot(gravity, fmLoad(b->state.x, i));
 	return sum;
 }
 
@@ -65,9 +65,9 @@ static double fmGravityPotential(const fmBody* b, fmVec3 gravity)
 static double fmLedgerFloor(const fmBody* b, fmVec3 gravity)
 {
 	double volume = 0.0;
-	for (int t = 0; t < b->tetCount; ++t)
-		volume += b->restVolume[t];
-	return 1e-3 * b->totalMass * fmLength(gravity) * b->restSize + 1e-6 * b->material.mu * volume;
+	for (int t = 0; t < b->mesh.tetCount; ++t)
+		volume += b->mesh.restVolume[t];
+	return 1e-3 * b->mesh.totalMass * fmLength(gravity) * b->mesh.restSize + 1e-6 * b->mesh.material.mu * volume;
 }
 
 static void fmLedgerBook(fmEnergyLedger* ledger, double work)
@@ -80,7 +80,7 @@ static void fmLedgerBook(fmEnergyLedger* ledger, double work)
 void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmEnergyPass* pass)
 {
 	fmEnergyLedger* ledger = &b->ledger;
-	size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+	size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
 	if (!ledger->started)
 	{
 		b->energyGood = fmBodyEnergy(b, gravity, shadowStep, &ledger->plainGood, NULL, pass);
@@ -89,8 +89,8 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 		ledger->initialEnergy = b->energyGood;
 		ledger->floor = fmLedgerFloor(b, gravity);
 	}
-	else if (b->energyStale || memcmp(b->x, b->xGood, bytes) != 0 ||
-	         memcmp(b->v, b->vGood, bytes) != 0)
+	else if (b->energyStale || memcmp(b->state.x, b->xGood, bytes) != 0 ||
+	         memcmp(b->state.v, b->vGood, bytes) != 0)
 	{
 		// The caller changed the state (or the material) since the last good frame: the energy
 		// difference is work the caller did.
@@ -153,7 +153,7 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	double g = fmLength(gravity);
 	double backstop = 1000.0 * (fmMax(ledger->plainGood, 0.0) + ledger->frameContactWork +
 	                            ledger->frameLoadWorkIn +
-	                            b->totalMass * g * (b->restSize + g * frameTime * frameTime)) +
+	                            b->mesh.totalMass * g * (b->mesh.restSize + g * frameTime * frameTime)) +
 	                  ledger->floor;
 	fmLedgerVerdict verdict = {true, false, energy, allowed};
 	if (!(plain <= backstop))

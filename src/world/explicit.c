@@ -16,17 +16,17 @@
 static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 {
 	if (b->rayleighMass > 0.0)
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
-			b->f[k] -= b->rayleighMass * b->mass[k / 3] * b->v[k];
+		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+			b->state.f[k] -= b->rayleighMass * b->mesh.mass[k / 3] * b->state.v[k];
 	if (b->rayleighStiffness > 0.0)
 	{
 		size_t mark = fmArena_Mark(arena);
-		double* kv = fmArena_Doubles(arena, 3 * (size_t)b->vertexCount);
+		double* kv = fmArena_Doubles(arena, 3 * (size_t)b->mesh.vertexCount);
 		if (kv == NULL)
 			return;
-		fmAddHessianProduct(b, b->x, b->v, kv, 0);
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
-			b->f[k] -= b->rayleighStiffness * kv[k];
+		fmAddHessianProduct(b, b->state.x, b->state.v, kv, 0);
+		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+			b->state.f[k] -= b->rayleighStiffness * kv[k];
 		fmArena_Release(arena, mark);
 	}
 }
@@ -51,7 +51,7 @@ static void fmGravityTask(int start, int end, int worker, void* context)
 	fmExplicitTask* c = context;
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
-		fmStore(b->f, i, fmScale(b->mass[i], c->gravity));
+		fmStore(b->state.f, i, fmScale(b->mesh.mass[i], c->gravity));
 }
 
 // Stage 2 for vertices [start, end): v += dt f / m, then the seeds' damping factor (one pass:
@@ -63,11 +63,11 @@ static void fmVelocitiesTask(int start, int end, int worker, void* context)
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
 	{
-		double* vi = b->v + 3 * i;
-		if (b->pinned[i] != FM_PIN_ALL)
+		double* vi = b->state.v + 3 * i;
+		if (b->state.pinned[i] != FM_PIN_ALL)
 		{
-			fmStore(b->v, i, fmMulAdd(fmLoad(b->v, i), c->dt * b->invMass[i], fmLoad(b->f, i)));
-			fmZeroPinnedAxes(b, i, vi); // rollers: free only along their open axes
+			fmStore(b->state.v, i, fmMulAdd(fmLoad(b->state.v, i), c->dt * b->state.invMass[i], fmLoad(b->state.f, i)));
+			fmZeroPinnedAxes(&b->state, i, vi); // rollers: free only along their open axes
 		}
 		if (b->damping < 1.0)
 			vi[0] *= c->damping, vi[1] *= c->damping, vi[2] *= c->damping;
@@ -83,8 +83,8 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 	fmBody* b = c->body;
 	for (int i = start; i < end; ++i)
 	{
-		if (b->pinned[i] != FM_PIN_ALL)
-			fmStore(b->x, i, fmMulAdd(fmLoad(b->x, i), c->dt, fmLoad(b->v, i)));
+		if (b->state.pinned[i] != FM_PIN_ALL)
+			fmStore(b->state.x, i, fmMulAdd(fmLoad(b->state.x, i), c->dt, fmLoad(b->state.v, i)));
 	}
 	if (c->floorTaken != NULL)
 		fmFloor_RespondRange(c->floor, c->gravity, b, start, end, c->dt, c->floorTaken);
@@ -97,17 +97,17 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
                                       fmArena* arena, const fmThenTask* then)
 {
-	if (b->tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
-		b->tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
+	if (b->mesh.tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
+		b->mesh.tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
 	const fmTetBlocks* blocks = fmTetBlocks_Used(b, world->simd);
 	if (blocks != NULL)
 	{
-		fmTetBlocks_AddForces(blocks, b, b->x, &context->gravity, b->f, world->simd, &world->tasks,
+		fmTetBlocks_AddForces(blocks, b, b->state.x, &context->gravity, b->state.f, world->simd, &world->tasks,
 		                      false, NULL, then);
 		return then != NULL;
 	}
-	fmParallelFor(&world->tasks, b->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
-	fmAddElasticForcesOn(b, b->x, b->f, &world->tasks, arena);
+	fmParallelFor(&world->tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
+	fmAddElasticForcesOn(b, b->state.x, b->state.f, &world->tasks, arena);
 	return false;
 }
 
@@ -117,13 +117,13 @@ static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplici
 // operations in the same order).
 static bool fmPlainStep(const fmBody* b)
 {
-	return b->forceModel != fm_massSpring && b->rayleighMass <= 0.0 &&
+	return b->mesh.forceModel != fm_massSpring && b->rayleighMass <= 0.0 &&
 	       b->rayleighStiffness <= 0.0 && b->targetCount == 0 && !fmLoads_Active(b);
 }
 
 fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
 {
-	const int n = b->vertexCount;
+	const int n = b->mesh.vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
 	fmExplicitTask context = {.body = b,
 	                          .dt = dt,
@@ -147,13 +147,13 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	const fmThenTask velocities = {fmVelocitiesTask, &context},
 	                 positions = {fmPositionsTask, &context};
 	bool moved = fmGravityAndElasticForces(world, b, &context, arena, plain ? &velocities : NULL);
-	if (b->forceModel == fm_massSpring)
-		fmAddSpringDamping(b, b->x, b->v, b->f);
+	if (b->mesh.forceModel == fm_massSpring)
+		fmAddSpringDamping(b, b->state.x, b->state.v, b->state.f);
 	fmAddRayleighForces(b, arena);
-	fmTargets_AddExplicitForces(b, dt, b->f);
-	const double* loads = fmLoads_Freeze(b, b->x, 1.0);
+	fmTargets_AddExplicitForces(b, dt, b->state.f);
+	const double* loads = fmLoads_Freeze(b, b->state.x, 1.0);
 	for (int k = 0; loads != NULL && k < 3 * n; ++k)
-		b->f[k] += loads[k];
+		b->state.f[k] += loads[k];
 	double forced = fmSeconds();
 
 	// 2. Velocities: v += dt f / m, and the seeds' damping factor. Pinned vertices stay at rest.
@@ -166,7 +166,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	    plain;
 	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
-	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->v, dt));
+	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->state.v, dt));
 
 	// 4. Positions, then the floor.
 	if (!placed)

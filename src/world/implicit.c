@@ -35,13 +35,13 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	const fmVec3 gravity = pb->gravity;
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 	{
-		if (fmIsDofPinned(b, k))
+		if (fmIsDofPinned(&b->state, k))
 			continue;
-		double m = b->mass[k / 3];
+		double m = b->mesh.mass[k / 3];
 		weight += m * m * g[k % 3] * g[k % 3];
-		inertia += m * m * b->v[k] * b->v[k] / (h * h);
+		inertia += m * m * b->state.v[k] * b->state.v[k] / (h * h);
 		elastic += c->forces[k] * c->forces[k];
 	}
 	// The kinematic targets' pull is an external force too.
@@ -50,8 +50,8 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		for (int e = 0; e < 3; ++e)
 		{
 			int i = b->targetVertex[t];
-			double f = b->targetStiffness * (b->targetPosition[3 * t + e] - b->x[3 * i + e]);
-			pull += fmIsDofPinned(b, 3 * i + e) ? 0.0 : f * f;
+			double f = b->targetStiffness * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]);
+			pull += fmIsDofPinned(&b->state, 3 * i + e) ? 0.0 : f * f;
 		}
 	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull) + fmLoads_FrozenNorm(b);
 }
@@ -60,7 +60,7 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 // plus the springs' dashpots. Returns false when there is none (or no memory for it).
 static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTaskSystem* tasks)
 {
-	bool springs = b->forceModel == fm_massSpring && b->springDamping > 0.0;
+	bool springs = b->mesh.forceModel == fm_massSpring && b->mesh.springDamping > 0.0;
 	if (b->rayleighStiffness <= 0.0 && !springs)
 		return false;
 	size_t values = 9 * (size_t)c->pattern.blocks;
@@ -80,8 +80,8 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTa
 static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFloorDef* floor,
                            const double* x)
 {
-	for (int i = 0; floor != NULL && i < b->vertexCount; ++i)
-		if (!(b->pinned[i] & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i])
+	for (int i = 0; floor != NULL && i < b->mesh.vertexCount; ++i)
+		if (!(b->state.pinned[i] & FM_PIN_Y) && x[3 * i + 1] <= c->floorBound[i])
 			return true;
 	return false;
 }
@@ -98,21 +98,21 @@ static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFl
 // E = 1e20) both residuals are noise, so a comparison could drop the free flight by chance.
 static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	double* inertial = c->trial;
 	memcpy(inertial, c->xPred, sizeof(double) * (size_t)n3);
 	if (pb->floor)
-		for (int i = 0; i < b->vertexCount; ++i)
-			if (!(b->pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
+			if (!(b->state.pinned[i] & FM_PIN_Y) && inertial[3 * i + 1] < c->floorBound[i])
 				inertial[3 * i + 1] = c->floorBound[i];
-	double* favoured = c->coasted ? inertial : b->x;
-	double* other = c->coasted ? b->x : inertial;
+	double* favoured = c->coasted ? inertial : b->state.x;
+	double* other = c->coasted ? b->state.x : inertial;
 	double kept = fmNewton_Residual(b, c, pb, favoured);
 	// A guess that lost clearly is not tried again for a few steps (a wobbling body would
 	// otherwise pay a second force pass every step to find that the other guess is worse).
 	if (kept > pb->tolerance && c->guessRecheck > 0)
 		c->guessRecheck -= 1;
-	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->x)))
+	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->state.x)))
 	{
 		fmSolverCache_SwapForces(c); // the favoured guess's forces stay at hand
 		double challenger = fmNewton_Residual(b, c, pb, other);
@@ -123,7 +123,7 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		c->coasted = c->coasted != switched;
 	}
 	if (c->coasted)
-		memcpy(b->x, inertial, sizeof(double) * (size_t)n3);
+		memcpy(b->state.x, inertial, sizeof(double) * (size_t)n3);
 }
 
 // The Newton problem of a step of @p h: inertia 1 / h^2, Rayleigh damping, gravity, the floor
@@ -146,7 +146,7 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, fmBody* b, fmImpl
 	pb.scale = fmStepForceScale(b, c, &pb, h);
 	pb.maxNewton = world->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
-	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
+	pb.quadratic = fmElasticMesh_IsLinear(&b->mesh) && b->mesh.forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	*penalty = (fmContactPenalty){world->colliders,
 	                              world->colliderCapacity,
@@ -165,14 +165,14 @@ static void fmImplicitFreeFlight(fmBody* b, fmImplicitCache* c, double h, fmVec3
                                  const fmFloorDef* floor)
 {
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		b->x[k] = fmIsDofPinned(b, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		b->state.x[k] = fmIsDofPinned(&b->state, k) ? c->xPred[k] : c->xPred[k] + h * h * g[k % 3];
 	if (floor)
 	{
 		fmFloor_SetBounds(floor, b, c, h);
-		for (int i = 0; i < b->vertexCount; ++i)
-			if (!(b->pinned[i] & FM_PIN_Y) && b->x[3 * i + 1] < c->floorBound[i])
-				b->x[3 * i + 1] = c->floorBound[i];
+		for (int i = 0; i < b->mesh.vertexCount; ++i)
+			if (!(b->state.pinned[i] & FM_PIN_Y) && b->state.x[3 * i + 1] < c->floorBound[i])
+				b->state.x[3 * i + 1] = c->floorBound[i];
 	}
 }
 
@@ -182,8 +182,8 @@ static void fmImplicitBookWork(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
 	if (fmLoads_Active(b))
 	{
-		for (int k = 0; k < 3 * b->vertexCount; ++k)
-			c->trial[k] = b->x[k] - c->xStart[k]; // free after the solve
+		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+			c->trial[k] = b->state.x[k] - c->xStart[k]; // free after the solve
 		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
 	}
 	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb->contact, b, c->xStart));
@@ -196,19 +196,19 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	fmImplicitCache* c = fmSolverCache_Get(b);
 	if (c == NULL)
 		return fm_errOutOfMemory;
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	const fmFloorDef* floor = fmFloor_Holds(&world->def.floor, b) ? &world->def.floor : NULL;
-	b->floorHitCount = 0;
+	b->contact.floorHitCount = 0;
 
 	// 1. Start state and inertial prediction (pinned axes stay put), the free flight as the first
 	//    guess. Prescribed displacements move their vertices first; the loads are frozen at the
 	//    start (follower pressure lagged by one step, loads.h).
 	double start = fmSeconds();
 	fmLoads_StepPrescribed(b, h, 0.0);
-	fmLoads_Freeze(b, b->x, 1.0);
-	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
+	fmLoads_Freeze(b, b->state.x, 1.0);
+	memcpy(c->xStart, b->state.x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
-		c->xPred[k] = fmIsDofPinned(b, k) ? b->x[k] : b->x[k] + h * b->v[k];
+		c->xPred[k] = fmIsDofPinned(&b->state, k) ? b->state.x[k] : b->state.x[k] + h * b->state.v[k];
 	fmContactPenalty penalty;
 	fmNewtonProblem pb = fmImplicitProblem(world, b, c, h, floor, arena, &penalty);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
@@ -228,7 +228,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	fmImplicitBookWork(b, c, &pb);
 	for (int k = 0; k < n3; ++k)
-		b->v[k] = fmIsDofPinned(b, k) ? 0.0 : (b->x[k] - c->xStart[k]) / h;
+		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(b, h, arena, world->simd, &world->tasks);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the

@@ -68,7 +68,7 @@ static bool fmAddSleepEvent(fmWorld* w, int slot, bool asleep)
 void fmIsland_Wake(fmWorld* w, int slot)
 {
 	fmBody* b = &w->bodies[slot];
-	if (b->x == NULL)
+	if (!fmBody_IsLive(b))
 		return;
 	b->sleepTimer = 0.0;
 	b->wakeRequested = false;
@@ -78,7 +78,7 @@ void fmIsland_Wake(fmWorld* w, int slot)
 	for (int k = 0; k < w->bodyCapacity; ++k)
 	{
 		fmBody* o = &w->bodies[k];
-		if (o->x == NULL || !o->asleep || o->island != island)
+		if (!fmBody_IsLive(o) || !o->asleep || o->island != island)
 			continue;
 		o->asleep = false;
 		o->sleepTimer = 0.0;
@@ -93,13 +93,13 @@ static void fmSleepIsland(fmWorld* w, const int* parent, int root)
 	for (int k = 0; k < w->bodyCapacity; ++k)
 	{
 		fmBody* b = &w->bodies[k];
-		if (b->x == NULL || b->asleep || fmFindRoot((int*)parent, k) != root)
+		if (!fmBody_IsLive(b) || b->asleep || fmFindRoot((int*)parent, k) != root)
 			continue;
 		b->asleep = true;
 		b->island = root;
-		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
-		memset(b->v, 0, bytes);
-		memcpy(b->vGood, b->v, bytes);
+		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+		memset(b->state.v, 0, bytes);
+		memcpy(b->vGood, b->state.v, bytes);
 		fmAddSleepEvent(w, k, true);
 	}
 }
@@ -137,9 +137,9 @@ void fmIsland_Sleep(fmWorld* w, int slot)
 static double fmFastest(const fmBody* b)
 {
 	double fastest = 0.0;
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
-		const double* v = b->v + 3 * i;
+		const double* v = b->state.v + 3 * i;
 		fastest = fmMax(fastest, v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 	}
 	return sqrt(fastest);
@@ -167,7 +167,7 @@ bool fmIsland_EndFrame(fmWorld* w, double frameTime)
 {
 	const fmContactDef* def = &w->def.contact;
 	for (int k = 0; k < w->bodyCapacity; ++k)
-		if (w->bodies[k].x != NULL && w->bodies[k].wakeRequested)
+		if (fmBody_IsLive(&w->bodies[k]) && w->bodies[k].wakeRequested)
 			fmIsland_Wake(w, k);
 	if (!def->enableSleep)
 		return true;

@@ -23,5 +23,5 @@ void fmIsland_WakeBody(fmBodyId bodyId);
 // Whether a body is stepped (live and awake).
 static inline bool fmIsland_Stepping(const fmBody* b)
 {
-	return b->x != NULL && !b->asleep;
+	return fmBody_IsLive(b) && !b->asleep;
 }

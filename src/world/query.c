@@ -17,10 +17,10 @@
 
 static void fmBodyBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 {
-	*lo = *hi = fmLoad(b->x, 0);
-	for (int i = 1; i < b->vertexCount; ++i)
+	*lo = *hi = fmLoad(b->state.x, 0);
+	for (int i = 1; i < b->mesh.vertexCount; ++i)
 	{
-		fmVec3 p = fmLoad(b->x, i);
+		fmVec3 p = fmLoad(b->state.x, i);
 		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
 		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
 	}
@@ -34,10 +34,10 @@ static void fmCastAtBody(const fmWorld* w, int slot, fmVec3 o, fmVec3 d, fmRayHi
 	fmBodyBox(b, &lo, &hi);
 	if (!fmSegmentHitsBox(o, d, lo, hi))
 		return;
-	for (int t = 0; t < b->triangleCount; ++t)
+	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
-		const int* tri = b->surface + 3 * t;
-		fmVec3 a = fmLoad(b->x, tri[0]), bb = fmLoad(b->x, tri[1]), c = fmLoad(b->x, tri[2]);
+		const int* tri = b->mesh.surface + 3 * t;
+		fmVec3 a = fmLoad(b->state.x, tri[0]), bb = fmLoad(b->state.x, tri[1]), c = fmLoad(b->state.x, tri[2]);
 		double f = fmSegmentTriangle(o, d, a, bb, c);
 		if (!(f >= 0.0 && f < hit->fraction))
 			continue;
@@ -46,8 +46,8 @@ static void fmCastAtBody(const fmWorld* w, int slot, fmVec3 o, fmVec3 d, fmRayHi
 		fmVec3 p = fmMulAdd(o, f, d);
 		int nearest = 0;
 		for (int k = 1; k < 3; ++k)
-			if (fmLength(fmSub(fmLoad(b->x, tri[k]), p)) <
-			    fmLength(fmSub(fmLoad(b->x, tri[nearest]), p)))
+			if (fmLength(fmSub(fmLoad(b->state.x, tri[k]), p)) <
+			    fmLength(fmSub(fmLoad(b->state.x, tri[nearest]), p)))
 				nearest = k;
 		memset(hit, 0, sizeof *hit);
 		hit->body = fmWorldBodyId(w, slot);
@@ -81,7 +81,7 @@ static bool fmCastRayIn(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fm
 	if (!finite)
 		return false;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		if (w->bodies[slot].x != NULL && fmFiltersMeet(filter, w->bodies[slot].filter))
+		if (fmBody_IsLive(&w->bodies[slot]) && fmFiltersMeet(filter, w->bodies[slot].filter))
 			fmCastAtBody(w, slot, origin, translation, hit);
 	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
@@ -124,11 +124,11 @@ static bool fmInsideBody(const fmBody* b, fmVec3 p, fmVec3 hi)
 {
 	fmVec3 d = fmMakeVec3(hi.x - p.x + 1.0, 1e-7 * (hi.x - p.x + 1.0), 3e-7 * (hi.x - p.x + 1.0));
 	int crossings = 0;
-	for (int t = 0; t < b->triangleCount; ++t)
+	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
-		const int* tri = b->surface + 3 * t;
-		crossings += fmSegmentTriangle(p, d, fmLoad(b->x, tri[0]), fmLoad(b->x, tri[1]),
-		                               fmLoad(b->x, tri[2])) >= 0.0;
+		const int* tri = b->mesh.surface + 3 * t;
+		crossings += fmSegmentTriangle(p, d, fmLoad(b->state.x, tri[0]), fmLoad(b->state.x, tri[1]),
+		                               fmLoad(b->state.x, tri[2])) >= 0.0;
 	}
 	return crossings % 2 == 1;
 }
@@ -143,10 +143,10 @@ static bool fmOverlapBody(const fmWorld* w, int slot, fmVec3 center, double radi
 	if (!fmSegmentHitsBox(center, fmMakeVec3(0.0, 0.0, 0.0), fmSub(lo, r), fmAdd(hi, r)))
 		return false;
 	double best = INFINITY;
-	for (int t = 0; t < b->triangleCount; ++t)
+	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
-		const int* tri = b->surface + 3 * t;
-		fmVec3 a = fmLoad(b->x, tri[0]), bb = fmLoad(b->x, tri[1]), c = fmLoad(b->x, tri[2]);
+		const int* tri = b->mesh.surface + 3 * t;
+		fmVec3 a = fmLoad(b->state.x, tri[0]), bb = fmLoad(b->state.x, tri[1]), c = fmLoad(b->state.x, tri[2]);
 		double wt[3];
 		fmClosestOnTriangle(center, a, bb, c, wt);
 		fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], c));
@@ -181,7 +181,7 @@ static int fmOverlapIn(fmWorldId worldId, fmVec3 center, double radius, fmFilter
 	{
 		fmOverlap o;
 		memset(&o, 0, sizeof o);
-		if (w->bodies[slot].x == NULL || !fmFiltersMeet(filter, w->bodies[slot].filter) ||
+		if (!fmBody_IsLive(&w->bodies[slot]) || !fmFiltersMeet(filter, w->bodies[slot].filter) ||
 		    !fmOverlapBody(w, slot, center, radius, &o))
 			continue;
 		if (count < capacity && overlaps != NULL)

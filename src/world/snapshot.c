@@ -126,7 +126,7 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 // would have done.
 static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 {
-	fmImplicitCache* c = b->implicitCache;
+	fmImplicitCache* c = b->solverCache;
 	uint8_t flags =
 	    (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) | (c != NULL && c->coasted ? 2u : 0u));
 	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
@@ -176,21 +176,21 @@ typedef struct fmBodyKey
 
 static fmBodyKey fmKeyOf(const fmBody* b, int slot)
 {
-	fmBodyKey key = {slot,        b->generation, b->vertexCount,
-	                 b->tetCount, b->edgeCount,  (int32_t)b->forceModel};
+	fmBodyKey key = {slot,        b->generation, b->mesh.vertexCount,
+	                 b->mesh.tetCount, b->mesh.edgeCount,  (int32_t)b->mesh.forceModel};
 	return key;
 }
 
 static void fmMoveBodyState(fmStream* s, bool save, fmBody* b)
 {
-	size_t n3 = 3 * (size_t)b->vertexCount, n = (size_t)b->vertexCount;
-	fmMove(s, save, b->x, sizeof(double) * n3);
-	fmMove(s, save, b->v, sizeof(double) * n3);
+	size_t n3 = 3 * (size_t)b->mesh.vertexCount, n = (size_t)b->mesh.vertexCount;
+	fmMove(s, save, b->state.x, sizeof(double) * n3);
+	fmMove(s, save, b->state.v, sizeof(double) * n3);
 	fmMove(s, save, b->xGood, sizeof(double) * n3);
 	fmMove(s, save, b->vGood, sizeof(double) * n3);
-	fmMove(s, save, b->pinned, n);
-	fmMove(s, save, b->springK, sizeof(double) * (size_t)b->edgeCount);
-	fmMoveMaterial(s, save, &b->material);
+	fmMove(s, save, b->state.pinned, n);
+	fmMove(s, save, b->mesh.springK, sizeof(double) * (size_t)b->mesh.edgeCount);
+	fmMoveMaterial(s, save, &b->mesh.material);
 	fmMoveDouble(s, save, &b->energyGood);
 	fmMoveBool(s, save, &b->energyStale);
 	fmMoveDouble(s, save, &b->explicitLimit);
@@ -207,10 +207,10 @@ static bool fmMoveBody(fmStream* s, bool save, fmBody* b)
 // corrupted model number would index past the model table).
 static bool fmRecordMaterialValid(const fmBody* b, const void* buffer, size_t size, size_t offset)
 {
-	size_t n = (size_t)b->vertexCount;
-	size_t at = offset + sizeof(double) * (12 * n + (size_t)b->edgeCount) + n;
+	size_t n = (size_t)b->mesh.vertexCount;
+	size_t at = offset + sizeof(double) * (12 * n + (size_t)b->mesh.edgeCount) + n;
 	fmStream s = {NULL, buffer, size, at, false};
-	fmMaterial material = b->material;
+	fmMaterial material = b->mesh.material;
 	fmMoveMaterial(&s, false, &material);
 	return !s.overflow && fmMaterial_Validate(&material, NULL) == fm_ok;
 }
@@ -332,7 +332,7 @@ static bool fmColliderStateValid(const fmCollider* c)
 // limit mu lambda is > 0 exactly where the contact stage wrote it (the rest is zero).
 static const double* fmFrictionFound(const fmBody* b, int i)
 {
-	const double* f = b->contactFrictionNext ? b->contactFrictionNext + 8 * (size_t)i : NULL;
+	const double* f = b->contact.frictionNext ? b->contact.frictionNext + 8 * (size_t)i : NULL;
 	return f != NULL && f[3] > 0.0 ? f : NULL;
 }
 
@@ -348,10 +348,10 @@ static void fmPutBodyContact(fmStream* s, const fmBody* b)
 	fmPut(s, &flags, 1);
 	fmPut(s, &b->sleepTimer, sizeof b->sleepTimer);
 	fmPut(s, &island, sizeof island);
-	for (int i = 0; i < b->vertexCount; ++i)
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		count += fmFrictionFound(b, i) != NULL;
 	fmPut(s, &count, sizeof count);
-	for (int32_t i = 0; i < b->vertexCount; ++i)
+	for (int32_t i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		const double* f = fmFrictionFound(b, i);
 		if (f == NULL)
@@ -376,7 +376,7 @@ static void fmPutContact(fmStream* s, fmWorld* w)
 		fmMoveColliderState(s, true, &w->colliders[k]);
 	}
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x != NULL)
+		if (fmBody_IsLive(&w->bodies[i]))
 			fmPutBodyContact(s, &w->bodies[i]);
 	const uint64_t* pairs;
 	int32_t count = fmContactEvents_FramePairs(w, &pairs);
@@ -390,13 +390,13 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 	uint32_t header[FM_SNAPSHOT_HEADER_WORDS] = {FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0,
 	                                             (uint32_t)fmLiveColliders(w)};
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		header[2] += w->bodies[i].x != NULL;
+		header[2] += fmBody_IsLive(&w->bodies[i]);
 	fmPut(s, header, sizeof header);
 	fmMoveWorldSettings(s, true, w);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		fmBodyKey key = fmKeyOf(b, i);
 		fmPut(s, &key, sizeof key);
@@ -452,7 +452,7 @@ static fmResult fmCheckSnapshot(fmWorld* w, const void* buffer, size_t size)
 		                   "not a femto snapshot of version %u", FM_SNAPSHOT_VERSION);
 	uint32_t live = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		live += w->bodies[i].x != NULL;
+		live += fmBody_IsLive(&w->bodies[i]);
 	if (header[2] != live)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 		                   "the snapshot holds %u bodies, the world %u: bodies were created or "
@@ -488,7 +488,7 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		fmBodyKey key, expected = fmKeyOf(b, i);
 		fmGet(s, &key, sizeof key);
@@ -511,10 +511,10 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 		if (!fmMoveBody(s, false, b))
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "out of memory restoring body %d's solver matrix", i);
-		for (int k = 0; k < b->vertexCount; ++k) // pins are axis masks; inverse masses follow
+		for (int k = 0; k < b->mesh.vertexCount; ++k) // pins are axis masks; inverse masses follow
 		{
-			b->pinned[k] &= FM_PIN_ALL;
-			b->invMass[k] = b->pinned[k] == FM_PIN_ALL ? 0.0 : 1.0 / b->mass[k];
+			b->state.pinned[k] &= FM_PIN_ALL;
+			b->state.invMass[k] = b->state.pinned[k] == FM_PIN_ALL ? 0.0 : 1.0 / b->mesh.mass[k];
 		}
 	}
 	if (s->overflow)
@@ -592,20 +592,20 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 	fmGet(s, &island, sizeof island);
 	fmGet(s, &count, sizeof count);
 	if (s->overflow || flags > 3u || island < 0 || island >= w->bodyCapacity || count < 0 ||
-	    count > b->vertexCount || (size_t)count * FM_FRICTION_RECORD_BYTES > s->size - s->used)
+	    count > b->mesh.vertexCount || (size_t)count * FM_FRICTION_RECORD_BYTES > s->size - s->used)
 		return fm_errParameter;
 	for (int32_t k = 0; k < count; ++k)
 	{
 		int32_t vertex = -1;
 		fmGet(s, &vertex, sizeof vertex);
 		fmSkip(s, 8 * sizeof(double));
-		if (s->overflow || vertex <= last || vertex >= b->vertexCount)
+		if (s->overflow || vertex <= last || vertex >= b->mesh.vertexCount)
 			return fm_errParameter;
 		last = vertex;
 	}
-	if (count > 0 && b->contactFrictionNext == NULL)
-		b->contactFrictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->vertexCount);
-	return count == 0 || b->contactFrictionNext != NULL ? fm_ok : fm_errOutOfMemory;
+	if (count > 0 && b->contact.frictionNext == NULL)
+		b->contact.frictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->mesh.vertexCount);
+	return count == 0 || b->contact.frictionNext != NULL ? fm_ok : fm_errOutOfMemory;
 }
 
 // Step over a body's contact record (checked).
@@ -629,13 +629,13 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 	b->asleep = (flags & 1u) != 0;
 	b->wakeRequested = (flags & 2u) != 0;
 	b->island = island;
-	if (b->contactFrictionNext != NULL)
-		memset(b->contactFrictionNext, 0, sizeof(double) * 8 * (size_t)b->vertexCount);
+	if (b->contact.frictionNext != NULL)
+		memset(b->contact.frictionNext, 0, sizeof(double) * 8 * (size_t)b->mesh.vertexCount);
 	for (int32_t k = 0; k < count; ++k)
 	{
 		int32_t vertex = 0;
 		fmGet(s, &vertex, sizeof vertex);
-		fmGet(s, b->contactFrictionNext + 8 * (size_t)vertex, 8 * sizeof(double));
+		fmGet(s, b->contact.frictionNext + 8 * (size_t)vertex, 8 * sizeof(double));
 	}
 }
 
@@ -676,7 +676,7 @@ static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 	fmResult r = fmCheckColliders(w, s);
 	for (int i = 0; r == fm_ok && i < w->bodyCapacity; ++i)
 	{
-		fmResult body = w->bodies[i].x != NULL ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
+		fmResult body = fmBody_IsLive(&w->bodies[i]) ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
 		if (body == fm_errOutOfMemory)
 			r = fmDiagError(&w->lastError, body, "", 0, 0,
 			                "out of memory restoring body %d's collider friction", i);
@@ -701,7 +701,7 @@ static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size
 	fmStream s = {NULL, buffer, size, at + sizeof w->contactStep, false};
 	fmSkip(&s, (size_t)colliders * FM_COLLIDER_RECORD_BYTES);
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x != NULL)
+		if (fmBody_IsLive(&w->bodies[i]))
 			fmSkipBodyContact(&s);
 	int32_t count = 0;
 	fmGet(&s, &count, sizeof count);
@@ -718,7 +718,7 @@ static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size
 		fmMoveColliderState(&s, false, &w->colliders[k]);
 	}
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x != NULL)
+		if (fmBody_IsLive(&w->bodies[i]))
 			fmApplyBodyContact(&s, &w->bodies[i]);
 	return fm_ok;
 }

@@ -36,17 +36,17 @@ static double fmStaticNorm(int n3, const double* v)
 static double fmStaticForceRoundOff(const fmBody* b)
 {
 	double stiffness = 0.0, lo[3], hi[3];
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		const fmMaterial* m = fmTetMaterial(b, t);
-		stiffness += (m->mu + fabs(m->lambda)) * b->restVolume[t];
+		const fmMaterial* m = fmTetMaterial(&b->mesh, t);
+		stiffness += (m->mu + fabs(m->lambda)) * b->mesh.restVolume[t];
 	}
 	for (int e = 0; e < 3; ++e)
-		lo[e] = hi[e] = b->x[e];
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
+		lo[e] = hi[e] = b->state.x[e];
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 	{
-		lo[k % 3] = fmMin(lo[k % 3], b->x[k]);
-		hi[k % 3] = fmMax(hi[k % 3], b->x[k]);
+		lo[k % 3] = fmMin(lo[k % 3], b->state.x[k]);
+		hi[k % 3] = fmMax(hi[k % 3], b->state.x[k]);
 	}
 	double extent = fmMax(hi[0] - lo[0], fmMax(hi[1] - lo[1], hi[2] - lo[2]));
 	return extent > 0.0 ? 1e-13 * stiffness / extent : 0.0;
@@ -68,13 +68,13 @@ static double fmStaticForceRoundOff(const fmBody* b)
 // @p scratch holds 3n doubles. Returns 0 when nothing pulls.
 static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, double* scratch)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0;
 	for (int k = 0; k < n3; ++k)
-		if (!fmIsDofPinned(b, k))
-			weight += b->mass[k / 3] * b->mass[k / 3] * g[k % 3] * g[k % 3];
-	fmLoads_Freeze(b, b->x, 1.0);
+		if (!fmIsDofPinned(&b->state, k))
+			weight += b->mesh.mass[k / 3] * b->mesh.mass[k / 3] * g[k % 3] * g[k % 3];
+	fmLoads_Freeze(b, b->state.x, 1.0);
 	double loads = fmLoads_FrozenNorm(b);
 
 	fmSolverCache_ForcesAtPositions(b, c, NULL, NULL); // once a solve: serial
@@ -85,8 +85,8 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, 
 		// (The same force function as c->forces: a displacement of zero changes no bit.)
 		fmLoads_PlaceStatic(b, 1.0);
 		memset(scratch, 0, sizeof(double) * (size_t)n3);
-		fmAddElasticForcesOn(b, b->x, scratch, NULL, NULL);
-		memcpy(b->x, c->xStart, sizeof(double) * (size_t)n3);
+		fmAddElasticForcesOn(b, b->state.x, scratch, NULL, NULL);
+		memcpy(b->state.x, c->xStart, sizeof(double) * (size_t)n3);
 		for (int k = 0; k < n3; ++k)
 			scratch[k] -= c->forces[k];
 		prescribed = fmStaticNorm(n3, scratch);
@@ -101,7 +101,7 @@ static fmNewtonResult fmStaticSolveAt(fmBody* b, fmImplicitCache* c, fmNewtonPro
 {
 	pb->gravity = fmScale(load, gravity);
 	fmLoads_PlaceStatic(b, load);
-	fmLoads_Freeze(b, b->x, load);
+	fmLoads_Freeze(b, b->state.x, load);
 	return fmNewton_Solve(b, c, pb);
 }
 
@@ -137,8 +137,8 @@ static fmResult fmStaticCheck(const fmBody* b, const fmWorld* world, double tole
 		                   "Newton iterations, got %g and %d",
 		                   FM_MIN_TOLERANCE, FM_MAX_NEWTON_ITERATIONS, tolerance, maxIterations);
 	int pins = 0;
-	for (int i = 0; i < b->vertexCount; ++i)
-		pins += b->pinned[i] != 0; // rollers count: a well-posed set of them holds the body
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		pins += b->state.pinned[i] != 0; // rollers count: a well-posed set of them holds the body
 	if (pins == 0 && (fmLength(world->def.gravity) > 0.0 || fmLoads_Active(b)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "the body has no pinned vertex, so under gravity or loads it has no "
@@ -154,14 +154,14 @@ static fmResult fmStaticCheck(const fmBody* b, const fmWorld* world, double tole
 static fmNewtonProblem fmStaticProblem(fmBody* b, fmImplicitCache* c, fmWorld* world,
                                        double tolerance, int maxIterations, double* scratch)
 {
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.tolerance = tolerance;
 	pb.scale = fmStaticForceScale(b, c, world->def.gravity, scratch);
 	pb.maxNewton = maxIterations;
 	pb.maxCg = world->def.cgIterations > n3 + 100 ? world->def.cgIterations : n3 + 100;
-	pb.quadratic = fmBodyIsLinear(b) && b->forceModel != fm_massSpring;
+	pb.quadratic = fmElasticMesh_IsLinear(&b->mesh) && b->mesh.forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
 	pb.tasks = &world->tasks;
 	pb.arena = &world->arena;
@@ -178,7 +178,7 @@ static fmNewtonResult fmStaticLoadSteps(fmBody* b, fmImplicitCache* c, fmNewtonP
                                         fmVec3 gravity, double* equilibrium, double* done,
                                         int* iterations)
 {
-	const size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
+	const size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
 	double step = 1.0;
 	fmNewtonResult r;
 	memset(&r, 0, sizeof r);
@@ -202,7 +202,7 @@ static fmNewtonResult fmStaticLoadSteps(fmBody* b, fmImplicitCache* c, fmNewtonP
 		bool roundOff = r.finite && r.stagnated;
 		if (r.converged || roundOff)
 		{
-			memcpy(equilibrium, b->x, bytes);
+			memcpy(equilibrium, b->state.x, bytes);
 			*done = load;
 			step = fmMin(1.0, 2.0 * step);
 			continue;
@@ -212,7 +212,7 @@ static fmNewtonResult fmStaticLoadSteps(fmBody* b, fmImplicitCache* c, fmNewtonP
 		// stagnated far from the answer, non-finite) goes back to the last equilibrium.
 		bool progressing = r.finite && !r.stalled && !r.stagnated;
 		if (!progressing)
-			memcpy(b->x, equilibrium, bytes);
+			memcpy(b->state.x, equilibrium, bytes);
 		step *= 0.5;
 		if (step < FM_MIN_LOAD_STEP || !r.finite)
 			break;
@@ -255,17 +255,17 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");
-	const int n3 = 3 * b->vertexCount;
+	const int n3 = 3 * b->mesh.vertexCount;
 	// The last equilibrium reached, to go back to when a load increment fails.
 	double* equilibrium = FM_ALLOC_ARRAY(double, 2 * (size_t)n3);
 	if (equilibrium == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");
 	double* scratch = equilibrium + n3; // the force scale's
-	memcpy(c->xStart, b->x, sizeof(double) * (size_t)n3);
-	memcpy(equilibrium, b->x, sizeof(double) * (size_t)n3);
+	memcpy(c->xStart, b->state.x, sizeof(double) * (size_t)n3);
+	memcpy(equilibrium, b->state.x, sizeof(double) * (size_t)n3);
 	fmLoads_BeginStatic(b);
-	memcpy(c->xPred, b->x, sizeof(double) * (size_t)n3);
+	memcpy(c->xPred, b->state.x, sizeof(double) * (size_t)n3);
 	fmNewtonProblem pb = fmStaticProblem(b, c, world, tolerance, maxIterations, scratch);
 	fmVec3 gravity = world->def.gravity;
 	double done = pb.scale <= 0.0 ? 1.0 : 0.0; // nothing pulls: already at equilibrium
@@ -274,13 +274,13 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	if (done >= 1.0)
 		r = fmStaticFollowerRounds(b, c, &pb, gravity, r, &iterations);
 	if (done < 1.0)
-		memcpy(b->x, equilibrium, sizeof(double) * (size_t)n3);
+		memcpy(b->state.x, equilibrium, sizeof(double) * (size_t)n3);
 	else
 		fmLoads_FinishStatic(b);
 	FM_FREE_ARRAY(equilibrium, double, 2 * (size_t)n3);
 	if (residual)
 		*residual = r.residual;
-	memset(b->v, 0, sizeof(double) * (size_t)n3);
+	memset(b->state.v, 0, sizeof(double) * (size_t)n3);
 	return fmStaticReport(r, done, tolerance, iterations, diag);
 }
 

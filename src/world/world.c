@@ -293,7 +293,7 @@ void fmDestroyWorld(fmWorldId worldId)
 	if (w == NULL)
 		return;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
+		if (fmBody_IsLive(&w->bodies[i]))
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
 	for (int k = 0; k < w->colliderCapacity; ++k)
@@ -397,10 +397,10 @@ bool fmWorldReserveArena(fmWorld* w)
 {
 	size_t vertices = 0, tets = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
+		if (fmBody_IsLive(&w->bodies[i]))
 		{
-			vertices = fmMaxSize(vertices, (size_t)w->bodies[i].vertexCount);
-			tets = fmMaxSize(tets, (size_t)w->bodies[i].tetCount);
+			vertices = fmMaxSize(vertices, (size_t)w->bodies[i].mesh.vertexCount);
+			tets = fmMaxSize(tets, (size_t)w->bodies[i].mesh.tetCount);
 		}
 	// Two vectors of 3n doubles: the most any stage holds at once; a parallel explicit step
 	// also keeps every tet's forces and energy (13 doubles a tet) for its gather.
@@ -426,7 +426,7 @@ static double fmCurrentExplicitLimit(fmWorld* w)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
 		b->explicitLimit = fmBodyExplicitStepLimit(b, &w->arena);
 		dt = fmMin(dt, b->explicitLimit);
@@ -454,9 +454,9 @@ static int fmListBadTets(const fmBody* b, char* list, size_t size)
 	int count = 0;
 	size_t length = 0;
 	list[0] = '\0';
-	for (int t = 0; t < b->tetCount; ++t)
+	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->x, t);
+		fmMat3 F = fmTetDeformation(b, b->state.x, t);
 		double J = fmDet(&F);
 		if (isfinite(J) && J > 0.0)
 			continue;
@@ -481,8 +481,8 @@ static const char* fmFailureAdvice(const fmWorld* w)
 // The first vertex with a non-finite position or velocity, or -1.
 static int fmFirstNonFiniteVertex(const fmBody* b)
 {
-	for (int k = 0; k < 3 * b->vertexCount; ++k)
-		if (!isfinite(b->x[k]) || !isfinite(b->v[k]))
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		if (!isfinite(b->state.x[k]) || !isfinite(b->state.v[k]))
 			return k / 3;
 	return -1;
 }
@@ -572,11 +572,11 @@ static void fmRestoreAll(fmWorld* w)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
-		if (b->x == NULL)
+		if (!fmBody_IsLive(b))
 			continue;
-		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
-		memcpy(b->x, b->xGood, bytes);
-		memcpy(b->v, b->vGood, bytes);
+		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+		memcpy(b->state.x, b->xGood, bytes);
+		memcpy(b->state.v, b->vGood, bytes);
 		b->energyStale = true; // energyGood may belong to a state the caller had set
 	}
 }
@@ -591,7 +591,7 @@ static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
 		return;
 	double limit = INFINITY;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
+		if (fmBody_IsLive(&w->bodies[i]))
 			limit = fmMin(limit, w->bodies[i].explicitLimit);
 	if (!(limit > 0.0) || !(dt > 2.0 * limit)) // a collapsed body fails the step itself
 		return;
@@ -642,7 +642,7 @@ static double fmWorldStiffeningProxy(const fmWorld* w)
 {
 	double proxy = 1.0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].x)
+		if (fmBody_IsLive(&w->bodies[i]))
 			proxy = fmMax(proxy, fmBodyStiffeningProxy(&w->bodies[i]));
 	return proxy;
 }
@@ -854,7 +854,7 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		// which is neither work nor a runaway.
 		fmEnergyPass pass = fmWorldEnergyPass(w);
 		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)
-			if (w->bodies[i].x)
+			if (fmBody_IsLive(&w->bodies[i]))
 				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &pass);
 		*lastStep = h;
 	}
@@ -924,9 +924,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		if (!fmIsland_Stepping(b))
 			continue;
 		fmLedger_Commit(b, shadowStep);
-		size_t bytes = sizeof(double) * 3 * (size_t)b->vertexCount;
-		memcpy(b->xGood, b->x, bytes);
-		memcpy(b->vGood, b->v, bytes);
+		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+		memcpy(b->xGood, b->state.x, bytes);
+		memcpy(b->vGood, b->state.v, bytes);
 		b->energyGood = b->energyAfter;
 		b->energyStale = false;
 		w->stats.invertedTets += b->invertedAfter >= 0

@@ -1,0 +1,41 @@
+// What the contact stage keeps about one body between its calls: the body's surface vertices,
+// the swept tests' start positions, the implicit step's frozen planes and lagged friction, the
+// floor's hits. Typed, made and freed by the contact stage; the body only carries it
+// (fmBody.contact), and the implicit solve reads it through fmContactPenalty.
+#pragma once
+
+#include <stdint.h>
+
+struct fmEdgePlane;
+struct fmFloorHit;
+
+typedef struct fmBodyContact
+{
+	int surfaceVertexCount;
+	int* surfaceVertex; // the vertices on the surface, ascending
+	double* start;      // 3n: positions at the start of the substep (the swept tests)
+	int* mark;          // n: 1 + the contact log entry of a vertex the stage changed, or 0
+	double* plane;      // 4n: an implicit step's frozen plane of another body near each
+	                    // surface vertex (n, n . q), NaN where none (penalty.h)
+	uint8_t* tetMark;   // tetCount: scratch marks of the ledger's energy change
+	int* embeddedHolder; // n: 1 + the slot of the body whose tet held the vertex this frame
+	                     // (its later substeps push it on), or 0
+	// An implicit step's frozen planes of other bodies' surface edges near this body's surface
+	// edges (penalty.h), made before the step like `plane`
+	struct fmEdgePlane* edgePlanes;
+	int edgePlaneCount;
+	int edgePlaneCapacity;
+	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
+	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
+	double* friction;
+	double* frictionNext; // 8n: what the contact stage found this step, for the next one
+	double thinness;      // 2 V / S at rest (m): how thick the body is (contact.c)
+	// The floor's contacts of the last substep (floor.h), for the contact list and the floor's
+	// reaction
+	struct fmFloorHit* floorHits;
+	int floorHitCount;
+	int floorHitCapacity;
+} fmBodyContact;
+
+// Free a body's contact arrays (@p vertexCount vertices, @p tetCount tets) and zero them.
+void fmBodyContact_Free(fmBodyContact* contact, int vertexCount, int tetCount);
