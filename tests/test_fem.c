@@ -1,5 +1,6 @@
 // FEM forces: minus the energy gradient, zero under rigid motion, balanced, patch test,
 // Hessian against finite differences of the forces.
+#include "body/body.h"
 #include "fem/forces.h"
 #include "support.h"
 #include "test.h"
@@ -189,9 +190,9 @@ TEST(hessian_matches_force_differences)
 			xp[k] = body->state.x[k] + h * dx[k];
 			xm[k] = body->state.x[k] - h * dx[k];
 		}
-		fmAddHessianProduct(body, body->state.x, dx, kdx, 0);
-		fmAddElasticForces(body, xp, fp);
-		fmAddElasticForces(body, xm, fm);
+		fmAddHessianProduct(&body->mesh, body->state.x, dx, kdx, 0);
+		fmAddElasticForces(&body->mesh, xp, fp);
+		fmAddElasticForces(&body->mesh, xm, fm);
 		double scale = 0.0;
 		for (int k = 0; k < 3 * n; ++k)
 			scale = fmax(scale, fabs(kdx[k]));
@@ -204,7 +205,7 @@ TEST(hessian_matches_force_differences)
 		for (int t = 0; t < body->mesh.tetCount; ++t)
 		{
 			double K[144];
-			fmTetHessian(body, body->state.x, t, K, 0);
+			fmTetHessian(&body->mesh, body->state.x, t, K, 0);
 			const int* nodes = body->mesh.tets + 4 * t;
 			for (int r = 0; r < 12; ++r)
 				for (int c = 0; c < 12; ++c)
@@ -232,10 +233,10 @@ TEST(stvk_matches_the_seed_formula)
 	const fmBody* b = fmGetBody(id);
 	size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
 	double *f = calloc(1, bytes), *seed = calloc(1, bytes);
-	fmAddElasticForces(b, b->state.x, f);
+	fmAddElasticForces(&b->mesh, b->state.x, f);
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 		fmMat3 G = fmMatTMul(&F, &F);
 		for (int k = 0; k < 9; ++k)
 			G.m[k] = 0.5 * (G.m[k] - (k % 4 == 0));

@@ -96,16 +96,16 @@ TEST(spring_hessian_matches_force_differences)
 		xp[k] += h * dx[k];
 		xm[k] -= h * dx[k];
 	}
-	fmAddHessianProduct(body, body->state.x, dx, Kdx, 0);
-	fmAddSpringForces(body, xp, fp);
-	fmAddSpringForces(body, xm, fm);
+	fmAddHessianProduct(&body->mesh, body->state.x, dx, Kdx, 0);
+	fmAddSpringForces(&body->mesh, xp, fp);
+	fmAddSpringForces(&body->mesh, xm, fm);
 	double scale = maxAbs(Kdx, n3);
 	CHECK(scale > 0.0);
 	for (int k = 0; k < n3; ++k)
 		CHECK_NEAR(Kdx[k], -(fp[k] - fm[k]) / (2 * h), 1e-6 * scale);
 	// The projected edge Hessians are positive semi-definite: dx^T K dx >= 0 for any dx.
 	memset(Kdx, 0, sizeof(double) * (size_t)n3);
-	fmAddHessianProduct(body, body->state.x, dx, Kdx, 1);
+	fmAddHessianProduct(&body->mesh, body->state.x, dx, Kdx, 1);
 	double quad = 0.0;
 	for (int k = 0; k < n3; ++k)
 		quad += dx[k] * Kdx[k];

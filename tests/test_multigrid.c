@@ -32,13 +32,13 @@ static bool makeSystem(fmTestSystem* s, int cells)
 	if (!fmBody_IsValid(id))
 		return false;
 	s->body = fmGetBody(id);
-	s->cache = fmSolverCache_Get(s->body);
+	s->cache = fmSolverCache_Get(&s->body->solverCache, &s->body->mesh);
 	if (s->cache == NULL)
 		return false;
 	fmImplicitCache* c = s->cache;
 	s->n3 = 3 * s->body->mesh.vertexCount;
 	memset(c->hessian, 0, sizeof(double) * 9 * (size_t)c->pattern.blocks);
-	fmSolverCache_AddStiffness(s->body, c, s->body->state.x, 1.0, 1, c->hessian, NULL);
+	fmSolverCache_AddStiffness(&s->body->mesh, c, s->body->state.x, 1.0, 1, c->hessian, NULL);
 	for (int i = 0; i < s->body->mesh.vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];

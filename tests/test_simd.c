@@ -49,7 +49,7 @@ static fmBodyId makeBox(fmWorldId* world, fmMaterialModel model)
 static double* batchedForcesCounting(const fmBody* b, fmSimdLevel level, int workers,
                                      double* energy, int* inverted)
 {
-	fmTetBlocks* blocks = fmTetBlocks_Create(b, workers);
+	fmTetBlocks* blocks = fmTetBlocks_Create(&b->mesh, workers);
 	double* f = calloc(3 * (size_t)b->mesh.vertexCount, sizeof *f);
 	if (blocks == NULL || f == NULL)
 	{
@@ -61,7 +61,7 @@ static double* batchedForcesCounting(const fmBody* b, fmSimdLevel level, int wor
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	*energy = fmTetBlocks_AddForces(blocks, b, b->state.x, NULL, f, level, &tasks, true, inverted, NULL);
+	*energy = fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, NULL, f, level, &tasks, true, inverted, NULL);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
@@ -83,7 +83,7 @@ static double linearEnergy(const fmBody* b)
 	double energy = 0.0;
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 		energy += b->mesh.restVolume[t] * fmMaterial_Evaluate(&linear, &F, NULL, NULL);
 	}
 	return energy;
@@ -105,7 +105,7 @@ static double relativeError(int* failures_, const fmBody* b, double* energyError
 		free(ref), free(fast);
 		return INFINITY;
 	}
-	double reference = fmAddElasticForces(b, b->state.x, ref);
+	double reference = fmAddElasticForces(&b->mesh, b->state.x, ref);
 	if (smallStrain)
 		reference = linearEnergy(b);
 	*energyError = fabs(energy - reference) / fabs(reference);
@@ -267,7 +267,7 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 {
 	fmWorldId world;
 	fmBody* b = makeCube(failures_, &world, 14, fm_stvk);
-	fmTetBlocks* tb = b ? fmTetBlocks_Create(b, 1) : NULL;
+	fmTetBlocks* tb = b ? fmTetBlocks_Create(&b->mesh, 1) : NULL;
 	CHECK(tb != NULL);
 	if (tb == NULL)
 		return;
@@ -357,7 +357,7 @@ TEST(very_stiff_bodies_take_the_double_precision_kernel)
 		CHECK_INT(fmWorld_Step(world, 1e-6, 1), fm_ok);
 		CHECK(b->mesh.tetBlocks != NULL);
 		if (b->mesh.tetBlocks != NULL)
-			CHECK(fmTetBlocks_Accurate(b->mesh.tetBlocks, b) == (k == 0));
+			CHECK(fmTetBlocks_Accurate(b->mesh.tetBlocks, &b->mesh) == (k == 0));
 		fmDestroyWorld(world);
 	}
 }
@@ -369,7 +369,7 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 {
 	fmWorldId world;
 	fmBody* b = makeCube(failures_, &world, 9, fm_stvk);
-	fmTetBlocks* tb = b ? fmTetBlocks_Create(b, 4) : NULL;
+	fmTetBlocks* tb = b ? fmTetBlocks_Create(&b->mesh, 4) : NULL;
 	CHECK(tb != NULL);
 	if (tb == NULL)
 		return;
@@ -818,11 +818,11 @@ TEST(inverted_tets_are_flagged_as_one_tet_at_a_time)
 	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 		b->state.x[k] += fmTestRandom(-0.25, 0.25);
 	unsigned char* flags = malloc((size_t)b->mesh.tetCount);
-	fmInvertedTets(b, b->state.x, 0, b->mesh.tetCount, flags);
+	fmInvertedTets(&b->mesh, b->state.x, 0, b->mesh.tetCount, flags);
 	int inverted = 0, differ = 0;
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 		bool expected = !(fmDet(&F) > 0.0);
 		inverted += expected;
 		differ += flags[t] != expected;
@@ -865,7 +865,7 @@ TEST(the_energy_pass_counts_the_inverted_tets_exactly)
 			b->state.x[3 * 17 + 1] = 1e30;
 		for (int t = 0; t < b->mesh.tetCount; ++t)
 		{
-			fmMat3 F = fmTetDeformation(b, b->state.x, t);
+			fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 			nearFlat += fabs(fmDet(&F)) < 1e-6;
 		}
 		int expected = fmBodyCountInverted(b);

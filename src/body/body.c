@@ -269,9 +269,9 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 			b->userMass[b->userVertex[i]] = b->mesh.mass[i];
 	if (r == fm_ok && !fmBodyAssignRegions(b, def))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for region materials");
-	if (r == fm_ok && b->mesh.forceModel == fm_massSpring && fmBuildSprings(b) != 0)
+	if (r == fm_ok && b->mesh.forceModel == fm_massSpring && fmBuildSprings(&b->mesh) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
-	if (r == fm_ok && b->mesh.forceModel == fm_fvm && fmBuildFvmNormals(b) != 0)
+	if (r == fm_ok && b->mesh.forceModel == fm_fvm && fmBuildFvmNormals(&b->mesh) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
 	if (r == fm_ok)
 		b->energyStale = true;
@@ -629,7 +629,7 @@ static bool fmBodyRebuildSprings(fmBody* b, const fmMaterial* material)
 	fmMaterial saved = b->mesh.material;
 	b->mesh.tetMaterial = NULL;
 	b->mesh.material = *material;
-	bool ok = fmBuildSprings(b) == 0;
+	bool ok = fmBuildSprings(&b->mesh) == 0;
 	b->mesh.tetMaterial = tetMaterial;
 	b->mesh.material = saved;
 	if (!ok)
@@ -698,7 +698,7 @@ static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 		memset(forces, 0, sizeof(double) * n3);
 		return 0.0;
 	}
-	double energy = fmAddElasticForces(b, b->state.x, internal);
+	double energy = fmAddElasticForces(&b->mesh, b->state.x, internal);
 	fmCopyOut(b, internal, forces);
 	FM_FREE_ARRAY(internal, double, n3);
 	return energy;
@@ -711,7 +711,7 @@ int fmBodyCountInverted(const fmBody* b)
 	for (int first = 0; first < b->mesh.tetCount; first += 256)
 	{
 		int end = b->mesh.tetCount - first < 256 ? b->mesh.tetCount : first + 256;
-		fmInvertedTets(b, b->state.x, first, end, flags);
+		fmInvertedTets(&b->mesh, b->state.x, first, end, flags);
 		for (int t = 0; t < end - first; ++t)
 			inverted += flags[t];
 	}
@@ -728,7 +728,7 @@ static void fmInvertedRange(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmInvertedTask* c = context;
-	fmInvertedTets(c->body, c->body->state.x, start, end, c->inverted + start);
+	fmInvertedTets(&c->body->mesh, c->body->state.x, start, end, c->inverted + start);
 }
 
 int fmBodyCountInvertedOn(const fmBody* b, const fmTaskSystem* tasks, fmArena* arena)
@@ -771,7 +771,7 @@ static fmBodyStats fmBodyGetStatsIn(fmBodyId bodyId)
 		s.lowestY = fmMin(s.lowestY, p.y);
 	}
 	s.centerOfMass = fmScale(1.0 / b->mesh.totalMass, moment);
-	s.elasticEnergy = fmElasticEnergy(b, b->state.x);
+	s.elasticEnergy = fmSolverCache_Energy(&b->mesh, b->solverCache, b->state.x, NULL, NULL);
 	s.invertedTets = fmBodyCountInverted(b);
 	s.work = b->ledger.work;
 	s.initialEnergy = b->ledger.initialEnergy;

@@ -3,6 +3,7 @@
 // and the static solver call.
 #include "body/loads.h"
 #include "core/det_math.h"
+#include "solver/solver_cache.h"
 
 #include "core/core.h"
 #include "world/energy_ledger.h"
@@ -177,9 +178,9 @@ static void fmLoadsLetSleep(fmBody* b)
 static double fmElasticWithForces(fmBody* b, double* f)
 {
 	if (f == NULL)
-		return fmElasticEnergy(b, b->state.x);
+		return fmSolverCache_Energy(&b->mesh, b->solverCache, b->state.x, NULL, NULL);
 	memset(f, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
-	return fmAddElasticForces(b, b->state.x, f);
+	return fmAddElasticForces(&b->mesh, b->state.x, f);
 }
 
 void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
@@ -460,4 +461,15 @@ void fmBody_ComputeLoadForces(fmBodyId bodyId, double* forces)
 	}
 	FM_FREE_ARRAY(f, double, 3 * (size_t)b->mesh.vertexCount);
 	fmFpEnv_Leave(&env);
+}
+
+static double fmLoadsTermEnergy(const void* context, const double* x, const double* xStart,
+                                double* gradient)
+{
+	return fmLoads_Energy(context, x, xStart, gradient);
+}
+
+fmNewtonTerm fmLoads_Term(const fmBody* body)
+{
+	return (fmNewtonTerm){body, fmLoadsTermEnergy, NULL, NULL};
 }

@@ -14,6 +14,7 @@
 #pragma once
 
 #include "body/body.h"
+#include "solver/newton.h"
 
 // One vertex moved by a prescribed displacement (fmBody_PrescribeDisplacement).
 typedef struct fmPrescribed
@@ -64,6 +65,10 @@ void fmLoads_AddForces(const fmBody* body, const double* x, double* f);
 // The frozen load's potential -f . (x - xStart) at @p x, with -f added to @p gradient when it
 // is not NULL (0 without loads).
 double fmLoads_Energy(const fmBody* body, const double* x, const double* xStart, double* gradient);
+
+// The frozen loads as a term of an implicit or static solve's potential (fmLoads_Energy; no
+// Hessian), for fmNewtonProblem.loads; @p body must outlive the solve.
+fmNewtonTerm fmLoads_Term(const fmBody* body);
 
 // The frozen load's work f . d over the free axes, @p d a displacement times @p scale.
 double fmLoads_Work(const fmBody* body, const double* d, double scale);

@@ -182,3 +182,28 @@ int fmBody_GetTargetCount(fmBodyId bodyId)
 	FM_ASSERT(b != NULL);
 	return b ? b->targetCount : 0;
 }
+
+static double fmTargetsTermEnergy(const void* context, const double* x, const double* xStart,
+                                  double* gradient)
+{
+	(void)xStart;
+	return fmTargets_Energy(context, x, gradient);
+}
+
+static void fmTargetsTermHessian(const void* context, const double* x, const fmBsrMatrix* pattern,
+                                 double* values)
+{
+	(void)x;
+	fmTargets_AddDiagonal(context, pattern != NULL ? pattern->diagonal : NULL, values);
+}
+
+static void fmTargetsTermProduct(const void* context, const double* x, const double* dx, double* y)
+{
+	(void)x;
+	fmTargets_AddProduct(context, dx, y);
+}
+
+fmNewtonTerm fmTargets_Term(const fmBody* body)
+{
+	return (fmNewtonTerm){body, fmTargetsTermEnergy, fmTargetsTermHessian, fmTargetsTermProduct};
+}

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "body/body.h"
+#include "solver/newton.h"
 
 // Explicit substep of @p dt: f += the springs' forces at the current positions, each spring's
 // stiffness limited to mass / dt^2 (stable with the elastic forces for any target stiffness).
@@ -24,6 +25,10 @@ void fmTargets_AddProduct(const fmBody* body, const double* x, double* y);
 // block; @p diagonal[i] is the slot of vertex i's diagonal block, or NULL for blocks stored
 // one per vertex).
 void fmTargets_AddDiagonal(const fmBody* body, const int* diagonal, double* values);
+
+// The springs as a term of an implicit step's potential (energy, Hessian, products), for
+// fmNewtonProblem.targets; @p body must outlive the solve.
+fmNewtonTerm fmTargets_Term(const fmBody* body);
 
 // Implicit: the springs' work over a step from @p xStart to the body's positions, with the
 // forces at the end (backward Euler's).

@@ -34,7 +34,7 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 	for (int k = 0; k < count; ++k)
 	{
 		int t = tets[k];
-		fmMat3 F = fmTetDeformation(b, b->state.x, t), P;
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t), P;
 		double V0 = b->mesh.restVolume[t];
 		*energy += V0 * fmMaterial_Evaluate(fmTetMaterial(&b->mesh, t), &F, &P, NULL);
 		fmMat3 H = fmMatMulT(&P, &b->mesh.DmInv[t]);
@@ -56,7 +56,7 @@ static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* ener
 	if (!fmGrowArray((void**)&s->forces, &s->forceCapacity, 0, n3, sizeof(double)))
 		return false;
 	memset(s->forces, 0, sizeof(double) * (size_t)n3);
-	*energy = fmAddElasticForces(b, b->state.x, s->forces);
+	*energy = fmAddElasticForces(&b->mesh, b->state.x, s->forces);
 	*power = 0.0;
 	for (int k = 0; k < n3; ++k)
 		*power += s->forces[k] * b->state.v[k];

@@ -1,6 +1,8 @@
 // The frozen planes of an implicit step (contact_planes.h).
 #include "contact/contact_planes.h"
 
+#include "contact/penalty.h"
+
 #include "contact/contact_detect.h"
 #include "contact/contact_edge.h"
 #include "contact/contact_pair.h"

@@ -343,3 +343,29 @@ double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const d
 	}
 	return v.work;
 }
+
+static double fmPenaltyTermEnergy(const void* context, const double* x, const double* xStart,
+                                  double* gradient)
+{
+	(void)xStart;
+	const fmContactPenalty* p = context;
+	return fmContactPenalty_Energy(p, p->body, x, gradient);
+}
+
+static void fmPenaltyTermHessian(const void* context, const double* x, const fmBsrMatrix* pattern,
+                                 double* values)
+{
+	const fmContactPenalty* p = context;
+	fmContactPenalty_AddHessian(p, p->body, x, pattern, values);
+}
+
+static void fmPenaltyTermProduct(const void* context, const double* x, const double* dx, double* y)
+{
+	const fmContactPenalty* p = context;
+	fmContactPenalty_AddProduct(p, p->body, x, dx, y);
+}
+
+fmNewtonTerm fmContactPenalty_Term(const fmContactPenalty* penalty)
+{
+	return (fmNewtonTerm){penalty, fmPenaltyTermEnergy, fmPenaltyTermHessian, fmPenaltyTermProduct};
+}

@@ -15,6 +15,7 @@
 
 #include "body/body.h"
 #include "contact/collider.h"
+#include "solver/newton.h"
 #include "solver/pcg.h"
 
 // A surface edge's frozen plane for one implicit step (made by contact_planes.c before the step,
@@ -44,6 +45,7 @@ typedef struct fmContactPenalty
 	                             // colliders are kept at their surface, without a gap
 	const double* xStart;        // 3n: positions at the start of the step (friction's anchors)
 	double step;                 // s, the step (h)
+	const fmBody* body;          // the body being solved
 } fmContactPenalty;
 
 // Friction's slip speed (m/s) below which it acts as a stiff spring (static friction): a body
@@ -57,6 +59,10 @@ double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* bo
 // The friction force (N) on vertex @p i at positions @p x (zero where it has none).
 fmVec3 fmContactFriction_Force(const fmBody* body, int i, const double* x, const double* xStart,
                                double step);
+
+// The penalty as a term of the implicit step's potential (energy, Hessian, products) of
+// @p penalty->body, for fmNewtonProblem.contact; @p penalty must outlive the solve.
+fmNewtonTerm fmContactPenalty_Term(const fmContactPenalty* penalty);
 
 // The work (J) the penalty's push did on the body over a step from @p xStart to its positions:
 // the forces at the end (backward Euler's) times the motion, its positive part.

@@ -184,7 +184,7 @@ static void fmDrawStrainColors(const fmBody* b, fmDrawCache* c)
 		for (int k = b->mesh.vertexTetStart[i]; k < b->mesh.vertexTetStart[i + 1]; ++k)
 		{
 			int t = b->mesh.vertexTets[k] / 4;
-			fmMat3 F = fmTetDeformation(b, b->state.x, t);
+			fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 			double psi = fmMaterial_Evaluate(fmTetMaterial(&b->mesh, t), &F, NULL, NULL);
 			sum += E > 0.0 && psi > 0.0 ? sqrt(2.0 * psi / E) : 0.0;
 		}
@@ -301,7 +301,7 @@ static bool fmDrawInverted(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 	int count = 0;
 	for (int t = 0; t < b->mesh.tetCount && count < 6 * inverted; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 		if (fmDet(&F) > 0.0)
 			continue;
 		for (int e = 0; e < 6; ++e)

@@ -24,19 +24,19 @@ static fmVec3 fmFaceAreaNormal(fmVec3 p, fmVec3 q, fmVec3 r)
 	return fmScale(0.5, fmCross(fmSub(q, p), fmSub(r, p)));
 }
 
-int fmBuildFvmNormals(fmBody* body)
+int fmBuildFvmNormals(fmElasticMesh* mesh)
 {
-	body->mesh.fvmNormals = FM_ALLOC_ARRAY(fmVec3, 4 * (size_t)body->mesh.tetCount);
-	if (body->mesh.fvmNormals == NULL)
+	mesh->fvmNormals = FM_ALLOC_ARRAY(fmVec3, 4 * (size_t)mesh->tetCount);
+	if (mesh->fvmNormals == NULL)
 		return 1;
-	for (int t = 0; t < body->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		const int* n = body->mesh.tets + 4 * t;
+		const int* n = mesh->tets + 4 * t;
 		fmVec3 an[4];
 		for (int o = 0; o < 4; ++o)
-			an[o] = fmFaceAreaNormal(fmLoad(body->mesh.x0, n[s_faces[o][0]]),
-			                         fmLoad(body->mesh.x0, n[s_faces[o][1]]),
-			                         fmLoad(body->mesh.x0, n[s_faces[o][2]]));
+			an[o] = fmFaceAreaNormal(fmLoad(mesh->x0, n[s_faces[o][0]]),
+			                         fmLoad(mesh->x0, n[s_faces[o][1]]),
+			                         fmLoad(mesh->x0, n[s_faces[o][2]]));
 		// Vertex a touches every face but the one opposite it.
 		for (int a = 0; a < 4; ++a)
 		{
@@ -44,24 +44,24 @@ int fmBuildFvmNormals(fmBody* body)
 			for (int o = 0; o < 4; ++o)
 				if (o != a)
 					sum = fmAdd(sum, an[o]);
-			body->mesh.fvmNormals[4 * t + a] = fmScale(1.0 / 3.0, sum);
+			mesh->fvmNormals[4 * t + a] = fmScale(1.0 / 3.0, sum);
 		}
 	}
 	return 0;
 }
 
-double fmAddFvmForces(const fmBody* body, const double* x, double* f)
+double fmAddFvmForces(const fmElasticMesh* mesh, const double* x, double* f)
 {
 	double energy = 0.0;
-	for (int t = 0; t < body->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(body, x, t);
+		fmMat3 F = fmTetDeformation(mesh, x, t);
 		fmMat3 P;
-		energy += body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, &P, NULL);
-		const int* n = body->mesh.tets + 4 * t;
+		energy += mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, &P, NULL);
+		const int* n = mesh->tets + 4 * t;
 		for (int a = 0; a < 4; ++a)
 		{
-			fmVec3 fa = fmScale(-1.0, fmMatVec(&P, body->mesh.fvmNormals[4 * t + a]));
+			fmVec3 fa = fmScale(-1.0, fmMatVec(&P, mesh->fvmNormals[4 * t + a]));
 			fmStore(f, n[a], fmAdd(fmLoad(f, n[a]), fa));
 		}
 	}

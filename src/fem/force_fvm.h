@@ -2,10 +2,10 @@
 // (Teran et al. 2003).
 #pragma once
 
-#include "body/body.h"
+#include "fem/elastic_mesh.h"
 
 // Rest-face normals (body->fvmNormals); 0 on success, non-zero when memory is short.
-int fmBuildFvmNormals(fmBody* body);
+int fmBuildFvmNormals(fmElasticMesh* mesh);
 
 // FVM forces at positions x: add into f, return the elastic energy (J).
-double fmAddFvmForces(const fmBody* body, const double* x, double* f);
+double fmAddFvmForces(const fmElasticMesh* mesh, const double* x, double* f);

@@ -37,7 +37,7 @@ double fmYoungsModulus(const fmMaterial* m)
 	return m->mu * (3.0 * m->lambda + 2.0 * m->mu) / (m->lambda + m->mu);
 }
 
-static void fmEmitSprings(fmBody* body, const fmEdgeKey* keys, size_t keyCount)
+static void fmEmitSprings(fmElasticMesh* mesh, const fmEdgeKey* keys, size_t keyCount)
 {
 	int e = -1;
 	for (size_t k = 0; k < keyCount; ++k)
@@ -45,73 +45,73 @@ static void fmEmitSprings(fmBody* body, const fmEdgeKey* keys, size_t keyCount)
 		if (k == 0 || keys[k].a != keys[k - 1].a || keys[k].b != keys[k - 1].b)
 		{
 			e += 1;
-			body->mesh.edges[2 * e] = keys[k].a;
-			body->mesh.edges[2 * e + 1] = keys[k].b;
-			body->mesh.restLength[e] =
-			    fmLength(fmSub(fmLoad(body->mesh.x0, keys[k].b), fmLoad(body->mesh.x0, keys[k].a)));
-			body->mesh.springK[e] = 0.0;
+			mesh->edges[2 * e] = keys[k].a;
+			mesh->edges[2 * e + 1] = keys[k].b;
+			mesh->restLength[e] =
+			    fmLength(fmSub(fmLoad(mesh->x0, keys[k].b), fmLoad(mesh->x0, keys[k].a)));
+			mesh->springK[e] = 0.0;
 		}
 		// Each tet's share with its own material's Young's modulus (per-region materials).
-		body->mesh.springK[e] +=
-		    body->mesh.restVolume[keys[k].tet] * fmYoungsModulus(fmTetMaterial(&body->mesh, keys[k].tet));
+		mesh->springK[e] +=
+		    mesh->restVolume[keys[k].tet] * fmYoungsModulus(fmTetMaterial(mesh, keys[k].tet));
 	}
-	for (int i = 0; i < body->mesh.edgeCount; ++i)
-		body->mesh.springK[i] *= 1.0 / (body->mesh.restLength[i] * body->mesh.restLength[i]);
+	for (int i = 0; i < mesh->edgeCount; ++i)
+		mesh->springK[i] *= 1.0 / (mesh->restLength[i] * mesh->restLength[i]);
 }
 
-int fmBuildSprings(fmBody* body)
+int fmBuildSprings(fmElasticMesh* mesh)
 {
 	static const int s_pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
-	size_t keyCount = 6 * (size_t)body->mesh.tetCount;
+	size_t keyCount = 6 * (size_t)mesh->tetCount;
 	fmEdgeKey* keys = FM_ALLOC_ARRAY(fmEdgeKey, keyCount);
 	if (keys == NULL)
 		return 1;
-	for (int t = 0; t < body->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 		for (int p = 0; p < 6; ++p)
 		{
-			int a = body->mesh.tets[4 * t + s_pairs[p][0]], b = body->mesh.tets[4 * t + s_pairs[p][1]];
+			int a = mesh->tets[4 * t + s_pairs[p][0]], b = mesh->tets[4 * t + s_pairs[p][1]];
 			keys[6 * (size_t)t + p] = (fmEdgeKey){a < b ? a : b, a < b ? b : a, t};
 		}
 	qsort(keys, keyCount, sizeof *keys, fmCompareEdges);
 	int count = 0;
 	for (size_t k = 0; k < keyCount; ++k)
 		count += k == 0 || keys[k].a != keys[k - 1].a || keys[k].b != keys[k - 1].b;
-	body->mesh.edgeCount = count;
-	body->mesh.edges = FM_ALLOC_ARRAY(int, 2 * (size_t)count);
-	body->mesh.restLength = FM_ALLOC_ARRAY(double, count);
-	body->mesh.springK = FM_ALLOC_ARRAY(double, count);
-	int ok = body->mesh.edges && body->mesh.restLength && body->mesh.springK;
+	mesh->edgeCount = count;
+	mesh->edges = FM_ALLOC_ARRAY(int, 2 * (size_t)count);
+	mesh->restLength = FM_ALLOC_ARRAY(double, count);
+	mesh->springK = FM_ALLOC_ARRAY(double, count);
+	int ok = mesh->edges && mesh->restLength && mesh->springK;
 	if (ok)
-		fmEmitSprings(body, keys, keyCount);
+		fmEmitSprings(mesh, keys, keyCount);
 	FM_FREE_ARRAY(keys, fmEdgeKey, keyCount);
 	return ok ? 0 : 1;
 }
 
-double fmSpringEnergy(const fmBody* body, const double* x)
+double fmSpringEnergy(const fmElasticMesh* mesh, const double* x)
 {
 	double energy = 0.0;
-	for (int e = 0; e < body->mesh.edgeCount; ++e)
+	for (int e = 0; e < mesh->edgeCount; ++e)
 	{
-		fmVec3 d = fmSub(fmLoad(x, body->mesh.edges[2 * e + 1]), fmLoad(x, body->mesh.edges[2 * e]));
-		double stretch = fmLength(d) - body->mesh.restLength[e];
-		energy += 0.5 * body->mesh.springK[e] * stretch * stretch;
+		fmVec3 d = fmSub(fmLoad(x, mesh->edges[2 * e + 1]), fmLoad(x, mesh->edges[2 * e]));
+		double stretch = fmLength(d) - mesh->restLength[e];
+		energy += 0.5 * mesh->springK[e] * stretch * stretch;
 	}
 	return energy;
 }
 
-double fmAddSpringForces(const fmBody* body, const double* x, double* f)
+double fmAddSpringForces(const fmElasticMesh* mesh, const double* x, double* f)
 {
 	double energy = 0.0;
-	for (int e = 0; e < body->mesh.edgeCount; ++e)
+	for (int e = 0; e < mesh->edgeCount; ++e)
 	{
-		int a = body->mesh.edges[2 * e], b = body->mesh.edges[2 * e + 1];
+		int a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
 		fmVec3 d = fmSub(fmLoad(x, b), fmLoad(x, a));
 		double length = fmLength(d);
-		double stretch = length - body->mesh.restLength[e];
-		energy += 0.5 * body->mesh.springK[e] * stretch * stretch;
+		double stretch = length - mesh->restLength[e];
+		energy += 0.5 * mesh->springK[e] * stretch * stretch;
 		if (length <= 0.0)
 			continue; // coincident ends: no direction to push along
-		fmVec3 fb = fmScale(-body->mesh.springK[e] * stretch / length, d);
+		fmVec3 fb = fmScale(-mesh->springK[e] * stretch / length, d);
 		fmStore(f, b, fmAdd(fmLoad(f, b), fb));
 		fmStore(f, a, fmSub(fmLoad(f, a), fb));
 	}
@@ -120,27 +120,27 @@ double fmAddSpringForces(const fmBody* body, const double* x, double* f)
 
 // Critical damping of a spring between masses ma and mb is 2 sqrt(k m_eff), m_eff the reduced
 // mass; springDamping is the fraction of it. Pinned ends have infinite mass.
-double fmSpringDashpot(const fmBody* body, const double* x, int e, fmVec3* direction)
+double fmSpringDashpot(const fmElasticMesh* mesh, const double* invMass, const double* x, int e, fmVec3* direction)
 {
-	int a = body->mesh.edges[2 * e], b = body->mesh.edges[2 * e + 1];
-	double invSum = body->state.invMass[a] + body->state.invMass[b];
+	int a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
+	double invSum = invMass[a] + invMass[b];
 	fmVec3 d = fmSub(fmLoad(x, b), fmLoad(x, a));
 	double length = fmLength(d);
 	if (invSum <= 0.0 || length <= 0.0)
 		return 0.0;
 	*direction = fmScale(1.0 / length, d);
-	return 2.0 * body->mesh.springDamping * sqrt(body->mesh.springK[e] / invSum);
+	return 2.0 * mesh->springDamping * sqrt(mesh->springK[e] / invSum);
 }
 
-void fmAddSpringDamping(const fmBody* body, const double* x, const double* v, double* f)
+void fmAddSpringDamping(const fmElasticMesh* mesh, const double* invMass, const double* x, const double* v, double* f)
 {
-	if (body->mesh.springDamping <= 0.0)
+	if (mesh->springDamping <= 0.0)
 		return;
-	for (int e = 0; e < body->mesh.edgeCount; ++e)
+	for (int e = 0; e < mesh->edgeCount; ++e)
 	{
-		int a = body->mesh.edges[2 * e], b = body->mesh.edges[2 * e + 1];
+		int a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
 		fmVec3 n;
-		double c = fmSpringDashpot(body, x, e, &n);
+		double c = fmSpringDashpot(mesh, invMass, x, e, &n);
 		if (c <= 0.0)
 			continue;
 		double rate = fmDot(fmSub(fmLoad(v, b), fmLoad(v, a)), n);
@@ -153,13 +153,13 @@ void fmAddSpringDamping(const fmBody* body, const double* x, const double* v, do
 // d^2/dxb^2 of 1/2 k (|d| - L)^2 is H = k (n n^T + (1 - L/|d|)(I - n n^T)); the 6x6 is
 // [H -H; -H H]. Its only possibly negative eigenvalue is k (1 - L/|d|) (a compressed spring);
 // projection clamps that factor at zero.
-void fmSpringHessian(const fmBody* body, const double* x, int e, double* K, int project)
+void fmSpringHessian(const fmElasticMesh* mesh, const double* x, int e, double* K, int project)
 {
-	int a = body->mesh.edges[2 * e], b = body->mesh.edges[2 * e + 1];
+	int a = mesh->edges[2 * e], b = mesh->edges[2 * e + 1];
 	fmVec3 d = fmSub(fmLoad(x, b), fmLoad(x, a));
 	double length = fmLength(d);
-	double k = body->mesh.springK[e];
-	double transverse = length > 0.0 ? 1.0 - body->mesh.restLength[e] / length : 0.0;
+	double k = mesh->springK[e];
+	double transverse = length > 0.0 ? 1.0 - mesh->restLength[e] / length : 0.0;
 	if (project && transverse < 0.0)
 		transverse = 0.0;
 	fmVec3 n = length > 0.0 ? fmScale(1.0 / length, d) : fmMakeVec3(0, 0, 0);

@@ -7,7 +7,6 @@
 
 #include "material/material.h"
 #include "material/material_stretch.h"
-#include "solver/solver_cache.h"
 #include "fem/kernels/tet_kernel.h"
 
 #include <string.h>
@@ -21,13 +20,13 @@ static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
 }
 
-fmMat3 fmTetDeformation(const fmBody* body, const double* x, int t)
+fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
 {
-	const int* n = body->mesh.tets + 4 * t;
+	const int* n = mesh->tets + 4 * t;
 	fmVec3 x0 = fmLoad(x, n[0]);
 	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
 	                              fmSub(fmLoad(x, n[3]), x0));
-	return fmMatMul(&Ds, &body->mesh.DmInv[t]);
+	return fmMatMul(&Ds, &mesh->DmInv[t]);
 }
 
 // The batched double-precision kernels of the force passes, of the CPU's instruction set (every
@@ -67,55 +66,55 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 }
 
 // The batched polar kernel when some tet of @p body is corotated; NULL otherwise.
-static fmPolarKernelFcn* fmPolarKernel(const fmBody* body)
+static fmPolarKernelFcn* fmPolarKernel(const fmElasticMesh* mesh)
 {
-	bool corotated = body->mesh.material.model == fm_corotated;
-	for (int k = 0; k < body->mesh.materialCount; ++k)
-		corotated = corotated || body->mesh.materials[k].model == fm_corotated;
+	bool corotated = mesh->material.model == fm_corotated;
+	for (int k = 0; k < mesh->materialCount; ++k)
+		corotated = corotated || mesh->materials[k].model == fm_corotated;
 	return corotated ? fmPassKernelsOfCpu().polar : NULL;
 }
 
 // The batched force kernel of a body of one material (no per-tet materials) when its model has
 // one (Neo-Hookean, corotated); NULL otherwise. @p kernels gets the CPU's kernels.
-static fmForceBatchKernelFcn* fmForceBatchKernel(const fmBody* body, fmPassKernels* kernels)
+static fmForceBatchKernelFcn* fmForceBatchKernel(const fmElasticMesh* mesh, fmPassKernels* kernels)
 {
 	*kernels = fmPassKernelsOfCpu();
-	if (body->mesh.tetMaterial != NULL)
+	if (mesh->tetMaterial != NULL)
 		return NULL;
-	if (body->mesh.material.model == fm_neoHookean)
+	if (mesh->material.model == fm_neoHookean)
 		return kernels->neoHookean;
-	return body->mesh.material.model == fm_corotated ? kernels->corotated : NULL;
+	return mesh->material.model == fm_corotated ? kernels->corotated : NULL;
 }
 
 // Tets [first, first + count), count <= FM_FORCE_LANES, into a force batch at x (the edge
 // matrices of fmTetDeformation; unused lanes zero): a full batch by the kernels' fill.
-static void fmFillForceBatch(const fmBody* body, const double* x, int first, int count,
+static void fmFillForceBatch(const fmElasticMesh* mesh, const double* x, int first, int count,
                              const fmPassKernels* kernels, fmForceBatch* batch)
 {
-	batch->mu = body->mesh.material.mu;
-	batch->lambda = body->mesh.material.lambda;
+	batch->mu = mesh->material.mu;
+	batch->lambda = mesh->material.lambda;
 	if (count == FM_FORCE_LANES)
 	{
-		kernels->fill(x, body->mesh.tets, body->mesh.DmInv, body->mesh.restVolume, first, batch);
+		kernels->fill(x, mesh->tets, mesh->DmInv, mesh->restVolume, first, batch);
 		return;
 	}
 	for (int l = 0; l < FM_FORCE_LANES; ++l)
 	{
 		int t = first + (l < count ? l : 0);
-		const int* n = body->mesh.tets + 4 * t;
+		const int* n = mesh->tets + 4 * t;
 		for (int i = 0; i < 3; ++i)
 			for (int k = 0; k < 3; ++k)
 				batch->Ds[3 * i + k][l] = l < count ? x[3 * n[k + 1] + i] - x[3 * n[0] + i] : 0.0;
 		for (int e = 0; e < 9; ++e)
-			batch->dmInv[e][l] = body->mesh.DmInv[t].m[e];
-		batch->volume[l] = l < count ? body->mesh.restVolume[t] : 0.0;
+			batch->dmInv[e][l] = mesh->DmInv[t].m[e];
+		batch->volume[l] = l < count ? mesh->restVolume[t] : 0.0;
 	}
 }
 
 // P and psi of tets [first, first + count), count <= FM_POLAR_LANES, at x: the corotated tets
 // take their rotations from the batched polar kernel (about a third of a corotated implicit
 // frame one tet at a time), the same bits as fmMaterial_Evaluate's.
-static void fmTetStresses(const fmBody* body, const double* x, int first, int count,
+static void fmTetStresses(const fmElasticMesh* mesh, const double* x, int first, int count,
                           fmPolarKernelFcn* polar, fmMat3* P, double* psi)
 {
 	fmPolarBatch batch;
@@ -123,8 +122,8 @@ static void fmTetStresses(const fmBody* body, const double* x, int first, int co
 	int lane[FM_POLAR_LANES], lanes = 0;
 	for (int j = 0; j < count; ++j)
 	{
-		F[j] = fmTetDeformation(body, x, first + j);
-		lane[j] = fmTetMaterial(&body->mesh, first + j)->model == fm_corotated ? lanes++ : -1;
+		F[j] = fmTetDeformation(mesh, x, first + j);
+		lane[j] = fmTetMaterial(mesh, first + j)->model == fm_corotated ? lanes++ : -1;
 		for (int k = 0; lane[j] >= 0 && k < 9; ++k)
 			batch.F[k][lane[j]] = F[j].m[k];
 	}
@@ -137,7 +136,7 @@ static void fmTetStresses(const fmBody* body, const double* x, int first, int co
 	}
 	for (int j = 0; j < count; ++j)
 	{
-		const fmMaterial* m = fmTetMaterial(&body->mesh, first + j);
+		const fmMaterial* m = fmTetMaterial(mesh, first + j);
 		if (lane[j] >= 0 && batch.ok[lane[j]])
 		{
 			fmMat3 R;
@@ -160,11 +159,11 @@ static void fmTetStresses(const fmBody* body, const double* x, int first, int co
 
 // f += tet @p t's forces from its stress P: the columns of -V0 P Dm^-T on nodes 1..3, minus their
 // sum on node 0 (the seeds' formula).
-FM_FORCES_INLINE void fmAddTetForces(const fmBody* body, int t, const fmMat3* P, double* f)
+FM_FORCES_INLINE void fmAddTetForces(const fmElasticMesh* mesh, int t, const fmMat3* P, double* f)
 {
-	double V0 = body->mesh.restVolume[t];
-	fmMat3 H = fmMatMulT(P, &body->mesh.DmInv[t]);
-	const int* n = body->mesh.tets + 4 * t;
+	double V0 = mesh->restVolume[t];
+	fmMat3 H = fmMatMulT(P, &mesh->DmInv[t]);
+	const int* n = mesh->tets + 4 * t;
 	fmVec3 sum = {0, 0, 0};
 	for (int a = 1; a < 4; ++a)
 	{
@@ -177,10 +176,10 @@ FM_FORCES_INLINE void fmAddTetForces(const fmBody* body, int t, const fmMat3* P,
 
 // The same forces into tet @p t's 12 entries of @p forces; node 0 keeps minus the sum
 // (a - b == a + -b: the same bits once gathered).
-FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* P, double* forces)
+FM_FORCES_INLINE void fmStoreTetForces(const fmElasticMesh* mesh, int t, const fmMat3* P, double* forces)
 {
-	double V0 = body->mesh.restVolume[t];
-	fmMat3 H = fmMatMulT(P, &body->mesh.DmInv[t]);
+	double V0 = mesh->restVolume[t];
+	fmMat3 H = fmMatMulT(P, &mesh->DmInv[t]);
 	fmVec3 sum = {0, 0, 0};
 	double* out = forces + 12 * (size_t)t;
 	for (int a = 1; a < 4; ++a)
@@ -192,7 +191,7 @@ FM_FORCES_INLINE void fmStoreTetForces(const fmBody* body, int t, const fmMat3* 
 	fmStore(out, 0, fmScale(-1.0, sum));
 }
 
-void fmInvertedTets(const fmBody* body, const double* x, int first, int end,
+void fmInvertedTets(const fmElasticMesh* mesh, const double* x, int first, int end,
                     unsigned char* inverted)
 {
 	fmPassKernels kernels = fmPassKernelsOfCpu();
@@ -200,42 +199,42 @@ void fmInvertedTets(const fmBody* body, const double* x, int first, int end,
 	for (int start = first; start < end; start += FM_FORCE_LANES)
 	{
 		int count = end - start < FM_FORCE_LANES ? end - start : FM_FORCE_LANES;
-		fmFillForceBatch(body, x, start, count, &kernels, &batch);
+		fmFillForceBatch(mesh, x, start, count, &kernels, &batch);
 		kernels.inverted(&batch, count, inverted + (start - first));
 	}
 }
 
 // P and psi of tet @p t at x one tet at a time (a lane a batched kernel left to the scalar path).
-static double fmScalarStress(const fmBody* body, const double* x, int t, fmMat3* P)
+static double fmScalarStress(const fmElasticMesh* mesh, const double* x, int t, fmMat3* P)
 {
-	fmMat3 F = fmTetDeformation(body, x, t);
-	return fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, P, NULL);
+	fmMat3 F = fmTetDeformation(mesh, x, t);
+	return fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, P, NULL);
 }
 
 // f += the forces of a body of one material, a batch at a time through @p kernel; returns the
 // elastic energy (J), in tet order.
-static double fmAddBatchedForces(const fmBody* body, const double* x, double* f,
+static double fmAddBatchedForces(const fmElasticMesh* mesh, const double* x, double* f,
                                  const fmPassKernels* kernels, fmForceBatchKernelFcn* kernel)
 {
 	double energy = 0.0;
 	fmForceBatch batch;
-	for (int first = 0; first < body->mesh.tetCount; first += FM_FORCE_LANES)
+	for (int first = 0; first < mesh->tetCount; first += FM_FORCE_LANES)
 	{
 		int count =
-		    body->mesh.tetCount - first < FM_FORCE_LANES ? body->mesh.tetCount - first : FM_FORCE_LANES;
-		fmFillForceBatch(body, x, first, count, kernels, &batch);
+		    mesh->tetCount - first < FM_FORCE_LANES ? mesh->tetCount - first : FM_FORCE_LANES;
+		fmFillForceBatch(mesh, x, first, count, kernels, &batch);
 		kernel(&batch);
 		for (int l = 0; l < count; ++l)
 		{
 			if (!batch.ok[l])
 			{
 				fmMat3 P;
-				energy += body->mesh.restVolume[first + l] * fmScalarStress(body, x, first + l, &P);
-				fmAddTetForces(body, first + l, &P, f);
+				energy += mesh->restVolume[first + l] * fmScalarStress(mesh, x, first + l, &P);
+				fmAddTetForces(mesh, first + l, &P, f);
 				continue;
 			}
-			const int* n = body->mesh.tets + 4 * (first + l);
-			energy += body->mesh.restVolume[first + l] * batch.psi[l];
+			const int* n = mesh->tets + 4 * (first + l);
+			energy += mesh->restVolume[first + l] * batch.psi[l];
 			for (int a = 1; a < 4; ++a)
 				for (int i = 0; i < 3; ++i)
 					f[3 * n[a] + i] = f[3 * n[a] + i] + batch.force[a][i][l];
@@ -246,36 +245,36 @@ static double fmAddBatchedForces(const fmBody* body, const double* x, double* f,
 	return energy;
 }
 
-static double fmAddFemForces(const fmBody* body, const double* x, double* f)
+static double fmAddFemForces(const fmElasticMesh* mesh, const double* x, double* f)
 {
 	fmPassKernels kernels;
-	fmForceBatchKernelFcn* batched = fmForceBatchKernel(body, &kernels);
+	fmForceBatchKernelFcn* batched = fmForceBatchKernel(mesh, &kernels);
 	if (batched != NULL)
-		return fmAddBatchedForces(body, x, f, &kernels, batched);
-	fmPolarKernelFcn* polar = fmPolarKernel(body);
+		return fmAddBatchedForces(mesh, x, f, &kernels, batched);
+	fmPolarKernelFcn* polar = fmPolarKernel(mesh);
 	double energy = 0.0;
 	if (polar == NULL) // one tet at a time: no batch to fill
 	{
-		for (int t = 0; t < body->mesh.tetCount; ++t)
+		for (int t = 0; t < mesh->tetCount; ++t)
 		{
-			fmMat3 F = fmTetDeformation(body, x, t), P;
+			fmMat3 F = fmTetDeformation(mesh, x, t), P;
 			energy +=
-			    body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, &P, NULL);
-			fmAddTetForces(body, t, &P, f);
+			    mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, &P, NULL);
+			fmAddTetForces(mesh, t, &P, f);
 		}
 		return energy;
 	}
-	for (int first = 0; first < body->mesh.tetCount; first += FM_POLAR_LANES)
+	for (int first = 0; first < mesh->tetCount; first += FM_POLAR_LANES)
 	{
 		int count =
-		    body->mesh.tetCount - first < FM_POLAR_LANES ? body->mesh.tetCount - first : FM_POLAR_LANES;
+		    mesh->tetCount - first < FM_POLAR_LANES ? mesh->tetCount - first : FM_POLAR_LANES;
 		fmMat3 P[FM_POLAR_LANES];
 		double psi[FM_POLAR_LANES];
-		fmTetStresses(body, x, first, count, polar, P, psi);
+		fmTetStresses(mesh, x, first, count, polar, P, psi);
 		for (int j = 0; j < count; ++j)
 		{
-			energy += body->mesh.restVolume[first + j] * psi[j];
-			fmAddTetForces(body, first + j, &P[j], f);
+			energy += mesh->restVolume[first + j] * psi[j];
+			fmAddTetForces(mesh, first + j, &P[j], f);
 		}
 	}
 	return energy;
@@ -283,7 +282,7 @@ static double fmAddFemForces(const fmBody* body, const double* x, double* f)
 
 // Tets [first, end) of a body of one material into their 12 entries of @p forces and their
 // energies, a batch at a time through @p kernel.
-static void fmStoreBatchedForces(const fmBody* body, const double* x, int first, int end,
+static void fmStoreBatchedForces(const fmElasticMesh* mesh, const double* x, int first, int end,
                                  double* forces, double* energies, const fmPassKernels* kernels,
                                  fmForceBatchKernelFcn* kernel)
 {
@@ -291,7 +290,7 @@ static void fmStoreBatchedForces(const fmBody* body, const double* x, int first,
 	for (int start = first; start < end; start += FM_FORCE_LANES)
 	{
 		int count = end - start < FM_FORCE_LANES ? end - start : FM_FORCE_LANES;
-		fmFillForceBatch(body, x, start, count, kernels, &batch);
+		fmFillForceBatch(mesh, x, start, count, kernels, &batch);
 		kernel(&batch);
 		for (int l = 0; l < count; ++l)
 		{
@@ -299,12 +298,12 @@ static void fmStoreBatchedForces(const fmBody* body, const double* x, int first,
 			{
 				fmMat3 P;
 				energies[start + l] =
-				    body->mesh.restVolume[start + l] * fmScalarStress(body, x, start + l, &P);
-				fmStoreTetForces(body, start + l, &P, forces);
+				    mesh->restVolume[start + l] * fmScalarStress(mesh, x, start + l, &P);
+				fmStoreTetForces(mesh, start + l, &P, forces);
 				continue;
 			}
 			double* out = forces + 12 * (size_t)(start + l);
-			energies[start + l] = body->mesh.restVolume[start + l] * batch.psi[l];
+			energies[start + l] = mesh->restVolume[start + l] * batch.psi[l];
 			for (int i = 0; i < 3; ++i)
 			{
 				out[i] = -1.0 * batch.force[0][i][l];
@@ -315,25 +314,25 @@ static void fmStoreBatchedForces(const fmBody* body, const double* x, int first,
 	}
 }
 
-void fmTetForces(const fmBody* body, const double* x, int first, int end, double* forces,
+void fmTetForces(const fmElasticMesh* mesh, const double* x, int first, int end, double* forces,
                  double* energies)
 {
 	fmPassKernels kernels;
-	fmForceBatchKernelFcn* batched = fmForceBatchKernel(body, &kernels);
+	fmForceBatchKernelFcn* batched = fmForceBatchKernel(mesh, &kernels);
 	if (batched != NULL)
 	{
-		fmStoreBatchedForces(body, x, first, end, forces, energies, &kernels, batched);
+		fmStoreBatchedForces(mesh, x, first, end, forces, energies, &kernels, batched);
 		return;
 	}
-	fmPolarKernelFcn* polar = fmPolarKernel(body);
+	fmPolarKernelFcn* polar = fmPolarKernel(mesh);
 	if (polar == NULL)
 	{
 		for (int t = first; t < end; ++t)
 		{
-			fmMat3 F = fmTetDeformation(body, x, t), P;
+			fmMat3 F = fmTetDeformation(mesh, x, t), P;
 			energies[t] =
-			    body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, &P, NULL);
-			fmStoreTetForces(body, t, &P, forces);
+			    mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, &P, NULL);
+			fmStoreTetForces(mesh, t, &P, forces);
 		}
 		return;
 	}
@@ -342,68 +341,63 @@ void fmTetForces(const fmBody* body, const double* x, int first, int end, double
 		int count = end - start < FM_POLAR_LANES ? end - start : FM_POLAR_LANES;
 		fmMat3 P[FM_POLAR_LANES];
 		double psi[FM_POLAR_LANES];
-		fmTetStresses(body, x, start, count, polar, P, psi);
+		fmTetStresses(mesh, x, start, count, polar, P, psi);
 		for (int j = 0; j < count; ++j)
 		{
-			energies[start + j] = body->mesh.restVolume[start + j] * psi[j];
-			fmStoreTetForces(body, start + j, &P[j], forces);
+			energies[start + j] = mesh->restVolume[start + j] * psi[j];
+			fmStoreTetForces(mesh, start + j, &P[j], forces);
 		}
 	}
 }
 
-void fmGatherTetForces(const fmBody* body, const double* forces, int first, int end, double* f)
+void fmGatherTetForces(const fmElasticMesh* mesh, const double* forces, int first, int end, double* f)
 {
 	for (int i = first; i < end; ++i)
 	{
 		fmVec3 sum = fmLoad(f, i);
-		for (int k = body->mesh.vertexTetStart[i]; k < body->mesh.vertexTetStart[i + 1]; ++k)
-			sum = fmAdd(sum, fmLoad(forces, body->mesh.vertexTets[k])); // 3 doubles at 3 (4 t + a)
+		for (int k = mesh->vertexTetStart[i]; k < mesh->vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmLoad(forces, mesh->vertexTets[k])); // 3 doubles at 3 (4 t + a)
 		fmStore(f, i, sum);
 	}
 }
 
-double fmAddElasticForces(const fmBody* body, const double* x, double* f)
+double fmAddElasticForces(const fmElasticMesh* mesh, const double* x, double* f)
 {
-	switch (body->mesh.forceModel)
+	switch (mesh->forceModel)
 	{
 	case fm_fvm:
-		return fmAddFvmForces(body, x, f);
+		return fmAddFvmForces(mesh, x, f);
 	case fm_massSpring:
-		return fmAddSpringForces(body, x, f);
+		return fmAddSpringForces(mesh, x, f);
 	default:
-		return fmAddFemForces(body, x, f);
+		return fmAddFemForces(mesh, x, f);
 	}
 }
 
-double fmElasticEnergy(const fmBody* body, const double* x)
+double fmElasticEnergy(const fmElasticMesh* mesh, const double* x)
 {
-	// The implicit solver's last evaluation, when it was at x (the world's energy check after
-	// an implicit step): the same bits as the loop below.
-	const fmImplicitCache* cache = body->solverCache;
-	if (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x))
-		return cache->forcesEnergy;
 	double energy = 0.0;
-	if (body->mesh.forceModel == fm_massSpring)
+	if (mesh->forceModel == fm_massSpring)
 	{
-		return fmSpringEnergy(body, x);
+		return fmSpringEnergy(mesh, x);
 	}
-	for (int t = 0; t < body->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(body, x, t);
-		energy += body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), &F, NULL, NULL);
+		fmMat3 F = fmTetDeformation(mesh, x, t);
+		energy += mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, NULL, NULL);
 	}
 	return energy;
 }
 
 // dP/dF of the body's material at F, projected to PSD when asked (in the SVD frame where the
 // material allows: ~7x cheaper than the 9x9 eigen-solver).
-static void fmTetStressDerivative(const fmBody* body, int t, const fmMat3* F, double* dPdF,
+static void fmTetStressDerivative(const fmElasticMesh* mesh, int t, const fmMat3* F, double* dPdF,
                                   int project)
 {
 	if (project)
-		fmMaterial_EvaluateProjected(fmTetMaterial(&body->mesh, t), F, NULL, dPdF);
+		fmMaterial_EvaluateProjected(fmTetMaterial(mesh, t), F, NULL, dPdF);
 	else
-		fmMaterial_Evaluate(fmTetMaterial(&body->mesh, t), F, NULL, dPdF);
+		fmMaterial_Evaluate(fmTetMaterial(mesh, t), F, NULL, dPdF);
 }
 
 // K = V0 B^T (dP/dF) B with B the map from node displacements to dF (dF_ij = sum_a u_ai g_a[j]),
@@ -442,26 +436,26 @@ static void fmContractTetHessian(const double* dPdF, const fmMat3* DmInv, double
 		}
 }
 
-void fmTetHessian(const fmBody* body, const double* x, int t, double* K, int project)
+void fmTetHessian(const fmElasticMesh* mesh, const double* x, int t, double* K, int project)
 {
-	fmMat3 F = fmTetDeformation(body, x, t);
+	fmMat3 F = fmTetDeformation(mesh, x, t);
 	double dPdF[81];
-	fmTetStressDerivative(body, t, &F, dPdF, project);
+	fmTetStressDerivative(mesh, t, &F, dPdF, project);
 	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K
 	// because K = V0 B^T (dP/dF) B.
-	fmContractTetHessian(dPdF, &body->mesh.DmInv[t], body->mesh.restVolume[t], K);
+	fmContractTetHessian(dPdF, &mesh->DmInv[t], mesh->restVolume[t], K);
 }
 
-void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, double* out,
+void fmAddHessianProduct(const fmElasticMesh* mesh, const double* x, const double* dx, double* out,
                          int project)
 {
-	if (body->mesh.forceModel == fm_massSpring)
+	if (mesh->forceModel == fm_massSpring)
 	{
 		double K[36];
-		for (int e = 0; e < body->mesh.edgeCount; ++e)
+		for (int e = 0; e < mesh->edgeCount; ++e)
 		{
-			const int* n = body->mesh.edges + 2 * e;
-			fmSpringHessian(body, x, e, K, project);
+			const int* n = mesh->edges + 2 * e;
+			fmSpringHessian(mesh, x, e, K, project);
 			double u[6], y[6] = {0};
 			for (int k = 0; k < 3; ++k)
 			{
@@ -479,14 +473,14 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 		}
 		return;
 	}
-	for (int t = 0; t < body->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(body, x, t);
+		fmMat3 F = fmTetDeformation(mesh, x, t);
 		double dPdF[81];
-		fmTetStressDerivative(body, t, &F, dPdF, project);
+		fmTetStressDerivative(mesh, t, &F, dPdF, project);
 		fmVec3 g[4];
-		fmShapeGradients(&body->mesh.DmInv[t], g);
-		const int* n = body->mesh.tets + 4 * t;
+		fmShapeGradients(&mesh->DmInv[t], g);
+		const int* n = mesh->tets + 4 * t;
 		// dF = sum_a dx_a g_a^T; dP = dPdF : dF; out_a += V0 dP g_a.
 		fmMat3 dF = fmZero3();
 		for (int a = 0; a < 4; ++a)
@@ -506,7 +500,7 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 				s += dPdF[9 * r + c] * dF.m[c];
 			dP.m[r] = s;
 		}
-		const double V0 = body->mesh.restVolume[t];
+		const double V0 = mesh->restVolume[t];
 		for (int a = 0; a < 4; ++a)
 		{
 			fmVec3 y = fmScale(V0, fmMatVec(&dP, g[a]));
@@ -519,7 +513,7 @@ void fmAddHessianProduct(const fmBody* body, const double* x, const double* dx, 
 
 typedef struct fmForcesTask
 {
-	const fmBody* body;
+	const fmElasticMesh* mesh;
 	const double* x;
 	double* f;
 	double* tetForces;   // 12 per tet, or NULL for energies only
@@ -530,7 +524,7 @@ static void fmTetForcesTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmForcesTask* c = context;
-	fmTetForces(c->body, c->x, start, end, c->tetForces, c->tetEnergies);
+	fmTetForces(c->mesh, c->x, start, end, c->tetForces, c->tetEnergies);
 }
 
 static void fmTetEnergiesTask(int start, int end, int worker, void* context)
@@ -539,9 +533,9 @@ static void fmTetEnergiesTask(int start, int end, int worker, void* context)
 	const fmForcesTask* c = context;
 	for (int t = start; t < end; ++t)
 	{
-		fmMat3 F = fmTetDeformation(c->body, c->x, t);
+		fmMat3 F = fmTetDeformation(c->mesh, c->x, t);
 		c->tetEnergies[t] =
-		    c->body->mesh.restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(&c->body->mesh, t), &F, NULL, NULL);
+		    c->mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(c->mesh, t), &F, NULL, NULL);
 	}
 }
 
@@ -549,7 +543,7 @@ static void fmGatherTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmForcesTask* c = context;
-	fmGatherTetForces(c->body, c->tetForces, start, end, c->f);
+	fmGatherTetForces(c->mesh, c->tetForces, start, end, c->f);
 }
 
 // The tets' energies summed in tet order: the serial loop's sum.
@@ -561,57 +555,55 @@ static double fmSumInOrder(const double* values, int count)
 	return sum;
 }
 
-static bool fmRunsInParallel(const fmBody* body, const fmTaskSystem* tasks)
+static bool fmRunsInParallel(const fmElasticMesh* mesh, const fmTaskSystem* tasks)
 {
 	// A body of fewer than two ranges of tets stays on the serial scatter (the same bits).
 	return tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	       body->mesh.forceModel == fm_fem && body->mesh.tetCount >= 2 * FM_PARALLEL_MIN_RANGE;
+	       mesh->forceModel == fm_fem && mesh->tetCount >= 2 * FM_PARALLEL_MIN_RANGE;
 }
 
-double fmAddElasticForcesOn(const fmBody* body, const double* x, double* f,
+double fmAddElasticForcesOn(const fmElasticMesh* mesh, const double* x, double* f,
                             const fmTaskSystem* tasks, fmArena* arena)
 {
-	if (!fmRunsInParallel(body, tasks))
-		return fmAddElasticForces(body, x, f);
+	if (!fmRunsInParallel(mesh, tasks))
+		return fmAddElasticForces(mesh, x, f);
 	size_t mark = fmArena_Mark(arena);
-	fmForcesTask c = {body, x, f, fmArena_DoublesUninit(arena, 12 * (size_t)body->mesh.tetCount),
-	                  fmArena_DoublesUninit(arena, (size_t)body->mesh.tetCount)};
+	fmForcesTask c = {mesh, x, f, fmArena_DoublesUninit(arena, 12 * (size_t)mesh->tetCount),
+	                  fmArena_DoublesUninit(arena, (size_t)mesh->tetCount)};
 	double energy;
 	if (c.tetForces == NULL || c.tetEnergies == NULL)
-		energy = fmAddElasticForces(body, x, f);
+		energy = fmAddElasticForces(mesh, x, f);
 	else
 	{
-		fmParallelFor(tasks, body->mesh.tetCount, FM_PARALLEL_MIN_RANGE, fmTetForcesTask, &c);
+		fmParallelFor(tasks, mesh->tetCount, FM_PARALLEL_MIN_RANGE, fmTetForcesTask, &c);
 		// The gather is split as the tets were (vertex ranges of as many tets' corners), so
 		// each worker mostly reads the forces it wrote: gathered on one worker, half of them
 		// cross between the cores' caches twice a pass (a 10k-tet pass took 0.77 ms on 2
 		// workers, 0.52 ms split, against 0.72 ms on one).
 		int vertexRange =
-		    (int)((int64_t)FM_PARALLEL_MIN_RANGE * body->mesh.vertexCount / body->mesh.tetCount);
-		fmParallelFor(tasks, body->mesh.vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,
+		    (int)((int64_t)FM_PARALLEL_MIN_RANGE * mesh->vertexCount / mesh->tetCount);
+		fmParallelFor(tasks, mesh->vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,
 		              &c);
-		energy = fmSumInOrder(c.tetEnergies, body->mesh.tetCount);
+		energy = fmSumInOrder(c.tetEnergies, mesh->tetCount);
 	}
 	fmArena_Release(arena, mark);
 	return energy;
 }
 
-double fmElasticEnergyOn(const fmBody* body, const double* x, const fmTaskSystem* tasks,
+double fmElasticEnergyOn(const fmElasticMesh* mesh, const double* x, const fmTaskSystem* tasks,
                          fmArena* arena)
 {
-	const fmImplicitCache* cache = body->solverCache; // as fmElasticEnergy
-	if (!fmRunsInParallel(body, tasks) ||
-	    (cache != NULL && fmSolverCache_HasForcesAt(body, cache, x)))
-		return fmElasticEnergy(body, x);
+	if (!fmRunsInParallel(mesh, tasks))
+		return fmElasticEnergy(mesh, x);
 	size_t mark = fmArena_Mark(arena);
-	fmForcesTask c = {body, x, NULL, NULL, fmArena_DoublesUninit(arena, (size_t)body->mesh.tetCount)};
+	fmForcesTask c = {mesh, x, NULL, NULL, fmArena_DoublesUninit(arena, (size_t)mesh->tetCount)};
 	double energy;
 	if (c.tetEnergies == NULL)
-		energy = fmElasticEnergy(body, x);
+		energy = fmElasticEnergy(mesh, x);
 	else
 	{
-		fmParallelFor(tasks, body->mesh.tetCount, FM_PARALLEL_MIN_RANGE, fmTetEnergiesTask, &c);
-		energy = fmSumInOrder(c.tetEnergies, body->mesh.tetCount);
+		fmParallelFor(tasks, mesh->tetCount, FM_PARALLEL_MIN_RANGE, fmTetEnergiesTask, &c);
+		energy = fmSumInOrder(c.tetEnergies, mesh->tetCount);
 	}
 	fmArena_Release(arena, mark);
 	return energy;

@@ -10,7 +10,7 @@
 #include "fem/stability.h"
 #include "core/det_math.h"
 
-#include "body/body.h"
+#include "fem/elastic_mesh.h"
 #include "fem/forces.h"
 
 #include <math.h>
@@ -29,40 +29,40 @@ static void fmAddRowSums(const double* K, int size, const int* nodes, double* ro
 	}
 }
 
-double fmBodyExplicitStepLimit(const fmBody* b, fmArena* arena)
+double fmExplicitStepLimit(const fmElasticMesh* mesh, const fmBodyState* state, fmArena* arena)
 {
 	size_t mark = fmArena_Mark(arena);
-	double* rowSum = fmArena_Doubles(arena, 3 * (size_t)b->mesh.vertexCount);
+	double* rowSum = fmArena_Doubles(arena, 3 * (size_t)mesh->vertexCount);
 	if (rowSum == NULL)
 		return 0.0;
 	double K[144];
-	if (b->mesh.forceModel == fm_massSpring)
-		for (int e = 0; e < b->mesh.edgeCount; ++e)
+	if (mesh->forceModel == fm_massSpring)
+		for (int e = 0; e < mesh->edgeCount; ++e)
 		{
-			fmSpringHessian(b, b->state.x, e, K, 0);
-			fmAddRowSums(K, 6, b->mesh.edges + 2 * e, rowSum);
+			fmSpringHessian(mesh, state->x, e, K, 0);
+			fmAddRowSums(K, 6, mesh->edges + 2 * e, rowSum);
 		}
 	else
-		for (int t = 0; t < b->mesh.tetCount; ++t)
+		for (int t = 0; t < mesh->tetCount; ++t)
 		{
-			fmTetHessian(b, b->state.x, t, K, 0);
-			fmAddRowSums(K, 12, b->mesh.tets + 4 * t, rowSum);
+			fmTetHessian(mesh, state->x, t, K, 0);
+			fmAddRowSums(K, 12, mesh->tets + 4 * t, rowSum);
 		}
 	double omega2 = 0.0;
-	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
-		omega2 = fmMax(omega2, rowSum[k] * b->state.invMass[k / 3]);
+	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
+		omega2 = fmMax(omega2, rowSum[k] * state->invMass[k / 3]);
 	fmArena_Release(arena, mark);
 	return omega2 > 0.0 && isfinite(omega2) ? 0.9 * 2.0 / sqrt(omega2)
 	       : omega2 > 0.0                   ? 0.0
 	                                        : INFINITY;
 }
 
-double fmBodyStiffeningProxy(const fmBody* b)
+double fmStiffeningProxy(const fmElasticMesh* mesh, const double* x)
 {
 	double proxy = 1.0;
-	for (int t = 0; t < b->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		fmMat3 F = fmTetDeformation(mesh, x, t);
 		double J = fmDet(&F), I1 = 0.0;
 		for (int k = 0; k < 9; ++k)
 			I1 += F.m[k] * F.m[k];

@@ -10,25 +10,25 @@
 // Floats of one batch's output in a block's buffer (a multiple of FM_LANES).
 #define FM_BATCH_FLOATS ((int)(sizeof(fmTetBatchForces) / sizeof(float)))
 
-bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level)
+bool fmTetBlocks_Applies(const fmElasticMesh* mesh, fmSimdLevel level)
 {
-	fmMaterialModel m = body->mesh.material.model;
-	return level != fm_simdOff && body->mesh.forceModel == fm_fem && body->mesh.tetMaterial == NULL &&
+	fmMaterialModel m = mesh->material.model;
+	return level != fm_simdOff && mesh->forceModel == fm_fem && mesh->tetMaterial == NULL &&
 	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_mooneyRivlin ||
 	        m == fm_neoHookeanIsochoric || m == fm_corotated);
 }
 
-bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmBody* b)
+bool fmTetBlocks_Accurate(const fmTetBlocks* tb, const fmElasticMesh* mesh)
 {
-	double density = b->mesh.totalMass / tb->restVolume;
-	double modulus = b->mesh.material.lambda + 2.0 * b->mesh.material.mu;
-	return density * 10.0 * b->mesh.restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
+	double density = mesh->totalMass / tb->restVolume;
+	double modulus = mesh->material.lambda + 2.0 * mesh->material.mu;
+	return density * 10.0 * mesh->restSize >= FM_FLOAT_KERNEL_MIN_STRAIN * modulus;
 }
 
-const fmTetBlocks* fmTetBlocks_Used(const fmBody* body, fmSimdLevel level)
+const fmTetBlocks* fmTetBlocks_Used(const fmElasticMesh* mesh, fmSimdLevel level)
 {
-	const fmTetBlocks* tb = body->mesh.tetBlocks;
-	return tb != NULL && fmTetBlocks_Applies(body, level) && fmTetBlocks_Accurate(tb, body) ? tb
+	const fmTetBlocks* tb = mesh->tetBlocks;
+	return tb != NULL && fmTetBlocks_Applies(mesh, level) && fmTetBlocks_Accurate(tb, mesh) ? tb
 	                                                                                        : NULL;
 }
 
@@ -76,16 +76,16 @@ static uint16_t fmLocalVertex(fmBlockVertices* bv, int v)
 }
 
 // Pack tets [first, end) into one batch; unused lanes repeat the first tet, weightless.
-static void fmPackBatch(const fmBody* b, int first, int end, fmBlockVertices* bv, fmTetBatch* batch)
+static void fmPackBatch(const fmElasticMesh* mesh, int first, int end, fmBlockVertices* bv, fmTetBatch* batch)
 {
 	for (int l = 0; l < FM_LANES; ++l)
 	{
 		int t = first + l < end ? first + l : first;
 		for (int a = 0; a < 4; ++a)
-			batch->nodes[a][l] = fmLocalVertex(bv, b->mesh.tets[4 * t + a]);
+			batch->nodes[a][l] = fmLocalVertex(bv, mesh->tets[4 * t + a]);
 		for (int k = 0; k < 9; ++k)
-			batch->dmInv[k][l] = (float)b->mesh.DmInv[t].m[k];
-		batch->volume[l] = first + l < end ? (float)b->mesh.restVolume[t] : 0.0f;
+			batch->dmInv[k][l] = (float)mesh->DmInv[t].m[k];
+		batch->volume[l] = first + l < end ? (float)mesh->restVolume[t] : 0.0f;
 	}
 }
 
@@ -141,7 +141,7 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 }
 
 // Pack block @p k (tets k * perBlock ...) at batch @p batch; returns the next batch.
-static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, int k, int batch, fmBlockVertices* bv)
+static int fmPackBlock(fmTetBlocks* tb, const fmElasticMesh* mesh, int k, int batch, fmBlockVertices* bv)
 {
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
 	int first = k * perBlock,
@@ -149,7 +149,7 @@ static int fmPackBlock(fmTetBlocks* tb, const fmBody* b, int k, int batch, fmBlo
 	for (int t = first; t < end; t += FM_LANES, ++batch)
 	{
 		int last = t + FM_LANES < end ? t + FM_LANES : end;
-		fmPackBatch(b, t, last, bv, &tb->batches[batch]);
+		fmPackBatch(mesh, t, last, bv, &tb->batches[batch]);
 		tb->laneCount[batch] = (uint8_t)(last - t);
 	}
 	return batch;
@@ -181,7 +181,7 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 }
 
 // Packs the blocks' batches and vertex lists, in the body's (Morton) order.
-static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, fmBlockVertices* bv)
+static bool fmPackBlocks(fmTetBlocks* tb, const fmElasticMesh* mesh, fmBlockVertices* bv)
 {
 	int batch = 0, vertexCount = 0;
 	for (int k = 0; k < tb->blockCount; ++k)
@@ -191,7 +191,7 @@ static bool fmPackBlocks(fmTetBlocks* tb, const fmBody* b, fmBlockVertices* bv)
 		bv->verts = tb->blockVertices + vertexCount;
 		bv->count = 0;
 		int first = batch;
-		batch = fmPackBlock(tb, b, k, batch, bv);
+		batch = fmPackBlock(tb, mesh, k, batch, bv);
 		fmBuildIncidences(tb, first, batch, vertexCount, bv->count, bv->cursor);
 		for (int i = 0; i < bv->count; ++i)
 			bv->local[bv->verts[i]] = -1;
@@ -228,22 +228,22 @@ static bool fmBuildVertexEntries(fmTetBlocks* tb, int vertexCount)
 }
 
 // The arrays of a layout of @p blockCount blocks; false when short.
-static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
+static bool fmAllocateBlocks(fmTetBlocks* tb, const fmElasticMesh* mesh, int blockCount)
 {
-	tb->tetCount = b->mesh.tetCount;
+	tb->tetCount = mesh->tetCount;
 	tb->blockCount = blockCount;
-	for (int t = 0; t < b->mesh.tetCount; ++t)
-		tb->restVolume += b->mesh.restVolume[t];
+	for (int t = 0; t < mesh->tetCount; ++t)
+		tb->restVolume += mesh->restVolume[t];
 	// Blocks hold whole batches and every block but the last is full, so only the last batch
 	// may be short.
-	tb->batchCount = (b->mesh.tetCount + FM_LANES - 1) / FM_LANES;
+	tb->batchCount = (mesh->tetCount + FM_LANES - 1) / FM_LANES;
 	tb->batches = FM_ALLOC_ARRAY(fmTetBatch, tb->batchCount);
 	tb->laneCount = FM_ALLOC_ARRAY(uint8_t, tb->batchCount);
 	tb->blockStart = FM_ALLOC_ZERO(int, blockCount + 1);
 	tb->blockVertexStart = FM_ALLOC_ZERO(int, blockCount + 1);
-	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)b->mesh.tetCount);
-	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)b->mesh.tetCount + 1);
-	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)b->mesh.tetCount);
+	tb->blockVertices = FM_ALLOC_ARRAY(int, 4 * (size_t)mesh->tetCount);
+	tb->incidenceStart = FM_ALLOC_ZERO(int, 4 * (size_t)mesh->tetCount + 1);
+	tb->incidences = FM_ALLOC_ARRAY(uint16_t, 4 * (size_t)mesh->tetCount);
 	return tb->batches && tb->laneCount && tb->blockStart && tb->blockVertexStart &&
 	       tb->blockVertices && tb->incidenceStart && tb->incidences;
 }
@@ -252,17 +252,17 @@ static bool fmAllocateBlocks(fmTetBlocks* tb, const fmBody* b, int blockCount)
 // vertex, the vertices of its tets with how many of its tets hold each, in first-named order.
 // With @p offsets NULL it only counts the entries; else it fills offsets and weights. @p slot
 // (the place of vertex j in the current list) is -1 for every vertex, and again on return.
-static int fmNeighbourPass(fmTetBlocks* tb, const fmBody* b, int* slot, int* offsets,
+static int fmNeighbourPass(fmTetBlocks* tb, const fmElasticMesh* mesh, int* slot, int* offsets,
                            double* weights)
 {
 	int count = 0;
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
 		tb->neighbourStart[i] = count;
-		for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
+		for (int e = mesh->vertexTetStart[i]; e < mesh->vertexTetStart[i + 1]; ++e)
 			for (int a = 0; a < 4; ++a)
 			{
-				int j = b->mesh.tets[4 * (b->mesh.vertexTets[e] / 4) + a];
+				int j = mesh->tets[4 * (mesh->vertexTets[e] / 4) + a];
 				if (slot[j] < 0)
 				{
 					slot[j] = count++;
@@ -272,18 +272,18 @@ static int fmNeighbourPass(fmTetBlocks* tb, const fmBody* b, int* slot, int* off
 				if (offsets != NULL)
 					weights[slot[j]] += 1.0;
 			}
-		for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
+		for (int e = mesh->vertexTetStart[i]; e < mesh->vertexTetStart[i + 1]; ++e)
 			for (int a = 0; a < 4; ++a)
-				slot[b->mesh.tets[4 * (b->mesh.vertexTets[e] / 4) + a]] = -1;
+				slot[mesh->tets[4 * (mesh->vertexTets[e] / 4) + a]] = -1;
 	}
-	tb->neighbourStart[b->mesh.vertexCount] = count;
+	tb->neighbourStart[mesh->vertexCount] = count;
 	return count;
 }
 
 // The smoothing's vertex graph: counted, then filled into arrays of its size.
-static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
+static bool fmBuildNeighbours(fmTetBlocks* tb, const fmElasticMesh* mesh)
 {
-	const int n = b->mesh.vertexCount;
+	const int n = mesh->vertexCount;
 	tb->neighbourStart = FM_ALLOC_ZERO(int, (size_t)n + 1);
 	int* slot = FM_ALLOC_ARRAY(int, n);
 	bool ok = tb->neighbourStart != NULL && slot != NULL;
@@ -291,32 +291,32 @@ static bool fmBuildNeighbours(fmTetBlocks* tb, const fmBody* b)
 		slot[j] = -1;
 	if (ok)
 	{
-		tb->neighbourCount = fmNeighbourPass(tb, b, slot, NULL, NULL);
+		tb->neighbourCount = fmNeighbourPass(tb, mesh, slot, NULL, NULL);
 		tb->neighbourOffset = FM_ALLOC_ARRAY(int, tb->neighbourCount);
 		tb->neighbourWeight = FM_ALLOC_ARRAY(double, tb->neighbourCount);
 		ok = tb->neighbourOffset != NULL && tb->neighbourWeight != NULL;
 	}
 	if (ok)
-		fmNeighbourPass(tb, b, slot, tb->neighbourOffset, tb->neighbourWeight);
+		fmNeighbourPass(tb, mesh, slot, tb->neighbourOffset, tb->neighbourWeight);
 	FM_FREE_ARRAY(slot, int, n);
 	return ok;
 }
 
-fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
+fmTetBlocks* fmTetBlocks_Create(const fmElasticMesh* mesh, int workerCount)
 {
 	fmTetBlocks* tb = FM_ALLOC_ZERO(fmTetBlocks, 1);
 	// The body keeps its tets in Morton order already (reorder.h): blocks are runs of it.
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
-	int blockCount = (b->mesh.tetCount + perBlock - 1) / perBlock;
-	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, b->mesh.vertexCount), NULL, 0,
+	int blockCount = (mesh->tetCount + perBlock - 1) / perBlock;
+	fmBlockVertices bv = {FM_ALLOC_ARRAY(int, mesh->vertexCount), NULL, 0,
 	                      FM_ALLOC_ARRAY(int, 4 * perBlock)};
 	bool ok = tb != NULL && bv.local != NULL && bv.cursor != NULL;
 	if (ok)
 	{
-		for (int i = 0; i < b->mesh.vertexCount; ++i)
+		for (int i = 0; i < mesh->vertexCount; ++i)
 			bv.local[i] = -1;
-		ok = fmAllocateBlocks(tb, b, blockCount) && fmPackBlocks(tb, b, &bv) &&
-		     fmBuildVertexEntries(tb, b->mesh.vertexCount) && fmBuildNeighbours(tb, b);
+		ok = fmAllocateBlocks(tb, mesh, blockCount) && fmPackBlocks(tb, mesh, &bv) &&
+		     fmBuildVertexEntries(tb, mesh->vertexCount) && fmBuildNeighbours(tb, mesh);
 	}
 	if (ok)
 	{
@@ -327,7 +327,7 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 		tb->blockInverted = FM_ALLOC_ZERO(int, tb->blockCount);
 		ok = tb->scratch != NULL && tb->blockEnergy != NULL && tb->blockInverted != NULL;
 	}
-	FM_FREE_ARRAY(bv.local, int, b->mesh.vertexCount);
+	FM_FREE_ARRAY(bv.local, int, mesh->vertexCount);
 	FM_FREE_ARRAY(bv.cursor, int, 4 * perBlock);
 	if (!ok)
 	{
@@ -342,7 +342,7 @@ fmTetBlocks* fmTetBlocks_Create(const fmBody* b, int workerCount)
 typedef struct fmForcePass
 {
 	const fmTetBlocks* blocks;
-	const fmBody* body;
+	const fmElasticMesh* mesh;
 	const double* x;
 	const fmVec3* gravity; // f = m g + the forces, or NULL: f += the forces
 	double* f;
@@ -388,7 +388,7 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 	fmMat3 F = fmMatMul(&Du, &DmInv), P;
 	for (int i = 0; i < 3; ++i)
 		F.m[4 * i] += 1.0;
-	double psi = fmMaterial_Evaluate(&p->body->mesh.material, &F, &P, NULL);
+	double psi = fmMaterial_Evaluate(&p->mesh->material, &F, &P, NULL);
 	fmMat3 M = fmMatMulT(&P, &DmInv);
 	double V0 = (double)batch->volume[l];
 	if (energy)
@@ -416,7 +416,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	const int* verts = tb->blockVertices + base;
 	fmTetBatchForces* out;
 	double* u = fmScratch(tb, worker, &out);
-	fmGatherDisplacements(verts, count, p->x, p->body->mesh.x0, u);
+	fmGatherDisplacements(verts, count, p->x, p->mesh->x0, u);
 	double energy = 0.0;
 	int inverted = 0;
 	float laneEnergy[FM_LANES];
@@ -434,7 +434,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 			// Batch j holds the body's tets FM_LANES j ... (blocks are runs of its order).
 			unsigned char flat = 0;
 			if (!o->upright[l])
-				fmInvertedTets(p->body, p->x, FM_LANES * j + l, FM_LANES * j + l + 1, &flat);
+				fmInvertedTets(p->mesh, p->x, FM_LANES * j + l, FM_LANES * j + l + 1, &flat);
 			inverted += flat;
 		}
 	}
@@ -464,7 +464,7 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 	{
 		double* fi = p->f + 3 * i;
 		if (p->gravity != NULL)
-			fmStore(p->f, i, fmScale(p->body->mesh.mass[i], *p->gravity));
+			fmStore(p->f, i, fmScale(p->mesh->mass[i], *p->gravity));
 		for (int e = tb->vertexEntryStart[i]; e < tb->vertexEntryStart[i + 1]; ++e)
 		{
 			const double* sum = tb->blockSums + 3 * (size_t)tb->vertexEntries[e];
@@ -475,19 +475,19 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 		p->then->task(start, end, worker, p->then->context);
 }
 
-double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmBody* body, const double* x,
+double fmTetBlocks_AddForces(const fmTetBlocks* tb, const fmElasticMesh* mesh, const double* x,
                              const fmVec3* gravity, double* f, fmSimdLevel level,
                              const fmTaskSystem* tasks, bool energy, int* inverted,
                              const fmThenTask* then)
 {
 	fmForcePass p = {tb,
-	                 body,
+	                 mesh,
 	                 x,
 	                 gravity,
 	                 f,
 	                 fmTetBlocks_Kernels(level),
-	                 {body->mesh.material.model, (float)body->mesh.material.mu, (float)body->mesh.material.lambda,
-	                  (float)body->mesh.material.c01},
+	                 {mesh->material.model, (float)mesh->material.mu, (float)mesh->material.lambda,
+	                  (float)mesh->material.c01},
 	                 energy,
 	                 then};
 	// The blocks, in ranges as small as one block: a block (512 tets, 5-10 us) is worth ten

@@ -8,7 +8,7 @@
 // few blocks a colour on one worker).
 #pragma once
 
-#include "body/body.h"
+#include "fem/elastic_mesh.h"
 #include "core/parallel.h"
 #include "fem/kernels/tet_kernel.h"
 
@@ -60,7 +60,7 @@ typedef struct fmTetBlocks
 
 // Whether the batched kernels can take the elastic forces of @p body (FEM force model; linear,
 // StVK, Neo-Hookean or corotated) at the resolved instruction set @p level (not fm_simdOff).
-bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
+bool fmTetBlocks_Applies(const fmElasticMesh* mesh, fmSimdLevel level);
 
 // Float carries the entries of F = R (I + strain) to about 1e-7 whatever the strain, so under a
 // rotation the batched kernels' stress is off by about 1e-7 (lambda + 2 mu): a relative force
@@ -69,15 +69,15 @@ bool fmTetBlocks_Applies(const fmBody* body, fmSimdLevel level);
 #define FM_FLOAT_KERNEL_MIN_STRAIN 1e-5
 
 // Whether the typical strain of @p body is large enough for the float kernels (above).
-bool fmTetBlocks_Accurate(const fmTetBlocks* blocks, const fmBody* body);
+bool fmTetBlocks_Accurate(const fmTetBlocks* blocks, const fmElasticMesh* mesh);
 
 // The body's layout when its explicit steps take their forces from it at @p level (made, the
 // kernels apply and are accurate for it), else NULL.
-const fmTetBlocks* fmTetBlocks_Used(const fmBody* body, fmSimdLevel level);
+const fmTetBlocks* fmTetBlocks_Used(const fmElasticMesh* mesh, fmSimdLevel level);
 
 // Build the layout of a body (from its rest shape) for force passes on up to @p workerCount
 // workers; NULL when memory is short.
-fmTetBlocks* fmTetBlocks_Create(const fmBody* body, int workerCount);
+fmTetBlocks* fmTetBlocks_Create(const fmElasticMesh* mesh, int workerCount);
 
 void fmTetBlocks_Destroy(fmTetBlocks* blocks);
 
@@ -111,7 +111,7 @@ void fmTetBlocks_SmoothingSums(const fmTetBlocks* blocks, const double* v, doubl
 // fmInvertedTets's: the kernels' float det F proves most tets upright, and the others are
 // rechecked in double. A non-NULL @p then runs on each range of vertices right after their forces
 // are complete.
-double fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmBody* body, const double* x,
+double fmTetBlocks_AddForces(const fmTetBlocks* blocks, const fmElasticMesh* mesh, const double* x,
                              const fmVec3* gravity, double* f, fmSimdLevel level,
                              const fmTaskSystem* tasks, bool energy, int* inverted,
                              const fmThenTask* then);

@@ -22,29 +22,29 @@
 // additions in the same order as the scatter, so the same bits.
 typedef struct fmSmoothTask
 {
-	fmBody* body;
+	const fmElasticMesh* mesh;
+	fmBodyState* state;
 	double blend;
 	double* sum;            // 3 per vertex
 	const fmThenTask* then; // after the blend of each range, or NULL
 } fmSmoothTask;
 
-static fmVec3 fmTetVelocitySum(const fmBody* b, int t)
+static fmVec3 fmTetVelocitySum(const fmElasticMesh* mesh, const double* v, int t)
 {
-	const int* n = b->mesh.tets + 4 * t;
-	return fmAdd(fmAdd(fmLoad(b->state.v, n[0]), fmLoad(b->state.v, n[1])),
-	             fmAdd(fmLoad(b->state.v, n[2]), fmLoad(b->state.v, n[3])));
+	const int* n = mesh->tets + 4 * t;
+	return fmAdd(fmAdd(fmLoad(v, n[0]), fmLoad(v, n[1])), fmAdd(fmLoad(v, n[2]), fmLoad(v, n[3])));
 }
 
 static void fmGatherSumsTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	fmSmoothTask* c = context;
-	const fmBody* b = c->body;
+	const fmElasticMesh* mesh = c->mesh;
 	for (int i = start; i < end; ++i)
 	{
 		fmVec3 sum = {0, 0, 0};
-		for (int k = b->mesh.vertexTetStart[i]; k < b->mesh.vertexTetStart[i + 1]; ++k)
-			sum = fmAdd(sum, fmTetVelocitySum(b, b->mesh.vertexTets[k] / 4));
+		for (int k = mesh->vertexTetStart[i]; k < mesh->vertexTetStart[i + 1]; ++k)
+			sum = fmAdd(sum, fmTetVelocitySum(mesh, c->state->v, mesh->vertexTets[k] / 4));
 		fmStore(c->sum, i, sum);
 	}
 }
@@ -52,47 +52,48 @@ static void fmGatherSumsTask(int start, int end, int worker, void* context)
 static void fmBlendTask(int start, int end, int worker, void* context)
 {
 	fmSmoothTask* c = context;
-	fmBody* b = c->body;
+	const fmElasticMesh* mesh = c->mesh;
+	fmBodyState* state = c->state;
 	for (int i = start; i < end; ++i)
 	{
-		if (b->state.pinned[i] == FM_PIN_ALL)
+		if (state->pinned[i] == FM_PIN_ALL)
 			continue;
-		fmVec3 average = fmScale(b->mesh.smoothWeight[i], fmLoad(c->sum, i));
-		fmStore(b->state.v, i,
-		        fmAdd(fmScale(1.0 - c->blend, fmLoad(b->state.v, i)), fmScale(c->blend, average)));
-		fmZeroPinnedAxes(&b->state, i, b->state.v + 3 * i);
+		fmVec3 average = fmScale(mesh->smoothWeight[i], fmLoad(c->sum, i));
+		fmStore(state->v, i,
+		        fmAdd(fmScale(1.0 - c->blend, fmLoad(state->v, i)), fmScale(c->blend, average)));
+		fmZeroPinnedAxes(state, i, state->v + 3 * i);
 	}
 	if (c->then != NULL)
 		c->then->task(start, end, worker, c->then->context);
 }
 
-static bool fmSmoothVelocities(fmBody* b, double blend, fmArena* arena, fmSimdLevel level,
+static bool fmSmoothVelocities(const fmElasticMesh* mesh, fmBodyState* state, double blend, fmArena* arena, fmSimdLevel level,
                                const fmTaskSystem* tasks, const fmThenTask* then)
 {
 	size_t mark = fmArena_Mark(arena);
 	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
-	bool gather = b->mesh.tetBlocks != NULL ||
+	bool gather = mesh->tetBlocks != NULL ||
 	              (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
-	               b->mesh.vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
-	size_t count = 3 * (size_t)b->mesh.vertexCount;
+	               mesh->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
+	size_t count = 3 * (size_t)mesh->vertexCount;
 	fmSmoothTask context = {
-	    b, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count),
+	    mesh, state, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count),
 	    then};
 	if (context.sum == NULL)
 		return false;
-	if (b->mesh.tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
-		fmTetBlocks_SmoothingSums(b->mesh.tetBlocks, b->state.v, context.sum, level, tasks);
+	if (mesh->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
+		fmTetBlocks_SmoothingSums(mesh->tetBlocks, state->v, context.sum, level, tasks);
 	else if (gather)
-		fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
+		fmParallelFor(tasks, mesh->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
 	else
-		for (int t = 0; t < b->mesh.tetCount; ++t)
+		for (int t = 0; t < mesh->tetCount; ++t)
 		{
-			fmVec3 s = fmTetVelocitySum(b, t);
-			const int* n = b->mesh.tets + 4 * t;
+			fmVec3 s = fmTetVelocitySum(mesh, state->v, t);
+			const int* n = mesh->tets + 4 * t;
 			for (int a = 0; a < 4; ++a)
 				fmStore(context.sum, n[a], fmAdd(fmLoad(context.sum, n[a]), s));
 		}
-	fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
+	fmParallelFor(tasks, mesh->vertexCount, FM_PARALLEL_MIN_VERTICES, fmBlendTask, &context);
 	fmArena_Release(arena, mark);
 	return true;
 }
@@ -112,26 +113,28 @@ static void fmDampTaskRun(int start, int end, int worker, void* context)
 		c->v[k] *= c->factor;
 }
 
-double fmVelocityFilter_DampingFactor(const fmBody* b, double dt)
+double fmVelocityFilter_DampingFactor(double damping, double dt)
 {
-	return b->damping < 1.0 ? fmMathPow(b->damping, dt / FM_SEED_STEP) : 1.0;
+	return damping < 1.0 ? fmMathPow(damping, dt / FM_SEED_STEP) : 1.0;
 }
 
-bool fmVelocityFilter_Smooth(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+bool fmVelocityFilter_Smooth(const fmElasticMesh* mesh, fmBodyState* state, double smoothing,
+                             double dt, fmArena* arena, fmSimdLevel level,
                              const fmTaskSystem* tasks, const fmThenTask* then)
 {
-	return b->smoothing > 0.0 &&
-	       fmSmoothVelocities(b, 1.0 - fmMathPow(1.0 - b->smoothing, dt / FM_SEED_STEP), arena,
-	                          level, tasks, then);
+	return smoothing > 0.0 &&
+	       fmSmoothVelocities(mesh, state, 1.0 - fmMathPow(1.0 - smoothing, dt / FM_SEED_STEP),
+	                          arena, level, tasks, then);
 }
 
-void fmFilterVelocities(fmBody* b, double dt, fmArena* arena, fmSimdLevel level,
+void fmFilterVelocities(const fmElasticMesh* mesh, fmBodyState* state, double damping,
+                        double smoothing, double dt, fmArena* arena, fmSimdLevel level,
                         const fmTaskSystem* tasks)
 {
-	if (b->damping < 1.0)
+	if (damping < 1.0)
 	{
-		fmDampTask damp = {b->state.v, fmVelocityFilter_DampingFactor(b, dt)};
-		fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
+		fmDampTask damp = {state->v, fmVelocityFilter_DampingFactor(damping, dt)};
+		fmParallelFor(tasks, mesh->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
-	fmVelocityFilter_Smooth(b, dt, arena, level, tasks, NULL);
+	fmVelocityFilter_Smooth(mesh, state, smoothing, dt, arena, level, tasks, NULL);
 }

@@ -7,8 +7,6 @@
 
 #include "core/core.h"
 #include "fem/forces.h"
-#include "body/loads.h"
-#include "body/targets.h"
 
 #include <float.h>
 #include <math.h>
@@ -28,39 +26,59 @@ fmSolverOptions fmDefaultSolverOptions(void)
 
 typedef struct fmNewtonContext
 {
-	fmBody* body;
+	const fmElasticMesh* mesh;
+	fmBodyState* state;
 	fmImplicitCache* cache;
 	const fmNewtonProblem* problem;
 } fmNewtonContext;
 
+static double fmTermEnergy(const fmNewtonTerm* term, const double* x, const double* xStart,
+                           double* gradient)
+{
+	return term->energy != NULL ? term->energy(term->context, x, xStart, gradient) : 0.0;
+}
+
+static void fmTermHessian(const fmNewtonTerm* term, const double* x, const fmBsrMatrix* pattern,
+                          double* values)
+{
+	if (term->addHessian != NULL)
+		term->addHessian(term->context, x, pattern, values);
+}
+
+static void fmTermProduct(const fmNewtonTerm* term, const double* x, const double* dx, double* y)
+{
+	if (term->addProduct != NULL)
+		term->addProduct(term->context, x, dx, y);
+}
+
 // Elastic energy at x, with the forces into c->forces when asked; an evaluation at the x of the
 // cache's last forces (the line search's accepted point, the chosen first guess) is reused.
-static double fmElasticAt(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
+static double fmElasticAt(const fmElasticMesh* mesh, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
                           bool forces)
 {
-	if (fmSolverCache_HasForcesAt(b, c, x))
+	if (fmSolverCache_HasForcesAt(mesh, c, x))
 		return c->forcesEnergy;
 	if (!forces)
-		return fmElasticEnergyOn(b, x, pb->tasks, pb->arena);
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
-	double psi = fmAddElasticForcesOn(b, x, c->forces, pb->tasks, pb->arena);
-	fmSolverCache_NoteForces(b, c, x, psi);
+		return fmElasticEnergyOn(mesh, x, pb->tasks, pb->arena);
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)mesh->vertexCount);
+	double psi = fmAddElasticForcesOn(mesh, x, c->forces, pb->tasks, pb->arena);
+	fmSolverCache_NoteForces(mesh, c, x, psi);
 	return psi;
 }
 
 // Energy at x, and its gradient when @p gradient is not NULL. @p magnitude gets the sum of the
 // absolute sizes of the terms (the scale of round-off in E).
-static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+static double fmNewtonEnergy(const fmElasticMesh* mesh, fmImplicitCache* c, const fmNewtonProblem* pb,
                              const double* x, double* gradient, double* magnitude)
 {
-	const int n3 = 3 * b->mesh.vertexCount;
-	double psi = fmElasticAt(b, c, pb, x, gradient != NULL);
+	const int n3 = 3 * mesh->vertexCount;
+	double psi = fmElasticAt(mesh, c, pb, x, gradient != NULL);
 	const double g[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	double inertial = 0.0, external = 0.0, size = 0.0;
 	// DOF k = 3 i + e, in k order (a vertex, then its axes: no division per DOF).
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
-		double m = b->mesh.mass[i];
+		double m = mesh->mass[i];
 		for (int e = 0; e < 3; ++e)
 		{
 			int k = 3 * i + e;
@@ -90,29 +108,29 @@ static double fmNewtonEnergy(fmBody* b, fmImplicitCache* c, const fmNewtonProble
 				gradient[k] += pushed[k];
 		}
 	}
-	double loaded = fmLoads_Energy(b, x, c->xStart, gradient); // -f . (x - xStart), f frozen
-	double pulled = fmTargets_Energy(b, x, gradient) +
-	                fmContactPenalty_Energy(pb->contact, b, x, gradient) + loaded;
+	double loaded = fmTermEnergy(&pb->loads, x, c->xStart, gradient); // -f . (x - xStart)
+	double pulled = fmTermEnergy(&pb->targets, x, c->xStart, gradient) +
+	                fmTermEnergy(&pb->contact, x, c->xStart, gradient) + loaded;
 	if (magnitude)
 		*magnitude = fabs(psi) + inertial + size + damping + pulled + 2.0 * fabs(loaded);
 	return inertial + damping + psi + external + pulled;
 }
 
 // Round-off band of E (see fmLineSearch): differences below it are noise.
-static double fmEnergyNoise(const fmBody* b, const fmImplicitCache* c, double magnitude)
+static double fmEnergyNoise(const fmElasticMesh* mesh, const fmImplicitCache* c, double magnitude)
 {
-	return 1e-13 * (magnitude + (b->mesh.material.mu + fabs(b->mesh.material.lambda)) * c->volume);
+	return 1e-13 * (magnitude + (mesh->material.mu + fabs(mesh->material.lambda)) * c->volume);
 }
 
 // Stiffness of vertex i's y DOF in the Newton matrix this direction uses (assembled just before
 // when it is refreshed), or without one (matrix-free) the inertia alone, which makes the
 // estimate of a step's reach an upper bound.
-static double fmVerticalStiffness(const fmBody* b, const fmImplicitCache* c,
+static double fmVerticalStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c,
                                   const fmNewtonProblem* pb, int i)
 {
 	if (c->hessianValid && pb->options.product == fm_productAssembled)
 		return c->hessian[9 * (size_t)c->pattern.diagonal[i] + 4];
-	return (pb->inertia + pb->massDamping) * b->mesh.mass[i];
+	return (pb->inertia + pb->massDamping) * mesh->mass[i];
 }
 
 // DOFs the step may not move: pins, and the floor where it pushes (active set: a vertex on the
@@ -122,20 +140,20 @@ static double fmVerticalStiffness(const fmBody* b, const fmImplicitCache* c,
 // step then puts it on the floor (fmReachFloor). Left free, the CG aims it through the floor,
 // the clamp of the trial point bends the path, and the line search halves the step until it
 // is the size of the gap (a resting box's vertices 4e-8 m up cost nine energy passes a frame).
-static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+static void fmMarkFixed(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
                         const double* x, bool reach)
 {
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
-		unsigned pin = b->state.pinned[i];
+		unsigned pin = state->pinned[i];
 		double push = c->gradient[3 * i + 1];
 		double gap = pb->floor ? x[3 * i + 1] - c->floorBound[i] : INFINITY;
 		// (The inertia alone bounds the stiffness from below: most vertices are out of reach
 		// by it, without a look into the matrix.)
-		double inertia = (pb->inertia + pb->massDamping) * b->mesh.mass[i];
+		double inertia = (pb->inertia + pb->massDamping) * mesh->mass[i];
 		bool onFloor = !(pin & FM_PIN_Y) && push > 0.0 &&
 		               (gap <= 0.0 || (reach && gap * inertia <= push &&
-		                               gap * fmVerticalStiffness(b, c, pb, i) <= push));
+		                               gap * fmVerticalStiffness(mesh, c, pb, i) <= push));
 		bool stick = onFloor && pb->floor->friction == fm_floorStick;
 		c->fixed[3 * i] = (pin & 1u) || stick;
 		c->fixed[3 * i + 1] = (pin & FM_PIN_Y) || onFloor;
@@ -144,13 +162,13 @@ static void fmMarkFixed(const fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 }
 
 // The direction of the vertices held within reach of the floor: onto it.
-static void fmReachFloor(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+static void fmReachFloor(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	if (pb->floor == NULL)
 		return;
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
-		if (c->fixed[3 * i + 1] && !(b->state.pinned[i] & FM_PIN_Y) && b->state.x[3 * i + 1] > c->floorBound[i])
-			c->direction[3 * i + 1] = c->floorBound[i] - b->state.x[3 * i + 1];
+	for (int i = 0; i < mesh->vertexCount; ++i)
+		if (c->fixed[3 * i + 1] && !(state->pinned[i] & FM_PIN_Y) && state->x[3 * i + 1] > c->floorBound[i])
+			c->direction[3 * i + 1] = c->floorBound[i] - state->x[3 * i + 1];
 }
 
 static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
@@ -162,16 +180,16 @@ static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
 	return sqrt(s);
 }
 
-double fmNewton_Residual(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x)
+double fmNewton_Residual(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x)
 {
-	fmNewtonEnergy(b, c, pb, x, c->gradient, NULL);
-	fmMarkFixed(b, c, pb, x, false);
+	fmNewtonEnergy(mesh, c, pb, x, c->gradient, NULL);
+	fmMarkFixed(mesh, state, c, pb, x, false);
 	double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
-	return fmFreeNorm(3 * b->mesh.vertexCount, c->gradient, c->fixed) / scale;
+	return fmFreeNorm(3 * mesh->vertexCount, c->gradient, c->fixed) / scale;
 }
 
 // The Newton matrix H = (inertia + massDamping) M + K(x) [+ D], assembled.
-static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+static void fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	const size_t values = 9 * (size_t)c->pattern.blocks;
 	c->hessianVersion += 1;
@@ -179,52 +197,52 @@ static void fmAssembleNewtonMatrix(fmBody* b, fmImplicitCache* c, const fmNewton
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
 		memset(c->hessian, 0, sizeof(double) * values);
-	fmSolverCache_AddStiffness(b, c, b->state.x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	fmSolverCache_AddStiffness(mesh, c, state->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
-		double diagonal = (pb->inertia + pb->massDamping) * b->mesh.mass[i];
+		double diagonal = (pb->inertia + pb->massDamping) * mesh->mass[i];
 		block[0] += diagonal;
 		block[4] += diagonal;
 		block[8] += diagonal;
 	}
-	fmTargets_AddDiagonal(b, c->pattern.diagonal, c->hessian);
-	fmContactPenalty_AddHessian(pb->contact, b, b->state.x, &c->pattern, c->hessian);
+	fmTermHessian(&pb->targets, state->x, &c->pattern, c->hessian);
+	fmTermHessian(&pb->contact, state->x, &c->pattern, c->hessian);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
 // 9 n entries, used as plain per-vertex storage).
-static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+static void fmDiagonalBlocksMatrixFree(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
                                        double* blocks)
 {
-	memset(blocks, 0, sizeof(double) * 9 * (size_t)b->mesh.vertexCount);
-	if (b->mesh.forceModel == fm_massSpring)
+	memset(blocks, 0, sizeof(double) * 9 * (size_t)mesh->vertexCount);
+	if (mesh->forceModel == fm_massSpring)
 	{
 		double K[36];
 		for (int e = 0; e < c->edgeCount; ++e)
 		{
-			fmSpringHessian(b, b->state.x, e, K, pb->exactHessian ? 0 : 1);
+			fmSpringHessian(mesh, state->x, e, K, pb->exactHessian ? 0 : 1);
 			for (int p = 0; p < 2; ++p)
 				for (int r = 0; r < 9; ++r)
-					blocks[9 * (size_t)b->mesh.edges[2 * e + p] + r] +=
+					blocks[9 * (size_t)mesh->edges[2 * e + p] + r] +=
 					    K[6 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
 	}
 	else
 	{
 		double K[144];
-		for (int t = 0; t < b->mesh.tetCount; ++t)
+		for (int t = 0; t < mesh->tetCount; ++t)
 		{
-			fmTetHessian(b, b->state.x, t, K, pb->exactHessian ? 0 : 1);
+			fmTetHessian(mesh, state->x, t, K, pb->exactHessian ? 0 : 1);
 			for (int p = 0; p < 4; ++p)
 				for (int r = 0; r < 9; ++r)
-					blocks[9 * (size_t)b->mesh.tets[4 * t + p] + r] +=
+					blocks[9 * (size_t)mesh->tets[4 * t + p] + r] +=
 					    K[12 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
 	}
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
-		double diagonal = (pb->inertia + pb->massDamping) * b->mesh.mass[i];
+		double diagonal = (pb->inertia + pb->massDamping) * mesh->mass[i];
 		for (int r = 0; r < 3; ++r)
 			blocks[9 * (size_t)i + 4 * r] += diagonal;
 		if (pb->useDamping)
@@ -234,8 +252,8 @@ static void fmDiagonalBlocksMatrixFree(fmBody* b, fmImplicitCache* c, const fmNe
 				blocks[9 * (size_t)i + r] += d[r];
 		}
 	}
-	fmTargets_AddDiagonal(b, NULL, blocks);
-	fmContactPenalty_AddHessian(pb->contact, b, b->state.x, NULL, blocks);
+	fmTermHessian(&pb->targets, state->x, NULL, blocks);
+	fmTermHessian(&pb->contact, state->x, NULL, blocks);
 }
 
 // One range of block rows of the assembled product y = H x.
@@ -266,44 +284,45 @@ static void fmAssembledProduct(void* context, const double* x, double* y)
 static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 {
 	const fmNewtonContext* ctx = context;
-	fmBody* b = ctx->body;
+	const fmElasticMesh* mesh = ctx->mesh;
+	const fmBodyState* state = ctx->state;
 	const fmNewtonProblem* pb = ctx->problem;
 	if (pb->useDamping)
 		fmBsr_Multiply(&ctx->cache->pattern, ctx->cache->damping, x, y);
 	else
-		memset(y, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
-	fmAddHessianProduct(b, b->state.x, x, y, pb->exactHessian ? 0 : 1);
-	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
-		y[k] += (pb->inertia + pb->massDamping) * b->mesh.mass[k / 3] * x[k];
-	fmTargets_AddProduct(b, x, y);
-	fmContactPenalty_AddProduct(pb->contact, b, b->state.x, x, y);
+		memset(y, 0, sizeof(double) * 3 * (size_t)mesh->vertexCount);
+	fmAddHessianProduct(mesh, state->x, x, y, pb->exactHessian ? 0 : 1);
+	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
+		y[k] += (pb->inertia + pb->massDamping) * mesh->mass[k / 3] * x[k];
+	fmTermProduct(&pb->targets, state->x, x, y);
+	fmTermProduct(&pb->contact, state->x, x, y);
 }
 
 // Newton direction: solve H d = -gradient over the free DOFs.
-static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
                                      double gradientNorm, double residual, bool refresh)
 {
-	const int n3 = 3 * b->mesh.vertexCount;
-	fmNewtonContext ctx = {b, c, pb};
+	const int n3 = 3 * mesh->vertexCount;
+	fmNewtonContext ctx = {mesh, state, c, pb};
 	fmLinearOperator* op = fmAssembledProduct;
 	if (pb->options.product == fm_productMatrixFree)
 	{
-		fmMarkFixed(b, c, pb, b->state.x, true); // (the reach from the inertia alone: no matrix)
-		fmDiagonalBlocksMatrixFree(b, c, pb, c->work); // blocks in the CG's scratch, used below
-		fmPcg_BuildPreconditioner(b->mesh.vertexCount, c->work, c->fixed, pb->options.preconditioner,
+		fmMarkFixed(mesh, state, c, pb, state->x, true); // (the reach from the inertia alone: no matrix)
+		fmDiagonalBlocksMatrixFree(mesh, state, c, pb, c->work); // blocks in the CG's scratch, used below
+		fmPcg_BuildPreconditioner(mesh->vertexCount, c->work, c->fixed, pb->options.preconditioner,
 		                          c->blockInverse);
 		op = fmMatrixFreeProduct;
 	}
 	else
 	{
 		if (refresh)
-			fmAssembleNewtonMatrix(b, c, pb);
+			fmAssembleNewtonMatrix(mesh, state, c, pb);
 		// The epsilon-active set, from the matrix this direction uses.
-		fmMarkFixed(b, c, pb, b->state.x, true);
-		for (int i = 0; i < b->mesh.vertexCount; ++i)
+		fmMarkFixed(mesh, state, c, pb, state->x, true);
+		for (int i = 0; i < mesh->vertexCount; ++i)
 			memcpy(c->work + 9 * (size_t)i, c->hessian + 9 * (size_t)c->pattern.diagonal[i],
 			       9 * sizeof(double));
-		fmPcg_BuildPreconditioner(b->mesh.vertexCount, c->work, c->fixed, pb->options.preconditioner,
+		fmPcg_BuildPreconditioner(mesh->vertexCount, c->work, c->fixed, pb->options.preconditioner,
 		                          c->blockInverse);
 	}
 	for (int k = 0; k < n3; ++k)
@@ -326,7 +345,7 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 		pre.kind = pre.kind == fm_precondJacobi ? fm_precondJacobi : fm_precondBlockJacobi;
 	if (pre.kind == fm_precondAuto)
 		pre.kind =
-		    b->mesh.vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
+		    mesh->vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
 	if (pre.kind == fm_precondMultigrid)
 	{
 		// Without memory for its levels, the one-level preconditioner.
@@ -342,15 +361,15 @@ static fmPcgResult fmNewtonDirection(fmBody* b, fmImplicitCache* c, const fmNewt
 }
 
 // Positions after a step of length alpha along the direction, held above the floor.
-static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+static void fmTrialPoint(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
                          double alpha, double* out)
 {
-	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
-		out[k] = b->state.x[k] + alpha * c->direction[k];
+	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
+		out[k] = state->x[k] + alpha * c->direction[k];
 	if (pb->floor == NULL)
 		return;
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
-		if (!(b->state.pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
+	for (int i = 0; i < mesh->vertexCount; ++i)
+		if (!(state->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
 			out[3 * i + 1] = c->floorBound[i];
 }
 
@@ -360,32 +379,32 @@ static void fmTrialPoint(const fmBody* b, fmImplicitCache* c, const fmNewtonProb
 // solution of a stiff body the decrease a Newton step makes is smaller than this noise. Within
 // the noise a step is accepted when it lowers the gradient norm instead. Returns false if no
 // step length is accepted.
-static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
+static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
                          double magnitude, double gradientNorm, bool* inNoise)
 {
-	const int n3 = 3 * b->mesh.vertexCount;
-	const double noise = fmEnergyNoise(b, c, magnitude);
+	const int n3 = 3 * mesh->vertexCount;
+	const double noise = fmEnergyNoise(mesh, c, magnitude);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
 	double alpha = 1.0;
 	for (int attempt = 0; attempt < 40; ++attempt, alpha *= 0.5)
 	{
-		fmTrialPoint(b, c, pb, alpha, trial);
+		fmTrialPoint(mesh, state, c, pb, alpha, trial);
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)
-			slope += c->gradient[k] * (trial[k] - b->state.x[k]);
+			slope += c->gradient[k] * (trial[k] - state->x[k]);
 		// The full step is usually taken: its forces then serve the next iteration's gradient.
-		double value = fmNewtonEnergy(b, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
+		double value = fmNewtonEnergy(mesh, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
 		bool accept = value <= energy + 1e-4 * slope;
 		if (!accept && fabs(value - energy) <= noise)
 		{
-			fmNewtonEnergy(b, c, pb, trial, trialGradient, NULL);
+			fmNewtonEnergy(mesh, c, pb, trial, trialGradient, NULL);
 			accept = fmFreeNorm(n3, trialGradient, c->fixed) < (1.0 - 1e-4 * alpha) * gradientNorm;
 		}
 		if (accept)
 		{
 			*inNoise = fabs(value - energy) <= noise;
-			memcpy(b->state.x, trial, sizeof(double) * (size_t)n3);
+			memcpy(state->x, trial, sizeof(double) * (size_t)n3);
 			return true;
 		}
 	}
@@ -393,15 +412,15 @@ static bool fmLineSearch(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* p
 }
 
 // Make sure the direction goes downhill; otherwise use the preconditioned gradient.
-static void fmEnsureDescent(fmBody* b, fmImplicitCache* c)
+static void fmEnsureDescent(const fmElasticMesh* mesh, fmImplicitCache* c)
 {
-	const int n3 = 3 * b->mesh.vertexCount;
+	const int n3 = 3 * mesh->vertexCount;
 	double slope = 0.0;
 	for (int k = 0; k < n3; ++k)
 		slope += c->gradient[k] * c->direction[k];
 	if (slope < 0.0)
 		return;
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
 		const double* B = c->blockInverse + 9 * (size_t)i;
 		const double* g = c->gradient + 3 * (size_t)i;
@@ -429,13 +448,13 @@ typedef struct fmNewtonTrack
 // (converged, out of iterations, stagnated: steps that change the energy by less than its
 // round-off and no longer improve the residual; far from the solution the residual may rise
 // for many iterations while the energy falls, which is progress).
-static bool fmNewtonStops(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+static bool fmNewtonStops(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
                           fmNewtonTrack* t, fmNewtonResult* result)
 {
 	if (pb->keepBest && result->residual < t->keptResidual)
 	{
 		t->keptResidual = result->residual;
-		memcpy(c->best, b->state.x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
+		memcpy(c->best, state->x, sizeof(double) * 3 * (size_t)mesh->vertexCount);
 	}
 	if (result->residual <= pb->tolerance)
 	{
@@ -477,13 +496,13 @@ static bool fmNewtonRefresh(fmImplicitCache* c, const fmNewtonProblem* pb, fmNew
 	return refresh;
 }
 
-fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	fmNewtonResult result;
 	memset(&result, 0, sizeof result);
 	result.residual = INFINITY;
 	result.finite = true;
-	const int n3 = 3 * b->mesh.vertexCount;
+	const int n3 = 3 * mesh->vertexCount;
 	const double scale = pb->scale > 0.0 ? pb->scale : DBL_MIN;
 	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
 	                 c->hessianMassDamping == pb->massDamping &&
@@ -492,8 +511,8 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	for (;;)
 	{
 		double magnitude;
-		double energy = fmNewtonEnergy(b, c, pb, b->state.x, c->gradient, &magnitude);
-		fmMarkFixed(b, c, pb, b->state.x, false);
+		double energy = fmNewtonEnergy(mesh, c, pb, state->x, c->gradient, &magnitude);
+		fmMarkFixed(mesh, state, c, pb, state->x, false);
 		double gradientNorm = fmFreeNorm(n3, c->gradient, c->fixed);
 		if (!isfinite(energy) || !isfinite(gradientNorm))
 		{
@@ -501,10 +520,10 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 			break;
 		}
 		result.residual = gradientNorm / scale;
-		if (fmNewtonStops(b, c, pb, &t, &result))
+		if (fmNewtonStops(mesh, state, c, pb, &t, &result))
 			break;
 		bool refresh = fmNewtonRefresh(c, pb, &t, result.residual);
-		fmPcgResult cg = fmNewtonDirection(b, c, pb, gradientNorm, result.residual, refresh);
+		fmPcgResult cg = fmNewtonDirection(mesh, state, c, pb, gradientNorm, result.residual, refresh);
 		result.cgIterations += cg.iterations;
 		if (cg.indefinite && pb->exactHessian)
 		{
@@ -513,9 +532,9 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 			break;
 		}
 		result.iterations += 1;
-		fmEnsureDescent(b, c);
-		fmReachFloor(b, c, pb);
-		if (!fmLineSearch(b, c, pb, energy, magnitude, gradientNorm, &t.inNoise))
+		fmEnsureDescent(mesh, c);
+		fmReachFloor(mesh, state, c, pb);
+		if (!fmLineSearch(mesh, state, c, pb, energy, magnitude, gradientNorm, &t.inNoise))
 		{
 			result.stalled = true;
 			break;
@@ -523,7 +542,7 @@ fmNewtonResult fmNewton_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProbl
 	}
 	if (pb->keepBest && result.finite && !result.converged && t.keptResidual < result.residual)
 	{
-		memcpy(b->state.x, c->best, sizeof(double) * (size_t)n3);
+		memcpy(state->x, c->best, sizeof(double) * (size_t)n3);
 		result.residual = t.keptResidual;
 	}
 	return result;

@@ -4,10 +4,10 @@
 // over the free DOFs, optionally with lower bounds on y (the floor) as bound constraints.
 #pragma once
 
-#include "body/body.h"
+#include "core/arena.h"
+#include "fem/elastic_mesh.h"
 #include "core/parallel.h"
 #include "solver/pcg.h"
-#include "contact/penalty.h"
 #include "solver/solver_cache.h"
 
 // How Hessian-vector products are formed (measured in docs/implicit.md).
@@ -28,6 +28,23 @@ typedef struct fmSolverOptions
 fmSolverOptions fmDefaultSolverOptions(void);
 
 // One minimisation problem.
+// An energy term of the step's potential that the solver knows only through these functions:
+// the body's loads and targets (body/), the contact penalty (contact/), made by the layers above
+// and handed down in the problem. A term whose energy is NULL is absent.
+typedef struct fmNewtonTerm
+{
+	const void* context;
+	// The term's energy at @p x (J), its gradient added to @p gradient when not NULL; @p xStart
+	// is the step's start.
+	double (*energy)(const void* context, const double* x, const double* xStart, double* gradient);
+	// Its Hessian at @p x added to @p values: to the blocks of @p pattern, or with @p pattern NULL
+	// to 9 doubles a vertex, the diagonal blocks alone. NULL: no Hessian (a frozen force).
+	void (*addHessian)(const void* context, const double* x, const fmBsrMatrix* pattern,
+	                   double* values);
+	// Its Hessian at @p x times @p dx, added to @p y. NULL: none.
+	void (*addProduct)(const void* context, const double* x, const double* dx, double* y);
+} fmNewtonTerm;
+
 typedef struct fmNewtonProblem
 {
 	double inertia;          // 1/h^2, 0 for statics
@@ -45,7 +62,9 @@ typedef struct fmNewtonProblem
 	fmSolverOptions options;   // how products are formed and preconditioned
 	const fmTaskSystem* tasks; // the world's workers for the matrix products (NULL: serial)
 	fmArena* arena;            // the world's step arena (buffers of the parallel force passes)
-	const fmContactPenalty* contact; // the colliders' penalty (NULL: none)
+	fmNewtonTerm loads;   // the frozen loads' potential -f . (x - xStart)
+	fmNewtonTerm targets; // the kinematic targets' springs
+	fmNewtonTerm contact; // the contact penalty and friction
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult
@@ -67,9 +86,10 @@ typedef struct fmNewtonResult
 
 // The relative residual the solve would see at @p x (its stopping rule: the gradient over the
 // free DOFs and the floor's active set, divided by the problem's scale); NaN if not finite.
-double fmNewton_Residual(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem,
+double fmNewton_Residual(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* cache, const fmNewtonProblem* problem,
                          const double* x);
 
 // Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
 // set by the caller; xStart is also where pinned vertices stay.
-fmNewtonResult fmNewton_Solve(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem);
+fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* cache,
+                              const fmNewtonProblem* problem);

@@ -46,16 +46,16 @@ void fmSolverCache_Free(void* memory)
 
 // Slots of every node pair of every tet (and of every spring), so that refilling the matrix
 // is a plain scatter in tet order (deterministic, no search).
-static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
+static bool fmBuildSlots(const fmElasticMesh* mesh, fmImplicitCache* c)
 {
-	for (int t = 0; t < b->mesh.tetCount; ++t)
+	for (int t = 0; t < mesh->tetCount; ++t)
 		for (int a = 0; a < 4; ++a)
 			for (int d = 0; d < 4; ++d)
 				c->tetSlot[16 * t + 4 * a + d] =
-				    fmBsr_Find(&c->pattern, b->mesh.tets[4 * t + a], b->mesh.tets[4 * t + d]);
+				    fmBsr_Find(&c->pattern, mesh->tets[4 * t + a], mesh->tets[4 * t + d]);
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
-		int p = b->mesh.edges[2 * e], q = b->mesh.edges[2 * e + 1];
+		int p = mesh->edges[2 * e], q = mesh->edges[2 * e + 1];
 		c->edgeSlot[4 * e + 0] = fmBsr_Find(&c->pattern, p, p);
 		c->edgeSlot[4 * e + 1] = fmBsr_Find(&c->pattern, p, q);
 		c->edgeSlot[4 * e + 2] = fmBsr_Find(&c->pattern, q, p);
@@ -66,27 +66,27 @@ static bool fmBuildSlots(const fmBody* b, fmImplicitCache* c)
 	return true;
 }
 
-fmImplicitCache* fmSolverCache_Get(fmBody* b)
+fmImplicitCache* fmSolverCache_Get(fmImplicitCache** slot, const fmElasticMesh* mesh)
 {
-	if (b->solverCache)
-		return b->solverCache;
+	if (*slot)
+		return *slot;
 	fmImplicitCache* c = FM_ALLOC_ZERO(fmImplicitCache, 1);
 	if (c == NULL)
 		return NULL;
-	b->solverCache = c;
-	c->vertexCount = b->mesh.vertexCount;
-	c->tetCount = b->mesh.tetCount;
-	c->edgeCount = b->mesh.forceModel == fm_massSpring ? b->mesh.edgeCount : 0;
-	for (int t = 0; t < b->mesh.tetCount; ++t)
-		c->volume += b->mesh.restVolume[t];
-	size_t n3 = 3 * (size_t)b->mesh.vertexCount;
-	bool ok = fmBsr_Build(&c->pattern, b->mesh.vertexCount, b->mesh.tets, b->mesh.tetCount);
+	*slot = c;
+	c->vertexCount = mesh->vertexCount;
+	c->tetCount = mesh->tetCount;
+	c->edgeCount = mesh->forceModel == fm_massSpring ? mesh->edgeCount : 0;
+	for (int t = 0; t < mesh->tetCount; ++t)
+		c->volume += mesh->restVolume[t];
+	size_t n3 = 3 * (size_t)mesh->vertexCount;
+	bool ok = fmBsr_Build(&c->pattern, mesh->vertexCount, mesh->tets, mesh->tetCount);
 	if (!ok)
 		c->pattern.blocks = 0;
 	c->tetSlot = FM_ALLOC_ARRAY(int, 16 * (size_t)c->tetCount);
 	c->edgeSlot = FM_ALLOC_ARRAY(int, 4 * (size_t)c->edgeCount);
 	c->hessian = FM_ALLOC_ZERO(double, 9 * (size_t)c->pattern.blocks);
-	c->blockInverse = FM_ALLOC_ZERO(double, 9 * (size_t)b->mesh.vertexCount);
+	c->blockInverse = FM_ALLOC_ZERO(double, 9 * (size_t)mesh->vertexCount);
 	c->xPred = FM_ALLOC_ZERO(double, n3);
 	c->xStart = FM_ALLOC_ZERO(double, n3);
 	c->gradient = FM_ALLOC_ZERO(double, n3);
@@ -96,7 +96,7 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 	c->temp = FM_ALLOC_ZERO(double, n3);
 	c->work = FM_ALLOC_ZERO(double, 4 * n3);
 	c->fixed = FM_ALLOC_ZERO(uint8_t, n3);
-	c->floorBound = FM_ALLOC_ZERO(double, (size_t)b->mesh.vertexCount);
+	c->floorBound = FM_ALLOC_ZERO(double, (size_t)mesh->vertexCount);
 	c->best = FM_ALLOC_ZERO(double, n3);
 	c->forcesX = FM_ALLOC_ZERO(double, n3);
 	c->spare.forces = FM_ALLOC_ZERO(double, n3);
@@ -106,11 +106,11 @@ fmImplicitCache* fmSolverCache_Get(fmBody* b)
 	     c->work && c->fixed && c->floorBound && c->best && c->forcesX && c->spare.forces &&
 	     c->spare.x;
 	if (ok)
-		ok = fmBuildSlots(b, c);
+		ok = fmBuildSlots(mesh, c);
 	if (!ok)
 	{
 		fmSolverCache_Free(c);
-		b->solverCache = NULL;
+		*slot = NULL;
 		return NULL;
 	}
 	return c;
@@ -125,14 +125,14 @@ fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* c)
 
 // Only FEM bodies with a built-in model: their energy is summed the same way by every force
 // pass (FVM forces come from another loop; a user energy's parameters may change unseen).
-static bool fmForcesMemoizable(const fmBody* b)
+static bool fmForcesMemoizable(const fmElasticMesh* mesh)
 {
-	for (int k = 0; k < b->mesh.materialCount; ++k)
-		if (b->mesh.materials[k].model == fm_stretchEnergy ||
-		    b->mesh.materials[k].model == fm_invariantEnergy)
+	for (int k = 0; k < mesh->materialCount; ++k)
+		if (mesh->materials[k].model == fm_stretchEnergy ||
+		    mesh->materials[k].model == fm_invariantEnergy)
 			return false;
-	return b->mesh.forceModel == fm_fem && b->mesh.material.model != fm_stretchEnergy &&
-	       b->mesh.material.model != fm_invariantEnergy;
+	return mesh->forceModel == fm_fem && mesh->material.model != fm_stretchEnergy &&
+	       mesh->material.model != fm_invariantEnergy;
 }
 
 static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
@@ -140,21 +140,21 @@ static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
 	return a->model == b->model && a->lambda == b->lambda && a->mu == b->mu && a->c01 == b->c01;
 }
 
-bool fmSolverCache_HasForcesAt(const fmBody* b, const fmImplicitCache* c, const double* x)
+bool fmSolverCache_HasForcesAt(const fmElasticMesh* mesh, const fmImplicitCache* c, const double* x)
 {
-	return c->forcesValid && fmForcesMemoizable(b) &&
-	       fmSameMaterial(&c->forcesMaterial, &b->mesh.material) &&
-	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount) == 0;
+	return c->forcesValid && fmForcesMemoizable(mesh) &&
+	       fmSameMaterial(&c->forcesMaterial, &mesh->material) &&
+	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)mesh->vertexCount) == 0;
 }
 
-void fmSolverCache_NoteForces(const fmBody* b, fmImplicitCache* c, const double* x, double psi)
+void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* c, const double* x, double psi)
 {
-	c->forcesValid = fmForcesMemoizable(b);
+	c->forcesValid = fmForcesMemoizable(mesh);
 	if (!c->forcesValid)
 		return;
-	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
+	memcpy(c->forcesX, x, sizeof(double) * 3 * (size_t)mesh->vertexCount);
 	c->forcesEnergy = psi;
-	c->forcesMaterial = b->mesh.material;
+	c->forcesMaterial = mesh->material;
 }
 
 void fmSolverCache_SwapForces(fmImplicitCache* c)
@@ -168,22 +168,22 @@ void fmSolverCache_SwapForces(fmImplicitCache* c)
 	c->spare = last;
 }
 
-void fmSolverCache_ForcesAtPositions(const fmBody* b, fmImplicitCache* c, const fmTaskSystem* tasks,
-                                     fmArena* arena)
+void fmSolverCache_ForcesAtPositions(const fmElasticMesh* mesh, fmImplicitCache* c, const double* x,
+                                     const fmTaskSystem* tasks, fmArena* arena)
 {
-	if (fmSolverCache_HasForcesAt(b, c, b->state.x))
+	if (fmSolverCache_HasForcesAt(mesh, c, x))
 		return;
-	memset(c->forces, 0, sizeof(double) * 3 * (size_t)b->mesh.vertexCount);
-	fmSolverCache_NoteForces(b, c, b->state.x, fmAddElasticForcesOn(b, b->state.x, c->forces, tasks, arena));
+	memset(c->forces, 0, sizeof(double) * 3 * (size_t)mesh->vertexCount);
+	fmSolverCache_NoteForces(mesh, c, x, fmAddElasticForcesOn(mesh, x, c->forces, tasks, arena));
 }
 
 // One tet's 16 blocks, times scale, into the rows [first, end) of the matrix.
-static void fmScatterTet(const fmBody* b, const fmImplicitCache* c, int t, const double* K,
+static void fmScatterTet(const fmElasticMesh* mesh, const fmImplicitCache* c, int t, const double* K,
                          double scale, int first, int end, double* values)
 {
 	for (int p = 0; p < 4; ++p)
 	{
-		int row = b->mesh.tets[4 * t + p];
+		int row = mesh->tets[4 * t + p];
 		if (row < first || row >= end)
 			continue;
 		for (int q = 0; q < 4; ++q)
@@ -198,7 +198,7 @@ static void fmScatterTet(const fmBody* b, const fmImplicitCache* c, int t, const
 
 typedef struct fmStiffnessTask
 {
-	const fmBody* body;
+	const fmElasticMesh* mesh;
 	const fmImplicitCache* cache;
 	const double* x;
 	double scale;
@@ -213,37 +213,37 @@ static void fmStiffnessRowsTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmStiffnessTask* k = context;
-	const fmBody* b = k->body;
-	int first = b->mesh.tetCount, last = -1;
+	const fmElasticMesh* mesh = k->mesh;
+	int first = mesh->tetCount, last = -1;
 	for (int i = start; i < end; ++i)
-		if (b->mesh.vertexTetStart[i + 1] > b->mesh.vertexTetStart[i])
+		if (mesh->vertexTetStart[i + 1] > mesh->vertexTetStart[i])
 		{
-			int lo = b->mesh.vertexTets[b->mesh.vertexTetStart[i]] / 4;
-			int hi = b->mesh.vertexTets[b->mesh.vertexTetStart[i + 1] - 1] / 4;
+			int lo = mesh->vertexTets[mesh->vertexTetStart[i]] / 4;
+			int hi = mesh->vertexTets[mesh->vertexTetStart[i + 1] - 1] / 4;
 			first = lo < first ? lo : first;
 			last = hi > last ? hi : last;
 		}
 	double K[144];
 	for (int t = first; t <= last; ++t)
 	{
-		const int* n = b->mesh.tets + 4 * t;
+		const int* n = mesh->tets + 4 * t;
 		bool mine = false;
 		for (int p = 0; p < 4; ++p)
 			mine = mine || (n[p] >= start && n[p] < end);
 		if (!mine)
 			continue;
-		fmTetHessian(b, k->x, t, K, k->project);
-		fmScatterTet(b, k->cache, t, K, k->scale, start, end, k->values);
+		fmTetHessian(mesh, k->x, t, K, k->project);
+		fmScatterTet(mesh, k->cache, t, K, k->scale, start, end, k->values);
 	}
 }
 
-static void fmAddSpringStiffness(const fmBody* b, const fmImplicitCache* c, const double* x,
+static void fmAddSpringStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c, const double* x,
                                  double scale, int project, double* values)
 {
 	double K[36];
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
-		fmSpringHessian(b, x, e, K, project);
+		fmSpringHessian(mesh, x, e, K, project);
 		for (int p = 0; p < 2; ++p)
 			for (int q = 0; q < 2; ++q)
 			{
@@ -257,28 +257,29 @@ static void fmAddSpringStiffness(const fmBody* b, const fmImplicitCache* c, cons
 
 // values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order:
 // by block rows on the world's workers (the same bits for any number of them).
-void fmSolverCache_AddStiffness(const fmBody* b, const fmImplicitCache* c, const double* x,
+void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c, const double* x,
                                 double scale, int project, double* values,
                                 const fmTaskSystem* tasks)
 {
-	if (b->mesh.forceModel == fm_massSpring)
+	if (mesh->forceModel == fm_massSpring)
 	{
-		fmAddSpringStiffness(b, c, x, scale, project, values);
+		fmAddSpringStiffness(mesh, c, x, scale, project, values);
 		return;
 	}
-	fmStiffnessTask task = {b, c, x, scale, project, values};
-	fmParallelFor(tasks, b->mesh.vertexCount, FM_STIFFNESS_MIN_ROWS, fmStiffnessRowsTask, &task);
+	fmStiffnessTask task = {mesh, c, x, scale, project, values};
+	fmParallelFor(tasks, mesh->vertexCount, FM_STIFFNESS_MIN_ROWS, fmStiffnessRowsTask, &task);
 }
 
 // Spring damping as a matrix: each spring resists the rate of change of its length with
 // c = 2 zeta sqrt(k / (1/ma + 1/mb)) (force_spring.c), i.e. the block c n n^T on [a, b].
-void fmSolverCache_AddSpringDamping(const fmBody* b, const fmImplicitCache* c, const double* x,
+void fmSolverCache_AddSpringDamping(const fmElasticMesh* mesh, const double* invMass,
+                                    const fmImplicitCache* c, const double* x,
                                     double scale, double* values)
 {
 	for (int e = 0; e < c->edgeCount; ++e)
 	{
 		fmVec3 direction;
-		double coefficient = fmSpringDashpot(b, x, e, &direction);
+		double coefficient = fmSpringDashpot(mesh, invMass, x, e, &direction);
 		if (coefficient <= 0.0)
 			continue;
 		const double n[3] = {direction.x, direction.y, direction.z};
@@ -291,4 +292,12 @@ void fmSolverCache_AddSpringDamping(const fmBody* b, const fmImplicitCache* c, c
 					block[3 * r + s] += scale * sign * coefficient * n[r] * n[s];
 		}
 	}
+}
+
+double fmSolverCache_Energy(const fmElasticMesh* mesh, const fmImplicitCache* cache,
+                            const double* x, const fmTaskSystem* tasks, fmArena* arena)
+{
+	if (cache != NULL && fmSolverCache_HasForcesAt(mesh, cache, x))
+		return cache->forcesEnergy;
+	return fmElasticEnergyOn(mesh, x, tasks, arena);
 }

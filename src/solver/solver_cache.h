@@ -2,7 +2,8 @@
 // Newton matrix with the slot of every element block, and the vectors of a solve.
 #pragma once
 
-#include "body/body.h"
+#include "core/arena.h"
+#include "fem/elastic_mesh.h"
 #include "solver/multigrid.h"
 #include "core/parallel.h"
 #include "solver/pcg.h"
@@ -66,8 +67,9 @@ typedef struct fmImplicitCache
 	bool hessianExact;
 } fmImplicitCache;
 
-// The cache of @p body (body->implicitCache), allocated on first use; NULL when memory is short.
-fmImplicitCache* fmSolverCache_Get(fmBody* body);
+// The cache in @p slot (a body's fmBody.solverCache) for @p mesh, allocated on first use; NULL
+// when memory is short.
+fmImplicitCache* fmSolverCache_Get(fmImplicitCache** slot, const fmElasticMesh* mesh);
 
 // The multigrid levels over the cache's pattern, built on first use; NULL when memory is short.
 fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* cache);
@@ -76,28 +78,34 @@ fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* cache);
 void fmSolverCache_Free(void* cache);
 
 // The cache's forces and energy are the elastic ones of @p body at @p x (see forcesX).
-bool fmSolverCache_HasForcesAt(const fmBody* body, const fmImplicitCache* cache, const double* x);
+bool fmSolverCache_HasForcesAt(const fmElasticMesh* mesh, const fmImplicitCache* cache, const double* x);
 
 // Note that cache->forces now holds the elastic forces at @p x, with energy @p psi.
-void fmSolverCache_NoteForces(const fmBody* body, fmImplicitCache* cache, const double* x,
+void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* cache, const double* x,
                               double psi);
 
 // Exchange the cache's last forces evaluation with the spare one (to try another point and come
 // back without evaluating again).
 void fmSolverCache_SwapForces(fmImplicitCache* cache);
 
-// Make cache->forces the elastic forces at body->x (computed unless they are already), on the
+// Make cache->forces the elastic forces at @p x (computed unless they are already), on the
 // workers of @p tasks (NULL: serially) with temporaries from @p arena.
-void fmSolverCache_ForcesAtPositions(const fmBody* body, fmImplicitCache* cache,
-                                     const fmTaskSystem* tasks, fmArena* arena);
+void fmSolverCache_ForcesAtPositions(const fmElasticMesh* mesh, fmImplicitCache* cache,
+                                     const double* x, const fmTaskSystem* tasks, fmArena* arena);
 
 // values += scale * (PSD-projected if @p project) elastic Hessian at x, element by element in a
 // fixed order, into the cache's block pattern; on the workers of @p tasks (NULL: serial), the
 // same bits for any number of them.
-void fmSolverCache_AddStiffness(const fmBody* body, const fmImplicitCache* cache, const double* x,
+void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* cache, const double* x,
                                 double scale, int project, double* values,
                                 const fmTaskSystem* tasks);
 
 // values += scale * the springs' dashpot matrices at x (mass-spring bodies).
-void fmSolverCache_AddSpringDamping(const fmBody* body, const fmImplicitCache* cache,
+void fmSolverCache_AddSpringDamping(const fmElasticMesh* mesh, const double* invMass,
+                                    const fmImplicitCache* cache,
                                     const double* x, double scale, double* values);
+
+// The elastic energy at @p x: the cache's last evaluation when it was at @p x (the world's energy
+// check after an implicit step; the same bits), else fmElasticEnergyOn. @p cache may be NULL.
+double fmSolverCache_Energy(const fmElasticMesh* mesh, const fmImplicitCache* cache,
+                            const double* x, const fmTaskSystem* tasks, fmArena* arena);

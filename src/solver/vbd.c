@@ -16,18 +16,18 @@
 // Greedy vertex colours (no two vertices of a tet share one), the vertices sorted by colour:
 // order[start[c] .. start[c + 1]) has colour c. Returns the colour count, 0 when short of memory
 // or when 64 colours are not enough.
-static int fmVbdColour(const fmBody* b, int* order, int* start, int capacity)
+static int fmVbdColour(const fmElasticMesh* mesh, int* order, int* start, int capacity)
 {
-	int* colour = FM_ALLOC_ARRAY(int, b->mesh.vertexCount);
+	int* colour = FM_ALLOC_ARRAY(int, mesh->vertexCount);
 	if (colour == NULL)
 		return 0;
 	int count = 0;
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
 		uint64_t taken = 0;
-		for (int k = b->mesh.vertexTetStart[i]; k < b->mesh.vertexTetStart[i + 1]; ++k)
+		for (int k = mesh->vertexTetStart[i]; k < mesh->vertexTetStart[i + 1]; ++k)
 		{
-			const int* n = b->mesh.tets + 4 * (b->mesh.vertexTets[k] / 4);
+			const int* n = mesh->tets + 4 * (mesh->vertexTets[k] / 4);
 			for (int a = 0; a < 4; ++a)
 				if (n[a] < i)
 					taken |= (uint64_t)1 << (colour[n[a]] & 63);
@@ -37,7 +37,7 @@ static int fmVbdColour(const fmBody* b, int* order, int* start, int capacity)
 			++c;
 		if (c == 64) // more than 64 colours: the caller sweeps serially
 		{
-			FM_FREE_ARRAY(colour, int, b->mesh.vertexCount);
+			FM_FREE_ARRAY(colour, int, mesh->vertexCount);
 			return 0;
 		}
 		colour[i] = c;
@@ -45,7 +45,7 @@ static int fmVbdColour(const fmBody* b, int* order, int* start, int capacity)
 	}
 	count = count < capacity ? count : capacity;
 	memset(start, 0, sizeof(int) * (size_t)(count + 1));
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	for (int i = 0; i < mesh->vertexCount; ++i)
 		start[colour[i] + 1] += 1;
 	for (int c = 0; c < count; ++c)
 		start[c + 1] += start[c];
@@ -53,39 +53,39 @@ static int fmVbdColour(const fmBody* b, int* order, int* start, int capacity)
 	if (next != NULL)
 	{
 		memcpy(next, start, sizeof(int) * (size_t)count);
-		for (int i = 0; i < b->mesh.vertexCount; ++i)
+		for (int i = 0; i < mesh->vertexCount; ++i)
 			order[next[colour[i]]++] = i;
 	}
 	FM_FREE_ARRAY(next, int, count);
-	FM_FREE_ARRAY(colour, int, b->mesh.vertexCount);
+	FM_FREE_ARRAY(colour, int, mesh->vertexCount);
 	return next != NULL ? count : 0;
 }
 
 // The gradient g (3) and projected Hessian H (9) of the potential in vertex i's position.
-static void fmVbdVertexSystem(const fmBody* b, const fmImplicitCache* c, const fmNewtonProblem* pb,
+static void fmVbdVertexSystem(const fmElasticMesh* mesh, fmBodyState* state, const fmImplicitCache* c, const fmNewtonProblem* pb,
                               int i, double g[3], double H[9])
 {
-	const double m = b->mesh.mass[i], w = pb->inertia + pb->massDamping;
+	const double m = mesh->mass[i], w = pb->inertia + pb->massDamping;
 	const double grav[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
 	memset(H, 0, 9 * sizeof(double));
 	for (int k = 0; k < 3; ++k)
 	{
-		double x = b->state.x[3 * i + k];
+		double x = state->x[3 * i + k];
 		g[k] = m * (pb->inertia * (x - c->xPred[3 * i + k]) +
 		            pb->massDamping * (x - c->xStart[3 * i + k]) - grav[k]);
 		H[4 * k] = m * w;
 	}
-	for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
+	for (int e = mesh->vertexTetStart[i]; e < mesh->vertexTetStart[i + 1]; ++e)
 	{
-		int t = b->mesh.vertexTets[e] / 4, a = b->mesh.vertexTets[e] % 4;
-		fmMat3 F = fmTetDeformation(b, b->state.x, t), P;
+		int t = mesh->vertexTets[e] / 4, a = mesh->vertexTets[e] % 4;
+		fmMat3 F = fmTetDeformation(mesh, state->x, t), P;
 		double dPdF[81];
-		fmMaterial_EvaluateProjected(fmTetMaterial(&b->mesh, t), &F, &P, dPdF);
-		const fmMat3* D = &b->mesh.DmInv[t];
+		fmMaterial_EvaluateProjected(fmTetMaterial(mesh, t), &F, &P, dPdF);
+		const fmMat3* D = &mesh->DmInv[t];
 		double ga[3];
 		for (int j = 0; j < 3; ++j) // g_a: row a - 1 of Dm^-1, g_0 = minus their sum
 			ga[j] = a > 0 ? D->m[3 * (a - 1) + j] : -(D->m[j] + D->m[3 + j] + D->m[6 + j]);
-		const double V0 = b->mesh.restVolume[t];
+		const double V0 = mesh->restVolume[t];
 		for (int r = 0; r < 3; ++r)
 		{
 			g[r] += V0 * (P.m[3 * r] * ga[0] + P.m[3 * r + 1] * ga[1] + P.m[3 * r + 2] * ga[2]);
@@ -104,10 +104,10 @@ static void fmVbdVertexSystem(const fmBody* b, const fmImplicitCache* c, const f
 // Vertex i's step when the floor stops it: y at the bound, and with Coulomb friction x and z
 // minimising the vertex's quadratic model with y held there (the 2x2 system of its x, z rows);
 // with stick friction x and z stay.
-static fmVec3 fmVbdOnFloor(const fmBody* b, const fmNewtonProblem* pb, int i, const double g[3],
-                           const double H[9], double bound)
+static fmVec3 fmVbdOnFloor(const fmBodyState* state, const fmNewtonProblem* pb, int i,
+                           const double g[3], const double H[9], double bound)
 {
-	fmVec3 x = fmLoad(b->state.x, i);
+	fmVec3 x = fmLoad(state->x, i);
 	double dy = bound - x.y;
 	x.y = bound;
 	if (pb->floor->friction == fm_floorStick)
@@ -124,12 +124,12 @@ static fmVec3 fmVbdOnFloor(const fmBody* b, const fmNewtonProblem* pb, int i, co
 
 // Move vertex i by its 3x3 Newton step, its pinned axes held, the floor as a bound on y (a
 // vertex the floor stops keeps its tangential place with stick friction).
-static void fmVbdMoveVertex(fmBody* b, const fmImplicitCache* c, const fmNewtonProblem* pb, int i)
+static void fmVbdMoveVertex(const fmElasticMesh* mesh, fmBodyState* state, const fmImplicitCache* c, const fmNewtonProblem* pb, int i)
 {
 	double g[3], H[9];
-	fmVbdVertexSystem(b, c, pb, i, g, H);
+	fmVbdVertexSystem(mesh, state, c, pb, i, g, H);
 	for (int k = 0; k < 3; ++k)
-		if (fmIsDofPinned(&b->state, 3 * i + k))
+		if (fmIsDofPinned(state, 3 * i + k))
 		{
 			g[k] = 0.0;
 			for (int j = 0; j < 3; ++j)
@@ -140,15 +140,16 @@ static void fmVbdMoveVertex(fmBody* b, const fmImplicitCache* c, const fmNewtonP
 	if (!fmInverse(&A, &Ainv))
 		return;
 	fmVec3 step = fmScale(-1.0, fmMatVec(&Ainv, fmMakeVec3(g[0], g[1], g[2])));
-	fmVec3 x = fmAdd(fmLoad(b->state.x, i), step);
-	if (pb->floor && !(b->state.pinned[i] & FM_PIN_Y) && x.y < c->floorBound[i])
-		x = fmVbdOnFloor(b, pb, i, g, H, c->floorBound[i]);
-	fmStore(b->state.x, i, x);
+	fmVec3 x = fmAdd(fmLoad(state->x, i), step);
+	if (pb->floor && !(state->pinned[i] & FM_PIN_Y) && x.y < c->floorBound[i])
+		x = fmVbdOnFloor(state, pb, i, g, H, c->floorBound[i]);
+	fmStore(state->x, i, x);
 }
 
 typedef struct fmVbdColourTask
 {
-	fmBody* body;
+	const fmElasticMesh* mesh;
+	fmBodyState* state;
 	const fmImplicitCache* cache;
 	const fmNewtonProblem* problem;
 	const int* vertices;
@@ -159,29 +160,29 @@ static void fmVbdColourRange(int start, int end, int worker, void* context)
 	(void)worker;
 	const fmVbdColourTask* t = context;
 	for (int k = start; k < end; ++k)
-		if (t->body->state.pinned[t->vertices[k]] != FM_PIN_ALL)
-			fmVbdMoveVertex(t->body, t->cache, t->problem, t->vertices[k]);
+		if (t->state->pinned[t->vertices[k]] != FM_PIN_ALL)
+			fmVbdMoveVertex(t->mesh, t->state, t->cache, t->problem, t->vertices[k]);
 }
 
-fmNewtonResult fmVbd_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+fmNewtonResult fmVbd_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	fmNewtonResult result;
 	memset(&result, 0, sizeof result);
 	result.finite = true;
-	int* order = FM_ALLOC_ARRAY(int, b->mesh.vertexCount);
+	int* order = FM_ALLOC_ARRAY(int, mesh->vertexCount);
 	int start[65];
-	int colours = order ? fmVbdColour(b, order, start, 64) : 0;
+	int colours = order ? fmVbdColour(mesh, order, start, 64) : 0;
 	const fmTaskSystem* tasks = pb->tasks;
 	if (order != NULL && colours == 0) // one colour in vertex order, on one worker
 	{
-		for (int i = 0; i < b->mesh.vertexCount; ++i)
+		for (int i = 0; i < mesh->vertexCount; ++i)
 			order[i] = i;
-		start[0] = 0, start[1] = b->mesh.vertexCount, colours = 1, tasks = NULL;
+		start[0] = 0, start[1] = mesh->vertexCount, colours = 1, tasks = NULL;
 	}
 	const int maxSweeps = pb->maxNewton * FM_VBD_SWEEPS_PER_NEWTON;
 	for (;;)
 	{
-		result.residual = fmNewton_Residual(b, c, pb, b->state.x);
+		result.residual = fmNewton_Residual(mesh, state, c, pb, state->x);
 		if (!isfinite(result.residual))
 		{
 			result.finite = false;
@@ -198,12 +199,12 @@ fmNewtonResult fmVbd_Solve(fmBody* b, fmImplicitCache* c, const fmNewtonProblem*
 		// independently (on the workers; the same bits for any count).
 		for (int k = 0; k < colours; ++k)
 		{
-			fmVbdColourTask task = {b, c, pb, order + start[k]};
+			fmVbdColourTask task = {mesh, state, c, pb, order + start[k]};
 			fmParallelFor(tasks, start[k + 1] - start[k], FM_PARALLEL_MIN_RANGE / 16,
 			              fmVbdColourRange, &task);
 		}
 		result.iterations += 1;
 	}
-	FM_FREE_ARRAY(order, int, b->mesh.vertexCount);
+	FM_FREE_ARRAY(order, int, mesh->vertexCount);
 	return result;
 }

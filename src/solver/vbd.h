@@ -11,4 +11,5 @@
 // Minimise from body->x as fmNewton_Solve does (the same problem, stopping rule and result;
 // iterations counts sweeps). Rayleigh stiffness damping (problem->useDamping) is not supported:
 // the caller uses Newton then.
-fmNewtonResult fmVbd_Solve(fmBody* body, fmImplicitCache* cache, const fmNewtonProblem* problem);
+fmNewtonResult fmVbd_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* cache,
+                           const fmNewtonProblem* problem);

@@ -1,6 +1,7 @@
 // The energy ledger (energy_ledger.h): E <= E0 + W + 1% (E0 + W_in) + floor.
 #include "world/energy_ledger.h"
 #include "core/det_math.h"
+#include "solver/solver_cache.h"
 
 #include "body/body.h"
 #include "fem/forces.h"
@@ -26,10 +27,10 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		double* f = fmArena_Doubles(pass->arena, 3 * (size_t)b->mesh.vertexCount);
 		if (f == NULL)
 			return NAN;
-		const fmTetBlocks* blocks = fmTetBlocks_Used(b, pass->simd);
-		elastic = blocks ? fmTetBlocks_AddForces(blocks, b, b->state.x, NULL, f, pass->simd, pass->tasks,
+		const fmTetBlocks* blocks = fmTetBlocks_Used(&b->mesh, pass->simd);
+		elastic = blocks ? fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, NULL, f, pass->simd, pass->tasks,
 		                                         true, inverted, NULL)
-		                 : fmAddElasticForcesOn(b, b->state.x, f, pass->tasks, pass->arena);
+		                 : fmAddElasticForcesOn(&b->mesh, b->state.x, f, pass->tasks, pass->arena);
 		fmLoads_AddForces(b, b->state.x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->mesh.vertexCount; ++i)
 		{
@@ -39,7 +40,7 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		fmArena_Release(pass->arena, mark);
 	}
 	else
-		elastic = fmElasticEnergyOn(b, b->state.x, pass->tasks, pass->arena);
+		elastic = fmSolverCache_Energy(&b->mesh, b->solverCache, b->state.x, pass->tasks, pass->arena);
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		fmVec3 v = fmLoad(b->state.v, i);

@@ -24,7 +24,7 @@ static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 		double* kv = fmArena_Doubles(arena, 3 * (size_t)b->mesh.vertexCount);
 		if (kv == NULL)
 			return;
-		fmAddHessianProduct(b, b->state.x, b->state.v, kv, 0);
+		fmAddHessianProduct(&b->mesh, b->state.x, b->state.v, kv, 0);
 		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 			b->state.f[k] -= b->rayleighStiffness * kv[k];
 		fmArena_Release(arena, mark);
@@ -97,17 +97,17 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
                                       fmArena* arena, const fmThenTask* then)
 {
-	if (b->mesh.tetBlocks == NULL && fmTetBlocks_Applies(b, world->simd))
-		b->mesh.tetBlocks = fmTetBlocks_Create(b, world->tasks.workerCount);
-	const fmTetBlocks* blocks = fmTetBlocks_Used(b, world->simd);
+	if (b->mesh.tetBlocks == NULL && fmTetBlocks_Applies(&b->mesh, world->simd))
+		b->mesh.tetBlocks = fmTetBlocks_Create(&b->mesh, world->tasks.workerCount);
+	const fmTetBlocks* blocks = fmTetBlocks_Used(&b->mesh, world->simd);
 	if (blocks != NULL)
 	{
-		fmTetBlocks_AddForces(blocks, b, b->state.x, &context->gravity, b->state.f, world->simd, &world->tasks,
+		fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, &context->gravity, b->state.f, world->simd, &world->tasks,
 		                      false, NULL, then);
 		return then != NULL;
 	}
 	fmParallelFor(&world->tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
-	fmAddElasticForcesOn(b, b->state.x, b->state.f, &world->tasks, arena);
+	fmAddElasticForcesOn(&b->mesh, b->state.x, b->state.f, &world->tasks, arena);
 	return false;
 }
 
@@ -128,7 +128,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	fmExplicitTask context = {.body = b,
 	                          .dt = dt,
 	                          .gravity = world->def.gravity,
-	                          .damping = fmVelocityFilter_DampingFactor(b, dt)};
+	                          .damping = fmVelocityFilter_DampingFactor(b->damping, dt)};
 	const size_t mark = fmArena_Mark(arena);
 	fmFloorTaken floorTaken;
 	if (fmFloor_Holds(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
@@ -148,7 +148,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	                 positions = {fmPositionsTask, &context};
 	bool moved = fmGravityAndElasticForces(world, b, &context, arena, plain ? &velocities : NULL);
 	if (b->mesh.forceModel == fm_massSpring)
-		fmAddSpringDamping(b, b->state.x, b->state.v, b->state.f);
+		fmAddSpringDamping(&b->mesh, b->state.invMass, b->state.x, b->state.v, b->state.f);
 	fmAddRayleighForces(b, arena);
 	fmTargets_AddExplicitForces(b, dt, b->state.f);
 	const double* loads = fmLoads_Freeze(b, b->state.x, 1.0);
@@ -162,7 +162,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 
 	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
 	bool placed =
-	    fmVelocityFilter_Smooth(b, dt, arena, world->simd, tasks, plain ? &positions : NULL) &&
+	    fmVelocityFilter_Smooth(&b->mesh, &b->state, b->smoothing, dt, arena, world->simd, tasks, plain ? &positions : NULL) &&
 	    plain;
 	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.

@@ -11,6 +11,7 @@
 #include "contact/floor.h"
 #include "fem/forces.h"
 #include "body/loads.h"
+#include "contact/penalty.h"
 #include "solver/newton.h"
 #include "body/targets.h"
 #include "core/timer.h"
@@ -31,7 +32,7 @@
 // The forces at the start are usually those of the last step's final iterate, still cached.
 static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb, double h)
 {
-	fmSolverCache_ForcesAtPositions(b, c, pb->tasks, pb->arena);
+	fmSolverCache_ForcesAtPositions(&b->mesh, c, b->state.x, pb->tasks, pb->arena);
 	const fmVec3 gravity = pb->gravity;
 	const double g[3] = {gravity.x, gravity.y, gravity.z};
 	double weight = 0.0, inertia = 0.0, elastic = 0.0;
@@ -70,9 +71,9 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTa
 		return false;
 	memset(c->damping, 0, sizeof(double) * values);
 	if (b->rayleighStiffness > 0.0)
-		fmSolverCache_AddStiffness(b, c, c->xStart, b->rayleighStiffness / h, 1, c->damping, tasks);
+		fmSolverCache_AddStiffness(&b->mesh, c, c->xStart, b->rayleighStiffness / h, 1, c->damping, tasks);
 	if (springs)
-		fmSolverCache_AddSpringDamping(b, c, c->xStart, 1.0 / h, c->damping);
+		fmSolverCache_AddSpringDamping(&b->mesh, b->state.invMass, c, c->xStart, 1.0 / h, c->damping);
 	return true;
 }
 
@@ -107,7 +108,7 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 				inertial[3 * i + 1] = c->floorBound[i];
 	double* favoured = c->coasted ? inertial : b->state.x;
 	double* other = c->coasted ? b->state.x : inertial;
-	double kept = fmNewton_Residual(b, c, pb, favoured);
+	double kept = fmNewton_Residual(&b->mesh, &b->state, c, pb, favoured);
 	// A guess that lost clearly is not tried again for a few steps (a wobbling body would
 	// otherwise pay a second force pass every step to find that the other guess is worse).
 	if (kept > pb->tolerance && c->guessRecheck > 0)
@@ -115,7 +116,7 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->state.x)))
 	{
 		fmSolverCache_SwapForces(c); // the favoured guess's forces stay at hand
-		double challenger = fmNewton_Residual(b, c, pb, other);
+		double challenger = fmNewton_Residual(&b->mesh, &b->state, c, pb, other);
 		bool switched = challenger < FM_GUESS_SWITCH * kept;
 		c->guessRecheck = challenger > kept / FM_GUESS_SWITCH ? FM_GUESS_RECHECK : 0;
 		if (!switched)
@@ -153,8 +154,12 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, fmBody* b, fmImpl
 	                              FM_PENALTY_KAPPA / (h * h),
 	                              fmContact_Thickness(world),
 	                              c->xStart,
-	                              h};
-	pb.contact = fmContact_Active(world) ? penalty : NULL;
+	                              h,
+	                              b};
+	pb.loads = fmLoads_Term(b);
+	pb.targets = fmTargets_Term(b);
+	if (fmContact_Active(world))
+		pb.contact = fmContactPenalty_Term(penalty);
 	return pb;
 }
 
@@ -186,14 +191,14 @@ static void fmImplicitBookWork(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 			c->trial[k] = b->state.x[k] - c->xStart[k]; // free after the solve
 		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
 	}
-	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb->contact, b, c->xStart));
+	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb->contact.context, b, c->xStart));
 }
 
 fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
                         fmArena* arena)
 {
 	memset(solve, 0, sizeof *solve);
-	fmImplicitCache* c = fmSolverCache_Get(b);
+	fmImplicitCache* c = fmSolverCache_Get(&b->solverCache, &b->mesh);
 	if (c == NULL)
 		return fm_errOutOfMemory;
 	const int n3 = 3 * b->mesh.vertexCount;
@@ -217,8 +222,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	// 2. Newton on the incremental potential.
 	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&
 	                 !fmLoads_Active(b)
-	             ? fmVbd_Solve(b, c, &pb)
-	             : fmNewton_Solve(b, c, &pb);
+	             ? fmVbd_Solve(&b->mesh, &b->state, c, &pb)
+	             : fmNewton_Solve(&b->mesh, &b->state, c, &pb);
 	double solved = fmSeconds();
 	b->stepStage[0] = solved - start;
 	if (!solve->finite)
@@ -229,7 +234,8 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	fmImplicitBookWork(b, c, &pb);
 	for (int k = 0; k < n3; ++k)
 		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
-	fmFilterVelocities(b, h, arena, world->simd, &world->tasks);
+	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h, arena, world->simd,
+	                   &world->tasks);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
 	//    vertices on it.

@@ -133,7 +133,7 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 	fmMove(s, save, &flags, 1);
 	fmMove(s, save, &recheck, 1);
 	bool warm = (flags & 2u) || recheck > 0;
-	if (!save && warm && (c = fmSolverCache_Get(b)) == NULL)
+	if (!save && warm && (c = fmSolverCache_Get(&b->solverCache, &b->mesh)) == NULL)
 		return false;
 	if (!save && c != NULL)
 	{
@@ -146,7 +146,7 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 			c->hessianValid = false;
 		return true;
 	}
-	if (!save && (c = fmSolverCache_Get(b)) == NULL)
+	if (!save && (c = fmSolverCache_Get(&b->solverCache, &b->mesh)) == NULL)
 		return false;
 	int64_t blocks = c->pattern.blocks;
 	fmMove(s, save, &blocks, sizeof blocks);
@@ -231,7 +231,7 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 	{
 		int64_t blocks = 0;
 		fmGet(&s, &blocks, sizeof blocks);
-		fmImplicitCache* c = fmSolverCache_Get(b); // the same mesh gives the same pattern
+		fmImplicitCache* c = fmSolverCache_Get(&b->solverCache, &b->mesh); // the same mesh gives the same pattern
 		if (c == NULL || blocks != c->pattern.blocks)
 			return SIZE_MAX;
 		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;

@@ -7,6 +7,7 @@
 #include "fem/forces.h"
 #include "core/fp_env.h"
 #include "body/loads.h"
+#include "body/targets.h"
 #include "solver/newton.h"
 #include "world/world.h"
 
@@ -77,7 +78,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, 
 	fmLoads_Freeze(b, b->state.x, 1.0);
 	double loads = fmLoads_FrozenNorm(b);
 
-	fmSolverCache_ForcesAtPositions(b, c, NULL, NULL); // once a solve: serial
+	fmSolverCache_ForcesAtPositions(&b->mesh, c, b->state.x, NULL, NULL); // once a solve: serial
 	double elastic = fmStaticNorm(n3, c->forces);
 	double prescribed = 0.0;
 	if (b->loads != NULL && b->loads->prescribedCount > 0)
@@ -85,7 +86,7 @@ static double fmStaticForceScale(fmBody* b, fmImplicitCache* c, fmVec3 gravity, 
 		// (The same force function as c->forces: a displacement of zero changes no bit.)
 		fmLoads_PlaceStatic(b, 1.0);
 		memset(scratch, 0, sizeof(double) * (size_t)n3);
-		fmAddElasticForcesOn(b, b->state.x, scratch, NULL, NULL);
+		fmAddElasticForcesOn(&b->mesh, b->state.x, scratch, NULL, NULL);
 		memcpy(b->state.x, c->xStart, sizeof(double) * (size_t)n3);
 		for (int k = 0; k < n3; ++k)
 			scratch[k] -= c->forces[k];
@@ -102,7 +103,7 @@ static fmNewtonResult fmStaticSolveAt(fmBody* b, fmImplicitCache* c, fmNewtonPro
 	pb->gravity = fmScale(load, gravity);
 	fmLoads_PlaceStatic(b, load);
 	fmLoads_Freeze(b, b->state.x, load);
-	return fmNewton_Solve(b, c, pb);
+	return fmNewton_Solve(&b->mesh, &b->state, c, pb);
 }
 
 // A follower load at full load: re-freeze at the result and solve again until the solve starts
@@ -167,6 +168,8 @@ static fmNewtonProblem fmStaticProblem(fmBody* b, fmImplicitCache* c, fmWorld* w
 	pb.arena = &world->arena;
 	pb.exactHessian = true;
 	pb.keepBest = true;
+	pb.loads = fmLoads_Term(b);
+	pb.targets = fmTargets_Term(b);
 	return pb;
 }
 
@@ -194,7 +197,7 @@ static fmNewtonResult fmStaticLoadSteps(fmBody* b, fmImplicitCache* c, fmNewtonP
 			// The true Hessian went indefinite (buckling-like states, compressed springs):
 			// continue from here with per-element projected Hessians, always descent.
 			pb->exactHessian = false;
-			r = fmNewton_Solve(b, c, pb);
+			r = fmNewton_Solve(&b->mesh, &b->state, c, pb);
 			*iterations += r.iterations;
 		}
 		// Stagnation means steps within the energy's round-off that no longer improve the
@@ -251,7 +254,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	fmResult checked = fmStaticCheck(b, world, tolerance, maxIterations, diag);
 	if (checked != fm_ok)
 		return checked;
-	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(b) : NULL;
+	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(&b->solverCache, &b->mesh) : NULL;
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");

@@ -415,7 +415,7 @@ bool fmWorldReserveArena(fmWorld* w)
 
 double fmWorldBodyStepLimit(fmWorld* w, const fmBody* b)
 {
-	return w != NULL && fmWorldReserveArena(w) ? fmBodyExplicitStepLimit(b, &w->arena) : 0.0;
+	return w != NULL && fmWorldReserveArena(w) ? fmExplicitStepLimit(&b->mesh, &b->state, &w->arena) : 0.0;
 }
 
 // The explicit stability limit of the world at the bodies' current deformation (s); 0 for an
@@ -428,7 +428,7 @@ static double fmCurrentExplicitLimit(fmWorld* w)
 		fmBody* b = &w->bodies[i];
 		if (!fmBody_IsLive(b))
 			continue;
-		b->explicitLimit = fmBodyExplicitStepLimit(b, &w->arena);
+		b->explicitLimit = fmExplicitStepLimit(&b->mesh, &b->state, &w->arena);
 		dt = fmMin(dt, b->explicitLimit);
 	}
 	return dt; // INFINITY: nothing constrains the step; 0: a body has collapsed
@@ -456,7 +456,7 @@ static int fmListBadTets(const fmBody* b, char* list, size_t size)
 	list[0] = '\0';
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		fmMat3 F = fmTetDeformation(b, b->state.x, t);
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
 		double J = fmDet(&F);
 		if (isfinite(J) && J > 0.0)
 			continue;
@@ -643,7 +643,7 @@ static double fmWorldStiffeningProxy(const fmWorld* w)
 	double proxy = 1.0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
-			proxy = fmMax(proxy, fmBodyStiffeningProxy(&w->bodies[i]));
+			proxy = fmMax(proxy, fmStiffeningProxy(&w->bodies[i].mesh, w->bodies[i].state.x));
 	return proxy;
 }
 
