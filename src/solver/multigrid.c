@@ -312,8 +312,8 @@ static void fmMgInvertDiagonal(fmMgLevel* L)
 {
 	const fmBsrMatrix* m = &L->pattern;
 	for (int i = 0; i < m->rows; ++i)
-		fmPcg_BuildPreconditioner(1, L->values + 9 * (size_t)m->diagonal[i], L->fixed + 3 * i,
-		                          fm_precondBlockJacobi, L->blockInverse + 9 * (size_t)i);
+		fmBsr_InvertDiagonalBlocks(1, L->values + 9 * (size_t)m->diagonal[i], L->fixed + 3 * i,
+		                           false, L->blockInverse + 9 * (size_t)i);
 }
 
 // Cholesky factor (lower triangle, in place) of the bottom level as a dense matrix, fixed DOFs

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "core/parallel.h"
-#include "solver/pcg.h"
+#include "solver/bsr.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -70,7 +70,7 @@ void fmMultigrid_Free(fmMultigrid* mg);
 size_t fmMultigrid_EstimateBytes(size_t rows, size_t blocks);
 
 // Fill the coarse matrices from the fine one (values: 9 per block, blockInverse: its inverted
-// diagonal blocks as fmPcg_BuildPreconditioner makes them, fixed: 3 per row) by Galerkin
+// diagonal blocks as fmBsr_InvertDiagonalBlocks makes them, fixed: 3 per row) by Galerkin
 // projection over the free DOFs, invert their diagonal blocks and factor the bottom one. The
 // fine arrays are kept by reference until the next Setup. @p valuesVersion is the caller's
 // count of changes to @p values: a Setup with the same array, version and fixed flags as the
