@@ -14,8 +14,7 @@
 
 // The coarse correction is scaled by this factor (over-correction: piecewise-constant
 // prolongation underestimates the energy of the smooth errors it corrects; Blaheta 1986).
-// Measured on the boxes of tests/test_multigrid.c: 1.5 with the W-cycle takes 10-20% fewer CG
-// iterations than 1.
+// The factor is chosen by measurement (docs/implicit.md, multigrid).
 #define FM_MG_OVERCORRECTION 1.5
 
 // A coarse level must have at most this fraction of the rows above it, or coarsening stops.

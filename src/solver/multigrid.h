@@ -20,8 +20,8 @@
 #define FM_MG_COARSE_ROWS 64
 
 // Vertices from which the multigrid cycle pays for its cost (about twice a symmetric
-// Gauss-Seidel sweep's) in the CG iterations it saves: measured on generated boxes, it is 10%
-// slower at 2k vertices, 15% faster at 7k and 20% faster at 20k (docs/implicit.md).
+// Gauss-Seidel sweep's) in the CG iterations it saves (the crossover measured in
+// docs/implicit.md).
 #define FM_MG_MIN_ROWS 4096
 
 // One level: its matrix A_l, and the aggregates that map it to the next level.
