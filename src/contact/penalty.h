@@ -15,8 +15,8 @@
 
 #include "body/body.h"
 #include "contact/collider.h"
+#include "solver/bsr.h"
 #include "solver/newton.h"
-#include "solver/pcg.h"
 
 // A surface edge's frozen plane for one implicit step (made by contact_planes.c before the step,
 // in body->edgePlanes): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,

@@ -563,7 +563,7 @@ static inline void fmV_TransposeOf4(const double* m, double* out, int stride)
 
 // ---- block rows
 // ---------------------------------------------------------------------------------- fmBlockSums:
-// the running sums of one row of a 3x3-block sparse matrix (pcg.h, blocks row-major), one lane per
+// the running sums of one row of a 3x3-block sparse matrix (bsr.h, blocks row-major), one lane per
 // block entry: fmV_BlockAdd adds the products a[j] x[j % 3] of a block a and its column's x to
 // lanes j = 0..8, fmV_BlockMerge adds one row's sums to another's lane by lane, and fmV_BlockResult
 // gives the row's three sums t_r = (s_3r + s_3r+1) + s_3r+2. Each lane is a chain of double

@@ -3,13 +3,13 @@
 // writers of TetGen .ele, Gmsh .msh 4.1 ASCII and ASCII .vtu, and fmWriteMesh which picks one.
 #include "core/core.h"
 #include "core/det_math.h"
+#include "mesh/mesh_file.h"
 #include "mesh/mesh_gmsh.h"
 #include "mesh/mesh_internal.h"
 #include "mesh/mesh_medit.h"
 #include "mesh/mesh_vtk.h"
 #include "mesh/mesh_vtu.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -132,14 +132,9 @@ static fmResult fmLoadTetGenPair(const char* path, const fmMeshLoadDef* def, fmT
 fmResult fmLoadMeshWithDef(const char* path, const fmMeshLoadDef* def, fmTetMesh* mesh,
                            fmDiagnostic* diag)
 {
-	fmDiagClear(diag);
-	FM_ASSERT(mesh != NULL && def != NULL && def->internalValue == FM_DEF_MAGIC);
-	if (mesh == NULL)
-		return fmDiagError(diag, fm_errParameter, "", 0, 0, "no mesh to load into");
-	memset(mesh, 0, sizeof *mesh);
-	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
-		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "mesh load def not initialised: start from fmDefaultMeshLoadDef()");
+	fmResult started = fmStartLoad(mesh, def, diag);
+	if (started != fm_ok)
+		return started;
 	if (path == NULL)
 		return fmDiagError(diag, fm_errIo, "", 0, 0, "cannot open: no path given");
 	fmMeshFormat format = fmMeshFormatFromPath(path);
@@ -179,35 +174,7 @@ static fmResult fmCheckMeshToWrite(const char* path, const fmTetMesh* m, const d
 	if (!valid)
 		return fmDiagError(diag, fm_errParameter, path ? path : "", 0, 0,
 		                   "expected a path and a mesh with points and tets on them");
-	for (size_t k = 0; k < 3 * (size_t)m->nodeCount; ++k)
-		if (!isfinite(x[k]))
-			return fmDiagError(diag, fm_errRange, path, 0, 0,
-			                   "point %d has a non-finite coordinate: expected finite positions",
-			                   (int)(k / 3) + m->firstIndex);
-	return fm_ok;
-}
-
-// Close @p f and turn any write failure into fm_errIo.
-static fmResult fmFinishFile(FILE* f, bool ok, const char* path, fmDiagnostic* diag)
-{
-	int savedErrno = errno;
-	if (fclose(f) != 0 && ok)
-	{
-		ok = false;
-		savedErrno = errno;
-	}
-	if (!ok)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: %s", strerror(savedErrno));
-	return fm_ok;
-}
-
-static FILE* fmOpenForWriting(const char* path, fmDiagnostic* diag, fmResult* result)
-{
-	FILE* f = fopen(path, "w");
-	*result =
-	    f ? fm_ok
-	      : fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open for writing: %s", strerror(errno));
-	return f;
+	return fmCheckFinitePoints(path, m, x, diag);
 }
 
 fmResult fmWriteTetGenEle(const char* path, const fmTetMesh* mesh, fmDiagnostic* diag)

@@ -20,18 +20,9 @@ void fmTransformPoints(double* x, int n, const fmMeshTransform* transform);
 
 // ---- shared by the mesh readers (mesh_tetgen.c) -----------------------------------------------------
 
-// A whole file in one allocation of exactly its size.
-typedef struct fmFileText
-{
-	char* data;
-	size_t size;     // bytes read
-	size_t capacity; // bytes allocated (the size the file had when it was opened)
-} fmFileText;
-
-// Read a whole regular file of at most @p limit bytes into one buffer of its size (a FIFO, device
-// or directory is refused without waiting on it; the size is checked before allocating).
-fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagnostic* diag);
-void fmFileText_Free(fmFileText* t);
+// The start of every load from a path: clear @p diag, zero @p mesh, and refuse a missing mesh or
+// a def not made by fmDefaultMeshLoadDef (fm_errParameter).
+fmResult fmStartLoad(fmTetMesh* mesh, const fmMeshLoadDef* def, fmDiagnostic* diag);
 
 // fm_errIndex naming both tets (and their lines, when @p lines is not NULL) when two tets use
 // the same four nodes.

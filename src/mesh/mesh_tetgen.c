@@ -2,22 +2,16 @@
 // Every count in a header is checked against the limits and against the bytes left in the text
 // before anything is allocated; every field is parsed with overflow checks; every failure names
 // the file, line, column and what was expected. Loading never reorients: fmTetMesh_Orient does.
-// POSIX for open, fstat and read: the file is checked through its descriptor before reading.
-#define _POSIX_C_SOURCE 200809L
-
 #include "core/core.h"
+#include "mesh/mesh_file.h"
 #include "mesh/mesh_internal.h"
 #include "mesh/text_reader.h"
 
-#include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 // What a section header (first record of a .node, .ele or .face file) declares.
 typedef struct fmSectionHeader
@@ -484,104 +478,6 @@ fmMeshLoadDef fmDefaultMeshLoadDef(void)
 	return def;
 }
 
-void fmFileText_Free(fmFileText* t)
-{
-	fmDealloc(t->data, t->capacity);
-	memset(t, 0, sizeof *t);
-}
-
-// What a non-regular file is, for the message that refuses it.
-static const char* fmFileKind(mode_t mode)
-{
-	if (S_ISDIR(mode))
-		return "a directory";
-	if (S_ISFIFO(mode))
-		return "a FIFO (named pipe)";
-	if (S_ISCHR(mode))
-		return "a character device";
-	if (S_ISBLK(mode))
-		return "a block device";
-	if (S_ISSOCK(mode))
-		return "a socket";
-	return "not a regular file";
-}
-
-// Only regular files, of at most @p limit bytes: a device such as /dev/zero never ends and a
-// FIFO may never deliver; their size is unknown, so neither can be checked before reading.
-static fmResult fmCheckFile(int fd, const char* path, size_t limit, size_t* size,
-                            fmDiagnostic* diag)
-{
-	struct stat info;
-	if (fstat(fd, &info) != 0)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
-	if (!S_ISREG(info.st_mode))
-		return fmDiagError(diag, fm_errIo, path, 0, 0,
-		                   "is %s, not a regular file: expected a mesh file on disk",
-		                   fmFileKind(info.st_mode));
-	unsigned long long bytes = info.st_size > 0 ? (unsigned long long)info.st_size : 0u;
-	if (bytes > (unsigned long long)limit)
-		return fmDiagError(diag, fm_errLimit, path, 0, 0,
-		                   "file is %llu bytes, more than the limit of %zu bytes "
-		                   "(fmMeshLoadDef.maxFileBytes)",
-		                   bytes, limit);
-	*size = (size_t)bytes;
-	return fm_ok;
-}
-
-// Read the @p t->capacity bytes the file had when it was checked. A file that shrank meanwhile is
-// read as far as it goes; one that grew is refused (its size would escape the limit).
-static fmResult fmReadAll(int fd, const char* path, fmFileText* t, fmDiagnostic* diag)
-{
-	while (t->size < t->capacity)
-	{
-		size_t chunk = t->capacity - t->size < (1u << 30) ? t->capacity - t->size : (1u << 30);
-		ssize_t got = read(fd, t->data + t->size, chunk);
-		if (got < 0 && errno == EINTR)
-			continue;
-		if (got < 0)
-			return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot read: %s", strerror(errno));
-		if (got == 0)
-			return fm_ok;
-		t->size += (size_t)got;
-	}
-	char probe;
-	ssize_t more;
-	do
-		more = read(fd, &probe, 1);
-	while (more < 0 && errno == EINTR);
-	if (more > 0)
-		return fmDiagError(diag, fm_errIo, path, 0, 0,
-		                   "the file grew while it was read (it was %zu bytes): expected a file "
-		                   "that is not being written",
-		                   t->capacity);
-	return fm_ok;
-}
-
-// Read a whole regular file of at most @p limit bytes into one buffer of its size: the size is
-// checked before anything is allocated, and a large file is never held twice (no growing buffer).
-// O_NONBLOCK: opening a FIFO without a writer would otherwise block forever before the check.
-fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagnostic* diag)
-{
-	memset(t, 0, sizeof *t);
-	int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-	if (fd < 0)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open: %s", strerror(errno));
-	fmResult result = fmCheckFile(fd, path, limit, &t->capacity, diag);
-	if (result == fm_ok && t->capacity > 0)
-	{
-		t->data = fmAlloc(t->capacity);
-		if (t->data == NULL)
-			result = fmDiagError(diag, fm_errOutOfMemory, path, 0, 0,
-			                     "out of memory reading %zu bytes", t->capacity);
-	}
-	if (result == fm_ok)
-		result = fmReadAll(fd, path, t, diag);
-	close(fd);
-	if (result != fm_ok)
-		fmFileText_Free(t);
-	return result;
-}
-
 // Read and parse one file with @p parse, then release its text before the next file is read.
 static fmResult fmLoadFile(const char* path, size_t limit,
                            fmResult (*parse)(const char*, size_t, const char*, fmTetMesh*,
@@ -596,8 +492,7 @@ static fmResult fmLoadFile(const char* path, size_t limit,
 	return result;
 }
 
-fmResult fmLoadTetGenWithDef(const char* nodePath, const char* elePath, const fmMeshLoadDef* def,
-                             fmTetMesh* mesh, fmDiagnostic* diag)
+fmResult fmStartLoad(fmTetMesh* mesh, const fmMeshLoadDef* def, fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	FM_ASSERT(mesh != NULL && def != NULL && def->internalValue == FM_DEF_MAGIC);
@@ -607,6 +502,15 @@ fmResult fmLoadTetGenWithDef(const char* nodePath, const char* elePath, const fm
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "mesh load def not initialised: start from fmDefaultMeshLoadDef()");
+	return fm_ok;
+}
+
+fmResult fmLoadTetGenWithDef(const char* nodePath, const char* elePath, const fmMeshLoadDef* def,
+                             fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	fmResult started = fmStartLoad(mesh, def, diag);
+	if (started != fm_ok)
+		return started;
 	if (nodePath == NULL || elePath == NULL)
 		return fmDiagError(diag, fm_errIo, nodePath ? nodePath : "", 0, 0,
 		                   "cannot open: no path given for the %s file",
@@ -715,18 +619,14 @@ static bool fmWriteNodeLines(FILE* f, const fmTetMesh* m, const double* x)
 static fmResult fmCheckWritable(const char* path, const fmTetMesh* m, const double* x,
                                 fmDiagnostic* diag)
 {
-	for (size_t k = 0; k < 3 * (size_t)m->nodeCount; ++k)
-		if (!isfinite(x[k]))
-			return fmDiagError(diag, fm_errRange, path, 0, 0,
-			                   "point %d has a non-finite coordinate: expected finite positions",
-			                   (int)(k / 3) + m->firstIndex);
+	fmResult result = fmCheckFinitePoints(path, m, x, diag);
 	size_t attributes = (size_t)m->nodeCount * (size_t)m->nodeAttributeCount;
-	for (size_t k = 0; k < attributes; ++k)
+	for (size_t k = 0; result == fm_ok && k < attributes; ++k)
 		if (!isfinite(m->nodeAttributes[k]))
 			return fmDiagError(diag, fm_errRange, path, 0, 0,
 			                   "point %d has a non-finite attribute: expected finite values",
 			                   (int)(k / (size_t)m->nodeAttributeCount) + m->firstIndex);
-	return fm_ok;
+	return result;
 }
 
 fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double* positions,
@@ -745,18 +645,8 @@ fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double
 	fmResult result = fmCheckWritable(path, mesh, x, diag);
 	if (result != fm_ok)
 		return result;
-	FILE* f = fopen(path, "w");
+	FILE* f = fmOpenForWriting(path, diag, &result);
 	if (f == NULL)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open for writing: %s",
-		                   strerror(errno));
-	bool ok = fmWriteNodeLines(f, mesh, x);
-	int savedErrno = errno;
-	if (fclose(f) != 0 && ok)
-	{
-		ok = false;
-		savedErrno = errno;
-	}
-	if (!ok)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: %s", strerror(savedErrno));
-	return fm_ok;
+		return result;
+	return fmFinishFile(f, fmWriteNodeLines(f, mesh, x), path, diag);
 }

@@ -11,6 +11,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "core/core.h"
+#include "mesh/mesh_file.h"
 #include "mesh/mesh_internal.h"
 #include "mesh/text_reader.h"
 

@@ -1,34 +1,13 @@
-// Line tokenizer for the TetGen readers. Numbers are parsed from a bounded copy of the field
-// because the text is not NUL-terminated; integers are parsed by hand to catch overflow.
+// Line tokenizer for the TetGen and OBJ readers (text_reader.h): lines from the scanner's cursor,
+// fields parsed by the scanner's number parsers.
 #include "mesh/text_reader.h"
 
 #include "core/core.h"
 
-#include <errno.h>
-#include <float.h>
 #include <limits.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-
-// Line and column of byte @p offset (1-based), for the NUL byte report.
-static void fmReaderLocate(const char* text, size_t offset, int* line, int* column)
-{
-	int l = 1;
-	size_t lineStart = 0;
-	for (size_t i = 0; i < offset; ++i)
-	{
-		if (text[i] == '\n')
-		{
-			++l;
-			lineStart = i + 1;
-		}
-	}
-	*line = l;
-	*column = (int)(offset - lineStart + 1);
-}
 
 fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const char* name,
                        fmDiagnostic* diag)
@@ -40,18 +19,16 @@ fmResult fmReader_Init(fmTextReader* r, const char* text, size_t size, const cha
 		text += 3;
 		size -= 3;
 	}
-	r->text = text;
-	r->size = text ? size : 0;
 	r->name = name ? name : "";
 	r->diag = diag;
-	r->nextLine = 1;
-	const char* nul = r->size ? memchr(text, 0, r->size) : NULL;
+	fmScan_Init(&r->cursor, text, size, r->name, diag);
+	const char* nul = r->cursor.size ? memchr(text, 0, r->cursor.size) : NULL;
 	if (nul == NULL)
 		return fm_ok;
-	int line, column;
-	fmReaderLocate(text, (size_t)(nul - text), &line, &column);
-	return fmDiagError(diag, fm_errSyntax, r->name, line, column,
-	                   "NUL byte in the text: expected a TetGen text file, not binary data");
+	fmScan at = r->cursor;
+	fmScan_Advance(&at, (size_t)(nul - text));
+	return fmScan_ErrorHere(&at, fm_errSyntax,
+	                        "NUL byte in the text: expected a TetGen text file, not binary data");
 }
 
 static bool fmIsSpace(char c)
@@ -87,14 +64,12 @@ static void fmReaderSplit(fmTextReader* r)
 
 fmReadStatus fmReader_Next(fmTextReader* r)
 {
-	while (r->pos < r->size)
+	const unsigned char* line;
+	size_t length;
+	for (r->line = r->cursor.line; fmScan_NextLine(&r->cursor, &line, &length);
+	     r->line = r->cursor.line)
 	{
-		const char* start = r->text + r->pos;
-		size_t left = r->size - r->pos;
-		const char* end = memchr(start, '\n', left);
-		size_t length = end ? (size_t)(end - start) : left;
-		r->pos += end ? length + 1 : length;
-		r->line = r->nextLine++;
+		const char* start = (const char*)line;
 		if (length > 0 && start[length - 1] == '\r')
 			--length;
 		// A CR that does not end the line: CR-only line ends (classic Mac OS) would otherwise read
@@ -120,7 +95,8 @@ fmReadStatus fmReader_Next(fmTextReader* r)
 		if (r->fieldCount > 0)
 			return fm_readRecord;
 	}
-	r->line = r->nextLine;
+	// The end is on the line after the last one, whether or not that ends with a LF.
+	r->line = r->cursor.line + (r->cursor.lineStart < r->cursor.size);
 	r->lineStart = NULL;
 	r->lineLength = 0;
 	r->fieldCount = 0;
@@ -129,7 +105,7 @@ fmReadStatus fmReader_Next(fmTextReader* r)
 
 size_t fmReader_Remaining(const fmTextReader* r)
 {
-	return r->size - r->pos;
+	return fmScan_Remaining(&r->cursor);
 }
 
 int fmReader_Column(const fmTextReader* r, int field)
@@ -176,83 +152,38 @@ fmResult fmReader_ExpectFields(const fmTextReader* r, int minCount, int maxCount
 	                      r->field[extra], count, layout, n);
 }
 
-// Copy field @p field into @p buffer as a C string; fails if it is too long to be a number.
-static fmResult fmReaderCopy(const fmTextReader* r, int field, const char* what, char* buffer)
+// Field @p field as the scanner's last token, for its number parsers and messages.
+static fmScan fmReaderField(const fmTextReader* r, int field)
 {
-	int length = r->fieldLength[field];
-	if (length > FM_READER_MAX_NUMBER)
-		return fmReader_Error(r, fm_errSyntax, field,
-		                      "%s is %d characters long: expected a number of at most %d", what,
-		                      length, FM_READER_MAX_NUMBER);
-	memcpy(buffer, r->field[field], (size_t)length);
-	buffer[length] = 0;
-	return fm_ok;
-}
-
-// Decimal integer with optional sign; *overflow when |value| exceeds INT_MAX + 1.
-static bool fmParseInt(const char* s, long long* value, bool* overflow)
-{
-	bool negative = *s == '-';
-	if (*s == '-' || *s == '+')
-		++s;
-	if (*s == 0)
-		return false;
-	long long v = 0;
-	*overflow = false;
-	for (; *s; ++s)
-	{
-		if (*s < '0' || *s > '9')
-			return false;
-		if (v <= (long long)INT_MAX + 1)
-			v = 10 * v + (*s - '0');
-		else
-			*overflow = true;
-	}
-	*overflow = *overflow || v > (long long)INT_MAX + 1;
-	*value = negative ? -v : v;
-	return true;
+	fmScan s = r->cursor;
+	s.token = (const unsigned char*)r->field[field];
+	s.tokenLength = (size_t)r->fieldLength[field];
+	s.tokenLine = r->line;
+	s.tokenColumn = fmReader_Column(r, field);
+	return s;
 }
 
 fmResult fmReader_Int(const fmTextReader* r, int field, int lo, int hi, const char* what, int* out)
 {
-	char buffer[FM_READER_MAX_NUMBER + 1];
-	fmResult copied = fmReaderCopy(r, field, what, buffer);
-	if (copied != fm_ok)
-		return copied;
+	fmScan s = fmReaderField(r, field);
+	char buffer[FM_SCAN_MAX_NUMBER + 1];
 	long long value = 0;
 	bool overflow = false;
-	if (!fmParseInt(buffer, &value, &overflow))
-		return fmReader_Error(r, fm_errSyntax, field, "expected %s (an integer), found \"%s\"",
-		                      what, buffer);
+	fmResult result = fmScan_ParseInteger(&s, what, buffer, &value, &overflow);
+	if (result != fm_ok)
+		return result;
 	if (overflow || value < INT_MIN || value > INT_MAX)
-		return fmReader_Error(r, fm_errRange, field,
-		                      "%s \"%s\" overflows an int: expected %d to %d", what, buffer, lo,
-		                      hi);
+		return fmScan_Error(&s, fm_errRange, "%s \"%s\" overflows an int: expected %d to %d", what,
+		                    buffer, lo, hi);
 	if (value < lo || value > hi)
-		return fmReader_Error(r, fm_errRange, field, "%s %lld is out of range: expected %d to %d",
-		                      what, value, lo, hi);
+		return fmScan_Error(&s, fm_errRange, "%s %lld is out of range: expected %d to %d", what,
+		                    value, lo, hi);
 	*out = (int)value;
 	return fm_ok;
 }
 
 fmResult fmReader_Double(const fmTextReader* r, int field, const char* what, double* out)
 {
-	char buffer[FM_READER_MAX_NUMBER + 1];
-	fmResult copied = fmReaderCopy(r, field, what, buffer);
-	if (copied != fm_ok)
-		return copied;
-	char* end = NULL;
-	errno = 0;
-	double value = strtod(buffer, &end);
-	if (end == buffer || *end != 0)
-		return fmReader_Error(r, fm_errSyntax, field, "expected %s (a number), found \"%s\"", what,
-		                      buffer);
-	if (isnan(value) || (isinf(value) && errno != ERANGE))
-		return fmReader_Error(r, fm_errRange, field, "%s is \"%s\": expected a finite number", what,
-		                      buffer);
-	// ERANGE also flags underflow; a value that rounds to (sub)normal or zero is kept.
-	if (errno == ERANGE && fabs(value) > DBL_MIN)
-		return fmReader_Error(r, fm_errRange, field, "%s \"%s\" overflows a double", what, buffer);
-	*out = value;
-	return fm_ok;
+	fmScan s = fmReaderField(r, field);
+	return fmScan_ParseDouble(&s, what, out);
 }

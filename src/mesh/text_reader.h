@@ -1,9 +1,12 @@
-// Line tokenizer shared by the TetGen readers (.node, .ele, .face): a record is a line of
+// Line tokenizer of the TetGen readers (.node, .ele, .face) and the OBJ reader, on the scanner of
+// scanner.h (its cursor, line counting, number parsing and messages): a record is a line of
 // whitespace-separated fields; '#' starts a comment (whole line or trailing); blank lines are
 // skipped; LF and CRLF line ends are accepted, a carriage return anywhere else in a line (a file
 // with CR-only line ends) is an error; a UTF-8 byte-order mark at the start is skipped. Every
 // error names the file, line and column.
 #pragma once
+
+#include "mesh/scanner.h"
 
 #include <femto/mesh.h>
 
@@ -11,18 +14,13 @@
 
 // More fields than any TetGen record can have (index + 10 nodes + FM_MAX_ATTRIBUTES + marker).
 #define FM_READER_MAX_FIELDS 80
-// Longest number token accepted (digits of a double written with %.17g need 24).
-#define FM_READER_MAX_NUMBER 127
 
 typedef struct fmTextReader
 {
-	const char* text; // not NUL-terminated
-	size_t size;
-	size_t pos;         // start of the next unread line
+	fmScan cursor;      // at the start of the next unread line
 	const char* name;   // file name for diagnostics
 	fmDiagnostic* diag; // may be NULL
 	int line;           // 1-based line of the current record
-	int nextLine;       // 1-based line number of the next unread line
 	const char* lineStart;
 	int lineLength; // bytes of the current line without its line end
 	fmResult error; // why fmReader_Next returned fm_readError (also in diag when there is one)

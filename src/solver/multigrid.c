@@ -14,8 +14,7 @@
 
 // The coarse correction is scaled by this factor (over-correction: piecewise-constant
 // prolongation underestimates the energy of the smooth errors it corrects; Blaheta 1986).
-// Measured on the boxes of tests/test_multigrid.c: 1.5 with the W-cycle takes 10-20% fewer CG
-// iterations than 1.
+// The factor is chosen by measurement (docs/implicit.md, multigrid).
 #define FM_MG_OVERCORRECTION 1.5
 
 // A coarse level must have at most this fraction of the rows above it, or coarsening stops.
@@ -312,8 +311,8 @@ static void fmMgInvertDiagonal(fmMgLevel* L)
 {
 	const fmBsrMatrix* m = &L->pattern;
 	for (int i = 0; i < m->rows; ++i)
-		fmPcg_BuildPreconditioner(1, L->values + 9 * (size_t)m->diagonal[i], L->fixed + 3 * i,
-		                          fm_precondBlockJacobi, L->blockInverse + 9 * (size_t)i);
+		fmBsr_InvertDiagonalBlocks(1, L->values + 9 * (size_t)m->diagonal[i], L->fixed + 3 * i,
+		                           false, L->blockInverse + 9 * (size_t)i);
 }
 
 // Cholesky factor (lower triangle, in place) of the bottom level as a dense matrix, fixed DOFs

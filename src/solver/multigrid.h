@@ -7,7 +7,7 @@
 #pragma once
 
 #include "core/parallel.h"
-#include "solver/pcg.h"
+#include "solver/bsr.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -20,8 +20,8 @@
 #define FM_MG_COARSE_ROWS 64
 
 // Vertices from which the multigrid cycle pays for its cost (about twice a symmetric
-// Gauss-Seidel sweep's) in the CG iterations it saves: measured on generated boxes, it is 10%
-// slower at 2k vertices, 15% faster at 7k and 20% faster at 20k (docs/implicit.md).
+// Gauss-Seidel sweep's) in the CG iterations it saves (the crossover measured in
+// docs/implicit.md).
 #define FM_MG_MIN_ROWS 4096
 
 // One level: its matrix A_l, and the aggregates that map it to the next level.
@@ -70,7 +70,7 @@ void fmMultigrid_Free(fmMultigrid* mg);
 size_t fmMultigrid_EstimateBytes(size_t rows, size_t blocks);
 
 // Fill the coarse matrices from the fine one (values: 9 per block, blockInverse: its inverted
-// diagonal blocks as fmPcg_BuildPreconditioner makes them, fixed: 3 per row) by Galerkin
+// diagonal blocks as fmBsr_InvertDiagonalBlocks makes them, fixed: 3 per row) by Galerkin
 // projection over the free DOFs, invert their diagonal blocks and factor the bottom one. The
 // fine arrays are kept by reference until the next Setup. @p valuesVersion is the caller's
 // count of changes to @p values: a Setup with the same array, version and fixed flags as the

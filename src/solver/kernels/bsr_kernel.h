@@ -1,11 +1,11 @@
-// The row kernels of the block sparse matrices of pcg.h: the product and the Gauss-Seidel sweeps,
+// The row kernels of the block sparse matrices of bsr.h: the product and the Gauss-Seidel sweeps,
 // which the implicit and static solvers' conjugate gradient spends most of its time in.
-// bsr_kernel.c is compiled once per instruction set, as tet_kernel.c is (CMakeLists.txt); pcg.c
+// bsr_kernel.c is compiled once per instruction set, as tet_kernel.c is (CMakeLists.txt); bsr.c
 // calls the variant the CPU runs. A row's sum keeps one running sum per block entry (simd.h,
 // fmBlockSums), so every variant gives the same bits.
 #pragma once
 
-#include "solver/pcg.h"
+#include "solver/bsr.h"
 
 // y = A x on the block rows [first, end) (fmBsr_MultiplyRows).
 typedef void fmBsrMultiplyFcn(const fmBsrMatrix* matrix, const double* values, const double* x,
