@@ -142,14 +142,14 @@ EM_JS(int, cliJsonParseInJs, (const char* text, int size, cliJsonBuilder* b, cha
 	} catch (error) {
 		const message = String(error.message);
 		stringToUTF8(message, reason, 160);
-		const at = /position (\d+)/.exec(message);
+		const at = /position ([0-9]+)/.exec(message);
 		if (at) return lengthBytesUTF8(source.slice(0, Number(at[1])));
 		return /end of JSON input/.test(message) ? size : -1;
 	}
 	const add = (key, v) => {
-		const kind = v === null ? 0 : typeof v === 'boolean' ? 1 : typeof v === 'number' ? 2 :
-			typeof v === 'string' ? 3 : Array.isArray(v) ? 4 : 5;
-		const string = kind === 3 ? v : '';
+		const kind = v === null ? 0 : typeof v === "boolean" ? 1 : typeof v === "number" ? 2 :
+			typeof v === "string" ? 3 : Array.isArray(v) ? 4 : 5;
+		const string = kind === 3 ? v : "";
 		const keyBytes = key === null ? 0 : lengthBytesUTF8(key) + 1;
 		const stringBytes = lengthBytesUTF8(string) + 1;
 		const scratch = _cliJsonBuild_Scratch(b, keyBytes + stringBytes);
