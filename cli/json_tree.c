@@ -132,20 +132,43 @@ int cliJsonBuild_CloseFromJs(cliJsonBuilder* b)
 }
 
 // JSON.parse the text and hand its values to the builder in document order (an object's keys in
-// the engine's order). Returns -2 when parsed, else the byte offset of the error (-1 when the
-// engine does not say) with the engine's message in @p reason.
-EM_JS(int, cliJsonParseInJs, (const char* text, int size, cliJsonBuilder* b, char* reason), {
+// the engine's order). Returns -1 when parsed (*end: the bytes the value takes), else the byte
+// offset of the error with the engine's message in @p reason. The engine does not always say
+// where (nor in bytes): the offset is found as the first character whose prefix of the text is
+// no longer the start of a JSON text, as cJSON finds it; when the text before that character is
+// one whole value, it is parsed and the caller finds the text after it.
+EM_JS(int, cliJsonParseInJs, (const char* text, int size, cliJsonBuilder* b, char* reason,
+                              int* end), {
 	const source = UTF8ToString(text, size);
+	const fails = (k) => {
+		try {
+			JSON.parse(source.slice(0, k));
+			return false;
+		} catch (error) {
+			const at = /position ([0-9]+)/.exec(error.message);
+			return !/end of JSON input/.test(error.message) && !(at && Number(at[1]) >= k);
+		}
+	};
 	let value;
+	let used = source.length;
 	try {
 		value = JSON.parse(source);
 	} catch (error) {
-		const message = String(error.message);
-		stringToUTF8(message, reason, 160);
-		const at = /position ([0-9]+)/.exec(message);
-		if (at) return lengthBytesUTF8(source.slice(0, Number(at[1])));
-		return /end of JSON input/.test(message) ? size : -1;
+		stringToUTF8(String(error.message).split("\n")[0], reason, 160);
+		let lo = 0;
+		let hi = source.length;
+		while (hi - lo > 1) {
+			const mid = (lo + hi) >> 1;
+			if (fails(mid)) hi = mid; else lo = mid;
+		}
+		used = hi - 1;
+		try {
+			value = JSON.parse(source.slice(0, used));
+		} catch (ignored) {
+			return lengthBytesUTF8(source.slice(0, used));
+		}
 	}
+	HEAP32[end >> 2] = lengthBytesUTF8(source.slice(0, used));
 	const add = (key, v) => {
 		const kind = v === null ? 0 : typeof v === "boolean" ? 1 : typeof v === "number" ? 2 :
 			typeof v === "string" ? 3 : Array.isArray(v) ? 4 : 5;
@@ -167,7 +190,7 @@ EM_JS(int, cliJsonParseInJs, (const char* text, int size, cliJsonBuilder* b, cha
 		return _cliJsonBuild_CloseFromJs(b) !== 0;
 	};
 	add(null, value);
-	return -2;
+	return -1;
 });
 
 cliJsonNode* cliJsonTree_Parse(const char* text, size_t size, cliJsonParse* result)
@@ -175,13 +198,15 @@ cliJsonNode* cliJsonTree_Parse(const char* text, size_t size, cliJsonParse* resu
 	memset(result, 0, sizeof *result);
 	cliJsonBuilder b;
 	memset(&b, 0, sizeof b);
-	int at = cliJsonParseInJs(text, (int)size, &b, result->reason);
-	if (at != -2)
+	int end = 0;
+	int at = cliJsonParseInJs(text, (int)size, &b, result->reason, &end);
+	if (at >= 0)
 	{
-		result->offset = at >= 0 ? (size_t)at : SIZE_MAX;
+		result->offset = (size_t)at;
 		return NULL;
 	}
-	result->end = size;
+	result->reason[0] = 0;
+	result->end = (size_t)end;
 	result->outOfMemory = b.failed && b.depth < CLI_JSON_MAX_DEPTH;
 	result->offset = SIZE_MAX;
 	if (b.failed && !result->outOfMemory)
