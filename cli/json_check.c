@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -34,7 +35,7 @@ static void cliLineColumn(const char* text, size_t offset, int* line, int* colum
 	}
 }
 
-// cJSON keeps no positions: walk the text to the path's key.
+// The tree keeps no positions: walk the text to the path's key.
 static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* column)
 {
 	size_t offset = 0;
@@ -45,7 +46,7 @@ static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* c
 }
 
 // Print "file[:line:column]: path: message[, got VALUE]" to j->messages and return false.
-bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const char* format, ...)
+bool cliJsonFail(const cliJson* j, const char* path, const cliJsonNode* got, const char* format, ...)
 {
 	char where[CLI_MAX_PATH + 300], message[1024], value[80] = "";
 	int line = 0, column = 0;
@@ -61,13 +62,9 @@ bool cliJsonFail(const cliJson* j, const char* path, const cJSON* got, const cha
 	va_end(args);
 	if (got != NULL)
 	{
-		char* printed = cJSON_PrintUnformatted(got);
-		if (printed != NULL)
-		{
-			size_t length = strlen(printed);
-			snprintf(value, sizeof value, length > 60 ? ", got %.57s..." : ", got %s", printed);
-			cJSON_free(printed);
-		}
+		char printed[64];
+		size_t length = cliJsonTree_Print(got, printed, sizeof printed);
+		snprintf(value, sizeof value, length > 60 ? ", got %.57s..." : ", got %s", printed);
 	}
 	if (j->messages != NULL)
 		fprintf(j->messages, "%s%s%s\n", where, message, value);
@@ -113,18 +110,18 @@ bool cliInRange(double value, cliRange range)
 
 // Reject keys not in @p allowed (NULL-terminated, at most CLI_MAX_KEYS) and repeated keys. One
 // pass over the members: each is looked up in the short allowed list and marked seen there.
-bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* parent,
+bool cliCheckKeys(const cliJson* j, const cliJsonNode* object, const char* parent,
                   const char* const* allowed)
 {
 	bool seen[CLI_MAX_KEYS] = {false};
-	const cJSON* item = NULL;
-	cJSON_ArrayForEach(item, object)
+	const cliJsonNode* item = NULL;
+	for (item = (object)->child; item != NULL; item = item->next)
 	{
 		char path[256];
-		cliJoinKey(path, sizeof path, parent, item->string);
+		cliJoinKey(path, sizeof path, parent, item->key);
 		int known = -1;
 		for (int i = 0; allowed[i] != NULL && known < 0; ++i)
-			if (strcmp(item->string, allowed[i]) == 0)
+			if (strcmp(item->key, allowed[i]) == 0)
 				known = i;
 		if (known < 0)
 		{
@@ -146,10 +143,10 @@ bool cliCheckKeys(const cliJson* j, const cJSON* object, const char* parent,
 
 // The member @p key of @p object, NULL when absent (*present says which, when asked), and its
 // path in @p path when present: the start of every reader below.
-static const cJSON* cliMember(const cJSON* object, const char* parent, const char* key,
+static const cliJsonNode* cliMember(const cliJsonNode* object, const char* parent, const char* key,
                               bool* present, char* path, size_t size)
 {
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(object, key);
+	const cliJsonNode* item = cliJsonTree_Member(object, key);
 	if (present != NULL)
 		*present = item != NULL;
 	if (item != NULL)
@@ -157,28 +154,28 @@ static const cJSON* cliMember(const cJSON* object, const char* parent, const cha
 	return item;
 }
 
-bool cliGetNumber(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+bool cliGetNumber(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
                   cliRange range, double* value, bool* present)
 {
 	char path[256], expected[96];
-	const cJSON* item = cliMember(object, parent, key, present, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, present, path, sizeof path);
 	if (item == NULL)
 		return true;
 	cliDescribeRange(range, expected, sizeof expected);
-	if (!cJSON_IsNumber(item) || !cliInRange(item->valuedouble, range))
+	if (!cliJsonIs(item, cli_jsonNumber) || !cliInRange(item->number, range))
 		return cliJsonFail(j, path, item, "expected %s", expected);
-	*value = item->valuedouble;
+	*value = item->number;
 	return true;
 }
 
-bool cliGetInt(const cliJson* j, const cJSON* object, const char* parent, const char* key, int lo,
+bool cliGetInt(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key, int lo,
                int hi, int* value, bool* present)
 {
 	char path[256];
-	const cJSON* item = cliMember(object, parent, key, present, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, present, path, sizeof path);
 	if (item == NULL)
 		return true;
-	double number = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+	double number = cliJsonIs(item, cli_jsonNumber) ? item->number : NAN;
 	if (!isfinite(number) || number != floor(number))
 		return cliJsonFail(j, path, item, "expected an integer in [%d, %d]", lo, hi);
 	if (number > hi)
@@ -189,52 +186,52 @@ bool cliGetInt(const cliJson* j, const cJSON* object, const char* parent, const 
 	return true;
 }
 
-bool cliGetBool(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+bool cliGetBool(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
                 bool* value)
 {
 	char path[256];
-	const cJSON* item = cliMember(object, parent, key, NULL, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, NULL, path, sizeof path);
 	if (item == NULL)
 		return true;
-	if (!cJSON_IsBool(item))
+	if (!cliJsonIs(item, cli_jsonBool))
 		return cliJsonFail(j, path, item, "expected true or false");
-	*value = cJSON_IsTrue(item);
+	*value = item->boolean;
 	return true;
 }
 
-bool cliGetString(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+bool cliGetString(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
                   const char** value)
 {
 	char path[256];
-	const cJSON* item = cliMember(object, parent, key, NULL, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, NULL, path, sizeof path);
 	if (item == NULL)
 		return true;
-	if (!cJSON_IsString(item) || item->valuestring == NULL)
+	if (!cliJsonIs(item, cli_jsonString) || item->string == NULL)
 		return cliJsonFail(j, path, item, "expected a string");
-	*value = item->valuestring;
+	*value = item->string;
 	return true;
 }
 
-bool cliGetVec3(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+bool cliGetVec3(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
                 fmVec3* value, bool* present)
 {
 	char path[256];
-	const cJSON* item = cliMember(object, parent, key, present, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, present, path, sizeof path);
 	if (item == NULL)
 		return true;
 	double xyz[3];
 	int count = 0;
-	const cJSON* element = NULL;
-	if (!cJSON_IsArray(item))
+	const cliJsonNode* element = NULL;
+	if (!cliJsonIs(item, cli_jsonArray))
 		return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
 	// One walk that stops at a fourth element: a long array costs no more than a short one.
-	cJSON_ArrayForEach(element, item)
+	for (element = (item)->child; element != NULL; element = element->next)
 	{
 		if (count == 3)
 			return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
-		if (!cJSON_IsNumber(element) || !isfinite(element->valuedouble))
+		if (!cliJsonIs(element, cli_jsonNumber) || !isfinite(element->number))
 			return cliJsonFail(j, path, item, "expected an array of 3 finite numbers [x, y, z]");
-		xyz[count++] = element->valuedouble;
+		xyz[count++] = element->number;
 	}
 	if (count != 3)
 		return cliJsonFail(j, path, item, "expected an array of 3 numbers [x, y, z]");
@@ -243,32 +240,32 @@ bool cliGetVec3(const cliJson* j, const cJSON* object, const char* parent, const
 }
 
 // An optional object member: NULL if absent; fails on a non-object.
-bool cliGetObject(const cliJson* j, const cJSON* object, const char* parent, const char* key,
-                  const cJSON** value)
+bool cliGetObject(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
+                  const cliJsonNode** value)
 {
 	*value = NULL;
 	char path[256];
-	const cJSON* item = cliMember(object, parent, key, NULL, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, NULL, path, sizeof path);
 	if (item == NULL)
 		return true;
-	if (!cJSON_IsObject(item))
+	if (!cliJsonIs(item, cli_jsonObject))
 		return cliJsonFail(j, path, item, "expected an object {...}");
 	*value = item;
 	return true;
 }
 
 // The keys @p keys (NULL-terminated) must all be present; @p what says why.
-bool cliRequireKeys(const cliJson* j, const cJSON* object, const char* path,
+bool cliRequireKeys(const cliJson* j, const cliJsonNode* object, const char* path,
                     const char* const* keys, const char* what)
 {
 	for (int i = 0; keys[i] != NULL; ++i)
-		if (cJSON_GetObjectItemCaseSensitive(object, keys[i]) == NULL)
+		if (cliJsonTree_Member(object, keys[i]) == NULL)
 			return cliJsonFail(j, path, NULL, "missing \"%s\" (%s)", keys[i], what);
 	return true;
 }
 
 // A vector key whose coordinates must each lie in @p range (@p expected says so).
-bool cliGetVec3In(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+bool cliGetVec3In(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
                   cliRange range, const char* expected, fmVec3* value)
 {
 	bool present = false;
@@ -279,19 +276,19 @@ bool cliGetVec3In(const cliJson* j, const cJSON* object, const char* parent, con
 		return true;
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, key);
-	return cliJsonFail(j, path, cJSON_GetObjectItemCaseSensitive(object, key), "expected %s",
+	return cliJsonFail(j, path, cliJsonTree_Member(object, key), "expected %s",
 	                   expected);
 }
 
 // A 32-bit mask: an integer in [0, 2^32 - 1] (JSON numbers hold it exactly).
-bool cliGetBits(const cliJson* j, const cJSON* object, const char* parent, const char* key,
+bool cliGetBits(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
                 uint32_t* value)
 {
 	char path[256];
-	const cJSON* item = cliMember(object, parent, key, NULL, path, sizeof path);
+	const cliJsonNode* item = cliMember(object, parent, key, NULL, path, sizeof path);
 	if (item == NULL)
 		return true;
-	double number = cJSON_IsNumber(item) ? item->valuedouble : NAN;
+	double number = cliJsonIs(item, cli_jsonNumber) ? item->number : NAN;
 	if (!(number >= 0.0 && number <= 4294967295.0) || number != floor(number))
 		return cliJsonFail(j, path, item, "expected an integer in [0, 4294967295] (32 bits)");
 	*value = (uint32_t)number;
@@ -300,7 +297,7 @@ bool cliGetBits(const cliJson* j, const cJSON* object, const char* parent, const
 
 // ---- files named in the text -----------------------------------------------------------------
 
-bool cliResolveFile(const cliJson* j, const char* path, const cJSON* item, const char* text,
+bool cliResolveFile(const cliJson* j, const char* path, const cliJsonNode* item, const char* text,
                     char* out, size_t size)
 {
 	// Relative paths are relative to the file's folder, so scenes can be run from anywhere.
@@ -316,28 +313,26 @@ bool cliResolveFile(const cliJson* j, const char* path, const cJSON* item, const
 
 // ---- lists of entries -----------------------------------------------------------------------
 
-bool cliGetEntries(const cliJson* j, const cJSON* object, const char* parent,
+bool cliGetEntries(const cliJson* j, const cliJsonNode* object, const char* parent,
                    const cliEntryList* list, void** entries, int* count)
 {
 	char path[256];
-	const cJSON* array = cliMember(object, parent, list->key, NULL, path, sizeof path);
+	const cliJsonNode* array = cliMember(object, parent, list->key, NULL, path, sizeof path);
 	if (array == NULL)
 		return true;
-	if (!cJSON_IsArray(array))
+	if (!cliJsonIs(array, cli_jsonArray))
 		return cliJsonFail(j, path, array, "expected a list of %s", list->expected);
-	// cJSON's arrays are linked lists: count once, then walk once (cJSON_GetArrayItem(i) in a
-	// loop walks the list again for every entry, quadratic in the number of entries).
-	int size = cJSON_GetArraySize(array);
+	int size = array->count;
 	*entries = calloc((size_t)(size > 0 ? size : 1), list->size);
 	if (*entries == NULL)
 		return cliJsonFail(j, path, NULL, "out of memory");
-	const cJSON* entry = NULL;
-	cJSON_ArrayForEach(entry, array)
+	const cliJsonNode* entry = NULL;
+	for (entry = array->child; entry != NULL; entry = entry->next)
 	{
 		char entryPath[300];
 		if (snprintf(entryPath, sizeof entryPath, "%s[%d]", path, *count) < 0)
 			entryPath[0] = 0;
-		if (!cJSON_IsObject(entry))
+		if (!cliJsonIs(entry, cli_jsonObject))
 			return cliJsonFail(j, entryPath, entry, "expected %s", list->expected);
 		void* out = (char*)*entries + (size_t)*count * list->size;
 		if (!cliCheckKeys(j, entry, entryPath, list->keys) || !list->read(j, entry, entryPath, out))
@@ -391,7 +386,9 @@ static void cliDescribeText(const cliJson* j, size_t offset, char* out, size_t s
 }
 
 // Containers open at byte @p offset (strings skipped): tells a nesting limit from a syntax error.
-static int cliJsonDepthAt(const cliJson* j, size_t offset)
+// With @p tooDeep, the walk stops at the first bracket that opens more than CLI_JSON_MAX_DEPTH
+// containers and stores its offset there (left alone when there is none).
+static int cliJsonDepthAt(const cliJson* j, size_t offset, size_t* tooDeep)
 {
 	int depth = 0;
 	bool inString = false;
@@ -407,6 +404,11 @@ static int cliJsonDepthAt(const cliJson* j, size_t offset)
 		}
 		else if (c == '"')
 			inString = true;
+		else if ((c == '{' || c == '[') && tooDeep != NULL && depth >= CLI_JSON_MAX_DEPTH)
+		{
+			*tooDeep = i;
+			return depth;
+		}
 		else if (c == '{' || c == '[')
 			++depth;
 		else if (c == '}' || c == ']')
@@ -415,7 +417,7 @@ static int cliJsonDepthAt(const cliJson* j, size_t offset)
 	return depth;
 }
 
-// cJSON decodes "\u0000" into a NUL byte that ends its C string, silently truncating the
+// Both parsers decode "\u0000" into a NUL byte that ends a C string, silently truncating the
 // string (a key "mesh\u0000x" would read as "mesh"). Find the first such escape in valid JSON.
 static bool cliFindNulEscape(const cliJson* j, size_t* offset)
 {
@@ -448,35 +450,58 @@ static size_t cliSkipSpace(const cliJson* j, size_t at)
 	return at;
 }
 
-// JSON text to a cJSON tree, or a located message: a syntax error says what it found, a
-// nesting limit is named, text after the scene object and NUL escapes are errors.
-
-static cJSON* cliParseJson(const cliJson* j)
+// A failed parse as a located message: what was found where, or the nesting limit named.
+static void cliJsonSyntaxError(const cliJson* j, const cliJsonParse* parse)
 {
+	size_t offset = parse->offset, deep = SIZE_MAX;
+	if (parse->outOfMemory)
+	{
+		if (j->messages != NULL)
+			fprintf(j->messages, "%s: out of memory\n", j->file);
+		return;
+	}
+	if (offset == SIZE_MAX)
+	{
+		// The JavaScript engine did not say where: the nesting limit, or its own words.
+		cliJsonDepthAt(j, j->size, &deep);
+		if (deep == SIZE_MAX && j->messages != NULL)
+			fprintf(j->messages, "%s: JSON syntax error (%s)\n", j->file, parse->reason);
+		if (deep == SIZE_MAX)
+			return;
+		offset = deep;
+	}
+	// A parser reports a text that ends too early at its last byte: point past it instead.
+	if (cliSkipSpace(j, offset) >= j->size)
+		offset = j->size; // only whitespace left: the file ended too early
 	char found[48];
-	const char* end = NULL;
-	cJSON* root = cJSON_ParseWithLengthOpts(j->text, j->size, &end, false);
-	size_t offset = end != NULL && end >= j->text ? (size_t)(end - j->text) : 0;
+	cliDescribeText(j, offset, found, sizeof found);
+	if (offset < j->size && (j->text[offset] == '{' || j->text[offset] == '[') &&
+	    cliJsonDepthAt(j, offset, NULL) >= CLI_JSON_MAX_DEPTH)
+		cliJsonFailAt(j, offset,
+		              "JSON nested too deeply: more than %d arrays and objects inside each other",
+		              CLI_JSON_MAX_DEPTH);
+	else
+		cliJsonFailAt(j, offset, "JSON syntax error at %s%s%s%s", found,
+		              parse->reason[0] != 0 ? " (" : "", parse->reason,
+		              parse->reason[0] != 0 ? ")" : "");
+}
+
+// JSON text to a tree, or a located message: a syntax error says what it found, a nesting limit
+// is named, text after the scene object and NUL escapes are errors.
+static cliJsonNode* cliParseJson(const cliJson* j)
+{
+	cliJsonParse parse;
+	cliJsonNode* root = cliJsonTree_Parse(j->text, j->size, &parse);
 	if (root == NULL)
 	{
-		// cJSON reports a text that ends too early at its last byte: point past it instead.
-		if (cliSkipSpace(j, offset) >= j->size)
-			offset = j->size; // only whitespace left: the file ended too early
-		cliDescribeText(j, offset, found, sizeof found);
-		if (offset < j->size && (j->text[offset] == '{' || j->text[offset] == '[') &&
-		    cliJsonDepthAt(j, offset) >= CJSON_NESTING_LIMIT)
-			cliJsonFailAt(j, offset,
-			              "JSON nested too deeply: more than %d arrays and objects "
-			              "inside each other",
-			              CJSON_NESTING_LIMIT);
-		else
-			cliJsonFailAt(j, offset, "JSON syntax error at %s", found);
+		cliJsonSyntaxError(j, &parse);
 		return NULL;
 	}
-	// Only whitespace may follow the scene (cJSON stops after the first value and, without
-	// require_null_terminated, would ignore a second object or any trailing text).
-	offset = cliSkipSpace(j, offset);
+	// Only whitespace may follow the scene (the native parser stops after the first value and
+	// would ignore a second object or any trailing text).
+	size_t offset = cliSkipSpace(j, parse.end);
 	size_t nul = 0;
+	char found[48];
 	if (offset < j->size)
 	{
 		cliDescribeText(j, offset, found, sizeof found);
@@ -494,11 +519,11 @@ static cJSON* cliParseJson(const cliJson* j)
 		              "hold one");
 	else
 		return root;
-	cJSON_Delete(root);
+	cliJsonTree_Free(root);
 	return NULL;
 }
 
-cJSON* cliJsonOpen(cliJson* j, const char* name, const char* text, size_t size, FILE* messages)
+cliJsonNode* cliJsonOpen(cliJson* j, const char* name, const char* text, size_t size, FILE* messages)
 {
 	memset(j, 0, sizeof *j);
 	j->file = name;
@@ -543,9 +568,9 @@ cJSON* cliJsonOpen(cliJson* j, const char* name, const char* text, size_t size, 
 	return cliParseJson(j);
 }
 
-void cliJsonClose(cliJson* j, cJSON* root)
+void cliJsonClose(cliJson* j, cliJsonNode* root)
 {
-	cJSON_Delete(root);
+	cliJsonTree_Free(root);
 	free(j->copy);
 	j->copy = NULL;
 }

@@ -40,7 +40,7 @@ static const cliShapeInfo cliShapes[] = {
 static const cliRange cliLength = {0.0, FM_MAX_COORDINATE, true, false};
 static const cliRange cliCoordinate = {-FM_MAX_COORDINATE, FM_MAX_COORDINATE, false, false};
 
-static bool cliParseShapeName(const cliJson* j, const cJSON* item, const char* path,
+static bool cliParseShapeName(const cliJson* j, const cliJsonNode* item, const char* path,
                               const cliShapeInfo** info)
 {
 	const char* name = NULL;
@@ -56,11 +56,11 @@ static bool cliParseShapeName(const cliJson* j, const cJSON* item, const char* p
 		}
 	char shapePath[256];
 	cliJoinKey(shapePath, sizeof shapePath, path, "shape");
-	return cliJsonFail(j, shapePath, cJSON_GetObjectItemCaseSensitive(item, "shape"),
+	return cliJsonFail(j, shapePath, cliJsonTree_Member(item, "shape"),
 	                   "expected " CLI_SHAPE_NAMES);
 }
 
-static bool cliParsePlane(const cliJson* j, const cJSON* item, const char* path, fmColliderDef* d)
+static bool cliParsePlane(const cliJson* j, const cliJsonNode* item, const char* path, fmColliderDef* d)
 {
 	static const char* const required[] = {"normal", NULL};
 	const char* far = "3 numbers within 1e9";
@@ -73,11 +73,11 @@ static bool cliParsePlane(const cliJson* j, const cJSON* item, const char* path,
 		return true;
 	char normalPath[256];
 	cliJoinKey(normalPath, sizeof normalPath, path, "normal");
-	return cliJsonFail(j, normalPath, cJSON_GetObjectItemCaseSensitive(item, "normal"),
+	return cliJsonFail(j, normalPath, cliJsonTree_Member(item, "normal"),
 	                   "expected a non-zero normal [x, y, z]");
 }
 
-static bool cliParseSolidShape(const cliJson* j, const cJSON* item, const char* path,
+static bool cliParseSolidShape(const cliJson* j, const cliJsonNode* item, const char* path,
                                fmShapeType shape, fmColliderDef* d)
 {
 	static const char* const sphere[] = {"center", "radius", NULL};
@@ -109,7 +109,7 @@ static bool cliParseSolidShape(const cliJson* j, const cJSON* item, const char* 
 }
 
 // "path" (an OBJ file, relative to the scene's folder), "transform" and "rotation".
-static bool cliParseMeshCollider(const cliJson* j, const cJSON* item, const char* path,
+static bool cliParseMeshCollider(const cliJson* j, const cliJsonNode* item, const char* path,
                                  cliColliderSpec* spec)
 {
 	static const char* const required[] = {"path", NULL};
@@ -123,17 +123,17 @@ static bool cliParseMeshCollider(const cliJson* j, const cJSON* item, const char
 		return false;
 	char filePath[256];
 	cliJoinKey(filePath, sizeof filePath, path, "path");
-	const cJSON* fileItem = cJSON_GetObjectItemCaseSensitive(item, "path");
+	const cliJsonNode* fileItem = cliJsonTree_Member(item, "path");
 	if (file[0] == 0)
 		return cliJsonFail(j, filePath, fileItem, "expected the path of an OBJ file");
 	return cliResolveFile(j, filePath, fileItem, file, spec->objPath, sizeof spec->objPath);
 }
 
-static bool cliParseCollider(const cliJson* j, const cJSON* item, int index, cliColliderSpec* spec)
+static bool cliParseCollider(const cliJson* j, const cliJsonNode* item, int index, cliColliderSpec* spec)
 {
 	char path[64];
 	snprintf(path, sizeof path, "colliders[%d]", index);
-	if (!cJSON_IsObject(item))
+	if (!cliJsonIs(item, cli_jsonObject))
 		return cliJsonFail(j, path, item, "expected a collider object {\"shape\": ...}");
 	const cliShapeInfo* info = NULL;
 	spec->def = fmDefaultColliderDef();
@@ -162,22 +162,22 @@ static bool cliParseCollider(const cliJson* j, const cJSON* item, int index, cli
 	return true;
 }
 
-static bool cliParseColliders(const cliJson* j, const cJSON* root, cliScene* scene)
+static bool cliParseColliders(const cliJson* j, const cliJsonNode* root, cliScene* scene)
 {
-	const cJSON* list = cJSON_GetObjectItemCaseSensitive(root, "colliders");
+	const cliJsonNode* list = cliJsonTree_Member(root, "colliders");
 	if (list == NULL)
 		return true;
-	if (!cJSON_IsArray(list))
+	if (!cliJsonIs(list, cli_jsonArray))
 		return cliJsonFail(j, "colliders", list, "expected a list of collider objects");
-	int count = cJSON_GetArraySize(list);
+	int count = (list)->count;
 	if (count > FM_MAX_COLLIDERS)
 		return cliJsonFail(j, "colliders", NULL, "%d colliders, at most %d", count,
 		                   FM_MAX_COLLIDERS);
 	scene->colliders = calloc((size_t)(count > 0 ? count : 1), sizeof *scene->colliders);
 	if (scene->colliders == NULL)
 		return cliJsonFail(j, "colliders", NULL, "out of memory");
-	const cJSON* item = NULL;
-	cJSON_ArrayForEach(item, list)
+	const cliJsonNode* item = NULL;
+	for (item = (list)->child; item != NULL; item = item->next)
 	{
 		int i = scene->colliderCount++;
 		if (!cliParseCollider(j, item, i, &scene->colliders[i]))
@@ -189,13 +189,13 @@ static bool cliParseColliders(const cliJson* j, const cJSON* root, cliScene* sce
 // ---- contact ----------------------------------------------------------------------------------
 
 // "contact": body-body contact and sleeping (fmContactDef).
-static bool cliParseContact(const cliJson* j, const cJSON* root, fmContactDef* def)
+static bool cliParseContact(const cliJson* j, const cliJsonNode* root, fmContactDef* def)
 {
 	static const char* const keys[] = {"bodies",      "thickness",  "friction",
 	                                   "restitution", "iterations", "sleep",
 	                                   "sleep_speed", "sleep_time", NULL};
 	const cliRange below1e6 = {0.0, 1e6, true, true};
-	const cJSON* item = NULL;
+	const cliJsonNode* item = NULL;
 	if (!cliGetObject(j, root, "", "contact", &item))
 		return false;
 	return item == NULL ||
@@ -213,14 +213,14 @@ static bool cliParseContact(const cliJson* j, const cJSON* root, fmContactDef* d
 // ---- the world ------------------------------------------------------------------------------
 
 // "tolerance": a number, or a preset: "accurate" (1e-6) or "game" (1e-2).
-static bool cliGetTolerance(const cliJson* j, const cJSON* root, cliRange range, double* value)
+static bool cliGetTolerance(const cliJson* j, const cliJsonNode* root, cliRange range, double* value)
 {
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "tolerance");
-	if (cJSON_IsString(item) && strcmp(item->valuestring, "accurate") == 0)
+	const cliJsonNode* item = cliJsonTree_Member(root, "tolerance");
+	if (cliJsonIs(item, cli_jsonString) && strcmp(item->string, "accurate") == 0)
 		*value = FM_TOLERANCE_ACCURATE;
-	else if (cJSON_IsString(item) && strcmp(item->valuestring, "game") == 0)
+	else if (cliJsonIs(item, cli_jsonString) && strcmp(item->string, "game") == 0)
 		*value = FM_TOLERANCE_GAME;
-	else if (cJSON_IsString(item))
+	else if (cliJsonIs(item, cli_jsonString))
 		return cliJsonFail(j, "tolerance", item,
 		                   "expected \"accurate\", \"game\" or a number in [1e-12, 1)");
 	else
@@ -228,19 +228,19 @@ static bool cliGetTolerance(const cliJson* j, const cJSON* root, cliRange range,
 	return true;
 }
 
-static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floorDef)
+static bool cliParseFloor(const cliJson* j, const cliJsonNode* root, fmFloorDef* floorDef)
 {
 	static const char* const keys[] = {
 	    "height", "friction", "restitution", "max_depenetration_speed", "filter", NULL};
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "floor");
+	const cliJsonNode* item = cliJsonTree_Member(root, "floor");
 	if (item == NULL)
 		return true;
-	if (cJSON_IsFalse(item))
+	if ((cliJsonIs(item, cli_jsonBool) && !item->boolean))
 	{
 		floorDef->enabled = false;
 		return true;
 	}
-	if (!cJSON_IsObject(item))
+	if (!cliJsonIs(item, cli_jsonObject))
 		return cliJsonFail(j, "floor", item, "expected an object {\"height\": ...} or false");
 	floorDef->enabled = true;
 	if (!cliCheckKeys(j, item, "floor", keys) ||
@@ -250,19 +250,19 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 	                  &floorDef->maxDepenetrationSpeed, NULL) ||
 	    !cliParseFilter(j, item, "floor", &floorDef->filter))
 		return false;
-	const cJSON* friction = cJSON_GetObjectItemCaseSensitive(item, "friction");
+	const cliJsonNode* friction = cliJsonTree_Member(item, "friction");
 	if (friction == NULL)
 		return true;
-	if (cJSON_IsString(friction) && strcmp(friction->valuestring, "stick") == 0)
+	if (cliJsonIs(friction, cli_jsonString) && strcmp(friction->string, "stick") == 0)
 	{
 		floorDef->friction = fm_floorStick;
 		return true;
 	}
-	if (!cJSON_IsNumber(friction) || !cliInRange(friction->valuedouble, cliNonNegative))
+	if (!cliJsonIs(friction, cli_jsonNumber) || !cliInRange(friction->number, cliNonNegative))
 		return cliJsonFail(j, "floor.friction", friction,
 		                   "expected \"stick\" or a Coulomb coefficient >= 0");
 	floorDef->friction = fm_floorCoulomb;
-	floorDef->frictionCoefficient = friction->valuedouble;
+	floorDef->frictionCoefficient = friction->number;
 	return true;
 }
 
@@ -273,13 +273,13 @@ static bool cliParseFloor(const cliJson* j, const cJSON* root, fmFloorDef* floor
 // (fmWorldDef.autoSubstep) make "dt" the frame length (default 1/60 s): each frame is split into
 // steps of at most 0.3 of the estimated stability limit at the current deformation, so a mesh
 // with slivers or a stiff material is stable without tuning (docs/scene-format.md).
-static bool cliParseSubsteps(const cliJson* j, const cJSON* root, cliScene* scene)
+static bool cliParseSubsteps(const cliJson* j, const cliJsonNode* root, cliScene* scene)
 {
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(root, "substeps");
+	const cliJsonNode* item = cliJsonTree_Member(root, "substeps");
 	bool automatic = item == NULL && scene->worldDef.integrator == fm_explicit;
-	if (cJSON_IsString(item))
+	if (cliJsonIs(item, cli_jsonString))
 	{
-		if (item->valuestring == NULL || strcmp(item->valuestring, "auto") != 0)
+		if (item->string == NULL || strcmp(item->string, "auto") != 0)
 			return cliJsonFail(j, "substeps", item,
 			                   "expected a whole number in [1, 100000] or \"auto\"");
 		if (scene->worldDef.integrator != fm_explicit)
@@ -294,20 +294,20 @@ static bool cliParseSubsteps(const cliJson* j, const cJSON* root, cliScene* scen
 		return true;
 	scene->worldDef.autoSubstep = true;
 	scene->substeps = 1;
-	if (cJSON_GetObjectItemCaseSensitive(root, "dt") == NULL)
+	if (cliJsonTree_Member(root, "dt") == NULL)
 		scene->dt = CLI_AUTO_FRAME;
 	return true;
 }
 
 // The world's "not_converged", "implicit_solver" and "simd" strings (read by cliParseWorld).
-static bool cliParseSolverNames(const cliJson* j, const cJSON* root, const char* notConverged,
+static bool cliParseSolverNames(const cliJson* j, const cliJsonNode* root, const char* notConverged,
                                 const char* solver, const char* simd, fmWorldDef* def)
 {
 	if (notConverged != NULL)
 	{
 		if (strcmp(notConverged, "warn") != 0 && strcmp(notConverged, "error") != 0)
 			return cliJsonFail(j, "not_converged",
-			                   cJSON_GetObjectItemCaseSensitive(root, "not_converged"),
+			                   cliJsonTree_Member(root, "not_converged"),
 			                   "expected \"warn\" or \"error\"");
 		def->notConvergedIsError = strcmp(notConverged, "error") == 0;
 	}
@@ -315,18 +315,18 @@ static bool cliParseSolverNames(const cliJson* j, const cJSON* root, const char*
 	{
 		if (strcmp(solver, "newton") != 0 && strcmp(solver, "vbd") != 0)
 			return cliJsonFail(j, "implicit_solver",
-			                   cJSON_GetObjectItemCaseSensitive(root, "implicit_solver"),
+			                   cliJsonTree_Member(root, "implicit_solver"),
 			                   "expected \"newton\" or \"vbd\"");
 		def->implicitSolver = strcmp(solver, "vbd") == 0 ? fm_solverVbd : fm_solverNewton;
 	}
 	if (simd != NULL && !fmSimdLevelFromName(simd, &def->simd))
-		return cliJsonFail(j, "simd", cJSON_GetObjectItemCaseSensitive(root, "simd"),
+		return cliJsonFail(j, "simd", cliJsonTree_Member(root, "simd"),
 		                   "expected \"auto\", \"off\", \"scalar\", \"sse2\", \"avx2\" or "
 		                   "\"avx512\"");
 	return true;
 }
 
-static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
+static bool cliParseWorld(const cliJson* j, const cliJsonNode* root, cliScene* scene)
 {
 	fmWorldDef* def = &scene->worldDef;
 	const cliRange dtRange = {0.0, 10.0, true, false};
@@ -378,7 +378,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 			def->integrator = fm_implicit;
 		else
 			return cliJsonFail(j, "integrator",
-			                   cJSON_GetObjectItemCaseSensitive(root, "integrator"),
+			                   cliJsonTree_Member(root, "integrator"),
 			                   "expected \"explicit\" or \"implicit\"");
 	}
 	if (!cliParseSubsteps(j, root, scene))
@@ -390,7 +390,7 @@ static bool cliParseWorld(const cliJson* j, const cJSON* root, cliScene* scene)
 	return true;
 }
 
-static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
+static bool cliParseScene(const cliJson* j, const cliJsonNode* root, cliScene* scene)
 {
 	static const char* const keys[] = {"description",
 	                                   "gravity",
@@ -416,16 +416,16 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	                                   "colliders",
 	                                   "contact",
 	                                   NULL};
-	if (!cJSON_IsObject(root))
+	if (!cliJsonIs(root, cli_jsonObject))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
 	const char* description = NULL;
 	if (!cliCheckKeys(j, root, "", keys) ||
 	    !cliGetString(j, root, "", "description", &description) || !cliParseWorld(j, root, scene))
 		return false;
-	const cJSON* bodies = cJSON_GetObjectItemCaseSensitive(root, "bodies");
+	const cliJsonNode* bodies = cliJsonTree_Member(root, "bodies");
 	if (bodies == NULL)
 		return cliJsonFail(j, "", NULL, "missing \"bodies\": a scene needs at least one body");
-	int count = cJSON_IsArray(bodies) ? cJSON_GetArraySize(bodies) : 0;
+	int count = cliJsonIs(bodies, cli_jsonArray) ? (bodies)->count : 0;
 	if (count < 1)
 		return cliJsonFail(j, "bodies", bodies, "expected a non-empty list of bodies");
 	if (count > scene->worldDef.maxBodies)
@@ -434,8 +434,8 @@ static bool cliParseScene(const cliJson* j, const cJSON* root, cliScene* scene)
 	scene->bodies = calloc((size_t)count, sizeof *scene->bodies);
 	if (scene->bodies == NULL)
 		return cliJsonFail(j, "bodies", NULL, "out of memory");
-	const cJSON* body = NULL;
-	cJSON_ArrayForEach(body, bodies)
+	const cliJsonNode* body = NULL;
+	for (body = (bodies)->child; body != NULL; body = body->next)
 	{
 		int i = scene->bodyCount++; // so cliScene_Free releases what was parsed
 		if (!cliParseBody(j, body, i, &scene->bodies[i]))
@@ -505,7 +505,7 @@ bool cliScene_LoadText(const char* name, const char* text, size_t size, FILE* me
 {
 	cliSceneDefaults(scene, name);
 	cliJson j;
-	cJSON* root = cliJsonOpen(&j, name, text, size, messages);
+	cliJsonNode* root = cliJsonOpen(&j, name, text, size, messages);
 	bool ok = root != NULL && cliParseScene(&j, root, scene);
 	cliJsonClose(&j, root);
 	if (!ok)

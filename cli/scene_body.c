@@ -47,19 +47,19 @@ static bool cliParseBoxSpec(const char* spec, int cells[3], char* problem, size_
 	return true;
 }
 
-static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent, cliBodySpec* spec)
+static bool cliParseMesh(const cliJson* j, const cliJsonNode* body, const char* parent, cliBodySpec* spec)
 {
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "mesh");
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(body, "mesh");
+	const cliJsonNode* item = cliJsonTree_Member(body, "mesh");
 	if (item == NULL)
 		return cliJsonFail(
 		    j, parent, NULL,
 		    "missing \"mesh\" (a .node path, \"builtin:house2\" or \"box:nx,ny,nz\")");
-	if (!cJSON_IsString(item) || item->valuestring == NULL || item->valuestring[0] == 0)
+	if (!cliJsonIs(item, cli_jsonString) || item->string == NULL || item->string[0] == 0)
 		return cliJsonFail(j, path, item,
 		                   "expected a .node path, \"builtin:house2\" or \"box:nx,ny,nz\"");
-	const char* text = item->valuestring;
+	const char* text = item->string;
 	bool hasMin = false, hasMax = false;
 	spec->boxMin = fmMakeVec3(0, 0, 0);
 	spec->boxMax = fmMakeVec3(1, 1, 1);
@@ -111,13 +111,13 @@ static bool cliParseMesh(const cliJson* j, const cJSON* body, const char* parent
 }
 
 // A body's or a mesh collider's "transform" (the identity when absent).
-bool cliParseTransform(const cliJson* j, const cJSON* object, const char* parent,
+bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* parent,
                        fmMeshTransform* out)
 {
 	static const char* const keys[] = {"scale", "center", "swap_yz", "translate", NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "transform");
-	const cJSON* transform = NULL;
+	const cliJsonNode* transform = NULL;
 	*out = fmDefaultMeshTransform();
 	if (!cliGetObject(j, object, parent, "transform", &transform))
 		return false;
@@ -130,7 +130,7 @@ bool cliParseTransform(const cliJson* j, const cJSON* object, const char* parent
 	       cliGetVec3(j, transform, path, "translate", &out->translate, NULL);
 }
 
-static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* parent,
+static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const char* parent,
                              cliBodySpec* spec)
 {
 	static const char* const keys[] = {"model", "youngs_modulus", "poisson_ratio", "lambda",
@@ -138,7 +138,7 @@ static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* pa
 	                                   NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
-	const cJSON* material = NULL;
+	const cliJsonNode* material = NULL;
 	if (!cliGetObject(j, body, parent, "material", &material))
 		return false;
 	if (material == NULL)
@@ -154,7 +154,7 @@ static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* pa
 	{
 		char modelPath[256];
 		cliJoinKey(modelPath, sizeof modelPath, path, "model");
-		return cliJsonFail(j, modelPath, cJSON_GetObjectItemCaseSensitive(material, "model"),
+		return cliJsonFail(j, modelPath, cliJsonTree_Member(material, "model"),
 		                   "expected \"linear\", \"corotated\", \"stvk\", \"neohookean\" or "
 		                   "\"mooney-rivlin\"");
 	}
@@ -214,12 +214,12 @@ static bool cliParseMaterial(const cliJson* j, const cJSON* body, const char* pa
 
 // One region's material: the body's material changed by the keys given ("model", and
 // "youngs_modulus" + "poisson_ratio" or "lambda" + "mu", "mooney_c01"), validated.
-static bool cliParseRegionMaterial(const cliJson* j, const cJSON* object, const char* path,
+static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, const char* path,
                                    const fmMaterial* base, fmMaterial* out)
 {
 	static const char* const keys[] = {
 	    "model", "youngs_modulus", "poisson_ratio", "lambda", "mu", "mooney_c01", NULL};
-	if (!cJSON_IsObject(object))
+	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
 		                   "\"poisson_ratio\": ...}");
@@ -233,7 +233,7 @@ static bool cliParseRegionMaterial(const cliJson* j, const cJSON* object, const 
 	{
 		char modelPath[300];
 		cliJoinKey(modelPath, sizeof modelPath, path, "model");
-		return cliJsonFail(j, modelPath, cJSON_GetObjectItemCaseSensitive(object, "model"),
+		return cliJsonFail(j, modelPath, cliJsonTree_Member(object, "model"),
 		                   "unknown material model (docs/materials.md lists them)");
 	}
 	double youngs = 0, poisson = 0, lambda = base->lambda, mu = base->mu;
@@ -263,17 +263,17 @@ static bool cliParseRegionMaterial(const cliJson* j, const cJSON* object, const 
 
 // "regions": {"1": {material}, "2": {...}}: a material per region number of the mesh (its tets'
 // first attribute: TetGen's region attribute, Gmsh's physical group).
-static bool cliParseRegions(const cliJson* j, const cJSON* body, const char* parent,
+static bool cliParseRegions(const cliJson* j, const cliJsonNode* body, const char* parent,
                             cliBodySpec* spec)
 {
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "regions");
-	const cJSON* regions = NULL;
+	const cliJsonNode* regions = NULL;
 	if (!cliGetObject(j, body, parent, "regions", &regions))
 		return false;
 	if (regions == NULL)
 		return true;
-	int count = cJSON_GetArraySize(regions);
+	int count = (regions)->count;
 	if (count < 1 || count > FM_MAX_REGIONS)
 		return cliJsonFail(j, path, NULL, "expected 1 to %d regions {\"1\": {material}, ...}",
 		                   FM_MAX_REGIONS);
@@ -282,15 +282,15 @@ static bool cliParseRegions(const cliJson* j, const cJSON* body, const char* par
 	if (spec->regionMaterials == NULL || spec->regionIds == NULL)
 		return cliJsonFail(j, path, NULL, "out of memory");
 	int i = 0;
-	const cJSON* region = NULL;
-	cJSON_ArrayForEach(region, regions)
+	const cliJsonNode* region = NULL;
+	for (region = (regions)->child; region != NULL; region = region->next)
 	{
 		char regionPath[300];
-		cliJoinKey(regionPath, sizeof regionPath, path, region->string);
+		cliJoinKey(regionPath, sizeof regionPath, path, region->key);
 		char* end = NULL;
 		errno = 0;
-		long id = strtol(region->string, &end, 10);
-		if (region->string[0] == 0 || *end != 0 || errno != 0 || id < INT_MIN || id > INT_MAX)
+		long id = strtol(region->key, &end, 10);
+		if (region->key[0] == 0 || *end != 0 || errno != 0 || id < INT_MIN || id > INT_MAX)
 			return cliJsonFail(j, regionPath, NULL,
 			                   "a region is named by its number in the mesh, e.g. \"1\"");
 		for (int other = 0; other < i; ++other)
@@ -314,14 +314,14 @@ static bool cliParseRegions(const cliJson* j, const cJSON* body, const char* par
 #define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions", "attachments"
 
 // "axes": a string of the letters x, y, z, each at most once (e.g. "y", "xz").
-static bool cliGetAxes(const cliJson* j, const cJSON* box, const char* boxPath, unsigned* axes)
+static bool cliGetAxes(const cliJson* j, const cliJsonNode* box, const char* boxPath, unsigned* axes)
 {
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(box, "axes");
+	const cliJsonNode* item = cliJsonTree_Member(box, "axes");
 	if (item == NULL)
 		return true;
 	char path[300];
 	cliJoinKey(path, sizeof path, boxPath, "axes");
-	const char* text = cJSON_IsString(item) ? item->valuestring : NULL;
+	const char* text = cliJsonIs(item, cli_jsonString) ? item->string : NULL;
 	unsigned bits = 0;
 	for (const char* c = text; c != NULL && *c != 0; ++c)
 	{
@@ -342,7 +342,7 @@ static bool cliGetAxes(const cliJson* j, const cJSON* box, const char* boxPath, 
 }
 
 // A pin entry's "axes", "displacement" and "time".
-static bool cliParsePinExtras(const cliJson* j, const cJSON* box, const char* boxPath,
+static bool cliParsePinExtras(const cliJson* j, const cliJsonNode* box, const char* boxPath,
                               cliPinBox* pin)
 {
 	pin->axes = 7u;
@@ -374,7 +374,7 @@ static bool cliParsePinExtras(const cliJson* j, const cJSON* box, const char* bo
 }
 
 // "pin": [{"min": [..], "max": [..], "axes": "xz", "displacement": [..], "time": s}].
-static bool cliReadPin(const cliJson* j, const cJSON* box, const char* boxPath, void* out)
+static bool cliReadPin(const cliJson* j, const cliJsonNode* box, const char* boxPath, void* out)
 {
 	cliPinBox* pin = out;
 	bool hasMin = false, hasMax = false;
@@ -389,7 +389,7 @@ static bool cliReadPin(const cliJson* j, const cJSON* box, const char* boxPath, 
 }
 
 // A load or pressure entry's "min" and "max": both given, finite, ordered.
-static bool cliGetBox(const cliJson* j, const cJSON* entry, const char* path, fmVec3* min,
+static bool cliGetBox(const cliJson* j, const cliJsonNode* entry, const char* path, fmVec3* min,
                       fmVec3* max)
 {
 	bool hasMin = false, hasMax = false;
@@ -404,7 +404,7 @@ static bool cliGetBox(const cliJson* j, const cJSON* entry, const char* path, fm
 }
 
 // "loads": [{"min": [..], "max": [..], "force": [fx, fy, fz]}] (N on each vertex in the box).
-static bool cliReadLoad(const cliJson* j, const cJSON* entry, const char* entryPath, void* out)
+static bool cliReadLoad(const cliJson* j, const cliJsonNode* entry, const char* entryPath, void* out)
 {
 	cliLoadBox* load = out;
 	bool hasForce = false;
@@ -418,7 +418,7 @@ static bool cliReadLoad(const cliJson* j, const cJSON* entry, const char* entryP
 }
 
 // "pressure": [{"min": [..], "max": [..], "pressure": Pa, "follower": true}].
-static bool cliReadPressure(const cliJson* j, const cJSON* entry, const char* entryPath, void* out)
+static bool cliReadPressure(const cliJson* j, const cliJsonNode* entry, const char* entryPath, void* out)
 {
 	cliPressureBox* load = out;
 	load->follower = true;
@@ -437,7 +437,7 @@ static bool cliReadPressure(const cliJson* j, const cJSON* entry, const char* en
 
 // "attachments": [{"min": [..], "max": [..], "velocity": [..], "angular_velocity": [..],
 // "stiffness": N/m}]: kinematic attachments (cliAttachment).
-static bool cliReadAttachment(const cliJson* j, const cJSON* entry, const char* entryPath,
+static bool cliReadAttachment(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
                               void* out)
 {
 	cliAttachment* a = out;
@@ -477,7 +477,7 @@ static const cliEntryList cliAttachmentList = {
 
 // A body's lists in the order they are checked, "regions" among them; what was read is kept in
 // @p spec on failure too, for cliScene_Free.
-static bool cliParseBodyLists(const cliJson* j, const cJSON* body, const char* path,
+static bool cliParseBodyLists(const cliJson* j, const cliJsonNode* body, const char* path,
                               cliBodySpec* spec)
 {
 	void *pins = NULL, *loads = NULL, *pressures = NULL, *attachments = NULL;
@@ -497,10 +497,10 @@ static bool cliParseBodyLists(const cliJson* j, const cJSON* body, const char* p
 // ---- contact and the body --------------------------------------------------------------------
 
 // "filter": {"category": bits, "mask": bits} (fmFilter; absent keys keep the defaults).
-bool cliParseFilter(const cliJson* j, const cJSON* object, const char* parent, fmFilter* filter)
+bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent, fmFilter* filter)
 {
 	static const char* const keys[] = {"category", "mask", NULL};
-	const cJSON* item = NULL;
+	const cliJsonNode* item = NULL;
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "filter");
 	if (!cliGetObject(j, object, parent, "filter", &item))
@@ -511,7 +511,7 @@ bool cliParseFilter(const cliJson* j, const cJSON* object, const char* parent, f
 }
 
 // A body's "self_collision", "friction" (against other bodies), "sleep" and "filter".
-static bool cliParseBodyContact(const cliJson* j, const cJSON* body, const char* path,
+static bool cliParseBodyContact(const cliJson* j, const cliJsonNode* body, const char* path,
                                 fmBodyDef* def)
 {
 	return cliGetBool(j, body, path, "self_collision", &def->selfCollision) &&
@@ -533,7 +533,7 @@ static void cliBodyDefaults(cliBodySpec* spec)
 
 // A body's "render_mesh": an OBJ surface (relative to the scene's folder) that follows the body,
 // placed by the body's own transform (fmBody_SetRenderMesh).
-static bool cliParseRenderMesh(const cliJson* j, const cJSON* body, const char* parent,
+static bool cliParseRenderMesh(const cliJson* j, const cliJsonNode* body, const char* parent,
                                cliBodySpec* spec)
 {
 	const char* text = NULL;
@@ -543,7 +543,7 @@ static bool cliParseRenderMesh(const cliJson* j, const cJSON* body, const char* 
 		return true;
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "render_mesh");
-	const cJSON* item = cJSON_GetObjectItemCaseSensitive(body, "render_mesh");
+	const cliJsonNode* item = cliJsonTree_Member(body, "render_mesh");
 	size_t length = strlen(text);
 	if (length < 5 ||
 	    (strcmp(text + length - 4, ".obj") != 0 && strcmp(text + length - 4, ".OBJ") != 0))
@@ -551,7 +551,7 @@ static bool cliParseRenderMesh(const cliJson* j, const cJSON* body, const char* 
 	return cliResolveFile(j, path, item, text, spec->renderMeshPath, sizeof spec->renderMeshPath);
 }
 
-bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec)
+bool cliParseBody(const cliJson* j, const cliJsonNode* body, int index, cliBodySpec* spec)
 {
 	static const char* const keys[] = {
 	    "mesh",        "box_min",          "box_max",          "transform", "material",
@@ -561,7 +561,7 @@ bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* s
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
-	if (!cJSON_IsObject(body))
+	if (!cliJsonIs(body, cli_jsonObject))
 		return cliJsonFail(j, path, body, "expected a body object {\"mesh\": ...}");
 	cliBodyDefaults(spec);
 	if (!cliCheckKeys(j, body, path, keys) || !cliParseMesh(j, body, path, spec) ||
@@ -577,11 +577,11 @@ bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* s
 	{
 		char itemPath[128];
 		cliJoinKey(itemPath, sizeof itemPath, path, "force_model");
-		return cliJsonFail(j, itemPath, cJSON_GetObjectItemCaseSensitive(body, "force_model"),
+		return cliJsonFail(j, itemPath, cliJsonTree_Member(body, "force_model"),
 		                   "expected \"fem\", \"fvm\" or \"mass-spring\"");
 	}
 	const cliRange dampingRange = {0.0, 1.0, true, false};
-	const cJSON* rayleigh = NULL;
+	const cliJsonNode* rayleigh = NULL;
 	char rayleighPath[128];
 	cliJoinKey(rayleighPath, sizeof rayleighPath, path, "rayleigh");
 	if (!cliGetNumber(j, body, path, "damping", dampingRange, &spec->def.damping, NULL) ||

@@ -7,12 +7,12 @@
 #include "scene.h"
 
 /// Read bodies[@p index] into @p spec; what it allocates is kept in @p spec on failure too.
-bool cliParseBody(const cliJson* j, const cJSON* body, int index, cliBodySpec* spec);
+bool cliParseBody(const cliJson* j, const cliJsonNode* body, int index, cliBodySpec* spec);
 
 /// The "transform" of @p object (a body or a mesh collider); the identity when absent.
-bool cliParseTransform(const cliJson* j, const cJSON* object, const char* parent,
+bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* parent,
                        fmMeshTransform* out);
 
 /// The "filter" of @p object (a body, a collider or the floor): {"category": bits, "mask":
 /// bits} (fmFilter; absent keys keep the defaults).
-bool cliParseFilter(const cliJson* j, const cJSON* object, const char* parent, fmFilter* filter);
+bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent, fmFilter* filter);

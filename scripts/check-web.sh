@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The browser build (docs/web.md): builds it (scripts/web.sh, which installs Debian's emscripten
-# when missing and fails when the .wasm reaches 512 KiB), then
+# when missing and fails when the .wasm reaches 576 KiB), then
 #   0. tests/test_simd.c compiled to WebAssembly and run under Node.js, with the SIMD kernels and
 #      with the ones built without (emscripten's compiler checked on every kernel's lanes);
 #   1. Node.js comparison: scenes of web/femto_web.c run by the WebAssembly build under Node.js
@@ -10,7 +10,9 @@
 #      without SIMD gives the same bits; a run of 299 native frames against 300 must be told
 #      apart (the comparison can fail); the glue's house ends where `femto run`'s does (when
 #      build/cli/femto is built); a dropped TetGen pair loads, a corrupted one is refused with its
-#      line (web/test/load_mesh.cjs);
+#      line (web/test/load_mesh.cjs); every menu scene (scenes/*.json, read by the tool's schema
+#      compiled into the wasm) runs 20 frames bit-identically on both builds, and the wasm's
+#      scene reader gives the tool's messages and located errors (web/test/scene_read.cjs);
 #   2. headless Chromium (Debian's chromium, installed when missing): web/test/browser_check.mjs
 #      opens the page from a local server: no console error, the canvas not blank, the house's
 #      pixels move, a scripted drag lifts the house, the build without SIMD runs; it prints the
@@ -97,7 +99,7 @@ echo "check-web: the .wasm sizes are docs/web.md's within 2%"
 library=()
 for object in build-web/obj/*.o; do
   case "$(basename "$object" .o)" in
-    femto_web | house_data | tet_kernel_* | bsr_kernel_*) ;;
+    femto_web | web_data | cli_* | tet_kernel_* | bsr_kernel_*) ;;
     *) library+=("$object") ;;
   esac
 done
@@ -120,8 +122,9 @@ cmake -S . -B build-web/native -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_CLI=OFF 
   -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF -DFEMTO_SANITIZE=OFF -DFEMTO_WITH_ZLIB=OFF >/dev/null
 cmake --build build-web/native --target femto_static -j"$(nproc 2>/dev/null || echo 2)" >/dev/null
 cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla \
-  -Iinclude web/test/compare_native.c \
-  web/femto_web.c build-web/house_data.c build-web/native/libfemto.a -lm -lpthread \
+  -Iinclude -Icli -D_POSIX_C_SOURCE=200809L web/test/compare_native.c cli/json_tree.c \
+  cli/json_check.c cli/json_locate.c cli/scene.c cli/scene_body.c cli/util.c \
+  web/femto_web.c build-web/web_data.c build-web/native/libfemto.a -lcjson -lm -lpthread \
   -o build-web/native/compare_native
 
 compare() { # scene frames deterministic integrator tolerance [native frames [wasm build]]
@@ -161,6 +164,17 @@ else
 fi
 # A dropped TetGen pair: loaded, or refused with its line (the page's path, fw_load_tetgen).
 node web/test/load_mesh.cjs
+# One scene reader: every menu scene (web/femto_web.c's FW_SCENES, embedded from scenes/) run 20
+# frames by both builds, bit-identical; the menu's files load; the wasm reader (JSON.parse) gives
+# the tool's messages (cJSON) on the CLI tests' bad scenes; malformed texts are refused with their
+# lines (web/test/scene_read.cjs).
+for scene in $(seq 0 $(($(grep -c '^\s*X("' web/femto_web.c) - 1))); do
+  compare "$scene" 20 1 0 0
+done
+bad=(syntax_error trailing_text nul_escape int_too_large bad_poisson bad_substeps bad_simd
+  bad_filter both_pairs box_too_large bad_dt bad_collider_shape wrong_type bad_contact_key)
+FEMTO=$([ -x build/cli/femto ] && echo build/cli/femto) node web/test/scene_read.cjs \
+  $(printf 'tests/cli/%s.json ' "${bad[@]}")
 
 # --- 2. headless Chromium ------------------------------------------------------------------
 $have_browser || exit 0 # said above: SKIPPED (and a failure under CI=true)

@@ -1,12 +1,17 @@
 // The page's door to libfemto (docs/web.md): plain functions of ints and doubles that the
 // page's JavaScript (web/femto.js) calls on the WebAssembly build, and that the native side of
 // the Node.js comparison (web/test/compare_native.c) calls on the native build, so both run the
-// same scene code. It keeps one world at a time: a scene of the table below (the repository's
-// scenes/*.json, value for value) or a dropped TetGen mesh.
+// same scene code. It keeps one world at a time: a scene of scenes/*.json (the menu's files,
+// embedded, or any scene text), read by the tool's own schema code (cli/scene.h), or a dropped
+// mesh.
 //
 // Conventions: bodies are numbered 0 to fw_body_count() - 1; pointers returned point into the
 // module's memory and stay valid until the next scene is loaded; a call that fails returns a
 // result code (fmResult, 0 = ok) and fw_error() says why.
+#define _POSIX_C_SOURCE 200809L // fmemopen
+
+#include "scene.h"
+
 #include <femto/femto.h>
 
 #include <math.h>
@@ -50,128 +55,44 @@ extern const size_t fw_house_ele_size;
 // scene's weight at this stretch, each no stiffer than half its substep's stability limit.
 #define FW_DRAG_SAG 0.1
 
-typedef enum fwMeshKind
+// The page's scenes: its menu's title and the file of scenes/ it reads. scripts/web.sh embeds
+// the files this list names (it reads the X(...) lines) as fw_scene_<name> and _size.
+#define FW_SCENES(X)                                                                               \
+	X("house (StVK, the seeds)", house)                                                            \
+	X("house, linear", house_linear)                                                               \
+	X("house, corotated", house_corotated)                                                         \
+	X("house, Neo-Hookean", house_neohookean)                                                      \
+	X("house, Mooney-Rivlin", house_mooneyrivlin)                                                  \
+	X("pile of boxes", pile)                                                                       \
+	X("thrown cube", drop)                                                                         \
+	X("two houses (implicit)", two_houses)
+
+#define FW_DECLARE_SCENE(title, file)                                                              \
+	extern const unsigned char fw_scene_##file[];                                                  \
+	extern const size_t fw_scene_##file##_size;
+FW_SCENES(FW_DECLARE_SCENE)
+
+// One entry of the menu: its title, its file's name and embedded text.
+typedef struct fwSceneFile
 {
-	fw_meshHouse,
-	fw_meshBox,
-	fw_meshUser,
-} fwMeshKind;
+	const char* title;
+	const char* file;
+	const unsigned char* text;
+	const size_t* size;
+} fwSceneFile;
 
-// One body of a scene: as a body entry of scenes/*.json.
-typedef struct fwBodySpec
-{
-	fwMeshKind mesh;
-	int cells[3];              // box: cells per axis
-	fmVec3 boxMin, boxMax;     // box: its corners (m)
-	fmVec3 translate;          // house: added after the seeds' placement (m)
-	fmMaterialModel model;     // the material, from the Lame constants (Pa) when youngs is 0,
-	double lambda, mu;         // else from Young's modulus (Pa) and the Poisson ratio
-	double youngs, poisson;    //
-	bool perParticle;          // mass: kg a vertex when true, else a density (kg/m^3)
-	double mass;               //
-	double damping, smoothing; // fmBodyDef's
-	fmVec3 velocity;           // m/s, at the start
-} fwBodySpec;
-
-typedef struct fwSceneSpec
-{
-	const char* name;
-	double dt;
-	int substeps;
-	fmIntegrator integrator;
-	double tolerance; // implicit: fmWorldDef.tolerance, 0 for the default
-	double floorHeight;
-	double floorFriction; // < 0: the seeds' stick floor; else Coulomb with this coefficient
-	double restitution;
-	int bodyCount;
-	fwBodySpec bodies[3];
-} fwSceneSpec;
-
-// The seeds' house body (scenes/house.json) with @p material at the seeds' Lame constants.
-#define FW_HOUSE(material)                                                                         \
-	{                                                                                              \
-		.mesh = fw_meshHouse, .model = material, .lambda = 20000.0, .mu = 5000.0,                  \
-		.perParticle = true, .mass = 1.0, .damping = 0.999, .smoothing = 0.1                       \
-	}
-// The house of scenes/house_implicit.json (Neo-Hookean, no velocity filters), moved by (x, y, z).
-#define FW_IMPLICIT_HOUSE(x, y, z)                                                                 \
-	{                                                                                              \
-		.mesh = fw_meshHouse, .translate = {x, y, z}, .model = fm_neoHookean, .lambda = 20000.0,   \
-		.mu = 5000.0, .perParticle = true, .mass = 1.0, .damping = 1.0, .smoothing = 0.0           \
-	}
-// A Neo-Hookean box of scenes/pile.json.
-#define FW_PILE_BOX(x0, y0, z0, x1, y1, z1)                                                        \
-	{                                                                                              \
-		.mesh = fw_meshBox, .cells = {3, 3, 3}, .boxMin = {x0, y0, z0}, .boxMax = {x1, y1, z1},    \
-		.model = fm_neoHookean, .youngs = 1e5, .poisson = 0.3, .mass = 500.0, .damping = 0.999,    \
-		.smoothing = 0.1                                                                           \
-	}
-
-// scenes/house.json and scenes/house_<model>.json: 10 substeps of 3 ms a frame, stick floor.
-#define FW_HOUSE_SCENE(title, material)                                                            \
-	{                                                                                              \
-		.name = title, .dt = 0.003, .substeps = 10, .integrator = fm_explicit,                     \
-		.floorHeight = -3.0, .floorFriction = -1.0, .bodyCount = 1, .bodies = {                    \
-			FW_HOUSE(material)                                                                     \
-		}                                                                                          \
-	}
-
-static const fwSceneSpec fw_scenes[] = {
-    FW_HOUSE_SCENE("house (StVK, the seeds)", fm_stvk),
-    FW_HOUSE_SCENE("house, linear", fm_linear),
-    FW_HOUSE_SCENE("house, corotated", fm_corotated),
-    FW_HOUSE_SCENE("house, Neo-Hookean", fm_neoHookean),
-    FW_HOUSE_SCENE("house, Mooney-Rivlin", fm_mooneyRivlin),
-    // scenes/pile.json: three soft boxes dropped on each other (body-body contact,
-    // docs/contact.md).
-    {.name = "pile of boxes",
-     .dt = 0.001,
-     .substeps = 16,
-     .integrator = fm_explicit,
-     .floorFriction = 0.5,
-     .bodyCount = 3,
-     .bodies = {FW_PILE_BOX(-0.3, 0.1, -0.3, 0.3, 0.7, 0.3),
-                FW_PILE_BOX(-0.25, 0.9, -0.25, 0.35, 1.5, 0.35),
-                FW_PILE_BOX(-0.35, 1.7, -0.3, 0.25, 2.3, 0.3)}},
-    // scenes/drop.json: a corotated cube thrown sideways onto a bouncy Coulomb floor.
-    {.name = "thrown cube",
-     .dt = 0.001,
-     .substeps = 16,
-     .integrator = fm_explicit,
-     .floorFriction = 0.4,
-     .restitution = 0.3,
-     .bodyCount = 1,
-     .bodies = {{.mesh = fw_meshBox,
-                 .cells = {6, 6, 6},
-                 .boxMin = {-0.5, 1, -0.5},
-                 .boxMax = {0.5, 2, 0.5},
-                 .model = fm_corotated,
-                 .youngs = 2e5,
-                 .poisson = 0.3,
-                 .mass = 500.0,
-                 .damping = 0.9999,
-                 .smoothing = 0.02,
-                 .velocity = {2, 0, 0}}}},
-    // Two houses of femto bench's contact pile (bench/contact.c): Neo-Hookean, backward Euler at
-    // one step a 1/60 s frame to the game tolerance, a Coulomb floor; the upper one lands on the
-    // lower one (body-body contact inside the Newton solve, docs/contact.md).
-    {.name = "two houses (implicit)",
-     .dt = 1.0 / 60.0,
-     .substeps = 1,
-     .integrator = fm_implicit,
-     .tolerance = FM_TOLERANCE_GAME,
-     .floorHeight = -3.0,
-     .floorFriction = 0.5,
-     .bodyCount = 2,
-     .bodies = {FW_IMPLICIT_HOUSE(-0.4, 0.0, -0.3), FW_IMPLICIT_HOUSE(0.4, 4.2, -0.3)}},
-};
+#define FW_SCENE_ENTRY(title, file)                                                                \
+	{title, "scenes/" #file ".json", fw_scene_##file, &fw_scene_##file##_size},
+static const fwSceneFile fw_scenes[] = {FW_SCENES(FW_SCENE_ENTRY)};
 #define FW_SCENE_COUNT ((int)(sizeof fw_scenes / sizeof fw_scenes[0]))
 
 // The world the page shows, and the sliders' values applied to it.
 typedef struct fwApp
 {
 	fmWorldId world;
-	fwSceneSpec scene; // what was loaded (a copy: a user mesh's scene is made here)
+	cliScene scene;    // what was loaded (read by the tool's schema, scene.h)
+	bool hasScene;     // scene holds a scene to free
+	bool userBody;     // body 0's mesh is userMesh (a dropped mesh's scene)
 	bool deterministic;
 	int bodyCount;
 	fmBodyId bodies[FW_MAX_BODIES];
@@ -180,7 +101,8 @@ typedef struct fwApp
 	double* doublePositions[FW_MAX_BODIES];
 	fmTetMesh userMesh; // the last dropped mesh (kept for reloading its scene)
 	// sliders
-	fmMaterial material; // every body's: the scene's (Lame constants as given), then the sliders'
+	fmMaterial material; // the first body's, shown by the sliders
+	bool materialSet;    // the sliders set material for every body (else each keeps the scene's)
 	fmMaterialModel model;
 	double youngs, poisson, damping;
 	int substeps;
@@ -223,41 +145,31 @@ static void fwFromLame(double lambda, double mu, double* youngs, double* poisson
 	*poisson = lambda / (2.0 * (lambda + mu));
 }
 
-static fmResult fwMakeMesh(const fwBodySpec* spec, fmTetMesh* mesh, fmDiagnostic* diag)
+// Body @p b's rest mesh, placed by its transform as `femto run` places it (simulation.c).
+static fmResult fwMakeMesh(int b, fmTetMesh* mesh, fmDiagnostic* diag)
 {
-	if (spec->mesh == fw_meshBox)
-		return fmMakeBoxMesh(spec->cells[0], spec->cells[1], spec->cells[2], spec->boxMin,
-		                     spec->boxMax, mesh);
-	if (spec->mesh == fw_meshUser)
-		return fmCopyTetMesh(&s_app.userMesh, mesh);
-	fmResult r = fmLoadTetGenFromMemory((const char*)fw_house_node, fw_house_node_size,
-	                                    "house2.node", (const char*)fw_house_ele, fw_house_ele_size,
-	                                    "house2.ele", mesh, diag);
-	if (r != fm_ok)
-		return r;
-	fmMeshTransform placement = fmDefaultMeshTransform();
-	placement.scale = 0.4;
-	placement.center = true;
-	placement.swapYZ = true;
-	placement.translate = spec->translate;
-	fmTetMesh_Transform(mesh, &placement);
-	return fm_ok;
+	const cliBodySpec* spec = &s_app.scene.bodies[b];
+	if (b == 0 && s_app.userBody)
+		return fmCopyTetMesh(&s_app.userMesh, mesh); // placed when dropped
+	fmResult r = spec->meshSource == cli_meshBox
+	                 ? fmMakeBoxMesh(spec->boxCells[0], spec->boxCells[1], spec->boxCells[2],
+	                                 spec->boxMin, spec->boxMax, mesh)
+	                 : fmLoadTetGenFromMemory((const char*)fw_house_node, fw_house_node_size,
+	                                          "house2.node", (const char*)fw_house_ele,
+	                                          fw_house_ele_size, "house2.ele", mesh, diag);
+	if (r == fm_ok)
+		fmTetMesh_Transform(mesh, &spec->transform);
+	return r;
 }
 
+// Body @p b's def: the scene's, with the sliders' damping, and their material once they set it.
 static fmBodyDef fwBodyDef(const fwApp* app, int b)
 {
-	const fwBodySpec* spec = &app->scene.bodies[b];
-	fmBodyDef def = fmDefaultBodyDef();
-	def.mesh = &app->meshes[b];
-	def.material = app->material;
-	def.forceModel = fm_fem;
-	def.massMode = spec->perParticle ? fm_massPerParticle : fm_massFromDensity;
-	if (spec->perParticle)
-		def.particleMass = spec->mass;
-	else
-		def.density = spec->mass;
+	fmBodyDef def = app->scene.bodies[b].def;
+	def.mesh = (fmTetMesh*)&app->meshes[b];
+	if (app->materialSet)
+		def.material = app->material;
 	def.damping = app->damping;
-	def.smoothing = spec->smoothing;
 	return def;
 }
 
@@ -279,84 +191,116 @@ static void fwFreeScene(void)
 	s_app.bodyCount = 0;
 	fwFreeDrag();
 	s_app.pendingJumps = 0;
+	if (s_app.hasScene)
+		cliScene_Free(&s_app.scene);
+	s_app.hasScene = false;
+	s_app.userBody = false;
 }
 
-// Build the world of s_app.scene with the sliders' values set from its first body.
+// Body @p b of s_app.scene in the world, with its position buffers and initial velocity.
+static fmResult fwCreateBody(int b)
+{
+	fmDiagnostic diag;
+	memset(&diag, 0, sizeof diag);
+	fmResult r = fwMakeMesh(b, &s_app.meshes[b], &diag);
+	s_app.bodyCount = b + 1; // the mesh is freed with the scene from here on
+	fmBodyDef def = fwBodyDef(&s_app, b);
+	if (r == fm_ok)
+		r = fmCreateBody(s_app.world, &def, &s_app.bodies[b], &diag);
+	int n = r == fm_ok ? fmBody_GetVertexCount(s_app.bodies[b]) : 0;
+	s_app.floatPositions[b] = r == fm_ok ? calloc(3 * (size_t)n, sizeof(float)) : NULL;
+	s_app.doublePositions[b] = r == fm_ok ? calloc(3 * (size_t)n, sizeof(double)) : NULL;
+	if (r == fm_ok && (s_app.floatPositions[b] == NULL || s_app.doublePositions[b] == NULL))
+		r = fm_errOutOfMemory;
+	if (r != fm_ok)
+	{
+		fwSetError("the scene's body was refused", &diag);
+		return r;
+	}
+	fmVec3 v = s_app.scene.bodies[b].initialVelocity;
+	if (v.x != 0.0 || v.y != 0.0 || v.z != 0.0)
+		fmBody_ApplyImpulse(s_app.bodies[b], v);
+	return fm_ok;
+}
+
+// Build the world of s_app.scene (as `femto run` does, on one thread) with the sliders' values
+// set from its first body.
 static fmResult fwBuildScene(void)
 {
-	const fwSceneSpec* scene = &s_app.scene;
-	const fwBodySpec* first = &scene->bodies[0];
+	const cliScene* scene = &s_app.scene;
+	const fmMaterial* first = &scene->bodies[0].def.material;
 	s_app.model = first->model;
-	if (first->youngs > 0.0)
-	{
-		s_app.youngs = first->youngs;
-		s_app.poisson = first->poisson;
-		s_app.material = fmMakeMaterial(first->model, first->youngs, first->poisson);
-	}
-	else
-	{
-		// The seeds' constants as they are (E and nu only for the sliders): the same bits as
-		// femto run's house.
-		fwFromLame(first->lambda, first->mu, &s_app.youngs, &s_app.poisson);
-		s_app.material = fmMakeMaterialLame(first->model, first->lambda, first->mu);
-	}
-	s_app.damping = first->damping;
+	s_app.material = *first;
+	s_app.materialSet = false;
+	fwFromLame(first->lambda, first->mu, &s_app.youngs, &s_app.poisson);
+	s_app.damping = scene->bodies[0].def.damping;
 	s_app.substeps = scene->substeps;
-	s_app.integrator = scene->integrator;
+	s_app.integrator = scene->worldDef.integrator;
 
-	fmWorldDef worldDef = fmDefaultWorldDef();
-	worldDef.gravity = fmMakeVec3(0.0, -9.8, 0.0);
-	worldDef.integrator = scene->integrator;
-	worldDef.floor.enabled = true;
-	worldDef.floor.height = scene->floorHeight;
-	worldDef.floor.friction = scene->floorFriction < 0.0 ? fm_floorStick : fm_floorCoulomb;
-	worldDef.floor.frictionCoefficient = fmax(scene->floorFriction, 0.0);
-	worldDef.floor.restitution = scene->restitution;
+	fmWorldDef worldDef = scene->worldDef;
 	worldDef.workerCount = 1; // threads need cross-origin isolation on the web (docs/web.md)
 	worldDef.crossPlatformDeterminism = s_app.deterministic;
-	if (scene->tolerance > 0.0)
-		worldDef.tolerance = scene->tolerance;
 	s_app.world = fmCreateWorld(&worldDef);
 	if (!fmWorld_IsValid(s_app.world))
 	{
 		snprintf(s_app.error, sizeof s_app.error, "cannot create the world");
+		fwFreeScene();
 		return fm_errOutOfMemory;
 	}
 	for (int b = 0; b < scene->bodyCount; ++b)
 	{
-		fmDiagnostic diag;
-		memset(&diag, 0, sizeof diag);
-		fmResult r = fwMakeMesh(&scene->bodies[b], &s_app.meshes[b], &diag);
-		s_app.bodyCount = b + 1; // the mesh is freed with the scene from here on
-		fmBodyDef def = fwBodyDef(&s_app, b);
-		if (r == fm_ok)
-			r = fmCreateBody(s_app.world, &def, &s_app.bodies[b], &diag);
-		int n = r == fm_ok ? fmBody_GetVertexCount(s_app.bodies[b]) : 0;
-		s_app.floatPositions[b] = r == fm_ok ? calloc(3 * (size_t)n, sizeof(float)) : NULL;
-		s_app.doublePositions[b] = r == fm_ok ? calloc(3 * (size_t)n, sizeof(double)) : NULL;
-		if (r == fm_ok && (s_app.floatPositions[b] == NULL || s_app.doublePositions[b] == NULL))
-			r = fm_errOutOfMemory;
+		fmResult r = fwCreateBody(b);
 		if (r != fm_ok)
 		{
-			fwSetError("the scene's body was refused", &diag);
 			fwFreeScene();
 			return r;
-		}
-		fmVec3 v = scene->bodies[b].velocity;
-		if (v.x != 0.0 || v.y != 0.0 || v.z != 0.0)
-		{
-			double* velocities = s_app.doublePositions[b];
-			for (int i = 0; i < n; ++i)
-			{
-				velocities[3 * i] = v.x;
-				velocities[3 * i + 1] = v.y;
-				velocities[3 * i + 2] = v.z;
-			}
-			fmBody_SetVelocities(s_app.bodies[b], velocities);
 		}
 	}
 	s_app.error[0] = 0;
 	return fm_ok;
+}
+
+// What of a scene the page cannot show yet: NULL when it shows all of it.
+static const char* fwUnshown(const cliScene* scene)
+{
+	if (scene->bodyCount > FW_MAX_BODIES)
+		return "more than 8 bodies";
+	if (scene->colliderCount > 0)
+		return "colliders";
+	for (int b = 0; b < scene->bodyCount; ++b)
+	{
+		const cliBodySpec* spec = &scene->bodies[b];
+		if (spec->meshSource == cli_meshFile)
+			return "mesh files (only \"builtin:house2\" and \"box:nx,ny,nz\")";
+		if (spec->pinCount + spec->loadCount + spec->pressureCount + spec->attachmentCount > 0)
+			return "pins, loads, pressures and attachments";
+		if (spec->renderMeshPath[0] != 0)
+			return "render meshes";
+	}
+	return NULL;
+}
+
+// Read a scene's JSON text with the tool's schema (scene.h) into @p scene; false with fw_error()
+// saying where the text is wrong, or what the page cannot show.
+static bool fwReadScene(const char* name, const char* text, size_t size, cliScene* scene)
+{
+	s_app.error[0] = 0;
+	FILE* messages = fmemopen(s_app.error, sizeof s_app.error, "w");
+	bool ok = cliScene_LoadText(name, text, size, messages, scene);
+	if (messages != NULL)
+		fclose(messages);
+	s_app.error[strcspn(s_app.error, "\n")] = 0;
+	const char* unshown = ok ? fwUnshown(scene) : NULL;
+	if (unshown != NULL)
+	{
+		snprintf(s_app.error, sizeof s_app.error, "%s: the web page does not show %s", name,
+		         unshown);
+		cliScene_Free(scene);
+		return false;
+	}
+	if (!ok && s_app.error[0] == 0)
+		snprintf(s_app.error, sizeof s_app.error, "%s: cannot read the scene", name);
+	return ok;
 }
 
 /// Number of built-in scenes.
@@ -365,13 +309,37 @@ FW_EXPORT int fw_scene_count(void)
 	return FW_SCENE_COUNT;
 }
 
-/// The name of built-in scene @p index (NUL-terminated), or "" out of range.
+/// The menu title of built-in scene @p index (NUL-terminated), or "" out of range.
 FW_EXPORT const char* fw_scene_name(int index)
 {
-	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].name : "";
+	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].title : "";
 }
 
-/// Load built-in scene @p index; @p deterministic sets fmWorldDef.crossPlatformDeterminism.
+/// The file of built-in scene @p index ("scenes/house.json"), or "" out of range.
+FW_EXPORT const char* fw_scene_file(int index)
+{
+	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].file : "";
+}
+
+/// Load the scene of a JSON text (docs/scene-format.md; need not be NUL-terminated) named
+/// @p name in messages, read by the tool's own schema code; @p deterministic sets
+/// fmWorldDef.crossPlatformDeterminism. A text the schema refuses, or one with what the page
+/// cannot show (mesh files, colliders, pins, loads), leaves the current scene and fw_error()
+/// says why ("name:line:column: path: message").
+FW_EXPORT int fw_load_scene_text(const char* name, const char* text, int size, int deterministic)
+{
+	cliScene scene;
+	if (!fwReadScene(name, text, (size_t)(size > 0 ? size : 0), &scene))
+		return fm_errParameter;
+	fwFreeScene();
+	s_app.scene = scene;
+	s_app.hasScene = true;
+	s_app.deterministic = deterministic != 0;
+	return fwBuildScene();
+}
+
+/// Load built-in scene @p index (its file of scenes/, embedded); @p deterministic sets
+/// fmWorldDef.crossPlatformDeterminism.
 FW_EXPORT int fw_load_scene(int index, int deterministic)
 {
 	if (index < 0 || index >= FW_SCENE_COUNT)
@@ -379,10 +347,8 @@ FW_EXPORT int fw_load_scene(int index, int deterministic)
 		snprintf(s_app.error, sizeof s_app.error, "no scene %d", index);
 		return fm_errParameter;
 	}
-	fwFreeScene();
-	s_app.scene = fw_scenes[index];
-	s_app.deterministic = deterministic != 0;
-	return fwBuildScene();
+	const fwSceneFile* f = &fw_scenes[index];
+	return fw_load_scene_text(f->file, (const char*)f->text, (int)*f->size, deterministic);
 }
 
 // Make a scene of a loaded mesh (@p r its reader's result): checked as fmCreateBody would check
@@ -404,6 +370,14 @@ static fmResult fwLoadUserMesh(fmResult r, fmTetMesh* mesh, fmDiagnostic* diag)
 		fwSetError("the mesh was refused", diag);
 		return r;
 	}
+	// The house's scene with the mesh as its body.
+	cliScene scene;
+	const fwSceneFile* house = &fw_scenes[0];
+	if (!fwReadScene(house->file, (const char*)house->text, *house->size, &scene))
+	{
+		fmFreeTetMesh(mesh);
+		return fm_errParameter;
+	}
 	snprintf(s_app.warning, sizeof s_app.warning, "%s",
 	         diag->warningCount > 0 ? diag->warning : "");
 	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
@@ -424,15 +398,15 @@ static fmResult fwLoadUserMesh(fmResult r, fmTetMesh* mesh, fmDiagnostic* diag)
 		lowest = fmin(lowest, mesh->positions[3 * i + 1]);
 	placement = fmDefaultMeshTransform();
 	placement.translate =
-	    fmMakeVec3(0.0, fw_scenes[0].floorHeight + FW_USER_MESH_DROP - lowest, 0.0);
+	    fmMakeVec3(0.0, scene.worldDef.floor.height + FW_USER_MESH_DROP - lowest, 0.0);
 	fmTetMesh_Transform(mesh, &placement);
 
 	fmTetMesh previous = s_app.userMesh;
 	s_app.userMesh = *mesh;
 	fwFreeScene();
-	s_app.scene = fw_scenes[0];
-	s_app.scene.name = "dropped mesh";
-	s_app.scene.bodies[0].mesh = fw_meshUser;
+	s_app.scene = scene;
+	s_app.hasScene = true;
+	s_app.userBody = true;
 	r = fwBuildScene();
 	fmFreeTetMesh(&previous);
 	return r;
@@ -547,13 +521,13 @@ FW_EXPORT const double* fw_positions_double(int b)
 /// The floor's height (m).
 FW_EXPORT double fw_floor_height(void)
 {
-	return s_app.scene.floorHeight;
+	return s_app.scene.worldDef.floor.height;
 }
 
 // One frame: whole, or substep by substep with the jump's impulses (as viewer/session.c).
 static fmResult fwStepFrame(void)
 {
-	double frame = s_app.scene.dt * s_app.scene.substeps;
+	double frame = cliScene_FrameTime(&s_app.scene);
 	int substeps = s_app.substeps;
 	if (s_app.pendingJumps == 0)
 		return fmWorld_Step(s_app.world, frame, substeps);
@@ -641,6 +615,7 @@ FW_EXPORT int fw_set_material(int model, double youngs, double poisson)
 		return r;
 	}
 	s_app.material = material;
+	s_app.materialSet = true;
 	s_app.model = (fmMaterialModel)model;
 	s_app.youngs = youngs;
 	s_app.poisson = poisson;
@@ -666,7 +641,7 @@ FW_EXPORT double fw_get_param(int which)
 	case 5:
 		return s_app.integrator;
 	case 6:
-		return s_app.scene.dt * s_app.scene.substeps;
+		return cliScene_FrameTime(&s_app.scene);
 	default:
 		return 0.0;
 	}
@@ -762,7 +737,7 @@ FW_EXPORT double fw_hit(int which)
 // viewer/session.c); explicit springs no stiffer than half of m / h^2, the substep's limit.
 static double fwDragStiffness(int body)
 {
-	double h = s_app.scene.dt * s_app.scene.substeps / s_app.substeps;
+	double h = cliScene_FrameTime(&s_app.scene) / s_app.substeps;
 	const double* masses = fmBody_GetMasses(s_app.bodies[body]);
 	double lightest = INFINITY;
 	for (int k = 0; k < s_app.dragCount; ++k)
