@@ -342,6 +342,7 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 	fmBody* b = &world->bodies[slot];
 	b->generation += 1;
 	r = fmBodyInit(b, def, diag);
+	b->slot = slot;
 	if (r == fm_ok && !fmWorldReserveArena(world))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                "out of memory for the step buffers of a body of %d vertices",

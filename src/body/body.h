@@ -12,6 +12,7 @@
 typedef struct fmBody
 {
 	uint32_t generation; // of the body in the slot; UINT32_MAX retires the slot
+	int slot;            // its slot in the world's body table
 	int firstIndex;      // numbering of the source mesh, for export
 
 	fmElasticMesh mesh; // rest shape, materials, force model data: const to the stages

@@ -183,10 +183,10 @@ static double fmElasticWithForces(fmBody* b, double* f)
 	return fmAddElasticForces(&b->mesh, b->state.x, f);
 }
 
-void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
+double fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 {
 	if (!fmLoads_Moving(b))
-		return;
+		return 0.0;
 	// The motion changes the elastic energy by what the supports do on the body: booked as
 	// work, exactly (two force passes while a prescribed motion runs). The explicit step's
 	// ledger measures the shadow energy T + Psi + h/2 v . f (energy_ledger.h), whose force term
@@ -211,9 +211,9 @@ void fmLoads_StepPrescribed(fmBody* b, double dt, double shadowStep)
 	double work = fmElasticWithForces(b, after) - energy;
 	for (size_t k = 0; after != NULL && k < n3; ++k)
 		work += 0.5 * shadowStep * b->state.v[k] * (after[k] - before[k]);
-	fmLedger_AddLoadWork(b, work);
 	if (!fmLoads_Moving(b))
 		fmLoadsLetSleep(b);
+	return work;
 }
 
 void fmLoads_BeginStatic(fmBody* b)

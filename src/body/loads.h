@@ -76,10 +76,11 @@ double fmLoads_Work(const fmBody* body, const double* d, double scale);
 // |frozen load| over the free axes (N), for the solvers' force scales.
 double fmLoads_FrozenNorm(const fmBody* body);
 
-// Dynamics: move the prescribed vertices along their paths by @p dt seconds (before a step),
-// booking the elastic energy their motion adds in the ledger as work, and the change of the
-// shadow energy's force term measured with @p shadowStep (the explicit substep; 0 implicit).
-void fmLoads_StepPrescribed(fmBody* body, double dt, double shadowStep);
+// Dynamics: move the prescribed vertices along their paths by @p dt seconds (before a step).
+// Returns the work their motion did (J, for the ledger): the elastic energy it added, and the
+// change of the shadow energy's force term measured with @p shadowStep (the explicit substep;
+// 0 implicit).
+double fmLoads_StepPrescribed(fmBody* body, double dt, double shadowStep);
 
 // Statics: record where each prescribed vertex starts its ramp.
 void fmLoads_BeginStatic(fmBody* body);

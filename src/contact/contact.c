@@ -262,8 +262,9 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	return true;
 }
 
-int fmContact_Pieces(fmWorld* w, double h, int most)
+int fmContact_Pieces(fmWorld* w, const fmStepContext* ctx, int most)
 {
+	const double h = ctx->substep;
 	if (!fmBodiesMeet(w))
 		return 1;
 	fmContactState* s = fmContactState_Get(w);
@@ -312,7 +313,7 @@ int fmContact_Pieces(fmWorld* w, double h, int most)
 	return pieces <= most ? (int)pieces : most + 1;
 }
 
-bool fmContact_BeginSubstep(fmWorld* w, double h)
+bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
 {
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
@@ -335,26 +336,26 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmContactState_Get(w);
-	return s != NULL && (!fmContactPlanes_Hold(w, h) ||
-	                     fmContactPlanes_Predict(w, s, fmContact_Thickness(w), h));
+	return s != NULL && (!fmContactPlanes_Hold(w, ctx) ||
+	                     fmContactPlanes_Predict(w, s, fmContact_Thickness(w), ctx));
 }
 
-bool fmContact_Substep(fmWorld* w, double h)
+bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 {
 	fmContactState* s = fmContactState_Get(w);
 	if (s == NULL)
 		return false;
 	double thickness = fmContact_Thickness(w);
-	w->contactStep = h;
+	w->contactStep = ctx->substep;
 	for (int k = 0; k < w->colliderCapacity; ++k)
 		if (w->colliders[k].inUse)
-			fmCollider_Move(&w->colliders[k], h);
+			fmCollider_Move(&w->colliders[k], ctx->substep);
 	s->pointCount = 0;
 	bool ok = fmContactCollider_Collide(w, s, thickness);
 	if (ok && fmBodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
-		ok = fmContactLedger_BookWork(w, s, slot);
+		ok = fmContactLedger_BookWork(w, s, ctx, slot);
 	for (int k = 0; k < s->touchedCount; ++k)
 		w->bodies[s->touched[k].body].contact.mark[s->touched[k].vertex] = 0;
 	s->touchedCount = 0;

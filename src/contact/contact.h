@@ -30,22 +30,22 @@ void fmContact_BeginFrame(fmWorld* world);
 // The share of the thinner body's thickness two bodies may close in by in one implicit piece.
 #define FM_PIECE_FRACTION 0.5
 
-// Implicit steps: how many equal pieces a step of @p h seconds is cut into (1 to @p most;
+// Implicit steps: how many equal pieces the context's substep is cut into (1 to @p most;
 // @p most + 1 when it would take more) so
 // that no two bodies that may meet close in on each other by more than FM_PIECE_FRACTION of the
 // thinner one's rest thickness (2 V / S) in a piece, at their surfaces' fastest speeds: each
 // body's solve sees the others frozen where they started, and the stage after it finds a
 // vertex that crossed a surface only while it is still inside. -1 when memory is short.
-int fmContact_Pieces(fmWorld* world, double h, int most);
+int fmContact_Pieces(fmWorld* world, const fmStepContext* context, int most);
 
-// Start of a substep of @p h seconds: every body's positions kept as the start of its motion
+// Start of the context's substep: every body's positions kept as the start of its motion
 // (for the swept tests); before an implicit step, the other bodies' surfaces near each surface
-// vertex frozen as planes for the step's penalty (body->contactPlane). False when memory is
+// vertex frozen as planes for the step's penalty (fmBodyContact.plane). False when memory is
 // short.
-bool fmContact_BeginSubstep(fmWorld* world, double h);
+bool fmContact_BeginSubstep(fmWorld* world, const fmStepContext* context);
 
-// The contact stage of a substep of @p h seconds. False when memory is short.
-bool fmContact_Substep(fmWorld* world, double h);
+// The contact stage of the context's substep. False when memory is short.
+bool fmContact_Substep(fmWorld* world, const fmStepContext* context);
 
 // Validate a contact def (part of fmWorldDef_Validate).
 fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag);

@@ -78,8 +78,9 @@ bool fmContactEvents_ReportFloor(fmWorld* w, bool listed)
 	return true;
 }
 
-bool fmContactEvents_EndFrame(fmWorld* w, double frameTime)
+bool fmContactEvents_EndFrame(fmWorld* w, const fmStepContext* ctx)
 {
+	const double frameTime = ctx->frameTime;
 	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
 		fmCollider* c = fmWorldCollider(w, k < w->colliderCapacity ? k : FM_FLOOR_SLOT);

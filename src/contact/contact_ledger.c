@@ -119,7 +119,7 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 	return true;
 }
 
-bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, int slot)
+bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, const fmStepContext* ctx, int slot)
 {
 	fmBody* b = &w->bodies[slot];
 	if (b->asleep)
@@ -145,7 +145,7 @@ bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, int slot)
 		return false;
 	gained += elastic;
 	if (w->def.integrator == fm_explicit)
-		gained += 0.5 * w->contactStep * (power + gravityPower);
-	fmLedger_AddContactWork(b, gained);
+		gained += 0.5 * ctx->substep * (power + gravityPower);
+	fmStepContext_AddContactWork(ctx, slot, gained);
 	return true;
 }

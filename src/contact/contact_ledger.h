@@ -11,5 +11,6 @@
 // Book the energy the stage gave body @p slot as contact work when it is positive: pushes
 // and a kinematic collider's blows add energy, inelastic impacts take it away. The energy is
 // the one the ledger measures: kinetic, elastic and gravity's potential, and for explicit
-// frames symplectic Euler's shadow term h/2 v . f (energy_ledger.h).
-bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, int slot);
+// frames symplectic Euler's shadow term h/2 v . f (energy_ledger.h), into @p context.
+bool fmContactLedger_BookWork(fmWorld* world, fmContactState* state, const fmStepContext* context,
+                              int slot);

@@ -9,12 +9,13 @@
 #include "core/core.h"
 #include "core/det_math.h"
 
-bool fmContactPlanes_Hold(const fmWorld* w, double h)
+bool fmContactPlanes_Hold(const fmWorld* w, const fmStepContext* ctx)
 {
-	if (w->contactPieces > 1)
+	if (ctx->pieces > 1)
 		return false;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmBody_IsLive(&w->bodies[i]) && h <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
+		if (fmBody_IsLive(&w->bodies[i]) &&
+		    ctx->substep <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
 			return false;
 	return true;
 }
@@ -28,10 +29,11 @@ static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
 	return true;
 }
 
-bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness, double h)
+bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness,
+                             const fmStepContext* ctx)
 {
 	// (fmContact_BeginSubstep has set every plane to none.)
-	s->predict = h;
+	s->predict = ctx->substep;
 	int n = fmContactDetect_BuildTriangles(w, s, thickness)
 	            ? fmContactDetect_Vertices(w, s, thickness)
 	            : -1;

@@ -18,10 +18,11 @@
 // explicit stability limit of a body, where the stage's projection alone holds them (as in
 // the explicit integrator): at such short steps the planes, which each body sees as immovable,
 // let fast bodies cross (docs/contact.md, Measurements).
-bool fmContactPlanes_Hold(const fmWorld* w, double h);
+bool fmContactPlanes_Hold(const fmWorld* world, const fmStepContext* context);
 
 // Before an implicit step: each surface vertex's nearest triangle of another body that the
 // step's motion may reach, frozen as a plane (n, n . q) in b->contactPlane for the step's
 // penalty (penalty.h), NaN where there is none; and each pair of surface edges of two bodies
 // within that reach, frozen as a plane for each edge (b->edgePlanes).
-bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness, double h);
+bool fmContactPlanes_Predict(fmWorld* world, fmContactState* state, double thickness,
+                             const fmStepContext* context);

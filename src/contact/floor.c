@@ -160,9 +160,10 @@ static bool fmCollectResponse(fmBody* b, int i, const fmFloorResponse* r, double
 }
 
 int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, double dt,
-                          const fmFloorTaken* taken)
+                          const fmFloorTaken* taken, double* workDone)
 {
 	b->contact.floorHitCount = 0;
+	*workDone = 0.0;
 	if (!fmFloor_Holds(floor, b))
 		return 0;
 	int contacts = 0;
@@ -180,7 +181,7 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 		++contacts;
 		listed = fmCollectResponse(b, i, &own, &work) && listed;
 	}
-	fmLedger_AddContactWork(b, work);
+	*workDone = work;
 	return listed ? contacts : -1;
 }
 

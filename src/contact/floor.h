@@ -57,13 +57,13 @@ size_t fmFloorTaken_Bytes(size_t vertexCount);
 void fmFloor_RespondRange(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, int start, int end,
                           double dt, fmFloorTaken* taken);
 
-// Explicit: the floor's push-out work to the body's energy ledger and the vertices in contact to
-// body->floorHits, both in vertex order. With @p taken the ranges responded already (the
+// Explicit: the floor's push-out work into @p work (J, for the ledger) and the vertices in contact
+// to the body's floorHits, both in vertex order. With @p taken the ranges responded already (the
 // position update does it on each vertex range, where the vertices are in cache) and they are
 // only collected; without (NULL) every vertex is tested and responds here. Returns how many
 // vertices, or -1 when the list could not grow.
 int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* body, double dt,
-                          const fmFloorTaken* taken);
+                          const fmFloorTaken* taken, double* work);
 
 // Implicit: the lowest y of every vertex this step into cache->floorBound: the floor, except for
 // a vertex deep below it, which may rise by at most the depenetration speed times h.

@@ -116,33 +116,16 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 		ledger->measureStep = shadowStep;
 	}
 	ledger->gravityStart = fmGravityPotential(b, gravity);
-	ledger->frameContactWork = 0.0;
-	ledger->frameLoadWork = 0.0;
-	ledger->frameLoadWorkIn = 0.0;
 }
 
-void fmLedger_AddLoadWork(fmBody* b, double work)
-{
-	b->ledger.frameLoadWork += work;
-	if (work > 0.0)
-		b->ledger.frameLoadWorkIn += work;
-}
-
-void fmLedger_AddContactWork(fmBody* b, double work)
-{
-	if (work > 0.0)
-		b->ledger.frameContactWork += work;
-}
-
-fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double plain,
-                               double frameTime)
+fmLedgerVerdict fmLedger_Check(fmBody* b, const fmFrameWork* work, fmVec3 gravity, double energy,
+                               double plain, double frameTime)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->frameGravityWork = fmGravityPotential(b, gravity) - ledger->gravityStart;
 	ledger->framePlain = plain;
-	double frameWork = ledger->frameGravityWork + ledger->frameContactWork + ledger->frameLoadWork;
-	double frameWorkIn =
-	    fmMax(ledger->frameGravityWork, 0.0) + ledger->frameContactWork + ledger->frameLoadWorkIn;
+	double frameWork = ledger->frameGravityWork + work->contact + work->load;
+	double frameWorkIn = fmMax(ledger->frameGravityWork, 0.0) + work->contact + work->loadIn;
 	double allowed =
 	    ledger->initialEnergy + ledger->work + frameWork +
 	    FM_LEDGER_RELATIVE * (fabs(ledger->initialEnergy) + ledger->workIn + frameWorkIn) +
@@ -152,8 +135,7 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, fmVec3 gravity, double energy, double 
 	// per-frame backstop: gravity adds at most M g (size + g T^2) in a frame, and a stable body
 	// does not multiply its energy by 1000 on top of that.
 	double g = fmLength(gravity);
-	double backstop = 1000.0 * (fmMax(ledger->plainGood, 0.0) + ledger->frameContactWork +
-	                            ledger->frameLoadWorkIn +
+	double backstop = 1000.0 * (fmMax(ledger->plainGood, 0.0) + work->contact + work->loadIn +
 	                            b->mesh.totalMass * g * (b->mesh.restSize + g * frameTime * frameTime)) +
 	                  ledger->floor;
 	fmLedgerVerdict verdict = {true, false, energy, allowed};
@@ -171,17 +153,14 @@ void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double t
 	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, NULL, pass) - before;
 }
 
-void fmLedger_Commit(fmBody* b, double shadowStep)
+void fmLedger_Commit(fmBody* b, const fmFrameWork* work, double shadowStep)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->measureStep = shadowStep;
 	fmLedgerBook(ledger, ledger->frameGravityWork);
-	fmLedgerBook(ledger, ledger->frameContactWork);
-	ledger->work += ledger->frameLoadWork;
-	ledger->workIn += ledger->frameLoadWorkIn;
+	fmLedgerBook(ledger, work->contact);
+	ledger->work += work->load;
+	ledger->workIn += work->loadIn;
 	ledger->frameGravityWork = 0.0;
-	ledger->frameContactWork = 0.0;
-	ledger->frameLoadWork = 0.0;
-	ledger->frameLoadWorkIn = 0.0;
 	ledger->plainGood = ledger->framePlain;
 }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "core/arena.h"
+#include "core/step_context.h"
 #include "core/parallel.h"
 
 #include <femto/types.h>
@@ -37,10 +38,7 @@ typedef struct fmEnergyLedger
 	double workIn;           // J, the positive contributions to W (sets the tolerance)
 	double floor;            // J, absolute tolerance for bodies that start at rest
 	double gravityStart;     // J, sum of m g . x at the start of the frame
-	double frameContactWork; // J, positive work of contacts during the frame being stepped
 	double frameGravityWork; // J, gravity's work over the frame (set by fmLedger_Check)
-	double frameLoadWork;    // J, net work of loads and prescribed displacements in the frame
-	double frameLoadWorkIn;  // J, its positive substep contributions
 	double measureStep;      // s, the shadow step energyGood was measured with
 	double plainGood;        // J, plain kinetic + elastic energy of the good state
 	double framePlain;       // J, the same at the end of the frame being checked
@@ -64,14 +62,6 @@ double fmBodyEnergy(struct fmBody* body, fmVec3 gravity, double shadowStep, doub
 void fmLedger_BeginFrame(struct fmBody* body, fmVec3 gravity, double shadowStep,
                          const fmEnergyPass* pass);
 
-// Positive work done by a contact during a substep (J), e.g. pushing a vertex out of the floor,
-// or by the kinematic targets' springs.
-void fmLedger_AddContactWork(struct fmBody* body, double work);
-
-// Work done by loads (nodal forces, pressure) or prescribed displacements during a substep
-// (J, either sign: a load does negative work when the body moves against it).
-void fmLedger_AddLoadWork(struct fmBody* body, double work);
-
 // The verdict on a frame: ok, or which check failed with the energy it measured and the bound.
 typedef struct fmLedgerVerdict
 {
@@ -86,8 +76,8 @@ typedef struct fmLedgerVerdict
 // the plain energy within the per-frame backstop (1000 times what the frame started with plus
 // what gravity can add in it), which catches an unstable step whose shadow energy means
 // nothing. Books nothing.
-fmLedgerVerdict fmLedger_Check(struct fmBody* body, fmVec3 gravity, double energy, double plain,
-                               double frameTime);
+fmLedgerVerdict fmLedger_Check(struct fmBody* body, const fmFrameWork* work, fmVec3 gravity,
+                               double energy, double plain, double frameTime);
 
 // Within a frame the explicit step changed from @p fromStep to @p toStep: the shadow energy's
 // measure changed with it. Book the difference at the current state as neutral work (not in
@@ -97,4 +87,4 @@ void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep
 
 // Book the frame's work (after every body of the world passed fmLedger_Check); the good state's
 // energy was measured with @p shadowStep.
-void fmLedger_Commit(struct fmBody* body, double shadowStep);
+void fmLedger_Commit(struct fmBody* body, const fmFrameWork* work, double shadowStep);

@@ -121,8 +121,10 @@ static bool fmPlainStep(const fmBody* b)
 	       b->rayleighStiffness <= 0.0 && b->targetCount == 0 && !fmLoads_Active(b);
 }
 
-fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* arena)
+fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* b)
 {
+	const double dt = ctx->substep;
+	fmArena* arena = ctx->arena;
 	const int n = b->mesh.vertexCount;
 	const fmTaskSystem* tasks = &world->tasks;
 	fmExplicitTask context = {.body = b,
@@ -140,7 +142,7 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 
 	// 0. Prescribed displacements move their vertices along their paths (loads.h).
 	double start = fmSeconds();
-	fmLoads_StepPrescribed(b, dt, dt);
+	fmStepContext_AddLoadWork(ctx, b->slot, fmLoads_StepPrescribed(b, dt, dt));
 
 	// 1. Gravity, elastic, damping, kinematic targets' forces and the loads.
 	const bool plain = fmPlainStep(b);
@@ -164,15 +166,17 @@ fmResult fmExplicitStep(const fmWorld* world, fmBody* b, double dt, fmArena* are
 	bool placed =
 	    fmVelocityFilter_Smooth(&b->mesh, &b->state, b->smoothing, dt, arena, world->simd, tasks, plain ? &positions : NULL) &&
 	    plain;
-	fmLedger_AddContactWork(b, fmTargets_ExplicitWork(b, dt));
+	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ExplicitWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
-	fmLedger_AddLoadWork(b, fmLoads_Work(b, b->state.v, dt));
+	fmStepContext_AddLoadWork(ctx, b->slot, fmLoads_Work(b, b->state.v, dt));
 
 	// 4. Positions, then the floor.
 	if (!placed)
 		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
+	double floorWork;
 	int floorContacts =
-	    fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt, context.floorTaken);
+	    fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt, context.floorTaken, &floorWork);
+	fmStepContext_AddContactWork(ctx, b->slot, floorWork);
 	fmArena_Release(arena, mark);
 	b->stepStage[0] = forced - start;
 	b->stepStage[1] = fmSeconds() - forced;

@@ -4,6 +4,6 @@
 
 #include "world/world.h"
 
-// Advance @p body by one step of @p dt, temporaries from @p arena. Returns fm_ok (the world
+// Advance @p body by the context's substep, temporaries from its arena. Returns fm_ok (the world
 // checks the result's health).
-fmResult fmExplicitStep(const fmWorld* world, fmBody* body, double dt, fmArena* arena);
+fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* context, fmBody* body);

@@ -127,13 +127,16 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		memcpy(b->state.x, inertial, sizeof(double) * (size_t)n3);
 }
 
-// The Newton problem of a step of @p h: inertia 1 / h^2, Rayleigh damping, gravity, the floor
-// (NULL when it does not hold the body), the contact penalty (@p penalty, filled here; NULL in
-// the problem without contact), the residual's scale and the world's solver settings.
-static fmNewtonProblem fmImplicitProblem(const fmWorld* world, fmBody* b, fmImplicitCache* c,
-                                         double h, const fmFloorDef* floor, fmArena* arena,
+// The Newton problem of the context's substep h: inertia 1 / h^2, Rayleigh damping, gravity,
+// the floor (NULL when it does not hold the body), the loads, targets and contact penalty
+// (@p penalty, filled here; absent from the problem without contact), the residual's scale and
+// the world's solver settings.
+static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepContext* ctx, fmBody* b,
+                                         fmImplicitCache* c, const fmFloorDef* floor,
                                          fmContactPenalty* penalty)
 {
+	const double h = ctx->substep;
+	fmArena* arena = ctx->arena;
 	fmNewtonProblem pb;
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
@@ -145,7 +148,7 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, fmBody* b, fmImpl
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
 	pb.scale = fmStepForceScale(b, c, &pb, h);
-	pb.maxNewton = world->newtonLimit;
+	pb.maxNewton = ctx->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
 	pb.quadratic = fmElasticMesh_IsLinear(&b->mesh) && b->mesh.forceModel != fm_massSpring;
 	pb.options = world->solverOptions;
@@ -182,21 +185,25 @@ static void fmImplicitFreeFlight(fmBody* b, fmImplicitCache* c, double h, fmVec3
 }
 
 // The work the step's targets, loads and contact penalty did, booked with the ledger.
-static void fmImplicitBookWork(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+static void fmImplicitBookWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
+                               const fmNewtonProblem* pb)
 {
-	fmLedger_AddContactWork(b, fmTargets_ImplicitWork(b, c->xStart));
+	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ImplicitWork(b, c->xStart));
 	if (fmLoads_Active(b))
 	{
 		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 			c->trial[k] = b->state.x[k] - c->xStart[k]; // free after the solve
-		fmLedger_AddLoadWork(b, fmLoads_Work(b, c->trial, 1.0));
+		fmStepContext_AddLoadWork(ctx, b->slot, fmLoads_Work(b, c->trial, 1.0));
 	}
-	fmLedger_AddContactWork(b, fmContactPenalty_Work(pb->contact.context, b, c->xStart));
+	fmStepContext_AddContactWork(ctx, b->slot,
+	                             fmContactPenalty_Work(pb->contact.context, b, c->xStart));
 }
 
-fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResult* solve,
-                        fmArena* arena)
+fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* b,
+                        fmNewtonResult* solve)
 {
+	const double h = ctx->substep;
+	fmArena* arena = ctx->arena;
 	memset(solve, 0, sizeof *solve);
 	fmImplicitCache* c = fmSolverCache_Get(&b->solverCache, &b->mesh);
 	if (c == NULL)
@@ -209,13 +216,13 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    guess. Prescribed displacements move their vertices first; the loads are frozen at the
 	//    start (follower pressure lagged by one step, loads.h).
 	double start = fmSeconds();
-	fmLoads_StepPrescribed(b, h, 0.0);
+	fmStepContext_AddLoadWork(ctx, b->slot, fmLoads_StepPrescribed(b, h, 0.0));
 	fmLoads_Freeze(b, b->state.x, 1.0);
 	memcpy(c->xStart, b->state.x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
 		c->xPred[k] = fmIsDofPinned(&b->state, k) ? b->state.x[k] : b->state.x[k] + h * b->state.v[k];
 	fmContactPenalty penalty;
-	fmNewtonProblem pb = fmImplicitProblem(world, b, c, h, floor, arena, &penalty);
+	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb);
 
@@ -231,7 +238,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
-	fmImplicitBookWork(b, c, &pb);
+	fmImplicitBookWork(ctx, b, c, &pb);
 	for (int k = 0; k < n3; ++k)
 		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h, arena, world->simd,
@@ -241,7 +248,7 @@ fmResult fmImplicitStep(const fmWorld* world, fmBody* b, double h, fmNewtonResul
 	//    vertices on it.
 	if (floor)
 	{
-		fmLedger_AddContactWork(b, fmFloor_ImplicitWork(b, c, floor->height));
+		fmStepContext_AddContactWork(ctx, b->slot, fmFloor_ImplicitWork(b, c, floor->height));
 		if (fmFloor_ImplicitVelocities(floor, b, c, h) < 0)
 			return fm_errOutOfMemory;
 	}

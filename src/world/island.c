@@ -163,8 +163,9 @@ static bool fmTouchesMovingCollider(fmWorld* w, int slot)
 	return false;
 }
 
-bool fmIsland_EndFrame(fmWorld* w, double frameTime)
+bool fmIsland_EndFrame(fmWorld* w, const fmStepContext* ctx)
 {
+	const double frameTime = ctx->frameTime;
 	const fmContactDef* def = &w->def.contact;
 	for (int k = 0; k < w->bodyCapacity; ++k)
 		if (fmBody_IsLive(&w->bodies[k]) && w->bodies[k].wakeRequested)

@@ -9,7 +9,7 @@
 
 // After a frame that passed its checks: wake what was touched, advance the timers, put islands
 // at rest to sleep. False when memory for the events is short.
-bool fmIsland_EndFrame(fmWorld* world, double frameTime);
+bool fmIsland_EndFrame(fmWorld* world, const fmStepContext* context);
 
 // Wake body slot @p slot and every body of its island (an event for each that slept).
 void fmIsland_Wake(fmWorld* world, int slot);

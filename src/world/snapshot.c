@@ -30,7 +30,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 4u
+#define FM_SNAPSHOT_VERSION 5u
 
 // The header: magic, version, live bodies, live colliders.
 #define FM_SNAPSHOT_HEADER_WORDS 4
@@ -97,9 +97,9 @@ static void fmMoveLedger(fmStream* s, bool save, fmEnergyLedger* l)
 	fmMoveBool(s, save, &l->started);
 	double* fields[] = {&l->initialEnergy,    &l->work,
 	                    &l->workIn,           &l->floor,
-	                    &l->gravityStart,     &l->frameContactWork,
-	                    &l->frameGravityWork, &l->measureStep,
-	                    &l->plainGood,        &l->framePlain};
+	                    &l->gravityStart,     &l->frameGravityWork,
+	                    &l->measureStep,      &l->plainGood,
+	                    &l->framePlain};
 	for (size_t k = 0; k < sizeof fields / sizeof fields[0]; ++k)
 		fmMoveDouble(s, save, fields[k]);
 }

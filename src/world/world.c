@@ -112,7 +112,7 @@ fmResult fmFloorDef_Validate(const fmFloorDef* floor, fmDiagnostic* diag)
 
 size_t fmWorldTableBytes(int maxBodies)
 {
-	return fmMulSize((size_t)(maxBodies > 0 ? maxBodies : 0), sizeof(fmBody));
+	return fmMulSize((size_t)(maxBodies > 0 ? maxBodies : 0), sizeof(fmBody) + sizeof(fmFrameWork));
 }
 
 fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
@@ -197,10 +197,16 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 			continue;
 		uint32_t generation = w->generation + 1;
 		fmBody* bodies = FM_ALLOC_ZERO(fmBody, def->maxBodies);
-		if (bodies == NULL)
+		fmFrameWork* frameWork = FM_ALLOC_ZERO(fmFrameWork, def->maxBodies);
+		if (bodies == NULL || frameWork == NULL)
+		{
+			FM_FREE_ARRAY(bodies, fmBody, def->maxBodies);
+			FM_FREE_ARRAY(frameWork, fmFrameWork, def->maxBodies);
 			return id;
+		}
 		memset(w, 0, sizeof *w);
 		w->bodies = bodies;
+		w->frameWork = frameWork;
 		w->generation = generation;
 		w->inUse = true;
 		w->def = *def;
@@ -296,6 +302,7 @@ void fmDestroyWorld(fmWorldId worldId)
 		if (fmBody_IsLive(&w->bodies[i]))
 			fmBodyRelease(&w->bodies[i]);
 	FM_FREE_ARRAY(w->bodies, fmBody, w->bodyCapacity);
+	FM_FREE_ARRAY(w->frameWork, fmFrameWork, w->bodyCapacity);
 	for (int k = 0; k < w->colliderCapacity; ++k)
 		fmCollider_Release(&w->colliders[k]);
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
@@ -531,7 +538,7 @@ static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double en
 		         energy,
 		         w->def.integrator == fm_explicit ? ", as symplectic Euler conserves it" : "",
 		         bound, b->ledger.initialEnergy,
-		         b->ledger.work + b->ledger.frameGravityWork + b->ledger.frameContactWork);
+		         b->ledger.work + b->ledger.frameGravityWork + w->frameWork[index].contact);
 	fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
 	            "body %d: %s; %d inverted or non-finite tets (%s); state restored to the last "
 	            "good frame; %s",
@@ -548,19 +555,20 @@ static fmEnergyPass fmWorldEnergyPass(fmWorld* w)
 }
 
 // Health of a body after a frame: finite state, and energy within the ledger's bound.
-static fmResult fmCheckBody(fmWorld* w, int index, double shadowStep, double frameTime)
+static fmResult fmCheckBody(fmWorld* w, int index, const fmStepContext* ctx)
 {
 	fmBody* b = &w->bodies[index];
 	double plain = NAN;
 	fmEnergyPass pass = fmWorldEnergyPass(w);
 	b->invertedAfter = -1;
-	double energy = fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, shadowStep,
+	double energy = fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, ctx->shadowStep,
 	                                                             &plain, &b->invertedAfter, &pass)
 	                                              : NAN;
 	b->energyAfter = energy;
 	if (!isfinite(energy) || !isfinite(plain))
 		return fmReportBadBody(w, index, fm_badState, energy, NAN, NAN);
-	fmLedgerVerdict verdict = fmLedger_Check(b, w->def.gravity, energy, plain, frameTime);
+	fmLedgerVerdict verdict =
+	    fmLedger_Check(b, &ctx->work[index], w->def.gravity, energy, plain, ctx->frameTime);
 	if (verdict.ok)
 		return fm_ok;
 	return fmReportBadBody(w, index, verdict.backstop ? fm_badBackstop : fm_badLedger,
@@ -584,9 +592,9 @@ static void fmRestoreAll(fmWorld* w)
 // Explicit steps beyond twice the estimated limit explode (the seeds' house at dt = 0.003 runs
 // at 1.6 times the conservative estimate thanks to its damping and smoothing, and explodes at
 // 1.25 times its own step): say so once per world, with what would work.
-static void fmWarnExplicitStep(fmWorld* w, double frameTime, int subStepCount)
+static void fmWarnExplicitStep(fmWorld* w, const fmStepContext* ctx)
 {
-	double dt = frameTime / subStepCount;
+	double dt = ctx->frameTime / ctx->substepCount, frameTime = ctx->frameTime;
 	if (w->def.integrator != fm_explicit || w->warnedStep || w->def.autoSubstep)
 		return;
 	double limit = INFINITY;
@@ -673,16 +681,16 @@ static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double 
 
 // Step body @p index by @p h with the world's integrator, keeping what it produced in the body
 // (stepResult and the solve's counters). Writes nothing the other bodies' steps touch.
-static void fmStepBody(fmWorld* w, int index, double h)
+static void fmStepBody(fmWorld* w, int index, const fmStepContext* ctx)
 {
 	fmBody* b = &w->bodies[index];
 	if (w->def.integrator != fm_implicit)
 	{
-		b->stepResult = fmExplicitStep(w, b, h, &w->arena);
+		b->stepResult = fmExplicitStep(w, ctx, b);
 		return;
 	}
 	fmNewtonResult solve;
-	b->stepResult = fmImplicitStep(w, b, h, &solve, &w->arena);
+	b->stepResult = fmImplicitStep(w, ctx, b, &solve);
 	b->stepResidual = solve.residual;
 	b->stepNewton = solve.iterations;
 	b->stepCg = solve.cgIterations;
@@ -741,29 +749,30 @@ static void fmBudgetHit(fmWorld* w, const char* what)
 	fmDiagWarn(&w->lastError, "", 0, "the frame budget is spent: %s", what);
 }
 
-static fmResult fmSubstep(fmWorld* w, double h)
+static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 {
+	ctx->substep = h;
 	// The frame budget: what is left of maxNewtonPerFrame bounds every step of this substep.
 	int left = w->def.maxNewtonPerFrame - w->stats.newtonIterations;
-	w->newtonLimit = w->def.newtonIterations;
-	if (w->def.integrator == fm_implicit && left < w->newtonLimit)
+	ctx->newtonLimit = w->def.newtonIterations;
+	if (w->def.integrator == fm_implicit && left < ctx->newtonLimit)
 	{
-		w->newtonLimit = left > 1 ? left : 1;
+		ctx->newtonLimit = left > 1 ? left : 1;
 		fmBudgetHit(w, "the implicit steps' Newton iterations were cut to what maxNewtonPerFrame "
 		               "leaves (at least one a step); their residuals are reported");
 	}
 	// Stage a: every body steps on its own (the stage threads will share).
 	bool contact = fmContact_Active(w);
-	if (contact && !fmContact_BeginSubstep(w, h))
+	if (contact && !fmContact_BeginSubstep(w, ctx))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
-			fmStepBody(w, i, h);
+			fmStepBody(w, i, ctx);
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
 	double contactStart = fmSeconds();
 	bool contactOk =
-	    (!contact || fmContact_Substep(w, h)) && fmContactEvents_ReportFloor(w, contact);
+	    (!contact || fmContact_Substep(w, ctx)) && fmContactEvents_ReportFloor(w, contact);
 	w->profile.contact += 1e3 * (fmSeconds() - contactStart);
 	if (!contactOk)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -783,11 +792,12 @@ static fmResult fmSubstep(fmWorld* w, double h)
 
 // An implicit substep of @p h, cut into the pieces fmContact_Pieces asks for where bodies close
 // in fast (within what is left of maxSubstepsPerFrame and FM_MIN_SUBSTEP).
-static fmResult fmImplicitPieces(fmWorld* w, double h, int substepsLeft)
+static fmResult fmImplicitPieces(fmWorld* w, fmStepContext* ctx, double h, int substepsLeft)
 {
 	int most = w->def.maxSubstepsPerFrame - w->stats.steps - (substepsLeft - 1);
 	most = (int)fmMin(most, floor(h / FM_MIN_SUBSTEP));
-	int pieces = most > 1 && fmContact_Active(w) ? fmContact_Pieces(w, h, most) : 1;
+	ctx->substep = h;
+	int pieces = most > 1 && fmContact_Active(w) ? fmContact_Pieces(w, ctx, most) : 1;
 	if (pieces < 0)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
@@ -798,18 +808,19 @@ static fmResult fmImplicitPieces(fmWorld* w, double h, int substepsLeft)
 		               "need (maxSubstepsPerFrame): they may pass through each other");
 	}
 	fmResult r = fm_ok;
-	w->contactPieces = pieces;
+	ctx->pieces = pieces;
 	for (int k = 0; k < pieces && r == fm_ok; ++k)
-		r = fmSubstep(w, h / pieces);
-	w->contactPieces = 1;
+		r = fmSubstep(w, ctx, h / pieces);
+	ctx->pieces = 1;
 	return r;
 }
 
-static fmResult fmFixedSubsteps(fmWorld* w, double h, int count)
+static fmResult fmFixedSubsteps(fmWorld* w, fmStepContext* ctx, double h, int count)
 {
 	fmResult r = fm_ok;
 	for (int s = 0; s < count && r == fm_ok; ++s)
-		r = w->def.integrator == fm_implicit ? fmImplicitPieces(w, h, count - s) : fmSubstep(w, h);
+		r = w->def.integrator == fm_implicit ? fmImplicitPieces(w, ctx, h, count - s)
+		                                     : fmSubstep(w, ctx, h);
 	return r;
 }
 
@@ -818,11 +829,10 @@ static fmResult fmFixedSubsteps(fmWorld* w, double h, int count)
 
 // autoSubstep: substeps planned by fmAutoStep_Next until the frame is done. @p lastStep gets the
 // length of the last one (the ledger measures the shadow energy with it).
-static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep, int count,
-                                   double* lastStep)
+static fmResult fmAdaptiveSubsteps(fmWorld* w, fmStepContext* ctx, fmAutoStep* plan)
 {
-	const double nominal = timeStep / count;
-	double remaining = timeStep, h = *lastStep;
+	const double timeStep = ctx->frameTime, nominal = timeStep / ctx->substepCount;
+	double remaining = timeStep, h = ctx->shadowStep;
 	while (remaining > 1e-12 * timeStep)
 	{
 		if (w->stats.steps >= FM_MAX_SUBSTEPS || !(h > 0.0))
@@ -831,7 +841,7 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 			                   "%.3g s (the next would be %.3g s): a body is collapsing; state "
 			                   "restored to the last good frame; try the implicit integrator",
 			                   FM_MAX_SUBSTEPS, timeStep, h);
-		fmResult r = fmSubstep(w, h);
+		fmResult r = fmSubstep(w, ctx, h);
 		if (r != fm_ok)
 			return r;
 		// A body gone non-finite (collapsed, or blown up by substeps the budget made longer than
@@ -853,10 +863,68 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmAutoStep* plan, double timeStep
 		// The ledger measures the shadow energy with the step: a new step changes the measure,
 		// which is neither work nor a runaway.
 		fmEnergyPass pass = fmWorldEnergyPass(w);
-		for (int i = 0; i < w->bodyCapacity && h != *lastStep && h > 0.0; ++i)
+		for (int i = 0; i < w->bodyCapacity && h != ctx->shadowStep && h > 0.0; ++i)
 			if (fmBody_IsLive(&w->bodies[i]))
-				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, *lastStep, h, &pass);
-		*lastStep = h;
+				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, ctx->shadowStep, h, &pass);
+		ctx->shadowStep = h;
+	}
+	return fm_ok;
+}
+
+// The frame's step context: its times, the world's workers and arena, the bookings zeroed.
+static fmStepContext fmWorldStepContext(fmWorld* w, double timeStep, int subStepCount)
+{
+	memset(w->frameWork, 0, sizeof(fmFrameWork) * (size_t)w->bodyCapacity);
+	fmStepContext ctx = {.frameTime = timeStep,
+	                     .substep = timeStep / subStepCount,
+	                     .substepCount = subStepCount,
+	                     .pieces = 1,
+	                     .newtonLimit = w->def.newtonIterations,
+	                     .integrator = w->def.integrator,
+	                     .gravity = w->def.gravity,
+	                     .tasks = &w->tasks,
+	                     .arena = &w->arena,
+	                     .simd = w->simd,
+	                     .work = w->frameWork,
+	                     .bodyCapacity = w->bodyCapacity};
+	return ctx;
+}
+
+// Open every stepping body's energy ledger. The state to fall back on (xGood, vGood) is the
+// last one that passed the checks, kept from the previous frame: a state the user set to NaN or
+// Inf between steps is not "good". What the caller changed since is booked as work.
+static void fmOpenLedgers(fmWorld* w, const fmStepContext* ctx)
+{
+	fmEnergyPass pass = fmWorldEnergyPass(w);
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]))
+			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, ctx->shadowStep, &pass);
+}
+
+// Health checks against the ledgers: a failure restores every body. Only when every body passed
+// are the frame's work booked (the ledgers closed) and the good states moved forward.
+static fmResult fmCloseLedgers(fmWorld* w, const fmStepContext* ctx)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]) && fmCheckBody(w, i, ctx) != fm_ok)
+		{
+			fmRestoreAll(w);
+			return fm_errNumerical;
+		}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (!fmIsland_Stepping(b))
+			continue;
+		fmLedger_Commit(b, &ctx->work[i], ctx->shadowStep);
+		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+		memcpy(b->xGood, b->state.x, bytes);
+		memcpy(b->vGood, b->state.v, bytes);
+		b->energyGood = b->energyAfter;
+		b->energyStale = false;
+		w->stats.invertedTets += b->invertedAfter >= 0
+		                             ? b->invertedAfter
+		                             : fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
 	}
 	return fm_ok;
 }
@@ -872,70 +940,40 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	if (!fmWorldReserveArena(w))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the step buffers");
+	fmStepContext ctx = fmWorldStepContext(w, timeStep, subStepCount);
 
 	// Stage 1: the substep length (autoSubstep: from the stability limit at the current
 	// deformation).
 	const bool autoStep = w->def.integrator == fm_explicit && w->def.autoSubstep;
 	fmAutoStep plan = {0.0, 1.0};
 	if (autoStep)
+	{
 		fmAutoStep_Evaluate(w, &plan);
-	double dt = timeStep / subStepCount;
-	if (autoStep)
-		dt = fmAutoStep_Next(w, &plan, dt, timeStep, false);
+		ctx.substep = fmAutoStep_Next(w, &plan, ctx.substep, timeStep, false);
+	}
 
-	// Stage 2: open every body's energy ledger. The state to fall back on (xGood, vGood) is the
-	// last one that passed the checks, kept from the previous frame: a state the user set to
-	// NaN or Inf between steps is not "good". What the caller changed since is booked as work.
+	// Stage 2: open the ledgers.
 	fmContact_BeginFrame(w);
-	double shadowStep = w->def.integrator == fm_explicit ? dt : 0.0;
+	ctx.shadowStep = w->def.integrator == fm_explicit ? ctx.substep : 0.0;
 	w->sleepEventCount = 0;
-	fmEnergyPass pass = fmWorldEnergyPass(w);
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmIsland_Stepping(&w->bodies[i]))
-			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, shadowStep, &pass);
-
-	fmWarnExplicitStep(w, timeStep, subStepCount);
+	fmOpenLedgers(w, &ctx);
+	fmWarnExplicitStep(w, &ctx);
 
 	// Stage 3: substeps, every body advanced by the chosen integrator.
-	r = autoStep ? fmAdaptiveSubsteps(w, &plan, timeStep, subStepCount, &shadowStep)
-	             : fmFixedSubsteps(w, dt, subStepCount);
+	r = autoStep ? fmAdaptiveSubsteps(w, &ctx, &plan) : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);
 	if (r != fm_ok)
 	{
 		fmRestoreAll(w);
 		return r;
 	}
 
-	// Stage 4: health checks against the ledgers; a failure restores every body. Only when
-	// every body passed are the frame's work booked and the good states moved forward.
+	// Stage 4: check and close the ledgers, then the frame's contact events and islands.
 	double checking = fmSeconds();
-	for (int i = 0; i < w->bodyCapacity; ++i)
-	{
-		fmBody* b = &w->bodies[i];
-		if (fmIsland_Stepping(b) && fmCheckBody(w, i, shadowStep, timeStep) != fm_ok)
-		{
-			fmRestoreAll(w);
-			return fm_errNumerical;
-		}
-	}
-	w->stats.contacts = 0;
-	for (int i = 0; i < w->bodyCapacity; ++i)
-	{
-		fmBody* b = &w->bodies[i];
-		if (!fmIsland_Stepping(b))
-			continue;
-		fmLedger_Commit(b, shadowStep);
-		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
-		memcpy(b->xGood, b->state.x, bytes);
-		memcpy(b->vGood, b->state.v, bytes);
-		b->energyGood = b->energyAfter;
-		b->energyStale = false;
-		w->stats.invertedTets += b->invertedAfter >= 0
-		                             ? b->invertedAfter
-		                             : fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
-	}
+	if (fmCloseLedgers(w, &ctx) != fm_ok)
+		return fm_errNumerical;
 	const fmContactPoint* points;
 	w->stats.contacts = fmContactEvents_Points(w, &points);
-	if (!fmContactEvents_EndFrame(w, timeStep) || !fmIsland_EndFrame(w, timeStep))
+	if (!fmContactEvents_EndFrame(w, &ctx) || !fmIsland_EndFrame(w, &ctx))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact or sleep events");
 	w->profile.check = 1e3 * (fmSeconds() - checking);

@@ -6,6 +6,7 @@
 #include "contact/collider.h"
 #include "solver/newton.h"
 #include "core/parallel.h"
+#include "core/step_context.h"
 #include "fem/stability.h"
 
 typedef struct fmWorld
@@ -14,7 +15,8 @@ typedef struct fmWorld
 	bool inUse;
 	fmWorldDef def;
 	int bodyCapacity;
-	fmBody* bodies; // bodyCapacity slots; a slot is live when its x != NULL
+	fmBody* bodies; // bodyCapacity slots (fmBody_IsLive)
+	fmFrameWork* frameWork; // bodyCapacity: the work the stages booked in the frame being stepped
 	fmStepStats stats;
 	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
@@ -22,7 +24,6 @@ typedef struct fmWorld
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
 	fmTaskSystem tasks;            // how the stages run in parallel
-	int newtonLimit;  // Newton iterations an implicit step may take now (the frame budget)
 	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
 	struct fmCollider* colliders; // colliderCapacity slots (collider.h)
 	fmCollider floorCollider;     // def.floor as a plane collider: its id, reports and queries
@@ -30,8 +31,6 @@ typedef struct fmWorld
 	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
 	double contactStep;                  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
-	int contactPieces;   // > 1 while an implicit step is cut into pieces (fmContact_Pieces): the
-	                     // body-body contact is then the stage's projection alone, no frozen planes
 	float* drawPoints;   // fmWorld_Draw's buffer of contact points (3 floats each)
 	int drawPointCapacity;
 	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
