@@ -556,7 +556,7 @@ static void fmBodyApplyImpulseIn(fmBodyId bodyId, fmVec3 deltaVelocity)
 static void fmBodyApplyVertexImpulseIn(fmBodyId bodyId, int vertex, fmVec3 deltaVelocity)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
+	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->mesh.vertexCount));
 	FM_ASSERT(fmIsFiniteVec3(deltaVelocity));
 	if (b && vertex >= 0 && vertex < b->mesh.vertexCount && fmIsFiniteVec3(deltaVelocity))
 	{
@@ -570,7 +570,7 @@ void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
 {
 	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
-	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
+	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->mesh.vertexCount));
 	if (b == NULL || vertex < 0 || vertex >= b->mesh.vertexCount)
 		return;
 	fmBody_SetPinnedAxes(bodyId, vertex, pinned ? FM_PIN_ALL : 0u);
@@ -579,7 +579,7 @@ void fmBody_SetPinned(fmBodyId bodyId, int vertex, bool pinned)
 static void fmBodySetPinnedAxesIn(fmBodyId bodyId, int vertex, unsigned axes)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
+	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->mesh.vertexCount));
 	FM_ASSERT(axes <= FM_PIN_ALL);
 	if (b == NULL || vertex < 0 || vertex >= b->mesh.vertexCount)
 		return;
@@ -592,7 +592,7 @@ static void fmBodySetPinnedAxesIn(fmBodyId bodyId, int vertex, unsigned axes)
 bool fmBody_IsPinned(fmBodyId bodyId, int vertex)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
-	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->vertexCount));
+	FM_ASSERT(b == NULL || (vertex >= 0 && vertex < b->mesh.vertexCount));
 	return b && vertex >= 0 && vertex < b->mesh.vertexCount &&
 	       b->state.pinned[b->internalVertex[vertex]] == FM_PIN_ALL;
 }
