@@ -10,30 +10,6 @@
 #include <math.h>
 #include <string.h>
 
-void fmTargets_AddExplicitForces(const fmBody* b, double dt, double* f)
-{
-	for (int t = 0; t < b->targetCount; ++t)
-	{
-		int i = b->targetVertex[t];
-		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
-		for (int e = 0; e < 3; ++e)
-			f[3 * i + e] += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]);
-	}
-}
-
-double fmTargets_ExplicitWork(const fmBody* b, double dt)
-{
-	double work = 0.0;
-	for (int t = 0; t < b->targetCount; ++t)
-	{
-		int i = b->targetVertex[t];
-		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
-		for (int e = 0; e < 3; ++e)
-			work += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]) * dt * b->state.v[3 * i + e];
-	}
-	return work;
-}
-
 double fmTargets_Energy(const fmBody* b, const double* x, double* gradient)
 {
 	double energy = 0.0;

@@ -6,14 +6,6 @@
 #include "body/body.h"
 #include "solver/newton.h"
 
-// Explicit substep of @p dt: f += the springs' forces at the current positions, each spring's
-// stiffness limited to mass / dt^2 (stable with the elastic forces for any target stiffness).
-void fmTargets_AddExplicitForces(const fmBody* body, double dt, double* f);
-
-// Explicit substep: the springs' work over the step about to be taken, f . dt v with the
-// velocities already updated (call between the velocity and the position updates).
-double fmTargets_ExplicitWork(const fmBody* body, double dt);
-
 // Implicit: the springs' energy 1/2 k |x - p|^2 at @p x, and k (x - p) added to @p gradient
 // when it is not NULL.
 double fmTargets_Energy(const fmBody* body, const double* x, double* gradient);

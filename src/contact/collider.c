@@ -198,16 +198,6 @@ fmVec3 fmCollider_VelocityAt(const fmCollider* c, fmVec3 p)
 	return fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
 }
 
-void fmCollider_Move(fmCollider* c, double h)
-{
-	c->position = fmMulAdd(c->position, h, c->def.velocity);
-	if (fmDot(c->def.angularVelocity, c->def.angularVelocity) > 0.0)
-	{
-		fmMat3 turn = fmRotationFromAxisAngle(fmScale(h, c->def.angularVelocity));
-		c->rotation = fmMatMul(&turn, &c->rotation);
-	}
-}
-
 // ---- the public collider calls -----------------------------------------------------------------
 
 fmFilter fmDefaultFilter(void)

@@ -49,8 +49,6 @@ bool fmCollider_CastSegment(const fmCollider* collider, fmVec3 p0, fmVec3 p1, do
 // The velocity (m/s) of the collider's material at @p p.
 fmVec3 fmCollider_VelocityAt(const fmCollider* collider, fmVec3 p);
 
-// Advance a kinematic collider by @p h seconds of its velocity and angular velocity.
-void fmCollider_Move(fmCollider* collider, double h);
 
 // Whether two filters collide: each one's category is in the other's mask.
 bool fmFiltersMeet(fmFilter a, fmFilter b);

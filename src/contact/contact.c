@@ -262,6 +262,33 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	return true;
 }
 
+// Whether the context's implicit substep keeps bodies apart with frozen planes in its solve: not in
+// the pieces of a cut step, nor at steps no longer than FM_PLANE_STEP_FACTOR times the
+// explicit stability limit of a body, where the stage's projection alone holds them (as in
+// the explicit integrator): at such short steps the planes, which each body sees as immovable,
+// let fast bodies cross (docs/contact.md, Measurements).
+static bool fmPlanesHold(const fmWorld* w, const fmStepContext* ctx)
+{
+	if (ctx->pieces > 1)
+		return false;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]) &&
+		    ctx->substep <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
+			return false;
+	return true;
+}
+
+// Advance a kinematic collider by @p h seconds of its velocity and angular velocity.
+static void fmMoveCollider(fmCollider* c, double h)
+{
+	c->position = fmMulAdd(c->position, h, c->def.velocity);
+	if (fmDot(c->def.angularVelocity, c->def.angularVelocity) > 0.0)
+	{
+		fmMat3 turn = fmRotationFromAxisAngle(fmScale(h, c->def.angularVelocity));
+		c->rotation = fmMatMul(&turn, &c->rotation);
+	}
+}
+
 int fmContact_Pieces(fmWorld* w, const fmStepContext* ctx, int most)
 {
 	const double h = ctx->substep;
@@ -336,7 +363,7 @@ bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmContactState_Get(w);
-	return s != NULL && (!fmContactPlanes_Hold(w, ctx) ||
+	return s != NULL && (!fmPlanesHold(w, ctx) ||
 	                     fmContactPlanes_Predict(w, s, fmContact_Thickness(w), ctx));
 }
 
@@ -347,15 +374,17 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 		return false;
 	double thickness = fmContact_Thickness(w);
 	w->contactStep = ctx->substep;
+	// Symplectic Euler's shadow term h/2 v . f, which the contact ledger books the change of.
+	const double shadowWeight = w->def.integrator == fm_explicit ? 0.5 * ctx->substep : 0.0;
 	for (int k = 0; k < w->colliderCapacity; ++k)
 		if (w->colliders[k].inUse)
-			fmCollider_Move(&w->colliders[k], ctx->substep);
+			fmMoveCollider(&w->colliders[k], ctx->substep);
 	s->pointCount = 0;
 	bool ok = fmContactCollider_Collide(w, s, thickness);
 	if (ok && fmBodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
-		ok = fmContactLedger_BookWork(w, s, ctx, slot);
+		ok = fmContactLedger_BookWork(w, s, ctx, shadowWeight, slot);
 	for (int k = 0; k < s->touchedCount; ++k)
 		w->bodies[s->touched[k].body].contact.mark[s->touched[k].vertex] = 0;
 	s->touchedCount = 0;

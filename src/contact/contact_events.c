@@ -78,14 +78,13 @@ bool fmContactEvents_ReportFloor(fmWorld* w, bool listed)
 	return true;
 }
 
-bool fmContactEvents_EndFrame(fmWorld* w, const fmStepContext* ctx)
+bool fmContactEvents_EndFrame(fmWorld* w, double perSecond)
 {
-	const double frameTime = ctx->frameTime;
 	for (int k = 0; k <= w->colliderCapacity; ++k)
 	{
 		fmCollider* c = fmWorldCollider(w, k < w->colliderCapacity ? k : FM_FLOOR_SLOT);
-		c->force = fmScale(1.0 / frameTime, c->impulse);
-		c->torque = fmScale(1.0 / frameTime, c->angularImpulse);
+		c->force = fmScale(perSecond, c->impulse);
+		c->torque = fmScale(perSecond, c->angularImpulse);
 	}
 	fmContactState* s = w->contactState;
 	if (s == NULL)

@@ -15,9 +15,10 @@
 // reaction; the bodies' hits are then cleared. False when memory is short.
 bool fmContactEvents_ReportFloor(fmWorld* w, bool listed);
 
-// End of the context's frame: the colliders' forces, the frame's begin and end
+// End of a frame: the colliders' forces (their impulses times @p perSecond, 1 / the frame's time),
+// the frame's begin and end
 // events. False when memory is short (the events are then lost).
-bool fmContactEvents_EndFrame(fmWorld* w, const fmStepContext* context);
+bool fmContactEvents_EndFrame(fmWorld* w, double perSecond);
 
 // The pairs that touched during the last frame, sorted: (body slot << 32) | (other body's
 // slot), or | 0x80000000 | collider slot for a collider (valid until the next step).

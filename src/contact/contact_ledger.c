@@ -119,7 +119,8 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 	return true;
 }
 
-bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, const fmStepContext* ctx, int slot)
+bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, const fmStepContext* ctx,
+                              double shadowWeight, int slot)
 {
 	fmBody* b = &w->bodies[slot];
 	if (b->asleep)
@@ -145,7 +146,7 @@ bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, const fmStepContext
 		return false;
 	gained += elastic;
 	if (w->def.integrator == fm_explicit)
-		gained += 0.5 * ctx->substep * (power + gravityPower);
+		gained += shadowWeight * (power + gravityPower);
 	fmStepContext_AddContactWork(ctx, slot, gained);
 	return true;
 }

@@ -11,6 +11,7 @@
 // Book the energy the stage gave body @p slot as contact work when it is positive: pushes
 // and a kinematic collider's blows add energy, inelastic impacts take it away. The energy is
 // the one the ledger measures: kinetic, elastic and gravity's potential, and for explicit
-// frames symplectic Euler's shadow term h/2 v . f (energy_ledger.h), into @p context.
+// frames symplectic Euler's shadow term h/2 v . f (energy_ledger.h; @p shadowWeight is h/2), into
+// @p context.
 bool fmContactLedger_BookWork(fmWorld* world, fmContactState* state, const fmStepContext* context,
-                              int slot);
+                              double shadowWeight, int slot);

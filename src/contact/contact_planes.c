@@ -9,17 +9,6 @@
 #include "core/core.h"
 #include "core/det_math.h"
 
-bool fmContactPlanes_Hold(const fmWorld* w, const fmStepContext* ctx)
-{
-	if (ctx->pieces > 1)
-		return false;
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmBody_IsLive(&w->bodies[i]) &&
-		    ctx->substep <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
-			return false;
-	return true;
-}
-
 static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
 {
 	if (!fmGrowArray((void**)&b->contact.edgePlanes, &b->contact.edgePlaneCapacity, b->contact.edgePlaneCount,

@@ -13,13 +13,6 @@
 // by the contact stage's projection alone, without frozen planes in the solve.
 #define FM_PLANE_STEP_FACTOR 2.0
 
-// Whether an implicit step of @p h keeps bodies apart with frozen planes in its solve: not in
-// the pieces of a cut step, nor at steps no longer than FM_PLANE_STEP_FACTOR times the
-// explicit stability limit of a body, where the stage's projection alone holds them (as in
-// the explicit integrator): at such short steps the planes, which each body sees as immovable,
-// let fast bodies cross (docs/contact.md, Measurements).
-bool fmContactPlanes_Hold(const fmWorld* world, const fmStepContext* context);
-
 // Before an implicit step: each surface vertex's nearest triangle of another body that the
 // step's motion may reach, frozen as a plane (n, n . q) in b->contactPlane for the step's
 // penalty (penalty.h), NaN where there is none; and each pair of surface edges of two bodies

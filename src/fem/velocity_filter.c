@@ -4,8 +4,9 @@
 // The seeds give both per step of 3 ms. Applied per step as they are, a 1/60 s implicit step
 // would damp 5.6 times less per second than the explicit 3 ms steps of the same scene, and a
 // scene would change character with its time step. So both are rates: the factor d and the
-// blend s are what one 3 ms step does, and a step of dt applies d^(dt / 3 ms) and
-// 1 - (1 - s)^(dt / 3 ms). At the seeds' step this is exactly the seeds' filter.
+// blend s are what one 3 ms step does, and a step of n such steps (seedSteps = dt / FM_SEED_STEP,
+// the integrator's to give) applies d^n and 1 - (1 - s)^n. At the seeds' step this is exactly the
+// seeds' filter.
 #include "fem/velocity_filter.h"
 
 #include "core/det_math.h"
@@ -13,8 +14,6 @@
 
 #include <math.h>
 #include <string.h>
-
-#define FM_SEED_STEP 0.003
 
 // v <- (1 - s) v + s * (average velocity of the tets around each vertex), the GAMES103 Smooth_V:
 // every tet adds the sum of its 4 velocities to each of its vertices, divided by 4 * tets around.
@@ -113,28 +112,28 @@ static void fmDampTaskRun(int start, int end, int worker, void* context)
 		c->v[k] *= c->factor;
 }
 
-double fmVelocityFilter_DampingFactor(double damping, double dt)
+double fmVelocityFilter_DampingFactor(double damping, double seedSteps)
 {
-	return damping < 1.0 ? fmMathPow(damping, dt / FM_SEED_STEP) : 1.0;
+	return damping < 1.0 ? fmMathPow(damping, seedSteps) : 1.0;
 }
 
 bool fmVelocityFilter_Smooth(const fmElasticMesh* mesh, fmBodyState* state, double smoothing,
-                             double dt, fmArena* arena, fmSimdLevel level,
+                             double seedSteps, fmArena* arena, fmSimdLevel level,
                              const fmTaskSystem* tasks, const fmThenTask* then)
 {
 	return smoothing > 0.0 &&
-	       fmSmoothVelocities(mesh, state, 1.0 - fmMathPow(1.0 - smoothing, dt / FM_SEED_STEP),
+	       fmSmoothVelocities(mesh, state, 1.0 - fmMathPow(1.0 - smoothing, seedSteps),
 	                          arena, level, tasks, then);
 }
 
 void fmFilterVelocities(const fmElasticMesh* mesh, fmBodyState* state, double damping,
-                        double smoothing, double dt, fmArena* arena, fmSimdLevel level,
+                        double smoothing, double seedSteps, fmArena* arena, fmSimdLevel level,
                         const fmTaskSystem* tasks)
 {
 	if (damping < 1.0)
 	{
-		fmDampTask damp = {state->v, fmVelocityFilter_DampingFactor(damping, dt)};
+		fmDampTask damp = {state->v, fmVelocityFilter_DampingFactor(damping, seedSteps)};
 		fmParallelFor(tasks, mesh->vertexCount, FM_PARALLEL_MIN_VERTICES, fmDampTaskRun, &damp);
 	}
-	fmVelocityFilter_Smooth(mesh, state, smoothing, dt, arena, level, tasks, NULL);
+	fmVelocityFilter_Smooth(mesh, state, smoothing, seedSteps, arena, level, tasks, NULL);
 }

@@ -3,6 +3,7 @@
 #include "world/explicit.h"
 
 #include "contact/floor.h"
+#include "core/det_math.h"
 #include "fem/forces.h"
 #include "body/loads.h"
 #include "body/targets.h"
@@ -29,6 +30,34 @@ static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 			b->state.f[k] -= b->rayleighStiffness * kv[k];
 		fmArena_Release(arena, mark);
 	}
+}
+
+// The kinematic targets' springs in an explicit substep of @p dt: f += their forces at the
+// current positions, each spring's stiffness limited to mass / dt^2 (stable with the elastic
+// forces for any target stiffness).
+static void fmAddTargetForces(const fmBody* b, double dt, double* f)
+{
+	for (int t = 0; t < b->targetCount; ++t)
+	{
+		int i = b->targetVertex[t];
+		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
+		for (int e = 0; e < 3; ++e)
+			f[3 * i + e] += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]);
+	}
+}
+
+// The work the targets' springs do over the coming position update x += dt v (J).
+static double fmTargetWork(const fmBody* b, double dt)
+{
+	double work = 0.0;
+	for (int t = 0; t < b->targetCount; ++t)
+	{
+		int i = b->targetVertex[t];
+		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
+		for (int e = 0; e < 3; ++e)
+			work += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]) * dt * b->state.v[3 * i + e];
+	}
+	return work;
 }
 
 // What the tasks of a parallel explicit step share (each writes only its own range).
@@ -130,7 +159,7 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmExplicitTask context = {.body = b,
 	                          .dt = dt,
 	                          .gravity = world->def.gravity,
-	                          .damping = fmVelocityFilter_DampingFactor(b->damping, dt)};
+	                          .damping = fmVelocityFilter_DampingFactor(b->damping, dt / FM_SEED_STEP)};
 	const size_t mark = fmArena_Mark(arena);
 	fmFloorTaken floorTaken;
 	if (fmFloor_Holds(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
@@ -152,7 +181,7 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	if (b->mesh.forceModel == fm_massSpring)
 		fmAddSpringDamping(&b->mesh, b->state.invMass, b->state.x, b->state.v, b->state.f);
 	fmAddRayleighForces(b, arena);
-	fmTargets_AddExplicitForces(b, dt, b->state.f);
+	fmAddTargetForces(b, dt, b->state.f);
 	const double* loads = fmLoads_Freeze(b, b->state.x, 1.0);
 	for (int k = 0; loads != NULL && k < 3 * n; ++k)
 		b->state.f[k] += loads[k];
@@ -164,9 +193,9 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 
 	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
 	bool placed =
-	    fmVelocityFilter_Smooth(&b->mesh, &b->state, b->smoothing, dt, arena, world->simd, tasks, plain ? &positions : NULL) &&
+	    fmVelocityFilter_Smooth(&b->mesh, &b->state, b->smoothing, dt / FM_SEED_STEP, arena, world->simd, tasks, plain ? &positions : NULL) &&
 	    plain;
-	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ExplicitWork(b, dt));
+	fmStepContext_AddContactWork(ctx, b->slot, fmTargetWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
 	fmStepContext_AddLoadWork(ctx, b->slot, fmLoads_Work(b, b->state.v, dt));
 

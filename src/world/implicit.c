@@ -241,7 +241,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmImplicitBookWork(ctx, b, c, &pb);
 	for (int k = 0; k < n3; ++k)
 		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
-	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h, arena, world->simd,
+	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h / FM_SEED_STEP, arena, world->simd,
 	                   &world->tasks);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the

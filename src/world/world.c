@@ -973,7 +973,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		return fm_errNumerical;
 	const fmContactPoint* points;
 	w->stats.contacts = fmContactEvents_Points(w, &points);
-	if (!fmContactEvents_EndFrame(w, &ctx) || !fmIsland_EndFrame(w, &ctx))
+	if (!fmContactEvents_EndFrame(w, 1.0 / ctx.frameTime) || !fmIsland_EndFrame(w, &ctx))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact or sleep events");
 	w->profile.check = 1e3 * (fmSeconds() - checking);
