@@ -363,8 +363,16 @@ bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmContactState_Get(w);
-	return s != NULL && (!fmPlanesHold(w, ctx) ||
-	                     fmContactPlanes_Predict(w, s, fmContact_Thickness(w), ctx));
+	if (s == NULL)
+		return false;
+	if (!fmPlanesHold(w, ctx))
+		return true;
+	s->predict = ctx->substep;
+	s->predicting = true;
+	bool ok = fmContactPlanes_Predict(w, s, fmContact_Thickness(w));
+	s->predict = 0.0;
+	s->predicting = false;
+	return ok;
 }
 
 bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)

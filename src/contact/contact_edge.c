@@ -39,14 +39,14 @@ fmVec3 fmContactEdge_Point(const double* x, const int e[2], double s)
 // Edge e of body b (@p side: the normal of a triangle of b's with that edge) against the edges
 // of triangle @p tri of body o: a contact when their closest points are inside both edges and
 // within the thickness, or when the edges crossed during the substep (the direction between the
-// closest points turned over); before an implicit step (s->predict), when they are within
+// closest points turned over); before an implicit step (s->predicting), when they are within
 // reach of the step's motion and face each other. Appends to the edge list.
 static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, const fmBody* b,
                                   int slot, const int e[2], fmVec3 side, const fmBody* o, int other,
                                   const int* tri, double thickness, int item)
 {
 	// (Only the frozen planes before an implicit step ask which way the faces look.)
-	fmVec3 face = s->predict > 0.0 ? fmTriangleCross(o, tri) : fmMakeVec3(0.0, 0.0, 0.0);
+	fmVec3 face = s->predicting ? fmTriangleCross(o, tri) : fmMakeVec3(0.0, 0.0, 0.0);
 	for (int k = 0; k < 3; ++k)
 	{
 		int f[2] = {tri[k], tri[(k + 1) % 3]};
@@ -67,14 +67,14 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		// A crossing: the direction between the closest points turned over within the substep
 		// while they were within reach of each other. (Before an implicit step: edges within
 		// reach of the step's motion, for its frozen edge planes.)
-		bool crossed = s->predict == 0.0 && fmDot(d, d0) < 0.0 && start > 0.0 && start < reach;
-		double near = s->predict > 0.0 ? reach : thickness;
+		bool crossed = !s->predicting && fmDot(d, d0) < 0.0 && start > 0.0 && start < reach;
+		double near = s->predicting ? reach : thickness;
 		if (!(crossed || (distance < near && distance > 0.0)))
 			continue;
 		// A frozen plane only between edges that face each other: the direction from o's edge
 		// to b's leaves o through the face and enters b against the face of b's edge (@p side).
 		// Edges of bodies already inside each other would otherwise be held there.
-		if (s->predict > 0.0 && !(fmDot(d, face) > 0.0 && fmDot(d, side) < 0.0))
+		if (s->predicting && !(fmDot(d, face) > 0.0 && fmDot(d, side) < 0.0))
 			continue;
 		if (!fmGrowArray((void**)&wf->edges, &wf->edgeCapacity, wf->edgeCount, wf->edgeCount + 1,
 		                 sizeof(fmEdgeContact)))
@@ -100,7 +100,7 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 	int e[2] = {tri[edge % 3], tri[(edge % 3 + 1) % 3]};
 	if (e[0] > e[1])
 		return;
-	fmVec3 side = s->predict > 0.0 ? fmTriangleCross(b, tri) : fmMakeVec3(0.0, 0.0, 0.0);
+	fmVec3 side = s->predicting ? fmTriangleCross(b, tri) : fmMakeVec3(0.0, 0.0, 0.0);
 	fmVec3 p = fmLoad(b->state.x, e[0]), q = fmLoad(b->state.x, e[1]);
 	double reach =
 	    thickness + fmMax(fmContactDetect_Motion(s, b, e[0]), fmContactDetect_Motion(s, b, e[1]));

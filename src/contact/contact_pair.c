@@ -150,7 +150,7 @@ static double fmCandidateScore(const fmWorld* w, const fmContactState* s, int sl
 	double distance = fmLength(fmSub(p, q));
 	*side = fmDot(*n, fmSub(p, q));
 	// (Before a step, a plane within the reach of the step's motion may be met.)
-	double near = s->predict > 0.0 ? bound : thickness;
+	double near = s->predicting ? bound : thickness;
 	bool touches = distance <= bound && *side<near&& * side> - bound;
 	// A body's own interior lies behind all of its triangles: a vertex of it counts against its
 	// own surface only from the front (or just behind, within the thickness), and only within
@@ -158,7 +158,7 @@ static double fmCandidateScore(const fmWorld* w, const fmContactState* s, int sl
 	// face that move with it).
 	if (other == slot)
 		touches = *side > -thickness ? distance <= thickness && *side < thickness
-		                             : s->predict == 0.0 && distance <= bound &&
+		                             : !s->predicting && distance <= bound &&
 		                                   fmInFrontAtStart(b, i, tri, *n, thickness);
 	if (!touches)
 		return INFINITY;

@@ -18,11 +18,9 @@ static bool fmAddEdgePlane(fmBody* b, const fmEdgePlane* plane)
 	return true;
 }
 
-bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness,
-                             const fmStepContext* ctx)
+bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness)
 {
-	// (fmContact_BeginSubstep has set every plane to none.)
-	s->predict = ctx->substep;
+	// (fmContact_BeginSubstep has set every plane to none, and the motion's horizon.)
 	int n = fmContactDetect_BuildTriangles(w, s, thickness)
 	            ? fmContactDetect_Vertices(w, s, thickness)
 	            : -1;
@@ -56,6 +54,5 @@ bool fmContactPlanes_Predict(fmWorld* w, fmContactState* s, double thickness,
 		ok = fmAddEdgePlane(b, &mine) && fmAddEdgePlane(o, &theirs);
 	}
 	s->edgeContactCount = 0;
-	s->predict = 0.0;
 	return ok;
 }

@@ -13,9 +13,8 @@
 // by the contact stage's projection alone, without frozen planes in the solve.
 #define FM_PLANE_STEP_FACTOR 2.0
 
-// Before an implicit step: each surface vertex's nearest triangle of another body that the
+// Before an implicit step (with state->predict the step: the motion's horizon): each surface vertex's nearest triangle of another body that the
 // step's motion may reach, frozen as a plane (n, n . q) in b->contactPlane for the step's
 // penalty (penalty.h), NaN where there is none; and each pair of surface edges of two bodies
 // within that reach, frozen as a plane for each edge (b->edgePlanes).
-bool fmContactPlanes_Predict(fmWorld* world, fmContactState* state, double thickness,
-                             const fmStepContext* context);
+bool fmContactPlanes_Predict(fmWorld* world, fmContactState* state, double thickness);

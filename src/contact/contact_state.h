@@ -127,8 +127,9 @@ typedef struct fmContactState
 	int tetCapacity;
 	double* forces; // scratch: a spring body's forces
 	int forceCapacity;
-	double predict; // s: motion bounds add |v| predict (the implicit step's planes, made before
-	                // the step), 0 after it
+	double predict;  // s: motion bounds add |v| predict (the implicit step's planes, made before
+	                 // the step), 0 after it
+	bool predicting; // predict > 0: the frozen planes are being made
 } fmContactState;
 
 // The world's contact buffers, made (zeroed) on first use; NULL when memory is short.
