@@ -63,6 +63,8 @@ void fmWorldSyncFloor(fmWorld* world);
 
 // Resolve ids; NULL if null or stale (a body id must match its world's slot and generation).
 fmWorld* fmGetWorld(fmWorldId id);
+// fmGetWorld for a public call, which asserts (FM_ASSERT) that the id is live.
+fmWorld* fmWorldOrAssert(fmWorldId id);
 fmWorld* fmGetWorldOfBody(fmBodyId id);
 
 // Bytes of a world's body table (counted against fmWorldDef.memoryBudget).
@@ -71,6 +73,10 @@ size_t fmWorldTableBytes(int maxBodies);
 // Reserve the world's arena for its largest body (the buffers a step takes at once); false when
 // memory is short. Allocates only when a larger body arrived.
 bool fmWorldReserveArena(fmWorld* world);
+
+// The smallest explicit stability limit (s) of the world's live bodies at their current
+// deformation (each body's explicitLimit updated), INFINITY without bodies.
+double fmWorldExplicitLimit(fmWorld* world);
 
 // The explicit stability limit (s) of @p body at its current deformation, from the world's arena
 // (reserved for it).

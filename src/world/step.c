@@ -1,0 +1,563 @@
+// The frame step (fmWorld_Step): the step context, the substeps over the bodies (fixed, adaptive,
+// implicit pieces), the stages in a fixed order, the ledgers opened and closed, the health checks
+// and the restore of the last good state (docs/architecture.md, "A frame").
+#include "world/world.h"
+
+#include "contact/contact.h"
+#include "contact/contact_events.h"
+#include "core/core.h"
+#include "core/det_math.h"
+#include "core/fp_env.h"
+#include "core/timer.h"
+#include "fem/forces.h"
+#include "world/energy_ledger.h"
+#include "world/explicit.h"
+#include "world/implicit.h"
+#include "world/island.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+// Up to eight tets of a body that went bad (non-finite or inverted), in the mesh's numbering,
+// into @p list; returns how many there are in all.
+static int fmListBadTets(const fmBody* b, char* list, size_t size)
+{
+	int count = 0;
+	size_t length = 0;
+	list[0] = '\0';
+	for (int t = 0; t < b->mesh.tetCount; ++t)
+	{
+		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
+		double J = fmDet(&F);
+		if (isfinite(J) && J > 0.0)
+			continue;
+		if (count < 8 && length + 16 < size)
+			length += (size_t)snprintf(list + length, size - length, "%s%d", count ? ", " : "",
+			                           b->userTet[t] + b->firstIndex);
+		++count;
+	}
+	if (count > 8 && length + 6 < size)
+		snprintf(list + length, size - length, ", ...");
+	return count;
+}
+
+// What to try after a failure, by integrator.
+static const char* fmFailureAdvice(const fmWorld* w)
+{
+	return w->def.integrator == fm_implicit
+	           ? "try more substeps (a smaller dt), a tighter tolerance or more Newton iterations"
+	           : "try a smaller dt (more substeps) or the implicit integrator";
+}
+
+// The first vertex with a non-finite position or velocity, or -1.
+static int fmFirstNonFiniteVertex(const fmBody* b)
+{
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		if (!isfinite(b->state.x[k]) || !isfinite(b->state.v[k]))
+			return k / 3;
+	return -1;
+}
+
+// What went wrong with a body after (or during) a frame.
+typedef enum fmBadBody
+{
+	fm_badState,    // non-finite positions or velocities, or an energy that overflowed
+	fm_badLedger,   // energy beyond E0 + W + tolerance
+	fm_badBackstop, // energy beyond the per-frame backstop (an unstable step)
+	fm_badSolve,    // the implicit solve's energy or gradient went non-finite
+} fmBadBody;
+
+// Say why body @p index went bad in the world's last error, naming the vertex and tets:
+// @p energy is the measured energy and @p bound what was allowed (ledger and backstop), @p
+// residual the implicit solve's last one (fm_badSolve).
+static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double energy, double bound,
+                                double residual)
+{
+	const fmBody* b = &w->bodies[index];
+	char list[160], what[384];
+	int bad = fmListBadTets(b, list, sizeof list);
+	int vertex = fmFirstNonFiniteVertex(b);
+	if (vertex >= 0)
+		snprintf(what, sizeof what, "non-finite position or velocity at vertex %d",
+		         b->userVertex[vertex] + b->firstIndex);
+	else if (kind == fm_badSolve)
+		snprintf(what, sizeof what,
+		         "the implicit solve's energy or gradient went non-finite (last relative "
+		         "residual %.3g)",
+		         residual);
+	else if (kind == fm_badState || !isfinite(energy))
+		snprintf(what, sizeof what,
+		         "its energy overflowed (positions and velocities beyond what a double holds "
+		         "squared)");
+	else if (kind == fm_badBackstop)
+		snprintf(what, sizeof what,
+		         "energy ran away within the frame: %.3g J (kinetic + elastic) is more than "
+		         "%.3g J, 1000 times what the frame started with plus what gravity can add",
+		         energy, bound);
+	else
+		snprintf(what, sizeof what,
+		         "energy ran away: %.3g J (kinetic + elastic%s) is more than the %.3g J its "
+		         "ledger allows (%.3g J at the start plus %.3g J of work done on it, "
+		         "docs/robustness.md)",
+		         energy,
+		         w->def.integrator == fm_explicit ? ", as symplectic Euler conserves it" : "",
+		         bound, b->ledger.initialEnergy,
+		         b->ledger.work + b->ledger.frameGravityWork + w->frameWork[index].contact);
+	fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+	            "body %d: %s; %d inverted or non-finite tets (%s); state restored to the last "
+	            "good frame; %s",
+	            index, what, bad, list, fmFailureAdvice(w));
+	fmLog(fm_logError, "%s", w->lastError.message);
+	return fm_errNumerical;
+}
+
+// How the energy ledger measures the world's bodies (energy_ledger.h).
+static fmEnergyPass fmWorldEnergyPass(fmWorld* w)
+{
+	fmEnergyPass pass = {&w->arena, &w->tasks, w->simd};
+	return pass;
+}
+
+// Health of a body after a frame: finite state, and energy within the ledger's bound.
+static fmResult fmCheckBody(fmWorld* w, int index, const fmStepContext* ctx)
+{
+	fmBody* b = &w->bodies[index];
+	double plain = NAN;
+	fmEnergyPass pass = fmWorldEnergyPass(w);
+	b->invertedAfter = -1;
+	double energy = fmFirstNonFiniteVertex(b) < 0 ? fmBodyEnergy(b, w->def.gravity, ctx->shadowStep,
+	                                                             &plain, &b->invertedAfter, &pass)
+	                                              : NAN;
+	b->energyAfter = energy;
+	if (!isfinite(energy) || !isfinite(plain))
+		return fmReportBadBody(w, index, fm_badState, energy, NAN, NAN);
+	fmLedgerVerdict verdict =
+	    fmLedger_Check(b, &ctx->work[index], w->def.gravity, energy, plain, ctx->frameTime);
+	if (verdict.ok)
+		return fm_ok;
+	return fmReportBadBody(w, index, verdict.backstop ? fm_badBackstop : fm_badLedger,
+	                       verdict.measured, verdict.bound, NAN);
+}
+
+static void fmRestoreAll(fmWorld* w)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b))
+			continue;
+		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+		memcpy(b->state.x, b->xGood, bytes);
+		memcpy(b->state.v, b->vGood, bytes);
+		b->energyStale = true; // energyGood may belong to a state the caller had set
+	}
+}
+
+// Explicit steps beyond twice the estimated limit explode (the seeds' house at dt = 0.003 runs
+// at 1.6 times the conservative estimate thanks to its damping and smoothing, and explodes at
+// 1.25 times its own step): say so once per world, with what would work.
+static void fmWarnExplicitStep(fmWorld* w, const fmStepContext* ctx)
+{
+	double dt = ctx->frameTime / ctx->substepCount, frameTime = ctx->frameTime;
+	if (w->def.integrator != fm_explicit || w->warnedStep || w->def.autoSubstep)
+		return;
+	double limit = INFINITY;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]))
+			limit = fmMin(limit, w->bodies[i].explicitLimit);
+	if (!(limit > 0.0) || !(dt > 2.0 * limit)) // a collapsed body fails the step itself
+		return;
+	w->warnedStep = true;
+	fmDiagWarn(&w->lastError, "", 0,
+	           "explicit step %.3g s is more than twice the estimated stability limit %.3g s: "
+	           "expect an explosion; use at least %.0f substeps per frame of %.3g s, or the "
+	           "implicit integrator",
+	           dt, limit, ceil(frameTime / limit), frameTime);
+}
+
+// A frame the integrators can take: 1 to FM_MAX_SUBSTEPS substeps of FM_MIN_SUBSTEP to
+// FM_MAX_SUBSTEP seconds. (A step of 1e300 s makes the inertia term 1/h^2 vanish: the implicit
+// solve would be a static one without pins and nothing would move.)
+static fmResult fmCheckFrame(fmWorld* w, double timeStep, int subStepCount)
+{
+	if (!(timeStep > 0.0 && isfinite(timeStep)) || subStepCount < 1 ||
+	    subStepCount > FM_MAX_SUBSTEPS)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "time step must be finite and > 0 and substeps in [1, %d], got %g and "
+		                   "%d",
+		                   FM_MAX_SUBSTEPS, timeStep, subStepCount);
+	double h = timeStep / subStepCount;
+	if (!(h >= FM_MIN_SUBSTEP && h <= FM_MAX_SUBSTEP))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "a substep of %g s is outside what the integrators can take (%g to %g "
+		                   "s); for an equilibrium use fmBody_SolveStatic",
+		                   h, FM_MIN_SUBSTEP, FM_MAX_SUBSTEP);
+	return fm_ok;
+}
+
+// With autoSubstep, explicit substeps are at most FM_AUTO_STEP_FRACTION of the stability limit
+// at the bodies' current deformation (stability.h), and at least subStepCount to a frame. The
+// limit is linear stability; contacts and large compressions within a step need more room:
+// measured on the audit's Neo-Hookean house drop (tests/test_health.c), 0.5 of the limit blew up
+// at 2.4 s, 0.35 and less ran the whole drop. Deformation changes
+// within a frame (an impact compresses a body in a few substeps), so a cheap stiffening proxy is
+// watched after every substep and the limit re-evaluated when it moves by 10%.
+#define FM_AUTO_STEP_FRACTION 0.3
+
+typedef struct fmAutoStep
+{
+	double limit; // s, stability limit at the last evaluation
+	double proxy; // stiffening proxy at the last evaluation
+} fmAutoStep;
+
+static double fmWorldStiffeningProxy(const fmWorld* w)
+{
+	double proxy = 1.0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]))
+			proxy = fmMax(proxy, fmStiffeningProxy(&w->bodies[i].mesh, w->bodies[i].state.x));
+	return proxy;
+}
+
+static void fmAutoStep_Evaluate(fmWorld* w, fmAutoStep* a)
+{
+	a->limit = fmWorldExplicitLimit(w);
+	a->proxy = fmWorldStiffeningProxy(w);
+}
+
+// The next substep: no longer than the nominal one or FM_AUTO_STEP_FRACTION of the limit, and
+// never leaving a sliver at the end of the frame; 0 when a body has collapsed (its limit is 0).
+static double fmAutoStep_Next(fmWorld* w, fmAutoStep* a, double nominal, double remaining,
+                              bool watch)
+{
+	if (watch)
+	{
+		double proxy = fmWorldStiffeningProxy(w);
+		if (!(proxy <= 1.1 * a->proxy && proxy >= a->proxy / 1.1))
+			fmAutoStep_Evaluate(w, a);
+	}
+	if (!(a->limit > 0.0))
+		return 0.0; // a body has collapsed: no step is stable
+	double h = fmMin(nominal, FM_AUTO_STEP_FRACTION * a->limit);
+	double count = ceil(remaining / h * (1.0 - 1e-12));
+	return remaining / fmMax(count, 1.0);
+}
+
+// Step body @p index by @p h with the world's integrator, keeping what it produced in the body
+// (stepResult and the solve's counters). Writes nothing the other bodies' steps touch.
+static void fmStepBody(fmWorld* w, int index, const fmStepContext* ctx)
+{
+	fmBody* b = &w->bodies[index];
+	if (w->def.integrator != fm_implicit)
+	{
+		b->stepResult = fmExplicitStep(w, ctx, b);
+		return;
+	}
+	fmNewtonResult solve;
+	b->stepResult = fmImplicitStep(w, ctx, b, &solve);
+	b->stepResidual = solve.residual;
+	b->stepNewton = solve.iterations;
+	b->stepCg = solve.cgIterations;
+	b->stepConverged = solve.converged;
+	b->stepStopped = solve.stagnated ? "it stagnated at round-off"
+	                 : solve.stalled ? "the line search found no decrease"
+	                                 : "it hit the Newton iteration limit";
+}
+
+// Merge body @p index's step into the world: solver counters into the statistics, a step above
+// the tolerance into a warning (once a frame) or, with notConvergedIsError, an error, and a
+// failure into the last error.
+static fmResult fmMergeBodyStep(fmWorld* w, int index)
+{
+	const fmBody* b = &w->bodies[index];
+	if (b->stepResult == fm_errNumerical)
+		return fmReportBadBody(w, index,
+		                       w->def.integrator == fm_implicit ? fm_badSolve : fm_badState, NAN,
+		                       NAN, b->stepResidual);
+	if (b->stepResult != fm_ok)
+		return fmDiagError(&w->lastError, b->stepResult, "", 0, 0,
+		                   "body %d: the %s step failed (%s)", index,
+		                   w->def.integrator == fm_implicit ? "implicit" : "explicit",
+		                   fmResultMessage(b->stepResult));
+	bool implicit = w->def.integrator == fm_implicit;
+	*(implicit ? &w->profile.solve : &w->profile.forces) += 1e3 * b->stepStage[0];
+	*(implicit ? &w->profile.finish : &w->profile.integrate) += 1e3 * b->stepStage[1];
+	if (!implicit)
+		return fm_ok;
+	w->stats.newtonIterations += b->stepNewton;
+	w->stats.cgIterations += b->stepCg;
+	w->stats.residual = b->stepResidual;
+	w->stats.maxResidual = fmMax(w->stats.maxResidual, b->stepResidual);
+	if (b->stepConverged)
+		return fm_ok;
+	w->stats.unconvergedSteps += 1;
+	const char* format = "body %d: the implicit step ended at relative residual %.3g, above the "
+	                     "tolerance %.3g, after %d Newton and %d CG iterations (%s)";
+	if (w->def.notConvergedIsError)
+		return fmDiagError(&w->lastError, fm_errNotConverged, "", 0, 0, format, index,
+		                   b->stepResidual, w->def.tolerance, b->stepNewton, b->stepCg,
+		                   b->stepStopped);
+	if (w->stats.unconvergedSteps == 1)
+		fmDiagWarn(&w->lastError, "", 0, format, index, b->stepResidual, w->def.tolerance,
+		           b->stepNewton, b->stepCg, b->stepStopped);
+	return fm_ok;
+}
+
+// Advance every body by one substep of @p h.
+// The frame budget is spent: say so once a frame.
+static void fmBudgetHit(fmWorld* w, const char* what)
+{
+	if (w->stats.budgetHit)
+		return;
+	w->stats.budgetHit = true;
+	fmDiagWarn(&w->lastError, "", 0, "the frame budget is spent: %s", what);
+}
+
+static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
+{
+	ctx->substep = h;
+	// The frame budget: what is left of maxNewtonPerFrame bounds every step of this substep.
+	int left = w->def.maxNewtonPerFrame - w->stats.newtonIterations;
+	ctx->newtonLimit = w->def.newtonIterations;
+	if (w->def.integrator == fm_implicit && left < ctx->newtonLimit)
+	{
+		ctx->newtonLimit = left > 1 ? left : 1;
+		fmBudgetHit(w, "the implicit steps' Newton iterations were cut to what maxNewtonPerFrame "
+		               "leaves (at least one a step); their residuals are reported");
+	}
+	// Stage a: every body steps on its own (the stage threads will share).
+	bool contact = fmContact_Active(w);
+	if (contact && !fmContact_BeginSubstep(w, ctx))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact buffers");
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]))
+			fmStepBody(w, i, ctx);
+	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
+	double contactStart = fmSeconds();
+	bool contactOk =
+	    (!contact || fmContact_Substep(w, ctx)) && fmContactEvents_ReportFloor(w, contact);
+	w->profile.contact += 1e3 * (fmSeconds() - contactStart);
+	if (!contactOk)
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact buffers");
+	// Stage c: the results merge in body order, the same for any schedule of stage a.
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		if (!fmIsland_Stepping(&w->bodies[i]))
+			continue;
+		fmResult r = fmMergeBodyStep(w, i);
+		if (r != fm_ok)
+			return r;
+	}
+	w->stats.steps += 1;
+	return fm_ok;
+}
+
+// An implicit substep of @p h, cut into the pieces fmContact_Pieces asks for where bodies close
+// in fast (within what is left of maxSubstepsPerFrame and FM_MIN_SUBSTEP).
+static fmResult fmImplicitPieces(fmWorld* w, fmStepContext* ctx, double h, int substepsLeft)
+{
+	int most = w->def.maxSubstepsPerFrame - w->stats.steps - (substepsLeft - 1);
+	most = (int)fmMin(most, floor(h / FM_MIN_SUBSTEP));
+	ctx->substep = h;
+	int pieces = most > 1 && fmContact_Active(w) ? fmContact_Pieces(w, ctx, most) : 1;
+	if (pieces < 0)
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact buffers");
+	if (pieces > most)
+	{
+		pieces = most;
+		fmBudgetHit(w, "an implicit step was cut into fewer pieces than fast bodies closing in "
+		               "need (maxSubstepsPerFrame): they may pass through each other");
+	}
+	fmResult r = fm_ok;
+	ctx->pieces = pieces;
+	for (int k = 0; k < pieces && r == fm_ok; ++k)
+		r = fmSubstep(w, ctx, h / pieces);
+	ctx->pieces = 1;
+	return r;
+}
+
+static fmResult fmFixedSubsteps(fmWorld* w, fmStepContext* ctx, double h, int count)
+{
+	fmResult r = fm_ok;
+	for (int s = 0; s < count && r == fm_ok; ++s)
+		r = w->def.integrator == fm_implicit ? fmImplicitPieces(w, ctx, h, count - s)
+		                                     : fmSubstep(w, ctx, h);
+	return r;
+}
+
+// Substeps between autoSubstep's checks for non-finite state within a frame.
+#define FM_FINITE_CHECK_SUBSTEPS 256
+
+// autoSubstep: substeps planned by fmAutoStep_Next until the frame is done. @p lastStep gets the
+// length of the last one (the ledger measures the shadow energy with it).
+static fmResult fmAdaptiveSubsteps(fmWorld* w, fmStepContext* ctx, fmAutoStep* plan)
+{
+	const double timeStep = ctx->frameTime, nominal = timeStep / ctx->substepCount;
+	double remaining = timeStep, h = ctx->shadowStep;
+	while (remaining > 1e-12 * timeStep)
+	{
+		if (w->stats.steps >= FM_MAX_SUBSTEPS || !(h > 0.0))
+			return fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
+			                   "the stability limit asks for more than %d substeps in a frame of "
+			                   "%.3g s (the next would be %.3g s): a body is collapsing; state "
+			                   "restored to the last good frame; try the implicit integrator",
+			                   FM_MAX_SUBSTEPS, timeStep, h);
+		fmResult r = fmSubstep(w, ctx, h);
+		if (r != fm_ok)
+			return r;
+		// A body gone non-finite (collapsed, or blown up by substeps the budget made longer than
+		// stable) is refused now, not after the rest of the frame's substeps.
+		for (int i = 0; w->stats.steps % FM_FINITE_CHECK_SUBSTEPS == 0 && i < w->bodyCapacity; ++i)
+			if (fmIsland_Stepping(&w->bodies[i]) && fmFirstNonFiniteVertex(&w->bodies[i]) >= 0)
+				return fmReportBadBody(w, i, fm_badState, NAN, 0.0, 0.0);
+		remaining -= h;
+		if (!(remaining > 1e-12 * timeStep))
+			break;
+		h = fmAutoStep_Next(w, plan, nominal, remaining, true);
+		int left = w->def.maxSubstepsPerFrame - w->stats.steps;
+		if (h > 0.0 && remaining / h > left + 1e-9)
+		{
+			h = remaining / (left > 1 ? left : 1);
+			fmBudgetHit(w, "autoSubstep took longer substeps than the stability limit to end the "
+			               "frame within maxSubstepsPerFrame");
+		}
+		// The ledger measures the shadow energy with the step: a new step changes the measure,
+		// which is neither work nor a runaway.
+		fmEnergyPass pass = fmWorldEnergyPass(w);
+		for (int i = 0; i < w->bodyCapacity && h != ctx->shadowStep && h > 0.0; ++i)
+			if (fmBody_IsLive(&w->bodies[i]))
+				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, ctx->shadowStep, h, &pass);
+		ctx->shadowStep = h;
+	}
+	return fm_ok;
+}
+
+// The frame's step context: its times, the world's workers and arena, the bookings zeroed.
+static fmStepContext fmWorldStepContext(fmWorld* w, double timeStep, int subStepCount)
+{
+	memset(w->frameWork, 0, sizeof(fmFrameWork) * (size_t)w->bodyCapacity);
+	fmStepContext ctx = {.frameTime = timeStep,
+	                     .substep = timeStep / subStepCount,
+	                     .substepCount = subStepCount,
+	                     .pieces = 1,
+	                     .newtonLimit = w->def.newtonIterations,
+	                     .integrator = w->def.integrator,
+	                     .gravity = w->def.gravity,
+	                     .tasks = &w->tasks,
+	                     .arena = &w->arena,
+	                     .simd = w->simd,
+	                     .work = w->frameWork,
+	                     .bodyCapacity = w->bodyCapacity};
+	return ctx;
+}
+
+// Open every stepping body's energy ledger. The state to fall back on (xGood, vGood) is the
+// last one that passed the checks, kept from the previous frame: a state the user set to NaN or
+// Inf between steps is not "good". What the caller changed since is booked as work.
+static void fmOpenLedgers(fmWorld* w, const fmStepContext* ctx)
+{
+	fmEnergyPass pass = fmWorldEnergyPass(w);
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]))
+			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, ctx->shadowStep, &pass);
+}
+
+// Health checks against the ledgers: a failure restores every body. Only when every body passed
+// are the frame's work booked (the ledgers closed) and the good states moved forward.
+static fmResult fmCloseLedgers(fmWorld* w, const fmStepContext* ctx)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]) && fmCheckBody(w, i, ctx) != fm_ok)
+		{
+			fmRestoreAll(w);
+			return fm_errNumerical;
+		}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (!fmIsland_Stepping(b))
+			continue;
+		fmLedger_Commit(b, &ctx->work[i], ctx->shadowStep);
+		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+		memcpy(b->xGood, b->state.x, bytes);
+		memcpy(b->vGood, b->state.v, bytes);
+		b->energyGood = b->energyAfter;
+		b->energyStale = false;
+		w->stats.invertedTets += b->invertedAfter >= 0
+		                             ? b->invertedAfter
+		                             : fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
+	}
+	return fm_ok;
+}
+
+// The frame step of fmWorld_Step, in femto's floating-point environment.
+static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
+{
+	memset(&w->stats, 0, sizeof w->stats);
+	fmDiagClear(&w->lastError);
+	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
+	if (r != fm_ok)
+		return r;
+	if (!fmWorldReserveArena(w))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the step buffers");
+	fmStepContext ctx = fmWorldStepContext(w, timeStep, subStepCount);
+
+	// Stage 1: the substep length (autoSubstep: from the stability limit at the current
+	// deformation).
+	const bool autoStep = w->def.integrator == fm_explicit && w->def.autoSubstep;
+	fmAutoStep plan = {0.0, 1.0};
+	if (autoStep)
+	{
+		fmAutoStep_Evaluate(w, &plan);
+		ctx.substep = fmAutoStep_Next(w, &plan, ctx.substep, timeStep, false);
+	}
+
+	// Stage 2: open the ledgers.
+	fmContact_BeginFrame(w);
+	ctx.shadowStep = w->def.integrator == fm_explicit ? ctx.substep : 0.0;
+	w->sleepEventCount = 0;
+	fmOpenLedgers(w, &ctx);
+	fmWarnExplicitStep(w, &ctx);
+
+	// Stage 3: substeps, every body advanced by the chosen integrator.
+	r = autoStep ? fmAdaptiveSubsteps(w, &ctx, &plan) : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);
+	if (r != fm_ok)
+	{
+		fmRestoreAll(w);
+		return r;
+	}
+
+	// Stage 4: check and close the ledgers, then the frame's contact events and islands.
+	double checking = fmSeconds();
+	if (fmCloseLedgers(w, &ctx) != fm_ok)
+		return fm_errNumerical;
+	const fmContactPoint* points;
+	w->stats.contacts = fmContactEvents_Points(w, &points);
+	if (!fmContactEvents_EndFrame(w, 1.0 / ctx.frameTime) || !fmIsland_EndFrame(w, &ctx))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the contact or sleep events");
+	w->profile.check = 1e3 * (fmSeconds() - checking);
+	return fm_ok;
+}
+
+fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
+{
+	fmWorld* w = fmWorldOrAssert(worldId);
+	if (w == NULL)
+		return fm_errInvalidId;
+	// The host's floating-point state is saved, femto's set (round to nearest, no FTZ or DAZ),
+	// and the host's restored after the step, on every path (fp_env.h).
+	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
+	double start = fmSeconds();
+	memset(&w->profile, 0, sizeof w->profile);
+	fmResult r = fmWorldStep(w, timeStep, subStepCount);
+	w->profile.step = 1e3 * (fmSeconds() - start);
+	w->profile.narrowPhase = fmMax(0.0, w->profile.contact - w->profile.broadPhase);
+	fmFpEnv_Leave(&env);
+	return r;
+}
