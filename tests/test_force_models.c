@@ -3,6 +3,7 @@
 // spring damping, E and nu measured back from a cube, inversion recovery, the house with every
 // model.
 #include "body/body.h"
+#include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "support.h"
 #include "test.h"

@@ -5,15 +5,15 @@
 #include "body/body_def.h"
 #include "core/core.h"
 #include "core/det_math.h"
-#include "draw/draw.h"
 #include "contact/floor.h"
+#include "fem/force_fvm.h"
+#include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "core/fp_env.h"
 #include "world/island.h"
 #include "body/loads.h"
 #include "mesh/mesh_internal.h"
 #include "contact/penalty.h"
-#include "draw/render_mesh.h"
 #include "mesh/reorder.h"
 #include "solver/solver_cache.h"
 #include "fem/tet_blocks.h"
@@ -42,13 +42,14 @@ void fmBodyRelease(fmBody* b)
 	FM_FREE_ARRAY(b->userTets, int, 4 * m);
 	FM_FREE_ARRAY(b->userSurface, int, 3 * (size_t)b->mesh.triangleCount);
 	FM_FREE_ARRAY(b->userMass, double, n);
-	fmDrawCache_Free(b->drawCache);
-	fmRenderMesh_Free(b->renderMesh);
+	fmAttachment_Release(&b->drawCache);
+	fmAttachment_Release(&b->renderMesh);
 	fmBodyContact_Free(&b->contact, vertexCount, tetCount);
 	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
 	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
 	fmLoads_Free(b->loads);
 	fmSolverCache_Free(b->solverCache);
+	fmTetBlocks_Destroy(b->mesh.tetBlocks);
 	fmElasticMesh_Free(&b->mesh);
 	uint32_t generation = b->generation;
 	memset(b, 0, sizeof *b);

@@ -4,6 +4,7 @@
 #include <femto/femto.h>
 
 #include "contact/contact_body.h"
+#include "core/attachment.h"
 #include "fem/elastic_mesh.h"
 #include "world/energy_ledger.h"
 
@@ -74,8 +75,8 @@ typedef struct fmBody
 	// Each stage's scratch, typed, made and freed by the stage
 	fmBodyContact contact;                 // the contact stage's (contact_body.h)
 	struct fmImplicitCache* solverCache;   // the implicit solve's (solver_cache.h), or NULL
-	struct fmDrawCache* drawCache;         // fmWorld_Draw's buffers (draw.h), or NULL
-	struct fmRenderMesh* renderMesh; // fmBody_SetRenderMesh's embedded surface, or NULL
+	fmAttachment drawCache;  // fmWorld_Draw's buffers (draw.c's fmDrawCache), or none
+	fmAttachment renderMesh; // fmBody_SetRenderMesh's embedded surface (render_mesh.h), or none
 	size_t memoryEstimate;           // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 

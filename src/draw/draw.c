@@ -52,7 +52,8 @@ typedef struct fmDrawCache
 	int pointCapacity; // the body's vertices
 } fmDrawCache;
 
-void fmDrawCache_Free(fmDrawCache* c)
+// Release a draw cache; NULL is fine.
+static void fmDrawCache_Free(fmDrawCache* c)
 {
 	if (c == NULL)
 		return;
@@ -120,10 +121,15 @@ static bool fmDrawCacheSurface(const fmBody* b, fmDrawCache* c)
 	return ok;
 }
 
+static void fmReleaseDrawCache(void* cache)
+{
+	fmDrawCache_Free(cache);
+}
+
 static fmDrawCache* fmGetDrawCache(fmBody* b)
 {
-	if (b->drawCache != NULL)
-		return b->drawCache;
+	if (b->drawCache.data != NULL)
+		return b->drawCache.data;
 	fmDrawCache* c = FM_ALLOC_ZERO(fmDrawCache, 1);
 	if (c == NULL)
 		return NULL;
@@ -132,7 +138,7 @@ static fmDrawCache* fmGetDrawCache(fmBody* b)
 		fmDrawCache_Free(c);
 		return NULL;
 	}
-	b->drawCache = c;
+	fmAttachment_Set(&b->drawCache, c, fmReleaseDrawCache);
 	return c;
 }
 
@@ -397,10 +403,19 @@ static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
 	return true;
 }
 
+static void fmReleaseShapeBuffer(void* buffer)
+{
+	fmShapeBuffer_Free(buffer);
+	FM_FREE_ARRAY(buffer, fmShapeBuffer, 1);
+}
+
 // Every collider: planes through drawPlane, the other shapes' triangles through drawTriangles.
 static bool fmDrawColliders(fmWorld* w, const fmDebugDraw* draw)
 {
-	if (w->drawShape == NULL && (w->drawShape = FM_ALLOC_ZERO(fmShapeBuffer, 1)) == NULL)
+	if (w->drawShape.data == NULL)
+		fmAttachment_Set(&w->drawShape, FM_ALLOC_ZERO(fmShapeBuffer, 1), fmReleaseShapeBuffer);
+	fmShapeBuffer* shape = w->drawShape.data;
+	if (shape == NULL)
 		return false;
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
@@ -416,16 +431,16 @@ static bool fmDrawColliders(fmWorld* w, const fmDebugDraw* draw)
 		}
 		if (draw->drawTriangles == NULL)
 			continue;
-		if (!fmShapeBuffer_Fill(w->drawShape, c))
+		if (!fmShapeBuffer_Fill(shape, c))
 			return false;
 		fmDrawTriangles batch;
 		memset(&batch, 0, sizeof batch);
 		batch.collider = fmWorldColliderId(w, k);
-		batch.vertexCount = w->drawShape->vertexCount;
-		batch.triangleCount = w->drawShape->triangleCount;
-		batch.positions = w->drawShape->positions;
-		batch.normals = w->drawShape->normals;
-		batch.indices = w->drawShape->indices;
+		batch.vertexCount = shape->vertexCount;
+		batch.triangleCount = shape->triangleCount;
+		batch.positions = shape->positions;
+		batch.normals = shape->normals;
+		batch.indices = shape->indices;
 		batch.color = FM_COLOR_COLLIDERS;
 		draw->drawTriangles(&batch, draw->context);
 	}

@@ -5,8 +5,5 @@
 
 #include "body/body.h"
 
-// Release a body's draw cache (body->drawCache); NULL is fine.
-void fmDrawCache_Free(struct fmDrawCache* cache);
-
 // The colour of a strain level in [0, 1]: blue, cyan, green, yellow, red (RGB in [0, 1]).
 void fmStrainColor(double level, float rgb[3]);

@@ -28,7 +28,8 @@ typedef struct fmRenderMesh
 	double* normals;   // 3 per vertex: their smooth normals
 } fmRenderMesh;
 
-void fmRenderMesh_Free(fmRenderMesh* mesh)
+// Release a render mesh; NULL is fine.
+static void fmRenderMesh_Free(fmRenderMesh* mesh)
 {
 	if (mesh == NULL)
 		return;
@@ -39,6 +40,16 @@ void fmRenderMesh_Free(fmRenderMesh* mesh)
 	FM_FREE_ARRAY(mesh->positions, double, 3 * n);
 	FM_FREE_ARRAY(mesh->normals, double, 3 * n);
 	fmDealloc(mesh, sizeof *mesh);
+}
+
+static void fmReleaseRenderMesh(void* mesh)
+{
+	fmRenderMesh_Free(mesh);
+}
+
+static const fmRenderMesh* fmBodyRenderMesh(const fmBody* b)
+{
+	return b->renderMesh.data;
 }
 
 // ---- the grid over the tets ---------------------------------------------------------------
@@ -282,7 +293,7 @@ static fmBinding fmBindVertex(const fmBody* b, const fmTetGrid* g, fmVec3 p)
 
 int fmRenderMesh_Binding(const fmBody* body, int vertex, double w[4])
 {
-	const fmRenderMesh* m = body->renderMesh;
+	const fmRenderMesh* m = body->renderMesh.data;
 	if (m == NULL || vertex < 0 || vertex >= m->vertexCount)
 		return -1;
 	memcpy(w, m->weight + 4 * vertex, sizeof(double) * 4);
@@ -398,8 +409,7 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 		           "(the farthest %.3g m, %.3g of the body's size): each follows its nearest "
 		           "tet's map, extrapolated",
 		           outside, vertexCount, farthest, farthest / b->mesh.restSize);
-	fmRenderMesh_Free(b->renderMesh);
-	b->renderMesh = m;
+	fmAttachment_Set(&b->renderMesh, m, fmReleaseRenderMesh);
 	return fm_ok;
 }
 
@@ -409,25 +419,24 @@ void fmBody_ClearRenderMesh(fmBodyId bodyId)
 	FM_ASSERT(b != NULL);
 	if (b == NULL)
 		return;
-	fmRenderMesh_Free(b->renderMesh);
-	b->renderMesh = NULL;
+	fmAttachment_Release(&b->renderMesh);
 }
 
 int fmBody_GetRenderVertexCount(fmBodyId bodyId)
 {
 	fmBody* b = fmGetBody(bodyId);
 	FM_ASSERT(b != NULL);
-	return b != NULL && b->renderMesh != NULL ? b->renderMesh->vertexCount : 0;
+	return b != NULL && b->renderMesh.data != NULL ? fmBodyRenderMesh(b)->vertexCount : 0;
 }
 
 const int* fmBody_GetRenderTriangles(fmBodyId bodyId, int* triangleCount)
 {
 	fmBody* b = fmGetBody(bodyId);
 	FM_ASSERT(b != NULL);
-	bool has = b != NULL && b->renderMesh != NULL;
+	bool has = b != NULL && b->renderMesh.data != NULL;
 	if (triangleCount != NULL)
-		*triangleCount = has ? b->renderMesh->triangleCount : 0;
-	return has ? b->renderMesh->triangles : NULL;
+		*triangleCount = has ? fmBodyRenderMesh(b)->triangleCount : 0;
+	return has ? fmBodyRenderMesh(b)->triangles : NULL;
 }
 
 // Deform the render mesh with the body's current positions into its scratch arrays: positions
@@ -480,7 +489,7 @@ static fmResult fmCopyRender(fmBodyId bodyId, double* positions, double* normals
 	if (positions == NULL && positionsFloat == NULL)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "%s: the positions buffer is NULL (expected 3 values a vertex)", what);
-	fmRenderMesh* m = b->renderMesh;
+	fmRenderMesh* m = b->renderMesh.data;
 	if (m == NULL)
 		return fmDiagError(diag, fm_errEmpty, "", 0, 0,
 		                   "%s: body %d has no render mesh (fmBody_SetRenderMesh)", what,

@@ -4,9 +4,6 @@
 
 #include "body/body.h"
 
-// Release a body's render mesh (body->renderMesh); NULL is fine.
-void fmRenderMesh_Free(struct fmRenderMesh* mesh);
-
 // The tet (the body's own numbering) render vertex @p vertex is bound to, and its barycentric
 // coordinates into @p w; -1 without a render mesh or for a vertex out of range. For tests.
 int fmRenderMesh_Binding(const fmBody* body, int vertex, double w[4]);

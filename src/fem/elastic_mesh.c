@@ -2,7 +2,15 @@
 #include "fem/elastic_mesh.h"
 
 #include "core/core.h"
-#include "fem/tet_blocks.h"
+
+fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
+{
+	const int* n = mesh->tets + 4 * t;
+	fmVec3 x0 = fmLoad(x, n[0]);
+	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
+	                              fmSub(fmLoad(x, n[3]), x0));
+	return fmMatMul(&Ds, &mesh->DmInv[t]);
+}
 
 bool fmElasticMesh_IsLinear(const fmElasticMesh* mesh)
 {
@@ -47,8 +55,6 @@ void fmElasticMesh_Free(fmElasticMesh* mesh)
 	fmFree(mesh->surface);
 	FM_FREE_ARRAY(mesh->materials, fmMaterial, mesh->materialCount);
 	FM_FREE_ARRAY(mesh->tetMaterial, uint16_t, m);
-	fmTetBlocks_Destroy(mesh->tetBlocks);
-	mesh->tetBlocks = NULL;
 }
 
 bool fmBodyState_Allocate(fmBodyState* state, int vertexCount)

@@ -63,7 +63,8 @@ typedef struct fmElasticMesh
 	double totalMass; // kg
 	double restSize;  // diagonal of the rest shape's bounding box (m)
 
-	// The explicit kernels' layout of the tets (tet_blocks.h), made when first needed
+	// The explicit kernels' layout of the tets (tet_blocks.h), made when first needed and
+	// destroyed by the mesh's owner (fmTetBlocks_Destroy), not by fmElasticMesh_Free
 	struct fmTetBlocks* tetBlocks;
 } fmElasticMesh;
 
@@ -104,6 +105,9 @@ static inline const fmMaterial* fmTetMaterial(const fmElasticMesh* mesh, int t)
 	return mesh->tetMaterial != NULL ? &mesh->materials[mesh->tetMaterial[t]] : &mesh->material;
 }
 
+// Deformation gradient of tet t at positions x: F = Ds Dm^-1.
+fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t);
+
 // Whether every tet's material is the linear model (a quadratic elastic energy).
 bool fmElasticMesh_IsLinear(const fmElasticMesh* mesh);
 
@@ -112,7 +116,7 @@ bool fmElasticMesh_IsLinear(const fmElasticMesh* mesh);
 // memory (then fmElasticMesh_Free cleans up).
 bool fmElasticMesh_Allocate(fmElasticMesh* mesh, int vertexCount, int tetCount);
 
-// Free every array of a mesh; safe on a partly built one.
+// Free every array of a mesh (the tet blocks are their maker's); safe on a partly built one.
 void fmElasticMesh_Free(fmElasticMesh* mesh);
 
 // Allocate a state's arrays for @p vertexCount vertices (zeroed); false when out of memory.

@@ -8,7 +8,6 @@
 // is the price of the model, and why FEM is the default.
 #include "fem/force_spring.h"
 
-#include "fem/forces.h"
 
 #include "core/core.h"
 

@@ -5,6 +5,9 @@
 // the columns of -V0 P Dm^-T, and node 0 gets minus the sum (the seeds' formula).
 #include "fem/forces.h"
 
+#include "fem/force_fvm.h"
+#include "fem/force_spring.h"
+
 #include "material/material.h"
 #include "material/material_stretch.h"
 #include "fem/kernels/tet_kernel.h"
@@ -18,15 +21,6 @@ static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 		g[a] =
 		    fmMakeVec3(DmInv->m[3 * (a - 1)], DmInv->m[3 * (a - 1) + 1], DmInv->m[3 * (a - 1) + 2]);
 	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
-}
-
-fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
-{
-	const int* n = mesh->tets + 4 * t;
-	fmVec3 x0 = fmLoad(x, n[0]);
-	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
-	                              fmSub(fmLoad(x, n[3]), x0));
-	return fmMatMul(&Ds, &mesh->DmInv[t]);
 }
 
 // The batched double-precision kernels of the force passes, of the CPU's instruction set (every

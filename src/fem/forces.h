@@ -3,12 +3,7 @@
 
 #include "core/arena.h"
 #include "fem/elastic_mesh.h"
-#include "fem/force_fvm.h"
-#include "fem/force_spring.h"
 #include "core/parallel.h"
-
-// Deformation gradient of tet t at positions x: F = Ds Dm^-1.
-fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t);
 
 // inverted[t - first] = !(det F > 0) for tets [first, end) at positions x (F and det with the
 // bits of fmTetDeformation and fmDet), eight tets at a time on the CPU's vectors.

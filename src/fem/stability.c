@@ -11,6 +11,7 @@
 #include "core/det_math.h"
 
 #include "fem/elastic_mesh.h"
+#include "fem/force_spring.h"
 #include "fem/forces.h"
 
 #include <math.h>

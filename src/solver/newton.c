@@ -6,6 +6,7 @@
 #include "core/det_math.h"
 
 #include "core/core.h"
+#include "fem/force_spring.h"
 #include "fem/forces.h"
 
 #include <float.h>

@@ -4,6 +4,7 @@
 #include "solver/solver_cache.h"
 
 #include "core/core.h"
+#include "fem/force_spring.h"
 #include "fem/forces.h"
 
 #include <math.h>

@@ -4,6 +4,7 @@
 
 #include "contact/floor.h"
 #include "core/det_math.h"
+#include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "body/loads.h"
 #include "body/targets.h"

@@ -8,7 +8,6 @@
 #include "contact/contact_events.h"
 #include "contact/contact_state.h"
 #include "core/core.h"
-#include "draw/draw_shapes.h"
 #include "world/explicit.h"
 #include "contact/floor.h"
 #include "fem/forces.h"
@@ -309,9 +308,7 @@ void fmDestroyWorld(fmWorldId worldId)
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
 	fmContactState_Free(w->contactState);
 	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
-	if (w->drawShape != NULL)
-		fmShapeBuffer_Free(w->drawShape);
-	FM_FREE_ARRAY(w->drawShape, fmShapeBuffer, 1);
+	fmAttachment_Release(&w->drawShape);
 	FM_FREE_ARRAY(w->sleepEvents, fmSleepEvent, w->sleepEventCapacity);
 	FM_FREE_ARRAY(w->islandParent, int, w->islandCapacity);
 	FM_FREE_ARRAY(w->islandLeast, double, w->islandCapacity);

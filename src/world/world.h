@@ -33,7 +33,7 @@ typedef struct fmWorld
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
 	float* drawPoints;   // fmWorld_Draw's buffer of contact points (3 floats each)
 	int drawPointCapacity;
-	struct fmShapeBuffer* drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h)
+	fmAttachment drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h's fmShapeBuffer)
 	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)
 	int* islandParent;               // island.c's union-find (bodyCapacity), made at need
 	double* islandLeast;             // per island root: its bodies' least sleep timer
