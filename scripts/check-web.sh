@@ -166,8 +166,12 @@ node web/test/load_mesh.cjs
 # frames by both builds, bit-identical; the menu's files load; the wasm reader (JSON.parse) gives
 # the tool's messages (cJSON) on the CLI tests' bad scenes; malformed texts are refused with their
 # lines (web/test/scene_read.cjs).
-for scene in $(seq 0 $(($(grep -c '^\s*X("' web/femto_web.c) - 1))); do
-  compare "$scene" 20 1 0 0
+scene=0
+for file in $(sed -n 's/^\s*X("[^"]*", \([a-z0-9_]*\)).*/\1/p' web/femto_web.c); do
+  integrator=0 # as the scene file says
+  grep -q '"integrator": *"implicit"' "scenes/$file.json" && integrator=1
+  compare "$scene" 20 1 "$integrator" 0
+  scene=$((scene + 1))
 done
 bad=(syntax_error trailing_text nul_escape int_too_large bad_poisson bad_substeps bad_simd
   bad_filter both_pairs box_too_large bad_dt bad_collider_shape wrong_type bad_contact_key)

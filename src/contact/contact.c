@@ -267,7 +267,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 // explicit stability limit of a body, where the stage's projection alone holds them (as in
 // the explicit integrator): at such short steps the planes, which each body sees as immovable,
 // let fast bodies cross (docs/contact.md, Measurements).
-static bool fmPlanesHold(const fmWorld* w, const fmStepContext* ctx)
+static bool fmUsesFrozenPlanes(const fmWorld* w, const fmStepContext* ctx)
 {
 	if (ctx->pieces > 1)
 		return false;
@@ -365,7 +365,7 @@ bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
 	fmContactState* s = fmContactState_Get(w);
 	if (s == NULL)
 		return false;
-	if (!fmPlanesHold(w, ctx))
+	if (!fmUsesFrozenPlanes(w, ctx))
 		return true;
 	s->predict = ctx->substep;
 	s->predicting = true;
@@ -392,9 +392,9 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 	if (ok && fmBodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
-		ok = fmContactLedger_BookWork(w, s, ctx, shadowWeight, slot);
-	for (int k = 0; k < s->touchedCount; ++k)
-		w->bodies[s->touched[k].body].contact.mark[s->touched[k].vertex] = 0;
-	s->touchedCount = 0;
+		ok = fmContactLedger_AddStageWork(w, s, ctx, shadowWeight, slot);
+	for (int k = 0; k < s->loggedCount; ++k)
+		w->bodies[s->logged[k].body].contact.mark[s->logged[k].vertex] = 0;
+	s->loggedCount = 0;
 	return ok;
 }

@@ -98,7 +98,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	double mu = c->def.stick ? 1.0 : c->def.friction;
 	if (pushed > 0.0)
 		fmKeepFriction(b, i, n, mu * b->mesh.mass[i] * pushed / h, vc, c->def.stick);
-	if (!fmContactState_Touch(s, b, slot, i))
+	if (!fmContactState_LogVertex(s, b, slot, i))
 		return false;
 	// A creeping slip that friction or the stick takes back leaves the position too.
 	fmVec3 taken = fmSub(fmAdd(vc, relative), v);

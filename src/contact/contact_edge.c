@@ -137,12 +137,12 @@ static void fmEdgeWeights(const fmEdgeContact* c, double weights[4])
 	weights[0] = 1.0 - c->s, weights[1] = c->s, weights[2] = -(1.0 - c->t), weights[3] = -c->t;
 }
 
-static bool fmTouchEdges(fmContactState* s, fmBody* b, fmBody* o, const fmEdgeContact* c)
+static bool fmLogEdgeVertices(fmContactState* s, fmBody* b, fmBody* o, const fmEdgeContact* c)
 {
-	return fmContactState_Touch(s, b, c->body, c->a[0]) &&
-	       fmContactState_Touch(s, b, c->body, c->a[1]) &&
-	       fmContactState_Touch(s, o, c->other, c->b[0]) &&
-	       fmContactState_Touch(s, o, c->other, c->b[1]);
+	return fmContactState_LogVertex(s, b, c->body, c->a[0]) &&
+	       fmContactState_LogVertex(s, b, c->body, c->a[1]) &&
+	       fmContactState_LogVertex(s, o, c->other, c->b[0]) &&
+	       fmContactState_LogVertex(s, o, c->other, c->b[1]);
 }
 
 bool fmContactEdge_Project(fmWorld* w, fmContactState* s, fmEdgeContact* c, double thickness)
@@ -161,7 +161,7 @@ bool fmContactEdge_Project(fmWorld* w, fmContactState* s, fmEdgeContact* c, doub
 	double gap = fmMin(thickness - fmDot(c->normal, d), c->reach);
 	if (!(gap > 0.0) || !(sum > 0.0))
 		return true;
-	if (!fmTouchEdges(s, b, o, c))
+	if (!fmLogEdgeVertices(s, b, o, c))
 		return false;
 	c->reach -= gap;
 	double lambda = gap / sum;
@@ -198,7 +198,7 @@ bool fmContactEdge_Respond(fmWorld* w, fmContactState* s, fmEdgeContact* c)
 	}
 	if (!(sum > 0.0))
 		return true;
-	if (!fmTouchEdges(s, b, o, c))
+	if (!fmLogEdgeVertices(s, b, o, c))
 		return false;
 	fmVec3 before = relative;
 	fmContactResponse_Impact(&relative, c->normal, w->def.contact.restitution,

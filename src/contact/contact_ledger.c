@@ -8,14 +8,14 @@
 
 #include <string.h>
 
-// Swap the state (positions and velocities) of body @p slot's touched vertices with their
+// Swap the state (positions and velocities) of body @p slot's logged vertices with their
 // state before the stage.
-static void fmSwapTouched(fmWorld* w, fmContactState* s, int slot)
+static void fmSwapLoggedStates(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
-	for (int k = 0; k < s->touchedCount; ++k)
+	for (int k = 0; k < s->loggedCount; ++k)
 	{
-		fmTouched* t = &s->touched[k];
+		fmLoggedVertex* t = &s->logged[k];
 		if (t->body != slot)
 			continue;
 		fmVec3 x = fmLoad(b->state.x, t->vertex), v = fmLoad(b->state.v, t->vertex);
@@ -63,16 +63,16 @@ static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* ener
 	return true;
 }
 
-// The tets around body @p slot's touched vertices into s->tets; returns how many (-1 when
+// The tets around body @p slot's logged vertices into s->tets; returns how many (-1 when
 // memory is short).
-static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
+static int fmTetsAroundLogged(fmWorld* w, fmContactState* s, int slot)
 {
 	fmBody* b = &w->bodies[slot];
 	int count = 0;
-	for (int k = 0; k < s->touchedCount; ++k)
+	for (int k = 0; k < s->loggedCount; ++k)
 	{
-		int i = s->touched[k].vertex;
-		if (s->touched[k].body != slot)
+		int i = s->logged[k].vertex;
+		if (s->logged[k].body != slot)
 			continue;
 		for (int e = b->mesh.vertexTetStart[i]; e < b->mesh.vertexTetStart[i + 1]; ++e)
 		{
@@ -91,7 +91,7 @@ static int fmTouchedTets(fmWorld* w, fmContactState* s, int slot)
 }
 
 // How the stage changed body @p slot's elastic energy (J) and its power sum v . f (W): over
-// the tets around its touched vertices (a spring body: over the whole body), after minus
+// the tets around its logged vertices (a spring body: over the whole body), after minus
 // before.
 static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* energy, double* power)
 {
@@ -100,46 +100,46 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 	if (b->mesh.forceModel == fm_massSpring)
 	{
 		bool ok = fmSpringEnergyPower(s, b, &e1, &p1);
-		fmSwapTouched(w, s, slot);
+		fmSwapLoggedStates(w, s, slot);
 		ok = ok && fmSpringEnergyPower(s, b, &e0, &p0);
-		fmSwapTouched(w, s, slot);
+		fmSwapLoggedStates(w, s, slot);
 		*energy = e1 - e0;
 		*power = p1 - p0;
 		return ok;
 	}
-	int count = fmTouchedTets(w, s, slot);
+	int count = fmTetsAroundLogged(w, s, slot);
 	if (count < 0)
 		return false;
 	fmTetsEnergy(b, s->tets, count, &e1, &p1);
-	fmSwapTouched(w, s, slot);
+	fmSwapLoggedStates(w, s, slot);
 	fmTetsEnergy(b, s->tets, count, &e0, &p0);
-	fmSwapTouched(w, s, slot);
+	fmSwapLoggedStates(w, s, slot);
 	*energy = e1 - e0;
 	*power = p1 - p0;
 	return true;
 }
 
-bool fmContactLedger_BookWork(fmWorld* w, fmContactState* s, const fmStepContext* ctx,
+bool fmContactLedger_AddStageWork(fmWorld* w, fmContactState* s, const fmStepContext* ctx,
                               double shadowWeight, int slot)
 {
 	fmBody* b = &w->bodies[slot];
 	if (b->asleep)
 		return true; // nothing moved it, and its ledger is closed while it sleeps
 	double gained = 0.0, gravityPower = 0.0;
-	bool touched = false;
-	for (int k = 0; k < s->touchedCount; ++k)
+	bool logged = false;
+	for (int k = 0; k < s->loggedCount; ++k)
 	{
-		const fmTouched* t = &s->touched[k];
+		const fmLoggedVertex* t = &s->logged[k];
 		if (t->body != slot)
 			continue;
-		touched = true;
+		logged = true;
 		double m = b->mesh.mass[t->vertex];
 		fmVec3 x = fmLoad(b->state.x, t->vertex), v = fmLoad(b->state.v, t->vertex);
 		gained += 0.5 * m * (fmDot(v, v) - fmDot(t->v, t->v));
 		gained -= m * fmDot(w->def.gravity, fmSub(x, t->x));
 		gravityPower += m * fmDot(w->def.gravity, fmSub(v, t->v));
 	}
-	if (!touched)
+	if (!logged)
 		return true;
 	double elastic, power;
 	if (!fmElasticChange(w, s, slot, &elastic, &power))

@@ -53,7 +53,7 @@ static bool fmNearestOnTriangle(const fmBody* o, const int* tri, fmVec3 p, doubl
 }
 
 // Whether body slot @p other may hold a vertex of body slot @p slot inside its tets (embedded.h).
-static bool fmMayHold(const fmWorld* w, int slot, int other)
+static bool fmMayContain(const fmWorld* w, int slot, int other)
 {
 	const fmBody *b = &w->bodies[slot], *o = &w->bodies[other];
 	return other != slot && fmFiltersMeet(b->filter, o->filter) && !(b->asleep && o->asleep);
@@ -176,7 +176,7 @@ static bool fmFindEmbedded(const fmWorld* w, const fmContactState* s, fmWorkerFi
                            int i, double thickness, fmPairContact* found)
 {
 	fmVec3 p = fmLoad(w->bodies[slot].state.x, i);
-	int holder = fmTetHash_Holder(&s->tetHash, w, &wf->tetQuery, slot, p, fmMayHold);
+	int holder = fmTetHash_Container(&s->tetHash, w, &wf->tetQuery, slot, p, fmMayContain);
 	wf->failed = wf->failed || holder == -2;
 	return holder >= 0 && fmEmbeddedContact(w, s, wf, slot, i, holder, thickness, false, found);
 }
@@ -245,13 +245,13 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 }
 
 // Note the state of a contact's vertex and its triangle's before the stage changes them.
-static bool fmTouchPair(fmContactState* s, fmBody* b, fmBody* o, const fmPairContact* pc)
+static bool fmLogPairVertices(fmContactState* s, fmBody* b, fmBody* o, const fmPairContact* pc)
 {
 	const int* tri = fmContactDetect_Triangle(o, pc->triangle);
-	return fmContactState_Touch(s, b, pc->body, pc->vertex) &&
-	       fmContactState_Touch(s, o, pc->other, tri[0]) &&
-	       fmContactState_Touch(s, o, pc->other, tri[1]) &&
-	       fmContactState_Touch(s, o, pc->other, tri[2]);
+	return fmContactState_LogVertex(s, b, pc->body, pc->vertex) &&
+	       fmContactState_LogVertex(s, o, pc->other, tri[0]) &&
+	       fmContactState_LogVertex(s, o, pc->other, tri[1]) &&
+	       fmContactState_LogVertex(s, o, pc->other, tri[2]);
 }
 
 bool fmContactPair_Project(fmWorld* w, fmContactState* s, fmPairContact* pc, double thickness)
@@ -270,7 +270,7 @@ bool fmContactPair_Project(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	gap = fmMin(gap, pc->reach);
 	if (!(gap > 0.0) || !(weight > 0.0))
 		return true;
-	if (!fmTouchPair(s, b, o, pc))
+	if (!fmLogPairVertices(s, b, o, pc))
 		return false;
 	pc->reach -= gap;
 	double lambda = gap / weight;
@@ -304,7 +304,7 @@ bool fmContactPair_Respond(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	}
 	if (!(weight > 0.0))
 		return true;
-	if (!fmTouchPair(s, b, o, pc))
+	if (!fmLogPairVertices(s, b, o, pc))
 		return false;
 	fmVec3 vp = fmLoad(b->state.v, pc->vertex), relative = fmSub(vp, vq), before = relative;
 	// After an implicit step the penalty held the pair apart during the step (penalty.h): its

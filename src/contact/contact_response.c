@@ -43,7 +43,7 @@ void fmContactResponse_KeepPins(fmBody* b, int i, fmVec3 x0)
 void fmContactResponse_KeepAboveFloor(const fmWorld* w, fmBody* b, int i)
 {
 	const fmFloorDef* floor = &w->def.floor;
-	if (fmFloor_Holds(floor, b) && b->state.x[3 * i + 1] < floor->height && !(b->state.pinned[i] & FM_PIN_Y))
+	if (fmFloor_Applies(floor, b) && b->state.x[3 * i + 1] < floor->height && !(b->state.pinned[i] & FM_PIN_Y))
 		b->state.x[3 * i + 1] = floor->height;
 }
 

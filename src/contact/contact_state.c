@@ -43,7 +43,7 @@ void fmContactState_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->pairs, uint64_t, s->pairCapacity);
 	FM_FREE_ARRAY(s->lastPairs, uint64_t, s->lastPairCapacity);
 	FM_FREE_ARRAY(s->events, fmContactEvent, s->eventCapacity);
-	FM_FREE_ARRAY(s->touched, fmTouched, s->touchedCapacity);
+	FM_FREE_ARRAY(s->logged, fmLoggedVertex, s->loggedCapacity);
 	FM_FREE_ARRAY(s->tets, int, s->tetCapacity);
 	FM_FREE_ARRAY(s->forces, double, s->forceCapacity);
 	FM_FREE_ARRAY(s, fmContactState, 1);
@@ -94,15 +94,15 @@ fmContactPoint* fmContactState_NewPoint(fmContactState* s)
 	return p;
 }
 
-bool fmContactState_Touch(fmContactState* s, fmBody* b, int slot, int i)
+bool fmContactState_LogVertex(fmContactState* s, fmBody* b, int slot, int i)
 {
 	if (b->contact.mark[i] != 0)
 		return true;
-	if (!fmGrowArray((void**)&s->touched, &s->touchedCapacity, s->touchedCount, s->touchedCount + 1,
-	                 sizeof(fmTouched)))
+	if (!fmGrowArray((void**)&s->logged, &s->loggedCapacity, s->loggedCount, s->loggedCount + 1,
+	                 sizeof(fmLoggedVertex)))
 		return false;
-	fmTouched t = {slot, i, fmLoad(b->state.x, i), fmLoad(b->state.v, i)};
-	s->touched[s->touchedCount++] = t;
-	b->contact.mark[i] = s->touchedCount;
+	fmLoggedVertex t = {slot, i, fmLoad(b->state.x, i), fmLoad(b->state.v, i)};
+	s->logged[s->loggedCount++] = t;
+	b->contact.mark[i] = s->loggedCount;
 	return true;
 }

@@ -26,13 +26,13 @@ typedef struct fmColliderFind
 } fmColliderFind;
 
 // A vertex the contact stage changed, with its state before (the ledger's bookkeeping).
-typedef struct fmTouched
+typedef struct fmLoggedVertex
 {
 	int body;
 	int vertex;
 	fmVec3 x;
 	fmVec3 v;
-} fmTouched;
+} fmLoggedVertex;
 
 // A vertex against a triangle of another body.
 typedef struct fmPairContact
@@ -120,10 +120,10 @@ typedef struct fmContactState
 	fmContactEvent* events;
 	int eventCount;
 	int eventCapacity;
-	fmTouched* touched; // the vertices the substep's contacts changed, with their old state
-	int touchedCount;
-	int touchedCapacity;
-	int* tets; // scratch: the tets around a body's touched vertices
+	fmLoggedVertex* logged;  // the vertices the substep's contacts changed, with their old state
+	int loggedCount;
+	int loggedCapacity;
+	int* tets; // scratch: the tets around a body's logged vertices
 	int tetCapacity;
 	double* forces; // scratch: a spring body's forces
 	int forceCapacity;
@@ -149,6 +149,6 @@ bool fmContactState_RecordPair(fmContactState* s, uint64_t key);
 // A new, zeroed point at the end of the contact list; NULL when memory is short.
 fmContactPoint* fmContactState_NewPoint(fmContactState* s);
 
-// Note vertex i of body @p slot's state before the stage first changes it (touched, for the
+// Note vertex i of body @p slot's state before the stage first changes it (logged, for the
 // energy ledger; b->contactMark). False when memory is short.
-bool fmContactState_Touch(fmContactState* s, fmBody* b, int slot, int i);
+bool fmContactState_LogVertex(fmContactState* s, fmBody* b, int slot, int i);

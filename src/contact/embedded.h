@@ -22,7 +22,7 @@ typedef struct fmTetHash
 
 // Whether a vertex of body slot @p slot may be held by body slot @p other (the caller's
 // filtering rules: other bodies only, filters that meet, not both asleep).
-typedef bool fmHolderTest(const fmWorld* world, int slot, int other);
+typedef bool fmContainerTest(const fmWorld* world, int slot, int other);
 
 // Rebuild @p th over the tets of every live body slot k with near[k]. False when memory is
 // short (the hash is then empty).
@@ -32,8 +32,8 @@ bool fmTetHash_Build(fmTetHash* th, const fmWorld* world, const bool* near);
 // first in hash order that @p accepts for a vertex of @p slot; -1 when none does, -2 when
 // @p query could not grow. Reads @p th only: queries with distinct @p query buffers may run in
 // parallel.
-int fmTetHash_Holder(const fmTetHash* th, const fmWorld* world, fmHashQuery* query, int slot,
-                     fmVec3 p, fmHolderTest* accepts);
+int fmTetHash_Container(const fmTetHash* th, const fmWorld* world, fmHashQuery* query, int slot,
+                     fmVec3 p, fmContainerTest* accepts);
 
 // Release the arrays; safe on a zeroed hash.
 void fmTetHash_Free(fmTetHash* th);

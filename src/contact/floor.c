@@ -18,7 +18,7 @@
 
 #include <math.h>
 
-bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* b)
+bool fmFloor_Applies(const fmFloorDef* floor, const fmBody* b)
 {
 	return floor->enabled && fmFiltersMeet(floor->filter, b->filter);
 }
@@ -164,7 +164,7 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 {
 	b->contact.floorHitCount = 0;
 	*workDone = 0.0;
-	if (!fmFloor_Holds(floor, b))
+	if (!fmFloor_Applies(floor, b))
 		return 0;
 	int contacts = 0;
 	double work = 0.0;

@@ -15,7 +15,7 @@ typedef struct fmFloorHit
 } fmFloorHit;
 
 // Whether the floor holds @p body: it is enabled and their filters meet.
-bool fmFloor_Holds(const fmFloorDef* floor, const fmBody* body);
+bool fmFloor_Applies(const fmFloorDef* floor, const fmBody* body);
 
 // Whether the floor at @p height takes vertex @p i of @p body: it is below the plane (or not a
 // number) and free in y.

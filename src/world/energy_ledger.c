@@ -71,7 +71,7 @@ static double fmLedgerFloor(const fmBody* b, fmVec3 gravity)
 	return 1e-3 * b->mesh.totalMass * fmLength(gravity) * b->mesh.restSize + 1e-6 * b->mesh.material.mu * volume;
 }
 
-static void fmLedgerBook(fmEnergyLedger* ledger, double work)
+static void fmLedgerAddWork(fmEnergyLedger* ledger, double work)
 {
 	ledger->work += work;
 	if (work > 0.0)
@@ -101,7 +101,7 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 		if (isfinite(energy))
 		{
 			ledger->plainGood = plain;
-			fmLedgerBook(ledger, energy - b->energyGood);
+			fmLedgerAddWork(ledger, energy - b->energyGood);
 			b->energyGood = energy;
 			ledger->measureStep = shadowStep;
 		}
@@ -157,8 +157,8 @@ void fmLedger_Commit(fmBody* b, const fmFrameWork* work, double shadowStep)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->measureStep = shadowStep;
-	fmLedgerBook(ledger, ledger->frameGravityWork);
-	fmLedgerBook(ledger, work->contact);
+	fmLedgerAddWork(ledger, ledger->frameGravityWork);
+	fmLedgerAddWork(ledger, work->contact);
 	ledger->work += work->load;
 	ledger->workIn += work->loadIn;
 	ledger->frameGravityWork = 0.0;

@@ -163,7 +163,7 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	                          .damping = fmVelocityFilter_DampingFactor(b->damping, dt / FM_SEED_STEP)};
 	const size_t mark = fmArena_Mark(arena);
 	fmFloorTaken floorTaken;
-	if (fmFloor_Holds(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
+	if (fmFloor_Applies(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
 	{
 		// (Without the memory the floor responds serially, after the position update.)
 		context.floor = &world->def.floor;

@@ -185,7 +185,7 @@ static void fmImplicitFreeFlight(fmBody* b, fmImplicitCache* c, double h, fmVec3
 }
 
 // The work the step's targets, loads and contact penalty did, booked with the ledger.
-static void fmImplicitBookWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
+static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
                                const fmNewtonProblem* pb)
 {
 	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ImplicitWork(b, c->xStart));
@@ -209,7 +209,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	if (c == NULL)
 		return fm_errOutOfMemory;
 	const int n3 = 3 * b->mesh.vertexCount;
-	const fmFloorDef* floor = fmFloor_Holds(&world->def.floor, b) ? &world->def.floor : NULL;
+	const fmFloorDef* floor = fmFloor_Applies(&world->def.floor, b) ? &world->def.floor : NULL;
 	b->contact.floorHitCount = 0;
 
 	// 1. Start state and inertial prediction (pinned axes stay put), the free flight as the first
@@ -238,7 +238,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
-	fmImplicitBookWork(ctx, b, c, &pb);
+	fmImplicitAddWork(ctx, b, c, &pb);
 	for (int k = 0; k < n3; ++k)
 		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h / FM_SEED_STEP, arena, world->simd,
