@@ -225,9 +225,9 @@ typedef struct fmHessianVisit
 } fmHessianVisit;
 
 // The Gauss-Newton Hessian k w w^T (x) n n^T: an edge's point couples its two vertices, whose
-// block the pattern has (a surface edge is a tet's edge). Left out, the Newton step of an edge
-// pressed by another body's plane moved both ends as if alone, and a pile of implicit houses
-// crawled to its tolerance at a 0.93 residual ratio a Newton iteration, hitting the limit.
+// block the pattern has (a surface edge is a tet's edge). The coupling blocks are required: the
+// Newton step of an edge pressed by another body's plane must move both ends together
+// (docs/decisions.md, "Edge penalty Hessian").
 static void fmVisitHessian(void* context, const fmPenaltyTerm* t)
 {
 	fmHessianVisit* h = context;

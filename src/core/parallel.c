@@ -15,9 +15,9 @@
 // condition variable: a sleeping thread takes tens of microseconds to wake on a shared machine,
 // more than a small body's whole stage, and an implicit step's serial stretches between its
 // parallel stages (the line search's bookkeeping, a small gather) are about as long. About
-// 0.2-0.8 ms of polling, depending on the CPU's pause: measured against a tenth of that, a 10k-tet
-// implicit frame on 2 workers 2.5 -> 2.3 ms (box) and 2.7 -> 2.2 ms (beam). An engine that
-// wants its threads back sooner gives femto its own job system (fmWorldDef.enqueueTask).
+// 0.2-0.8 ms of polling, depending on the CPU's pause (docs/decisions.md, "Spinning workers"). An
+// engine that wants its threads back sooner gives femto its own job system
+// (fmWorldDef.enqueueTask).
 #define FM_SPIN_POLLS 20000
 
 // Let a sibling hyperthread run while polling.

@@ -6,11 +6,8 @@
 
 #include <femto/types.h>
 
-// Items a task range takes at least. Waking a worker costs tens of microseconds on a shared
-// machine: measured on the house (1389 tets), ranges of 256 made a 2-worker step 1.5 times
-// slower than one worker, and a 10k-tet implicit frame was slower on 2 workers with ranges of
-// 2048; at 4096 small bodies stay on one worker and large ones split (a 96k-tet explicit step
-// 1.3 times faster on 2 workers).
+// Items a task range takes at least: small bodies stay on one worker (waking a worker costs tens
+// of microseconds on a shared machine), large ones split (docs/decisions.md, "Task ranges").
 #define FM_PARALLEL_MIN_RANGE 4096
 
 // Vertices a range of the explicit step's vertex passes takes at least (the velocity filter's

@@ -571,9 +571,7 @@ double fmAddElasticForcesOn(const fmElasticMesh* mesh, const double* x, double* 
 	{
 		fmParallelFor(tasks, mesh->tetCount, FM_PARALLEL_MIN_RANGE, fmTetForcesTask, &c);
 		// The gather is split as the tets were (vertex ranges of as many tets' corners), so
-		// each worker mostly reads the forces it wrote: gathered on one worker, half of them
-		// cross between the cores' caches twice a pass (a 10k-tet pass took 0.77 ms on 2
-		// workers, 0.52 ms split, against 0.72 ms on one).
+		// each worker mostly reads the forces it wrote (docs/decisions.md, "Parallel gathers").
 		int vertexRange =
 		    (int)((int64_t)FM_PARALLEL_MIN_RANGE * mesh->vertexCount / mesh->tetCount);
 		fmParallelFor(tasks, mesh->vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,

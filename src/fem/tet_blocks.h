@@ -3,9 +3,8 @@
 // tet_kernel.c, grouped in blocks. The force pass runs the blocks on the workers, each block
 // summing its tets' forces on each of its vertices into a sum of its own; then each vertex adds
 // its blocks' sums in block order. Every vertex receives its tets' forces in the same order for
-// any number of workers: the same bits on 1 or N workers, with no atomics and no colouring (whose
-// passes, one a colour, swept a large body's vertex arrays once a colour and left a small one's
-// few blocks a colour on one worker).
+// any number of workers: the same bits on 1 or N workers, with no atomics and no colouring
+// (docs/decisions.md, "Blocks, not colours").
 #pragma once
 
 #include "fem/elastic_mesh.h"

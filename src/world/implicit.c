@@ -92,8 +92,8 @@ static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFl
 // from x + h v (the free flight sags every vertex by h^2 g against the elastic forces). The
 // guess the last step took is tried first and kept if the solve would stop there at once (a
 // body at rest: one force pass a frame); otherwise the other replaces it if its relative
-// residual is less than half (both are admissible starts; choosing by the lower potential
-// instead took x + h v for a wobbling house whose Newton solves then took twice as long).
+// residual is less than half (both are admissible starts; the residual, not the potential,
+// decides: docs/decisions.md, "The first guess").
 // x + h v is only considered for a body on the floor: in the air the free flight is right, and
 // for a body whose inertia is below the round-off of its elastic forces (density 1e-20,
 // E = 1e20) both residuals are noise, so a comparison could drop the free flight by chance.

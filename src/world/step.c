@@ -198,11 +198,10 @@ static fmResult fmCheckFrame(fmWorld* w, double timeStep, int subStepCount)
 
 // With autoSubstep, explicit substeps are at most FM_AUTO_STEP_FRACTION of the stability limit
 // at the bodies' current deformation (stability.h), and at least subStepCount to a frame. The
-// limit is linear stability; contacts and large compressions within a step need more room:
-// measured on the audit's Neo-Hookean house drop (tests/test_health.c), 0.5 of the limit blew up
-// at 2.4 s, 0.35 and less ran the whole drop. Deformation changes
-// within a frame (an impact compresses a body in a few substeps), so a cheap stiffening proxy is
-// watched after every substep and the limit re-evaluated when it moves by 10%.
+// limit is linear stability; contacts and large compressions within a step need more room
+// (docs/decisions.md, "autoSubstep's fraction"). Deformation changes within a frame (an impact
+// compresses a body in a few substeps), so a cheap stiffening proxy is watched after every
+// substep and the limit re-evaluated when it moves by 10%.
 #define FM_AUTO_STEP_FRACTION 0.3
 
 typedef struct fmAutoStep

@@ -35,8 +35,8 @@
 #include <math.h>
 
 // The helpers are inlined into the entry point: 64-byte vectors stay in registers. The
-// Neo-Hookean energy (the ledger's, once a frame) is not: inlined, clang took over ten minutes
-// on one variant in the sanitizer and fuzzer builds (against half a minute).
+// Neo-Hookean energy (the ledger's, once a frame) is not, for the sanitizer and fuzzer builds'
+// compile time (docs/decisions.md, "Kernel inlining").
 #if defined(__GNUC__) || defined(__clang__)
 #define FM_INLINE static inline __attribute__((always_inline))
 #define FM_NOINLINE static __attribute__((noinline))
