@@ -201,7 +201,7 @@ static uint64_t fmArrayBytes(uint64_t count, uint64_t size)
 }
 
 // What a body allocates (body.c, force_spring.c, force_fvm.c) and what the implicit solver and
-// the static solver add at their first use (solver_cache.c fmSolverCache_Get, pcg.c fmBsr_Build):
+// the static solver add at their first use (solver_cache.c fmSolverCache_Get, bsr.c fmBsr_Build):
 // counted for every body, since fmWorld_SetIntegrator() and fmBody_SolveStatic() may need them
 // later. Two counts depend on the connectivity and are estimated: the edges E, from Euler's
 // formula for a solid (V - E + F - T = 1 with F = 2 T + B / 2 faces for B boundary triangles:
