@@ -17,8 +17,7 @@ void fmBsr_Free(fmBsrMatrix* m)
 	memset(m, 0, sizeof *m);
 }
 
-// Insertion sort of a short list with duplicates removed; returns the new length.
-static int fmSortUnique(int* list, int count)
+int fmSortUnique(int* list, int count)
 {
 	for (int i = 1; i < count; ++i)
 	{

@@ -18,6 +18,10 @@ typedef struct fmBsrMatrix
 	int* diagonal; // rows: the slot of block (i, i)
 } fmBsrMatrix;
 
+// Insertion sort of a short list (a row's columns) with duplicates removed; returns the new
+// length.
+int fmSortUnique(int* list, int count);
+
 // Build the pattern of every vertex pair that shares a tet (4 ints per tet). Returns false when
 // memory is short (the matrix is left freed).
 bool fmBsr_Build(fmBsrMatrix* matrix, int vertexCount, const int* tets, int tetCount);

@@ -96,21 +96,7 @@ static int fmMgCoarseRows(const fmBsrMatrix* m, const int* aggregate, int coarse
 		for (int p = memberStart[I]; p < memberStart[I + 1]; ++p)
 			for (int k = m->rowStart[members[p]]; k < m->rowStart[members[p] + 1]; ++k)
 				scratch[count++] = aggregate[m->columns[k]];
-		// Sort (insertion: short lists) and drop duplicates.
-		for (int a = 1; a < count; ++a)
-		{
-			int value = scratch[a], b = a - 1;
-			while (b >= 0 && scratch[b] > value)
-			{
-				scratch[b + 1] = scratch[b];
-				--b;
-			}
-			scratch[b + 1] = value;
-		}
-		int unique = 0;
-		for (int a = 0; a < count; ++a)
-			if (unique == 0 || scratch[unique - 1] != scratch[a])
-				scratch[unique++] = scratch[a];
+		int unique = fmSortUnique(scratch, count);
 		if (columns)
 			memcpy(columns + total, scratch, sizeof(int) * (size_t)unique);
 		if (rowStart)
