@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The browser build (docs/web.md): builds it (scripts/web.sh, which installs Debian's emscripten
-# when missing and fails when the .wasm reaches 576 KiB), then
+# when missing and fails when the .wasm reaches 512 KiB), then
 #   0. tests/test_simd.c compiled to WebAssembly and run under Node.js, with the SIMD kernels and
 #      with the ones built without (emscripten's compiler checked on every kernel's lanes);
 #   1. Node.js comparison: scenes of web/femto_web.c run by the WebAssembly build under Node.js
@@ -122,7 +122,7 @@ cmake --build build-web/native --target femto_static -j"$(nproc 2>/dev/null || e
 cc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla \
   -Iinclude -Icli -D_POSIX_C_SOURCE=200809L web/test/compare_native.c cli/json_tree.c \
   cli/json_check.c cli/json_locate.c cli/scene.c cli/scene_body.c cli/util.c \
-  web/femto_web.c build-web/web_data.c build-web/native/libfemto.a -lcjson -lm -lpthread \
+  web/femto_web.c build-web/native/libfemto.a -lcjson -lm -lpthread \
   -o build-web/native/compare_native
 
 compare() { # scene frames deterministic integrator tolerance [native frames [wasm build]]
@@ -162,7 +162,7 @@ else
 fi
 # A dropped TetGen pair: loaded, or refused with its line (the page's path, fw_load_tetgen).
 node web/test/load_mesh.cjs
-# One scene reader: every menu scene (web/femto_web.c's FW_SCENES, embedded from scenes/) run 20
+# One scene reader: every menu scene (web/femto_web.c's FW_SCENES, read from scenes/) run 20
 # frames by both builds, bit-identical; the menu's files load; the wasm reader (JSON.parse) gives
 # the tool's messages (cJSON) on the CLI tests' bad scenes; malformed texts are refused with their
 # lines (web/test/scene_read.cjs).

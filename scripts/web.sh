@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Build femto for the browser (docs/web.md): libfemto's sources and web/femto_web.c compiled to
 # WebAssembly with Debian's emscripten (installed here when missing), into web/dist/ (the page's
-# modules: femto_wasm.js + .wasm with WebAssembly SIMD, femto_wasm_nosimd.js + .wasm without)
-# and build-web/node/ (both for Node.js, for the comparison test). Prints the .wasm
-# sizes and fails when one reaches 576 KiB.
+# modules: femto_wasm.js + .wasm with WebAssembly SIMD, femto_wasm_nosimd.js + .wasm without,
+# and the files the page fetches: the menu's scenes/*.json and the house's data/house2.node and
+# .ele) and build-web/node/ (both for Node.js, for the comparison test). Prints the .wasm
+# sizes and fails when one reaches 512 KiB.
 #
 #   bash scripts/web.sh            # build
 #   bash scripts/web.sh --serve    # build, then serve web/ on http://localhost:8000 (PORT=...)
@@ -14,7 +15,7 @@ serve=false
 for arg in "$@"; do
   case "$arg" in
     --serve) serve=true ;;
-    -h | --help) sed -n '2,9p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,10p' "$0"; exit 0 ;;
     *) echo "web.sh: unknown option $arg (use --serve)" >&2; exit 2 ;;
   esac
 done
@@ -47,15 +48,17 @@ mkdir -p "$obj" "$dist" "$out/node"
 warnings=(-Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla)
 cflags=(-std=c11 -Iinclude -Isrc -Icli -ffp-contract=off "${warnings[@]}")
 
-# The embedded files as C arrays (the CLI's generator): the house's mesh, data/house2.node and
-# .ele, and the menu's scenes, the scenes/*.json files that web/femto_web.c's FW_SCENES lists.
-names="fw_house_node|fw_house_ele"
-files="$PWD/data/house2.node|$PWD/data/house2.ele"
+# The files the page fetches and gives the glue (fw_set_file), at their repository paths under
+# web/dist/: the menu's scenes, the scenes/*.json files that web/femto_web.c's FW_SCENES lists,
+# and the mesh of "builtin:house2" (its FW_HOUSE_NODE and FW_HOUSE_ELE).
+rm -rf "$dist/scenes" "$dist/data"
+mkdir -p "$dist/scenes" "$dist/data"
 for scene in $(sed -n 's/^\s*X("[^"]*", \([a-z0-9_]*\)).*/\1/p' web/femto_web.c); do
-  names+="|fw_scene_$scene"
-  files+="|$PWD/scenes/$scene.json"
+  cp "scenes/$scene.json" "$dist/scenes/"
 done
-cmake -DOUTPUT="$out/web_data.c" -DNAMES="$names" -DFILES="$files" -P cli/embed_file.cmake
+for file in $(sed -n 's/^#define FW_HOUSE_[A-Z]* "\(data\/[^"]*\)"$/\1/p' web/femto_web.c); do
+  cp "$file" "$dist/data/"
+done
 
 # Each object is rebuilt when its source or any header is newer (a tiny make).
 newest_header=$(ls -t include/femto/*.h src/*/*.h src/*/*/*.h cli/*.h | head -n 1)
@@ -79,13 +82,13 @@ objects=()
 # and schema, and the helpers they call (objects named cli_*).
 scene_sources=(cli/json_tree.c cli/json_check.c cli/json_locate.c cli/scene.c cli/scene_body.c
   cli/util.c)
-for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c "$out/web_data.c"; do
+for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   name=$(basename "$source" .c)
   posix=()
   case "$source" in cli/*) name=cli_$name posix=(-D_POSIX_C_SOURCE=200809L) ;; esac
   # The mesh readers, the scene reader and the glue run once a load, not once a step: -Os.
   case "$name" in
-    mesh_* | text_reader | scanner | surface_mesh | femto_web | web_data) level=-Os ;;
+    mesh_* | text_reader | scanner | surface_mesh | femto_web) level=-Os ;;
     cli_*) level=-Oz ;;
     *) level=-O2 ;;
   esac
@@ -135,9 +138,9 @@ emcc "${plain_objects[@]}" "${link[@]}" "${node[@]}" -o "$out/node/femto_wasm_no
 
 for wasm in "$dist/femto_wasm.wasm" "$dist/femto_wasm_nosimd.wasm"; do
   size=$(stat -c %s "$wasm")
-  echo "web.sh: $wasm is $size bytes ($((size / 1024)) KiB, limit 576 KiB)"
-  if [ "$size" -ge $((576 * 1024)) ]; then
-    echo "web.sh: $wasm is over 576 KiB" >&2
+  echo "web.sh: $wasm is $size bytes ($((size / 1024)) KiB, limit 512 KiB)"
+  if [ "$size" -ge $((512 * 1024)) ]; then
+    echo "web.sh: $wasm is over 512 KiB" >&2
     exit 1
   fi
 done

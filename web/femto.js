@@ -396,6 +396,27 @@ function frame(now) {
 }
 
 // ---- start ------------------------------------------------------------------------------------
+// The files the glue reads (fw_file_path: the menu's scenes/*.json and the house's mesh), fetched
+// from dist/ beside this module, where scripts/web.sh copies them, and given to it (fw_set_file).
+async function giveFiles() {
+  const paths = [];
+  for (let k = 0; k < M._fw_file_count(); ++k) paths.push(M.UTF8ToString(M._fw_file_path(k)));
+  const texts = await Promise.all(paths.map(async (path) => {
+    const response = await fetch(new URL(`dist/${path}`, import.meta.url));
+    if (!response.ok)
+      throw new Error(`cannot fetch dist/${path} (${response.status} ${response.statusText})`);
+    return new Uint8Array(await response.arrayBuffer());
+  }));
+  paths.forEach((path, k) => {
+    const namePointer = copyIn(new TextEncoder().encode(path + '\0'));
+    const textPointer = copyIn(texts[k]);
+    const r = M._fw_set_file(namePointer, textPointer, texts[k].length);
+    M._fw_free(namePointer);
+    M._fw_free(textPointer);
+    if (r !== 0) throw new Error(lastError());
+  });
+}
+
 async function main() {
   try {
     renderer = new Renderer(canvas);
@@ -406,6 +427,7 @@ async function main() {
   const { default: createFemto } = await import(simd ? './dist/femto_wasm.js' :
     './dist/femto_wasm_nosimd.js');
   M = await createFemto();
+  await giveFiles();
   const select = $('scene');
   for (let i = 0; i < M._fw_scene_count(); ++i)
     select.add(new Option(M.UTF8ToString(M._fw_scene_name(i)), String(i)));

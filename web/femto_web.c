@@ -1,9 +1,10 @@
 // The page's door to libfemto (docs/web.md): plain functions of ints and doubles that the
 // page's JavaScript (web/femto.js) calls on the WebAssembly build, and that the native side of
 // the Node.js comparison (web/test/compare_native.c) calls on the native build, so both run the
-// same scene code. It keeps one world at a time: a scene of scenes/*.json (the menu's files,
-// embedded, or any scene text), read by the tool's own schema code (cli/scene.h), or a dropped
-// mesh.
+// same scene code. It keeps one world at a time: a scene of scenes/*.json (the menu's files, or
+// any scene text), read by the tool's own schema code (cli/scene.h), or a dropped mesh. The glue
+// reads no file itself: its caller gives it the files it names (fw_file_path, fw_set_file), as
+// the page fetches them and the tests read them from disk.
 //
 // Conventions: bodies are numbered 0 to fw_body_count() - 1; pointers returned point into the
 // module's memory and stay valid until the next scene is loaded; a call that fails returns a
@@ -25,12 +26,6 @@
 #else
 #define FW_EXPORT
 #endif
-
-// The mesh of scenes/house.json, embedded by scripts/web.sh (cli/embed_file.cmake).
-extern const unsigned char fw_house_node[];
-extern const size_t fw_house_node_size;
-extern const unsigned char fw_house_ele[];
-extern const size_t fw_house_ele_size;
 
 #define FW_MAX_BODIES 8
 
@@ -55,8 +50,8 @@ extern const size_t fw_house_ele_size;
 // scene's weight at this stretch, each no stiffer than half its substep's stability limit.
 #define FW_DRAG_SAG 0.1
 
-// The page's scenes: its menu's title and the file of scenes/ it reads. scripts/web.sh embeds
-// the files this list names (it reads the X(...) lines) as fw_scene_<name> and _size.
+// The page's scenes: its menu's title and the file of scenes/ it reads. scripts/web.sh copies
+// the files this list names (it reads the X(...) lines) into web/dist/scenes/.
 #define FW_SCENES(X)                                                                               \
 	X("house (StVK, the seeds)", house)                                                            \
 	X("house, linear", house_linear)                                                               \
@@ -67,24 +62,36 @@ extern const size_t fw_house_ele_size;
 	X("thrown cube", drop)                                                                         \
 	X("two houses (implicit)", two_houses)
 
-#define FW_DECLARE_SCENE(title, file)                                                              \
-	extern const unsigned char fw_scene_##file[];                                                  \
-	extern const size_t fw_scene_##file##_size;
-FW_SCENES(FW_DECLARE_SCENE)
-
-// One entry of the menu: its title, its file's name and embedded text.
+// One entry of the menu: its title and its file.
 typedef struct fwSceneFile
 {
 	const char* title;
 	const char* file;
-	const unsigned char* text;
-	const size_t* size;
 } fwSceneFile;
 
-#define FW_SCENE_ENTRY(title, file)                                                                \
-	{title, "scenes/" #file ".json", fw_scene_##file, &fw_scene_##file##_size},
+#define FW_SCENE_ENTRY(title, file) {title, "scenes/" #file ".json"},
 static const fwSceneFile fw_scenes[] = {FW_SCENES(FW_SCENE_ENTRY)};
 #define FW_SCENE_COUNT ((int)(sizeof fw_scenes / sizeof fw_scenes[0]))
+
+// The mesh of "builtin:house2" (scripts/web.sh copies these files into web/dist/data/ and reads
+// these two lines).
+#define FW_HOUSE_NODE "data/house2.node"
+#define FW_HOUSE_ELE "data/house2.ele"
+
+// The files the glue reads, numbered as fw_file_path numbers them: the menu's scenes, then the
+// house's .node and .ele.
+#define FW_FILE_COUNT (FW_SCENE_COUNT + 2)
+#define FW_FILE_HOUSE_NODE FW_SCENE_COUNT
+#define FW_FILE_HOUSE_ELE (FW_SCENE_COUNT + 1)
+
+// A file given by fw_set_file: a copy of its bytes (NULL until given).
+typedef struct fwFile
+{
+	char* text;
+	size_t size;
+} fwFile;
+
+static fwFile s_files[FW_FILE_COUNT];
 
 // The world the page shows, and the sliders' values applied to it.
 typedef struct fwApp
@@ -145,7 +152,8 @@ static void fwFromLame(double lambda, double mu, double* youngs, double* poisson
 	*poisson = lambda / (2.0 * (lambda + mu));
 }
 
-// Body @p b's rest mesh, placed by its transform as `femto run` places it (simulation.c).
+// Body @p b's rest mesh, placed by its transform as `femto run` places it (simulation.c); the
+// house's files were given (fw_load_scene_text checks).
 static fmResult fwMakeMesh(int b, fmTetMesh* mesh, fmDiagnostic* diag)
 {
 	const cliBodySpec* spec = &s_app.scene.bodies[b];
@@ -154,9 +162,11 @@ static fmResult fwMakeMesh(int b, fmTetMesh* mesh, fmDiagnostic* diag)
 	fmResult r = spec->meshSource == cli_meshBox
 	                 ? fmMakeBoxMesh(spec->boxCells[0], spec->boxCells[1], spec->boxCells[2],
 	                                 spec->boxMin, spec->boxMax, mesh)
-	                 : fmLoadTetGenFromMemory((const char*)fw_house_node, fw_house_node_size,
-	                                          "house2.node", (const char*)fw_house_ele,
-	                                          fw_house_ele_size, "house2.ele", mesh, diag);
+	                 : fmLoadTetGenFromMemory(s_files[FW_FILE_HOUSE_NODE].text,
+	                                          s_files[FW_FILE_HOUSE_NODE].size, FW_HOUSE_NODE,
+	                                          s_files[FW_FILE_HOUSE_ELE].text,
+	                                          s_files[FW_FILE_HOUSE_ELE].size, FW_HOUSE_ELE, mesh,
+	                                          diag);
 	if (r == fm_ok)
 		fmTetMesh_Transform(mesh, &spec->transform);
 	return r;
@@ -321,16 +331,95 @@ FW_EXPORT const char* fw_scene_file(int index)
 	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].file : "";
 }
 
+/// Number of files the glue reads (fw_file_path).
+FW_EXPORT int fw_file_count(void)
+{
+	return FW_FILE_COUNT;
+}
+
+/// The path of file @p k that the glue reads, relative to the repository (and to the page's
+/// web/dist/, where scripts/web.sh copies them): the menu's scenes (fw_scene_file) for @p k below
+/// fw_scene_count(), then data/house2.node and data/house2.ele, the mesh of "builtin:house2".
+/// "" out of range.
+FW_EXPORT const char* fw_file_path(int k)
+{
+	if (k == FW_FILE_HOUSE_NODE)
+		return FW_HOUSE_NODE;
+	return k == FW_FILE_HOUSE_ELE ? FW_HOUSE_ELE : fw_scene_file(k);
+}
+
+/// Give the glue file @p path, one of fw_file_path's (@p text need not be NUL-terminated): it
+/// keeps a copy, in place of one given before. Another path is refused.
+FW_EXPORT int fw_set_file(const char* path, const char* text, int size)
+{
+	int k = 0;
+	while (k < FW_FILE_COUNT && (path == NULL || strcmp(path, fw_file_path(k)) != 0))
+		++k;
+	if (k == FW_FILE_COUNT)
+	{
+		snprintf(s_app.error, sizeof s_app.error, "%s: not a file the page reads (fw_file_path)",
+		         path != NULL ? path : "");
+		return fm_errParameter;
+	}
+	size_t n = size > 0 ? (size_t)size : 0;
+	char* copy = malloc(n + 1);
+	if (copy == NULL)
+	{
+		snprintf(s_app.error, sizeof s_app.error, "%s: out of memory", path);
+		return fm_errOutOfMemory;
+	}
+	if (n > 0)
+		memcpy(copy, text, n);
+	copy[n] = 0;
+	free(s_files[k].text);
+	s_files[k] = (fwFile){copy, n};
+	return fm_ok;
+}
+
+// File @p k as given, or NULL with fw_error() saying that it was not given yet.
+static const fwFile* fwGivenFile(int k)
+{
+	if (s_files[k].text != NULL)
+		return &s_files[k];
+	snprintf(s_app.error, sizeof s_app.error, "%s was not given yet (fw_set_file)",
+	         fw_file_path(k));
+	return NULL;
+}
+
+// Whether a body of @p scene is "builtin:house2" while the house's files were not given; then
+// fw_error() says so.
+static bool fwLacksHouse(const char* name, const cliScene* scene)
+{
+	if (s_files[FW_FILE_HOUSE_NODE].text != NULL && s_files[FW_FILE_HOUSE_ELE].text != NULL)
+		return false;
+	for (int b = 0; b < scene->bodyCount; ++b)
+		if (scene->bodies[b].meshSource == cli_meshHouse)
+		{
+			snprintf(s_app.error, sizeof s_app.error,
+			         "%s: \"builtin:house2\" needs " FW_HOUSE_NODE " and " FW_HOUSE_ELE
+			         ", not given yet (fw_set_file)",
+			         name);
+			return true;
+		}
+	return false;
+}
+
 /// Load the scene of a JSON text (docs/scene-format.md; need not be NUL-terminated) named
 /// @p name in messages, read by the tool's own schema code; @p deterministic sets
 /// fmWorldDef.crossPlatformDeterminism. A text the schema refuses, or one with what the page
-/// cannot show (mesh files, colliders, pins, loads), leaves the current scene and fw_error()
-/// says why ("name:line:column: path: message").
+/// cannot show (mesh files, colliders, pins, loads), or "builtin:house2" before its files were
+/// given (fw_set_file), leaves the current scene and fw_error() says why ("name:line:column:
+/// path: message").
 FW_EXPORT int fw_load_scene_text(const char* name, const char* text, int size, int deterministic)
 {
 	cliScene scene;
 	if (!fwReadScene(name, text, (size_t)(size > 0 ? size : 0), &scene))
 		return fm_errParameter;
+	if (fwLacksHouse(name, &scene))
+	{
+		cliScene_Free(&scene);
+		return fm_errParameter;
+	}
 	fwFreeScene();
 	s_app.scene = scene;
 	s_app.hasScene = true;
@@ -338,8 +427,8 @@ FW_EXPORT int fw_load_scene_text(const char* name, const char* text, int size, i
 	return fwBuildScene();
 }
 
-/// Load built-in scene @p index (its file of scenes/, embedded); @p deterministic sets
-/// fmWorldDef.crossPlatformDeterminism.
+/// Load built-in scene @p index: its file of scenes/ as given (fw_set_file), through
+/// fw_load_scene_text; @p deterministic sets fmWorldDef.crossPlatformDeterminism.
 FW_EXPORT int fw_load_scene(int index, int deterministic)
 {
 	if (index < 0 || index >= FW_SCENE_COUNT)
@@ -347,14 +436,17 @@ FW_EXPORT int fw_load_scene(int index, int deterministic)
 		snprintf(s_app.error, sizeof s_app.error, "no scene %d", index);
 		return fm_errParameter;
 	}
-	const fwSceneFile* f = &fw_scenes[index];
-	return fw_load_scene_text(f->file, (const char*)f->text, (int)*f->size, deterministic);
+	const fwFile* f = fwGivenFile(index);
+	if (f == NULL)
+		return fm_errParameter;
+	return fw_load_scene_text(fw_scenes[index].file, f->text, (int)f->size, deterministic);
 }
 
 // Make a scene of a loaded mesh (@p r its reader's result): checked as fmCreateBody would check
 // it, placed (scaled down to fit FW_USER_MESH_SIZE when bigger, centred, FW_USER_MESH_DROP above
-// the floor) and given the seeds' house material. A mesh that was not read or that
-// fmBodyDef_Validate refuses (repeated nodes, flat tets) leaves the current scene.
+// the floor) and given the world and material of the menu's first scene (the seeds' house, its
+// file as given). A mesh that was not read or that fmBodyDef_Validate refuses (repeated nodes,
+// flat tets), or a first scene not given yet, leaves the current scene.
 static fmResult fwLoadUserMesh(fmResult r, fmTetMesh* mesh, fmDiagnostic* diag)
 {
 	if (r == fm_ok)
@@ -370,10 +462,10 @@ static fmResult fwLoadUserMesh(fmResult r, fmTetMesh* mesh, fmDiagnostic* diag)
 		fwSetError("the mesh was refused", diag);
 		return r;
 	}
-	// The house's scene with the mesh as its body.
+	// The menu's first scene (the seeds' house) with the mesh as its body.
 	cliScene scene;
-	const fwSceneFile* house = &fw_scenes[0];
-	if (!fwReadScene(house->file, (const char*)house->text, *house->size, &scene))
+	const fwFile* house = fwGivenFile(0);
+	if (house == NULL || !fwReadScene(fw_scenes[0].file, house->text, house->size, &scene))
 	{
 		fmFreeTetMesh(mesh);
 		return fm_errParameter;

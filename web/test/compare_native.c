@@ -6,7 +6,8 @@
 //   compare_native SCENE FRAMES DETERMINISTIC INTEGRATOR [--plain]
 //
 // --plain: no jump or drag, and the positions as `femto run --export-node` writes them (1-based
-// index, %.17g), to compare the glue's scene with the tool's (scripts/check-web.sh).
+// index, %.17g), to compare the glue's scene with the tool's (scripts/check-web.sh). Run from the
+// repository's root: the glue's files (fw_file_path) are read from there.
 #include <inttypes.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -14,6 +15,9 @@
 #include <string.h>
 #include <time.h>
 
+int fw_file_count(void);
+const char* fw_file_path(int k);
+int fw_set_file(const char* path, const char* text, int size);
 int fw_load_scene(int index, int deterministic);
 void fw_set_integrator(int integrator);
 int fw_step(void);
@@ -24,6 +28,32 @@ int fw_body_count(void);
 int fw_vertex_count(int b);
 const double* fw_positions_double(int b);
 const char* fw_error(void);
+
+// The files the glue reads (fw_file_path), read from disk and given to it (fw_set_file), as
+// give_files.cjs gives them to the WebAssembly build; false with a message when one is not read.
+static bool giveFiles(void)
+{
+	for (int k = 0; k < fw_file_count(); ++k)
+	{
+		const char* path = fw_file_path(k);
+		FILE* file = fopen(path, "rb");
+		long size = -1;
+		if (file != NULL && fseek(file, 0, SEEK_END) == 0)
+			size = ftell(file);
+		char* text = size >= 0 && fseek(file, 0, SEEK_SET) == 0 ? malloc((size_t)size + 1) : NULL;
+		bool read = text != NULL && fread(text, 1, (size_t)size, file) == (size_t)size;
+		if (file != NULL)
+			fclose(file);
+		int r = read ? fw_set_file(path, text, (int)size) : -1;
+		free(text);
+		if (r != 0)
+		{
+			fprintf(stderr, "compare_native: %s: %s\n", path, read ? fw_error() : "cannot read it");
+			return false;
+		}
+	}
+	return true;
+}
 
 // The script, as compare_node.cjs's: a jump at 1/3 of the frames, vertex 5 of body 0 dragged
 // 0.2 m up from where it is from 1/2 to 2/3 (without @p input: frames only).
@@ -58,6 +88,8 @@ int main(int argc, char** argv)
 		fprintf(stderr, "usage: compare_native SCENE FRAMES DETERMINISTIC INTEGRATOR [--plain]\n");
 		return 2;
 	}
+	if (!giveFiles())
+		return 1;
 	int r = fw_load_scene(atoi(argv[1]), atoi(argv[3]));
 	if (r != 0)
 	{

@@ -14,8 +14,10 @@ const nativeFile = process.argv[6];
 const tolerance = Number(process.argv[7]);
 const build = process.argv[8] || 'femto_wasm'; // or femto_wasm_nosimd: the build without SIMD
 const createFemto = require(path.join(__dirname, '../../build-web/node', build + '.js'));
+const { giveFiles } = require('./give_files.cjs');
 
 function run(M) {
+  giveFiles(M);
   if (M._fw_load_scene(scene, deterministic) !== 0)
     throw new Error(M.UTF8ToString(M._fw_error()));
   M._fw_set_integrator(integrator);

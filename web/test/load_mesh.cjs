@@ -2,11 +2,13 @@
 // path for a dropped .node/.ele pair, loads data/house2 (400 vertices, 1389 tets, and it steps),
 // and refuses a corrupted .ele with the reader's located diagnostic, and a tet with a repeated
 // node with the body check's, keeping the scene it had; fw_load_mesh loads Gmsh's cube as binary
-// .msh 4.1, .vtk and Medit .mesh (tests/data/mesh/) and refuses a broken .msh and an .obj.
+// .msh 4.1, .vtk and Medit .mesh (tests/data/mesh/) and refuses a broken .msh and an .obj; a mesh
+// dropped before the glue was given its files (fw_set_file) is refused with a message.
 'use strict';
 const fs = require('fs');
 const path = require('path');
 const createFemto = require(path.join(__dirname, '../../build-web/node/femto_wasm.js'));
+const { copyIn, giveFiles } = require('./give_files.cjs');
 
 let failures = 0;
 function check(ok, what) {
@@ -15,12 +17,7 @@ function check(ok, what) {
 }
 
 function load(M, node, ele) {
-  const copy = (bytes) => {
-    const pointer = M._fw_alloc(Math.max(1, bytes.length));
-    M.HEAPU8.set(bytes, pointer);
-    return pointer;
-  };
-  const a = copy(node), b = copy(ele);
+  const a = copyIn(M, node), b = copyIn(M, ele);
   const r = M._fw_load_tetgen(a, node.length, b, ele.length);
   M._fw_free(a);
   M._fw_free(b);
@@ -28,12 +25,7 @@ function load(M, node, ele) {
 }
 
 function loadNamed(M, name, data) {
-  const copy = (bytes) => {
-    const pointer = M._fw_alloc(Math.max(1, bytes.length));
-    M.HEAPU8.set(bytes, pointer);
-    return pointer;
-  };
-  const n = copy(Buffer.from(name + '\0')), d = copy(data);
+  const n = copyIn(M, Buffer.from(name + '\0')), d = copyIn(M, data);
   const r = M._fw_load_mesh(n, d, data.length);
   M._fw_free(n);
   M._fw_free(d);
@@ -41,14 +33,19 @@ function loadNamed(M, name, data) {
 }
 
 createFemto().then((M) => {
+  let r;
   const data = path.join(__dirname, '../../data');
   const node = fs.readFileSync(path.join(data, 'house2.node'));
   const ele = fs.readFileSync(path.join(data, 'house2.ele'));
+  r = load(M, node, ele);
+  check(r !== 0 && /scenes\/house\.json was not given/.test(M.UTF8ToString(M._fw_error())),
+    `a mesh dropped before the files were given is refused: "${M.UTF8ToString(M._fw_error())}"`);
+  giveFiles(M);
   check(M._fw_load_scene(6, 0) === 0, 'the thrown cube loads');
   const cubeVertices = M._fw_vertex_count(0);
   const lines = ele.toString().split('\n');
   lines[3] = lines[3].replace(/\d+\s*$/, 'abc'); // a node index that is not a number
-  let r = load(M, node, Buffer.from(lines.join('\n')));
+  r = load(M, node, Buffer.from(lines.join('\n')));
   const error = M.UTF8ToString(M._fw_error());
   check(r !== 0 && /ele:\d+/.test(error),
     `a corrupted .ele is refused with its line: "${error.slice(0, 120)}"`);

@@ -1,6 +1,8 @@
 // The scene reader in WebAssembly against the tool's (docs/web.md, scripts/check-web.sh): the
 // page reads scenes/*.json with the tool's own schema code (cli/scene.c), its JSON tree filled by
 // JSON.parse instead of cJSON. This checks that
+//   0. before the glue is given its files (fw_set_file), a menu scene and a scene of
+//      "builtin:house2" are refused with a message that names the missing file;
 //   1. every scene of the page's menu is the file of scenes/ it names (fw_scene_file) and that
 //      file loads through fw_load_scene_text;
 //   2. the wasm's message for each scene file given is the tool's (`femto run FILE`, first line,
@@ -17,6 +19,7 @@ const path = require('path');
 const { spawnSync } = require('child_process');
 
 const createFemto = require(path.join(__dirname, '../../build-web/node/femto_wasm.js'));
+const { copyIn, giveFiles } = require('./give_files.cjs');
 const root = path.join(__dirname, '../..');
 let failures = 0;
 
@@ -30,15 +33,23 @@ function check(ok, what) {
 // Load @p text named @p name; the glue's result code and message.
 function load(M, name, text) {
   const bytes = Buffer.from(text, 'utf8');
-  const nameBytes = Buffer.from(name + '\0', 'utf8');
-  const namePointer = M._fw_alloc(nameBytes.length);
-  M.HEAPU8.set(nameBytes, namePointer);
-  const textPointer = M._fw_alloc(Math.max(1, bytes.length));
-  M.HEAPU8.set(bytes, textPointer);
+  const namePointer = copyIn(M, Buffer.from(name + '\0', 'utf8'));
+  const textPointer = copyIn(M, bytes);
   const r = M._fw_load_scene_text(namePointer, textPointer, bytes.length, 1);
   M._fw_free(namePointer);
   M._fw_free(textPointer);
   return { r, message: M.UTF8ToString(M._fw_error()) };
+}
+
+function checkNotGiven(M) {
+  check(M._fw_load_scene(0, 1) !== 0 &&
+    M.UTF8ToString(M._fw_error()) === 'scenes/house.json was not given yet (fw_set_file)',
+  `menu scene 0 before its file was given: ${M.UTF8ToString(M._fw_error())}`);
+  const house = fs.readFileSync(path.join(root, 'scenes/house.json'), 'utf8');
+  const { r, message } = load(M, 'scenes/house.json', house);
+  check(r !== 0 && message.startsWith('scenes/house.json: "builtin:house2" needs data/house2.node'),
+    `the house before its mesh was given: ${message}`);
+  console.log('scene_read: before the files are given, the scenes are refused with a message');
 }
 
 function checkMenu(M) {
@@ -95,6 +106,8 @@ function checkMalformed(M) {
 }
 
 createFemto().then((M) => {
+  checkNotGiven(M);
+  giveFiles(M);
   checkMenu(M);
   checkMessages(M, process.argv.slice(2));
   checkMalformed(M);
