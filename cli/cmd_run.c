@@ -478,6 +478,8 @@ static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliS
 	return fm_ok;
 }
 
+static void cliPrintAudit(const cliSimulation* sim, const cliSolveTotals* solves);
+
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
                         cliSeries* series, cliVideo* video, int frames, double* stepSeconds,
@@ -517,6 +519,8 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 			fmDiagnostic_Format(diag, text, sizeof text);
 			cliError("%s: step failed in frame %d (t = %.4g s): %s: %s", scene->name, frame + 1,
 			         time, fmResultName(result), text);
+			if (totals->audit && totals->audits > 0)
+				cliPrintAudit(sim, totals); // what the frames before the failure showed
 			return cli_exitInput;
 		}
 		if (totals->audit)
@@ -768,8 +772,6 @@ int cliRun(int argc, char** argv)
 		                seriesPtr, &solves);
 		cliPrintPictures(&o.view, pictures);
 	}
-	else if (solves.audit && solves.audits > 0)
-		cliPrintAudit(&sim, &solves); // what the frames before the failure showed
 	cliSimulation_Destroy(&sim);
 	cliScene_Free(&scene);
 	return code;
