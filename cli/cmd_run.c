@@ -56,6 +56,10 @@ const char* const cliRunHelp =
     "  --draw LIST        what to draw: surfaces,stress,tets,inverted,pins,targets,floor,\n"
     "                     contacts, colliders, all or none (default surfaces,floor,pins,\n"
     "                     targets,colliders)\n"
+    "  --audit            check the bodies for intersections after every frame\n"
+    "                     (fmWorld_AuditContact: surface crossings between bodies and within\n"
+    "                     self-colliding ones, vertices inside another body, inverted tets)\n"
+    "                     and print the worst seen; frame ends only, not every substep\n"
     "  --progress S       off a terminal (CI logs, scripts), a progress line every S seconds\n"
     "                     of wall time (default 5; on a terminal one line is redrawn)\n"
     "  --quiet            no progress lines\n"
@@ -88,6 +92,7 @@ typedef struct cliRunOptions
 	const char* simd;   ///< --simd, NULL if not given
 	bool deterministic; ///< --deterministic
 	bool quiet;
+	bool audit; ///< --audit
 	double progressSeconds; ///< --progress: wall seconds between lines off a terminal
 	cliViewOptions view;    ///< --gif, --png and their picture options
 } cliRunOptions;
@@ -100,7 +105,39 @@ typedef struct cliSolveTotals
 	int unconvergedSteps;
 	double maxResidual;
 	int maxContacts;
+	bool audit;           ///< --audit: fmWorld_AuditContact after every frame
+	int audits;           ///< audits made (frames)
+	int auditedFindings;  ///< audits that found something
+	int firstFindingStep; ///< the frame of the first such audit (1-based), 0 when none
+	fmContactAudit worst; ///< each count's largest over the run
+	fmContactAudit first; ///< the first audit that found something
 } cliSolveTotals;
+
+// Whether an audit found anything.
+static bool cliAuditFound(const fmContactAudit* a)
+{
+	return a->crossings + a->selfCrossings + a->verticesInside + a->invertedTets > 0;
+}
+
+// --audit: audit the world after a frame and keep each count's worst.
+static void cliAuditStep(const cliSimulation* sim, cliSolveTotals* totals)
+{
+	fmContactAudit a;
+	if (fmWorld_AuditContact(sim->world, &a) != fm_ok)
+		return;
+	totals->audits += 1;
+	if (cliAuditFound(&a) && totals->auditedFindings++ == 0)
+	{
+		totals->first = a;
+		totals->firstFindingStep = totals->audits;
+	}
+	fmContactAudit* w = &totals->worst;
+	w->crossings = a.crossings > w->crossings ? a.crossings : w->crossings;
+	w->selfCrossings = a.selfCrossings > w->selfCrossings ? a.selfCrossings : w->selfCrossings;
+	w->verticesInside = a.verticesInside > w->verticesInside ? a.verticesInside : w->verticesInside;
+	w->invertedTets = a.invertedTets > w->invertedTets ? a.invertedTets : w->invertedTets;
+	w->deepest = fmax(w->deepest, a.deepest);
+}
 
 // The picture options need --gif or --png; a GIF shows at most 50 pictures a second (its delays
 // are whole centiseconds, and players show delays under 2 cs as 10). -1 or an exit code.
@@ -181,7 +218,7 @@ static bool cliParseRunTime(cliRunOptions* o, int argc, char** argv, int* i, boo
 }
 
 // What the run writes and says: --out, --obj, --vtu-ascii, --export-obj, --export-node,
-// --progress, --quiet. As cliParseRunTime.
+// --audit, --progress, --quiet. As cliParseRunTime.
 static bool cliParseRunOutput(cliRunOptions* o, int argc, char** argv, int* i, int* code)
 {
 	const char* arg = argv[*i];
@@ -191,6 +228,8 @@ static bool cliParseRunOutput(cliRunOptions* o, int argc, char** argv, int* i, i
 		o->quiet = true;
 	else if (strcmp(arg, "--obj") == 0)
 		o->obj = true;
+	else if (strcmp(arg, "--audit") == 0)
+		o->audit = true;
 	else if (strcmp(arg, "--vtu-ascii") == 0)
 		o->vtuAscii = true;
 	else if (strcmp(arg, "--progress") == 0)
@@ -439,6 +478,8 @@ static fmResult cliStepFrame(const cliRunOptions* o, const cliScene* scene, cliS
 	return fm_ok;
 }
 
+static void cliPrintAudit(const cliSimulation* sim, const cliSolveTotals* solves);
+
 // Step @p frames frames with impulses, progress and output. Returns an exit code.
 static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimulation* sim,
                         cliSeries* series, cliVideo* video, int frames, double* stepSeconds,
@@ -478,8 +519,12 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 			fmDiagnostic_Format(diag, text, sizeof text);
 			cliError("%s: step failed in frame %d (t = %.4g s): %s: %s", scene->name, frame + 1,
 			         time, fmResultName(result), text);
+			if (totals->audit && totals->audits > 0)
+				cliPrintAudit(sim, totals); // what the frames before the failure showed
 			return cli_exitInput;
 		}
+		if (totals->audit)
+			cliAuditStep(sim, totals);
 		if (series != NULL && (frame + 1) % o->every == 0 &&
 		    !cliSeries_WriteFrame(series, sim, frame + 1, time + frameTime))
 			return cli_exitInput;
@@ -562,6 +607,43 @@ static void cliPrintContacts(const cliScene* scene, const cliSimulation* sim,
 		printf("                 (%d more colliders)\n", sim->colliderCount - CLI_LISTED_COLLIDERS);
 }
 
+// The scene's index of body @p id (-1 when none).
+static int cliBodyIndex(const cliSimulation* sim, fmBodyId id)
+{
+	for (int b = 0; b < sim->bodyCount; ++b)
+		if (sim->bodies[b].index1 == id.index1 && id.index1 != 0)
+			return b;
+	return -1;
+}
+
+// --audit: the worst counts seen after any step, and the first finding.
+static void cliPrintAudit(const cliSimulation* sim, const cliSolveTotals* solves)
+{
+	const fmContactAudit* w = &solves->worst;
+	printf("contact audit    %d frame ends: at worst %d crossings, %d self crossings, %d vertices "
+	       "inside (deepest %.4g m), %d inverted tets\n",
+	       solves->audits, w->crossings, w->selfCrossings, w->verticesInside, w->deepest,
+	       w->invertedTets);
+	if (solves->auditedFindings == 0)
+		return;
+	const fmContactAudit* f = &solves->first;
+	printf("                 %d with findings, the first after frame %d:", solves->auditedFindings,
+	       solves->firstFindingStep);
+	if (f->firstCrossing.body.index1 != 0)
+		printf(" bodies[%d] edge %d-%d crosses bodies[%d] triangle %d;",
+		       cliBodyIndex(sim, f->firstCrossing.body), f->firstCrossing.vertex[0],
+		       f->firstCrossing.vertex[1], cliBodyIndex(sim, f->firstCrossing.otherBody),
+		       f->firstCrossing.index);
+	if (f->firstInside.body.index1 != 0)
+		printf(" bodies[%d] vertex %d inside bodies[%d] (%.4g m);",
+		       cliBodyIndex(sim, f->firstInside.body), f->firstInside.vertex[0],
+		       cliBodyIndex(sim, f->firstInside.otherBody), f->firstInside.depth);
+	if (f->firstInverted.body.index1 != 0)
+		printf(" bodies[%d] tet %d inverted;", cliBodyIndex(sim, f->firstInverted.body),
+		       f->firstInverted.index);
+	printf("\n");
+}
+
 static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int frames,
                             double wallSeconds, double stepSeconds, double lowestReached,
                             const cliSeries* series, const cliSolveTotals* solves)
@@ -598,6 +680,8 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 		printf("implicit solves  %d steps ended above the tolerance %g (largest residual %.3g)\n",
 		       solves->unconvergedSteps, scene->worldDef.tolerance, solves->maxResidual);
 	cliPrintContacts(scene, sim, solves);
+	if (solves->audit)
+		cliPrintAudit(sim, solves);
 	if (series != NULL)
 		printf("output           %s (%d frames)\n", series->pvdPath, series->written);
 }
@@ -665,7 +749,9 @@ int cliRun(int argc, char** argv)
 	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
 		code = cli_exitInput;
 	double stepSeconds = 0.0, lowestReached = 0.0;
-	cliSolveTotals solves = {0, 0, 0.0, 0};
+	cliSolveTotals solves;
+	memset(&solves, 0, sizeof solves);
+	solves.audit = o.audit;
 	if (code == cli_exitOk)
 		code = cliRunFrames(&o, &scene, &sim, seriesPtr, video, frames, &stepSeconds,
 		                    &lowestReached, &solves);

@@ -236,6 +236,7 @@ declare -A how=(
   ["femto mesh bunny.stl bunny.node"]="run_tool tetgen && expect_file bunny.node"
   ["femto static scenes/cantilever.json --export-node bent.node"]="run_here; expect_file bent.node"
   ["femto bench --quick"]=run_here
+  ["femto run scenes/two_houses.json --audit"]="run_here"
   ["femto run --seconds 4 --gif house.gif"]="run_here; expect_file house.gif"
   ["femto view scenes/drop.json"]=run_view
   # docs/cli.md

@@ -537,6 +537,34 @@ typedef struct fmBodyStats
 	double initialEnergy; ///< J, kinetic plus elastic energy when the body was created
 } fmBodyStats;
 
+/// One finding of fmWorld_AuditContact(): the first of its kind, in body slot order.
+typedef struct fmAuditFinding
+{
+	fmBodyId body;      ///< the edge's, vertex's or tet's body; the null id when none was found
+	fmBodyId otherBody; ///< the body crossed or entered (itself for a self crossing); null for a tet
+	int vertex[2];      ///< crossing: the edge's vertices; inside: the vertex, -1 (user numbering)
+	int index;          ///< crossing: the other's surface triangle (fmBody_GetSurface order);
+	                    ///< inverted: the tet (user numbering); inside: -1
+	double depth;       ///< m, inside: the vertex's distance to the surface it is inside; else 0
+} fmAuditFinding;
+
+/// What fmWorld_AuditContact() found: intersections between the bodies as they are now.
+typedef struct fmContactAudit
+{
+	int bodies;         ///< live bodies audited
+	int crossings;      ///< surface edges of one body properly crossing a surface triangle of
+	                    ///< another, over both orders of every pair of bodies
+	int selfCrossings;  ///< the same within each self-colliding body (fmBodyDef.selfCollision),
+	                    ///< between an edge and a triangle that share no vertex
+	int verticesInside; ///< surface vertices strictly inside another body's closed surface
+	double deepest;     ///< m, the largest such vertex's distance to that surface (0 when none)
+	int invertedTets;   ///< tets with det F <= 0, all live bodies
+	fmAuditFinding firstCrossing;     ///< the first edge-triangle crossing between two bodies
+	fmAuditFinding firstSelfCrossing; ///< the first crossing within one body
+	fmAuditFinding firstInside;       ///< the first vertex inside another body
+	fmAuditFinding firstInverted;     ///< the first inverted tet
+} fmContactAudit;
+
 /// Counters of the last world step.
 typedef struct fmStepStats
 {
