@@ -28,7 +28,7 @@ if [ ! -f "$library" ] || ! grep -q '^CMAKE_BUILD_TYPE:STRING=RelWithDebInfo' bu
 fi
 mkdir -p build-abi
 # Machine-independent: no paths, no build folder; only what the public headers declare.
-abidw --headers-dir include/femto --drop-private-types --no-show-locs --no-comp-dir-path \
+abidw --headers-dir include/femto --drop-private-types --exported-interfaces-only --no-show-locs --no-comp-dir-path \
   --no-corpus-path --out-file build-abi/current.abi "$library"
 if $update; then
   cp build-abi/current.abi abi/libfemto.abi
