@@ -8,6 +8,7 @@
 #include "core/core.h"
 #include "fem/force_spring.h"
 #include "fem/forces.h"
+#include "fem/inversion.h"
 
 #include <float.h>
 #include <math.h>
@@ -386,10 +387,14 @@ static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 	const double noise = fmEnergyNoise(mesh, c, magnitude);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
-	double alpha = 1.0;
+	double alpha = pb->inversionFree
+	                   ? fmInversion_StepLimit(mesh, state->x, c->direction, FM_INVERSION_KEEP)
+	                   : 1.0;
 	for (int attempt = 0; attempt < 40; ++attempt, alpha *= 0.5)
 	{
 		fmTrialPoint(mesh, state, c, pb, alpha, trial);
+		if (pb->inversionFree && fmInversion_Any(mesh, state->x, trial))
+			continue; // the floor's projection bent the path into a flat tet: shorter
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)
 			slope += c->gradient[k] * (trial[k] - state->x[k]);

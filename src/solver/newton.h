@@ -59,6 +59,7 @@ typedef struct fmNewtonProblem
 	bool quadratic;    // Psi is quadratic (linear material): solve each Newton system tightly
 	bool exactHessian; // unprojected element Hessians (statics); stop if CG finds them indefinite
 	bool keepBest;     // end at the iterate of smallest residual, not the last (statics)
+	bool inversionFree; // no iterate flattens or inverts a tet positive at the start (inversion.h)
 	fmSolverOptions options;   // how products are formed and preconditioned
 	const fmTaskSystem* tasks; // the world's workers for the matrix products (NULL: serial)
 	fmArena* arena;            // the world's step arena (buffers of the parallel force passes)

@@ -10,6 +10,7 @@
 #include "core/core.h"
 #include "contact/floor.h"
 #include "fem/forces.h"
+#include "fem/inversion.h"
 #include "body/loads.h"
 #include "contact/penalty.h"
 #include "solver/newton.h"
@@ -163,6 +164,11 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	pb.targets = fmTargets_Term(b);
 	if (fmContact_Active(world))
 		pb.contact = fmContactPenalty_Term(penalty);
+	// Neo-Hookean-class bodies keep every tet's orientation through the solve (inversion.h),
+	// except with the contact penalty in the solve: its push needs the collapse the filter
+	// forbids (a 10 m/s body against a thin wall tunnels through it within the filter).
+	pb.inversionFree = fmInversion_Needed(&b->mesh) && b->mesh.forceModel == fm_fem &&
+	                   pb.contact.energy == NULL;
 	return pb;
 }
 
@@ -225,6 +231,10 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb);
+	// An inversion-free solve starts where no tet is flat or inverted: the guesses above may
+	// squash tets against the floor (their vertices lifted to it), the start of the step cannot.
+	if (pb.inversionFree && fmInversion_Any(&b->mesh, c->xStart, b->state.x))
+		memcpy(b->state.x, c->xStart, sizeof(double) * (size_t)n3);
 
 	// 2. Newton on the incremental potential.
 	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&
