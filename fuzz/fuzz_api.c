@@ -133,6 +133,8 @@ static fmWorldDef fuzzWorldDef(fmFuzzReader* r)
 	def.enqueueTask = NULL;
 	def.finishTask = NULL;
 	def.userTaskContext = NULL;
+	def.substepCallback = NULL; // function pointers the fuzzer cannot make valid
+	def.substepContext = NULL;
 	if (def.workerCount > 4 && def.workerCount <= FM_MAX_WORKERS)
 		def.workerCount = 1 + def.workerCount % 4;
 	// Bounded work per input: the checks of these limits are still reached (0, negative).

@@ -99,7 +99,7 @@ done
 # --- 3. the files that read the step's times ----------------------------------------------------
 time_cap=14
 time_target=6
-time_pattern='(->|\.)(frameTime|substep|shadowStep|contactStep|predict|step)\b'
+time_pattern='(->|\.)(frameTime|substep|shadowStep|elapsed|contactStep|predict|step)\b'
 time_pattern+='|[(,] ?(const )?double (h|dt|timeStep|frameTime|substep|step|shadowStep|fromStep|toStep|nominal|remaining)[,)]'
 readers=$(for f in $(git ls-files -co --exclude-standard 'src/*.c' 'src/*.h'); do
   if [ "$(sed 's|//.*||' "$f" | grep -cE "$time_pattern" || true)" -gt 0 ]; then

@@ -282,3 +282,52 @@ TEST(houses_cost)
 		fmDestroyWorld(world);
 	}
 }
+
+// What the substep callback sees: each substep's index and the frame's time reached, with a
+// world it can audit mid-step.
+typedef struct SubstepLog
+{
+	fmWorldId world;
+	int calls;
+	int lastIndex;
+	double lastTime;
+	bool ordered;
+	int audited;
+} SubstepLog;
+
+static void logSubstep(int substep, double time, void* context)
+{
+	SubstepLog* log = context;
+	log->ordered = log->ordered && substep == log->lastIndex + 1 && time > log->lastTime;
+	log->lastIndex = substep;
+	log->lastTime = time;
+	log->calls += 1;
+	fmContactAudit a;
+	log->audited += fmWorld_AuditContact(log->world, &a) == fm_ok && a.bodies == 2;
+}
+
+// fmWorldDef.substepCallback runs after every substep (5 a frame, 4 frames), in order, with the
+// frame's time reached ending at the frame's time, and the world can be audited from it.
+TEST(every_substep_can_be_audited)
+{
+	SubstepLog log = {{0, 0}, 0, -1, 0.0, true, 0};
+	fmWorldDef def = fmTestFreeWorldDef();
+	def.substepCallback = logSubstep;
+	def.substepContext = &log;
+	fmWorldId world = fmCreateWorld(&def);
+	log.world = world;
+	auditBox(failures_, world, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), false);
+	auditBox(failures_, world, 2, 2, 2, fmMakeVec3(2, 0, 0), fmMakeVec3(3, 1, 1), false);
+	for (int frame = 0; frame < 4; ++frame)
+	{
+		log.lastIndex = -1;
+		log.lastTime = 0.0;
+		CHECK_INT(fmWorld_Step(world, 0.01, 5), fm_ok);
+		CHECK_INT(log.lastIndex, 4);
+		CHECK_NEAR(log.lastTime, 0.01, 1e-15);
+	}
+	CHECK(log.ordered);
+	CHECK_INT(log.calls, 20);
+	CHECK_INT(log.audited, 20);
+	fmDestroyWorld(world);
+}

@@ -328,6 +328,13 @@ typedef void* fmEnqueueTaskCallback(fmTaskCallback* task, int itemCount, int min
 /// Engine hook: wait until the task behind @p userTask has finished.
 typedef void fmFinishTaskCallback(void* userTask, void* userContext);
 
+/// Called after every substep of fmWorld_Step, when the bodies and the contact stage have
+/// stepped (the state is a whole substep's): @p substep counts the frame's substeps from 0,
+/// @p time is the frame's time reached (s). It may read the world (copy positions, query,
+/// fmWorld_AuditContact) but not change it or step it; @p userContext is
+/// fmWorldDef.substepContext (where the caller keeps the world's id).
+typedef void fmSubstepCallback(int substep, double time, void* userContext);
+
 /// World definition. Get one from fmDefaultWorldDef().
 typedef struct fmWorldDef
 {
@@ -385,6 +392,8 @@ typedef struct fmWorldDef
 	fmEnqueueTaskCallback* enqueueTask; ///< the engine's job system, or NULL (both or neither)
 	fmFinishTaskCallback* finishTask;   ///< waits for a task enqueueTask returned
 	void* userTaskContext;              ///< passed to the two callbacks
+	fmSubstepCallback* substepCallback; ///< after every substep, or NULL (tests, debugging)
+	void* substepContext;               ///< passed to substepCallback
 	int internalValue;                  ///< set by fmDefaultWorldDef; create calls check it
 } fmWorldDef;
 

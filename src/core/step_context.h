@@ -26,6 +26,7 @@ typedef struct fmStepContext
 	double substep;    // s, the substep being taken (a piece of one, see pieces)
 	double shadowStep; // s, the step the ledger measures the shadow energy with (explicit: the
 	                   // substep; implicit: 0)
+	double elapsed;    // s, the frame's time the substeps taken so far have covered
 	int substepCount;  // the caller's substeps a frame
 	int pieces;        // > 1 while an implicit substep is cut into pieces (fmContact_Pieces)
 	int newtonLimit;   // Newton iterations an implicit step may take now (the frame budget)

@@ -351,6 +351,9 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 			return r;
 	}
 	w->stats.steps += 1;
+	ctx->elapsed += h;
+	if (w->def.substepCallback != NULL)
+		w->def.substepCallback(w->stats.steps - 1, ctx->elapsed, w->def.substepContext);
 	return fm_ok;
 }
 
