@@ -56,7 +56,7 @@ const char* const cliRunHelp =
     "  --draw LIST        what to draw: surfaces,stress,tets,inverted,pins,targets,floor,\n"
     "                     contacts, colliders, all or none (default surfaces,floor,pins,\n"
     "                     targets,colliders)\n"
-    "  --audit            check the bodies for intersections after every frame\n"
+    "  --audit            check the bodies for intersections after every substep\n"
     "                     (fmWorld_AuditContact: surface crossings between bodies and within\n"
     "                     self-colliding ones, vertices inside another body, inverted tets)\n"
     "                     and print the worst seen; frame ends only, not every substep\n"
@@ -105,13 +105,31 @@ typedef struct cliSolveTotals
 	int unconvergedSteps;
 	double maxResidual;
 	int maxContacts;
-	bool audit;           ///< --audit: fmWorld_AuditContact after every frame
-	int audits;           ///< audits made (frames)
+	bool audit;           ///< --audit: fmWorld_AuditContact after every substep
+	int audits;           ///< audits made (substeps)
 	int auditedFindings;  ///< audits that found something
-	int firstFindingStep; ///< the frame of the first such audit (1-based), 0 when none
+	int firstFindingStep; ///< the substep of the first such audit (1-based), 0 when none
 	fmContactAudit worst; ///< each count's largest over the run
 	fmContactAudit first; ///< the first audit that found something
 } cliSolveTotals;
+
+// --audit's hook: the simulation it audits and where the counts go.
+typedef struct cliAuditHook
+{
+	const cliSimulation* sim;
+	cliSolveTotals* totals;
+} cliAuditHook;
+
+static void cliAuditStep(const cliSimulation* sim, cliSolveTotals* totals);
+
+// fmWorldDef.substepCallback of --audit: every substep is audited.
+static void cliAuditSubstep(int substep, double time, void* context)
+{
+	(void)substep;
+	(void)time;
+	const cliAuditHook* hook = context;
+	cliAuditStep(hook->sim, hook->totals);
+}
 
 // Whether an audit found anything.
 static bool cliAuditFound(const fmContactAudit* a)
@@ -119,7 +137,7 @@ static bool cliAuditFound(const fmContactAudit* a)
 	return a->crossings + a->selfCrossings + a->verticesInside + a->invertedTets > 0;
 }
 
-// --audit: audit the world after a frame and keep each count's worst.
+// --audit: audit the world after a substep and keep each count's worst.
 static void cliAuditStep(const cliSimulation* sim, cliSolveTotals* totals)
 {
 	fmContactAudit a;
@@ -523,8 +541,6 @@ static int cliRunFrames(const cliRunOptions* o, const cliScene* scene, cliSimula
 				cliPrintAudit(sim, totals); // what the frames before the failure showed
 			return cli_exitInput;
 		}
-		if (totals->audit)
-			cliAuditStep(sim, totals);
 		if (series != NULL && (frame + 1) % o->every == 0 &&
 		    !cliSeries_WriteFrame(series, sim, frame + 1, time + frameTime))
 			return cli_exitInput;
@@ -620,14 +636,14 @@ static int cliBodyIndex(const cliSimulation* sim, fmBodyId id)
 static void cliPrintAudit(const cliSimulation* sim, const cliSolveTotals* solves)
 {
 	const fmContactAudit* w = &solves->worst;
-	printf("contact audit    %d frame ends: at worst %d crossings, %d self crossings, %d vertices "
+	printf("contact audit    %d substeps: at worst %d crossings, %d self crossings, %d vertices "
 	       "inside (deepest %.4g m), %d inverted tets\n",
 	       solves->audits, w->crossings, w->selfCrossings, w->verticesInside, w->deepest,
 	       w->invertedTets);
 	if (solves->auditedFindings == 0)
 		return;
 	const fmContactAudit* f = &solves->first;
-	printf("                 %d with findings, the first after frame %d:", solves->auditedFindings,
+	printf("                 %d with findings, the first after substep %d:", solves->auditedFindings,
 	       solves->firstFindingStep);
 	if (f->firstCrossing.body.index1 != 0)
 		printf(" bodies[%d] edge %d-%d crosses bodies[%d] triangle %d;",
@@ -719,6 +735,15 @@ int cliRun(int argc, char** argv)
 	if (o.simd != NULL)
 		fmSimdLevelFromName(o.simd, &scene.worldDef.simd);
 	cliSimulation sim;
+	cliSolveTotals solves;
+	memset(&solves, 0, sizeof solves);
+	solves.audit = o.audit;
+	cliAuditHook hook = {&sim, &solves};
+	if (o.audit)
+	{
+		scene.worldDef.substepCallback = cliAuditSubstep;
+		scene.worldDef.substepContext = &hook;
+	}
 	if (scene.bodies == NULL ||
 	    !cliSimulation_Create(&scene, o.quiet ? cli_stepCheckWarnings : cli_stepCheckAll, &sim))
 	{
@@ -749,9 +774,6 @@ int cliRun(int argc, char** argv)
 	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
 		code = cli_exitInput;
 	double stepSeconds = 0.0, lowestReached = 0.0;
-	cliSolveTotals solves;
-	memset(&solves, 0, sizeof solves);
-	solves.audit = o.audit;
 	if (code == cli_exitOk)
 		code = cliRunFrames(&o, &scene, &sim, seriesPtr, video, frames, &stepSeconds,
 		                    &lowestReached, &solves);

@@ -638,3 +638,12 @@ foreach(case "chromium|the page in a browser: chromium is missing" "node|Node.js
     ARGS "-E|env|CI=true|FEMTO_NO_INSTALL=1|${FEMTO_MASK}|${tool}|bash|${PROJECT_SOURCE_DIR}/scripts/check-web.sh"
     CODE 1 REGEX "check-web: CI=true and not tested: [^\n]*${message}")
 endforeach()
+
+# --audit: every substep audited (4 a frame, 3 frames); boxes created overlapping, with body-body
+# contact off, are found crossing and inside at every one; a lone box lifted by an attachment is
+# clean.
+femto_cli_test(run_audit_overlap ARGS "run|${FEMTO_CLI_DATA}/audit_overlap.json|--audit" CODE 0
+  REGEX "contact audit +12 substeps: at worst [1-9][0-9]* crossings, 0 self crossings, 10 vertices inside.*12 with findings, the first after substep 1")
+femto_cli_test(run_audit_clean ARGS "run|${FEMTO_CLI_DATA}/attachment_lift.json|--audit" CODE 0
+  REGEX "contact audit +30 substeps: at worst 0 crossings, 0 self crossings, 0 vertices inside \\(deepest 0 m\\), 0 inverted tets"
+  REJECT "with findings")
