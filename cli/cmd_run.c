@@ -131,6 +131,15 @@ static void cliAuditSubstep(int substep, double time, void* context)
 	cliAuditStep(hook->sim, hook->totals);
 }
 
+// --audit: the world will call the hook after every substep.
+static void cliInstallAudit(cliScene* scene, cliAuditHook* hook)
+{
+	if (!hook->totals->audit)
+		return;
+	scene->worldDef.substepCallback = cliAuditSubstep;
+	scene->worldDef.substepContext = hook;
+}
+
 // Whether an audit found anything.
 static bool cliAuditFound(const fmContactAudit* a)
 {
@@ -735,15 +744,9 @@ int cliRun(int argc, char** argv)
 	if (o.simd != NULL)
 		fmSimdLevelFromName(o.simd, &scene.worldDef.simd);
 	cliSimulation sim;
-	cliSolveTotals solves;
-	memset(&solves, 0, sizeof solves);
-	solves.audit = o.audit;
+	cliSolveTotals solves = {.audit = o.audit};
 	cliAuditHook hook = {&sim, &solves};
-	if (o.audit)
-	{
-		scene.worldDef.substepCallback = cliAuditSubstep;
-		scene.worldDef.substepContext = &hook;
-	}
+	cliInstallAudit(&scene, &hook);
 	if (scene.bodies == NULL ||
 	    !cliSimulation_Create(&scene, o.quiet ? cli_stepCheckWarnings : cli_stepCheckAll, &sim))
 	{
