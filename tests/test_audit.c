@@ -4,6 +4,8 @@
 
 #include "core/timer.h"
 
+#include <stdlib.h>
+
 // A box body of nx * ny * nz cubes spanning [lo, hi] in @p world (no gravity).
 static fmBodyId auditBox(int* failures_, fmWorldId world, int nx, int ny, int nz, fmVec3 lo,
                          fmVec3 hi, bool selfCollision)
@@ -329,5 +331,61 @@ TEST(every_substep_can_be_audited)
 	CHECK(log.ordered);
 	CHECK_INT(log.calls, 20);
 	CHECK_INT(log.audited, 20);
+	fmDestroyWorld(world);
+}
+
+// A body whose positions went non-finite has no surface to audit: fm_errNumerical, the output
+// untouched, no read or write outside the grids (the sanitizer build runs this).
+TEST(non_finite_positions_are_refused)
+{
+	fmWorldId world = freeWorld();
+	fmBodyId a = auditBox(failures_, world, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), false);
+	auditBox(failures_, world, 2, 2, 2, fmMakeVec3(2, 0, 0), fmMakeVec3(3, 1, 1), false);
+	int n = fmBody_GetVertexCount(a);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	CHECK_INT(fmBody_CopyPositions(a, x, n), fm_ok);
+	x[4] = NAN;
+	x[7] = INFINITY;
+	fmBody_SetPositions(a, x);
+	free(x);
+	fmContactAudit result;
+	memset(&result, 0x5a, sizeof result);
+	unsigned char before[sizeof result];
+	memcpy(before, &result, sizeof result);
+	CHECK_INT(fmWorld_AuditContact(world, &result), fm_errNumerical);
+	CHECK(memcmp(before, &result, sizeof result) == 0);
+	fmDestroyWorld(world);
+}
+
+// The substep callback may read the world, not step it: a nested fmWorld_Step is refused (an
+// assert where they are compiled in) and the frame in progress goes on.
+typedef struct NestedStep
+{
+	fmWorldId world;
+	fmResult nested;
+} NestedStep;
+
+static void stepFromCallback(int substep, double time, void* context)
+{
+	(void)substep;
+	(void)time;
+	NestedStep* n = context;
+	fmTestRecordAssertsBegin();
+	n->nested = fmWorld_Step(n->world, 0.01, 1);
+	fmTestRecordAssertsEnd();
+}
+
+TEST(the_substep_callback_cannot_step_the_world)
+{
+	NestedStep nested = {{0, 0}, fm_ok};
+	fmWorldDef def = fmTestFreeWorldDef();
+	def.substepCallback = stepFromCallback;
+	def.substepContext = &nested;
+	fmWorldId world = fmCreateWorld(&def);
+	nested.world = world;
+	auditBox(failures_, world, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), false);
+	CHECK_INT(fmWorld_Step(world, 0.01, 2), fm_ok);
+	CHECK_INT(nested.nested, fm_errParameter);
+	CHECK_INT(fmWorld_GetStepStats(world).steps, 2);
 	fmDestroyWorld(world);
 }

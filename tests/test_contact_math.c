@@ -316,3 +316,20 @@ TEST(additive_ccd_finds_a_head_on_impact_near_its_time)
 	CHECK(isinf(fmCcd_Additive(false, x, away, 0.0, 0.9, 1.0)));
 	CHECK(fmCcd_Additive(false, x, dx, 1.5, 0.9, 1.0) == 0.0);
 }
+
+// Flat triangles (two corners at one point, or three on a line) have a distance: the nearest of
+// their edges, finite, never NaN.
+TEST(flat_triangles_have_a_finite_distance)
+{
+	fmVec3 p = fmMakeVec3(0.3, 0.4, 0.5);
+	fmVec3 coincident[4] = {p, fmMakeVec3(0, 0, 0), fmMakeVec3(0, 0, 0), fmMakeVec3(1, 0, 0)};
+	fmVec3 collinear[4] = {p, fmMakeVec3(0, 0, 0), fmMakeVec3(0.5, 0, 0), fmMakeVec3(1, 0, 0)};
+	double d = fmDistance_PointTriangle(coincident), e = fmDistance_PointTriangle(collinear);
+	CHECK_NEAR(d, 0.4 * 0.4 + 0.5 * 0.5, 1e-15);
+	CHECK_NEAR(e, 0.4 * 0.4 + 0.5 * 0.5, 1e-15);
+	double w[3];
+	fmClosestOnTriangle(fmMakeVec3(0.5, 1.0, 0.0), fmMakeVec3(0, 0, 0), fmMakeVec3(0, 0, 0),
+	                    fmMakeVec3(1, 0, 0), w);
+	CHECK(isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]));
+	CHECK_NEAR(w[0] + w[1] + w[2], 1.0, 1e-15);
+}

@@ -278,7 +278,9 @@ FM_API int fmWorld_OverlapSphere(fmWorldId worldId, fmVec3 center, double radius
 /// crossings with a symbolic tie-break, and not inside when within 1e-12 of the body's size of
 /// its surface. A uniform grid per body keeps it about linear in the surface size (ms for ten
 /// houses). Fills @p audit; fm_errInvalidId for a stale world, fm_errParameter for a NULL
-/// @p audit (both asserted), fm_errOutOfMemory; @p audit is untouched on an error.
+/// @p audit (both asserted), fm_errNumerical when a body's positions are not finite (nothing to
+/// audit: the step that made them fails its checks), fm_errOutOfMemory; @p audit is untouched
+/// on an error.
 FM_API fmResult fmWorld_AuditContact(fmWorldId worldId, fmContactAudit* audit);
 
 /// Copy the last step's sleep events into @p events (at most @p capacity); returns how many.

@@ -331,7 +331,8 @@ typedef void fmFinishTaskCallback(void* userTask, void* userContext);
 /// Called after every substep of fmWorld_Step, when the bodies and the contact stage have
 /// stepped (the state is a whole substep's): @p substep counts the frame's substeps from 0,
 /// @p time is the frame's time reached (s). It may read the world (copy positions, query,
-/// fmWorld_AuditContact) but not change it or step it; @p userContext is
+/// fmWorld_AuditContact) but not change it or step it (fmWorld_Step from it is refused with
+/// fm_errParameter); @p userContext is
 /// fmWorldDef.substepContext (where the caller keeps the world's id).
 typedef void fmSubstepCallback(int substep, double time, void* userContext);
 

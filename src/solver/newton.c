@@ -390,6 +390,8 @@ static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 	double alpha = pb->inversionFree
 	                   ? fmInversion_StepLimit(mesh, state->x, c->direction, FM_INVERSION_KEEP)
 	                   : 1.0;
+	if (!(alpha > 0.0))
+		return false; // a tet at the edge of the filter already: no step keeps it (stalled)
 	for (int attempt = 0; attempt < 40; ++attempt, alpha *= 0.5)
 	{
 		fmTrialPoint(mesh, state, c, pb, alpha, trial);

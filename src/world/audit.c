@@ -196,7 +196,8 @@ static int fmAuditCellOf(const fmAuditBody* ab, int k, double v)
 	double lo = k == 0 ? ab->lo.x : k == 1 ? ab->lo.y : ab->lo.z;
 	double size = k == 0 ? ab->cell.x : k == 1 ? ab->cell.y : ab->cell.z;
 	double c = floor((v - lo) / size);
-	return c < 0.0 ? 0 : c >= ab->n[k] ? ab->n[k] - 1 : (int)c;
+	// (NaN, from a non-finite position, goes to cell 0: never a conversion of NaN to int.)
+	return !(c >= 0.0) ? 0 : c >= ab->n[k] ? ab->n[k] - 1 : (int)c;
 }
 
 // The cell range [c0, c1] of the box [lo, hi] grown by the grid's margin.
@@ -467,8 +468,23 @@ static void fmAuditPairs(fmAuditRun* run)
 	}
 }
 
+// Whether every live body's positions are finite (a non-finite one has no surface to audit).
+static bool fmAuditFinite(const fmWorld* w)
+{
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		for (int k = 0; fmBody_IsLive(b) && k < 3 * b->mesh.vertexCount; ++k)
+			if (!isfinite(b->state.x[k]))
+				return false;
+	}
+	return true;
+}
+
 static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit)
 {
+	if (!fmAuditFinite(w))
+		return fm_errNumerical;
 	fmAuditRun run = {w, NULL, 0, 0, audit};
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 		run.count += fmBody_IsLive(&w->bodies[slot]);

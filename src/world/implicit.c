@@ -190,6 +190,26 @@ static void fmImplicitFreeFlight(fmBody* b, fmImplicitCache* c, double h, fmVec3
 	}
 }
 
+// An inversion-free solve starts where no tet is flat or inverted: the guesses may squash tets
+// against the floor (their vertices lifted to it), the step's start cannot. Where even the start
+// lifted to the floor's bounds flattens a tet (a body pushed below the floor further than the
+// floor lifts in a step), no path keeps every tet: this step goes without the filter.
+static void fmInversionFreeStart(fmBody* b, fmImplicitCache* c, fmNewtonProblem* pb,
+                                 const fmFloorDef* floor)
+{
+	const size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
+	if (!pb->inversionFree || !fmInversion_Any(&b->mesh, c->xStart, b->state.x))
+		return;
+	memcpy(b->state.x, c->xStart, bytes);
+	if (floor == NULL)
+		return;
+	memcpy(c->trial, c->xStart, bytes); // free until the line search
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		if (!(b->state.pinned[i] & FM_PIN_Y) && c->trial[3 * i + 1] < c->floorBound[i])
+			c->trial[3 * i + 1] = c->floorBound[i];
+	pb->inversionFree = !fmInversion_Any(&b->mesh, c->xStart, c->trial);
+}
+
 // The work the step's targets, loads and contact penalty did, booked with the ledger.
 static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
                                const fmNewtonProblem* pb)
@@ -231,10 +251,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb);
-	// An inversion-free solve starts where no tet is flat or inverted: the guesses above may
-	// squash tets against the floor (their vertices lifted to it), the start of the step cannot.
-	if (pb.inversionFree && fmInversion_Any(&b->mesh, c->xStart, b->state.x))
-		memcpy(b->state.x, c->xStart, sizeof(double) * (size_t)n3);
+	fmInversionFreeStart(b, c, &pb, floor);
 
 	// 2. Newton on the incremental potential.
 	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&

@@ -17,6 +17,7 @@ typedef struct fmWorld
 	int bodyCapacity;
 	fmBody* bodies; // bodyCapacity slots (fmBody_IsLive)
 	fmFrameWork* frameWork; // bodyCapacity: the work the stages booked in the frame being stepped
+	bool stepping;          // inside fmWorld_Step (its substep callback may not step again)
 	fmStepStats stats;
 	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
