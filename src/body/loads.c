@@ -471,5 +471,5 @@ static double fmLoadsTermEnergy(const void* context, const double* x, const doub
 
 fmNewtonTerm fmLoads_Term(const fmBody* body)
 {
-	return (fmNewtonTerm){body, fmLoadsTermEnergy, NULL, NULL};
+	return (fmNewtonTerm){body, fmLoadsTermEnergy, NULL, NULL, NULL};
 }

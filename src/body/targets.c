@@ -181,5 +181,6 @@ static void fmTargetsTermProduct(const void* context, const double* x, const dou
 
 fmNewtonTerm fmTargets_Term(const fmBody* body)
 {
-	return (fmNewtonTerm){body, fmTargetsTermEnergy, fmTargetsTermHessian, fmTargetsTermProduct};
+	return (fmNewtonTerm){body, fmTargetsTermEnergy, fmTargetsTermHessian, fmTargetsTermProduct,
+	                      NULL};
 }

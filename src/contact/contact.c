@@ -23,6 +23,7 @@
 #include "contact/contact.h"
 #include "core/det_math.h"
 
+#include "contact/barrier_contact.h"
 #include "contact/collider.h"
 #include "contact/contact_collider.h"
 #include "contact/contact_detect.h"
@@ -86,7 +87,7 @@ static int fmLiveBodies(const fmWorld* w)
 	return live;
 }
 
-static bool fmHasColliders(const fmWorld* w)
+bool fmContact_HasColliders(const fmWorld* w)
 {
 	for (int k = 0; k < w->colliderCapacity; ++k)
 		if (w->colliders[k].inUse)
@@ -95,7 +96,7 @@ static bool fmHasColliders(const fmWorld* w)
 }
 
 // Whether surfaces of bodies can meet: two or more bodies, or one that collides with itself.
-static bool fmBodiesMeet(const fmWorld* w)
+bool fmContact_BodiesMeet(const fmWorld* w)
 {
 	if (!w->def.contact.bodies)
 		return false;
@@ -109,7 +110,7 @@ static bool fmBodiesMeet(const fmWorld* w)
 
 bool fmContact_Active(const fmWorld* w)
 {
-	return fmHasColliders(w) || fmBodiesMeet(w);
+	return fmContact_HasColliders(w) || fmContact_BodiesMeet(w);
 }
 
 // How thick a body is at rest, as 2 V / S (its volume over half its surface area): a plate's
@@ -177,7 +178,10 @@ void fmContact_BeginFrame(fmWorld* w)
 	w->embeddedSearch = true;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].contact.embeddedHolder != NULL)
+		{
+			fmBarrierContact_NoteOverlaps(&w->bodies[i]);
 			memset(w->bodies[i].contact.embeddedHolder, 0, sizeof(int) * (size_t)w->bodies[i].mesh.vertexCount);
+		}
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
 
@@ -187,6 +191,13 @@ void fmContact_BeginFrame(fmWorld* w)
 		c->impulse = fmMakeVec3(0.0, 0.0, 0.0);
 		c->angularImpulse = fmMakeVec3(0.0, 0.0, 0.0);
 	}
+}
+
+// Whether the stage moves a body-body contact: every one without barrier contact; with it, only
+// a vertex found inside the other body's tets, and any between two bodies known to overlap.
+static bool fmMovesPair(const fmWorld* w, bool barrier, const fmPairContact* pc)
+{
+	return !barrier || pc->embedded || fmBarrierContact_Overlapping(w, pc->body, pc->other);
 }
 
 // Body against body (step 3): the broad phase, the parallel detection of vertex-triangle
@@ -225,10 +236,16 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	s->edgeContactCount = 0;
 	if (w->def.integrator != fm_implicit && !fmContactDetect_Edges(w, s, thickness))
 		return false;
+	// Implicit steps: the barrier held the bodies apart and their friction acted in the solve;
+	// the contacts are listed, not moved, except a vertex already inside the other body (bodies
+	// made overlapping, or pushed in by pins, targets or the floor: what the barrier cannot
+	// undo), pushed out as before (barrier_contact.h).
+	bool barrier = fmBarrierContact_Active(w);
 	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
 	{
 		for (int c = 0; c < s->pairContactCount; ++c)
-			if (!fmContactPair_Project(w, s, &s->pairContacts[c], thickness))
+			if (fmMovesPair(w, barrier, &s->pairContacts[c]) &&
+			    !fmContactPair_Project(w, s, &s->pairContacts[c], thickness))
 				return false;
 		for (int c = 0; c < s->edgeContactCount; ++c)
 			if (!fmContactEdge_Project(w, s, &s->edgeContacts[c], thickness))
@@ -241,7 +258,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	for (int c = 0; c < s->pairContactCount; ++c)
 	{
 		fmPairContact* pc = &s->pairContacts[c];
-		if (!fmContactPair_Respond(w, s, pc, thickness))
+		if (fmMovesPair(w, barrier, pc) && !fmContactPair_Respond(w, s, pc, thickness))
 			return false;
 		fmContactPoint* point = fmContactState_NewPoint(s);
 		if (point == NULL)
@@ -292,8 +309,8 @@ static void fmMoveCollider(fmCollider* c, double h)
 int fmContact_Pieces(fmWorld* w, const fmStepContext* ctx, int most)
 {
 	const double h = ctx->substep;
-	if (!fmBodiesMeet(w))
-		return 1;
+	if (!fmContact_BodiesMeet(w) || fmBarrierContact_Active(w))
+		return 1; // the barrier's collision detection bounds every step of the solve
 	fmContactState* s = fmContactState_Get(w);
 	if (s == NULL || !fmContactState_ReserveBodyBoxes(w, s))
 		return -1;
@@ -359,12 +376,18 @@ bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
 			b->contact.plane[4 * (size_t)k + 3] = NAN;
 		b->contact.edgePlaneCount = 0;
 	}
-	bool bodies = fmBodiesMeet(w);
+	bool bodies = fmContact_BodiesMeet(w);
 	if (w->def.integrator != fm_implicit || !bodies)
 		return true;
 	fmContactState* s = fmContactState_Get(w);
 	if (s == NULL)
 		return false;
+	// Barrier contact (barrier_contact.h): the solves hold the bodies apart themselves.
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]) && !fmBarrierContact_Edges(&w->bodies[i]))
+			return false;
+	if (fmBarrierContact_Active(w))
+		return true;
 	if (!fmUsesFrozenPlanes(w, ctx))
 		return true;
 	s->predict = ctx->substep;
@@ -389,7 +412,7 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 			fmMoveCollider(&w->colliders[k], ctx->substep);
 	s->pointCount = 0;
 	bool ok = fmContactCollider_Collide(w, s, thickness);
-	if (ok && fmBodiesMeet(w))
+	if (ok && fmContact_BodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
 		ok = fmContactLedger_AddStageWork(w, s, ctx, shadowWeight, slot);

@@ -18,6 +18,13 @@
 // bounding-box diagonal.
 double fmContact_Thickness(const fmWorld* world);
 
+// Whether the world has a collider in use.
+bool fmContact_HasColliders(const fmWorld* world);
+
+// Whether surfaces of bodies can meet: two or more bodies with contact between bodies on, or
+// one that collides with itself.
+bool fmContact_BodiesMeet(const fmWorld* world);
+
 // Whether the world has anything for the contact stage to do (colliders, or body-body contact
 // between two or more bodies).
 bool fmContact_Active(const fmWorld* world);

@@ -9,6 +9,9 @@
 struct fmEdgePlane;
 struct fmFloorHit;
 
+// Bodies a body can be known to overlap at once (barrier_contact.h).
+#define FM_OVERLAP_SLOTS 4
+
 typedef struct fmBodyContact
 {
 	int surfaceVertexCount;
@@ -29,6 +32,11 @@ typedef struct fmBodyContact
 	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
 	double* friction;
 	double* frictionNext; // 8n: what the contact stage found this step, for the next one
+	// 1 + the slots of bodies a vertex of this one was found inside in the last frame (0: none):
+	// the pair meets through the contact stage's projection, not the barrier, until apart
+	int overlapWith[FM_OVERLAP_SLOTS];
+	int surfaceEdgeCount;
+	int* surfaceEdge;     // 2 per surface edge, low vertex first (barrier_contact.h)
 	double thinness;      // 2 V / S at rest (m): how thick the body is (contact.c)
 	// The floor's contacts of the last substep (floor.h), for the contact list and the floor's
 	// reaction

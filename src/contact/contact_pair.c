@@ -1,5 +1,6 @@
 // Vertex against triangle between bodies (contact_pair.h).
 #include "contact/contact_pair.h"
+#include "contact/barrier_contact.h"
 
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
@@ -318,9 +319,10 @@ bool fmContactPair_Respond(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	// Explicit: a vertex caught inside the other body leaves it at the depenetration speed, as
 	// one below the floor does: the projection alone gives it no velocity to leave with, and the
 	// elastic forces would pull it back in every substep. The implicit solve carries the push
-	// into the velocities itself.
+	// into the velocities itself where it held bodies with frozen planes; with barriers (which
+	// leave bodies known to overlap to this stage) it leaves as explicit ones do.
 	double separating = fmDot(relative, pc->normal);
-	if (pc->embedded && w->def.integrator != fm_implicit &&
+	if (pc->embedded && (w->def.integrator != fm_implicit || fmBarrierContact_Active(w)) &&
 	    separating < w->def.floor.maxDepenetrationSpeed)
 		relative = fmMulAdd(relative, w->def.floor.maxDepenetrationSpeed - separating, pc->normal);
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex

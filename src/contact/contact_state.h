@@ -8,6 +8,7 @@
 // number of workers.
 #pragma once
 
+#include "contact/barrier_contact.h"
 #include "contact/broad_phase.h"
 #include "contact/embedded.h"
 #include "world/world.h"
@@ -130,6 +131,7 @@ typedef struct fmContactState
 	double predict;  // s: motion bounds add |v| predict (the implicit step's planes, made before
 	                 // the step), 0 after it
 	bool predicting; // predict > 0: the frozen planes are being made
+	fmBarrierScratch barrier; // the implicit solves' barrier terms (barrier_contact.h)
 } fmContactState;
 
 // The world's contact buffers, made (zeroed) on first use; NULL when memory is short.

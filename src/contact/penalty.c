@@ -367,5 +367,6 @@ static void fmPenaltyTermProduct(const void* context, const double* x, const dou
 
 fmNewtonTerm fmContactPenalty_Term(const fmContactPenalty* penalty)
 {
-	return (fmNewtonTerm){penalty, fmPenaltyTermEnergy, fmPenaltyTermHessian, fmPenaltyTermProduct};
+	return (fmNewtonTerm){penalty, fmPenaltyTermEnergy, fmPenaltyTermHessian, fmPenaltyTermProduct,
+	                      NULL};
 }

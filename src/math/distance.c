@@ -57,6 +57,11 @@ static void fmSegmentParameters(const fmVec3 x[4], double* s, double* t)
 		*t = 1.0, *s = fmClamp01((b - c) / a);
 }
 
+void fmDistance_EdgeEdgeClosest(const fmVec3 x[4], double* s, double* t)
+{
+	fmSegmentParameters(x, s, t);
+}
+
 fmDistanceStencil fmDistance_EdgeEdgeType(const fmVec3 x[4])
 {
 	double s, t;

@@ -40,6 +40,10 @@ fmDistanceStencil fmDistance_EdgeEdgeType(const fmVec3 x[4]);
 double fmDistance_Squared(const fmDistanceStencil* stencil, const fmVec3 x[4], double* gradient,
                           double* hessian);
 
+// The nearest points of two edges x = (a0, a1, b0, b1): a0 + s (a1 - a0) and b0 + t (b1 - b0),
+// s and t in [0, 1] (nearly parallel edges take s = 0).
+void fmDistance_EdgeEdgeClosest(const fmVec3 x[4], double* s, double* t);
+
 // The squared distances of a point and a triangle, and of two edges (type and value).
 double fmDistance_PointTriangle(const fmVec3 x[4]);
 double fmDistance_EdgeEdge(const fmVec3 x[4]);

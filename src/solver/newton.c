@@ -112,7 +112,8 @@ static double fmNewtonEnergy(const fmElasticMesh* mesh, fmImplicitCache* c, cons
 	}
 	double loaded = fmTermEnergy(&pb->loads, x, c->xStart, gradient); // -f . (x - xStart)
 	double pulled = fmTermEnergy(&pb->targets, x, c->xStart, gradient) +
-	                fmTermEnergy(&pb->contact, x, c->xStart, gradient) + loaded;
+	                fmTermEnergy(&pb->contact, x, c->xStart, gradient) +
+	                fmTermEnergy(&pb->barrier, x, c->xStart, gradient) + loaded;
 	if (magnitude)
 		*magnitude = fabs(psi) + inertial + size + damping + pulled + 2.0 * fabs(loaded);
 	return inertial + damping + psi + external + pulled;
@@ -210,6 +211,7 @@ static void fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state
 	}
 	fmTermHessian(&pb->targets, state->x, &c->pattern, c->hessian);
 	fmTermHessian(&pb->contact, state->x, &c->pattern, c->hessian);
+	fmTermHessian(&pb->barrier, state->x, &c->pattern, c->hessian);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
@@ -256,6 +258,7 @@ static void fmDiagonalBlocksMatrixFree(const fmElasticMesh* mesh, fmBodyState* s
 	}
 	fmTermHessian(&pb->targets, state->x, NULL, blocks);
 	fmTermHessian(&pb->contact, state->x, NULL, blocks);
+	fmTermHessian(&pb->barrier, state->x, NULL, blocks);
 }
 
 // One range of block rows of the assembled product y = H x.
@@ -298,6 +301,7 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 		y[k] += (pb->inertia + pb->massDamping) * mesh->mass[k / 3] * x[k];
 	fmTermProduct(&pb->targets, state->x, x, y);
 	fmTermProduct(&pb->contact, state->x, x, y);
+	fmTermProduct(&pb->barrier, state->x, x, y);
 }
 
 // Newton direction: solve H d = -gradient over the free DOFs.
@@ -361,17 +365,48 @@ static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* sta
 	                   &work);
 }
 
-// Positions after a step of length alpha along the direction, held above the floor.
-static void fmTrialPoint(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
+// Positions after a step of length alpha along the direction, held above the floor; true when
+// the floor bent the path (a coordinate was lifted to it).
+static bool fmTrialPoint(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
                          double alpha, double* out)
 {
 	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
 		out[k] = state->x[k] + alpha * c->direction[k];
-	if (pb->floor == NULL)
-		return;
-	for (int i = 0; i < mesh->vertexCount; ++i)
+	bool bent = false;
+	for (int i = 0; pb->floor != NULL && i < mesh->vertexCount; ++i)
 		if (!(state->pinned[i] & FM_PIN_Y) && out[3 * i + 1] < c->floorBound[i])
+		{
 			out[3 * i + 1] = c->floorBound[i];
+			bent = true;
+		}
+	return bent;
+}
+
+// Whether the straight path from x to @p trial is admissible for the barrier (a path the floor
+// bent is checked again as it is); @p scratch gets the motion.
+static bool fmPathAdmissible(const fmElasticMesh* mesh, const fmBodyState* state, const fmNewtonProblem* pb,
+                             const double* trial, double* scratch)
+{
+	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
+		scratch[k] = trial[k] - state->x[k];
+	return pb->barrier.stepBound(pb->barrier.context, state->x, scratch) >= 1.0;
+}
+
+// The longest step along the direction that the inversion filter and the barrier's collision
+// detection allow (1 at most).
+static double fmStepLimit(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	double alpha = pb->inversionFree
+	                   ? fmInversion_StepLimit(mesh, state->x, c->direction, FM_INVERSION_KEEP)
+	                   : 1.0;
+	if (pb->barrier.stepBound != NULL && alpha > 0.0)
+	{
+		const int n3 = 3 * mesh->vertexCount;
+		for (int k = 0; k < n3; ++k)
+			c->trial[k] = alpha * c->direction[k];
+		alpha *= fmMin(1.0, pb->barrier.stepBound(pb->barrier.context, state->x, c->trial));
+	}
+	return alpha;
 }
 
 // Backtracking line search (Armijo, c = 1e-4) on E along the projected path.
@@ -387,16 +422,16 @@ static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 	const double noise = fmEnergyNoise(mesh, c, magnitude);
 	double* trial = c->trial;
 	double* trialGradient = c->work + 2 * n3;
-	double alpha = pb->inversionFree
-	                   ? fmInversion_StepLimit(mesh, state->x, c->direction, FM_INVERSION_KEEP)
-	                   : 1.0;
+	double alpha = fmStepLimit(mesh, state, c, pb);
 	if (!(alpha > 0.0))
-		return false; // a tet at the edge of the filter already: no step keeps it (stalled)
+		return false; // a tet at the edge of the filter already, or a pair touching: stalled
 	for (int attempt = 0; attempt < 40; ++attempt, alpha *= 0.5)
 	{
-		fmTrialPoint(mesh, state, c, pb, alpha, trial);
+		bool bent = fmTrialPoint(mesh, state, c, pb, alpha, trial);
 		if (pb->inversionFree && fmInversion_Any(mesh, state->x, trial))
 			continue; // the floor's projection bent the path into a flat tet: shorter
+		if (bent && pb->barrier.stepBound != NULL && !fmPathAdmissible(mesh, state, pb, trial, trialGradient))
+			continue; // the floor bent the path into another surface: shorter
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)
 			slope += c->gradient[k] * (trial[k] - state->x[k]);

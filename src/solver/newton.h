@@ -43,6 +43,9 @@ typedef struct fmNewtonTerm
 	                   double* values);
 	// Its Hessian at @p x times @p dx, added to @p y. NULL: none.
 	void (*addProduct)(const void* context, const double* x, const double* dx, double* y);
+	// The largest t in [0, 1] such that the path x + s dx, s in [0, t], is admissible (a barrier's
+	// collision-free steps); 1 or more: the whole step. NULL: no bound.
+	double (*stepBound)(const void* context, const double* x, const double* dx);
 } fmNewtonTerm;
 
 typedef struct fmNewtonProblem
@@ -65,7 +68,9 @@ typedef struct fmNewtonProblem
 	fmArena* arena;            // the world's step arena (buffers of the parallel force passes)
 	fmNewtonTerm loads;   // the frozen loads' potential -f . (x - xStart)
 	fmNewtonTerm targets; // the kinematic targets' springs
-	fmNewtonTerm contact; // the contact penalty and friction
+	fmNewtonTerm contact; // the contact penalty and friction (colliders)
+	fmNewtonTerm barrier; // the barrier contact between bodies and its friction; its step bound
+	                      // limits every line-search step
 } fmNewtonProblem;
 
 typedef struct fmNewtonResult

@@ -6,6 +6,7 @@
 // v_{n+1} = (x_{n+1} - x_n) / h, then the body's damping factor, smoothing and floor friction.
 #include "world/implicit.h"
 
+#include "contact/barrier_contact.h"
 #include "contact/contact.h"
 #include "core/core.h"
 #include "contact/floor.h"
@@ -134,7 +135,8 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 // the world's solver settings.
 static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepContext* ctx, fmBody* b,
                                          fmImplicitCache* c, const fmFloorDef* floor,
-                                         fmContactPenalty* penalty)
+                                         fmContactPenalty* penalty,
+                                         const fmBarrierContact* barrier)
 {
 	const double h = ctx->substep;
 	fmArena* arena = ctx->arena;
@@ -162,8 +164,11 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	                              b};
 	pb.loads = fmLoads_Term(b);
 	pb.targets = fmTargets_Term(b);
-	if (fmContact_Active(world))
+	// Bodies meet through the barrier (barrier_contact.h); the penalty holds them off the
+	// colliders.
+	if (fmContact_HasColliders(world) || (fmContact_Active(world) && !fmBarrierContact_Active(world)))
 		pb.contact = fmContactPenalty_Term(penalty);
+	pb.barrier = fmBarrierContact_Term(barrier);
 	// Neo-Hookean-class bodies keep every tet's orientation through the solve (inversion.h),
 	// except with the contact penalty in the solve: its push needs the collapse the filter
 	// forbids (a 10 m/s body against a thin wall tunnels through it within the filter).
@@ -210,6 +215,22 @@ static void fmInversionFreeStart(fmBody* b, fmImplicitCache* c, fmNewtonProblem*
 	pb->inversionFree = !fmInversion_Any(&b->mesh, c->xStart, c->trial);
 }
 
+// A barrier's solve starts where no surfaces cross: the first guess is taken only as far along
+// the straight path from the step's start as no pair closes to a tenth of its gap.
+static void fmBarrierFreeStart(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	if (pb->barrier.stepBound == NULL)
+		return;
+	const int n3 = 3 * b->mesh.vertexCount;
+	for (int k = 0; k < n3; ++k)
+		c->trial[k] = b->state.x[k] - c->xStart[k];
+	double t = pb->barrier.stepBound(pb->barrier.context, c->xStart, c->trial);
+	if (t >= 1.0)
+		return;
+	for (int k = 0; k < n3; ++k)
+		b->state.x[k] = c->xStart[k] + t * c->trial[k];
+}
+
 // The work the step's targets, loads and contact penalty did, booked with the ledger.
 static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
                                const fmNewtonProblem* pb)
@@ -223,6 +244,9 @@ static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCac
 	}
 	fmStepContext_AddContactWork(ctx, b->slot,
 	                             fmContactPenalty_Work(pb->contact.context, b, c->xStart));
+	if (pb->barrier.context != NULL)
+		fmStepContext_AddContactWork(ctx, b->slot,
+		                             fmBarrierContact_Work(pb->barrier.context, b->state.x));
 }
 
 fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* b,
@@ -248,14 +272,19 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	for (int k = 0; k < n3; ++k)
 		c->xPred[k] = fmIsDofPinned(&b->state, k) ? b->state.x[k] : b->state.x[k] + h * b->state.v[k];
 	fmContactPenalty penalty;
-	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty);
+	fmBarrierContact barrier;
+	memset(&barrier, 0, sizeof barrier);
+	if (fmBarrierContact_Active(world) && !fmBarrierContact_Begin(&barrier, world, b->slot, c->xStart, c->xPred, 1.0 / (h * h)))
+		return fm_errOutOfMemory;
+	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty, &barrier);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb);
 	fmInversionFreeStart(b, c, &pb, floor);
+	fmBarrierFreeStart(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
 	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&
-	                 !fmLoads_Active(b)
+	                 !fmLoads_Active(b) && pb.barrier.energy == NULL
 	             ? fmVbd_Solve(&b->mesh, &b->state, c, &pb)
 	             : fmNewton_Solve(&b->mesh, &b->state, c, &pb);
 	double solved = fmSeconds();

@@ -1,0 +1,872 @@
+// Barrier contact inside the implicit solve (barrier_contact.h).
+#include "contact/barrier_contact.h"
+
+#include "contact/collider.h"
+#include "contact/contact.h"
+#include "contact/contact_response.h"
+#include "contact/contact_state.h"
+#include "contact/penalty.h"
+#include "core/det_math.h"
+#include "math/barrier.h"
+#include "math/ccd.h"
+#include "math/distance.h"
+#include "math/geometry.h"
+#include "world/world.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+// CCD stops at (1 - FM_BARRIER_ETA) of a pair's gap (additive CCD's conservative advance).
+#define FM_BARRIER_ETA 0.9
+
+// ---- the bodies' surfaces ----------------------------------------------------------------------
+
+bool fmBarrierContact_Active(const fmWorld* w)
+{
+	return w->def.integrator == fm_implicit && fmContact_BodiesMeet(w);
+}
+
+// Edges as keys low * n + high: sorted, equal keys are the same edge.
+static int fmKeyCompare(const void* a, const void* b)
+{
+	int64_t x = *(const int64_t*)a, y = *(const int64_t*)b;
+	return (x > y) - (x < y);
+}
+
+bool fmBarrierContact_Edges(fmBody* b)
+{
+	if (b->contact.surfaceEdge != NULL)
+		return true;
+	const int64_t n = b->mesh.vertexCount;
+	int all = 3 * b->mesh.triangleCount;
+	int64_t* keys = FM_ALLOC_ARRAY(int64_t, (size_t)(all > 0 ? all : 1));
+	if (keys == NULL)
+		return false;
+	for (int t = 0; t < b->mesh.triangleCount; ++t)
+		for (int k = 0; k < 3; ++k)
+		{
+			int64_t a = b->mesh.surface[3 * t + k], c = b->mesh.surface[3 * t + (k + 1) % 3];
+			keys[3 * t + k] = a < c ? a * n + c : c * n + a;
+		}
+	qsort(keys, (size_t)all, sizeof *keys, fmKeyCompare);
+	int count = 0;
+	for (int k = 0; k < all; ++k)
+		count += k == 0 || keys[k] != keys[k - 1];
+	b->contact.surfaceEdge = FM_ALLOC_ARRAY(int, 2 * (size_t)(count > 0 ? count : 1));
+	if (b->contact.surfaceEdge != NULL)
+	{
+		int e = 0;
+		for (int k = 0; k < all; ++k)
+			if (k == 0 || keys[k] != keys[k - 1])
+			{
+				b->contact.surfaceEdge[2 * e] = (int)(keys[k] / n);
+				b->contact.surfaceEdge[2 * e + 1] = (int)(keys[k] % n);
+				e += 1;
+			}
+		b->contact.surfaceEdgeCount = count;
+	}
+	FM_FREE_ARRAY(keys, int64_t, (size_t)(all > 0 ? all : 1));
+	return b->contact.surfaceEdge != NULL;
+}
+
+// The vertices of primitive @p p (1, 2 or 3 of them); returns how many.
+static int fmPrimitiveVertices(const fmBody* b, const fmBarrierPrimitive* p, int v[3])
+{
+	if (p->kind == 0)
+	{
+		v[0] = b->contact.surfaceVertex[p->index];
+		return 1;
+	}
+	if (p->kind == 1)
+	{
+		v[0] = b->contact.surfaceEdge[2 * p->index];
+		v[1] = b->contact.surfaceEdge[2 * p->index + 1];
+		return 2;
+	}
+	for (int k = 0; k < 3; ++k)
+		v[k] = b->mesh.surface[3 * p->index + k];
+	return 3;
+}
+
+static int fmPrimitiveCount(const fmBody* b, int kind)
+{
+	return kind == 0 ? b->contact.surfaceVertexCount
+	                 : kind == 1 ? b->contact.surfaceEdgeCount : b->mesh.triangleCount;
+}
+
+// The box of a primitive at @p x, swept along @p dx (NULL: none), grown by @p grow.
+static void fmPrimitiveBox(const fmBody* b, const fmBarrierPrimitive* p, const double* x,
+                           const double* dx, double grow, fmVec3* lo, fmVec3* hi)
+{
+	int v[3], n = fmPrimitiveVertices(b, p, v);
+	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
+	for (int k = 0; k < n; ++k)
+		for (int end = 0; end < (dx != NULL ? 2 : 1); ++end)
+		{
+			fmVec3 q = fmLoad(x, v[k]);
+			if (end)
+				q = fmAdd(q, fmLoad(dx, v[k]));
+			l = fmMakeVec3(fmMin(l.x, q.x), fmMin(l.y, q.y), fmMin(l.z, q.z));
+			u = fmMakeVec3(fmMax(u.x, q.x), fmMax(u.y, q.y), fmMax(u.z, q.z));
+		}
+	*lo = fmSub(l, fmMakeVec3(grow, grow, grow));
+	*hi = fmAdd(u, fmMakeVec3(grow, grow, grow));
+}
+
+static bool fmBoxesMeet(fmVec3 al, fmVec3 ah, fmVec3 bl, fmVec3 bh)
+{
+	return !(ah.x < bl.x || al.x > bh.x || ah.y < bl.y || al.y > bh.y || ah.z < bl.z ||
+	         al.z > bh.z);
+}
+
+// ---- gathering primitives ----------------------------------------------------------------------
+
+static bool fmAddPrimitive(fmBarrierPrimitive** list, fmVec3** lower, fmVec3** upper, int* count,
+                           int* capacity, fmBarrierPrimitive p, fmVec3 lo, fmVec3 hi)
+{
+	if (*count == *capacity)
+	{
+		int old = *capacity, grown = old > 0 ? 2 * old : 256;
+		int c1 = old, c2 = old;
+		if (!fmGrowArray((void**)list, capacity, old, grown, sizeof **list) ||
+		    !fmGrowArray((void**)lower, &c1, old, grown, sizeof **lower) ||
+		    !fmGrowArray((void**)upper, &c2, old, grown, sizeof **upper))
+			return false;
+	}
+	(*list)[*count] = p;
+	(*lower)[*count] = lo;
+	(*upper)[*count] = hi;
+	*count += 1;
+	return true;
+}
+
+// The other bodies' primitives whose boxes (grown by dHat) meet [lo, hi], into the scratch.
+static bool fmGatherOthers(fmBarrierContact* bc, fmVec3 lo, fmVec3 hi)
+{
+	const fmWorld* w = bc->world;
+	fmBarrierScratch* s = bc->scratch;
+	const fmBody* b = &w->bodies[bc->slot];
+	s->otherCount = 0;
+	for (int o = 0; o < w->bodyCapacity; ++o)
+	{
+		const fmBody* other = &w->bodies[o];
+		if (o == bc->slot || !fmBody_IsLive(other) || !fmFiltersMeet(b->filter, other->filter) ||
+		    fmBarrierContact_Overlapping(w, bc->slot, o) ||
+		    other->contact.surfaceEdge == NULL || other->contact.start == NULL)
+			continue;
+		for (int kind = 0; kind < 3; ++kind)
+			for (int k = 0; k < fmPrimitiveCount(other, kind); ++k)
+			{
+				fmBarrierPrimitive p = {o, k, kind};
+				fmVec3 pl, ph;
+				fmPrimitiveBox(other, &p, other->state.x, NULL, bc->dHat, &pl, &ph);
+				if (fmBoxesMeet(pl, ph, lo, hi) &&
+				    !fmAddPrimitive(&s->others, &s->otherLower, &s->otherUpper, &s->otherCount,
+				                    &s->otherCapacity, p, pl, ph))
+					return false;
+			}
+	}
+	s->othersLower = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	s->othersUpper = fmScale(-1.0, s->othersLower);
+	for (int k = 0; k < s->otherCount; ++k)
+	{
+		fmVec3 l = s->otherLower[k], u = s->otherUpper[k];
+		s->othersLower = fmMakeVec3(fmMin(s->othersLower.x, l.x), fmMin(s->othersLower.y, l.y),
+		                            fmMin(s->othersLower.z, l.z));
+		s->othersUpper = fmMakeVec3(fmMax(s->othersUpper.x, u.x), fmMax(s->othersUpper.y, u.y),
+		                            fmMax(s->othersUpper.z, u.z));
+	}
+	return fmSpatialHash_Build(&s->otherHash, s->otherLower, s->otherUpper, s->otherCount,
+	                           bc->cell) &&
+	       fmHashQuery_Reserve(&s->query, &s->otherHash);
+}
+
+// The body's own primitives at @p x (swept along @p dx when not NULL), hashed for self-contact.
+static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const double* dx)
+{
+	const fmBody* b = &bc->world->bodies[bc->slot];
+	fmBarrierScratch* s = bc->scratch;
+	s->ownCount = 0;
+	for (int kind = 0; kind < 3; ++kind)
+		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
+		{
+			fmBarrierPrimitive p = {bc->slot, k, kind};
+			fmVec3 lo, hi;
+			fmPrimitiveBox(b, &p, x, dx, 0.5 * bc->dHat, &lo, &hi);
+			if (!fmAddPrimitive(&s->own, &s->ownLower, &s->ownUpper, &s->ownCount, &s->ownCapacity,
+			                    p, lo, hi))
+				return false;
+		}
+	return fmSpatialHash_Build(&s->ownHash, s->ownLower, s->ownUpper, s->ownCount, bc->cell) &&
+	       fmHashQuery_Reserve(&s->query, &s->ownHash);
+}
+
+// ---- pairs -------------------------------------------------------------------------------------
+
+// Position of stencil point k: the solved body's from @p x, any other body's where it stands.
+static fmVec3 fmStencilPoint(const fmBarrierContact* bc, const fmBarrierStencil* st, int k,
+                             const double* x)
+{
+	const fmBody* o = &bc->world->bodies[st->body[k]];
+	return fmLoad(st->body[k] == bc->slot ? x : o->state.x, st->vertex[k]);
+}
+
+static void fmStencilPoints(const fmBarrierContact* bc, const fmBarrierStencil* st,
+                            const double* x, fmVec3 p[4])
+{
+	for (int k = 0; k < 4; ++k)
+		p[k] = fmStencilPoint(bc, st, k, x);
+}
+
+// A stencil's squared distance from its closest points (no derivatives: the broad filter's).
+static double fmStencilDistance2(const fmBarrierStencil* st, const fmVec3 p[4])
+{
+	fmVec3 r;
+	if (st->edgeEdge)
+	{
+		double a, c;
+		fmDistance_EdgeEdgeClosest(p, &a, &c);
+		r = fmSub(fmMulAdd(p[0], a, fmSub(p[1], p[0])), fmMulAdd(p[2], c, fmSub(p[3], p[2])));
+	}
+	else
+	{
+		double t[3];
+		fmClosestOnTriangle(p[0], p[1], p[2], p[3], t);
+		r = fmSub(p[0], fmAdd(fmAdd(fmScale(t[0], p[1]), fmScale(t[1], p[2])), fmScale(t[2], p[3])));
+	}
+	return fmDot(r, r);
+}
+
+// The stencil of primitive @p a (of the solved body or another) against @p b: a vertex against
+// a triangle or two edges; false for other kinds, or pairs that share a vertex.
+static bool fmMakeStencil(const fmWorld* w, const fmBarrierPrimitive* a,
+                          const fmBarrierPrimitive* b, fmBarrierStencil* st)
+{
+	const fmBarrierPrimitive* first = a->kind == 2 ? b : a;
+	const fmBarrierPrimitive* second = a->kind == 2 ? a : b;
+	if (!((first->kind == 0 && second->kind == 2) || (first->kind == 1 && second->kind == 1)))
+		return false;
+	int u[3], v[3];
+	int nu = fmPrimitiveVertices(&w->bodies[first->body], first, u);
+	int nv = fmPrimitiveVertices(&w->bodies[second->body], second, v);
+	for (int i = 0; first->body == second->body && i < nu; ++i)
+		for (int j = 0; j < nv; ++j)
+			if (u[i] == v[j])
+				return false;
+	st->edgeEdge = first->kind == 1;
+	for (int k = 0; k < 4; ++k)
+	{
+		st->body[k] = k < nu ? first->body : second->body;
+		st->vertex[k] = k < nu ? u[k] : v[k - nu];
+	}
+	return true;
+}
+
+// A self pair counts only when its primitives are further than dHat apart at rest (pairs of a
+// body's own rest shape closer than that are its shape, not a contact).
+static bool fmApartAtRest(const fmBarrierContact* bc, const fmBarrierStencil* st)
+{
+	const fmBody* b = &bc->world->bodies[bc->slot];
+	fmVec3 p[4];
+	for (int k = 0; k < 4; ++k)
+		p[k] = fmLoad(b->mesh.x0, st->vertex[k]);
+	return fmStencilDistance2(st, p) >= bc->sHat;
+}
+
+static bool fmPushPair(fmBarrierScratch* s, const fmBarrierStencil* st)
+{
+	if (!fmGrowArray((void**)&s->pairs, &s->pairCapacity, s->pairCount, s->pairCount + 1,
+	                 sizeof *s->pairs))
+		return false;
+	s->pairs[s->pairCount++] = *st;
+	return true;
+}
+
+// Every pair of the solved body's primitive @p p (at @p x) with those of @p hash's items in
+// @p list whose squared distance is below sHat, appended to the scratch's pairs.
+static bool fmPairsOf(const fmBarrierContact* bc, const fmBarrierPrimitive* p, const double* x,
+                      const fmSpatialHash* hash, const fmBarrierPrimitive* list, bool self)
+{
+	fmBarrierScratch* s = bc->scratch;
+	const fmWorld* w = bc->world;
+	// The stored boxes are grown by dHat (others) or dHat / 2 (own): boxes that meet hold every
+	// pair within dHat.
+	fmVec3 lo, hi;
+	fmPrimitiveBox(&w->bodies[bc->slot], p, x, NULL, self ? 0.5 * bc->dHat : 0.0, &lo, &hi);
+	if (!self && !fmBoxesMeet(lo, hi, s->othersLower, s->othersUpper))
+		return true;
+	int n = fmSpatialHash_Query(hash, &s->query, lo, hi);
+	if (n < 0)
+		return false;
+	const fmVec3* lower = self ? s->ownLower : s->otherLower;
+	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
+	for (int k = 0; k < n; ++k)
+	{
+		int item = s->query.items[k];
+		const fmBarrierPrimitive* q = &list[item];
+		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]))
+			continue;
+		// Self pairs: a vertex against triangles, and each pair of edges once.
+		if (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index)))
+			continue;
+		fmBarrierStencil st;
+		if (!fmMakeStencil(w, p, q, &st) || (self && !fmApartAtRest(bc, &st)))
+			continue;
+		fmVec3 pts[4];
+		fmStencilPoints(bc, &st, x, pts);
+		if (fmStencilDistance2(&st, pts) < bc->sHat && !fmPushPair(s, &st))
+			return false;
+	}
+	return true;
+}
+
+// The pairs within dHat at @p x, into the scratch (in primitive order: deterministic).
+static bool fmFindPairs(const fmBarrierContact* bc, const double* x)
+{
+	fmBarrierScratch* s = bc->scratch;
+	const fmBody* b = &bc->world->bodies[bc->slot];
+	s->pairCount = 0;
+	if (bc->self && !fmGatherOwn(bc, x, NULL))
+		return false;
+	for (int kind = 0; kind < 3; ++kind)
+		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
+		{
+			fmBarrierPrimitive p = {bc->slot, k, kind};
+			if (s->otherCount > 0 && !fmPairsOf(bc, &p, x, &s->otherHash, s->others, false))
+				return false;
+			if (bc->self && !fmPairsOf(bc, &p, x, &s->ownHash, s->own, true))
+				return false;
+		}
+	return true;
+}
+
+// ---- the barrier -------------------------------------------------------------------------------
+
+static double fmPairMass(const fmWorld* w, const fmBarrierStencil* st)
+{
+	double m = 0.0;
+	for (int k = 0; k < 4; ++k)
+		m += w->bodies[st->body[k]].mesh.mass[st->vertex[k]];
+	return 0.25 * m;
+}
+
+// The barrier at squared distance s (J per unit kappa) and its first and second derivatives,
+// continued as the quadratic at sFloor below it.
+static void fmBarrierAt(const fmBarrierContact* bc, double s, double out[3])
+{
+	double floor2 = FM_BARRIER_FLOOR * FM_BARRIER_FLOOR * bc->sHat;
+	double at = s > floor2 ? s : floor2;
+	double b0 = fmBarrier(at, bc->sHat), b1 = fmBarrier_First(at, bc->sHat);
+	double b2 = fmBarrier_Second(at, bc->sHat), d = s - at;
+	out[0] = b0 + b1 * d + 0.5 * b2 * d * d;
+	out[1] = b1 + b2 * d;
+	out[2] = b2;
+}
+
+// A pair's squared distance at @p x with its gradient (12).
+static double fmPairDistance(const fmBarrierContact* bc, const fmBarrierStencil* st,
+                             const double* x, double gradient[12])
+{
+	fmVec3 p[4];
+	fmStencilPoints(bc, st, x, p);
+	if (gradient == NULL)
+		return fmStencilDistance2(st, p);
+	fmDistanceStencil type =
+	    st->edgeEdge ? fmDistance_EdgeEdgeType(p) : fmDistance_PointTriangleType(p);
+	return fmDistance_Squared(&type, p, gradient, NULL);
+}
+
+// ---- friction ----------------------------------------------------------------------------------
+
+// The closest points' weights of a stencil at @p p: sum_j w[j] p[j] is the vector between them.
+static void fmClosestWeights(const fmBarrierStencil* st, const fmVec3 p[4], double w[4])
+{
+	if (st->edgeEdge)
+	{
+		double a, c;
+		fmDistance_EdgeEdgeClosest(p, &a, &c);
+		w[0] = 1.0 - a, w[1] = a, w[2] = -(1.0 - c), w[3] = -c;
+		return;
+	}
+	double t[3];
+	fmClosestOnTriangle(p[0], p[1], p[2], p[3], t);
+	w[0] = 1.0, w[1] = -t[0], w[2] = -t[1], w[3] = -t[2];
+}
+
+// The motion of stencil point k in the step: the solved body's from xStart to @p x, another
+// body's from its substep start to where it stands.
+static fmVec3 fmStepMotion(const fmBarrierContact* bc, const fmBarrierStencil* st, int k,
+                           const double* x)
+{
+	const fmBody* o = &bc->world->bodies[st->body[k]];
+	int v = st->vertex[k];
+	if (st->body[k] == bc->slot)
+		return fmSub(fmLoad(x, v), fmLoad(bc->xStart, v));
+	return fmSub(fmLoad(o->state.x, v), fmLoad(o->contact.start, v));
+}
+
+// The lagged friction of every pair within dHat at the step's start.
+static bool fmLagFriction(fmBarrierContact* bc)
+{
+	fmBarrierScratch* s = bc->scratch;
+	const fmWorld* w = bc->world;
+	s->frictionCount = 0;
+	if (!fmFindPairs(bc, bc->xStart))
+		return false;
+	for (int k = 0; k < s->pairCount; ++k)
+	{
+		const fmBarrierStencil* st = &s->pairs[k];
+		double mu = fmContactResponse_PairFriction(w, &w->bodies[st->body[0]],
+		                                           &w->bodies[st->body[3]]);
+		fmVec3 p[4];
+		fmStencilPoints(bc, st, bc->xStart, p);
+		double d2 = fmStencilDistance2(st, p), b[3];
+		if (!(mu > 0.0) || !(d2 > 0.0))
+			continue;
+		fmBarrierAt(bc, d2, b);
+		fmBarrierFriction f;
+		f.stencil = *st;
+		fmClosestWeights(st, p, f.w);
+		fmVec3 r = fmMakeVec3(0.0, 0.0, 0.0);
+		for (int j = 0; j < 4; ++j)
+			r = fmMulAdd(r, f.w[j], p[j]);
+		double length = fmLength(r);
+		if (!(length > 0.0))
+			continue;
+		f.normal = fmScale(1.0 / length, r);
+		double lambda = -bc->stiffness * fmPairMass(w, st) * b[1] * 2.0 * sqrt(d2);
+		f.limit = mu * fmMax(lambda, 0.0);
+		if (!fmGrowArray((void**)&s->friction, &s->frictionCapacity, s->frictionCount,
+		                 s->frictionCount + 1, sizeof *s->friction))
+			return false;
+		s->friction[s->frictionCount++] = f;
+	}
+	return true;
+}
+
+// Friction's slip u (tangential relative motion) of @p f at @p x.
+static fmVec3 fmFrictionSlip(const fmBarrierContact* bc, const fmBarrierFriction* f,
+                             const double* x)
+{
+	fmVec3 r = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int j = 0; j < 4; ++j)
+		r = fmMulAdd(r, f->w[j], fmStepMotion(bc, &f->stencil, j, x));
+	return fmMulAdd(r, -fmDot(r, f->normal), f->normal);
+}
+
+// f0 of the smoothed friction (IPC eq. 15 in displacement form) and f1 = f0' over y.
+static double fmFrictionF0(double y, double eps)
+{
+	return y < eps ? -y * y * y / (3.0 * eps * eps) + y * y / eps + eps / 3.0 : y;
+}
+
+static double fmFrictionF1OverY(double y, double eps)
+{
+	return y < eps ? (2.0 - y / eps) / eps : 1.0 / y;
+}
+
+// ---- the term ----------------------------------------------------------------------------------
+
+static double fmBarrierEnergy(const void* context, const double* x, const double* xStart,
+                              double* gradient)
+{
+	(void)xStart;
+	const fmBarrierContact* bc = context;
+	fmBarrierScratch* s = bc->scratch;
+	if (s->failed || !fmFindPairs(bc, x))
+	{
+		s->failed = true;
+		return NAN;
+	}
+	double energy = 0.0;
+	for (int k = 0; k < s->pairCount; ++k)
+	{
+		const fmBarrierStencil* st = &s->pairs[k];
+		double g[12], b[3];
+		double d2 = fmPairDistance(bc, st, x, gradient != NULL ? g : NULL);
+		double kappa = bc->stiffness * fmPairMass(bc->world, st);
+		fmBarrierAt(bc, d2, b);
+		energy += kappa * b[0];
+		for (int j = 0; gradient != NULL && j < 4; ++j)
+			if (st->body[j] == bc->slot)
+				for (int e = 0; e < 3; ++e)
+					gradient[3 * st->vertex[j] + e] += kappa * b[1] * g[3 * j + e];
+	}
+	for (int k = 0; k < s->frictionCount; ++k)
+	{
+		const fmBarrierFriction* f = &s->friction[k];
+		fmVec3 u = fmFrictionSlip(bc, f, x);
+		double y = fmLength(u);
+		energy += f->limit * fmFrictionF0(y, bc->slip);
+		fmVec3 pull = fmScale(f->limit * fmFrictionF1OverY(y, bc->slip), u);
+		for (int j = 0; gradient != NULL && j < 4; ++j)
+			if (f->stencil.body[j] == bc->slot)
+			{
+				double* gj = gradient + 3 * f->stencil.vertex[j];
+				gj[0] += f->w[j] * pull.x, gj[1] += f->w[j] * pull.y, gj[2] += f->w[j] * pull.z;
+			}
+	}
+	return energy;
+}
+
+// Adds c a b^T (3x3) to the block of (row, column); with @p pattern NULL only diagonal blocks
+// exist (9 doubles a vertex). False when the pattern has no such block.
+static bool fmAddOuter(const fmBsrMatrix* pattern, double* values, int row, int column, double c,
+                       const double* a, const double* b)
+{
+	int slot = pattern == NULL ? (row == column ? row : -1)
+	                           : row == column ? pattern->diagonal[row] : fmBsr_Find(pattern, row, column);
+	if (slot < 0)
+		return false;
+	double* out = values + 9 * (size_t)slot;
+	for (int r = 0; r < 3; ++r)
+		for (int q = 0; q < 3; ++q)
+			out[3 * r + q] += c * a[r] * b[q];
+	return true;
+}
+
+// Whether every pair of the solved body's stencil points has a block in @p pattern.
+static bool fmCoupled(const fmBarrierContact* bc, const fmBsrMatrix* pattern,
+                      const fmBarrierStencil* st)
+{
+	for (int i = 0; i < 4; ++i)
+		for (int j = 0; j < 4; ++j)
+			if (st->body[i] == bc->slot && st->body[j] == bc->slot && st->vertex[i] != st->vertex[j] &&
+			    (pattern == NULL || fmBsr_Find(pattern, st->vertex[i], st->vertex[j]) < 0))
+				return false;
+	return true;
+}
+
+// A pair's Hessian, kappa (b'' + b' / 2s) grad s grad s^T: the distance's normal curvature
+// alone, positive on (0, dHat) (design: IPC's full local Hessian, projected, keeps mostly this).
+// Where the pattern lacks a coupling block the diagonal blocks alone go in (still PSD).
+static void fmPairHessian(const fmBarrierContact* bc, const fmBarrierStencil* st, const double* x,
+                          const fmBsrMatrix* pattern, double* values)
+{
+	double g[12], b[3];
+	double d2 = fmPairDistance(bc, st, x, g);
+	fmBarrierAt(bc, d2, b);
+	double c = bc->stiffness * fmPairMass(bc->world, st) * fmMax(0.0, b[2] + b[1] / (2.0 * d2));
+	bool coupled = fmCoupled(bc, pattern, st);
+	for (int i = 0; i < 4; ++i)
+		for (int j = 0; j < 4; ++j)
+			if (st->body[i] == bc->slot && st->body[j] == bc->slot &&
+			    (i == j || (coupled && st->vertex[i] != st->vertex[j])))
+				fmAddOuter(pattern, values, st->vertex[i], st->vertex[j], c, g + 3 * i, g + 3 * j);
+}
+
+// Friction's 3x3 inner matrix M (the Hessian of limit f0(|P r|) in r): f1/y P + c u u^T, PSD.
+static void fmFrictionInner(const fmBarrierContact* bc, const fmBarrierFriction* f,
+                            const double* x, double m[9])
+{
+	fmVec3 u = fmFrictionSlip(bc, f, x), n = f->normal;
+	double y = fmLength(u), eps = bc->slip;
+	double a = fmFrictionF1OverY(y, eps);
+	double c = y <= 0.0 ? 0.0 : y < eps ? -1.0 / (y * eps * eps) : -1.0 / (y * y * y);
+	double nv[3] = {n.x, n.y, n.z}, uv[3] = {u.x, u.y, u.z};
+	for (int r = 0; r < 3; ++r)
+		for (int q = 0; q < 3; ++q)
+			m[3 * r + q] = f->limit * (a * ((r == q) - nv[r] * nv[q]) + c * uv[r] * uv[q]);
+}
+
+static void fmBarrierHessian(const void* context, const double* x, const fmBsrMatrix* pattern,
+                             double* values)
+{
+	const fmBarrierContact* bc = context;
+	fmBarrierScratch* s = bc->scratch;
+	if (s->failed || !fmFindPairs(bc, x))
+	{
+		s->failed = true;
+		return;
+	}
+	for (int k = 0; k < s->pairCount; ++k)
+		fmPairHessian(bc, &s->pairs[k], x, pattern, values);
+	for (int k = 0; k < s->frictionCount; ++k)
+	{
+		const fmBarrierFriction* f = &s->friction[k];
+		double m[9];
+		fmFrictionInner(bc, f, x, m);
+		bool coupled = fmCoupled(bc, pattern, &f->stencil);
+		for (int i = 0; i < 4; ++i)
+			for (int j = 0; j < 4; ++j)
+			{
+				int vi = f->stencil.vertex[i], vj = f->stencil.vertex[j];
+				if (f->stencil.body[i] != bc->slot || f->stencil.body[j] != bc->slot ||
+				    !(i == j || (coupled && vi != vj)))
+					continue;
+				int slot = pattern == NULL ? vi : vi == vj ? pattern->diagonal[vi] : fmBsr_Find(pattern, vi, vj);
+				double* out = values + 9 * (size_t)slot;
+				for (int e = 0; e < 9; ++e)
+					out[e] += f->w[i] * f->w[j] * m[e];
+			}
+	}
+}
+
+static void fmBarrierProduct(const void* context, const double* x, const double* dx, double* y)
+{
+	const fmBarrierContact* bc = context;
+	fmBarrierScratch* s = bc->scratch;
+	if (s->failed || !fmFindPairs(bc, x))
+	{
+		s->failed = true;
+		return;
+	}
+	for (int k = 0; k < s->pairCount; ++k)
+	{
+		const fmBarrierStencil* st = &s->pairs[k];
+		double g[12], b[3];
+		double d2 = fmPairDistance(bc, st, x, g);
+		fmBarrierAt(bc, d2, b);
+		double c = bc->stiffness * fmPairMass(bc->world, st) * fmMax(0.0, b[2] + b[1] / (2.0 * d2));
+		double along = 0.0;
+		for (int j = 0; j < 4; ++j)
+			if (st->body[j] == bc->slot)
+				for (int e = 0; e < 3; ++e)
+					along += g[3 * j + e] * dx[3 * st->vertex[j] + e];
+		for (int j = 0; j < 4; ++j)
+			if (st->body[j] == bc->slot)
+				for (int e = 0; e < 3; ++e)
+					y[3 * st->vertex[j] + e] += c * along * g[3 * j + e];
+	}
+	for (int k = 0; k < s->frictionCount; ++k)
+	{
+		const fmBarrierFriction* f = &s->friction[k];
+		double m[9], r[3] = {0.0, 0.0, 0.0};
+		fmFrictionInner(bc, f, x, m);
+		for (int j = 0; j < 4; ++j)
+			if (f->stencil.body[j] == bc->slot)
+				for (int e = 0; e < 3; ++e)
+					r[e] += f->w[j] * dx[3 * f->stencil.vertex[j] + e];
+		for (int j = 0; j < 4; ++j)
+			if (f->stencil.body[j] == bc->slot)
+				for (int e = 0; e < 3; ++e)
+					y[3 * f->stencil.vertex[j] + e] +=
+					    f->w[j] * (m[3 * e] * r[0] + m[3 * e + 1] * r[1] + m[3 * e + 2] * r[2]);
+	}
+}
+
+// ---- the step bound ----------------------------------------------------------------------------
+
+// The largest t <= @p t keeping every free coordinate of the body within the reach of xStart.
+static double fmReachBound(const fmBarrierContact* bc, const double* x, const double* dx, double t)
+{
+	const fmBody* b = &bc->world->bodies[bc->slot];
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+	{
+		double to = dx[k] > 0.0 ? bc->xStart[k] + bc->reach - x[k]
+		                        : dx[k] < 0.0 ? x[k] - (bc->xStart[k] - bc->reach) : INFINITY;
+		double step = fabs(dx[k]);
+		if (step > 0.0 && to < t * step)
+			t = fmMax(0.0, to / step);
+	}
+	return t;
+}
+
+// The earliest time of impact in [0, @p t] of the solved body's primitive @p p moving along
+// @p dx against @p hash's items (standing still, or with @p self moving along dx too).
+static double fmPrimitiveImpact(const fmBarrierContact* bc, const fmBarrierPrimitive* p,
+                                const double* x, const double* dx, const fmSpatialHash* hash,
+                                const fmBarrierPrimitive* list, bool self, double t)
+{
+	fmBarrierScratch* s = bc->scratch;
+	const fmWorld* w = bc->world;
+	fmVec3 lo, hi;
+	fmPrimitiveBox(&w->bodies[bc->slot], p, x, dx, 0.5 * bc->dHat, &lo, &hi);
+	if (!self && !fmBoxesMeet(lo, hi, s->othersLower, s->othersUpper))
+		return t;
+	int n = fmSpatialHash_Query(hash, &s->query, lo, hi);
+	if (n < 0)
+	{
+		s->failed = true;
+		return 0.0;
+	}
+	const fmVec3* lower = self ? s->ownLower : s->otherLower;
+	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
+	for (int k = 0; k < n && t > 0.0; ++k)
+	{
+		int item = s->query.items[k];
+		const fmBarrierPrimitive* q = &list[item];
+		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]))
+			continue;
+		if (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index)))
+			continue;
+		fmBarrierStencil st;
+		if (!fmMakeStencil(w, p, q, &st))
+			continue;
+		fmVec3 pts[4], motion[4];
+		fmStencilPoints(bc, &st, x, pts);
+		for (int j = 0; j < 4; ++j)
+			motion[j] = st.body[j] == bc->slot ? fmLoad(dx, st.vertex[j]) : fmMakeVec3(0, 0, 0);
+		double toi = fmCcd_Additive(st.edgeEdge, pts, motion, 0.0, FM_BARRIER_ETA, t);
+		if (toi < t)
+			t = toi;
+	}
+	return t;
+}
+
+// The largest fraction of the step @p dx from @p x that no pair crosses (additive CCD, each
+// pair kept at a tenth of its gap or more) and that stays within the body's reach.
+static double fmBarrierStepBound(const void* context, const double* x, const double* dx)
+{
+	const fmBarrierContact* bc = context;
+	fmBarrierScratch* s = bc->scratch;
+	const fmBody* b = &bc->world->bodies[bc->slot];
+	double t = fmReachBound(bc, x, dx, 1.0);
+	if (bc->self && !fmGatherOwn(bc, x, dx))
+		s->failed = true;
+	for (int kind = 0; kind < 3 && !s->failed; ++kind)
+		for (int k = 0; k < fmPrimitiveCount(b, kind) && t > 0.0; ++k)
+		{
+			fmBarrierPrimitive p = {bc->slot, k, kind};
+			if (s->otherCount > 0)
+				t = fmPrimitiveImpact(bc, &p, x, dx, &s->otherHash, s->others, false, t);
+			if (bc->self)
+				t = fmPrimitiveImpact(bc, &p, x, dx, &s->ownHash, s->own, true, t);
+		}
+	return s->failed ? 0.0 : t;
+}
+
+fmNewtonTerm fmBarrierContact_Term(const fmBarrierContact* bc)
+{
+	fmNewtonTerm term;
+	memset(&term, 0, sizeof term);
+	if (bc->scratch == NULL)
+		return term;
+	term.context = bc;
+	term.energy = fmBarrierEnergy;
+	term.addHessian = fmBarrierHessian;
+	term.addProduct = fmBarrierProduct;
+	term.stepBound = fmBarrierStepBound;
+	return term;
+}
+
+// ---- the step ----------------------------------------------------------------------------------
+
+// The body's reach in the step: twice its fastest vertex's inertial motion (@p xPred from
+// @p xStart) and gravity's (g / inertia), dHat and 2% of its size.
+static double fmStepReach(const fmWorld* w, const fmBody* b, const double* xStart,
+                          const double* xPred, double inertia, double dHat)
+{
+	double motion = 0.0;
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		motion = fmMax(motion, fmLength(fmSub(fmLoad(xPred, i), fmLoad(xStart, i))));
+	double g = fmLength(w->def.gravity);
+	return 2.0 * (motion + g / inertia) + dHat + 0.02 * b->mesh.restSize;
+}
+
+// The mean length of the body's surface edges at rest (the broad phases' cell).
+static double fmMeanEdge(const fmBody* b)
+{
+	double sum = 0.0;
+	for (int e = 0; e < b->contact.surfaceEdgeCount; ++e)
+		sum += fmLength(fmSub(fmLoad(b->mesh.x0, b->contact.surfaceEdge[2 * e]),
+		                      fmLoad(b->mesh.x0, b->contact.surfaceEdge[2 * e + 1])));
+	return b->contact.surfaceEdgeCount > 0 ? sum / b->contact.surfaceEdgeCount : b->mesh.restSize;
+}
+
+bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
+                            const double* xStart, const double* xPred, double inertia)
+{
+	memset(bc, 0, sizeof *bc);
+	const fmBody* b = &w->bodies[slot];
+	fmContactState* state = w->contactState;
+	if (state == NULL || b->contact.surfaceEdge == NULL)
+		return false;
+	bc->world = w;
+	bc->slot = slot;
+	bc->dHat = fmContact_Thickness(w);
+	bc->sHat = bc->dHat * bc->dHat;
+	if (!(bc->sHat > 0.0))
+		return true;
+	bc->stiffness = FM_BARRIER_STIFFNESS * inertia / bc->sHat;
+	bc->reach = fmStepReach(w, b, xStart, xPred, inertia, bc->dHat);
+	bc->slip = FM_FRICTION_SLIP_SPEED / sqrt(inertia);
+	bc->cell = fmMax(2.0 * fmMeanEdge(b), 2.0 * bc->dHat);
+	bc->self = b->selfCollision;
+	bc->xStart = xStart;
+	bc->scratch = &state->barrier;
+	bc->scratch->failed = false;
+	// The region the body can reach in the step, and the other primitives in it.
+	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(xStart, i);
+		lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
+		hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
+	}
+	double grow = bc->reach + bc->dHat;
+	if (!fmGatherOthers(bc, fmSub(lo, fmMakeVec3(grow, grow, grow)),
+	                    fmAdd(hi, fmMakeVec3(grow, grow, grow))))
+		return false;
+	if (bc->scratch->otherCount == 0 && !bc->self)
+	{
+		bc->scratch = NULL;
+		return true;
+	}
+	return fmLagFriction(bc);
+}
+
+double fmBarrierContact_Work(const fmBarrierContact* bc, const double* x)
+{
+	if (bc->scratch == NULL)
+		return 0.0;
+	const fmBody* b = &bc->world->bodies[bc->slot];
+	const int n3 = 3 * b->mesh.vertexCount;
+	fmBarrierScratch* s = bc->scratch;
+	if (!fmGrowArray((void**)&s->gradient, &s->gradientCapacity, 0, n3, sizeof(double)))
+		return 0.0;
+	memset(s->gradient, 0, sizeof(double) * (size_t)n3);
+	fmBarrierEnergy(bc, x, bc->xStart, s->gradient);
+	double work = 0.0;
+	for (int k = 0; k < n3; ++k)
+		work -= s->gradient[k] * (x[k] - bc->xStart[k]);
+	return work;
+}
+
+void fmBarrierContact_NoteOverlaps(fmBody* b)
+{
+	int count = 0;
+	memset(b->contact.overlapWith, 0, sizeof b->contact.overlapWith);
+	for (int i = 0; i < b->mesh.vertexCount && count < FM_OVERLAP_SLOTS; ++i)
+	{
+		int holder = b->contact.embeddedHolder[i];
+		bool known = holder == 0;
+		for (int k = 0; k < count && !known; ++k)
+			known = b->contact.overlapWith[k] == holder;
+		if (!known)
+			b->contact.overlapWith[count++] = holder;
+	}
+
+}
+
+static bool fmOverlapsOne(const fmBody* b, int other)
+{
+	for (int k = 0; k < FM_OVERLAP_SLOTS; ++k)
+		if (b->contact.overlapWith[k] == other + 1)
+			return true;
+	return false;
+}
+
+bool fmBarrierContact_Overlapping(const fmWorld* w, int a, int b)
+{
+	return fmOverlapsOne(&w->bodies[a], b) || fmOverlapsOne(&w->bodies[b], a);
+}
+
+void fmBarrierScratch_Free(fmBarrierScratch* s)
+{
+	FM_FREE_ARRAY(s->others, fmBarrierPrimitive, s->otherCapacity);
+	FM_FREE_ARRAY(s->otherLower, fmVec3, s->otherCapacity);
+	FM_FREE_ARRAY(s->otherUpper, fmVec3, s->otherCapacity);
+	FM_FREE_ARRAY(s->own, fmBarrierPrimitive, s->ownCapacity);
+	FM_FREE_ARRAY(s->ownLower, fmVec3, s->ownCapacity);
+	FM_FREE_ARRAY(s->ownUpper, fmVec3, s->ownCapacity);
+	fmSpatialHash_Free(&s->otherHash);
+	fmSpatialHash_Free(&s->ownHash);
+	fmHashQuery_Free(&s->query);
+	FM_FREE_ARRAY(s->pairs, fmBarrierStencil, s->pairCapacity);
+	FM_FREE_ARRAY(s->friction, fmBarrierFriction, s->frictionCapacity);
+	FM_FREE_ARRAY(s->gradient, double, s->gradientCapacity);
+	memset(s, 0, sizeof *s);
+}
