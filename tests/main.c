@@ -102,10 +102,35 @@ static int countingAssert(const char* condition, const char* file, int line)
 	return 0;
 }
 
+// Whether test @p name matches @p pattern: the same name, or a prefix ending in '*'.
+static bool nameMatches(const char* pattern, const char* name)
+{
+	size_t n = strlen(pattern);
+	return n > 0 && pattern[n - 1] == '*' ? strncmp(pattern, name, n - 1) == 0
+	                                      : strcmp(pattern, name) == 0;
+}
+
+// Whether the selection after the suite (argv[2...]) takes test @p name: "name" (or "prefix*")
+// takes those alone, "-name" (or "-prefix*") every test of the suite but those.
+static bool selected(int argc, char** argv, const char* name)
+{
+	bool any = false, taken = false;
+	for (int k = 2; k < argc; ++k)
+	{
+		if (argv[k][0] == '-' && nameMatches(argv[k] + 1, name))
+			return false;
+		if (argv[k][0] != '-')
+		{
+			any = true;
+			taken = taken || nameMatches(argv[k], name);
+		}
+	}
+	return !any || taken;
+}
+
 int main(int argc, char** argv)
 {
 	const char* suite = argc > 1 ? argv[1] : NULL;
-	const char* only = argc > 2 ? argv[2] : NULL;
 	fmSetAssertFcn(countingAssert);
 	int run = 0, failed = 0;
 	for (int i = 0; i < s_testCount; ++i)
@@ -113,8 +138,7 @@ int main(int argc, char** argv)
 		TestEntry* e = &s_tests[i];
 		if (suite && strcmp(suite, e->suite) != 0)
 			continue;
-		// "name" runs that test alone, "-name" every test of the suite but that one.
-		if (only && (only[0] == '-' ? strcmp(only + 1, e->name) == 0 : strcmp(only, e->name) != 0))
+		if (!selected(argc, argv, e->name))
 			continue;
 		int failures = 0;
 		int asserts = s_assertCount;
