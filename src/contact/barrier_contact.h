@@ -51,6 +51,7 @@ typedef struct fmBarrierFriction
 	double w[4];
 	fmVec3 normal;
 	double limit;
+	double slip; // m, the slip width below which it is a spring (at least FM_FRICTION_SLIP_SPEED h)
 } fmBarrierFriction;
 
 // A surface primitive in a broad phase: a vertex (kind 0), a surface edge (1) or a triangle (2)
