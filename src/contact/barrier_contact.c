@@ -322,12 +322,53 @@ static bool fmPairsOf(const fmBarrierContact* bc, const fmBarrierPrimitive* p, c
 	return true;
 }
 
-// The pairs within dHat at @p x, into the scratch (in primitive order: deterministic).
+// Whether @p x lies on the covered segment (to round-off): x - start = a motion, a in [0, 1].
+static bool fmOnSegment(const fmBarrierContact* bc, const double* x)
+{
+	const fmBarrierScratch* s = bc->scratch;
+	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
+	if (!s->covered)
+		return false;
+	double along = 0.0, length = 0.0, size = 0.0;
+	for (int k = 0; k < n3; ++k)
+	{
+		along += (x[k] - s->segmentStart[k]) * s->segmentMotion[k];
+		length += s->segmentMotion[k] * s->segmentMotion[k];
+		size = fmMax(size, fabs(s->segmentStart[k]) + fabs(s->segmentMotion[k]));
+	}
+	double a = length > 0.0 ? along / length : 0.0;
+	if (!(a >= -1e-12 && a <= 1.0 + 1e-12))
+		return false;
+	for (int k = 0; k < n3; ++k)
+		if (!(fabs(x[k] - s->segmentStart[k] - a * s->segmentMotion[k]) <= 1e-12 * size))
+			return false;
+	return true;
+}
+
+// The covered candidates within dHat at @p x, into the scratch's pairs.
+static bool fmFilterCandidates(const fmBarrierContact* bc, const double* x)
+{
+	fmBarrierScratch* s = bc->scratch;
+	for (int k = 0; k < s->candidateCount; ++k)
+	{
+		fmVec3 pts[4];
+		fmStencilPoints(bc, &s->candidates[k], x, pts);
+		if (fmStencilDistance2(&s->candidates[k], pts) < bc->sHat &&
+		    !fmPushPair(s, &s->candidates[k]))
+			return false;
+	}
+	return true;
+}
+
+// The pairs within dHat at @p x, into the scratch (in primitive order: deterministic): from the
+// candidates where @p x is on the covered segment, else by a search.
 static bool fmFindPairs(const fmBarrierContact* bc, const double* x)
 {
 	fmBarrierScratch* s = bc->scratch;
 	const fmBody* b = &bc->world->bodies[bc->slot];
 	s->pairCount = 0;
+	if (fmOnSegment(bc, x))
+		return fmFilterCandidates(bc, x);
 	if (bc->self && !fmGatherOwn(bc, x, NULL))
 		return false;
 	for (int kind = 0; kind < 3; ++kind)
@@ -703,7 +744,7 @@ static double fmPrimitiveImpact(const fmBarrierContact* bc, const fmBarrierPrimi
 	}
 	const fmVec3* lower = self ? s->ownLower : s->otherLower;
 	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
-	for (int k = 0; k < n && t > 0.0; ++k)
+	for (int k = 0; k < n && !s->failed; ++k)
 	{
 		int item = s->query.items[k];
 		const fmBarrierPrimitive* q = &list[item];
@@ -712,13 +753,20 @@ static double fmPrimitiveImpact(const fmBarrierContact* bc, const fmBarrierPrimi
 		if (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index)))
 			continue;
 		fmBarrierStencil st;
-		if (!fmMakeStencil(w, p, q, &st))
+		if (!fmMakeStencil(w, p, q, &st) || (self && !fmApartAtRest(bc, &st)))
 			continue;
+		if (!fmGrowArray((void**)&s->candidates, &s->candidateCapacity, s->candidateCount,
+		                 s->candidateCount + 1, sizeof *s->candidates))
+		{
+			s->failed = true;
+			return 0.0;
+		}
+		s->candidates[s->candidateCount++] = st;
 		fmVec3 pts[4], motion[4];
 		fmStencilPoints(bc, &st, x, pts);
 		for (int j = 0; j < 4; ++j)
 			motion[j] = st.body[j] == bc->slot ? fmLoad(dx, st.vertex[j]) : fmMakeVec3(0, 0, 0);
-		double toi = fmCcd_Additive(st.edgeEdge, pts, motion, 0.0, FM_BARRIER_ETA, t);
+		double toi = t > 0.0 ? fmCcd_Additive(st.edgeEdge, pts, motion, 0.0, FM_BARRIER_ETA, t) : t;
 		if (toi < t)
 			t = toi;
 	}
@@ -733,10 +781,14 @@ static double fmBarrierStepBound(const void* context, const double* x, const dou
 	fmBarrierScratch* s = bc->scratch;
 	const fmBody* b = &bc->world->bodies[bc->slot];
 	double t = fmReachBound(bc, x, dx, 1.0);
+	const int n3 = 3 * b->mesh.vertexCount;
+	s->covered = false;
+	s->candidateCount = 0;
 	if (bc->self && !fmGatherOwn(bc, x, dx))
 		s->failed = true;
+	// Every pair whose boxes along the segment come within dHat is a candidate (and gets its CCD).
 	for (int kind = 0; kind < 3 && !s->failed; ++kind)
-		for (int k = 0; k < fmPrimitiveCount(b, kind) && t > 0.0; ++k)
+		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
 		{
 			fmBarrierPrimitive p = {bc->slot, k, kind};
 			if (s->otherCount > 0)
@@ -744,7 +796,14 @@ static double fmBarrierStepBound(const void* context, const double* x, const dou
 			if (bc->self)
 				t = fmPrimitiveImpact(bc, &p, x, dx, &s->ownHash, s->own, true, t);
 		}
-	return s->failed ? 0.0 : t;
+	int c1 = s->segmentCapacity;
+	if (s->failed || !fmGrowArray((void**)&s->segmentStart, &s->segmentCapacity, 0, n3, sizeof(double)) ||
+	    !fmGrowArray((void**)&s->segmentMotion, &c1, 0, n3, sizeof(double)))
+		return 0.0;
+	memcpy(s->segmentStart, x, sizeof(double) * (size_t)n3);
+	memcpy(s->segmentMotion, dx, sizeof(double) * (size_t)n3);
+	s->covered = true;
+	return t;
 }
 
 fmNewtonTerm fmBarrierContact_Term(const fmBarrierContact* bc)
@@ -807,6 +866,7 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
 	bc->xStart = xStart;
 	bc->scratch = &state->barrier;
 	bc->scratch->failed = false;
+	bc->scratch->covered = false;
 	// The region the body can reach in the step, and the other primitives in it.
 	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
@@ -887,5 +947,8 @@ void fmBarrierScratch_Free(fmBarrierScratch* s)
 	FM_FREE_ARRAY(s->pairs, fmBarrierStencil, s->pairCapacity);
 	FM_FREE_ARRAY(s->friction, fmBarrierFriction, s->frictionCapacity);
 	FM_FREE_ARRAY(s->gradient, double, s->gradientCapacity);
+	FM_FREE_ARRAY(s->candidates, fmBarrierStencil, s->candidateCapacity);
+	FM_FREE_ARRAY(s->segmentStart, double, s->segmentCapacity);
+	FM_FREE_ARRAY(s->segmentMotion, double, s->segmentCapacity);
 	memset(s, 0, sizeof *s);
 }

@@ -80,6 +80,15 @@ typedef struct fmBarrierScratch
 	fmHashQuery query;
 	fmBarrierStencil* pairs; // the pairs within dHat at the last evaluation
 	int pairCount, pairCapacity;
+	// The pairs that can come within dHat anywhere along the last step bound's segment
+	// (segmentStart + a segmentMotion, a in [0, 1]): the energy at a point of it filters these
+	// instead of searching again (valid while `covered`).
+	fmBarrierStencil* candidates;
+	int candidateCount, candidateCapacity;
+	double* segmentStart;
+	double* segmentMotion;
+	int segmentCapacity;
+	bool covered;
 	fmBarrierFriction* friction;
 	int frictionCount, frictionCapacity;
 	double* gradient; // the work's forces
