@@ -30,7 +30,6 @@
 #include "contact/contact_edge.h"
 #include "contact/contact_ledger.h"
 #include "contact/contact_pair.h"
-#include "contact/contact_planes.h"
 #include "contact/contact_state.h"
 #include "core/core.h"
 #include "contact/embedded.h"
@@ -279,22 +278,6 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	return true;
 }
 
-// Whether the context's implicit substep keeps bodies apart with frozen planes in its solve: not in
-// the pieces of a cut step, nor at steps no longer than FM_PLANE_STEP_FACTOR times the
-// explicit stability limit of a body, where the stage's projection alone holds them (as in
-// the explicit integrator): at such short steps the planes, which each body sees as immovable,
-// let fast bodies cross (docs/contact.md, Measurements).
-static bool fmUsesFrozenPlanes(const fmWorld* w, const fmStepContext* ctx)
-{
-	if (ctx->pieces > 1)
-		return false;
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmBody_IsLive(&w->bodies[i]) &&
-		    ctx->substep <= FM_PLANE_STEP_FACTOR * w->bodies[i].explicitLimit)
-			return false;
-	return true;
-}
-
 // Advance a kinematic collider by @p h seconds of its velocity and angular velocity.
 static void fmMoveCollider(fmCollider* c, double h)
 {
@@ -306,58 +289,7 @@ static void fmMoveCollider(fmCollider* c, double h)
 	}
 }
 
-int fmContact_Pieces(fmWorld* w, const fmStepContext* ctx, int most)
-{
-	const double h = ctx->substep;
-	if (!fmContact_BodiesMeet(w) || fmBarrierContact_Active(w))
-		return 1; // the barrier's collision detection bounds every step of the solve
-	fmContactState* s = fmContactState_Get(w);
-	if (s == NULL || !fmContactState_ReserveBodyBoxes(w, s))
-		return -1;
-	double thickness = fmContact_Thickness(w);
-	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-	{
-		fmBody* b = &w->bodies[slot];
-		if (!fmBody_IsLive(b))
-			continue;
-		if (!fmBodyContactArrays(b))
-			return -1;
-		fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
-		double speed = 0.0;
-		for (int p = 0; p < b->contact.surfaceVertexCount; ++p)
-		{
-			int i = b->contact.surfaceVertex[p];
-			fmVec3 x = fmLoad(b->state.x, i);
-			lo = fmMakeVec3(fmMin(lo.x, x.x), fmMin(lo.y, x.y), fmMin(lo.z, x.z));
-			hi = fmMakeVec3(fmMax(hi.x, x.x), fmMax(hi.y, x.y), fmMax(hi.z, x.z));
-			speed = fmMax(speed, fmLength(fmLoad(b->state.v, i)));
-		}
-		double grow = thickness + speed * h;
-		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
-		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
-		s->bodySpeed[slot] = speed;
-	}
-	double pieces = 1.0;
-	for (int a = 0; a < w->bodyCapacity; ++a)
-	{
-		const fmBody* A = &w->bodies[a];
-		for (int c = a + 1; fmBody_IsLive(A) && c < w->bodyCapacity; ++c)
-		{
-			const fmBody* C = &w->bodies[c];
-			fmVec3 al = s->bodyLower[a], ah = s->bodyUpper[a];
-			fmVec3 cl = s->bodyLower[c], ch = s->bodyUpper[c];
-			if (!fmBody_IsLive(C) || !fmFiltersMeet(A->filter, C->filter) || ah.x < cl.x ||
-			    al.x > ch.x || ah.y < cl.y || al.y > ch.y || ah.z < cl.z || al.z > ch.z)
-				continue;
-			double allowed =
-			    fmMax(FM_PIECE_FRACTION * fmMin(A->contact.thinness, C->contact.thinness), thickness);
-			pieces = fmMax(pieces, ceil((s->bodySpeed[a] + s->bodySpeed[c]) * h / allowed));
-		}
-	}
-	return pieces <= most ? (int)pieces : most + 1;
-}
-
-bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
+bool fmContact_BeginSubstep(fmWorld* w)
 {
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
@@ -376,26 +308,17 @@ bool fmContact_BeginSubstep(fmWorld* w, const fmStepContext* ctx)
 			b->contact.plane[4 * (size_t)k + 3] = NAN;
 		b->contact.edgePlaneCount = 0;
 	}
-	bool bodies = fmContact_BodiesMeet(w);
-	if (w->def.integrator != fm_implicit || !bodies)
+	// Implicit steps hold bodies apart with the barrier inside the solve (barrier_contact.h): it
+	// needs every body's surface edges.
+	if (!fmBarrierContact_Active(w))
 		return true;
 	fmContactState* s = fmContactState_Get(w);
 	if (s == NULL)
 		return false;
-	// Barrier contact (barrier_contact.h): the solves hold the bodies apart themselves.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]) && !fmBarrierContact_Edges(&w->bodies[i]))
 			return false;
-	if (fmBarrierContact_Active(w))
-		return true;
-	if (!fmUsesFrozenPlanes(w, ctx))
-		return true;
-	s->predict = ctx->substep;
-	s->predicting = true;
-	bool ok = fmContactPlanes_Predict(w, s, fmContact_Thickness(w));
-	s->predict = 0.0;
-	s->predicting = false;
-	return ok;
+	return true;
 }
 
 bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)

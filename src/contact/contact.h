@@ -4,8 +4,8 @@
 // velocities (docs/contact.md). This module is the stage's order and its settings; the work is
 // in its modules: contact_collider.h (vertices against colliders), contact_detect.h (the
 // body-body broad phase and parallel detection), contact_pair.h (vertex against triangle,
-// embedded vertices, self-collision), contact_edge.h (edge against edge), contact_planes.h (the
-// implicit step's frozen planes), contact_ledger.h (the energy ledger), contact_events.h (the
+// embedded vertices, self-collision), contact_edge.h (edge against edge), barrier_contact.h (bodies
+// inside the implicit solve), contact_ledger.h (the energy ledger), contact_events.h (the
 // contact list, events, colliders' forces, snapshots), on the buffers of contact_state.h.
 // Rules: the body-body detection and the body-collider queries run on the workers, each writing
 // only its own items; the responses run on one thread, in a fixed order (bodies, vertices,
@@ -34,22 +34,10 @@ bool fmContact_Active(const fmWorld* world);
 // depenetration speed in that substep and in the frame's later ones.
 void fmContact_BeginFrame(fmWorld* world);
 
-// The share of the thinner body's thickness two bodies may close in by in one implicit piece.
-#define FM_PIECE_FRACTION 0.5
-
-// Implicit steps: how many equal pieces the context's substep is cut into (1 to @p most;
-// @p most + 1 when it would take more) so
-// that no two bodies that may meet close in on each other by more than FM_PIECE_FRACTION of the
-// thinner one's rest thickness (2 V / S) in a piece, at their surfaces' fastest speeds: each
-// body's solve sees the others frozen where they started, and the stage after it finds a
-// vertex that crossed a surface only while it is still inside. -1 when memory is short.
-int fmContact_Pieces(fmWorld* world, const fmStepContext* context, int most);
-
-// Start of the context's substep: every body's positions kept as the start of its motion
-// (for the swept tests); before an implicit step, the other bodies' surfaces near each surface
-// vertex frozen as planes for the step's penalty (fmBodyContact.plane). False when memory is
-// short.
-bool fmContact_BeginSubstep(fmWorld* world, const fmStepContext* context);
+// Start of a substep: every body's positions kept as the start of its motion (for the swept
+// tests), the lagged friction found after the last step handed to this one; before an implicit
+// step, every body's surface edges made for the barrier. False when memory is short.
+bool fmContact_BeginSubstep(fmWorld* world);
 
 // The contact stage of the context's substep. False when memory is short.
 bool fmContact_Substep(fmWorld* world, const fmStepContext* context);

@@ -1,9 +1,8 @@
 // Edge against edge between bodies (contact_edge.c): two surface edges of different bodies whose
 // closest points lie inside both edges, within the thickness or crossed during the substep, are
 // pushed apart along the direction between those points, shared by inverse masses; then
-// restitution and friction act on their relative velocity. Before an implicit step the same
-// test (with the step's reach, and only between edges that face each other) makes the frozen
-// edge planes (contact_planes.h). Rules: finding reads only (on the workers, into the worker's
+// restitution and friction act on their relative velocity (explicit
+// substeps; implicit steps hold edges apart with the barrier, barrier_contact.h). Rules: finding reads only (on the workers, into the worker's
 // own list, each body pair once: the other body of a higher slot); projecting and responding
 // run on one thread in item order.
 #pragma once

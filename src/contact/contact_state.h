@@ -100,7 +100,7 @@ typedef struct fmContactState
 	fmVec3* bodyLower; // per body slot: its surface's box, grown (the mid phase)
 	fmVec3* bodyUpper;
 	bool* bodyNear;    // per body slot: another body's box (or its own, self-colliding) overlaps
-	double* bodySpeed; // per body slot: its surface vertices' fastest speed (fmContact_Pieces)
+	double* bodySpeed; // per body slot: its surface vertices' fastest speed
 	int bodyBoxCapacity;
 	int triangleCount; // the triangles in the hash (those of bodies near another)
 	fmPairContact* pairContacts;

@@ -18,8 +18,8 @@
 #include "solver/bsr.h"
 #include "solver/newton.h"
 
-// A surface edge's frozen plane for one implicit step (made by contact_planes.c before the step,
-// in body->edgePlanes): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,
+// A surface edge's frozen plane for one implicit step (in body->edgePlanes; the step no longer
+// makes them since the barrier, barrier_contact.h: the term and its tests remain): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,
 // is kept the thickness in front of the plane n . x = offset through that edge's point, with
 // the same penalty as a vertex (its mass the edge point's, (1 - s) m[a] + s m[b]). Where two
 // bodies' edges cross, vertex-triangle planes alone let coarse meshes pass through each other.
@@ -41,7 +41,7 @@ typedef struct fmContactPenalty
 	int colliderCount;           // slots (unused ones are skipped)
 	double stiffness;            // kappa / h^2 (1/s^2): k = stiffness * m
 	double thickness;            // m, the gap kept from the planes of other bodies
-	                             // (body->contactPlane, made before the step by contact_planes.c);
+	                             // (body->contactPlane; no longer made by the step);
 	                             // colliders are kept at their surface, without a gap
 	const double* xStart;        // 3n: positions at the start of the step (friction's anchors)
 	double step;                 // s, the step (h)

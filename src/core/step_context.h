@@ -23,12 +23,11 @@ typedef struct fmFrameWork
 typedef struct fmStepContext
 {
 	double frameTime;  // s, the frame (fmWorld_Step's timeStep)
-	double substep;    // s, the substep being taken (a piece of one, see pieces)
+	double substep;    // s, the substep being taken
 	double shadowStep; // s, the step the ledger measures the shadow energy with (explicit: the
 	                   // substep; implicit: 0)
 	double elapsed;    // s, the frame's time the substeps taken so far have covered
 	int substepCount;  // the caller's substeps a frame
-	int pieces;        // > 1 while an implicit substep is cut into pieces (fmContact_Pieces)
 	int newtonLimit;   // Newton iterations an implicit step may take now (the frame budget)
 	fmIntegrator integrator;
 	fmVec3 gravity;            // m/s^2

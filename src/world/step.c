@@ -1,5 +1,5 @@
-// The frame step (fmWorld_Step): the step context, the substeps over the bodies (fixed, adaptive,
-// implicit pieces), the stages in a fixed order, the ledgers opened and closed, the health checks
+// The frame step (fmWorld_Step): the step context, the substeps over the bodies (fixed or
+// adaptive), the stages in a fixed order, the ledgers opened and closed, the health checks
 // and the restore of the last good state (docs/architecture.md, "A frame").
 #include "world/world.h"
 
@@ -327,7 +327,7 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	}
 	// Stage a: every body steps on its own (the stage threads will share).
 	bool contact = fmContact_Active(w);
-	if (contact && !fmContact_BeginSubstep(w, ctx))
+	if (contact && !fmContact_BeginSubstep(w))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
@@ -357,37 +357,11 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	return fm_ok;
 }
 
-// An implicit substep of @p h, cut into the pieces fmContact_Pieces asks for where bodies close
-// in fast (within what is left of maxSubstepsPerFrame and FM_MIN_SUBSTEP).
-static fmResult fmImplicitPieces(fmWorld* w, fmStepContext* ctx, double h, int substepsLeft)
-{
-	int most = w->def.maxSubstepsPerFrame - w->stats.steps - (substepsLeft - 1);
-	most = (int)fmMin(most, floor(h / FM_MIN_SUBSTEP));
-	ctx->substep = h;
-	int pieces = most > 1 && fmContact_Active(w) ? fmContact_Pieces(w, ctx, most) : 1;
-	if (pieces < 0)
-		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
-		                   "out of memory for the contact buffers");
-	if (pieces > most)
-	{
-		pieces = most;
-		fmBudgetHit(w, "an implicit step was cut into fewer pieces than fast bodies closing in "
-		               "need (maxSubstepsPerFrame): they may pass through each other");
-	}
-	fmResult r = fm_ok;
-	ctx->pieces = pieces;
-	for (int k = 0; k < pieces && r == fm_ok; ++k)
-		r = fmSubstep(w, ctx, h / pieces);
-	ctx->pieces = 1;
-	return r;
-}
-
 static fmResult fmFixedSubsteps(fmWorld* w, fmStepContext* ctx, double h, int count)
 {
 	fmResult r = fm_ok;
 	for (int s = 0; s < count && r == fm_ok; ++s)
-		r = w->def.integrator == fm_implicit ? fmImplicitPieces(w, ctx, h, count - s)
-		                                     : fmSubstep(w, ctx, h);
+		r = fmSubstep(w, ctx, h);
 	return r;
 }
 
@@ -445,7 +419,6 @@ static fmStepContext fmWorldStepContext(fmWorld* w, double timeStep, int subStep
 	fmStepContext ctx = {.frameTime = timeStep,
 	                     .substep = timeStep / subStepCount,
 	                     .substepCount = subStepCount,
-	                     .pieces = 1,
 	                     .newtonLimit = w->def.newtonIterations,
 	                     .integrator = w->def.integrator,
 	                     .gravity = w->def.gravity,
