@@ -1,7 +1,6 @@
 // The viewer's state and input (app.h).
 #include "app.h"
 
-#include "picking.h"
 #include "view_options.h"
 
 #include <dirent.h>
@@ -173,31 +172,27 @@ static bool fvCursorOnGrabPlane(const fvApp* app, float x, float y, float point[
 	return t > 0.0f;
 }
 
-// Left press: grab the body under the cursor, or orbit.
+// How far a press's ray reaches (m).
+#define FV_GRAB_RANGE 1e4f
+
+// Left press: grab the body under the cursor (the library's ray and grab), or orbit.
 static void fvPress(fvApp* app, float x, float y)
 {
 	float origin[3], direction[3];
-	fvPick pick;
 	fvCamera_Ray(&app->camera, app->width, app->height, x, y, origin, direction);
-	if (!fvPick_Ray(&app->list, origin, direction, &pick))
+	fmVec3 point;
+	if (!fvSession_Grab(&app->session, fmMakeVec3(origin[0], origin[1], origin[2]),
+	                    fmMakeVec3(FV_GRAB_RANGE * direction[0], FV_GRAB_RANGE * direction[1],
+	                               FV_GRAB_RANGE * direction[2]),
+	                    &point))
 	{
 		app->mouse = fv_mouseOrbit;
 		return;
 	}
-	// A collider is scenery: pressing on it orbits, as pressing on the background does.
-	int body = fvSession_BodyIndex(&app->session, app->list.surfaces[pick.surface].body);
-	if (body < 0)
-	{
-		app->mouse = fv_mouseOrbit;
-		return;
-	}
-	// The vertex is pulled onto the cursor: the plane goes through it, facing the camera.
-	memcpy(app->grabPlane, pick.vertexAt, sizeof app->grabPlane);
-	float target[3];
-	if (!fvCursorOnGrabPlane(app, x, y, target))
-		memcpy(target, pick.vertexAt, sizeof target);
-	fvSession_Grab(&app->session, body, pick.vertex, fmMakeVec3(target[0], target[1], target[2]));
-	app->mouse = app->session.dragging ? fv_mouseDrag : fv_mouseNone;
+	// The grabbed point follows the cursor on the plane through it facing the camera.
+	app->grabPlane[0] = (float)point.x, app->grabPlane[1] = (float)point.y;
+	app->grabPlane[2] = (float)point.z;
+	app->mouse = fv_mouseDrag;
 }
 
 void fvApp_MouseButton(fvApp* app, int button, bool down, float x, float y)
@@ -384,21 +379,10 @@ void fvApp_ApplyUi(fvApp* app, const fvUiModel* m)
 bool fvApp_DragPixels(const fvApp* app, float vertex[2], float cursor[2])
 {
 	const fvSession* s = &app->session;
-	if (!s->dragging)
+	fmVec3 point;
+	if (!s->dragging || !fmBody_GetGrab(s->sim.bodies[s->dragBody], &point, NULL))
 		return false;
-	fmBodyId body = s->sim.bodies[s->dragBody];
-	for (int k = 0; k < app->list.surfaceCount; ++k)
-	{
-		const fvSurface* surface = &app->list.surfaces[k];
-		if (surface->body.index1 != body.index1 || surface->body.generation != body.generation)
-			continue;
-		for (int i = 0; i < surface->vertexCount; ++i)
-			if (surface->vertices[i] == s->dragVertex)
-			{
-				cursor[0] = app->cursor[0], cursor[1] = app->cursor[1];
-				return fvCamera_Project(&app->camera, app->width, app->height,
-				                        surface->positions + 3 * i, vertex);
-			}
-	}
-	return false;
+	cursor[0] = app->cursor[0], cursor[1] = app->cursor[1];
+	float at[3] = {(float)point.x, (float)point.y, (float)point.z};
+	return fvCamera_Project(&app->camera, app->width, app->height, at, vertex);
 }

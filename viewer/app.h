@@ -23,7 +23,7 @@ typedef struct fvApp
 {
 	fvSession session;
 	fvCamera camera;
-	fvDrawList list; ///< the last frame's debug draw (drawn and picked)
+	fvDrawList list; ///< the last frame's debug draw
 	unsigned drawFlags;
 	int width, height; ///< framebuffer pixels
 	fvMouseMode mouse;
@@ -43,7 +43,7 @@ bool fvApp_Init(fvApp* app, const char* scenePath, const char* sceneFolder, unsi
 /// Release everything.
 void fvApp_Free(fvApp* app);
 
-/// Draw the world into the list (fmWorld_Draw) for the renderer and picking.
+/// Draw the world into the list (fmWorld_Draw) for the renderer.
 void fvApp_Capture(fvApp* app);
 
 /// Aim the camera at the bodies and the floor under them.
@@ -81,5 +81,5 @@ void fvApp_FillUi(const fvApp* app, fvUiModel* model, double fps);
 /// Apply what the panel changed.
 void fvApp_ApplyUi(fvApp* app, const fvUiModel* model);
 
-/// Where the dragged vertex is drawn and where the cursor is (pixels). False when not dragging.
+/// Where the grabbed point is drawn and where the cursor is (pixels). False when not dragging.
 bool fvApp_DragPixels(const fvApp* app, float vertex[2], float cursor[2]);

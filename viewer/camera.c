@@ -1,5 +1,5 @@
 // The orbit camera (camera.h): a look-at view and a perspective projection, the same matrices
-// for drawing, picking and projecting.
+// for drawing, grabbing and projecting.
 #include "camera.h"
 
 #include <math.h>

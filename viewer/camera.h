@@ -1,5 +1,5 @@
 // The orbit camera: a target point, a distance and two angles; view and projection matrices,
-// picking rays and projection to pixels. Matrices are column-major float[16] as OpenGL takes
+// grab rays and projection to pixels. Matrices are column-major float[16] as OpenGL takes
 // them. Pixels count from the top-left corner of the image, y down.
 #pragma once
 

@@ -1,6 +1,6 @@
 // What one fmWorld_Draw() gave, kept on the CPU: surfaces, lines, points and the floor plane.
-// The renderer uploads it, picking ray-casts its triangles, framing takes its bounds. The lists
-// keep their memory from frame to frame (no allocation per frame once the sizes settle).
+// The renderer uploads it, framing takes its bounds. The lists keep their memory from frame to
+// frame (no allocation per frame once the sizes settle).
 #pragma once
 
 #include <femto/femto.h>

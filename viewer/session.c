@@ -120,9 +120,6 @@ static fmResult fvStepFrame(fvSession* s)
 // One frame with its bookkeeping; a failed step pauses with the library's diagnostic.
 static void fvFrame(fvSession* s)
 {
-	if (s->dragging)
-		fmBody_SetTargets(s->sim.bodies[s->dragBody], &s->dragVertex, &s->dragTarget, 1,
-		                  s->dragStiffness);
 	double start = cliNow();
 	fmResult result = fvStepFrame(s);
 	s->stepMs = 1e3 * (cliNow() - start);
@@ -245,49 +242,33 @@ void fvSession_ApplyIntegrator(fvSession* s)
 	fmWorld_SetIntegrator(s->sim.world, s->params.integrator);
 }
 
-// Stiff enough to hold the whole scene up by one vertex within a centimetre where the
-// integrator allows it: implicit steps take any stiffness; explicit substeps are stable up to
-// m / h^2 (the library limits each spring to that), so half of it.
-static double fvDragStiffness(const fvSession* s, int body, int vertex)
-{
-	double vertexMass = fmBody_GetMasses(s->sim.bodies[body])[vertex];
-	double explicitLimit = 0.5 * vertexMass / (s->params.dt * s->params.dt);
-	if (s->params.integrator == fm_explicit)
-		return explicitLimit;
-	double weight = 0.0;
-	for (int b = 0; b < s->sim.bodyCount; ++b)
-	{
-		const double* m = fmBody_GetMasses(s->sim.bodies[b]);
-		for (int i = 0; i < fmBody_GetVertexCount(s->sim.bodies[b]); ++i)
-			weight += m[i] * 9.8;
-	}
-	return fmax(explicitLimit, weight / 0.01);
-}
-
-void fvSession_Grab(fvSession* s, int body, int vertex, fmVec3 target)
+bool fvSession_Grab(fvSession* s, fmVec3 origin, fmVec3 translation, fmVec3* point)
 {
 	fvSession_Release(s);
-	if (!fvSession_IsLive(s) || body < 0 || body >= s->sim.bodyCount || vertex < 0 ||
-	    vertex >= fmBody_GetVertexCount(s->sim.bodies[body]))
-		return;
-	s->dragging = true;
-	s->dragBody = body;
-	s->dragVertex = vertex;
-	s->dragTarget = target;
-	s->dragStiffness = fvDragStiffness(s, body, vertex);
-	if (fmBody_SetTargets(s->sim.bodies[body], &vertex, &target, 1, s->dragStiffness) != fm_ok)
+	if (!fvSession_IsLive(s))
+		return false;
+	fmGrabDef def = fmDefaultGrabDef();
+	fmRayHit hit;
+	if (!fmWorld_GrabRay(s->sim.world, origin, translation, fmDefaultFilter(), &def, &hit))
 	{
-		char text[600];
-		snprintf(s->status, sizeof s->status, "drag rejected: %s",
-		         fmDiagnostic_Format(fmWorld_GetLastError(s->sim.world), text, sizeof text));
-		s->dragging = false;
+		if (fmBody_IsValid(hit.body))
+		{
+			char text[600];
+			snprintf(s->status, sizeof s->status, "grab refused: %s",
+			         fmDiagnostic_Format(fmWorld_GetLastError(s->sim.world), text, sizeof text));
+		}
+		return false;
 	}
+	s->dragBody = fvSession_BodyIndex(s, hit.body);
+	s->dragging = s->dragBody >= 0;
+	*point = hit.point;
+	return s->dragging;
 }
 
 void fvSession_MoveGrab(fvSession* s, fmVec3 target)
 {
 	if (s->dragging)
-		s->dragTarget = target;
+		fmBody_MoveGrab(s->sim.bodies[s->dragBody], target);
 }
 
 void fvSession_Release(fvSession* s)
@@ -295,7 +276,7 @@ void fvSession_Release(fvSession* s)
 	if (!s->dragging)
 		return;
 	if (fmBody_IsValid(s->sim.bodies[s->dragBody]))
-		fmBody_SetTargets(s->sim.bodies[s->dragBody], NULL, NULL, 0, 0.0);
+		fmBody_ReleaseGrab(s->sim.bodies[s->dragBody]);
 	s->dragging = false;
 }
 

@@ -39,10 +39,7 @@ typedef struct fvSession
 	fmStepStats stats;  ///< of the last step
 	fmProfile profile;  ///< of the last step
 	bool dragging;
-	int dragBody;      ///< index in sim.bodies
-	int dragVertex;    ///< user numbering
-	fmVec3 dragTarget; ///< m
-	double dragStiffness;
+	int dragBody; ///< index in sim.bodies of the body grabbed (fmWorld_GrabRay)
 	char status[2048]; ///< the last problem (a failed step, a rejected parameter), "" if none
 } fvSession;
 
@@ -79,13 +76,15 @@ bool fvSession_ApplyBodies(fvSession* session);
 /// Apply params.integrator (fmWorld_SetIntegrator).
 void fvSession_ApplyIntegrator(fvSession* session);
 
-/// Start dragging vertex @p vertex of body @p body toward @p target (m).
-void fvSession_Grab(fvSession* session, int body, int vertex, fmVec3 target);
+/// Grab the first body the ray from @p origin along @p translation (m) hits, with the library's
+/// grab (fmWorld_GrabRay, its defaults); the point grabbed goes to @p point. False when the ray
+/// hits no body (a collider is scenery) or the grab was refused (the status says why).
+bool fvSession_Grab(fvSession* session, fmVec3 origin, fmVec3 translation, fmVec3* point);
 
-/// Move the drag's target (m).
+/// Move the grab's target (m).
 void fvSession_MoveGrab(fvSession* session, fmVec3 target);
 
-/// Let go: the body's targets are cleared.
+/// Let go (fmBody_ReleaseGrab).
 void fvSession_Release(fvSession* session);
 
 /// The index in sim.bodies of @p body, -1 if none.

@@ -177,7 +177,7 @@ function startGesture(event) {
   const body = M._fw_pick(...origin, ...vec3.scale(range, direction));
   if (body >= 0) {
     const hit = [M._fw_hit(1), M._fw_hit(2), M._fw_hit(3)];
-    if (M._fw_drag_start(body, M._fw_hit(0), ...hit) === 0) {
+    if (M._fw_drag_start(body, ...hit) === 0) {
       gesture = { kind: 'drag', anchor: hit };
       state.dragging = true;
       return;

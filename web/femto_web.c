@@ -37,19 +37,6 @@
 #define FW_USER_MESH_SIZE 4.0
 #define FW_USER_MESH_DROP 1.0
 
-// The farthest a drag's target moves in a frame (m): a mouse that jumps across the house in one
-// frame would otherwise yank a vertex through its neighbours (6 m/s at 60 frames a second).
-#define FW_DRAG_MAX_MOVE 0.1
-
-// A drag holds every vertex within this fraction of the body's size (its bounding box's
-// diagonal) of the picked point: one vertex pulling a whole soft house tears its tets inside out;
-// a patch spreads the load.
-#define FW_DRAG_RADIUS 0.12
-
-// How far below its target a dragged explicit body may hang (m): the springs together hold the
-// scene's weight at this stretch, each no stiffer than half its substep's stability limit.
-#define FW_DRAG_SAG 0.1
-
 // The page's scenes: its menu's title and the file of scenes/ it reads. scripts/web.sh copies
 // the files this list names (it reads the X(...) lines) into web/dist/scenes/.
 #define FW_SCENES(X)                                                                               \
@@ -116,16 +103,8 @@ typedef struct fwApp
 	fmIntegrator integrator;
 	// input
 	int pendingJumps;
-	bool dragging;
+	bool dragging; // the library's grab (fmBody_Grab) holds body dragBody
 	int dragBody;
-	int dragCount;        // vertices held: those within FW_DRAG_RADIUS of the anchor
-	int* dragVertices;    // dragCount vertices (user numbering)
-	fmVec3* dragRest;     // where each was at the grab
-	fmVec3* dragTargets;  // where each is pulled now: rest + (dragTarget - dragAnchor)
-	fmVec3 dragAnchor;    // the point picked (m)
-	fmVec3 dragTarget;    // where the anchor is pulled now
-	fmVec3 dragGoal;      // where the page asked, reached at FW_DRAG_MAX_MOVE a frame
-	double dragStiffness; // N/m, each spring
 	fmRayHit hit;
 	int hitBody;
 	double stepMs;
@@ -135,7 +114,6 @@ typedef struct fwApp
 
 static fwApp s_app;
 
-static void fwFreeDrag(void);
 FW_EXPORT void fw_drag_end(void);
 
 static void fwSetError(const char* what, const fmDiagnostic* diag)
@@ -199,7 +177,7 @@ static void fwFreeScene(void)
 	memset(s_app.doublePositions, 0, sizeof s_app.doublePositions);
 	s_app.world = (fmWorldId){0, 0};
 	s_app.bodyCount = 0;
-	fwFreeDrag();
+	s_app.dragging = false;
 	s_app.pendingJumps = 0;
 	if (s_app.hasScene)
 		cliScene_Free(&s_app.scene);
@@ -643,19 +621,6 @@ FW_EXPORT int fw_step(void)
 {
 	if (!fmWorld_IsValid(s_app.world))
 		return fm_errInvalidId;
-	if (s_app.dragging)
-	{
-		fmVec3 move = fmSub(s_app.dragGoal, s_app.dragTarget);
-		double distance = fmLength(move);
-		if (distance > FW_DRAG_MAX_MOVE)
-			move = fmScale(FW_DRAG_MAX_MOVE / distance, move);
-		s_app.dragTarget = fmAdd(s_app.dragTarget, move);
-		fmVec3 offset = fmSub(s_app.dragTarget, s_app.dragAnchor);
-		for (int k = 0; k < s_app.dragCount; ++k)
-			s_app.dragTargets[k] = fmAdd(s_app.dragRest[k], offset);
-		fmBody_SetTargets(s_app.bodies[s_app.dragBody], s_app.dragVertices, s_app.dragTargets,
-		                  s_app.dragCount, s_app.dragStiffness);
-	}
 	fmResult r = fwStepFrame();
 	s_app.stepMs = fmWorld_GetProfile(s_app.world).step;
 	if (r != fm_ok)
@@ -740,6 +705,18 @@ FW_EXPORT double fw_get_param(int which)
 }
 
 /// Velocity damping factor per 3 ms, in (0, 1]: the bodies are made again in their current
+// A grab on @p old goes on on @p made (the same body made again): the same point, the same
+// target.
+static void fwRegrab(fmBodyId old, fmBodyId made)
+{
+	fmVec3 point, target;
+	if (!s_app.dragging || !fmBody_GetGrab(old, &point, &target))
+		return;
+	fmGrabDef def = fmDefaultGrabDef();
+	if (fmBody_Grab(made, point, &def) != fm_ok || fmBody_MoveGrab(made, target) != fm_ok)
+		s_app.dragging = false;
+}
+
 /// state (fmBodyDef.damping is fixed at creation).
 FW_EXPORT int fw_set_damping(double damping)
 {
@@ -759,6 +736,7 @@ FW_EXPORT int fw_set_damping(double damping)
 			return r;
 		}
 		fmBodyId old = s_app.bodies[b];
+		fwRegrab(old, made);
 		double* state = s_app.doublePositions[b];
 		fmBody_CopyPositions(old, state, fmBody_GetVertexCount(old));
 		fmBody_SetPositions(made, state);
@@ -767,7 +745,6 @@ FW_EXPORT int fw_set_damping(double damping)
 		fmDestroyBody(old);
 		s_app.bodies[b] = made;
 	}
-	// A drag goes on: fw_step sets its target on the new body.
 	return fm_ok;
 }
 
@@ -824,112 +801,47 @@ FW_EXPORT double fw_hit(int which)
 	}
 }
 
-// The springs' stiffness, each: together they hold the scene's weight FW_DRAG_SAG below the
-// target (explicit) or within a centimetre (implicit, stable at any stiffness, as
-// viewer/session.c); explicit springs no stiffer than half of m / h^2, the substep's limit.
-static double fwDragStiffness(int body)
-{
-	double h = cliScene_FrameTime(&s_app.scene) / s_app.substeps;
-	const double* masses = fmBody_GetMasses(s_app.bodies[body]);
-	double lightest = INFINITY;
-	for (int k = 0; k < s_app.dragCount; ++k)
-		lightest = fmin(lightest, masses[s_app.dragVertices[k]]);
-	double weight = 0.0;
-	for (int b = 0; b < s_app.bodyCount; ++b)
-	{
-		const double* m = fmBody_GetMasses(s_app.bodies[b]);
-		for (int i = 0; i < fmBody_GetVertexCount(s_app.bodies[b]); ++i)
-			weight += m[i] * 9.8;
-	}
-	if (s_app.integrator == fm_implicit)
-		return weight / 0.01 / s_app.dragCount;
-	return fmin(0.5 * lightest / (h * h), weight / FW_DRAG_SAG / s_app.dragCount);
-}
-
-static void fwFreeDrag(void)
-{
-	free(s_app.dragVertices);
-	free(s_app.dragRest);
-	free(s_app.dragTargets);
-	s_app.dragVertices = NULL;
-	s_app.dragRest = NULL;
-	s_app.dragTargets = NULL;
-	s_app.dragCount = 0;
-	s_app.dragging = false;
-}
-
-/// Start dragging body @p b at the point (x, y, z) on it (fw_pick's): the vertices within
-/// FW_DRAG_RADIUS of its size around the point, @p vertex among them, are pulled by kinematic
-/// targets (fmBody_SetTargets) that follow fw_drag_move().
-FW_EXPORT int fw_drag_start(int b, int vertex, double x, double y, double z)
+/// Start dragging body @p b at the point (x, y, z) on it (fw_pick's) with the library's grab
+/// (fmBody_Grab, fmDefaultGrabDef(): the vertices around the point share a damped spring whose
+/// whole pull is bounded, so no pointer speed breaks the body); fw_drag_move() moves its target.
+FW_EXPORT int fw_drag_start(int b, double x, double y, double z)
 {
 	fw_drag_end();
-	if (!fwBodyOk(b) || vertex < 0 || vertex >= fmBody_GetVertexCount(s_app.bodies[b]))
+	if (!fwBodyOk(b))
 		return fm_errParameter;
-	int n = fmBody_GetVertexCount(s_app.bodies[b]);
-	const double* p = fw_positions_double(b);
-	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
-	fmVec3 hi = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
-	for (int i = 0; i < n; ++i)
-	{
-		lo = fmMakeVec3(fmin(lo.x, p[3 * i]), fmin(lo.y, p[3 * i + 1]), fmin(lo.z, p[3 * i + 2]));
-		hi = fmMakeVec3(fmax(hi.x, p[3 * i]), fmax(hi.y, p[3 * i + 1]), fmax(hi.z, p[3 * i + 2]));
-	}
-	double radius = FW_DRAG_RADIUS * fmLength(fmSub(hi, lo));
-	fmVec3 anchor = fmMakeVec3(x, y, z);
-	s_app.dragVertices = malloc((size_t)n * sizeof(int));
-	s_app.dragRest = malloc((size_t)n * sizeof(fmVec3));
-	s_app.dragTargets = malloc((size_t)n * sizeof(fmVec3));
-	if (s_app.dragVertices == NULL || s_app.dragRest == NULL || s_app.dragTargets == NULL)
-	{
-		fwFreeDrag();
-		return fm_errOutOfMemory;
-	}
-	for (int i = 0; i < n; ++i)
-	{
-		fmVec3 q = fmMakeVec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
-		if (i == vertex || fmLength(fmSub(q, anchor)) <= radius)
-		{
-			s_app.dragVertices[s_app.dragCount] = i;
-			s_app.dragRest[s_app.dragCount] = q;
-			s_app.dragTargets[s_app.dragCount] = q;
-			s_app.dragCount += 1;
-		}
-	}
-	s_app.dragging = true;
-	s_app.dragBody = b;
-	s_app.dragAnchor = anchor;
-	s_app.dragTarget = anchor;
-	s_app.dragGoal = anchor;
-	s_app.dragStiffness = fwDragStiffness(b);
-	fmResult r = fmBody_SetTargets(s_app.bodies[b], s_app.dragVertices, s_app.dragTargets,
-	                               s_app.dragCount, s_app.dragStiffness);
+	fmGrabDef def = fmDefaultGrabDef();
+	fmResult r = fmBody_Grab(s_app.bodies[b], fmMakeVec3(x, y, z), &def);
 	if (r != fm_ok)
 	{
 		fwSetError("the drag was refused", fmWorld_GetLastError(s_app.world));
-		fwFreeDrag();
+		return r;
 	}
-	return r;
+	s_app.dragging = true;
+	s_app.dragBody = b;
+	return fm_ok;
 }
 
 /// Vertices the drag holds (0 when none).
 FW_EXPORT int fw_drag_count(void)
 {
-	return s_app.dragging ? s_app.dragCount : 0;
+	return s_app.dragging && fwBodyOk(s_app.dragBody)
+	           ? fmBody_GetTargetCount(s_app.bodies[s_app.dragBody])
+	           : 0;
 }
 
-/// Move the drag's target (m); the spring's end follows at up to FW_DRAG_MAX_MOVE a frame.
+/// Move the drag's target (m), reached over the next frame.
 FW_EXPORT void fw_drag_move(double x, double y, double z)
 {
-	s_app.dragGoal = fmMakeVec3(x, y, z);
+	if (s_app.dragging && fwBodyOk(s_app.dragBody))
+		fmBody_MoveGrab(s_app.bodies[s_app.dragBody], fmMakeVec3(x, y, z));
 }
 
 /// Let go.
 FW_EXPORT void fw_drag_end(void)
 {
 	if (s_app.dragging && fwBodyOk(s_app.dragBody))
-		fmBody_SetTargets(s_app.bodies[s_app.dragBody], NULL, NULL, 0, 0.0);
-	fwFreeDrag();
+		fmBody_ReleaseGrab(s_app.bodies[s_app.dragBody]);
+	s_app.dragging = false;
 }
 
 /// Bytes the page may write into with fw_alloc (a dropped file's text), freed by fw_free.

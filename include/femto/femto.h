@@ -309,6 +309,36 @@ FM_API fmResult fmBody_SetTargets(fmBodyId bodyId, const int* vertices, const fm
 /// The number of kinematic targets set on the body (0 for a stale id).
 FM_API int fmBody_GetTargetCount(fmBodyId bodyId);
 
+/// Grab the body at @p point (m, on or near its surface: an fmRayHit's point) with @p def: the
+/// body's vertices around the point are pulled toward the target (fmBody_MoveGrab; at first the
+/// point itself) by a damped spring whose whole force is bounded by def->maxForce, in both
+/// integrators (implicit steps add its energy to the step's minimisation; explicit substeps its
+/// force, the spring and dashpot limited to each substep's stability). A new target is reached
+/// along a straight line over the next fmWorld_Step's substeps. The grab replaces the body's
+/// kinematic targets (fmBody_SetTargets replaces a grab); it keeps the body awake, does its
+/// work in the body's energy ledger and lasts until fmBody_ReleaseGrab (not saved in snapshots).
+/// fm_errParameter (the last error says why) for a def not from fmDefaultGrabDef(), a negative
+/// or non-finite member, a point not finite or beyond FM_MAX_COORDINATE; fm_errOutOfMemory.
+FM_API fmResult fmBody_Grab(fmBodyId bodyId, fmVec3 point, const fmGrabDef* def);
+
+/// Move the grab's target (m), reached at the end of the next fmWorld_Step. fm_errParameter for a
+/// body not grabbed or a target not finite or beyond FM_MAX_COORDINATE (the target is kept).
+FM_API fmResult fmBody_MoveGrab(fmBodyId bodyId, fmVec3 target);
+
+/// Let go of the body (nothing when it is not grabbed).
+FM_API void fmBody_ReleaseGrab(fmBodyId bodyId);
+
+/// Where the grabbed point is now (@p point: the patch's mean motion since the grab added to the
+/// point grabbed) and the grab's target (@p target); either may be NULL. False when the body is
+/// not grabbed.
+FM_API bool fmBody_GetGrab(fmBodyId bodyId, fmVec3* point, fmVec3* target);
+
+/// Cast a ray as fmWorld_CastRay() does and grab the body it hits first at the hit point with
+/// @p def (fmBody_Grab). @p hit (may be NULL) gets the hit. False when the ray hits no body
+/// (a collider hit is reported in @p hit and not grabbed) or the grab is refused (last error).
+FM_API bool fmWorld_GrabRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
+                            const fmGrabDef* def, fmRayHit* hit);
+
 /// Give the body a render mesh: a triangle surface of any resolution (an artist's mesh) that
 /// follows the body's deformation. @p vertices (3 per vertex, m) are in the frame of the mesh the
 /// body was created from, at rest; each is bound once to the tet that contains it at rest, or,

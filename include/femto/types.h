@@ -530,6 +530,31 @@ typedef struct fmRayHit
 	double fraction;       ///< of the ray's translation, in [0, 1]
 } fmRayHit;
 
+/// How a grab holds a body (fmBody_Grab, fmWorld_GrabRay): a damped spring from the grabbed
+/// point to the target the caller moves, spread over the vertices around the point (each pulls
+/// in proportion to its mass and a smooth falloff with its distance) and bounded: beyond the
+/// stretch maxForce / stiffness the pull stays maxForce, however fast or far the target goes.
+/// Start from fmDefaultGrabDef(); 0 picks the default that scales with the body.
+typedef struct fmGrabDef
+{
+	/// m, the patch: vertices within it of the grabbed point share the pull (default 0: 12% of
+	/// the body's size, its box's diagonal; at least twice the distance to the nearest vertex)
+	double radius;
+	/// N/m, the whole spring (default 0: the body's weight over 5 mm, so a slow pointer lifting
+	/// the body leads the grabbed point by about 5 mm)
+	double stiffness;
+	/// the dashpot against the body's mass, 1 critical (default 1): relative to the target's
+	/// velocity, so a steadily moving target is followed without lag
+	double dampingRatio;
+	/// N, the bound on the whole pull (default 0: twice the body's weight, lifting it at 1 g)
+	double maxForce;
+	int internalValue; ///< set by fmDefaultGrabDef; grab calls check it
+} fmGrabDef;
+
+/// The default grab (every member scaled from the body's weight with the world's gravity, at
+/// least 9.81 m/s^2).
+FM_API fmGrabDef fmDefaultGrabDef(void);
+
 /// Health of a body after a step.
 typedef struct fmBodyStats
 {

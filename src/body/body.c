@@ -11,7 +11,9 @@
 #include "fem/forces.h"
 #include "core/fp_env.h"
 #include "world/island.h"
+#include "body/grab.h"
 #include "body/loads.h"
+#include "body/targets.h"
 #include "mesh/mesh_internal.h"
 #include "contact/penalty.h"
 #include "mesh/reorder.h"
@@ -45,8 +47,8 @@ void fmBodyRelease(fmBody* b)
 	fmAttachment_Release(&b->drawCache);
 	fmAttachment_Release(&b->renderMesh);
 	fmBodyContact_Free(&b->contact, vertexCount, tetCount);
-	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
-	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
+	fmGrab_Free(b);
+	fmTargets_Free(b);
 	fmLoads_Free(b->loads);
 	fmSolverCache_Free(b->solverCache);
 	fmTetBlocks_Destroy(b->mesh.tetBlocks);

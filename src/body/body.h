@@ -62,12 +62,12 @@ typedef struct fmBody
 	fmFilter filter;    // collision filtering
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
-	// Kinematic targets (targets.h): vertices pulled toward caller-given positions.
+	// Kinematic targets (targets.h): vertices pulled toward caller-given positions, set by the
+	// caller or by a grab (grab.h, NULL when none) that owns them while it lasts.
 	int targetCount;
 	int targetCapacity;
-	int* targetVertex;      // targetCount: the body's index of each pulled vertex
-	double* targetPosition; // 3 per target (m)
-	double targetStiffness; // N/m, each spring
+	struct fmTarget* targets;
+	struct fmGrab* grab;
 
 	// Loads and prescribed displacements (loads.h), NULL until the first is added.
 	struct fmLoadSet* loads;

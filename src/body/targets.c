@@ -2,6 +2,7 @@
 #include "body/targets.h"
 #include "core/det_math.h"
 
+#include "body/grab.h"
 #include "core/core.h"
 #include "core/fp_env.h"
 #include "world/island.h"
@@ -10,55 +11,111 @@
 #include <math.h>
 #include <string.h>
 
-double fmTargets_Energy(const fmBody* b, const double* x, double* gradient)
+// Target @p t's spring in the step: @p d = x - q (q where it pulls, the dashpot folded in) and
+// its stiffness (returned).
+static double fmTargetSpring(const fmTargetStep* s, int t, const double* x, double d[3])
+{
+	const fmTarget* target = &s->body->targets[t];
+	const double* xi = x + 3 * target->vertex;
+	double k = target->stiffness;
+	if (s->xStart == NULL || target->damping <= 0.0)
+	{
+		for (int e = 0; e < 3; ++e)
+			d[e] = xi[e] - target->position[e];
+		return k;
+	}
+	double c = target->damping, blend = k + c * s->rate;
+	const double* x0 = s->xStart + 3 * target->vertex;
+	for (int e = 0; e < 3; ++e)
+	{
+		double q = (k * target->position[e] + c * s->rate * x0[e] + c * target->motion[e] * s->frameRate) / blend;
+		d[e] = xi[e] - q;
+	}
+	return blend;
+}
+
+// The bounded spring's energy at stretch @p d of stiffness @p k and bound @p bound: 1/2 k r^2
+// up to r = bound / k, linear beyond; the force's magnitude over r goes to @p slope.
+static double fmHuber(const double d[3], double k, double bound, double* slope)
+{
+	double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+	if (k * k * r2 <= bound * bound)
+	{
+		*slope = k;
+		return 0.5 * k * r2;
+	}
+	double r = sqrt(r2);
+	*slope = bound / r;
+	return bound * (r - 0.5 * bound / k);
+}
+
+void fmTargets_Force(const fmTargetStep* s, int t, const double* x, double force[3])
+{
+	double d[3], slope;
+	double k = fmTargetSpring(s, t, x, d);
+	fmHuber(d, k, s->body->targets[t].maxForce, &slope);
+	for (int e = 0; e < 3; ++e)
+		force[e] = -slope * d[e];
+}
+
+static double fmTargetsEnergy(const fmTargetStep* s, const double* x, double* gradient)
 {
 	double energy = 0.0;
-	for (int t = 0; t < b->targetCount; ++t)
+	for (int t = 0; t < s->body->targetCount; ++t)
 	{
-		int i = b->targetVertex[t];
-		for (int e = 0; e < 3; ++e)
-		{
-			double d = x[3 * i + e] - b->targetPosition[3 * t + e];
-			energy += 0.5 * b->targetStiffness * d * d;
-			if (gradient)
-				gradient[3 * i + e] += b->targetStiffness * d;
-		}
+		double d[3], slope;
+		double k = fmTargetSpring(s, t, x, d);
+		energy += fmHuber(d, k, s->body->targets[t].maxForce, &slope);
+		int i = s->body->targets[t].vertex;
+		for (int e = 0; gradient != NULL && e < 3; ++e)
+			gradient[3 * i + e] += slope * d[e];
 	}
 	return energy;
 }
 
-void fmTargets_AddProduct(const fmBody* b, const double* x, double* y)
+// Target @p t's Hessian block at @p x: k I within the bound, (F / r)(I - n n^T) beyond it.
+static void fmTargetBlock(const fmTargetStep* s, int t, const double* x, double block[9])
 {
-	for (int t = 0; t < b->targetCount; ++t)
-	{
-		int i = b->targetVertex[t];
-		for (int e = 0; e < 3; ++e)
-			y[3 * i + e] += b->targetStiffness * x[3 * i + e];
-	}
+	double d[3], slope;
+	double k = fmTargetSpring(s, t, x, d);
+	fmHuber(d, k, s->body->targets[t].maxForce, &slope);
+	bool bounded = slope < k;
+	double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+	for (int a = 0; a < 3; ++a)
+		for (int c = 0; c < 3; ++c)
+			block[3 * a + c] = slope * ((a == c ? 1.0 : 0.0) - (bounded ? d[a] * d[c] / r2 : 0.0));
 }
 
-void fmTargets_AddDiagonal(const fmBody* b, const int* diagonal, double* values)
-{
-	for (int t = 0; t < b->targetCount; ++t)
-	{
-		int i = b->targetVertex[t];
-		double* block = values + 9 * (size_t)(diagonal ? diagonal[i] : i);
-		for (int e = 0; e < 3; ++e)
-			block[4 * e] += b->targetStiffness;
-	}
-}
-
-double fmTargets_ImplicitWork(const fmBody* b, const double* xStart)
+double fmTargets_ImplicitWork(const fmTargetStep* s, const double* x)
 {
 	double work = 0.0;
-	for (int t = 0; t < b->targetCount; ++t)
+	for (int t = 0; t < s->body->targetCount; ++t)
 	{
-		int i = b->targetVertex[t];
+		double f[3];
+		fmTargets_Force(s, t, x, f);
+		int i = s->body->targets[t].vertex;
 		for (int e = 0; e < 3; ++e)
-			work += b->targetStiffness * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]) *
-			        (b->state.x[3 * i + e] - xStart[3 * i + e]);
+			work += f[e] * (x[3 * i + e] - s->xStart[3 * i + e]);
 	}
 	return work;
+}
+
+void fmTargets_ExplicitForce(const fmTarget* target, const double* x, const double* v,
+                             double stiffnessLimit, double dampingLimit, double frameRate,
+                             double force[3])
+{
+	int i = target->vertex;
+	double k = fmMin(target->stiffness, stiffnessLimit), c = fmMin(target->damping, dampingLimit);
+	double f2 = 0.0;
+	for (int e = 0; e < 3; ++e)
+	{
+		force[e] = k * (target->position[e] - x[3 * i + e]) +
+		           c * (target->motion[e] * frameRate - v[3 * i + e]);
+		f2 += force[e] * force[e];
+	}
+	if (f2 > target->maxForce * target->maxForce)
+		for (int e = 0; e < 3; ++e)
+			force[e] *= target->maxForce / sqrt(f2);
 }
 
 // The set is valid: every vertex in range, every position finite and within the coordinate
@@ -93,25 +150,25 @@ static fmResult fmValidateTargets(const fmBody* b, fmWorld* w, const int* vertic
 	                   stiffness);
 }
 
-// Room for @p count targets (grows, never shrinks: dragging calls this every frame).
-static bool fmReserveTargets(fmBody* b, int count)
+bool fmTargets_Reserve(fmBody* b, int count)
 {
 	if (count <= b->targetCapacity)
 		return true;
-	int* vertex = FM_ALLOC_ARRAY(int, count);
-	double* position = FM_ALLOC_ARRAY(double, 3 * (size_t)count);
-	if (vertex == NULL || position == NULL)
-	{
-		FM_FREE_ARRAY(vertex, int, count);
-		FM_FREE_ARRAY(position, double, 3 * (size_t)count);
+	fmTarget* targets = FM_ALLOC_ARRAY(fmTarget, count);
+	if (targets == NULL)
 		return false;
-	}
-	FM_FREE_ARRAY(b->targetVertex, int, b->targetCapacity);
-	FM_FREE_ARRAY(b->targetPosition, double, 3 * (size_t)b->targetCapacity);
-	b->targetVertex = vertex;
-	b->targetPosition = position;
+	fmTargets_Free(b);
+	b->targets = targets;
 	b->targetCapacity = count;
 	return true;
+}
+
+void fmTargets_Free(fmBody* b)
+{
+	FM_FREE_ARRAY(b->targets, fmTarget, b->targetCapacity);
+	b->targets = NULL;
+	b->targetCapacity = 0;
+	b->targetCount = 0;
 }
 
 static fmResult fmBodySetTargetsIn(fmBodyId bodyId, const int* vertices, const fmVec3* positions,
@@ -125,18 +182,16 @@ static fmResult fmBodySetTargetsIn(fmBodyId bodyId, const int* vertices, const f
 	fmResult r = fmValidateTargets(b, w, vertices, positions, count, stiffness);
 	if (r != fm_ok)
 		return r;
-	if (!fmReserveTargets(b, count))
+	if (!fmTargets_Reserve(b, count))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "fmBody_SetTargets: no memory for %d targets", count);
+	fmGrab_Free(b); // the set replaces a grab
 	for (int t = 0; t < count; ++t)
-	{
-		b->targetVertex[t] = b->internalVertex[vertices[t]];
-		b->targetPosition[3 * t] = positions[t].x;
-		b->targetPosition[3 * t + 1] = positions[t].y;
-		b->targetPosition[3 * t + 2] = positions[t].z;
-	}
+		b->targets[t] = (fmTarget){.vertex = b->internalVertex[vertices[t]],
+		                           .position = {positions[t].x, positions[t].y, positions[t].z},
+		                           .stiffness = stiffness,
+		                           .maxForce = INFINITY};
 	b->targetCount = count;
-	b->targetStiffness = stiffness;
 	return fm_ok;
 }
 
@@ -162,25 +217,41 @@ int fmBody_GetTargetCount(fmBodyId bodyId)
 static double fmTargetsTermEnergy(const void* context, const double* x, const double* xStart,
                                   double* gradient)
 {
-	(void)xStart;
-	return fmTargets_Energy(context, x, gradient);
+	(void)xStart; // the step's own (fmTargetStep.xStart)
+	return fmTargetsEnergy(context, x, gradient);
 }
 
 static void fmTargetsTermHessian(const void* context, const double* x, const fmBsrMatrix* pattern,
                                  double* values)
 {
-	(void)x;
-	fmTargets_AddDiagonal(context, pattern != NULL ? pattern->diagonal : NULL, values);
+	const fmTargetStep* s = context;
+	for (int t = 0; t < s->body->targetCount; ++t)
+	{
+		double block[9];
+		fmTargetBlock(s, t, x, block);
+		int i = s->body->targets[t].vertex;
+		double* into = values + 9 * (size_t)(pattern != NULL && pattern->diagonal != NULL ? pattern->diagonal[i] : i);
+		for (int k = 0; k < 9; ++k)
+			into[k] += block[k];
+	}
 }
 
 static void fmTargetsTermProduct(const void* context, const double* x, const double* dx, double* y)
 {
-	(void)x;
-	fmTargets_AddProduct(context, dx, y);
+	const fmTargetStep* s = context;
+	for (int t = 0; t < s->body->targetCount; ++t)
+	{
+		double block[9];
+		fmTargetBlock(s, t, x, block);
+		int i = s->body->targets[t].vertex;
+		for (int a = 0; a < 3; ++a)
+			for (int c = 0; c < 3; ++c)
+				y[3 * i + a] += block[3 * a + c] * dx[3 * i + c];
+	}
 }
 
-fmNewtonTerm fmTargets_Term(const fmBody* body)
+fmNewtonTerm fmTargets_Term(const fmTargetStep* step)
 {
-	return (fmNewtonTerm){body, fmTargetsTermEnergy, fmTargetsTermHessian, fmTargetsTermProduct,
+	return (fmNewtonTerm){step, fmTargetsTermEnergy, fmTargetsTermHessian, fmTargetsTermProduct,
 	                      NULL};
 }

@@ -6,6 +6,7 @@
 
 #include "draw/draw_shapes.h"
 
+#include "body/targets.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
 #include "fem/force_spring.h"
@@ -342,14 +343,14 @@ static bool fmDrawTargets(const fmBody* b, fmDrawCache* c, const fmDebugDraw* dr
 	if (!fmReserveLines(c, b->targetCount))
 		return false;
 	for (int t = 0; t < b->targetCount; ++t)
-		fmPutLine(c->lines + 6 * t, b->targetPosition + 3 * t, b->state.x + 3 * b->targetVertex[t]);
+		fmPutLine(c->lines + 6 * t, b->targets[t].position, b->state.x + 3 * b->targets[t].vertex);
 	if (draw->drawLines)
 		draw->drawLines(c->lines, b->targetCount, FM_COLOR_TARGETS, draw->context);
 	if (draw->drawPoints)
 	{
 		for (int t = 0; t < b->targetCount && t < b->mesh.vertexCount; ++t)
 			for (int e = 0; e < 3; ++e)
-				c->points[3 * t + e] = (float)b->targetPosition[3 * t + e];
+				c->points[3 * t + e] = (float)b->targets[t].position[e];
 		int count = b->targetCount < b->mesh.vertexCount ? b->targetCount : b->mesh.vertexCount;
 		draw->drawPoints(c->points, count, FM_DRAW_POINT_SIZE, FM_COLOR_TARGETS, draw->context);
 	}

@@ -33,31 +33,30 @@ static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 	}
 }
 
-// The kinematic targets' springs in an explicit substep of @p dt: f += their forces at the
-// current positions, each spring's stiffness limited to mass / dt^2 (stable with the elastic
-// forces for any target stiffness).
-static void fmAddTargetForces(const fmBody* b, double dt, double* f)
+// The kinematic targets' springs and dashpots in an explicit substep of @p dt in a frame of
+// @p frameTime: f += their forces at the current positions and velocities, each spring's
+// stiffness limited to mass / dt^2 and each dashpot to mass / (2 dt) (stable with the elastic
+// forces for any target), each force kept for the target's work.
+static void fmAddTargetForces(fmBody* b, double dt, double frameTime, double* f)
 {
 	for (int t = 0; t < b->targetCount; ++t)
 	{
-		int i = b->targetVertex[t];
-		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
+		fmTarget* target = &b->targets[t];
+		double m = b->mesh.mass[target->vertex];
+		fmTargets_ExplicitForce(target, b->state.x, b->state.v, (target->damping > 0.0 ? 0.25 : 1.0) * m / (dt * dt), 0.25 * m / dt,
+		                        1.0 / frameTime, target->applied);
 		for (int e = 0; e < 3; ++e)
-			f[3 * i + e] += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]);
+			f[3 * target->vertex + e] += target->applied[e];
 	}
 }
 
-// The work the targets' springs do over the coming position update x += dt v (J).
+// The work the targets' forces do over the coming position update x += dt v (J).
 static double fmTargetWork(const fmBody* b, double dt)
 {
 	double work = 0.0;
 	for (int t = 0; t < b->targetCount; ++t)
-	{
-		int i = b->targetVertex[t];
-		double k = fmMin(b->targetStiffness, b->mesh.mass[i] / (dt * dt));
 		for (int e = 0; e < 3; ++e)
-			work += k * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]) * dt * b->state.v[3 * i + e];
-	}
+			work += b->targets[t].applied[e] * dt * b->state.v[3 * b->targets[t].vertex + e];
 	return work;
 }
 
@@ -182,7 +181,7 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	if (b->mesh.forceModel == fm_massSpring)
 		fmAddSpringDamping(&b->mesh, b->state.invMass, b->state.x, b->state.v, b->state.f);
 	fmAddRayleighForces(b, arena);
-	fmAddTargetForces(b, dt, b->state.f);
+	fmAddTargetForces(b, dt, ctx->frameTime, b->state.f);
 	const double* loads = fmLoads_Freeze(b, b->state.x, 1.0);
 	for (int k = 0; loads != NULL && k < 3 * n; ++k)
 		b->state.f[k] += loads[k];

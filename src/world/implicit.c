@@ -49,13 +49,14 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	}
 	// The kinematic targets' pull is an external force too.
 	double pull = 0.0;
+	const fmTargetStep* targets = pb->targets.context;
 	for (int t = 0; t < b->targetCount; ++t)
+	{
+		double f[3];
+		fmTargets_Force(targets, t, b->state.x, f);
 		for (int e = 0; e < 3; ++e)
-		{
-			int i = b->targetVertex[t];
-			double f = b->targetStiffness * (b->targetPosition[3 * t + e] - b->state.x[3 * i + e]);
-			pull += fmIsDofPinned(&b->state, 3 * i + e) ? 0.0 : f * f;
-		}
+			pull += fmIsDofPinned(&b->state, 3 * b->targets[t].vertex + e) ? 0.0 : f[e] * f[e];
+	}
 	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull) + fmLoads_FrozenNorm(b);
 }
 
@@ -136,7 +137,7 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepContext* ctx, fmBody* b,
                                          fmImplicitCache* c, const fmFloorDef* floor,
                                          fmContactPenalty* penalty,
-                                         const fmBarrierContact* barrier)
+                                         const fmBarrierContact* barrier, fmTargetStep* targets)
 {
 	const double h = ctx->substep;
 	fmArena* arena = ctx->arena;
@@ -150,6 +151,8 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	pb.tolerance = world->def.tolerance;
 	pb.tasks = &world->tasks;
 	pb.arena = arena;
+	*targets = (fmTargetStep){b, c->xStart, 1.0 / h, 1.0 / ctx->frameTime};
+	pb.targets = fmTargets_Term(targets);
 	pb.scale = fmStepForceScale(b, c, &pb, h);
 	pb.maxNewton = ctx->newtonLimit;
 	pb.maxCg = world->def.cgIterations;
@@ -163,7 +166,6 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	                              h,
 	                              b};
 	pb.loads = fmLoads_Term(b);
-	pb.targets = fmTargets_Term(b);
 	// Bodies meet through the barrier (barrier_contact.h); the penalty holds them off the
 	// colliders.
 	if (fmContact_HasColliders(world) || (fmContact_Active(world) && !fmBarrierContact_Active(world)))
@@ -235,7 +237,7 @@ static void fmBarrierFreeStart(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
                                const fmNewtonProblem* pb)
 {
-	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ImplicitWork(b, c->xStart));
+	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ImplicitWork(pb->targets.context, b->state.x));
 	if (fmLoads_Active(b))
 	{
 		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
@@ -273,10 +275,11 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 		c->xPred[k] = fmIsDofPinned(&b->state, k) ? b->state.x[k] : b->state.x[k] + h * b->state.v[k];
 	fmContactPenalty penalty;
 	fmBarrierContact barrier;
+	fmTargetStep targets;
 	memset(&barrier, 0, sizeof barrier);
 	if (fmBarrierContact_Active(world) && !fmBarrierContact_Begin(&barrier, world, b->slot, c->xStart, c->xPred, 1.0 / (h * h)))
 		return fm_errOutOfMemory;
-	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty, &barrier);
+	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty, &barrier, &targets);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb);
 	fmInversionFreeStart(b, c, &pb, floor);

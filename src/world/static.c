@@ -153,7 +153,8 @@ static fmResult fmStaticCheck(const fmBody* b, const fmWorld* world, double tole
 // definite), the best state kept, CG given room (the system is as ill-conditioned as the
 // structure), the residual measured against fmStaticForceScale.
 static fmNewtonProblem fmStaticProblem(fmBody* b, fmImplicitCache* c, fmWorld* world,
-                                       double tolerance, int maxIterations, double* scratch)
+                                       double tolerance, int maxIterations, double* scratch,
+                                       const fmTargetStep* targets)
 {
 	const int n3 = 3 * b->mesh.vertexCount;
 	fmNewtonProblem pb;
@@ -169,7 +170,7 @@ static fmNewtonProblem fmStaticProblem(fmBody* b, fmImplicitCache* c, fmWorld* w
 	pb.exactHessian = true;
 	pb.keepBest = true;
 	pb.loads = fmLoads_Term(b);
-	pb.targets = fmTargets_Term(b);
+	pb.targets = fmTargets_Term(targets);
 	return pb;
 }
 
@@ -269,7 +270,8 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	memcpy(equilibrium, b->state.x, sizeof(double) * (size_t)n3);
 	fmLoads_BeginStatic(b);
 	memcpy(c->xPred, b->state.x, sizeof(double) * (size_t)n3);
-	fmNewtonProblem pb = fmStaticProblem(b, c, world, tolerance, maxIterations, scratch);
+	const fmTargetStep targets = {b, NULL, 0.0, 0.0}; // the springs alone
+	fmNewtonProblem pb = fmStaticProblem(b, c, world, tolerance, maxIterations, scratch, &targets);
 	fmVec3 gravity = world->def.gravity;
 	double done = pb.scale <= 0.0 ? 1.0 : 0.0; // nothing pulls: already at equilibrium
 	int iterations = 0;

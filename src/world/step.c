@@ -5,6 +5,7 @@
 
 #include "contact/contact.h"
 #include "contact/contact_events.h"
+#include "body/grab.h"
 #include "core/core.h"
 #include "core/det_math.h"
 #include "core/fp_env.h"
@@ -325,7 +326,11 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		fmBudgetHit(w, "the implicit steps' Newton iterations were cut to what maxNewtonPerFrame "
 		               "leaves (at least one a step); their residuals are reported");
 	}
-	// Stage a: every body steps on its own (the stage threads will share).
+	// Stage a: every body steps on its own (the stage threads will share), grabbed ones pulled
+	// to where their grab's target is at the substep's end.
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]))
+			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
 	bool contact = fmContact_Active(w);
 	if (contact && !fmContact_BeginSubstep(w))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -412,6 +417,15 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmStepContext* ctx, fmAutoStep* p
 	return fm_ok;
 }
 
+// Whether a stepping body is grabbed (grab.h).
+static bool fmWorldGrabbed(const fmWorld* w)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (w->bodies[i].grab != NULL && fmIsland_Stepping(&w->bodies[i]))
+			return true;
+	return false;
+}
+
 // The frame's step context: its times, the world's workers and arena, the bookings zeroed.
 static fmStepContext fmWorldStepContext(fmWorld* w, double timeStep, int subStepCount)
 {
@@ -462,6 +476,7 @@ static fmResult fmCloseLedgers(fmWorld* w, const fmStepContext* ctx)
 		memcpy(b->vGood, b->state.v, bytes);
 		b->energyGood = b->energyAfter;
 		b->energyStale = false;
+		fmGrab_EndFrame(b);
 		w->stats.invertedTets += b->invertedAfter >= 0
 		                             ? b->invertedAfter
 		                             : fmBodyCountInvertedOn(b, &w->tasks, &w->arena);
@@ -482,9 +497,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		                   "out of memory for the step buffers");
 	fmStepContext ctx = fmWorldStepContext(w, timeStep, subStepCount);
 
-	// Stage 1: the substep length (autoSubstep: from the stability limit at the current
-	// deformation).
-	const bool autoStep = w->def.integrator == fm_explicit && w->def.autoSubstep;
+	// Stage 1: the substep length (autoSubstep, or a grab in an explicit world: from the
+	// stability limit at the current deformation, which a grab can stretch far).
+	const bool autoStep = w->def.integrator == fm_explicit && (w->def.autoSubstep || fmWorldGrabbed(w));
 	fmAutoStep plan = {0.0, 1.0};
 	if (autoStep)
 	{

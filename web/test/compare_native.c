@@ -22,7 +22,8 @@ int fw_load_scene(int index, int deterministic);
 void fw_set_integrator(int integrator);
 int fw_step(void);
 void fw_jump(void);
-int fw_drag_start(int b, int vertex, double x, double y, double z);
+int fw_drag_start(int b, double x, double y, double z);
+void fw_drag_move(double x, double y, double z);
 void fw_drag_end(void);
 int fw_body_count(void);
 int fw_vertex_count(int b);
@@ -55,8 +56,8 @@ static bool giveFiles(void)
 	return true;
 }
 
-// The script, as compare_node.cjs's: a jump at 1/3 of the frames, vertex 5 of body 0 dragged
-// 0.2 m up from where it is from 1/2 to 2/3 (without @p input: frames only).
+// The script, as compare_node.cjs's: a jump at 1/3 of the frames, body 0 grabbed at vertex 5 and
+// pulled 0.2 m up from where it is from 1/2 to 2/3 (without @p input: frames only).
 static int run(int frames, bool input)
 {
 	for (int f = 0; f < frames; ++f)
@@ -66,7 +67,8 @@ static int run(int frames, bool input)
 		if (input && f == frames / 2)
 		{
 			const double* x = fw_positions_double(0);
-			fw_drag_start(0, 5, x[15], x[16] + 0.2, x[17]);
+			fw_drag_start(0, x[15], x[16], x[17]);
+			fw_drag_move(x[15], x[16] + 0.2, x[17]);
 		}
 		if (input && f == 2 * frames / 3)
 			fw_drag_end();

@@ -26,7 +26,8 @@ function run(M) {
     if (f === Math.floor(frames / 3)) M._fw_jump();
     if (f === Math.floor(frames / 2)) {
       const x = M._fw_positions_double(0) / 8;
-      M._fw_drag_start(0, 5, M.HEAPF64[x + 15], M.HEAPF64[x + 16] + 0.2, M.HEAPF64[x + 17]);
+      M._fw_drag_start(0, M.HEAPF64[x + 15], M.HEAPF64[x + 16], M.HEAPF64[x + 17]);
+      M._fw_drag_move(M.HEAPF64[x + 15], M.HEAPF64[x + 16] + 0.2, M.HEAPF64[x + 17]);
     }
     if (f === Math.floor((2 * frames) / 3)) M._fw_drag_end();
     if (M._fw_step() !== 0) throw new Error(`frame ${f}: ${M.UTF8ToString(M._fw_error())}`);
