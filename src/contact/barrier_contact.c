@@ -18,6 +18,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+// The candidates' box reaches this many dHat past the segment they were gathered for: the
+// Newton steps after the first are short, and their segments stay inside it.
+#define FM_BARRIER_SLACK 0.25
+
 // CCD stops at (1 - FM_BARRIER_ETA) of a pair's gap (additive CCD's conservative advance).
 #define FM_BARRIER_ETA 0.9
 
@@ -183,8 +187,10 @@ static bool fmGatherOthers(fmBarrierContact* bc, fmVec3 lo, fmVec3 hi)
 	       fmHashQuery_Reserve(&s->query, &s->otherHash);
 }
 
-// The body's own primitives at @p x (swept along @p dx when not NULL), hashed for self-contact.
-static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const double* dx)
+// The body's own primitives at @p x (swept along @p dx when not NULL), their boxes grown by
+// @p grow, hashed for self-contact.
+static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const double* dx,
+                        double grow)
 {
 	const fmBody* b = &bc->world->bodies[bc->slot];
 	fmBarrierScratch* s = bc->scratch;
@@ -194,7 +200,7 @@ static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const doubl
 		{
 			fmBarrierPrimitive p = {bc->slot, k, kind};
 			fmVec3 lo, hi;
-			fmPrimitiveBox(b, &p, x, dx, 0.5 * bc->dHat, &lo, &hi);
+			fmPrimitiveBox(b, &p, x, dx, grow, &lo, &hi);
 			if (!fmAddPrimitive(&s->own, &s->ownLower, &s->ownUpper, &s->ownCount, &s->ownCapacity,
 			                    p, lo, hi))
 				return false;
@@ -284,102 +290,173 @@ static bool fmPushPair(fmBarrierScratch* s, const fmBarrierStencil* st)
 	return true;
 }
 
-// Every pair of the solved body's primitive @p p (at @p x) with those of @p hash's items in
-// @p list whose squared distance is below sHat, appended to the scratch's pairs.
-static bool fmPairsOf(const fmBarrierContact* bc, const fmBarrierPrimitive* p, const double* x,
-                      const fmSpatialHash* hash, const fmBarrierPrimitive* list, bool self)
+// What to do with each stencil fmVisitStencils finds; false stops the visit (out of memory).
+typedef bool fmStencilVisit(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context);
+
+// Every stencil of the solved body's primitive @p p with the other bodies' primitives (or, with
+// @p self, its own) whose stored boxes meet [lo, hi], handed to @p visit. Self pairs: a vertex
+// against triangles and each pair of edges once, only those apart at rest.
+static bool fmVisitStencils(const fmBarrierContact* bc, const fmBarrierPrimitive* p, fmVec3 lo,
+                            fmVec3 hi, bool self, fmStencilVisit* visit, void* context)
 {
 	fmBarrierScratch* s = bc->scratch;
-	const fmWorld* w = bc->world;
-	// The stored boxes are grown by dHat (others) or dHat / 2 (own): boxes that meet hold every
-	// pair within dHat.
-	fmVec3 lo, hi;
-	fmPrimitiveBox(&w->bodies[bc->slot], p, x, NULL, self ? 0.5 * bc->dHat : 0.0, &lo, &hi);
 	if (!self && !fmBoxesMeet(lo, hi, s->othersLower, s->othersUpper))
 		return true;
-	int n = fmSpatialHash_Query(hash, &s->query, lo, hi);
+	int n = fmSpatialHash_Query(self ? &s->ownHash : &s->otherHash, &s->query, lo, hi);
 	if (n < 0)
 		return false;
+	const fmBarrierPrimitive* list = self ? s->own : s->others;
 	const fmVec3* lower = self ? s->ownLower : s->otherLower;
 	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
 	for (int k = 0; k < n; ++k)
 	{
 		int item = s->query.items[k];
 		const fmBarrierPrimitive* q = &list[item];
-		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]))
-			continue;
-		// Self pairs: a vertex against triangles, and each pair of edges once.
-		if (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index)))
+		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]) ||
+		    (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index))))
 			continue;
 		fmBarrierStencil st;
-		if (!fmMakeStencil(w, p, q, &st) || (self && !fmApartAtRest(bc, &st)))
-			continue;
-		fmVec3 pts[4];
-		fmStencilPoints(bc, &st, x, pts);
-		if (fmStencilDistance2(&st, pts) < bc->sHat && !fmPushPair(s, &st))
+		if (fmMakeStencil(bc->world, p, q, &st) && (!self || fmApartAtRest(bc, &st)) &&
+		    !visit(bc, &st, context))
 			return false;
 	}
 	return true;
 }
 
-// Whether @p x lies on the covered segment (to round-off): x - start = a motion, a in [0, 1].
-static bool fmOnSegment(const fmBarrierContact* bc, const double* x)
+// Each of the solved body's primitives, its box at @p x (swept along @p dx when not NULL) grown
+// by @p grow against the others and by @p selfGrow against its own, visited.
+static bool fmVisitBody(const fmBarrierContact* bc, const double* x, const double* dx, double grow,
+                        double selfGrow, fmStencilVisit* visit, void* context)
 {
-	const fmBarrierScratch* s = bc->scratch;
-	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
-	if (!s->covered)
-		return false;
-	double along = 0.0, length = 0.0, size = 0.0;
-	for (int k = 0; k < n3; ++k)
-	{
-		along += (x[k] - s->segmentStart[k]) * s->segmentMotion[k];
-		length += s->segmentMotion[k] * s->segmentMotion[k];
-		size = fmMax(size, fabs(s->segmentStart[k]) + fabs(s->segmentMotion[k]));
-	}
-	double a = length > 0.0 ? along / length : 0.0;
-	if (!(a >= -1e-12 && a <= 1.0 + 1e-12))
-		return false;
-	for (int k = 0; k < n3; ++k)
-		if (!(fabs(x[k] - s->segmentStart[k] - a * s->segmentMotion[k]) <= 1e-12 * size))
-			return false;
-	return true;
-}
-
-// The covered candidates within dHat at @p x, into the scratch's pairs.
-static bool fmFilterCandidates(const fmBarrierContact* bc, const double* x)
-{
-	fmBarrierScratch* s = bc->scratch;
-	for (int k = 0; k < s->candidateCount; ++k)
-	{
-		fmVec3 pts[4];
-		fmStencilPoints(bc, &s->candidates[k], x, pts);
-		if (fmStencilDistance2(&s->candidates[k], pts) < bc->sHat &&
-		    !fmPushPair(s, &s->candidates[k]))
-			return false;
-	}
-	return true;
-}
-
-// The pairs within dHat at @p x, into the scratch (in primitive order: deterministic): from the
-// candidates where @p x is on the covered segment, else by a search.
-static bool fmFindPairs(const fmBarrierContact* bc, const double* x)
-{
-	fmBarrierScratch* s = bc->scratch;
 	const fmBody* b = &bc->world->bodies[bc->slot];
-	s->pairCount = 0;
-	if (fmOnSegment(bc, x))
-		return fmFilterCandidates(bc, x);
-	if (bc->self && !fmGatherOwn(bc, x, NULL))
-		return false;
 	for (int kind = 0; kind < 3; ++kind)
 		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
 		{
 			fmBarrierPrimitive p = {bc->slot, k, kind};
-			if (s->otherCount > 0 && !fmPairsOf(bc, &p, x, &s->otherHash, s->others, false))
+			fmVec3 lo, hi;
+			fmPrimitiveBox(b, &p, x, dx, grow, &lo, &hi);
+			if (bc->scratch->otherCount > 0 && !fmVisitStencils(bc, &p, lo, hi, false, visit, context))
 				return false;
-			if (bc->self && !fmPairsOf(bc, &p, x, &s->ownHash, s->own, true))
+			fmPrimitiveBox(b, &p, x, dx, selfGrow, &lo, &hi);
+			if (bc->self && !fmVisitStencils(bc, &p, lo, hi, true, visit, context))
 				return false;
 		}
+	return true;
+}
+
+static fmVec3 fmMinVec(fmVec3 a, fmVec3 b)
+{
+	return fmMakeVec3(fmMin(a.x, b.x), fmMin(a.y, b.y), fmMin(a.z, b.z));
+}
+
+static fmVec3 fmMaxVec(fmVec3 a, fmVec3 b)
+{
+	return fmMakeVec3(fmMax(a.x, b.x), fmMax(a.y, b.y), fmMax(a.z, b.z));
+}
+
+// Whether the boxes of a stencil's two sides (its points @p p, swept by @p motion when not NULL)
+// are more than dHat apart on some axis: then no point of the sweep brings the pair within dHat.
+static bool fmSidesApart(const fmBarrierContact* bc, const fmBarrierStencil* st, const fmVec3 p[4],
+                         const fmVec3* motion)
+{
+	fmVec3 end[4];
+	for (int k = 0; k < 4; ++k)
+		end[k] = motion != NULL ? fmAdd(p[k], motion[k]) : p[k];
+	int split = st->edgeEdge ? 2 : 1;
+	fmVec3 lo[2] = {fmMinVec(p[0], end[0]), fmMinVec(p[split], end[split])};
+	fmVec3 hi[2] = {fmMaxVec(p[0], end[0]), fmMaxVec(p[split], end[split])};
+	for (int k = 1; k < 4; ++k)
+	{
+		if (k == split)
+			continue;
+		int side = k < split ? 0 : 1;
+		lo[side] = fmMinVec(lo[side], fmMinVec(p[k], end[k]));
+		hi[side] = fmMaxVec(hi[side], fmMaxVec(p[k], end[k]));
+	}
+	double d = bc->dHat;
+	return lo[0].x > hi[1].x + d || lo[1].x > hi[0].x + d || lo[0].y > hi[1].y + d ||
+	       lo[1].y > hi[0].y + d || lo[0].z > hi[1].z + d || lo[1].z > hi[0].z + d;
+}
+
+// A pair within dHat at the positions @p context points to goes to the scratch's pairs.
+static bool fmKeepNear(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context)
+{
+	fmVec3 pts[4];
+	fmStencilPoints(bc, st, context, pts);
+	return fmSidesApart(bc, st, pts, NULL) || fmStencilDistance2(st, pts) >= bc->sHat ||
+	       fmPushPair(bc->scratch, st);
+}
+
+static bool fmKeepCandidate(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context)
+{
+	(void)context;
+	fmBarrierScratch* s = bc->scratch;
+	if (!fmGrowArray((void**)&s->candidates, &s->candidateCapacity, s->candidateCount,
+	                 s->candidateCount + 1, sizeof *s->candidates))
+		return false;
+	s->candidates[s->candidateCount++] = *st;
+	return true;
+}
+
+// Whether the candidates cover @p x and, when @p dx is not NULL, x + dx (and so the segment
+// between: the box is convex).
+static bool fmCandidatesCover(const fmBarrierContact* bc, const double* x, const double* dx)
+{
+	const fmBarrierScratch* s = bc->scratch;
+	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
+	if (s->candidateCount < 0)
+		return false;
+	for (int k = 0; k < n3; ++k)
+		if (!(fabs(x[k] - s->candidateCentre[k]) <= s->candidateRadius &&
+		      (dx == NULL || fabs(x[k] + dx[k] - s->candidateCentre[k]) <= s->candidateRadius)))
+			return false;
+	return true;
+}
+
+// Candidates covering the segment from @p x along @p dx (NULL: the point): kept when they do,
+// else gathered again for the box around the segment's middle reaching FM_BARRIER_SLACK dHat
+// past it: every pair that can come within dHat while each coordinate of the body stays in the
+// box (the others standing still), its own primitives' boxes grown by the radius too.
+static bool fmCoverSegment(const fmBarrierContact* bc, const double* x, const double* dx)
+{
+	fmBarrierScratch* s = bc->scratch;
+	if (fmCandidatesCover(bc, x, dx))
+		return true;
+	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
+	int capacity = s->centreCapacity;
+	if (!fmGrowArray((void**)&s->candidateCentre, &capacity, 0, n3, sizeof(double)))
+		return false;
+	s->centreCapacity = capacity;
+	double half = 0.0;
+	for (int k = 0; k < n3; ++k)
+	{
+		double d = dx != NULL ? 0.5 * dx[k] : 0.0;
+		s->candidateCentre[k] = x[k] + d;
+		half = fmMax(half, fabs(d));
+	}
+	const double r = half + FM_BARRIER_SLACK * bc->dHat;
+	s->candidateRadius = r;
+	s->candidateCount = 0;
+	const double grow = r * (1.0 + 1e-9);
+	if ((bc->self && !fmGatherOwn(bc, s->candidateCentre, NULL, grow + 0.5 * bc->dHat)) ||
+	    !fmVisitBody(bc, s->candidateCentre, NULL, grow, grow + 0.5 * bc->dHat, fmKeepCandidate, NULL))
+	{
+		s->candidateCount = -1;
+		return false;
+	}
+	return true;
+}
+
+// The pairs within dHat at @p x, into the scratch (in the candidates' order: deterministic).
+static bool fmFindPairs(const fmBarrierContact* bc, const double* x)
+{
+	fmBarrierScratch* s = bc->scratch;
+	s->pairCount = 0;
+	if (!fmCoverSegment(bc, x, NULL))
+		return false;
+	for (int k = 0; k < s->candidateCount; ++k)
+		if (!fmKeepNear(bc, &s->candidates[k], (void*)x))
+			return false;
 	return true;
 }
 
@@ -724,85 +801,49 @@ static double fmReachBound(const fmBarrierContact* bc, const double* x, const do
 	return t;
 }
 
-// The earliest time of impact in [0, @p t] of the solved body's primitive @p p moving along
-// @p dx against @p hash's items (standing still, or with @p self moving along dx too).
-static double fmPrimitiveImpact(const fmBarrierContact* bc, const fmBarrierPrimitive* p,
-                                const double* x, const double* dx, const fmSpatialHash* hash,
-                                const fmBarrierPrimitive* list, bool self, double t)
+// The earliest time of impact in [0, t] of the candidate @p st along @p dx from @p x: additive
+// CCD, which stops at (1 - eta) of the gap, for pairs whose sides' boxes swept to t come within
+// dHat.
+static double fmEarlierImpact(const fmBarrierContact* bc, const fmBarrierStencil* st,
+                              const double* x, const double* dx, double t)
 {
-	fmBarrierScratch* s = bc->scratch;
-	const fmWorld* w = bc->world;
-	fmVec3 lo, hi;
-	fmPrimitiveBox(&w->bodies[bc->slot], p, x, dx, 0.5 * bc->dHat, &lo, &hi);
-	if (!self && !fmBoxesMeet(lo, hi, s->othersLower, s->othersUpper))
+	fmVec3 pts[4], motion[4], swept[4];
+	fmStencilPoints(bc, st, x, pts);
+	for (int j = 0; j < 4; ++j)
+	{
+		motion[j] = st->body[j] == bc->slot ? fmLoad(dx, st->vertex[j]) : fmMakeVec3(0, 0, 0);
+		swept[j] = fmScale(t, motion[j]);
+	}
+	if (t <= 0.0 || fmSidesApart(bc, st, pts, swept))
 		return t;
-	int n = fmSpatialHash_Query(hash, &s->query, lo, hi);
-	if (n < 0)
-	{
-		s->failed = true;
-		return 0.0;
-	}
-	const fmVec3* lower = self ? s->ownLower : s->otherLower;
-	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
-	for (int k = 0; k < n && !s->failed; ++k)
-	{
-		int item = s->query.items[k];
-		const fmBarrierPrimitive* q = &list[item];
-		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]))
-			continue;
-		if (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index)))
-			continue;
-		fmBarrierStencil st;
-		if (!fmMakeStencil(w, p, q, &st) || (self && !fmApartAtRest(bc, &st)))
-			continue;
-		if (!fmGrowArray((void**)&s->candidates, &s->candidateCapacity, s->candidateCount,
-		                 s->candidateCount + 1, sizeof *s->candidates))
-		{
-			s->failed = true;
-			return 0.0;
-		}
-		s->candidates[s->candidateCount++] = st;
-		fmVec3 pts[4], motion[4];
-		fmStencilPoints(bc, &st, x, pts);
-		for (int j = 0; j < 4; ++j)
-			motion[j] = st.body[j] == bc->slot ? fmLoad(dx, st.vertex[j]) : fmMakeVec3(0, 0, 0);
-		double toi = t > 0.0 ? fmCcd_Additive(st.edgeEdge, pts, motion, 0.0, FM_BARRIER_ETA, t) : t;
-		if (toi < t)
-			t = toi;
-	}
-	return t;
+	return fmMin(t, fmCcd_Additive(st->edgeEdge, pts, motion, 0.0, FM_BARRIER_ETA, t));
 }
 
 // The largest fraction of the step @p dx from @p x that no pair crosses (additive CCD, each
-// pair kept at a tenth of its gap or more) and that stays within the body's reach.
+// pair kept at a tenth of its gap or more) and that stays within the body's reach, over
+// candidates that cover the segment.
 static double fmBarrierStepBound(const void* context, const double* x, const double* dx)
 {
 	const fmBarrierContact* bc = context;
 	fmBarrierScratch* s = bc->scratch;
-	const fmBody* b = &bc->world->bodies[bc->slot];
 	double t = fmReachBound(bc, x, dx, 1.0);
-	const int n3 = 3 * b->mesh.vertexCount;
-	s->covered = false;
-	s->candidateCount = 0;
-	if (bc->self && !fmGatherOwn(bc, x, dx))
+	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
+	int capacity = s->gradientCapacity;
+	if (!fmGrowArray((void**)&s->gradient, &capacity, 0, n3, sizeof(double)))
+	{
 		s->failed = true;
-	// Every pair whose boxes along the segment come within dHat is a candidate (and gets its CCD).
-	for (int kind = 0; kind < 3 && !s->failed; ++kind)
-		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
-		{
-			fmBarrierPrimitive p = {bc->slot, k, kind};
-			if (s->otherCount > 0)
-				t = fmPrimitiveImpact(bc, &p, x, dx, &s->otherHash, s->others, false, t);
-			if (bc->self)
-				t = fmPrimitiveImpact(bc, &p, x, dx, &s->ownHash, s->own, true, t);
-		}
-	int c1 = s->segmentCapacity;
-	if (s->failed || !fmGrowArray((void**)&s->segmentStart, &s->segmentCapacity, 0, n3, sizeof(double)) ||
-	    !fmGrowArray((void**)&s->segmentMotion, &c1, 0, n3, sizeof(double)))
 		return 0.0;
-	memcpy(s->segmentStart, x, sizeof(double) * (size_t)n3);
-	memcpy(s->segmentMotion, dx, sizeof(double) * (size_t)n3);
-	s->covered = true;
+	}
+	s->gradientCapacity = capacity;
+	for (int k = 0; k < n3; ++k)
+		s->gradient[k] = t * dx[k]; // the segment (the work's buffer, free here)
+	if (!fmCoverSegment(bc, x, s->gradient))
+	{
+		s->failed = true;
+		return 0.0;
+	}
+	for (int k = 0; k < s->candidateCount; ++k)
+		t = fmEarlierImpact(bc, &s->candidates[k], x, dx, t);
 	return t;
 }
 
@@ -866,7 +907,6 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
 	bc->xStart = xStart;
 	bc->scratch = &state->barrier;
 	bc->scratch->failed = false;
-	bc->scratch->covered = false;
 	// The region the body can reach in the step, and the other primitives in it.
 	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
@@ -884,6 +924,7 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
 		bc->scratch = NULL;
 		return true;
 	}
+	bc->scratch->candidateCount = -1;
 	return fmLagFriction(bc);
 }
 
@@ -948,7 +989,6 @@ void fmBarrierScratch_Free(fmBarrierScratch* s)
 	FM_FREE_ARRAY(s->friction, fmBarrierFriction, s->frictionCapacity);
 	FM_FREE_ARRAY(s->gradient, double, s->gradientCapacity);
 	FM_FREE_ARRAY(s->candidates, fmBarrierStencil, s->candidateCapacity);
-	FM_FREE_ARRAY(s->segmentStart, double, s->segmentCapacity);
-	FM_FREE_ARRAY(s->segmentMotion, double, s->segmentCapacity);
+	FM_FREE_ARRAY(s->candidateCentre, double, s->centreCapacity);
 	memset(s, 0, sizeof *s);
 }

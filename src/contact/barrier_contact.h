@@ -80,18 +80,18 @@ typedef struct fmBarrierScratch
 	fmHashQuery query;
 	fmBarrierStencil* pairs; // the pairs within dHat at the last evaluation
 	int pairCount, pairCapacity;
-	// The pairs that can come within dHat anywhere along the last step bound's segment
-	// (segmentStart + a segmentMotion, a in [0, 1]): the energy at a point of it filters these
-	// instead of searching again (valid while `covered`).
+	// Every pair that can come within dHat while each coordinate of the body stays within
+	// candidateRadius of candidateCentre (-1 candidates: none gathered in this step): the
+	// energy, its derivatives and the step bound inside that box filter these instead of
+	// searching, and gather them again around a point or segment outside it.
 	fmBarrierStencil* candidates;
 	int candidateCount, candidateCapacity;
-	double* segmentStart;
-	double* segmentMotion;
-	int segmentCapacity;
-	bool covered;
+	double* candidateCentre;
+	int centreCapacity;
+	double candidateRadius;
 	fmBarrierFriction* friction;
 	int frictionCount, frictionCapacity;
-	double* gradient; // the work's forces
+	double* gradient; // the work's forces, or the step bound's segment
 	int gradientCapacity;
 	bool failed; // memory ran short: the solve's energy is reported non-finite
 } fmBarrierScratch;
