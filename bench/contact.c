@@ -24,7 +24,11 @@
 // Wall seconds a case's timed frames may take: a pile stuck in refused frames (each one
 // restored and retried) costs seconds a frame, and the bench must end. The row says how many
 // frames it timed.
-#define CLI_CONTACT_BUDGET_S 20.0
+#define CLI_CONTACT_BUDGET_S 60.0
+
+// The pile's houses "apart": each shifted this far (m) along x per place in the pile, so that
+// they fall the same heights and land alone (the house is 4 m wide).
+#define CLI_BENCH_APART 8.0
 
 // One timed case: a scene, how long it runs untimed and timed.
 typedef struct cliContactCase
@@ -40,6 +44,8 @@ typedef struct cliContactCase
 typedef struct cliContactTimes
 {
 	double msPerFrame;   // median
+	double p95;          // ms, the 95th percentile frame
+	double worst;        // ms, the slowest frame
 	double contacts;     // median contacts after a frame
 	double contactShare; // of the step time: the contact stage
 	double broadShare;   // its broad phase
@@ -106,6 +112,8 @@ static bool cliContactTime(const cliContactCase* c, const cliScene* scene, cliCo
 		out->frames =
 		    cliContactFrames(scene, &sim, c->timedFrames, ms, contacts, &sum, &out->refused);
 		out->msPerFrame = cliContactMedian(ms, out->frames);
+		out->p95 = out->frames > 0 ? ms[(int)floor(0.95 * (out->frames - 1))] : 0.0;
+		out->worst = out->frames > 0 ? ms[out->frames - 1] : 0.0;
 		out->contacts = cliContactMedian(contacts, out->frames);
 		double step = sum.step > 0.0 ? sum.step : 1.0;
 		out->contactShare = sum.contact / step;
@@ -126,7 +134,7 @@ static bool cliContactTime(const cliContactCase* c, const cliScene* scene, cliCo
 // autoSubstep on the seeds' stick floor with their damping and smoothing (their StVK house at
 // mu 5 kPa cannot carry another: its tets invert, docs/contact.md). Implicit: one step per frame
 // on a Coulomb floor, as scenes/house_implicit.json, to the game tolerance.
-static bool cliPileScene(int count, bool implicit, int workers, cliScene* scene)
+static bool cliPileScene(int count, bool implicit, bool apart, int workers, cliScene* scene)
 {
 	cliScene_MakeHouse(scene);
 	cliBodySpec* houses = realloc(scene->bodies, (size_t)count * sizeof *houses);
@@ -138,7 +146,8 @@ static bool cliPileScene(int count, bool implicit, int workers, cliScene* scene)
 	scene->bodyCount = count;
 	for (int i = 0; i < count; ++i)
 		houses[i].transform.translate =
-		    fmMakeVec3(i % 2 ? 0.4 : -0.4, 4.2 * i, (i / 2) % 2 ? 0.3 : -0.3);
+		    fmMakeVec3((i % 2 ? 0.4 : -0.4) + (apart ? CLI_BENCH_APART * i : 0.0), 4.2 * i,
+		               (i / 2) % 2 ? 0.3 : -0.3);
 	snprintf(scene->name, sizeof scene->name, "bench houses %d", count);
 	scene->worldDef.workerCount = workers;
 	scene->dt = 1.0 / 60.0;
@@ -231,9 +240,11 @@ static bool cliGroundScene(const char* folder, int workers, cliScene* scene)
 
 // ---- the rows -----------------------------------------------------------------------------------
 
-static void cliContactRow(const cliContactCase* c, const cliScene* scene, int tets, int workers,
-                          cliBenchReport* report, int* code)
+static bool cliContactRow(const cliContactCase* c, const cliScene* scene, int tets, int workers,
+                          cliBenchReport* report, int* code, cliContactTimes* times)
 {
+	cliContactTimes local;
+	cliContactTimes* tp = times != NULL ? times : &local;
 	cliContactTimes t;
 	cliBenchMesh mesh;
 	memset(&mesh, 0, sizeof mesh);
@@ -244,8 +255,9 @@ static void cliContactRow(const cliContactCase* c, const cliScene* scene, int te
 	{
 		printf("%-12s %7d %-14s %7d %9s\n", c->label, tets, c->integrator, workers, "failed");
 		*code = cli_exitInput;
-		return;
+		return false;
 	}
+	*tp = t;
 	printf("%-12s %7d %-14s %7d %9.2f %9.0f %7.1f%% %6.1f%% %6.1f%% %4d/%-4d\n", c->label, tets,
 	       c->integrator, workers, t.msPerFrame, t.contacts, 100.0 * t.contactShare,
 	       100.0 * t.broadShare, 100.0 * t.narrowShare, t.refused, t.frames);
@@ -258,6 +270,7 @@ static void cliContactRow(const cliContactCase* c, const cliScene* scene, int te
 	row.narrowShare = t.narrowShare;
 	if (!cliBenchReport_Add(report, &row))
 		*code = cli_exitInput;
+	return true;
 }
 
 // Ten houses for 5 s: the top one falls 38 m (2.8 s) and the pile settles. --quick: three
@@ -274,16 +287,26 @@ static void cliPileRows(const cliBenchOptions* o, cliBenchReport* report, int* c
 	};
 	for (int k = 0; k < 2; ++k)
 	{
-		cliScene scene;
-		if (!cliPileScene(count, k == 1, o->workers, &scene))
+		cliScene scene, apart;
+		cliContactTimes pile, alone;
+		memset(&scene, 0, sizeof scene);
+		memset(&apart, 0, sizeof apart);
+		if (!cliPileScene(count, k == 1, false, o->workers, &scene) ||
+		    !cliPileScene(count, k == 1, true, o->workers, &apart))
 		{
 			cliError("bench: out of memory for the pile");
 			*code = cli_exitInput;
 		}
-		else
-			cliContactRow(&cases[k], &scene, count * CLI_BENCH_HOUSE_TETS, o->workers, report,
-			              code);
+		else if (cliContactRow(&cases[k], &scene, count * CLI_BENCH_HOUSE_TETS, o->workers, report,
+		                       code, &pile) &&
+		         cliContactTime(&cases[k], &apart, &alone))
+			printf("%-12s   the frames: 95th percentile %.2f ms, worst %.2f ms; the same houses "
+			       "apart %.2f ms (median), 95th percentile %.2f: pile / apart %.2f (median), "
+			       "%.2f (95th)\n",
+			       "", pile.p95, pile.worst, alone.msPerFrame, alone.p95,
+			       pile.msPerFrame / alone.msPerFrame, pile.p95 / alone.p95);
 		cliScene_Free(&scene);
+		cliScene_Free(&apart);
 	}
 }
 
@@ -301,7 +324,7 @@ static void cliGroundRow(const cliBenchOptions* o, const char* folder, cliBenchR
 			cliScene_Free(&scene);
 		return;
 	}
-	cliContactRow(&c, &scene, 6 * 26 * 25 * 26, o->workers, report, code);
+	cliContactRow(&c, &scene, 6 * 26 * 25 * 26, o->workers, report, code, NULL);
 	cliScene_Free(&scene);
 }
 
