@@ -1839,6 +1839,68 @@ TEST(barrier_stacks_of_three_houses_never_cross)
 	}
 }
 
+// The aligned stack of three houses above, settled (14 s: the stack's slow bounce on its soft
+// barriers decays over seconds): the floor carries the three houses' weight within 1% (its force
+// averaged over the last second, fmCollider_GetContactForce), each house still on the one below;
+// with sleeping on, all three fall asleep, still stacked.
+TEST(barrier_stack_rests_on_its_weight_and_sleeps)
+{
+	for (int sleep = 0; sleep < 2; ++sleep)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.tolerance = FM_TOLERANCE_GAME;
+		wdef.floor.height = 0.0;
+		wdef.floor.friction = fm_floorCoulomb;
+		wdef.floor.frictionCoefficient = 0.5;
+		wdef.contact.friction = 0.5;
+		wdef.contact.enableSleep = sleep == 1;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmBodyDef def = softDef(2e5);
+		def.density = 100.0;
+		def.damping = 1.0;
+		def.smoothing = 0.0;
+		fmBodyId houses[3];
+		double weight = 0.0, carried = 0.0;
+		for (int h = 0; h < 3; ++h)
+		{
+			houses[h] = addHouse(failures_, world, fmMakeVec3(0.0, 2.0 + 4.5 * h, 0.0), &def);
+			const double* m = fmBody_GetMasses(houses[h]);
+			for (int i = 0; i < fmBody_GetVertexCount(houses[h]); ++i)
+				weight += 9.8 * m[i];
+		}
+		const int frames = 840, averaged = 60;
+		int failed = 0;
+		for (int f = 0; f < frames; ++f)
+		{
+			failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+			fmVec3 force, torque;
+			fmCollider_GetContactForce(fmWorld_GetFloorCollider(world), &force, &torque);
+			if (f >= frames - averaged)
+				carried -= force.y / averaged;
+		}
+		double y[3] = {centreY(houses[0]), centreY(houses[1]), centreY(houses[2])};
+		CHECK_INT(failed, 0);
+		CHECK(y[0] < y[1] - 3.0 && y[1] < y[2] - 3.0);
+		if (sleep)
+		{
+			int awake = 0;
+			for (int h = 0; h < 3; ++h)
+				awake += fmBody_IsAwake(houses[h]);
+			printf("  with sleeping: %d of 3 awake after %d frames, centres at %.3f %.3f %.3f\n",
+			       awake, frames, y[0], y[1], y[2]);
+			CHECK_INT(awake, 0);
+		}
+		else
+		{
+			printf("  the floor carries %.1f N of the houses' %.1f N (%+.3f%%) over the last second\n",
+			       carried, weight, 100.0 * (carried - weight) / weight);
+			CHECK_REL(carried, weight, 0.01, 0.0);
+		}
+		fmDestroyWorld(world);
+	}
+}
+
 // Two 2 cm plates closing at 40 m/s, implicit at one step a 1/60 s frame (the step moves each
 // 0.33 m, sixteen times their thickness): the line search's collision detection stops every
 // step short of the other plate; every substep audited clean, both plates' tets upright.

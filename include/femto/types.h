@@ -540,13 +540,14 @@ typedef struct fmGrabDef
 	/// m, the patch: vertices within it of the grabbed point share the pull (default 0: 12% of
 	/// the body's size, its box's diagonal; at least twice the distance to the nearest vertex)
 	double radius;
-	/// N/m, the whole spring (default 0: the body's weight over 5 mm, so a slow pointer lifting
-	/// the body leads the grabbed point by about 5 mm)
+	/// N/m, the whole spring (default 0: the body's weight over 2 mm, so a slow pointer lifting
+	/// the body leads the grabbed point by a few mm)
 	double stiffness;
 	/// the dashpot against the body's mass, 1 critical (default 1): relative to the target's
 	/// velocity, so a steadily moving target is followed without lag
 	double dampingRatio;
-	/// N, the bound on the whole pull (default 0: twice the body's weight, lifting it at 1 g)
+	/// N, the bound on the whole pull (default 0: three times the body's weight, lifting it at
+	/// 2 g)
 	double maxForce;
 	int internalValue; ///< set by fmDefaultGrabDef; grab calls check it
 } fmGrabDef;

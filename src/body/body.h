@@ -68,6 +68,10 @@ typedef struct fmBody
 	int targetCapacity;
 	struct fmTarget* targets;
 	struct fmGrab* grab;
+	// Let go of a grab and still stretched: the stiffening proxy (stability.h) at the grab,
+	// which the body must relax to before an explicit world gives up adaptive substeps; 0 when
+	// none (grab.h).
+	double grabRelaxProxy;
 
 	// Loads and prescribed displacements (loads.h), NULL until the first is added.
 	struct fmLoadSet* loads;

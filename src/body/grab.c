@@ -9,6 +9,7 @@
 #include "body/targets.h"
 #include "core/core.h"
 #include "core/fp_env.h"
+#include "fem/stability.h"
 #include "world/island.h"
 #include "world/world.h"
 
@@ -23,7 +24,7 @@
 // Default stretch (m) at which the spring carries the body's weight: a slow pointer lifting the
 // body leads the grabbed point by about this much.
 #define FM_GRAB_SAG 0.002
-// Default bound on the pull, in the body's weights: it lifts the body at 1 g.
+// Default bound on the pull, in the body's weights: it lifts the body at 2 g.
 #define FM_GRAB_FORCE 3.0
 
 fmGrabDef fmDefaultGrabDef(void)
@@ -40,6 +41,7 @@ void fmGrab_Free(fmBody* b)
 	fmGrab* g = b->grab;
 	if (g == NULL)
 		return;
+	b->grabRelaxProxy = g->proxy;
 	FM_FREE_ARRAY(g->weight, double, g->count);
 	FM_FREE_ARRAY(g->rest, double, 3 * (size_t)g->count);
 	FM_FREE_ARRAY(g, fmGrab, 1);
@@ -65,6 +67,18 @@ void fmGrab_Advance(fmBody* b, double fraction)
 		target->motion[1] = motion.y;
 		target->motion[2] = motion.z;
 	}
+}
+
+bool fmGrab_NeedsAdaptiveSteps(fmBody* b)
+{
+	if (b->grab != NULL)
+		return true;
+	if (b->grabRelaxProxy <= 0.0)
+		return false;
+	if (fmStiffeningProxy(&b->mesh, b->state.x) > 1.1 * b->grabRelaxProxy)
+		return true;
+	b->grabRelaxProxy = 0.0;
+	return false;
 }
 
 void fmGrab_EndFrame(fmBody* b)
@@ -187,6 +201,8 @@ static fmResult fmBodyGrabIn(fmBody* b, fmWorld* w, fmVec3 point, const fmGrabDe
 	}
 	b->grab = g;
 	fmGrabStrength(g, def, mass, w->def.gravity);
+	double proxy = fmStiffeningProxy(&b->mesh, b->state.x);
+	g->proxy = b->grabRelaxProxy > 0.0 ? fmMin(b->grabRelaxProxy, proxy) : proxy;
 	g->anchor = g->from = g->goal = point;
 	bool made = fmMakeGrab(b, weight, fmPatchShares(b, point, radius, weight), g);
 	FM_FREE_ARRAY(weight, double, b->mesh.vertexCount);

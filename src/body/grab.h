@@ -17,6 +17,7 @@ typedef struct fmGrab
 	double stiffness; // N/m, the whole grab's
 	double damping;   // N s/m, the whole grab's
 	double maxForce;  // N, the whole grab's bound
+	double proxy;     // the body's stiffening proxy (stability.h) at the grab
 } fmGrab;
 
 // Place the grabbed body's targets where the grab's target is at @p fraction of the frame (in
@@ -28,3 +29,9 @@ void fmGrab_EndFrame(fmBody* body);
 
 // Drop the grab (its targets too); nothing when there is none.
 void fmGrab_Free(fmBody* body);
+
+// Whether an explicit world must take adaptive substeps for the body: it is grabbed, or was and
+// is still stretched beyond 1.1 times its stiffening proxy at the grab (a stretched body let go
+// snaps back, faster than the scene's fixed substep may follow). Forgets a let-go body that
+// has relaxed.
+bool fmGrab_NeedsAdaptiveSteps(fmBody* body);

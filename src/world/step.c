@@ -417,13 +417,14 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmStepContext* ctx, fmAutoStep* p
 	return fm_ok;
 }
 
-// Whether a stepping body is grabbed (grab.h).
-static bool fmWorldGrabbed(const fmWorld* w)
+// Whether a stepping body is grabbed, or was and is still stretched (grab.h).
+static bool fmWorldGrabbed(fmWorld* w)
 {
+	bool any = false;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (w->bodies[i].grab != NULL && fmIsland_Stepping(&w->bodies[i]))
-			return true;
-	return false;
+		if (fmIsland_Stepping(&w->bodies[i]))
+			any = fmGrab_NeedsAdaptiveSteps(&w->bodies[i]) || any;
+	return any;
 }
 
 // The frame's step context: its times, the world's workers and arena, the bookings zeroed.
