@@ -1258,7 +1258,7 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 		fmWorldId world = fmCreateWorld(&wdef);
 		fmBodyDef def = implicitHouseDef();
 		fmBodyId a = addHouse(failures_, world, fmMakeVec3(0.0, -1.0, 0.0), &def);
-		fmBodyId b = addHouse(failures_, world, fmMakeVec3(0.3, 1.3, 0.0), &def);
+		fmBodyId b = addHouse(failures_, world, fmMakeVec3(0.3, 3.03, 0.0), &def); // 3 cm above
 		fmColliderDef sphere = fmDefaultColliderDef();
 		sphere.shape = fm_shapeSphere;
 		sphere.center = fmMakeVec3(1.5, -2.5, 0.0);
@@ -1591,9 +1591,17 @@ static void overlappingComeApart(int* failures_, fmIntegrator integrator)
 	wdef.floor.height = 0.0;
 	fmWorldId world = fmCreateWorld(&wdef);
 	fmBodyDef def = softDef(1e5);
+	// Made apart (a body made overlapping is refused), then moved half into the other.
 	fmBodyId boxes[2] = {
 	    addBox(failures_, world, 4, fmMakeVec3(-0.5, 0.0, -0.5), fmMakeVec3(0.5, 1.0, 0.5), &def),
-	    addBox(failures_, world, 4, fmMakeVec3(-0.3, 0.5, -0.3), fmMakeVec3(0.7, 1.5, 0.7), &def)};
+	    addBox(failures_, world, 4, fmMakeVec3(2.7, 0.5, -0.3), fmMakeVec3(3.7, 1.5, 0.7), &def)};
+	int n = fmBody_GetVertexCount(boxes[1]);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(x, fmTestPositions(boxes[1]), sizeof(double) * 3 * (size_t)n);
+	for (int i = 0; i < n; ++i)
+		x[3 * i] -= 3.0;
+	fmBody_SetPositions(boxes[1], x);
+	free(x);
 	int inside = 0, start = 0, failed = 0;
 	deepestInside(boxes, 2, &start);
 	bool implicit = integrator == fm_implicit;
@@ -1618,10 +1626,62 @@ static void overlappingComeApart(int* failures_, fmIntegrator integrator)
 	fmDestroyWorld(world);
 }
 
+// A body put half inside another by fmBody_SetPositions: explicit substeps push it out.
 TEST(overlapping_bodies_come_apart)
 {
 	overlappingComeApart(failures_, fm_implicit);
 	overlappingComeApart(failures_, fm_explicit);
+}
+
+// A body made overlapping another it collides with is refused with the reason (a crossing edge
+// or a vertex inside, and which body); one wholly inside another too (no edge crosses: its
+// vertices are inside). Made touching, with filters that do not meet, or in a world without
+// body contact, it is made.
+TEST(overlapping_bodies_are_refused_at_creation)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.floor.height = 0.0;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = softDef(1e5);
+	addBox(failures_, world, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &def);
+	struct
+	{
+		fmVec3 lo, hi;
+		const char* what;
+	} refused[2] = {{{0.43, 0.57, 0.31}, {1.43, 1.57, 1.31}, "edges crossing"},
+	                {{0.3, 0.3, 0.3}, {0.6, 0.6, 0.6}, "vertices inside"}};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmTetMesh mesh;
+		CHECK_INT(fmMakeBoxMesh(2, 2, 2, refused[k].lo, refused[k].hi, &mesh), fm_ok);
+		fmBodyDef bdef = def;
+		bdef.mesh = &mesh;
+		fmBodyId body;
+		fmDiagnostic diag;
+		CHECK_INT(fmCreateBody(world, &bdef, &body, &diag), fm_errParameter);
+		printf("  %s: %s\n", refused[k].what, diag.message);
+		CHECK(strstr(diag.message, "would start overlapping body 0") != NULL);
+		CHECK(strstr(diag.message, k == 0 ? "(0 surface edges" : "0 surface vertices inside") == NULL);
+		CHECK(!fmBody_IsValid(body));
+		// A filter the first body's does not meet (category 2 against its category 1): made.
+		bdef.filter.categoryBits = 2;
+		bdef.filter.maskBits = 2;
+		CHECK_INT(fmCreateBody(world, &bdef, &body, &diag), fm_ok);
+		fmDestroyBody(body);
+		// A world without body contact: made.
+		fmWorldDef apart = wdef;
+		apart.contact.bodies = false;
+		fmWorldId free = fmCreateWorld(&apart);
+		bdef.filter = fmDefaultFilter();
+		addBox(failures_, free, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &def);
+		CHECK_INT(fmCreateBody(free, &bdef, &body, &diag), fm_ok);
+		fmDestroyWorld(free);
+		fmFreeTetMesh(&mesh);
+	}
+	// Touching face to face: made.
+	fmBodyId touching = addBox(failures_, world, 2, fmMakeVec3(0, 1, 0), fmMakeVec3(1, 2, 1), &def);
+	CHECK(fmBody_IsValid(touching));
+	fmDestroyWorld(world);
 }
 
 // The implicit edge planes' penalty (penalty.c, fmEdgePlane): its gradient is its energy's

@@ -124,7 +124,11 @@ FM_API fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, s
 /// not modified); tets are reoriented positive; degenerate tets are rejected (fm_errDegenerate
 /// with the tet index in @p diag). A body whose estimated memory (fmEstimateBodyMemory()) does
 /// not fit in what the world's memory budget has left is refused with fm_errLimit before
-/// anything is allocated. @p bodyId (optional) is zeroed on failure.
+/// anything is allocated. In a world with contact between bodies (fmContactDef.bodies), a body
+/// whose surface would start crossing, or lying inside, another body it collides with (filters
+/// that meet) is refused with fm_errParameter, @p diag naming that body and the crossings:
+/// contact holds bodies apart and cannot separate surfaces that already cross (touching is
+/// allowed). @p bodyId (optional) is zeroed on failure.
 FM_API fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
                              fmDiagnostic* diag);
 

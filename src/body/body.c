@@ -19,6 +19,7 @@
 #include "mesh/reorder.h"
 #include "solver/solver_cache.h"
 #include "fem/tet_blocks.h"
+#include "world/audit.h"
 #include "world/world.h"
 
 #include <math.h>
@@ -317,6 +318,28 @@ static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t
 
 // ---- creation and ids --------------------------------------------------------------------------
 
+// A new body that would start crossing or inside another it collides with is refused: contact
+// holds bodies apart, it cannot separate surfaces that already cross (docs/contact.md).
+static fmResult fmRefuseOverlap(fmWorld* w, int slot, fmDiagnostic* diag)
+{
+	fmContactAudit audit;
+	fmResult r = fmAudit_Body(w, slot, &audit);
+	if (r != fm_ok)
+		return fmDiagError(diag, r, "", 0, 0,
+		                   "cannot check that the new body starts apart from the others (%s)",
+		                   fmResultMessage(r));
+	if (audit.crossings == 0 && audit.verticesInside == 0)
+		return fm_ok;
+	const fmAuditFinding* f = audit.crossings > 0 ? &audit.firstCrossing : &audit.firstInside;
+	fmBodyId other = f->body.index1 == slot + 1 ? f->otherBody : f->body;
+	return fmDiagError(diag, fm_errParameter, "", 0, 0,
+	                   "the body would start overlapping body %d (%d surface edges crossing "
+	                   "surface triangles, %d surface vertices inside, up to %.3g m deep): bodies "
+	                   "that collide must start apart, contact cannot separate surfaces that "
+	                   "already cross; move it, or give the two bodies filters that do not meet",
+	                   (int)other.index1 - 1, audit.crossings, audit.verticesInside, audit.deepest);
+}
+
 static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
                                fmDiagnostic* diag)
 {
@@ -352,6 +375,8 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 		                b->mesh.vertexCount);
 	if (r == fm_ok)
 		b->explicitLimit = fmWorldBodyStepLimit(world, b);
+	if (r == fm_ok && world->def.contact.bodies)
+		r = fmRefuseOverlap(world, slot, diag);
 	if (r != fm_ok)
 	{
 		fmBodyRelease(b);

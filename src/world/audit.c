@@ -17,8 +17,10 @@
 // the body's box, a triangle in every cell its box, slightly enlarged, overlaps), queried by each
 // other body's edges and vertices within the body's box; a stamp per triangle visits each once
 // per query.
-#include "core/core.h"
+#include "world/audit.h"
 #include "core/det_math.h"
+
+#include "core/core.h"
 #include "core/fp_env.h"
 #include "math/geometry.h"
 #include "world/world.h"
@@ -307,6 +309,7 @@ typedef struct fmAuditRun
 	int count;
 	int query; // the stamp of the current query
 	fmContactAudit* out;
+	int focus; // a slot: only the pairs with that body whose filters meet, no tets; -1: all
 } fmAuditRun;
 
 // Whether the boxes [alo, ahi] and [blo, bhi] overlap (closed).
@@ -446,6 +449,17 @@ static void fmAuditTets(fmAuditRun* run, const fmAuditBody* a)
 	}
 }
 
+// Whether the run looks at the pair of @p a and @p b: every pair, or with a focus the pairs of
+// the focus and another body whose filters meet.
+static bool fmAuditLooksAt(const fmAuditRun* run, const fmAuditBody* a, const fmAuditBody* b)
+{
+	if (run->focus < 0)
+		return true;
+	fmFilter fa = a->body->filter, fb = b->body->filter;
+	return a != b && (a->slot == run->focus || b->slot == run->focus) &&
+	       (fa.categoryBits & fb.maskBits) != 0 && (fb.categoryBits & fa.maskBits) != 0;
+}
+
 // Every ordered pair of bodies whose boxes meet: a's edges against b's triangles and a's
 // vertices against b's inside; a's own edges when it collides with itself.
 static void fmAuditPairs(fmAuditRun* run)
@@ -453,12 +467,14 @@ static void fmAuditPairs(fmAuditRun* run)
 	for (int ia = 0; ia < run->count; ++ia)
 	{
 		fmAuditBody* a = &run->bodies[ia];
-		fmAuditTets(run, a);
+		if (run->focus < 0)
+			fmAuditTets(run, a);
 		for (int ib = 0; ib < run->count; ++ib)
 		{
 			fmAuditBody* b = &run->bodies[ib];
 			bool self = ia == ib;
-			if ((self && !a->body->selfCollision) || !fmAuditBoxesMeet(a->lo, a->hi, b->lo, b->hi))
+			if ((self && !a->body->selfCollision) || !fmAuditBoxesMeet(a->lo, a->hi, b->lo, b->hi) ||
+			    !fmAuditLooksAt(run, a, b))
 				continue;
 			for (int e = 0; e < a->edgeCount; ++e)
 				fmAuditEdge(run, a, b, e);
@@ -481,11 +497,11 @@ static bool fmAuditFinite(const fmWorld* w)
 	return true;
 }
 
-static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit)
+static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit, int focus)
 {
 	if (!fmAuditFinite(w))
 		return fm_errNumerical;
-	fmAuditRun run = {w, NULL, 0, 0, audit};
+	fmAuditRun run = {w, NULL, 0, 0, audit, focus};
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 		run.count += fmBody_IsLive(&w->bodies[slot]);
 	run.bodies = FM_ALLOC_ZERO(fmAuditBody, run.count);
@@ -509,6 +525,22 @@ static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit)
 	return ok ? fm_ok : fm_errOutOfMemory;
 }
 
+// The audit's findings, none yet.
+static fmContactAudit fmAuditNothing(void)
+{
+	fmContactAudit found;
+	memset(&found, 0, sizeof found);
+	fmAuditFinding none = {{0, 0, 0, 0}, {0, 0, 0, 0}, {-1, -1}, -1, 0.0};
+	found.firstCrossing = found.firstSelfCrossing = found.firstInside = found.firstInverted = none;
+	return found;
+}
+
+fmResult fmAudit_Body(fmWorld* w, int slot, fmContactAudit* audit)
+{
+	*audit = fmAuditNothing();
+	return fmAuditIn(w, audit, slot);
+}
+
 fmResult fmWorld_AuditContact(fmWorldId worldId, fmContactAudit* audit)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
@@ -517,12 +549,9 @@ fmResult fmWorld_AuditContact(fmWorldId worldId, fmContactAudit* audit)
 		return fm_errInvalidId;
 	if (audit == NULL)
 		return fm_errParameter;
-	fmContactAudit found;
-	memset(&found, 0, sizeof found);
-	fmAuditFinding none = {{0, 0, 0, 0}, {0, 0, 0, 0}, {-1, -1}, -1, 0.0};
-	found.firstCrossing = found.firstSelfCrossing = found.firstInside = found.firstInverted = none;
+	fmContactAudit found = fmAuditNothing();
 	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
-	fmResult result = fmAuditIn(w, &found);
+	fmResult result = fmAuditIn(w, &found, -1);
 	fmFpEnv_Leave(&env);
 	if (result == fm_ok)
 		*audit = found;
