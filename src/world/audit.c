@@ -149,7 +149,10 @@ static bool fmAuditSurface(fmAuditBody* ab)
 	int t3 = 3 * m->triangleCount;
 	ab->edges = FM_ALLOC_ARRAY(int, 2 * (size_t)t3);
 	ab->vertices = FM_ALLOC_ARRAY(int, t3);
-	if (t3 > 0 && (ab->edges == NULL || ab->vertices == NULL))
+	ab->edgeCount = ab->vertexCount = 0;
+	if (t3 == 0) // no surface (nothing to sort: qsort takes no NULL array)
+		return true;
+	if (ab->edges == NULL || ab->vertices == NULL)
 		return false;
 	for (int k = 0; k < t3; ++k)
 	{
@@ -160,7 +163,6 @@ static bool fmAuditSurface(fmAuditBody* ab)
 	}
 	qsort(ab->edges, (size_t)t3, 2 * sizeof(int), fmAuditCompareEdges);
 	qsort(ab->vertices, (size_t)t3, sizeof(int), fmAuditCompareInts);
-	ab->edgeCount = ab->vertexCount = 0;
 	for (int k = 0; k < t3; ++k)
 	{
 		int e = ab->edgeCount;
