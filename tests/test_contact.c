@@ -1661,7 +1661,8 @@ TEST(overlapping_bodies_are_refused_at_creation)
 		CHECK_INT(fmCreateBody(world, &bdef, &body, &diag), fm_errParameter);
 		printf("  %s: %s\n", refused[k].what, diag.message);
 		CHECK(strstr(diag.message, "would start overlapping body 0") != NULL);
-		CHECK(strstr(diag.message, k == 0 ? "(0 surface edges" : "0 surface vertices inside") == NULL);
+		CHECK(strstr(diag.message, k == 0 ? "(0 surface edges" : "0 surface vertices inside") ==
+		      NULL);
 		CHECK(!fmBody_IsValid(body));
 		// A filter the first body's does not meet (category 2 against its category 1): made.
 		bdef.filter.categoryBits = 2;
@@ -1953,8 +1954,9 @@ TEST(barrier_stack_rests_on_its_weight_and_sleeps)
 		}
 		else
 		{
-			printf("  the floor carries %.1f N of the houses' %.1f N (%+.3f%%) over the last second\n",
-			       carried, weight, 100.0 * (carried - weight) / weight);
+			printf(
+			    "  the floor carries %.1f N of the houses' %.1f N (%+.3f%%) over the last second\n",
+			    carried, weight, 100.0 * (carried - weight) / weight);
 			CHECK_REL(carried, weight, 0.01, 0.0);
 		}
 		fmDestroyWorld(world);

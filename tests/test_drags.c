@@ -52,7 +52,8 @@ static fmVec3 dragDirection(uint32_t* state)
 {
 	fmVec3 d;
 	do
-		d = fmMakeVec3(dragUniform(state, -1, 1), dragUniform(state, -1, 1), dragUniform(state, -1, 1));
+		d = fmMakeVec3(dragUniform(state, -1, 1), dragUniform(state, -1, 1),
+		               dragUniform(state, -1, 1));
 	while (fmLength(d) < 0.1 || fmLength(d) > 1.0);
 	return fmScale(1.0 / fmLength(d), d);
 }
@@ -65,7 +66,8 @@ static void dragFrame(DragScene* s, DragTally* t)
 	if (r != fm_ok)
 	{
 		if (t->refused++ == 0)
-			snprintf(t->firstError, sizeof t->firstError, "%s", fmWorld_GetLastError(s->world)->message);
+			snprintf(t->firstError, sizeof t->firstError, "%s",
+			         fmWorld_GetLastError(s->world)->message);
 	}
 	for (int b = 0; b < s->count; ++b)
 		t->inverted += fmBody_GetStats(s->bodies[b]).invertedTets;
@@ -81,7 +83,8 @@ static bool dragGrab(DragScene* s, uint32_t* state, fmBodyId* body, fmVec3* poin
 	fmVec3 from = fmAdd(aim, fmScale(5.0 * size, dragDirection(state)));
 	fmGrabDef def = fmDefaultGrabDef();
 	fmRayHit hit;
-	if (!fmWorld_GrabRay(s->world, from, fmScale(2.0, fmSub(aim, from)), fmDefaultFilter(), &def, &hit))
+	if (!fmWorld_GrabRay(s->world, from, fmScale(2.0, fmSub(aim, from)), fmDefaultFilter(), &def,
+	                     &hit))
 		return false;
 	*body = hit.body;
 	*point = hit.point;
@@ -189,8 +192,8 @@ TEST(drags_on_the_pile)
 	fmWorldDef def = fmDefaultWorldDef();
 	def.integrator = fm_implicit;
 	def.floor.friction = fm_floorCoulomb;
-	DragScene s = {"three-house pile, implicit", fmCreateWorld(&def), {{0}}, 3, fm_implicit,
-	               1.0 / 60.0, 1};
+	DragScene s = {
+	    "three-house pile, implicit", fmCreateWorld(&def), {{0}}, 3, fm_implicit, 1.0 / 60.0, 1};
 	for (int h = 0; h < 3; ++h)
 		s.bodies[h] = dragHouse(failures_, s.world, fmMakeVec3(0.3 * h, 4.3 * h, 0.0));
 	dragScene(failures_, &s, dragCount(30), 37u);
@@ -205,7 +208,8 @@ TEST(drags_on_the_cantilever)
 	fmWorldDef def = fmDefaultWorldDef();
 	def.integrator = fm_implicit;
 	def.floor.enabled = false;
-	DragScene s = {"cantilever, implicit", fmCreateWorld(&def), {{0}}, 1, fm_implicit, 1.0 / 60.0, 1};
+	DragScene s = {
+	    "cantilever, implicit", fmCreateWorld(&def), {{0}}, 1, fm_implicit, 1.0 / 60.0, 1};
 	fmBodyDef bdef = fmDefaultBodyDef();
 	bdef.mesh = &mesh;
 	bdef.material = fmMakeMaterial(fm_neoHookean, 1e7, 0.4);

@@ -39,7 +39,7 @@ typedef struct fvSession
 	fmStepStats stats;  ///< of the last step
 	fmProfile profile;  ///< of the last step
 	bool dragging;
-	int dragBody; ///< index in sim.bodies of the body grabbed (fmWorld_GrabRay)
+	int dragBody;      ///< index in sim.bodies of the body grabbed (fmWorld_GrabRay)
 	char status[2048]; ///< the last problem (a failed step, a rejected parameter), "" if none
 } fvSession;
 

@@ -189,7 +189,8 @@ static fmResult fmBodyGrabIn(fmBody* b, fmWorld* w, fmVec3 point, const fmGrabDe
 	fmGrab_Free(b);
 	b->targetCount = 0;
 	double mass, size = fmBodySize(b, &mass);
-	double radius = fmPatchRadius(b, point, def->radius > 0.0 ? def->radius : FM_GRAB_RADIUS * size);
+	double radius =
+	    fmPatchRadius(b, point, def->radius > 0.0 ? def->radius : FM_GRAB_RADIUS * size);
 	double* weight = FM_ALLOC_ARRAY(double, b->mesh.vertexCount);
 	fmGrab* g = FM_ALLOC_ZERO(fmGrab, 1);
 	if (weight == NULL || g == NULL)

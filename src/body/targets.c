@@ -28,7 +28,9 @@ static double fmTargetSpring(const fmTargetStep* s, int t, const double* x, doub
 	const double* x0 = s->xStart + 3 * target->vertex;
 	for (int e = 0; e < 3; ++e)
 	{
-		double q = (k * target->position[e] + c * s->rate * x0[e] + c * target->motion[e] * s->frameRate) / blend;
+		double q =
+		    (k * target->position[e] + c * s->rate * x0[e] + c * target->motion[e] * s->frameRate) /
+		    blend;
 		d[e] = xi[e] - q;
 	}
 	return blend;
@@ -230,7 +232,9 @@ static void fmTargetsTermHessian(const void* context, const double* x, const fmB
 		double block[9];
 		fmTargetBlock(s, t, x, block);
 		int i = s->body->targets[t].vertex;
-		double* into = values + 9 * (size_t)(pattern != NULL && pattern->diagonal != NULL ? pattern->diagonal[i] : i);
+		double* into =
+		    values +
+		    9 * (size_t)(pattern != NULL && pattern->diagonal != NULL ? pattern->diagonal[i] : i);
 		for (int k = 0; k < 9; ++k)
 			into[k] += block[k];
 	}

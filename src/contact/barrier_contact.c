@@ -189,8 +189,7 @@ static bool fmGatherOthers(fmBarrierContact* bc, fmVec3 lo, fmVec3 hi)
 
 // The body's own primitives at @p x (swept along @p dx when not NULL), their boxes grown by
 // @p grow, hashed for self-contact.
-static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const double* dx,
-                        double grow)
+static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const double* dx, double grow)
 {
 	const fmBody* b = &bc->world->bodies[bc->slot];
 	fmBarrierScratch* s = bc->scratch;
@@ -335,7 +334,8 @@ static bool fmVisitBody(const fmBarrierContact* bc, const double* x, const doubl
 			fmBarrierPrimitive p = {bc->slot, k, kind};
 			fmVec3 lo, hi;
 			fmPrimitiveBox(b, &p, x, dx, grow, &lo, &hi);
-			if (bc->scratch->otherCount > 0 && !fmVisitStencils(bc, &p, lo, hi, false, visit, context))
+			if (bc->scratch->otherCount > 0 &&
+			    !fmVisitStencils(bc, &p, lo, hi, false, visit, context))
 				return false;
 			fmPrimitiveBox(b, &p, x, dx, selfGrow, &lo, &hi);
 			if (bc->self && !fmVisitStencils(bc, &p, lo, hi, true, visit, context))
@@ -439,7 +439,8 @@ static bool fmCoverSegment(const fmBarrierContact* bc, const double* x, const do
 	s->candidateCount = 0;
 	const double grow = r * (1.0 + 1e-9);
 	if ((bc->self && !fmGatherOwn(bc, s->candidateCentre, NULL, grow + 0.5 * bc->dHat)) ||
-	    !fmVisitBody(bc, s->candidateCentre, NULL, grow, grow + 0.5 * bc->dHat, fmKeepCandidate, NULL))
+	    !fmVisitBody(bc, s->candidateCentre, NULL, grow, grow + 0.5 * bc->dHat, fmKeepCandidate,
+	                 NULL))
 	{
 		s->candidateCount = -1;
 		return false;
@@ -828,16 +829,10 @@ static double fmBarrierStepBound(const void* context, const double* x, const dou
 	fmBarrierScratch* s = bc->scratch;
 	double t = fmReachBound(bc, x, dx, 1.0);
 	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
-	int capacity = s->gradientCapacity;
-	if (!fmGrowArray((void**)&s->gradient, &capacity, 0, n3, sizeof(double)))
-	{
-		s->failed = true;
-		return 0.0;
-	}
-	s->gradientCapacity = capacity;
-	for (int k = 0; k < n3; ++k)
+	bool room = fmGrowArray((void**)&s->gradient, &s->gradientCapacity, 0, n3, sizeof(double));
+	for (int k = 0; room && k < n3; ++k)
 		s->gradient[k] = t * dx[k]; // the segment (the work's buffer, free here)
-	if (!fmCoverSegment(bc, x, s->gradient))
+	if (!room || !fmCoverSegment(bc, x, s->gradient))
 	{
 		s->failed = true;
 		return 0.0;

@@ -31,8 +31,8 @@
 #include "contact/contact_ledger.h"
 #include "contact/contact_pair.h"
 #include "contact/contact_state.h"
-#include "core/core.h"
 #include "contact/embedded.h"
+#include "core/core.h"
 #include "core/timer.h"
 
 #include <math.h>

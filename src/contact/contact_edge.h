@@ -2,9 +2,9 @@
 // closest points lie inside both edges, within the thickness or crossed during the substep, are
 // pushed apart along the direction between those points, shared by inverse masses; then
 // restitution and friction act on their relative velocity (explicit
-// substeps; implicit steps hold edges apart with the barrier, barrier_contact.h). Rules: finding reads only (on the workers, into the worker's
-// own list, each body pair once: the other body of a higher slot); projecting and responding
-// run on one thread in item order.
+// substeps; implicit steps hold edges apart with the barrier, barrier_contact.h). Rules: finding
+// reads only (on the workers, into the worker's own list, each body pair once: the other body of a
+// higher slot); projecting and responding run on one thread in item order.
 #pragma once
 
 #include "contact/contact_state.h"

@@ -19,10 +19,11 @@
 #include "solver/newton.h"
 
 // A surface edge's frozen plane for one implicit step (in body->edgePlanes; the step no longer
-// makes them since the barrier, barrier_contact.h: the term and its tests remain): the edge's point (1 - s) x[a] + s x[b], closest to another body's edge,
-// is kept the thickness in front of the plane n . x = offset through that edge's point, with
-// the same penalty as a vertex (its mass the edge point's, (1 - s) m[a] + s m[b]). Where two
-// bodies' edges cross, vertex-triangle planes alone let coarse meshes pass through each other.
+// makes them since the barrier, barrier_contact.h: the term and its tests remain): the edge's point
+// (1 - s) x[a] + s x[b], closest to another body's edge, is kept the thickness in front of the
+// plane n . x = offset through that edge's point, with the same penalty as a vertex (its mass the
+// edge point's, (1 - s) m[a] + s m[b]). Where two bodies' edges cross, vertex-triangle planes alone
+// let coarse meshes pass through each other.
 typedef struct fmEdgePlane
 {
 	int a, b;      // the edge's vertices

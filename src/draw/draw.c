@@ -9,9 +9,9 @@
 #include "body/targets.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
+#include "core/fp_env.h"
 #include "fem/force_spring.h"
 #include "fem/forces.h"
-#include "core/fp_env.h"
 #include "material/material.h"
 #include "world/world.h"
 

@@ -475,8 +475,8 @@ static void fmAuditPairs(fmAuditRun* run)
 		{
 			fmAuditBody* b = &run->bodies[ib];
 			bool self = ia == ib;
-			if ((self && !a->body->selfCollision) || !fmAuditBoxesMeet(a->lo, a->hi, b->lo, b->hi) ||
-			    !fmAuditLooksAt(run, a, b))
+			if ((self && !a->body->selfCollision) ||
+			    !fmAuditBoxesMeet(a->lo, a->hi, b->lo, b->hi) || !fmAuditLooksAt(run, a, b))
 				continue;
 			for (int e = 0; e < a->edgeCount; ++e)
 				fmAuditEdge(run, a, b, e);

@@ -43,7 +43,8 @@ static void fmAddTargetForces(fmBody* b, double dt, double frameTime, double* f)
 	{
 		fmTarget* target = &b->targets[t];
 		double m = b->mesh.mass[target->vertex];
-		fmTargets_ExplicitForce(target, b->state.x, b->state.v, (target->damping > 0.0 ? 0.25 : 1.0) * m / (dt * dt), 0.25 * m / dt,
+		fmTargets_ExplicitForce(target, b->state.x, b->state.v,
+		                        (target->damping > 0.0 ? 0.25 : 1.0) * m / (dt * dt), 0.25 * m / dt,
 		                        1.0 / frameTime, target->applied);
 		for (int e = 0; e < 3; ++e)
 			f[3 * target->vertex + e] += target->applied[e];

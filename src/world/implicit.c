@@ -136,8 +136,8 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 // the world's solver settings.
 static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepContext* ctx, fmBody* b,
                                          fmImplicitCache* c, const fmFloorDef* floor,
-                                         fmContactPenalty* penalty,
-                                         const fmBarrierContact* barrier, fmTargetStep* targets)
+                                         fmContactPenalty* penalty, const fmBarrierContact* barrier,
+                                         fmTargetStep* targets)
 {
 	const double h = ctx->substep;
 	fmArena* arena = ctx->arena;
@@ -237,7 +237,8 @@ static void fmBarrierFreeStart(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
                                const fmNewtonProblem* pb)
 {
-	fmStepContext_AddContactWork(ctx, b->slot, fmTargets_ImplicitWork(pb->targets.context, b->state.x));
+	fmStepContext_AddContactWork(ctx, b->slot,
+	                             fmTargets_ImplicitWork(pb->targets.context, b->state.x));
 	if (fmLoads_Active(b))
 	{
 		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)

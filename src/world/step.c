@@ -3,9 +3,9 @@
 // and the restore of the last good state (docs/architecture.md, "A frame").
 #include "world/world.h"
 
+#include "body/grab.h"
 #include "contact/contact.h"
 #include "contact/contact_events.h"
-#include "body/grab.h"
 #include "core/core.h"
 #include "core/det_math.h"
 #include "core/fp_env.h"
@@ -500,7 +500,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 
 	// Stage 1: the substep length (autoSubstep, or a grab in an explicit world: from the
 	// stability limit at the current deformation, which a grab can stretch far).
-	const bool autoStep = w->def.integrator == fm_explicit && (w->def.autoSubstep || fmWorldGrabbed(w));
+	const bool autoStep =
+	    w->def.integrator == fm_explicit && (w->def.autoSubstep || fmWorldGrabbed(w));
 	fmAutoStep plan = {0.0, 1.0};
 	if (autoStep)
 	{
