@@ -244,6 +244,30 @@ static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	                        fmFuzzPick(r, 4) ? written : (size_t)fmFuzzPick(r, (int)written + 1));
 }
 
+// A grab with a fuzzed def (sometimes not from fmDefaultGrabDef()), by a ray or at a point.
+static void fuzzGrab(fmFuzzReader* r, fmWorldId world, fmBodyId body)
+{
+	fmGrabDef def = fmDefaultGrabDef();
+	def.radius = fmFuzzDouble(r, -0.1, 1.0);
+	def.stiffness = fmFuzzDouble(r, -1.0, 1e4);
+	def.dampingRatio = fmFuzzDouble(r, -0.5, 3.0);
+	def.maxForce = fmFuzzDouble(r, -1.0, 1e3);
+	if (fmFuzzPick(r, 16) == 0)
+		fmFuzzBytes(r, &def, sizeof def);
+	fmVec3 point = fmFuzzVec3(r, -3.0, 3.0);
+	if (fmFuzzPick(r, 2))
+	{
+		fmFilter filter = {fmFuzzPick(r, 4), fmFuzzPick(r, 4)};
+		fmRayHit hit;
+		fmWorld_GrabRay(world, point, fmFuzzVec3(r, -6.0, 6.0), filter,
+		                fmFuzzPick(r, 8) ? &def : NULL, fmFuzzPick(r, 2) ? &hit : NULL);
+	}
+	else
+		fmBody_Grab(body, point, fmFuzzPick(r, 8) ? &def : NULL);
+	fmVec3 at, target;
+	(void)fmBody_GetGrab(body, fmFuzzPick(r, 2) ? &at : NULL, fmFuzzPick(r, 2) ? &target : NULL);
+}
+
 // Public calls with fuzzed arguments on a live (or stale) body.
 static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
@@ -253,7 +277,7 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	for (int c = 0; c < calls; ++c)
 	{
 		int vertex = fmFuzzPick(r, n + 3) - 1;
-		switch (fmFuzzPick(r, 16))
+		switch (fmFuzzPick(r, 18))
 		{
 		case 0:
 			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
@@ -320,6 +344,14 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 		}
 		case 14:
 			fmBody_SetAwake(body, fmFuzzPick(r, 2) == 0);
+			break;
+		case 15:
+			fuzzGrab(r, world, body);
+			break;
+		case 16:
+			fmBody_MoveGrab(body, fmFuzzVec3(r, -30.0, 30.0));
+			if (fmFuzzPick(r, 4) == 0)
+				fmBody_ReleaseGrab(body);
 			break;
 		default:
 		{

@@ -217,3 +217,47 @@ TEST(bad_grabs_are_refused_with_the_reason)
 	CHECK(!fmBody_IsValid(hit.body));
 	fmDestroyWorld(world);
 }
+
+// A point nearest to a vertex that cannot move (a node no tet uses is pinned) still pulls the
+// body: the patch grows to the nearest free vertices; a body with none is refused.
+TEST(grab_at_a_pinned_node_pulls_the_body)
+{
+	static const double nodes[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 3, 0, 0};
+	static const int tets[] = {0, 1, 2, 3};
+	fmTetMesh mesh;
+	memset(&mesh, 0, sizeof mesh);
+	mesh.nodeCount = 5;
+	mesh.positions = (double*)nodes;
+	mesh.tetCount = 1;
+	mesh.tets = (int*)tets;
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	worldDef.gravity = fmMakeVec3(0, 0, 0);
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	fmBodyId body;
+	CHECK_INT(fmCreateBody(world, &def, &body, NULL), fm_ok);
+	fmGrabDef grab = fmDefaultGrabDef();
+	grab.radius = 0.1;
+	CHECK_INT(fmBody_Grab(body, fmMakeVec3(3, 0, 0), &grab), fm_ok);
+	CHECK(fmBody_GetTargetCount(body) >= 1);
+	CHECK_INT(fmBody_MoveGrab(body, fmMakeVec3(3, 1, 0)), fm_ok);
+	for (int f = 0; f < 10; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	double x[15];
+	CHECK_INT(fmBody_CopyPositions(body, x, 5), fm_ok);
+	double lift = 0.0;
+	for (int k = 0; k < 15; ++k)
+		CHECK(isfinite(x[k]));
+	for (int v = 0; v < 4; ++v)
+		lift += x[3 * v + 1] / 4.0;
+	printf("  the tet's mean lift %.3f m after 10 frames\n", lift - 0.25);
+	CHECK(lift > 0.26);     // pulled up
+	CHECK(x[13] == 0.0); // the node stays pinned
+	fmBody_ReleaseGrab(body);
+	for (int v = 0; v < 4; ++v)
+		fmBody_SetPinnedAxes(body, v, 7);
+	CHECK_INT(fmBody_Grab(body, fmMakeVec3(0, 0, 0), &grab), fm_errParameter);
+	CHECK(strstr(fmWorld_GetLastError(world)->message, "free to move") != NULL);
+	fmDestroyWorld(world);
+}

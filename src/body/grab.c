@@ -102,18 +102,20 @@ static double fmBodySize(const fmBody* b, double* mass)
 	return fmLength(fmSub(hi, lo));
 }
 
-// The patch's radius: the asked one, but at least twice the distance to the nearest vertex (so
-// that some vertex has a share).
+// The patch's radius: the asked one, but at least twice the distance to the nearest free vertex
+// (with mass, not pinned on all three axes: so that some free vertex has a share); infinite when
+// no vertex is free.
 static double fmPatchRadius(const fmBody* b, fmVec3 point, double radius)
 {
 	double nearest = INFINITY;
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
-		nearest = fmMin(nearest, fmLength(fmSub(fmLoad(b->state.x, i), point)));
+		if (b->state.invMass[i] > 0.0)
+			nearest = fmMin(nearest, fmLength(fmSub(fmLoad(b->state.x, i), point)));
 	return fmMax(radius, 2.0 * nearest);
 }
 
-// The shares of the vertices within @p radius of @p point into @p weight (one a vertex, zero
-// outside); returns how many have one.
+// The shares of the free vertices within @p radius of @p point into @p weight (one a vertex, zero
+// outside and for pinned ones); returns how many have one.
 static int fmPatchShares(const fmBody* b, fmVec3 point, double radius, double* weight)
 {
 	int count = 0;
@@ -121,7 +123,7 @@ static int fmPatchShares(const fmBody* b, fmVec3 point, double radius, double* w
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		double s = fmLength(fmSub(fmLoad(b->state.x, i), point)) / radius;
-		weight[i] = s < 1.0 ? b->mesh.mass[i] * (1.0 - s * s) * (1.0 - s * s) : 0.0;
+		weight[i] = s < 1.0 && b->state.invMass[i] > 0.0 ? b->mesh.mass[i] * (1.0 - s * s) * (1.0 - s * s) : 0.0;
 		count += weight[i] > 0.0;
 		total += weight[i];
 	}
@@ -186,11 +188,15 @@ static fmResult fmBodyGrabIn(fmBody* b, fmWorld* w, fmVec3 point, const fmGrabDe
 	if (problem != NULL)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "fmBody_Grab: expected %s",
 		                   problem);
-	fmGrab_Free(b);
-	b->targetCount = 0;
 	double mass, size = fmBodySize(b, &mass);
 	double radius =
 	    fmPatchRadius(b, point, def->radius > 0.0 ? def->radius : FM_GRAB_RADIUS * size);
+	if (!isfinite(radius))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "fmBody_Grab: expected a body with a vertex free to move, but every "
+		                   "vertex is pinned or massless");
+	fmGrab_Free(b);
+	b->targetCount = 0;
 	double* weight = FM_ALLOC_ARRAY(double, b->mesh.vertexCount);
 	fmGrab* g = FM_ALLOC_ZERO(fmGrab, 1);
 	if (weight == NULL || g == NULL)
