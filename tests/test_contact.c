@@ -436,6 +436,145 @@ TEST(friction_on_an_incline)
 	}
 }
 
+// What holds the incline's block: a plane collider under tilted gravity, the Coulomb floor under
+// tilted gravity, a plane collider tilted in the world, another body (a pinned slab, tilted).
+typedef enum inclineGround
+{
+	incline_collider,
+	incline_floor,
+	incline_tilted_collider,
+	incline_body,
+	incline_grounds
+} inclineGround;
+
+// Turn a mesh's points about z by @p angle.
+static void turnAboutZ(fmTetMesh* mesh, double angle)
+{
+	for (int i = 0; i < mesh->nodeCount; ++i)
+	{
+		double* p = mesh->positions + 3 * i;
+		double x = p[0], y = p[1];
+		p[0] = cos(angle) * x - sin(angle) * y;
+		p[1] = sin(angle) * x + cos(angle) * y;
+	}
+}
+
+// An implicit world with the 30 degree incline of @p ground at friction @p mu; returns the
+// downhill direction.
+static fmVec3 makeIncline(int* failures_, fmWorldId* world, inclineGround ground, double mu,
+                          double angle)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = ground == incline_floor;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = fm_floorCoulomb;
+	wdef.floor.frictionCoefficient = mu;
+	bool tilted = ground == incline_tilted_collider || ground == incline_body;
+	wdef.gravity =
+	    tilted ? fmMakeVec3(0.0, -9.8, 0.0) : fmMakeVec3(9.8 * sin(angle), -9.8 * cos(angle), 0.0);
+	*world = fmCreateWorld(&wdef);
+	fmColliderDef plane = fmDefaultColliderDef();
+	plane.friction = mu;
+	plane.normal = tilted ? fmMakeVec3(-sin(angle), cos(angle), 0.0) : fmMakeVec3(0.0, 1.0, 0.0);
+	fmColliderId collider;
+	if (ground == incline_collider || ground == incline_tilted_collider)
+		CHECK_INT(fmCreateCollider(*world, &plane, &collider, NULL), fm_ok);
+	if (ground == incline_body)
+	{
+		fmTetMesh slab;
+		CHECK_INT(
+		    fmMakeBoxMesh(24, 1, 3, fmMakeVec3(-6.0, -0.2, -0.5), fmMakeVec3(1.0, 0.0, 0.5), &slab),
+		    fm_ok);
+		turnAboutZ(&slab, angle);
+		fmBodyDef def = fmDefaultBodyDef();
+		def.mesh = &slab;
+		def.material = fmMakeMaterial(fm_neoHookean, 1e7, 0.3);
+		def.friction = mu;
+		fmBodyId body;
+		CHECK_INT(fmCreateBody(*world, &def, &body, NULL), fm_ok);
+		for (int i = 0; i < slab.nodeCount; ++i)
+			fmBody_SetPinnedAxes(body, i, 7);
+		fmFreeTetMesh(&slab);
+	}
+	return tilted ? fmMakeVec3(-cos(angle), -sin(angle), 0.0) : fmMakeVec3(1.0, 0.0, 0.0);
+}
+
+// A stiff 0.2 m block set on the incline (2 mm above it), friction @p mu.
+static fmBodyId inclineBlock(int* failures_, fmWorldId world, inclineGround ground, double mu,
+                             double angle)
+{
+	fmTetMesh mesh;
+	CHECK_INT(
+	    fmMakeBoxMesh(2, 2, 2, fmMakeVec3(-0.1, 0.002, -0.1), fmMakeVec3(0.1, 0.202, 0.1), &mesh),
+	    fm_ok);
+	if (ground == incline_tilted_collider || ground == incline_body)
+		turnAboutZ(&mesh, angle);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = fmMakeMaterial(fm_neoHookean, 1e7, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 1000.0;
+	def.damping = 1.0;
+	def.smoothing = 0.0;
+	def.friction = mu;
+	fmBodyId block;
+	CHECK_INT(fmCreateBody(world, &def, &block, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	return block;
+}
+
+// Issue 29's friction that holds, implicit, on a 30 degree incline against a plane collider, the
+// Coulomb floor, a tilted collider and another body: with mu = 0.7 (tan 30 = 0.577) the block's
+// mean speed from 2.5 s to 10.5 s is under 0.1 mm/s (the spring of static friction is anchored
+// where the contact first held: FM_FRICTION_STRIDE); with mu = 0.3 it slides at Coulomb's
+// g (sin 30 - 0.3 cos 30) = 2.354 m/s^2 within 1%.
+TEST(static_friction_holds_and_sliding_is_coulombs)
+{
+	const double angle = 30.0 * 3.14159265358979 / 180.0;
+	static const char* const names[incline_grounds] = {"plane collider", "Coulomb floor",
+	                                                   "tilted collider", "pinned body"};
+	for (int ground = 0; ground < incline_grounds; ++ground)
+	{
+		for (int sliding = 0; sliding < 2; ++sliding)
+		{
+			double mu = sliding ? 0.3 : 0.7;
+			fmWorldId world;
+			fmVec3 downhill = makeIncline(failures_, &world, (inclineGround)ground, mu, angle);
+			fmBodyId block = inclineBlock(failures_, world, (inclineGround)ground, mu, angle);
+			const int frames = sliding ? 90 : 631;
+			double s[3] = {0.0, 0.0, 0.0}, at150 = 0.0;
+			int failed = 0;
+			for (int f = 0; f < frames; ++f)
+			{
+				failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+				double along = fmDot(fmBody_GetStats(block).centerOfMass, downhill);
+				if (f < 90 && f % 30 == 29)
+					s[f / 30] = along; // 0.5, 1 and 1.5 s
+				at150 = f == 150 ? along : at150;
+				s[2] = f == frames - 1 && !sliding ? along : s[2];
+			}
+			CHECK_INT(failed, 0);
+			if (sliding)
+			{
+				double acceleration = (s[2] - 2.0 * s[1] + s[0]) / 0.25;
+				double expected = 9.8 * (sin(angle) - mu * cos(angle));
+				printf("  %s, mu 0.3: %.4f m/s^2 (Coulomb %.4f, %+.2f%%)\n", names[ground],
+				       acceleration, expected, 100.0 * (acceleration - expected) / expected);
+				CHECK_REL(acceleration, expected, 0.01, 0.0);
+			}
+			else
+			{
+				double speed = (s[2] - at150) / ((frames - 1 - 150) / 60.0);
+				printf("  %s, mu 0.7: mean speed %.2e mm/s from 2.5 s to 10.5 s\n", names[ground],
+				       1e3 * speed);
+				CHECK(fabs(speed) < 1e-4);
+			}
+			fmDestroyWorld(world);
+		}
+	}
+}
+
 // A body at 10 m/s against a 1 cm thick static box, one implicit step a frame (17 cm a step):
 // it stops on its side.
 TEST(no_tunnelling_through_a_thin_collider)

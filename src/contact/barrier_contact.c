@@ -5,6 +5,7 @@
 #include "contact/contact.h"
 #include "contact/contact_response.h"
 #include "contact/contact_state.h"
+#include "contact/friction_anchor.h"
 #include "contact/penalty.h"
 #include "core/det_math.h"
 #include "math/barrier.h"
@@ -576,6 +577,7 @@ static bool fmLagFriction(fmBarrierContact* bc)
 		// ten piled houses took 20 Newton iterations a step, against 3-5).
 		double normal = bc->stiffness * fmPairMass(w, st) * (4.0 * d2 * b[2] + 2.0 * b[1]);
 		f.slip = normal > 0.0 ? fmMax(bc->slip, 2.0 * f.limit / normal) : bc->slip;
+		f.stretch = fmFrictionAnchor_Carried(bc, &f);
 		if (!fmGrowArray((void**)&s->friction, &s->frictionCapacity, s->frictionCount,
 		                 s->frictionCount + 1, sizeof *s->friction))
 			return false;
@@ -584,13 +586,14 @@ static bool fmLagFriction(fmBarrierContact* bc)
 	return true;
 }
 
-// Friction's slip u (tangential relative motion) of @p f at @p x.
+// Friction's slip u of @p f at @p x: FM_FRICTION_GAIN times the tangential relative motion, plus
+// the stretch carried over (penalty.h).
 static fmVec3 fmFrictionSlip(const fmBarrierContact* bc, const fmBarrierFriction* f,
                              const double* x)
 {
-	fmVec3 r = fmMakeVec3(0.0, 0.0, 0.0);
+	fmVec3 r = f->stretch;
 	for (int j = 0; j < 4; ++j)
-		r = fmMulAdd(r, f->w[j], fmStepMotion(bc, &f->stencil, j, x));
+		r = fmMulAdd(r, FM_FRICTION_GAIN * f->w[j], fmStepMotion(bc, &f->stencil, j, x));
 	return fmMulAdd(r, -fmDot(r, f->normal), f->normal);
 }
 
@@ -637,7 +640,7 @@ static double fmBarrierEnergy(const void* context, const double* x, const double
 		const fmBarrierFriction* f = &s->friction[k];
 		fmVec3 u = fmFrictionSlip(bc, f, x);
 		double y = fmLength(u);
-		energy += f->limit * fmFrictionF0(y, f->slip);
+		energy += f->limit * fmFrictionF0(y, f->slip) / FM_FRICTION_GAIN; // force: limit f1
 		fmVec3 pull = fmScale(f->limit * fmFrictionF1OverY(y, f->slip), u);
 		for (int j = 0; gradient != NULL && j < 4; ++j)
 			if (f->stencil.body[j] == bc->slot)
@@ -695,7 +698,8 @@ static void fmPairHessian(const fmBarrierContact* bc, const fmBarrierStencil* st
 				fmAddOuter(pattern, values, st->vertex[i], st->vertex[j], c, g + 3 * i, g + 3 * j);
 }
 
-// Friction's 3x3 inner matrix M (the Hessian of limit f0(|P r|) in r): f1/y P + c u u^T, PSD.
+// Friction's 3x3 inner matrix M (the Hessian of limit f0(|u|) / gain in the relative position r,
+// u's derivative being FM_FRICTION_GAIN P): gain (f1/y P + c u u^T), PSD.
 static void fmFrictionInner(const fmBarrierContact* bc, const fmBarrierFriction* f,
                             const double* x, double m[9])
 {
@@ -706,7 +710,8 @@ static void fmFrictionInner(const fmBarrierContact* bc, const fmBarrierFriction*
 	double nv[3] = {n.x, n.y, n.z}, uv[3] = {u.x, u.y, u.z};
 	for (int r = 0; r < 3; ++r)
 		for (int q = 0; q < 3; ++q)
-			m[3 * r + q] = f->limit * (a * ((r == q) - nv[r] * nv[q]) + c * uv[r] * uv[q]);
+			m[3 * r + q] =
+			    FM_FRICTION_GAIN * f->limit * (a * ((r == q) - nv[r] * nv[q]) + c * uv[r] * uv[q]);
 }
 
 static void fmBarrierHessian(const void* context, const double* x, const fmBsrMatrix* pattern,

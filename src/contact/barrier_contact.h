@@ -17,7 +17,9 @@
 //   solve are all a step can meet;
 // - friction is lagged as in IPC: each pair within dHat at the step's start pulls against the
 //   relative tangential motion of its closest points with mu lambda f0(|u|), lambda its barrier
-//   force at the start, f0 the C1 blend of a spring below a slip of FM_FRICTION_SLIP_SPEED h.
+//   force at the start, f0 the C1 blend of a spring below a slip of FM_FRICTION_SLIP_SPEED h; u
+//   starts from the stretch the same pair's spring ended the last step with (clamped to the slip
+//   width), so a pair that holds stays anchored and does not creep.
 #pragma once
 
 #include "body/body.h"
@@ -52,6 +54,7 @@ typedef struct fmBarrierFriction
 	fmVec3 normal;
 	double limit;
 	double slip; // m, the slip width below which it is a spring (at least FM_FRICTION_SLIP_SPEED h)
+	fmVec3 stretch; // m, the spring's stretch at the end of the body's last step (zero: new)
 } fmBarrierFriction;
 
 // A surface primitive in a broad phase: a vertex (kind 0), a surface edge (1) or a triangle (2)

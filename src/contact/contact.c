@@ -107,6 +107,13 @@ bool fmContact_BodiesMeet(const fmWorld* w)
 	return false;
 }
 
+bool fmContact_FloorFriction(const fmWorld* w)
+{
+	const fmFloorDef* floor = &w->def.floor;
+	return w->def.integrator == fm_implicit && floor->enabled &&
+	       floor->friction == fm_floorCoulomb && floor->frictionCoefficient > 0.0;
+}
+
 bool fmContact_Active(const fmWorld* w)
 {
 	return fmContact_HasColliders(w) || fmContact_BodiesMeet(w);
@@ -141,9 +148,11 @@ static bool fmBodyContactArrays(fmBody* b)
 	if (b->contact.plane == NULL)
 		b->contact.plane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->mesh.vertexCount);
 	if (b->contact.friction == NULL)
-		b->contact.friction = FM_ALLOC_ZERO(double, 8 * (size_t)b->mesh.vertexCount);
+		b->contact.friction =
+		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
 	if (b->contact.frictionNext == NULL)
-		b->contact.frictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->mesh.vertexCount);
+		b->contact.frictionNext =
+		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
 	if (b->contact.tetMark == NULL)
 		b->contact.tetMark = FM_ALLOC_ZERO(uint8_t, b->mesh.tetCount > 0 ? b->mesh.tetCount : 1);
 	if (b->contact.embeddedHolder == NULL)
@@ -303,7 +312,8 @@ bool fmContact_BeginSubstep(fmWorld* w)
 		double* found = b->contact.frictionNext;
 		b->contact.frictionNext = b->contact.friction;
 		b->contact.friction = found;
-		memset(b->contact.frictionNext, 0, sizeof(double) * 8 * (size_t)b->mesh.vertexCount);
+		memset(b->contact.frictionNext, 0,
+		       sizeof(double) * (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
 		for (int k = 0; k < b->mesh.vertexCount; ++k)
 			b->contact.plane[4 * (size_t)k + 3] = NAN;
 		b->contact.edgePlaneCount = 0;

@@ -29,6 +29,11 @@ bool fmContact_BodiesMeet(const fmWorld* world);
 // between two or more bodies).
 bool fmContact_Active(const fmWorld* world);
 
+// Whether the implicit solves carry the Coulomb floor's friction, lagged one step (penalty.h):
+// an implicit world whose enabled floor has Coulomb friction with mu > 0. Its friction records
+// live in the bodies' contact arrays, which fmContact_BeginSubstep then keeps without colliders.
+bool fmContact_FloorFriction(const fmWorld* world);
+
 // Start of a frame: collider impulses zeroed; the frame's first body-body detection will look
 // for vertices embedded in another body (embedded.h), to be pushed out by at most the floor's
 // depenetration speed in that substep and in the frame's later ones.

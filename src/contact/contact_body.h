@@ -6,8 +6,16 @@
 
 #include <stdint.h>
 
+struct fmBarrierStretch;
 struct fmEdgePlane;
 struct fmFloorHit;
+
+// A vertex's friction record for the next implicit step (body->contact.friction, this many
+// doubles): the contact normal (0-2), the Coulomb limit mu lambda (3; N, 0: none), the surface's
+// velocity (4-6), 1 for a stick contact (7), and the stretch of the static friction's spring at
+// the end of the step that found it (8-10, m, at most the slip width): the next step's slip starts
+// from it, so a contact that holds is anchored where it first held and does not creep.
+#define FM_FRICTION_STRIDE 11
 
 // Bodies a body can be known to overlap at once (barrier_contact.h).
 #define FM_OVERLAP_SLOTS 4
@@ -28,10 +36,14 @@ typedef struct fmBodyContact
 	struct fmEdgePlane* edgePlanes;
 	int edgePlaneCount;
 	int edgePlaneCapacity;
-	// 8n: implicit friction against colliders, lagged one step (penalty.h): per vertex the
-	// contact normal, the Coulomb limit mu lambda (N, 0: none) and the collider's surface velocity
+	// FM_FRICTION_STRIDE n: implicit friction against colliders and the Coulomb floor, lagged one
+	// step (penalty.h)
 	double* friction;
-	double* frictionNext; // 8n: what the contact stage found this step, for the next one
+	double* frictionNext; // FM_FRICTION_STRIDE n: what this step found, for the next one
+	// The stretch of each barrier pair's friction spring at the end of the body's last implicit
+	// step, sorted by stencil (barrier_contact.h)
+	struct fmBarrierStretch* stretch;
+	int stretchCount, stretchCapacity;
 	// 1 + the slots of bodies a vertex of this one was found inside in the last frame (0: none):
 	// the pair meets through the contact stage's projection, not the barrier, until apart
 	int overlapWith[FM_OVERLAP_SLOTS];

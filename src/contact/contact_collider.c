@@ -10,18 +10,22 @@
 #include <math.h>
 
 // Friction for vertex i's next implicit step (penalty.h): the contact normal, the Coulomb
-// limit mu lambda (N; a stick collider's: lambda, with next[7] = 1, no limit) and the
-// surface's velocity; a stick contact wins over friction, else the strongest of the step.
-static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface, bool stick)
+// limit mu lambda (N; a stick collider's: lambda, with next[7] = 1, no limit), the surface's
+// velocity and the stretch this step's friction ended with; a stick contact wins over friction,
+// else the strongest of the step.
+static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface, bool stick,
+                           double h)
 {
-	double* next = b->contact.frictionNext + 8 * (size_t)i;
+	double* next = b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * i;
 	bool held = next[7] != 0.0;
 	if (held != stick ? held : !(limit > next[3]))
 		return;
+	fmVec3 stretch = fmContactFriction_Stretch(b, i, b->state.x, b->contact.start, h);
 	next[0] = n.x, next[1] = n.y, next[2] = n.z;
 	next[3] = limit;
 	next[4] = surface.x, next[5] = surface.y, next[6] = surface.z;
 	next[7] = stick ? 1.0 : 0.0;
+	next[8] = stretch.x, next[9] = stretch.y, next[10] = stretch.z;
 }
 
 // A stick collider's response (infinite friction, as the seeds' floor): the relative velocity
@@ -89,7 +93,8 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	double pushed = implicit && depth > 0.0 ? FM_PENALTY_KAPPA * depth / h : 0.0;
 	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->state.x, b->contact.start, h)
 	                         : fmMakeVec3(0.0, 0.0, 0.0);
-	bool inSolve = fmDot(solved, solved) > 0.0 || (implicit && b->contact.friction[8 * i + 3] > 0.0);
+	bool inSolve = fmDot(solved, solved) > 0.0 ||
+	               (implicit && b->contact.friction[FM_FRICTION_STRIDE * i + 3] > 0.0);
 	if (c->def.stick)
 		fmStickImpact(&relative, n, c->def.restitution);
 	else
@@ -97,7 +102,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		                         inSolve ? 0.0 : pushed);
 	double mu = c->def.stick ? 1.0 : c->def.friction;
 	if (pushed > 0.0)
-		fmKeepFriction(b, i, n, mu * b->mesh.mass[i] * pushed / h, vc, c->def.stick);
+		fmKeepFriction(b, i, n, mu * b->mesh.mass[i] * pushed / h, vc, c->def.stick, h);
 	if (!fmContactState_LogVertex(s, b, slot, i))
 		return false;
 	// A creeping slip that friction or the stick takes back leaves the position too.

@@ -14,9 +14,11 @@
 #include "core/det_math.h"
 
 #include "contact/collider.h"
+#include "contact/penalty.h"
 #include "core/core.h"
 
 #include <math.h>
+#include <string.h>
 
 bool fmFloor_Applies(const fmFloorDef* floor, const fmBody* b)
 {
@@ -187,6 +189,32 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 
 // ---- implicit ---------------------------------------------------------------------------------
 
+// Whether vertex i had friction in this step's solve (penalty.h: the Coulomb floor's or a
+// collider's, lagged from the step before).
+static bool fmFrictionInSolve(const fmBody* b, int i)
+{
+	return b->contact.friction != NULL &&
+	       b->contact.friction[(size_t)FM_FRICTION_STRIDE * i + 3] > 0.0;
+}
+
+// The Coulomb floor's friction for vertex i's next solve (penalty.h): the limit mu times the
+// floor's push @p force (N) in this one, anchored by the stretch this step's friction ended with.
+// Kept where the contact arrays are (fmContact_FloorFriction) and stronger than what is there.
+static void fmKeepFloorFriction(const fmFloorDef* floor, fmBody* b, int i, double force,
+                                const fmImplicitCache* c, double h)
+{
+	double* next = b->contact.frictionNext;
+	double limit = floor->frictionCoefficient * force;
+	if (next == NULL || !(limit > next[(size_t)FM_FRICTION_STRIDE * i + 3]))
+		return;
+	next += (size_t)FM_FRICTION_STRIDE * i;
+	fmVec3 stretch = fmContactFriction_Stretch(b, i, b->state.x, c->xStart, h);
+	memset(next, 0, FM_FRICTION_STRIDE * sizeof(double));
+	next[1] = 1.0;
+	next[3] = limit;
+	next[8] = stretch.x, next[9] = stretch.y, next[10] = stretch.z;
+}
+
 // Floor response on velocities after the solve, for vertices resting on the floor. The solve
 // already stopped them at the floor (perfectly inelastic positions); here the approach velocity
 // is removed (or reflected by the restitution), and friction acts on the tangential velocity:
@@ -206,7 +234,10 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		++contacts;
 		const double before[3] = {v[0], v[1], v[2]};
 		double push = fmMax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push in the solve
-		double impulse = push;
+		// Friction in the solve already answered the push; the velocity keeps the rest.
+		double impulse = fmFrictionInSolve(b, i) ? 0.0 : push;
+		if (floor->friction == fm_floorCoulomb)
+			fmKeepFloorFriction(floor, b, i, push / h, c, h);
 		if (v[1] < 0.0)
 		{
 			double e = floor->friction == fm_floorCoulomb ? floor->restitution : 0.0;

@@ -74,7 +74,9 @@ void fmFloor_SetBounds(const fmFloorDef* floor, const fmBody* body, fmImplicitCa
 double fmFloor_ImplicitWork(const fmBody* body, const fmImplicitCache* cache, double floorHeight);
 
 // Implicit, after the solve: restitution and friction on the velocities of the vertices on the
-// floor (the normal impulse from the solve's push). The vertices in contact go to
-// body->floorHits. Returns how many, or -1 when that list could not grow.
+// floor (the normal impulse from the solve's push, less what friction in the solve answered).
+// A Coulomb floor's push is also the next solve's friction limit (fmContact_FloorFriction,
+// penalty.h). The vertices in contact go to body->floorHits. Returns how many, or -1 when that
+// list could not grow.
 int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* body, const fmImplicitCache* cache,
                                double h);

@@ -89,16 +89,25 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 // Vertex i's friction data (normal, limit mu lambda, surface velocity), or NULL when none.
 static const double* fmFrictionOf(const fmBody* b, int i)
 {
-	const double* f = b->contact.friction ? b->contact.friction + 8 * (size_t)i : NULL;
+	const double* f =
+	    b->contact.friction ? b->contact.friction + (size_t)FM_FRICTION_STRIDE * i : NULL;
 	return f != NULL && f[3] > 0.0 && b->state.pinned[i] != FM_PIN_ALL ? f : NULL;
 }
 
-// u: the tangential part of vertex i's motion relative to the collider's surface.
-static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
+// The tangential part of @p gain times vertex i's motion relative to the collider's surface, plus
+// the stretch its static friction ended the last step with: the slip u (gain
+// FM_FRICTION_GAIN) or the spring's stretch now (gain 1).
+static fmVec3 fmSlipWith(const double* f, fmVec3 x, fmVec3 x0, double h, double gain)
 {
 	fmVec3 n = fmMakeVec3(f[0], f[1], f[2]);
 	fmVec3 d = fmSub(fmSub(x, x0), fmScale(h, fmMakeVec3(f[4], f[5], f[6])));
+	d = fmMulAdd(fmMakeVec3(f[8], f[9], f[10]), gain, d);
 	return fmMulAdd(d, -fmDot(d, n), n);
+}
+
+static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
+{
+	return fmSlipWith(f, x, x0, h, FM_FRICTION_GAIN);
 }
 
 // The slip width of vertex i's static friction (m): FM_FRICTION_SLIP_SPEED h, widened where the
@@ -144,6 +153,17 @@ fmVec3 fmContactFriction_Force(const fmBody* b, int i, const double* x, const do
 	return fmScale(-f[3] * fmFrictionRatio(fmLength(u), eps), u);
 }
 
+fmVec3 fmContactFriction_Stretch(const fmBody* b, int i, const double* x, const double* xStart,
+                                 double h)
+{
+	const double* f = fmFrictionOf(b, i);
+	if (f == NULL)
+		return fmMakeVec3(0.0, 0.0, 0.0);
+	fmVec3 u = fmSlipWith(f, fmLoad(x, i), fmLoad(xStart, i), h, 1.0);
+	double y = fmLength(u), eps = fmSlipWidth(b, i, f, h);
+	return fmStickStiffness(b, i, f, h) > 0.0 || y <= eps ? u : fmScale(eps / y, u);
+}
+
 // The friction potential's energy, with its gradient added to @p gradient when not NULL.
 static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const double* x,
                                double* gradient)
@@ -158,7 +178,9 @@ static double fmFrictionEnergy(const fmContactPenalty* p, const fmBody* b, const
 		fmVec3 u = fmSlip(f, fmLoad(x, i), fmLoad(p->xStart, i), p->step);
 		double y = fmLength(u), eps = fmSlipWidth(b, i, f, p->step);
 		double stick = fmStickStiffness(b, i, f, p->step);
-		energy += stick > 0.0 ? 0.5 * stick * y * y : f[3] * fmFrictionPotential(y, eps);
+		// Over the gain: the force, gain times its derivative in u, is the spring's and Coulomb's.
+		energy += (stick > 0.0 ? 0.5 * stick * y * y : f[3] * fmFrictionPotential(y, eps)) /
+		          FM_FRICTION_GAIN;
 		if (gradient)
 		{
 			double r = stick > 0.0 ? stick : f[3] * fmFrictionRatio(y, eps);
@@ -183,11 +205,13 @@ static void fmFrictionBlock(const fmContactPenalty* p, const fmBody* b, const do
 	                                          : 0.0;
 	double ratio = fmFrictionRatio(y, eps), stick = fmStickStiffness(b, i, f, p->step);
 	const double nn[3] = {n.x, n.y, n.z}, uu[3] = {u.x, u.y, u.z};
+	const double gain = FM_FRICTION_GAIN; // the energy over the gain, u's derivative gain P
 	for (int r = 0; r < 3; ++r)
 		for (int c = 0; c < 3; ++c)
 			block[3 * r + c] =
-			    stick > 0.0 ? stick * ((r == c) - nn[r] * nn[c])
-			                : f[3] * (ratio * ((r == c) - nn[r] * nn[c]) + along * uu[r] * uu[c]);
+			    gain * (stick > 0.0
+			                ? stick * ((r == c) - nn[r] * nn[c])
+			                : f[3] * (ratio * ((r == c) - nn[r] * nn[c]) + along * uu[r] * uu[c]));
 }
 
 typedef struct fmEnergyVisit

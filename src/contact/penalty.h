@@ -5,9 +5,11 @@
 // with the step's own inertia term), its gradient and its Gauss-Newton Hessian k n n^T. Friction
 // against colliders is in the solve too, lagged one step as in IPC (Li et al. 2020): a vertex that
 // pressed on a collider with normal force lambda in the last step adds D = mu lambda f0(|u|), u its
-// tangential motion relative to the collider's surface, f0 the C1 blend of a stiff spring below a
-// slip of FM_FRICTION_SLIP_SPEED h and |u| above it: static friction holds, sliding friction is
-// Coulomb's. A stick collider's contact (fmColliderDef.stick) is the limit of infinite mu: the
+// tangential motion relative to the collider's surface (times FM_FRICTION_GAIN) plus the stretch
+// the last step ended with,
+// f0 the C1 blend of a stiff spring below a slip of FM_FRICTION_SLIP_SPEED h and |u| above it:
+// static friction holds without creeping (the stretch carried over anchors it), sliding friction
+// is Coulomb's. A stick collider's contact (fmColliderDef.stick) is the limit of infinite mu: the
 // spring k/2 |u|^2 at the normal penalty's k = kappa m / h^2, with no Coulomb limit. The contact
 // stage after the solve then removes what penetration is left and applies friction to new contacts
 // (contact.c).
@@ -49,9 +51,16 @@ typedef struct fmContactPenalty
 	const fmBody* body;          // the body being solved
 } fmContactPenalty;
 
-// Friction's slip speed (m/s) below which it acts as a stiff spring (static friction): a body
-// that should stick creeps at most this fast.
+// Friction's slip speed (m/s): the spring of static friction stretches at most this speed times
+// h before the contact slides (its slip width).
 #define FM_FRICTION_SLIP_SPEED 1e-2
+
+// The slip's gain on the step's own motion: u = stretch + FM_FRICTION_GAIN d, d the step's
+// tangential motion and the stretch carried over (FM_FRICTION_STRIDE) moving by d alone: a
+// spring to where the contact is anchored (no creep) and a dashpot beside it as strong as the
+// spring on one step's motion (the lagged friction's own damping: without it a stack rocks on
+// its friction springs), both within the Coulomb limit.
+#define FM_FRICTION_GAIN 2.0
 
 // The penalty's energy at @p x (J), with its gradient added to @p gradient when not NULL.
 double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* body, const double* x,
@@ -60,6 +69,11 @@ double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* bo
 // The friction force (N) on vertex @p i at positions @p x (zero where it has none).
 fmVec3 fmContactFriction_Force(const fmBody* body, int i, const double* x, const double* xStart,
                                double step);
+
+// The stretch of vertex @p i's static friction spring at positions @p x (m, its slip clamped to
+// the slip width: what a sliding contact carries into the next step; zero where it has none).
+fmVec3 fmContactFriction_Stretch(const fmBody* body, int i, const double* x, const double* xStart,
+                                 double step);
 
 // The penalty as a term of the implicit step's potential (energy, Hessian, products) of
 // @p penalty->body, for fmNewtonProblem.contact; @p penalty must outlive the solve.

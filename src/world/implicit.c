@@ -6,19 +6,20 @@
 // v_{n+1} = (x_{n+1} - x_n) / h, then the body's damping factor, smoothing and floor friction.
 #include "world/implicit.h"
 
+#include "body/loads.h"
+#include "body/targets.h"
 #include "contact/barrier_contact.h"
 #include "contact/contact.h"
-#include "core/core.h"
 #include "contact/floor.h"
+#include "contact/friction_anchor.h"
+#include "contact/penalty.h"
+#include "core/core.h"
+#include "core/timer.h"
 #include "fem/forces.h"
 #include "fem/inversion.h"
-#include "body/loads.h"
-#include "contact/penalty.h"
-#include "solver/newton.h"
-#include "body/targets.h"
-#include "core/timer.h"
-#include "solver/vbd.h"
 #include "fem/velocity_filter.h"
+#include "solver/newton.h"
+#include "solver/vbd.h"
 
 #include <math.h>
 #include <string.h>
@@ -167,15 +168,16 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	                              b};
 	pb.loads = fmLoads_Term(b);
 	// Bodies meet through the barrier (barrier_contact.h); the penalty holds them off the
-	// colliders.
-	if (fmContact_HasColliders(world) || (fmContact_Active(world) && !fmBarrierContact_Active(world)))
+	// colliders; its friction term carries the colliders' and the Coulomb floor's friction.
+	bool pushes = fmContact_HasColliders(world) ||
+	              (fmContact_Active(world) && !fmBarrierContact_Active(world));
+	if (pushes || fmContact_FloorFriction(world))
 		pb.contact = fmContactPenalty_Term(penalty);
 	pb.barrier = fmBarrierContact_Term(barrier);
 	// Neo-Hookean-class bodies keep every tet's orientation through the solve (inversion.h),
 	// except with the contact penalty in the solve: its push needs the collapse the filter
 	// forbids (a 10 m/s body against a thin wall tunnels through it within the filter).
-	pb.inversionFree = fmInversion_Needed(&b->mesh) && b->mesh.forceModel == fm_fem &&
-	                   pb.contact.energy == NULL;
+	pb.inversionFree = fmInversion_Needed(&b->mesh) && b->mesh.forceModel == fm_fem && !pushes;
 	return pb;
 }
 
@@ -299,6 +301,8 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	// 3. Velocities from the positions, then the body's damping factor and smoothing (as in
 	//    explicit mode, so that a scene behaves alike under both integrators).
 	fmImplicitAddWork(ctx, b, c, &pb);
+	if (!fmFrictionAnchor_Keep(&barrier, b))
+		return fm_errOutOfMemory;
 	for (int k = 0; k < n3; ++k)
 		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
 	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h / FM_SEED_STEP, arena, world->simd,

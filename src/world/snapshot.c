@@ -10,18 +10,20 @@
 // version 3, the floor's filter and force since 4): every collider's pose (kinematic ones move),
 // velocity and angular velocity (fmCollider_SetVelocity) and last force and torque; every body's
 // sleep state (asleep, a wake asked for, its sleep timer and island) and the implicit collider
-// friction found in the last step, which the next step's solve uses (body->contactFrictionNext,
-// saved for the vertices that have some); and the pairs that touched in the last frame (the next
-// frame's begin and end events and islands come from them). Per-step temporaries (the solver's
-// vectors, the damping matrix, the arena, the contact stage's buffers, its contact list and
-// events) are rebuilt by every step and are not. Bodies are matched by slot, generation and
-// counts, colliders by slot, generation, shape and (meshes) vertex and triangle counts: a snapshot
-// restores into the world it was taken from, with the same bodies and colliders (created or
-// destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
+// friction found in the last step, which the next step's solve uses (body->contact.frictionNext,
+// saved for the vertices that have some, with the static spring's stretch since version 6); and the
+// pairs that touched in the last frame (the next frame's begin and end events and islands come from
+// them). Per-step temporaries (the solver's vectors, the damping matrix, the arena, the contact
+// stage's buffers, its contact list and events) are rebuilt by every step and are not. Bodies are
+// matched by slot, generation and counts, colliders by slot, generation, shape and (meshes) vertex
+// and triangle counts: a snapshot restores into the world it was taken from, with the same bodies
+// and colliders (created or destroyed ones make it refuse, untouched). A mesh collider's triangles
+// are not saved.
 #include "world/snapshot.h"
 
 #include "contact/collider.h"
 #include "contact/contact_events.h"
+#include "contact/friction_anchor.h"
 #include "core/core.h"
 #include "world/world.h"
 
@@ -30,7 +32,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 5u
+#define FM_SNAPSHOT_VERSION 6u
 
 // The header: magic, version, live bodies, live colliders.
 #define FM_SNAPSHOT_HEADER_WORDS 4
@@ -332,15 +334,70 @@ static bool fmColliderStateValid(const fmCollider* c)
 // limit mu lambda is > 0 exactly where the contact stage wrote it (the rest is zero).
 static const double* fmFrictionFound(const fmBody* b, int i)
 {
-	const double* f = b->contact.frictionNext ? b->contact.frictionNext + 8 * (size_t)i : NULL;
+	const double* f =
+	    b->contact.frictionNext ? b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * i : NULL;
 	return f != NULL && f[3] > 0.0 ? f : NULL;
 }
 
-#define FM_FRICTION_RECORD_BYTES (sizeof(int32_t) + 8 * sizeof(double))
+#define FM_FRICTION_RECORD_BYTES (sizeof(int32_t) + FM_FRICTION_STRIDE * sizeof(double))
+
+// A barrier pair's friction spring (fmBarrierStretch): its stencil's four body slots and four
+// vertices, the kind byte, the weights, the relative position and the stretch.
+#define FM_STRETCH_RECORD_BYTES (8 * sizeof(int32_t) + 1 + 10 * sizeof(double))
+
+static void fmPutStretch(fmStream* s, const fmBarrierStretch* r)
+{
+	for (int k = 0; k < 4; ++k)
+	{
+		int32_t body = r->stencil.body[k], vertex = r->stencil.vertex[k];
+		fmPut(s, &body, sizeof body);
+		fmPut(s, &vertex, sizeof vertex);
+	}
+	uint8_t edgeEdge = r->stencil.edgeEdge ? 1u : 0u;
+	fmPut(s, &edgeEdge, 1);
+	fmPut(s, r->w, 4 * sizeof(double));
+	fmPut(s, &r->relative, 3 * sizeof(double));
+	fmPut(s, &r->stretch, 3 * sizeof(double));
+}
+
+// Read a stretch record into @p r; returns its kind byte (0 or 1 when valid).
+static uint8_t fmGetStretch(fmStream* s, fmBarrierStretch* r)
+{
+	for (int k = 0; k < 4; ++k)
+	{
+		int32_t body = -1, vertex = -1;
+		fmGet(s, &body, sizeof body);
+		fmGet(s, &vertex, sizeof vertex);
+		r->stencil.body[k] = body;
+		r->stencil.vertex[k] = vertex;
+	}
+	uint8_t edgeEdge = 0;
+	fmGet(s, &edgeEdge, 1);
+	r->stencil.edgeEdge = edgeEdge != 0;
+	fmGet(s, r->w, 4 * sizeof(double));
+	fmGet(s, &r->relative, 3 * sizeof(double));
+	fmGet(s, &r->stretch, 3 * sizeof(double));
+	return edgeEdge;
+}
+
+// Whether stretch record @p r names live bodies' vertices and follows @p last (NULL: first).
+static bool fmStretchValid(const fmWorld* w, const fmBarrierStretch* r,
+                           const fmBarrierStretch* last, uint8_t kind)
+{
+	for (int k = 0; k < 4; ++k)
+	{
+		int body = r->stencil.body[k];
+		if (body < 0 || body >= w->bodyCapacity || !fmBody_IsLive(&w->bodies[body]) ||
+		    r->stencil.vertex[k] < 0 || r->stencil.vertex[k] >= w->bodies[body].mesh.vertexCount)
+			return false;
+	}
+	return kind <= 1u &&
+	       (last == NULL || fmBarrierStencil_Compare(&last->stencil, &r->stencil) < 0);
+}
 
 // A body's contact state: a flags byte (bit 0 asleep, bit 1 a wake asked for), its sleep timer
 // and island, then the count of vertices with friction for the next step, each as its index and
-// its 8 doubles.
+// its FM_FRICTION_STRIDE doubles, then the count of its barrier pairs' stretches and each.
 static void fmPutBodyContact(fmStream* s, const fmBody* b)
 {
 	uint8_t flags = (uint8_t)((b->asleep ? 1u : 0u) | (b->wakeRequested ? 2u : 0u));
@@ -357,8 +414,12 @@ static void fmPutBodyContact(fmStream* s, const fmBody* b)
 		if (f == NULL)
 			continue;
 		fmPut(s, &i, sizeof i);
-		fmPut(s, f, 8 * sizeof(double));
+		fmPut(s, f, FM_FRICTION_STRIDE * sizeof(double));
 	}
+	int32_t stretches = b->contact.stretchCount;
+	fmPut(s, &stretches, sizeof stretches);
+	for (int k = 0; k < b->contact.stretchCount; ++k)
+		fmPutStretch(s, &b->contact.stretch[k]);
 }
 
 // The contact section: the substep the contact stage last worked on, every live collider (key
@@ -598,14 +659,33 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 	{
 		int32_t vertex = -1;
 		fmGet(s, &vertex, sizeof vertex);
-		fmSkip(s, 8 * sizeof(double));
+		fmSkip(s, FM_FRICTION_STRIDE * sizeof(double));
 		if (s->overflow || vertex <= last || vertex >= b->mesh.vertexCount)
 			return fm_errParameter;
 		last = vertex;
 	}
+	int32_t stretches = -1;
+	fmGet(s, &stretches, sizeof stretches);
+	if (s->overflow || stretches < 0 ||
+	    (size_t)stretches > (s->size - s->used) / FM_STRETCH_RECORD_BYTES)
+		return fm_errParameter;
+	fmBarrierStretch record, previous;
+	for (int32_t k = 0; k < stretches; ++k)
+	{
+		uint8_t kind = fmGetStretch(s, &record);
+		if (s->overflow || !fmStretchValid(w, &record, k > 0 ? &previous : NULL, kind))
+			return fm_errParameter;
+		previous = record;
+	}
 	if (count > 0 && b->contact.frictionNext == NULL)
-		b->contact.frictionNext = FM_ALLOC_ZERO(double, 8 * (size_t)b->mesh.vertexCount);
-	return count == 0 || b->contact.frictionNext != NULL ? fm_ok : fm_errOutOfMemory;
+		b->contact.frictionNext =
+		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
+	if (count > 0 && b->contact.frictionNext == NULL)
+		return fm_errOutOfMemory;
+	return fmGrowArray((void**)&b->contact.stretch, &b->contact.stretchCapacity, 0, stretches,
+	                   sizeof *b->contact.stretch)
+	           ? fm_ok
+	           : fm_errOutOfMemory;
 }
 
 // Step over a body's contact record (checked).
@@ -615,6 +695,8 @@ static void fmSkipBodyContact(fmStream* s)
 	fmSkip(s, 1 + sizeof(double) + sizeof(int32_t));
 	fmGet(s, &count, sizeof count);
 	fmSkip(s, (size_t)count * FM_FRICTION_RECORD_BYTES);
+	fmGet(s, &count, sizeof count);
+	fmSkip(s, (size_t)count * FM_STRETCH_RECORD_BYTES);
 }
 
 // Restore body @p b's contact record (checked) from the stream's position.
@@ -630,13 +712,20 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 	b->wakeRequested = (flags & 2u) != 0;
 	b->island = island;
 	if (b->contact.frictionNext != NULL)
-		memset(b->contact.frictionNext, 0, sizeof(double) * 8 * (size_t)b->mesh.vertexCount);
+		memset(b->contact.frictionNext, 0,
+		       sizeof(double) * (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
 	for (int32_t k = 0; k < count; ++k)
 	{
 		int32_t vertex = 0;
 		fmGet(s, &vertex, sizeof vertex);
-		fmGet(s, b->contact.frictionNext + 8 * (size_t)vertex, 8 * sizeof(double));
+		fmGet(s, b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * vertex,
+		      FM_FRICTION_STRIDE * sizeof(double));
 	}
+	int32_t stretches = 0;
+	fmGet(s, &stretches, sizeof stretches);
+	for (int32_t k = 0; k < stretches; ++k)
+		(void)fmGetStretch(s, &b->contact.stretch[k]);
+	b->contact.stretchCount = stretches;
 }
 
 // Check the last frame's pairs at the stream's position: a count that fits, keys ascending, each
