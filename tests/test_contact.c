@@ -459,13 +459,13 @@ static void turnAboutZ(fmTetMesh* mesh, double angle)
 	}
 }
 
-// An implicit world with the 30 degree incline of @p ground at friction @p mu; returns the
-// downhill direction.
-static fmVec3 makeIncline(int* failures_, fmWorldId* world, inclineGround ground, double mu,
-                          double angle)
+// A world of @p integrator with the 30 degree incline of @p ground at friction @p mu; returns
+// the downhill direction.
+static fmVec3 makeIncline(int* failures_, fmWorldId* world, fmIntegrator integrator,
+                          inclineGround ground, double mu, double angle)
 {
 	fmWorldDef wdef = fmDefaultWorldDef();
-	wdef.integrator = fm_implicit;
+	wdef.integrator = integrator;
 	wdef.floor.enabled = ground == incline_floor;
 	wdef.floor.height = 0.0;
 	wdef.floor.friction = fm_floorCoulomb;
@@ -524,30 +524,35 @@ static fmBodyId inclineBlock(int* failures_, fmWorldId world, inclineGround grou
 	return block;
 }
 
-// Issue 29's friction that holds, implicit, on a 30 degree incline against a plane collider, the
-// Coulomb floor, a tilted collider and another body: with mu = 0.7 (tan 30 = 0.577) the block's
-// mean speed from 2.5 s to 10.5 s is under 0.1 mm/s (the spring of static friction is anchored
-// where the contact first held: FM_FRICTION_STRIDE); with mu = 0.3 it slides at Coulomb's
-// g (sin 30 - 0.3 cos 30) = 2.354 m/s^2 within 1%.
+// Issue 29's friction that holds, on a 30 degree incline against a plane collider, the Coulomb
+// floor, a tilted collider and another body: with mu = 0.7 (tan 30 = 0.577) the block's mean
+// speed from 2.5 s to 10.5 s is under 0.1 mm/s (implicit: the spring of static friction is
+// anchored where the contact first held, FM_FRICTION_STRIDE; explicit: the slip friction takes
+// back leaves the positions too, fmContactResponse_CreepStep); with mu = 0.3 it slides at
+// Coulomb's g (sin 30 - 0.3 cos 30) = 2.354 m/s^2 within 1%. Explicit steps against another
+// body are not there yet (docs/contact.md, Limits): not run.
 TEST(static_friction_holds_and_sliding_is_coulombs)
 {
 	const double angle = 30.0 * 3.14159265358979 / 180.0;
 	static const char* const names[incline_grounds] = {"plane collider", "Coulomb floor",
 	                                                   "tilted collider", "pinned body"};
-	for (int ground = 0; ground < incline_grounds; ++ground)
+	for (int run = 0; run < 2 * incline_grounds - 1; ++run)
 	{
+		fmIntegrator integrator = run < incline_grounds ? fm_implicit : fm_explicit;
+		int ground = run % incline_grounds, substeps = integrator == fm_implicit ? 1 : 50;
 		for (int sliding = 0; sliding < 2; ++sliding)
 		{
 			double mu = sliding ? 0.3 : 0.7;
 			fmWorldId world;
-			fmVec3 downhill = makeIncline(failures_, &world, (inclineGround)ground, mu, angle);
+			fmVec3 downhill =
+			    makeIncline(failures_, &world, integrator, (inclineGround)ground, mu, angle);
 			fmBodyId block = inclineBlock(failures_, world, (inclineGround)ground, mu, angle);
 			const int frames = sliding ? 90 : 631;
 			double s[3] = {0.0, 0.0, 0.0}, at150 = 0.0;
 			int failed = 0;
 			for (int f = 0; f < frames; ++f)
 			{
-				failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+				failed += fmWorld_Step(world, 1.0 / 60.0, substeps) != fm_ok;
 				double along = fmDot(fmBody_GetStats(block).centerOfMass, downhill);
 				if (f < 90 && f % 30 == 29)
 					s[f / 30] = along; // 0.5, 1 and 1.5 s
@@ -559,14 +564,16 @@ TEST(static_friction_holds_and_sliding_is_coulombs)
 			{
 				double acceleration = (s[2] - 2.0 * s[1] + s[0]) / 0.25;
 				double expected = 9.8 * (sin(angle) - mu * cos(angle));
-				printf("  %s, mu 0.3: %.4f m/s^2 (Coulomb %.4f, %+.2f%%)\n", names[ground],
-				       acceleration, expected, 100.0 * (acceleration - expected) / expected);
+				printf("  %s, %s, mu 0.3: %.4f m/s^2 (Coulomb %.4f, %+.2f%%)\n", names[ground],
+				       integrator == fm_implicit ? "implicit" : "explicit", acceleration, expected,
+				       100.0 * (acceleration - expected) / expected);
 				CHECK_REL(acceleration, expected, 0.01, 0.0);
 			}
 			else
 			{
 				double speed = (s[2] - at150) / ((frames - 1 - 150) / 60.0);
-				printf("  %s, mu 0.7: mean speed %.2e mm/s from 2.5 s to 10.5 s\n", names[ground],
+				printf("  %s, %s, mu 0.7: mean speed %.2e mm/s from 2.5 s to 10.5 s\n",
+				       names[ground], integrator == fm_implicit ? "implicit" : "explicit",
 				       1e3 * speed);
 				CHECK(fabs(speed) < 1e-4);
 			}

@@ -22,8 +22,6 @@ double fmContactResponse_Impact(fmVec3* relative, fmVec3 n, double e, double mu,
 
 double fmContactResponse_CreepStep(const fmWorld* w, fmVec3 dv, fmVec3 n, double thickness)
 {
-	if (w->def.integrator != fm_implicit)
-		return 0.0;
 	double h = w->contactStep;
 	fmVec3 along = fmMulAdd(dv, -fmDot(dv, n), n);
 	return h * fmLength(along) <= FM_CREEP_FRACTION * thickness ? h : 0.0;

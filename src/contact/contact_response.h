@@ -17,12 +17,14 @@
 // change (>= 0).
 double fmContactResponse_Impact(fmVec3* relative, fmVec3 n, double e, double mu, double pushed);
 
-// Implicit steps: the step's positions follow its velocities (x = x0 + h v), so a velocity
-// change @p dv that friction or the stick made along the surface (normal @p n) moves them by
-// h dv too, where the slip it takes back is a creep (h |dv| at most FM_CREEP_FRACTION of the
-// thickness): the slip is not kept in the positions (where it is, stacks and stick contacts
-// creep). A faster slip is an impact's: moving the contact's vertices alone by it would crush
-// their tets. Returns the move per unit of @p dv's scale (h, or 0).
+// A step's positions follow its velocities (implicit x = x0 + h v, explicit symplectic Euler
+// x = x0 + h v as well), so a velocity change @p dv that friction or the stick made along the
+// surface (normal @p n) moves them by h dv too, where the slip it takes back is a creep (h |dv| at
+// most FM_CREEP_FRACTION of the thickness): the slip is not kept in the positions (where it is,
+// stacks and stick contacts creep: explicit substeps let a block at mu 0.7 on 30 degrees creep
+// 32 mm/s). A faster slip is an impact's: moving the contact's vertices alone by it would crush
+// their tets. Returns the move per unit of @p dv's scale (h, or 0). The callers say where it
+// applies (explicit pairs of bodies and explicit stick colliders keep their slip).
 double fmContactResponse_CreepStep(const fmWorld* w, fmVec3 dv, fmVec3 n, double thickness);
 
 // Pinned axes keep their coordinate and have no velocity.

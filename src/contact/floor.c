@@ -91,6 +91,13 @@ static double fmRespondExplicit(const fmFloorDef* floor, fmBody* b, int i, doubl
 		v[1] = fmMax(v[1], fmMin(penetration / dt, pushLimit));
 	double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
 	double scale = vt > 0.0 ? fmMax(0.0, 1.0 - floor->frictionCoefficient * dvn / vt) : 0.0;
+	// The substep moved the vertex by dt v already: the slip friction takes back leaves the
+	// position too where it is a creep (slower than the depenetration speed), as the contact
+	// stage's (fmContactResponse_CreepStep); a faster one is an impact's.
+	double taken = (1.0 - scale) * vt;
+	double back = taken <= pushLimit ? (1.0 - scale) * dt : 0.0;
+	x[0] -= back * v[0];
+	x[2] -= back * v[2];
 	v[0] *= scale;
 	v[2] *= scale;
 	return 0.5 * b->mesh.mass[i] * (v[1] * v[1] - vIn * vIn);
