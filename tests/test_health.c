@@ -32,8 +32,10 @@ static fmBodyId makeBody(fmWorldId* world, const fmWorldDef* worldDef, int nx, i
 }
 
 // The audit's slow runaway: one Newton iteration a step lets a StVK bar on a Coulomb floor gain
-// energy over many frames, each frame within the old per-frame factor. The ledger (energy <=
-// initial energy + work done + tolerance) stops it, with the state of the last good frame.
+// energy over many frames, each frame within the old per-frame factor. (At E = 100 kPa, the
+// audit's bar, StVK's volume floor now keeps it from running away; at 30 kPa it still does.) The
+// ledger (energy <= initial energy + work done + tolerance) stops it, with the state of the last
+// good frame.
 static int slowRunaway(int* failures_, int newtonIterations, int frames, char* message)
 {
 	fmWorldDef wdef = fmDefaultWorldDef();
@@ -44,7 +46,7 @@ static int slowRunaway(int* failures_, int newtonIterations, int frames, char* m
 	wdef.floor.frictionCoefficient = 0.5;
 	fmWorldId world;
 	fmBodyId body = makeBody(&world, &wdef, 20, 5, 5, fmMakeVec3(-2, 0, -0.5),
-	                         fmMakeVec3(2, 1, 0.5), fmMakeMaterial(fm_stvk, 1e5, 0.3), 1000.0);
+	                         fmMakeVec3(2, 1, 0.5), fmMakeMaterial(fm_stvk, 3e4, 0.3), 1000.0);
 	CHECK(fmBody_IsValid(body));
 	int failedAt = -1;
 	for (int frame = 0; frame < frames && failedAt < 0; ++frame)

@@ -295,10 +295,14 @@ TEST(small_strain_matches_linear_elasticity)
 
 // ---- model-specific ----------------------------------------------------------------------------
 
+// The seeds' StVK where det F >= FM_STVK_FLOOR_J; below it the same plus the volume floor
+// kappa / 2 (J_floor - J)^2, kappa = 2 (lambda + 2 mu) (material.h), whose stress is
+// kappa (J - J_floor) cof F. (The finite-difference tests above check its derivatives.)
 TEST(stvk_is_the_seeds_formula)
 {
 	fmMaterial m = fmMakeMaterialLame(fm_stvk, 20000, 5000);
-	for (int trial = 0; trial < 20; ++trial)
+	int floored = 0;
+	for (int trial = 0; trial < 40; ++trial)
 	{
 		fmMat3 F = randomF(trial % kKindCount), P;
 		double psi = fmMaterial_Evaluate(&m, &F, &P, NULL);
@@ -309,10 +313,20 @@ TEST(stvk_is_the_seeds_formula)
 		fmMat3 S = fmMatScale(2.0 * 5000, &G);
 		S = fmMatMulAdd(&S, 20000 * fmTrace(&G), &I);
 		fmMat3 FS = fmMatMul(&F, &S);
+		double seeds = 5000 * fmDDot(&G, &G) + 10000 * fmTrace(&G) * fmTrace(&G);
+		double J = fmDet(&F), kappa = FM_STVK_FLOOR_STIFFNESS * (20000 + 2 * 5000);
+		if (J < FM_STVK_FLOOR_J)
+		{
+			floored += 1;
+			fmMat3 C = fmCofactor(&F);
+			FS = fmMatMulAdd(&FS, kappa * (J - FM_STVK_FLOOR_J), &C);
+			seeds += 0.5 * kappa * (J - FM_STVK_FLOOR_J) * (J - FM_STVK_FLOOR_J);
+		}
 		for (int e = 0; e < 9; ++e)
 			CHECK_NEAR(P.m[e], FS.m[e], 1e-12 * maxAbs(FS.m, 9));
-		CHECK_REL(psi, 5000 * fmDDot(&G, &G) + 10000 * fmTrace(&G) * fmTrace(&G), 1e-13, 0.0);
+		CHECK_REL(psi, seeds, 1e-13, 0.0);
 	}
+	CHECK(floored > 0); // the compressed and inverted kinds reach the floor
 }
 
 TEST(corotated_is_fixed_corotated)

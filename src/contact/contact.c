@@ -110,8 +110,8 @@ bool fmContact_BodiesMeet(const fmWorld* w)
 bool fmContact_FloorFriction(const fmWorld* w)
 {
 	const fmFloorDef* floor = &w->def.floor;
-	return w->def.integrator == fm_implicit && floor->enabled &&
-	       floor->friction == fm_floorCoulomb && floor->frictionCoefficient > 0.0;
+	return w->def.integrator == fm_implicit && w->def.implicitSolver != fm_solverVbd &&
+	       floor->enabled && floor->friction == fm_floorCoulomb && floor->frictionCoefficient > 0.0;
 }
 
 bool fmContact_Active(const fmWorld* w)

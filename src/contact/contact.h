@@ -30,8 +30,9 @@ bool fmContact_BodiesMeet(const fmWorld* world);
 bool fmContact_Active(const fmWorld* world);
 
 // Whether the implicit solves carry the Coulomb floor's friction, lagged one step (penalty.h):
-// an implicit world whose enabled floor has Coulomb friction with mu > 0. Its friction records
-// live in the bodies' contact arrays, which fmContact_BeginSubstep then keeps without colliders.
+// an implicit world of the Newton solver whose enabled floor has Coulomb friction with mu > 0
+// (vertex block descent keeps its own floor friction, vbd.c). Its friction records live in the
+// bodies' contact arrays, which fmContact_BeginSubstep then keeps without colliders.
 bool fmContact_FloorFriction(const fmWorld* world);
 
 // Start of a frame: collider impulses zeroed; the frame's first body-body detection will look

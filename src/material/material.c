@@ -177,6 +177,35 @@ static fmMat3 fmGreenStrain(const fmMat3* F)
 	return G;
 }
 
+// StVK's volume floor (material.h) added to @p P and @p dPdF where det F is below it; returns its
+// energy density (0 above it).
+static double fmStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
+{
+	fmMat3 C = fmCofactor(F);
+	double J = F->m[0] * C.m[0] + F->m[1] * C.m[1] + F->m[2] * C.m[2];
+	if (!(J < FM_STVK_FLOOR_J))
+		return 0.0;
+	double kappa = FM_STVK_FLOOR_STIFFNESS * (m->lambda + 2.0 * m->mu), d = J - FM_STVK_FLOOR_J;
+	for (int k = 0; P != NULL && k < 9; ++k)
+		P->m[k] += kappa * d * C.m[k];
+	for (int a = 0; dPdF != NULL && a < 9; ++a)
+		for (int b = 0; b < 9; ++b)
+		{
+			// d^2 J / dF_ij dF_kl = e_ikm e_jln F_mn: nonzero for i != k and j != l.
+			int i = a / 3, j = a % 3, k = b / 3, l = b % 3;
+			double second = 0.0;
+			if (i != k && j != l)
+			{
+				int mm = 3 - i - k, nn = 3 - j - l;
+				double sign =
+				    ((k - i + 3) % 3 == 1 ? 1.0 : -1.0) * ((l - j + 3) % 3 == 1 ? 1.0 : -1.0);
+				second = sign * F->m[3 * mm + nn];
+			}
+			dPdF[9 * a + b] += kappa * (C.m[a] * C.m[b] + d * second);
+		}
+	return 0.5 * kappa * d * d;
+}
+
 static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
 {
 	fmMat3 G = fmGreenStrain(F);
@@ -204,7 +233,7 @@ static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, d
 						dPdF[9 * (3 * i + j) + (3 * k + l)] = v;
 					}
 	}
-	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr;
+	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr + fmStvkFloor(m, F, P, dPdF);
 }
 
 double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)

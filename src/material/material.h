@@ -5,6 +5,15 @@
 
 #include <femto/types.h>
 
+// StVK's volume floor (issue 29: inversion-safe StVK): StVK softens under strong compression (its
+// stress peaks near a third of the volume lost and falls to zero as a tet flattens), so a loaded
+// body turns tets inside out. Below J = det F = FM_STVK_FLOOR_J its energy gains
+// kappa / 2 (FM_STVK_FLOOR_J - J)^2 with kappa = FM_STVK_FLOOR_STIFFNESS (lambda + 2 mu): a push
+// back along dJ/dF that grows as the tet flattens and keeps pushing a tet turned over back out
+// (Irving et al. 2004's recovery). Above the floor StVK is the seeds' own, bit for bit.
+#define FM_STVK_FLOOR_J 0.5
+#define FM_STVK_FLOOR_STIFFNESS 4.0
+
 // Energy density psi(F) (J/m^3). Every pointer output may be NULL to skip it:
 // P = d psi / dF (Pa), dPdF (Pa). Returns psi.
 double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF);

@@ -133,6 +133,33 @@ static void fmStvkStretch(const fmMaterial* m, const double s[3], bool hessian, 
 	d->hasModes = true;
 }
 
+// StVK's volume floor (material.h) in principal stretches: psi(J), J = s0 s1 s2, adds
+// psi' J / s_i to g_i, psi'' (J/s_i)(J/s_j) + psi' s_k (i != j, k the third) to H_ij, and to the
+// pair (i, j)'s flip -psi' s_k and twist psi' s_k ((g_i -/+ g_j) / (s_i -/+ s_j) of psi(J)).
+static void fmStvkFloorStretch(const fmMaterial* m, const double s[3], bool hessian,
+                               fmStretchDerivs* d)
+{
+	double J = s[0] * s[1] * s[2];
+	if (!(J < FM_STVK_FLOOR_J))
+		return;
+	double kappa = FM_STVK_FLOOR_STIFFNESS * (m->lambda + 2.0 * m->mu), e = J - FM_STVK_FLOOR_J;
+	const double others[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]}; // J / s_i
+	d->psi += 0.5 * kappa * e * e;
+	for (int i = 0; i < 3; ++i)
+		d->g[i] += kappa * e * others[i];
+	if (!hessian)
+		return;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			d->H[3 * i + j] += kappa * (others[i] * others[j] + (i == j ? 0.0 : e * s[3 - i - j]));
+	for (int k = 0; k < 3; ++k)
+	{
+		int third = 3 - s_pairs[k][0] - s_pairs[k][1];
+		d->q[k] -= kappa * e * s[third];
+		d->r[k] += kappa * e * s[third];
+	}
+}
+
 static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian,
                             fmStretchDerivs* d)
 {
@@ -148,6 +175,7 @@ static void fmStretchEnergy(const fmMaterial* m, const double s[3], bool hessian
 		break;
 	case fm_stvk:
 		fmStvkStretch(m, s, hessian, d);
+		fmStvkFloorStretch(m, s, hessian, d);
 		break;
 	default:
 		m->stretchEnergy(s, m->userParams, &d->psi, d->g, hessian ? d->H : NULL);

@@ -29,6 +29,7 @@
 #endif
 #include "fem/kernels/tet_kernel.h"
 
+#include "material/material.h"
 #include "material/material_invariant.h"
 #include "math/svd3.h"
 
@@ -200,6 +201,17 @@ FM_INLINE void fmStvkStress(const fmMat3V* H, fmFloatV mu, fmFloatV lambda, fmMa
 	fmMat3V HS = fmMat3V_Mul(H, &S);
 	for (int k = 0; k < 9; ++k)
 		P->m[k] = fmV_Add(S.m[k], HS.m[k]);
+}
+
+// The lanes whose det(I + H) is below StVK's volume floor (material.h, with a float's margin): the
+// reference path evaluates them in double, floor and all.
+FM_INLINE fmIntV fmStvkBelowFloor(const fmMat3V* H)
+{
+	fmMat3V F = *H;
+	const fmFloatV one = fmV_Set(1.0f);
+	for (int i = 0; i < 3; ++i)
+		F.m[4 * i] = fmV_Add(one, H->m[4 * i]);
+	return fmV_Less(fmMat3V_Det(&F), fmV_Set((float)(FM_STVK_FLOOR_J * 1.001)));
 }
 
 // cof(I + A) = (1 + t + c2) I - (1 + t) A^T + (A^T)^2 and det(I + A) - 1 = t + c2 + det A, with
@@ -554,7 +566,10 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
 	fmFloatV* energy = laneEnergy ? &psi : NULL;
 	fmIntV fallback = fmI_Set(0);
 	if (model == fm_stvk)
+	{
 		fmStvkStress(&H, mu, lambda, &P, energy);
+		fallback = fmStvkBelowFloor(&H);
+	}
 	else if (model == fm_corotated)
 		fmCorotatedStress(&H, mu, lambda, &P, &fallback, energy);
 	else if (model == fm_neoHookean)
