@@ -511,7 +511,7 @@ static uint64_t runMixedScene(int* failures_, fmIntegrator integrator, int worke
 // began to carry its spring's stretch from step to step; the explicit one when explicit friction
 // against colliders began to take its slip back from the positions (issue 29).
 #define GOLDEN_MIXED_EXPLICIT 0x7d27b45087467772ull
-#define GOLDEN_MIXED_IMPLICIT 0x939725fa6faf11efull
+#define GOLDEN_MIXED_IMPLICIT 0xb8d4f3512e967b8cull
 
 TEST(golden_hash_mixed_scene)
 {

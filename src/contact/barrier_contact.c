@@ -577,6 +577,9 @@ static bool fmLagFriction(fmBarrierContact* bc)
 		// ten piled houses took 20 Newton iterations a step, against 3-5).
 		double normal = bc->stiffness * fmPairMass(w, st) * (4.0 * d2 * b[2] + 2.0 * b[1]);
 		f.slip = normal > 0.0 ? fmMax(bc->slip, 2.0 * f.limit / normal) : bc->slip;
+		// ... and no stiffer than FM_FRICTION_STIFFNESS times the pair's inertia m / h^2.
+		double inertia = bc->stiffness * bc->sHat / FM_BARRIER_STIFFNESS * fmPairMass(w, st);
+		f.slip = fmMax(f.slip, 2.0 * f.limit / (FM_FRICTION_STIFFNESS * inertia));
 		f.stretch = fmFrictionAnchor_Carried(bc, &f);
 		if (!fmGrowArray((void**)&s->friction, &s->frictionCapacity, s->frictionCount,
 		                 s->frictionCount + 1, sizeof *s->friction))

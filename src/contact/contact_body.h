@@ -12,10 +12,11 @@ struct fmFloorHit;
 
 // A vertex's friction record for the next implicit step (body->contact.friction, this many
 // doubles): the contact normal (0-2), the Coulomb limit mu lambda (3; N, 0: none), the surface's
-// velocity (4-6), 1 for a stick contact (7), and the stretch of the static friction's spring at
-// the end of the step that found it (8-10, m, at most the slip width): the next step's slip starts
-// from it, so a contact that holds is anchored where it first held and does not creep.
-#define FM_FRICTION_STRIDE 11
+// velocity (4-6), 1 for a stick contact (7), the stretch of the static friction's spring at the
+// end of the step that found it (8-10, m, at most the slip width): the next step's slip starts
+// from it, so a contact that holds is anchored where it first held and does not creep; and the
+// stiffest the spring may be over the inertia term m / h^2 (11).
+#define FM_FRICTION_STRIDE 12
 
 // Bodies a body can be known to overlap at once (barrier_contact.h).
 #define FM_OVERLAP_SLOTS 4

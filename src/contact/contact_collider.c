@@ -26,6 +26,7 @@ static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surf
 	next[4] = surface.x, next[5] = surface.y, next[6] = surface.z;
 	next[7] = stick ? 1.0 : 0.0;
 	next[8] = stretch.x, next[9] = stretch.y, next[10] = stretch.z;
+	next[11] = FM_PENALTY_KAPPA;
 }
 
 // A stick collider's response (infinite friction, as the seeds' floor): the relative velocity

@@ -220,6 +220,7 @@ static void fmKeepFloorFriction(const fmFloorDef* floor, fmBody* b, int i, doubl
 	next[1] = 1.0;
 	next[3] = limit;
 	next[8] = stretch.x, next[9] = stretch.y, next[10] = stretch.z;
+	next[11] = FM_FRICTION_STIFFNESS;
 }
 
 // Floor response on velocities after the solve, for vertices resting on the floor. The solve

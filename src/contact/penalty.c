@@ -111,11 +111,11 @@ static fmVec3 fmSlip(const double* f, fmVec3 x, fmVec3 x0, double h)
 }
 
 // The slip width of vertex i's static friction (m): FM_FRICTION_SLIP_SPEED h, widened where the
-// stick spring 2 mu lambda / eps would be stiffer than the normal penalty kappa m / h^2 (a stick
-// stiffer than the contact itself only stalls Newton: measured, docs/contact.md).
+// stick spring 2 mu lambda / eps would be stiffer than the record's cap f[11] times m / h^2 (a
+// stiff stick only costs Newton iterations: measured, docs/contact.md).
 static double fmSlipWidth(const fmBody* b, int i, const double* f, double h)
 {
-	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (FM_PENALTY_KAPPA * b->mesh.mass[i]));
+	return fmMax(FM_FRICTION_SLIP_SPEED * h, 2.0 * f[3] * h * h / (f[11] * b->mesh.mass[i]));
 }
 
 // A stick collider's friction (f[7] set by contact_collider.c): infinite friction as the limit
