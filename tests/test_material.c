@@ -296,7 +296,7 @@ TEST(small_strain_matches_linear_elasticity)
 // ---- model-specific ----------------------------------------------------------------------------
 
 // The seeds' StVK where det F >= FM_STVK_FLOOR_J; below it the same plus the volume floor
-// kappa / 2 (J_floor - J)^2, kappa = 2 (lambda + 2 mu) (material.h), whose stress is
+// kappa / 2 (J_floor - J)^2, kappa = 4 (lambda + 2 mu) (material.h), whose stress is
 // kappa (J - J_floor) cof F. (The finite-difference tests above check its derivatives.)
 TEST(stvk_is_the_seeds_formula)
 {

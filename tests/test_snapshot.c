@@ -657,3 +657,23 @@ TEST(sleep_survives_a_restore)
 	free(timing);
 	fmDestroyWorld(world);
 }
+
+// A body keeps its barrier friction pairs (friction_anchor.h) until its next step, naming the
+// other body: when that body is destroyed first, a snapshot of the world still restores into it.
+TEST(snapshot_after_a_touching_body_is_destroyed_restores)
+{
+	ContactScene scene = makeContactScene(failures_, fm_implicit);
+	int paddle = 0, bodyBody = 0;
+	runScene(failures_, &scene, sceneSaveFrame, NULL, &paddle, &bodyBody); // stacked, touching
+	CHECK(bodyBody > 0);
+	fmBody_SetAwake(scene.bodies[1], false);
+	fmDestroyBody(scene.bodies[0]);
+	size_t size = fmWorld_GetSnapshotSize(scene.world), written = 0;
+	void* snapshot = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(scene.world, snapshot, size, &written), fm_ok);
+	CHECK_INT(fmWorld_Step(scene.world, scene.frame, scene.substeps), fm_ok);
+	CHECK_INT(fmWorld_RestoreSnapshot(scene.world, snapshot, written), fm_ok);
+	CHECK_INT(fmWorld_Step(scene.world, scene.frame, scene.substeps), fm_ok);
+	free(snapshot);
+	fmDestroyWorld(scene.world);
+}

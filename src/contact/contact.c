@@ -177,8 +177,10 @@ static bool fmBodyContactArrays(fmBody* b)
 		FM_FREE_ARRAY(on, uint8_t, b->mesh.vertexCount);
 		b->contact.thinness = fmRestThinness(b);
 	}
-	return b->contact.start != NULL && b->contact.surfaceVertex != NULL && b->contact.mark != NULL &&
-	       b->contact.tetMark != NULL && b->contact.plane != NULL && b->contact.embeddedHolder != NULL;
+	return b->contact.start != NULL && b->contact.surfaceVertex != NULL &&
+	       b->contact.mark != NULL && b->contact.tetMark != NULL && b->contact.plane != NULL &&
+	       b->contact.embeddedHolder != NULL && b->contact.friction != NULL &&
+	       b->contact.frictionNext != NULL;
 }
 
 void fmContact_BeginFrame(fmWorld* w)

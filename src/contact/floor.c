@@ -18,6 +18,7 @@
 #include "core/core.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 bool fmFloor_Applies(const fmFloorDef* floor, const fmBody* b)
@@ -196,23 +197,32 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 
 // ---- implicit ---------------------------------------------------------------------------------
 
-// Whether vertex i had friction in this step's solve (penalty.h: the Coulomb floor's or a
-// collider's, lagged from the step before).
-static bool fmFrictionInSolve(const fmBody* b, int i)
+// Whether vertex i had the floor's friction in this step's solve (penalty.h: a record of the
+// floor's, told by its cap, lagged from the step before).
+static bool fmFloorFrictionInSolve(const fmBody* b, int i)
 {
-	return b->contact.friction != NULL &&
-	       b->contact.friction[(size_t)FM_FRICTION_STRIDE * i + 3] > 0.0;
+	const double* f = b->contact.friction + (size_t)FM_FRICTION_STRIDE * i;
+	return f[3] > 0.0 && f[11] == FM_FRICTION_STIFFNESS;
+}
+
+static int fmCompareInts(const void* a, const void* b)
+{
+	int x = *(const int*)a, y = *(const int*)b;
+	return (x > y) - (x < y);
 }
 
 // The Coulomb floor's friction for vertex i's next solve (penalty.h): the limit mu times the
 // floor's push @p force (N) in this one, anchored by the stretch this step's friction ended with.
-// Kept where the contact arrays are (fmContact_FloorFriction) and stronger than what is there.
+// Kept for surface vertices (the ones the solve's friction term visits) where stronger than what
+// is there.
 static void fmKeepFloorFriction(const fmFloorDef* floor, fmBody* b, int i, double force,
                                 const fmImplicitCache* c, double h)
 {
 	double* next = b->contact.frictionNext;
 	double limit = floor->frictionCoefficient * force;
-	if (next == NULL || !(limit > next[(size_t)FM_FRICTION_STRIDE * i + 3]))
+	if (!(limit > next[(size_t)FM_FRICTION_STRIDE * i + 3]) ||
+	    bsearch(&i, b->contact.surfaceVertex, (size_t)b->contact.surfaceVertexCount, sizeof(int),
+	            fmCompareInts) == NULL)
 		return;
 	next += (size_t)FM_FRICTION_STRIDE * i;
 	fmVec3 stretch = fmContactFriction_Stretch(b, i, b->state.x, c->xStart, h);
@@ -229,7 +239,7 @@ static void fmKeepFloorFriction(const fmFloorDef* floor, fmBody* b, int i, doubl
 // stick zeroes it (the seeds), Coulomb reduces it by at most mu * (normal impulse) / m, the
 // normal impulse being the floor's force from the solve times h plus the removed approach.
 int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImplicitCache* c,
-                               double h)
+                               double h, bool frictionInSolve)
 {
 	b->contact.floorHitCount = 0;
 	int contacts = 0;
@@ -243,8 +253,8 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		const double before[3] = {v[0], v[1], v[2]};
 		double push = fmMax(0.0, c->gradient[3 * i + 1]) * h; // N s, the floor's push in the solve
 		// Friction in the solve already answered the push; the velocity keeps the rest.
-		double impulse = fmFrictionInSolve(b, i) ? 0.0 : push;
-		if (floor->friction == fm_floorCoulomb)
+		double impulse = frictionInSolve && fmFloorFrictionInSolve(b, i) ? 0.0 : push;
+		if (frictionInSolve)
 			fmKeepFloorFriction(floor, b, i, push / h, c, h);
 		if (v[1] < 0.0)
 		{

@@ -75,8 +75,9 @@ double fmFloor_ImplicitWork(const fmBody* body, const fmImplicitCache* cache, do
 
 // Implicit, after the solve: restitution and friction on the velocities of the vertices on the
 // floor (the normal impulse from the solve's push, less what friction in the solve answered).
-// A Coulomb floor's push is also the next solve's friction limit (fmContact_FloorFriction,
-// penalty.h). The vertices in contact go to body->floorHits. Returns how many, or -1 when that
-// list could not grow.
+// With @p frictionInSolve (fmContact_FloorFriction: the Newton solves carry the Coulomb floor's
+// friction) the floor's push is also the next solve's friction limit (penalty.h), and a vertex
+// the floor's friction held in this solve gets no velocity friction for it. The vertices in
+// contact go to body->floorHits. Returns how many, or -1 when that list could not grow.
 int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* body, const fmImplicitCache* cache,
-                               double h);
+                               double h, bool frictionInSolve);

@@ -358,12 +358,18 @@ double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const d
 {
 	fmWorkVisit v = {b->state.x, xStart, 0.0};
 	fmPenaltyPairs(p, b, b->state.x, fmVisitWork, &v);
-	// Friction's work: negative against a resting collider, positive where a moving one drags.
+	// Friction's work: what a moving surface's drag puts in, force times the surface's own motion
+	// (its positive part). Against a resting surface friction only takes energy out, and its
+	// anchored spring only gives back what it stored: neither is work done on the body.
 	for (int s = 0; p != NULL && s < b->contact.surfaceVertexCount; ++s)
 	{
 		int i = b->contact.surfaceVertex[s];
+		const double* f = fmFrictionOf(b, i);
+		if (f == NULL)
+			continue;
 		fmVec3 force = fmContactFriction_Force(b, i, b->state.x, xStart, p->step);
-		v.work += fmMax(0.0, fmDot(force, fmSub(fmLoad(b->state.x, i), fmLoad(xStart, i))));
+		fmVec3 carried = fmScale(p->step, fmMakeVec3(f[4], f[5], f[6]));
+		v.work += fmMax(0.0, fmDot(force, carried));
 	}
 	return v.work;
 }

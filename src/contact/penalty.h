@@ -57,11 +57,13 @@ typedef struct fmContactPenalty
 
 // The stiffest static friction spring 2 mu lambda / eps on the Coulomb floor and between bodies,
 // over the inertia term m / h^2 (colliders: FM_PENALTY_KAPPA, their push's own stiffness): its
-// slip width eps is widened to keep it there. With the stretch anchored a softer spring costs no
-// creep, only a static offset within the slip width, and Newton fewer iterations (measured: the
-// house on a Coulomb floor took 4.3 times the old frame time at 100, 1.7 at 10 and 1.4 at 3).
-// Against colliders, whose push lambda can be thousands of times the weight while they drive a
-// body, a spring that soft lets the slip width grow to metres: they keep their penalty's cap.
+// slip width eps is widened to keep it there. (That is the spring on the stretch; a step's own
+// motion sees FM_FRICTION_GAIN times it, the dashpot included.) With the stretch anchored a softer
+// spring costs no creep, only a static offset within the slip width, and Newton fewer iterations
+// (measured: the house on a Coulomb floor took 4.3 times the old frame time at 100, 1.7 at 10
+// and 1.4 at 3). Against colliders, whose push lambda can be thousands of times the weight while
+// they drive a body, a spring that soft lets the slip width grow to metres: they keep their
+// penalty's cap.
 #define FM_FRICTION_STIFFNESS 3.0
 
 // The slip's gain on the step's own motion: u = stretch + FM_FRICTION_GAIN d, d the step's

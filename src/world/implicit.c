@@ -313,7 +313,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	if (floor)
 	{
 		fmStepContext_AddContactWork(ctx, b->slot, fmFloor_ImplicitWork(b, c, floor->height));
-		if (fmFloor_ImplicitVelocities(floor, b, c, h) < 0)
+		if (fmFloor_ImplicitVelocities(floor, b, c, h, fmContact_FloorFriction(world)) < 0)
 			return fm_errOutOfMemory;
 	}
 	b->stepStage[1] = fmSeconds() - solved;

@@ -380,9 +380,18 @@ static uint8_t fmGetStretch(fmStream* s, fmBarrierStretch* r)
 	return edgeEdge;
 }
 
-// Whether stretch record @p r names live bodies' vertices and follows @p last (NULL: first).
-static bool fmStretchValid(const fmWorld* w, const fmBarrierStretch* r,
-                           const fmBarrierStretch* last, uint8_t kind)
+// Whether all @p count doubles at @p v are finite.
+static bool fmAllFinite(const double* v, int count)
+{
+	for (int k = 0; k < count; ++k)
+		if (!isfinite(v[k]))
+			return false;
+	return true;
+}
+
+// Whether stretch record @p r names live bodies' vertices with finite numbers. (A body's records
+// may name a body destroyed since its last step: those are not saved, and never matched.)
+static bool fmStretchNamesLive(const fmWorld* w, const fmBarrierStretch* r)
 {
 	for (int k = 0; k < 4; ++k)
 	{
@@ -391,14 +400,25 @@ static bool fmStretchValid(const fmWorld* w, const fmBarrierStretch* r,
 		    r->stencil.vertex[k] < 0 || r->stencil.vertex[k] >= w->bodies[body].mesh.vertexCount)
 			return false;
 	}
-	return kind <= 1u &&
+	const double numbers[10] = {r->w[0],       r->w[1],       r->w[2],       r->w[3],
+	                            r->relative.x, r->relative.y, r->relative.z, r->stretch.x,
+	                            r->stretch.y,  r->stretch.z};
+	return fmAllFinite(numbers, 10);
+}
+
+// Whether stretch record @p r is one a snapshot holds: live names, finite numbers, a kind byte
+// of 0 or 1, after @p last (NULL: first).
+static bool fmStretchValid(const fmWorld* w, const fmBarrierStretch* r,
+                           const fmBarrierStretch* last, uint8_t kind)
+{
+	return kind <= 1u && fmStretchNamesLive(w, r) &&
 	       (last == NULL || fmBarrierStencil_Compare(&last->stencil, &r->stencil) < 0);
 }
 
 // A body's contact state: a flags byte (bit 0 asleep, bit 1 a wake asked for), its sleep timer
 // and island, then the count of vertices with friction for the next step, each as its index and
 // its FM_FRICTION_STRIDE doubles, then the count of its barrier pairs' stretches and each.
-static void fmPutBodyContact(fmStream* s, const fmBody* b)
+static void fmPutBodyContact(fmStream* s, const fmWorld* w, const fmBody* b)
 {
 	uint8_t flags = (uint8_t)((b->asleep ? 1u : 0u) | (b->wakeRequested ? 2u : 0u));
 	int32_t island = b->island, count = 0;
@@ -416,10 +436,13 @@ static void fmPutBodyContact(fmStream* s, const fmBody* b)
 		fmPut(s, &i, sizeof i);
 		fmPut(s, f, FM_FRICTION_STRIDE * sizeof(double));
 	}
-	int32_t stretches = b->contact.stretchCount;
+	int32_t stretches = 0;
+	for (int k = 0; k < b->contact.stretchCount; ++k)
+		stretches += fmStretchNamesLive(w, &b->contact.stretch[k]);
 	fmPut(s, &stretches, sizeof stretches);
 	for (int k = 0; k < b->contact.stretchCount; ++k)
-		fmPutStretch(s, &b->contact.stretch[k]);
+		if (fmStretchNamesLive(w, &b->contact.stretch[k]))
+			fmPutStretch(s, &b->contact.stretch[k]);
 }
 
 // The contact section: the substep the contact stage last worked on, every live collider (key
@@ -438,7 +461,7 @@ static void fmPutContact(fmStream* s, fmWorld* w)
 	}
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
-			fmPutBodyContact(s, &w->bodies[i]);
+			fmPutBodyContact(s, w, &w->bodies[i]);
 	const uint64_t* pairs;
 	int32_t count = fmContactEvents_FramePairs(w, &pairs);
 	fmPut(s, &count, sizeof count);
@@ -658,9 +681,12 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 	for (int32_t k = 0; k < count; ++k)
 	{
 		int32_t vertex = -1;
+		double f[FM_FRICTION_STRIDE];
 		fmGet(s, &vertex, sizeof vertex);
-		fmSkip(s, FM_FRICTION_STRIDE * sizeof(double));
-		if (s->overflow || vertex <= last || vertex >= b->mesh.vertexCount)
+		fmGet(s, f, sizeof f);
+		// Finite, a limit (saved where > 0) and a stiffness cap > 0 (fmSlipWidth divides by it).
+		if (s->overflow || vertex <= last || vertex >= b->mesh.vertexCount ||
+		    !fmAllFinite(f, FM_FRICTION_STRIDE) || !(f[3] > 0.0) || !(f[11] > 0.0))
 			return fm_errParameter;
 		last = vertex;
 	}
@@ -682,8 +708,9 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
 	if (count > 0 && b->contact.frictionNext == NULL)
 		return fm_errOutOfMemory;
-	return fmGrowArray((void**)&b->contact.stretch, &b->contact.stretchCapacity, 0, stretches,
-	                   sizeof *b->contact.stretch)
+	// Grown keeping what is there: a later refusal leaves the body as it was.
+	return fmGrowArray((void**)&b->contact.stretch, &b->contact.stretchCapacity,
+	                   b->contact.stretchCount, stretches, sizeof *b->contact.stretch)
 	           ? fm_ok
 	           : fm_errOutOfMemory;
 }
