@@ -258,7 +258,7 @@ TEST(grab_at_a_pinned_node_pulls_the_body)
 	for (int v = 0; v < 4; ++v)
 		lift += x[3 * v + 1] / 4.0;
 	printf("  the tet's mean lift %.3f m after 10 frames\n", lift - 0.25);
-	CHECK(lift > 0.26);     // pulled up
+	CHECK(lift > 0.26);  // pulled up
 	CHECK(x[13] == 0.0); // the node stays pinned
 	fmBody_ReleaseGrab(body);
 	for (int v = 0; v < 4; ++v)

@@ -123,7 +123,9 @@ static int fmPatchShares(const fmBody* b, fmVec3 point, double radius, double* w
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		double s = fmLength(fmSub(fmLoad(b->state.x, i), point)) / radius;
-		weight[i] = s < 1.0 && b->state.invMass[i] > 0.0 ? b->mesh.mass[i] * (1.0 - s * s) * (1.0 - s * s) : 0.0;
+		weight[i] = s < 1.0 && b->state.invMass[i] > 0.0
+		                ? b->mesh.mass[i] * (1.0 - s * s) * (1.0 - s * s)
+		                : 0.0;
 		count += weight[i] > 0.0;
 		total += weight[i];
 	}
