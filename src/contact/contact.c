@@ -114,6 +114,11 @@ bool fmContact_FloorFriction(const fmWorld* w)
 	       floor->enabled && floor->friction == fm_floorCoulomb && floor->frictionCoefficient > 0.0;
 }
 
+bool fmContact_ColliderBarrier(const fmWorld* w)
+{
+	return w->def.integrator == fm_implicit && w->def.implicitSolver != fm_solverVbd;
+}
+
 bool fmContact_Active(const fmWorld* w)
 {
 	return fmContact_HasColliders(w) || fmContact_BodiesMeet(w);
@@ -300,8 +305,13 @@ static void fmMoveCollider(fmCollider* c, double h)
 	}
 }
 
-bool fmContact_BeginSubstep(fmWorld* w)
+bool fmContact_BeginSubstep(fmWorld* w, double h)
 {
+	// Under the colliders' barrier the solve meets each kinematic collider where the substep
+	// leaves it; the contact stage otherwise moves them after the bodies' steps.
+	for (int k = 0; k < w->colliderCapacity && fmContact_ColliderBarrier(w); ++k)
+		if (w->colliders[k].inUse)
+			fmMoveCollider(&w->colliders[k], h);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
@@ -342,7 +352,7 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 	w->contactStep = ctx->substep;
 	// Symplectic Euler's shadow term h/2 v . f, which the contact ledger books the change of.
 	const double shadowWeight = w->def.integrator == fm_explicit ? 0.5 * ctx->substep : 0.0;
-	for (int k = 0; k < w->colliderCapacity; ++k)
+	for (int k = 0; k < w->colliderCapacity && !fmContact_ColliderBarrier(w); ++k)
 		if (w->colliders[k].inUse)
 			fmMoveCollider(&w->colliders[k], ctx->substep);
 	s->pointCount = 0;

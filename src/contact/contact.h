@@ -1,15 +1,15 @@
 // The contact stage (contact.c): after every body has taken a substep, kinematic colliders
-// move, and every body's surface vertices are kept out of the colliders and out of the other
-// bodies' surfaces, by position projection with restitution and Coulomb friction on the
-// velocities (docs/contact.md). This module is the stage's order and its settings; the work is
-// in its modules: contact_collider.h (vertices against colliders), contact_detect.h (the
-// body-body broad phase and parallel detection), contact_pair.h (vertex against triangle,
-// embedded vertices, self-collision), contact_edge.h (edge against edge), barrier_contact.h (bodies
-// inside the implicit solve), contact_ledger.h (the energy ledger), contact_events.h (the
-// contact list, events, colliders' forces, snapshots), on the buffers of contact_state.h.
-// Rules: the body-body detection and the body-collider queries run on the workers, each writing
-// only its own items; the responses run on one thread, in a fixed order (bodies, vertices,
-// colliders, triangles ascending): the same bits for any number of workers.
+// move (before it, under the colliders' barrier), and every body's surface vertices are kept out of
+// the colliders and out of the other bodies' surfaces, by position projection with restitution and
+// Coulomb friction on the velocities (docs/contact.md). This module is the stage's order and its
+// settings; the work is in its modules: contact_collider.h (vertices against colliders),
+// contact_detect.h (the body-body broad phase and parallel detection), contact_pair.h (vertex
+// against triangle, embedded vertices, self-collision), contact_edge.h (edge against edge),
+// barrier_contact.h (bodies inside the implicit solve), contact_ledger.h (the energy ledger),
+// contact_events.h (the contact list, events, colliders' forces, snapshots), on the buffers of
+// contact_state.h. Rules: the body-body detection and the body-collider queries run on the workers,
+// each writing only its own items; the responses run on one thread, in a fixed order (bodies,
+// vertices, colliders, triangles ascending): the same bits for any number of workers.
 #pragma once
 
 #include "world/world.h"
@@ -40,10 +40,18 @@ bool fmContact_FloorFriction(const fmWorld* world);
 // depenetration speed in that substep and in the frame's later ones.
 void fmContact_BeginFrame(fmWorld* world);
 
-// Start of a substep: every body's positions kept as the start of its motion (for the swept
-// tests), the lagged friction found after the last step handed to this one; before an implicit
-// step, every body's surface edges made for the barrier. False when memory is short.
-bool fmContact_BeginSubstep(fmWorld* world);
+// Whether the implicit solves hold bodies off the colliders with a barrier and bound their
+// steps (penalty.h): an implicit world of the Newton solver. Its kinematic colliders move at
+// the substep's start (fmContact_BeginSubstep), and the contact stage does not move a vertex
+// the solve left outside them.
+bool fmContact_ColliderBarrier(const fmWorld* world);
+
+// Start of a substep of @p h seconds: every body's positions kept as the start of its motion
+// (for the swept tests), the lagged friction found after the last step handed to this one;
+// before an implicit step, every body's surface edges made for the barrier and, under the
+// colliders' barrier, the kinematic colliders moved to where the substep leaves them. False
+// when memory is short.
+bool fmContact_BeginSubstep(fmWorld* world, double h);
 
 // The contact stage of the context's substep. False when memory is short.
 bool fmContact_Substep(fmWorld* world, const fmStepContext* context);

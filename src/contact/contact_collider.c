@@ -2,10 +2,11 @@
 #include "contact/contact_collider.h"
 
 #include "contact/collider.h"
+#include "contact/contact.h"
 #include "contact/contact_response.h"
+#include "contact/penalty.h"
 #include "core/core.h"
 #include "core/det_math.h"
-#include "contact/penalty.h"
 
 #include <math.h>
 
@@ -39,16 +40,20 @@ static void fmStickImpact(fmVec3* relative, fmVec3 n, double e)
 }
 
 // Where vertex i of body @p b goes back to against collider @p c (@p found: the position, the
-// surface normal and the depth it was in), or nothing (found->hit false) when it is outside
-// and did not cross it. Reads only: it runs on the workers (fmContactCollider_Collide).
+// surface normal and the depth it was in, negative: a gap), or nothing (found->hit false) when
+// it is outside and did not cross it, nor came within @p dHat of it (the colliders' barrier's
+// reach, where the solve held it off; 0 without). Reads only: it runs on the workers
+// (fmContactCollider_Collide).
 static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, const fmCollider* c,
-                                   fmColliderFind* found)
+                                   double dHat, fmColliderFind* found)
 {
 	fmVec3 x = fmLoad(b->state.x, i), start = fmLoad(b->contact.start, i), n;
 	double d = fmCollider_Distance(c, x, &n), fraction;
 	double depth = -d;
 	found->hit = true;
-	if (fmCollider_CastSegment(c, start, x, 0.0, &fraction, &n))
+	// Under the barrier no step crossed the surface: no cast (a kinematic collider moved
+	// before the step, and its start may lie inside where it now is).
+	if (dHat == 0.0 && fmCollider_CastSegment(c, start, x, 0.0, &fraction, &n))
 	{
 		// It came from outside the grown shape: back onto the surface where it entered it,
 		// keeping the motion along the surface (a slide is not stopped by the test).
@@ -67,14 +72,15 @@ static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, con
 		x = fmMulAdd(x, fmMin(depth, reach), n);
 	}
 	else
-		found->hit = false;
+		found->hit = d < dHat;
 	found->x = x;
 	found->normal = n;
 	found->depth = depth;
 }
 
 // Keep vertex @p i of body @p slot on or outside collider @p k, as @p found says (exact shapes:
-// no gap; @p thickness, the one between bodies, only bounds what an implicit creep takes back):
+// no gap, except the colliders' barrier's reach, @p thickness, the one between bodies, which
+// also bounds what an implicit creep takes back):
 // its position, the velocity response (restitution, friction), the collider's reaction, the
 // contact list. Returns false when the contact list could not grow.
 static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, int k,
@@ -86,12 +92,16 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	double depth = found->depth;
 	fmVec3 before = fmLoad(b->state.x, i);
 	fmVec3 vc = fmCollider_VelocityAt(c, x), relative = fmSub(v, vc);
-	// After an implicit step the penalty pushed the vertex out of the collider during the
-	// step: its normal impulse per mass, kappa / h^2 depth h, bounds friction too, unless
-	// friction already acted in the solve (lagged from the last step: penalty.h).
+	// After an implicit step the barrier (or the penalty) pushed the vertex off the collider
+	// during the step: its normal impulse per mass (the penalty's kappa / h^2 depth h) bounds
+	// friction too, unless friction already acted in the solve (lagged from the last step:
+	// penalty.h).
 	bool implicit = w->def.integrator == fm_implicit;
 	double h = w->contactStep;
-	double pushed = implicit && depth > 0.0 ? FM_PENALTY_KAPPA * depth / h : 0.0;
+	double pushed = !implicit                      ? 0.0
+	                : fmContact_ColliderBarrier(w) ? fmColliderBarrier_Push(-depth, thickness, h)
+	                : depth > 0.0                  ? FM_PENALTY_KAPPA * depth / h
+	                                               : 0.0;
 	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->state.x, b->contact.start, h)
 	                         : fmMakeVec3(0.0, 0.0, 0.0);
 	bool inSolve = fmDot(solved, solved) > 0.0 ||
@@ -131,7 +141,8 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	p->collider = fmWorldColliderId(w, k);
 	p->point = fmLoad(b->state.x, i);
 	p->normal = n;
-	p->depth = depth;
+	// How far inside the contact thickness, as between bodies, where the barrier has one.
+	p->depth = fmContact_ColliderBarrier(w) ? thickness + depth : depth;
 	p->impulse = fmDot(impulse, n);
 	uint64_t key = ((uint64_t)(uint32_t)slot << 32) | (0x80000000u | (uint32_t)k);
 	return fmContactState_RecordPair(s, key);
@@ -183,6 +194,7 @@ typedef struct fmColliderTask
 	const fmWorld* w;
 	const fmBody* b;
 	const fmCollider* c;
+	double dHat;           // the colliders' barrier's reach (0: no barrier)
 	fmColliderFind* finds; // per surface vertex of b
 } fmColliderTask;
 
@@ -196,12 +208,13 @@ static void fmFindColliderRange(int start, int end, int worker, void* context)
 		if (t->b->state.pinned[i] == FM_PIN_ALL)
 			t->finds[p].hit = false;
 		else
-			fmFindVertexVsCollider(t->w, t->b, i, t->c, &t->finds[p]);
+			fmFindVertexVsCollider(t->w, t->b, i, t->c, t->dHat, &t->finds[p]);
 	}
 }
 
 bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness)
 {
+	double dHat = fmContact_ColliderBarrier(w) ? thickness : 0.0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		fmBody* b = &w->bodies[slot];
@@ -209,6 +222,8 @@ bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness)
 			continue;
 		fmVec3 lo, hi;
 		fmSweptBox(b, &lo, &hi);
+		lo = fmSub(lo, fmMakeVec3(dHat, dHat, dHat));
+		hi = fmAdd(hi, fmMakeVec3(dHat, dHat, dHat));
 		for (int k = 0; k < w->colliderCapacity; ++k)
 		{
 			if (!w->colliders[k].inUse || !fmFiltersMeet(b->filter, w->colliders[k].def.filter) ||
@@ -223,7 +238,7 @@ bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness)
 			if (!fmGrowArray((void**)&s->colliderFinds, &s->colliderFindCapacity, 0,
 			                 b->contact.surfaceVertexCount, sizeof(fmColliderFind)))
 				return false;
-			fmColliderTask task = {w, b, &w->colliders[k], s->colliderFinds};
+			fmColliderTask task = {w, b, &w->colliders[k], dHat, s->colliderFinds};
 			fmParallelForBalanced(&w->tasks, b->contact.surfaceVertexCount, FM_CONTACT_MIN_RANGE,
 			                      fmFindColliderRange, &task);
 			for (int p = 0; p < b->contact.surfaceVertexCount; ++p)

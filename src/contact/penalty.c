@@ -1,6 +1,8 @@
 // The implicit step's contact penalty (penalty.h).
 #include "contact/penalty.h"
+#include "contact/barrier_contact.h"
 #include "core/det_math.h"
+#include "math/barrier.h"
 
 #include <math.h>
 
@@ -9,27 +11,77 @@ static bool fmPenaltyMeets(const fmBody* b, const fmCollider* c)
 	return c->inUse && fmFiltersMeet(b->filter, c->def.filter);
 }
 
-// One penalty term: the point sum_j weight[j] x[vertex[j]] (one vertex, or an edge's point),
-// @p depth (m) behind where it should be along the outward unit @p normal, with stiffness k.
+// One term on the point sum_j weight[j] x[vertex[j]] (one vertex, or an edge's point): its
+// @p energy (J), the @p force (N) it pushes the point with along the outward unit @p normal and
+// its curvature k (N/m) along it. A penalty's, at depth d behind where the point should be:
+// k d^2 / 2, k d and k; a collider barrier's: kappa G, -kappa G' and kappa G''.
 typedef struct fmPenaltyTerm
 {
 	int vertex[2];
 	double weight[2];
 	int count;
 	double k;
-	double depth;
+	double energy;
+	double force;
 	fmVec3 normal;
 } fmPenaltyTerm;
 
-// Calls @p visit for every surface vertex inside a collider (depth -d) or within the thickness
-// of its frozen plane of another body (depth thickness - d), and every surface edge within the
-// thickness of its frozen edge plane.
+// G(d), G'(d) and G''(d) of the colliders' barrier (penalty.h) per unit kappa, continued as the
+// quadratic at FM_BARRIER_FLOOR dHat below it; zero from dHat on.
+static void fmColliderBarrier(double d, double dHat, double out[3])
+{
+	double at = fmMax(d, FM_BARRIER_FLOOR * dHat), sHat = dHat * dHat, s = at * at;
+	double b1 = fmBarrier_First(s, sHat), delta = d - at;
+	double g0 = fmBarrier(s, sHat), g1 = 2.0 * at * b1;
+	double g2 = fmMax(0.0, 2.0 * b1 + 4.0 * s * fmBarrier_Second(s, sHat));
+	out[0] = g0 + g1 * delta + 0.5 * g2 * delta * delta;
+	out[1] = g1 + g2 * delta;
+	out[2] = g2;
+}
+
+// The barrier's kappa over the vertex mass: FM_BARRIER_STIFFNESS / (h^2 dHat^2).
+static double fmColliderBarrierStiffness(double dHat, double h)
+{
+	return FM_BARRIER_STIFFNESS / (h * h * dHat * dHat);
+}
+
+double fmColliderBarrier_Push(double d, double dHat, double h)
+{
+	if (!(d < dHat) || !(dHat > 0.0))
+		return 0.0;
+	double g[3];
+	fmColliderBarrier(d, dHat, g);
+	return -g[1] * fmColliderBarrierStiffness(dHat, h) * h;
+}
+
+// Calls @p visit for every surface vertex inside a collider (depth -d; with the barrier: within
+// dHat of one) or within the thickness of its frozen plane of another body (depth
+// thickness - d), and every surface edge within the thickness of its frozen edge plane.
 typedef void fmPenaltyVisit(void* context, const fmPenaltyTerm* term);
 
 static void fmVertexTerm(fmPenaltyVisit* visit, void* context, int i, double k, double depth,
                          fmVec3 n)
 {
-	fmPenaltyTerm t = {{i, i}, {1.0, 0.0}, 1, k, depth, n};
+	fmPenaltyTerm t = {{i, i}, {1.0, 0.0}, 1, k, 0.5 * k * depth * depth, k * depth, n};
+	visit(context, &t);
+}
+
+// Vertex i against collider @p c at signed distance @p d (m) with outward normal @p n: the
+// barrier's term when it holds the colliders, else the penalty's inside.
+static void fmColliderTerm(const fmContactPenalty* p, const fmBody* b, int i, double d, fmVec3 n,
+                           fmPenaltyVisit* visit, void* context)
+{
+	if (!p->barrier)
+	{
+		if (d < 0.0)
+			fmVertexTerm(visit, context, i, p->stiffness * b->mesh.mass[i], -d, n);
+		return;
+	}
+	if (!(d < p->thickness))
+		return;
+	double g[3], kappa = fmColliderBarrierStiffness(p->thickness, p->step) * b->mesh.mass[i];
+	fmColliderBarrier(d, p->thickness, g);
+	fmPenaltyTerm t = {{i, i}, {1.0, 0.0}, 1, kappa * g[2], kappa * g[0], -kappa * g[1], n};
 	visit(context, &t);
 }
 
@@ -44,9 +96,10 @@ static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double
 		double s = plane->s;
 		fmVec3 q = fmAdd(fmScale(1.0 - s, fmLoad(x, plane->a)), fmScale(s, fmLoad(x, plane->b)));
 		double depth = p->thickness - (fmDot(plane->normal, q) - plane->offset);
-		double mass = (1.0 - s) * b->mesh.mass[plane->a] + s * b->mesh.mass[plane->b];
-		fmPenaltyTerm t = {{plane->a, plane->b}, {1.0 - s, s}, 2,
-		                   p->stiffness * mass,  depth,        plane->normal};
+		double k = p->stiffness * ((1.0 - s) * b->mesh.mass[plane->a] + s * b->mesh.mass[plane->b]);
+		fmPenaltyTerm t = {
+		    {plane->a, plane->b}, {1.0 - s, s}, 2, k, 0.5 * k * depth * depth, k * depth,
+		    plane->normal};
 		if (depth > 0.0)
 			visit(context, &t);
 	}
@@ -76,9 +129,8 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 			if (!fmPenaltyMeets(b, c))
 				continue;
 			fmVec3 n;
-			double depth = -fmCollider_Distance(c, fmLoad(x, i), &n);
-			if (depth > 0.0)
-				fmVertexTerm(visit, context, i, p->stiffness * b->mesh.mass[i], depth, n);
+			double d = fmCollider_Distance(c, fmLoad(x, i), &n);
+			fmColliderTerm(p, b, i, d, n, visit, context);
 		}
 	}
 	fmEdgeTerms(p, b, x, visit, context);
@@ -223,10 +275,10 @@ typedef struct fmEnergyVisit
 static void fmVisitEnergy(void* context, const fmPenaltyTerm* t)
 {
 	fmEnergyVisit* e = context;
-	e->energy += 0.5 * t->k * t->depth * t->depth;
+	e->energy += t->energy;
 	for (int j = 0; e->gradient && j < t->count; ++j)
 	{
-		double f = t->k * t->depth * t->weight[j];
+		double f = t->force * t->weight[j];
 		e->gradient[3 * t->vertex[j]] -= f * t->normal.x;
 		e->gradient[3 * t->vertex[j] + 1] -= f * t->normal.y;
 		e->gradient[3 * t->vertex[j] + 2] -= f * t->normal.z;
@@ -351,7 +403,7 @@ static void fmVisitWork(void* context, const fmPenaltyTerm* t)
 	for (int j = 0; j < t->count; ++j)
 		moved = fmMulAdd(moved, t->weight[j],
 		                 fmSub(fmLoad(v->x, t->vertex[j]), fmLoad(v->xStart, t->vertex[j])));
-	v->work += fmMax(0.0, t->k * t->depth * fmDot(t->normal, moved));
+	v->work += fmMax(0.0, t->force * fmDot(t->normal, moved));
 }
 
 double fmContactPenalty_Work(const fmContactPenalty* p, const fmBody* b, const double* xStart)
@@ -395,8 +447,41 @@ static void fmPenaltyTermProduct(const void* context, const double* x, const dou
 	fmContactPenalty_AddProduct(p, p->body, x, dx, y);
 }
 
+// The share of its distance a line-search step may close between a vertex and a collider.
+#define FM_COLLIDER_ETA 0.9
+
+// The largest t <= @p t keeping vertex i, at @p x outside collider @p c, at a tenth of its
+// distance or more along x + s dx, s in [0, t] (penalty.h).
+static double fmColliderBound(const fmCollider* c, fmVec3 x, fmVec3 dx, double t)
+{
+	fmVec3 n;
+	double d = fmCollider_Distance(c, x, &n), length = fmLength(dx);
+	if (!(d > 0.0) || t * length <= FM_COLLIDER_ETA * d)
+		return t; // inside (the barrier's quadratic pushes it out), or out of reach
+	double closing = c->def.shape == fm_shapeMesh ? length : -fmDot(n, dx);
+	return closing * t > FM_COLLIDER_ETA * d ? FM_COLLIDER_ETA * d / closing : t;
+}
+
+static double fmPenaltyStepBound(const void* context, const double* x, const double* dx)
+{
+	const fmContactPenalty* p = context;
+	const fmBody* b = p->body;
+	double t = 1.0;
+	for (int s = 0; p->barrier && b->contact.surfaceVertex && s < b->contact.surfaceVertexCount;
+	     ++s)
+	{
+		int i = b->contact.surfaceVertex[s];
+		if (b->state.pinned[i] == FM_PIN_ALL)
+			continue;
+		for (int k = 0; k < p->colliderCount; ++k)
+			if (fmPenaltyMeets(b, &p->colliders[k]))
+				t = fmColliderBound(&p->colliders[k], fmLoad(x, i), fmLoad(dx, i), t);
+	}
+	return t;
+}
+
 fmNewtonTerm fmContactPenalty_Term(const fmContactPenalty* penalty)
 {
 	return (fmNewtonTerm){penalty, fmPenaltyTermEnergy, fmPenaltyTermHessian, fmPenaltyTermProduct,
-	                      NULL};
+	                      penalty->barrier ? fmPenaltyStepBound : NULL};
 }

@@ -44,12 +44,29 @@ typedef struct fmContactPenalty
 	int colliderCount;           // slots (unused ones are skipped)
 	double stiffness;            // kappa / h^2 (1/s^2): k = stiffness * m
 	double thickness;            // m, the gap kept from the planes of other bodies
-	                             // (body->contactPlane; no longer made by the step);
-	                             // colliders are kept at their surface, without a gap
+	                             // (body->contactPlane; no longer made by the step), and the
+	                             // colliders' barrier's reach dHat
 	const double* xStart;        // 3n: positions at the start of the step (friction's anchors)
 	double step;                 // s, the step (h)
 	const fmBody* body;          // the body being solved
+	bool barrier;                // colliders hold the body off with the barrier (below), not
+	                             // the penalty, and bound the line search's steps
 } fmContactPenalty;
+
+// The colliders' barrier (fmContact_ColliderBarrier): a surface vertex at signed distance d
+// from a collider, closer than dHat, adds kappa G(d), G(d) = b(d^2, dHat^2) the log barrier of
+// math/barrier.h on its squared distance, continued as its quadratic below FM_BARRIER_FLOOR dHat
+// (finite inside: a start a kinematic collider has moved into is pushed out, not refused), and
+// kappa = FM_BARRIER_STIFFNESS m / (h^2 dHat^2) as between bodies (barrier_contact.h). Its
+// gradient is kappa G'(d) n and its Gauss-Newton Hessian kappa G''(d) n n^T. Every line-search
+// step keeps each vertex outside at a tenth of its distance or more: convex shapes bound the
+// step by the distance's tangent (a convex function lies above it), meshes by the distance
+// itself (a distance moves no faster than the point). No vertex enters a collider in the solve.
+
+// The colliders' barrier push on a vertex at signed distance @p d (m) for reach @p dHat (m)
+// over a step @p h (s): the normal impulse per unit mass (m/s), kappa |G'(d)| h / m; 0 from
+// dHat on.
+double fmColliderBarrier_Push(double d, double dHat, double h);
 
 // Friction's slip speed (m/s): the spring of static friction stretches at most this speed times
 // h before the contact slides (its slip width).

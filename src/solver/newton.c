@@ -382,6 +382,21 @@ static bool fmTrialPoint(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 	return bent;
 }
 
+bool fmNewton_Bounded(const fmNewtonProblem* pb)
+{
+	return pb->barrier.stepBound != NULL || pb->contact.stepBound != NULL;
+}
+
+double fmNewton_StepBound(const fmNewtonProblem* pb, const double* x, const double* dx)
+{
+	double t = 1.0;
+	if (pb->barrier.stepBound != NULL)
+		t = fmMin(t, pb->barrier.stepBound(pb->barrier.context, x, dx));
+	if (pb->contact.stepBound != NULL && t > 0.0)
+		t = fmMin(t, pb->contact.stepBound(pb->contact.context, x, dx));
+	return t;
+}
+
 // Whether the straight path from x to @p trial is admissible for the barrier (a path the floor
 // bent is checked again as it is); @p scratch gets the motion.
 static bool fmPathAdmissible(const fmElasticMesh* mesh, const fmBodyState* state, const fmNewtonProblem* pb,
@@ -389,7 +404,7 @@ static bool fmPathAdmissible(const fmElasticMesh* mesh, const fmBodyState* state
 {
 	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
 		scratch[k] = trial[k] - state->x[k];
-	return pb->barrier.stepBound(pb->barrier.context, state->x, scratch) >= 1.0;
+	return fmNewton_StepBound(pb, state->x, scratch) >= 1.0;
 }
 
 // The longest step along the direction that the inversion filter and the barrier's collision
@@ -399,12 +414,12 @@ static double fmStepLimit(const fmElasticMesh* mesh, fmBodyState* state, fmImpli
 	double alpha = pb->inversionFree
 	                   ? fmInversion_StepLimit(mesh, state->x, c->direction, FM_INVERSION_KEEP)
 	                   : 1.0;
-	if (pb->barrier.stepBound != NULL && alpha > 0.0)
+	if (fmNewton_Bounded(pb) && alpha > 0.0)
 	{
 		const int n3 = 3 * mesh->vertexCount;
 		for (int k = 0; k < n3; ++k)
 			c->trial[k] = alpha * c->direction[k];
-		alpha *= fmMin(1.0, pb->barrier.stepBound(pb->barrier.context, state->x, c->trial));
+		alpha *= fmMin(1.0, fmNewton_StepBound(pb, state->x, c->trial));
 	}
 	return alpha;
 }
@@ -430,7 +445,8 @@ static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 		bool bent = fmTrialPoint(mesh, state, c, pb, alpha, trial);
 		if (pb->inversionFree && fmInversion_Any(mesh, state->x, trial))
 			continue; // the floor's projection bent the path into a flat tet: shorter
-		if (bent && pb->barrier.stepBound != NULL && !fmPathAdmissible(mesh, state, pb, trial, trialGradient))
+		if (bent && fmNewton_Bounded(pb) &&
+		    !fmPathAdmissible(mesh, state, pb, trial, trialGradient))
 			continue; // the floor bent the path into another surface: shorter
 		double slope = 0.0;
 		for (int k = 0; k < n3; ++k)

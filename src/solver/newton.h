@@ -95,6 +95,13 @@ typedef struct fmNewtonResult
 double fmNewton_Residual(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* cache, const fmNewtonProblem* problem,
                          const double* x);
 
+// Whether a term of @p problem bounds the line search's steps (fmNewtonTerm.stepBound: the
+// barrier between bodies, the colliders' barrier).
+bool fmNewton_Bounded(const fmNewtonProblem* problem);
+
+// The largest t in [0, 1] the terms' step bounds allow along x + t dx (1 with none).
+double fmNewton_StepBound(const fmNewtonProblem* problem, const double* x, const double* dx);
+
 // Minimise from body->x (overwritten with the result). xPred and xStart in the cache must be
 // set by the caller; xStart is also where pinned vertices stay.
 fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* cache,

@@ -165,18 +165,22 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	                              fmContact_Thickness(world),
 	                              c->xStart,
 	                              h,
-	                              b};
+	                              b,
+	                              fmContact_ColliderBarrier(world)};
 	pb.loads = fmLoads_Term(b);
-	// Bodies meet through the barrier (barrier_contact.h); the penalty holds them off the
-	// colliders; its friction term carries the colliders' and the Coulomb floor's friction.
-	bool pushes = fmContact_HasColliders(world) ||
-	              (fmContact_Active(world) && !fmBarrierContact_Active(world));
-	if (pushes || fmContact_FloorFriction(world))
+	// Bodies meet through the barrier (barrier_contact.h); the colliders' barrier (or, under
+	// vertex block descent's settings, their penalty) holds them off the colliders; its friction
+	// term carries the colliders' and the Coulomb floor's friction.
+	bool colliders = fmContact_HasColliders(world);
+	bool pushes = (colliders && !penalty->barrier) ||
+	              (fmContact_BodiesMeet(world) && !fmBarrierContact_Active(world));
+	if (colliders || pushes || fmContact_FloorFriction(world))
 		pb.contact = fmContactPenalty_Term(penalty);
 	pb.barrier = fmBarrierContact_Term(barrier);
 	// Neo-Hookean-class bodies keep every tet's orientation through the solve (inversion.h),
-	// except with the contact penalty in the solve: its push needs the collapse the filter
-	// forbids (a 10 m/s body against a thin wall tunnels through it within the filter).
+	// except with a penalty in the solve: its push needs the collapse the filter forbids (a
+	// 10 m/s body against a thin wall tunnels through it within the filter). The barriers'
+	// steps are bounded instead: no vertex crosses, so none needs a tet to collapse.
 	pb.inversionFree = fmInversion_Needed(&b->mesh) && b->mesh.forceModel == fm_fem && !pushes;
 	return pb;
 }
@@ -219,16 +223,17 @@ static void fmInversionFreeStart(fmBody* b, fmImplicitCache* c, fmNewtonProblem*
 	pb->inversionFree = !fmInversion_Any(&b->mesh, c->xStart, c->trial);
 }
 
-// A barrier's solve starts where no surfaces cross: the first guess is taken only as far along
-// the straight path from the step's start as no pair closes to a tenth of its gap.
+// A barrier's solve starts where no surfaces cross and no vertex is in a collider: the first
+// guess is taken only as far along the straight path from the step's start as no pair (and no
+// vertex and collider) closes to a tenth of its gap.
 static void fmBarrierFreeStart(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
 {
-	if (pb->barrier.stepBound == NULL)
+	if (!fmNewton_Bounded(pb))
 		return;
 	const int n3 = 3 * b->mesh.vertexCount;
 	for (int k = 0; k < n3; ++k)
 		c->trial[k] = b->state.x[k] - c->xStart[k];
-	double t = pb->barrier.stepBound(pb->barrier.context, c->xStart, c->trial);
+	double t = fmNewton_StepBound(pb, c->xStart, c->trial);
 	if (t >= 1.0)
 		return;
 	for (int k = 0; k < n3; ++k)

@@ -332,7 +332,7 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		if (fmIsland_Stepping(&w->bodies[i]))
 			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
 	bool contact = fmContact_Active(w);
-	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w))
+	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w, h))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
