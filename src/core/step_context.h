@@ -18,6 +18,8 @@ typedef struct fmFrameWork
 	double contact; // the positive work of contacts and kinematic targets
 	double load;    // the net work of loads and prescribed displacements (either sign)
 	double loadIn;  // its positive substep contributions
+	double measure; // the shadow energy's change of measure as the explicit step changed within
+	                // the frame (either sign; neither work done nor a runaway)
 } fmFrameWork;
 
 typedef struct fmStepContext

@@ -118,13 +118,23 @@ void fmLedger_BeginFrame(fmBody* b, fmVec3 gravity, double shadowStep, const fmE
 	ledger->gravityStart = fmGravityPotential(b, gravity);
 }
 
+// What a frame can hold at most for a stable body: the plain energy it started with, the work
+// contacts and loads put in so far, and gravity's most in a frame, M g (size + g T^2).
+static double fmLedgerFrameReach(const fmBody* b, const fmFrameWork* work, fmVec3 gravity,
+                                 double frameTime)
+{
+	double g = fmLength(gravity);
+	return fmMax(b->ledger.plainGood, 0.0) + work->contact + work->loadIn +
+	       b->mesh.totalMass * g * (b->mesh.restSize + g * frameTime * frameTime);
+}
+
 fmLedgerVerdict fmLedger_Check(fmBody* b, const fmFrameWork* work, fmVec3 gravity, double energy,
                                double plain, double frameTime)
 {
 	fmEnergyLedger* ledger = &b->ledger;
 	ledger->frameGravityWork = fmGravityPotential(b, gravity) - ledger->gravityStart;
 	ledger->framePlain = plain;
-	double frameWork = ledger->frameGravityWork + work->contact + work->load;
+	double frameWork = ledger->frameGravityWork + work->contact + work->load + work->measure;
 	double frameWorkIn = fmMax(ledger->frameGravityWork, 0.0) + work->contact + work->loadIn;
 	double allowed =
 	    ledger->initialEnergy + ledger->work + frameWork +
@@ -134,10 +144,7 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, const fmFrameWork* work, fmVec3 gravit
 	// correction term as negative as the explosion is large. The plain energy gets the
 	// per-frame backstop: gravity adds at most M g (size + g T^2) in a frame, and a stable body
 	// does not multiply its energy by 1000 on top of that.
-	double g = fmLength(gravity);
-	double backstop = 1000.0 * (fmMax(ledger->plainGood, 0.0) + work->contact + work->loadIn +
-	                            b->mesh.totalMass * g * (b->mesh.restSize + g * frameTime * frameTime)) +
-	                  ledger->floor;
+	double backstop = 1000.0 * fmLedgerFrameReach(b, work, gravity, frameTime) + ledger->floor;
 	fmLedgerVerdict verdict = {true, false, energy, allowed};
 	if (!(plain <= backstop))
 		verdict = (fmLedgerVerdict){false, true, plain, backstop};
@@ -146,11 +153,14 @@ fmLedgerVerdict fmLedger_Check(fmBody* b, const fmFrameWork* work, fmVec3 gravit
 	return verdict;
 }
 
-void fmLedger_ChangeMeasure(fmBody* b, fmVec3 gravity, double fromStep, double toStep,
-                            const fmEnergyPass* pass)
+void fmLedger_ChangeMeasure(fmBody* b, fmFrameWork* work, fmVec3 gravity, double frameTime,
+                            double fromStep, double toStep, const fmEnergyPass* pass)
 {
 	double before = fmBodyEnergy(b, gravity, fromStep, NULL, NULL, pass);
-	b->ledger.work += fmBodyEnergy(b, gravity, toStep, NULL, NULL, pass) - before;
+	double change = fmBodyEnergy(b, gravity, toStep, NULL, NULL, pass) - before;
+	double reach = fmLedgerFrameReach(b, work, gravity, frameTime) + b->ledger.floor;
+	if (isfinite(change))
+		work->measure += fmMin(fmMax(change, -reach), reach);
 }
 
 void fmLedger_Commit(fmBody* b, const fmFrameWork* work, double shadowStep)
@@ -159,7 +169,7 @@ void fmLedger_Commit(fmBody* b, const fmFrameWork* work, double shadowStep)
 	ledger->measureStep = shadowStep;
 	fmLedgerAddWork(ledger, ledger->frameGravityWork);
 	fmLedgerAddWork(ledger, work->contact);
-	ledger->work += work->load;
+	ledger->work += work->load + work->measure;
 	ledger->workIn += work->loadIn;
 	ledger->frameGravityWork = 0.0;
 	ledger->plainGood = ledger->framePlain;

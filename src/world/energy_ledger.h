@@ -80,9 +80,14 @@ fmLedgerVerdict fmLedger_Check(struct fmBody* body, const fmFrameWork* work, fmV
                                double energy, double plain, double frameTime);
 
 // Within a frame the explicit step changed from @p fromStep to @p toStep: the shadow energy's
-// measure changed with it. Book the difference at the current state as neutral work (not in
-// workIn), as BeginFrame does between frames.
-void fmLedger_ChangeMeasure(struct fmBody* body, fmVec3 gravity, double fromStep, double toStep,
+// measure changed with it. Book the difference at the current state in the frame's @p work
+// (neutral: not in workIn; committed with the frame, dropped with a refused one), as BeginFrame
+// does between frames. A stable step's shadow term is at most about the body's energy: the
+// change is bounded by the energy the frame started with plus what gravity, contacts and loads
+// can add in it, and a non-finite one books nothing (an exploding state's correction is as large
+// as the explosion: booked, it would let the explosion pass the ledger).
+void fmLedger_ChangeMeasure(struct fmBody* body, fmFrameWork* work, fmVec3 gravity,
+                            double frameTime, double fromStep, double toStep,
                             const fmEnergyPass* pass);
 
 // Book the frame's work (after every body of the world passed fmLedger_Check); the good state's

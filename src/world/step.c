@@ -104,7 +104,8 @@ static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double en
 		         energy,
 		         w->def.integrator == fm_explicit ? ", as symplectic Euler conserves it" : "",
 		         bound, b->ledger.initialEnergy,
-		         b->ledger.work + b->ledger.frameGravityWork + w->frameWork[index].contact);
+		         b->ledger.work + b->ledger.frameGravityWork + w->frameWork[index].contact +
+		             w->frameWork[index].measure);
 	fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
 	            "body %d: %s; %d inverted or non-finite tets (%s); state restored to the last "
 	            "good frame; %s",
@@ -411,7 +412,8 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmStepContext* ctx, fmAutoStep* p
 		fmEnergyPass pass = fmWorldEnergyPass(w);
 		for (int i = 0; i < w->bodyCapacity && h != ctx->shadowStep && h > 0.0; ++i)
 			if (fmBody_IsLive(&w->bodies[i]))
-				fmLedger_ChangeMeasure(&w->bodies[i], w->def.gravity, ctx->shadowStep, h, &pass);
+				fmLedger_ChangeMeasure(&w->bodies[i], &ctx->work[i], w->def.gravity, timeStep,
+				                       ctx->shadowStep, h, &pass);
 		ctx->shadowStep = h;
 	}
 	return fm_ok;
