@@ -1909,8 +1909,8 @@ TEST(edge_plane_penalty_gradient)
 	b->contact.edgePlaneCount = b->contact.edgePlaneCapacity;
 	if (b->contact.edgePlaneCount == 1)
 		b->contact.edgePlanes[0] = (fmEdgePlane){a, c, 0.3, n, fmDot(n, q) + 0.5 * thickness};
-	fmContactPenalty penalty = {NULL, 0,    FM_PENALTY_KAPPA / (h * h), thickness, b->state.x, h,
-	                            b,    false};
+	fmContactPenalty penalty = {NULL,  0,   FM_PENALTY_KAPPA / (h * h), thickness, b->state.x, h, b,
+	                            false, NULL};
 	int n3 = 3 * b->mesh.vertexCount;
 	double* x = malloc(sizeof(double) * (size_t)n3);
 	double* gradient = calloc((size_t)n3, sizeof(double));

@@ -512,7 +512,7 @@ static uint64_t runMixedScene(int* failures_, fmIntegrator integrator, int worke
 // off with a barrier; the explicit one when explicit friction against colliders began to take
 // its slip back from the positions (issue 29).
 #define GOLDEN_MIXED_EXPLICIT 0x7d27b45087467772ull
-#define GOLDEN_MIXED_IMPLICIT 0xec1f4e8ddfe72fd9ull
+#define GOLDEN_MIXED_IMPLICIT 0x778f8925cdaba35bull
 
 TEST(golden_hash_mixed_scene)
 {

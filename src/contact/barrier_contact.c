@@ -928,7 +928,9 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
 		return true;
 	}
 	bc->scratch->candidateCount = -1;
-	return fmLagFriction(bc);
+	bool ok = fmLagFriction(bc);
+	bc->touching = ok && bc->scratch->pairCount > 0;
+	return ok;
 }
 
 double fmBarrierContact_Work(const fmBarrierContact* bc, const double* x)

@@ -110,6 +110,7 @@ typedef struct fmBarrierContact
 	double slip;          // friction's slip width FM_FRICTION_SLIP_SPEED h (m)
 	double cell;          // m, the broad phases' cell
 	bool self;            // the body collides with itself
+	bool touching;        // a pair was within dHat at the step's start
 	const double* xStart; // the body's positions at the step's start
 	fmBarrierScratch* scratch;
 } fmBarrierContact;

@@ -152,6 +152,8 @@ static bool fmBodyContactArrays(fmBody* b)
 		b->contact.mark = FM_ALLOC_ZERO(int, b->mesh.vertexCount);
 	if (b->contact.plane == NULL)
 		b->contact.plane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->mesh.vertexCount);
+	if (b->contact.colliderGap == NULL)
+		b->contact.colliderGap = FM_ALLOC_ARRAY(double, b->mesh.vertexCount);
 	if (b->contact.friction == NULL)
 		b->contact.friction =
 		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
@@ -184,8 +186,8 @@ static bool fmBodyContactArrays(fmBody* b)
 	}
 	return b->contact.start != NULL && b->contact.surfaceVertex != NULL &&
 	       b->contact.mark != NULL && b->contact.tetMark != NULL && b->contact.plane != NULL &&
-	       b->contact.embeddedHolder != NULL && b->contact.friction != NULL &&
-	       b->contact.frictionNext != NULL;
+	       b->contact.colliderGap != NULL && b->contact.embeddedHolder != NULL &&
+	       b->contact.friction != NULL && b->contact.frictionNext != NULL;
 }
 
 void fmContact_BeginFrame(fmWorld* w)

@@ -71,7 +71,11 @@ bool fmFrictionAnchor_Keep(const fmBarrierContact* bc, fmBody* b)
 	const fmBarrierScratch* s = bc->scratch;
 	if (s == NULL || s->frictionCount == 0)
 		return true;
-	if (!fmGrowArray((void**)&b->contact.stretch, &b->contact.stretchCapacity, 0, s->frictionCount,
+	// Grown to the world's shared scratch at once: a body whose pairs grow to what any body's
+	// reached before allocates nothing (a settling stack gains pairs long after its first touch).
+	if (!fmGrowArray((void**)&b->contact.stretch, &b->contact.stretchCapacity, 0,
+	                 s->frictionCount > s->frictionCapacity ? s->frictionCount
+	                                                        : s->frictionCapacity,
 	                 sizeof *b->contact.stretch))
 		return false;
 	for (int k = 0; k < s->frictionCount; ++k)

@@ -105,6 +105,44 @@ static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double
 	}
 }
 
+void fmContactPenalty_Prepare(fmContactPenalty* p, fmBody* b)
+{
+	double* gap = b->contact.colliderGap;
+	if (gap == NULL || b->contact.surfaceVertex == NULL)
+		return;
+	for (int s = 0; s < b->contact.surfaceVertexCount; ++s)
+	{
+		int i = b->contact.surfaceVertex[s];
+		gap[i] = INFINITY;
+		for (int k = 0; k < p->colliderCount; ++k)
+		{
+			fmVec3 n;
+			if (fmPenaltyMeets(b, &p->colliders[k]))
+				gap[i] =
+				    fmMin(gap[i], fmCollider_Distance(&p->colliders[k], fmLoad(p->xStart, i), &n));
+		}
+	}
+	p->gap = gap;
+}
+
+bool fmContactPenalty_Touches(const fmContactPenalty* p, const fmBody* b)
+{
+	for (int s = 0; p->gap != NULL && s < b->contact.surfaceVertexCount; ++s)
+		if (p->gap[b->contact.surfaceVertex[s]] < (p->barrier ? p->thickness : 0.0))
+			return true;
+	return false;
+}
+
+// The least vertex i at @p x can be from any collider it meets (m): its gap at the step's start
+// less how far it has moved since (a distance moves no faster than the point); -INFINITY
+// without the gaps.
+static double fmLeastGap(const fmContactPenalty* p, const double* x, int i)
+{
+	if (p->gap == NULL)
+		return -INFINITY;
+	return p->gap[i] - fmLength(fmSub(fmLoad(x, i), fmLoad(p->xStart, i)));
+}
+
 static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const double* x,
                            fmPenaltyVisit* visit, void* context)
 {
@@ -123,6 +161,9 @@ static void fmPenaltyPairs(const fmContactPenalty* p, const fmBody* b, const dou
 			if (depth > 0.0)
 				fmVertexTerm(visit, context, i, p->stiffness * b->mesh.mass[i], depth, n);
 		}
+		// Out of every collider's reach (the barrier's dHat; the penalty's surface): no term.
+		if (fmLeastGap(p, x, i) >= (p->barrier ? p->thickness : 0.0))
+			continue;
 		for (int k = 0; k < p->colliderCount; ++k)
 		{
 			const fmCollider* c = &p->colliders[k];
@@ -471,8 +512,9 @@ static double fmPenaltyStepBound(const void* context, const double* x, const dou
 	     ++s)
 	{
 		int i = b->contact.surfaceVertex[s];
-		if (b->state.pinned[i] == FM_PIN_ALL)
-			continue;
+		if (b->state.pinned[i] == FM_PIN_ALL ||
+		    t * fmLength(fmLoad(dx, i)) <= FM_COLLIDER_ETA * fmLeastGap(p, x, i))
+			continue; // the step cannot take it a tenth of the way to any collider
 		for (int k = 0; k < p->colliderCount; ++k)
 			if (fmPenaltyMeets(b, &p->colliders[k]))
 				t = fmColliderBound(&p->colliders[k], fmLoad(x, i), fmLoad(dx, i), t);

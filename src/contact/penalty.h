@@ -51,6 +51,8 @@ typedef struct fmContactPenalty
 	const fmBody* body;          // the body being solved
 	bool barrier;                // colliders hold the body off with the barrier (below), not
 	                             // the penalty, and bound the line search's steps
+	const double* gap;           // n: the vertices' collider gaps at xStart
+	                             // (fmContactPenalty_Prepare; NULL: every vertex is queried)
 } fmContactPenalty;
 
 // The colliders' barrier (fmContact_ColliderBarrier): a surface vertex at signed distance d
@@ -89,6 +91,17 @@ double fmColliderBarrier_Push(double d, double dHat, double h);
 // spring on one step's motion (the lagged friction's own damping: without it a stack rocks on
 // its friction springs), both within the Coulomb limit.
 #define FM_FRICTION_GAIN 2.0
+
+// Before the solve: each surface vertex's distance to the nearest collider it meets at the
+// step's start, into body->contact.colliderGap (when the body has its contact arrays). A
+// distance moves no faster than the point: while a vertex is closer to its start than that gap
+// less the barrier's reach (the penalty's: 0), no collider is within reach of it, and the
+// energy, its derivatives and the step bound skip its collider queries.
+void fmContactPenalty_Prepare(fmContactPenalty* penalty, fmBody* body);
+
+// Whether a surface vertex was within the barrier's reach of a collider (the penalty's: on or
+// inside one) at the step's start, by the gaps fmContactPenalty_Prepare found.
+bool fmContactPenalty_Touches(const fmContactPenalty* penalty, const fmBody* body);
 
 // The penalty's energy at @p x (J), with its gradient added to @p gradient when not NULL.
 double fmContactPenalty_Energy(const fmContactPenalty* penalty, const fmBody* body, const double* x,

@@ -98,10 +98,12 @@ static bool fmTouchesFloor(const fmBody* b, const fmImplicitCache* c, const fmFl
 // body at rest: one force pass a frame); otherwise the other replaces it if its relative
 // residual is less than half (both are admissible starts; the residual, not the potential,
 // decides: docs/decisions.md, "The first guess").
-// x + h v is only considered for a body on the floor: in the air the free flight is right, and
+// x + h v is only considered for a body on the floor, a collider or another body (@p touching):
+// in the air the free flight is right, and
 // for a body whose inertia is below the round-off of its elastic forces (density 1e-20,
 // E = 1e20) both residuals are noise, so a comparison could drop the free flight by chance.
-static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb)
+static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProblem* pb,
+                               bool touching)
 {
 	const int n3 = 3 * b->mesh.vertexCount;
 	double* inertial = c->trial;
@@ -117,7 +119,8 @@ static void fmChooseFirstGuess(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	// otherwise pay a second force pass every step to find that the other guess is worse).
 	if (kept > pb->tolerance && c->guessRecheck > 0)
 		c->guessRecheck -= 1;
-	else if (kept > pb->tolerance && (c->coasted || fmTouchesFloor(b, c, pb->floor, b->state.x)))
+	else if (kept > pb->tolerance &&
+	         (c->coasted || touching || fmTouchesFloor(b, c, pb->floor, b->state.x)))
 	{
 		fmSolverCache_SwapForces(c); // the favoured guess's forces stay at hand
 		double challenger = fmNewton_Residual(&b->mesh, &b->state, c, pb, other);
@@ -166,7 +169,8 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	                              c->xStart,
 	                              h,
 	                              b,
-	                              fmContact_ColliderBarrier(world)};
+	                              fmContact_ColliderBarrier(world),
+	                              NULL};
 	pb.loads = fmLoads_Term(b);
 	// Bodies meet through the barrier (barrier_contact.h); the colliders' barrier (or, under
 	// vertex block descent's settings, their penalty) holds them off the colliders; its friction
@@ -288,8 +292,12 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	if (fmBarrierContact_Active(world) && !fmBarrierContact_Begin(&barrier, world, b->slot, c->xStart, c->xPred, 1.0 / (h * h)))
 		return fm_errOutOfMemory;
 	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty, &barrier, &targets);
+	if (pb.contact.energy != NULL && fmContact_HasColliders(world))
+		fmContactPenalty_Prepare(&penalty, b);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
-	fmChooseFirstGuess(b, c, &pb);
+	fmChooseFirstGuess(b, c, &pb,
+	                   (pb.barrier.energy != NULL && barrier.touching) ||
+	                       fmContactPenalty_Touches(&penalty, b));
 	fmInversionFreeStart(b, c, &pb, floor);
 	fmBarrierFreeStart(b, c, &pb);
 
