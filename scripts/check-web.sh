@@ -115,6 +115,27 @@ for variant in simd plain; do
   echo "check-web: the SIMD tests pass in WebAssembly ($variant kernels): $(tail -n 1 "build-web/node/simd_tests_$variant.txt")"
 done
 
+# --- 0b. the scripted drags, compiled to WebAssembly -------------------------------------------
+# tests/test_drags.c (docs/contact.md, "Grabs") on the SIMD build: fixed-seed grabs held 60
+# frames, a tenth of them flicks at 20 to 30 m/s; every frame must pass the health checks and
+# leave no tet inverted. Counts a CI run affords (the native Release suite runs 1,000, 300, 300
+# and 30): FEMTO_DRAGS reaches the program's getenv through web/test/test_env.js.
+kernels=(build-web/obj/{tet,bsr}_kernel_{baseline,scalar}_simd.o)
+emcc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude -Isrc -Itests \
+  -DFEMTO_MESH_DIR="\"$PWD/data\"" tests/main.c tests/support.c tests/test_drags.c \
+  "${library[@]}" "${kernels[@]}" -sENVIRONMENT=node -sNODERAWFS=1 -sSINGLE_FILE=1 \
+  -sALLOW_MEMORY_GROWTH=1 --pre-js web/test/test_env.js -o build-web/node/drag_tests.js
+for run in house_implicit:100 house_explicit:20 cantilever:60 pile:10; do
+  if ! FEMTO_DRAGS="${run#*:}" node build-web/node/drag_tests.js drags "drags_on_the_${run%%:*}" \
+      >"build-web/node/drags_${run%%:*}.txt" 2>&1 ||
+      ! grep -q "^1 passed, 0 failed" "build-web/node/drags_${run%%:*}.txt"; then
+    tail -n 20 "build-web/node/drags_${run%%:*}.txt"
+    echo "check-web: the scripted drags in WebAssembly (${run%%:*}) failed" >&2
+    exit 1
+  fi
+  echo "check-web: in WebAssembly, $(grep -m1 "drags" "build-web/node/drags_${run%%:*}.txt" | sed 's/^ *//')"
+done
+
 # --- 1. Node.js against the native build ---------------------------------------------------
 cmake -S . -B build-web/native -DCMAKE_BUILD_TYPE=Release -DFEMTO_BUILD_CLI=OFF \
   -DFEMTO_BUILD_TESTS=OFF -DFEMTO_BUILD_VIEWER=OFF -DFEMTO_SANITIZE=OFF -DFEMTO_WITH_ZLIB=OFF >/dev/null
