@@ -239,8 +239,13 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		for (int c = 0; c < 3; ++c)
 			approach = fmMulAdd(approach, -found->w[c],
 			                    fmSub(fmLoad(o->state.x, tri[c]), fmLoad(o->contact.start, tri[c])));
+		// A body's own surface is kept from coming closer, not pushed back out to the thickness
+		// at once: in a fold the projection's jump crushed the tets between the two sides, and
+		// an explicit bar folding onto itself blew up at its first self contact (docs/contact.md,
+		// "Self-collision").
+		double gap = found->other == slot ? 0.0 : thickness;
 		found->reach = fmMax(w->def.floor.maxDepenetrationSpeed * w->contactStep,
-		                     fmMax(0.0, -fmDot(approach, found->normal)) + thickness);
+		                     fmMax(0.0, -fmDot(approach, found->normal)) + gap);
 	}
 	return bestItem >= 0;
 }
