@@ -1909,8 +1909,8 @@ TEST(edge_plane_penalty_gradient)
 	b->contact.edgePlaneCount = b->contact.edgePlaneCapacity;
 	if (b->contact.edgePlaneCount == 1)
 		b->contact.edgePlanes[0] = (fmEdgePlane){a, c, 0.3, n, fmDot(n, q) + 0.5 * thickness};
-	fmContactPenalty penalty = {NULL,  0,   FM_PENALTY_KAPPA / (h * h), thickness, b->state.x, h, b,
-	                            false, NULL};
+	fmContactPenalty penalty = {
+	    NULL, 0, FM_PENALTY_KAPPA / (h * h), thickness, b->state.x, h, b, false, NULL, NULL};
 	int n3 = 3 * b->mesh.vertexCount;
 	double* x = malloc(sizeof(double) * (size_t)n3);
 	double* gradient = calloc((size_t)n3, sizeof(double));
@@ -2431,4 +2431,49 @@ TEST(explicit_folding_bar_stays_finite)
 	       log.highest - log.start, drop);
 	CHECK(log.highest - log.start <= 0.005 * drop);
 	fmDestroyWorld(log.world);
+}
+
+// A box made half inside a static box collider (0.2 m of its 0.4 m), implicit, no gravity: the
+// colliders' barrier lets each vertex that starts inside stay as deep as it started less the
+// depenetration speed's worth a step (its sink, penalty.h), so the box comes out at about that
+// speed (1 m/s by default) with every tet upright. (Before the sink: its inside half was pushed
+// to the surface in one step, 43 tets inside out and the box stuck flat on the collider; under
+// the penalty it was catapulted at 11 m/s.)
+TEST(body_made_inside_a_collider_comes_out_at_the_depenetration_speed)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	wdef.gravity = fmMakeVec3(0.0, 0.0, 0.0);
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmColliderDef slab = fmDefaultColliderDef();
+	slab.shape = fm_shapeBox;
+	slab.center = fmMakeVec3(0.0, -0.3, 0.0);
+	slab.halfExtents = fmMakeVec3(1.0, 0.5, 1.0); // its top at y = 0.2
+	fmColliderId id;
+	CHECK_INT(fmCreateCollider(world, &slab, &id, NULL), fm_ok);
+	fmBodyDef def = softDef(1e5);
+	def.density = 1000.0;
+	fmBodyId box =
+	    addBox(failures_, world, 4, fmMakeVec3(-0.2, 0.0, -0.2), fmMakeVec3(0.2, 0.4, 0.2), &def);
+	int n = fmBody_GetVertexCount(box), failed = 0, inverted = 0;
+	double fastest = 0.0, lowest = 0.0;
+	for (int f = 0; f < 60; ++f)
+	{
+		failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+		const double* v = fmTestVelocities(box);
+		for (int i = 0; i < n; ++i)
+			fastest = fmax(fastest, fmLength(fmLoad(v, i)));
+		inverted = fmBody_GetStats(box).invertedTets > inverted ? fmBody_GetStats(box).invertedTets
+		                                                        : inverted;
+		lowest = fmBody_GetStats(box).lowestY;
+	}
+	printf("  fastest vertex %.2f m/s, at most %d tets inverted, lowest y %.3f after 1 s (the "
+	       "collider's top at 0.2), %d refused frames\n",
+	       fastest, inverted, lowest, failed);
+	CHECK_INT(failed, 0);
+	CHECK_INT(inverted, 0);
+	CHECK(fastest < 2.0 * wdef.floor.maxDepenetrationSpeed);
+	CHECK(lowest > 0.2); // out
+	fmDestroyWorld(world);
 }

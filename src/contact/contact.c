@@ -153,7 +153,7 @@ static bool fmBodyContactArrays(fmBody* b)
 	if (b->contact.plane == NULL)
 		b->contact.plane = FM_ALLOC_ARRAY(double, 4 * (size_t)b->mesh.vertexCount);
 	if (b->contact.colliderGap == NULL)
-		b->contact.colliderGap = FM_ALLOC_ARRAY(double, b->mesh.vertexCount);
+		b->contact.colliderGap = FM_ALLOC_ZERO(double, 2 * (size_t)b->mesh.vertexCount);
 	if (b->contact.friction == NULL)
 		b->contact.friction =
 		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);

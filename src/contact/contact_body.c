@@ -17,7 +17,7 @@ void fmBodyContact_Free(fmBodyContact* c, int vertexCount, int tetCount)
 	FM_FREE_ARRAY(c->mark, int, n);
 	FM_FREE_ARRAY(c->embeddedHolder, int, n);
 	FM_FREE_ARRAY(c->plane, double, 4 * n);
-	FM_FREE_ARRAY(c->colliderGap, double, n);
+	FM_FREE_ARRAY(c->colliderGap, double, 2 * n);
 	FM_FREE_ARRAY(c->friction, double, FM_FRICTION_STRIDE* n);
 	FM_FREE_ARRAY(c->frictionNext, double, FM_FRICTION_STRIDE* n);
 	FM_FREE_ARRAY(c->tetMark, uint8_t, m > 0 ? m : 1);

@@ -30,10 +30,11 @@ typedef struct fmBodyContact
 	double* plane;      // 4n: an implicit step's frozen plane of another body near each
 	                    // surface vertex (n, n . q), NaN where none (penalty.h)
 	uint8_t* tetMark;   // tetCount: scratch marks of the ledger's energy change
-	double* colliderGap; // n: each surface vertex's distance to the nearest collider it meets at
+	double* colliderGap; // 2n: each surface vertex's distance to the nearest collider it meets at
 	                     // the implicit step's start (m; INFINITY: none), which the solve's
-	                     // collider queries skip a vertex by while its motion is shorter
-	                     // (penalty.h, fmContactPenalty_Prepare)
+	                     // collider queries skip a vertex by while its motion is shorter; then
+	                     // how deep inside the colliders' barrier lets it stay in the step (m,
+	                     // <= 0; penalty.h, fmContactPenalty_Prepare)
 	int* embeddedHolder; // n: 1 + the slot of the body whose tet held the vertex this frame
 	                     // (its later substeps push it on), or 0
 	// An implicit step's frozen planes of other bodies' surface edges near this body's surface

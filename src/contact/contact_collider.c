@@ -51,9 +51,11 @@ static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, con
 	double d = fmCollider_Distance(c, x, &n), fraction;
 	double depth = -d;
 	found->hit = true;
-	// Under the barrier no step crossed the surface: no cast (a kinematic collider moved
-	// before the step, and its start may lie inside where it now is).
-	if (dHat == 0.0 && fmCollider_CastSegment(c, start, x, 0.0, &fraction, &n))
+	// Under the barrier the solve placed it: no step crossed the surface, and one that started
+	// inside comes out at the depenetration speed (its sink, penalty.h). No cast, no push.
+	if (dHat > 0.0)
+		found->hit = d < dHat;
+	else if (fmCollider_CastSegment(c, start, x, 0.0, &fraction, &n))
 	{
 		// It came from outside the grown shape: back onto the surface where it entered it,
 		// keeping the motion along the surface (a slide is not stopped by the test).
@@ -72,7 +74,7 @@ static void fmFindVertexVsCollider(const fmWorld* w, const fmBody* b, int i, con
 		x = fmMulAdd(x, fmMin(depth, reach), n);
 	}
 	else
-		found->hit = d < dHat;
+		found->hit = false;
 	found->x = x;
 	found->normal = n;
 	found->depth = depth;
@@ -98,10 +100,11 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	// penalty.h).
 	bool implicit = w->def.integrator == fm_implicit;
 	double h = w->contactStep;
-	double pushed = !implicit                      ? 0.0
-	                : fmContact_ColliderBarrier(w) ? fmColliderBarrier_Push(-depth, thickness, h)
-	                : depth > 0.0                  ? FM_PENALTY_KAPPA * depth / h
-	                                               : 0.0;
+	double pushed = !implicit ? 0.0
+	                : fmContact_ColliderBarrier(w)
+	                    ? fmColliderBarrier_Push(-depth - fmContactPenalty_Sink(b, i), thickness, h)
+	                : depth > 0.0 ? FM_PENALTY_KAPPA * depth / h
+	                              : 0.0;
 	fmVec3 solved = implicit ? fmContactFriction_Force(b, i, b->state.x, b->contact.start, h)
 	                         : fmMakeVec3(0.0, 0.0, 0.0);
 	bool inSolve = fmDot(solved, solved) > 0.0 ||

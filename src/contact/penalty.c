@@ -66,6 +66,12 @@ static void fmVertexTerm(fmPenaltyVisit* visit, void* context, int i, double k, 
 	visit(context, &t);
 }
 
+// Vertex i's sink in this solve (m, <= 0).
+static double fmSinkOf(const fmContactPenalty* p, int i)
+{
+	return p->sink != NULL ? p->sink[i] : 0.0;
+}
+
 // Vertex i against collider @p c at signed distance @p d (m) with outward normal @p n: the
 // barrier's term when it holds the colliders, else the penalty's inside.
 static void fmColliderTerm(const fmContactPenalty* p, const fmBody* b, int i, double d, fmVec3 n,
@@ -77,6 +83,7 @@ static void fmColliderTerm(const fmContactPenalty* p, const fmBody* b, int i, do
 			fmVertexTerm(visit, context, i, p->stiffness * b->mesh.mass[i], -d, n);
 		return;
 	}
+	d -= fmSinkOf(p, i);
 	if (!(d < p->thickness))
 		return;
 	double g[3], kappa = fmColliderBarrierStiffness(p->thickness, p->step) * b->mesh.mass[i];
@@ -105,24 +112,37 @@ static void fmEdgeTerms(const fmContactPenalty* p, const fmBody* b, const double
 	}
 }
 
-void fmContactPenalty_Prepare(fmContactPenalty* p, fmBody* b)
+void fmContactPenalty_Prepare(fmContactPenalty* p, fmBody* b, double speed)
 {
 	double* gap = b->contact.colliderGap;
 	if (gap == NULL || b->contact.surfaceVertex == NULL)
 		return;
+	double* sink = gap + b->mesh.vertexCount;
 	for (int s = 0; s < b->contact.surfaceVertexCount; ++s)
 	{
 		int i = b->contact.surfaceVertex[s];
+		fmVec3 x = fmLoad(p->xStart, i);
 		gap[i] = INFINITY;
+		sink[i] = 0.0;
 		for (int k = 0; k < p->colliderCount; ++k)
 		{
+			const fmCollider* c = &p->colliders[k];
 			fmVec3 n;
-			if (fmPenaltyMeets(b, &p->colliders[k]))
-				gap[i] =
-				    fmMin(gap[i], fmCollider_Distance(&p->colliders[k], fmLoad(p->xStart, i), &n));
+			if (!fmPenaltyMeets(b, c))
+				continue;
+			double d = fmCollider_Distance(c, x, &n);
+			double push = fmMax(0.0, fmDot(fmCollider_VelocityAt(c, x), n));
+			gap[i] = fmMin(gap[i], d);
+			sink[i] = fmMin(sink[i], d + (speed + push) * p->step);
 		}
 	}
 	p->gap = gap;
+	p->sink = p->barrier ? sink : NULL;
+}
+
+double fmContactPenalty_Sink(const fmBody* b, int i)
+{
+	return b->contact.colliderGap != NULL ? b->contact.colliderGap[b->mesh.vertexCount + i] : 0.0;
 }
 
 bool fmContactPenalty_Touches(const fmContactPenalty* p, const fmBody* b)
@@ -491,12 +511,12 @@ static void fmPenaltyTermProduct(const void* context, const double* x, const dou
 // The share of its distance a line-search step may close between a vertex and a collider.
 #define FM_COLLIDER_ETA 0.9
 
-// The largest t <= @p t keeping vertex i, at @p x outside collider @p c, at a tenth of its
-// distance or more along x + s dx, s in [0, t] (penalty.h).
-static double fmColliderBound(const fmCollider* c, fmVec3 x, fmVec3 dx, double t)
+// The largest t <= @p t keeping vertex i, at @p x outside collider @p c (less its @p sink), at a
+// tenth of its distance or more along x + s dx, s in [0, t] (penalty.h).
+static double fmColliderBound(const fmCollider* c, fmVec3 x, fmVec3 dx, double sink, double t)
 {
 	fmVec3 n;
-	double d = fmCollider_Distance(c, x, &n), length = fmLength(dx);
+	double d = fmCollider_Distance(c, x, &n) - sink, length = fmLength(dx);
 	if (!(d > 0.0) || t * length <= FM_COLLIDER_ETA * d)
 		return t; // inside (the barrier's quadratic pushes it out), or out of reach
 	double closing = c->def.shape == fm_shapeMesh ? length : -fmDot(n, dx);
@@ -517,7 +537,8 @@ static double fmPenaltyStepBound(const void* context, const double* x, const dou
 			continue; // the step cannot take it a tenth of the way to any collider
 		for (int k = 0; k < p->colliderCount; ++k)
 			if (fmPenaltyMeets(b, &p->colliders[k]))
-				t = fmColliderBound(&p->colliders[k], fmLoad(x, i), fmLoad(dx, i), t);
+				t = fmColliderBound(&p->colliders[k], fmLoad(x, i), fmLoad(dx, i), fmSinkOf(p, i),
+				                    t);
 	}
 	return t;
 }

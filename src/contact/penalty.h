@@ -53,17 +53,25 @@ typedef struct fmContactPenalty
 	                             // the penalty, and bound the line search's steps
 	const double* gap;           // n: the vertices' collider gaps at xStart
 	                             // (fmContactPenalty_Prepare; NULL: every vertex is queried)
+	const double* sink;          // n: how deep inside a collider each vertex may stay in the
+	                             // step, <= 0 (fmContactPenalty_Prepare; NULL: 0)
 } fmContactPenalty;
 
 // The colliders' barrier (fmContact_ColliderBarrier): a surface vertex at signed distance d
 // from a collider, closer than dHat, adds kappa G(d), G(d) = b(d^2, dHat^2) the log barrier of
 // math/barrier.h on its squared distance, continued as its quadratic below FM_BARRIER_FLOOR dHat
-// (finite inside: a start a kinematic collider has moved into is pushed out, not refused), and
+// (finite inside), and
 // kappa = FM_BARRIER_STIFFNESS m / (h^2 dHat^2) as between bodies (barrier_contact.h). Its
 // gradient is kappa G'(d) n and its Gauss-Newton Hessian kappa G''(d) n n^T. Every line-search
 // step keeps each vertex outside at a tenth of its distance or more: convex shapes bound the
 // step by the distance's tangent (a convex function lies above it), meshes by the distance
 // itself (a distance moves no faster than the point). No vertex enters a collider in the solve.
+// A vertex that starts inside one (made there, or a collider moved or set into it) is held at
+// d - s instead of d, s <= 0 its sink: as deep as it started less what the floor's depenetration
+// speed (fmFloorDef.maxDepenetrationSpeed) and the collider's own push toward it take out in the
+// step, so it comes out at that speed, as from under the floor, not at once (which catapulted a
+// body made half inside a collider, or crushed it flat with its tets inside out). A vertex has
+// one sink, its deepest collider's, held against every collider it meets.
 
 // The colliders' barrier push on a vertex at signed distance @p d (m) for reach @p dHat (m)
 // over a step @p h (s): the normal impulse per unit mass (m/s), kappa |G'(d)| h / m; 0 from
@@ -93,11 +101,15 @@ double fmColliderBarrier_Push(double d, double dHat, double h);
 #define FM_FRICTION_GAIN 2.0
 
 // Before the solve: each surface vertex's distance to the nearest collider it meets at the
-// step's start, into body->contact.colliderGap (when the body has its contact arrays). A
-// distance moves no faster than the point: while a vertex is closer to its start than that gap
-// less the barrier's reach (the penalty's: 0), no collider is within reach of it, and the
-// energy, its derivatives and the step bound skip its collider queries.
-void fmContactPenalty_Prepare(fmContactPenalty* penalty, fmBody* body);
+// step's start, and its sink (above) for the depenetration speed @p speed (m/s), into
+// body->contact.colliderGap (when the body has its contact arrays). A distance moves no faster
+// than the point: while a vertex is closer to its start than that gap less the barrier's reach
+// (the penalty's: 0), no collider is within reach of it, and the energy, its derivatives and the
+// step bound skip its collider queries.
+void fmContactPenalty_Prepare(fmContactPenalty* penalty, fmBody* body, double speed);
+
+// Vertex @p i's sink in the step (m, <= 0; 0 without fmContactPenalty_Prepare's).
+double fmContactPenalty_Sink(const fmBody* body, int i);
 
 // Whether a surface vertex was within the barrier's reach of a collider (the penalty's: on or
 // inside one) at the step's start, by the gaps fmContactPenalty_Prepare found.

@@ -170,6 +170,7 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	                              h,
 	                              b,
 	                              fmContact_ColliderBarrier(world),
+	                              NULL,
 	                              NULL};
 	pb.loads = fmLoads_Term(b);
 	// Bodies meet through the barrier (barrier_contact.h); the colliders' barrier (or, under
@@ -293,7 +294,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 		return fm_errOutOfMemory;
 	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty, &barrier, &targets);
 	if (pb.contact.energy != NULL && fmContact_HasColliders(world))
-		fmContactPenalty_Prepare(&penalty, b);
+		fmContactPenalty_Prepare(&penalty, b, world->def.floor.maxDepenetrationSpeed);
 	fmImplicitFreeFlight(b, c, h, world->def.gravity, floor);
 	fmChooseFirstGuess(b, c, &pb,
 	                   (pb.barrier.energy != NULL && barrier.touching) ||
