@@ -179,6 +179,19 @@ bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* up
 	return true;
 }
 
+// Add @p item to the query's items unless this query returned it already. False when memory is
+// short.
+static bool fmTakeItem(fmHashQuery* q, int item, int* found)
+{
+	if (q->stamp[item] == q->query)
+		return true;
+	q->stamp[item] = q->query;
+	if (*found == q->itemCapacity && !fmGrowItems(q, *found))
+		return false;
+	q->items[(*found)++] = item;
+	return true;
+}
+
 int fmSpatialHash_Query(const fmSpatialHash* h, fmHashQuery* q, fmVec3 lower, fmVec3 upper)
 {
 	if (h->tableSize == 0)
@@ -192,21 +205,24 @@ int fmSpatialHash_Query(const fmSpatialHash* h, fmHashQuery* q, fmVec3 lower, fm
 	}
 	int lo[3], hi[3], found = 0;
 	fmCellRange(h->cell, lower, upper, lo, hi);
+	// A box over more cells than the hash has entries (a body flung kilometres in a substep): its
+	// cells would cost more than every entry, so every item is returned, each once.
+	double cells = (double)(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+	if (cells > h->entryCount)
+	{
+		for (int e = 0; e < h->entryCount; ++e)
+			if (!fmTakeItem(q, h->entries[e], &found))
+				return -1;
+		return found;
+	}
 	for (int x = lo[0]; x <= hi[0]; ++x)
 		for (int y = lo[1]; y <= hi[1]; ++y)
 			for (int z = lo[2]; z <= hi[2]; ++z)
 			{
 				int bucket = fmBucketOf(h, x, y, z);
 				for (int e = h->bucketStart[bucket]; e < h->bucketStart[bucket + 1]; ++e)
-				{
-					int item = h->entries[e];
-					if (q->stamp[item] == q->query)
-						continue;
-					q->stamp[item] = q->query;
-					if (found == q->itemCapacity && !fmGrowItems(q, found))
+					if (!fmTakeItem(q, h->entries[e], &found))
 						return -1;
-					q->items[found++] = item;
-				}
 			}
 	return found;
 }

@@ -41,7 +41,9 @@ bool fmSpatialHash_Build(fmSpatialHash* hash, const fmVec3* lower, const fmVec3*
 bool fmHashQuery_Reserve(fmHashQuery* query, const fmSpatialHash* hash);
 
 // The items whose cells overlap [lower, upper], each once, into query->items (grown as
-// needed); returns how many, or -1 when memory is short. Reads @p hash only.
+// needed); returns how many, or -1 when memory is short. Reads @p hash only. A box over more
+// cells than the hash has entries returns every item (callers test the items' own boxes): the
+// work of a query is bounded by the hash's size.
 int fmSpatialHash_Query(const fmSpatialHash* hash, fmHashQuery* query, fmVec3 lower, fmVec3 upper);
 
 // Release a querier's buffers; safe on a zeroed one.
