@@ -362,8 +362,8 @@ TEST(non_finite_positions_are_refused)
 	fmDestroyWorld(world);
 }
 
-// The substep callback may read the world, not step it: a nested fmWorld_Step is refused (an
-// assert where they are compiled in) and the frame in progress goes on.
+// The substep callback may read the world, not step it: a nested fmWorld_Step is refused with
+// fm_errBusy, writing nothing, and the frame in progress goes on.
 typedef struct NestedStep
 {
 	fmWorldId world;
@@ -375,9 +375,7 @@ static void stepFromCallback(int substep, double time, void* context)
 	(void)substep;
 	(void)time;
 	NestedStep* n = context;
-	fmTestRecordAssertsBegin();
 	n->nested = fmWorld_Step(n->world, 0.01, 1);
-	fmTestRecordAssertsEnd();
 }
 
 TEST(the_substep_callback_cannot_step_the_world)
@@ -390,7 +388,8 @@ TEST(the_substep_callback_cannot_step_the_world)
 	nested.world = world;
 	auditBox(failures_, world, 2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), false);
 	CHECK_INT(fmWorld_Step(world, 0.01, 2), fm_ok);
-	CHECK_INT(nested.nested, fm_errParameter);
+	CHECK_INT(nested.nested, fm_errBusy);
 	CHECK_INT(fmWorld_GetStepStats(world).steps, 2);
+	CHECK_INT(fmWorld_GetLastError(world)->result, fm_ok);
 	fmDestroyWorld(world);
 }

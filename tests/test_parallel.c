@@ -5,6 +5,10 @@
 
 #include "core/parallel.h"
 
+#include <math.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -223,4 +227,109 @@ TEST(the_pool_runs_every_item_exactly_once)
 		CHECK_INT(wrong, 0);
 		CHECK_INT(count.badWorker, 0);
 	}
+}
+
+// ---- one world, two threads ---------------------------------------------------------------------
+
+// Two threads stepping one world (docs/embedding.md, "Threading": one thread at a time). The
+// second step is refused with fm_errBusy before it touches anything, however the two meet.
+typedef struct SharedWorld
+{
+	fmWorldId world;
+	atomic_int inside;   // the first step has reached its substep callback
+	atomic_int tried;    // the second thread has made its call
+	atomic_int substeps; // substep callbacks seen, by every step that ran
+	atomic_int ok, busy, other;
+	fmResult second;
+	fmBodyId body;
+} SharedWorld;
+
+static void holdInCallback(int substep, double time, void* context)
+{
+	(void)substep, (void)time;
+	SharedWorld* s = context;
+	atomic_fetch_add(&s->substeps, 1);
+	if (atomic_exchange(&s->inside, 1) != 0)
+		return;
+	// Hold the first step here until the other thread has called (a few seconds at most).
+	for (long spin = 0; spin < 200000000L && atomic_load(&s->tried) == 0; ++spin)
+		sched_yield();
+}
+
+static void* stepWhileHeld(void* context)
+{
+	SharedWorld* s = context;
+	for (long spin = 0; spin < 200000000L && atomic_load(&s->inside) == 0; ++spin)
+		sched_yield();
+	s->second = fmWorld_Step(s->world, 1.0 / 60.0, 1);
+	atomic_store(&s->tried, 1);
+	return NULL;
+}
+
+static void* stepRepeatedly(void* context)
+{
+	SharedWorld* s = context;
+	for (int k = 0; k < 200; ++k)
+	{
+		fmResult r = fmWorld_Step(s->world, 1.0 / 60.0, 1);
+		atomic_fetch_add(r == fm_ok ? &s->ok : r == fm_errBusy ? &s->busy : &s->other, 1);
+	}
+	return NULL;
+}
+
+static fmWorldId sharedWorld(int* failures_, SharedWorld* s)
+{
+	fmWorldDef def = fmTestFreeWorldDef();
+	def.substepCallback = holdInCallback;
+	def.substepContext = s;
+	fmWorldId world = fmCreateWorld(&def);
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(2, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
+	fmBodyDef body = fmDefaultBodyDef();
+	body.mesh = &mesh;
+	CHECK_INT(fmCreateBody(world, &body, &s->body, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	s->world = world;
+	return world;
+}
+
+TEST(a_world_stepped_on_two_threads_refuses_the_second_step)
+{
+	// A second thread's step while the first is held inside its substep: fm_errBusy, and the
+	// first step ends as if it had been alone (its substeps, no error written).
+	SharedWorld held;
+	memset(&held, 0, sizeof held);
+	fmWorldId world = sharedWorld(failures_, &held);
+	pthread_t thread;
+	CHECK_INT(pthread_create(&thread, NULL, stepWhileHeld, &held), 0);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 3), fm_ok);
+	pthread_join(thread, NULL);
+	CHECK_INT(held.second, fm_errBusy);
+	CHECK_INT(atomic_load(&held.substeps), 3);
+	CHECK_INT(fmWorld_GetStepStats(world).steps, 3);
+	CHECK_INT(fmWorld_GetLastError(world)->result, fm_ok);
+	fmDestroyWorld(world);
+
+	// Two threads stepping as fast as they can: every call is a whole step or a refusal, and the
+	// substeps that ran are exactly those of the steps that returned fm_ok.
+	SharedWorld racing;
+	memset(&racing, 0, sizeof racing);
+	atomic_store(&racing.inside, 1); // no holding
+	world = sharedWorld(failures_, &racing);
+	pthread_t threads[2];
+	for (int t = 0; t < 2; ++t)
+		CHECK_INT(pthread_create(&threads[t], NULL, stepRepeatedly, &racing), 0);
+	for (int t = 0; t < 2; ++t)
+		pthread_join(threads[t], NULL);
+	int ok = atomic_load(&racing.ok), busy = atomic_load(&racing.busy);
+	printf("  racing: %d steps ran, %d refused as busy\n", ok, busy);
+	CHECK_INT(atomic_load(&racing.other), 0);
+	CHECK_INT(ok + busy, 400);
+	CHECK(ok >= 1);
+	CHECK_INT(atomic_load(&racing.substeps), ok);
+	double x[3 * 27];
+	CHECK_INT(fmBody_CopyPositions(racing.body, x, 27), fm_ok);
+	for (int k = 0; k < 3 * 27; ++k)
+		CHECK(isfinite(x[k]));
+	fmDestroyWorld(world);
 }

@@ -55,7 +55,9 @@ FM_API bool fmWorld_IsValid(fmWorldId worldId);
 /// in fmStepStats.unconvergedSteps, or fm_errNotConverged with fmWorldDef.notConvergedIsError.
 /// Runs in femto's floating-point state (round to nearest, no flush-to-zero or
 /// denormals-are-zero), as every call that computes, and gives the caller's back
-/// (docs/determinism.md).
+/// (docs/determinism.md). A world steps on one thread at a time: a call while it is stepping
+/// (from another thread, or from its substep callback) returns fm_errBusy and changes nothing,
+/// its last error included.
 FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
 
 /// The diagnostic of the last failed step (for a stale id: one that says so, never NULL).

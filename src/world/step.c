@@ -544,21 +544,19 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	fmWorld* w = fmWorldOrAssert(worldId);
 	if (w == NULL)
 		return fm_errInvalidId;
-	FM_ASSERT(!w->stepping);
-	if (w->stepping) // from the substep callback: the frame in progress would be lost
-		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-		                   "fmWorld_Step called during a step of the same world (from "
-		                   "fmWorldDef.substepCallback?): the callback may read the world only");
+	// A world steps on one thread at a time (docs/embedding.md, "Threading"). The refusal writes
+	// nothing: the world, its last error included, belongs to the step in progress.
+	if (atomic_exchange(&w->stepping, 1) != 0)
+		return fm_errBusy;
 	// The host's floating-point state is saved, femto's set (round to nearest, no FTZ or DAZ),
 	// and the host's restored after the step, on every path (fp_env.h).
 	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
 	double start = fmSeconds();
 	memset(&w->profile, 0, sizeof w->profile);
-	w->stepping = true;
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
-	w->stepping = false;
 	w->profile.step = 1e3 * (fmSeconds() - start);
 	w->profile.narrowPhase = fmMax(0.0, w->profile.contact - w->profile.broadPhase);
 	fmFpEnv_Leave(&env);
+	atomic_store(&w->stepping, 0);
 	return r;
 }

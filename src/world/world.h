@@ -9,6 +9,8 @@
 #include "core/step_context.h"
 #include "fem/stability.h"
 
+#include <stdatomic.h>
+
 typedef struct fmWorld
 {
 	uint32_t generation; // of the world in the slot; UINT32_MAX retires the slot
@@ -17,7 +19,9 @@ typedef struct fmWorld
 	int bodyCapacity;
 	fmBody* bodies; // bodyCapacity slots (fmBody_IsLive)
 	fmFrameWork* frameWork; // bodyCapacity: the work the stages booked in the frame being stepped
-	bool stepping;          // inside fmWorld_Step (its substep callback may not step again)
+	// 1 inside fmWorld_Step: a second step (another thread's, or from the substep callback) is
+	// refused by the atomic exchange that sets it, before it touches anything.
+	atomic_int stepping;
 	fmStepStats stats;
 	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
