@@ -9,6 +9,8 @@
 
 #include <femto/femto.h>
 
+#include "world/snapshot.h"
+
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 enum
@@ -240,6 +242,10 @@ static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	int flips = fmFuzzPick(r, 4);
 	for (int k = 0; k < flips; ++k)
 		buffer[fmFuzzPick(r, (int)written)] ^= (unsigned char)fmFuzzByte(r);
+	// Half the changed snapshots are sealed again (a valid checksum), so that the checks behind
+	// the checksum are fuzzed too; the others must be refused by it.
+	if (flips > 0 && fmFuzzPick(r, 2) == 0)
+		fmSnapshot_Seal(buffer, written);
 	fmWorld_RestoreSnapshot(world, buffer,
 	                        fmFuzzPick(r, 4) ? written : (size_t)fmFuzzPick(r, (int)written + 1));
 }

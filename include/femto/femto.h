@@ -118,7 +118,8 @@ FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t siz
 /// Bodies are matched by slot, generation and sizes, colliders by slot, generation, shape and (a
 /// mesh) vertex and triangle counts. fm_errParameter (and nothing changed, the reason in
 /// fmWorld_GetLastError: which body or collider differs, or which part is truncated or invalid)
-/// when the buffer is not a snapshot of this format version, is truncated or corrupt, or its
+/// when the buffer is not a snapshot of this format version, is truncated or corrupt (the
+/// header's length and 64-bit checksum catch any changed byte before anything is read), or its
 /// bodies or colliders do not match the world's (created or destroyed since).
 FM_API fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t size);
 

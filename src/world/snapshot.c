@@ -24,6 +24,7 @@
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
+#include "core/checksum.h"
 #include "core/core.h"
 #include "world/world.h"
 
@@ -32,11 +33,15 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 6u
+#define FM_SNAPSHOT_VERSION 7u
 
-// The header: magic, version, live bodies, live colliders.
-#define FM_SNAPSHOT_HEADER_WORDS 4
+// The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
+// words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
+// two words zero; since version 7).
+#define FM_SNAPSHOT_HEADER_WORDS 8
 #define FM_SNAPSHOT_HEADER_BYTES (FM_SNAPSHOT_HEADER_WORDS * sizeof(uint32_t))
+#define FM_SNAPSHOT_LENGTH_AT (4 * sizeof(uint32_t))
+#define FM_SNAPSHOT_SUM_AT (6 * sizeof(uint32_t))
 
 // A cursor over the buffer: writing with data == NULL only counts.
 typedef struct fmStream
@@ -471,8 +476,8 @@ static void fmPutContact(fmStream* s, fmWorld* w)
 // Write the snapshot (or count it, when @p s->out is NULL).
 static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 {
-	uint32_t header[FM_SNAPSHOT_HEADER_WORDS] = {FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0,
-	                                             (uint32_t)fmLiveColliders(w)};
+	uint32_t header[FM_SNAPSHOT_HEADER_WORDS] = {
+	    FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0, (uint32_t)fmLiveColliders(w), 0, 0, 0, 0};
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		header[2] += fmBody_IsLive(&w->bodies[i]);
 	fmPut(s, header, sizeof header);
@@ -487,6 +492,39 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 		fmMoveBody(s, true, b);
 	}
 	fmPutContact(s, w);
+	if (s->out != NULL && !s->overflow)
+		fmSnapshot_Seal(s->out, s->used);
+}
+
+// A 64-bit value into the header at byte @p at, as two 32-bit words, low first.
+static void fmPutWide(unsigned char* buffer, size_t at, uint64_t value)
+{
+	uint32_t words[2] = {(uint32_t)value, (uint32_t)(value >> 32)};
+	memcpy(buffer + at, words, sizeof words);
+}
+
+static uint64_t fmGetWide(const unsigned char* buffer, size_t at)
+{
+	uint32_t words[2];
+	memcpy(words, buffer + at, sizeof words);
+	return (uint64_t)words[1] << 32 | words[0];
+}
+
+// The checksum of the snapshot's @p length bytes with its checksum words read as zero.
+static uint64_t fmSnapshotSum(const unsigned char* buffer, size_t length)
+{
+	const unsigned char zero[8] = {0};
+	uint64_t h = fmChecksum64(buffer, FM_SNAPSHOT_SUM_AT, 0);
+	h = fmChecksum64(zero, sizeof zero, h);
+	return fmChecksum64(buffer + FM_SNAPSHOT_HEADER_BYTES, length - FM_SNAPSHOT_HEADER_BYTES, h);
+}
+
+void fmSnapshot_Seal(void* buffer, size_t length)
+{
+	if (length < FM_SNAPSHOT_HEADER_BYTES)
+		return;
+	fmPutWide(buffer, FM_SNAPSHOT_LENGTH_AT, (uint64_t)length);
+	fmPutWide(buffer, FM_SNAPSHOT_SUM_AT, fmSnapshotSum(buffer, length));
 }
 
 size_t fmWorld_GetSnapshotSize(fmWorldId worldId)
@@ -534,6 +572,17 @@ static fmResult fmCheckSnapshot(fmWorld* w, const void* buffer, size_t size)
 	if (s.overflow || header[0] != FM_SNAPSHOT_MAGIC || header[1] != FM_SNAPSHOT_VERSION)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 		                   "not a femto snapshot of version %u", FM_SNAPSHOT_VERSION);
+	uint64_t length = fmGetWide(buffer, FM_SNAPSHOT_LENGTH_AT);
+	if (length < FM_SNAPSHOT_HEADER_BYTES || length > size)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot is truncated or corrupt: it says it is %llu bytes long, "
+		                   "the buffer given has %zu",
+		                   (unsigned long long)length, size);
+	if (fmSnapshotSum(buffer, (size_t)length) != fmGetWide(buffer, FM_SNAPSHOT_SUM_AT))
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the snapshot is corrupt: its checksum does not match its %llu bytes "
+		                   "(changed since it was saved)",
+		                   (unsigned long long)length);
 	uint32_t live = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		live += fmBody_IsLive(&w->bodies[i]);
@@ -849,6 +898,8 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
 	// Everything is checked before anything is written: a mismatch leaves the world as it was.
 	fmResult r = fmCheckSnapshot(w, buffer, size);
+	if (r == fm_ok)
+		size = (size_t)fmGetWide(buffer, FM_SNAPSHOT_LENGTH_AT); // checked: within the buffer
 	fmStream s = {NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false};
 	fmWorld settings;
 	if (r == fm_ok)
