@@ -3,6 +3,8 @@
 // file and renamed.
 #include "output.h"
 
+#include "whole_file.h"
+
 #include <ctype.h>
 #include <dirent.h>
 #include <errno.h>
@@ -18,93 +20,6 @@
 
 // VTK cell type of a linear tetrahedron (vtkCellType.h).
 #define CLI_VTK_TETRA 10
-
-// Close @p file and report a write error by path. Returns true if everything reached the disk.
-static bool cliFinishFile(FILE* file, const char* path)
-{
-	bool failed = ferror(file) != 0;
-	int savedErrno = errno;
-	if (fclose(file) != 0)
-	{
-		failed = true;
-		savedErrno = errno;
-	}
-	if (failed)
-		fprintf(stderr, "%s: write error: %s\n", path, strerror(savedErrno));
-	return !failed;
-}
-
-// ---- whole files or none: a temporary file in the same folder, renamed when complete ---------
-
-// A file being written: the stream goes to @p temp, renamed to @p path by cliOutput_Commit.
-typedef struct cliOutput
-{
-	FILE* file;
-	const char* path;
-	char temp[CLI_MAX_PATH];
-} cliOutput;
-
-// "dir/name" -> "dir/.name.PID.tmp": hidden, in the same folder (rename within one file system
-// is atomic), unique per process. A path that exists and is not a regular file (a FIFO,
-// /dev/stdout) is written in place: renaming over it would replace it.
-static bool cliTempPath(const char* path, char* temp, size_t size)
-{
-	struct stat info;
-	if (stat(path, &info) == 0 && !S_ISREG(info.st_mode))
-		return snprintf(temp, size, "%s", path) < (int)size;
-	const char* slash = strrchr(path, '/');
-	size_t folder = slash != NULL ? (size_t)(slash - path) + 1 : 0;
-	int written =
-	    snprintf(temp, size, "%.*s.%s.%ld.tmp", (int)folder, path, path + folder, (long)getpid());
-	if (written < 0 || (size_t)written >= size)
-	{
-		fprintf(stderr, "%s: path too long\n", path);
-		return false;
-	}
-	return true;
-}
-
-// Put the finished temporary file in place (or remove it when @p ok is false).
-static bool cliReplace(const char* temp, const char* path, bool ok)
-{
-	if (strcmp(temp, path) == 0)
-		return ok;
-	if (ok && rename(temp, path) != 0)
-	{
-		fprintf(stderr, "%s: cannot rename %s over it: %s\n", path, temp, strerror(errno));
-		ok = false;
-	}
-	if (!ok)
-		remove(temp);
-	return ok;
-}
-
-static bool cliOutput_Open(cliOutput* out, const char* path)
-{
-	out->path = path;
-	out->file = NULL;
-	if (!cliTempPath(path, out->temp, sizeof out->temp))
-		return false;
-	out->file = fopen(out->temp, "w");
-	if (out->file == NULL)
-		fprintf(stderr, "%s: cannot open for writing: %s\n", out->temp, strerror(errno));
-	return out->file != NULL;
-}
-
-static bool cliOutput_Commit(cliOutput* out)
-{
-	bool ok = cliFinishFile(out->file, out->temp);
-	out->file = NULL;
-	return cliReplace(out->temp, out->path, ok);
-}
-
-// Drop a file being written (a failure half-way): nothing replaces @p out->path.
-static bool cliOutput_Abort(cliOutput* out)
-{
-	fclose(out->file);
-	out->file = NULL;
-	return cliReplace(out->temp, out->path, false);
-}
 
 // ---- .vtu: ASCII, or binary arrays appended raw (zlib-compressed where the build has zlib) --
 
@@ -593,31 +508,53 @@ bool cliSeries_IsOwnFile(const char* name, const char* fileName)
 	return cliIsSeriesName(name, fileName + 1, (size_t)(pid - 1 - (fileName + 1)));
 }
 
+// Whether the earlier series' file @p path can be removed and written again: a regular file
+// (a folder or anything else with a series' name would stop the run half-way).
+static bool cliSeries_Replaceable(const char* path)
+{
+	struct stat info;
+	if (lstat(path, &info) != 0 || S_ISREG(info.st_mode))
+		return true;
+	fprintf(stderr,
+	        "%s: has the name of a file of the series but is %s: move it away (nothing "
+	        "of the earlier series was removed)\n",
+	        path, S_ISDIR(info.st_mode) ? "a directory" : "not a regular file");
+	return false;
+}
+
 // Remove what an earlier run of series @p name left in the folder, so a shorter run does not
-// leave stale frames beside its .pvd. Only femto's own names are touched.
+// leave stale frames beside its .pvd. Only femto's own names are touched, and only once every
+// one of them is known to be a file that can be removed (checked first: a failure removes
+// nothing).
 static bool cliSeries_RemoveOld(cliSeries* series)
 {
 	DIR* dir = opendir(series->directory);
-	if (dir == NULL)
+	if (dir == NULL || access(series->directory, W_OK) != 0)
 	{
-		fprintf(stderr, "%s: cannot list: %s\n", series->directory, strerror(errno));
+		fprintf(stderr, "%s: cannot %s: %s\n", series->directory, dir == NULL ? "list" : "write in",
+		        strerror(errno));
+		if (dir != NULL)
+			closedir(dir);
 		return false;
 	}
 	bool ok = true;
-	for (struct dirent* entry = readdir(dir); entry != NULL && ok; entry = readdir(dir))
-	{
-		if (!cliSeries_IsOwnFile(series->name, entry->d_name))
-			continue;
-		char path[CLI_MAX_PATH];
-		ok = cliJoinPath(path, sizeof path, series->directory, entry->d_name);
-		if (ok && remove(path) != 0)
+	for (int pass = 0; pass < 2 && ok; ++pass, rewinddir(dir))
+		for (struct dirent* entry = readdir(dir); entry != NULL && ok; entry = readdir(dir))
 		{
-			fprintf(stderr, "%s: cannot remove the file of an earlier run: %s\n", path,
-			        strerror(errno));
-			ok = false;
+			if (!cliSeries_IsOwnFile(series->name, entry->d_name))
+				continue;
+			char path[CLI_MAX_PATH];
+			ok = cliJoinPath(path, sizeof path, series->directory, entry->d_name);
+			if (ok && pass == 0)
+				ok = cliSeries_Replaceable(path);
+			else if (ok && remove(path) != 0)
+			{
+				fprintf(stderr, "%s: cannot remove the file of an earlier run: %s\n", path,
+				        strerror(errno));
+				ok = false;
+			}
+			series->removed += ok && pass == 1 ? 1 : 0;
 		}
-		series->removed += ok ? 1 : 0;
-	}
 	closedir(dir);
 	return ok;
 }

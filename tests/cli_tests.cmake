@@ -174,6 +174,20 @@ set_tests_properties(cli_run_out_stale_others PROPERTIES FIXTURES_REQUIRED cli_s
 set_tests_properties(cli_run_out_stale PROPERTIES FIXTURES_REQUIRED cli_stale_2)
 femto_cli_test(run_out_unwritable ARGS "run|--frames|1|--quiet|--out|/proc/femto_cannot_write"
   CODE 1 REGEX "/proc/femto_cannot_write")
+# A folder with a frame's name in the way: refused before anything of the earlier series is
+# removed.
+set(FEMTO_BLOCKED ${FEMTO_CLI_WORK}/out_blocked)
+add_test(NAME cli_run_out_blocked_setup COMMAND ${CMAKE_COMMAND} -E make_directory
+  ${FEMTO_BLOCKED}/house_000003.vtu)
+add_test(NAME cli_run_out_blocked_frame COMMAND ${CMAKE_COMMAND} -E touch
+  ${FEMTO_BLOCKED}/house_000001.vtu ${FEMTO_BLOCKED}/house.pvd)
+femto_cli_test(run_out_blocked ARGS "run|--frames|5|--quiet|--out|${FEMTO_BLOCKED}" CODE 1
+  REGEX "house_000003.vtu: has the name of a file of the series but is a directory"
+  FILES "${FEMTO_BLOCKED}/house_000001.vtu|${FEMTO_BLOCKED}/house.pvd")
+set_tests_properties(cli_run_out_blocked_setup PROPERTIES FIXTURES_SETUP cli_blocked_1 LABELS cli)
+set_tests_properties(cli_run_out_blocked_frame PROPERTIES FIXTURES_REQUIRED cli_blocked_1
+  FIXTURES_SETUP cli_blocked_2 LABELS cli)
+set_tests_properties(cli_run_out_blocked PROPERTIES FIXTURES_REQUIRED cli_blocked_2)
 # The jump: the seeds add 0.2 m/s before each of the frame's 10 substeps, 2 m/s in all: 400
 # particles of 1 kg carry 0.5 * 400 * 2^2 = 800 J, and without gravity, floor or damping the
 # house keeps it (a rigid translation stores no energy). A custom --impulse-speed 0.2 is added
@@ -325,6 +339,15 @@ femto_cli_test(convert_bad_output ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh.mes
 femto_cli_test(convert_bad_input ARGS "convert|${FEMTO_CLI_DATA}/truncated.node|${FEMTO_CLI_WORK}/t.msh"
   CODE 1 REGEX "truncated")
 femto_cli_test(convert_one_argument ARGS "convert|a.msh" CODE 2 REGEX "expected IN and OUT")
+# Whole files or none: a .node whose .ele cannot be written (a folder has its name) is not
+# written either.
+add_test(NAME cli_convert_pair_setup COMMAND ${CMAKE_COMMAND} -E make_directory
+  ${FEMTO_CLI_WORK}/pair/cube.ele)
+femto_cli_test(convert_pair_ele_is_a_folder
+  ARGS "convert|${FEMTO_MESH_DATA}/cube_gmsh.mesh|${FEMTO_CLI_WORK}/pair/cube.node" CODE 1
+  REGEX "cube.ele: cannot write: it is a directory" NO_FILES "${FEMTO_CLI_WORK}/pair/cube.node")
+set_tests_properties(cli_convert_pair_setup PROPERTIES FIXTURES_SETUP cli_pair LABELS cli)
+set_tests_properties(cli_convert_pair_ele_is_a_folder PROPERTIES FIXTURES_REQUIRED cli_pair)
 femto_cli_test(run_gmsh_scene ARGS "run|${FEMTO_CLI_DATA}/gmsh_cube.json|--frames|5|--quiet" CODE 0
   REJECT "error")
 

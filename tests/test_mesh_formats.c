@@ -11,9 +11,11 @@
 #include "support.h"
 #include "test.h"
 
+#include <dirent.h>
 #include <femto/femto.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define TEXT(s) (s), sizeof(s) - 1
@@ -928,6 +930,63 @@ TEST(writers_round_trip)
 	CHECK_INT(fmWriteMesh(path, &box, NULL, &diag), fm_errRange);
 	fmFreeTetMesh(&box);
 	fmFreeTetMesh(&house);
+	char command[160];
+	snprintf(command, sizeof command, "rm -rf '%s'", dir);
+	CHECK_INT(system(command), 0);
+}
+
+// The number of entries in @p dir (besides . and ..): no temporary file is left behind.
+static int entriesIn(const char* dir)
+{
+	DIR* d = opendir(dir);
+	int n = 0;
+	for (struct dirent* e = d ? readdir(d) : NULL; e != NULL; e = readdir(d))
+		n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+	if (d)
+		closedir(d);
+	return n;
+}
+
+// Whole files or none: a TetGen pair whose .ele cannot be written (a folder has its name) leaves
+// the existing .node as it was (before, it was overwritten first, beside the old .ele); a single
+// file whose name is a folder is refused; no temporary file stays. (femto convert writes through
+// fmWriteMesh.)
+TEST(writers_replace_whole_files_or_nothing)
+{
+	char dir[64], node[128], ele[128], msh[128], folder[128];
+	CHECK(scratchDir(dir, sizeof dir));
+	fmTetMesh small, big, back;
+	fmDiagnostic diag;
+	CHECK_INT(fmMakeBoxMesh(1, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &small), fm_ok);
+	CHECK_INT(fmMakeBoxMesh(3, 3, 3, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &big), fm_ok);
+	snprintf(node, sizeof node, "%s/m.node", dir);
+	snprintf(ele, sizeof ele, "%s/m.ele", dir);
+	CHECK_INT(fmWriteMesh(node, &small, NULL, &diag), fm_ok);
+	CHECK_INT(remove(ele), 0);
+	CHECK_INT(mkdir(ele, 0700), 0); // the .ele's name is now a folder
+	CHECK_INT(fmWriteMesh(node, &big, NULL, &diag), fm_errIo);
+	printf("  a .ele that is a folder: %s: %s\n", diag.file, diag.message);
+	CHECK_STR_CONTAINS(diag.file, "m.ele");
+	CHECK_STR_CONTAINS(diag.message, "directory");
+	CHECK_INT(rmdir(ele), 0);
+	// The old .node is intact: with a fresh .ele of the small box it loads as the small box.
+	CHECK_INT(fmWriteTetGenEle(ele, &small, &diag), fm_ok);
+	CHECK_INT(fmLoadMesh(node, &back, &diag), fm_ok);
+	expectSameMesh(failures_, __LINE__, &small, &back, 0.0);
+	fmFreeTetMesh(&back);
+	CHECK_INT(entriesIn(dir), 2);
+	// One file whose name is a folder.
+	snprintf(msh, sizeof msh, "%s/x.msh", dir);
+	CHECK_INT(mkdir(msh, 0700), 0);
+	CHECK_INT(fmWriteMesh(msh, &big, NULL, &diag), fm_errIo);
+	CHECK_STR_CONTAINS(diag.message, "directory");
+	CHECK_INT(entriesIn(dir), 3);
+	// A folder that does not exist: refused, nothing made.
+	snprintf(folder, sizeof folder, "%s/none/x.vtu", dir);
+	CHECK_INT(fmWriteMesh(folder, &big, NULL, &diag), fm_errIo);
+	CHECK_INT(entriesIn(dir), 3);
+	fmFreeTetMesh(&small);
+	fmFreeTetMesh(&big);
 	char command[160];
 	snprintf(command, sizeof command, "rm -rf '%s'", dir);
 	CHECK_INT(system(command), 0);

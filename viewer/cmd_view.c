@@ -10,6 +10,7 @@
 #include "renderer.h"
 #include "script.h"
 #include "view_options.h"
+#include "whole_file.h"
 #include "window.h"
 
 #include <epoxy/gl.h>
@@ -399,12 +400,10 @@ static bool fvSaveScreenshot(const fvView* v, const char* path)
 // The report: the picture size, where the camera sees the bodies' centre, and the drag.
 static bool fvWriteReport(const fvView* v, const char* path)
 {
-	FILE* out = fopen(path, "w");
-	if (out == NULL)
-	{
-		cliError("%s: cannot create", path);
+	cliOutput file;
+	if (!cliOutput_Open(&file, path))
 		return false;
-	}
+	FILE* out = file.file;
 	const fvApp* app = &v->app;
 	fprintf(out, "frames %ld\nsize %d %d\n", app->session.frames, app->width, app->height);
 	float lo[3], hi[3], pixel[2], vertex[2], cursor[2];
@@ -417,10 +416,7 @@ static bool fvWriteReport(const fvView* v, const char* path)
 	if (fvApp_DragPixels(app, vertex, cursor))
 		fprintf(out, "drag_vertex_pixel %.1f %.1f\ndrag_cursor_pixel %.1f %.1f\n", vertex[0],
 		        vertex[1], cursor[0], cursor[1]);
-	bool ok = fclose(out) == 0;
-	if (!ok)
-		cliError("%s: cannot write", path);
-	return ok;
+	return cliOutput_Commit(&file);
 }
 
 int fvViewMain(int argc, char** argv)

@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -113,8 +114,51 @@ fmResult fmReadWholeFile(const char* path, size_t limit, fmFileText* t, fmDiagno
 
 // ---- writing ----------------------------------------------------------------------------------
 
-// Close @p f and turn any write failure into fm_errIo.
-fmResult fmFinishFile(FILE* f, bool ok, const char* path, fmDiagnostic* diag)
+// Where a file is written before it is renamed over @p path: "dir/.name.femto-PID.tmp", hidden,
+// in the same folder (a rename within one file system replaces the file at once), one per
+// process. False when the name does not fit.
+static bool fmTempPath(const char* path, char* temp, size_t size)
+{
+	const char* slash = strrchr(path, '/');
+	size_t folder = slash != NULL ? (size_t)(slash - path) + 1 : 0;
+	int written = snprintf(temp, size, "%.*s.%s.femto-%ld.tmp", (int)folder, path, path + folder,
+	                       (long)getpid());
+	return written > 0 && (size_t)written < size;
+}
+
+// Whether @p path is written in place: it exists and is not a regular file (a FIFO, /dev/null),
+// which a rename would replace.
+static bool fmWrittenInPlace(const char* path)
+{
+	struct stat info;
+	return stat(path, &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode);
+}
+
+FILE* fmOpenForWriting(const char* path, fmDiagnostic* diag, fmResult* result)
+{
+	struct stat info;
+	char temp[FM_TEMP_PATH];
+	*result = fm_ok;
+	if (stat(path, &info) == 0 && S_ISDIR(info.st_mode))
+	{
+		*result = fmDiagError(diag, fm_errIo, path, 0, 0,
+		                      "cannot write: it is a directory (expected a file name)");
+		return NULL;
+	}
+	if (!fmWrittenInPlace(path) && !fmTempPath(path, temp, sizeof temp))
+	{
+		*result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: the path is too long");
+		return NULL;
+	}
+	const char* target = fmWrittenInPlace(path) ? path : temp;
+	FILE* f = fopen(target, "w");
+	if (f == NULL)
+		*result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open %s for writing: %s",
+		                      target == path ? "it" : target, strerror(errno));
+	return f;
+}
+
+fmResult fmFinishFileStaged(FILE* f, bool ok, const char* path, fmDiagnostic* diag)
 {
 	int savedErrno = errno;
 	if (fclose(f) != 0 && ok)
@@ -122,18 +166,38 @@ fmResult fmFinishFile(FILE* f, bool ok, const char* path, fmDiagnostic* diag)
 		ok = false;
 		savedErrno = errno;
 	}
-	if (!ok)
-		return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: %s", strerror(savedErrno));
-	return fm_ok;
+	if (ok)
+		return fm_ok;
+	fmDiscardFile(path);
+	return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: %s (the file is unchanged)",
+	                   strerror(savedErrno));
 }
 
-FILE* fmOpenForWriting(const char* path, fmDiagnostic* diag, fmResult* result)
+fmResult fmCommitFile(const char* path, fmDiagnostic* diag)
 {
-	FILE* f = fopen(path, "w");
-	*result =
-	    f ? fm_ok
-	      : fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open for writing: %s", strerror(errno));
-	return f;
+	char temp[FM_TEMP_PATH];
+	if (fmWrittenInPlace(path) || !fmTempPath(path, temp, sizeof temp))
+		return fm_ok;
+	if (rename(temp, path) == 0)
+		return fm_ok;
+	int savedErrno = errno;
+	remove(temp);
+	return fmDiagError(diag, fm_errIo, path, 0, 0,
+	                   "cannot put the written file in place: %s (the file is unchanged)",
+	                   strerror(savedErrno));
+}
+
+void fmDiscardFile(const char* path)
+{
+	char temp[FM_TEMP_PATH];
+	if (!fmWrittenInPlace(path) && fmTempPath(path, temp, sizeof temp))
+		remove(temp);
+}
+
+fmResult fmFinishFile(FILE* f, bool ok, const char* path, fmDiagnostic* diag)
+{
+	fmResult result = fmFinishFileStaged(f, ok, path, diag);
+	return result == fm_ok ? fmCommitFile(path, diag) : result;
 }
 
 fmResult fmCheckFinitePoints(const char* path, const fmTetMesh* m, const double* x,

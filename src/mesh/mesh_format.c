@@ -177,7 +177,9 @@ static fmResult fmCheckMeshToWrite(const char* path, const fmTetMesh* m, const d
 	return fmCheckFinitePoints(path, m, x, diag);
 }
 
-fmResult fmWriteTetGenEle(const char* path, const fmTetMesh* mesh, fmDiagnostic* diag)
+// fmWriteTetGenEle, staged when @p commit is false (fmWriteTetGenNodeFile).
+static fmResult fmWriteTetGenEleFile(const char* path, const fmTetMesh* mesh, bool commit,
+                                     fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	fmResult result = fmCheckMeshToWrite(path, mesh, mesh ? mesh->positions : NULL, true, diag);
@@ -204,7 +206,12 @@ fmResult fmWriteTetGenEle(const char* path, const fmTetMesh* mesh, fmDiagnostic*
 			            m->tetAttributes[(size_t)t * (size_t)m->tetAttributeCount + (size_t)a]) > 0;
 		ok = ok && fputc('\n', f) != EOF;
 	}
-	return fmFinishFile(f, ok, path, diag);
+	return commit ? fmFinishFile(f, ok, path, diag) : fmFinishFileStaged(f, ok, path, diag);
+}
+
+fmResult fmWriteTetGenEle(const char* path, const fmTetMesh* mesh, fmDiagnostic* diag)
+{
+	return fmWriteTetGenEleFile(path, mesh, true, diag);
 }
 
 // The regions to write as Gmsh volumes: the distinct values of the first tet attribute when all
@@ -393,9 +400,17 @@ fmResult fmWriteMesh(const char* path, const fmTetMesh* mesh, const double* posi
 		return fmDiagError(diag, fm_errOutOfMemory, path, 0, 0, "out of memory");
 	const char* nodePath = isNode ? path : other;
 	const char* elePath = isNode ? other : path;
-	fmResult result = fmWriteTetGenNode(nodePath, mesh, positions, diag);
+	// Both files are written in full before either is put in place: a failure leaves both as
+	// they were.
+	fmResult result = fmWriteTetGenNodeFile(nodePath, mesh, positions, false, diag);
 	if (result == fm_ok)
-		result = fmWriteTetGenEle(elePath, mesh, diag);
+		result = fmWriteTetGenEleFile(elePath, mesh, false, diag);
+	if (result == fm_ok)
+		result = fmCommitFile(nodePath, diag);
+	if (result == fm_ok)
+		result = fmCommitFile(elePath, diag);
+	else
+		fmDiscardFile(nodePath), fmDiscardFile(elePath);
 	fmDealloc(other, size);
 	return result;
 }

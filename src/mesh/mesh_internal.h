@@ -31,3 +31,12 @@ fmResult fmCheckDuplicateTets(const fmTetMesh* m, const int* lines, const char* 
 
 // One warning when nodes are used by no tet (they are kept and do not move).
 void fmWarnUnreferenced(const fmTetMesh* m, const char* name, fmDiagnostic* diag);
+
+// ---- shared by the writers (mesh_tetgen.c, mesh_format.c)
+// ----------------------------------------
+
+// fmWriteTetGenNode, with @p commit false leaving the written file staged (mesh_file.h:
+// fmCommitFile or fmDiscardFile), so that fmWriteMesh puts the .node and the .ele in place
+// together or neither.
+fmResult fmWriteTetGenNodeFile(const char* path, const fmTetMesh* mesh, const double* positions,
+                               bool commit, fmDiagnostic* diag);

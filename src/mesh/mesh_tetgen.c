@@ -629,8 +629,8 @@ static fmResult fmCheckWritable(const char* path, const fmTetMesh* m, const doub
 	return result;
 }
 
-fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double* positions,
-                           fmDiagnostic* diag)
+fmResult fmWriteTetGenNodeFile(const char* path, const fmTetMesh* mesh, const double* positions,
+                               bool commit, fmDiagnostic* diag)
 {
 	fmDiagClear(diag);
 	bool valid = path != NULL && mesh != NULL && mesh->nodeCount > 0 &&
@@ -648,5 +648,12 @@ fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double
 	FILE* f = fmOpenForWriting(path, diag, &result);
 	if (f == NULL)
 		return result;
-	return fmFinishFile(f, fmWriteNodeLines(f, mesh, x), path, diag);
+	bool ok = fmWriteNodeLines(f, mesh, x);
+	return commit ? fmFinishFile(f, ok, path, diag) : fmFinishFileStaged(f, ok, path, diag);
+}
+
+fmResult fmWriteTetGenNode(const char* path, const fmTetMesh* mesh, const double* positions,
+                           fmDiagnostic* diag)
+{
+	return fmWriteTetGenNodeFile(path, mesh, positions, true, diag);
 }
