@@ -75,6 +75,10 @@ femto_cli_test(view_gif_option ARGS "view|--gif|x.gif" CODE 2 REGEX "an option o
 # Located script errors and a missing display need no window.
 femto_cli_test(view_bad_script ARGS "view|--script|${FEMTO_VIEW_DATA}/bad_script.txt|--frames|5"
   CODE 1 REGEX "bad_script.txt:3: expected 'to' between the drag's two points")
+femto_cli_test(view_nul_script ARGS "view|--script|${FEMTO_VIEW_DATA}/nul_script.txt|--frames|5"
+  CODE 1 REGEX "nul_script.txt:2:9: a NUL byte: expected text")
+femto_cli_test(view_huge_substeps ARGS "view|--script|${FEMTO_VIEW_DATA}/huge_substeps_script.txt|--frames|5"
+  CODE 1 REGEX "huge_substeps_script.txt:1: expected a whole number of substeps in \\[1, 1000\\]")
 femto_cli_test(view_missing_script ARGS "view|--script|${FEMTO_VIEW_WORK}/none.txt|--frames|5"
   CODE 1 REGEX "none.txt: cannot open")
 add_test(NAME cli_view_no_display COMMAND ${CMAKE_COMMAND} -E env --unset=DISPLAY

@@ -288,7 +288,7 @@ void fvApp_Slider(fvApp* app, const char* name, double value)
 	else if (strcmp(name, "dt") == 0)
 		p->dt = value;
 	else if (strcmp(name, "substeps") == 0)
-		p->substeps = (int)value;
+		p->substeps = value >= 1.0 && value <= 1000.0 ? (int)value : 0; // 0: refused below
 	bool material = strcmp(name, "youngs") == 0 || strcmp(name, "poisson") == 0;
 	bool bodies = strcmp(name, "mass") == 0 || strcmp(name, "damping") == 0;
 	bool time = !(p->dt >= 1e-6 && p->dt <= 1.0 && p->substeps >= 1 && p->substeps <= 1000);

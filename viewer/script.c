@@ -119,7 +119,12 @@ static const char* fvParseAction(char** w, int n, fvAction* a)
 			return "expected 'slider NAME VALUE' with NAME youngs, poisson, mass, damping, dt "
 			       "or substeps";
 		snprintf(a->name, sizeof a->name, "%s", w[3]);
-		return fvNumber(w[4], &a->value) ? NULL : "expected a number as the slider's value";
+		if (!fvNumber(w[4], &a->value))
+			return "expected a number as the slider's value";
+		if (strcmp(w[3], "substeps") == 0 &&
+		    !(a->value >= 1.0 && a->value <= 1000.0 && a->value == floor(a->value)))
+			return "expected a whole number of substeps in [1, 1000]";
+		return NULL;
 	}
 	return "expected drag, release, key, slider, toggle or scene after 'at FRAME'";
 }
@@ -160,16 +165,52 @@ static bool fvScriptError(char* error, size_t size, const char* format, ...)
 	return false;
 }
 
+enum
+{
+	fv_lineEnd = 0,   // no more lines
+	fv_lineOk = 1,    // a line, NUL-terminated, its newline kept
+	fv_lineTooLong,   // more than the buffer holds before its newline
+	fv_lineNul        // a NUL byte: the line up to it is in the buffer
+};
+
+// Read one line into @p line (@p size bytes) a byte at a time, so that a NUL byte in it is
+// found (fgets would end the string there and the rest would look like a line too long).
+static int fvReadLine(FILE* in, char* line, size_t size)
+{
+	size_t n = 0;
+	int c = EOF;
+	while (n + 1 < size && (c = getc(in)) != EOF)
+	{
+		if (c == 0)
+		{
+			line[n] = 0;
+			return fv_lineNul;
+		}
+		line[n++] = (char)c;
+		if (c == '\n')
+			break;
+	}
+	line[n] = 0;
+	if (n == 0)
+		return fv_lineEnd;
+	return line[n - 1] == '\n' || c == EOF ? fv_lineOk : fv_lineTooLong;
+}
+
 // Read the lines; false with the error written.
 static bool fvReadLines(FILE* in, const char* path, fvScript* script, char* error, size_t size)
 {
 	char line[FV_MAX_SCRIPT_LINE + 2];
 	int capacity = 0;
-	for (int number = 1; fgets(line, sizeof line, in) != NULL; ++number)
+	int status = 0;
+	for (int number = 1; (status = fvReadLine(in, line, sizeof line)) > 0; ++number)
 	{
-		if (strchr(line, '\n') == NULL && !feof(in))
+		if (status == fv_lineTooLong)
 			return fvScriptError(error, size, "%s:%d: expected a line of at most %d characters",
 			                     path, number, FV_MAX_SCRIPT_LINE);
+		if (status == fv_lineNul)
+			return fvScriptError(error, size,
+			                     "%s:%d:%d: a NUL byte: expected text (is this a script?)", path,
+			                     number, (int)strlen(line) + 1);
 		char* start = line + strspn(line, " \t\r\n");
 		if (*start == 0 || *start == '#')
 			continue;
