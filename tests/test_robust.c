@@ -48,6 +48,22 @@ TEST(bad_body_parameters_are_rejected_with_what_would_work)
 	def.mesh = NULL;
 	fmDiagnostic diag;
 	CHECK(fmBodyDef_Validate(&def, &diag) != fm_ok);
+	// Attribute counts above 0 with NULL arrays name the field (they read as "tet 0 has zero
+	// volume" before).
+	for (int k = 0; k < 2; ++k)
+	{
+		fmTetMesh mesh;
+		CHECK_INT(fmMakeBoxMesh(1, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
+		*(k ? &mesh.tetAttributeCount : &mesh.nodeAttributeCount) = 2;
+		def = fmDefaultBodyDef();
+		def.mesh = &mesh;
+		CHECK_INT(fmBodyDef_Validate(&def, &diag), fm_errParameter);
+		printf("  %s\n", diag.message);
+		CHECK_STR_CONTAINS(diag.message, k ? "tetAttributeCount is 2 with NULL"
+		                                   : "nodeAttributeCount is 2 with NULL");
+		*(k ? &mesh.tetAttributeCount : &mesh.nodeAttributeCount) = 0;
+		fmFreeTetMesh(&mesh);
+	}
 }
 
 TEST(bad_world_parameters_are_rejected)

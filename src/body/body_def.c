@@ -58,6 +58,16 @@ static fmResult fmCheckMeshShape(const fmTetMesh* mesh, fmDiagnostic* diag)
 		                   "mesh firstIndex must be 0 or 1 (the numbering of the source file), "
 		                   "got %d",
 		                   mesh->firstIndex);
+	const int counts[2] = {mesh->nodeAttributeCount, mesh->tetAttributeCount};
+	const double* arrays[2] = {mesh->nodeAttributes, mesh->tetAttributes};
+	static const char* const names[2] = {"nodeAttribute", "tetAttribute"};
+	for (int k = 0; k < 2; ++k)
+		if (counts[k] < 0 || counts[k] > FM_MAX_ATTRIBUTES || (counts[k] > 0 && arrays[k] == NULL))
+			return fmDiagError(diag, fm_errParameter, "", 0, 0,
+			                   "mesh %sCount is %d with %s %ss: expected 0 to %d "
+			                   "(FM_MAX_ATTRIBUTES), and an array of that many per %s",
+			                   names[k], counts[k], arrays[k] == NULL ? "NULL" : "non-NULL",
+			                   names[k], FM_MAX_ATTRIBUTES, k == 0 ? "node" : "tet");
 	return fm_ok;
 }
 
