@@ -424,6 +424,33 @@ bool fmCollider_Bounds(const fmCollider* c, fmVec3* lo, fmVec3* hi)
 	return true;
 }
 
+double fmCollider_Thickness(const fmCollider* c)
+{
+	switch (c->def.shape)
+	{
+	case fm_shapeSphere:
+	case fm_shapeCapsule:
+		return 2.0 * c->def.radius;
+	case fm_shapeBox:
+		return 2.0 * fmMin(c->def.halfExtents.x, fmMin(c->def.halfExtents.y, c->def.halfExtents.z));
+	case fm_shapeMesh:
+	{
+		fmVec3 lo, hi;
+		fmMeshShape_Bounds(c->mesh, &lo, &hi);
+		return fmMin(hi.x - lo.x, fmMin(hi.y - lo.y, hi.z - lo.z));
+	}
+	default:
+		return INFINITY;
+	}
+}
+
+double fmCollider_Sweep(const fmCollider* c, double h)
+{
+	fmVec3 lo, hi;
+	double radius = fmCollider_Bounds(c, &lo, &hi) ? 0.5 * fmLength(fmSub(hi, lo)) : 0.0;
+	return h * (fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius);
+}
+
 bool fmCollider_IsValid(fmColliderId colliderId)
 {
 	return fmGetCollider(colliderId, NULL) != NULL;

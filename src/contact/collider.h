@@ -35,6 +35,14 @@ void fmCollider_Release(fmCollider* collider);
 // The collider's box now, or false when it is unbounded (a plane).
 bool fmCollider_Bounds(const fmCollider* collider, fmVec3* lo, fmVec3* hi);
 
+// The collider's thinnest extent (m): a sphere's or capsule's diameter, a box's smallest side, a
+// mesh's smallest side of its box; INFINITY for a plane (a half-space cannot be passed through).
+double fmCollider_Thickness(const fmCollider* collider);
+
+// The farthest the collider's material moves in @p h seconds at its velocity and angular
+// velocity (m): |v| h plus |omega| h times its box's half diagonal.
+double fmCollider_Sweep(const fmCollider* collider, double h);
+
 // Signed distance (m, negative inside) from @p p to the collider's surface, and the outward
 // unit normal there.
 double fmCollider_Distance(const fmCollider* collider, fmVec3 p, fmVec3* normal);

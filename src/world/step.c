@@ -16,6 +16,7 @@
 #include "world/implicit.h"
 #include "world/island.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -106,10 +107,17 @@ static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double en
 		         bound, b->ledger.initialEnergy,
 		         b->ledger.work + b->ledger.frameGravityWork + w->frameWork[index].contact +
 		             w->frameWork[index].measure);
+	char fast[256] = "";
+	if (w->fastCollider >= 0)
+		snprintf(
+		    fast, sizeof fast,
+		    " (the likely cause: the collider in slot %d moves %.3g m in a substep, more than its "
+		    "%.3g m thickness; slow it, or take %d substeps a frame)",
+		    w->fastCollider, w->fastSweep, w->fastThickness, w->fastSubsteps);
 	fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
 	            "body %d: %s; %d inverted or non-finite tets (%s); state restored to the last "
-	            "good frame; %s",
-	            index, what, bad, list, fmFailureAdvice(w));
+	            "good frame; %s%s",
+	            index, what, bad, list, fmFailureAdvice(w), fast);
 	fmLog(fm_logError, "%s", w->lastError.message);
 	return fm_errNumerical;
 }
@@ -487,6 +495,59 @@ static fmResult fmCloseLedgers(fmWorld* w, const fmStepContext* ctx)
 	return fm_ok;
 }
 
+// Whether a live body's box, grown by @p margin, meets [lo, hi].
+static bool fmBodyNear(const fmBody* b, fmVec3 lo, fmVec3 hi, double margin)
+{
+	fmVec3 blo = fmMakeVec3(INFINITY, INFINITY, INFINITY), bhi = fmScale(-1.0, blo);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(b->state.x, i);
+		blo = fmMakeVec3(fmMin(blo.x, p.x), fmMin(blo.y, p.y), fmMin(blo.z, p.z));
+		bhi = fmMakeVec3(fmMax(bhi.x, p.x), fmMax(bhi.y, p.y), fmMax(bhi.z, p.z));
+	}
+	return blo.x - margin <= hi.x && lo.x <= bhi.x + margin && blo.y - margin <= hi.y &&
+	       lo.y <= bhi.y + margin && blo.z - margin <= hi.z && lo.z <= bhi.z + margin;
+}
+
+// A kinematic collider that moves more than its thickness in a substep can pass over a body's
+// vertices between two substeps, which then never meet it: say so (once a frame, for the worst
+// one whose path in the frame passes a body), with the substeps that would do, and keep it for
+// the advice of a failure in the frame.
+static void fmWarnFastColliders(fmWorld* w, const fmStepContext* ctx)
+{
+	w->fastCollider = -1;
+	double worst = 1.0;
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		const fmCollider* c = &w->colliders[k];
+		fmVec3 lo, hi;
+		if (!c->inUse || !fmCollider_Bounds(c, &lo, &hi))
+			continue;
+		double thickness = fmCollider_Thickness(c), sweep = fmCollider_Sweep(c, ctx->substep);
+		if (!(sweep > worst * thickness))
+			continue;
+		double reach = fmCollider_Sweep(c, ctx->frameTime);
+		bool near = false;
+		for (int i = 0; i < w->bodyCapacity && !near; ++i)
+			near = fmBody_IsLive(&w->bodies[i]) && fmBodyNear(&w->bodies[i], lo, hi, reach);
+		if (!near)
+			continue;
+		worst = sweep / thickness;
+		w->fastCollider = k;
+		w->fastSweep = sweep;
+		w->fastThickness = thickness;
+		double substeps = ceil(fmCollider_Sweep(c, ctx->frameTime) / thickness);
+		w->fastSubsteps = substeps < INT_MAX ? (int)substeps : INT_MAX;
+	}
+	if (w->fastCollider >= 0)
+		fmDiagWarn(
+		    &w->lastError, "", 0,
+		    "the collider in slot %d moves %.3g m in a substep of %.3g s, more than its %.3g m "
+		    "thickness: bodies in its way can pass through it unhit; slow it, or take %d "
+		    "substeps a frame",
+		    w->fastCollider, w->fastSweep, ctx->substep, w->fastThickness, w->fastSubsteps);
+}
+
 // The frame step of fmWorld_Step, in femto's floating-point environment.
 static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 {
@@ -517,6 +578,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	w->sleepEventCount = 0;
 	fmOpenLedgers(w, &ctx);
 	fmWarnExplicitStep(w, &ctx);
+	fmWarnFastColliders(w, &ctx);
 
 	// Stage 3: substeps, every body advanced by the chosen integrator.
 	r = autoStep ? fmAdaptiveSubsteps(w, &ctx, &plan) : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);

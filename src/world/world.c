@@ -209,6 +209,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->frameWork = frameWork;
 		w->generation = generation;
 		w->inUse = true;
+		w->fastCollider = -1;
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
 		w->solverOptions = fmDefaultSolverOptions();

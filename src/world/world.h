@@ -26,6 +26,11 @@ typedef struct fmWorld
 	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
 	bool warnedStep;               // the explicit step-size warning was given
+	// The frame's fastest kinematic collider for its size, when one moves more than its
+	// thickness in a substep near a body (-1: none): the warning and the failure advice name it.
+	int fastCollider;
+	double fastSweep, fastThickness; // m in a substep, m
+	int fastSubsteps;                // substeps a frame that would keep it within its thickness
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
 	fmTaskSystem tasks;            // how the stages run in parallel
