@@ -220,52 +220,73 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 	return spec->renderMeshPath[0] == 0 || cliSetRenderMesh(scene, index, sim);
 }
 
-// A mesh collider's def from its OBJ: the surface loaded and placed by its transform, its
-// vertices relative to their centroid, which becomes the collider's centre (so a kinematic
-// mesh spins about its middle, and "rotation" turns it there). @p vertices is malloc'd.
-static bool cliMeshColliderDef(const cliScene* scene, int index, fmColliderDef* def,
-                               fmVec3** vertices, fmSurfaceMesh* surface)
+// The OBJ of mesh collider @p index, loaded once per file: a collider naming a file an earlier
+// one named shares its load (@p loaded: one slot per collider, filled where a file was read).
+static const fmSurfaceMesh* cliColliderObj(const cliScene* scene, int index, fmSurfaceMesh* loaded)
 {
-	const cliColliderSpec* spec = &scene->colliders[index];
+	const char* path = scene->colliders[index].objPath;
+	for (int j = 0; j < index; ++j)
+		if (loaded[j].vertexCount > 0 && strcmp(scene->colliders[j].objPath, path) == 0)
+			return &loaded[j];
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
-	if (fmLoadObj(spec->objPath, surface, &diag) != fm_ok)
-	{
-		char prefix[CLI_MAX_PATH + 32];
-		snprintf(prefix, sizeof prefix, "%s: colliders[%d].path", scene->name, index);
-		cliPrintDiagnostic(prefix, &diag);
-		return false;
-	}
-	fmSurfaceMesh_Transform(surface, &spec->transform);
-	int n = surface->vertexCount;
+	if (fmLoadObj(path, &loaded[index], &diag) == fm_ok)
+		return &loaded[index];
+	char prefix[CLI_MAX_PATH + 32];
+	snprintf(prefix, sizeof prefix, "%s: colliders[%d].path", scene->name, index);
+	cliPrintDiagnostic(prefix, &diag);
+	return NULL;
+}
+
+// A mesh collider's def from its OBJ (@p source): the surface placed by its transform (into
+// @p vertices and @p triangles, malloc'd), its vertices relative to their centroid, which
+// becomes the collider's centre (so a kinematic mesh spins about its middle, and "rotation"
+// turns it there).
+static bool cliMeshColliderDef(const cliScene* scene, int index, const fmSurfaceMesh* source,
+                               fmColliderDef* def, fmVec3** vertices, int** triangles)
+{
+	int n = source->vertexCount, t = source->triangleCount;
+	double* positions = malloc(sizeof(double) * 3 * (size_t)n);
 	*vertices = malloc(sizeof **vertices * (size_t)n);
-	if (*vertices == NULL)
+	*triangles = malloc(sizeof(int) * 3 * (size_t)t);
+	if (positions == NULL || *vertices == NULL || *triangles == NULL)
 	{
+		free(positions);
 		cliError("%s: colliders[%d]: out of memory for %d vertices", scene->name, index, n);
 		return false;
 	}
+	memcpy(positions, source->positions, sizeof(double) * 3 * (size_t)n);
+	memcpy(*triangles, source->triangles, sizeof(int) * 3 * (size_t)t);
+	fmSurfaceMesh placed = {n, positions, t, *triangles};
+	fmSurfaceMesh_Transform(&placed, &scene->colliders[index].transform);
 	fmVec3 centroid = fmMakeVec3(0, 0, 0);
 	for (int i = 0; i < n; ++i)
-		centroid = fmAdd(centroid, fmLoad(surface->positions, i));
+		centroid = fmAdd(centroid, fmLoad(positions, i));
 	centroid = fmScale(1.0 / n, centroid);
 	for (int i = 0; i < n; ++i)
-		(*vertices)[i] = fmSub(fmLoad(surface->positions, i), centroid);
+		(*vertices)[i] = fmSub(fmLoad(positions, i), centroid);
+	free(positions);
 	def->center = centroid;
 	def->vertices = *vertices;
 	def->vertexCount = n;
-	def->triangles = surface->triangles;
-	def->triangleCount = surface->triangleCount;
+	def->triangles = *triangles;
+	def->triangleCount = t;
 	return true;
 }
 
-static bool cliCreateCollider(const cliScene* scene, int index, cliSimulation* sim)
+static bool cliCreateCollider(const cliScene* scene, int index, cliSimulation* sim,
+                              fmSurfaceMesh* loaded)
 {
 	fmColliderDef def = scene->colliders[index].def;
 	fmVec3* vertices = NULL;
-	fmSurfaceMesh surface;
-	memset(&surface, 0, sizeof surface);
-	bool ok =
-	    def.shape != fm_shapeMesh || cliMeshColliderDef(scene, index, &def, &vertices, &surface);
+	int* triangles = NULL;
+	bool ok = true;
+	if (def.shape == fm_shapeMesh)
+	{
+		const fmSurfaceMesh* source = cliColliderObj(scene, index, loaded);
+		ok =
+		    source != NULL && cliMeshColliderDef(scene, index, source, &def, &vertices, &triangles);
+	}
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	if (ok && fmCreateCollider(sim->world, &def, &sim->colliders[index], &diag) != fm_ok)
@@ -276,7 +297,23 @@ static bool cliCreateCollider(const cliScene* scene, int index, cliSimulation* s
 		ok = false;
 	}
 	free(vertices); // the library copies a mesh's arrays
-	fmFreeSurfaceMesh(&surface);
+	free(triangles);
+	return ok;
+}
+
+// Every collider of the scene, each OBJ read once.
+static bool cliCreateColliders(const cliScene* scene, cliSimulation* sim)
+{
+	fmSurfaceMesh* loaded =
+	    calloc((size_t)(scene->colliderCount > 0 ? scene->colliderCount : 1), sizeof *loaded);
+	bool ok = loaded != NULL;
+	if (!ok)
+		cliError("%s: out of memory for the colliders", scene->name);
+	for (int i = 0; ok && i < scene->colliderCount; ++i)
+		ok = cliCreateCollider(scene, i, sim, loaded);
+	for (int i = 0; loaded != NULL && i < scene->colliderCount; ++i)
+		fmFreeSurfaceMesh(&loaded[i]);
+	free(loaded);
 	return ok;
 }
 
@@ -348,13 +385,10 @@ bool cliSimulation_Create(const cliScene* scene, cliStepCheck check, cliSimulati
 			return false;
 		}
 	}
-	for (int i = 0; i < scene->colliderCount; ++i)
+	if (!cliCreateColliders(scene, sim))
 	{
-		if (!cliCreateCollider(scene, i, sim))
-		{
-			cliSimulation_Destroy(sim);
-			return false;
-		}
+		cliSimulation_Destroy(sim);
+		return false;
 	}
 	if (!cliAttachments_Create(scene, sim))
 	{

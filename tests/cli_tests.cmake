@@ -412,6 +412,11 @@ femto_cli_test(scene_box_over_budget ARGS "run|${FEMTO_CLI_DATA}/box_too_big.jso
   REGEX "box:280,280,280 makes 131712000 tets; its body needs about 5[0-9.]+e\\+04 MiB.*memory budget of 4096 MiB")
 femto_cli_test(scene_memory_budget ARGS "run|${FEMTO_CLI_DATA}/over_budget.json" CODE 1
   REGEX "box:20,20,20 makes 48000 tets.*more than the memory budget of 1 MiB")
+# Mesh colliders count against the budget too (1,024 naming one OBJ reached 2.8 GB before): 64
+# copies of an 800-triangle ground, refused at the tenth within 2 MiB; the OBJ is read once.
+femto_cli_test(scene_colliders_over_budget
+  ARGS "run|${FEMTO_CLI_DATA}/colliders_over_budget.json|--frames|1" CODE 1
+  REGEX "colliders\\[9\\]: a mesh collider of 800 triangles needs about 0.20 MiB; the world already uses 1.9 MiB of its memory budget of 2.0 MiB")
 
 # --- bench: the CSV, the optional programs (tetgen, gnuplot, the Bullet peer) --------------------
 # The house alone, one repetition: exactly the issue's header and one well-formed row per case

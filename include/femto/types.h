@@ -356,10 +356,11 @@ typedef struct fmWorldDef
 	/// (default false)
 	bool autoSubstep;
 	int maxBodies; ///< capacity, >= 1 (default 64)
-	/// Bytes the world's body table and bodies may take, >= the table (maxBodies bodies of a few
-	/// hundred bytes each); default 4 GiB (FM_DEFAULT_MEMORY_BUDGET), SIZE_MAX for no limit.
-	/// fmCreateBody() estimates a body before allocating anything (fmEstimateBodyMemory(), the
-	/// implicit solver's matrix included) and refuses it with fm_errLimit beyond the budget.
+	/// Bytes the world's body table, bodies and colliders may take, >= the table (maxBodies
+	/// bodies of a few hundred bytes each); default 4 GiB (FM_DEFAULT_MEMORY_BUDGET), SIZE_MAX
+	/// for no limit. fmCreateBody() estimates a body before allocating anything
+	/// (fmEstimateBodyMemory(), the implicit solver's matrix included) and fmCreateCollider() a
+	/// mesh collider's copy, and each refuses with fm_errLimit beyond the budget.
 	size_t memoryBudget;
 	/// Workers the stages run on, in [1, FM_MAX_WORKERS] (default 1: serial, no threads).
 	/// Results are bit-identical for any count. Without task callbacks femto starts

@@ -285,18 +285,6 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 // ---- the memory budget
 // ---------------------------------------------------------------------------
 
-// What the world's table and live bodies take against its budget.
-static size_t fmWorldMemoryInUse(const fmWorld* world)
-{
-	size_t used = fmWorldTableBytes(world->bodyCapacity);
-	for (int i = 0; i < world->bodyCapacity; ++i)
-		if (fmBody_IsLive(&world->bodies[i]))
-			used = used > SIZE_MAX - world->bodies[i].memoryEstimate
-			           ? SIZE_MAX
-			           : used + world->bodies[i].memoryEstimate;
-	return used;
-}
-
 // Refuse a body the world's memory budget cannot hold, before anything is allocated.
 static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t* estimate,
                               fmDiagnostic* diag)

@@ -7,6 +7,7 @@
 #include "world/world.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 // Most sphere-tracing steps of a segment cast; a grazing segment that needs more is reported
@@ -286,6 +287,29 @@ fmResult fmColliderDef_Validate(const fmColliderDef* def, fmDiagnostic* diag)
 	return fm_ok;
 }
 
+// Refuse a collider the world's memory budget cannot hold (its mesh's shape, and the table's
+// growth when @p slot is past its end), before anything is allocated.
+static fmResult fmColliderBudget(const fmWorld* w, const fmColliderDef* def, int slot,
+                                 fmDiagnostic* diag)
+{
+	size_t need =
+	    def->shape == fm_shapeMesh ? fmMeshShape_Bytes(def->vertexCount, def->triangleCount) : 0;
+	if (slot == w->colliderCapacity)
+		need += sizeof(fmCollider) * (size_t)(w->colliderCapacity > 0 ? w->colliderCapacity : 8);
+	size_t used = fmWorldMemoryInUse(w), budget = w->def.memoryBudget;
+	if (used <= budget && need <= budget - used)
+		return fm_ok;
+	const double mib = 1024.0 * 1024.0;
+	char what[64] = "a collider (the collider table's growth)";
+	if (def->shape == fm_shapeMesh)
+		snprintf(what, sizeof what, "a mesh collider of %d triangles", def->triangleCount);
+	return fmDiagError(diag, fm_errLimit, "", 0, 0,
+	                   "%s needs about %.2f MiB; the world already uses %.1f MiB of its memory "
+	                   "budget of %.1f MiB (fmWorldDef.memoryBudget): use fewer or coarser mesh "
+	                   "colliders, or raise the budget",
+	                   what, (double)need / mib, (double)used / mib, (double)budget / mib);
+}
+
 fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def, fmColliderId* colliderId,
                           fmDiagnostic* diag)
 {
@@ -302,6 +326,9 @@ fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def, fmCollide
 	while (slot < w->colliderCapacity &&
 	       (w->colliders[slot].inUse || w->colliders[slot].generation == UINT32_MAX))
 		++slot;
+	r = fmColliderBudget(w, def, slot, diag);
+	if (r != fm_ok)
+		return r;
 	if (slot == w->colliderCapacity)
 	{
 		int grown = w->colliderCapacity == 0 ? 8 : 2 * w->colliderCapacity;

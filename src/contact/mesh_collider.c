@@ -179,7 +179,7 @@ static void fmBuildNode(fmMeshShape* m, fmCentroidKey* keys, int index, int firs
 	fmBuildNode(m, keys, left + 1, first + half, count - half);
 }
 
-static size_t fmShapeBytes(int vertexCount, int triangleCount)
+size_t fmMeshShape_Bytes(int vertexCount, int triangleCount)
 {
 	size_t v = (size_t)vertexCount, t = (size_t)triangleCount;
 	return sizeof(fmMeshShape) + sizeof(fmVec3) * 2 * v + sizeof(int) * 4 * t +
@@ -194,7 +194,7 @@ fmMeshShape* fmMeshShape_Create(const fmColliderDef* def)
 	int v = def->vertexCount, t = def->triangleCount;
 	m->vertexCount = v;
 	m->triangleCount = t;
-	m->bytes = fmShapeBytes(v, t);
+	m->bytes = fmMeshShape_Bytes(v, t);
 	m->vertices = FM_ALLOC_ARRAY(fmVec3, v);
 	m->vertexNormal = FM_ALLOC_ZERO(fmVec3, v);
 	m->triangles = FM_ALLOC_ARRAY(int, 3 * (size_t)t);

@@ -32,6 +32,10 @@ typedef struct fmMeshShape
 	size_t bytes; // what all the above take
 } fmMeshShape;
 
+// Bytes a shape of @p vertexCount vertices and @p triangleCount triangles keeps (its `bytes`):
+// what a world's memory budget counts for a mesh collider.
+size_t fmMeshShape_Bytes(int vertexCount, int triangleCount);
+
 // Copy and prepare a validated mesh def; NULL when memory is short.
 fmMeshShape* fmMeshShape_Create(const fmColliderDef* def);
 

@@ -115,6 +115,25 @@ size_t fmWorldTableBytes(int maxBodies)
 	return fmMulSize((size_t)(maxBodies > 0 ? maxBodies : 0), sizeof(fmBody) + sizeof(fmFrameWork));
 }
 
+// a + b, or SIZE_MAX where it would overflow.
+static size_t fmAddBytes(size_t a, size_t b)
+{
+	return a > SIZE_MAX - b ? SIZE_MAX : a + b;
+}
+
+size_t fmWorldMemoryInUse(const fmWorld* world)
+{
+	size_t used = fmWorldTableBytes(world->bodyCapacity);
+	for (int i = 0; i < world->bodyCapacity; ++i)
+		if (fmBody_IsLive(&world->bodies[i]))
+			used = fmAddBytes(used, world->bodies[i].memoryEstimate);
+	used = fmAddBytes(used, sizeof(fmCollider) * (size_t)world->colliderCapacity);
+	for (int k = 0; k < world->colliderCapacity; ++k)
+		if (world->colliders[k].inUse && world->colliders[k].mesh != NULL)
+			used = fmAddBytes(used, world->colliders[k].mesh->bytes);
+	return used;
+}
+
 fmResult fmWorldDef_Validate(const fmWorldDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)

@@ -80,6 +80,10 @@ fmWorld* fmGetWorldOfBody(fmBodyId id);
 // Bytes of a world's body table (counted against fmWorldDef.memoryBudget).
 size_t fmWorldTableBytes(int maxBodies);
 
+// What a world holds against fmWorldDef.memoryBudget: its body table, its live bodies'
+// estimates (fmEstimateBodyMemory), its collider table and its mesh colliders' shapes.
+size_t fmWorldMemoryInUse(const fmWorld* world);
+
 // Reserve the world's arena for its largest body (the buffers a step takes at once); false when
 // memory is short. Allocates only when a larger body arrived.
 bool fmWorldReserveArena(fmWorld* world);
