@@ -129,7 +129,8 @@ FM_API fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, s
 /// not fit in what the world's memory budget has left is refused with fm_errLimit before
 /// anything is allocated. In a world with contact between bodies (fmContactDef.bodies), a body
 /// whose surface would start crossing, or lying inside, another body it collides with (filters
-/// that meet) is refused with fm_errParameter, @p diag naming that body and the crossings:
+/// that meet; interiors overlapping: a tet's centre inside the other) is refused with
+/// fm_errParameter, @p diag naming that body and the crossings:
 /// contact holds bodies apart and cannot separate surfaces that already cross (touching is
 /// allowed). @p bodyId (optional) is zeroed on failure.
 FM_API fmResult fmCreateBody(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
@@ -179,7 +180,9 @@ FM_API fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, i
 
 /// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state. Non-finite
 /// values are taken: the next fmWorld_Step() reports them (fm_errNumerical) and restores the
-/// last state that passed its checks. Same for fmBody_SetVelocities().
+/// last state that passed its checks. Same for fmBody_SetVelocities(). Positions that put the
+/// body across or inside another body it collides with are refused by the next fmWorld_Step():
+/// fm_errParameter naming both bodies, nothing stepped, every body back at its last good state.
 FM_API void fmBody_SetPositions(fmBodyId bodyId, const double* positions);
 
 /// Overwrite velocities (3 * vertexCount).

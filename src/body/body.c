@@ -311,21 +311,27 @@ static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t
 static fmResult fmRefuseOverlap(fmWorld* w, int slot, fmDiagnostic* diag)
 {
 	fmContactAudit audit;
-	fmResult r = fmAudit_Body(w, slot, &audit);
+	fmAuditFinding tet;
+	int tetsInside = 0;
+	fmResult r = fmAudit_Body(w, slot, &audit, &tetsInside, &tet);
 	if (r != fm_ok)
 		return fmDiagError(diag, r, "", 0, 0,
 		                   "cannot check that the new body starts apart from the others (%s)",
 		                   fmResultMessage(r));
-	if (audit.crossings == 0 && audit.verticesInside == 0)
+	if (audit.crossings == 0 && audit.verticesInside == 0 && tetsInside == 0)
 		return fm_ok;
-	const fmAuditFinding* f = audit.crossings > 0 ? &audit.firstCrossing : &audit.firstInside;
+	const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
+	                          : audit.verticesInside > 0 ? &audit.firstInside
+	                                                     : &tet;
 	fmBodyId other = f->body.index1 == slot + 1 ? f->otherBody : f->body;
 	return fmDiagError(diag, fm_errParameter, "", 0, 0,
 	                   "the body would start overlapping body %d (%d surface edges crossing "
-	                   "surface triangles, %d surface vertices inside, up to %.3g m deep): bodies "
-	                   "that collide must start apart, contact cannot separate surfaces that "
-	                   "already cross; move it, or give the two bodies filters that do not meet",
-	                   (int)other.index1 - 1, audit.crossings, audit.verticesInside, audit.deepest);
+	                   "surface triangles, %d surface vertices and %d tet centres inside, up to "
+	                   "%.3g m deep): bodies that collide must start apart, contact cannot "
+	                   "separate surfaces that already cross; move it, or give the two bodies "
+	                   "filters that do not meet",
+	                   (int)other.index1 - 1, audit.crossings, audit.verticesInside, tetsInside,
+	                   fmMax(audit.deepest, tet.depth));
 }
 
 static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
@@ -538,9 +544,11 @@ void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 {
 	fmIsland_WakeBody(bodyId);
 	fmBody* b = fmBodyOrAssert(bodyId);
-	if (fmHasState(b, positions))
-		for (int i = 0; i < b->mesh.vertexCount; ++i)
-			fmStore(b->state.x, i, fmLoad(positions, b->userVertex[i]));
+	if (!fmHasState(b, positions))
+		return;
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		fmStore(b->state.x, i, fmLoad(positions, b->userVertex[i]));
+	b->positionsSet = true;
 }
 
 void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)

@@ -33,6 +33,7 @@ typedef struct fmBody
 	double* vGood;
 	double energyGood; // kinetic + elastic energy of the good state (runaway check)
 	bool energyStale;  // energyGood must be recomputed (new body, new material)
+	bool positionsSet; // fmBody_SetPositions since the last frame: audited against the others
 	// What the body's last substep produced, merged into the world's statistics and errors in
 	// body order after every body has stepped (world.c), so that no step writes shared state.
 	fmResult stepResult;

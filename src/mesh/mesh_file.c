@@ -152,9 +152,13 @@ FILE* fmOpenForWriting(const char* path, fmDiagnostic* diag, fmResult* result)
 	}
 	const char* target = fmWrittenInPlace(path) ? path : temp;
 	FILE* f = fopen(target, "w");
-	if (f == NULL)
-		*result = fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open %s for writing: %s",
-		                      target == path ? "it" : target, strerror(errno));
+	if (f == NULL && target == path)
+		*result =
+		    fmDiagError(diag, fm_errIo, path, 0, 0, "cannot open for writing: %s", strerror(errno));
+	else if (f == NULL)
+		*result = fmDiagError(diag, fm_errIo, path, 0, 0,
+		                      "cannot open for writing: %s (writing its temporary %s)",
+		                      strerror(errno), target);
 	return f;
 }
 
@@ -169,8 +173,8 @@ fmResult fmFinishFileStaged(FILE* f, bool ok, const char* path, fmDiagnostic* di
 	if (ok)
 		return fm_ok;
 	fmDiscardFile(path);
-	return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: %s (the file is unchanged)",
-	                   strerror(savedErrno));
+	return fmDiagError(diag, fm_errIo, path, 0, 0, "cannot write: %s%s", strerror(savedErrno),
+	                   fmWrittenInPlace(path) ? "" : " (the file is unchanged)");
 }
 
 fmResult fmCommitFile(const char* path, fmDiagnostic* diag)

@@ -18,6 +18,8 @@
 // other body's edges and vertices within the body's box; a stamp per triangle visits each once
 // per query.
 #include "world/audit.h"
+
+#include "contact/collider.h"
 #include "core/det_math.h"
 
 #include "core/core.h"
@@ -312,6 +314,8 @@ typedef struct fmAuditRun
 	int query; // the stamp of the current query
 	fmContactAudit* out;
 	int focus; // a slot: only the pairs with that body whose filters meet, no tets; -1: all
+	int tetsInside; // with a focus: tets of one body of a pair whose centroid is inside the other
+	fmAuditFinding firstTetInside;
 } fmAuditRun;
 
 // Whether the boxes [alo, ahi] and [blo, bhi] overlap (closed).
@@ -433,6 +437,29 @@ static void fmAuditVertex(fmAuditRun* run, const fmAuditBody* a, fmAuditBody* b,
 	fmAuditFind(&o->firstInside, run, a, b, v, -1, -1, depth);
 }
 
+// Whether the centroid of tet @p t of body @p a lies inside body @p b: two bodies whose surfaces
+// lie on each other (the same box made twice at one place) have no vertex strictly inside the
+// other, but their interiors overlap.
+static void fmAuditTetInside(fmAuditRun* run, const fmAuditBody* a, fmAuditBody* b, int t)
+{
+	const int* tet = a->body->mesh.tets + 4 * t;
+	const double* x = a->body->state.x;
+	fmVec3 p = fmScale(0.25, fmAdd(fmAdd(fmLoad(x, tet[0]), fmLoad(x, tet[1])),
+	                               fmAdd(fmLoad(x, tet[2]), fmLoad(x, tet[3]))));
+	if (!fmAuditBoxesMeet(p, p, b->lo, b->hi) || fmAuditParity(run, b, p) != 1)
+		return;
+	fmVec3 e = fmSub(b->hi, b->lo);
+	double depth = fmAuditDistance(b, p);
+	if (!(depth > 1e-12 * fmMax(fmMax(e.x, e.y), fmMax(e.z, 1e-300))))
+		return;
+	if (run->tetsInside++ == 0)
+		run->firstTetInside = (fmAuditFinding){fmWorldBodyId(run->world, a->slot),
+		                                       fmWorldBodyId(run->world, b->slot),
+		                                       {-1, -1},
+		                                       a->body->userTet[t],
+		                                       depth};
+}
+
 // Body @p a's inverted tets: det [x1-x0, x2-x0, x3-x0] <= 0.
 static void fmAuditTets(fmAuditRun* run, const fmAuditBody* a)
 {
@@ -482,6 +509,8 @@ static void fmAuditPairs(fmAuditRun* run)
 				fmAuditEdge(run, a, b, e);
 			for (int v = 0; !self && v < a->vertexCount; ++v)
 				fmAuditVertex(run, a, b, a->vertices[v]);
+			for (int t = 0; run->focus >= 0 && !self && t < a->body->mesh.tetCount; ++t)
+				fmAuditTetInside(run, a, b, t);
 		}
 	}
 }
@@ -499,18 +528,52 @@ static bool fmAuditFinite(const fmWorld* w)
 	return true;
 }
 
-static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit, int focus)
+// The box of body @p b's vertices.
+static void fmAuditVertexBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
+{
+	*lo = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+	*hi = fmScale(-1.0, *lo);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(b->state.x, i);
+		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
+		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
+	}
+}
+
+// Whether the audit takes the body in @p slot: every live body, or with a focus the focus and
+// the bodies whose boxes meet its box and whose filters meet its filters (a new body among
+// thousands costs the few near it, not all of them).
+static bool fmAuditTakes(const fmWorld* w, int focus, const fmVec3 focusBox[2], int slot)
+{
+	const fmBody* b = &w->bodies[slot];
+	if (!fmBody_IsLive(b))
+		return false;
+	if (focus < 0 || slot == focus)
+		return true;
+	if (!fmFiltersMeet(w->bodies[focus].filter, b->filter))
+		return false;
+	fmVec3 blo, bhi;
+	fmAuditVertexBox(b, &blo, &bhi);
+	return fmAuditBoxesMeet(focusBox[0], focusBox[1], blo, bhi);
+}
+
+static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit, int focus, int* tetsInside,
+                          fmAuditFinding* firstTetInside)
 {
 	if (!fmAuditFinite(w))
 		return fm_errNumerical;
-	fmAuditRun run = {w, NULL, 0, 0, audit, focus};
+	fmAuditRun run = {w, NULL, 0, 0, audit, focus, 0, audit->firstInside};
+	fmVec3 focusBox[2] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+	if (focus >= 0)
+		fmAuditVertexBox(&w->bodies[focus], &focusBox[0], &focusBox[1]);
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		run.count += fmBody_IsLive(&w->bodies[slot]);
+		run.count += fmAuditTakes(w, focus, focusBox, slot);
 	run.bodies = FM_ALLOC_ZERO(fmAuditBody, run.count);
 	bool ok = run.bodies != NULL || run.count == 0;
 	for (int slot = 0, k = 0; ok && slot < w->bodyCapacity; ++slot)
 	{
-		if (!fmBody_IsLive(&w->bodies[slot]))
+		if (!fmAuditTakes(w, focus, focusBox, slot))
 			continue;
 		fmAuditBody* ab = &run.bodies[k++];
 		ab->body = &w->bodies[slot];
@@ -520,6 +583,10 @@ static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit, int focus)
 	audit->bodies = run.count;
 	if (ok)
 		fmAuditPairs(&run);
+	if (tetsInside != NULL)
+		*tetsInside = run.tetsInside;
+	if (firstTetInside != NULL)
+		*firstTetInside = run.firstTetInside;
 	for (int k = 0; run.bodies != NULL && k < run.count; ++k)
 		if (run.bodies[k].body != NULL)
 			fmAuditFree(&run.bodies[k]);
@@ -537,10 +604,11 @@ static fmContactAudit fmAuditNothing(void)
 	return found;
 }
 
-fmResult fmAudit_Body(fmWorld* w, int slot, fmContactAudit* audit)
+fmResult fmAudit_Body(fmWorld* w, int slot, fmContactAudit* audit, int* tetsInside,
+                      fmAuditFinding* firstTetInside)
 {
 	*audit = fmAuditNothing();
-	return fmAuditIn(w, audit, slot);
+	return fmAuditIn(w, audit, slot, tetsInside, firstTetInside);
 }
 
 fmResult fmWorld_AuditContact(fmWorldId worldId, fmContactAudit* audit)
@@ -553,7 +621,7 @@ fmResult fmWorld_AuditContact(fmWorldId worldId, fmContactAudit* audit)
 		return fm_errParameter;
 	fmContactAudit found = fmAuditNothing();
 	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
-	fmResult result = fmAuditIn(w, &found, -1);
+	fmResult result = fmAuditIn(w, &found, -1, NULL, NULL);
 	fmFpEnv_Leave(&env);
 	if (result == fm_ok)
 		*audit = found;

@@ -11,6 +11,7 @@
 #include "core/fp_env.h"
 #include "core/timer.h"
 #include "fem/forces.h"
+#include "world/audit.h"
 #include "world/energy_ledger.h"
 #include "world/explicit.h"
 #include "world/implicit.h"
@@ -548,12 +549,53 @@ static void fmWarnFastColliders(fmWorld* w, const fmStepContext* ctx)
 		    w->fastCollider, w->fastSweep, ctx->substep, w->fastThickness, w->fastSubsteps);
 }
 
+// Positions set by the caller (fmBody_SetPositions) since the last frame that put a body inside
+// or across another it collides with are refused as at creation (contact holds bodies apart; it
+// cannot separate surfaces that already cross, and left to try it ground on without end): the
+// frame is not stepped, every body goes back to its last good state (the sets dropped), and the
+// error names both bodies.
+static fmResult fmRefuseSetOverlaps(fmWorld* w)
+{
+	fmResult r = fm_ok;
+	for (int i = 0; i < w->bodyCapacity && r == fm_ok; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b) || !b->positionsSet || !fmContact_BodiesMeet(w))
+			continue;
+		fmContactAudit audit;
+		fmAuditFinding tet;
+		int tetsInside = 0;
+		if (fmAudit_Body(w, i, &audit, &tetsInside, &tet) != fm_ok ||
+		    (audit.crossings == 0 && audit.verticesInside == 0 && tetsInside == 0))
+			continue; // (non-finite positions: the step reports them)
+		const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
+		                          : audit.verticesInside > 0 ? &audit.firstInside
+		                                                     : &tet;
+		fmBodyId other = f->body.index1 == i + 1 ? f->otherBody : f->body;
+		r = fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                "body %d: the positions set since the last frame (fmBody_SetPositions) "
+		                "put it across or inside body %d (%d surface edges crossing, %d surface "
+		                "vertices and %d tet centres inside): bodies that collide must stay "
+		                "apart; state restored to the last good frame (what was set since is "
+		                "dropped); move it clear, or give the two bodies filters that do not meet",
+		                i, (int)other.index1 - 1, audit.crossings, audit.verticesInside,
+		                tetsInside);
+	}
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		w->bodies[i].positionsSet = false;
+	if (r != fm_ok)
+		fmRestoreAll(w);
+	return r;
+}
+
 // The frame step of fmWorld_Step, in femto's floating-point environment.
 static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 {
 	memset(&w->stats, 0, sizeof w->stats);
 	fmDiagClear(&w->lastError);
 	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
+	if (r == fm_ok)
+		r = fmRefuseSetOverlaps(w);
 	if (r != fm_ok)
 		return r;
 	if (!fmWorldReserveArena(w))
