@@ -145,6 +145,33 @@ TEST(nan_injection_is_reported_and_rolled_back)
 	fmDestroyWorld(world);
 }
 
+// The seeds' house set mirrored (every tet inside out) and stepped explicitly below its
+// stability limit: refused at the next step with fm_errParameter ("inside out"), the house back
+// where it was; the frames after run. Before, three frames passed while the volume floor's
+// 4.7e6 J came out as kinetic energy (those states passed the energy ledger: the energy was
+// there at the start), the fourth went non-finite, and every later frame failed again from the
+// third's tangled state.
+TEST(a_body_set_inside_out_is_refused)
+{
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, NULL, NULL);
+	double* before = snapshot(body);
+	double* mirrored = snapshot(body);
+	for (int i = 0; i < 400; ++i)
+		mirrored[3 * i] = -mirrored[3 * i];
+	fmBody_SetPositions(body, mirrored);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 30), fm_errParameter);
+	printf("  %s\n", fmWorld_GetLastError(world)->message);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "inside out (1389 of its 1389 tets");
+	CHECK(memcmp(before, fmTestPositions(body), sizeof(double) * 3 * 400) == 0);
+	for (int frame = 0; frame < 10; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 30), fm_ok);
+	CHECK_INT(fmBody_GetStats(body).invertedTets, 0);
+	free(before);
+	free(mirrored);
+	fmDestroyWorld(world);
+}
+
 // A step far beyond the stability limit explodes: the runaway is caught within the frame, the
 // error names the inverted tets, and the state is the one before the frame.
 TEST(explosion_is_reported_with_bad_tets_and_rolled_back)

@@ -181,8 +181,9 @@ FM_API fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, i
 /// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state. Non-finite
 /// values are taken: the next fmWorld_Step() reports them (fm_errNumerical) and restores the
 /// last state that passed its checks. Same for fmBody_SetVelocities(). Positions that put the
-/// body across or inside another body it collides with are refused by the next fmWorld_Step():
-/// fm_errParameter naming both bodies, nothing stepped, every body back at its last good state.
+/// body across or inside another body it collides with, or turn it inside out (most of its tets
+/// inverted: a mirror), are refused by the next fmWorld_Step(): fm_errParameter saying which
+/// body and why, nothing stepped, every body back at its last good state.
 FM_API void fmBody_SetPositions(fmBodyId bodyId, const double* positions);
 
 /// Overwrite velocities (3 * vertexCount).

@@ -88,6 +88,14 @@ static int fmGridCell(const fmTetGrid* g, double x, double origin, int axis)
 	return c >= g->n[axis] ? g->n[axis] - 1 : (int)c;
 }
 
+// Whether @p p lies in the grid's box.
+static bool fmGridContains(const fmTetGrid* g, fmVec3 p)
+{
+	fmVec3 hi = fmAdd(g->lo, fmMakeVec3(g->n[0] * g->h, g->n[1] * g->h, g->n[2] * g->h));
+	return p.x >= g->lo.x && p.y >= g->lo.y && p.z >= g->lo.z && p.x <= hi.x && p.y <= hi.y &&
+	       p.z <= hi.z;
+}
+
 static void fmCellRange(const fmTetGrid* g, fmVec3 lo, fmVec3 hi, int a[3], int z[3])
 {
 	double l[3] = {lo.x, lo.y, lo.z}, u[3] = {hi.x, hi.y, hi.z}, o[3] = {g->lo.x, g->lo.y, g->lo.z};
@@ -252,6 +260,36 @@ static bool fmTestCell(const fmBody* b, const fmTetGrid* g, int i, int j, int k,
 	return false;
 }
 
+// The cells of ring @p r around cell @p c (Chebyshev distance r) that lie in the grid, each
+// tested; true when p lies inside a tet. Only the ring's cells are visited: its two faces in k,
+// then in j, then the two columns in i between them (a cube's shell, not the whole cube).
+static bool fmTestRing(const fmBody* b, const fmTetGrid* g, const int c[3], int r, fmVec3 p,
+                       fmBinding* best)
+{
+	int lo[3], hi[3];
+	for (int a = 0; a < 3; ++a)
+	{
+		lo[a] = c[a] - r < 0 ? 0 : c[a] - r;
+		hi[a] = c[a] + r >= g->n[a] ? g->n[a] - 1 : c[a] + r;
+	}
+	for (int k = lo[2]; k <= hi[2]; ++k)
+	{
+		bool kFace = k == c[2] - r || k == c[2] + r;
+		for (int j = lo[1]; j <= hi[1]; ++j)
+		{
+			bool face = kFace || j == c[1] - r || j == c[1] + r;
+			for (int i = lo[0]; i <= hi[0]; i = face || i >= c[0] + r ? i + 1 : c[0] + r)
+			{
+				if (!face && i != c[0] - r && i != c[0] + r)
+					continue;
+				if (fmTestCell(b, g, i, j, k, p, best))
+					return true;
+			}
+		}
+	}
+	return false;
+}
+
 // The tet of @p p: cells in rings of growing Chebyshev radius around p's (clamped) cell, until
 // p is inside a tet or the next ring lies farther than the nearest tet found.
 static fmBinding fmBindVertex(const fmBody* b, const fmTetGrid* g, fmVec3 p)
@@ -270,23 +308,173 @@ static fmBinding fmBindVertex(const fmBody* b, const fmTetGrid* g, fmVec3 p)
 	double away = fmLength(fmSub(p, clamped));
 	for (int r = 0; r <= maxRing; ++r)
 	{
-		// Every cell of ring r + 1 and beyond is at least r cells from p's cell.
-		// (Projection onto the grid's box does not lengthen distances: a point outside is at
-		// least as far from every cell as its projection is.)
-		if (best.tet >= 0 && best.distance <= fmMax(away, (r - 1) * g->h))
+		// Every cell of ring r + 1 and beyond is at least r - 1 cells from p's clamped cell,
+		// and p is `away` outside the grid's box: since the clamp is the projection onto a
+		// convex box, |p - q|^2 >= away^2 + |clamp - q|^2 for every q in it.
+		double reach = fmMax(0.0, (r - 1) * g->h);
+		if (best.tet >= 0 && best.distance * best.distance <= away * away + reach * reach)
 			break;
-		for (int k = c[2] - r; k <= c[2] + r; ++k)
-			for (int j = c[1] - r; j <= c[1] + r; ++j)
-				for (int i = c[0] - r; i <= c[0] + r; ++i)
-				{
-					bool onRing = k == c[2] - r || k == c[2] + r || j == c[1] - r ||
-					              j == c[1] + r || i == c[0] - r || i == c[0] + r;
-					if (!onRing || i < 0 || j < 0 || k < 0 || i >= g->n[0] || j >= g->n[1] ||
-					    k >= g->n[2])
-						continue;
-					if (fmTestCell(b, g, i, j, k, p, &best))
-						return best;
-				}
+		if (fmTestRing(b, g, c, r, p, &best))
+			return best;
+	}
+	return best;
+}
+
+// ---- a tree over the tets, for vertices outside the grid's box ------------------------------
+// A vertex far outside the body would have the grid's rings sweep every cell (its nearest tet is
+// as far as the body is); the tree's boxes prune all but the nearest branches.
+
+#define FM_TREE_LEAF 4
+
+typedef struct fmTetNode
+{
+	fmVec3 lo, hi;    // the box of the node's tets
+	int left;         // inner: the first child (the second is left + 1); leaf: -1
+	int first, count; // leaf: tets order[first .. first + count)
+} fmTetNode;
+
+typedef struct fmTetTree
+{
+	fmTetNode* nodes;
+	int nodeCount;
+	int* order;
+	fmVec3* centre; // per tet, its rest centroid
+} fmTetTree;
+
+static double fmAxis(fmVec3 v, int axis)
+{
+	return axis == 0 ? v.x : axis == 1 ? v.y : v.z;
+}
+
+// Put the tets of order[first, first + count) whose centre along @p axis is below the k-th
+// smallest before it (quickselect; k counted from first).
+static void fmTreeSelect(fmTetTree* t, int first, int count, int k, int axis)
+{
+	int lo = first, hi = first + count - 1, target = first + k;
+	while (lo < hi)
+	{
+		double pivot = fmAxis(t->centre[t->order[(lo + hi) / 2]], axis);
+		int i = lo, j = hi;
+		while (i <= j)
+		{
+			while (fmAxis(t->centre[t->order[i]], axis) < pivot)
+				++i;
+			while (fmAxis(t->centre[t->order[j]], axis) > pivot)
+				--j;
+			if (i <= j)
+			{
+				int swap = t->order[i];
+				t->order[i++] = t->order[j];
+				t->order[j--] = swap;
+			}
+		}
+		if (target <= j)
+			hi = j;
+		else if (target >= i)
+			lo = i;
+		else
+			return;
+	}
+}
+
+static void fmTreeBuild(fmTetTree* t, const fmBody* b, int node, int first, int count)
+{
+	fmTetNode* n = &t->nodes[node];
+	fmVec3 clo = t->centre[t->order[first]], chi = clo;
+	for (int k = 0; k < count; ++k)
+	{
+		fmVec3 lo, hi, c = t->centre[t->order[first + k]];
+		fmTetBounds(b, t->order[first + k], &lo, &hi);
+		n->lo = k == 0
+		            ? lo
+		            : fmMakeVec3(fmMin(n->lo.x, lo.x), fmMin(n->lo.y, lo.y), fmMin(n->lo.z, lo.z));
+		n->hi = k == 0
+		            ? hi
+		            : fmMakeVec3(fmMax(n->hi.x, hi.x), fmMax(n->hi.y, hi.y), fmMax(n->hi.z, hi.z));
+		clo = fmMakeVec3(fmMin(clo.x, c.x), fmMin(clo.y, c.y), fmMin(clo.z, c.z));
+		chi = fmMakeVec3(fmMax(chi.x, c.x), fmMax(chi.y, c.y), fmMax(chi.z, c.z));
+	}
+	n->first = first;
+	n->count = count;
+	n->left = -1;
+	if (count <= FM_TREE_LEAF)
+		return;
+	fmVec3 e = fmSub(chi, clo);
+	int axis = e.x >= e.y && e.x >= e.z ? 0 : e.y >= e.z ? 1 : 2;
+	int half = count / 2;
+	fmTreeSelect(t, first, count, half, axis);
+	n->left = t->nodeCount;
+	t->nodeCount += 2;
+	fmTreeBuild(t, b, n->left, first, half);
+	fmTreeBuild(t, b, n->left + 1, first + half, count - half);
+}
+
+static void fmTetTree_Free(fmTetTree* t, int tetCount)
+{
+	FM_FREE_ARRAY(t->nodes, fmTetNode, 2 * (size_t)tetCount);
+	FM_FREE_ARRAY(t->order, int, tetCount);
+	FM_FREE_ARRAY(t->centre, fmVec3, tetCount);
+}
+
+static fmResult fmTetTree_Build(fmTetTree* t, const fmBody* b)
+{
+	int n = b->mesh.tetCount;
+	t->nodes = FM_ALLOC_ARRAY(fmTetNode, 2 * (size_t)n);
+	t->order = FM_ALLOC_ARRAY(int, n);
+	t->centre = FM_ALLOC_ARRAY(fmVec3, n);
+	t->nodeCount = 1;
+	if (t->nodes == NULL || t->order == NULL || t->centre == NULL)
+		return fm_errOutOfMemory;
+	for (int k = 0; k < n; ++k)
+	{
+		const int* tet = b->mesh.tets + 4 * k;
+		t->order[k] = k;
+		t->centre[k] =
+		    fmScale(0.25, fmAdd(fmAdd(fmLoad(b->mesh.x0, tet[0]), fmLoad(b->mesh.x0, tet[1])),
+		                        fmAdd(fmLoad(b->mesh.x0, tet[2]), fmLoad(b->mesh.x0, tet[3]))));
+	}
+	fmTreeBuild(t, b, 0, 0, n);
+	return fm_ok;
+}
+
+// Squared distance from @p p to the box [lo, hi] (0 inside).
+static double fmBoxDistance2(fmVec3 p, fmVec3 lo, fmVec3 hi)
+{
+	fmVec3 q = fmMakeVec3(fmMin(fmMax(p.x, lo.x), hi.x), fmMin(fmMax(p.y, lo.y), hi.y),
+	                      fmMin(fmMax(p.z, lo.z), hi.z));
+	return fmDot(fmSub(p, q), fmSub(p, q));
+}
+
+// The nearest tet to @p p by the tree: branches whose box lies farther than the best found are
+// skipped (a tet's outside distance is at least its box's), the nearer child first.
+static fmBinding fmBindByTree(const fmBody* b, const fmTetTree* t, fmVec3 p)
+{
+	fmBinding best = {-1, {0, 0, 0, 0}, INFINITY};
+	int stack[128], top = 0;
+	stack[top++] = 0;
+	while (top > 0)
+	{
+		const fmTetNode* n = &t->nodes[stack[--top]];
+		if (fmBoxDistance2(p, n->lo, n->hi) >= best.distance * best.distance)
+			continue;
+		if (n->left < 0)
+		{
+			for (int k = 0; k < n->count; ++k)
+			{
+				int tet = t->order[n->first + k];
+				double w[4];
+				fmBarycentric(b, tet, p, w);
+				double d = fmOutsideDistance(b, tet, p, w);
+				if (d < best.distance)
+					best = (fmBinding){tet, {w[0], w[1], w[2], w[3]}, d};
+			}
+			continue;
+		}
+		const fmTetNode* l = &t->nodes[n->left];
+		const fmTetNode* r = &t->nodes[n->left + 1];
+		bool leftNearer = fmBoxDistance2(p, l->lo, l->hi) <= fmBoxDistance2(p, r->lo, r->hi);
+		stack[top++] = leftNearer ? n->left + 1 : n->left; // the farther, visited last
+		stack[top++] = leftNearer ? n->left : n->left + 1;
 	}
 	return best;
 }
@@ -376,12 +564,18 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 	fmFpEnv env = fmFpEnv_Enter(fmDetMath_Enabled());
 	fmRenderMesh* m = fmRenderMesh_Alloc(vertexCount, triangleCount);
 	fmTetGrid grid;
+	fmTetTree tree;
+	memset(&tree, 0, sizeof tree);
 	r = m == NULL ? fm_errOutOfMemory : fmTetGrid_Build(&grid, b);
+	if (r == fm_ok)
+		r = fmTetTree_Build(&tree, b);
 	int outside = 0;
 	double farthest = 0.0;
 	for (int i = 0; r == fm_ok && i < vertexCount; ++i)
 	{
-		fmBinding bind = fmBindVertex(b, &grid, fmLoad(vertices, i));
+		fmVec3 p = fmLoad(vertices, i);
+		fmBinding bind =
+		    fmGridContains(&grid, p) ? fmBindVertex(b, &grid, p) : fmBindByTree(b, &tree, p);
 		m->tet[i] = bind.tet;
 		memcpy(m->weight + 4 * i, bind.w, sizeof bind.w);
 		// Outside by more than round-off of the tet's own size: reported.
@@ -393,6 +587,7 @@ fmResult fmBody_SetRenderMesh(fmBodyId bodyId, const double* vertices, int verte
 	}
 	if (m != NULL)
 		fmTetGrid_Free(&grid);
+	fmTetTree_Free(&tree, b->mesh.tetCount);
 	fmFpEnv_Leave(&env);
 	if (r != fm_ok)
 	{

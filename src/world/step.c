@@ -549,38 +549,78 @@ static void fmWarnFastColliders(fmWorld* w, const fmStepContext* ctx)
 		    w->fastCollider, w->fastSweep, ctx->substep, w->fastThickness, w->fastSubsteps);
 }
 
-// Positions set by the caller (fmBody_SetPositions) since the last frame that put a body inside
-// or across another it collides with are refused as at creation (contact holds bodies apart; it
-// cannot separate surfaces that already cross, and left to try it ground on without end): the
-// frame is not stepped, every body goes back to its last good state (the sets dropped), and the
-// error names both bodies.
-static fmResult fmRefuseSetOverlaps(fmWorld* w)
+// Tets of @p b inverted (det F <= 0) at positions @p x.
+static int fmInvertedAt(const fmBody* b, const double* x)
+{
+	int inverted = 0;
+	unsigned char flags[256];
+	for (int first = 0; first < b->mesh.tetCount; first += 256)
+	{
+		int end = b->mesh.tetCount - first < 256 ? b->mesh.tetCount : first + 256;
+		fmInvertedTets(&b->mesh, x, first, end, flags);
+		for (int t = 0; t < end - first; ++t)
+			inverted += flags[t];
+	}
+	return inverted;
+}
+
+// What is wrong with the positions the caller set on body @p i since the last frame (written
+// into @p why), or false when nothing: tets turned inside out that were not at the last good
+// state (a mirrored body), or the body put across or inside another it collides with.
+static bool fmSetPositionsWrong(fmWorld* w, int i, char* why, size_t size)
+{
+	const fmBody* b = &w->bodies[i];
+	if (fmFirstNonFiniteVertex(b) >= 0)
+		return false; // the step reports it
+	// Inside out: most of its tets inverted, more than at the last good state. A crushed tet or
+	// a few may be set (invertible elasticity pushes them back out, as it does a one-tet body's
+	// apex pushed through its face); a mirrored body cannot come back: every tet would have to
+	// pass through itself at once.
+	int inverted = fmInvertedAt(b, b->state.x);
+	if (b->mesh.tetCount > 1 && 2 * inverted > b->mesh.tetCount &&
+	    inverted > fmInvertedAt(b, b->xGood))
+	{
+		snprintf(why, size,
+		         "turn the body inside out (%d of its %d tets inverted): a mirrored body cannot "
+		         "come back, its volume energy would be released as an explosion",
+		         inverted, b->mesh.tetCount);
+		return true;
+	}
+	fmContactAudit audit;
+	fmAuditFinding tet;
+	int tetsInside = 0;
+	if (!fmContact_BodiesMeet(w) || fmAudit_Body(w, i, &audit, &tetsInside, &tet) != fm_ok ||
+	    (audit.crossings == 0 && audit.verticesInside == 0 && tetsInside == 0))
+		return false; // (non-finite positions: the step reports them)
+	const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
+	                          : audit.verticesInside > 0 ? &audit.firstInside
+	                                                     : &tet;
+	fmBodyId other = f->body.index1 == i + 1 ? f->otherBody : f->body;
+	snprintf(why, size,
+	         "put it across or inside body %d (%d surface edges crossing, %d surface vertices and "
+	         "%d tet centres inside): bodies that collide must stay apart (or give the two "
+	         "bodies filters that do not meet)",
+	         (int)other.index1 - 1, audit.crossings, audit.verticesInside, tetsInside);
+	return true;
+}
+
+// Positions set by the caller (fmBody_SetPositions) since the last frame that turned tets inside
+// out or put a body inside or across another it collides with are refused as at creation
+// (contact holds bodies apart and cannot separate surfaces that already cross; left to try, it
+// ground on without end; an inside-out body explodes): the frame is not stepped, every body goes
+// back to its last good state (the sets dropped), and the error says which body and why.
+static fmResult fmRefuseBadSets(fmWorld* w)
 {
 	fmResult r = fm_ok;
+	char why[320];
 	for (int i = 0; i < w->bodyCapacity && r == fm_ok; ++i)
-	{
-		fmBody* b = &w->bodies[i];
-		if (!fmBody_IsLive(b) || !b->positionsSet || !fmContact_BodiesMeet(w))
-			continue;
-		fmContactAudit audit;
-		fmAuditFinding tet;
-		int tetsInside = 0;
-		if (fmAudit_Body(w, i, &audit, &tetsInside, &tet) != fm_ok ||
-		    (audit.crossings == 0 && audit.verticesInside == 0 && tetsInside == 0))
-			continue; // (non-finite positions: the step reports them)
-		const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
-		                          : audit.verticesInside > 0 ? &audit.firstInside
-		                                                     : &tet;
-		fmBodyId other = f->body.index1 == i + 1 ? f->otherBody : f->body;
-		r = fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-		                "body %d: the positions set since the last frame (fmBody_SetPositions) "
-		                "put it across or inside body %d (%d surface edges crossing, %d surface "
-		                "vertices and %d tet centres inside): bodies that collide must stay "
-		                "apart; state restored to the last good frame (what was set since is "
-		                "dropped); move it clear, or give the two bodies filters that do not meet",
-		                i, (int)other.index1 - 1, audit.crossings, audit.verticesInside,
-		                tetsInside);
-	}
+		if (fmBody_IsLive(&w->bodies[i]) && w->bodies[i].positionsSet &&
+		    fmSetPositionsWrong(w, i, why, sizeof why))
+			r = fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                "body %d: the positions set since the last frame "
+			                "(fmBody_SetPositions) %s; state restored to the last good frame "
+			                "(what was set since is dropped)",
+			                i, why);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		w->bodies[i].positionsSet = false;
 	if (r != fm_ok)
@@ -595,7 +635,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	fmDiagClear(&w->lastError);
 	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
 	if (r == fm_ok)
-		r = fmRefuseSetOverlaps(w);
+		r = fmRefuseBadSets(w);
 	if (r != fm_ok)
 		return r;
 	if (!fmWorldReserveArena(w))
