@@ -471,11 +471,11 @@ double fmCollider_Thickness(const fmCollider* c)
 	}
 }
 
-double fmCollider_Sweep(const fmCollider* c, double h)
+double fmCollider_SweepSpeed(const fmCollider* c)
 {
 	fmVec3 lo, hi;
 	double radius = fmCollider_Bounds(c, &lo, &hi) ? 0.5 * fmLength(fmSub(hi, lo)) : 0.0;
-	return h * (fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius);
+	return fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius;
 }
 
 bool fmCollider_IsValid(fmColliderId colliderId)

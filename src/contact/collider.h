@@ -39,9 +39,9 @@ bool fmCollider_Bounds(const fmCollider* collider, fmVec3* lo, fmVec3* hi);
 // mesh's smallest side of its box; INFINITY for a plane (a half-space cannot be passed through).
 double fmCollider_Thickness(const fmCollider* collider);
 
-// The farthest the collider's material moves in @p h seconds at its velocity and angular
-// velocity (m): |v| h plus |omega| h times its box's half diagonal.
-double fmCollider_Sweep(const fmCollider* collider, double h);
+// The fastest the collider's material moves (m/s): |v| plus |omega| times its box's half
+// diagonal.
+double fmCollider_SweepSpeed(const fmCollider* collider);
 
 // Signed distance (m, negative inside) from @p p to the collider's surface, and the outward
 // unit normal there.

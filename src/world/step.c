@@ -524,10 +524,11 @@ static void fmWarnFastColliders(fmWorld* w, const fmStepContext* ctx)
 		fmVec3 lo, hi;
 		if (!c->inUse || !fmCollider_Bounds(c, &lo, &hi))
 			continue;
-		double thickness = fmCollider_Thickness(c), sweep = fmCollider_Sweep(c, ctx->substep);
+		double speed = fmCollider_SweepSpeed(c);
+		double thickness = fmCollider_Thickness(c), sweep = speed * ctx->substep;
 		if (!(sweep > worst * thickness))
 			continue;
-		double reach = fmCollider_Sweep(c, ctx->frameTime);
+		double reach = speed * ctx->frameTime;
 		bool near = false;
 		for (int i = 0; i < w->bodyCapacity && !near; ++i)
 			near = fmBody_IsLive(&w->bodies[i]) && fmBodyNear(&w->bodies[i], lo, hi, reach);
@@ -537,7 +538,7 @@ static void fmWarnFastColliders(fmWorld* w, const fmStepContext* ctx)
 		w->fastCollider = k;
 		w->fastSweep = sweep;
 		w->fastThickness = thickness;
-		double substeps = ceil(fmCollider_Sweep(c, ctx->frameTime) / thickness);
+		double substeps = ceil(reach / thickness);
 		w->fastSubsteps = substeps < INT_MAX ? (int)substeps : INT_MAX;
 	}
 	if (w->fastCollider >= 0)
