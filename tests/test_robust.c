@@ -172,6 +172,63 @@ TEST(a_body_set_inside_out_is_refused)
 	fmDestroyWorld(world);
 }
 
+// What no step can follow is refused before stepping, naming its key, instead of blaming the time
+// step afterwards: a contact thickness of 999,999 m, a 1e300 N load, a 1e9 m prescribed
+// displacement (each was accepted, then failed with "try a smaller dt"); and autoSubstep out of
+// budget (E = 1e12 Pa at 1e-6 kg/m^3 asks for about 3e8 substeps a frame) says so and names the
+// implicit integrator.
+static fmWorldId boxWorld(int* failures_, fmWorldDef wdef, const fmBodyDef* def, fmBodyId* body)
+{
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(2, 2, 2, fmMakeVec3(0, 0.5, 0), fmMakeVec3(1, 1.5, 1), &mesh), fm_ok);
+	fmBodyDef b = *def;
+	b.mesh = &mesh;
+	CHECK_INT(fmCreateBody(world, &b, body, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	return world;
+}
+
+static void checkRefusedNaming(int* failures_, fmWorldId world, const char* key)
+{
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 10), fm_errParameter);
+	printf("  %s\n", fmWorld_GetLastError(world)->message);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, key);
+	fmDestroyWorld(world);
+}
+
+TEST(what_no_step_can_follow_is_refused_by_its_key)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	fmBodyDef def = fmDefaultBodyDef();
+	fmBodyId body;
+	wdef.contact.thickness = 999999.0;
+	checkRefusedNaming(failures_, boxWorld(failures_, wdef, &def, &body), "contact.thickness");
+	wdef = fmDefaultWorldDef();
+	fmWorldId world = boxWorld(failures_, wdef, &def, &body);
+	CHECK(fmBody_AddNodalForce(body, fmMakeVec3(-1, -1, -1), fmMakeVec3(2, 2, 2),
+	                           fmMakeVec3(0, 1e300, 0)) > 0);
+	checkRefusedNaming(failures_, world, "its loads (fmBody_AddNodalForce");
+	world = boxWorld(failures_, wdef, &def, &body);
+	CHECK(fmBody_PrescribeDisplacement(body, fmMakeVec3(-1, 1.4, -1), fmMakeVec3(2, 2, 2), 2u,
+	                                   fmMakeVec3(0, 1e9, 0), 1.0) > 0);
+	checkRefusedNaming(failures_, world, "a prescribed displacement");
+	// autoSubstep past its budget.
+	wdef = fmDefaultWorldDef();
+	wdef.autoSubstep = true;
+	def.material = fmMakeMaterial(fm_neoHookean, 1e12, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 1e-6;
+	world = boxWorld(failures_, wdef, &def, &body);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_errNumerical);
+	const char* message = fmWorld_GetLastError(world)->message;
+	printf("  %s\n", message);
+	CHECK_STR_CONTAINS(message, "more than maxSubstepsPerFrame (100000) allows");
+	CHECK_STR_CONTAINS(message, "use the implicit integrator");
+	CHECK(strstr(message, "try a smaller dt") == NULL);
+	fmDestroyWorld(world);
+}
+
 // A step far beyond the stability limit explodes: the runaway is caught within the frame, the
 // error names the inverted tets, and the state is the one before the frame.
 TEST(explosion_is_reported_with_bad_tets_and_rolled_back)

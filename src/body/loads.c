@@ -142,6 +142,37 @@ double fmLoads_FrozenNorm(const fmBody* b)
 	return sqrt(sum);
 }
 
+double fmLoads_Size(const fmBody* b)
+{
+	const fmLoadSet* s = b->loads;
+	if (s == NULL)
+		return 0.0;
+	double size = 0.0;
+	for (int k = 0; s->fixed != NULL && k < 3 * b->mesh.vertexCount; ++k)
+		size += fabs(s->fixed[k]); // (the 1-norm: no square to overflow)
+	for (int t = 0; t < s->followerCount; ++t)
+	{
+		const int* tri = s->followerTriangle + 3 * t;
+		fmVec3 a = fmLoad(b->mesh.x0, tri[0]);
+		fmVec3 n =
+		    fmCross(fmSub(fmLoad(b->mesh.x0, tri[1]), a), fmSub(fmLoad(b->mesh.x0, tri[2]), a));
+		size += fabs(s->followerPressure[t]) * 0.5 * fmLength(n);
+	}
+	return size;
+}
+
+double fmLoads_LongestDisplacement(const fmBody* b)
+{
+	const fmLoadSet* s = b->loads;
+	double longest = 0.0;
+	for (int k = 0; s != NULL && k < s->prescribedCount; ++k)
+	{
+		const double* d = s->prescribed[k].displacement;
+		longest = fmMax(longest, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+	}
+	return longest;
+}
+
 // ---- prescribed displacements ------------------------------------------------------------------
 
 // Place prescribed vertex @p p at fraction @p s of the way from @p origin to start + displacement.

@@ -76,6 +76,14 @@ double fmLoads_Work(const fmBody* body, const double* d, double scale);
 // |frozen load| over the free axes (N), for the solvers' force scales.
 double fmLoads_FrozenNorm(const fmBody* body);
 
+// An upper bound of the body's total load (N): its nodal forces' and fixed pressure's sizes
+// summed, and each follower triangle's |p| times its rest area (it may stretch: a bound for the
+// scene's sanity check, not a measure).
+double fmLoads_Size(const fmBody* body);
+
+// The longest prescribed displacement of the body (m), 0 with none.
+double fmLoads_LongestDisplacement(const fmBody* body);
+
 // Dynamics: move the prescribed vertices along their paths by @p dt seconds (before a step).
 // Returns the work their motion did (J, for the ledger): the elastic energy it added, and the
 // change of the shadow energy's force term measured with @p shadowStep (the explicit substep;

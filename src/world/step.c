@@ -4,6 +4,7 @@
 #include "world/world.h"
 
 #include "body/grab.h"
+#include "body/loads.h"
 #include "contact/contact.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
@@ -108,17 +109,25 @@ static fmResult fmReportBadBody(fmWorld* w, int index, fmBadBody kind, double en
 		         bound, b->ledger.initialEnergy,
 		         b->ledger.work + b->ledger.frameGravityWork + w->frameWork[index].contact +
 		             w->frameWork[index].measure);
-	char fast[256] = "";
-	if (w->fastCollider >= 0)
-		snprintf(
-		    fast, sizeof fast,
-		    " (the likely cause: the collider in slot %d moves %.3g m in a substep, more than its "
-		    "%.3g m thickness; slow it, or take %d substeps a frame)",
-		    w->fastCollider, w->fastSweep, w->fastThickness, w->fastSubsteps);
+	char advice[400];
+	if (w->budgetNeed > 0.0 && w->def.integrator == fm_explicit)
+		snprintf(advice, sizeof advice,
+		         "the stability limit asks for %.3g substeps a frame, more than "
+		         "maxSubstepsPerFrame (%d) allows, so autoSubstep took longer ones: the body is "
+		         "too stiff for its mass to step explicitly; use the implicit integrator",
+		         w->budgetNeed, w->def.maxSubstepsPerFrame);
+	else if (w->fastCollider >= 0)
+		snprintf(advice, sizeof advice,
+		         "%s (the likely cause: the collider in slot %d moves %.3g m in a substep, more "
+		         "than its %.3g m thickness; slow it, or take %d substeps a frame)",
+		         fmFailureAdvice(w), w->fastCollider, w->fastSweep, w->fastThickness,
+		         w->fastSubsteps);
+	else
+		snprintf(advice, sizeof advice, "%s", fmFailureAdvice(w));
 	fmDiagError(&w->lastError, fm_errNumerical, "", 0, 0,
 	            "body %d: %s; %d inverted or non-finite tets (%s); state restored to the last "
-	            "good frame; %s%s",
-	            index, what, bad, list, fmFailureAdvice(w), fast);
+	            "good frame; %s",
+	            index, what, bad, list, advice);
 	fmLog(fm_logError, "%s", w->lastError.message);
 	return fm_errNumerical;
 }
@@ -190,6 +199,47 @@ static void fmWarnExplicitStep(fmWorld* w, const fmStepContext* ctx)
 // A frame the integrators can take: 1 to FM_MAX_SUBSTEPS substeps of FM_MIN_SUBSTEP to
 // FM_MAX_SUBSTEP seconds. (A step of 1e300 s makes the inertia term 1/h^2 vanish: the implicit
 // solve would be a static one without pins and nothing would move.)
+// What no step can follow, refused before it is stepped and named by its key (the advice would
+// otherwise blame the time step): a contact thickness larger than the largest body (contact
+// across whole bodies), loads that accelerate a body faster than FM_MAX_LOAD_ACCELERATION, a
+// prescribed displacement FM_MAX_DISPLACEMENT_SIZES times the body's size.
+#define FM_MAX_LOAD_ACCELERATION 1e9
+#define FM_MAX_DISPLACEMENT_SIZES 1e3
+
+static fmResult fmCheckScale(fmWorld* w)
+{
+	double largest = 0.0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		const fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b))
+			continue;
+		largest = fmMax(largest, b->mesh.restSize);
+		double load = fmLoads_Size(b), reach = fmLoads_LongestDisplacement(b);
+		if (load > FM_MAX_LOAD_ACCELERATION * b->mesh.totalMass)
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "body %d: its loads (fmBody_AddNodalForce, fmBody_AddPressure; "
+			                   "scene: loads, pressure) add up to %.3g N on %.3g kg, more than "
+			                   "%.0e m/s^2: no step can follow that; check their units",
+			                   i, load, b->mesh.totalMass, FM_MAX_LOAD_ACCELERATION);
+		if (reach > FM_MAX_DISPLACEMENT_SIZES * b->mesh.restSize)
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "body %d: a prescribed displacement (fmBody_PrescribeDisplacement; "
+			                   "scene: displacement) of %.3g m is more than %.0f times the body's "
+			                   "%.3g m size; check its units",
+			                   i, reach, FM_MAX_DISPLACEMENT_SIZES, b->mesh.restSize);
+	}
+	double thickness = w->def.contact.thickness;
+	if (largest > 0.0 && thickness > largest)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "the contact thickness (fmContactDef.thickness; scene: "
+		                   "contact.thickness) is %.3g m, more than the largest body's %.3g m "
+		                   "size: contact would act across whole bodies; give a thickness well "
+		                   "below the bodies' size (0: automatic, 1%% of the smallest)",
+		                   thickness, largest);
+	return fm_ok;
+}
+
 static fmResult fmCheckFrame(fmWorld* w, double timeStep, int subStepCount)
 {
 	if (!(timeStep > 0.0 && isfinite(timeStep)) || subStepCount < 1 ||
@@ -204,7 +254,7 @@ static fmResult fmCheckFrame(fmWorld* w, double timeStep, int subStepCount)
 		                   "a substep of %g s is outside what the integrators can take (%g to %g "
 		                   "s); for an equilibrium use fmBody_SolveStatic",
 		                   h, FM_MIN_SUBSTEP, FM_MAX_SUBSTEP);
-	return fm_ok;
+	return fmCheckScale(w);
 }
 
 // With autoSubstep, explicit substeps are at most FM_AUTO_STEP_FRACTION of the stability limit
@@ -412,6 +462,8 @@ static fmResult fmAdaptiveSubsteps(fmWorld* w, fmStepContext* ctx, fmAutoStep* p
 		int left = w->def.maxSubstepsPerFrame - w->stats.steps;
 		if (h > 0.0 && remaining / h > left + 1e-9)
 		{
+			if (w->budgetNeed == 0.0) // the first cut's: later ones may see the body collapsing
+				w->budgetNeed = w->stats.steps + remaining / h;
 			h = remaining / (left > 1 ? left : 1);
 			fmBudgetHit(w, "autoSubstep took longer substeps than the stability limit to end the "
 			               "frame within maxSubstepsPerFrame");
@@ -633,6 +685,7 @@ static fmResult fmRefuseBadSets(fmWorld* w)
 static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 {
 	memset(&w->stats, 0, sizeof w->stats);
+	w->budgetNeed = 0.0;
 	fmDiagClear(&w->lastError);
 	fmResult r = fmCheckFrame(w, timeStep, subStepCount);
 	if (r == fm_ok)

@@ -31,6 +31,7 @@ typedef struct fmWorld
 	int fastCollider;
 	double fastSweep, fastThickness; // m in a substep, m
 	int fastSubsteps;                // substeps a frame that would keep it within its thickness
+	double budgetNeed; // substeps the frame's stability limit asked for beyond the budget (0: none)
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
 	fmTaskSystem tasks;            // how the stages run in parallel
