@@ -250,6 +250,26 @@ static void fuzzSnapshot(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	                        fmFuzzPick(r, 4) ? written : (size_t)fmFuzzPick(r, (int)written + 1));
 }
 
+// Another body, a small box at a fuzzed place: often overlapping the first (or one made before,
+// or lying on its surface), which creation must refuse with the reason, and stepped at once.
+static void fuzzSecondBody(fmFuzzReader* r, fmWorldId world)
+{
+	fmVec3 lo = fmFuzzVec3(r, -1.5, 1.5);
+	double size = fmFuzzDouble(r, 0.01, 1.5);
+	fmTetMesh box;
+	if (fmMakeBoxMesh(1 + fmFuzzPick(r, 2), 1, 1, lo, fmAdd(lo, fmMakeVec3(size, size, size)),
+	                  &box) != fm_ok)
+		return;
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &box;
+	def.material = fuzzMaterial(r);
+	fmBodyId other;
+	fmDiagnostic diag;
+	if (fmCreateBody(world, &def, &other, &diag) == fm_ok && fmFuzzPick(r, 2))
+		fmWorld_Step(world, fmFuzzDouble(r, 0.0, 0.05), 1 + fmFuzzPick(r, 3));
+	fmFreeTetMesh(&box);
+}
+
 // A grab with a fuzzed def (sometimes not from fmDefaultGrabDef()), by a ray or at a point.
 static void fuzzGrab(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
@@ -283,7 +303,7 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	for (int c = 0; c < calls; ++c)
 	{
 		int vertex = fmFuzzPick(r, n + 3) - 1;
-		switch (fmFuzzPick(r, 18))
+		switch (fmFuzzPick(r, 19))
 		{
 		case 0:
 			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
@@ -358,6 +378,9 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			fmBody_MoveGrab(body, fmFuzzVec3(r, -30.0, 30.0));
 			if (fmFuzzPick(r, 4) == 0)
 				fmBody_ReleaseGrab(body);
+			break;
+		case 17:
+			fuzzSecondBody(r, world);
 			break;
 		default:
 		{

@@ -112,7 +112,12 @@ FM_API fmMaterial fmMakeMaterial(fmMaterialModel model, double youngsModulus, do
 /// A material from the Lame constants directly (the seeds give lambda = 20000, mu = 5000).
 FM_API fmMaterial fmMakeMaterialLame(fmMaterialModel model, double lambda, double mu);
 
-/// Check a material; on failure the diagnostic says which parameter and what would work.
+/// lambda / mu above which a material is nearly incompressible (a Poisson ratio above 0.49):
+/// accepted with a warning (fmMaterial_Validate), since linear tets lock under it.
+#define FM_NEARLY_INCOMPRESSIBLE 49.0
+
+/// Check a material; on failure the diagnostic says which parameter and what would work. A
+/// nearly incompressible one (lambda > FM_NEARLY_INCOMPRESSIBLE mu) passes with a warning.
 FM_API fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag);
 
 /// The model's scene name ("linear", "corotated", "stvk", "neohookean", "mooney-rivlin", ...).

@@ -76,6 +76,14 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
 		                   "model invariant-energy needs material.invariantEnergy, a function of "
 		                   "(I1, I2, J) (docs/materials.md has an example)");
+	// Nearly incompressible (Poisson's ratio above 0.49): accepted, with a warning; linear tets
+	// lock and implicit solves may diverge (refused then, with this cause named).
+	if (m->lambda > FM_NEARLY_INCOMPRESSIBLE * m->mu)
+		fmDiagWarn(diag, NULL, 0,
+		           "lambda / mu = %.3g (a Poisson ratio of %.7g) makes the material nearly "
+		           "incompressible: linear tets lock under it and implicit solves may diverge; "
+		           "0.49 or less is safe",
+		           m->lambda / m->mu, m->lambda / (2.0 * (m->lambda + m->mu)));
 	return fm_ok;
 }
 

@@ -325,9 +325,38 @@ static void fmStepBody(fmWorld* w, int index, const fmStepContext* ctx)
 	                                 : "it hit the Newton iteration limit";
 }
 
-// Merge body @p index's step into the world: solver counters into the statistics, a step above
-// the tolerance into a warning (once a frame) or, with notConvergedIsError, an error, and a
-// failure into the last error.
+// A relative residual above this after a step of a nearly incompressible body: its solve
+// ended further from balance than the step's whole force scale (it diverged: the locking tets'
+// Newton systems are too ill-conditioned to solve), which no frame may keep, however
+// notConvergedIsError is set. (Other bodies meet residuals of 1 to 10 in legitimate hard
+// steps: a Newton budget of one, a body coming out of a collider, far-off targets, inertia
+// below the round-off of the elastic forces; they stay warnings.)
+#define FM_RESIDUAL_DIVERGED 1.0
+
+// The largest lambda / mu of the body's materials (a near-incompressible one is the likely cause
+// of a diverged solve: linear tets lock, the Newton systems turn ill-conditioned).
+static double fmStiffestVolume(const fmBody* b)
+{
+	double ratio = b->mesh.material.lambda / b->mesh.material.mu;
+	for (int k = 1; k < b->mesh.materialCount; ++k)
+		ratio = fmMax(ratio, b->mesh.materials[k].lambda / b->mesh.materials[k].mu);
+	return ratio;
+}
+
+static fmResult fmReportDiverged(fmWorld* w, int index)
+{
+	const fmBody* b = &w->bodies[index];
+	double ratio = fmStiffestVolume(b);
+	return fmDiagError(&w->lastError, fm_errNotConverged, "", 0, 0,
+	                   "body %d: the implicit solve diverged: relative residual %.3g after %d "
+	                   "Newton and %d CG iterations (%s), further from balance than the step's "
+	                   "whole force scale; state restored to the last good frame; the cause: a "
+	                   "nearly incompressible material (lambda / mu = %.3g, a Poisson ratio of "
+	                   "%.7g): linear tets lock under it; use a Poisson ratio of 0.49 or less",
+	                   index, b->stepResidual, b->stepNewton, b->stepCg, b->stepStopped, ratio,
+	                   ratio / (2.0 * (ratio + 1.0)));
+}
+
 static fmResult fmMergeBodyStep(fmWorld* w, int index)
 {
 	const fmBody* b = &w->bodies[index];
@@ -352,6 +381,8 @@ static fmResult fmMergeBodyStep(fmWorld* w, int index)
 	if (b->stepConverged)
 		return fm_ok;
 	w->stats.unconvergedSteps += 1;
+	if (b->stepResidual > FM_RESIDUAL_DIVERGED && fmStiffestVolume(b) > FM_NEARLY_INCOMPRESSIBLE)
+		return fmReportDiverged(w, index);
 	const char* format = "body %d: the implicit step ended at relative residual %.3g, above the "
 	                     "tolerance %.3g, after %d Newton and %d CG iterations (%s)";
 	if (w->def.notConvergedIsError)
