@@ -4,6 +4,7 @@
 #include "commands.h"
 
 #include "cli.h"
+#include "surface_check.h"
 #include "surface_read.h"
 
 #include <ctype.h>
@@ -102,7 +103,7 @@ static bool cliLoadSurface(const char* path, cliSurface* s)
 	if (!cliReadSurfaceFile(path, s))
 		return false;
 	if (s->triangleCount >= 4)
-		return true;
+		return cliSurface_Check(path, s);
 	cliError("%s: %d triangles: a closed surface has at least 4", path, s->triangleCount);
 	return false;
 }
@@ -382,11 +383,14 @@ int cliMesh(int argc, char** argv)
 	int code = cliParseMeshOptions(argc, argv, &o);
 	if (code >= 0)
 		return code;
-	const char* tool = cliPickTool(&o);
-	if (tool == NULL)
-		return cli_exitInput;
 	cliSurface surface;
 	if (!cliLoadSurface(o.in, &surface))
+	{
+		cliSurface_Free(&surface);
+		return cli_exitInput;
+	}
+	const char* tool = cliPickTool(&o);
+	if (tool == NULL)
 	{
 		cliSurface_Free(&surface);
 		return cli_exitInput;

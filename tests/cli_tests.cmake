@@ -588,6 +588,15 @@ femto_cli_test(mesh_no_tool PROGRAM ${CMAKE_COMMAND}
 femto_cli_test(mesh_bad_off ARGS "mesh|${FEMTO_CLI_DATA}/bad_surface.off|${FEMTO_CLI_WORK}/bad.node"
   CODE 1 REGEX "bad_surface.off:5: expected a vertex x y z")
 femto_cli_test(mesh_bad_out ARGS "mesh|a.obj|b.txt" CODE 2 REGEX "expected OUT to end in .node, .msh or .vtu")
+# A surface unfit to mesh is said to be so before a mesher sees it (TetGen gave "the header
+# declares 0 points" about a temporary file, a signal 6, an assertion).
+femto_cli_test(mesh_open_surface ARGS "mesh|${FEMTO_CLI_DATA}/open_cube.obj|${FEMTO_CLI_WORK}/open.node"
+  CODE 1 REGEX "open_cube.obj: the surface is not closed: 4 edges belong to one triangle only")
+femto_cli_test(mesh_crossing_surface
+  ARGS "mesh|${FEMTO_CLI_DATA}/crossing_cubes.obj|${FEMTO_CLI_WORK}/crossing.node"
+  CODE 1 REGEX "crossing_cubes.obj: the surface intersects itself: 13 pairs of triangles cross")
+femto_cli_test(mesh_huge_surface ARGS "mesh|${FEMTO_CLI_DATA}/huge_cube.obj|${FEMTO_CLI_WORK}/huge.node"
+  CODE 1 REGEX "huge_cube.obj: vertex 1 has coordinate 1e\\+15: expected finite, \\|x\\| <= 1e\\+09 m")
 femto_cli_test(scene_substeps_word ARGS "run|${FEMTO_CLI_DATA}/bad_substeps.json" CODE 1
   REGEX "bad_substeps.json:1:[0-9]+: substeps: expected a whole number in \\[1, 100000\\] or \"auto\"")
 # Progress off a terminal (ctest captures stderr): a line of its own every --progress seconds,
