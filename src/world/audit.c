@@ -421,15 +421,22 @@ static int fmAuditParity(fmAuditRun* run, fmAuditBody* b, fmVec3 p)
 	return parity;
 }
 
+// How deep point @p p lies inside body @p b (its distance to b's surface), or 0 when it is
+// outside or on the surface within round-off of b's size.
+static double fmAuditDepthInside(fmAuditRun* run, fmAuditBody* b, fmVec3 p)
+{
+	if (!fmAuditBoxesMeet(p, p, b->lo, b->hi) || fmAuditParity(run, b, p) != 1)
+		return 0.0;
+	fmVec3 e = fmSub(b->hi, b->lo);
+	double depth = fmAuditDistance(b, p);
+	return depth > 1e-12 * fmMax(fmMax(e.x, e.y), fmMax(e.z, 1e-300)) ? depth : 0.0;
+}
+
 // Surface vertex @p v of body @p a inside body @p b?
 static void fmAuditVertex(fmAuditRun* run, const fmAuditBody* a, fmAuditBody* b, int v)
 {
-	fmVec3 p = fmLoad(a->body->state.x, v);
-	if (!fmAuditBoxesMeet(p, p, b->lo, b->hi) || fmAuditParity(run, b, p) != 1)
-		return;
-	fmVec3 e = fmSub(b->hi, b->lo);
-	double depth = fmAuditDistance(b, p);
-	if (!(depth > 1e-12 * fmMax(fmMax(e.x, e.y), fmMax(e.z, 1e-300))))
+	double depth = fmAuditDepthInside(run, b, fmLoad(a->body->state.x, v));
+	if (!(depth > 0.0))
 		return;
 	fmContactAudit* o = run->out;
 	o->verticesInside += 1;
@@ -446,11 +453,8 @@ static void fmAuditTetInside(fmAuditRun* run, const fmAuditBody* a, fmAuditBody*
 	const double* x = a->body->state.x;
 	fmVec3 p = fmScale(0.25, fmAdd(fmAdd(fmLoad(x, tet[0]), fmLoad(x, tet[1])),
 	                               fmAdd(fmLoad(x, tet[2]), fmLoad(x, tet[3]))));
-	if (!fmAuditBoxesMeet(p, p, b->lo, b->hi) || fmAuditParity(run, b, p) != 1)
-		return;
-	fmVec3 e = fmSub(b->hi, b->lo);
-	double depth = fmAuditDistance(b, p);
-	if (!(depth > 1e-12 * fmMax(fmMax(e.x, e.y), fmMax(e.z, 1e-300))))
+	double depth = fmAuditDepthInside(run, b, p);
+	if (!(depth > 0.0))
 		return;
 	if (run->tetsInside++ == 0)
 		run->firstTetInside = (fmAuditFinding){fmWorldBodyId(run->world, a->slot),
