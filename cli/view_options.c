@@ -148,7 +148,7 @@ static void cliParseValued(cliViewOptions* o, const char* command, const char* a
 			*code = cliUsageError(command,
 			                      "--draw: unknown '%s' (expected a comma-separated list of "
 			                      "surfaces, stress, tets, inverted, pins, targets, floor, "
-			                      "contacts, all, none)",
+			                      "contacts, colliders, all, none)",
 			                      bad);
 	}
 }

@@ -102,7 +102,7 @@ void showViews(fvUiModel& m)
 	             {"pins", fm_drawPins},         {"targets", fm_drawTargets},
 	             {"floor", fm_drawFloor},       {"contacts", fm_drawContacts},
 	             {"colliders", fm_drawColliders}};
-	for (int i = 0; i < 8; ++i)
+	for (size_t i = 0; i < sizeof views / sizeof views[0]; ++i)
 	{
 		if (i % 4 != 0)
 			ImGui::SameLine();
