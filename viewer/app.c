@@ -117,6 +117,13 @@ void fvApp_FrameCamera(fvApp* app)
 	float lo[3], hi[3];
 	if (fvDrawList_FramingBox(&app->list, lo, hi))
 		fvCamera_Frame(&app->camera, lo, hi, (float)app->width / (float)app->height);
+	fvApp_KeepCameraAbove(app);
+}
+
+void fvApp_KeepCameraAbove(fvApp* app)
+{
+	if (app->list.hasPlane)
+		fvCamera_KeepAbove(&app->camera, app->list.planePoint, app->list.planeNormal);
 }
 
 int fvApp_FindScene(const fvApp* app, const char* name)
@@ -222,9 +229,11 @@ void fvApp_MouseMove(fvApp* app, float x, float y)
 	{
 	case fv_mouseOrbit:
 		fvCamera_Orbit(&app->camera, dx, dy);
+		fvApp_KeepCameraAbove(app);
 		break;
 	case fv_mousePan:
 		fvCamera_Pan(&app->camera, dx, dy, app->height);
+		fvApp_KeepCameraAbove(app);
 		break;
 	case fv_mouseDrag:
 		if (fvCursorOnGrabPlane(app, x, y, target))
@@ -239,6 +248,7 @@ void fvApp_Scroll(fvApp* app, float steps)
 {
 	if (app->uiWantsMouse == NULL || !app->uiWantsMouse())
 		fvCamera_Zoom(&app->camera, steps);
+	fvApp_KeepCameraAbove(app);
 }
 
 // M: the next of the five built-in models.

@@ -46,6 +46,10 @@ void fvApp_Free(fvApp* app);
 /// Draw the world into the list (fmWorld_Draw) for the renderer.
 void fvApp_Capture(fvApp* app);
 
+/// Keep the camera's eye above the floor last drawn (fvCamera_KeepAbove); every camera move
+/// ends with it.
+void fvApp_KeepCameraAbove(fvApp* app);
+
 /// Aim the camera at the bodies and the floor under them.
 void fvApp_FrameCamera(fvApp* app);
 

@@ -8,6 +8,7 @@
 #define FV_PI 3.14159265358979323846f
 #define FV_NEAR_FRACTION 0.01f // near plane: this fraction of the distance
 #define FV_FAR_FACTOR 50.0f    // far plane: this many distances (the floor fades out before)
+#define FV_FLOOR_MARGIN 0.02f  // the eye keeps this many distances above the floor
 
 static float fvRadians(float degrees)
 {
@@ -120,6 +121,43 @@ void fvCamera_Pan(fvCamera* camera, float dx, float dy, int height)
 	              (float)(height > 0 ? height : 1);
 	for (int i = 0; i < 3; ++i)
 		camera->target[i] += scale * (-dx * right[i] + dy * up[i]);
+}
+
+// The eye's height above the plane through @p point with unit normal @p normal.
+static float fvEyeHeight(const fvCamera* camera, const float point[3], const float normal[3])
+{
+	float eye[3];
+	fvCamera_Eye(camera, eye);
+	return (eye[0] - point[0]) * normal[0] + (eye[1] - point[1]) * normal[1] +
+	       (eye[2] - point[2]) * normal[2];
+}
+
+void fvCamera_KeepAbove(fvCamera* camera, const float point[3], const float normal[3])
+{
+	float margin = FV_FLOOR_MARGIN * camera->distance;
+	if (fvEyeHeight(camera, point, normal) >= margin)
+		return;
+	// The least pitch (looking further down) that lifts the eye clear: bisection between the
+	// current pitch and straight down.
+	float low = camera->pitch, high = 89.0f;
+	camera->pitch = high;
+	float top = fvEyeHeight(camera, point, normal);
+	if (top < margin)
+	{
+		// Even from above the target the eye is under the plane: the target is, lift it.
+		for (int i = 0; i < 3; ++i)
+			camera->target[i] += (margin - top) * normal[i];
+		return;
+	}
+	for (int k = 0; k < 30; ++k)
+	{
+		camera->pitch = 0.5f * (low + high);
+		if (fvEyeHeight(camera, point, normal) >= margin)
+			high = camera->pitch;
+		else
+			low = camera->pitch;
+	}
+	camera->pitch = high;
 }
 
 void fvCamera_Zoom(fvCamera* camera, float steps)

@@ -35,6 +35,12 @@ void fvCamera_Orbit(fvCamera* camera, float dx, float dy);
 /// point under the cursor follows it.
 void fvCamera_Pan(fvCamera* camera, float dx, float dy, int height);
 
+/// Keep the eye above the plane through @p point with unit normal @p normal (the floor), by
+/// 2% of the distance: the least change of pitch that does (looking further down), or the
+/// target lifted when even looking straight down leaves the eye under it. An orbit, pan or zoom
+/// is followed by it, so the floor never becomes a ceiling.
+void fvCamera_KeepAbove(fvCamera* camera, const float point[3], const float normal[3]);
+
 /// Zoom by @p steps wheel steps (positive: closer, 10% a step).
 void fvCamera_Zoom(fvCamera* camera, float steps);
 

@@ -88,7 +88,7 @@ function sceneLoaded() {
   lo[1] = Math.min(lo[1], M._fw_floor_height());
   const center = vec3.scale(0.5, vec3.add(lo, hi));
   camera.frame(center, 0.5 * Math.hypot(...vec3.sub(hi, lo)));
-  state.paused = false;
+  setPaused(false);
   state.error = '';
   message('');
 }
@@ -241,9 +241,15 @@ function jump() {
   M._fw_jump();
 }
 
+// The one place the pause state changes: the button's label always says what it will do.
+function setPaused(paused)
+{
+	state.paused = paused;
+	$('pause').textContent = paused ? 'Play' : 'Pause';
+}
+
 function togglePause() {
-  state.paused = !state.paused;
-  $('pause').textContent = state.paused ? 'Play' : 'Pause';
+	setPaused(!state.paused);
 }
 
 window.addEventListener('keydown', (event) => {
@@ -371,9 +377,8 @@ function frame(now) {
     stepCount += 1;
     state.frames += 1;
     if (r !== 0) {
-      state.paused = true;
-      $('pause').textContent = 'Play';
-      message(`${lastError()} — paused; R or Reset starts again`, true);
+		setPaused(true);
+		message(`${lastError()} — paused; R or Reset starts again`, true);
     }
   }
   if (ticks === MAX_TICKS_PER_FRAME || state.paused) accumulator = 0;

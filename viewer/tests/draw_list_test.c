@@ -3,6 +3,7 @@
 // vertex numbers and gets normals when it comes without; a body batch keeps its colour and
 // numbers; the first plane is the floor, later planes become quads left out of the framing.
 // Exit status: the number of failed checks.
+#include "camera.h"
 #include "draw_list.h"
 
 #include <math.h>
@@ -20,8 +21,41 @@ static int s_failures;
 		}                                                                                          \
 	} while (0)
 
+// The camera kept above the floor (issue 31: an upward orbit put the eye under it, the floor
+// became an opaque ceiling): orbits of every size up and down, from targets above the floor and
+// one panned below it, a horizontal floor and a tilted one; the eye ends at least 2% of the
+// distance above, and a move that keeps it above is left alone.
+static void checkCameraAboveFloor(void)
+{
+	const float point[3] = {0.0f, -3.0f, 0.0f};
+	const float tilt = 0.3f, tilted[3] = {sinf(tilt), cosf(tilt), 0.0f};
+	const float up[3] = {0.0f, 1.0f, 0.0f};
+	const float* normals[2] = {up, tilted};
+	for (int n = 0; n < 2; ++n)
+		for (int k = 0; k < 40; ++k)
+		{
+			fvCamera c = fvCamera_Default();
+			c.target[1] = k % 4 == 3 ? -3.5f : -2.0f + 0.1f * (float)k; // once below the floor
+			c.distance = 0.5f + 0.5f * (float)k;
+			fvCamera_Orbit(&c, 13.0f * (float)k, -25.0f * (float)(k % 9)); // up to 60 degrees up
+			fvCamera_KeepAbove(&c, point, normals[n]);
+			float eye[3];
+			fvCamera_Eye(&c, eye);
+			const float* m = normals[n];
+			float height = (eye[0] - point[0]) * m[0] + (eye[1] - point[1]) * m[1] +
+			               (eye[2] - point[2]) * m[2];
+			CHECK(height >= 0.0199f * c.distance);
+			CHECK(c.pitch >= -89.0f && c.pitch <= 89.0f);
+		}
+	fvCamera high = fvCamera_Default(); // 20 degrees down from 10 m: clear already
+	fvCamera before = high;
+	fvCamera_KeepAbove(&high, point, up);
+	CHECK(high.pitch == before.pitch && high.target[1] == before.target[1]);
+}
+
 int main(void)
 {
+	checkCameraAboveFloor();
 	fvDrawList list;
 	fvDrawList_Init(&list);
 	fmDebugDraw draw = fvDrawList_Callbacks(&list, fm_drawAll);

@@ -5,7 +5,8 @@
 //   2. the canvas is not blank: enough pixels of the house's colour;
 //   3. the house's pixels move between two screenshots half a second apart;
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
-//      and a finger (touch events) drags it too;
+//      and a finger (touch events) drags it too; the Play/Pause label matches the state after a
+//      pause, a reset and a scene change;
 //   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
 //   6. a TetGen .node/.ele pair and a Gmsh .msh given to the page's file input (the drop's path)
 //      load (and the pair steps);
@@ -260,6 +261,25 @@ async function main() {
     const touchReleased = !(await evaluate('window.femto.dragging'));
     check(touchDrags && touchReleased, 'a finger on the house drags it and lifting it lets go');
     await page('Emulation.setTouchEmulationEnabled', { enabled: false });
+
+    // The Play/Pause label says what it will do after every control: paused then reset, and
+    // paused then another scene, the page runs again and the button says "Pause".
+    const label = () => evaluate('[document.getElementById("pause").textContent, femto.paused]');
+    await evaluate('document.getElementById("pause").click()');
+    const pausedLabel = await label();
+    await evaluate('document.getElementById("reset").click()');
+    const afterReset = await label();
+    await evaluate('document.getElementById("pause").click()');
+    await evaluate('(() => { const s = document.getElementById("scene"); ' +
+      's.value = s.options[1].value; s.dispatchEvent(new Event("change")); })()');
+    const afterScene = await label();
+    await evaluate('(() => { const s = document.getElementById("scene"); ' +
+      's.value = s.options[0].value; s.dispatchEvent(new Event("change")); })()');
+    check(pausedLabel[0] === 'Play' && pausedLabel[1] &&
+      afterReset[0] === 'Pause' && !afterReset[1] && afterScene[0] === 'Pause' && !afterScene[1],
+      `the Play/Pause label matches the state: paused "${pausedLabel[0]}", after a reset ` +
+      `"${afterReset[0]}" (${afterReset[1] ? 'paused' : 'running'}), after a scene change ` +
+      `"${afterScene[0]}" (${afterScene[1] ? 'paused' : 'running'})`);
 
     await sleep(300);
     const stats = await evaluate('({ fps: femto.fps, stepMs: femto.stepMs, ' +
