@@ -9,6 +9,9 @@
 
 namespace
 {
+// The panel's width (pixels); its height fits its contents every frame.
+const float FV_PANEL_WIDTH = 410.0f;
+
 const char* const modelNames[] = {"linear", "corotated", "St. Venant-Kirchhoff", "Neo-Hookean",
                                   "Mooney-Rivlin"};
 
@@ -26,7 +29,15 @@ void showStats(const fvUiModel& m)
 		            m.stats.cgIterations, m.stats.residual);
 	ImGui::Text("inverted tets %d  contacts %d", m.stats.invertedTets, m.stats.contacts);
 	if (m.status != nullptr && m.status[0] != 0)
-		ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.3f, 1.0f), "%s", m.status);
+	{
+		// Wrapped at the panel's edge, so the advice at the end of a failure shows; the panel's
+		// height follows its contents (fvUi_Frame) instead of scrolling the controls away.
+		ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.35f, 0.3f, 1.0f));
+		ImGui::PushTextWrapPos(0.0f);
+		ImGui::TextUnformatted(m.status);
+		ImGui::PopTextWrapPos();
+		ImGui::PopStyleColor();
+	}
 }
 
 void showScene(fvUiModel& m)
@@ -141,7 +152,7 @@ extern "C" void fvUi_Frame(fvUiModel* model)
 	ImGui_ImplGlfw_NewFrame();
 	ImGui::NewFrame();
 	ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-	ImGui::SetNextWindowSize(ImVec2(410, 0), ImGuiCond_FirstUseEver);
+	ImGui::SetNextWindowSize(ImVec2(FV_PANEL_WIDTH, 0.0f), ImGuiCond_Always); // 0: fit the height
 	ImGui::SetNextWindowCollapsed(false, ImGuiCond_FirstUseEver);
 	ImGui::Begin("femto");
 	showScene(m);
