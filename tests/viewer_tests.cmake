@@ -89,5 +89,5 @@ add_test(NAME viewer_window COMMAND ${FEMTO_VIEW_DATA}/view_test.sh $<TARGET_FIL
   $<TARGET_FILE:femto_check_images> ${FEMTO_VIEW_DATA} ${FEMTO_VIEW_WORK}/window)
 set_tests_properties(viewer_window PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 120 LABELS viewer)
 if(FEMTO_SANITIZE)
-  set_tests_properties(viewer_window PROPERTIES ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
+  set_tests_properties(viewer_window PROPERTIES ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0;FEMTO_VIEW_TIMING=0")
 endif()

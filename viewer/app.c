@@ -271,10 +271,8 @@ void fvApp_Key(fvApp* app, const char* name)
 	else if (strcmp(name, "r") == 0)
 		fvSession_Reset(s);
 	else if (strcmp(name, "i") == 0)
-	{
-		s->params.integrator = s->params.integrator == fm_explicit ? fm_implicit : fm_explicit;
-		fvSession_ApplyIntegrator(s);
-	}
+		fvSession_SwitchIntegrator(s,
+		                           s->params.integrator == fm_explicit ? fm_implicit : fm_explicit);
 	else if (strcmp(name, "m") == 0)
 		fvNextModel(app);
 	else if (strcmp(name, "f") == 0)
@@ -327,6 +325,8 @@ void fvApp_FillUi(const fvApp* app, fvUiModel* m, double fps)
 	memset(m, 0, sizeof *m);
 	m->fps = fps;
 	m->stepMs = s->stepMs;
+	m->overBudget = s->overBudget;
+	m->stepShareMs = FV_STEP_SHARE_MS;
 	m->profile = s->profile;
 	m->stats = s->stats;
 	m->frames = s->frames;
@@ -375,10 +375,7 @@ void fvApp_ApplyUi(fvApp* app, const fvUiModel* m)
 		fvApp_Slider(app, "substeps", m->substeps);
 	}
 	if (m->integratorChanged)
-	{
-		s->params.integrator = (fmIntegrator)m->integrator;
-		fvSession_ApplyIntegrator(s);
-	}
+		fvSession_SwitchIntegrator(s, (fmIntegrator)m->integrator);
 	const char* keys[5] = {m->jump ? "space" : NULL, m->pause ? "p" : NULL, m->step ? "s" : NULL,
 	                       m->reset ? "r" : NULL, m->frame ? "f" : NULL};
 	for (int i = 0; i < 5; ++i)

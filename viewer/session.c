@@ -34,6 +34,7 @@ static void fvInitParams(fvSession* s)
 	p->dt = s->scene.dt;
 	p->substeps = s->scene.substeps;
 	p->integrator = s->scene.worldDef.integrator;
+	s->explicitDt = 0.0, s->explicitSubsteps = 0;
 }
 
 bool fvSession_Load(fvSession* s, const char* path)
@@ -92,6 +93,7 @@ bool fvSession_Reset(fvSession* s)
 	}
 	fvSession_ApplyIntegrator(s);
 	s->frames = 0;
+	s->overBudgetFrames = 0;
 	s->accumulator = 0.0;
 	s->status[0] = 0;
 	// The initial state with the current sliders: the bodies are made again from them.
@@ -123,6 +125,8 @@ static void fvFrame(fvSession* s)
 	double start = cliNow();
 	fmResult result = fvStepFrame(s);
 	s->stepMs = 1e3 * (cliNow() - start);
+	s->overBudget = s->stepMs > FV_STEP_SHARE_MS;
+	s->overBudgetFrames += s->overBudget;
 	s->stats = fmWorld_GetStepStats(s->sim.world);
 	s->profile = fmWorld_GetProfile(s->sim.world);
 	s->frames += 1;
@@ -233,6 +237,32 @@ bool fvSession_ApplyBodies(fvSession* s)
 		if (!fvRecreateBody(s, b))
 			return false;
 	return true;
+}
+
+void fvSession_SwitchIntegrator(fvSession* s, fmIntegrator integrator)
+{
+	fvParams* p = &s->params;
+	if (p->integrator == integrator)
+		return;
+	double frame = p->dt * p->substeps;
+	p->integrator = integrator;
+	fvSession_ApplyIntegrator(s);
+	if (integrator == fm_implicit)
+	{
+		s->explicitDt = p->dt, s->explicitSubsteps = p->substeps;
+		p->dt = frame, p->substeps = 1;
+		return;
+	}
+	if (s->explicitSubsteps > 0 &&
+	    fabs(s->explicitDt * s->explicitSubsteps - frame) <= 1e-9 * frame)
+	{
+		p->dt = s->explicitDt, p->substeps = s->explicitSubsteps;
+		return;
+	}
+	double limit = fvSession_IsLive(s) ? fmWorld_EstimateExplicitStep(s->sim.world) : 0.0;
+	double count = limit > 0.0 ? ceil(frame / (0.9 * limit)) : 1.0;
+	p->substeps = (int)fmin(fmax(count, 1.0), 1000.0);
+	p->dt = frame / p->substeps;
 }
 
 void fvSession_ApplyIntegrator(fvSession* s)

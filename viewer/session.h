@@ -23,6 +23,10 @@ typedef struct fvParams
 	fmIntegrator integrator;
 } fvParams;
 
+/// The physics' share of a 60 Hz frame (ms): half of its 16.7 ms, the rest for drawing and the
+/// game. A frame whose steps take longer is marked in the panel ("over budget").
+#define FV_STEP_SHARE_MS 8.3
+
 /// A loaded scene and its world.
 typedef struct fvSession
 {
@@ -31,11 +35,15 @@ typedef struct fvSession
 	cliSimulation sim;
 	fvParams params;
 	bool paused;
+	double explicitDt;    ///< s, the explicit substep before a switch to implicit (0: none)
+	int explicitSubsteps; ///< and its count, restored on the way back
 	int pendingSteps;   ///< single steps asked for while paused
 	int pendingJumps;   ///< jumps to add to the next frame
 	double accumulator; ///< s of real time not yet stepped
 	long frames;        ///< scene frames stepped since the load or reset
 	double stepMs;      ///< wall time of the last frame's fmWorld_Step calls
+	bool overBudget;    ///< the last frame's steps took more than FV_STEP_SHARE_MS
+	long overBudgetFrames; ///< frames over it since the scene was loaded
 	fmStepStats stats;  ///< of the last step
 	fmProfile profile;  ///< of the last step
 	bool dragging;
@@ -72,6 +80,11 @@ bool fvSession_ApplyMaterial(fvSession* session);
 /// Apply params.mass and .damping: the bodies are re-created in their current state (positions
 /// and velocities carry over; the drag is released).
 bool fvSession_ApplyBodies(fvSession* session);
+
+/// Switch to @p integrator with substeps that suit it, the frame (dt times substeps) kept:
+/// implicit takes the frame as one step (the explicit dt and substeps remembered), explicit
+/// gets back what it had, or else substeps within 0.9 of its stability limit (at most 1000).
+void fvSession_SwitchIntegrator(fvSession* session, fmIntegrator integrator);
 
 /// Apply params.integrator (fmWorld_SetIntegrator).
 void fvSession_ApplyIntegrator(fvSession* session);

@@ -18,6 +18,13 @@ const char* const modelNames[] = {"linear", "corotated", "St. Venant-Kirchhoff",
 void showStats(const fvUiModel& m)
 {
 	ImGui::Text("%.0f fps   step %.2f ms%s", m.fps, m.stepMs, m.paused ? "   PAUSED" : "");
+	if (m.overBudget)
+	{
+		// The physics' own time, not the whole frame's (software rendering is slow anyway).
+		ImGui::SameLine();
+		ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "  over budget (%.1f ms of 16.7)",
+		                   m.stepShareMs);
+	}
 	const fmProfile& p = m.profile;
 	if (m.integrator == fm_explicit)
 		ImGui::Text("forces %.2f  integrate %.2f  check %.2f ms", p.forces, p.integrate, p.check);

@@ -18,6 +18,8 @@ extern "C"
 		// Shown.
 		double fps;        ///< window frames a second
 		double stepMs;     ///< wall time of the last scene frame's steps
+		bool overBudget;   ///< stepMs above the physics' share of a 60 Hz frame
+		double stepShareMs; ///< that share (FV_STEP_SHARE_MS)
 		fmProfile profile; ///< its stages
 		fmStepStats stats; ///< its counters
 		long frames;       ///< scene frames since the load or reset

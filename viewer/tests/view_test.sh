@@ -21,5 +21,28 @@ rm -f "$work/keys.png"
 xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view --size 800x600 \
   --script "$scripts/keys.txt" --frames 60 --screenshot "$work/keys.png"
 test -s "$work/keys.png"
+# The I key picks steps that suit the integrator, the frame kept: the house's 10 explicit
+# substeps become one implicit step (it kept 10 implicit ones, 21.6 ms a frame), and come back.
+for switches in 1 2; do
+  head -n $((switches + 1)) "$scripts/integrator.txt" > "$work/integrator_$switches.txt"
+  xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view --size 320x240 --no-ui \
+    --script "$work/integrator_$switches.txt" --frames 20 --report "$work/integrator_$switches.report"
+done
+grep -qx "integrator implicit" "$work/integrator_1.report" && grep -qx "substeps 1" "$work/integrator_1.report" ||
+  { echo "view_test: after I, expected one implicit step a frame:"; cat "$work/integrator_1.report"; exit 1; }
+grep -qx "integrator explicit" "$work/integrator_2.report" && grep -qx "substeps 10" "$work/integrator_2.report" ||
+  { echo "view_test: after I twice, expected the house's 10 explicit substeps:"; cat "$work/integrator_2.report"; exit 1; }
+# The budget marker: frames whose physics took more than its 8.3 ms share of a 60 Hz frame are
+# marked; a deliberately slow scene (83k explicit tets) turns it on in every frame, the house
+# (below 1 ms a frame, no drag) in at most 2 of 20 (a shared machine preempts; not checked in
+# the sanitizer build, whose house is slower).
+xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view "$scripts/slow.json" --size 320x240 --no-ui \
+  --frames 5 --report "$work/slow.report"
+grep -qx "over_budget_frames 5" "$work/slow.report" ||
+  { echo "view_test: the slow scene's frames were not all over budget:"; cat "$work/slow.report"; exit 1; }
+if [ "${FEMTO_VIEW_TIMING:-1}" = 1 ]; then
+  grep -qE "^over_budget_frames [012]$" "$work/integrator_2.report" ||
+    { echo "view_test: house frames marked over budget:"; cat "$work/integrator_2.report"; exit 1; }
+fi
 cat "$work/drag.report"
 "$check" view "$work/drag.png" "$work/drag.report" "$work/no_drag.png"
