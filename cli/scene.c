@@ -422,6 +422,8 @@ static bool cliParseScene(const cliJson* j, const cliJsonNode* root, cliScene* s
 	if (!cliCheckKeys(j, root, "", keys) ||
 	    !cliGetString(j, root, "", "description", &description) || !cliParseWorld(j, root, scene))
 		return false;
+	if (description != NULL)
+		snprintf(scene->description, sizeof scene->description, "%s", description);
 	const cliJsonNode* bodies = cliJsonTree_Member(root, "bodies");
 	if (bodies == NULL)
 		return cliJsonFail(j, "", NULL, "missing \"bodies\": a scene needs at least one body");

@@ -96,6 +96,7 @@ typedef struct cliColliderSpec
 typedef struct cliScene
 {
 	char name[CLI_MAX_PATH]; ///< the scene file as given, or "builtin:house"
+	char description[512];   ///< the scene's "description" (cut at 511 bytes), "" if none
 	fmWorldDef worldDef;     ///< gravity, floor, integrator settings
 	double dt;               ///< s, one substep (with worldDef.autoSubstep: the frame)
 	int substeps;            ///< substeps a frame (a frame is dt * substeps); 1 with autoSubstep

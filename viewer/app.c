@@ -115,9 +115,17 @@ void fvApp_FrameCamera(fvApp* app)
 {
 	fvApp_Capture(app);
 	float lo[3], hi[3];
+	float free = fmaxf((float)app->width - app->panelRight, 0.25f * (float)app->width);
 	if (fvDrawList_FramingBox(&app->list, lo, hi))
-		fvCamera_Frame(&app->camera, lo, hi, (float)app->width / (float)app->height);
+		fvCamera_Frame(&app->camera, lo, hi, free / (float)app->height);
 	fvApp_KeepCameraAbove(app);
+}
+
+void fvApp_SetPanel(fvApp* app, float panelRight)
+{
+	float width = (float)(app->width > 0 ? app->width : 1);
+	app->panelRight = fminf(fmaxf(panelRight, 0.0f), 0.75f * width);
+	app->camera.shiftX = app->panelRight / width; // the middle of [panelRight, width]
 }
 
 void fvApp_KeepCameraAbove(fvApp* app)
@@ -327,6 +335,7 @@ void fvApp_FillUi(const fvApp* app, fvUiModel* m, double fps)
 	m->stepMs = s->stepMs;
 	m->overBudget = s->overBudget;
 	m->stepShareMs = FV_STEP_SHARE_MS;
+	m->description = s->scene.description;
 	m->profile = s->profile;
 	m->stats = s->stats;
 	m->frames = s->frames;
@@ -353,6 +362,10 @@ void fvApp_ApplyUi(fvApp* app, const fvUiModel* m)
 {
 	fvSession* s = &app->session;
 	app->drawFlags = m->drawFlags;
+	bool reframe = (m->panelRight > 0.0f) != (app->panelRight > 0.0f);
+	fvApp_SetPanel(app, m->panelRight);
+	if (reframe && !app->cameraGiven) // the panel opened or collapsed: frame what is left free
+		fvApp_FrameCamera(app);
 	if (m->sceneChanged)
 	{
 		fvApp_SelectScene(app, m->sceneIndex);

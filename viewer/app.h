@@ -30,6 +30,8 @@ typedef struct fvApp
 	float cursor[2];    ///< pixels
 	float grabPlane[3]; ///< a point of the plane the drag moves on (facing the camera)
 	bool (*uiWantsMouse)(void);
+	float panelRight;  ///< pixels the panel covers from the left (0: none or collapsed)
+	bool cameraGiven;  ///< the camera's target or distance was given (not reframed for the panel)
 	char** sceneNames; ///< "(built-in house)", then the .json files of the scene folder
 	char** scenePaths; ///< NULL for the built-in house
 	int sceneCount;
@@ -45,6 +47,10 @@ void fvApp_Free(fvApp* app);
 
 /// Draw the world into the list (fmWorld_Draw) for the renderer.
 void fvApp_Capture(fvApp* app);
+
+/// The panel covers the window's left @p panelRight pixels (0: none): the view's centre moves
+/// to the middle of the rest (fvCamera.shiftX), and framing fits the bodies there.
+void fvApp_SetPanel(fvApp* app, float panelRight);
 
 /// Keep the camera's eye above the floor last drawn (fvCamera_KeepAbove); every camera move
 /// ends with it.

@@ -32,7 +32,7 @@ static void fvCross(const float a[3], const float b[3], float out[3])
 
 fvCamera fvCamera_Default(void)
 {
-	fvCamera camera = {{0.0f, 0.0f, 0.0f}, 10.0f, 30.0f, 20.0f, 45.0f};
+	fvCamera camera = {{0.0f, 0.0f, 0.0f}, 10.0f, 30.0f, 20.0f, 45.0f, 0.0f};
 	return camera;
 }
 
@@ -101,6 +101,7 @@ void fvCamera_Matrices(const fvCamera* camera, float aspect, float view[16], flo
 	memset(projection, 0, 16 * sizeof *projection);
 	projection[0] = f / (aspect > 0.0f ? aspect : 1.0f);
 	projection[5] = f;
+	projection[8] = -camera->shiftX; // x_ndc += shiftX (w = -z_eye)
 	projection[10] = (farZ + nearZ) / (nearZ - farZ);
 	projection[11] = -1.0f;
 	projection[14] = 2.0f * farZ * nearZ / (nearZ - farZ);
@@ -173,7 +174,7 @@ void fvCamera_Ray(const fvCamera* camera, int width, int height, float px, float
 	fvCamera_Eye(camera, origin);
 	float aspect = (float)width / (float)(height > 0 ? height : 1);
 	float t = tanf(0.5f * fvRadians(camera->fovY));
-	float x = (2.0f * px / (float)width - 1.0f) * t * aspect;
+	float x = (2.0f * px / (float)width - 1.0f - camera->shiftX) * t * aspect;
 	float y = (1.0f - 2.0f * py / (float)height) * t;
 	for (int i = 0; i < 3; ++i)
 		direction[i] = forward[i] + x * right[i] + y * up[i];
@@ -195,7 +196,7 @@ bool fvCamera_Project(const fvCamera* camera, int width, int height, const float
 	float t = tanf(0.5f * fvRadians(camera->fovY));
 	float x = (d[0] * right[0] + d[1] * right[1] + d[2] * right[2]) / (z * t * aspect);
 	float y = (d[0] * up[0] + d[1] * up[1] + d[2] * up[2]) / (z * t);
-	pixel[0] = 0.5f * (x + 1.0f) * (float)width;
+	pixel[0] = 0.5f * (x + camera->shiftX + 1.0f) * (float)width;
 	pixel[1] = 0.5f * (1.0f - y) * (float)height;
 	return true;
 }

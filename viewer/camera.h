@@ -13,6 +13,10 @@ typedef struct fvCamera
 	float yaw;       ///< degrees about +y; 0 looks along -z (the eye on the +z side)
 	float pitch;     ///< degrees above the horizon, in [-89, 89]; positive looks down
 	float fovY;      ///< degrees, vertical field of view
+	/// Where the view's centre lies on the picture, as a horizontal offset in normalised device
+	/// units (0 the middle, 0.5 a quarter of the width right of it): a panel covering the left
+	/// of the window moves it to the middle of the part left free.
+	float shiftX;
 } fvCamera;
 
 /// A camera at the origin, 10 m away, yaw 30, pitch 20, 45 degrees field of view.

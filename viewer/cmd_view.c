@@ -190,6 +190,7 @@ static void fvApplyCameraOptions(fvView* v)
 		camera->target[2] = (float)o->target.z;
 	if (o->hasDistance)
 		camera->distance = (float)o->distance;
+	v->app.cameraGiven = o->hasTarget || o->hasDistance;
 }
 
 static int fvOpen(fvView* v)
@@ -407,9 +408,9 @@ static bool fvWriteReport(const fvView* v, const char* path)
 	const fvApp* app = &v->app;
 	fprintf(out, "frames %ld\nsize %d %d\n", app->session.frames, app->width, app->height);
 	const fvParams* p = &app->session.params;
-	fprintf(out, "integrator %s\nsubsteps %d\ndt %.9g\nover_budget_frames %ld\n",
+	fprintf(out, "integrator %s\nsubsteps %d\ndt %.9g\nover_budget_frames %ld\npanel_right %.1f\n",
 	        p->integrator == fm_implicit ? "implicit" : "explicit", p->substeps, p->dt,
-	        app->session.overBudgetFrames);
+	        app->session.overBudgetFrames, app->panelRight);
 	float lo[3], hi[3], pixel[2], vertex[2], cursor[2];
 	if (fvDrawList_Bounds(&app->list, lo, hi))
 	{

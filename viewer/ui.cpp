@@ -162,7 +162,15 @@ extern "C" void fvUi_Frame(fvUiModel* model)
 	ImGui::SetNextWindowSize(ImVec2(FV_PANEL_WIDTH, 0.0f), ImGuiCond_Always); // 0: fit the height
 	ImGui::SetNextWindowCollapsed(false, ImGuiCond_FirstUseEver);
 	ImGui::Begin("femto");
+	m.panelRight =
+	    ImGui::IsWindowCollapsed() ? 0.0f : ImGui::GetWindowPos().x + ImGui::GetWindowSize().x;
 	showScene(m);
+	if (m.description != nullptr && m.description[0] != 0)
+	{
+		ImGui::PushTextWrapPos(0.0f);
+		ImGui::TextDisabled("%s", m.description);
+		ImGui::PopTextWrapPos();
+	}
 	showStats(m);
 	if (ImGui::CollapsingHeader("material and time", ImGuiTreeNodeFlags_DefaultOpen))
 	{

@@ -27,6 +27,7 @@ extern "C"
 		bool paused;
 		bool dragging;
 		const char* status; ///< the last problem, "" if none
+		const char* description; ///< the scene's "description", "" if none
 		const char* const* sceneNames;
 		int sceneCount;
 		// Edited.
@@ -41,6 +42,8 @@ extern "C"
 		int substeps;
 		int integrator;     ///< fmIntegrator
 		unsigned drawFlags; ///< fmDrawFlags
+		// What the panel covers: its right edge in pixels (0 when collapsed), for framing.
+		float panelRight;
 		// What changed this frame.
 		bool sceneChanged, materialChanged, bodiesChanged, timeChanged, integratorChanged;
 		bool jump, pause, step, reset, frame;

@@ -44,5 +44,13 @@ if [ "${FEMTO_VIEW_TIMING:-1}" = 1 ]; then
   grep -qE "^over_budget_frames [012]$" "$work/integrator_2.report" ||
     { echo "view_test: house frames marked over budget:"; cat "$work/integrator_2.report"; exit 1; }
 fi
+# The panel covers the window's left: the framed bodies sit in the middle of the part it leaves
+# (body_pixel right of panel_right, about halfway between it and the right edge).
+xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view --size 800x600 --frames 10 \
+  --report "$work/panel.report"
+awk '/^panel_right/ { right = $2 } /^body_pixel/ { x = $2 }
+     END { free = (right + 800) / 2; exit !(right > 300 && x > right && x > free - 40 && x < free + 40) }' \
+  "$work/panel.report" ||
+  { echo "view_test: the framed house is not in the middle of what the panel leaves:"; cat "$work/panel.report"; exit 1; }
 cat "$work/drag.report"
 "$check" view "$work/drag.png" "$work/drag.report" "$work/no_drag.png"
