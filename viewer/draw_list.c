@@ -44,6 +44,9 @@ void fvDrawList_Free(fvDrawList* list)
 	free(list->surfaces);
 	free(list->lines);
 	free(list->points);
+	fvCreases_Free(&list->creases);
+	free(list->cornerFloats);
+	free(list->cornerInts);
 	memset(list, 0, sizeof *list);
 }
 
@@ -167,6 +170,41 @@ static fvSurface* fvNextSurface(fvDrawList* list, int vertexCount, int triangleC
 	return s;
 }
 
+// A body's surface drawn a vertex per triangle corner, each with its corner normal split at
+// creases (FV_CREASE_DEGREES): hard edges stay sharp, curved parts smooth. When memory is short
+// the smooth normals stay.
+static void fvSplitCreases(fvDrawList* list, fvSurface* s)
+{
+	int v = s->vertexCount, t = s->triangleCount;
+	size_t floats = 9 * (size_t)t + 6 * (size_t)v;
+	if (floats > (size_t)INT32_MAX || 3 * (size_t)t > (size_t)INT32_MAX ||
+	    !fvReserve((void**)&list->cornerFloats, &list->cornerFloatCapacity, (int)floats,
+	               sizeof(float)) ||
+	    !fvReserve((void**)&list->cornerInts, &list->cornerIntCapacity, v, sizeof(int)))
+		return;
+	float* corners = list->cornerFloats;
+	float* x = corners + 9 * (size_t)t;
+	float* rgb = x + 3 * (size_t)v;
+	if (!fvCreases_CornerNormals(&list->creases, s->positions, v, s->indices, t, FV_CREASE_DEGREES,
+	                             corners))
+		return;
+	memcpy(x, s->positions, sizeof(float) * 3 * (size_t)v);
+	memcpy(rgb, s->colors, sizeof(float) * 3 * (size_t)v);
+	memcpy(list->cornerInts, s->vertices, sizeof(int) * (size_t)v);
+	if (!fvSurface_Reserve(s, 3 * t, t))
+		return; // (the arrays kept their contents: the smooth surface is drawn)
+	for (int k = 0; k < 3 * t; ++k)
+	{
+		int from = s->indices[k];
+		memcpy(s->positions + 3 * k, x + 3 * from, 3 * sizeof(float));
+		memcpy(s->colors + 3 * k, rgb + 3 * from, 3 * sizeof(float));
+		memcpy(s->normals + 3 * k, corners + 3 * k, 3 * sizeof(float));
+		s->vertices[k] = list->cornerInts[from];
+		s->indices[k] = k;
+	}
+	s->vertexCount = 3 * t;
+}
+
 static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
 {
 	fvDrawList* list = context;
@@ -195,6 +233,7 @@ static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
 		for (size_t i = 0; i < n; ++i)
 			s->colors[i] = rgb[i % 3];
 	}
+	fvSplitCreases(list, s);
 }
 
 static void fvDrawLines(const float* points, int lineCount, fmHexColor color, void* context)

@@ -3,6 +3,8 @@
 // frame (no allocation per frame once the sizes settle).
 #pragma once
 
+#include "creases.h"
+
 #include <femto/femto.h>
 
 #include <stdbool.h>
@@ -41,7 +43,17 @@ typedef struct fvDrawList
 	float planeNormal[3]; ///< unit
 	float planeColor[3];  ///< RGB in [0, 1]
 	bool outOfMemory;     ///< something could not be stored (the rest is drawn)
+	// Bodies' surfaces are drawn with normals split at creases (creases.h): a vertex per
+	// triangle corner, through these buffers.
+	fvCreases creases;
+	float* cornerFloats; ///< 9 per triangle (corner normals), then 6 per vertex (position, colour)
+	int cornerFloatCapacity;
+	int* cornerInts; ///< 1 per vertex (the body's vertex numbers)
+	int cornerIntCapacity;
 } fvDrawList;
+
+/// The angle (degrees) between two triangles beyond which their shared edge is drawn sharp.
+#define FV_CREASE_DEGREES 40.0f
 
 /// An empty list.
 void fvDrawList_Init(fvDrawList* list);

@@ -53,9 +53,59 @@ static void checkCameraAboveFloor(void)
 	CHECK(high.pitch == before.pitch && high.target[1] == before.target[1]);
 }
 
+// A body's surface is drawn with normals split at creases: a cube (every edge 90 degrees)
+// given smooth vertex normals is drawn a vertex per corner, each with its face's normal; a
+// gently folded sheet (10 degrees) keeps one smooth normal per vertex at all its corners.
+static void checkCreases(void)
+{
+	static const float cube[24] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,
+	                               0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+	static const int faces[36] = {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+	                              2, 3, 7, 2, 7, 6, 1, 2, 6, 1, 6, 5, 0, 4, 7, 0, 7, 3};
+	float smooth[24];
+	for (int i = 0; i < 24; ++i)
+		smooth[i] = (cube[i] - 0.5f) / sqrtf(0.75f);
+	static const int numbers[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+	fvDrawList list;
+	fvDrawList_Init(&list);
+	fmDebugDraw draw = fvDrawList_Callbacks(&list, fm_drawAll);
+	fmDrawTriangles box = {{1, 1, 0, 1}, {0, 0, 0, 0}, 8,     12,      cube,
+	                       smooth,       NULL,         faces, numbers, 0xff8000};
+	draw.drawTriangles(&box, draw.context);
+	CHECK(list.surfaceCount == 1 && list.surfaces[0].vertexCount == 36);
+	const fvSurface* s = &list.surfaces[0];
+	for (int t = 0; t < 12 && s->vertexCount == 36; ++t)
+	{
+		const float* a = s->positions + 9 * t;
+		float u[3] = {a[3] - a[0], a[4] - a[1], a[5] - a[2]},
+		      v[3] = {a[6] - a[0], a[7] - a[1], a[8] - a[2]};
+		float n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2],
+		              u[0] * v[1] - u[1] * v[0]};
+		float length = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+		for (int k = 0; k < 3; ++k)
+			for (int i = 0; i < 3; ++i)
+				CHECK(fabsf(s->normals[9 * t + 3 * k + i] - n[i] / length) < 1e-5f);
+		CHECK(s->vertices[3 * t] == faces[3 * t]); // the body's numbers follow the corners
+	}
+	// A sheet of two triangles folded by 10 degrees along its diagonal: smooth.
+	const float fold = 10.0f * 3.14159265f / 180.0f;
+	const float sheet[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, sinf(fold) * 0.7071f};
+	static const int pair[6] = {0, 1, 2, 0, 2, 3};
+	fmDrawTriangles folded = {{1, 1, 0, 1}, {0, 0, 0, 0}, 4,    2,       sheet,
+	                          smooth,       NULL,         pair, numbers, 0xff8000};
+	fvDrawList_Clear(&list);
+	draw.drawTriangles(&folded, draw.context);
+	s = &list.surfaces[0];
+	CHECK(s->vertexCount == 6);
+	for (int i = 0; i < 3 && s->vertexCount == 6; ++i) // vertex 0: corner 0 of both triangles
+		CHECK(fabsf(s->normals[i] - s->normals[9 + i]) < 1e-6f);
+	fvDrawList_Free(&list);
+}
+
 int main(void)
 {
 	checkCameraAboveFloor();
+	checkCreases();
 	fvDrawList list;
 	fvDrawList_Init(&list);
 	fmDebugDraw draw = fvDrawList_Callbacks(&list, fm_drawAll);
