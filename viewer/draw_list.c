@@ -205,6 +205,26 @@ static void fvSplitCreases(fvDrawList* list, fvSurface* s)
 	s->vertexCount = 3 * t;
 }
 
+// Bodies in distinct colours by their slot, so a pile reads as bodies (the library's colour,
+// the warm house, first; the web page's palette after it), a sleeping body dimmed toward grey
+// as Box2D draws it.
+static void fvBodyColor(const fmDrawTriangles* t, float rgb[3])
+{
+	static const float others[5][3] = {{0.25f, 0.55f, 0.85f},
+	                                   {0.4f, 0.75f, 0.35f},
+	                                   {0.85f, 0.75f, 0.3f},
+	                                   {0.65f, 0.4f, 0.8f},
+	                                   {0.3f, 0.75f, 0.75f}};
+	int slot = (int)t->body.index1 - 1, k = slot % 6;
+	if (k <= 0)
+		fvHexToRgb(t->color, rgb);
+	else
+		memcpy(rgb, others[k - 1], sizeof others[0]);
+	if (fmBody_IsValid(t->body) && !fmBody_IsAwake(t->body))
+		for (int i = 0; i < 3; ++i)
+			rgb[i] = 0.45f * rgb[i] + 0.55f * 0.55f;
+}
+
 static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
 {
 	fvDrawList* list = context;
@@ -229,7 +249,7 @@ static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
 	else
 	{
 		float rgb[3];
-		fvHexToRgb(t->color, rgb);
+		fvBodyColor(t, rgb);
 		for (size_t i = 0; i < n; ++i)
 			s->colors[i] = rgb[i % 3];
 	}

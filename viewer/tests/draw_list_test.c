@@ -99,6 +99,18 @@ static void checkCreases(void)
 	CHECK(s->vertexCount == 6);
 	for (int i = 0; i < 3 && s->vertexCount == 6; ++i) // vertex 0: corner 0 of both triangles
 		CHECK(fabsf(s->normals[i] - s->normals[9 + i]) < 1e-6f);
+	// Two bodies the library gives one colour are drawn in two: a pile reads as bodies.
+	fmDrawTriangles second = folded;
+	second.body = (fmBodyId){2, 1, 0, 1};
+	fvDrawList_Clear(&list);
+	draw.drawTriangles(&folded, draw.context);
+	draw.drawTriangles(&second, draw.context);
+	CHECK(list.surfaceCount == 2);
+	if (list.surfaceCount == 2)
+	{
+		const float *a = list.surfaces[0].colors, *b = list.surfaces[1].colors;
+		CHECK(fabsf(a[0] - b[0]) + fabsf(a[1] - b[1]) + fabsf(a[2] - b[2]) > 0.3f);
+	}
 	fvDrawList_Free(&list);
 }
 
