@@ -47,6 +47,37 @@ void showStats(const fvUiModel& m)
 	}
 }
 
+ImU32 strainColor(double strain)
+{
+	float rgb[3];
+	fmDraw_StrainColor(strain, rgb);
+	return ImGui::ColorConvertFloat4ToU32(ImVec4(rgb[0], rgb[1], rgb[2], 1.0f));
+}
+
+// The stress view's legend: the library's ramp (fmDraw_StrainColor) from 0 to
+// FM_DRAW_FULL_STRAIN, with its ends and middle named.
+void showStrainLegend()
+{
+	ImGui::TextUnformatted("equivalent strain sqrt(2 psi / E)");
+	ImVec2 at = ImGui::GetCursorScreenPos();
+	const float width = 300.0f, height = 12.0f;
+	const int steps = 24;
+	ImDrawList* draw = ImGui::GetWindowDrawList();
+	for (int k = 0; k < steps; ++k)
+	{
+		double a = FM_DRAW_FULL_STRAIN * k / steps, b = FM_DRAW_FULL_STRAIN * (k + 1) / steps;
+		float x0 = at.x + width * (float)k / steps, x1 = at.x + width * (float)(k + 1) / steps;
+		draw->AddRectFilledMultiColor(ImVec2(x0, at.y), ImVec2(x1, at.y + height), strainColor(a),
+		                              strainColor(b), strainColor(b), strainColor(a));
+	}
+	ImGui::Dummy(ImVec2(width, height));
+	ImGui::Text("0");
+	ImGui::SameLine(0.5f * width - 10.0f);
+	ImGui::Text("%.2g", 0.5 * FM_DRAW_FULL_STRAIN);
+	ImGui::SameLine(width - 40.0f);
+	ImGui::Text("%.2g and more", FM_DRAW_FULL_STRAIN);
+}
+
 void showScene(fvUiModel& m)
 {
 	int index = m.sceneIndex;
@@ -126,6 +157,8 @@ void showViews(fvUiModel& m)
 			ImGui::SameLine();
 		ImGui::CheckboxFlags(views[i].name, &m.drawFlags, views[i].flag);
 	}
+	if (m.drawFlags & fm_drawStress)
+		showStrainLegend();
 }
 } // namespace
 

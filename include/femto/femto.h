@@ -76,6 +76,14 @@ FM_API fmProfile fmWorld_GetProfile(fmWorldId worldId);
 /// fm_errOutOfMemory when a buffer cannot be had (nothing more is drawn).
 FM_API fmResult fmWorld_Draw(fmWorldId worldId, const fmDebugDraw* draw);
 
+/// The equivalent strain sqrt(2 psi / E) that fm_drawStress colours red (0 is blue).
+#define FM_DRAW_FULL_STRAIN 0.2
+
+/// The colour fm_drawStress gives an equivalent strain @p strain (RGB in [0, 1] into @p rgb):
+/// blue at 0 through cyan, green and yellow to red at FM_DRAW_FULL_STRAIN and beyond, for a
+/// legend beside the picture.
+FM_API void fmDraw_StrainColor(double strain, float rgb[3]);
+
 /// Change gravity (m/s^2), validated as in fmWorldDef_Validate: on fm_errParameter gravity is
 /// unchanged and fmWorld_GetLastError() says why.
 FM_API fmResult fmWorld_SetGravity(fmWorldId worldId, fmVec3 gravity);

@@ -29,9 +29,6 @@
 #define FM_COLOR_FLOOR 0x9a9a9au
 #define FM_COLOR_COLLIDERS 0x8c9aa8u
 
-// The equivalent strain sqrt(2 psi / E) that fm_drawStress shows as red (blue is 0).
-#define FM_DRAW_FULL_STRAIN 0.2
-
 // Point sizes (pixels) of pins, targets and contacts.
 #define FM_DRAW_POINT_SIZE 6.0f
 
@@ -83,6 +80,13 @@ void fmStrainColor(double level, float rgb[3])
 	float u = (float)(s - k);
 	for (int e = 0; e < 3; ++e)
 		rgb[e] = (1.0f - u) * ramp[k][e] + u * ramp[k + 1][e];
+}
+
+void fmDraw_StrainColor(double strain, float rgb[3])
+{
+	FM_ASSERT(rgb != NULL);
+	if (rgb != NULL)
+		fmStrainColor(isfinite(strain) ? strain / FM_DRAW_FULL_STRAIN : 1.0, rgb);
 }
 
 // The surface's vertices, compacted in order of first use by the triangles.
