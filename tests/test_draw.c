@@ -397,3 +397,76 @@ TEST(colliders_are_drawn_as_their_shapes)
 	CHECK_INT(seen.inward, 0);
 	fmDestroyWorld(world);
 }
+
+// Contacts are drawn as points and, from each, a line along its normal as long as its share of
+// the frame's strongest contact (at least a fifth) of 8% of the largest body: a box resting on
+// a ground collider shows lines pointing up from the ground, none longer than 8% of its size.
+typedef struct ContactLines
+{
+	float points[3 * 256], lines[6 * 256];
+	int pointCount, lineCount;
+} ContactLines;
+
+static void keepContactPoints(const float* points, int count, float size, fmHexColor color,
+                              void* context)
+{
+	(void)size, (void)color;
+	ContactLines* c = context;
+	for (int k = 0; k < count && c->pointCount < 256; ++k)
+		memcpy(c->points + 3 * c->pointCount++, points + 3 * k, 3 * sizeof(float));
+}
+
+static void keepContactLines(const float* points, int count, fmHexColor color, void* context)
+{
+	(void)color;
+	ContactLines* c = context;
+	for (int k = 0; k < count && c->lineCount < 256; ++k)
+		memcpy(c->lines + 6 * c->lineCount++, points + 6 * k, 6 * sizeof(float));
+}
+
+TEST(contacts_are_drawn_with_their_normals)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmColliderDef ground = fmDefaultColliderDef(); // the plane y = 0
+	fmColliderId id;
+	CHECK_INT(fmCreateCollider(world, &ground, &id, NULL), fm_ok);
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(2, 2, 2, fmMakeVec3(0, 0.05, 0), fmMakeVec3(1, 1.05, 1), &mesh), fm_ok);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	fmBodyId body;
+	CHECK_INT(fmCreateBody(world, &def, &body, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	for (int f = 0; f < 60; ++f)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	ContactLines seen;
+	memset(&seen, 0, sizeof seen);
+	fmDebugDraw draw;
+	memset(&draw, 0, sizeof draw);
+	draw.drawPoints = keepContactPoints;
+	draw.drawLines = keepContactLines;
+	draw.flags = fm_drawContacts;
+	draw.context = &seen;
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	printf("  %d contact points, %d lines\n", seen.pointCount, seen.lineCount);
+	CHECK(seen.pointCount > 0);
+	CHECK_INT(seen.lineCount, seen.pointCount);
+	double size = sqrt(3.0), longest = 0.0;
+	for (int k = 0; k < seen.lineCount; ++k)
+	{
+		const float* l = seen.lines + 6 * k;
+		CHECK(l[0] == seen.points[3 * k] && l[1] == seen.points[3 * k + 1] &&
+		      l[2] == seen.points[3 * k + 2]);
+		double dx = l[3] - l[0], dy = l[4] - l[1], dz = l[5] - l[2];
+		double length = sqrt(dx * dx + dy * dy + dz * dz);
+		longest = fmax(longest, length);
+		CHECK(dy > 0.99 * length); // up, out of the ground
+		CHECK(length >= 0.2 * 0.08 * size * 0.999 && length <= 0.08 * size * 1.001);
+	}
+	CHECK_NEAR(longest, 0.08 * size, 1e-6);
+	fmDestroyWorld(world);
+}

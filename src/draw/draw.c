@@ -29,6 +29,9 @@
 #define FM_COLOR_FLOOR 0x9a9a9au
 #define FM_COLOR_COLLIDERS 0x8c9aa8u
 
+// A contact's line: at most this fraction of the largest body's size (the strongest contact's).
+#define FM_DRAW_CONTACT_LINE 0.08
+
 // Point sizes (pixels) of pins, targets and contacts.
 #define FM_DRAW_POINT_SIZE 6.0f
 
@@ -383,6 +386,9 @@ static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 }
 
 // The last substep's contacts (the floor, colliders, other bodies) as points.
+// The contact points, and from each a line along its normal (from the other thing toward the
+// vertex) as long as FM_DRAW_CONTACT_LINE of the largest body's size times its force over the
+// frame's largest, at least a fifth of it: where the contacts push, and which push hardest.
 static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
 {
 	const fmContactPoint* points;
@@ -391,20 +397,34 @@ static bool fmDrawContactList(fmWorld* w, const fmDebugDraw* draw)
 		return true;
 	if (count > w->drawPointCapacity)
 	{
-		float* fresh = FM_ALLOC_ARRAY(float, 3 * (size_t)count);
+		float* fresh = FM_ALLOC_ARRAY(float, FM_DRAW_CONTACT_FLOATS*(size_t)count);
 		if (fresh == NULL)
 			return false;
-		FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
+		FM_FREE_ARRAY(w->drawPoints, float, FM_DRAW_CONTACT_FLOATS*(size_t)w->drawPointCapacity);
 		w->drawPoints = fresh;
 		w->drawPointCapacity = count;
 	}
+	double size = 0.0, strongest = 0.0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]))
+			size = fmMax(size, w->bodies[i].mesh.restSize);
+	for (int k = 0; k < count; ++k)
+		strongest = fmMax(strongest, fabs(points[k].impulse));
+	float* lines = w->drawPoints + 3 * (size_t)count;
 	for (int k = 0; k < count; ++k)
 	{
-		w->drawPoints[3 * k] = (float)points[k].point.x;
-		w->drawPoints[3 * k + 1] = (float)points[k].point.y;
-		w->drawPoints[3 * k + 2] = (float)points[k].point.z;
+		const fmContactPoint* p = &points[k];
+		double share = strongest > 0.0 ? fabs(p->impulse) / strongest : 0.0;
+		fmVec3 tip = fmMulAdd(p->point, FM_DRAW_CONTACT_LINE * size * fmMax(share, 0.2), p->normal);
+		const float at[9] = {(float)p->point.x, (float)p->point.y, (float)p->point.z,
+		                     (float)p->point.x, (float)p->point.y, (float)p->point.z,
+		                     (float)tip.x,      (float)tip.y,      (float)tip.z};
+		memcpy(w->drawPoints + 3 * k, at, 3 * sizeof(float));
+		memcpy(lines + 6 * k, at + 3, 6 * sizeof(float));
 	}
 	draw->drawPoints(w->drawPoints, count, FM_DRAW_POINT_SIZE, FM_COLOR_CONTACTS, draw->context);
+	if (draw->drawLines != NULL)
+		draw->drawLines(lines, count, FM_COLOR_CONTACTS, draw->context);
 	return true;
 }
 

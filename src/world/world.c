@@ -327,7 +327,7 @@ void fmDestroyWorld(fmWorldId worldId)
 		fmCollider_Release(&w->colliders[k]);
 	FM_FREE_ARRAY(w->colliders, fmCollider, w->colliderCapacity);
 	fmContactState_Free(w->contactState);
-	FM_FREE_ARRAY(w->drawPoints, float, 3 * (size_t)w->drawPointCapacity);
+	FM_FREE_ARRAY(w->drawPoints, float, FM_DRAW_CONTACT_FLOATS*(size_t)w->drawPointCapacity);
 	fmAttachment_Release(&w->drawShape);
 	FM_FREE_ARRAY(w->sleepEvents, fmSleepEvent, w->sleepEventCapacity);
 	FM_FREE_ARRAY(w->islandParent, int, w->islandCapacity);

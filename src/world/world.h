@@ -11,6 +11,10 @@
 
 #include <stdatomic.h>
 
+// Floats fmWorld_Draw keeps a contact in fmWorld.drawPoints: its point (3), then its line's two
+// ends (6).
+#define FM_DRAW_CONTACT_FLOATS 9
+
 typedef struct fmWorld
 {
 	uint32_t generation; // of the world in the slot; UINT32_MAX retires the slot
@@ -42,7 +46,8 @@ typedef struct fmWorld
 	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
 	double contactStep;                  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
-	float* drawPoints;   // fmWorld_Draw's buffer of contact points (3 floats each)
+	float* drawPoints;   // fmWorld_Draw's buffer: a contact's point, then its line
+	                     // (FM_DRAW_CONTACT_FLOATS)
 	int drawPointCapacity;
 	fmAttachment drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h's fmShapeBuffer)
 	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)
