@@ -335,6 +335,9 @@ void fvApp_FillUi(const fvApp* app, fvUiModel* m, double fps)
 	m->stepMs = s->stepMs;
 	m->overBudget = s->overBudget;
 	m->stepShareMs = FV_STEP_SHARE_MS;
+	m->stepHistory = s->stepHistory;
+	m->historyCount = s->historyCount;
+	m->historyNext = s->historyCount < FV_PROFILE_FRAMES ? 0 : s->historyNext;
 	m->description = s->scene.description;
 	m->profile = s->profile;
 	m->stats = s->stats;

@@ -408,9 +408,11 @@ static bool fvWriteReport(const fvView* v, const char* path)
 	const fvApp* app = &v->app;
 	fprintf(out, "frames %ld\nsize %d %d\n", app->session.frames, app->width, app->height);
 	const fvParams* p = &app->session.params;
-	fprintf(out, "integrator %s\nsubsteps %d\ndt %.9g\nover_budget_frames %ld\npanel_right %.1f\n",
+	fprintf(out,
+	        "integrator %s\nsubsteps %d\ndt %.9g\nover_budget_frames %ld\npanel_right %.1f\n"
+	        "profile_frames %d\n",
 	        p->integrator == fm_implicit ? "implicit" : "explicit", p->substeps, p->dt,
-	        app->session.overBudgetFrames, app->panelRight);
+	        app->session.overBudgetFrames, app->panelRight, app->session.historyCount);
 	float lo[3], hi[3], pixel[2], vertex[2], cursor[2];
 	if (fvDrawList_Bounds(&app->list, lo, hi))
 	{

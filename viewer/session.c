@@ -94,6 +94,7 @@ bool fvSession_Reset(fvSession* s)
 	fvSession_ApplyIntegrator(s);
 	s->frames = 0;
 	s->overBudgetFrames = 0;
+	s->historyCount = 0, s->historyNext = 0;
 	s->accumulator = 0.0;
 	s->status[0] = 0;
 	// The initial state with the current sliders: the bodies are made again from them.
@@ -126,6 +127,9 @@ static void fvFrame(fvSession* s)
 	fmResult result = fvStepFrame(s);
 	s->stepMs = 1e3 * (cliNow() - start);
 	s->overBudget = s->stepMs > FV_STEP_SHARE_MS;
+	s->stepHistory[s->historyNext] = (float)s->stepMs;
+	s->historyNext = (s->historyNext + 1) % FV_PROFILE_FRAMES;
+	s->historyCount += s->historyCount < FV_PROFILE_FRAMES;
 	s->overBudgetFrames += s->overBudget;
 	s->stats = fmWorld_GetStepStats(s->sim.world);
 	s->profile = fmWorld_GetProfile(s->sim.world);

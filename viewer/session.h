@@ -27,6 +27,9 @@ typedef struct fvParams
 /// game. A frame whose steps take longer is marked in the panel ("over budget").
 #define FV_STEP_SHARE_MS 8.3
 
+/// Frames the panel's profile graph shows (5 s at 60 a second).
+#define FV_PROFILE_FRAMES 300
+
 /// A loaded scene and its world.
 typedef struct fvSession
 {
@@ -43,6 +46,9 @@ typedef struct fvSession
 	long frames;        ///< scene frames stepped since the load or reset
 	double stepMs;      ///< wall time of the last frame's fmWorld_Step calls
 	bool overBudget;    ///< the last frame's steps took more than FV_STEP_SHARE_MS
+	float stepHistory[FV_PROFILE_FRAMES]; ///< ms of the last frames' steps, a ring
+	int historyCount;                     ///< frames in it (at most FV_PROFILE_FRAMES)
+	int historyNext;                      ///< where the next one goes
 	long overBudgetFrames; ///< frames over it since the scene was loaded
 	fmStepStats stats;  ///< of the last step
 	fmProfile profile;  ///< of the last step

@@ -25,6 +25,15 @@ void showStats(const fvUiModel& m)
 		ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "  over budget (%.1f ms of 16.7)",
 		                   m.stepShareMs);
 	}
+	if (m.historyCount > 1)
+	{
+		// Box2D's profile: the step's time over the last seconds, the budget's share as the top.
+		float top = (float)m.stepShareMs;
+		for (int k = 0; k < m.historyCount; ++k)
+			top = m.stepHistory[k] > top ? m.stepHistory[k] : top;
+		ImGui::PlotLines("##profile", m.stepHistory, m.historyCount, m.historyNext,
+		                 "step ms, last 5 s", 0.0f, top, ImVec2(FV_PANEL_WIDTH - 20.0f, 40.0f));
+	}
 	const fmProfile& p = m.profile;
 	if (m.integrator == fm_explicit)
 		ImGui::Text("forces %.2f  integrate %.2f  check %.2f ms", p.forces, p.integrate, p.check);

@@ -20,6 +20,8 @@ extern "C"
 		double stepMs;     ///< wall time of the last scene frame's steps
 		bool overBudget;   ///< stepMs above the physics' share of a 60 Hz frame
 		double stepShareMs; ///< that share (FV_STEP_SHARE_MS)
+		const float* stepHistory;      ///< ms of the last frames' steps, a ring (the profile graph)
+		int historyCount, historyNext; ///< frames in it, and where the oldest is when full
 		fmProfile profile; ///< its stages
 		fmStepStats stats; ///< its counters
 		long frames;       ///< scene frames since the load or reset

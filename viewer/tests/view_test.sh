@@ -52,5 +52,7 @@ awk '/^panel_right/ { right = $2 } /^body_pixel/ { x = $2 }
      END { free = (right + 800) / 2; exit !(right > 300 && x > right && x > free - 40 && x < free + 40) }' \
   "$work/panel.report" ||
   { echo "view_test: the framed house is not in the middle of what the panel leaves:"; cat "$work/panel.report"; exit 1; }
+grep -qx "profile_frames 10" "$work/panel.report" ||
+  { echo "view_test: the profile graph does not hold the 10 frames stepped:"; cat "$work/panel.report"; exit 1; }
 cat "$work/drag.report"
 "$check" view "$work/drag.png" "$work/drag.report" "$work/no_drag.png"
