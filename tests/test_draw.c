@@ -470,3 +470,59 @@ TEST(contacts_are_drawn_with_their_normals)
 	CHECK_NEAR(longest, 0.08 * size, 1e-6);
 	fmDestroyWorld(world);
 }
+
+// A grab is drawn with the targets: a line from the grabbed point to the pointer's target and
+// both ends as 12-pixel points, in the grab's colour (it showed as short target lines under the
+// patch and 6-pixel dots).
+typedef struct GrabSeen
+{
+	float line[6];
+	int lines, points;
+	float pointSize;
+} GrabSeen;
+
+static void grabLines(const float* points, int count, fmHexColor color, void* context)
+{
+	GrabSeen* g = context;
+	if (color == 0xff40c0u && count == 1)
+		memcpy(g->line, points, sizeof g->line), g->lines += 1;
+}
+
+static void grabPoints(const float* points, int count, float size, fmHexColor color, void* context)
+{
+	(void)points;
+	GrabSeen* g = context;
+	if (color == 0xff40c0u)
+		g->points += count, g->pointSize = size;
+}
+
+TEST(a_grab_is_drawn_as_its_spring)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	fmWorldId world;
+	fmBodyId body = fmTestMakeHouse(&world, &wdef, NULL);
+	const double* x = fmTestPositions(body);
+	fmVec3 at = fmMakeVec3(x[0], x[1], x[2]);
+	fmGrabDef def = fmDefaultGrabDef();
+	CHECK_INT(fmBody_Grab(body, at, &def), fm_ok);
+	CHECK_INT(fmBody_MoveGrab(body, fmAdd(at, fmMakeVec3(0.0, 1.0, 0.0))), fm_ok);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 10), fm_ok);
+	GrabSeen seen;
+	memset(&seen, 0, sizeof seen);
+	fmDebugDraw draw;
+	memset(&draw, 0, sizeof draw);
+	draw.drawLines = grabLines;
+	draw.drawPoints = grabPoints;
+	draw.flags = fm_drawTargets;
+	draw.context = &seen;
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	fmVec3 point, target;
+	CHECK(fmBody_GetGrab(body, &point, &target));
+	CHECK_INT(seen.lines, 1);
+	CHECK_INT(seen.points, 2);
+	CHECK(seen.pointSize == 12.0f);
+	CHECK_NEAR(seen.line[3], target.x, 1e-5);
+	CHECK_NEAR(seen.line[4], target.y, 1e-5);
+	CHECK_NEAR(seen.line[1], point.y, 1e-5);
+	fmDestroyWorld(world);
+}

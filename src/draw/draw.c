@@ -25,12 +25,16 @@
 #define FM_COLOR_INVERTED 0xff2020u
 #define FM_COLOR_PINS 0x2060ffu
 #define FM_COLOR_TARGETS 0x20d040u
+#define FM_COLOR_GRAB 0xff40c0u
 #define FM_COLOR_CONTACTS 0xffd000u
 #define FM_COLOR_FLOOR 0x9a9a9au
 #define FM_COLOR_COLLIDERS 0x8c9aa8u
 
 // A contact's line: at most this fraction of the largest body's size (the strongest contact's).
 #define FM_DRAW_CONTACT_LINE 0.08
+
+// Point size (pixels) of a grab's ends.
+#define FM_DRAW_GRAB_POINT_SIZE 12.0f
 
 // Point sizes (pixels) of pins, targets and contacts.
 #define FM_DRAW_POINT_SIZE 6.0f
@@ -364,6 +368,22 @@ static bool fmDrawTargets(const fmBody* b, fmDrawCache* c, const fmDebugDraw* dr
 	return true;
 }
 
+// A grab: the spring from the grabbed patch's point to the pointer's target, and both ends as
+// large points, so a drag shows what pulls where (its per-vertex targets alone are short lines
+// and small points under the patch).
+static void fmDrawGrab(fmBodyId id, const fmDebugDraw* draw)
+{
+	fmVec3 point, target;
+	if (!fmBody_GetGrab(id, &point, &target))
+		return;
+	const float ends[6] = {(float)point.x,  (float)point.y,  (float)point.z,
+	                       (float)target.x, (float)target.y, (float)target.z};
+	if (draw->drawLines)
+		draw->drawLines(ends, 1, FM_COLOR_GRAB, draw->context);
+	if (draw->drawPoints)
+		draw->drawPoints(ends, 2, FM_DRAW_GRAB_POINT_SIZE, FM_COLOR_GRAB, draw->context);
+}
+
 // Everything the flags ask for of one body; false when a buffer could not be had.
 static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 {
@@ -382,6 +402,8 @@ static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 		fmDrawPins(b, c, draw);
 	if (ok && (flags & fm_drawTargets))
 		ok = fmDrawTargets(b, c, draw);
+	if (flags & fm_drawTargets)
+		fmDrawGrab(id, draw);
 	return ok;
 }
 
