@@ -105,6 +105,8 @@ static const char* const fvFloorFragment =
     "uniform vec3 uColor;\n"
     "uniform vec3 uEye;\n"
     "uniform vec3 uFog;\n"
+    "uniform vec3 uFogTop;\n"
+    "uniform float uViewportHeight;\n"
     "uniform float uCell;\n"
     "uniform vec2 uFade;\n"
     "uniform vec4 uBlobs[16];\n"
@@ -123,7 +125,10 @@ static const char* const fvFloorFragment =
     "    occlusion *= 1.0 - 0.5 * exp(-2.0 * dot(d, d) / (uBlobs[k].w * uBlobs[k].w));\n"
     "  }\n"
     "  float fade = smoothstep(uFade.x, uFade.y, length(vWorld - uEye));\n"
-    "  fragColor = vec4(mix(color * occlusion, uFog, fade), 1.0);\n"
+    "  // Into the background's own grey at this row (its vertical gradient), so the floor's far\n"
+    "  // edge melts into it instead of ending in a darker band at the horizon.\n"
+    "  vec3 fog = mix(uFog, uFogTop, clamp(gl_FragCoord.y / uViewportHeight, 0.0, 1.0));\n"
+    "  fragColor = vec4(mix(color * occlusion, fog, fade), 1.0);\n"
     "}\n";
 
 static const char* const fvColorVertex = "#version 330 core\n"
@@ -455,6 +460,10 @@ static void fvDrawFloor(const fvRenderer* r, const fvDrawList* list, const fvCam
 	fvUniform3(p, "uColor", list->planeColor);
 	fvUniform3(p, "uEye", eye);
 	fvUniform3(p, "uFog", fvBottomGrey);
+	fvUniform3(p, "uFogTop", fvTopGrey);
+	GLint viewport[4];
+	glGetIntegerv(GL_VIEWPORT, viewport);
+	glUniform1f(glGetUniformLocation(p, "uViewportHeight"), (float)(viewport[3] > 0 ? viewport[3] : 1));
 	glUniform1f(glGetUniformLocation(p, "uCell"), r->floorCell);
 	glUniform2f(glGetUniformLocation(p, "uFade"), fadeStart, fadeEnd);
 	glUniform4fv(glGetUniformLocation(p, "uBlobs"), blobCount, &blobs[0][0]);
