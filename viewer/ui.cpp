@@ -177,7 +177,13 @@ extern "C" bool fvUi_Init(void* glfwWindow)
 	ImGui::CreateContext();
 	ImGui::GetIO().IniFilename = nullptr; // no imgui.ini in the user's folder
 	ImGui::StyleColorsDark();
-	ImGui::GetStyle().Alpha = 0.92f;
+	ImGuiStyle& style = ImGui::GetStyle();
+	style.Alpha = 0.92f;
+	// Slider handles thin and see-through: the value printed across the slider stays readable
+	// wherever the handle is (a solid one covered the digits it sat on).
+	style.GrabMinSize = 6.0f;
+	style.Colors[ImGuiCol_SliderGrab].w = 0.45f;
+	style.Colors[ImGuiCol_SliderGrabActive].w = 0.6f;
 	return ImGui_ImplGlfw_InitForOpenGL(static_cast<GLFWwindow*>(glfwWindow), true) &&
 	       ImGui_ImplOpenGL3_Init("#version 330 core");
 }
