@@ -93,6 +93,20 @@ function sceneLoaded() {
   message('');
 }
 
+// The camera follows the bodies when they leave the middle of the view (a thrown body, drop.json,
+// flew out of the frame): its target eases toward their centre, the angles and distance kept,
+// until they are back inside. Not while a drag is held (the drag moves what it looks at).
+function followBodies() {
+  if (state.dragging || state.bodyCount === 0) return;
+  const { lo, hi } = bounds();
+  const center = vec3.scale(0.5, vec3.add(lo, hi));
+  const r = canvas.getBoundingClientRect();
+  const p = camera.project(center, r.width, r.height);
+  const inside = p && Math.abs(p[0] / r.width - 0.5) < 0.35 && Math.abs(p[1] / r.height - 0.5) < 0.35;
+  if (inside) return;
+  camera.target = vec3.add(camera.target, vec3.scale(0.08, vec3.sub(center, camera.target)));
+}
+
 function loadScene(index) {
   if (M._fw_load_scene(index, 0) !== 0) {
     message(`cannot load the scene: ${lastError()}`, true);
@@ -383,6 +397,7 @@ function frame(now) {
   }
   if (ticks === MAX_TICKS_PER_FRAME || state.paused) accumulator = 0;
   for (let b = 0; b < M._fw_body_count(); ++b) renderer.updateBody(b, positions(b));
+  followBodies();
   renderer.draw(camera, M._fw_floor_height());
   fpsFrames += 1;
   if (now - fpsStart >= 500) {

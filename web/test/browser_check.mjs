@@ -262,6 +262,25 @@ async function main() {
     check(touchDrags && touchReleased, 'a finger on the house drags it and lifting it lets go');
     await page('Emulation.setTouchEmulationEnabled', { enabled: false });
 
+    // A thrown body stays in view: drop.json's cube, 3 s after its throw, is on the canvas (the
+    // camera follows the bodies when they leave the middle of the view).
+    await evaluate('(() => { const s = document.getElementById("scene"); ' +
+      'const o = [...s.options].find((x) => x.text.startsWith("drop")); s.value = o.value; ' +
+      's.dispatchEvent(new Event("change")); })()');
+    await sleep(3000);
+    const thrown = await evaluate('(() => { const p = window.femto.bodyCenterOnCanvas(0); ' +
+      'const r = document.getElementById("view").getBoundingClientRect(); ' +
+      'return p && p.x > 0 && p.y > 0 && p.x < r.width && p.y < r.height; })()');
+    check(thrown, 'drop.json\'s thrown cube is still in view after 3 s (the camera follows)');
+
+    // The scene picker shows its longest name whole (it was cut at 140 px).
+    const picker = await evaluate('(() => { const s = document.getElementById("scene"); ' +
+      'const c = document.createElement("canvas").getContext("2d"); c.font = getComputedStyle(s).font; ' +
+      'let w = 0; for (const o of s.options) w = Math.max(w, c.measureText(o.text).width); ' +
+      'return [w, s.clientWidth]; })()');
+    check(picker[1] >= picker[0] + 20, `the scene picker (${picker[1]} px) holds its longest name ` +
+      `(${picker[0].toFixed(0)} px and the arrow)`);
+
     // The Play/Pause label says what it will do after every control: paused then reset, and
     // paused then another scene, the page runs again and the button says "Pause".
     const label = () => evaluate('[document.getElementById("pause").textContent, femto.paused]');
