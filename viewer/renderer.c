@@ -463,7 +463,8 @@ static void fvDrawFloor(const fvRenderer* r, const fvDrawList* list, const fvCam
 	fvUniform3(p, "uFogTop", fvTopGrey);
 	GLint viewport[4];
 	glGetIntegerv(GL_VIEWPORT, viewport);
-	glUniform1f(glGetUniformLocation(p, "uViewportHeight"), (float)(viewport[3] > 0 ? viewport[3] : 1));
+	glUniform1f(glGetUniformLocation(p, "uViewportHeight"),
+	            (float)(viewport[3] > 0 ? viewport[3] : 1));
 	glUniform1f(glGetUniformLocation(p, "uCell"), r->floorCell);
 	glUniform2f(glGetUniformLocation(p, "uFade"), fadeStart, fadeEnd);
 	glUniform4fv(glGetUniformLocation(p, "uBlobs"), blobCount, &blobs[0][0]);

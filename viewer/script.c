@@ -167,10 +167,10 @@ static bool fvScriptError(char* error, size_t size, const char* format, ...)
 
 enum
 {
-	fv_lineEnd = 0,   // no more lines
-	fv_lineOk = 1,    // a line, NUL-terminated, its newline kept
-	fv_lineTooLong,   // more than the buffer holds before its newline
-	fv_lineNul        // a NUL byte: the line up to it is in the buffer
+	fv_lineEnd = 0, // no more lines
+	fv_lineOk = 1,  // a line, NUL-terminated, its newline kept
+	fv_lineTooLong, // more than the buffer holds before its newline
+	fv_lineNul      // a NUL byte: the line up to it is in the buffer
 };
 
 // Read one line into @p line (@p size bytes) a byte at a time, so that a NUL byte in it is

@@ -40,18 +40,18 @@ typedef struct fvSession
 	bool paused;
 	double explicitDt;    ///< s, the explicit substep before a switch to implicit (0: none)
 	int explicitSubsteps; ///< and its count, restored on the way back
-	int pendingSteps;   ///< single steps asked for while paused
-	int pendingJumps;   ///< jumps to add to the next frame
-	double accumulator; ///< s of real time not yet stepped
-	long frames;        ///< scene frames stepped since the load or reset
-	double stepMs;      ///< wall time of the last frame's fmWorld_Step calls
-	bool overBudget;    ///< the last frame's steps took more than FV_STEP_SHARE_MS
+	int pendingSteps;     ///< single steps asked for while paused
+	int pendingJumps;     ///< jumps to add to the next frame
+	double accumulator;   ///< s of real time not yet stepped
+	long frames;          ///< scene frames stepped since the load or reset
+	double stepMs;        ///< wall time of the last frame's fmWorld_Step calls
+	bool overBudget;      ///< the last frame's steps took more than FV_STEP_SHARE_MS
 	float stepHistory[FV_PROFILE_FRAMES]; ///< ms of the last frames' steps, a ring
 	int historyCount;                     ///< frames in it (at most FV_PROFILE_FRAMES)
 	int historyNext;                      ///< where the next one goes
-	long overBudgetFrames; ///< frames over it since the scene was loaded
-	fmStepStats stats;  ///< of the last step
-	fmProfile profile;  ///< of the last step
+	long overBudgetFrames;                ///< frames over it since the scene was loaded
+	fmStepStats stats;                    ///< of the last step
+	fmProfile profile;                    ///< of the last step
 	bool dragging;
 	int dragBody;      ///< index in sim.bodies of the body grabbed (fmWorld_GrabRay)
 	char status[2048]; ///< the last problem (a failed step, a rejected parameter), "" if none

@@ -16,19 +16,19 @@ extern "C"
 	typedef struct fvUiModel
 	{
 		// Shown.
-		double fps;        ///< window frames a second
-		double stepMs;     ///< wall time of the last scene frame's steps
-		bool overBudget;   ///< stepMs above the physics' share of a 60 Hz frame
-		double stepShareMs; ///< that share (FV_STEP_SHARE_MS)
+		double fps;                    ///< window frames a second
+		double stepMs;                 ///< wall time of the last scene frame's steps
+		bool overBudget;               ///< stepMs above the physics' share of a 60 Hz frame
+		double stepShareMs;            ///< that share (FV_STEP_SHARE_MS)
 		const float* stepHistory;      ///< ms of the last frames' steps, a ring (the profile graph)
 		int historyCount, historyNext; ///< frames in it, and where the oldest is when full
-		fmProfile profile; ///< its stages
-		fmStepStats stats; ///< its counters
-		long frames;       ///< scene frames since the load or reset
-		double simTime;    ///< s simulated
+		fmProfile profile;             ///< its stages
+		fmStepStats stats;             ///< its counters
+		long frames;                   ///< scene frames since the load or reset
+		double simTime;                ///< s simulated
 		bool paused;
 		bool dragging;
-		const char* status; ///< the last problem, "" if none
+		const char* status;      ///< the last problem, "" if none
 		const char* description; ///< the scene's "description", "" if none
 		const char* const* sceneNames;
 		int sceneCount;

@@ -31,7 +31,7 @@ FM_C_BEGIN
 	X(fm_errOutOfMemory, "out of memory")                                                          \
 	X(fm_errNumerical, "numerical failure")                                                        \
 	X(fm_errNotConverged, "solver did not converge")                                               \
-	X(fm_errInvalidId, "invalid or stale id")                                                     \
+	X(fm_errInvalidId, "invalid or stale id")                                                      \
 	X(fm_errBusy, "the world is in a step (on another thread, or from its substep callback)")
 
 #define FM_RESULT_ENUM(name, message) name,
