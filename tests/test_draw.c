@@ -401,6 +401,21 @@ TEST(colliders_are_drawn_as_their_shapes)
 // Contacts are drawn as points and, from each, a line along its normal as long as its share of
 // the frame's strongest contact (at least a fifth) of 8% of the largest body: a box resting on
 // a ground collider shows lines pointing up from the ground, none longer than 8% of its size.
+// fmWorld_Draw with @p flags into only a lines and a points callback.
+static fmResult drawLinesAndPoints(fmWorldId world, unsigned flags,
+                                   void (*lines)(const float*, int, fmHexColor, void*),
+                                   void (*points)(const float*, int, float, fmHexColor, void*),
+                                   void* context)
+{
+	fmDebugDraw draw;
+	memset(&draw, 0, sizeof draw);
+	draw.drawLines = lines;
+	draw.drawPoints = points;
+	draw.flags = flags;
+	draw.context = context;
+	return fmWorld_Draw(world, &draw);
+}
+
 typedef struct ContactLines
 {
 	float points[3 * 256], lines[6 * 256];
@@ -445,13 +460,9 @@ TEST(contacts_are_drawn_with_their_normals)
 		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
 	ContactLines seen;
 	memset(&seen, 0, sizeof seen);
-	fmDebugDraw draw;
-	memset(&draw, 0, sizeof draw);
-	draw.drawPoints = keepContactPoints;
-	draw.drawLines = keepContactLines;
-	draw.flags = fm_drawContacts;
-	draw.context = &seen;
-	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK_INT(
+	    drawLinesAndPoints(world, fm_drawContacts, keepContactLines, keepContactPoints, &seen),
+	    fm_ok);
 	printf("  %d contact points, %d lines\n", seen.pointCount, seen.lineCount);
 	CHECK(seen.pointCount > 0);
 	CHECK_INT(seen.lineCount, seen.pointCount);
@@ -509,13 +520,7 @@ TEST(a_grab_is_drawn_as_its_spring)
 	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 10), fm_ok);
 	GrabSeen seen;
 	memset(&seen, 0, sizeof seen);
-	fmDebugDraw draw;
-	memset(&draw, 0, sizeof draw);
-	draw.drawLines = grabLines;
-	draw.drawPoints = grabPoints;
-	draw.flags = fm_drawTargets;
-	draw.context = &seen;
-	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	CHECK_INT(drawLinesAndPoints(world, fm_drawTargets, grabLines, grabPoints, &seen), fm_ok);
 	fmVec3 point, target;
 	CHECK(fmBody_GetGrab(body, &point, &target));
 	CHECK_INT(seen.lines, 1);

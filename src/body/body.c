@@ -310,28 +310,21 @@ static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t
 // holds bodies apart, it cannot separate surfaces that already cross (docs/contact.md).
 static fmResult fmRefuseOverlap(fmWorld* w, int slot, fmDiagnostic* diag)
 {
-	fmContactAudit audit;
-	fmAuditFinding tet;
-	int tetsInside = 0;
-	fmResult r = fmAudit_Body(w, slot, &audit, &tetsInside, &tet);
+	fmAuditOverlap o;
+	fmResult r = fmAudit_Overlap(w, slot, &o);
 	if (r != fm_ok)
 		return fmDiagError(diag, r, "", 0, 0,
 		                   "cannot check that the new body starts apart from the others (%s)",
 		                   fmResultMessage(r));
-	if (audit.crossings == 0 && audit.verticesInside == 0 && tetsInside == 0)
+	if (o.other < 0)
 		return fm_ok;
-	const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
-	                          : audit.verticesInside > 0 ? &audit.firstInside
-	                                                     : &tet;
-	fmBodyId other = f->body.index1 == slot + 1 ? f->otherBody : f->body;
 	return fmDiagError(diag, fm_errParameter, "", 0, 0,
 	                   "the body would start overlapping body %d (%d surface edges crossing "
 	                   "surface triangles, %d surface vertices and %d tet centres inside, up to "
 	                   "%.3g m deep): bodies that collide must start apart, contact cannot "
 	                   "separate surfaces that already cross; move it, or give the two bodies "
 	                   "filters that do not meet",
-	                   (int)other.index1 - 1, audit.crossings, audit.verticesInside, tetsInside,
-	                   fmMax(audit.deepest, tet.depth));
+	                   o.other, o.crossings, o.verticesInside, o.tetsInside, o.deepest);
 }
 
 static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId* bodyId,
@@ -729,18 +722,23 @@ static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)
 	return energy;
 }
 
-int fmBodyCountInverted(const fmBody* b)
+int fmBodyCountInvertedAt(const fmBody* b, const double* x)
 {
 	int inverted = 0;
 	unsigned char flags[256];
 	for (int first = 0; first < b->mesh.tetCount; first += 256)
 	{
 		int end = b->mesh.tetCount - first < 256 ? b->mesh.tetCount : first + 256;
-		fmInvertedTets(&b->mesh, b->state.x, first, end, flags);
+		fmInvertedTets(&b->mesh, x, first, end, flags);
 		for (int t = 0; t < end - first; ++t)
 			inverted += flags[t];
 	}
 	return inverted;
+}
+
+int fmBodyCountInverted(const fmBody* b)
+{
+	return fmBodyCountInvertedAt(b, b->state.x);
 }
 
 typedef struct fmInvertedTask

@@ -100,6 +100,9 @@ void fmBodyRelease(fmBody* body);
 // Tets with det F <= 0 at the current positions.
 int fmBodyCountInverted(const fmBody* body);
 
+// Tets with det F <= 0 at positions @p x (3 per vertex, the body's order).
+int fmBodyCountInvertedAt(const fmBody* body, const double* x);
+
 // The same on the workers of @p tasks, with a byte a tet from @p arena (serially when the body
 // is small, there is no room, or @p tasks is NULL): an exact count whatever the split.
 int fmBodyCountInvertedOn(const fmBody* body, const struct fmTaskSystem* tasks,

@@ -608,11 +608,25 @@ static fmContactAudit fmAuditNothing(void)
 	return found;
 }
 
-fmResult fmAudit_Body(fmWorld* w, int slot, fmContactAudit* audit, int* tetsInside,
-                      fmAuditFinding* firstTetInside)
+fmResult fmAudit_Overlap(fmWorld* w, int slot, fmAuditOverlap* overlap)
 {
-	*audit = fmAuditNothing();
-	return fmAuditIn(w, audit, slot, tetsInside, firstTetInside);
+	fmContactAudit audit = fmAuditNothing();
+	fmAuditFinding tet;
+	memset(overlap, 0, sizeof *overlap);
+	overlap->other = -1;
+	fmResult r = fmAuditIn(w, &audit, slot, &overlap->tetsInside, &tet);
+	overlap->crossings = audit.crossings;
+	overlap->verticesInside = audit.verticesInside;
+	overlap->deepest = fmMax(audit.deepest, tet.depth);
+	if (r != fm_ok ||
+	    (audit.crossings == 0 && audit.verticesInside == 0 && overlap->tetsInside == 0))
+		return r;
+	const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
+	                          : audit.verticesInside > 0 ? &audit.firstInside
+	                                                     : &tet;
+	fmBodyId other = f->body.index1 == slot + 1 ? f->otherBody : f->body;
+	overlap->other = (int)other.index1 - 1;
+	return fm_ok;
 }
 
 fmResult fmWorld_AuditContact(fmWorldId worldId, fmContactAudit* audit)

@@ -4,10 +4,18 @@
 
 #include "world/world.h"
 
-// The audit of the body in @p slot against every other live body whose filters and boxes meet
-// its own (edge-triangle crossings both ways and surface vertices inside, no inverted tets, no
-// self-contact) into @p audit, and in @p tetsInside the tets of either body of such a pair whose
-// centroid lies inside the other (bodies that lie on each other's surfaces, the first in
-// @p firstTetInside). fm_errOutOfMemory, fm_errNumerical for non-finite positions.
-fmResult fmAudit_Body(fmWorld* world, int slot, fmContactAudit* audit, int* tetsInside,
-                      fmAuditFinding* firstTetInside);
+// How the body in @p slot overlaps the other live bodies whose filters and boxes meet its own
+// (the audit's tests both ways, no inverted tets, no self-contact, and tets of either body of a
+// pair whose centre lies inside the other: bodies lying on each other's surfaces).
+typedef struct fmAuditOverlap
+{
+	int crossings;      // surface edges crossing surface triangles
+	int verticesInside; // surface vertices inside the other body
+	int tetsInside;     // tet centres inside the other body
+	int other;          // the slot of the first body overlapped, -1 for none
+	double deepest;     // m
+} fmAuditOverlap;
+
+// The overlap of the body in @p slot (other -1 and the counts 0 for none). fm_errOutOfMemory,
+// fm_errNumerical for non-finite positions.
+fmResult fmAudit_Overlap(fmWorld* world, int slot, fmAuditOverlap* overlap);

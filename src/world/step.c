@@ -633,21 +633,6 @@ static void fmWarnFastColliders(fmWorld* w, const fmStepContext* ctx)
 		    w->fastCollider, w->fastSweep, ctx->substep, w->fastThickness, w->fastSubsteps);
 }
 
-// Tets of @p b inverted (det F <= 0) at positions @p x.
-static int fmInvertedAt(const fmBody* b, const double* x)
-{
-	int inverted = 0;
-	unsigned char flags[256];
-	for (int first = 0; first < b->mesh.tetCount; first += 256)
-	{
-		int end = b->mesh.tetCount - first < 256 ? b->mesh.tetCount : first + 256;
-		fmInvertedTets(&b->mesh, x, first, end, flags);
-		for (int t = 0; t < end - first; ++t)
-			inverted += flags[t];
-	}
-	return inverted;
-}
-
 // What is wrong with the positions the caller set on body @p i since the last frame (written
 // into @p why), or false when nothing: tets turned inside out that were not at the last good
 // state (a mirrored body), or the body put across or inside another it collides with.
@@ -660,9 +645,9 @@ static bool fmSetPositionsWrong(fmWorld* w, int i, char* why, size_t size)
 	// a few may be set (invertible elasticity pushes them back out, as it does a one-tet body's
 	// apex pushed through its face); a mirrored body cannot come back: every tet would have to
 	// pass through itself at once.
-	int inverted = fmInvertedAt(b, b->state.x);
+	int inverted = fmBodyCountInverted(b);
 	if (b->mesh.tetCount > 1 && 2 * inverted > b->mesh.tetCount &&
-	    inverted > fmInvertedAt(b, b->xGood))
+	    inverted > fmBodyCountInvertedAt(b, b->xGood))
 	{
 		snprintf(why, size,
 		         "turn the body inside out (%d of its %d tets inverted): a mirrored body cannot "
@@ -670,21 +655,14 @@ static bool fmSetPositionsWrong(fmWorld* w, int i, char* why, size_t size)
 		         inverted, b->mesh.tetCount);
 		return true;
 	}
-	fmContactAudit audit;
-	fmAuditFinding tet;
-	int tetsInside = 0;
-	if (!fmContact_BodiesMeet(w) || fmAudit_Body(w, i, &audit, &tetsInside, &tet) != fm_ok ||
-	    (audit.crossings == 0 && audit.verticesInside == 0 && tetsInside == 0))
+	fmAuditOverlap o;
+	if (!fmContact_BodiesMeet(w) || fmAudit_Overlap(w, i, &o) != fm_ok || o.other < 0)
 		return false; // (non-finite positions: the step reports them)
-	const fmAuditFinding* f = audit.crossings > 0        ? &audit.firstCrossing
-	                          : audit.verticesInside > 0 ? &audit.firstInside
-	                                                     : &tet;
-	fmBodyId other = f->body.index1 == i + 1 ? f->otherBody : f->body;
 	snprintf(why, size,
 	         "put it across or inside body %d (%d surface edges crossing, %d surface vertices and "
 	         "%d tet centres inside): bodies that collide must stay apart (or give the two "
 	         "bodies filters that do not meet)",
-	         (int)other.index1 - 1, audit.crossings, audit.verticesInside, tetsInside);
+	         o.other, o.crossings, o.verticesInside, o.tetsInside);
 	return true;
 }
 
