@@ -122,8 +122,9 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	// A creeping slip that friction or the stick takes back leaves the position too, except
 	// under an explicit stick collider, which matches the seeds' stick floor (that keeps it).
 	fmVec3 taken = fmSub(fmAdd(vc, relative), v);
-	double creep =
-	    implicit || !c->def.stick ? fmContactResponse_CreepStep(w, taken, n, thickness) : 0.0;
+	double creep = implicit || !c->def.stick
+	                   ? fmContactResponse_CreepStep(w, taken, n, FM_CREEP_FRACTION * thickness)
+	                   : 0.0;
 	if (creep > 0.0)
 		x = fmMulAdd(x, creep, fmMulAdd(taken, -fmDot(taken, n), n));
 	fmStore(b->state.x, i, x);

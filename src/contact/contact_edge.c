@@ -1,6 +1,7 @@
 // Edge against edge between bodies (contact_edge.h).
 #include "contact/contact_edge.h"
 
+#include "contact/contact.h"
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
 #include "core/core.h"
@@ -43,7 +44,7 @@ fmVec3 fmContactEdge_Point(const double* x, const int e[2], double s)
 // reach of the step's motion and face each other. Appends to the edge list.
 static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, const fmBody* b,
                                   int slot, const int e[2], fmVec3 side, const fmBody* o, int other,
-                                  const int* tri, double thickness, int item)
+                                  const int* tri, double thickness, double depen, int item)
 {
 	// (Only the frozen planes before an implicit step ask which way the faces look.)
 	fmVec3 face = s->predicting ? fmTriangleCross(o, tri) : fmMakeVec3(0.0, 0.0, 0.0);
@@ -84,7 +85,10 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		c->a[0] = e[0], c->a[1] = e[1], c->b[0] = f[0], c->b[1] = f[1];
 		c->s = sa, c->t = tb;
 		c->normal = crossed ? fmScale(1.0 / start, d0) : fmScale(1.0 / distance, d);
-		c->reach = reach;
+		double from = fmDot(d0, c->normal);
+		c->reach = s->predicting ? reach
+		                         : fmContactResponse_Reach(from, from - fmDot(d, c->normal),
+		                                                   thickness, depen);
 		c->impulse = 0.0;
 		c->item = item;
 		c->sequence = wf->edgeCount; // increasing within the item
@@ -112,6 +116,7 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		return; // non-finite: the frame's checks report it
 	if (!fmContactDetect_NearOtherBody(w, s, slot, lo, hi, true))
 		return;
+	const double depen = fmContactResponse_DepenetrationStep(w);
 	double start = fmSeconds();
 	int count = fmSpatialHash_Query(&s->hash, &wf->query, lo, hi);
 	wf->broadPhase += fmSeconds() - start;
@@ -127,7 +132,7 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 			continue;
 		wf->failed = !fmEdgeAgainstTriangle(s, wf, b, slot, e, side, o, other,
 		                                    fmContactDetect_Triangle(o, s->triangleIndex[found]),
-		                                    thickness, item);
+		                                    thickness, depen, item);
 	}
 }
 
@@ -205,12 +210,18 @@ bool fmContactEdge_Respond(fmWorld* w, fmContactState* s, fmEdgeContact* c)
 	                         fmContactResponse_PairFriction(w, b, o), 0.0);
 	fmVec3 impulse = fmScale(1.0 / sum, fmSub(relative, before));
 	c->impulse = fmDot(impulse, c->normal);
+	// A creeping slip that friction takes back leaves the positions too, as for a vertex.
+	double h = fmContactResponse_CreepStep(w, fmSub(relative, before), c->normal,
+	                                       fmContactResponse_PairCreep(w, fmContact_Thickness(w)));
+	fmVec3 slip = fmScale(h, fmMulAdd(impulse, -c->impulse, c->normal));
 	for (int k = 0; k < 4; ++k)
 	{
 		fmVec3 x = fmLoad(bodies[k]->state.x, vertices[k]);
 		fmVec3 v = fmLoad(bodies[k]->state.v, vertices[k]);
 		fmStore(bodies[k]->state.v, vertices[k], fmMulAdd(v, weights[k] * inverse[k], impulse));
+		fmStore(bodies[k]->state.x, vertices[k], fmMulAdd(x, weights[k] * inverse[k], slip));
 		fmContactResponse_KeepPins(bodies[k], vertices[k], x);
+		fmContactResponse_KeepAboveFloor(w, bodies[k], vertices[k]);
 	}
 	return true;
 }

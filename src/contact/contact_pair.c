@@ -232,7 +232,8 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
 		// explains goes at once, older penetration at most the depenetration speed (bodies
-		// created overlapping come apart gently instead of being catapulted).
+		// created overlapping come apart gently instead of being catapulted), and a vertex that
+		// started within the thickness is only kept from coming closer (fmContactResponse_Reach).
 		const fmBody* o = &w->bodies[found->other];
 		const int* tri = fmContactDetect_Triangle(o, found->triangle);
 		fmVec3 approach = fmSub(p, fmLoad(b->contact.start, i));
@@ -243,9 +244,12 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		// at once: in a fold the projection's jump crushed the tets between the two sides, and
 		// an explicit bar folding onto itself blew up at its first self contact (docs/contact.md,
 		// "Self-collision").
-		double gap = found->other == slot ? 0.0 : thickness;
-		found->reach = fmMax(w->def.floor.maxDepenetrationSpeed * w->contactStep,
-		                     fmMax(0.0, -fmDot(approach, found->normal)) + gap);
+		double closing = -fmDot(approach, found->normal);
+		double depen = fmContactResponse_DepenetrationStep(w);
+		found->reach = found->other == slot
+		                   ? fmMax(depen, fmMax(0.0, closing))
+		                   : fmContactResponse_Reach(thickness - found->depth + closing, closing,
+		                                             thickness, depen);
 	}
 	return bestItem >= 0;
 }
@@ -333,18 +337,16 @@ bool fmContactPair_Respond(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 	fmVec3 impulse = fmScale(1.0 / weight, fmSub(relative, before)); // N s on the vertex
 	pc->impulse = fmDot(impulse, pc->normal);
 	// A creeping slip that friction takes back leaves the positions too
-	// (fmContactResponse_CreepStep), implicit only: explicit substeps' projections of a pile
-	// move the same vertices again and again (measured: three houses piled, explicit, refused
-	// 58 frames with it).
-	double h = w->def.integrator == fm_implicit
-	               ? fmContactResponse_CreepStep(w, fmSub(relative, before), pc->normal, thickness)
-	               : 0.0;
+	// (fmContactResponse_CreepStep), as against colliders.
+	double h = fmContactResponse_CreepStep(w, fmSub(relative, before), pc->normal,
+	                                       fmContactResponse_PairCreep(w, thickness));
 	fmVec3 slip = fmScale(h, fmMulAdd(impulse, -pc->impulse, pc->normal));
 	fmVec3 x = fmLoad(b->state.x, pc->vertex);
 	double inverse = fmContactResponse_InverseMass(b, pc->vertex);
 	fmStore(b->state.v, pc->vertex, fmMulAdd(vp, inverse, impulse));
 	fmStore(b->state.x, pc->vertex, fmMulAdd(x, inverse, slip));
 	fmContactResponse_KeepPins(b, pc->vertex, x);
+	fmContactResponse_KeepAboveFloor(w, b, pc->vertex);
 	for (int c = 0; c < 3; ++c)
 	{
 		fmVec3 v0 = fmLoad(o->state.v, tri[c]), y = fmLoad(o->state.x, tri[c]);
@@ -352,6 +354,7 @@ bool fmContactPair_Respond(fmWorld* w, fmContactState* s, fmPairContact* pc, dou
 		fmStore(o->state.v, tri[c], fmMulAdd(v0, share, impulse));
 		fmStore(o->state.x, tri[c], fmMulAdd(y, share, slip));
 		fmContactResponse_KeepPins(o, tri[c], y);
+		fmContactResponse_KeepAboveFloor(w, o, tri[c]);
 	}
 	return true;
 }

@@ -20,11 +20,30 @@ double fmContactResponse_Impact(fmVec3* relative, fmVec3 n, double e, double mu,
 	return change;
 }
 
-double fmContactResponse_CreepStep(const fmWorld* w, fmVec3 dv, fmVec3 n, double thickness)
+double fmContactResponse_CreepStep(const fmWorld* w, fmVec3 dv, fmVec3 n, double limit)
 {
 	double h = w->contactStep;
 	fmVec3 along = fmMulAdd(dv, -fmDot(dv, n), n);
-	return h * fmLength(along) <= FM_CREEP_FRACTION * thickness ? h : 0.0;
+	return h * fmLength(along) <= limit ? h : 0.0;
+}
+
+double fmContactResponse_PairCreep(const fmWorld* w, double thickness)
+{
+	return (w->def.integrator == fm_implicit ? FM_CREEP_FRACTION : FM_PAIR_CREEP_FRACTION) *
+	       thickness;
+}
+
+double fmContactResponse_Reach(double start, double closing, double thickness, double depen)
+{
+	double approach = fmMax(0.0, closing);
+	if (start >= thickness)
+		return approach - (start - thickness);
+	return start >= 0.0 ? approach : approach + fmMin(-start, depen);
+}
+
+double fmContactResponse_DepenetrationStep(const fmWorld* w)
+{
+	return w->def.floor.maxDepenetrationSpeed * w->contactStep;
 }
 
 void fmContactResponse_KeepPins(fmBody* b, int i, fmVec3 x0)
