@@ -646,6 +646,63 @@ FW_EXPORT double fw_profile(int which)
 	return which >= 0 && which < 9 ? stages[which] : 0.0;
 }
 
+/// Whether body @p b is awake (0 while its island sleeps: fmBody_IsAwake; the page dims it).
+FW_EXPORT int fw_awake(int b)
+{
+	return fwBodyOk(b) ? fmBody_IsAwake(s_app.bodies[b]) : 0;
+}
+
+// The contacts' lines of the last fw_contact_lines(): 6 floats a line (point, tip), grown as
+// needed and kept across scenes.
+static float* s_contactLines;
+static int s_contactLineCount, s_contactLineCapacity;
+
+static void fwTakeContactLines(const float* points, int lineCount, fmHexColor color, void* context)
+{
+	(void)color;
+	(void)context;
+	if (s_contactLineCount + lineCount > s_contactLineCapacity)
+	{
+		int capacity = 2 * (s_contactLineCount + lineCount);
+		float* grown = realloc(s_contactLines, 6 * sizeof(float) * (size_t)capacity);
+		if (grown == NULL)
+			return;
+		s_contactLines = grown;
+		s_contactLineCapacity = capacity;
+	}
+	memcpy(s_contactLines + 6 * (size_t)s_contactLineCount, points,
+	       6 * sizeof(float) * (size_t)lineCount);
+	s_contactLineCount += lineCount;
+}
+
+static void fwSkipPoints(const float* points, int count, float size, fmHexColor color,
+                         void* context)
+{
+	(void)points, (void)count, (void)size, (void)color, (void)context;
+}
+
+/// The last substep's contacts as the library draws them (fmWorld_Draw, fm_drawContacts): from
+/// each contact point a line along its normal, longer the harder it pushes; 6 floats a line
+/// (point, tip, m), fw_contact_line_count() of them. Valid until the next call.
+FW_EXPORT const float* fw_contact_lines(void)
+{
+	s_contactLineCount = 0;
+	if (!fmWorld_IsValid(s_app.world))
+		return s_contactLines;
+	fmDebugDraw draw = fmDefaultDebugDraw();
+	draw.flags = fm_drawContacts;
+	draw.drawLines = fwTakeContactLines;
+	draw.drawPoints = fwSkipPoints;
+	fmWorld_Draw(s_app.world, &draw);
+	return s_contactLines;
+}
+
+/// Lines fw_contact_lines() gave.
+FW_EXPORT int fw_contact_line_count(void)
+{
+	return s_contactLineCount;
+}
+
 /// Queue the seeds' jump for the next frame.
 FW_EXPORT void fw_jump(void)
 {
