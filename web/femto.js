@@ -87,12 +87,42 @@ function sceneLoaded() {
   const { lo, hi } = bounds();
   lo[1] = Math.min(lo[1], M._fw_floor_height());
   const center = vec3.scale(0.5, vec3.add(lo, hi));
-  camera.frame(center, 0.5 * Math.hypot(...vec3.sub(hi, lo)));
+  placeCamera(center, 0.5 * Math.hypot(...vec3.sub(hi, lo)));
   setPaused(false);
   state.error = '';
   message('');
   profile.length = 0;
   state.profileFrames = 0;
+}
+
+// The scene's "camera" preset (fw_camera; docs/scene-format.md) over the framing of the bodies:
+// its yaw and pitch first, the framing, then its target and distance.
+function placeCamera(center, radius) {
+  const preset = [0, 1, 2, 3, 4, 5].map((k) => M._fw_camera(k));
+  if (!Number.isNaN(preset[4])) camera.yaw = (preset[4] * Math.PI) / 180;
+  if (!Number.isNaN(preset[5])) camera.pitch = (preset[5] * Math.PI) / 180;
+  camera.frame(center, radius);
+  if (!Number.isNaN(preset[0])) camera.target = preset.slice(0, 3);
+  if (!Number.isNaN(preset[3])) camera.distance = preset[3];
+}
+
+// The picker's scenes grouped by their files' "topic" (fw_scene_topic), in the format's order of
+// topics, as femto view's list; each keeps its number (fw_load_scene's index, the URL's scene=N).
+const TOPICS = ['materials', 'integrators', 'contact', 'colliders', 'loads', 'render meshes'];
+function fillScenePicker(select) {
+  const groups = new Map();
+  for (let i = 0; i < M._fw_scene_count(); ++i) {
+    const topic = M.UTF8ToString(M._fw_scene_topic(i)) || 'other';
+    if (!groups.has(topic)) groups.set(topic, []);
+    groups.get(topic).push(new Option(M.UTF8ToString(M._fw_scene_name(i)), String(i)));
+  }
+  const order = (t) => (TOPICS.includes(t) ? TOPICS.indexOf(t) : TOPICS.length);
+  for (const topic of [...groups.keys()].sort((a, b) => order(a) - order(b))) {
+    const group = document.createElement('optgroup');
+    group.label = topic;
+    for (const option of groups.get(topic)) group.appendChild(option);
+    select.appendChild(group);
+  }
 }
 
 // The camera follows the bodies when they leave the middle of the view (a thrown body, drop.json,
@@ -538,8 +568,7 @@ async function main() {
   M = await createFemto();
   await giveFiles();
   const select = $('scene');
-  for (let i = 0; i < M._fw_scene_count(); ++i)
-    select.add(new Option(M.UTF8ToString(M._fw_scene_name(i)), String(i)));
+  fillScenePicker(select);
   MODELS.forEach((name, i) => $('model').add(new Option(name, String(i))));
   select.addEventListener('change', () => {
     const index = Number(select.value);

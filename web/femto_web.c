@@ -47,7 +47,9 @@
 	X("house, Mooney-Rivlin", house_mooneyrivlin)                                                  \
 	X("pile of boxes", pile)                                                                       \
 	X("thrown cube", drop)                                                                         \
-	X("two houses (implicit)", two_houses)
+	X("two houses (implicit)", two_houses)                                                         \
+	X("house, StVK", house_stvk)                                                                   \
+	X("house, implicit (Neo-Hookean)", house_implicit)
 
 // One entry of the menu: its title and its file.
 typedef struct fwSceneFile
@@ -307,6 +309,33 @@ FW_EXPORT const char* fw_scene_name(int index)
 FW_EXPORT const char* fw_scene_file(int index)
 {
 	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].file : "";
+}
+
+/// The "topic" of built-in scene @p index (docs/scene-format.md: the page's picker groups the
+/// scenes by it), read from its file by the schema; "" when it has none, or its file was not
+/// given yet or does not read.
+FW_EXPORT const char* fw_scene_topic(int index)
+{
+	if (index < 0 || index >= FW_SCENE_COUNT || s_files[index].text == NULL)
+		return "";
+	cliScene scene;
+	if (!cliScene_LoadText(fw_scenes[index].file, s_files[index].text, s_files[index].size, NULL,
+	                       &scene))
+		return "";
+	int topic = scene.topic;
+	cliScene_Free(&scene);
+	return topic >= 0 ? cliTopicNames[topic] : "";
+}
+
+/// The loaded scene's "camera" preset: 0-2 its target (m), 3 its distance (m), 4 its yaw and 5
+/// its pitch (degrees); NaN for a part it does not give (the page frames that part).
+FW_EXPORT double fw_camera(int which)
+{
+	const cliCameraPreset* c = &s_app.scene.camera;
+	const double parts[6] = {c->hasTarget ? c->target.x : NAN, c->hasTarget ? c->target.y : NAN,
+	                         c->hasTarget ? c->target.z : NAN, c->hasDistance ? c->distance : NAN,
+	                         c->hasYaw ? c->yaw : NAN,         c->hasPitch ? c->pitch : NAN};
+	return s_app.hasScene && which >= 0 && which < 6 ? parts[which] : NAN;
 }
 
 /// Number of files the glue reads (fw_file_path).

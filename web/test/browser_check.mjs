@@ -377,6 +377,18 @@ async function main() {
     check(picker[1] >= picker[0] + 20, `the scene picker (${picker[1]} px) holds its longest name ` +
       `(${picker[0].toFixed(0)} px and the arrow)`);
 
+    // The picker groups the scenes by their files' topics (optgroups, in the format's order),
+    // none left outside a group or under "other" (scene_read.cjs checks each group is its file's).
+    const groups = await evaluate('(() => { const s = document.getElementById("scene"); ' +
+      'return { labels: [...s.querySelectorAll("optgroup")].map((g) => g.label), ' +
+      'grouped: s.querySelectorAll("optgroup option").length, all: s.options.length }; })()');
+    const topics = ['materials', 'integrators', 'contact', 'colliders', 'loads', 'render meshes'];
+    const ordered = groups.labels.every((l, k) => topics.includes(l) &&
+      (k === 0 || topics.indexOf(l) > topics.indexOf(groups.labels[k - 1])));
+    check(groups.labels.length >= 3 && ordered && groups.grouped === groups.all,
+      `the scene picker is grouped by topic: ${groups.labels.join(', ')} (${groups.grouped} of ` +
+      `${groups.all} scenes in a group)`);
+
     // The Play/Pause label says what it will do after every control: paused then reset, and
     // paused then another scene, the page runs again and the button says "Pause".
     const label = () => evaluate('[document.getElementById("pause").textContent, femto.paused]');
