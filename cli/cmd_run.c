@@ -773,6 +773,7 @@ int cliRun(int argc, char** argv)
 			code = cli_exitInput;
 	}
 	cliVideo* video = NULL;
+	cliViewOptions_TakeCamera(&o.view, &scene.camera); // the scene's "camera" where not given
 	if (code == cli_exitOk && cliViewOptions_WantsImages(&o.view) &&
 	    (video = cliVideo_Open(&o.view, &sim)) == NULL)
 		code = cli_exitInput;

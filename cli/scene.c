@@ -390,6 +390,51 @@ static bool cliParseWorld(const cliJson* j, const cliJsonNode* root, cliScene* s
 	return true;
 }
 
+// ---- how the samples are shown --------------------------------------------------------------
+
+const char* const cliTopicNames[CLI_TOPIC_COUNT] = {"materials", "integrators", "contact",
+                                                    "colliders", "loads",       "render meshes"};
+
+// "topic": one of cliTopicNames.
+static bool cliParseTopic(const cliJson* j, const cliJsonNode* root, cliScene* scene)
+{
+	const char* topic = NULL;
+	scene->topic = -1;
+	if (!cliGetString(j, root, "", "topic", &topic))
+		return false;
+	if (topic == NULL)
+		return true;
+	for (int k = 0; k < CLI_TOPIC_COUNT; ++k)
+		if (strcmp(topic, cliTopicNames[k]) == 0)
+			scene->topic = k;
+	if (scene->topic < 0)
+		return cliJsonFail(j, "topic", cliJsonTree_Member(root, "topic"),
+		                   "expected one of \"materials\", \"integrators\", \"contact\", "
+		                   "\"colliders\", \"loads\", \"render meshes\"");
+	return true;
+}
+
+// "camera": {"target": [x, y, z], "distance": m, "yaw": deg, "pitch": deg}, each optional, with
+// the ranges of femto view's --camera-* options.
+static bool cliParseCamera(const cliJson* j, const cliJsonNode* root, cliCameraPreset* camera)
+{
+	static const char* const keys[] = {"target", "distance", "yaw", "pitch", NULL};
+	const cliRange distance = {1e-3, 1e6, false, false};
+	const cliRange yaw = {-360.0, 360.0, false, false};
+	const cliRange pitch = {-89.0, 89.0, false, false};
+	const cliJsonNode* item = NULL;
+	memset(camera, 0, sizeof *camera);
+	if (!cliGetObject(j, root, "", "camera", &item))
+		return false;
+	return item == NULL ||
+	       (cliCheckKeys(j, item, "camera", keys) &&
+	        cliGetVec3(j, item, "camera", "target", &camera->target, &camera->hasTarget) &&
+	        cliGetNumber(j, item, "camera", "distance", distance, &camera->distance,
+	                     &camera->hasDistance) &&
+	        cliGetNumber(j, item, "camera", "yaw", yaw, &camera->yaw, &camera->hasYaw) &&
+	        cliGetNumber(j, item, "camera", "pitch", pitch, &camera->pitch, &camera->hasPitch));
+}
+
 static bool cliParseScene(const cliJson* j, const cliJsonNode* root, cliScene* scene)
 {
 	static const char* const keys[] = {"description",
@@ -415,12 +460,15 @@ static bool cliParseScene(const cliJson* j, const cliJsonNode* root, cliScene* s
 	                                   "deterministic",
 	                                   "colliders",
 	                                   "contact",
+	                                   "topic",
+	                                   "camera",
 	                                   NULL};
 	if (!cliJsonIs(root, cli_jsonObject))
 		return cliJsonFail(j, "", root, "a scene is a JSON object {...}");
 	const char* description = NULL;
 	if (!cliCheckKeys(j, root, "", keys) ||
-	    !cliGetString(j, root, "", "description", &description) || !cliParseWorld(j, root, scene))
+	    !cliGetString(j, root, "", "description", &description) || !cliParseTopic(j, root, scene) ||
+	    !cliParseCamera(j, root, &scene->camera) || !cliParseWorld(j, root, scene))
 		return false;
 	if (description != NULL)
 		snprintf(scene->description, sizeof scene->description, "%s", description);
@@ -455,6 +503,7 @@ static void cliSceneDefaults(cliScene* scene, const char* name)
 	scene->worldDef = fmDefaultWorldDef();
 	scene->dt = 0.003;
 	scene->substeps = 10;
+	scene->topic = -1;
 }
 
 void cliScene_MakeHouse(cliScene* scene)

@@ -92,11 +92,29 @@ typedef struct cliColliderSpec
 	fmMeshTransform transform;  ///< mesh: placement of the OBJ's vertices
 } cliColliderSpec;
 
+/// The topics the samples are grouped by (a scene's "topic"; femto view's list and the web
+/// page's picker show them in this order).
+#define CLI_TOPIC_COUNT 6
+extern const char* const cliTopicNames[CLI_TOPIC_COUNT]; ///< "materials" ... "render meshes"
+
+/// A scene's "camera": where femto view and the page put the orbit camera when the scene loads
+/// (the parts given; the others framed on the bodies, as --camera-* do).
+typedef struct cliCameraPreset
+{
+	bool hasTarget, hasDistance, hasYaw, hasPitch;
+	fmVec3 target;   ///< m, the point the camera orbits and looks at
+	double distance; ///< m from the target, in [1e-3, 1e6]
+	double yaw;      ///< degrees about +y from looking down -z, in [-360, 360]
+	double pitch;    ///< degrees above the horizon, in [-89, 89]
+} cliCameraPreset;
+
 /// A whole scene.
 typedef struct cliScene
 {
 	char name[CLI_MAX_PATH]; ///< the scene file as given, or "builtin:house"
 	char description[512];   ///< the scene's "description" (cut at 511 bytes), "" if none
+	int topic;               ///< "topic": an index of cliTopicNames, -1 if none
+	cliCameraPreset camera;  ///< "camera" (nothing given: all framed)
 	fmWorldDef worldDef;     ///< gravity, floor, integrator settings
 	double dt;               ///< s, one substep (with worldDef.autoSubstep: the frame)
 	int substeps;            ///< substeps a frame (a frame is dt * substeps); 1 with autoSubstep

@@ -1,5 +1,6 @@
 // Image and camera options (view_options.h).
 #include "view_options.h"
+#include "scene.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -178,4 +179,16 @@ bool cliViewOptions_Parse(cliViewOptions* o, const char* command, int argc, char
 bool cliViewOptions_WantsImages(const cliViewOptions* o)
 {
 	return o->gifPath != NULL || o->pngDirectory != NULL;
+}
+
+void cliViewOptions_TakeCamera(cliViewOptions* o, const cliCameraPreset* preset)
+{
+	if (!o->hasTarget && preset->hasTarget)
+		o->hasTarget = true, o->target = preset->target;
+	if (!o->hasDistance && preset->hasDistance)
+		o->hasDistance = true, o->distance = preset->distance;
+	if (!o->hasYaw && preset->hasYaw)
+		o->hasYaw = true, o->yaw = preset->yaw;
+	if (!o->hasPitch && preset->hasPitch)
+		o->hasPitch = true, o->pitch = preset->pitch;
 }

@@ -32,6 +32,11 @@ void cliViewOptions_Init(cliViewOptions* options);
 bool cliViewOptions_Parse(cliViewOptions* options, const char* command, int argc, char** argv,
                           int* index, int* code);
 
+struct cliCameraPreset;
+
+/// The parts of a scene's "camera" preset that the options do not give (the command line wins).
+void cliViewOptions_TakeCamera(cliViewOptions* o, const struct cliCameraPreset* preset);
+
 /// Whether --gif or --png was given.
 bool cliViewOptions_WantsImages(const cliViewOptions* options);
 

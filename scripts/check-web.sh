@@ -194,7 +194,7 @@ for file in $(sed -n 's/^\s*X("[^"]*", \([a-z0-9_]*\)).*/\1/p' web/femto_web.c);
   compare "$scene" 20 1 "$integrator" 0
   scene=$((scene + 1))
 done
-bad=(syntax_error trailing_text nul_escape int_too_large bad_poisson bad_substeps bad_simd
+bad=(syntax_error trailing_text nul_escape int_too_large bad_poisson bad_substeps bad_simd bad_topic bad_camera_pitch
   bad_filter both_pairs box_too_large bad_dt bad_collider_shape wrong_type bad_contact_key)
 FEMTO=$([ -x build/cli/femto ] && echo build/cli/femto) node web/test/scene_read.cjs \
   $(printf 'tests/cli/%s.json ' "${bad[@]}")

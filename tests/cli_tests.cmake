@@ -554,7 +554,10 @@ foreach(case
     "bad_contact_key|3:34: contact\\.frictoin: unknown key \\(expected one of: bodies, thickness, .*sleep_time\\)"
     "bad_filter|3:83: colliders\\[0\\]\\.filter\\.mask: expected an integer in \\[0, 4294967295\\]"
     "bad_collider_stick|3:57: colliders\\[0\\]\\.stick: expected true or false, got 1"
-    "bad_self_collision|3:27: bodies\\[0\\]\\.self_collision: expected true or false, got \"yes\"")
+    "bad_self_collision|3:27: bodies\\[0\\]\\.self_collision: expected true or false, got \"yes\""
+    "bad_topic|3:3: topic: expected one of \"materials\", \"integrators\", .*\"render meshes\", got \"physics\""
+    "bad_camera_pitch|3:52: camera\\.pitch: expected a number in \\[-89, 89\\], got 95"
+    "bad_camera_key|3:37: camera\\.fov: unknown key \\(expected one of: target, distance, yaw, pitch\\)")
   string(FIND "${case}" "|" bar)
   string(SUBSTRING "${case}" 0 ${bar} name)
   math(EXPR bar "${bar} + 1")

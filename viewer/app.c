@@ -9,13 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int fvCompareNames(const void* a, const void* b)
-{
-	return strcmp(*(char* const*)a, *(char* const*)b);
-}
-
-// Add one entry to the scene list; false when memory is short.
-static bool fvAddScene(fvApp* app, const char* name, const char* path)
+// Add one entry to the scene list with its topic (cliTopicNames; -1 none); false when memory
+// is short.
+static bool fvAddScene(fvApp* app, const char* name, const char* path, int topic)
 {
 	char** names = realloc(app->sceneNames, (size_t)(app->sceneCount + 1) * sizeof *names);
 	if (names != NULL)
@@ -23,37 +19,82 @@ static bool fvAddScene(fvApp* app, const char* name, const char* path)
 	char** paths = realloc(app->scenePaths, (size_t)(app->sceneCount + 1) * sizeof *paths);
 	if (paths != NULL)
 		app->scenePaths = paths;
-	if (names == NULL || paths == NULL)
+	int* topics = realloc(app->sceneTopics, (size_t)(app->sceneCount + 1) * sizeof *topics);
+	if (topics != NULL)
+		app->sceneTopics = topics;
+	if (names == NULL || paths == NULL || topics == NULL)
 		return false;
 	names[app->sceneCount] = strdup(name);
 	paths[app->sceneCount] = path != NULL ? strdup(path) : NULL;
+	topics[app->sceneCount] = topic;
 	app->sceneCount += 1;
 	return names[app->sceneCount - 1] != NULL;
 }
 
-// The .json files of @p folder, sorted, after the built-in house.
+// The "topic" of the scene file @p path (a cliTopicNames index), -1 when it has none or does
+// not load (it is still listed: picking it says why).
+static int fvSceneTopic(const char* path)
+{
+	const size_t most = 1u << 20; // scene files are a few kB; a longer one reads as no topic
+	FILE* f = fopen(path, "rb");
+	char* text = f != NULL ? malloc(most) : NULL;
+	size_t size = text != NULL ? fread(text, 1, most, f) : 0;
+	bool whole = text != NULL && feof(f) != 0;
+	if (f != NULL)
+		fclose(f);
+	cliScene scene;
+	int topic = -1;
+	if (whole && cliScene_LoadText(path, text, size, NULL, &scene))
+	{
+		topic = scene.topic;
+		cliScene_Free(&scene);
+	}
+	free(text);
+	return topic;
+}
+
+// A scene file of the listed folder, sorted by topic (in cliTopicNames' order, none last),
+// then by name.
+typedef struct fvFoundScene
+{
+	char* name;
+	int topic;
+} fvFoundScene;
+
+static int fvCompareScenes(const void* a, const void* b)
+{
+	const fvFoundScene *x = a, *y = b;
+	int tx = x->topic >= 0 ? x->topic : CLI_TOPIC_COUNT;
+	int ty = y->topic >= 0 ? y->topic : CLI_TOPIC_COUNT;
+	return tx != ty ? tx - ty : strcmp(x->name, y->name);
+}
+
+// The .json files of @p folder grouped by topic, after the built-in house.
 static void fvListScenes(fvApp* app, const char* folder)
 {
-	fvAddScene(app, "(built-in house)", NULL);
+	fvAddScene(app, "(built-in house)", NULL, -1);
 	DIR* dir = folder != NULL ? opendir(folder) : NULL;
 	if (dir == NULL)
 		return;
-	char* found[256];
+	fvFoundScene found[256];
 	int count = 0;
 	for (struct dirent* e = readdir(dir); e != NULL && count < 256; e = readdir(dir))
 	{
 		size_t length = strlen(e->d_name);
-		if (length > 5 && strcmp(e->d_name + length - 5, ".json") == 0 && e->d_name[0] != '.')
-			found[count] = strdup(e->d_name), count += found[count] != NULL;
+		char path[CLI_MAX_PATH];
+		if (length > 5 && strcmp(e->d_name + length - 5, ".json") == 0 && e->d_name[0] != '.' &&
+		    cliJoinPath(path, sizeof path, folder, e->d_name) &&
+		    (found[count].name = strdup(e->d_name)) != NULL)
+			found[count++].topic = fvSceneTopic(path);
 	}
 	closedir(dir);
-	qsort(found, (size_t)count, sizeof *found, fvCompareNames);
+	qsort(found, (size_t)count, sizeof *found, fvCompareScenes);
 	for (int i = 0; i < count; ++i)
 	{
 		char path[CLI_MAX_PATH];
-		if (cliJoinPath(path, sizeof path, folder, found[i]))
-			fvAddScene(app, found[i], path);
-		free(found[i]);
+		if (cliJoinPath(path, sizeof path, folder, found[i].name))
+			fvAddScene(app, found[i].name, path, found[i].topic);
+		free(found[i].name);
 	}
 }
 
@@ -81,7 +122,8 @@ bool fvApp_Init(fvApp* app, const char* scenePath, const char* sceneFolder, unsi
 		return false;
 	fvListScenes(app, sceneFolder);
 	app->sceneIndex = fvFindScene(app, scenePath);
-	if (app->sceneIndex < 0 && scenePath != NULL && fvAddScene(app, scenePath, scenePath))
+	if (app->sceneIndex < 0 && scenePath != NULL &&
+	    fvAddScene(app, scenePath, scenePath, app->session.scene.topic))
 		app->sceneIndex = app->sceneCount - 1;
 	return true;
 }
@@ -97,6 +139,7 @@ void fvApp_Free(fvApp* app)
 	}
 	free(app->sceneNames);
 	free(app->scenePaths);
+	free(app->sceneTopics);
 	memset(app, 0, sizeof *app);
 }
 
@@ -119,6 +162,28 @@ void fvApp_FrameCamera(fvApp* app)
 	if (fvDrawList_FramingBox(&app->list, lo, hi))
 		fvCamera_Frame(&app->camera, lo, hi, free / (float)app->height);
 	fvApp_KeepCameraAbove(app);
+}
+
+void fvApp_PlaceCamera(fvApp* app, const cliViewOptions* given)
+{
+	cliViewOptions o;
+	cliViewOptions_Init(&o);
+	if (given != NULL)
+		o = *given;
+	cliViewOptions_TakeCamera(&o, &app->session.scene.camera);
+	fvCamera* camera = &app->camera;
+	if (o.hasYaw)
+		camera->yaw = (float)o.yaw;
+	if (o.hasPitch)
+		camera->pitch = (float)o.pitch;
+	fvApp_FrameCamera(app);
+	if (o.hasTarget)
+		camera->target[0] = (float)o.target.x, camera->target[1] = (float)o.target.y,
+		camera->target[2] = (float)o.target.z;
+	if (o.hasDistance)
+		camera->distance = (float)o.distance;
+	fvApp_KeepCameraAbove(app);
+	app->cameraGiven = o.hasTarget || o.hasDistance;
 }
 
 void fvApp_SetPanel(fvApp* app, float panelRight)
@@ -157,7 +222,7 @@ void fvApp_SelectScene(fvApp* app, int index)
 	app->session = next;
 	app->sceneIndex = index;
 	app->mouse = fv_mouseNone;
-	fvApp_FrameCamera(app);
+	fvApp_PlaceCamera(app, NULL);
 }
 
 // The point where the cursor's ray meets the plane through app->grabPlane facing the camera.
@@ -347,6 +412,9 @@ void fvApp_FillUi(const fvApp* app, fvUiModel* m, double fps)
 	m->dragging = s->dragging;
 	m->status = s->status;
 	m->sceneNames = (const char* const*)app->sceneNames;
+	m->sceneTopics = app->sceneTopics;
+	m->topicNames = cliTopicNames;
+	m->topicCount = CLI_TOPIC_COUNT;
 	m->sceneCount = app->sceneCount;
 	m->sceneIndex = app->sceneIndex;
 	m->model = (int)s->params.model;

@@ -8,6 +8,7 @@
 #include "draw_list.h"
 #include "session.h"
 #include "ui.h"
+#include "view_options.h"
 
 /// What a mouse drag does.
 typedef enum fvMouseMode
@@ -34,6 +35,7 @@ typedef struct fvApp
 	bool cameraGiven;  ///< the camera's target or distance was given (not reframed for the panel)
 	char** sceneNames; ///< "(built-in house)", then the .json files of the scene folder
 	char** scenePaths; ///< NULL for the built-in house
+	int* sceneTopics;  ///< each scene's "topic" (cliTopicNames), -1 none: the list is grouped
 	int sceneCount;
 	int sceneIndex;
 	bool quit;
@@ -58,6 +60,10 @@ void fvApp_KeepCameraAbove(fvApp* app);
 
 /// Aim the camera at the bodies and the floor under them.
 void fvApp_FrameCamera(fvApp* app);
+
+/// Place the camera for the scene just loaded: @p given's --camera-* parts (NULL: none) over the
+/// scene's "camera" preset, over the automatic framing.
+void fvApp_PlaceCamera(fvApp* app, const cliViewOptions* given);
 
 /// Load scene @p index of the list (keeps the current one on failure, with the status set).
 void fvApp_SelectScene(fvApp* app, int index);

@@ -175,24 +175,6 @@ static void fvInputKey(void* c, const char* name)
 	fvApp_Key(c, name);
 }
 
-// The camera options over the automatic framing.
-static void fvApplyCameraOptions(fvView* v)
-{
-	const cliViewOptions* o = &v->options.view;
-	fvCamera* camera = &v->app.camera;
-	if (o->hasYaw)
-		camera->yaw = (float)o->yaw;
-	if (o->hasPitch)
-		camera->pitch = (float)o->pitch;
-	fvApp_FrameCamera(&v->app);
-	if (o->hasTarget)
-		camera->target[0] = (float)o->target.x, camera->target[1] = (float)o->target.y,
-		camera->target[2] = (float)o->target.z;
-	if (o->hasDistance)
-		camera->distance = (float)o->distance;
-	v->app.cameraGiven = o->hasTarget || o->hasDistance;
-}
-
 static int fvOpen(fvView* v)
 {
 	const fvViewOptions* o = &v->options;
@@ -225,7 +207,7 @@ static int fvOpen(fvView* v)
 	v->ui = !o->noUi && fvUi_Init(v->window.glfw);
 	v->app.uiWantsMouse = v->ui ? fvUi_WantsMouse : NULL;
 	fvWindow_FramebufferSize(&v->window, &v->app.width, &v->app.height);
-	fvApplyCameraOptions(v);
+	fvApp_PlaceCamera(&v->app, &v->options.view);
 	return -1;
 }
 
@@ -413,6 +395,14 @@ static bool fvWriteReport(const fvView* v, const char* path)
 	        "profile_frames %d\n",
 	        p->integrator == fm_implicit ? "implicit" : "explicit", p->substeps, p->dt,
 	        app->session.overBudgetFrames, app->panelRight, app->session.historyCount);
+	const fvCamera* c = &app->camera;
+	fprintf(out, "camera %.4g %.4g %.4g %.4g %.4g %.4g\n", c->target[0], c->target[1], c->target[2],
+	        c->distance, c->yaw, c->pitch);
+	// The scene list as the panel shows it: grouped by topic, the built-in house first.
+	for (int i = 0; i < app->sceneCount; ++i)
+		fprintf(out, "scene %s %s\n",
+		        app->sceneTopics[i] >= 0 ? cliTopicNames[app->sceneTopics[i]] : "-",
+		        app->sceneNames[i]);
 	float lo[3], hi[3], pixel[2], vertex[2], cursor[2];
 	if (fvDrawList_Bounds(&app->list, lo, hi))
 	{

@@ -91,14 +91,24 @@ void showScene(fvUiModel& m)
 {
 	int index = m.sceneIndex;
 	const char* current = index >= 0 && index < m.sceneCount ? m.sceneNames[index] : "";
-	if (ImGui::BeginCombo("scene", current))
+	if (ImGui::BeginCombo("scene", current, ImGuiComboFlags_HeightLarge))
 	{
+		// Grouped by topic (the app sorts the list so): a header where the topic changes, the
+		// built-in house first, on its own.
 		for (int i = 0; i < m.sceneCount; ++i)
+		{
+			int topic = m.sceneTopics[i];
+			if (i > 0 && (i == 1 || topic != m.sceneTopics[i - 1]))
+				ImGui::TextDisabled("%s", topic >= 0 && topic < m.topicCount ? m.topicNames[topic]
+				                                                             : "other");
+			ImGui::Indent(i > 0 ? 8.0f : 0.0f);
 			if (ImGui::Selectable(m.sceneNames[i], i == index) && i != index)
 			{
 				m.sceneIndex = i;
 				m.sceneChanged = true;
 			}
+			ImGui::Unindent(i > 0 ? 8.0f : 0.0f);
+		}
 		ImGui::EndCombo();
 	}
 }

@@ -31,6 +31,9 @@ extern "C"
 		const char* status;      ///< the last problem, "" if none
 		const char* description; ///< the scene's "description", "" if none
 		const char* const* sceneNames;
+		const int* sceneTopics;        ///< each scene's topic in topicNames, -1 none
+		const char* const* topicNames; ///< the topics the list is grouped by, in its order
+		int topicCount;
 		int sceneCount;
 		// Edited.
 		int sceneIndex;

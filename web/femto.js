@@ -20,7 +20,7 @@ const simd = WebAssembly.validate(SIMD_PROBE) && !params.has('nosimd');
 // What a test or an embedding page can read (scripts/check-web.sh reads it).
 const state = {
   ready: false, simd, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
-  scene: 0, bodyCount: 0,
+  scene: 0, bodyCount: 0, profileFrames: 0, contactLines: 0, asleep: 0,
 };
 window.femto = state;
 
@@ -87,10 +87,42 @@ function sceneLoaded() {
   const { lo, hi } = bounds();
   lo[1] = Math.min(lo[1], M._fw_floor_height());
   const center = vec3.scale(0.5, vec3.add(lo, hi));
-  camera.frame(center, 0.5 * Math.hypot(...vec3.sub(hi, lo)));
+  placeCamera(center, 0.5 * Math.hypot(...vec3.sub(hi, lo)));
   setPaused(false);
   state.error = '';
   message('');
+  profile.length = 0;
+  state.profileFrames = 0;
+}
+
+// The scene's "camera" preset (fw_camera; docs/scene-format.md) over the framing of the bodies:
+// its yaw and pitch first, the framing, then its target and distance.
+function placeCamera(center, radius) {
+  const preset = [0, 1, 2, 3, 4, 5].map((k) => M._fw_camera(k));
+  if (!Number.isNaN(preset[4])) camera.yaw = (preset[4] * Math.PI) / 180;
+  if (!Number.isNaN(preset[5])) camera.pitch = (preset[5] * Math.PI) / 180;
+  camera.frame(center, radius);
+  if (!Number.isNaN(preset[0])) camera.target = preset.slice(0, 3);
+  if (!Number.isNaN(preset[3])) camera.distance = preset[3];
+}
+
+// The picker's scenes grouped by their files' "topic" (fw_scene_topic), in the format's order of
+// topics, as femto view's list; each keeps its number (fw_load_scene's index, the URL's scene=N).
+const TOPICS = ['materials', 'integrators', 'contact', 'colliders', 'loads', 'render meshes'];
+function fillScenePicker(select) {
+  const groups = new Map();
+  for (let i = 0; i < M._fw_scene_count(); ++i) {
+    const topic = M.UTF8ToString(M._fw_scene_topic(i)) || 'other';
+    if (!groups.has(topic)) groups.set(topic, []);
+    groups.get(topic).push(new Option(M.UTF8ToString(M._fw_scene_name(i)), String(i)));
+  }
+  const order = (t) => (TOPICS.includes(t) ? TOPICS.indexOf(t) : TOPICS.length);
+  for (const topic of [...groups.keys()].sort((a, b) => order(a) - order(b))) {
+    const group = document.createElement('optgroup');
+    group.label = topic;
+    for (const option of groups.get(topic)) group.appendChild(option);
+    select.appendChild(group);
+  }
 }
 
 // The camera follows the bodies when they leave the middle of the view (a thrown body, drop.json,
@@ -372,6 +404,85 @@ window.addEventListener('drop', (event) => {
   if (M) takeFiles([...event.dataTransfer.files]);
 });
 
+// ---- the profile graph: Box2D's profile, each stage's time a frame over the last 5 s ----------
+// fw_profile's stages (the last fmWorld_Step's fmProfile, ms; they do not overlap), stacked as
+// bands from the bottom, the whole step as a line over them (what is left is the step's own
+// overhead): which, name, colour. No colour is the house's orange (the browser test finds the
+// house by it).
+const PROFILE_FRAMES = 300;
+const STEP_SHARE_MS = 8.3; // the physics' share of a 60 Hz frame (femto view's "over budget")
+const PROFILE_STAGES = [
+  [[1, 'forces', '#1f77b4'], [2, 'integrate', '#2ca02c'], [6, 'contact', '#9467bd'],
+    [5, 'check', '#17becf']],
+  [[3, 'solve', '#1f77b4'], [4, 'finish', '#2ca02c'], [6, 'contact', '#9467bd'],
+    [5, 'check', '#17becf']],
+];
+const profile = []; // one Float64Array of fw_profile's 9 stages a frame, the newest last
+
+function recordProfile() {
+  const sample = new Float64Array(9);
+  for (let k = 0; k < 9; ++k) sample[k] = M._fw_profile(k);
+  profile.push(sample);
+  if (profile.length > PROFILE_FRAMES) profile.shift();
+  state.profileFrames = profile.length;
+}
+
+function drawProfile() {
+  const graph = $('profile');
+  const c = graph.getContext('2d');
+  const w = graph.width, h = graph.height, plotTop = 24, plotBottom = h - 1;
+  c.clearRect(0, 0, w, h);
+  const stages = PROFILE_STAGES[Number($('integrator').value)];
+  // The top follows the steps shown (their 95th percentile: a first step's warm-up of 20 ms or a
+  // garbage collection would flatten the rest; higher steps are cut at the top).
+  const steps = profile.map((sample) => sample[0]).sort((a, b) => a - b);
+  const top = Math.max(0.1, 1.25 * (steps[Math.floor(0.95 * (steps.length - 1))] || 0));
+  const y = (ms) => plotBottom - (plotBottom - plotTop) * Math.min(ms / top, 1);
+  const x = (k) => (w * (k + PROFILE_FRAMES - profile.length)) / (PROFILE_FRAMES - 1);
+  const below = new Float64Array(profile.length);
+  for (const [which, , colour] of stages) {
+    c.fillStyle = colour;
+    c.beginPath();
+    profile.forEach((sample, k) => c.lineTo(x(k), y(below[k] + sample[which])));
+    for (let k = profile.length - 1; k >= 0; --k) c.lineTo(x(k), y(below[k]));
+    c.fill();
+    profile.forEach((sample, k) => { below[k] += sample[which]; });
+  }
+  c.strokeStyle = '#222';
+  c.beginPath();
+  profile.forEach((sample, k) => c.lineTo(x(k), y(sample[0])));
+  c.stroke();
+  if (top > STEP_SHARE_MS) {
+    c.strokeStyle = '#d33'; // the physics' share of a 60 Hz frame
+    c.beginPath();
+    c.moveTo(0, y(STEP_SHARE_MS));
+    c.lineTo(w, y(STEP_SHARE_MS));
+    c.stroke();
+  }
+  c.font = '10px system-ui, sans-serif';
+  c.fillStyle = '#444';
+  const last = profile.length ? profile[profile.length - 1][0] : 0;
+  c.fillText(`step ${last.toFixed(2)} ms (line), last 5 s, top ${top.toPrecision(2)} ms`, 2, 10);
+  let legend = 2;
+  for (const [, name, colour] of stages) {
+    c.fillStyle = colour;
+    c.fillText(name, legend, 21);
+    legend += c.measureText(name).width + 6;
+  }
+}
+
+// The contacts debug view: the library's contact lines (fw_contact_lines, fm_drawContacts).
+function updateContactLines() {
+  if (!$('contacts').checked) {
+    renderer.setContactLines(new Float32Array(0));
+    state.contactLines = 0;
+    return;
+  }
+  const pointer = M._fw_contact_lines() >> 2;
+  state.contactLines = M._fw_contact_line_count();
+  renderer.setContactLines(M.HEAPF32.slice(pointer, pointer + 6 * state.contactLines));
+}
+
 // ---- the loop ---------------------------------------------------------------------------------
 let last = performance.now();
 let accumulator = 0;
@@ -388,6 +499,7 @@ function frame(now) {
     const r = M._fw_step();
     stepSum += performance.now() - start;
     librarySum += M._fw_step_ms();
+    recordProfile();
     stepCount += 1;
     state.frames += 1;
     if (r !== 0) {
@@ -396,7 +508,14 @@ function frame(now) {
     }
   }
   if (ticks === MAX_TICKS_PER_FRAME || state.paused) accumulator = 0;
-  for (let b = 0; b < M._fw_body_count(); ++b) renderer.updateBody(b, positions(b));
+  state.asleep = 0;
+  for (let b = 0; b < M._fw_body_count(); ++b) {
+    const asleep = M._fw_awake(b) === 0;
+    state.asleep += asleep;
+    renderer.updateBody(b, positions(b), asleep);
+  }
+  if (ticks > 0 || profile.length === 0) drawProfile();
+  updateContactLines();
   followBodies();
   renderer.draw(camera, M._fw_floor_height());
   fpsFrames += 1;
@@ -449,8 +568,7 @@ async function main() {
   M = await createFemto();
   await giveFiles();
   const select = $('scene');
-  for (let i = 0; i < M._fw_scene_count(); ++i)
-    select.add(new Option(M.UTF8ToString(M._fw_scene_name(i)), String(i)));
+  fillScenePicker(select);
   MODELS.forEach((name, i) => $('model').add(new Option(name, String(i))));
   select.addEventListener('change', () => {
     const index = Number(select.value);

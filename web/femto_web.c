@@ -47,7 +47,9 @@
 	X("house, Mooney-Rivlin", house_mooneyrivlin)                                                  \
 	X("pile of boxes", pile)                                                                       \
 	X("thrown cube", drop)                                                                         \
-	X("two houses (implicit)", two_houses)
+	X("two houses (implicit)", two_houses)                                                         \
+	X("house, StVK", house_stvk)                                                                   \
+	X("house, implicit (Neo-Hookean)", house_implicit)
 
 // One entry of the menu: its title and its file.
 typedef struct fwSceneFile
@@ -307,6 +309,33 @@ FW_EXPORT const char* fw_scene_name(int index)
 FW_EXPORT const char* fw_scene_file(int index)
 {
 	return index >= 0 && index < FW_SCENE_COUNT ? fw_scenes[index].file : "";
+}
+
+/// The "topic" of built-in scene @p index (docs/scene-format.md: the page's picker groups the
+/// scenes by it), read from its file by the schema; "" when it has none, or its file was not
+/// given yet or does not read.
+FW_EXPORT const char* fw_scene_topic(int index)
+{
+	if (index < 0 || index >= FW_SCENE_COUNT || s_files[index].text == NULL)
+		return "";
+	cliScene scene;
+	if (!cliScene_LoadText(fw_scenes[index].file, s_files[index].text, s_files[index].size, NULL,
+	                       &scene))
+		return "";
+	int topic = scene.topic;
+	cliScene_Free(&scene);
+	return topic >= 0 ? cliTopicNames[topic] : "";
+}
+
+/// The loaded scene's "camera" preset: 0-2 its target (m), 3 its distance (m), 4 its yaw and 5
+/// its pitch (degrees); NaN for a part it does not give (the page frames that part).
+FW_EXPORT double fw_camera(int which)
+{
+	const cliCameraPreset* c = &s_app.scene.camera;
+	const double parts[6] = {c->hasTarget ? c->target.x : NAN, c->hasTarget ? c->target.y : NAN,
+	                         c->hasTarget ? c->target.z : NAN, c->hasDistance ? c->distance : NAN,
+	                         c->hasYaw ? c->yaw : NAN,         c->hasPitch ? c->pitch : NAN};
+	return s_app.hasScene && which >= 0 && which < 6 ? parts[which] : NAN;
 }
 
 /// Number of files the glue reads (fw_file_path).
@@ -644,6 +673,63 @@ FW_EXPORT double fw_profile(int which)
 	const double stages[] = {p.step,  p.forces,  p.integrate,  p.solve,      p.finish,
 	                         p.check, p.contact, p.broadPhase, p.narrowPhase};
 	return which >= 0 && which < 9 ? stages[which] : 0.0;
+}
+
+/// Whether body @p b is awake (0 while its island sleeps: fmBody_IsAwake; the page dims it).
+FW_EXPORT int fw_awake(int b)
+{
+	return fwBodyOk(b) ? fmBody_IsAwake(s_app.bodies[b]) : 0;
+}
+
+// The contacts' lines of the last fw_contact_lines(): 6 floats a line (point, tip), grown as
+// needed and kept across scenes.
+static float* s_contactLines;
+static int s_contactLineCount, s_contactLineCapacity;
+
+static void fwTakeContactLines(const float* points, int lineCount, fmHexColor color, void* context)
+{
+	(void)color;
+	(void)context;
+	if (s_contactLineCount + lineCount > s_contactLineCapacity)
+	{
+		int capacity = 2 * (s_contactLineCount + lineCount);
+		float* grown = realloc(s_contactLines, 6 * sizeof(float) * (size_t)capacity);
+		if (grown == NULL)
+			return;
+		s_contactLines = grown;
+		s_contactLineCapacity = capacity;
+	}
+	memcpy(s_contactLines + 6 * (size_t)s_contactLineCount, points,
+	       6 * sizeof(float) * (size_t)lineCount);
+	s_contactLineCount += lineCount;
+}
+
+static void fwSkipPoints(const float* points, int count, float size, fmHexColor color,
+                         void* context)
+{
+	(void)points, (void)count, (void)size, (void)color, (void)context;
+}
+
+/// The last substep's contacts as the library draws them (fmWorld_Draw, fm_drawContacts): from
+/// each contact point a line along its normal, longer the harder it pushes; 6 floats a line
+/// (point, tip, m), fw_contact_line_count() of them. Valid until the next call.
+FW_EXPORT const float* fw_contact_lines(void)
+{
+	s_contactLineCount = 0;
+	if (!fmWorld_IsValid(s_app.world))
+		return s_contactLines;
+	fmDebugDraw draw = fmDefaultDebugDraw();
+	draw.flags = fm_drawContacts;
+	draw.drawLines = fwTakeContactLines;
+	draw.drawPoints = fwSkipPoints;
+	fmWorld_Draw(s_app.world, &draw);
+	return s_contactLines;
+}
+
+/// Lines fw_contact_lines() gave.
+FW_EXPORT int fw_contact_line_count(void)
+{
+	return s_contactLineCount;
 }
 
 /// Queue the seeds' jump for the next frame.

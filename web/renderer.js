@@ -1,5 +1,5 @@
-// The page's WebGL2 renderer (docs/web.md): the bodies' surfaces with smooth normals, a floor
-// with a checker and fog, and planar shadows (the bodies flattened onto the floor along the
+// The page's WebGL2 renderer (docs/web.md): the bodies' surfaces with smooth normals (sleeping
+// ones dimmed), the contacts' normals as lines, a floor with a checker and fog, and planar shadows (the bodies flattened onto the floor along the
 // light, drawn once per pixel through the stencil). Modelled on viewer/renderer.c's shaders,
 // written for GLSL ES 3.00. Plain WebGL2, no library.
 
@@ -82,6 +82,31 @@ void main() {
   color = vec4(pow(c, vec3(1.0 / 2.2)), 1.0);
 }`;
 
+// The contacts' lines and points (fm_drawContacts' colour), drawn over everything as debug
+// lines are: a floor contact's normal points up into the body that rests on it.
+const lineVertex = `#version 300 es
+layout(location = 0) in vec3 aPosition;
+uniform mat4 uViewProjection;
+uniform float uPointSize;
+void main() {
+  gl_Position = uViewProjection * vec4(aPosition, 1.0);
+  gl_PointSize = uPointSize;
+}`;
+
+const lineFragment = `#version 300 es
+precision highp float;
+uniform vec3 uColor;
+out vec4 color;
+void main() { color = vec4(uColor, 1.0); }`;
+
+// The library's contact colour (src/draw/draw.c, 0xffd000).
+export const contactColor = [1.0, 0xd0 / 255, 0.0];
+
+// A sleeping body's colour: dimmed toward grey, as femto view (viewer/draw_list.c) and Box2D.
+export function dimmed(color) {
+  return color.map((c) => 0.45 * c + 0.55 * 0.55);
+}
+
 function compile(gl, type, source) {
   const shader = gl.createShader(type);
   gl.shaderSource(shader, source);
@@ -152,6 +177,19 @@ export class Renderer {
     gl.vertexAttribPointer(0, 2, gl.FLOAT, false, 0, 0);
     gl.bindVertexArray(null);
     this.meshes = [];
+    this.line = program(gl, lineVertex, lineFragment);
+    this.lineVao = gl.createVertexArray();
+    this.lineBuffer = gl.createBuffer();
+    gl.bindVertexArray(this.lineVao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.lineBuffer);
+    gl.enableVertexAttribArray(0);
+    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
+    this.pointVao = gl.createVertexArray(); // the lines' starts: every other vertex
+    gl.bindVertexArray(this.pointVao);
+    gl.enableVertexAttribArray(0);
+    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 24, 0);
+    gl.bindVertexArray(null);
+    this.lineCount = 0;
     // Light from above and to the right of the starting camera, travelling down.
     const l = [-0.7, -1.0, -0.25];
     const n = Math.hypot(...l);
@@ -186,14 +224,24 @@ export class Renderer {
       gl.bindVertexArray(null);
       return { vao, positionBuffer, normalBuffer, indexBuffer, count: b.triangles.length,
         normals: new Float32Array(3 * b.vertexCount), triangles: b.triangles,
-        color: palette[i % palette.length] };
+        color: palette[i % palette.length], asleep: false };
     });
   }
 
-  // Upload body @p i's positions (Float32Array, 3 a vertex) and their normals.
-  updateBody(i, positions) {
+  // The contacts' lines to draw (Float32Array, 6 floats a line: point, tip), or none.
+  setContactLines(lines) {
+    const gl = this.gl;
+    this.lineCount = lines.length / 6;
+    if (this.lineCount === 0) return;
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.lineBuffer);
+    gl.bufferData(gl.ARRAY_BUFFER, lines, gl.DYNAMIC_DRAW);
+  }
+
+  // Upload body @p i's positions (Float32Array, 3 a vertex) and their normals; @p asleep dims it.
+  updateBody(i, positions, asleep = false) {
     const gl = this.gl;
     const m = this.meshes[i];
+    m.asleep = asleep;
     smoothNormals(positions, m.triangles, m.normals);
     gl.bindBuffer(gl.ARRAY_BUFFER, m.positionBuffer);
     gl.bufferSubData(gl.ARRAY_BUFFER, 0, positions);
@@ -259,10 +307,27 @@ export class Renderer {
     // The bodies.
     gl.uniform1i(u.uShadow, 0);
     for (const m of this.meshes) {
-      gl.uniform3fv(u.uColor, m.color);
+      gl.uniform3fv(u.uColor, m.asleep ? dimmed(m.color) : m.color);
       gl.bindVertexArray(m.vao);
       gl.drawElements(gl.TRIANGLES, m.count, gl.UNSIGNED_INT, 0);
     }
+    if (this.lineCount > 0) this.drawContactLines(viewProjection);
     gl.bindVertexArray(null);
+  }
+
+  // The contacts over everything: the lines, and their starts (the contact points) as dots.
+  drawContactLines(viewProjection) {
+    const gl = this.gl;
+    gl.disable(gl.DEPTH_TEST);
+    gl.useProgram(this.line.program);
+    gl.uniformMatrix4fv(this.line.uniforms.uViewProjection, false, viewProjection);
+    gl.uniform3fv(this.line.uniforms.uColor, contactColor);
+    gl.bindVertexArray(this.lineVao);
+    gl.uniform1f(this.line.uniforms.uPointSize, 1);
+    gl.drawArrays(gl.LINES, 0, 2 * this.lineCount);
+    gl.uniform1f(this.line.uniforms.uPointSize, 4);
+    gl.bindVertexArray(this.pointVao);
+    gl.drawArrays(gl.POINTS, 0, this.lineCount);
+    gl.enable(gl.DEPTH_TEST);
   }
 }

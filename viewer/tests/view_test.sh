@@ -54,5 +54,21 @@ awk '/^panel_right/ { right = $2 } /^body_pixel/ { x = $2 }
   { echo "view_test: the framed house is not in the middle of what the panel leaves:"; cat "$work/panel.report"; exit 1; }
 grep -qx "profile_frames 10" "$work/panel.report" ||
   { echo "view_test: the profile graph does not hold the 10 frames stepped:"; cat "$work/panel.report"; exit 1; }
+# The panel's scene list is scenes/*.json (the folder without a scene given), every file with a
+# topic, grouped by topic in the format's order (the report lists it as the panel shows it).
+ls "$scripts/../../scenes" | sed -n 's/\.json$//p' | sort > "$work/scenes.expected"
+sed -n 's/^scene \(.*\) \([^ ]*\)\.json$/\2/p' "$work/panel.report" | sort > "$work/scenes.listed"
+cmp -s "$work/scenes.expected" "$work/scenes.listed" ||
+  { echo "view_test: the scene list is not scenes/*.json:"; diff "$work/scenes.expected" "$work/scenes.listed"; exit 1; }
+awk 'BEGIN { split("materials integrators contact colliders loads render", t, " "); for (k in t) rank[t[k]] = k }
+     /^scene / && $NF ~ /\.json$/ { r = ($2 in rank) ? rank[$2] : 0; if (r == 0 || r < last) bad = bad " " $NF; last = r }
+     END { if (bad != "") { print "view_test: scenes without a topic or out of their group:" bad; exit 1 } }' \
+  "$work/panel.report"
+# A scene's "camera" preset places the camera when it loads (scenes/cantilever.json: target
+# [1, -0.1, 0.1], distance 3, yaw 15, pitch 10).
+xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view "$scripts/../../scenes/cantilever.json" \
+  --size 320x240 --no-ui --frames 1 --report "$work/camera.report"
+grep -qx "camera 1 -0.1 0.1 3 15 10" "$work/camera.report" ||
+  { echo "view_test: the cantilever's camera preset was not used:"; cat "$work/camera.report"; exit 1; }
 cat "$work/drag.report"
 "$check" view "$work/drag.png" "$work/drag.report" "$work/no_drag.png"

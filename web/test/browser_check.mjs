@@ -6,7 +6,8 @@
 //   3. the house's pixels move between two screenshots half a second apart;
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
 //      and a finger (touch events) drags it too; the Play/Pause label matches the state after a
-//      pause, a reset and a scene change;
+//      pause, a reset and a scene change; the profile graph draws its stages' lines, the
+//      contacts view draws the contacts' lines, and a pile that has come to rest is dimmed;
 //   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
 //   6. a TetGen .node/.ele pair and a Gmsh .msh given to the page's file input (the drop's path)
 //      load (and the pair steps);
@@ -105,6 +106,39 @@ function houseMask(image) {
   return { mask, count, centroidY: count ? sumY / count : NaN, top };
 }
 
+// Pixels of @p image within @p tolerance of @p rgb, in the rectangle @p r (CSS pixels, the
+// screenshot's scale is 1): their count and how many distinct columns they span.
+function colourIn(image, r, rgb, tolerance) {
+  let count = 0;
+  const columns = new Set();
+  for (let y = Math.max(0, Math.floor(r.top)); y < Math.min(image.height, r.bottom); ++y)
+    for (let x = Math.max(0, Math.floor(r.left)); x < Math.min(image.width, r.right); ++x) {
+      const i = 4 * (y * image.width + x);
+      if (Math.abs(image.pixels[i] - rgb[0]) <= tolerance &&
+          Math.abs(image.pixels[i + 1] - rgb[1]) <= tolerance &&
+          Math.abs(image.pixels[i + 2] - rgb[2]) <= tolerance) {
+        count += 1;
+        columns.add(x);
+      }
+    }
+  return { count, columns: columns.size };
+}
+
+// How coloured the pixels around (x, y) are: the mean spread between their largest and smallest
+// channel over a 9x9 patch (0 for greys; a sleeping body is dimmed toward grey).
+function saturationAt(image, x, y) {
+  let sum = 0, n = 0;
+  for (let v = Math.round(y) - 4; v <= Math.round(y) + 4; ++v)
+    for (let u = Math.round(x) - 4; u <= Math.round(x) + 4; ++u) {
+      if (u < 0 || v < 0 || u >= image.width || v >= image.height) continue;
+      const i = 4 * (v * image.width + u);
+      const px = [image.pixels[i], image.pixels[i + 1], image.pixels[i + 2]];
+      sum += Math.max(...px) - Math.min(...px);
+      n += 1;
+    }
+  return n ? sum / n : 0;
+}
+
 function maskDifference(a, b) {
   let d = 0;
   for (let i = 0; i < a.mask.length; ++i) d += a.mask[i] !== b.mask[i];
@@ -167,6 +201,68 @@ class Session {
     this.socket.send(JSON.stringify({ id, method, params, sessionId }));
     return new Promise((resolve, reject) => this.pending.set(id, { resolve, reject }));
   }
+}
+
+const rectOf = (evaluate, id) => evaluate(`(() => { const r = document.getElementById("${id}")` +
+  '.getBoundingClientRect(); return { left: r.left, top: r.top, right: r.right, ' +
+  'bottom: r.bottom }; })()');
+
+// The profile graph (Box2D's profile) holds the last frames and draws the forces' band across
+// the graph (the legend's word alone spans a few dozen columns); the contacts view draws the library's
+// contact lines in its yellow over the canvas (not the panel), none with the view off.
+async function checkProfileAndContacts(evaluate, screenshot) {
+  await waitFor(evaluate, 'femto.profileFrames >= 200', 30);
+  const graph = await rectOf(evaluate, 'profile');
+  const frames = await evaluate('femto.profileFrames');
+  const image = decodePng(await screenshot());
+  const forces = colourIn(image, graph, [0x1f, 0x77, 0xb4], 40);
+  check(frames >= 200 && forces.columns > 100 && graph.bottom <= image.height,
+    `the profile graph holds ${frames} frames (200 or more needed) and its forces band spans ` +
+    `${forces.columns} columns of the graph (more than 100 needed; ${forces.count} pixels)`);
+  const panel = await rectOf(evaluate, 'panel');
+  const canvasOnly = { left: panel.right + 1, top: 0, right: image.width, bottom: image.height };
+  const yellowBefore = colourIn(image, canvasOnly, [255, 0xd0, 0], 40).count;
+  await evaluate('document.getElementById("contacts").click()');
+  await sleep(700);
+  const lines = await evaluate('femto.contactLines');
+  const yellowAfter = colourIn(decodePng(await screenshot()), canvasOnly, [255, 0xd0, 0], 40).count;
+  await evaluate('document.getElementById("contacts").click()');
+  check(lines > 0 && yellowAfter > 40 && yellowAfter > 4 * yellowBefore + 10,
+    `the contacts view draws the contacts' lines: ${lines} lines, ${yellowAfter} pixels of their ` +
+    `yellow (more than 40 needed), ${yellowBefore} with the view off`);
+}
+
+// A pile at rest falls asleep (pile.json's "contact": {"sleep": true}) and is drawn dimmed: the
+// top box's pixels are less coloured than when it was dropped, seen paused both times.
+async function checkSleepDimmed(evaluate, screenshot) {
+  await evaluate('(() => { const s = document.getElementById("scene"); ' +
+    'const o = [...s.options].find((x) => x.text.startsWith("pile")); s.value = o.value; ' +
+    's.dispatchEvent(new Event("change")); document.getElementById("pause").click(); })()');
+  await sleep(400);
+  const seen = async () => {
+    const p = await evaluate('femto.bodyCenterOnCanvas(2)');
+    return saturationAt(decodePng(await screenshot()), p.x, p.y);
+  };
+  const awake = await seen();
+  await evaluate('document.getElementById("pause").click()');
+  const slept = await waitFor(evaluate, 'femto.asleep === femto.bodyCount', 40);
+  await evaluate('document.getElementById("pause").click()');
+  await sleep(400);
+  const asleep = await seen();
+  await evaluate('document.getElementById("pause").click()');
+  check(slept && asleep < 0.75 * awake, `the pile at rest sleeps (${slept ? 'all' : 'not all'} ` +
+    `of its bodies within 40 s) and is dimmed: its top box's colour spread ${asleep.toFixed(0)} ` +
+    `against ${awake.toFixed(0)} awake (less than 75% needed)`);
+  await evaluate('(() => { const s = document.getElementById("scene"); ' +
+    's.value = s.options[0].value; s.dispatchEvent(new Event("change")); })()');
+}
+
+async function waitFor(evaluate, expression, seconds) {
+  for (let t = 0; t < seconds * 10; ++t) {
+    if (await evaluate(expression)) return true;
+    await sleep(100);
+  }
+  return false;
 }
 
 async function main() {
@@ -281,6 +377,18 @@ async function main() {
     check(picker[1] >= picker[0] + 20, `the scene picker (${picker[1]} px) holds its longest name ` +
       `(${picker[0].toFixed(0)} px and the arrow)`);
 
+    // The picker groups the scenes by their files' topics (optgroups, in the format's order),
+    // none left outside a group or under "other" (scene_read.cjs checks each group is its file's).
+    const groups = await evaluate('(() => { const s = document.getElementById("scene"); ' +
+      'return { labels: [...s.querySelectorAll("optgroup")].map((g) => g.label), ' +
+      'grouped: s.querySelectorAll("optgroup option").length, all: s.options.length }; })()');
+    const topics = ['materials', 'integrators', 'contact', 'colliders', 'loads', 'render meshes'];
+    const ordered = groups.labels.every((l, k) => topics.includes(l) &&
+      (k === 0 || topics.indexOf(l) > topics.indexOf(groups.labels[k - 1])));
+    check(groups.labels.length >= 3 && ordered && groups.grouped === groups.all,
+      `the scene picker is grouped by topic: ${groups.labels.join(', ')} (${groups.grouped} of ` +
+      `${groups.all} scenes in a group)`);
+
     // The Play/Pause label says what it will do after every control: paused then reset, and
     // paused then another scene, the page runs again and the button says "Pause".
     const label = () => evaluate('[document.getElementById("pause").textContent, femto.paused]');
@@ -299,6 +407,9 @@ async function main() {
       `the Play/Pause label matches the state: paused "${pausedLabel[0]}", after a reset ` +
       `"${afterReset[0]}" (${afterReset[1] ? 'paused' : 'running'}), after a scene change ` +
       `"${afterScene[0]}" (${afterScene[1] ? 'paused' : 'running'})`);
+
+    await checkProfileAndContacts(evaluate, screenshot);
+    await checkSleepDimmed(evaluate, screenshot);
 
     await sleep(300);
     const stats = await evaluate('({ fps: femto.fps, stepMs: femto.stepMs, ' +

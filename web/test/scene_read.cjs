@@ -8,6 +8,9 @@
 //   2. the wasm's message for each scene file given is the tool's (`femto run FILE`, first line,
 //      when FEMTO names the built tool): the same "file:line:column: path: message"; a syntax error
 //      the same location and words up to the JavaScript engine's own reason, which it adds;
+//   4. the menu is scenes/*.json less what the page cannot show: every scene file not in it is
+//      refused by fw_load_scene_text ("the web page does not show ..." or a file it cannot
+//      read), and every menu scene's topic (fw_scene_topic, the picker's group) is its file's;
 //   3. malformed texts (cut short, nested 2000 deep, a second value, empty, binary noise) are
 //      refused with a located message, and the page's scene stays loaded.
 //
@@ -84,6 +87,27 @@ function checkMessages(M, files) {
   console.log(`scene_read: ${files.length} scene files give the tool's messages`);
 }
 
+function checkMenuIsScenes(M) {
+  const menu = [];
+  for (let i = 0; i < M._fw_scene_count(); ++i) {
+    const file = M.UTF8ToString(M._fw_scene_file(i));
+    menu.push(file);
+    const topic = JSON.parse(fs.readFileSync(path.join(root, file), 'utf8')).topic;
+    const shown = M.UTF8ToString(M._fw_scene_topic(i));
+    check(typeof topic === 'string' && shown === topic,
+      `${file}: the picker groups it under "${shown}", its file says ${JSON.stringify(topic)}`);
+  }
+  const left = fs.readdirSync(path.join(root, 'scenes')).filter((f) => f.endsWith('.json'))
+    .map((f) => `scenes/${f}`).filter((f) => !menu.includes(f));
+  for (const file of left) {
+    const { r, message } = load(M, file, fs.readFileSync(path.join(root, file), 'utf8'));
+    check(r !== 0, `${file} loads in the page but is not in its menu (web/femto_web.c's FW_SCENES)`);
+    console.log(`scene_read: not in the menu: ${message}`);
+  }
+  console.log(`scene_read: the menu is scenes/*.json (${menu.length}) less the ${left.length} ` +
+    'the page cannot show, each under its file\'s topic');
+}
+
 function checkMalformed(M) {
   const good = fs.readFileSync(path.join(root, 'scenes/house.json'), 'utf8');
   check(load(M, 'scenes/house.json', good).r === 0, 'scenes/house.json does not load');
@@ -109,6 +133,7 @@ createFemto().then((M) => {
   checkNotGiven(M);
   giveFiles(M);
   checkMenu(M);
+  checkMenuIsScenes(M);
   checkMessages(M, process.argv.slice(2));
   checkMalformed(M);
   process.exit(failures === 0 ? 0 : 1);
