@@ -26,7 +26,7 @@ bool fmContactDetect_NearOtherBody(const fmWorld* w, const fmContactState* s, in
                                    fmVec3 hi, bool higher)
 {
 	const fmBody* b = &w->bodies[slot];
-	for (int k = higher ? slot + 1 : 0; k < w->bodyCapacity; ++k)
+	for (int k = higher ? slot : 0; k < w->bodyCapacity; ++k)
 	{
 		const fmBody* o = &w->bodies[k];
 		if (!fmBody_IsLive(o) || (k == slot && !b->selfCollision) ||
@@ -172,7 +172,7 @@ static bool fmEndWorkers(fmWorld* w, const fmContactState* s)
 }
 
 // Whether body @p slot has detection items: it is near another body (with @p edges, one of a
-// higher slot: an edge is tested against those only).
+// higher slot, or itself when it collides with itself: an edge is tested against those only).
 static bool fmHasItems(const fmWorld* w, const fmContactState* s, int slot, bool edges)
 {
 	return fmBody_IsLive(&w->bodies[slot]) && s->bodyNear[slot] &&

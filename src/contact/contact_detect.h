@@ -19,8 +19,8 @@ double fmContactDetect_Motion(const fmContactState* s, const fmBody* b, int i);
 
 // Whether the box [lo, hi] of something of body @p slot overlaps the box of a body it may touch
 // (another one whose filter meets its own, or itself when it collides with itself; with
-// @p higher, only the bodies of higher slots, which the edges test against): most vertices of a
-// pile of bodies apart from each other skip the spatial hash entirely.
+// @p higher, only the bodies of higher slots and itself, which the edges test against): most
+// vertices of a pile of bodies apart from each other skip the spatial hash entirely.
 bool fmContactDetect_NearOtherBody(const fmWorld* w, const fmContactState* s, int slot, fmVec3 lo,
                                    fmVec3 hi, bool higher);
 

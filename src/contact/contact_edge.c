@@ -37,6 +37,22 @@ fmVec3 fmContactEdge_Point(const double* x, const int e[2], double s)
 	return fmMulAdd(fmLoad(x, e[0]), s, fmSub(fmLoad(x, e[1]), fmLoad(x, e[0])));
 }
 
+// Whether edges @p e and @p f of one body may touch each other (self-collision): each pair once,
+// and only when they share no vertex and were apart in the rest shape by more than twice the
+// thickness (as a vertex and its own triangles, contact_pair.c).
+static bool fmSelfEdges(const fmBody* b, const int e[2], const int f[2], double thickness)
+{
+	if (e[0] > f[0] || (e[0] == f[0] && e[1] >= f[1]) || e[0] == f[1] || e[1] == f[0] ||
+	    e[1] == f[1])
+		return false;
+	fmVec3 p = fmLoad(b->mesh.x0, e[0]), q = fmLoad(b->mesh.x0, e[1]);
+	fmVec3 r = fmLoad(b->mesh.x0, f[0]), t = fmLoad(b->mesh.x0, f[1]);
+	double sa, tb;
+	fmClosestSegments(p, q, r, t, &sa, &tb);
+	fmVec3 d = fmSub(fmMulAdd(p, sa, fmSub(q, p)), fmMulAdd(r, tb, fmSub(t, r)));
+	return fmLength(d) > 2.0 * thickness;
+}
+
 // Edge e of body b (@p side: the normal of a triangle of b's with that edge) against the edges
 // of triangle @p tri of body o: a contact when their closest points are inside both edges and
 // within the thickness, or when the edges crossed during the substep (the direction between the
@@ -53,6 +69,8 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		int f[2] = {tri[k], tri[(k + 1) % 3]};
 		if (f[0] > f[1])
 			continue; // each edge of o once (closed surfaces list it both ways)
+		if (other == slot && !fmSelfEdges(b, e, f, thickness))
+			continue;
 		double sa, tb;
 		fmClosestSegments(fmLoad(b->state.x, e[0]), fmLoad(b->state.x, e[1]), fmLoad(o->state.x, f[0]),
 		                  fmLoad(o->state.x, f[1]), &sa, &tb);
@@ -86,9 +104,11 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		c->s = sa, c->t = tb;
 		c->normal = crossed ? fmScale(1.0 / start, d0) : fmScale(1.0 / distance, d);
 		double from = fmDot(d0, c->normal);
-		c->reach = s->predicting ? reach
-		                         : fmContactResponse_Reach(from, from - fmDot(d, c->normal),
-		                                                   thickness, depen);
+		double closing = from - fmDot(d, c->normal);
+		// A body's own edges are kept from coming closer, as its vertices are (contact_pair.c).
+		c->reach = s->predicting   ? reach
+		           : other == slot ? fmMax(depen, fmMax(0.0, closing))
+		                           : fmContactResponse_Reach(from, closing, thickness, depen);
 		c->impulse = 0.0;
 		c->item = item;
 		c->sequence = wf->edgeCount; // increasing within the item
@@ -126,9 +146,9 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		int found = wf->query.items[c], other = s->triangleBody[found];
 		const fmBody* o = &w->bodies[other];
 		fmVec3 ilo = s->lower[found], ihi = s->upper[found];
-		if (other <= slot || !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) ||
-		    hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y || lo.y > ihi.y || hi.z < ilo.z ||
-		    lo.z > ihi.z)
+		if (other < slot || (other == slot && !b->selfCollision) ||
+		    !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) || hi.x < ilo.x ||
+		    lo.x > ihi.x || hi.y < ilo.y || lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)
 			continue;
 		wf->failed = !fmEdgeAgainstTriangle(s, wf, b, slot, e, side, o, other,
 		                                    fmContactDetect_Triangle(o, s->triangleIndex[found]),
