@@ -225,9 +225,41 @@ static void fvBodyColor(const fmDrawTriangles* t, float rgb[3])
 			rgb[i] = 0.45f * rgb[i] + 0.55f * 0.55f;
 }
 
+// A body with a render mesh (fmBody_SetRenderMesh) is drawn as that mesh: the library's deformed
+// render positions and normals, in the body's colour, split at creases as the tets' surface is.
+// The stress view keeps the tets' surface, where the strain colours live. False (nothing added)
+// when the body has none or it cannot be copied: the tets' surface is drawn instead.
+static bool fvDrawRenderMesh(fvDrawList* list, const fmDrawTriangles* t)
+{
+	if (t->colors != NULL || !fmBody_IsValid(t->body))
+		return false;
+	int vertexCount = fmBody_GetRenderVertexCount(t->body), triangleCount = 0;
+	const int* triangles = fmBody_GetRenderTriangles(t->body, &triangleCount);
+	if (vertexCount <= 0 || triangles == NULL || triangleCount <= 0)
+		return false;
+	fvSurface* s = fvNextSurface(list, vertexCount, triangleCount);
+	if (s == NULL || fmBody_CopyRenderPositionsFloat(t->body, s->positions, s->normals,
+	                                                 s->vertexCapacity) != fm_ok)
+		return false;
+	s->body = t->body;
+	memcpy(s->indices, triangles, 3 * (size_t)triangleCount * sizeof(int));
+	float rgb[3];
+	fvBodyColor(t, rgb);
+	for (int i = 0; i < vertexCount; ++i)
+	{
+		memcpy(s->colors + 3 * i, rgb, sizeof rgb);
+		s->vertices[i] = -1; // not the body's vertices
+	}
+	list->surfaceCount += 1;
+	fvSplitCreases(list, s);
+	return true;
+}
+
 static void fvDrawTriangles(const fmDrawTriangles* t, void* context)
 {
 	fvDrawList* list = context;
+	if (t->body.index1 != 0 && fvDrawRenderMesh(list, t))
+		return;
 	fvSurface* s = fvNextSurface(list, t->vertexCount, t->triangleCount);
 	if (s == NULL)
 		return;

@@ -9,7 +9,8 @@
 
 #include <stdbool.h>
 
-/// One body's drawn surface, copied out of fmDrawTriangles; colours always per vertex.
+/// One body's drawn surface, copied out of fmDrawTriangles (or, for a body with a render mesh,
+/// that mesh: fmBody_CopyRenderPositionsFloat); colours always per vertex.
 typedef struct fvSurface
 {
 	fmBodyId body;         ///< the body, or the null id for a collider
@@ -21,7 +22,8 @@ typedef struct fvSurface
 	float* normals;   ///< 3 per vertex, unit
 	float* colors;    ///< 3 per vertex, RGB in [0, 1] (fmDrawTriangles.colors or .color)
 	int* indices;     ///< 3 per triangle, into this surface's vertices
-	int* vertices;    ///< the body's vertex index of each drawn vertex (-1 for a collider's)
+	int* vertices;    ///< the body's vertex index of each drawn vertex (-1 for a collider's or a
+	                  ///< render mesh's)
 	int vertexCapacity;
 	int indexCapacity;
 } fvSurface;

@@ -260,8 +260,225 @@ static int checkView(const char* shotPath, const char* report, const char* other
 	return code;
 }
 
+// The panel's right edge (pixels) from REPORT's "panel_right" line.
+static bool reportPanelRight(const char* path, double* right)
+{
+	FILE* in = fopen(path, "r");
+	char line[256];
+	bool found = false;
+	while (in != NULL && !found && fgets(line, sizeof line, in) != NULL)
+		found = sscanf(line, "panel_right %lf", right) == 1;
+	if (in != NULL)
+		fclose(in);
+	return found;
+}
+
+static const unsigned char* pixelAt(const Image* image, int x, int y)
+{
+	return image->rgb + 3 * ((size_t)y * (size_t)image->width + (size_t)x);
+}
+
+// The failure's text: femto view draws it in red (1, 0.35, 0.3), blended into the dark panel at
+// the glyphs' edges, so green and blue stay about a third of red.
+static bool isRedText(const unsigned char* p)
+{
+	return p[0] > 110 && p[1] * 2 < p[0] && p[2] * 2 < p[0];
+}
+
+// A long failure message is fully visible: within the panel (left of panel_right), its red text
+// lies on at least two lines (wrapped) and none of it reaches the last 8 columns before the
+// panel's right edge (a line cut there by the panel's clipping would).
+static int checkMessage(const char* shotPath, const char* report)
+{
+	Image shot = {0, 0, NULL};
+	double right = 0.0;
+	if (!readPng(shotPath, &shot))
+		return fail("%s: cannot decode", shotPath);
+	if (!reportPanelRight(report, &right) || right < 100.0 || right > shot.width)
+	{
+		free(shot.rgb);
+		return fail("%s: no panel_right line with a panel", report);
+	}
+	int panel = (int)right, lines = 0, top = -1, bottom = -1, atEdge = 0, rightmost = -1;
+	bool inLine = false;
+	for (int y = 0; y < shot.height; ++y)
+	{
+		int count = 0;
+		for (int x = 0; x < panel; ++x)
+			if (isRedText(pixelAt(&shot, x, y)))
+			{
+				count += 1;
+				atEdge += x >= panel - 8;
+				rightmost = x > rightmost ? x : rightmost;
+			}
+		if (count >= 3 && !inLine)
+			lines += 1, top = top < 0 ? y : top;
+		bottom = count >= 3 ? y : bottom;
+		inLine = count >= 3;
+	}
+	free(shot.rgb);
+	printf(
+	    "%s: red text on %d lines (rows %d to %d), rightmost column %d, %d pixels in the panel's "
+	    "last 8 columns (it ends at %d)\n",
+	    shotPath, lines, top, bottom, rightmost, atEdge, panel);
+	if (lines < 2)
+		return fail("%s: the failure's text is on %d line(s), not wrapped", shotPath, lines);
+	if (atEdge > 0)
+		return fail("%s: the failure's text reaches the panel's right edge (%d pixels): cut off",
+		            shotPath, atEdge);
+	return 0;
+}
+
+// Which channel of a pixel is largest: 0 red, 1 green, 2 blue.
+static int dominant(const unsigned char* p)
+{
+	return p[0] >= p[1] && p[0] >= p[2] ? 0 : p[1] >= p[2] ? 1 : 2;
+}
+
+static bool isWhiteText(const unsigned char* p)
+{
+	return p[0] > 150 && p[1] > 150 && p[2] > 150;
+}
+
+// Text pixels in the rows [y0, y1) and columns [x0, x1).
+static int textPixels(const Image* image, int x0, int x1, int y0, int y1)
+{
+	int count = 0;
+	for (int y = y0 < 0 ? 0 : y0; y < y1 && y < image->height; ++y)
+		for (int x = x0 < 0 ? 0 : x0; x < x1 && x < image->width; ++x)
+			count += isWhiteText(pixelAt(image, x, y));
+	return count;
+}
+
+// The strain legend in the panel: a row with a run of at least 200 saturated pixels going from
+// blue-dominant through green-dominant to red-dominant (the library's ramp; the panel's blue bars
+// are one hue), and white text under it at its left end, middle and right end (0, the middle
+// value, the top value).
+static int checkLegend(const char* shotPath, const char* report)
+{
+	Image shot = {0, 0, NULL};
+	double right = 0.0;
+	if (!readPng(shotPath, &shot))
+		return fail("%s: cannot decode", shotPath);
+	if (!reportPanelRight(report, &right) || right < 100.0 || right > shot.width)
+	{
+		free(shot.rgb);
+		return fail("%s: no panel_right line with a panel", report);
+	}
+	int row = -1, start = 0, length = 0;
+	for (int y = 0; y < shot.height && row < 0; ++y)
+		for (int x = 0, run = 0; x < (int)right && row < 0; ++x)
+		{
+			run = isBody(pixelAt(&shot, x, y)) ? run + 1 : 0;
+			bool ends = run > 0 && (x + 1 == (int)right || !isBody(pixelAt(&shot, x + 1, y)));
+			if (!ends || run < 200)
+				continue;
+			int first = x + 1 - run, hues[3] = {0, 0, 0};
+			for (int k = first; k <= x; ++k)
+				hues[dominant(pixelAt(&shot, k, y))] += 1;
+			if (dominant(pixelAt(&shot, first, y)) == 2 && dominant(pixelAt(&shot, x, y)) == 0 &&
+			    hues[1] > run / 10)
+				row = y, start = first, length = run;
+		}
+	if (row < 0)
+	{
+		free(shot.rgb);
+		return fail("%s: no strain ramp (blue to green to red, 200 pixels) in the panel", shotPath);
+	}
+	int bottom = row;
+	while (bottom + 1 < shot.height && isBody(pixelAt(&shot, start + length / 2, bottom + 1)))
+		bottom += 1;
+	int y0 = bottom + 2, y1 = bottom + 22, mid = start + length / 2;
+	int left = textPixels(&shot, start - 2, start + 20, y0, y1);
+	int middle = textPixels(&shot, mid - 25, mid + 25, y0, y1);
+	int end = textPixels(&shot, start + length - 50, start + length + 100, y0, y1);
+	free(shot.rgb);
+	printf("%s: strain ramp at row %d, columns %d to %d; text under it: %d, %d, %d pixels\n",
+	       shotPath, row, start, start + length - 1, left, middle, end);
+	if (left < 5 || middle < 5 || end < 5)
+		return fail("%s: the ramp's values are not written under it (%d, %d, %d text pixels)",
+		            shotPath, left, middle, end);
+	return 0;
+}
+
+// Any body pixel, a face in shade too (isBody wants more colour than the house's dark side has):
+// femto's floor and background are exactly grey.
+static bool isTinted(const unsigned char* p)
+{
+	int hi = p[0] > p[1] ? p[0] : p[1], lo = p[0] < p[1] ? p[0] : p[1];
+	return (p[2] > hi ? p[2] : hi) - (p[2] < lo ? p[2] : lo) > 15;
+}
+
+static double luminance(const unsigned char* p)
+{
+	return 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
+}
+
+// Mean, smallest and largest luminance of row @p y's columns [x0, x1].
+static void rowSpan(const Image* image, int y, int x0, int x1, double* mean, double* lo, double* hi)
+{
+	*mean = 0.0, *lo = INFINITY, *hi = -INFINITY;
+	for (int x = x0; x <= x1; ++x)
+	{
+		double l = luminance(pixelAt(image, x, y));
+		*mean += l / (x1 - x0 + 1);
+		*lo = fmin(*lo, l), *hi = fmax(*hi, l);
+	}
+}
+
+// A crease drawn sharp: along row ROW, columns X0..X1 (all body pixels, tinted) cross one hard edge
+// of the house; at the strongest step of luminance, the 8 pixels either side (2 pixels off the
+// edge) are each uniform (within 5 levels of 255) and differ from each other by at least 12.
+// Normals smoothed across the edge spread the change over the faces beside it (a streak).
+static int checkCrease(const char* shotPath, int row, int x0, int x1)
+{
+	Image shot = {0, 0, NULL};
+	if (!readPng(shotPath, &shot))
+		return fail("%s: cannot decode", shotPath);
+	int code = 0;
+	if (row < 0 || row >= shot.height || x0 < 0 || x1 >= shot.width || x1 - x0 < 30)
+		code = fail("%s: row %d, columns %d to %d are outside the picture", shotPath, row, x0, x1);
+	for (int x = x0; code == 0 && x <= x1; ++x)
+		if (!isTinted(pixelAt(&shot, x, row)))
+			code = fail("%s: (%d, %d) is not on a body: the house is not where expected", shotPath,
+			            x, row);
+	int edge = -1;
+	double best = -1.0;
+	for (int x = x0 + 11; code == 0 && x <= x1 - 11; ++x)
+	{
+		double step =
+		    fabs(luminance(pixelAt(&shot, x + 1, row)) - luminance(pixelAt(&shot, x - 1, row)));
+		if (step > best)
+			best = step, edge = x;
+	}
+	if (code == 0)
+	{
+		double left, leftLo, leftHi, right, rightLo, rightHi;
+		rowSpan(&shot, row, edge - 10, edge - 3, &left, &leftLo, &leftHi);
+		rowSpan(&shot, row, edge + 3, edge + 10, &right, &rightLo, &rightHi);
+		printf("%s: row %d, crease at column %d: left %.1f (%.1f to %.1f), right %.1f (%.1f to "
+		       "%.1f)\n",
+		       shotPath, row, edge, left, leftLo, leftHi, right, rightLo, rightHi);
+		if (leftHi - leftLo > 5.0 || rightHi - rightLo > 5.0)
+			code = fail("%s: the shading beside the crease varies by %.1f and %.1f levels (at "
+			            "most 5): smoothed across it",
+			            shotPath, leftHi - leftLo, rightHi - rightLo);
+		else if (fabs(left - right) < 12.0)
+			code = fail("%s: the two faces at the crease differ by %.1f levels (at least 12)",
+			            shotPath, fabs(left - right));
+	}
+	free(shot.rgb);
+	return code;
+}
+
 int main(int argc, char** argv)
 {
+	if (argc == 4 && strcmp(argv[1], "message") == 0)
+		return checkMessage(argv[2], argv[3]);
+	if (argc == 4 && strcmp(argv[1], "legend") == 0)
+		return checkLegend(argv[2], argv[3]);
+	if (argc == 6 && strcmp(argv[1], "crease") == 0)
+		return checkCrease(argv[2], atoi(argv[3]), atoi(argv[4]), atoi(argv[5]));
 	if (argc >= 4 && strcmp(argv[1], "gif") == 0)
 		return checkGif(argv[2], atoi(argv[3]), argc > 4 ? atoi(argv[4]) : 0);
 	if (argc == 5 && strcmp(argv[1], "png") == 0)
@@ -269,6 +486,7 @@ int main(int argc, char** argv)
 	if ((argc == 4 || argc == 5) && strcmp(argv[1], "view") == 0)
 		return checkView(argv[2], argv[3], argc == 5 ? argv[4] : NULL);
 	fprintf(stderr, "usage: femto_check_images gif FILE FRAMES [FALLING] | png DIR COUNT WxH | "
-	                "view SHOT.png REPORT [OTHER.png]\n");
+	                "view SHOT.png REPORT [OTHER.png] | message SHOT.png REPORT | legend SHOT.png "
+	                "REPORT | crease SHOT.png ROW X0 X1\n");
 	return 2;
 }

@@ -1,7 +1,8 @@
 // The viewer's draw list with collider batches (fm_drawColliders), fed through its fmDebugDraw
 // callbacks as fmWorld_Draw calls them: a collider batch (body null) is grey, has no body
 // vertex numbers and gets normals when it comes without; a body batch keeps its colour and
-// numbers; the first plane is the floor, later planes become quads left out of the framing.
+// numbers; the first plane is the floor, later planes become quads left out of the framing; a
+// body with a render mesh is drawn as it.
 // Exit status: the number of failed checks.
 #include "camera.h"
 #include "draw_list.h"
@@ -114,10 +115,53 @@ static void checkCreases(void)
 	fvDrawList_Free(&list);
 }
 
+// A body with a render mesh is drawn as it (issue 31 item 8): one tet (4 surface triangles)
+// carrying an octahedron inside it (8 triangles) is drawn with the octahedron's triangles, at
+// the positions fmBody_CopyRenderPositionsFloat gives; the stress view and a cleared render
+// mesh draw the tet's surface.
+static void checkRenderMesh(void)
+{
+	double nodes[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+	int tet[4] = {0, 1, 2, 3};
+	fmTetMesh mesh = {0};
+	mesh.nodeCount = 4, mesh.positions = nodes, mesh.tetCount = 1, mesh.tets = tet;
+	fmWorldDef worldDef = fmDefaultWorldDef();
+	fmWorldId world = fmCreateWorld(&worldDef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	fmBodyId body;
+	CHECK(fmCreateBody(world, &def, &body, NULL) == fm_ok);
+	const double c = 0.2, r = 0.1; // an octahedron around (c, c, c), well inside the tet
+	double octahedron[18] = {c + r, c,     c, c - r, c, c,     c, c + r, c,
+	                         c,     c - r, c, c,     c, c + r, c, c,     c - r};
+	static const int faces[24] = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4,
+	                              2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+	CHECK(fmBody_SetRenderMesh(body, octahedron, 6, faces, 8, NULL) == fm_ok);
+	float expected[18];
+	CHECK(fmBody_CopyRenderPositionsFloat(body, expected, NULL, 6) == fm_ok);
+	fvDrawList list;
+	fvDrawList_Init(&list);
+	CHECK(fvDrawList_Capture(&list, world, fm_drawSurfaces) == fm_ok);
+	CHECK(list.surfaceCount == 1);
+	const fvSurface* s = &list.surfaces[0];
+	CHECK(s->triangleCount == 8);
+	for (int k = 0; k < 3 * s->triangleCount && s->triangleCount == 8; ++k)
+		for (int i = 0; i < 3; ++i)
+			CHECK(fabsf(s->positions[3 * s->indices[k] + i] - expected[3 * faces[k] + i]) < 1e-6f);
+	CHECK(fvDrawList_Capture(&list, world, fm_drawSurfaces | fm_drawStress) == fm_ok);
+	CHECK(list.surfaceCount == 1 && list.surfaces[0].triangleCount == 4);
+	fmBody_ClearRenderMesh(body);
+	CHECK(fvDrawList_Capture(&list, world, fm_drawSurfaces) == fm_ok);
+	CHECK(list.surfaceCount == 1 && list.surfaces[0].triangleCount == 4);
+	fvDrawList_Free(&list);
+	fmDestroyWorld(world);
+}
+
 int main(void)
 {
 	checkCameraAboveFloor();
 	checkCreases();
+	checkRenderMesh();
 	fvDrawList list;
 	fvDrawList_Init(&list);
 	fmDebugDraw draw = fvDrawList_Callbacks(&list, fm_drawAll);
