@@ -20,6 +20,7 @@ const simd = WebAssembly.validate(SIMD_PROBE) && !params.has('nosimd');
 // What a test or an embedding page can read (scripts/check-web.sh reads it).
 const state = {
   ready: false, simd, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
+  normalsMs: 0, // a frame's normals split at creases and their positions, all bodies (renderer.js)
   scene: 0, bodyCount: 0, profileFrames: 0, contactLines: 0, asleep: 0,
 };
 window.femto = state;
@@ -67,7 +68,7 @@ function sceneLoaded() {
   for (let b = 0; b < M._fw_body_count(); ++b) {
     const pointer = M._fw_surface(b) >> 2;
     const triangles = Uint32Array.from(M.HEAP32.subarray(pointer, pointer + 3 * M._fw_surface_count(b)));
-    bodies.push({ triangles, vertexCount: M._fw_vertex_count(b) });
+    bodies.push({ triangles, vertexCount: M._fw_vertex_count(b), positions: positions(b) });
     vertices += M._fw_vertex_count(b);
     tets += M._fw_tet_count(b);
   }
@@ -486,7 +487,7 @@ function updateContactLines() {
 // ---- the loop ---------------------------------------------------------------------------------
 let last = performance.now();
 let accumulator = 0;
-let fpsFrames = 0, fpsStart = last, stepSum = 0, librarySum = 0, stepCount = 0;
+let fpsFrames = 0, fpsStart = last, stepSum = 0, librarySum = 0, stepCount = 0, normalsStart = 0;
 
 function frame(now) {
   accumulator += Math.min(now - last, 250);
@@ -521,6 +522,8 @@ function frame(now) {
   fpsFrames += 1;
   if (now - fpsStart >= 500) {
     state.fps = (1000 * fpsFrames) / (now - fpsStart);
+    state.normalsMs = (renderer.normalsMs - normalsStart) / fpsFrames;
+    normalsStart = renderer.normalsMs;
     if (stepCount > 0) {
       state.stepMs = stepSum / stepCount;
       state.libraryMs = librarySum / stepCount;
@@ -608,6 +611,26 @@ state.bodyCenterOnCanvas = (b) => {
   const n = x.length / 3;
   const r = canvas.getBoundingClientRect();
   const p = camera.project(c.map((v) => v / n), r.width, r.height);
+  return p && { x: r.left + p[0], y: r.top + p[1] };
+};
+
+// For tests: where body @p b's walls meet nearest the camera, on the canvas (CSS pixels): the
+// vertical edge of the box around its vertices in its lower @p part (the walls, under a roof that
+// may overhang), nearest the eye, at @p height of that box's height.
+state.wallCornerOnCanvas = (b, part = 0.6, height = 0.5) => {
+  const x = positions(b);
+  let bottom = Infinity, top = -Infinity;
+  for (let i = 1; i < x.length; i += 3) bottom = Math.min(bottom, x[i]), top = Math.max(top, x[i]);
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  for (let i = 0; i < x.length; i += 3) {
+    if (x[i + 1] > bottom + part * (top - bottom)) continue;
+    for (let k = 0; k < 3; ++k) lo[k] = Math.min(lo[k], x[i + k]), hi[k] = Math.max(hi[k], x[i + k]);
+  }
+  const eye = camera.eye();
+  const corner = [eye[0] > 0.5 * (lo[0] + hi[0]) ? hi[0] : lo[0], lo[1] + height * (hi[1] - lo[1]),
+    eye[2] > 0.5 * (lo[2] + hi[2]) ? hi[2] : lo[2]];
+  const r = canvas.getBoundingClientRect();
+  const p = camera.project(corner, r.width, r.height);
   return p && { x: r.left + p[0], y: r.top + p[1] };
 };
 

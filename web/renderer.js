@@ -1,7 +1,8 @@
-// The page's WebGL2 renderer (docs/web.md): the bodies' surfaces with smooth normals (sleeping
-// ones dimmed), the contacts' normals as lines, a floor with a checker and fog, and planar shadows (the bodies flattened onto the floor along the
-// light, drawn once per pixel through the stencil). Modelled on viewer/renderer.c's shaders,
-// written for GLSL ES 3.00. Plain WebGL2, no library.
+// The page's WebGL2 renderer (docs/web.md): the bodies' surfaces with normals smooth but split at
+// creases sharper than 40 degrees, as femto view's (viewer/creases.c; sleeping bodies dimmed), the
+// contacts' normals as lines, a floor with a checker and fog, and planar shadows (the bodies
+// flattened onto the floor along the light, drawn once per pixel through the stencil). Modelled
+// on viewer/renderer.c's shaders, written for GLSL ES 3.00. Plain WebGL2, no library.
 
 const bodyVertex = `#version 300 es
 layout(location = 0) in vec3 aPosition;
@@ -140,23 +141,114 @@ const palette = [
 
 export const fogColor = [0.82, 0.86, 0.9];
 
-// Area-weighted vertex normals of the surface triangles (interior vertices keep zero: they are
-// never drawn).
-export function smoothNormals(positions, triangles, normals) {
-  normals.fill(0);
-  for (let t = 0; t < triangles.length; t += 3) {
+// Normals split at creases, as femto view does (viewer/creases.c, docs/viewer.md): a triangle's
+// corner takes the mean of the area-weighted normals of the triangles around its vertex whose
+// normal is within creaseDegrees of its own (its own always counts), so a hard edge shades flat
+// on both sides and a smooth surface stays smooth. Which triangles each corner averages is found
+// once, on the rest shape (creaseSplit); corners of a vertex that average the same triangles
+// share one drawn vertex (a smooth vertex stays one, a vertex on a crease is split in two or
+// more), and each frame only the face normals and those sums are computed (splitNormals).
+export const creaseDegrees = 40;
+
+// Every triangle's area-weighted normal (3 floats a triangle) into @p faces.
+export function faceNormals(positions, triangles, faces) {
+  for (let t = 0, f = 0; t < triangles.length; t += 3, f += 3) {
     const a = 3 * triangles[t], b = 3 * triangles[t + 1], c = 3 * triangles[t + 2];
     const ux = positions[b] - positions[a], uy = positions[b + 1] - positions[a + 1],
       uz = positions[b + 2] - positions[a + 2];
     const vx = positions[c] - positions[a], vy = positions[c + 1] - positions[a + 1],
       vz = positions[c + 2] - positions[a + 2];
-    const nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
-    for (const k of [a, b, c]) {
-      normals[k] += nx;
-      normals[k + 1] += ny;
-      normals[k + 2] += nz;
+    faces[f] = uy * vz - uz * vy;
+    faces[f + 1] = uz * vx - ux * vz;
+    faces[f + 2] = ux * vy - uy * vx;
+  }
+  return faces;
+}
+
+// The split of a surface (@p triangles into @p positions, the rest shape) at its creases:
+// { source: the body's vertex each drawn vertex copies, start and faces: drawn vertex s averages
+// faces[start[s] .. start[s + 1]) (triangle numbers), indices: the triangles over the drawn
+// vertices }.
+export function creaseSplit(positions, triangles, degrees = creaseDegrees) {
+  const triangleCount = triangles.length / 3;
+  const faces = faceNormals(positions, triangles, new Float64Array(3 * triangleCount));
+  let vertexCount = 0;
+  for (const v of triangles) vertexCount = Math.max(vertexCount, v + 1);
+  // The triangles around every vertex (a counting sort, as creases.c).
+  const first = new Int32Array(vertexCount + 1);
+  for (const v of triangles) first[v + 1] += 1;
+  for (let v = 0; v < vertexCount; ++v) first[v + 1] += first[v];
+  const around = new Int32Array(triangles.length);
+  const fill = first.slice(0, vertexCount);
+  for (let c = 0; c < triangles.length; ++c) around[fill[triangles[c]]++] = (c / 3) | 0;
+  const limit = Math.cos(degrees * Math.PI / 180);
+  const length = (t) => Math.sqrt(faces[3 * t] * faces[3 * t] + faces[3 * t + 1] * faces[3 * t + 1] +
+    faces[3 * t + 2] * faces[3 * t + 2]);
+  const source = [], start = [0], averaged = [];
+  const indices = new Uint32Array(triangles.length);
+  const seen = new Map(); // "vertex:triangles" -> drawn vertex
+  for (let c = 0; c < triangles.length; ++c) {
+    const t = (c / 3) | 0, v = triangles[c];
+    const own = length(t);
+    const list = [];
+    for (let e = first[v]; e < first[v + 1]; ++e) {
+      const n = around[e];
+      const dot = faces[3 * t] * faces[3 * n] + faces[3 * t + 1] * faces[3 * n + 1] +
+        faces[3 * t + 2] * faces[3 * n + 2];
+      if (n === t || dot >= limit * own * length(n)) list.push(n);
+    }
+    const key = `${v}:${list.join(',')}`;
+    let s = seen.get(key);
+    if (s === undefined) {
+      s = source.length;
+      seen.set(key, s);
+      source.push(v);
+      averaged.push(...list);
+      start.push(averaged.length);
+    }
+    indices[c] = s;
+  }
+  return { source: Uint32Array.from(source), start: Int32Array.from(start),
+    faces: Int32Array.from(averaged), indices };
+}
+
+// The drawn vertices' positions (@p out, 3 floats each) copied from the body's @p positions.
+export function splitPositions(positions, split, out) {
+  const source = split.source;
+  for (let s = 0; s < source.length; ++s) {
+    const i = 3 * source[s];
+    out[3 * s] = positions[i];
+    out[3 * s + 1] = positions[i + 1];
+    out[3 * s + 2] = positions[i + 2];
+  }
+  return out;
+}
+
+// The drawn vertices' unit normals (@p normals, 3 floats each) from the body's current
+// @p positions: each the mean of its triangles' normals (@p faces: scratch, 3 a triangle).
+export function splitNormals(positions, triangles, split, faces, normals) {
+  faceNormals(positions, triangles, faces);
+  const start = split.start, averaged = split.faces;
+  for (let s = 0; s + 1 < start.length; ++s) {
+    let x = 0, y = 0, z = 0;
+    for (let e = start[s]; e < start[s + 1]; ++e) {
+      const f = 3 * averaged[e];
+      x += faces[f];
+      y += faces[f + 1];
+      z += faces[f + 2];
+    }
+    const l = Math.sqrt(x * x + y * y + z * z);
+    if (l > 0) {
+      normals[3 * s] = x / l;
+      normals[3 * s + 1] = y / l;
+      normals[3 * s + 2] = z / l;
+    } else {
+      normals[3 * s] = 0;
+      normals[3 * s + 1] = 1;
+      normals[3 * s + 2] = 0;
     }
   }
+  return normals;
 }
 
 export class Renderer {
@@ -190,13 +282,15 @@ export class Renderer {
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 24, 0);
     gl.bindVertexArray(null);
     this.lineCount = 0;
+    this.normalsMs = 0; // the time spent on the drawn vertices' normals and positions, all frames
     // Light from above and to the right of the starting camera, travelling down.
     const l = [-0.7, -1.0, -0.25];
     const n = Math.hypot(...l);
     this.light = l.map((x) => x / n);
   }
 
-  // Set up one GPU mesh per body: @p bodies is [{ triangles: Uint32Array, vertexCount }].
+  // Set up one GPU mesh per body: @p bodies is [{ triangles: Uint32Array, vertexCount,
+  // positions }], positions (3 floats a vertex) the rest shape whose creases split the normals.
   setBodies(bodies) {
     const gl = this.gl;
     for (const m of this.meshes) {
@@ -206,24 +300,27 @@ export class Renderer {
       gl.deleteBuffer(m.indexBuffer);
     }
     this.meshes = bodies.map((b, i) => {
+      const split = creaseSplit(b.positions, b.triangles);
+      const drawn = split.source.length;
       const vao = gl.createVertexArray();
       gl.bindVertexArray(vao);
       const positionBuffer = gl.createBuffer();
       gl.bindBuffer(gl.ARRAY_BUFFER, positionBuffer);
-      gl.bufferData(gl.ARRAY_BUFFER, 12 * b.vertexCount, gl.DYNAMIC_DRAW);
+      gl.bufferData(gl.ARRAY_BUFFER, 12 * drawn, gl.DYNAMIC_DRAW);
       gl.enableVertexAttribArray(0);
       gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
       const normalBuffer = gl.createBuffer();
       gl.bindBuffer(gl.ARRAY_BUFFER, normalBuffer);
-      gl.bufferData(gl.ARRAY_BUFFER, 12 * b.vertexCount, gl.DYNAMIC_DRAW);
+      gl.bufferData(gl.ARRAY_BUFFER, 12 * drawn, gl.DYNAMIC_DRAW);
       gl.enableVertexAttribArray(1);
       gl.vertexAttribPointer(1, 3, gl.FLOAT, false, 0, 0);
       const indexBuffer = gl.createBuffer();
       gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, indexBuffer);
-      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, b.triangles, gl.STATIC_DRAW);
+      gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, split.indices, gl.STATIC_DRAW);
       gl.bindVertexArray(null);
-      return { vao, positionBuffer, normalBuffer, indexBuffer, count: b.triangles.length,
-        normals: new Float32Array(3 * b.vertexCount), triangles: b.triangles,
+      return { vao, positionBuffer, normalBuffer, indexBuffer, count: split.indices.length,
+        split, positions: new Float32Array(3 * drawn), normals: new Float32Array(3 * drawn),
+        faces: new Float32Array(b.triangles.length), triangles: b.triangles,
         color: palette[i % palette.length], asleep: false };
     });
   }
@@ -237,14 +334,18 @@ export class Renderer {
     gl.bufferData(gl.ARRAY_BUFFER, lines, gl.DYNAMIC_DRAW);
   }
 
-  // Upload body @p i's positions (Float32Array, 3 a vertex) and their normals; @p asleep dims it.
+  // Upload body @p i's positions (Float32Array, 3 a vertex) and their normals split at the
+  // creases (the time taken adds up in normalsMs); @p asleep dims it.
   updateBody(i, positions, asleep = false) {
     const gl = this.gl;
     const m = this.meshes[i];
     m.asleep = asleep;
-    smoothNormals(positions, m.triangles, m.normals);
+    const start = performance.now();
+    splitNormals(positions, m.triangles, m.split, m.faces, m.normals);
+    splitPositions(positions, m.split, m.positions);
+    this.normalsMs += performance.now() - start;
     gl.bindBuffer(gl.ARRAY_BUFFER, m.positionBuffer);
-    gl.bufferSubData(gl.ARRAY_BUFFER, 0, positions);
+    gl.bufferSubData(gl.ARRAY_BUFFER, 0, m.positions);
     gl.bindBuffer(gl.ARRAY_BUFFER, m.normalBuffer);
     gl.bufferSubData(gl.ARRAY_BUFFER, 0, m.normals);
   }

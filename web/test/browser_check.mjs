@@ -7,7 +7,8 @@
 //   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
 //      and a finger (touch events) drags it too; the Play/Pause label matches the state after a
 //      pause, a reset and a scene change; the profile graph draws its stages' lines, the
-//      contacts view draws the contacts' lines, and a pile that has come to rest is dimmed;
+//      contacts view draws the contacts' lines, a pile that has come to rest is dimmed, and the
+//      house's wall corner is drawn sharp (normals split at creases: each face uniform beside it);
 //   5. the page's measured step cost (ms a frame, wall clock around fw_step, and the library's);
 //   6. a TetGen .node/.ele pair and a Gmsh .msh given to the page's file input (the drop's path)
 //      load (and the pair steps);
@@ -257,6 +258,54 @@ async function checkSleepDimmed(evaluate, screenshot) {
     's.value = s.options[0].value; s.dispatchEvent(new Event("change")); })()');
 }
 
+// The house's hard edges are drawn sharp (normals split at creases, renderer.js): the house as
+// loaded, paused before its first step, seen from the page's default camera; along the row through
+// the corner where its walls meet nearest the camera (femto.wallCornerOnCanvas), within 40 pixels
+// of it, at the strongest step of luminance, the 8 pixels either side (3 to 10 off the edge) are
+// each uniform (within 5 levels) and the two faces differ by 12 levels or more, as femto view's
+// test (viewer/tests/check_images.c, "crease"). Normals smoothed across the edge spread the change
+// over the faces beside it (a streak).
+const luminance = (image, x, y) => {
+  const i = 4 * (y * image.width + x);
+  return 0.299 * image.pixels[i] + 0.587 * image.pixels[i + 1] + 0.114 * image.pixels[i + 2];
+};
+
+async function checkCrease(evaluate, screenshot) {
+  await evaluate('(() => { const s = document.getElementById("scene"); ' +
+    's.value = s.options[0].value; s.dispatchEvent(new Event("change")); ' +
+    'if (!femto.paused) document.getElementById("pause").click(); })()');
+  await sleep(400);
+  const corner = await evaluate('femto.wallCornerOnCanvas(0)');
+  const image = decodePng(await screenshot());
+  await evaluate('document.getElementById("pause").click()');
+  const mask = houseMask(image).mask;
+  const row = Math.round(corner.y), x0 = Math.round(corner.x) - 40, x1 = Math.round(corner.x) + 40;
+  let edge = -1, best = -1, onHouse = 0;
+  for (let x = x0; x <= x1; ++x) onHouse += mask[row * image.width + x];
+  for (let x = x0 + 11; x <= x1 - 11; ++x) {
+    if (!mask[row * image.width + x - 10] || !mask[row * image.width + x + 10]) continue;
+    const step = Math.abs(luminance(image, x + 1, row) - luminance(image, x - 1, row));
+    if (step > best) best = step, edge = x;
+  }
+  if (edge < 0) {
+    check(false, `the house's wall corner is drawn sharp: no house pixels about (${x0} to ${x1}, ` +
+      `${row}) (${onHouse} of ${x1 - x0 + 1})`);
+    return;
+  }
+  const span = (a, b) => {
+    const values = [];
+    for (let x = a; x <= b; ++x) values.push(luminance(image, x, row));
+    return { mean: values.reduce((p, q) => p + q) / values.length,
+      spread: Math.max(...values) - Math.min(...values) };
+  };
+  const left = span(edge - 10, edge - 3), right = span(edge + 3, edge + 10);
+  check(left.spread <= 5 && right.spread <= 5 && Math.abs(left.mean - right.mean) >= 12,
+    `the house's wall corner is drawn sharp: along row ${row}, the crease at column ${edge}; ` +
+    `each face beside it uniform (${left.spread.toFixed(1)} and ${right.spread.toFixed(1)} ` +
+    `levels, at most 5) and the two apart (${left.mean.toFixed(1)} and ${right.mean.toFixed(1)}, ` +
+    '12 or more needed)');
+}
+
 async function waitFor(evaluate, expression, seconds) {
   for (let t = 0; t < seconds * 10; ++t) {
     if (await evaluate(expression)) return true;
@@ -410,6 +459,7 @@ async function main() {
 
     await checkProfileAndContacts(evaluate, screenshot);
     await checkSleepDimmed(evaluate, screenshot);
+    await checkCrease(evaluate, screenshot);
 
     await sleep(300);
     const stats = await evaluate('({ fps: femto.fps, stepMs: femto.stepMs, ' +
