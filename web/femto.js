@@ -21,7 +21,7 @@ const simd = WebAssembly.validate(SIMD_PROBE) && !params.has('nosimd');
 const state = {
   ready: false, simd, dragging: false, frames: 0, fps: 0, stepMs: 0, libraryMs: 0, error: '', paused: false,
   normalsMs: 0, // a frame's normals split at creases and their positions, all bodies (renderer.js)
-  scene: 0, bodyCount: 0, profileFrames: 0, contactLines: 0, asleep: 0,
+  scene: 0, bodyCount: 0, profileFrames: 0, contactLines: 0, grabLine: false, asleep: 0,
 };
 window.femto = state;
 
@@ -484,6 +484,13 @@ function updateContactLines() {
   renderer.setContactLines(M.HEAPF32.slice(pointer, pointer + 6 * state.contactLines));
 }
 
+// The drag's spring (fw_grab_line), drawn while a drag holds a body.
+function updateGrabLine() {
+  const pointer = M._fw_grab_line() >> 2;
+  state.grabLine = pointer !== 0;
+  renderer.setGrabLine(pointer !== 0 ? M.HEAPF32.slice(pointer, pointer + 6) : null);
+}
+
 // ---- the loop ---------------------------------------------------------------------------------
 let last = performance.now();
 let accumulator = 0;
@@ -517,6 +524,7 @@ function frame(now) {
   }
   if (ticks > 0 || profile.length === 0) drawProfile();
   updateContactLines();
+  updateGrabLine();
   followBodies();
   renderer.draw(camera, M._fw_floor_height());
   fpsFrames += 1;

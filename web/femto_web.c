@@ -922,6 +922,23 @@ FW_EXPORT void fw_drag_move(double x, double y, double z)
 		fmBody_MoveGrab(s_app.bodies[s_app.dragBody], fmMakeVec3(x, y, z));
 }
 
+// The drag's spring of the last fw_grab_line(): the grabbed point, then the pointer's target.
+static float s_grabLine[6];
+
+/// The drag's spring as femto view draws it (fmBody_GetGrab, fm_drawTargets' grab): 6 floats,
+/// the grabbed patch's point now and the pointer's target; NULL when nothing is dragged.
+FW_EXPORT const float* fw_grab_line(void)
+{
+	fmVec3 point, target;
+	if (!s_app.dragging || !fwBodyOk(s_app.dragBody) ||
+	    !fmBody_GetGrab(s_app.bodies[s_app.dragBody], &point, &target))
+		return NULL;
+	const float line[6] = {(float)point.x,  (float)point.y,  (float)point.z,
+	                       (float)target.x, (float)target.y, (float)target.z};
+	memcpy(s_grabLine, line, sizeof line);
+	return s_grabLine;
+}
+
 /// Let go.
 FW_EXPORT void fw_drag_end(void)
 {

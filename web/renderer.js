@@ -103,6 +103,9 @@ void main() { color = vec4(uColor, 1.0); }`;
 // The library's contact colour (src/draw/draw.c, 0xffd000).
 export const contactColor = [1.0, 0xd0 / 255, 0.0];
 
+// The library's grab colour (src/draw/draw.c, 0xff40c0): the drag's spring, as femto view draws it.
+export const grabColor = [1.0, 0x40 / 255, 0xc0 / 255];
+
 // A sleeping body's colour: dimmed toward grey, as femto view (viewer/draw_list.c) and Box2D.
 export function dimmed(color) {
   return color.map((c) => 0.45 * c + 0.55 * 0.55);
@@ -282,6 +285,14 @@ export class Renderer {
     gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 24, 0);
     gl.bindVertexArray(null);
     this.lineCount = 0;
+    this.grabBuffer = gl.createBuffer();
+    this.grabVao = gl.createVertexArray();
+    gl.bindVertexArray(this.grabVao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.grabBuffer);
+    gl.enableVertexAttribArray(0);
+    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
+    gl.bindVertexArray(null);
+    this.grabbing = false;
     this.normalsMs = 0; // the time spent on the drawn vertices' normals and positions, all frames
     // Light from above and to the right of the starting camera, travelling down.
     const l = [-0.7, -1.0, -0.25];
@@ -332,6 +343,15 @@ export class Renderer {
     if (this.lineCount === 0) return;
     gl.bindBuffer(gl.ARRAY_BUFFER, this.lineBuffer);
     gl.bufferData(gl.ARRAY_BUFFER, lines, gl.DYNAMIC_DRAW);
+  }
+
+  // The drag's spring (Float32Array of 6 floats: the grabbed point, the target), or null.
+  setGrabLine(line) {
+    const gl = this.gl;
+    this.grabbing = line !== null;
+    if (!this.grabbing) return;
+    gl.bindBuffer(gl.ARRAY_BUFFER, this.grabBuffer);
+    gl.bufferData(gl.ARRAY_BUFFER, line, gl.DYNAMIC_DRAW);
   }
 
   // Upload body @p i's positions (Float32Array, 3 a vertex) and their normals split at the
@@ -413,7 +433,24 @@ export class Renderer {
       gl.drawElements(gl.TRIANGLES, m.count, gl.UNSIGNED_INT, 0);
     }
     if (this.lineCount > 0) this.drawContactLines(viewProjection);
+    if (this.grabbing) this.drawGrab(viewProjection);
     gl.bindVertexArray(null);
+  }
+
+  // The drag's spring over everything: a line from the grabbed point to the pointer's target,
+  // both ends as large points (a WebGL line is one pixel wide).
+  drawGrab(viewProjection) {
+    const gl = this.gl;
+    gl.disable(gl.DEPTH_TEST);
+    gl.useProgram(this.line.program);
+    gl.uniformMatrix4fv(this.line.uniforms.uViewProjection, false, viewProjection);
+    gl.uniform3fv(this.line.uniforms.uColor, grabColor);
+    gl.bindVertexArray(this.grabVao);
+    gl.uniform1f(this.line.uniforms.uPointSize, 1);
+    gl.drawArrays(gl.LINES, 0, 2);
+    gl.uniform1f(this.line.uniforms.uPointSize, 12);
+    gl.drawArrays(gl.POINTS, 0, 2);
+    gl.enable(gl.DEPTH_TEST);
   }
 
   // The contacts over everything: the lines, and their starts (the contact points) as dots.

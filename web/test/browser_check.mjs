@@ -4,8 +4,9 @@
 //   1. open the page, wait for 40 simulated frames: no console error or exception, no failed step;
 //   2. the canvas is not blank: enough pixels of the house's colour;
 //   3. the house's pixels move between two screenshots half a second apart;
-//   4. a scripted mouse drag from the house's centre upward lifts the house in the picture;
-//      and a finger (touch events) drags it too; the Play/Pause label matches the state after a
+//   4. a scripted mouse drag from the house's centre upward lifts the house in the picture and
+//      draws the drag's spring in the grab's pink (gone after the release); a finger (touch
+//      events) drags it too; the Play/Pause label matches the state after a
 //      pause, a reset and a scene change; the profile graph draws its stages' lines, the
 //      contacts view draws the contacts' lines, a pile that has come to rest is dimmed, and the
 //      house's wall corner is drawn sharp (normals split at creases: each face uniform beside it);
@@ -212,7 +213,8 @@ const rectOf = (evaluate, id) => evaluate(`(() => { const r = document.getElemen
 // the graph (the legend's word alone spans a few dozen columns); the contacts view draws the library's
 // contact lines in its yellow over the canvas (not the panel), none with the view off.
 async function checkProfileAndContacts(evaluate, screenshot) {
-  await waitFor(evaluate, 'femto.profileFrames >= 200', 30);
+  // Waits are long: on a loaded machine the page may run a few frames a second.
+  await waitFor(evaluate, 'femto.profileFrames >= 200', 120);
   const graph = await rectOf(evaluate, 'profile');
   const frames = await evaluate('femto.profileFrames');
   const image = decodePng(await screenshot());
@@ -224,6 +226,7 @@ async function checkProfileAndContacts(evaluate, screenshot) {
   const canvasOnly = { left: panel.right + 1, top: 0, right: image.width, bottom: image.height };
   const yellowBefore = colourIn(image, canvasOnly, [255, 0xd0, 0], 40).count;
   await evaluate('document.getElementById("contacts").click()');
+  await waitFor(evaluate, 'femto.contactLines > 0', 30);
   await sleep(700);
   const lines = await evaluate('femto.contactLines');
   const yellowAfter = colourIn(decodePng(await screenshot()), canvasOnly, [255, 0xd0, 0], 40).count;
@@ -246,13 +249,13 @@ async function checkSleepDimmed(evaluate, screenshot) {
   };
   const awake = await seen();
   await evaluate('document.getElementById("pause").click()');
-  const slept = await waitFor(evaluate, 'femto.asleep === femto.bodyCount', 40);
+  const slept = await waitFor(evaluate, 'femto.asleep === femto.bodyCount', 120);
   await evaluate('document.getElementById("pause").click()');
   await sleep(400);
   const asleep = await seen();
   await evaluate('document.getElementById("pause").click()');
   check(slept && asleep < 0.75 * awake, `the pile at rest sleeps (${slept ? 'all' : 'not all'} ` +
-    `of its bodies within 40 s) and is dimmed: its top box's colour spread ${asleep.toFixed(0)} ` +
+    `of its bodies within 120 s of wall time) and is dimmed: its top box's colour spread ${asleep.toFixed(0)} ` +
     `against ${awake.toFixed(0)} awake (less than 75% needed)`);
   await evaluate('(() => { const s = document.getElementById("scene"); ' +
     's.value = s.options[0].value; s.dispatchEvent(new Event("change")); })()');
@@ -383,8 +386,17 @@ async function main() {
       await sleep(50);
     }
     await sleep(700);
-    const during = houseMask(decodePng(await screenshot()));
+    const duringImage = decodePng(await screenshot());
+    const during = houseMask(duringImage);
+    const spring = await evaluate('window.femto.grabLine');
     await mouse('mouseReleased', center.x, center.y - 200, { clickCount: 1 });
+    await sleep(300);
+    const pink = (image) => colourIn(image, { left: 0, top: 0, right: image.width,
+      bottom: image.height }, [255, 0x40, 0xc0], 40).count;
+    const pinkDuring = pink(duringImage), pinkAfter = pink(decodePng(await screenshot()));
+    check(spring && pinkDuring > 100 && pinkAfter < 10,
+      `the drag's spring is drawn in the grab's pink while it holds (${pinkDuring} pixels, more ` +
+      `than 100 needed) and gone after the release (${pinkAfter}, fewer than 10 needed)`);
     check(dragging, 'a press on the house picked it (ray cast) and started a drag');
     check(before.top - during.top > 30,
       `the drag lifted the house in the picture: its top went from row ${before.top} to ` +
