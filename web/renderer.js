@@ -106,6 +106,17 @@ export const contactColor = [1.0, 0xd0 / 255, 0.0];
 // The library's grab colour (src/draw/draw.c, 0xff40c0): the drag's spring, as femto view draws it.
 export const grabColor = [1.0, 0x40 / 255, 0xc0 / 255];
 
+// A vertex array reading 3 floats a point from @p buffer every @p stride bytes (0: packed).
+function pointsOf(gl, buffer, stride) {
+  const vao = gl.createVertexArray();
+  gl.bindVertexArray(vao);
+  gl.bindBuffer(gl.ARRAY_BUFFER, buffer);
+  gl.enableVertexAttribArray(0);
+  gl.vertexAttribPointer(0, 3, gl.FLOAT, false, stride, 0);
+  gl.bindVertexArray(null);
+  return vao;
+}
+
 // A sleeping body's colour: dimmed toward grey, as femto view (viewer/draw_list.c) and Box2D.
 export function dimmed(color) {
   return color.map((c) => 0.45 * c + 0.55 * 0.55);
@@ -273,25 +284,12 @@ export class Renderer {
     gl.bindVertexArray(null);
     this.meshes = [];
     this.line = program(gl, lineVertex, lineFragment);
-    this.lineVao = gl.createVertexArray();
     this.lineBuffer = gl.createBuffer();
-    gl.bindVertexArray(this.lineVao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, this.lineBuffer);
-    gl.enableVertexAttribArray(0);
-    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
-    this.pointVao = gl.createVertexArray(); // the lines' starts: every other vertex
-    gl.bindVertexArray(this.pointVao);
-    gl.enableVertexAttribArray(0);
-    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 24, 0);
-    gl.bindVertexArray(null);
+    this.lineVao = pointsOf(gl, this.lineBuffer, 0);
+    this.pointVao = pointsOf(gl, this.lineBuffer, 24); // the lines' starts: every other vertex
     this.lineCount = 0;
     this.grabBuffer = gl.createBuffer();
-    this.grabVao = gl.createVertexArray();
-    gl.bindVertexArray(this.grabVao);
-    gl.bindBuffer(gl.ARRAY_BUFFER, this.grabBuffer);
-    gl.enableVertexAttribArray(0);
-    gl.vertexAttribPointer(0, 3, gl.FLOAT, false, 0, 0);
-    gl.bindVertexArray(null);
+    this.grabVao = pointsOf(gl, this.grabBuffer, 0);
     this.grabbing = false;
     this.normalsMs = 0; // the time spent on the drawn vertices' normals and positions, all frames
     // Light from above and to the right of the starting camera, travelling down.
@@ -440,32 +438,29 @@ export class Renderer {
   // The drag's spring over everything: a line from the grabbed point to the pointer's target,
   // both ends as large points (a WebGL line is one pixel wide).
   drawGrab(viewProjection) {
-    const gl = this.gl;
-    gl.disable(gl.DEPTH_TEST);
-    gl.useProgram(this.line.program);
-    gl.uniformMatrix4fv(this.line.uniforms.uViewProjection, false, viewProjection);
-    gl.uniform3fv(this.line.uniforms.uColor, grabColor);
-    gl.bindVertexArray(this.grabVao);
-    gl.uniform1f(this.line.uniforms.uPointSize, 1);
-    gl.drawArrays(gl.LINES, 0, 2);
-    gl.uniform1f(this.line.uniforms.uPointSize, 12);
-    gl.drawArrays(gl.POINTS, 0, 2);
-    gl.enable(gl.DEPTH_TEST);
+    this.drawOverEverything(viewProjection, grabColor, this.grabVao, 1, this.grabVao, 2, 12);
   }
 
   // The contacts over everything: the lines, and their starts (the contact points) as dots.
   drawContactLines(viewProjection) {
+    this.drawOverEverything(viewProjection, contactColor, this.lineVao, this.lineCount,
+      this.pointVao, this.lineCount, 4);
+  }
+
+  // @p lines lines of @p lineVao and @p points points of @p pointVao (@p size pixels) in
+  // @p color, over everything, as debug lines are drawn.
+  drawOverEverything(viewProjection, color, lineVao, lines, pointVao, points, size) {
     const gl = this.gl;
     gl.disable(gl.DEPTH_TEST);
     gl.useProgram(this.line.program);
     gl.uniformMatrix4fv(this.line.uniforms.uViewProjection, false, viewProjection);
-    gl.uniform3fv(this.line.uniforms.uColor, contactColor);
-    gl.bindVertexArray(this.lineVao);
+    gl.uniform3fv(this.line.uniforms.uColor, color);
+    gl.bindVertexArray(lineVao);
     gl.uniform1f(this.line.uniforms.uPointSize, 1);
-    gl.drawArrays(gl.LINES, 0, 2 * this.lineCount);
-    gl.uniform1f(this.line.uniforms.uPointSize, 4);
-    gl.bindVertexArray(this.pointVao);
-    gl.drawArrays(gl.POINTS, 0, this.lineCount);
+    gl.drawArrays(gl.LINES, 0, 2 * lines);
+    gl.uniform1f(this.line.uniforms.uPointSize, size);
+    gl.bindVertexArray(pointVao);
+    gl.drawArrays(gl.POINTS, 0, points);
     gl.enable(gl.DEPTH_TEST);
   }
 }

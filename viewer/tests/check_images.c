@@ -273,6 +273,21 @@ static bool reportPanelRight(const char* path, double* right)
 	return found;
 }
 
+// A screenshot and its report's panel edge (pixels), which must lie within it: 0, or 1 after
+// saying what is wrong.
+static int openPanelShot(const char* shotPath, const char* report, Image* shot, double* right)
+{
+	if (!readPng(shotPath, shot))
+		return fail("%s: cannot decode", shotPath);
+	if (!reportPanelRight(report, right) || *right < 100.0 || *right > shot->width)
+	{
+		free(shot->rgb);
+		shot->rgb = NULL;
+		return fail("%s: no panel_right line with a panel", report);
+	}
+	return 0;
+}
+
 static const unsigned char* pixelAt(const Image* image, int x, int y)
 {
 	return image->rgb + 3 * ((size_t)y * (size_t)image->width + (size_t)x);
@@ -292,13 +307,8 @@ static int checkMessage(const char* shotPath, const char* report)
 {
 	Image shot = {0, 0, NULL};
 	double right = 0.0;
-	if (!readPng(shotPath, &shot))
-		return fail("%s: cannot decode", shotPath);
-	if (!reportPanelRight(report, &right) || right < 100.0 || right > shot.width)
-	{
-		free(shot.rgb);
-		return fail("%s: no panel_right line with a panel", report);
-	}
+	if (openPanelShot(shotPath, report, &shot, &right) != 0)
+		return 1;
 	int panel = (int)right, lines = 0, top = -1, bottom = -1, atEdge = 0, rightmost = -1;
 	bool inLine = false;
 	for (int y = 0; y < shot.height; ++y)
@@ -358,13 +368,8 @@ static int checkLegend(const char* shotPath, const char* report)
 {
 	Image shot = {0, 0, NULL};
 	double right = 0.0;
-	if (!readPng(shotPath, &shot))
-		return fail("%s: cannot decode", shotPath);
-	if (!reportPanelRight(report, &right) || right < 100.0 || right > shot.width)
-	{
-		free(shot.rgb);
-		return fail("%s: no panel_right line with a panel", report);
-	}
+	if (openPanelShot(shotPath, report, &shot, &right) != 0)
+		return 1;
 	int row = -1, start = 0, length = 0;
 	for (int y = 0; y < shot.height && row < 0; ++y)
 		for (int x = 0, run = 0; x < (int)right && row < 0; ++x)
