@@ -92,7 +92,7 @@ typedef struct cliRunOptions
 	const char* simd;   ///< --simd, NULL if not given
 	bool deterministic; ///< --deterministic
 	bool quiet;
-	bool audit; ///< --audit
+	bool audit;             ///< --audit
 	double progressSeconds; ///< --progress: wall seconds between lines off a terminal
 	cliViewOptions view;    ///< --gif, --png and their picture options
 } cliRunOptions;
@@ -652,8 +652,8 @@ static void cliPrintAudit(const cliSimulation* sim, const cliSolveTotals* solves
 	if (solves->auditedFindings == 0)
 		return;
 	const fmContactAudit* f = &solves->first;
-	printf("                 %d with findings, the first after substep %d:", solves->auditedFindings,
-	       solves->firstFindingStep);
+	printf("                 %d with findings, the first after substep %d:",
+	       solves->auditedFindings, solves->firstFindingStep);
 	if (f->firstCrossing.body.index1 != 0)
 		printf(" bodies[%d] edge %d-%d crosses bodies[%d] triangle %d;",
 		       cliBodyIndex(sim, f->firstCrossing.body), f->firstCrossing.vertex[0],

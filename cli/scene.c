@@ -60,7 +60,8 @@ static bool cliParseShapeName(const cliJson* j, const cliJsonNode* item, const c
 	                   "expected " CLI_SHAPE_NAMES);
 }
 
-static bool cliParsePlane(const cliJson* j, const cliJsonNode* item, const char* path, fmColliderDef* d)
+static bool cliParsePlane(const cliJson* j, const cliJsonNode* item, const char* path,
+                          fmColliderDef* d)
 {
 	static const char* const required[] = {"normal", NULL};
 	const char* far = "3 numbers within 1e9";
@@ -129,7 +130,8 @@ static bool cliParseMeshCollider(const cliJson* j, const cliJsonNode* item, cons
 	return cliResolveFile(j, filePath, fileItem, file, spec->objPath, sizeof spec->objPath);
 }
 
-static bool cliParseCollider(const cliJson* j, const cliJsonNode* item, int index, cliColliderSpec* spec)
+static bool cliParseCollider(const cliJson* j, const cliJsonNode* item, int index,
+                             cliColliderSpec* spec)
 {
 	char path[64];
 	snprintf(path, sizeof path, "colliders[%d]", index);
@@ -213,7 +215,8 @@ static bool cliParseContact(const cliJson* j, const cliJsonNode* root, fmContact
 // ---- the world ------------------------------------------------------------------------------
 
 // "tolerance": a number, or a preset: "accurate" (1e-6) or "game" (1e-2).
-static bool cliGetTolerance(const cliJson* j, const cliJsonNode* root, cliRange range, double* value)
+static bool cliGetTolerance(const cliJson* j, const cliJsonNode* root, cliRange range,
+                            double* value)
 {
 	const cliJsonNode* item = cliJsonTree_Member(root, "tolerance");
 	if (cliJsonIs(item, cli_jsonString) && strcmp(item->string, "accurate") == 0)
@@ -306,16 +309,14 @@ static bool cliParseSolverNames(const cliJson* j, const cliJsonNode* root, const
 	if (notConverged != NULL)
 	{
 		if (strcmp(notConverged, "warn") != 0 && strcmp(notConverged, "error") != 0)
-			return cliJsonFail(j, "not_converged",
-			                   cliJsonTree_Member(root, "not_converged"),
+			return cliJsonFail(j, "not_converged", cliJsonTree_Member(root, "not_converged"),
 			                   "expected \"warn\" or \"error\"");
 		def->notConvergedIsError = strcmp(notConverged, "error") == 0;
 	}
 	if (solver != NULL)
 	{
 		if (strcmp(solver, "newton") != 0 && strcmp(solver, "vbd") != 0)
-			return cliJsonFail(j, "implicit_solver",
-			                   cliJsonTree_Member(root, "implicit_solver"),
+			return cliJsonFail(j, "implicit_solver", cliJsonTree_Member(root, "implicit_solver"),
 			                   "expected \"newton\" or \"vbd\"");
 		def->implicitSolver = strcmp(solver, "vbd") == 0 ? fm_solverVbd : fm_solverNewton;
 	}
@@ -377,8 +378,7 @@ static bool cliParseWorld(const cliJson* j, const cliJsonNode* root, cliScene* s
 		else if (strcmp(integrator, "implicit") == 0)
 			def->integrator = fm_implicit;
 		else
-			return cliJsonFail(j, "integrator",
-			                   cliJsonTree_Member(root, "integrator"),
+			return cliJsonFail(j, "integrator", cliJsonTree_Member(root, "integrator"),
 			                   "expected \"explicit\" or \"implicit\"");
 	}
 	if (!cliParseSubsteps(j, root, scene))

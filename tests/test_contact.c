@@ -1,16 +1,16 @@
-// Contact (src/contact/contact.c, src/contact/collider.c, src/world/query.c): bodies rest on colliders and on each
-// other without interpenetrating beyond the thickness, Coulomb friction on an incline follows
-// g (sin a - mu cos a), fast bodies do not tunnel through thin colliders, kinematic colliders
-// push and feel the push, resting contact gains no energy, rays hit the deformed surface,
+// Contact (src/contact/contact.c, src/contact/collider.c, src/world/query.c): bodies rest on
+// colliders and on each other without interpenetrating beyond the thickness, Coulomb friction on an
+// incline follows g (sin a - mu cos a), fast bodies do not tunnel through thin colliders, kinematic
+// colliders push and feel the push, resting contact gains no energy, rays hit the deformed surface,
 // filtered pairs pass through each other, events begin and end, and the results are the same
 // bits for any number of workers.
 #include "support.h"
 #include "test.h"
 
 #include "body/body.h"
+#include "contact/penalty.h"
 #include "core/core.h"
 #include "math/geometry.h"
-#include "contact/penalty.h"
 #include "solver/solver_cache.h"
 
 #include <math.h>
@@ -2134,7 +2134,8 @@ static void auditSubstep(int substep, double time, void* context)
 		return;
 	}
 	log->crossings = a.crossings > log->crossings ? a.crossings : log->crossings;
-	log->selfCrossings = a.selfCrossings > log->selfCrossings ? a.selfCrossings : log->selfCrossings;
+	log->selfCrossings =
+	    a.selfCrossings > log->selfCrossings ? a.selfCrossings : log->selfCrossings;
 	log->inside = a.verticesInside > log->inside ? a.verticesInside : log->inside;
 	log->inverted = a.invertedTets > log->inverted ? a.invertedTets : log->inverted;
 }
@@ -2214,7 +2215,8 @@ TEST(barrier_stacks_of_three_houses_never_cross)
 		def.smoothing = 0.0;
 		fmBodyId houses[3];
 		for (int h = 0; h < 3; ++h)
-			houses[h] = addHouse(failures_, world, fmMakeVec3(offsets[k][h], 2.0 + 4.5 * h, 0.0), &def);
+			houses[h] =
+			    addHouse(failures_, world, fmMakeVec3(offsets[k][h], 2.0 + 4.5 * h, 0.0), &def);
 		auditEnergyFrom(&log, houses, 3);
 		int failed = 0, frames = fmTestCount(180, 40);
 		for (int f = 0; f < frames; ++f)

@@ -86,9 +86,9 @@ static fwFile s_files[FW_FILE_COUNT];
 typedef struct fwApp
 {
 	fmWorldId world;
-	cliScene scene;    // what was loaded (read by the tool's schema, scene.h)
-	bool hasScene;     // scene holds a scene to free
-	bool userBody;     // body 0's mesh is userMesh (a dropped mesh's scene)
+	cliScene scene; // what was loaded (read by the tool's schema, scene.h)
+	bool hasScene;  // scene holds a scene to free
+	bool userBody;  // body 0's mesh is userMesh (a dropped mesh's scene)
 	bool deterministic;
 	int bodyCount;
 	fmBodyId bodies[FW_MAX_BODIES];
@@ -142,11 +142,10 @@ static fmResult fwMakeMesh(int b, fmTetMesh* mesh, fmDiagnostic* diag)
 	fmResult r = spec->meshSource == cli_meshBox
 	                 ? fmMakeBoxMesh(spec->boxCells[0], spec->boxCells[1], spec->boxCells[2],
 	                                 spec->boxMin, spec->boxMax, mesh)
-	                 : fmLoadTetGenFromMemory(s_files[FW_FILE_HOUSE_NODE].text,
-	                                          s_files[FW_FILE_HOUSE_NODE].size, FW_HOUSE_NODE,
-	                                          s_files[FW_FILE_HOUSE_ELE].text,
-	                                          s_files[FW_FILE_HOUSE_ELE].size, FW_HOUSE_ELE, mesh,
-	                                          diag);
+	                 : fmLoadTetGenFromMemory(
+	                       s_files[FW_FILE_HOUSE_NODE].text, s_files[FW_FILE_HOUSE_NODE].size,
+	                       FW_HOUSE_NODE, s_files[FW_FILE_HOUSE_ELE].text,
+	                       s_files[FW_FILE_HOUSE_ELE].size, FW_HOUSE_ELE, mesh, diag);
 	if (r == fm_ok)
 		fmTetMesh_Transform(mesh, &spec->transform);
 	return r;

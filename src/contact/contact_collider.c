@@ -132,8 +132,8 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmContactResponse_KeepPins(b, i, before);
 	// The collider's reaction: the velocity change here, and the implicit penalty's push
 	// during the step.
-	fmVec3 impulse =
-	    fmMulAdd(fmScale(b->mesh.mass[i], fmSub(fmLoad(b->state.v, i), v)), b->mesh.mass[i] * pushed, n);
+	fmVec3 impulse = fmMulAdd(fmScale(b->mesh.mass[i], fmSub(fmLoad(b->state.v, i), v)),
+	                          b->mesh.mass[i] * pushed, n);
 	impulse = fmMulAdd(impulse, h, solved);
 	c->impulse = fmSub(c->impulse, impulse);
 	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
@@ -189,7 +189,8 @@ static void fmWakeIfPushed(fmBody* b, const fmCollider* c)
 	for (int p = 0; p < b->contact.surfaceVertexCount && !b->wakeRequested; ++p)
 	{
 		fmVec3 n;
-		b->wakeRequested = fmCollider_Distance(c, fmLoad(b->state.x, b->contact.surfaceVertex[p]), &n) < 0.0;
+		b->wakeRequested =
+		    fmCollider_Distance(c, fmLoad(b->state.x, b->contact.surfaceVertex[p]), &n) < 0.0;
 	}
 }
 

@@ -102,7 +102,8 @@ bool fmContactDetect_BuildTriangles(fmWorld* w, fmContactState* s, double thickn
 	{
 		const fmBody* b = &w->bodies[slot];
 		// Only the triangles of bodies near another one go into the hash.
-		for (int t = 0; fmBody_IsLive(b) && s->bodyNear[slot] && t < b->mesh.triangleCount; ++t, ++k)
+		for (int t = 0; fmBody_IsLive(b) && s->bodyNear[slot] && t < b->mesh.triangleCount;
+		     ++t, ++k)
 		{
 			const int* tri = fmContactDetect_Triangle(b, t);
 			fmVec3 lo = fmLoad(b->state.x, tri[0]), hi = lo;
@@ -188,7 +189,8 @@ static int fmListItems(const fmWorld* w, fmContactState* s, bool edges)
 	int n = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 		if (fmHasItems(w, s, slot, edges))
-			n += edges ? 3 * w->bodies[slot].mesh.triangleCount : w->bodies[slot].contact.surfaceVertexCount;
+			n += edges ? 3 * w->bodies[slot].mesh.triangleCount
+			           : w->bodies[slot].contact.surfaceVertexCount;
 	if (!fmGrowArray((void**)&s->items, &s->itemCapacity, 0, 2 * n, sizeof(int)))
 		return -1;
 	n = 0;

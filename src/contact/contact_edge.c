@@ -72,11 +72,12 @@ static bool fmEdgeAgainstTriangle(const fmContactState* s, fmWorkerFinds* wf, co
 		if (other == slot && !fmSelfEdges(b, e, f, thickness))
 			continue;
 		double sa, tb;
-		fmClosestSegments(fmLoad(b->state.x, e[0]), fmLoad(b->state.x, e[1]), fmLoad(o->state.x, f[0]),
-		                  fmLoad(o->state.x, f[1]), &sa, &tb);
+		fmClosestSegments(fmLoad(b->state.x, e[0]), fmLoad(b->state.x, e[1]),
+		                  fmLoad(o->state.x, f[0]), fmLoad(o->state.x, f[1]), &sa, &tb);
 		if (sa <= 0.0 || sa >= 1.0 || tb <= 0.0 || tb >= 1.0)
 			continue;
-		fmVec3 d = fmSub(fmContactEdge_Point(b->state.x, e, sa), fmContactEdge_Point(o->state.x, f, tb));
+		fmVec3 d =
+		    fmSub(fmContactEdge_Point(b->state.x, e, sa), fmContactEdge_Point(o->state.x, f, tb));
 		fmVec3 d0 = fmSub(fmContactEdge_Point(b->contact.start, e, sa),
 		                  fmContactEdge_Point(o->contact.start, f, tb));
 		double distance = fmLength(d), start = fmLength(d0);
@@ -182,7 +183,8 @@ bool fmContactEdge_Project(fmWorld* w, fmContactState* s, fmEdgeContact* c, doub
 	double sum = 0.0;
 	for (int k = 0; k < 4; ++k)
 		sum += weights[k] * weights[k] * inverse[k];
-	fmVec3 d = fmSub(fmContactEdge_Point(b->state.x, c->a, c->s), fmContactEdge_Point(o->state.x, c->b, c->t));
+	fmVec3 d = fmSub(fmContactEdge_Point(b->state.x, c->a, c->s),
+	                 fmContactEdge_Point(o->state.x, c->b, c->t));
 	double gap = fmMin(thickness - fmDot(c->normal, d), c->reach);
 	if (!(gap > 0.0) || !(sum > 0.0))
 		return true;

@@ -4,10 +4,10 @@
 
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
-#include "core/det_math.h"
-#include "math/geometry.h"
 #include "contact/penalty.h"
+#include "core/det_math.h"
 #include "core/timer.h"
+#include "math/geometry.h"
 
 #include <math.h>
 #include <string.h>
@@ -29,8 +29,8 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 {
 	if (tri[0] == i || tri[1] == i || tri[2] == i)
 		return false;
-	fmVec3 p = fmLoad(b->mesh.x0, i), a = fmLoad(b->mesh.x0, tri[0]), bb = fmLoad(b->mesh.x0, tri[1]),
-	       c = fmLoad(b->mesh.x0, tri[2]);
+	fmVec3 p = fmLoad(b->mesh.x0, i), a = fmLoad(b->mesh.x0, tri[0]),
+	       bb = fmLoad(b->mesh.x0, tri[1]), c = fmLoad(b->mesh.x0, tri[2]);
 	double w[3];
 	fmClosestOnTriangle(p, a, bb, c, w);
 	fmVec3 q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], bb)), fmScale(w[2], c));
@@ -42,7 +42,8 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 static bool fmNearestOnTriangle(const fmBody* o, const int* tri, fmVec3 p, double w[3], fmVec3* q,
                                 fmVec3* n)
 {
-	fmVec3 a = fmLoad(o->state.x, tri[0]), b = fmLoad(o->state.x, tri[1]), c = fmLoad(o->state.x, tri[2]);
+	fmVec3 a = fmLoad(o->state.x, tri[0]), b = fmLoad(o->state.x, tri[1]),
+	       c = fmLoad(o->state.x, tri[2]);
 	fmClosestOnTriangle(p, a, b, c, w);
 	*q = fmAdd(fmAdd(fmScale(w[0], a), fmScale(w[1], b)), fmScale(w[2], c));
 	*n = fmCross(fmSub(b, a), fmSub(c, a));
@@ -226,8 +227,8 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		return fmFindEmbedded(w, s, wf, slot, i, thickness, found);
 	// Held earlier in the frame (fmFindEmbedded): pushed on in every substep while still inside.
 	if (bestItem < 0 && b->contact.embeddedHolder[i] > 0)
-		return fmEmbeddedContact(w, s, wf, slot, i, b->contact.embeddedHolder[i] - 1, thickness, true,
-		                         found);
+		return fmEmbeddedContact(w, s, wf, slot, i, b->contact.embeddedHolder[i] - 1, thickness,
+		                         true, found);
 	if (bestItem >= 0)
 	{
 		// Depenetration is limited as against the floor: what the substep's own approach
@@ -238,8 +239,9 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		const int* tri = fmContactDetect_Triangle(o, found->triangle);
 		fmVec3 approach = fmSub(p, fmLoad(b->contact.start, i));
 		for (int c = 0; c < 3; ++c)
-			approach = fmMulAdd(approach, -found->w[c],
-			                    fmSub(fmLoad(o->state.x, tri[c]), fmLoad(o->contact.start, tri[c])));
+			approach =
+			    fmMulAdd(approach, -found->w[c],
+			             fmSub(fmLoad(o->state.x, tri[c]), fmLoad(o->contact.start, tri[c])));
 		// A body's own surface is kept from coming closer, not pushed back out to the thickness
 		// at once: in a fold the projection's jump crushed the tets between the two sides, and
 		// an explicit bar folding onto itself blew up at its first self contact (docs/contact.md,

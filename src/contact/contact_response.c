@@ -1,9 +1,9 @@
 // The contact responses' shared rules (contact_response.h).
 #include "contact/contact_response.h"
 
+#include "contact/floor.h"
 #include "core/core.h"
 #include "core/det_math.h"
-#include "contact/floor.h"
 
 #include <math.h>
 
@@ -60,7 +60,8 @@ void fmContactResponse_KeepPins(fmBody* b, int i, fmVec3 x0)
 void fmContactResponse_KeepAboveFloor(const fmWorld* w, fmBody* b, int i)
 {
 	const fmFloorDef* floor = &w->def.floor;
-	if (fmFloor_Applies(floor, b) && b->state.x[3 * i + 1] < floor->height && !(b->state.pinned[i] & FM_PIN_Y))
+	if (fmFloor_Applies(floor, b) && b->state.x[3 * i + 1] < floor->height &&
+	    !(b->state.pinned[i] & FM_PIN_Y))
 		b->state.x[3 * i + 1] = floor->height;
 }
 
