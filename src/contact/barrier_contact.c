@@ -1,6 +1,7 @@
 // Barrier contact inside the implicit solve (barrier_contact.h).
 #include "contact/barrier_contact.h"
 
+#include "contact/barrier_pairs.h"
 #include "contact/collider.h"
 #include "contact/contact.h"
 #include "contact/contact_response.h"
@@ -18,10 +19,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-// The candidates' box reaches this many dHat past the segment they were gathered for: the
-// Newton steps after the first are short, and their segments stay inside it.
-#define FM_BARRIER_SLACK 0.25
 
 // CCD stops at (1 - FM_BARRIER_ETA) of a pair's gap (additive CCD's conservative advance).
 #define FM_BARRIER_ETA 0.9
@@ -76,395 +73,7 @@ bool fmBarrierContact_Edges(fmBody* b)
 	return b->contact.surfaceEdge != NULL;
 }
 
-// The vertices of primitive @p p (1, 2 or 3 of them); returns how many.
-static int fmPrimitiveVertices(const fmBody* b, const fmBarrierPrimitive* p, int v[3])
-{
-	if (p->kind == 0)
-	{
-		v[0] = b->contact.surfaceVertex[p->index];
-		return 1;
-	}
-	if (p->kind == 1)
-	{
-		v[0] = b->contact.surfaceEdge[2 * p->index];
-		v[1] = b->contact.surfaceEdge[2 * p->index + 1];
-		return 2;
-	}
-	for (int k = 0; k < 3; ++k)
-		v[k] = b->mesh.surface[3 * p->index + k];
-	return 3;
-}
-
-static int fmPrimitiveCount(const fmBody* b, int kind)
-{
-	return kind == 0 ? b->contact.surfaceVertexCount
-	                 : kind == 1 ? b->contact.surfaceEdgeCount : b->mesh.triangleCount;
-}
-
-// The box of a primitive at @p x, swept along @p dx (NULL: none), grown by @p grow.
-static void fmPrimitiveBox(const fmBody* b, const fmBarrierPrimitive* p, const double* x,
-                           const double* dx, double grow, fmVec3* lo, fmVec3* hi)
-{
-	int v[3], n = fmPrimitiveVertices(b, p, v);
-	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
-	for (int k = 0; k < n; ++k)
-		for (int end = 0; end < (dx != NULL ? 2 : 1); ++end)
-		{
-			fmVec3 q = fmLoad(x, v[k]);
-			if (end)
-				q = fmAdd(q, fmLoad(dx, v[k]));
-			l = fmMakeVec3(fmMin(l.x, q.x), fmMin(l.y, q.y), fmMin(l.z, q.z));
-			u = fmMakeVec3(fmMax(u.x, q.x), fmMax(u.y, q.y), fmMax(u.z, q.z));
-		}
-	*lo = fmSub(l, fmMakeVec3(grow, grow, grow));
-	*hi = fmAdd(u, fmMakeVec3(grow, grow, grow));
-}
-
-static bool fmBoxesMeet(fmVec3 al, fmVec3 ah, fmVec3 bl, fmVec3 bh)
-{
-	return !(ah.x < bl.x || al.x > bh.x || ah.y < bl.y || al.y > bh.y || ah.z < bl.z ||
-	         al.z > bh.z);
-}
-
-// ---- gathering primitives ----------------------------------------------------------------------
-
-static bool fmAddPrimitive(fmBarrierPrimitive** list, fmVec3** lower, fmVec3** upper, int* count,
-                           int* capacity, fmBarrierPrimitive p, fmVec3 lo, fmVec3 hi)
-{
-	if (*count == *capacity)
-	{
-		int old = *capacity, grown = old > 0 ? 2 * old : 256;
-		int c1 = old, c2 = old;
-		if (!fmGrowArray((void**)list, capacity, old, grown, sizeof **list) ||
-		    !fmGrowArray((void**)lower, &c1, old, grown, sizeof **lower) ||
-		    !fmGrowArray((void**)upper, &c2, old, grown, sizeof **upper))
-			return false;
-	}
-	(*list)[*count] = p;
-	(*lower)[*count] = lo;
-	(*upper)[*count] = hi;
-	*count += 1;
-	return true;
-}
-
-// The other bodies' primitives whose boxes (grown by dHat) meet [lo, hi], into the scratch.
-static bool fmGatherOthers(fmBarrierContact* bc, fmVec3 lo, fmVec3 hi)
-{
-	const fmWorld* w = bc->world;
-	fmBarrierScratch* s = bc->scratch;
-	const fmBody* b = &w->bodies[bc->slot];
-	s->otherCount = 0;
-	for (int o = 0; o < w->bodyCapacity; ++o)
-	{
-		const fmBody* other = &w->bodies[o];
-		if (o == bc->slot || !fmBody_IsLive(other) || !fmFiltersMeet(b->filter, other->filter) ||
-		    fmBarrierContact_Overlapping(w, bc->slot, o) ||
-		    other->contact.surfaceEdge == NULL || other->contact.start == NULL)
-			continue;
-		for (int kind = 0; kind < 3; ++kind)
-			for (int k = 0; k < fmPrimitiveCount(other, kind); ++k)
-			{
-				fmBarrierPrimitive p = {o, k, kind};
-				fmVec3 pl, ph;
-				fmPrimitiveBox(other, &p, other->state.x, NULL, bc->dHat, &pl, &ph);
-				if (fmBoxesMeet(pl, ph, lo, hi) &&
-				    !fmAddPrimitive(&s->others, &s->otherLower, &s->otherUpper, &s->otherCount,
-				                    &s->otherCapacity, p, pl, ph))
-					return false;
-			}
-	}
-	s->othersLower = fmMakeVec3(INFINITY, INFINITY, INFINITY);
-	s->othersUpper = fmScale(-1.0, s->othersLower);
-	for (int k = 0; k < s->otherCount; ++k)
-	{
-		fmVec3 l = s->otherLower[k], u = s->otherUpper[k];
-		s->othersLower = fmMakeVec3(fmMin(s->othersLower.x, l.x), fmMin(s->othersLower.y, l.y),
-		                            fmMin(s->othersLower.z, l.z));
-		s->othersUpper = fmMakeVec3(fmMax(s->othersUpper.x, u.x), fmMax(s->othersUpper.y, u.y),
-		                            fmMax(s->othersUpper.z, u.z));
-	}
-	return fmSpatialHash_Build(&s->otherHash, s->otherLower, s->otherUpper, s->otherCount,
-	                           bc->cell) &&
-	       fmHashQuery_Reserve(&s->query, &s->otherHash);
-}
-
-// The body's own primitives at @p x (swept along @p dx when not NULL), their boxes grown by
-// @p grow, hashed for self-contact.
-static bool fmGatherOwn(const fmBarrierContact* bc, const double* x, const double* dx, double grow)
-{
-	const fmBody* b = &bc->world->bodies[bc->slot];
-	fmBarrierScratch* s = bc->scratch;
-	s->ownCount = 0;
-	for (int kind = 0; kind < 3; ++kind)
-		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
-		{
-			fmBarrierPrimitive p = {bc->slot, k, kind};
-			fmVec3 lo, hi;
-			fmPrimitiveBox(b, &p, x, dx, grow, &lo, &hi);
-			if (!fmAddPrimitive(&s->own, &s->ownLower, &s->ownUpper, &s->ownCount, &s->ownCapacity,
-			                    p, lo, hi))
-				return false;
-		}
-	return fmSpatialHash_Build(&s->ownHash, s->ownLower, s->ownUpper, s->ownCount, bc->cell) &&
-	       fmHashQuery_Reserve(&s->query, &s->ownHash);
-}
-
-// ---- pairs -------------------------------------------------------------------------------------
-
-// Position of stencil point k: the solved body's from @p x, any other body's where it stands.
-static fmVec3 fmStencilPoint(const fmBarrierContact* bc, const fmBarrierStencil* st, int k,
-                             const double* x)
-{
-	const fmBody* o = &bc->world->bodies[st->body[k]];
-	return fmLoad(st->body[k] == bc->slot ? x : o->state.x, st->vertex[k]);
-}
-
-static void fmStencilPoints(const fmBarrierContact* bc, const fmBarrierStencil* st,
-                            const double* x, fmVec3 p[4])
-{
-	for (int k = 0; k < 4; ++k)
-		p[k] = fmStencilPoint(bc, st, k, x);
-}
-
-// A stencil's squared distance from its closest points (no derivatives: the broad filter's).
-static double fmStencilDistance2(const fmBarrierStencil* st, const fmVec3 p[4])
-{
-	fmVec3 r;
-	if (st->edgeEdge)
-	{
-		double a, c;
-		fmDistance_EdgeEdgeClosest(p, &a, &c);
-		r = fmSub(fmMulAdd(p[0], a, fmSub(p[1], p[0])), fmMulAdd(p[2], c, fmSub(p[3], p[2])));
-	}
-	else
-	{
-		double t[3];
-		fmClosestOnTriangle(p[0], p[1], p[2], p[3], t);
-		r = fmSub(p[0], fmAdd(fmAdd(fmScale(t[0], p[1]), fmScale(t[1], p[2])), fmScale(t[2], p[3])));
-	}
-	return fmDot(r, r);
-}
-
-// The stencil of primitive @p a (of the solved body or another) against @p b: a vertex against
-// a triangle or two edges; false for other kinds, or pairs that share a vertex.
-static bool fmMakeStencil(const fmWorld* w, const fmBarrierPrimitive* a,
-                          const fmBarrierPrimitive* b, fmBarrierStencil* st)
-{
-	const fmBarrierPrimitive* first = a->kind == 2 ? b : a;
-	const fmBarrierPrimitive* second = a->kind == 2 ? a : b;
-	if (!((first->kind == 0 && second->kind == 2) || (first->kind == 1 && second->kind == 1)))
-		return false;
-	int u[3], v[3];
-	int nu = fmPrimitiveVertices(&w->bodies[first->body], first, u);
-	int nv = fmPrimitiveVertices(&w->bodies[second->body], second, v);
-	for (int i = 0; first->body == second->body && i < nu; ++i)
-		for (int j = 0; j < nv; ++j)
-			if (u[i] == v[j])
-				return false;
-	st->edgeEdge = first->kind == 1;
-	for (int k = 0; k < 4; ++k)
-	{
-		st->body[k] = k < nu ? first->body : second->body;
-		st->vertex[k] = k < nu ? u[k] : v[k - nu];
-	}
-	return true;
-}
-
-// A self pair counts only when its primitives are further than dHat apart at rest (pairs of a
-// body's own rest shape closer than that are its shape, not a contact).
-static bool fmApartAtRest(const fmBarrierContact* bc, const fmBarrierStencil* st)
-{
-	const fmBody* b = &bc->world->bodies[bc->slot];
-	fmVec3 p[4];
-	for (int k = 0; k < 4; ++k)
-		p[k] = fmLoad(b->mesh.x0, st->vertex[k]);
-	return fmStencilDistance2(st, p) >= bc->sHat;
-}
-
-static bool fmPushPair(fmBarrierScratch* s, const fmBarrierStencil* st)
-{
-	if (!fmGrowArray((void**)&s->pairs, &s->pairCapacity, s->pairCount, s->pairCount + 1,
-	                 sizeof *s->pairs))
-		return false;
-	s->pairs[s->pairCount++] = *st;
-	return true;
-}
-
-// What to do with each stencil fmVisitStencils finds; false stops the visit (out of memory).
-typedef bool fmStencilVisit(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context);
-
-// Every stencil of the solved body's primitive @p p with the other bodies' primitives (or, with
-// @p self, its own) whose stored boxes meet [lo, hi], handed to @p visit. Self pairs: a vertex
-// against triangles and each pair of edges once, only those apart at rest.
-static bool fmVisitStencils(const fmBarrierContact* bc, const fmBarrierPrimitive* p, fmVec3 lo,
-                            fmVec3 hi, bool self, fmStencilVisit* visit, void* context)
-{
-	fmBarrierScratch* s = bc->scratch;
-	if (!self && !fmBoxesMeet(lo, hi, s->othersLower, s->othersUpper))
-		return true;
-	int n = fmSpatialHash_Query(self ? &s->ownHash : &s->otherHash, &s->query, lo, hi);
-	if (n < 0)
-		return false;
-	const fmBarrierPrimitive* list = self ? s->own : s->others;
-	const fmVec3* lower = self ? s->ownLower : s->otherLower;
-	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
-	for (int k = 0; k < n; ++k)
-	{
-		int item = s->query.items[k];
-		const fmBarrierPrimitive* q = &list[item];
-		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]) ||
-		    (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index))))
-			continue;
-		fmBarrierStencil st;
-		if (fmMakeStencil(bc->world, p, q, &st) && (!self || fmApartAtRest(bc, &st)) &&
-		    !visit(bc, &st, context))
-			return false;
-	}
-	return true;
-}
-
-// Each of the solved body's primitives, its box at @p x (swept along @p dx when not NULL) grown
-// by @p grow against the others and by @p selfGrow against its own, visited.
-static bool fmVisitBody(const fmBarrierContact* bc, const double* x, const double* dx, double grow,
-                        double selfGrow, fmStencilVisit* visit, void* context)
-{
-	const fmBody* b = &bc->world->bodies[bc->slot];
-	for (int kind = 0; kind < 3; ++kind)
-		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
-		{
-			fmBarrierPrimitive p = {bc->slot, k, kind};
-			fmVec3 lo, hi;
-			fmPrimitiveBox(b, &p, x, dx, grow, &lo, &hi);
-			if (bc->scratch->otherCount > 0 &&
-			    !fmVisitStencils(bc, &p, lo, hi, false, visit, context))
-				return false;
-			fmPrimitiveBox(b, &p, x, dx, selfGrow, &lo, &hi);
-			if (bc->self && !fmVisitStencils(bc, &p, lo, hi, true, visit, context))
-				return false;
-		}
-	return true;
-}
-
-static fmVec3 fmMinVec(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMin(a.x, b.x), fmMin(a.y, b.y), fmMin(a.z, b.z));
-}
-
-static fmVec3 fmMaxVec(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMax(a.x, b.x), fmMax(a.y, b.y), fmMax(a.z, b.z));
-}
-
-// Whether the boxes of a stencil's two sides (its points @p p, swept by @p motion when not NULL)
-// are more than dHat apart on some axis: then no point of the sweep brings the pair within dHat.
-static bool fmSidesApart(const fmBarrierContact* bc, const fmBarrierStencil* st, const fmVec3 p[4],
-                         const fmVec3* motion)
-{
-	fmVec3 end[4];
-	for (int k = 0; k < 4; ++k)
-		end[k] = motion != NULL ? fmAdd(p[k], motion[k]) : p[k];
-	int split = st->edgeEdge ? 2 : 1;
-	fmVec3 lo[2] = {fmMinVec(p[0], end[0]), fmMinVec(p[split], end[split])};
-	fmVec3 hi[2] = {fmMaxVec(p[0], end[0]), fmMaxVec(p[split], end[split])};
-	for (int k = 1; k < 4; ++k)
-	{
-		if (k == split)
-			continue;
-		int side = k < split ? 0 : 1;
-		lo[side] = fmMinVec(lo[side], fmMinVec(p[k], end[k]));
-		hi[side] = fmMaxVec(hi[side], fmMaxVec(p[k], end[k]));
-	}
-	double d = bc->dHat;
-	return lo[0].x > hi[1].x + d || lo[1].x > hi[0].x + d || lo[0].y > hi[1].y + d ||
-	       lo[1].y > hi[0].y + d || lo[0].z > hi[1].z + d || lo[1].z > hi[0].z + d;
-}
-
-// A pair within dHat at the positions @p context points to goes to the scratch's pairs.
-static bool fmKeepNear(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context)
-{
-	fmVec3 pts[4];
-	fmStencilPoints(bc, st, context, pts);
-	return fmSidesApart(bc, st, pts, NULL) || fmStencilDistance2(st, pts) >= bc->sHat ||
-	       fmPushPair(bc->scratch, st);
-}
-
-static bool fmKeepCandidate(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context)
-{
-	(void)context;
-	fmBarrierScratch* s = bc->scratch;
-	if (!fmGrowArray((void**)&s->candidates, &s->candidateCapacity, s->candidateCount,
-	                 s->candidateCount + 1, sizeof *s->candidates))
-		return false;
-	s->candidates[s->candidateCount++] = *st;
-	return true;
-}
-
-// Whether the candidates cover @p x and, when @p dx is not NULL, x + dx (and so the segment
-// between: the box is convex).
-static bool fmCandidatesCover(const fmBarrierContact* bc, const double* x, const double* dx)
-{
-	const fmBarrierScratch* s = bc->scratch;
-	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
-	if (s->candidateCount < 0)
-		return false;
-	for (int k = 0; k < n3; ++k)
-		if (!(fabs(x[k] - s->candidateCentre[k]) <= s->candidateRadius &&
-		      (dx == NULL || fabs(x[k] + dx[k] - s->candidateCentre[k]) <= s->candidateRadius)))
-			return false;
-	return true;
-}
-
-// Candidates covering the segment from @p x along @p dx (NULL: the point): kept when they do,
-// else gathered again for the box around the segment's middle reaching FM_BARRIER_SLACK dHat
-// past it: every pair that can come within dHat while each coordinate of the body stays in the
-// box (the others standing still), its own primitives' boxes grown by the radius too.
-static bool fmCoverSegment(const fmBarrierContact* bc, const double* x, const double* dx)
-{
-	fmBarrierScratch* s = bc->scratch;
-	if (fmCandidatesCover(bc, x, dx))
-		return true;
-	const int n3 = 3 * bc->world->bodies[bc->slot].mesh.vertexCount;
-	int capacity = s->centreCapacity;
-	if (!fmGrowArray((void**)&s->candidateCentre, &capacity, 0, n3, sizeof(double)))
-		return false;
-	s->centreCapacity = capacity;
-	double half = 0.0;
-	for (int k = 0; k < n3; ++k)
-	{
-		double d = dx != NULL ? 0.5 * dx[k] : 0.0;
-		s->candidateCentre[k] = x[k] + d;
-		half = fmMax(half, fabs(d));
-	}
-	const double r = half + FM_BARRIER_SLACK * bc->dHat;
-	s->candidateRadius = r;
-	s->candidateCount = 0;
-	const double grow = r * (1.0 + 1e-9);
-	if ((bc->self && !fmGatherOwn(bc, s->candidateCentre, NULL, grow + 0.5 * bc->dHat)) ||
-	    !fmVisitBody(bc, s->candidateCentre, NULL, grow, grow + 0.5 * bc->dHat, fmKeepCandidate,
-	                 NULL))
-	{
-		s->candidateCount = -1;
-		return false;
-	}
-	return true;
-}
-
-// The pairs within dHat at @p x, into the scratch (in the candidates' order: deterministic).
-static bool fmFindPairs(const fmBarrierContact* bc, const double* x)
-{
-	fmBarrierScratch* s = bc->scratch;
-	s->pairCount = 0;
-	if (!fmCoverSegment(bc, x, NULL))
-		return false;
-	for (int k = 0; k < s->candidateCount; ++k)
-		if (!fmKeepNear(bc, &s->candidates[k], (void*)x))
-			return false;
-	return true;
-}
-
 // ---- the barrier -------------------------------------------------------------------------------
-
-static void fmClosestWeights(const fmBarrierStencil* st, const fmVec3 p[4], double w[4]);
 
 static double fmPairMass(const fmWorld* w, const fmBarrierStencil* st)
 {
@@ -487,47 +96,20 @@ static void fmBarrierAt(const fmBarrierContact* bc, double s, double out[3])
 	out[2] = b2;
 }
 
-// A pair's squared distance at @p x, with its gradient (12) when @p gradient is not NULL: with
-// r = sum_j w_j x_j the vector between the closest points (weights w at them), s = |r|^2 and,
-// the closest points being where r is shortest, ds/dx_j = 2 w_j r (the weights' own change
-// does not enter: the envelope theorem).
-static double fmPairDistance(const fmBarrierContact* bc, const fmBarrierStencil* st,
-                             const double* x, double gradient[12])
+// A pair's squared distance's gradient (12): with r the vector between the closest points
+// (weights w at them), s = |r|^2 and, the closest points being where r is shortest,
+// ds/dx_j = 2 w_j r (the weights' own change does not enter: the envelope theorem).
+static void fmPairGradient(const fmBarrierPair* pair, double gradient[12])
 {
-	fmVec3 p[4];
-	fmStencilPoints(bc, st, x, p);
-	if (gradient == NULL)
-		return fmStencilDistance2(st, p);
-	double w[4];
-	fmClosestWeights(st, p, w);
-	fmVec3 r = fmMakeVec3(0.0, 0.0, 0.0);
-	for (int j = 0; j < 4; ++j)
-		r = fmMulAdd(r, w[j], p[j]);
 	for (int j = 0; j < 4; ++j)
 	{
-		gradient[3 * j] = 2.0 * w[j] * r.x;
-		gradient[3 * j + 1] = 2.0 * w[j] * r.y;
-		gradient[3 * j + 2] = 2.0 * w[j] * r.z;
+		gradient[3 * j] = 2.0 * pair->w[j] * pair->r.x;
+		gradient[3 * j + 1] = 2.0 * pair->w[j] * pair->r.y;
+		gradient[3 * j + 2] = 2.0 * pair->w[j] * pair->r.z;
 	}
-	return fmDot(r, r);
 }
 
 // ---- friction ----------------------------------------------------------------------------------
-
-// The closest points' weights of a stencil at @p p: sum_j w[j] p[j] is the vector between them.
-static void fmClosestWeights(const fmBarrierStencil* st, const fmVec3 p[4], double w[4])
-{
-	if (st->edgeEdge)
-	{
-		double a, c;
-		fmDistance_EdgeEdgeClosest(p, &a, &c);
-		w[0] = 1.0 - a, w[1] = a, w[2] = -(1.0 - c), w[3] = -c;
-		return;
-	}
-	double t[3];
-	fmClosestOnTriangle(p[0], p[1], p[2], p[3], t);
-	w[0] = 1.0, w[1] = -t[0], w[2] = -t[1], w[3] = -t[2];
-}
 
 // The motion of stencil point k in the step: the solved body's from xStart to @p x, another
 // body's from its substep start to where it stands.
@@ -547,25 +129,22 @@ static bool fmLagFriction(fmBarrierContact* bc)
 	fmBarrierScratch* s = bc->scratch;
 	const fmWorld* w = bc->world;
 	s->frictionCount = 0;
-	if (!fmFindPairs(bc, bc->xStart))
+	if (!fmBarrierPairs_Find(bc, bc->xStart))
 		return false;
 	for (int k = 0; k < s->pairCount; ++k)
 	{
-		const fmBarrierStencil* st = &s->pairs[k];
-		double mu = fmContactResponse_PairFriction(w, &w->bodies[st->body[0]],
-		                                           &w->bodies[st->body[3]]);
-		fmVec3 p[4];
-		fmStencilPoints(bc, st, bc->xStart, p);
-		double d2 = fmStencilDistance2(st, p), b[3];
+		const fmBarrierPair* pair = &s->pairs[k];
+		const fmBarrierStencil* st = &pair->stencil;
+		double mu =
+		    fmContactResponse_PairFriction(w, &w->bodies[st->body[0]], &w->bodies[st->body[3]]);
+		double d2 = pair->d2, b[3];
 		if (!(mu > 0.0) || !(d2 > 0.0))
 			continue;
 		fmBarrierAt(bc, d2, b);
 		fmBarrierFriction f;
 		f.stencil = *st;
-		fmClosestWeights(st, p, f.w);
-		fmVec3 r = fmMakeVec3(0.0, 0.0, 0.0);
-		for (int j = 0; j < 4; ++j)
-			r = fmMulAdd(r, f.w[j], p[j]);
+		memcpy(f.w, pair->w, sizeof f.w);
+		fmVec3 r = pair->r;
 		double length = fmLength(r);
 		if (!(length > 0.0))
 			continue;
@@ -619,7 +198,7 @@ static double fmBarrierEnergy(const void* context, const double* x, const double
 	(void)xStart;
 	const fmBarrierContact* bc = context;
 	fmBarrierScratch* s = bc->scratch;
-	if (s->failed || !fmFindPairs(bc, x))
+	if (s->failed || !fmBarrierPairs_Find(bc, x))
 	{
 		s->failed = true;
 		return NAN;
@@ -627,11 +206,13 @@ static double fmBarrierEnergy(const void* context, const double* x, const double
 	double energy = 0.0;
 	for (int k = 0; k < s->pairCount; ++k)
 	{
-		const fmBarrierStencil* st = &s->pairs[k];
+		const fmBarrierPair* pair = &s->pairs[k];
+		const fmBarrierStencil* st = &pair->stencil;
 		double g[12], b[3];
-		double d2 = fmPairDistance(bc, st, x, gradient != NULL ? g : NULL);
+		if (gradient != NULL)
+			fmPairGradient(pair, g);
 		double kappa = bc->stiffness * fmPairMass(bc->world, st);
-		fmBarrierAt(bc, d2, b);
+		fmBarrierAt(bc, pair->d2, b);
 		energy += kappa * b[0];
 		for (int j = 0; gradient != NULL && j < 4; ++j)
 			if (st->body[j] == bc->slot)
@@ -661,7 +242,8 @@ static bool fmAddOuter(const fmBsrMatrix* pattern, double* values, int row, int 
                        const double* a, const double* b)
 {
 	int slot = pattern == NULL ? (row == column ? row : -1)
-	                           : row == column ? pattern->diagonal[row] : fmBsr_Find(pattern, row, column);
+	           : row == column ? pattern->diagonal[row]
+	                           : fmBsr_Find(pattern, row, column);
 	if (slot < 0)
 		return false;
 	double* out = values + 9 * (size_t)slot;
@@ -677,7 +259,8 @@ static bool fmCoupled(const fmBarrierContact* bc, const fmBsrMatrix* pattern,
 {
 	for (int i = 0; i < 4; ++i)
 		for (int j = 0; j < 4; ++j)
-			if (st->body[i] == bc->slot && st->body[j] == bc->slot && st->vertex[i] != st->vertex[j] &&
+			if (st->body[i] == bc->slot && st->body[j] == bc->slot &&
+			    st->vertex[i] != st->vertex[j] &&
 			    (pattern == NULL || fmBsr_Find(pattern, st->vertex[i], st->vertex[j]) < 0))
 				return false;
 	return true;
@@ -686,11 +269,12 @@ static bool fmCoupled(const fmBarrierContact* bc, const fmBsrMatrix* pattern,
 // A pair's Hessian, kappa (b'' + b' / 2s) grad s grad s^T: the distance's normal curvature
 // alone, positive on (0, dHat) (design: IPC's full local Hessian, projected, keeps mostly this).
 // Where the pattern lacks a coupling block the diagonal blocks alone go in (still PSD).
-static void fmPairHessian(const fmBarrierContact* bc, const fmBarrierStencil* st, const double* x,
+static void fmPairHessian(const fmBarrierContact* bc, const fmBarrierPair* pair,
                           const fmBsrMatrix* pattern, double* values)
 {
-	double g[12], b[3];
-	double d2 = fmPairDistance(bc, st, x, g);
+	const fmBarrierStencil* st = &pair->stencil;
+	double g[12], b[3], d2 = pair->d2;
+	fmPairGradient(pair, g);
 	fmBarrierAt(bc, d2, b);
 	double c = bc->stiffness * fmPairMass(bc->world, st) * fmMax(0.0, b[2] + b[1] / (2.0 * d2));
 	bool coupled = fmCoupled(bc, pattern, st);
@@ -703,8 +287,8 @@ static void fmPairHessian(const fmBarrierContact* bc, const fmBarrierStencil* st
 
 // Friction's 3x3 inner matrix M (the Hessian of limit f0(|u|) / gain in the relative position r,
 // u's derivative being FM_FRICTION_GAIN P): gain (f1/y P + c u u^T), PSD.
-static void fmFrictionInner(const fmBarrierContact* bc, const fmBarrierFriction* f,
-                            const double* x, double m[9])
+static void fmFrictionInner(const fmBarrierContact* bc, const fmBarrierFriction* f, const double* x,
+                            double m[9])
 {
 	fmVec3 u = fmFrictionSlip(bc, f, x), n = f->normal;
 	double y = fmLength(u), eps = f->slip;
@@ -722,13 +306,13 @@ static void fmBarrierHessian(const void* context, const double* x, const fmBsrMa
 {
 	const fmBarrierContact* bc = context;
 	fmBarrierScratch* s = bc->scratch;
-	if (s->failed || !fmFindPairs(bc, x))
+	if (s->failed || !fmBarrierPairs_Find(bc, x))
 	{
 		s->failed = true;
 		return;
 	}
 	for (int k = 0; k < s->pairCount; ++k)
-		fmPairHessian(bc, &s->pairs[k], x, pattern, values);
+		fmPairHessian(bc, &s->pairs[k], pattern, values);
 	for (int k = 0; k < s->frictionCount; ++k)
 	{
 		const fmBarrierFriction* f = &s->friction[k];
@@ -742,7 +326,9 @@ static void fmBarrierHessian(const void* context, const double* x, const fmBsrMa
 				if (f->stencil.body[i] != bc->slot || f->stencil.body[j] != bc->slot ||
 				    !(i == j || (coupled && vi != vj)))
 					continue;
-				int slot = pattern == NULL ? vi : vi == vj ? pattern->diagonal[vi] : fmBsr_Find(pattern, vi, vj);
+				int slot = pattern == NULL ? vi
+				           : vi == vj      ? pattern->diagonal[vi]
+				                           : fmBsr_Find(pattern, vi, vj);
 				double* out = values + 9 * (size_t)slot;
 				for (int e = 0; e < 9; ++e)
 					out[e] += f->w[i] * f->w[j] * m[e];
@@ -754,16 +340,17 @@ static void fmBarrierProduct(const void* context, const double* x, const double*
 {
 	const fmBarrierContact* bc = context;
 	fmBarrierScratch* s = bc->scratch;
-	if (s->failed || !fmFindPairs(bc, x))
+	if (s->failed || !fmBarrierPairs_Find(bc, x))
 	{
 		s->failed = true;
 		return;
 	}
 	for (int k = 0; k < s->pairCount; ++k)
 	{
-		const fmBarrierStencil* st = &s->pairs[k];
-		double g[12], b[3];
-		double d2 = fmPairDistance(bc, st, x, g);
+		const fmBarrierPair* pair = &s->pairs[k];
+		const fmBarrierStencil* st = &pair->stencil;
+		double g[12], b[3], d2 = pair->d2;
+		fmPairGradient(pair, g);
 		fmBarrierAt(bc, d2, b);
 		double c = bc->stiffness * fmPairMass(bc->world, st) * fmMax(0.0, b[2] + b[1] / (2.0 * d2));
 		double along = 0.0;
@@ -801,8 +388,9 @@ static double fmReachBound(const fmBarrierContact* bc, const double* x, const do
 	const fmBody* b = &bc->world->bodies[bc->slot];
 	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 	{
-		double to = dx[k] > 0.0 ? bc->xStart[k] + bc->reach - x[k]
-		                        : dx[k] < 0.0 ? x[k] - (bc->xStart[k] - bc->reach) : INFINITY;
+		double to = dx[k] > 0.0   ? bc->xStart[k] + bc->reach - x[k]
+		            : dx[k] < 0.0 ? x[k] - (bc->xStart[k] - bc->reach)
+		                          : INFINITY;
 		double step = fabs(dx[k]);
 		if (step > 0.0 && to < t * step)
 			t = fmMax(0.0, to / step);
@@ -817,13 +405,13 @@ static double fmEarlierImpact(const fmBarrierContact* bc, const fmBarrierStencil
                               const double* x, const double* dx, double t)
 {
 	fmVec3 pts[4], motion[4], swept[4];
-	fmStencilPoints(bc, st, x, pts);
+	fmBarrierPairs_Points(bc, st, x, pts);
 	for (int j = 0; j < 4; ++j)
 	{
 		motion[j] = st->body[j] == bc->slot ? fmLoad(dx, st->vertex[j]) : fmMakeVec3(0, 0, 0);
 		swept[j] = fmScale(t, motion[j]);
 	}
-	if (t <= 0.0 || fmSidesApart(bc, st, pts, swept))
+	if (t <= 0.0 || fmBarrierPairs_SidesApart(bc, st, pts, swept))
 		return t;
 	return fmMin(t, fmCcd_Additive(st->edgeEdge, pts, motion, 0.0, FM_BARRIER_ETA, t));
 }
@@ -840,13 +428,16 @@ static double fmBarrierStepBound(const void* context, const double* x, const dou
 	bool room = fmGrowArray((void**)&s->gradient, &s->gradientCapacity, 0, n3, sizeof(double));
 	for (int k = 0; room && k < n3; ++k)
 		s->gradient[k] = t * dx[k]; // the segment (the work's buffer, free here)
-	if (!room || !fmCoverSegment(bc, x, s->gradient))
+	if (!room || !fmBarrierPairs_Cover(bc, x, s->gradient))
 	{
 		s->failed = true;
 		return 0.0;
 	}
+	for (int k = 0; k < n3; ++k)
+		s->gradient[k] += x[k]; // the segment's end
 	for (int k = 0; k < s->candidateCount; ++k)
-		t = fmEarlierImpact(bc, &s->candidates[k], x, dx, t);
+		if (!fmBarrierPairs_SurelyFar(bc, k, x) || !fmBarrierPairs_SurelyFar(bc, k, s->gradient))
+			t = fmEarlierImpact(bc, &s->candidates[k], x, dx, t);
 	return t;
 }
 
@@ -888,8 +479,8 @@ static double fmMeanEdge(const fmBody* b)
 	return b->contact.surfaceEdgeCount > 0 ? sum / b->contact.surfaceEdgeCount : b->mesh.restSize;
 }
 
-bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
-                            const double* xStart, const double* xPred, double inertia)
+bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot, const double* xStart,
+                            const double* xPred, double inertia)
 {
 	memset(bc, 0, sizeof *bc);
 	const fmBody* b = &w->bodies[slot];
@@ -910,6 +501,7 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
 	bc->xStart = xStart;
 	bc->scratch = &state->barrier;
 	bc->scratch->failed = false;
+	bc->scratch->pairsKnown = false;
 	// The region the body can reach in the step, and the other primitives in it.
 	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
@@ -919,8 +511,8 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot,
 		hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
 	}
 	double grow = bc->reach + bc->dHat;
-	if (!fmGatherOthers(bc, fmSub(lo, fmMakeVec3(grow, grow, grow)),
-	                    fmAdd(hi, fmMakeVec3(grow, grow, grow))))
+	if (!fmBarrierPairs_GatherOthers(bc, fmSub(lo, fmMakeVec3(grow, grow, grow)),
+	                                 fmAdd(hi, fmMakeVec3(grow, grow, grow))))
 		return false;
 	if (bc->scratch->otherCount == 0 && !bc->self)
 	{
@@ -963,7 +555,6 @@ void fmBarrierContact_NoteOverlaps(fmBody* b)
 		if (!known)
 			b->contact.overlapWith[count++] = holder;
 	}
-
 }
 
 static bool fmOverlapsOne(const fmBody* b, int other)
@@ -990,10 +581,12 @@ void fmBarrierScratch_Free(fmBarrierScratch* s)
 	fmSpatialHash_Free(&s->otherHash);
 	fmSpatialHash_Free(&s->ownHash);
 	fmHashQuery_Free(&s->query);
-	FM_FREE_ARRAY(s->pairs, fmBarrierStencil, s->pairCapacity);
+	FM_FREE_ARRAY(s->pairs, fmBarrierPair, s->pairCapacity);
+	FM_FREE_ARRAY(s->pairsAt, double, s->pairsAtCapacity);
 	FM_FREE_ARRAY(s->friction, fmBarrierFriction, s->frictionCapacity);
 	FM_FREE_ARRAY(s->gradient, double, s->gradientCapacity);
 	FM_FREE_ARRAY(s->candidates, fmBarrierStencil, s->candidateCapacity);
+	FM_FREE_ARRAY(s->candidateSlack, double, s->slackCapacity);
 	FM_FREE_ARRAY(s->candidateCentre, double, s->centreCapacity);
 	memset(s, 0, sizeof *s);
 }

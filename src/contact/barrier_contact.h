@@ -23,8 +23,8 @@
 #pragma once
 
 #include "body/body.h"
-#include "core/core.h"
 #include "contact/broad_phase.h"
+#include "core/core.h"
 #include "solver/newton.h"
 
 struct fmWorld;
@@ -44,6 +44,16 @@ typedef struct fmBarrierStencil
 	int vertex[4];
 	bool edgeEdge;
 } fmBarrierStencil;
+
+// A pair within dHat at the last evaluation: its stencil, its closest points' weights (the
+// vector between them is r = sum_j w[j] x[j]), r and its squared length.
+typedef struct fmBarrierPair
+{
+	fmBarrierStencil stencil;
+	double w[4];
+	fmVec3 r;
+	double d2;
+} fmBarrierPair;
 
 // A pair's lagged friction: its closest points' weights (the relative position is
 // sum_j w[j] x[j]), the normal and the Coulomb limit mu lambda (N).
@@ -81,14 +91,20 @@ typedef struct fmBarrierScratch
 	int ownCount, ownCapacity;
 	fmSpatialHash ownHash;
 	fmHashQuery query;
-	fmBarrierStencil* pairs; // the pairs within dHat at the last evaluation
+	fmBarrierPair* pairs; // the pairs within dHat at pairsAt (when pairsKnown)
 	int pairCount, pairCapacity;
+	double* pairsAt;
+	int pairsAtCapacity;
+	bool pairsKnown;
 	// Every pair that can come within dHat while each coordinate of the body stays within
 	// candidateRadius of candidateCentre (-1 candidates: none gathered in this step): the
 	// energy, its derivatives and the step bound inside that box filter these instead of
 	// searching, and gather them again around a point or segment outside it.
+	// candidateSlack[k] is candidate k's distance at the centre less dHat: a candidate none of
+	// whose vertices moved half of it from the centre is not within dHat.
 	fmBarrierStencil* candidates;
-	int candidateCount, candidateCapacity;
+	double* candidateSlack;
+	int candidateCount, candidateCapacity, slackCapacity;
 	double* candidateCentre;
 	int centreCapacity;
 	double candidateRadius;
@@ -121,9 +137,9 @@ bool fmBarrierContact_Active(const struct fmWorld* world);
 
 // Prepare body @p slot's barrier for the step from @p xStart, whose inertial prediction is
 // @p xPred and inertia term 1 / h^2 @p inertia (the barrier is scaled like the inertia term):
-// its reach, the other bodies' primitives it can meet, and its lagged friction. The substep's contact stage must have begun
-// (fmContact_BeginSubstep: the buffers and surface edges). False when memory is short. With nothing in
-// reach and no self-collision, @p bc->scratch is NULL (no term).
+// its reach, the other bodies' primitives it can meet, and its lagged friction. The substep's
+// contact stage must have begun (fmContact_BeginSubstep: the buffers and surface edges). False when
+// memory is short. With nothing in reach and no self-collision, @p bc->scratch is NULL (no term).
 bool fmBarrierContact_Begin(fmBarrierContact* bc, const struct fmWorld* world, int slot,
                             const double* xStart, const double* xPred, double inertia);
 
