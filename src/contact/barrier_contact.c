@@ -578,7 +578,9 @@ void fmBarrierScratch_Free(fmBarrierScratch* s)
 	FM_FREE_ARRAY(s->own, fmBarrierPrimitive, s->ownCapacity);
 	FM_FREE_ARRAY(s->ownLower, fmVec3, s->ownCapacity);
 	FM_FREE_ARRAY(s->ownUpper, fmVec3, s->ownCapacity);
-	fmSpatialHash_Free(&s->otherHash);
+	for (int kind = 0; kind < 3; ++kind)
+		fmSpatialHash_Free(&s->otherHash[kind]);
+	FM_FREE_ARRAY(s->meets, bool, s->meetsCapacity);
 	fmSpatialHash_Free(&s->ownHash);
 	fmHashQuery_Free(&s->query);
 	FM_FREE_ARRAY(s->pairs, fmBarrierPair, s->pairCapacity);

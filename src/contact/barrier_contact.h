@@ -79,12 +79,18 @@ typedef struct fmBarrierPrimitive
 // The world's buffers for the solves' barrier terms (one solve at a time uses them).
 typedef struct fmBarrierScratch
 {
-	fmBarrierPrimitive* others; // the other bodies' primitives within reach of the solved body
+	// The other bodies' primitives within reach of the solved body, by kind: those of kind k are
+	// [kindStart[k], kindStart[k + 1]), hashed in otherHash[k] (items counted from kindStart[k]),
+	// within the box [othersLower[k], othersUpper[k]].
+	fmBarrierPrimitive* others;
 	fmVec3* otherLower;
 	fmVec3* otherUpper;
 	int otherCount, otherCapacity;
-	fmVec3 othersLower, othersUpper; // the box around all of them
-	fmSpatialHash otherHash;
+	int kindStart[4];
+	fmVec3 othersLower[3], othersUpper[3];
+	fmSpatialHash otherHash[3];
+	bool* meets; // per body slot: its surface is within reach
+	int meetsCapacity;
 	fmBarrierPrimitive* own; // the solved body's own primitives (self-contact)
 	fmVec3* ownLower;
 	fmVec3* ownUpper;

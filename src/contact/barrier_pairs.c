@@ -103,45 +103,68 @@ static bool fmSurfaceMeets(const fmBody* b, double grow, fmVec3 lo, fmVec3 hi)
 	return fmBoxesMeet(fmSub(l, g), fmAdd(u, g), lo, hi);
 }
 
-// The other bodies' primitives whose boxes (grown by dHat) meet [lo, hi], into the scratch.
+// Whether the solved body meets body @p o's surface in [lo, hi].
+static bool fmMayMeet(const fmBarrierContact* bc, int o, fmVec3 lo, fmVec3 hi)
+{
+	const fmWorld* w = bc->world;
+	const fmBody* other = &w->bodies[o];
+	return o != bc->slot && fmBody_IsLive(other) &&
+	       fmFiltersMeet(w->bodies[bc->slot].filter, other->filter) &&
+	       !fmBarrierContact_Overlapping(w, bc->slot, o) && other->contact.surfaceEdge != NULL &&
+	       other->contact.start != NULL && fmSurfaceMeets(other, bc->dHat, lo, hi);
+}
+
+// The other bodies' primitives of one kind whose boxes (grown by dHat) meet [lo, hi], after the
+// scratch's others, hashed, with the box around them all.
+static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVec3 lo, fmVec3 hi)
+{
+	const fmWorld* w = bc->world;
+	fmBarrierScratch* s = bc->scratch;
+	const int start = s->otherCount;
+	s->kindStart[kind] = start;
+	for (int o = 0; o < w->bodyCapacity; ++o)
+		for (int k = 0; meets[o] && k < fmPrimitiveCount(&w->bodies[o], kind); ++k)
+		{
+			fmBarrierPrimitive p = {o, k, kind};
+			fmVec3 pl, ph;
+			fmPrimitiveBox(&w->bodies[o], &p, w->bodies[o].state.x, NULL, bc->dHat, &pl, &ph);
+			if (fmBoxesMeet(pl, ph, lo, hi) &&
+			    !fmAddPrimitive(&s->others, &s->otherLower, &s->otherUpper, &s->otherCount,
+			                    &s->otherCapacity, p, pl, ph))
+				return false;
+		}
+	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
+	for (int k = start; k < s->otherCount; ++k)
+	{
+		l = fmMakeVec3(fmMin(l.x, s->otherLower[k].x), fmMin(l.y, s->otherLower[k].y),
+		               fmMin(l.z, s->otherLower[k].z));
+		u = fmMakeVec3(fmMax(u.x, s->otherUpper[k].x), fmMax(u.y, s->otherUpper[k].y),
+		               fmMax(u.z, s->otherUpper[k].z));
+	}
+	s->othersLower[kind] = l;
+	s->othersUpper[kind] = u;
+	return fmSpatialHash_Build(&s->otherHash[kind], s->otherLower + start, s->otherUpper + start,
+	                           s->otherCount - start, bc->cell) &&
+	       fmHashQuery_Reserve(&s->query, &s->otherHash[kind]);
+}
+
+// The other bodies' primitives whose boxes (grown by dHat) meet [lo, hi], into the scratch: by
+// kind, each kind hashed on its own (a vertex meets triangles, an edge edges, a triangle
+// vertices).
 bool fmBarrierPairs_GatherOthers(fmBarrierContact* bc, fmVec3 lo, fmVec3 hi)
 {
 	const fmWorld* w = bc->world;
 	fmBarrierScratch* s = bc->scratch;
-	const fmBody* b = &w->bodies[bc->slot];
-	s->otherCount = 0;
+	if (!fmGrowArray((void**)&s->meets, &s->meetsCapacity, 0, w->bodyCapacity, sizeof(bool)))
+		return false;
 	for (int o = 0; o < w->bodyCapacity; ++o)
-	{
-		const fmBody* other = &w->bodies[o];
-		if (o == bc->slot || !fmBody_IsLive(other) || !fmFiltersMeet(b->filter, other->filter) ||
-		    fmBarrierContact_Overlapping(w, bc->slot, o) || other->contact.surfaceEdge == NULL ||
-		    other->contact.start == NULL || !fmSurfaceMeets(other, bc->dHat, lo, hi))
-			continue;
-		for (int kind = 0; kind < 3; ++kind)
-			for (int k = 0; k < fmPrimitiveCount(other, kind); ++k)
-			{
-				fmBarrierPrimitive p = {o, k, kind};
-				fmVec3 pl, ph;
-				fmPrimitiveBox(other, &p, other->state.x, NULL, bc->dHat, &pl, &ph);
-				if (fmBoxesMeet(pl, ph, lo, hi) &&
-				    !fmAddPrimitive(&s->others, &s->otherLower, &s->otherUpper, &s->otherCount,
-				                    &s->otherCapacity, p, pl, ph))
-					return false;
-			}
-	}
-	s->othersLower = fmMakeVec3(INFINITY, INFINITY, INFINITY);
-	s->othersUpper = fmScale(-1.0, s->othersLower);
-	for (int k = 0; k < s->otherCount; ++k)
-	{
-		fmVec3 l = s->otherLower[k], u = s->otherUpper[k];
-		s->othersLower = fmMakeVec3(fmMin(s->othersLower.x, l.x), fmMin(s->othersLower.y, l.y),
-		                            fmMin(s->othersLower.z, l.z));
-		s->othersUpper = fmMakeVec3(fmMax(s->othersUpper.x, u.x), fmMax(s->othersUpper.y, u.y),
-		                            fmMax(s->othersUpper.z, u.z));
-	}
-	return fmSpatialHash_Build(&s->otherHash, s->otherLower, s->otherUpper, s->otherCount,
-	                           bc->cell) &&
-	       fmHashQuery_Reserve(&s->query, &s->otherHash);
+		s->meets[o] = fmMayMeet(bc, o, lo, hi);
+	s->otherCount = 0;
+	for (int kind = 0; kind < 3; ++kind)
+		if (!fmGatherKind(bc, kind, s->meets, lo, hi))
+			return false;
+	s->kindStart[3] = s->otherCount;
+	return true;
 }
 
 // The body's own primitives at @p x (swept along @p dx when not NULL), their boxes grown by
@@ -257,17 +280,20 @@ static bool fmVisitStencils(const fmBarrierContact* bc, const fmBarrierPrimitive
                             fmVec3 hi, bool self, fmStencilVisit* visit, void* context)
 {
 	fmBarrierScratch* s = bc->scratch;
-	if (!self && !fmBoxesMeet(lo, hi, s->othersLower, s->othersUpper))
+	const int kind = 2 - p->kind; // the kind of the others' primitives p meets
+	if (!self && (s->kindStart[kind + 1] == s->kindStart[kind] ||
+	              !fmBoxesMeet(lo, hi, s->othersLower[kind], s->othersUpper[kind])))
 		return true;
-	int n = fmSpatialHash_Query(self ? &s->ownHash : &s->otherHash, &s->query, lo, hi);
+	int n = fmSpatialHash_Query(self ? &s->ownHash : &s->otherHash[kind], &s->query, lo, hi);
 	if (n < 0)
 		return false;
+	const int offset = self ? 0 : s->kindStart[kind];
 	const fmBarrierPrimitive* list = self ? s->own : s->others;
 	const fmVec3* lower = self ? s->ownLower : s->otherLower;
 	const fmVec3* upper = self ? s->ownUpper : s->otherUpper;
 	for (int k = 0; k < n; ++k)
 	{
-		int item = s->query.items[k];
+		int item = s->query.items[k] + offset;
 		const fmBarrierPrimitive* q = &list[item];
 		if (!fmBoxesMeet(lo, hi, lower[item], upper[item]) ||
 		    (self && (p->kind == 2 || (p->kind == 1 && q->index <= p->index))))

@@ -19,6 +19,7 @@ void fmSpatialHash_Free(fmSpatialHash* h)
 	FM_FREE_ARRAY(h->bucketStart, int, h->tableCapacity);
 	FM_FREE_ARRAY(h->entries, int, h->entryCapacity);
 	FM_FREE_ARRAY(h->entryBucket, int, h->entryCapacity);
+	FM_FREE_ARRAY(h->itemRange, int, h->rangeCapacity);
 	memset(h, 0, sizeof *h);
 }
 
@@ -123,15 +124,21 @@ bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* up
 {
 	h->entryCount = 0;
 	long long entries = 0;
-	int lo[3], hi[3];
+	if (!fmGrowArray((void**)&h->itemRange, &h->rangeCapacity, 0, 6 * (count > 0 ? count : 1),
+	                 sizeof(int)))
+	{
+		h->tableSize = 0;
+		return false;
+	}
 	// Cells grow until the items cover at most FM_HASH_MAX_CELLS cells each on average: a few
 	// huge items (a body blowing up before the step's checks catch it) cost a coarser grid,
-	// not a table of billions of entries.
+	// not a table of billions of entries. Each item's cell range is kept for the passes below.
 	for (int attempt = 0; attempt < 64; ++attempt, cell *= 2.0)
 	{
 		entries = 0;
 		for (int k = 0; k < count; ++k)
 		{
+			int *lo = h->itemRange + 6 * k, *hi = lo + 3;
 			fmCellRange(cell, lower[k], upper[k], lo, hi);
 			entries += (long long)(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
 		}
@@ -150,7 +157,7 @@ bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* up
 	int n = 0;
 	for (int k = 0; k < count; ++k)
 	{
-		fmCellRange(cell, lower[k], upper[k], lo, hi);
+		const int *lo = h->itemRange + 6 * k, *hi = lo + 3;
 		for (int x = lo[0]; x <= hi[0]; ++x)
 			for (int y = lo[1]; y <= hi[1]; ++y)
 				for (int z = lo[2]; z <= hi[2]; ++z)
@@ -167,7 +174,7 @@ bool fmSpatialHash_Build(fmSpatialHash* h, const fmVec3* lower, const fmVec3* up
 	n = 0;
 	for (int k = 0; k < count; ++k)
 	{
-		fmCellRange(cell, lower[k], upper[k], lo, hi);
+		const int *lo = h->itemRange + 6 * k, *hi = lo + 3;
 		int cells = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
 		for (int c = 0; c < cells; ++c)
 			h->entries[h->bucketStart[h->entryBucket[n++]]++] = k;

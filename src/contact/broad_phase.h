@@ -17,6 +17,8 @@ typedef struct fmSpatialHash
 	int entryCapacity;
 	int* entries;     // the item of each entry, grouped by bucket
 	int* entryBucket; // scratch: the bucket of each entry before grouping
+	int* itemRange;   // scratch: each item's cell range (lowest x, y, z, highest x, y, z)
+	int rangeCapacity;
 	int itemCount;    // items in the last build
 } fmSpatialHash;
 
