@@ -36,6 +36,10 @@ struct fmWorld;
 // Fraction of dHat below which the barrier continues as a quadratic.
 #define FM_BARRIER_FLOOR 1e-3
 
+// Other bodies whose primitives near a solved body keep a box each, for a quick test before a
+// hash query.
+#define FM_BARRIER_NEAR_BOXES 8
+
 // A pair's four vertices: a point and a triangle (p, t0, t1, t2) or two edges (a0, a1, b0, b1),
 // each a body slot and a vertex of that body.
 typedef struct fmBarrierStencil
@@ -80,14 +84,16 @@ typedef struct fmBarrierPrimitive
 typedef struct fmBarrierScratch
 {
 	// The other bodies' primitives within reach of the solved body, by kind: those of kind k are
-	// [kindStart[k], kindStart[k + 1]), hashed in otherHash[k] (items counted from kindStart[k]),
-	// within the box [othersLower[k], othersUpper[k]].
+	// [kindStart[k], kindStart[k + 1]), hashed in otherHash[k] (items counted from kindStart[k]);
+	// othersBoxes[k] bodies have some, each within its box [othersLower[k][j], othersUpper[k][j]]
+	// (kept for the first FM_BARRIER_NEAR_BOXES bodies: with more, none is looked at).
 	fmBarrierPrimitive* others;
 	fmVec3* otherLower;
 	fmVec3* otherUpper;
 	int otherCount, otherCapacity;
 	int kindStart[4];
-	fmVec3 othersLower[3], othersUpper[3];
+	fmVec3 othersLower[3][FM_BARRIER_NEAR_BOXES], othersUpper[3][FM_BARRIER_NEAR_BOXES];
+	int othersBoxes[3];
 	fmSpatialHash otherHash[3];
 	bool* meets; // per body slot: its surface is within reach
 	int meetsCapacity;

@@ -68,6 +68,16 @@ static bool fmBoxesMeet(fmVec3 al, fmVec3 ah, fmVec3 bl, fmVec3 bh)
 	         al.z > bh.z);
 }
 
+static fmVec3 fmMinVec(fmVec3 a, fmVec3 b)
+{
+	return fmMakeVec3(fmMin(a.x, b.x), fmMin(a.y, b.y), fmMin(a.z, b.z));
+}
+
+static fmVec3 fmMaxVec(fmVec3 a, fmVec3 b)
+{
+	return fmMakeVec3(fmMax(a.x, b.x), fmMax(a.y, b.y), fmMax(a.z, b.z));
+}
+
 // ---- gathering primitives ----------------------------------------------------------------------
 
 static bool fmAddPrimitive(fmBarrierPrimitive** list, fmVec3** lower, fmVec3** upper, int* count,
@@ -133,16 +143,20 @@ static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVe
 			                    &s->otherCapacity, p, pl, ph))
 				return false;
 		}
-	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
+	// The box around each other body's primitives of the kind (up to FM_BARRIER_NEAR_BOXES).
+	int boxes = 0;
 	for (int k = start; k < s->otherCount; ++k)
 	{
-		l = fmMakeVec3(fmMin(l.x, s->otherLower[k].x), fmMin(l.y, s->otherLower[k].y),
-		               fmMin(l.z, s->otherLower[k].z));
-		u = fmMakeVec3(fmMax(u.x, s->otherUpper[k].x), fmMax(u.y, s->otherUpper[k].y),
-		               fmMax(u.z, s->otherUpper[k].z));
+		bool first = k == start || s->others[k].body != s->others[k - 1].body;
+		boxes += first;
+		if (boxes > FM_BARRIER_NEAR_BOXES)
+			break;
+		fmVec3* l = &s->othersLower[kind][boxes - 1];
+		fmVec3* u = &s->othersUpper[kind][boxes - 1];
+		*l = first ? s->otherLower[k] : fmMinVec(*l, s->otherLower[k]);
+		*u = first ? s->otherUpper[k] : fmMaxVec(*u, s->otherUpper[k]);
 	}
-	s->othersLower[kind] = l;
-	s->othersUpper[kind] = u;
+	s->othersBoxes[kind] = boxes;
 	return fmSpatialHash_Build(&s->otherHash[kind], s->otherLower + start, s->otherUpper + start,
 	                           s->otherCount - start, bc->cell) &&
 	       fmHashQuery_Reserve(&s->query, &s->otherHash[kind]);
@@ -273,6 +287,18 @@ static bool fmPushPair(fmBarrierScratch* s, const fmBarrierPair* st)
 // What to do with each stencil fmVisitStencils finds; false stops the visit (out of memory).
 typedef bool fmStencilVisit(const fmBarrierContact* bc, const fmBarrierStencil* st, void* context);
 
+// Whether [lo, hi] meets the box around some other body's primitives of @p kind (or there are
+// more such bodies than boxes kept).
+static bool fmNearOthers(const fmBarrierScratch* s, int kind, fmVec3 lo, fmVec3 hi)
+{
+	if (s->othersBoxes[kind] > FM_BARRIER_NEAR_BOXES)
+		return true;
+	for (int k = 0; k < s->othersBoxes[kind]; ++k)
+		if (fmBoxesMeet(lo, hi, s->othersLower[kind][k], s->othersUpper[kind][k]))
+			return true;
+	return false;
+}
+
 // Every stencil of the solved body's primitive @p p with the other bodies' primitives (or, with
 // @p self, its own) whose stored boxes meet [lo, hi], handed to @p visit. Self pairs: a vertex
 // against triangles and each pair of edges once, only those apart at rest.
@@ -281,8 +307,7 @@ static bool fmVisitStencils(const fmBarrierContact* bc, const fmBarrierPrimitive
 {
 	fmBarrierScratch* s = bc->scratch;
 	const int kind = 2 - p->kind; // the kind of the others' primitives p meets
-	if (!self && (s->kindStart[kind + 1] == s->kindStart[kind] ||
-	              !fmBoxesMeet(lo, hi, s->othersLower[kind], s->othersUpper[kind])))
+	if (!self && !fmNearOthers(s, kind, lo, hi))
 		return true;
 	int n = fmSpatialHash_Query(self ? &s->ownHash : &s->otherHash[kind], &s->query, lo, hi);
 	if (n < 0)
@@ -331,16 +356,6 @@ static bool fmVisitBody(const fmBarrierContact* bc, const double* x, const doubl
 			}
 		}
 	return true;
-}
-
-static fmVec3 fmMinVec(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMin(a.x, b.x), fmMin(a.y, b.y), fmMin(a.z, b.z));
-}
-
-static fmVec3 fmMaxVec(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMax(a.x, b.x), fmMax(a.y, b.y), fmMax(a.z, b.z));
 }
 
 // Whether the boxes of a stencil's two sides (its points @p p, swept by @p motion when not NULL)
