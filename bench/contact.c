@@ -128,14 +128,25 @@ static bool cliContactTime(const cliContactCase* c, const cliScene* scene, cliCo
 
 // ---- the scenes ---------------------------------------------------------------------------------
 
+// How the houses of a pile scene stand and what they are made of.
+typedef struct cliPileKind
+{
+	bool implicit; // one implicit step a frame (else explicit, autoSubstep)
+	bool apart;    // each shifted CLI_BENCH_APART m along x per place: they land alone
+	bool aligned;  // stacked straight up (else every other one shifted: the column topples)
+	fmMaterialModel model;
+} cliPileKind;
+
 // The seeds' house (cliScene_MakeHouse) copied @p count times, stacked 4.2 m apart
 // (the house is 4 m tall: 0.2 m gaps), every other one shifted so that the column topples into
-// a pile, Neo-Hookean (mu 5 kPa, lambda 20 kPa, 1 kg a vertex) in 1/60 s frames. Explicit:
-// autoSubstep on the seeds' stick floor with their damping and smoothing (their StVK house at
-// mu 5 kPa cannot carry another: its tets invert, docs/contact.md). Implicit: one step per frame
-// on a Coulomb floor, as scenes/house_implicit.json, to the game tolerance.
-static bool cliPileScene(int count, bool implicit, bool apart, int workers, cliScene* scene)
+// a pile unless @p kind says aligned, Neo-Hookean or the seeds' StVK (mu 5 kPa, lambda 20 kPa, 1 kg
+// a vertex) in 1/60 s frames. Explicit: autoSubstep on the seeds' stick floor with their damping
+// and smoothing (their StVK house at mu 5 kPa cannot carry another explicitly: its tets invert,
+// docs/contact.md). Implicit: one step per frame on a Coulomb floor, as
+// scenes/house_implicit.json, to the game tolerance.
+static bool cliPileScene(int count, cliPileKind kind, int workers, cliScene* scene)
 {
+	const bool implicit = kind.implicit, apart = kind.apart;
 	cliScene_MakeHouse(scene);
 	cliBodySpec* houses = realloc(scene->bodies, (size_t)count * sizeof *houses);
 	if (houses == NULL)
@@ -146,14 +157,15 @@ static bool cliPileScene(int count, bool implicit, bool apart, int workers, cliS
 	scene->bodyCount = count;
 	for (int i = 0; i < count; ++i)
 		houses[i].transform.translate =
-		    fmMakeVec3((i % 2 ? 0.4 : -0.4) + (apart ? CLI_BENCH_APART * i : 0.0), 4.2 * i,
-		               (i / 2) % 2 ? 0.3 : -0.3);
+		    kind.aligned ? fmMakeVec3(apart ? CLI_BENCH_APART * i : 0.0, 4.2 * i, 0.0)
+		                 : fmMakeVec3((i % 2 ? 0.4 : -0.4) + (apart ? CLI_BENCH_APART * i : 0.0),
+		                              4.2 * i, (i / 2) % 2 ? 0.3 : -0.3);
 	snprintf(scene->name, sizeof scene->name, "bench houses %d", count);
 	scene->worldDef.workerCount = workers;
 	scene->dt = 1.0 / 60.0;
 	scene->substeps = 1;
 	for (int i = 0; i < count; ++i)
-		houses[i].def.material = fmMakeMaterialLame(fm_neoHookean, 20000.0, 5000.0);
+		houses[i].def.material = fmMakeMaterialLame(kind.model, 20000.0, 5000.0);
 	if (!implicit)
 	{
 		scene->worldDef.autoSubstep = true;
@@ -273,41 +285,59 @@ static bool cliContactRow(const cliContactCase* c, const cliScene* scene, int te
 	return true;
 }
 
-// Ten houses for 5 s: the top one falls 38 m (2.8 s) and the pile settles. --quick: three
-// houses for 1.5 s. Frames of 1/60 s: explicit ones cut by autoSubstep, implicit ones one step.
+// One pile row (@p count houses of @p kind, timed over @p c) and, under it, its frames' 95th
+// percentile and worst and the same houses apart, with the ratios.
+static void cliPileRow(const cliBenchOptions* o, const cliContactCase* c, int count,
+                       cliPileKind kind, cliBenchReport* report, int* code)
+{
+	cliScene scene, apart;
+	cliContactTimes pile, alone;
+	memset(&scene, 0, sizeof scene);
+	memset(&apart, 0, sizeof apart);
+	cliPileKind spread = kind;
+	spread.apart = true;
+	if (!cliPileScene(count, kind, o->workers, &scene) ||
+	    !cliPileScene(count, spread, o->workers, &apart))
+	{
+		cliError("bench: out of memory for the pile");
+		*code = cli_exitInput;
+	}
+	else if (cliContactRow(c, &scene, count * CLI_BENCH_HOUSE_TETS, o->workers, report, code,
+	                       &pile) &&
+	         cliContactTime(c, &apart, &alone))
+		printf("%-12s   the frames: 95th percentile %.2f ms, worst %.2f ms; the same houses "
+		       "apart %.2f ms (median), 95th percentile %.2f: pile / apart %.2f (median), "
+		       "%.2f (95th)\n",
+		       "", pile.p95, pile.worst, alone.msPerFrame, alone.p95,
+		       pile.msPerFrame / alone.msPerFrame, pile.p95 / alone.p95);
+	cliScene_Free(&scene);
+	cliScene_Free(&apart);
+}
+
+// Three houses stacked straight up for 5 s (they drop 0.2 m onto each other and settle),
+// implicit, the seeds' StVK and Neo-Hookean; then ten houses piled for 5 s: the top one falls
+// 38 m (2.8 s) and the pile settles. --quick: the stacks for 1.5 s and a pile of three. Frames of
+// 1/60 s: explicit ones cut by autoSubstep, implicit ones one step.
 static void cliPileRows(const cliBenchOptions* o, cliBenchReport* report, int* code)
 {
 	int count = o->quick ? CLI_BENCH_QUICK_PILE_HOUSES : CLI_BENCH_PILE_HOUSES;
-	double seconds = o->quick ? 1.5 : 5.0;
+	int frames = (int)ceil((o->quick ? 1.5 : 5.0) * 60.0);
+	cliContactCase stacks[2] = {
+	    {"stack 3 stvk", "implicit game", "stvk", 0, frames},
+	    {"stack 3 neo", "implicit game", "neohookean", 0, frames},
+	};
+	for (int k = 0; k < 2 && 3 * CLI_BENCH_HOUSE_TETS <= o->maxTets; ++k)
+		cliPileRow(o, &stacks[k], 3, (cliPileKind){true, false, true, k ? fm_neoHookean : fm_stvk},
+		           report, code);
 	char label[16];
 	snprintf(label, sizeof label, "houses %d", count);
 	cliContactCase cases[2] = {
-	    {label, "explicit auto", "neohookean", 0, (int)ceil(seconds * 60.0)},
-	    {label, "implicit game", "neohookean", 0, (int)ceil(seconds * 60.0)},
+	    {label, "explicit auto", "neohookean", 0, frames},
+	    {label, "implicit game", "neohookean", 0, frames},
 	};
-	for (int k = 0; k < 2; ++k)
-	{
-		cliScene scene, apart;
-		cliContactTimes pile, alone;
-		memset(&scene, 0, sizeof scene);
-		memset(&apart, 0, sizeof apart);
-		if (!cliPileScene(count, k == 1, false, o->workers, &scene) ||
-		    !cliPileScene(count, k == 1, true, o->workers, &apart))
-		{
-			cliError("bench: out of memory for the pile");
-			*code = cli_exitInput;
-		}
-		else if (cliContactRow(&cases[k], &scene, count * CLI_BENCH_HOUSE_TETS, o->workers, report,
-		                       code, &pile) &&
-		         cliContactTime(&cases[k], &apart, &alone))
-			printf("%-12s   the frames: 95th percentile %.2f ms, worst %.2f ms; the same houses "
-			       "apart %.2f ms (median), 95th percentile %.2f: pile / apart %.2f (median), "
-			       "%.2f (95th)\n",
-			       "", pile.p95, pile.worst, alone.msPerFrame, alone.p95,
-			       pile.msPerFrame / alone.msPerFrame, pile.p95 / alone.p95);
-		cliScene_Free(&scene);
-		cliScene_Free(&apart);
-	}
+	for (int k = 0; k < 2 && count * CLI_BENCH_HOUSE_TETS <= o->maxTets; ++k)
+		cliPileRow(o, &cases[k], count, (cliPileKind){k == 1, false, false, fm_neoHookean}, report,
+		           code);
 }
 
 static void cliGroundRow(const cliBenchOptions* o, const char* folder, cliBenchReport* report,
@@ -331,8 +361,7 @@ static void cliGroundRow(const cliBenchOptions* o, const char* folder, cliBenchR
 void cliBenchContactRows(const cliBenchOptions* o, cliBenchReport* report, const char* folder,
                          int* code)
 {
-	int houses = o->quick ? CLI_BENCH_QUICK_PILE_HOUSES : CLI_BENCH_PILE_HOUSES;
-	bool pile = houses * CLI_BENCH_HOUSE_TETS <= o->maxTets, ground = 100000 <= o->maxTets;
+	bool pile = 3 * CLI_BENCH_HOUSE_TETS <= o->maxTets, ground = 100000 <= o->maxTets;
 	if (!pile && !ground)
 		return;
 	printf("contact: ms per frame (median), contacts after a frame (median), share of the step in "

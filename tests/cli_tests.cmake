@@ -444,16 +444,18 @@ femto_cli_test(bench_without_tools PROGRAM "${CMAKE_COMMAND}"
   REJECT "failed|beam 1k +[0-9]"
   FILES "${FEMTO_CLI_WORK}/bench_no_tools.csv"
   NO_FILES "${FEMTO_CLI_WORK}/bench_no_tools.png")
-# The contact rows alone (--meshes contact), quick: a pile of three houses, explicit and
-# implicit, with its contact count and shares; the 100k ground row is beyond --quick's size.
-# One CSV row each, with the contact columns filled and the others empty.
+# The contact rows alone (--meshes contact), quick: three houses stacked straight up (the seeds'
+# StVK and Neo-Hookean, implicit) and a pile of three houses, explicit and implicit, with their
+# contact counts and shares, each followed by the same houses apart and the ratio; the 100k
+# ground row is beyond --quick's size. One CSV row each, with the contact columns filled and the
+# others empty.
 femto_cli_test(bench_contact
   ARGS "bench|--quick|--meshes|contact|--repeats|1|--workers|1|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_contact.csv"
   CODE 0
-  REGEX "houses 3 +4167 explicit auto +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ "
+  REGEX "stack 3 stvk +4167 implicit game +1 +[0-9.]+ .*pile / apart [0-9.]+ \\(median\\).*stack 3 neo +4167 implicit game +1 .*houses 3 +4167 explicit auto +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ .*pile / apart [0-9.]+ \\(median\\)"
   REJECT "failed|ground 100k|memory bandwidth|house2"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_contact.csv"
-  CHECK_FILE_REGEX "\nhouses 3,4167,explicit auto,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\n$")
+  CHECK_FILE_REGEX "\nstack 3 stvk,4167,implicit game,stvk,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nstack 3 neo,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nhouses 3,4167,explicit auto,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+\n$")
 set_tests_properties(cli_bench_contact PROPERTIES TIMEOUT 200)
 femto_cli_test(bench_unknown_family ARGS "bench|--meshes|house,tree" CODE 2
   REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam, contact\\)")
