@@ -135,6 +135,7 @@ typedef struct cliPileKind
 	bool apart;    // each shifted CLI_BENCH_APART m along x per place: they land alone
 	bool aligned;  // stacked straight up (else every other one shifted: the column topples)
 	fmMaterialModel model;
+	int columns; // piles of count / columns houses, side by side CLI_BENCH_APART m apart along z
 } cliPileKind;
 
 // The seeds' house (cliScene_MakeHouse) copied @p count times, stacked 4.2 m apart
@@ -155,13 +156,20 @@ static bool cliPileScene(int count, cliPileKind kind, int workers, cliScene* sce
 	for (int i = 1; i < count; ++i)
 		houses[i] = houses[0];
 	scene->bodyCount = count;
+	const int columns = kind.columns > 1 ? kind.columns : 1, tall = count / columns;
 	for (int i = 0; i < count; ++i)
-		houses[i].transform.translate =
-		    kind.aligned ? fmMakeVec3(apart ? CLI_BENCH_APART * i : 0.0, 4.2 * i, 0.0)
-		                 : fmMakeVec3((i % 2 ? 0.4 : -0.4) + (apart ? CLI_BENCH_APART * i : 0.0),
-		                              4.2 * i, (i / 2) % 2 ? 0.3 : -0.3);
+	{
+		int level = i % tall, column = i / tall;
+		double x = apart ? CLI_BENCH_APART * level : 0.0, z = CLI_BENCH_APART * column;
+		houses[i].transform.translate = kind.aligned
+		                                    ? fmMakeVec3(x, 4.2 * level, z)
+		                                    : fmMakeVec3((level % 2 ? 0.4 : -0.4) + x, 4.2 * level,
+		                                                 z + ((level / 2) % 2 ? 0.3 : -0.3));
+	}
 	snprintf(scene->name, sizeof scene->name, "bench houses %d", count);
 	scene->worldDef.workerCount = workers;
+	if (scene->worldDef.maxBodies < count)
+		scene->worldDef.maxBodies = count;
 	scene->dt = 1.0 / 60.0;
 	scene->substeps = 1;
 	for (int i = 0; i < count; ++i)
@@ -316,7 +324,8 @@ static void cliPileRow(const cliBenchOptions* o, const cliContactCase* c, int co
 
 // Three houses stacked straight up for 5 s (they drop 0.2 m onto each other and settle),
 // implicit, the seeds' StVK and Neo-Hookean; then ten houses piled for 5 s: the top one falls
-// 38 m (2.8 s) and the pile settles. --quick: the stacks for 1.5 s and a pile of three. Frames of
+// 38 m (2.8 s) and the pile settles; then ten such piles side by side, implicit (the frames
+// within CLI_CONTACT_BUDGET_S). --quick: the stacks for 1.5 s and a pile of three. Frames of
 // 1/60 s: explicit ones cut by autoSubstep, implicit ones one step.
 static void cliPileRows(const cliBenchOptions* o, cliBenchReport* report, int* code)
 {
@@ -327,8 +336,8 @@ static void cliPileRows(const cliBenchOptions* o, cliBenchReport* report, int* c
 	    {"stack 3 neo", "implicit game", "neohookean", 0, frames},
 	};
 	for (int k = 0; k < 2 && 3 * CLI_BENCH_HOUSE_TETS <= o->maxTets; ++k)
-		cliPileRow(o, &stacks[k], 3, (cliPileKind){true, false, true, k ? fm_neoHookean : fm_stvk},
-		           report, code);
+		cliPileRow(o, &stacks[k], 3,
+		           (cliPileKind){true, false, true, k ? fm_neoHookean : fm_stvk, 1}, report, code);
 	char label[16];
 	snprintf(label, sizeof label, "houses %d", count);
 	cliContactCase cases[2] = {
@@ -336,8 +345,14 @@ static void cliPileRows(const cliBenchOptions* o, cliBenchReport* report, int* c
 	    {label, "implicit game", "neohookean", 0, frames},
 	};
 	for (int k = 0; k < 2 && count * CLI_BENCH_HOUSE_TETS <= o->maxTets; ++k)
-		cliPileRow(o, &cases[k], count, (cliPileKind){k == 1, false, false, fm_neoHookean}, report,
-		           code);
+		cliPileRow(o, &cases[k], count, (cliPileKind){k == 1, false, false, fm_neoHookean, 1},
+		           report, code);
+	// A hundred houses: ten such piles side by side, implicit (not --quick).
+	cliContactCase hundred = {"houses 100", "implicit game", "neohookean", 0, frames};
+	if (!o->quick && CLI_BENCH_BIG_PILE_HOUSES * CLI_BENCH_HOUSE_TETS <= o->maxTets)
+		cliPileRow(o, &hundred, CLI_BENCH_BIG_PILE_HOUSES,
+		           (cliPileKind){true, false, false, fm_neoHookean, CLI_BENCH_BIG_PILE_HOUSES / 10},
+		           report, code);
 }
 
 static void cliGroundRow(const cliBenchOptions* o, const char* folder, cliBenchReport* report,
