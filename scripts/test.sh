@@ -42,6 +42,7 @@ run_suite() {
 suite=(-DFEMTO_BUILD_TESTS=ON -DFEMTO_BUILD_CLI=ON -DFEMTO_BUILD_FUZZERS=OFF)
 cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFEMTO_SANITIZE=OFF "${suite[@]}"
 cmake --build build -j"$jobs"
+echo "test.sh: the dependencies and the normal build took $(($(date +%s) - start)) s"
 run_suite build normal 'normal suite (\([0-9]*\) cases)'
 
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-O1 -g" -DFEMTO_SANITIZE=ON \
@@ -54,7 +55,9 @@ unset ASAN_OPTIONS UBSAN_OPTIONS FEMTO_TEST_QUICK
 for extra in scripts/check-*.sh; do
   log=build/$(basename "$extra" .sh).log
   echo "test.sh: $extra"
+  began=$(date +%s)
   bash "$extra" 2>&1 | tee "$log"
+  echo "test.sh: $extra took $(($(date +%s) - began)) s"
   while IFS= read -r line; do skipped_all+=("$line"); done < <(grep 'SKIPPED' "$log" || true)
 done
 

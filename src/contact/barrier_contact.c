@@ -542,6 +542,19 @@ double fmBarrierContact_Work(const fmBarrierContact* bc, const double* x)
 	return work;
 }
 
+void fmBarrierContact_NoteSurface(fmBody* b)
+{
+	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
+	for (int k = 0; k < b->contact.surfaceVertexCount; ++k)
+	{
+		fmVec3 q = fmLoad(b->state.x, b->contact.surfaceVertex[k]);
+		l = fmMakeVec3(fmMin(l.x, q.x), fmMin(l.y, q.y), fmMin(l.z, q.z));
+		u = fmMakeVec3(fmMax(u.x, q.x), fmMax(u.y, q.y), fmMax(u.z, q.z));
+	}
+	b->contact.surfaceLower = l;
+	b->contact.surfaceUpper = u;
+}
+
 void fmBarrierContact_NoteOverlaps(fmBody* b)
 {
 	int count = 0;

@@ -163,6 +163,10 @@ fmNewtonTerm fmBarrierContact_Term(const fmBarrierContact* bc);
 // backward Euler's forces at the end times the motion.
 double fmBarrierContact_Work(const fmBarrierContact* bc, const double* x);
 
+// Take @p body's surface box where it stands (body->contact.surfaceLower, surfaceUpper), which
+// the other bodies' solves test it by: when the substep begins and after the body's own solve.
+void fmBarrierContact_NoteSurface(fmBody* body);
+
 // The surface edges of @p body (2 ints each, low vertex first), made on first use in
 // body->contact; false when memory is short.
 bool fmBarrierContact_Edges(fmBody* body);

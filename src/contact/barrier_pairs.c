@@ -99,18 +99,13 @@ static bool fmAddPrimitive(fmBarrierPrimitive** list, fmVec3** lower, fmVec3** u
 	return true;
 }
 
-// Whether body @p b's surface, grown by @p grow, reaches into [lo, hi].
+// Whether body @p b's surface (its box as noted, fmBarrierContact_NoteSurface), grown by
+// @p grow, reaches into [lo, hi].
 static bool fmSurfaceMeets(const fmBody* b, double grow, fmVec3 lo, fmVec3 hi)
 {
-	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
-	for (int k = 0; k < b->contact.surfaceVertexCount; ++k)
-	{
-		fmVec3 q = fmLoad(b->state.x, b->contact.surfaceVertex[k]);
-		l = fmMakeVec3(fmMin(l.x, q.x), fmMin(l.y, q.y), fmMin(l.z, q.z));
-		u = fmMakeVec3(fmMax(u.x, q.x), fmMax(u.y, q.y), fmMax(u.z, q.z));
-	}
 	fmVec3 g = fmMakeVec3(grow, grow, grow);
-	return fmBoxesMeet(fmSub(l, g), fmAdd(u, g), lo, hi);
+	return fmBoxesMeet(fmSub(b->contact.surfaceLower, g), fmAdd(b->contact.surfaceUpper, g), lo,
+	                   hi);
 }
 
 // Whether the solved body meets body @p o's surface in [lo, hi].

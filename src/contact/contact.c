@@ -135,8 +135,8 @@ static double fmRestThinness(const fmBody* b)
 	{
 		const int* tri = b->mesh.surface + 3 * (size_t)t;
 		fmVec3 p = fmLoad(b->mesh.x0, tri[0]);
-		area += 0.5 *
-		        fmLength(fmCross(fmSub(fmLoad(b->mesh.x0, tri[1]), p), fmSub(fmLoad(b->mesh.x0, tri[2]), p)));
+		area += 0.5 * fmLength(fmCross(fmSub(fmLoad(b->mesh.x0, tri[1]), p),
+		                               fmSub(fmLoad(b->mesh.x0, tri[2]), p)));
 	}
 	return area > 0.0 ? 2.0 * volume / area : b->mesh.restSize;
 }
@@ -197,7 +197,8 @@ void fmContact_BeginFrame(fmWorld* w)
 		if (w->bodies[i].contact.embeddedHolder != NULL)
 		{
 			fmBarrierContact_NoteOverlaps(&w->bodies[i]);
-			memset(w->bodies[i].contact.embeddedHolder, 0, sizeof(int) * (size_t)w->bodies[i].mesh.vertexCount);
+			memset(w->bodies[i].contact.embeddedHolder, 0,
+			       sizeof(int) * (size_t)w->bodies[i].mesh.vertexCount);
 		}
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
@@ -340,8 +341,13 @@ bool fmContact_BeginSubstep(fmWorld* w, double h)
 	if (s == NULL)
 		return false;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmBody_IsLive(&w->bodies[i]) && !fmBarrierContact_Edges(&w->bodies[i]))
+	{
+		if (!fmBody_IsLive(&w->bodies[i]))
+			continue;
+		if (!fmBarrierContact_Edges(&w->bodies[i]))
 			return false;
+		fmBarrierContact_NoteSurface(&w->bodies[i]);
+	}
 	return true;
 }
 

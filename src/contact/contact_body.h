@@ -4,6 +4,8 @@
 // (fmBody.contact), and the implicit solve reads it through fmContactPenalty.
 #pragma once
 
+#include <femto/types.h>
+
 #include <stdint.h>
 
 struct fmBarrierStretch;
@@ -24,12 +26,12 @@ struct fmFloorHit;
 typedef struct fmBodyContact
 {
 	int surfaceVertexCount;
-	int* surfaceVertex; // the vertices on the surface, ascending
-	double* start;      // 3n: positions at the start of the substep (the swept tests)
-	int* mark;          // n: 1 + the contact log entry of a vertex the stage changed, or 0
-	double* plane;      // 4n: an implicit step's frozen plane of another body near each
-	                    // surface vertex (n, n . q), NaN where none (penalty.h)
-	uint8_t* tetMark;   // tetCount: scratch marks of the ledger's energy change
+	int* surfaceVertex;  // the vertices on the surface, ascending
+	double* start;       // 3n: positions at the start of the substep (the swept tests)
+	int* mark;           // n: 1 + the contact log entry of a vertex the stage changed, or 0
+	double* plane;       // 4n: an implicit step's frozen plane of another body near each
+	                     // surface vertex (n, n . q), NaN where none (penalty.h)
+	uint8_t* tetMark;    // tetCount: scratch marks of the ledger's energy change
 	double* colliderGap; // 2n: each surface vertex's distance to the nearest collider it meets at
 	                     // the implicit step's start (m; INFINITY: none), which the solve's
 	                     // collider queries skip a vertex by while its motion is shorter; then
@@ -54,8 +56,11 @@ typedef struct fmBodyContact
 	// the pair meets through the contact stage's projection, not the barrier, until apart
 	int overlapWith[FM_OVERLAP_SLOTS];
 	int surfaceEdgeCount;
-	int* surfaceEdge;     // 2 per surface edge, low vertex first (barrier_contact.h)
-	double thinness;      // 2 V / S at rest (m): how thick the body is (contact.c)
+	int* surfaceEdge; // 2 per surface edge, low vertex first (barrier_contact.h)
+	// The surface's box where the body stands in an implicit substep's solves: taken when the
+	// substep begins and again when the body's own solve ends (barrier_contact.h)
+	fmVec3 surfaceLower, surfaceUpper;
+	double thinness; // 2 V / S at rest (m): how thick the body is (contact.c)
 	// The floor's contacts of the last substep (floor.h), for the contact list and the floor's
 	// reaction
 	struct fmFloorHit* floorHits;

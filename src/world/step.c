@@ -5,6 +5,7 @@
 
 #include "body/grab.h"
 #include "body/loads.h"
+#include "contact/barrier_contact.h"
 #include "contact/contact.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
@@ -428,7 +429,11 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		                   "out of memory for the contact buffers");
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
+		{
 			fmStepBody(w, i, ctx);
+			if (fmBarrierContact_Active(w))
+				fmBarrierContact_NoteSurface(&w->bodies[i]);
+		}
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
 	double contactStart = fmSeconds();
 	bool contactOk =
@@ -726,7 +731,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	fmWarnFastColliders(w, &ctx);
 
 	// Stage 3: substeps, every body advanced by the chosen integrator.
-	r = autoStep ? fmAdaptiveSubsteps(w, &ctx, &plan) : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);
+	r = autoStep ? fmAdaptiveSubsteps(w, &ctx, &plan)
+	             : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);
 	if (r != fm_ok)
 	{
 		fmRestoreAll(w);
