@@ -22,22 +22,48 @@ double fmContactDetect_Motion(const fmContactState* s, const fmBody* b, int i)
 	       s->predict * fmLength(fmLoad(b->state.v, i));
 }
 
+static bool fmBoxMeetsBody(const fmContactState* s, int k, fmVec3 lo, fmVec3 hi)
+{
+	fmVec3 ol = s->bodyLower[k], oh = s->bodyUpper[k];
+	return !(hi.x < ol.x || lo.x > oh.x || hi.y < ol.y || lo.y > oh.y || hi.z < ol.z ||
+	         lo.z > oh.z);
+}
+
 bool fmContactDetect_NearOtherBody(const fmWorld* w, const fmContactState* s, int slot, fmVec3 lo,
                                    fmVec3 hi, bool higher)
 {
-	const fmBody* b = &w->bodies[slot];
-	for (int k = higher ? slot : 0; k < w->bodyCapacity; ++k)
-	{
-		const fmBody* o = &w->bodies[k];
-		if (!fmBody_IsLive(o) || (k == slot && !b->selfCollision) ||
-		    !fmFiltersMeet(b->filter, o->filter))
-			continue;
-		fmVec3 ol = s->bodyLower[k], oh = s->bodyUpper[k];
-		if (!(hi.x < ol.x || lo.x > oh.x || hi.y < ol.y || lo.y > oh.y || hi.z < ol.z ||
-		      lo.z > oh.z))
+	(void)w;
+	for (int n = s->neighbourStart[slot]; n < s->neighbourStart[slot + 1]; ++n)
+		if ((!higher || s->neighbour[n] >= slot) && fmBoxMeetsBody(s, s->neighbour[n], lo, hi))
 			return true;
-	}
 	return false;
+}
+
+// Each body's neighbours (fmContactState.neighbour), and whether it has any (bodyNear). False
+// when memory is short.
+static bool fmFindNeighbours(const fmWorld* w, fmContactState* s)
+{
+	int count = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		s->neighbourStart[slot] = count;
+		for (int k = 0; fmBody_IsLive(b) && k < w->bodyCapacity; ++k)
+		{
+			const fmBody* o = &w->bodies[k];
+			if (!fmBody_IsLive(o) || (k == slot && !b->selfCollision) ||
+			    !fmFiltersMeet(b->filter, o->filter) ||
+			    !fmBoxMeetsBody(s, k, s->bodyLower[slot], s->bodyUpper[slot]))
+				continue;
+			if (!fmGrowArray((void**)&s->neighbour, &s->neighbourCapacity, count, count + 1,
+			                 sizeof(int)))
+				return false;
+			s->neighbour[count++] = k;
+		}
+		s->bodyNear[slot] = count > s->neighbourStart[slot];
+	}
+	s->neighbourStart[w->bodyCapacity] = count;
+	return true;
 }
 
 // Every body's box: its surface vertices' box grown by the thickness and by the most any of
@@ -64,11 +90,7 @@ static bool fmBuildBodyBoxes(const fmWorld* w, fmContactState* s, double thickne
 		s->bodyLower[slot] = fmSub(lo, fmMakeVec3(grow, grow, grow));
 		s->bodyUpper[slot] = fmAdd(hi, fmMakeVec3(grow, grow, grow));
 	}
-	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		s->bodyNear[slot] = fmBody_IsLive(&w->bodies[slot]) &&
-		                    fmContactDetect_NearOtherBody(w, s, slot, s->bodyLower[slot],
-		                                                  s->bodyUpper[slot], false);
-	return true;
+	return fmFindNeighbours(w, s);
 }
 
 bool fmContactDetect_BuildTriangles(fmWorld* w, fmContactState* s, double thickness)

@@ -102,6 +102,12 @@ typedef struct fmContactState
 	bool* bodyNear;    // per body slot: another body's box (or its own, self-colliding) overlaps
 	double* bodySpeed; // per body slot: its surface vertices' fastest speed
 	int bodyBoxCapacity;
+	// Per body slot: the bodies whose boxes meet its box and that it can touch (itself when it
+	// collides with itself), neighbour[neighbourStart[slot] ... neighbourStart[slot + 1]),
+	// ascending; the boxes of its vertices and edges lie in its box, so no other body meets them
+	int* neighbourStart; // bodyBoxCapacity + 1
+	int* neighbour;
+	int neighbourCapacity;
 	int triangleCount; // the triangles in the hash (those of bodies near another)
 	fmPairContact* pairContacts;
 	int pairContactCount;
@@ -121,7 +127,7 @@ typedef struct fmContactState
 	fmContactEvent* events;
 	int eventCount;
 	int eventCapacity;
-	fmLoggedVertex* logged;  // the vertices the substep's contacts changed, with their old state
+	fmLoggedVertex* logged; // the vertices the substep's contacts changed, with their old state
 	int loggedCount;
 	int loggedCapacity;
 	int* tets; // scratch: the tets around a body's logged vertices
