@@ -152,8 +152,10 @@ static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVe
 		*u = first ? s->otherUpper[k] : fmMaxVec(*u, s->otherUpper[k]);
 	}
 	s->othersBoxes[kind] = boxes;
-	return fmSpatialHash_Build(&s->otherHash[kind], s->otherLower + start, s->otherUpper + start,
-	                           s->otherCount - start, bc->cell) &&
+	const bool any = s->otherCount > start; // (the arrays are NULL until something is gathered)
+	return fmSpatialHash_Build(&s->otherHash[kind], any ? s->otherLower + start : NULL,
+	                           any ? s->otherUpper + start : NULL, s->otherCount - start,
+	                           bc->cell) &&
 	       fmHashQuery_Reserve(&s->query, &s->otherHash[kind]);
 }
 
