@@ -19,7 +19,7 @@ typedef struct fmSpatialHash
 	int* entryBucket; // scratch: the bucket of each entry before grouping
 	int* itemRange;   // scratch: each item's cell range (lowest x, y, z, highest x, y, z)
 	int rangeCapacity;
-	int itemCount;    // items in the last build
+	int itemCount; // items in the last build
 } fmSpatialHash;
 
 // One querier's buffers: queries with distinct ones may run in parallel on the same hash (one
