@@ -120,7 +120,7 @@ static bool fmMayMeet(const fmBarrierContact* bc, int o, fmVec3 lo, fmVec3 hi)
 }
 
 // The other bodies' primitives of one kind whose boxes (grown by dHat) meet [lo, hi], after the
-// scratch's others, hashed, with the box around them all.
+// scratch's others, hashed, with the box around each body's ones.
 static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVec3 lo, fmVec3 hi)
 {
 	const fmWorld* w = bc->world;

@@ -427,11 +427,12 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w, h))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
+	const bool barrier = fmBarrierContact_Active(w);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
 		{
 			fmStepBody(w, i, ctx);
-			if (fmBarrierContact_Active(w))
+			if (barrier)
 				fmBarrierContact_NoteSurface(&w->bodies[i]);
 		}
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
