@@ -3,6 +3,8 @@
 // none failed and a part of one was skipped (TEST_SKIP; a failure under CI=true).
 #include "test.h"
 
+#include "core/timer.h"
+
 #include <femto/femto.h>
 #include <stdlib.h>
 
@@ -143,13 +145,15 @@ int main(int argc, char** argv)
 		int failures = 0;
 		int asserts = s_assertCount;
 		fmTestSeed(fmTestNameSeed(e->suite, e->name));
+		double began = fmSeconds();
 		e->fcn(&failures);
+		double seconds = fmSeconds() - began;
 		if (s_assertCount != asserts)
 			++failures;
 		++run;
 		if (failures)
 			++failed;
-		printf("%s %s.%s\n", failures ? "FAIL" : "ok  ", e->suite, e->name);
+		printf("%s %s.%s (%.1f s)\n", failures ? "FAIL" : "ok  ", e->suite, e->name, seconds);
 		fflush(stdout);
 	}
 	if (run == 0)
