@@ -2328,7 +2328,8 @@ TEST(barrier_offset_stacks_of_three_rest_and_sleep)
 		const double offsets[3] = {0.0, 0.3, -0.2};
 		fmBodyId houses[3];
 		for (int h = 0; h < 3; ++h)
-			houses[h] = addHouse(failures_, world, fmMakeVec3(offsets[h], 2.0 + 4.5 * h, 0.0), &def);
+			houses[h] =
+			    addHouse(failures_, world, fmMakeVec3(offsets[h], 2.0 + 4.5 * h, 0.0), &def);
 		auditEnergyFrom(&log, houses, 3);
 		int failed = 0;
 		for (int f = 0; f < frames; ++f)
@@ -2337,7 +2338,8 @@ TEST(barrier_offset_stacks_of_three_rest_and_sleep)
 			auditFrame(&log);
 		}
 		double y[3] = {centreY(houses[0]), centreY(houses[1]), centreY(houses[2])};
-		int awake = fmBody_IsAwake(houses[0]) + fmBody_IsAwake(houses[1]) + fmBody_IsAwake(houses[2]);
+		int awake =
+		    fmBody_IsAwake(houses[0]) + fmBody_IsAwake(houses[1]) + fmBody_IsAwake(houses[2]);
 		const char* what = k ? "StVK, offset" : "Neo-Hookean, offset";
 		printf("  %s: after %d frames centres at y = %.3f %.3f %.3f, %d awake\n", what, frames,
 		       y[0], y[1], y[2], awake);
