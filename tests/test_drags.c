@@ -2,10 +2,11 @@
 // 60 frames, a tenth of them flicks at 20 to 30 m/s, on the seeds' house (their Lame constants,
 // Neo-Hookean) in both integrators, a three-house pile (the barrier) and the clamped
 // cantilever. Every frame must pass the library's health checks (finite, energy within the
-// ledger) and leave no tet inverted. Counts: 1000 drags on the house implicit, 300 explicit (its
-// grabbed frames take the substeps the stability limit asks for, about seven times the scene's
-// ten), 300 on the cantilever, 30 on the pile (its frames cost about ten of the house's); at most
-// 8 under FEMTO_TEST_QUICK (the sanitizers); FEMTO_DRAGS sets them all.
+// ledger) and leave no tet inverted. Counts: 1000 drags on the house implicit (the accurate
+// tolerance), 300 explicit (its grabbed frames take the substeps the stability limit asks for,
+// about seven times the scene's ten), 1000 on the cantilever and 100 on the pile, both at the
+// game tolerance (the pile's frames cost about six of the house's); at most 4 under
+// FEMTO_TEST_QUICK (the sanitizers); FEMTO_DRAGS sets them all.
 #include "support.h"
 #include "test.h"
 
@@ -187,27 +188,30 @@ TEST(drags_on_the_house_explicit)
 	fmDestroyWorld(s.world);
 }
 
-// Three houses dropped on each other (the barrier holds them apart), Coulomb floor.
+// Three houses dropped on each other (the barrier holds them apart), Coulomb floor, the game
+// tolerance.
 TEST(drags_on_the_pile)
 {
 	fmWorldDef def = fmDefaultWorldDef();
 	def.integrator = fm_implicit;
+	def.tolerance = FM_TOLERANCE_GAME;
 	def.floor.friction = fm_floorCoulomb;
 	DragScene s = {
 	    "three-house pile, implicit", fmCreateWorld(&def), {{0}}, 3, fm_implicit, 1.0 / 60.0, 1};
 	for (int h = 0; h < 3; ++h)
 		s.bodies[h] = dragHouse(failures_, s.world, fmMakeVec3(0.3 * h, 4.3 * h, 0.0));
-	dragScene(failures_, &s, dragCount(30), 37u);
+	dragScene(failures_, &s, dragCount(100), 37u);
 	fmDestroyWorld(s.world);
 }
 
-// The scene file's beam: 2 m, E = 10 MPa, clamped at x = 0, no floor.
+// The scene file's beam: 2 m, E = 10 MPa, clamped at x = 0, no floor, the game tolerance.
 TEST(drags_on_the_cantilever)
 {
 	fmTetMesh mesh;
 	CHECK_INT(fmMakeBoxMesh(20, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(2, 0.2, 0.2), &mesh), fm_ok);
 	fmWorldDef def = fmDefaultWorldDef();
 	def.integrator = fm_implicit;
+	def.tolerance = FM_TOLERANCE_GAME;
 	def.floor.enabled = false;
 	DragScene s = {
 	    "cantilever, implicit", fmCreateWorld(&def), {{0}}, 1, fm_implicit, 1.0 / 60.0, 1};
@@ -219,6 +223,6 @@ TEST(drags_on_the_cantilever)
 	CHECK_INT(fmCreateBody(s.world, &bdef, &s.bodies[0], NULL), fm_ok);
 	fmFreeTetMesh(&mesh);
 	CHECK(fmBody_PinBox(s.bodies[0], fmMakeVec3(-0.01, -1, -1), fmMakeVec3(0.01, 1, 1)) > 0);
-	dragScene(failures_, &s, dragCount(300), 41u);
+	dragScene(failures_, &s, dragCount(1000), 41u);
 	fmDestroyWorld(s.world);
 }
