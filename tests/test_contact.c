@@ -2189,6 +2189,32 @@ static double centreY(fmBodyId body)
 	return sum / n;
 }
 
+// The stacks' world: implicit at the game tolerance, the floor at y = 0, Coulomb friction 0.5 on
+// the floor and between bodies.
+static fmWorldDef stackWorldDef(void)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.tolerance = FM_TOLERANCE_GAME;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = fm_floorCoulomb;
+	wdef.floor.frictionCoefficient = 0.5;
+	wdef.contact.friction = 0.5;
+	return wdef;
+}
+
+// The stacks' houses: @p model at Young's modulus @p youngs (Poisson 0.3), 100 kg/m^3, no velocity
+// damping or smoothing.
+static fmBodyDef stackHouseDef(fmMaterialModel model, double youngs)
+{
+	fmBodyDef def = softDef(youngs);
+	def.material = fmMakeMaterial(model, youngs, 0.3);
+	def.density = 100.0;
+	def.damping = 1.0;
+	def.smoothing = 0.0;
+	return def;
+}
+
 // Three Neo-Hookean houses (E = 200 kPa) dropped 0.5 m apart on a Coulomb floor, implicit at one
 // step a 1/60 s frame: aligned, and each offset from the one below (0.3 m, then 0.5 m the other
 // way: up to 12.5% of the 4 m width). Every substep is audited: no crossing, no vertex inside
@@ -2200,19 +2226,10 @@ TEST(barrier_stacks_of_three_houses_never_cross)
 	const double offsets[2][3] = {{0.0, 0.0, 0.0}, {0.0, 0.3, -0.2}};
 	for (int k = 0; k < 2; ++k)
 	{
-		fmWorldDef wdef = fmDefaultWorldDef();
-		wdef.integrator = fm_implicit;
-		wdef.tolerance = FM_TOLERANCE_GAME;
-		wdef.floor.height = 0.0;
-		wdef.floor.friction = fm_floorCoulomb;
-		wdef.floor.frictionCoefficient = 0.5;
-		wdef.contact.friction = 0.5;
+		fmWorldDef wdef = stackWorldDef();
 		AuditLog log;
 		fmWorldId world = auditedWorld(&wdef, &log);
-		fmBodyDef def = softDef(2e5);
-		def.density = 100.0;
-		def.damping = 1.0;
-		def.smoothing = 0.0;
+		fmBodyDef def = stackHouseDef(fm_neoHookean, 2e5);
 		fmBodyId houses[3];
 		for (int h = 0; h < 3; ++h)
 			houses[h] =
@@ -2243,19 +2260,10 @@ TEST(barrier_stack_rests_on_its_weight_and_sleeps)
 {
 	for (int sleep = 0; sleep < 2; ++sleep)
 	{
-		fmWorldDef wdef = fmDefaultWorldDef();
-		wdef.integrator = fm_implicit;
-		wdef.tolerance = FM_TOLERANCE_GAME;
-		wdef.floor.height = 0.0;
-		wdef.floor.friction = fm_floorCoulomb;
-		wdef.floor.frictionCoefficient = 0.5;
-		wdef.contact.friction = 0.5;
+		fmWorldDef wdef = stackWorldDef();
 		wdef.contact.enableSleep = sleep == 1;
 		fmWorldId world = fmCreateWorld(&wdef);
-		fmBodyDef def = softDef(2e5);
-		def.density = 100.0;
-		def.damping = 1.0;
-		def.smoothing = 0.0;
+		fmBodyDef def = stackHouseDef(fm_neoHookean, 2e5);
 		fmBodyId houses[3];
 		double weight = 0.0, carried = 0.0;
 		for (int h = 0; h < 3; ++h)
@@ -2310,21 +2318,11 @@ TEST(barrier_offset_stacks_of_three_rest_and_sleep)
 	const int frames = fmTestCount(600, 45);
 	for (int k = 0; k < 2; ++k)
 	{
-		fmWorldDef wdef = fmDefaultWorldDef();
-		wdef.integrator = fm_implicit;
-		wdef.tolerance = FM_TOLERANCE_GAME;
-		wdef.floor.height = 0.0;
-		wdef.floor.friction = fm_floorCoulomb;
-		wdef.floor.frictionCoefficient = 0.5;
-		wdef.contact.friction = 0.5;
+		fmWorldDef wdef = stackWorldDef();
 		wdef.contact.enableSleep = true;
 		AuditLog log;
 		fmWorldId world = auditedWorld(&wdef, &log);
-		fmBodyDef def = softDef(5e6);
-		def.material = fmMakeMaterial(models[k], 5e6, 0.3);
-		def.density = 100.0;
-		def.damping = 1.0;
-		def.smoothing = 0.0;
+		fmBodyDef def = stackHouseDef(models[k], 5e6);
 		const double offsets[3] = {0.0, 0.3, -0.2};
 		fmBodyId houses[3];
 		for (int h = 0; h < 3; ++h)
@@ -2363,20 +2361,11 @@ TEST(barrier_stacks_of_ten_houses_rest_and_sleep)
 	const int frames = fmTestCount(840, 45), averaged = 60;
 	for (int k = 0; k < 2; ++k)
 	{
-		fmWorldDef wdef = fmDefaultWorldDef();
-		wdef.integrator = fm_implicit;
-		wdef.tolerance = FM_TOLERANCE_GAME;
-		wdef.floor.height = 0.0;
-		wdef.floor.friction = fm_floorCoulomb;
-		wdef.floor.frictionCoefficient = 0.5;
-		wdef.contact.friction = 0.5;
+		fmWorldDef wdef = stackWorldDef();
 		wdef.contact.enableSleep = k == 1;
 		AuditLog log;
 		fmWorldId world = auditedWorld(&wdef, &log);
-		fmBodyDef def = softDef(2e7);
-		def.density = 100.0;
-		def.damping = 1.0;
-		def.smoothing = 0.0;
+		fmBodyDef def = stackHouseDef(fm_neoHookean, 2e7);
 		fmBodyId houses[10];
 		double weight = 0.0, carried = 0.0;
 		for (int h = 0; h < 10; ++h)
@@ -2443,8 +2432,9 @@ TEST(barrier_ten_house_pile_never_crosses)
 	def.smoothing = 0.0;
 	fmBodyId houses[10];
 	for (int h = 0; h < 10; ++h)
-		houses[h] = addHouse(failures_, world,
-		                     fmMakeVec3(h % 2 ? 0.4 : -0.4, 4.2 * h, (h / 2) % 2 ? 0.3 : -0.3), &def);
+		houses[h] =
+		    addHouse(failures_, world,
+		             fmMakeVec3(h % 2 ? 0.4 : -0.4, 4.2 * h, (h / 2) % 2 ? 0.3 : -0.3), &def);
 	auditEnergyFrom(&log, houses, 10);
 	const int frames = fmTestCount(300, 60);
 	int failed = 0;
@@ -2499,17 +2489,17 @@ static void fastImpact(int* failures_, fmIntegrator integrator, int scene)
 	fmBodyId bodies[2];
 	int count = 0;
 	if (scene == 1)
-		bodies[count++] =
-		    addBox(failures_, world, 1, fmMakeVec3(-0.3, -0.01, -0.3), fmMakeVec3(0.3, 0.0, 0.3), &def);
+		bodies[count++] = addBox(failures_, world, 1, fmMakeVec3(-0.3, -0.01, -0.3),
+		                         fmMakeVec3(0.3, 0.0, 0.3), &def);
 	fmTetMesh mesh;
 	if (scene == 2)
-		CHECK_INT(fmMakeBoxMesh(2, 2, 2, fmMakeVec3(-0.1, 0.05, -0.1), fmMakeVec3(0.1, 0.25, 0.1),
-		                        &mesh),
-		          fm_ok);
+		CHECK_INT(
+		    fmMakeBoxMesh(2, 2, 2, fmMakeVec3(-0.1, 0.05, -0.1), fmMakeVec3(0.1, 0.25, 0.1), &mesh),
+		    fm_ok);
 	else
-		CHECK_INT(fmMakeBoxMesh(6, 1, 6, fmMakeVec3(-0.3, 0.1, -0.3), fmMakeVec3(0.3, 0.11, 0.3),
-		                        &mesh),
-		          fm_ok);
+		CHECK_INT(
+		    fmMakeBoxMesh(6, 1, 6, fmMakeVec3(-0.3, 0.1, -0.3), fmMakeVec3(0.3, 0.11, 0.3), &mesh),
+		    fm_ok);
 	def.mesh = &mesh;
 	CHECK_INT(fmCreateBody(world, &def, &bodies[count], NULL), fm_ok);
 	fmFreeTetMesh(&mesh);
@@ -2538,8 +2528,8 @@ static void fastImpact(int* failures_, fmIntegrator integrator, int scene)
 	char what[160];
 	snprintf(what, sizeof what, "%s, %s", names[scene],
 	         integrator == fm_implicit ? "implicit" : "explicit");
-	printf("  %s: the mover's lowest point at y = %.4f, the obstacle's top at %.4f\n", what,
-	       lowest, top);
+	printf("  %s: the mover's lowest point at y = %.4f, the obstacle's top at %.4f\n", what, lowest,
+	       top);
 	checkClean(failures_, &log, what);
 	CHECK_INT(failed, 0);
 	CHECK(lowest > top);
