@@ -5,8 +5,8 @@
 // ledger) and leave no tet inverted. Counts: 1000 drags on the house implicit (the accurate
 // tolerance), 300 explicit (its grabbed frames take the substeps the stability limit asks for,
 // about seven times the scene's ten), 1000 on the cantilever and 100 on the pile, both at the
-// game tolerance (the pile's frames cost about six of the house's); at most 4 under
-// FEMTO_TEST_QUICK (the sanitizers); FEMTO_DRAGS sets them all.
+// game tolerance (the pile's frames cost about six of the house's at one tolerance); at most 4
+// under FEMTO_TEST_QUICK (the sanitizers); FEMTO_DRAGS sets them all.
 #include "support.h"
 #include "test.h"
 
