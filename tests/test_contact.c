@@ -12,6 +12,7 @@
 #include "core/core.h"
 #include "math/geometry.h"
 #include "solver/solver_cache.h"
+#include "world/world.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -1496,8 +1497,12 @@ static int bodyContacts(fmWorldId world)
 // for 1, 2 and 3 workers, in both integrators (the explicit one also finds edge contacts).
 static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 {
+	enum
+	{
+		houses = 4
+	};
 	double* result[3] = {NULL, NULL, NULL};
-	int n = 0, contacts = 0;
+	int n = 0, contacts = 0, groups = 0, together = 0;
 	// (The explicit frames take about 40 substeps each: 30 of them see the houses touch. The
 	// quick count, under the sanitizers, still sees them touch: checked below.)
 	const int frames = integrator == fm_implicit ? fmTestCount(60, 20) : fmTestCount(30, 5);
@@ -1509,8 +1514,13 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 		wdef.workerCount = k + 1;
 		fmWorldId world = fmCreateWorld(&wdef);
 		fmBodyDef def = implicitHouseDef();
-		fmBodyId a = addHouse(failures_, world, fmMakeVec3(0.0, -1.0, 0.0), &def);
-		fmBodyId b = addHouse(failures_, world, fmMakeVec3(0.3, 3.03, 0.0), &def); // 3 cm above
+		// Three houses stacked 3 cm apart, the second shifted, and one far off: the top and the
+		// bottom house, and the far one, step at once (one schedule group), the middle after.
+		const fmVec3 at[houses] = {
+		    {0.0, -1.0, 0.0}, {0.3, 3.03, 0.0}, {0.0, 7.06, 0.0}, {30.0, -1.0, 0.0}};
+		fmBodyId body[houses];
+		for (int h = 0; h < houses; ++h)
+			body[h] = addHouse(failures_, world, at[h], &def);
 		fmColliderDef sphere = fmDefaultColliderDef();
 		sphere.shape = fm_shapeSphere;
 		sphere.center = fmMakeVec3(1.5, -2.5, 0.0);
@@ -1520,18 +1530,30 @@ static void contactSameForWorkers(int* failures_, fmIntegrator integrator)
 		{
 			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, integrator == fm_implicit ? 1 : 10), fm_ok);
 			contacts += k == 0 ? bodyContacts(world) : 0;
+			const fmSchedule* schedule = &fmGetWorld(world)->schedule;
+			groups = schedule->groupCount > groups ? schedule->groupCount : groups;
+			for (int g = 0; g < schedule->groupCount; ++g)
+			{
+				int size = schedule->groupStart[g + 1] - schedule->groupStart[g];
+				together = size > together ? size : together;
+			}
 		}
-		n = fmBody_GetVertexCount(a);
-		result[k] = malloc(sizeof(double) * 6 * (size_t)n);
-		fmBody_CopyPositions(a, result[k], n);
-		fmBody_CopyPositions(b, result[k] + 3 * n, n);
+		n = fmBody_GetVertexCount(body[0]);
+		result[k] = malloc(sizeof(double) * 3 * houses * (size_t)n);
+		for (int h = 0; h < houses && result[k] != NULL; ++h)
+			fmBody_CopyPositions(body[h], result[k] + 3 * h * n, n);
 		fmDestroyWorld(world);
 	}
-	printf("  %s: %d body-body contacts at the frames' ends over %d frames\n",
-	       integrator == fm_implicit ? "implicit" : "explicit", contacts, frames);
+	printf("  %s: %d body-body contacts at the frames' ends over %d frames; up to %d schedule "
+	       "groups, up to %d bodies stepping at once\n",
+	       integrator == fm_implicit ? "implicit" : "explicit", contacts, frames, groups, together);
 	CHECK(contacts > 0); // the houses did meet
+	// The implicit barrier's groups: {bottom, top, far} and {middle}; explicit: all at once.
+	CHECK_INT(groups, integrator == fm_implicit ? 2 : 1);
+	CHECK_INT(together, integrator == fm_implicit ? 3 : houses);
 	for (int k = 1; k < 3; ++k)
-		CHECK(memcmp(result[0], result[k], sizeof(double) * 6 * (size_t)n) == 0);
+		CHECK(result[0] && result[k] &&
+		      memcmp(result[0], result[k], sizeof(double) * 3 * houses * (size_t)n) == 0);
 	for (int k = 0; k < 3; ++k)
 		free(result[k]);
 }

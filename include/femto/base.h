@@ -50,7 +50,9 @@ typedef void* fmAllocFcn(size_t size, size_t alignment);
 typedef void fmFreeFcn(void* memory, size_t size);
 
 /// Replace the allocator. Pass NULL for both to restore the default (aligned malloc).
-/// Call before creating any world or loading any mesh.
+/// Call before creating any world or loading any mesh. With fmWorldDef.workerCount above 1 a
+/// step may call the hooks from several of the world's workers at once (bodies stepping side by
+/// side grow their own buffers): they must be thread-safe, as malloc is.
 FM_API void fmSetAllocator(fmAllocFcn* allocFcn, fmFreeFcn* freeFcn);
 
 /// Bytes currently allocated through the femto allocator (leak checks, budgets).

@@ -1,6 +1,7 @@
 // Barrier contact inside the implicit solve (barrier_contact.h).
 #include "contact/barrier_contact.h"
 
+#include "body/loads.h"
 #include "contact/barrier_pairs.h"
 #include "contact/collider.h"
 #include "contact/contact.h"
@@ -15,6 +16,7 @@
 #include "math/geometry.h"
 #include "world/world.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -457,16 +459,71 @@ fmNewtonTerm fmBarrierContact_Term(const fmBarrierContact* bc)
 
 // ---- the step ----------------------------------------------------------------------------------
 
-// The body's reach in the step: twice its fastest vertex's inertial motion (@p xPred from
-// @p xStart) and gravity's (g / inertia), dHat and 2% of its size.
+// The body's reach in a step whose fastest vertex moves @p motion by inertia alone: twice that
+// and gravity's (g / inertia), dHat and 2% of its size.
+static double fmReachOf(const fmWorld* w, const fmBody* b, double motion, double inertia,
+                        double dHat)
+{
+	double g = fmLength(w->def.gravity);
+	return 2.0 * (motion + g / inertia) + dHat + 0.02 * b->mesh.restSize;
+}
+
 static double fmStepReach(const fmWorld* w, const fmBody* b, const double* xStart,
                           const double* xPred, double inertia, double dHat)
 {
 	double motion = 0.0;
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		motion = fmMax(motion, fmLength(fmSub(fmLoad(xPred, i), fmLoad(xStart, i))));
-	double g = fmLength(w->def.gravity);
-	return 2.0 * (motion + g / inertia) + dHat + 0.02 * b->mesh.restSize;
+	return fmReachOf(w, b, motion, inertia, dHat);
+}
+
+// The box around @p x's vertices.
+static void fmVertexBox(const fmBody* b, const double* x, fmVec3* lo, fmVec3* hi)
+{
+	fmVec3 l = fmMakeVec3(INFINITY, INFINITY, INFINITY), u = fmScale(-1.0, l);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	{
+		fmVec3 p = fmLoad(x, i);
+		l = fmMakeVec3(fmMin(l.x, p.x), fmMin(l.y, p.y), fmMin(l.z, p.z));
+		u = fmMakeVec3(fmMax(u.x, p.x), fmMax(u.y, p.y), fmMax(u.z, p.z));
+	}
+	*lo = l;
+	*hi = u;
+}
+
+// The step box's margin relative to its growth: a bound never tighter than Begin's region
+// (whose prediction x + h v rounds differently from h |v|).
+#define FM_STEP_BOX_MARGIN 1e-9
+
+void fmBarrierContact_StepBox(const fmWorld* w, const fmBody* b, double inertia, fmVec3* lo,
+                              fmVec3* hi)
+{
+	if (fmLoads_Moving(b))
+	{
+		*lo = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
+		*hi = fmScale(-1.0, *lo);
+		return;
+	}
+	// The inertial prediction's motion as the implicit step makes it (x + h v, h = 1 / sqrt of
+	// the inertia term; pinned axes stay), to the margin's rounding.
+	const double lead = 1.0 / sqrt(inertia);
+	double motion = 0.0;
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	{
+		double d[3];
+		for (int e = 0; e < 3; ++e)
+			d[e] = fmIsDofPinned(&b->state, 3 * i + e) ? 0.0 : lead * b->state.v[3 * i + e];
+		motion = fmMax(motion, fmLength(fmMakeVec3(d[0], d[1], d[2])));
+	}
+	double dHat = fmContact_Thickness(w);
+	fmVertexBox(b, b->state.x, lo, hi);
+	// (x + h v) - x rounds to the ulps of x: the margin covers them too.
+	double far = fmMax(fmMax(fmMax(fabs(lo->x), fabs(lo->y)), fmMax(fabs(lo->z), fabs(hi->x))),
+	                   fmMax(fabs(hi->y), fabs(hi->z)));
+	double grow = (fmReachOf(w, b, motion, inertia, dHat) + dHat) * (1.0 + FM_STEP_BOX_MARGIN) +
+	              8.0 * DBL_EPSILON * far;
+	*lo = fmSub(*lo, fmMakeVec3(grow, grow, grow));
+	*hi = fmAdd(*hi, fmMakeVec3(grow, grow, grow));
 }
 
 // The mean length of the body's surface edges at rest (the broad phases' cell).
@@ -480,7 +537,7 @@ static double fmMeanEdge(const fmBody* b)
 }
 
 bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot, const double* xStart,
-                            const double* xPred, double inertia)
+                            const double* xPred, double inertia, int worker)
 {
 	memset(bc, 0, sizeof *bc);
 	const fmBody* b = &w->bodies[slot];
@@ -499,17 +556,12 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot, co
 	bc->cell = fmMax(2.0 * fmMeanEdge(b), 2.0 * bc->dHat);
 	bc->self = b->selfCollision;
 	bc->xStart = xStart;
-	bc->scratch = &state->barrier;
+	bc->scratch = &state->barrier[worker];
 	bc->scratch->failed = false;
 	bc->scratch->pairsKnown = false;
 	// The region the body can reach in the step, and the other primitives in it.
-	fmVec3 lo = fmMakeVec3(INFINITY, INFINITY, INFINITY), hi = fmScale(-1.0, lo);
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
-	{
-		fmVec3 p = fmLoad(xStart, i);
-		lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
-		hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
-	}
+	fmVec3 lo, hi;
+	fmVertexBox(b, xStart, &lo, &hi);
 	double grow = bc->reach + bc->dHat;
 	if (!fmBarrierPairs_GatherOthers(bc, fmSub(lo, fmMakeVec3(grow, grow, grow)),
 	                                 fmAdd(hi, fmMakeVec3(grow, grow, grow))))

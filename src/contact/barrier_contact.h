@@ -152,8 +152,18 @@ bool fmBarrierContact_Active(const struct fmWorld* world);
 // its reach, the other bodies' primitives it can meet, and its lagged friction. The substep's
 // contact stage must have begun (fmContact_BeginSubstep: the buffers and surface edges). False when
 // memory is short. With nothing in reach and no self-collision, @p bc->scratch is NULL (no term).
+// The terms use worker @p worker's scratch (fmContactState.barrier): solves running at once
+// on different workers never share one.
 bool fmBarrierContact_Begin(fmBarrierContact* bc, const struct fmWorld* world, int slot,
-                            const double* xStart, const double* xPred, double inertia);
+                            const double* xStart, const double* xPred, double inertia, int worker);
+
+// The box body @p body's vertices can reach in an implicit step whose inertia term is
+// @p inertia (1 / h^2), from where they stand, grown by the gap: it holds the region
+// fmBarrierContact_Begin gathers other bodies' surfaces from (a surface box grown by the gap
+// that misses it is not read in the step). Unbounded for a body whose prescribed displacements
+// are moving it (they move it before the step begins).
+void fmBarrierContact_StepBox(const struct fmWorld* world, const fmBody* body, double inertia,
+                              fmVec3* lo, fmVec3* hi);
 
 // The barrier and its friction as a term of the step's potential (energy, Hessian, products and
 // the line search's step bound); absent (energy NULL) when @p bc->scratch is NULL.

@@ -18,7 +18,8 @@ void fmContactState_Free(fmContactState* s)
 		return;
 	fmSpatialHash_Free(&s->hash);
 	fmTetHash_Free(&s->tetHash);
-	fmBarrierScratch_Free(&s->barrier);
+	for (int k = 0; k < FM_MAX_WORKERS; ++k)
+		fmBarrierScratch_Free(&s->barrier[k]);
 	size_t t = (size_t)s->triangleCapacity;
 	FM_FREE_ARRAY(s->lower, fmVec3, t);
 	FM_FREE_ARRAY(s->upper, fmVec3, t);

@@ -137,7 +137,9 @@ typedef struct fmContactState
 	double predict;  // s: motion bounds add |v| predict (the implicit step's planes, made before
 	                 // the step), 0 after it
 	bool predicting; // predict > 0: the frozen planes are being made
-	fmBarrierScratch barrier; // the implicit solves' barrier terms (barrier_contact.h)
+	// The implicit solves' barrier terms (barrier_contact.h), one a worker: the bodies of a
+	// schedule's group solve at once (world/schedule.h).
+	fmBarrierScratch barrier[FM_MAX_WORKERS];
 } fmContactState;
 
 // The world's contact buffers, made (zeroed) on first use; NULL when memory is short.

@@ -33,8 +33,9 @@ typedef struct fmStepContext
 	int newtonLimit;   // Newton iterations an implicit step may take now (the frame budget)
 	fmIntegrator integrator;
 	fmVec3 gravity;            // m/s^2
-	const fmTaskSystem* tasks; // the world's workers
-	fmArena* arena;            // the step's temporaries
+	const fmTaskSystem* tasks; // the world's workers (NULL: serial, in a body stepped on one)
+	fmArena* arena; // the step's temporaries (the worker's own while bodies step at once)
+	int worker;     // the worker stepping a body: whose arena and barrier scratch it uses
 	fmSimdLevel simd;          // the element kernels' instruction set
 	fmFrameWork* work;         // per body slot: what the stages booked this frame
 	int bodyCapacity;          // slots in work

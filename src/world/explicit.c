@@ -124,20 +124,21 @@ static void fmPositionsTask(int start, int end, int worker, void* context)
 // (made on the body's first explicit step; gravity then comes with their last pass), else the
 // double-precision reference kernel (also when memory is short). With the kernels, a non-NULL
 // @p then runs on each vertex range right after its forces; returns whether it ran.
-static bool fmGravityAndElasticForces(const fmWorld* world, fmBody* b, fmExplicitTask* context,
-                                      fmArena* arena, const fmThenTask* then)
+static bool fmGravityAndElasticForces(const fmWorld* world, const fmTaskSystem* tasks, fmBody* b,
+                                      fmExplicitTask* context, fmArena* arena,
+                                      const fmThenTask* then)
 {
 	if (b->mesh.tetBlocks == NULL && fmTetBlocks_Applies(&b->mesh, world->simd))
 		b->mesh.tetBlocks = fmTetBlocks_Create(&b->mesh, world->tasks.workerCount);
 	const fmTetBlocks* blocks = fmTetBlocks_Used(&b->mesh, world->simd);
 	if (blocks != NULL)
 	{
-		fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, &context->gravity, b->state.f, world->simd, &world->tasks,
-		                      false, NULL, then);
+		fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, &context->gravity, b->state.f,
+		                      world->simd, tasks, false, NULL, then);
 		return then != NULL;
 	}
-	fmParallelFor(&world->tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
-	fmAddElasticForcesOn(&b->mesh, b->state.x, b->state.f, &world->tasks, arena);
+	fmParallelFor(tasks, b->mesh.vertexCount, FM_PARALLEL_MIN_VERTICES, fmGravityTask, context);
+	fmAddElasticForcesOn(&b->mesh, b->state.x, b->state.f, tasks, arena);
 	return false;
 }
 
@@ -156,7 +157,7 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	const double dt = ctx->substep;
 	fmArena* arena = ctx->arena;
 	const int n = b->mesh.vertexCount;
-	const fmTaskSystem* tasks = &world->tasks;
+	const fmTaskSystem* tasks = ctx->tasks;
 	fmExplicitTask context = {.body = b,
 	                          .dt = dt,
 	                          .gravity = world->def.gravity,
@@ -178,7 +179,8 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	const bool plain = fmPlainStep(b);
 	const fmThenTask velocities = {fmVelocitiesTask, &context},
 	                 positions = {fmPositionsTask, &context};
-	bool moved = fmGravityAndElasticForces(world, b, &context, arena, plain ? &velocities : NULL);
+	bool moved =
+	    fmGravityAndElasticForces(world, tasks, b, &context, arena, plain ? &velocities : NULL);
 	if (b->mesh.forceModel == fm_massSpring)
 		fmAddSpringDamping(&b->mesh, b->state.invMass, b->state.x, b->state.v, b->state.f);
 	fmAddRayleighForces(b, arena);

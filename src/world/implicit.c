@@ -149,11 +149,11 @@ static fmNewtonProblem fmImplicitProblem(const fmWorld* world, const fmStepConte
 	memset(&pb, 0, sizeof pb);
 	pb.inertia = 1.0 / (h * h);
 	pb.massDamping = b->rayleighMass / h;
-	pb.useDamping = fmPrepareDamping(b, c, h, &world->tasks);
+	pb.useDamping = fmPrepareDamping(b, c, h, ctx->tasks);
 	pb.gravity = world->def.gravity;
 	pb.floor = floor;
 	pb.tolerance = world->def.tolerance;
-	pb.tasks = &world->tasks;
+	pb.tasks = ctx->tasks;
 	pb.arena = arena;
 	*targets = (fmTargetStep){b, c->xStart, 1.0 / h, 1.0 / ctx->frameTime};
 	pb.targets = fmTargets_Term(targets);
@@ -290,7 +290,9 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmBarrierContact barrier;
 	fmTargetStep targets;
 	memset(&barrier, 0, sizeof barrier);
-	if (fmBarrierContact_Active(world) && !fmBarrierContact_Begin(&barrier, world, b->slot, c->xStart, c->xPred, 1.0 / (h * h)))
+	if (fmBarrierContact_Active(world) &&
+	    !fmBarrierContact_Begin(&barrier, world, b->slot, c->xStart, c->xPred, 1.0 / (h * h),
+	                            ctx->worker))
 		return fm_errOutOfMemory;
 	fmNewtonProblem pb = fmImplicitProblem(world, ctx, b, c, floor, &penalty, &barrier, &targets);
 	if (pb.contact.energy != NULL && fmContact_HasColliders(world))
@@ -319,8 +321,8 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 		return fm_errOutOfMemory;
 	for (int k = 0; k < n3; ++k)
 		b->state.v[k] = fmIsDofPinned(&b->state, k) ? 0.0 : (b->state.x[k] - c->xStart[k]) / h;
-	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h / FM_SEED_STEP, arena, world->simd,
-	                   &world->tasks);
+	fmFilterVelocities(&b->mesh, &b->state, b->damping, b->smoothing, h / FM_SEED_STEP, arena,
+	                   world->simd, ctx->tasks);
 
 	// 4. Floor: its work to the ledger, then restitution and friction on the velocities of the
 	//    vertices on it.

@@ -326,6 +326,54 @@ static void fmStepBody(fmWorld* w, int index, const fmStepContext* ctx)
 	                                 : "it hit the Newton iteration limit";
 }
 
+// What the bodies of a schedule group stepping at once share.
+typedef struct fmGroupTask
+{
+	fmWorld* world;
+	const fmStepContext* context;
+	const int* slots;
+} fmGroupTask;
+
+// Bodies [start, end) of a group, each on worker @p worker alone: its loops serial, its
+// temporaries in the worker's arena and barrier scratch.
+static void fmStepBodiesTask(int start, int end, int worker, void* context)
+{
+	const fmGroupTask* task = context;
+	fmStepContext own = *task->context;
+	own.tasks = NULL;
+	own.worker = worker;
+	own.arena = worker == 0 ? &task->world->arena : &task->world->workerArenas[worker - 1];
+	for (int k = start; k < end; ++k)
+		fmStepBody(task->world, task->slots[k], &own);
+}
+
+// Step schedule group @p g: its large bodies one after another (each on all the workers), then
+// the others at once (one a worker); then note their surfaces for the groups after it
+// (schedule.h: no body of a group reads another's state, so any order gives the same bits).
+static void fmStepGroup(fmWorld* w, const fmStepContext* ctx, int g, bool barrier)
+{
+	int* slots = w->schedule.order + w->schedule.groupStart[g];
+	const int count = w->schedule.groupStart[g + 1] - w->schedule.groupStart[g];
+	int small = 0; // the small bodies to the front, the large ones stepped
+	for (int k = 0; k < count; ++k)
+	{
+		int slot = slots[k];
+		if (w->bodies[slot].mesh.vertexCount >= FM_BODY_PARALLEL_MAX_VERTICES)
+			fmStepBody(w, slot, ctx);
+		else
+			slots[k] = slots[small], slots[small++] = slot;
+	}
+	bool workers = w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL;
+	fmGroupTask task = {w, ctx, slots};
+	if (small > 1 && workers)
+		fmParallelForBalanced(&w->tasks, small, 1, fmStepBodiesTask, &task);
+	else
+		for (int k = 0; k < small; ++k)
+			fmStepBody(w, slots[k], ctx);
+	for (int k = 0; barrier && k < count; ++k)
+		fmBarrierContact_NoteSurface(&w->bodies[slots[k]]);
+}
+
 // A relative residual above this after a step of a nearly incompressible body: its solve
 // ended further from balance than the step's whole force scale (it diverged: the locking tets'
 // Newton systems are too ill-conditioned to solve), which no frame may keep, however
@@ -428,13 +476,11 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact buffers");
 	const bool barrier = fmBarrierContact_Active(w);
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmIsland_Stepping(&w->bodies[i]))
-		{
-			fmStepBody(w, i, ctx);
-			if (barrier)
-				fmBarrierContact_NoteSurface(&w->bodies[i]);
-		}
+	if (!fmSchedule_Build(&w->schedule, w, 1.0 / (h * h), barrier))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for the bodies' schedule");
+	for (int g = 0; g < w->schedule.groupCount; ++g)
+		fmStepGroup(w, ctx, g, barrier);
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
 	double contactStart = fmSeconds();
 	bool contactOk =

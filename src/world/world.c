@@ -313,6 +313,8 @@ fmWorld* fmWorldOrAssert(fmWorldId id)
 	return w;
 }
 
+static void fmWorldFreeWorkerArenas(fmWorld* w);
+
 void fmDestroyWorld(fmWorldId worldId)
 {
 	fmWorld* w = fmWorldOrAssert(worldId);
@@ -333,6 +335,8 @@ void fmDestroyWorld(fmWorldId worldId)
 	FM_FREE_ARRAY(w->islandParent, int, w->islandCapacity);
 	FM_FREE_ARRAY(w->islandLeast, double, w->islandCapacity);
 	fmArena_Free(&w->arena);
+	fmWorldFreeWorkerArenas(w);
+	fmSchedule_Free(&w->schedule);
 	fmTaskSystem_Shutdown(&w->tasks);
 	uint32_t generation = w->generation;
 	memset(w, 0, sizeof *w);
@@ -418,24 +422,62 @@ static size_t fmMaxSize(size_t a, size_t b)
 	return a > b ? a : b;
 }
 
+// Bytes a step of a body of @p vertices vertices and @p tets tets takes from its arena at once:
+// two vectors of 3n doubles; a parallel explicit step (@p parallel) also keeps every tet's
+// forces and energy (13 doubles a tet) for its gather; the explicit floor's responses and lists
+// (fmFloorTaken), under the smoothing's sums.
+static size_t fmStepBytes(const fmWorld* w, size_t vertices, size_t tets, bool parallel)
+{
+	size_t bytes = fmArena_Bytes(2, 3 * vertices);
+	if (parallel)
+		bytes += fmArena_Bytes(1, 12 * tets) + fmArena_Bytes(1, tets);
+	if (w->def.integrator != fm_implicit && w->def.floor.enabled)
+		bytes += fmFloorTaken_Bytes(vertices);
+	return bytes;
+}
+
+static void fmWorldFreeWorkerArenas(fmWorld* w)
+{
+	if (w->workerArenas == NULL)
+		return;
+	for (int k = 0; k < w->tasks.workerCount - 1; ++k)
+		fmArena_Free(&w->workerArenas[k]);
+	FM_FREE_ARRAY(w->workerArenas, fmArena, (size_t)(w->tasks.workerCount - 1));
+}
+
+// The workers' arenas (workers 1 and up) for bodies of up to @p vertices vertices that step on
+// one worker each (serially inside).
+static bool fmWorldReserveWorkerArenas(fmWorld* w, size_t vertices)
+{
+	const int extra = w->tasks.workerCount - 1;
+	if (extra <= 0 || vertices == 0)
+		return true;
+	if (w->workerArenas == NULL)
+		w->workerArenas = FM_ALLOC_ZERO(fmArena, (size_t)extra);
+	if (w->workerArenas == NULL)
+		return false;
+	size_t bytes = fmStepBytes(w, vertices, 0, false);
+	for (int k = 0; k < extra; ++k)
+		if (!fmArena_Reserve(&w->workerArenas[k], bytes))
+			return false;
+	return true;
+}
+
 bool fmWorldReserveArena(fmWorld* w)
 {
-	size_t vertices = 0, tets = 0;
+	size_t vertices = 0, tets = 0, small = 0;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
 		{
-			vertices = fmMaxSize(vertices, (size_t)w->bodies[i].mesh.vertexCount);
+			size_t n = (size_t)w->bodies[i].mesh.vertexCount;
+			vertices = fmMaxSize(vertices, n);
 			tets = fmMaxSize(tets, (size_t)w->bodies[i].mesh.tetCount);
+			if (n < FM_BODY_PARALLEL_MAX_VERTICES)
+				small = fmMaxSize(small, n);
 		}
-	// Two vectors of 3n doubles: the most any stage holds at once; a parallel explicit step
-	// also keeps every tet's forces and energy (13 doubles a tet) for its gather.
-	size_t bytes = fmArena_Bytes(2, 3 * vertices);
-	if (w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL)
-		bytes += fmArena_Bytes(1, 12 * tets) + fmArena_Bytes(1, tets);
-	// The explicit floor's responses and lists (fmFloorTaken), under the smoothing's sums.
-	if (w->def.integrator != fm_implicit && w->def.floor.enabled)
-		bytes += fmFloorTaken_Bytes(vertices);
-	return fmArena_Reserve(&w->arena, bytes);
+	bool parallel = w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL;
+	return fmArena_Reserve(&w->arena, fmStepBytes(w, vertices, tets, parallel)) &&
+	       fmWorldReserveWorkerArenas(w, small);
 }
 
 double fmWorldBodyStepLimit(fmWorld* w, const fmBody* b)

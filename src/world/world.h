@@ -1,13 +1,14 @@
 // The world: bodies, gravity, floor, integrator settings, step statistics.
 #pragma once
 
-#include "core/arena.h"
 #include "body/body.h"
 #include "contact/collider.h"
-#include "solver/newton.h"
+#include "core/arena.h"
 #include "core/parallel.h"
 #include "core/step_context.h"
 #include "fem/stability.h"
+#include "solver/newton.h"
+#include "world/schedule.h"
 
 #include <stdatomic.h>
 
@@ -38,6 +39,10 @@ typedef struct fmWorld
 	double budgetNeed; // substeps the frame's stability limit asked for beyond the budget (0: none)
 	fmSolverOptions solverOptions; // implicit and static solves (measurements; defaults measured)
 	fmArena arena;                 // step temporaries, reserved for the largest body
+	// Workers 1 to workerCount - 1's step temporaries while bodies step at once (worker 0 takes
+	// arena), reserved for the largest body stepped that way (FM_BODY_PARALLEL_MAX_VERTICES).
+	fmArena* workerArenas;
+	fmSchedule schedule;           // the substep's groups of bodies (schedule.h)
 	fmTaskSystem tasks;            // how the stages run in parallel
 	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
 	struct fmCollider* colliders; // colliderCapacity slots (collider.h)
@@ -90,8 +95,13 @@ size_t fmWorldTableBytes(int maxBodies);
 // estimates (fmEstimateBodyMemory), its collider table and its mesh colliders' shapes.
 size_t fmWorldMemoryInUse(const fmWorld* world);
 
-// Reserve the world's arena for its largest body (the buffers a step takes at once); false when
-// memory is short. Allocates only when a larger body arrived.
+// Bodies of fewer vertices than this step on one worker each, several at once (their own loops
+// would not split: FM_PARALLEL_MIN_VERTICES); larger ones one after another, each on all.
+#define FM_BODY_PARALLEL_MAX_VERTICES FM_PARALLEL_MIN_VERTICES
+
+// Reserve the world's arena for its largest body (the buffers a step takes at once), and the
+// workers' arenas for the largest body that steps beside others; false when memory is short.
+// Allocates only when a larger body arrived.
 bool fmWorldReserveArena(fmWorld* world);
 
 // The smallest explicit stability limit (s) of the world's live bodies at their current
