@@ -87,9 +87,12 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   posix=()
   case "$source" in cli/*) name=cli_$name posix=(-D_POSIX_C_SOURCE=200809L) ;; esac
   # The mesh readers and checks, the glue, the contact audit (once a body is made) and the
-  # snapshots run once a load or a call, not once a step: -Os.
+  # snapshots run once a load or a call, not once a step; the world's and bodies' settings, the
+  # frame's orchestration and the islands run once a frame or substep, never per element: -Os
+  # (the .wasm line; for some files, e.g. query.c, -Os gives more code, so they stay -O2).
   case "$name" in
-    mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot | femto_web) level=-Os ;;
+    mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot | world | \
+      island | body | step | femto_web) level=-Os ;;
     cli_*) level=-Oz ;;
     *) level=-O2 ;;
   esac
