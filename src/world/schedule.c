@@ -178,7 +178,8 @@ static int fmComparePairs(const void* pa, const void* pb)
 static int fmColour(fmSchedule* s, const fmWorld* w)
 {
 	int pairs = s->pairCount / 2;
-	qsort(s->pairs, (size_t)pairs, 2 * sizeof *s->pairs, fmComparePairs);
+	if (pairs > 1)
+		qsort(s->pairs, (size_t)pairs, 2 * sizeof *s->pairs, fmComparePairs);
 	for (int c = 0; c < w->bodyCapacity; ++c)
 		s->stamp[c] = -1;
 	int colours = 0, p = 0;
