@@ -62,21 +62,6 @@ static void fmPrimitiveBox(const fmBody* b, const fmBarrierPrimitive* p, const d
 	*hi = fmAdd(u, fmMakeVec3(grow, grow, grow));
 }
 
-static bool fmBoxesMeet(fmVec3 al, fmVec3 ah, fmVec3 bl, fmVec3 bh)
-{
-	return !(ah.x < bl.x || al.x > bh.x || ah.y < bl.y || al.y > bh.y || ah.z < bl.z ||
-	         al.z > bh.z);
-}
-
-static fmVec3 fmMinVec(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMin(a.x, b.x), fmMin(a.y, b.y), fmMin(a.z, b.z));
-}
-
-static fmVec3 fmMaxVec(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMax(a.x, b.x), fmMax(a.y, b.y), fmMax(a.z, b.z));
-}
 
 // ---- gathering primitives ----------------------------------------------------------------------
 

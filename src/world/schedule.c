@@ -4,6 +4,7 @@
 #include "contact/barrier_contact.h"
 #include "contact/contact.h"
 #include "core/det_math.h"
+#include "math/geometry.h"
 #include "world/island.h"
 #include "world/world.h"
 
@@ -64,21 +65,6 @@ static int fmSteppingSlots(fmSchedule* s, const fmWorld* w)
 	return count;
 }
 
-static bool fmBoxesOverlap(fmVec3 al, fmVec3 ah, fmVec3 bl, fmVec3 bh)
-{
-	return !(ah.x < bl.x || al.x > bh.x || ah.y < bl.y || al.y > bh.y || ah.z < bl.z ||
-	         al.z > bh.z);
-}
-
-static fmVec3 fmMinOf(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMin(a.x, b.x), fmMin(a.y, b.y), fmMin(a.z, b.z));
-}
-
-static fmVec3 fmMaxOf(fmVec3 a, fmVec3 b)
-{
-	return fmMakeVec3(fmMax(a.x, b.x), fmMax(a.y, b.y), fmMax(a.z, b.z));
-}
 
 static bool fmFiniteBox(fmVec3 lo, fmVec3 hi)
 {
@@ -104,8 +90,8 @@ static void fmNearBoxes(fmSchedule* s, const fmWorld* w, double inertia, int cou
 			s->stepLo[i] = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
 			s->stepHi[i] = fmMakeVec3(INFINITY, INFINITY, INFINITY);
 		}
-		s->nearLo[i] = fmMinOf(s->stepLo[i], fmSub(b->contact.surfaceLower, g));
-		s->nearHi[i] = fmMaxOf(s->stepHi[i], fmAdd(b->contact.surfaceUpper, g));
+		s->nearLo[i] = fmMinVec(s->stepLo[i], fmSub(b->contact.surfaceLower, g));
+		s->nearHi[i] = fmMaxVec(s->stepHi[i], fmAdd(b->contact.surfaceUpper, g));
 		s->sorted[k].x = s->nearLo[i].x;
 	}
 }
@@ -118,9 +104,9 @@ static bool fmStepsMeet(const fmSchedule* s, const fmWorld* w, int a, int b)
 	fmVec3 g = fmMakeVec3(gap, gap, gap);
 	const fmBody* A = &w->bodies[a];
 	const fmBody* B = &w->bodies[b];
-	return fmBoxesOverlap(s->stepLo[a], s->stepHi[a], fmSub(B->contact.surfaceLower, g),
+	return fmBoxesMeet(s->stepLo[a], s->stepHi[a], fmSub(B->contact.surfaceLower, g),
 	                      fmAdd(B->contact.surfaceUpper, g)) ||
-	       fmBoxesOverlap(s->stepLo[b], s->stepHi[b], fmSub(A->contact.surfaceLower, g),
+	       fmBoxesMeet(s->stepLo[b], s->stepHi[b], fmSub(A->contact.surfaceLower, g),
 	                      fmAdd(A->contact.surfaceUpper, g));
 }
 
@@ -156,7 +142,7 @@ static bool fmFindPairs(fmSchedule* s, const fmWorld* w, int count)
 		for (int m = k + 1; m < count && s->sorted[m].x <= s->nearHi[a].x; ++m)
 		{
 			int b = s->sorted[m].slot;
-			if (fmBoxesOverlap(s->nearLo[a], s->nearHi[a], s->nearLo[b], s->nearHi[b]) &&
+			if (fmBoxesMeet(s->nearLo[a], s->nearHi[a], s->nearLo[b], s->nearHi[b]) &&
 			    fmStepsMeet(s, w, a, b) && !fmAddPair(s, a, b))
 				return false;
 		}
