@@ -62,7 +62,6 @@ static void fmPrimitiveBox(const fmBody* b, const fmBarrierPrimitive* p, const d
 	*hi = fmAdd(u, fmMakeVec3(grow, grow, grow));
 }
 
-
 // ---- gathering primitives ----------------------------------------------------------------------
 
 static bool fmAddPrimitive(fmBarrierPrimitive** list, fmVec3** lower, fmVec3** upper, int* count,

@@ -65,7 +65,6 @@ static int fmSteppingSlots(fmSchedule* s, const fmWorld* w)
 	return count;
 }
 
-
 static bool fmFiniteBox(fmVec3 lo, fmVec3 hi)
 {
 	return isfinite(lo.x) && isfinite(lo.y) && isfinite(lo.z) && isfinite(hi.x) && isfinite(hi.y) &&
@@ -105,9 +104,9 @@ static bool fmStepsMeet(const fmSchedule* s, const fmWorld* w, int a, int b)
 	const fmBody* A = &w->bodies[a];
 	const fmBody* B = &w->bodies[b];
 	return fmBoxesMeet(s->stepLo[a], s->stepHi[a], fmSub(B->contact.surfaceLower, g),
-	                      fmAdd(B->contact.surfaceUpper, g)) ||
+	                   fmAdd(B->contact.surfaceUpper, g)) ||
 	       fmBoxesMeet(s->stepLo[b], s->stepHi[b], fmSub(A->contact.surfaceLower, g),
-	                      fmAdd(A->contact.surfaceUpper, g));
+	                   fmAdd(A->contact.surfaceUpper, g));
 }
 
 // By the low x of the near box, then by slot (a total order: the same sort on every machine).
