@@ -191,8 +191,25 @@ double fmNewton_Residual(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 	return fmFreeNorm(3 * mesh->vertexCount, c->gradient, c->fixed) / scale;
 }
 
-// The Newton matrix H = (inertia + massDamping) M + K(x) [+ D], assembled.
-static void fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+// Whether the problem has contact terms with a Hessian (the part a contact refresh renews).
+static bool fmHasContactHessian(const fmNewtonProblem* pb)
+{
+	return pb->contact.addHessian != NULL || pb->barrier.addHessian != NULL;
+}
+
+// The contact terms' Hessians added to the matrix (the last terms of the sum: a contact refresh
+// at the base's positions gives the bits of a full assembly).
+static void fmAddContactHessians(fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+{
+	fmTermHessian(&pb->contact, state->x, &c->pattern, c->hessian);
+	fmTermHessian(&pb->barrier, state->x, &c->pattern, c->hessian);
+}
+
+// The Newton matrix H = (inertia + massDamping) M + K(x) [+ D] + targets + contact, assembled;
+// the part before the contact terms is kept as the base when the problem has them (and memory
+// allows). True when the base now holds it.
+static bool fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state,
+                                   fmImplicitCache* c, const fmNewtonProblem* pb)
 {
 	const size_t values = 9 * (size_t)c->pattern.blocks;
 	c->hessianVersion += 1;
@@ -210,8 +227,27 @@ static void fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state
 		block[8] += diagonal;
 	}
 	fmTermHessian(&pb->targets, state->x, &c->pattern, c->hessian);
-	fmTermHessian(&pb->contact, state->x, &c->pattern, c->hessian);
-	fmTermHessian(&pb->barrier, state->x, &c->pattern, c->hessian);
+	bool base = false;
+	if (fmHasContactHessian(pb))
+	{
+		if (c->hessianBase == NULL)
+			c->hessianBase = FM_ALLOC_ARRAY(double, values);
+		base = c->hessianBase != NULL;
+		if (base)
+			memcpy(c->hessianBase, c->hessian, sizeof(double) * values);
+	}
+	fmAddContactHessians(state, c, pb);
+	return base;
+}
+
+// The kept base with the contact terms at x: contacts change from one iteration to the next far
+// more than the elastic matrix does.
+static void fmRefreshContactHessian(fmBodyState* state, fmImplicitCache* c,
+                                    const fmNewtonProblem* pb)
+{
+	c->hessianVersion += 1;
+	memcpy(c->hessian, c->hessianBase, sizeof(double) * 9 * (size_t)c->pattern.blocks);
+	fmAddContactHessians(state, c, pb);
 }
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
@@ -305,8 +341,9 @@ static void fmMatrixFreeProduct(void* context, const double* x, double* y)
 }
 
 // Newton direction: solve H d = -gradient over the free DOFs.
-static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
-                                     double gradientNorm, double residual, bool refresh)
+static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* state,
+                                     fmImplicitCache* c, const fmNewtonProblem* pb,
+                                     double gradientNorm, double residual)
 {
 	const int n3 = 3 * mesh->vertexCount;
 	fmNewtonContext ctx = {mesh, state, c, pb};
@@ -321,8 +358,6 @@ static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* sta
 	}
 	else
 	{
-		if (refresh)
-			fmAssembleNewtonMatrix(mesh, state, c, pb);
 		// The epsilon-active set, from the matrix this direction uses.
 		fmMarkFixed(mesh, state, c, pb, state->x, true);
 		for (int i = 0; i < mesh->vertexCount; ++i)
@@ -499,7 +534,9 @@ typedef struct fmNewtonTrack
 	bool inNoise;        // the last step changed the energy by less than its round-off
 	bool stale;          // the kept Hessian was assembled for other terms
 	double lastResidual;
-	bool lastFresh; // the last direction came from a freshly assembled Hessian
+	bool lastFresh;       // the last direction came from a freshly assembled Hessian
+	bool lastContactOnly; // ... from a kept base with fresh contact terms
+	bool baseValid;       // c->hessianBase is the base of the kept matrix
 } fmNewtonTrack;
 
 // After the residual of an iteration is known: keep the best state, and whether to stop
@@ -533,13 +570,23 @@ static bool fmNewtonStops(const fmElasticMesh* mesh, fmBodyState* state, fmImpli
 // as long as it still cuts the residual by FM_REUSE_RATIO per iteration; any SPD matrix gives a
 // descent direction, so a stale one only costs speed, never safety. A quadratic energy has a
 // constant Hessian (a fresh exact one cannot do better; only the floor's active set makes such
-// a step slow). The matrix-free path has no matrix to keep. True: assemble it afresh.
-static bool fmNewtonRefresh(fmImplicitCache* c, const fmNewtonProblem* pb, fmNewtonTrack* t,
-                            double residual)
+// a step slow). The matrix-free path has no matrix to keep.
+// With contact terms, a slow matrix is first renewed in its contact part only, on the kept base
+// (the matrix without them, from the last full assembly, in this step or an earlier one): a
+// landing's contacts change from one iteration to the next far more than the body's stiffness
+// does. If that direction is slow too, the matrix is assembled in full.
+static void fmNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                           const fmNewtonProblem* pb, fmNewtonTrack* t, double residual)
 {
 	bool slow = residual > FM_REUSE_RATIO * t->lastResidual;
-	bool refresh = t->stale || (slow && !(pb->quadratic && t->lastFresh)) ||
-	               pb->options.product == fm_productMatrixFree;
+	bool matrixFree = pb->options.product == fm_productMatrixFree;
+	bool refresh = t->stale || (slow && !(pb->quadratic && t->lastFresh)) || matrixFree;
+	bool contactOnly = refresh && !matrixFree && !t->stale && t->baseValid && !t->lastContactOnly &&
+	                   fmHasContactHessian(pb);
+	if (contactOnly)
+		fmRefreshContactHessian(state, c, pb);
+	else if (refresh && !matrixFree)
+		t->baseValid = fmAssembleNewtonMatrix(mesh, state, c, pb);
 	if (refresh)
 	{
 		c->hessianValid = true;
@@ -549,9 +596,10 @@ static bool fmNewtonRefresh(fmImplicitCache* c, const fmNewtonProblem* pb, fmNew
 		c->hessianExact = pb->exactHessian;
 		t->stale = false;
 	}
+	c->hessianBaseValid = t->baseValid;
 	t->lastResidual = residual;
-	t->lastFresh = refresh;
-	return refresh;
+	t->lastFresh = refresh && !contactOnly;
+	t->lastContactOnly = contactOnly;
 }
 
 fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
@@ -565,7 +613,11 @@ fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmI
 	bool sameTerms = c->hessianValid && c->hessianInertia == pb->inertia &&
 	                 c->hessianMassDamping == pb->massDamping &&
 	                 c->hessianDamping == pb->useDamping && c->hessianExact == pb->exactHessian;
-	fmNewtonTrack t = {INFINITY, INFINITY, 0, false, !sameTerms, INFINITY, false};
+	fmNewtonTrack t = {.bestResidual = INFINITY,
+	                   .keptResidual = INFINITY,
+	                   .stale = !sameTerms,
+	                   .lastResidual = INFINITY,
+	                   .baseValid = sameTerms && c->hessianBaseValid};
 	for (;;)
 	{
 		double magnitude;
@@ -580,8 +632,8 @@ fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmI
 		result.residual = gradientNorm / scale;
 		if (fmNewtonStops(mesh, state, c, pb, &t, &result))
 			break;
-		bool refresh = fmNewtonRefresh(c, pb, &t, result.residual);
-		fmPcgResult cg = fmNewtonDirection(mesh, state, c, pb, gradientNorm, result.residual, refresh);
+		fmNewtonMatrix(mesh, state, c, pb, &t, result.residual);
+		fmPcgResult cg = fmNewtonDirection(mesh, state, c, pb, gradientNorm, result.residual);
 		result.cgIterations += cg.iterations;
 		if (cg.indefinite && pb->exactHessian)
 		{

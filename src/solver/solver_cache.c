@@ -24,6 +24,7 @@ void fmSolverCache_Free(void* memory)
 	FM_FREE_ARRAY(c->edgeSlot, int, 4 * (size_t)c->edgeCount);
 	FM_FREE_ARRAY(c->hessian, double, 9 * blocks);
 	FM_FREE_ARRAY(c->damping, double, 9 * blocks);
+	FM_FREE_ARRAY(c->hessianBase, double, 9 * blocks);
 	FM_FREE_ARRAY(c->blockInverse, double, 9 * (size_t)c->vertexCount);
 	FM_FREE_ARRAY(c->xPred, double, n3);
 	FM_FREE_ARRAY(c->xStart, double, n3);

@@ -30,6 +30,8 @@ typedef struct fmImplicitCache
 	int* edgeSlot;         // 4 per edge (mass-spring): slots (a,a), (a,b), (b,a), (b,b)
 	double* hessian;       // 9 per block: the Newton matrix
 	double* damping;       // 9 per block: lagged damping matrix D (allocated when needed)
+	double* hessianBase;   // 9 per block: the Newton matrix without its contact terms, as last
+	                       // assembled in full (allocated when a solve has them)
 	double* blockInverse;  // 9 per vertex: preconditioner
 	fmMultigrid multigrid; // the multigrid preconditioner's levels, built on first use
 	bool multigridBuilt;   // multigrid holds the levels of pattern
@@ -65,6 +67,7 @@ typedef struct fmImplicitCache
 	double hessianMassDamping;
 	bool hessianDamping;
 	bool hessianExact;
+	bool hessianBaseValid; // hessianBase is the base of the kept matrix (saved in snapshots)
 } fmImplicitCache;
 
 // The cache in @p slot (a body's fmBody.solverCache) for @p mesh, allocated on first use; NULL

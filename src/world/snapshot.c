@@ -3,22 +3,22 @@
 //
 // What a step depends on is saved: every body's positions, velocities, last good state, pins
 // (inverse masses follow from them), material and spring stiffness, energy ledger, the cached
-// stability limit, and the implicit solver's kept Newton matrix with what it was built with (the
-// lazy Hessian reuses it across steps, so a restored world without it would take other Newton
-// steps). The world's settings that setters change are saved too (the floor with its filter and
-// the force it reported), and the contact state a step reads from the one before (format
-// version 3, the floor's filter and force since 4): every collider's pose (kinematic ones move),
-// velocity and angular velocity (fmCollider_SetVelocity) and last force and torque; every body's
-// sleep state (asleep, a wake asked for, its sleep timer and island) and the implicit collider
-// friction found in the last step, which the next step's solve uses (body->contact.frictionNext,
-// saved for the vertices that have some, with the static spring's stretch since version 6); and the
-// pairs that touched in the last frame (the next frame's begin and end events and islands come from
-// them). Per-step temporaries (the solver's vectors, the damping matrix, the arena, the contact
-// stage's buffers, its contact list and events) are rebuilt by every step and are not. Bodies are
-// matched by slot, generation and counts, colliders by slot, generation, shape and (meshes) vertex
-// and triangle counts: a snapshot restores into the world it was taken from, with the same bodies
-// and colliders (created or destroyed ones make it refuse, untouched). A mesh collider's triangles
-// are not saved.
+// stability limit, and the implicit solver's kept Newton matrix with what it was built with and,
+// for a body in contact, its base without the contact terms (since version 8) (the lazy Hessian
+// reuses both across steps, so a restored world without them would take other Newton steps). The
+// world's settings that setters change are saved too (the floor with its filter and the force it
+// reported), and the contact state a step reads from the one before (format version 3, the floor's
+// filter and force since 4): every collider's pose (kinematic ones move), velocity and angular
+// velocity (fmCollider_SetVelocity) and last force and torque; every body's sleep state (asleep, a
+// wake asked for, its sleep timer and island) and the implicit collider friction found in the last
+// step, which the next step's solve uses (body->contact.frictionNext, saved for the vertices that
+// have some, with the static spring's stretch since version 6); and the pairs that touched in the
+// last frame (the next frame's begin and end events and islands come from them). Per-step
+// temporaries (the solver's vectors, the damping matrix, the arena, the contact stage's buffers,
+// its contact list and events) are rebuilt by every step and are not. Bodies are matched by slot,
+// generation and counts, colliders by slot, generation, shape and (meshes) vertex and triangle
+// counts: a snapshot restores into the world it was taken from, with the same bodies and colliders
+// (created or destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
 #include "world/snapshot.h"
 
 #include "contact/collider.h"
@@ -33,7 +33,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 7u
+#define FM_SNAPSHOT_VERSION 8u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
@@ -126,16 +126,17 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 }
 
 // The implicit solver's state carried from step to step: a flags byte (bit 0: a kept matrix
-// follows, bit 1: the last step started from x + h v, the guess the next one tries first), the
-// steps before the other guess is tried again (a byte), then the kept matrix's terms and
-// values. A cache that does not exist (no implicit step yet) is saved as none of these;
-// restoring "no matrix" into a body that has one marks it stale, which is what the saved body
-// would have done.
+// follows, bit 1: the last step started from x + h v, the guess the next one tries first, bit 2:
+// the kept matrix's base without its contact terms follows it), the steps before the other guess
+// is tried again (a byte), then the kept matrix's terms and values, then the base's values. A cache
+// that does not exist (no implicit step yet) is saved as none of these; restoring "no matrix" into
+// a body that has one marks it stale, which is what the saved body would have done.
 static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 {
 	fmImplicitCache* c = b->solverCache;
-	uint8_t flags =
-	    (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) | (c != NULL && c->coasted ? 2u : 0u));
+	bool base = c != NULL && c->hessianValid && c->hessianBaseValid && c->hessianBase != NULL;
+	uint8_t flags = (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) |
+	                          (c != NULL && c->coasted ? 2u : 0u) | (base ? 4u : 0u));
 	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
 	fmMove(s, save, &flags, 1);
 	fmMove(s, save, &recheck, 1);
@@ -147,6 +148,8 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 		c->coasted = (flags & 2u) != 0;
 		c->guessRecheck = recheck;
 	}
+	if (!save && c != NULL)
+		c->hessianBaseValid = false;
 	if (!(flags & 1u))
 	{
 		if (!save && c != NULL)
@@ -167,6 +170,13 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 	fmMove(s, save, c->hessian, sizeof(double) * 9 * (size_t)blocks);
 	if (!save)
 		c->hessianVersion += 1; // the multigrid's levels are set up again from it
+	if (!(flags & 4u))
+		return true;
+	if (!save && c->hessianBase == NULL &&
+	    (c->hessianBase = FM_ALLOC_ARRAY(double, 9 * (size_t)blocks)) == NULL)
+		return false;
+	fmMove(s, save, c->hessianBase, sizeof(double) * 9 * (size_t)blocks);
+	c->hessianBaseValid = true;
 	return true;
 }
 
@@ -242,7 +252,15 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 		if (c == NULL || blocks != c->pattern.blocks)
 			return SIZE_MAX;
 		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;
+		// The base's memory is taken here, before anything is restored.
+		if ((present & 4u) && c->hessianBase == NULL &&
+		    (c->hessianBase = FM_ALLOC_ARRAY(double, 9 * (size_t)blocks)) == NULL)
+			return SIZE_MAX;
+		if (present & 4u)
+			s.used += sizeof(double) * 9 * (size_t)blocks;
 	}
+	else if (present & 4u)
+		return SIZE_MAX; // a base without its matrix
 	return s.overflow || s.used > size ? SIZE_MAX : s.used - offset;
 }
 
