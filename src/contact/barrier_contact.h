@@ -97,6 +97,8 @@ typedef struct fmBarrierScratch
 	fmSpatialHash otherHash[3];
 	bool* meets; // per body slot: its surface is within reach
 	int meetsCapacity;
+	uint32_t* sides; // per vertex of the solved body: the sides of the others' boxes it lies past
+	int sidesCapacity;
 	fmBarrierPrimitive* own; // the solved body's own primitives (self-contact)
 	fmVec3* ownLower;
 	fmVec3* ownUpper;

@@ -103,6 +103,49 @@ static bool fmMayMeet(const fmBarrierContact* bc, int o, fmVec3 lo, fmVec3 hi)
 	       other->contact.start != NULL && fmSurfaceMeets(other, bc->dHat, lo, hi);
 }
 
+// The sides of [lo, hi] that point @p q, grown by @p grow, lies wholly past (6 bits: below and
+// above in x, y, z), computed as fmPrimitiveBox grows a box and compared as fmBoxesMeet does.
+static uint32_t fmSidesPast(fmVec3 q, double grow, fmVec3 lo, fmVec3 hi)
+{
+	return (uint32_t)(q.x + grow < lo.x) | (uint32_t)(q.x - grow > hi.x) << 1 |
+	       (uint32_t)(q.y + grow < lo.y) << 2 | (uint32_t)(q.y - grow > hi.y) << 3 |
+	       (uint32_t)(q.z + grow < lo.z) << 4 | (uint32_t)(q.z - grow > hi.z) << 5;
+}
+
+// For each surface vertex of body @p b at @p x, into the scratch's sides: the sides it lies past
+// (fmSidesPast, grown by @p grow) of each of the @p count boxes [lo[j], hi[j]], 6 bits a box (an
+// empty box, lo above hi, is past on every side); false when memory is short.
+static bool fmNoteSides(fmBarrierScratch* s, const fmBody* b, const double* x, double grow,
+                        const fmVec3* lo, const fmVec3* hi, int count)
+{
+	if (!fmGrowArray((void**)&s->sides, &s->sidesCapacity, 0, b->mesh.vertexCount,
+	                 sizeof *s->sides))
+		return false;
+	for (int k = 0; k < b->contact.surfaceVertexCount; ++k)
+	{
+		int v = b->contact.surfaceVertex[k];
+		fmVec3 q = fmLoad(x, v);
+		uint32_t sides = 0;
+		for (int j = 0; j < count; ++j)
+			sides |= fmSidesPast(q, grow, lo[j], hi[j]) << (6 * j);
+		s->sides[v] = sides;
+	}
+	return true;
+}
+
+// Whether primitive @p p of body @p b surely misses box @p box of those fmNoteSides noted: all
+// its vertices lie past one same side of it. Then so does its grown box (rounding is monotone:
+// the box's grown corner is its vertices' extreme grown one), as fmBoxesMeet would find.
+static bool fmPrimitivePast(const fmBarrierScratch* s, const fmBody* b, const fmBarrierPrimitive* p,
+                            int box)
+{
+	int v[3], n = fmPrimitiveVertices(b, p, v);
+	uint32_t common = ~0u;
+	for (int k = 0; k < n; ++k)
+		common &= s->sides[v[k]];
+	return ((common >> (6 * box)) & 63u) != 0;
+}
+
 // The other bodies' primitives of one kind whose boxes (grown by dHat) meet [lo, hi], after the
 // scratch's others, hashed, with the box around each body's ones.
 static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVec3 lo, fmVec3 hi)
@@ -112,16 +155,27 @@ static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVe
 	const int start = s->otherCount;
 	s->kindStart[kind] = start;
 	for (int o = 0; o < w->bodyCapacity; ++o)
-		for (int k = 0; meets[o] && k < fmPrimitiveCount(&w->bodies[o], kind); ++k)
+	{
+		const fmBody* other = &w->bodies[o];
+		if (!meets[o] || !fmNoteSides(s, other, other->state.x, bc->dHat, &lo, &hi, 1))
+		{
+			if (meets[o])
+				return false;
+			continue;
+		}
+		for (int k = 0; k < fmPrimitiveCount(other, kind); ++k)
 		{
 			fmBarrierPrimitive p = {o, k, kind};
+			if (fmPrimitivePast(s, other, &p, 0))
+				continue;
 			fmVec3 pl, ph;
-			fmPrimitiveBox(&w->bodies[o], &p, w->bodies[o].state.x, NULL, bc->dHat, &pl, &ph);
+			fmPrimitiveBox(other, &p, other->state.x, NULL, bc->dHat, &pl, &ph);
 			if (fmBoxesMeet(pl, ph, lo, hi) &&
 			    !fmAddPrimitive(&s->others, &s->otherLower, &s->otherUpper, &s->otherCount,
 			                    &s->otherCapacity, p, pl, ph))
 				return false;
 		}
+	}
 	// The box around each other body's primitives of the kind (up to FM_BARRIER_NEAR_BOXES).
 	int boxes = 0;
 	for (int k = start; k < s->otherCount; ++k)
@@ -313,17 +367,37 @@ static bool fmVisitStencils(const fmBarrierContact* bc, const fmBarrierPrimitive
 }
 
 // Each of the solved body's primitives, its box at @p x (swept along @p dx when not NULL) grown
-// by @p grow against the others and by @p selfGrow against its own, visited.
+// by @p grow against the others and by @p selfGrow against its own, visited. Against the others,
+// a primitive whose vertices all lie past one side of the others' boxes is skipped unboxed (the
+// same primitives are visited: fmPrimitivePast).
 static bool fmVisitBody(const fmBarrierContact* bc, const double* x, const double* dx, double grow,
                         double selfGrow, fmStencilVisit* visit, void* context)
 {
 	const fmBody* b = &bc->world->bodies[bc->slot];
+	fmBarrierScratch* s = bc->scratch;
+	const bool others = s->otherCount > 0;
+	// The box around the others' primitives of each kind (when their boxes are kept).
+	fmVec3 near[3], far[3]; // lower and upper corners
+	bool sides = others && dx == NULL;
+	for (int kind = 0; sides && kind < 3; ++kind)
+	{
+		sides = s->othersBoxes[kind] <= FM_BARRIER_NEAR_BOXES;
+		near[kind] = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+		far[kind] = fmScale(-1.0, near[kind]);
+		for (int j = 0; sides && j < s->othersBoxes[kind]; ++j)
+		{
+			near[kind] = fmMinVec(near[kind], s->othersLower[kind][j]);
+			far[kind] = fmMaxVec(far[kind], s->othersUpper[kind][j]);
+		}
+	}
+	if (sides && !fmNoteSides(s, b, x, grow, near, far, 3))
+		return false;
 	for (int kind = 0; kind < 3; ++kind)
 		for (int k = 0; k < fmPrimitiveCount(b, kind); ++k)
 		{
 			fmBarrierPrimitive p = {bc->slot, k, kind};
 			fmVec3 lo, hi;
-			if (bc->scratch->otherCount > 0)
+			if (others && !(sides && fmPrimitivePast(s, b, &p, 2 - kind)))
 			{
 				fmPrimitiveBox(b, &p, x, dx, grow, &lo, &hi);
 				if (!fmVisitStencils(bc, &p, lo, hi, false, visit, context))
