@@ -55,8 +55,8 @@ static void fmTermProduct(const fmNewtonTerm* term, const double* x, const doubl
 
 // Elastic energy at x, with the forces into c->forces when asked; an evaluation at the x of the
 // cache's last forces (the line search's accepted point, the chosen first guess) is reused.
-static double fmElasticAt(const fmElasticMesh* mesh, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x,
-                          bool forces)
+static double fmElasticAt(const fmElasticMesh* mesh, fmImplicitCache* c, const fmNewtonProblem* pb,
+                          const double* x, bool forces)
 {
 	if (fmSolverCache_HasForcesAt(mesh, c, x))
 		return c->forcesEnergy;
@@ -70,8 +70,9 @@ static double fmElasticAt(const fmElasticMesh* mesh, fmImplicitCache* c, const f
 
 // Energy at x, and its gradient when @p gradient is not NULL. @p magnitude gets the sum of the
 // absolute sizes of the terms (the scale of round-off in E).
-static double fmNewtonEnergy(const fmElasticMesh* mesh, fmImplicitCache* c, const fmNewtonProblem* pb,
-                             const double* x, double* gradient, double* magnitude)
+static double fmNewtonEnergy(const fmElasticMesh* mesh, fmImplicitCache* c,
+                             const fmNewtonProblem* pb, const double* x, double* gradient,
+                             double* magnitude)
 {
 	const int n3 = 3 * mesh->vertexCount;
 	double psi = fmElasticAt(mesh, c, pb, x, gradient != NULL);
@@ -143,8 +144,8 @@ static double fmVerticalStiffness(const fmElasticMesh* mesh, const fmImplicitCac
 // step then puts it on the floor (fmReachFloor). Left free, the CG aims it through the floor,
 // the clamp of the trial point bends the path, and the line search halves the step until it
 // is the size of the gap (a resting box's vertices 4e-8 m up cost nine energy passes a frame).
-static void fmMarkFixed(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
-                        const double* x, bool reach)
+static void fmMarkFixed(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                        const fmNewtonProblem* pb, const double* x, bool reach)
 {
 	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
@@ -165,12 +166,14 @@ static void fmMarkFixed(const fmElasticMesh* mesh, fmBodyState* state, fmImplici
 }
 
 // The direction of the vertices held within reach of the floor: onto it.
-static void fmReachFloor(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+static void fmReachFloor(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                         const fmNewtonProblem* pb)
 {
 	if (pb->floor == NULL)
 		return;
 	for (int i = 0; i < mesh->vertexCount; ++i)
-		if (c->fixed[3 * i + 1] && !(state->pinned[i] & FM_PIN_Y) && state->x[3 * i + 1] > c->floorBound[i])
+		if (c->fixed[3 * i + 1] && !(state->pinned[i] & FM_PIN_Y) &&
+		    state->x[3 * i + 1] > c->floorBound[i])
 			c->direction[3 * i + 1] = c->floorBound[i] - state->x[3 * i + 1];
 }
 
@@ -183,7 +186,8 @@ static double fmFreeNorm(int n3, const double* v, const uint8_t* fixed)
 	return sqrt(s);
 }
 
-double fmNewton_Residual(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb, const double* x)
+double fmNewton_Residual(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                         const fmNewtonProblem* pb, const double* x)
 {
 	fmNewtonEnergy(mesh, c, pb, x, c->gradient, NULL);
 	fmMarkFixed(mesh, state, c, pb, x, false);
@@ -217,7 +221,8 @@ static bool fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state
 		memcpy(c->hessian, c->damping, sizeof(double) * values);
 	else
 		memset(c->hessian, 0, sizeof(double) * values);
-	fmSolverCache_AddStiffness(mesh, c, state->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian, pb->tasks);
+	fmSolverCache_AddStiffness(mesh, c, state->x, 1.0, pb->exactHessian ? 0 : 1, c->hessian,
+	                           pb->tasks);
 	for (int i = 0; i < mesh->vertexCount; ++i)
 	{
 		double* block = c->hessian + 9 * (size_t)c->pattern.diagonal[i];
@@ -252,7 +257,8 @@ static void fmRefreshContactHessian(fmBodyState* state, fmImplicitCache* c,
 
 // Diagonal blocks only, for the matrix-free path's preconditioner (into c->hessian's first
 // 9 n entries, used as plain per-vertex storage).
-static void fmDiagonalBlocksMatrixFree(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
+static void fmDiagonalBlocksMatrixFree(const fmElasticMesh* mesh, fmBodyState* state,
+                                       fmImplicitCache* c, const fmNewtonProblem* pb,
                                        double* blocks)
 {
 	memset(blocks, 0, sizeof(double) * 9 * (size_t)mesh->vertexCount);
@@ -350,8 +356,10 @@ static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* sta
 	fmLinearOperator* op = fmAssembledProduct;
 	if (pb->options.product == fm_productMatrixFree)
 	{
-		fmMarkFixed(mesh, state, c, pb, state->x, true); // (the reach from the inertia alone: no matrix)
-		fmDiagonalBlocksMatrixFree(mesh, state, c, pb, c->work); // blocks in the CG's scratch, used below
+		fmMarkFixed(mesh, state, c, pb, state->x,
+		            true); // (the reach from the inertia alone: no matrix)
+		fmDiagonalBlocksMatrixFree(mesh, state, c, pb,
+		                           c->work); // blocks in the CG's scratch, used below
 		fmPcg_BuildPreconditioner(mesh->vertexCount, c->work, c->fixed, pb->options.preconditioner,
 		                          c->blockInverse);
 		op = fmMatrixFreeProduct;
@@ -384,8 +392,8 @@ static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* sta
 	if (pb->options.product == fm_productMatrixFree)
 		pre.kind = pre.kind == fm_precondJacobi ? fm_precondJacobi : fm_precondBlockJacobi;
 	if (pre.kind == fm_precondAuto)
-		pre.kind =
-		    mesh->vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid : fm_precondSymmetricGaussSeidel;
+		pre.kind = mesh->vertexCount >= FM_MG_MIN_ROWS ? fm_precondMultigrid
+		                                               : fm_precondSymmetricGaussSeidel;
 	if (pre.kind == fm_precondMultigrid)
 	{
 		// Without memory for its levels, the one-level preconditioner.
@@ -402,8 +410,8 @@ static fmPcgResult fmNewtonDirection(const fmElasticMesh* mesh, fmBodyState* sta
 
 // Positions after a step of length alpha along the direction, held above the floor; true when
 // the floor bent the path (a coordinate was lifted to it).
-static bool fmTrialPoint(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
-                         double alpha, double* out)
+static bool fmTrialPoint(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                         const fmNewtonProblem* pb, double alpha, double* out)
 {
 	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
 		out[k] = state->x[k] + alpha * c->direction[k];
@@ -434,8 +442,8 @@ double fmNewton_StepBound(const fmNewtonProblem* pb, const double* x, const doub
 
 // Whether the straight path from x to @p trial is admissible for the barrier (a path the floor
 // bent is checked again as it is); @p scratch gets the motion.
-static bool fmPathAdmissible(const fmElasticMesh* mesh, const fmBodyState* state, const fmNewtonProblem* pb,
-                             const double* trial, double* scratch)
+static bool fmPathAdmissible(const fmElasticMesh* mesh, const fmBodyState* state,
+                             const fmNewtonProblem* pb, const double* trial, double* scratch)
 {
 	for (int k = 0; k < 3 * mesh->vertexCount; ++k)
 		scratch[k] = trial[k] - state->x[k];
@@ -444,7 +452,8 @@ static bool fmPathAdmissible(const fmElasticMesh* mesh, const fmBodyState* state
 
 // The longest step along the direction that the inversion filter and the barrier's collision
 // detection allow (1 at most).
-static double fmStepLimit(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+static double fmStepLimit(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                          const fmNewtonProblem* pb)
 {
 	double alpha = pb->inversionFree
 	                   ? fmInversion_StepLimit(mesh, state->x, c->direction, FM_INVERSION_KEEP)
@@ -465,8 +474,9 @@ static double fmStepLimit(const fmElasticMesh* mesh, fmBodyState* state, fmImpli
 // solution of a stiff body the decrease a Newton step makes is smaller than this noise. Within
 // the noise a step is accepted when it lowers the gradient norm instead. Returns false if no
 // step length is accepted.
-static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb, double energy,
-                         double magnitude, double gradientNorm, bool* inNoise)
+static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                         const fmNewtonProblem* pb, double energy, double magnitude,
+                         double gradientNorm, bool* inNoise)
 {
 	const int n3 = 3 * mesh->vertexCount;
 	const double noise = fmEnergyNoise(mesh, c, magnitude);
@@ -487,7 +497,8 @@ static bool fmLineSearch(const fmElasticMesh* mesh, fmBodyState* state, fmImplic
 		for (int k = 0; k < n3; ++k)
 			slope += c->gradient[k] * (trial[k] - state->x[k]);
 		// The full step is usually taken: its forces then serve the next iteration's gradient.
-		double value = fmNewtonEnergy(mesh, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
+		double value =
+		    fmNewtonEnergy(mesh, c, pb, trial, attempt == 0 ? trialGradient : NULL, NULL);
 		bool accept = value <= energy + 1e-4 * slope;
 		if (!accept && fabs(value - energy) <= noise)
 		{
@@ -543,8 +554,8 @@ typedef struct fmNewtonTrack
 // (converged, out of iterations, stagnated: steps that change the energy by less than its
 // round-off and no longer improve the residual; far from the solution the residual may rise
 // for many iterations while the energy falls, which is progress).
-static bool fmNewtonStops(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb,
-                          fmNewtonTrack* t, fmNewtonResult* result)
+static bool fmNewtonStops(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                          const fmNewtonProblem* pb, fmNewtonTrack* t, fmNewtonResult* result)
 {
 	if (pb->keepBest && result->residual < t->keptResidual)
 	{
@@ -602,7 +613,8 @@ static void fmNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state, fmImpl
 	t->lastContactOnly = contactOnly;
 }
 
-fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                              const fmNewtonProblem* pb)
 {
 	fmNewtonResult result;
 	memset(&result, 0, sizeof result);

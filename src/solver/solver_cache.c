@@ -149,7 +149,8 @@ bool fmSolverCache_HasForcesAt(const fmElasticMesh* mesh, const fmImplicitCache*
 	       memcmp(c->forcesX, x, sizeof(double) * 3 * (size_t)mesh->vertexCount) == 0;
 }
 
-void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* c, const double* x, double psi)
+void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* c, const double* x,
+                              double psi)
 {
 	c->forcesValid = fmForcesMemoizable(mesh);
 	if (!c->forcesValid)
@@ -180,8 +181,8 @@ void fmSolverCache_ForcesAtPositions(const fmElasticMesh* mesh, fmImplicitCache*
 }
 
 // One tet's 16 blocks, times scale, into the rows [first, end) of the matrix.
-static void fmScatterTet(const fmElasticMesh* mesh, const fmImplicitCache* c, int t, const double* K,
-                         double scale, int first, int end, double* values)
+static void fmScatterTet(const fmElasticMesh* mesh, const fmImplicitCache* c, int t,
+                         const double* K, double scale, int first, int end, double* values)
 {
 	for (int p = 0; p < 4; ++p)
 	{
@@ -239,8 +240,8 @@ static void fmStiffnessRowsTask(int start, int end, int worker, void* context)
 	}
 }
 
-static void fmAddSpringStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c, const double* x,
-                                 double scale, int project, double* values)
+static void fmAddSpringStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c,
+                                 const double* x, double scale, int project, double* values)
 {
 	double K[36];
 	for (int e = 0; e < c->edgeCount; ++e)
@@ -259,8 +260,8 @@ static void fmAddSpringStiffness(const fmElasticMesh* mesh, const fmImplicitCach
 
 // values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order:
 // by block rows on the world's workers (the same bits for any number of them).
-void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c, const double* x,
-                                double scale, int project, double* values,
+void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c,
+                                const double* x, double scale, int project, double* values,
                                 const fmTaskSystem* tasks)
 {
 	if (mesh->forceModel == fm_massSpring)
@@ -275,8 +276,8 @@ void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache
 // Spring damping as a matrix: each spring resists the rate of change of its length with
 // c = 2 zeta sqrt(k / (1/ma + 1/mb)) (force_spring.c), i.e. the block c n n^T on [a, b].
 void fmSolverCache_AddSpringDamping(const fmElasticMesh* mesh, const double* invMass,
-                                    const fmImplicitCache* c, const double* x,
-                                    double scale, double* values)
+                                    const fmImplicitCache* c, const double* x, double scale,
+                                    double* values)
 {
 	for (int e = 0; e < c->edgeCount; ++e)
 	{

@@ -3,9 +3,9 @@
 #pragma once
 
 #include "core/arena.h"
+#include "core/parallel.h"
 #include "fem/elastic_mesh.h"
 #include "solver/multigrid.h"
-#include "core/parallel.h"
 #include "solver/pcg.h"
 
 // An evaluation of the elastic forces kept aside: the forces, where, their energy, with what.
@@ -81,7 +81,8 @@ fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* cache);
 void fmSolverCache_Free(void* cache);
 
 // The cache's forces and energy are the elastic ones of @p body at @p x (see forcesX).
-bool fmSolverCache_HasForcesAt(const fmElasticMesh* mesh, const fmImplicitCache* cache, const double* x);
+bool fmSolverCache_HasForcesAt(const fmElasticMesh* mesh, const fmImplicitCache* cache,
+                               const double* x);
 
 // Note that cache->forces now holds the elastic forces at @p x, with energy @p psi.
 void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* cache, const double* x,
@@ -99,14 +100,14 @@ void fmSolverCache_ForcesAtPositions(const fmElasticMesh* mesh, fmImplicitCache*
 // values += scale * (PSD-projected if @p project) elastic Hessian at x, element by element in a
 // fixed order, into the cache's block pattern; on the workers of @p tasks (NULL: serial), the
 // same bits for any number of them.
-void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* cache, const double* x,
-                                double scale, int project, double* values,
+void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* cache,
+                                const double* x, double scale, int project, double* values,
                                 const fmTaskSystem* tasks);
 
 // values += scale * the springs' dashpot matrices at x (mass-spring bodies).
 void fmSolverCache_AddSpringDamping(const fmElasticMesh* mesh, const double* invMass,
-                                    const fmImplicitCache* cache,
-                                    const double* x, double scale, double* values);
+                                    const fmImplicitCache* cache, const double* x, double scale,
+                                    double* values);
 
 // The elastic energy at @p x: the cache's last evaluation when it was at @p x (the world's energy
 // check after an implicit step; the same bits), else fmElasticEnergyOn. @p cache may be NULL.

@@ -102,11 +102,9 @@ static void fmMoveDouble(fmStream* s, bool save, double* value)
 static void fmMoveLedger(fmStream* s, bool save, fmEnergyLedger* l)
 {
 	fmMoveBool(s, save, &l->started);
-	double* fields[] = {&l->initialEnergy,    &l->work,
-	                    &l->workIn,           &l->floor,
-	                    &l->gravityStart,     &l->frameGravityWork,
-	                    &l->measureStep,      &l->plainGood,
-	                    &l->framePlain};
+	double* fields[] = {&l->initialEnergy, &l->work,         &l->workIn,
+	                    &l->floor,         &l->gravityStart, &l->frameGravityWork,
+	                    &l->measureStep,   &l->plainGood,    &l->framePlain};
 	for (size_t k = 0; k < sizeof fields / sizeof fields[0]; ++k)
 		fmMoveDouble(s, save, fields[k]);
 }
@@ -193,8 +191,12 @@ typedef struct fmBodyKey
 
 static fmBodyKey fmKeyOf(const fmBody* b, int slot)
 {
-	fmBodyKey key = {slot,        b->generation, b->mesh.vertexCount,
-	                 b->mesh.tetCount, b->mesh.edgeCount,  (int32_t)b->mesh.forceModel};
+	fmBodyKey key = {slot,
+	                 b->generation,
+	                 b->mesh.vertexCount,
+	                 b->mesh.tetCount,
+	                 b->mesh.edgeCount,
+	                 (int32_t)b->mesh.forceModel};
 	return key;
 }
 
@@ -248,7 +250,8 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 	{
 		int64_t blocks = 0;
 		fmGet(&s, &blocks, sizeof blocks);
-		fmImplicitCache* c = fmSolverCache_Get(&b->solverCache, &b->mesh); // the same mesh gives the same pattern
+		fmImplicitCache* c =
+		    fmSolverCache_Get(&b->solverCache, &b->mesh); // the same mesh gives the same pattern
 		if (c == NULL || blocks != c->pattern.blocks)
 			return SIZE_MAX;
 		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;
@@ -859,7 +862,8 @@ static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 	fmResult r = fmCheckColliders(w, s);
 	for (int i = 0; r == fm_ok && i < w->bodyCapacity; ++i)
 	{
-		fmResult body = fmBody_IsLive(&w->bodies[i]) ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
+		fmResult body =
+		    fmBody_IsLive(&w->bodies[i]) ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
 		if (body == fm_errOutOfMemory)
 			r = fmDiagError(&w->lastError, body, "", 0, 0,
 			                "out of memory restoring body %d's collider friction", i);
