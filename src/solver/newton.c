@@ -232,15 +232,9 @@ static bool fmAssembleNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state
 		block[8] += diagonal;
 	}
 	fmTermHessian(&pb->targets, state->x, &c->pattern, c->hessian);
-	bool base = false;
-	if (fmHasContactHessian(pb))
-	{
-		if (c->hessianBase == NULL)
-			c->hessianBase = FM_ALLOC_ARRAY(double, values);
-		base = c->hessianBase != NULL;
-		if (base)
-			memcpy(c->hessianBase, c->hessian, sizeof(double) * values);
-	}
+	bool base = fmHasContactHessian(pb) && fmSolverCache_Base(c) != NULL;
+	if (base)
+		memcpy(c->hessianBase, c->hessian, sizeof(double) * values);
 	fmAddContactHessians(state, c, pb);
 	return base;
 }
@@ -547,7 +541,6 @@ typedef struct fmNewtonTrack
 	double lastResidual;
 	bool lastFresh;       // the last direction came from a freshly assembled Hessian
 	bool lastContactOnly; // ... from a kept base with fresh contact terms
-	bool baseValid;       // c->hessianBase is the base of the kept matrix
 } fmNewtonTrack;
 
 // After the residual of an iteration is known: keep the best state, and whether to stop
@@ -592,12 +585,12 @@ static void fmNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state, fmImpl
 	bool slow = residual > FM_REUSE_RATIO * t->lastResidual;
 	bool matrixFree = pb->options.product == fm_productMatrixFree;
 	bool refresh = t->stale || (slow && !(pb->quadratic && t->lastFresh)) || matrixFree;
-	bool contactOnly = refresh && !matrixFree && !t->stale && t->baseValid && !t->lastContactOnly &&
-	                   fmHasContactHessian(pb);
+	bool contactOnly = refresh && !matrixFree && !t->stale && c->hessianBaseValid &&
+	                   !t->lastContactOnly && fmHasContactHessian(pb);
 	if (contactOnly)
 		fmRefreshContactHessian(state, c, pb);
 	else if (refresh && !matrixFree)
-		t->baseValid = fmAssembleNewtonMatrix(mesh, state, c, pb);
+		c->hessianBaseValid = fmAssembleNewtonMatrix(mesh, state, c, pb);
 	if (refresh)
 	{
 		c->hessianValid = true;
@@ -607,7 +600,6 @@ static void fmNewtonMatrix(const fmElasticMesh* mesh, fmBodyState* state, fmImpl
 		c->hessianExact = pb->exactHessian;
 		t->stale = false;
 	}
-	c->hessianBaseValid = t->baseValid;
 	t->lastResidual = residual;
 	t->lastFresh = refresh && !contactOnly;
 	t->lastContactOnly = contactOnly;
@@ -628,8 +620,7 @@ fmNewtonResult fmNewton_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmI
 	fmNewtonTrack t = {.bestResidual = INFINITY,
 	                   .keptResidual = INFINITY,
 	                   .stale = !sameTerms,
-	                   .lastResidual = INFINITY,
-	                   .baseValid = sameTerms && c->hessianBaseValid};
+	                   .lastResidual = INFINITY};
 	for (;;)
 	{
 		double magnitude;

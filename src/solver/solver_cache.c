@@ -125,6 +125,13 @@ fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* c)
 	return c->multigridBuilt ? &c->multigrid : NULL;
 }
 
+double* fmSolverCache_Base(fmImplicitCache* c)
+{
+	if (c->hessianBase == NULL)
+		c->hessianBase = FM_ALLOC_ARRAY(double, 9 * (size_t)c->pattern.blocks);
+	return c->hessianBase;
+}
+
 // Only FEM bodies with a built-in model: their energy is summed the same way by every force
 // pass (FVM forces come from another loop; a user energy's parameters may change unseen).
 static bool fmForcesMemoizable(const fmElasticMesh* mesh)

@@ -77,6 +77,9 @@ fmImplicitCache* fmSolverCache_Get(fmImplicitCache** slot, const fmElasticMesh* 
 // The multigrid levels over the cache's pattern, built on first use; NULL when memory is short.
 fmMultigrid* fmSolverCache_Multigrid(fmImplicitCache* cache);
 
+// The cache's hessianBase, allocated on first use; NULL when memory is short.
+double* fmSolverCache_Base(fmImplicitCache* cache);
+
 // Release a cache (body->implicitCache); NULL is fine.
 void fmSolverCache_Free(void* cache);
 

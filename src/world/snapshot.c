@@ -132,7 +132,7 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 {
 	fmImplicitCache* c = b->solverCache;
-	bool base = c != NULL && c->hessianValid && c->hessianBaseValid && c->hessianBase != NULL;
+	bool base = c != NULL && c->hessianValid && c->hessianBaseValid;
 	uint8_t flags = (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) |
 	                          (c != NULL && c->coasted ? 2u : 0u) | (base ? 4u : 0u));
 	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
@@ -170,8 +170,7 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 		c->hessianVersion += 1; // the multigrid's levels are set up again from it
 	if (!(flags & 4u))
 		return true;
-	if (!save && c->hessianBase == NULL &&
-	    (c->hessianBase = FM_ALLOC_ARRAY(double, 9 * (size_t)blocks)) == NULL)
+	if (!save && fmSolverCache_Base(c) == NULL)
 		return false;
 	fmMove(s, save, c->hessianBase, sizeof(double) * 9 * (size_t)blocks);
 	c->hessianBaseValid = true;
@@ -256,8 +255,7 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 			return SIZE_MAX;
 		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;
 		// The base's memory is taken here, before anything is restored.
-		if ((present & 4u) && c->hessianBase == NULL &&
-		    (c->hessianBase = FM_ALLOC_ARRAY(double, 9 * (size_t)blocks)) == NULL)
+		if ((present & 4u) && fmSolverCache_Base(c) == NULL)
 			return SIZE_MAX;
 		if (present & 4u)
 			s.used += sizeof(double) * 9 * (size_t)blocks;
