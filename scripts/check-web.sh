@@ -119,7 +119,7 @@ done
 # tests/test_drags.c (docs/contact.md, "Grabs") on the SIMD build: fixed-seed grabs held 60
 # frames, a tenth of them flicks at 20 to 30 m/s; every frame must pass the health checks and
 # leave no tet inverted. Counts a CI run affords (the native Release suite runs 1,000, 300,
-# 1,000 and 100): FEMTO_DRAGS reaches the program's getenv through web/test/test_env.js.
+# 1,000 and 1,000): FEMTO_DRAGS reaches the program's getenv through web/test/test_env.js.
 kernels=(build-web/obj/{tet,bsr}_kernel_{baseline,scalar}_simd.o)
 emcc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude -Isrc -Itests \
   -DFEMTO_MESH_DIR="\"$PWD/data\"" tests/main.c tests/support.c tests/test_drags.c \
