@@ -296,12 +296,13 @@ TEST(small_strain_matches_linear_elasticity)
 // ---- model-specific ----------------------------------------------------------------------------
 
 // The seeds' StVK where det F >= FM_STVK_FLOOR_J; below it the same plus the volume floor
-// kappa / 2 (J_floor - J)^2, kappa = 4 (lambda + 2 mu) (material.h), whose stress is
-// kappa (J - J_floor) cof F. (The finite-difference tests above check its derivatives.)
+// psi(J) = kappa J0 ((J - J0) - J0 ln(J / J0)), kappa = 4 (lambda + 2 mu), J0 = FM_STVK_FLOOR_J
+// (material.h), continued below FM_STVK_FLOOR_JC by its quadratic; its stress is psi'(J) cof F.
+// (The finite-difference tests above check its derivatives.)
 TEST(stvk_is_the_seeds_formula)
 {
 	fmMaterial m = fmMakeMaterialLame(fm_stvk, 20000, 5000);
-	int floored = 0;
+	int floored = 0, below = 0;
 	for (int trial = 0; trial < 40; ++trial)
 	{
 		fmMat3 F = randomF(trial % kKindCount), P;
@@ -319,14 +320,46 @@ TEST(stvk_is_the_seeds_formula)
 		{
 			floored += 1;
 			fmMat3 C = fmCofactor(&F);
-			FS = fmMatMulAdd(&FS, kappa * (J - FM_STVK_FLOOR_J), &C);
-			seeds += 0.5 * kappa * (J - FM_STVK_FLOOR_J) * (J - FM_STVK_FLOOR_J);
+			const double j0 = FM_STVK_FLOOR_J, jc = FM_STVK_FLOOR_JC;
+			double a = J < jc ? jc : J, e = J - a;
+			double slope = kappa * j0 * (1.0 - j0 / a), curvature = kappa * j0 * j0 / (a * a);
+			FS = fmMatMulAdd(&FS, slope + curvature * e, &C);
+			seeds +=
+			    kappa * j0 * ((a - j0) - j0 * log(a / j0)) + slope * e + 0.5 * curvature * e * e;
+			below += J < jc;
 		}
 		for (int e = 0; e < 9; ++e)
 			CHECK_NEAR(P.m[e], FS.m[e], 1e-12 * maxAbs(FS.m, 9));
 		CHECK_REL(psi, seeds, 1e-13, 0.0);
 	}
 	CHECK(floored > 0); // the compressed and inverted kinds reach the floor
+	CHECK(below > 0);   // and its quadratic continuation
+}
+
+// The volume floor holds a flattening tet back harder the flatter it gets: its push along
+// cof F, psi'(J), grows in magnitude as J falls (like 1/J down to FM_STVK_FLOOR_JC, then
+// linearly), and is continuous there; at J = 0 it is 9 kappa J0 (the quadratic floor before it
+// gave kappa J0, too weak for a box crushed to 12% of its height explicit).
+TEST(stvk_volume_floor_grows_as_a_tet_flattens)
+{
+	fmMaterial m = fmMakeMaterialLame(fm_stvk, 20000, 5000);
+	const double kappa = FM_STVK_FLOOR_STIFFNESS * (20000 + 2 * 5000);
+	double last = 0.0, f[3];
+	for (double J = 0.499; J > -0.5; J -= 0.001)
+	{
+		CHECK(fmStvkFloor_Of(&m, J, f));
+		CHECK(f[1] < last);
+		CHECK(f[2] > 0.0);
+		last = f[1];
+	}
+	CHECK(fmStvkFloor_Of(&m, 0.0, f));
+	CHECK_REL(f[1], -9.0 * kappa * FM_STVK_FLOOR_J, 1e-12, 0.0);
+	double below[3], above[3];
+	fmStvkFloor_Of(&m, FM_STVK_FLOOR_JC * (1.0 - 1e-9), below);
+	fmStvkFloor_Of(&m, FM_STVK_FLOOR_JC * (1.0 + 1e-9), above);
+	for (int k = 0; k < 3; ++k)
+		CHECK_REL(below[k], above[k], 1e-6, 0.0);
+	CHECK(!fmStvkFloor_Of(&m, FM_STVK_FLOOR_J, f) && f[0] == 0.0 && f[1] == 0.0);
 }
 
 TEST(corotated_is_fixed_corotated)
@@ -537,12 +570,13 @@ TEST(psd_projection_of_a_compressed_neohookean_tangent)
 	for (int e = 0; e < 81; ++e)
 		CHECK_NEAR(B[e], A[e], 1e-9 * maxAbs(A, 81));
 
-	// StVK crushed to half size: even the 3x3 block of d2psi/ds2 is indefinite (its diagonal
-	// is negative); the closed-form projection must still match the numerical one.
+	// StVK crushed to half its length (J = 0.525, above the volume floor): even the 3x3 block
+	// of d2psi/ds2 is indefinite (its diagonal is negative); the closed-form projection must
+	// still match the numerical one.
 	fmMaterial stvk = fmMakeMaterial(fm_stvk, 1e5, 0.3);
-	F = withStretches(0.5, 0.4, 0.3);
+	F = withStretches(0.5, 1.05, 1.0);
 	fmMaterial_Evaluate(&stvk, &F, NULL, A);
-	fmMat3 Fd = {{0.5, 0, 0, 0, 0.4, 0, 0, 0, 0.3}};
+	fmMat3 Fd = {{0.5, 0, 0, 0, 1.05, 0, 0, 0, 1.0}};
 	double Ad[81];
 	fmMaterial_Evaluate(&stvk, &Fd, NULL, Ad);
 	CHECK(Ad[0] < 0.0); // d2psi/ds0^2 in the principal frame

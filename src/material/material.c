@@ -185,17 +185,32 @@ static fmMat3 fmGreenStrain(const fmMat3* F)
 	return G;
 }
 
+bool fmStvkFloor_Of(const fmMaterial* m, double J, double out[3])
+{
+	out[0] = out[1] = out[2] = 0.0;
+	if (!(J < FM_STVK_FLOOR_J))
+		return false;
+	const double kappa = FM_STVK_FLOOR_STIFFNESS * (m->lambda + 2.0 * m->mu), j0 = FM_STVK_FLOOR_J;
+	double at = J < FM_STVK_FLOOR_JC ? FM_STVK_FLOOR_JC : J;
+	double psi = kappa * j0 * ((at - j0) - j0 * fmMathLog(at / j0));
+	double slope = kappa * j0 * (1.0 - j0 / at), curvature = kappa * j0 * j0 / (at * at);
+	double e = J - at; // below FM_STVK_FLOOR_JC: the quadratic continuation
+	out[0] = psi + e * (slope + 0.5 * curvature * e);
+	out[1] = slope + curvature * e;
+	out[2] = curvature;
+	return true;
+}
+
 // StVK's volume floor (material.h) added to @p P and @p dPdF where det F is below it; returns its
 // energy density (0 above it).
 static double fmStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
 {
 	fmMat3 C = fmCofactor(F);
-	double J = F->m[0] * C.m[0] + F->m[1] * C.m[1] + F->m[2] * C.m[2];
-	if (!(J < FM_STVK_FLOOR_J))
+	double J = F->m[0] * C.m[0] + F->m[1] * C.m[1] + F->m[2] * C.m[2], f[3];
+	if (!fmStvkFloor_Of(m, J, f))
 		return 0.0;
-	double kappa = FM_STVK_FLOOR_STIFFNESS * (m->lambda + 2.0 * m->mu), d = J - FM_STVK_FLOOR_J;
 	for (int k = 0; P != NULL && k < 9; ++k)
-		P->m[k] += kappa * d * C.m[k];
+		P->m[k] += f[1] * C.m[k];
 	for (int a = 0; dPdF != NULL && a < 9; ++a)
 		for (int b = 0; b < 9; ++b)
 		{
@@ -209,9 +224,9 @@ static double fmStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, doubl
 				    ((k - i + 3) % 3 == 1 ? 1.0 : -1.0) * ((l - j + 3) % 3 == 1 ? 1.0 : -1.0);
 				second = sign * F->m[3 * mm + nn];
 			}
-			dPdF[9 * a + b] += kappa * (C.m[a] * C.m[b] + d * second);
+			dPdF[9 * a + b] += f[2] * C.m[a] * C.m[b] + f[1] * second;
 		}
-	return 0.5 * kappa * d * d;
+	return f[0];
 }
 
 static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)

@@ -8,10 +8,14 @@
 // StVK's volume floor (issue 29: inversion-safe StVK): StVK softens under strong compression (its
 // stress peaks near a third of the volume lost and falls to zero as a tet flattens), so a loaded
 // body turns tets inside out. Below J = det F = FM_STVK_FLOOR_J its energy gains
-// kappa / 2 (FM_STVK_FLOOR_J - J)^2 with kappa = FM_STVK_FLOOR_STIFFNESS (lambda + 2 mu): a push
-// back along dJ/dF that grows as the tet flattens and keeps pushing a tet turned over back out
-// (Irving et al. 2004's recovery). Above the floor StVK is the seeds' own, bit for bit.
+// psi(J) = kappa J0 ((J - J0) - J0 ln(J / J0)), J0 = FM_STVK_FLOOR_J and
+// kappa = FM_STVK_FLOOR_STIFFNESS (lambda + 2 mu): zero with zero slope at J0, curvature kappa
+// there, a push back along dJ/dF that grows like 1/J as the tet flattens. Below
+// FM_STVK_FLOOR_JC it continues as its quadratic (finite at J = 0 and beyond, so a tet turned over
+// is pushed back out: Irving et al. 2004's recovery), as Neo-Hookean's ln J does below its clamp.
+// Above the floor StVK is the seeds' own, bit for bit.
 #define FM_STVK_FLOOR_J 0.5
+#define FM_STVK_FLOOR_JC 0.1
 #define FM_STVK_FLOOR_STIFFNESS 4.0
 
 // Energy density psi(F) (J/m^3). Every pointer output may be NULL to skip it:
@@ -28,3 +32,7 @@ double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F,
 // Project a symmetric 9x9 matrix onto the positive semi-definite cone (clamp negative eigenvalues
 // to zero) in place.
 void fmProjectPSD9(double* A);
+
+// StVK's volume floor as a function of J (above): its energy density, first and second
+// derivatives in J into @p out (all zero at and above FM_STVK_FLOOR_J); false there.
+bool fmStvkFloor_Of(const fmMaterial* material, double J, double out[3]);

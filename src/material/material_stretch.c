@@ -139,24 +139,23 @@ static void fmStvkStretch(const fmMaterial* m, const double s[3], bool hessian, 
 static void fmStvkFloorStretch(const fmMaterial* m, const double s[3], bool hessian,
                                fmStretchDerivs* d)
 {
-	double J = s[0] * s[1] * s[2];
-	if (!(J < FM_STVK_FLOOR_J))
+	double f[3];
+	if (!fmStvkFloor_Of(m, s[0] * s[1] * s[2], f))
 		return;
-	double kappa = FM_STVK_FLOOR_STIFFNESS * (m->lambda + 2.0 * m->mu), e = J - FM_STVK_FLOOR_J;
 	const double others[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]}; // J / s_i
-	d->psi += 0.5 * kappa * e * e;
+	d->psi += f[0];
 	for (int i = 0; i < 3; ++i)
-		d->g[i] += kappa * e * others[i];
+		d->g[i] += f[1] * others[i];
 	if (!hessian)
 		return;
 	for (int i = 0; i < 3; ++i)
 		for (int j = 0; j < 3; ++j)
-			d->H[3 * i + j] += kappa * (others[i] * others[j] + (i == j ? 0.0 : e * s[3 - i - j]));
+			d->H[3 * i + j] += f[2] * others[i] * others[j] + (i == j ? 0.0 : f[1] * s[3 - i - j]);
 	for (int k = 0; k < 3; ++k)
 	{
 		int third = 3 - s_pairs[k][0] - s_pairs[k][1];
-		d->q[k] -= kappa * e * s[third];
-		d->r[k] += kappa * e * s[third];
+		d->q[k] -= f[1] * s[third];
+		d->r[k] += f[1] * s[third];
 	}
 }
 
