@@ -5,13 +5,13 @@
 # (fuzz/corpus/<name>). New crashes fail the check; the crashing input is kept in
 # build-fuzz/crashes/ to be turned into a regression test (tests/data/fuzz/).
 # The targets run one a core at a time (two at once on 2 cores), each for its whole time.
-# FEMTO_FUZZ_SECONDS (default 30) sets the time per target; the five surface and mesh format
+# FEMTO_FUZZ_SECONDS (default 20) sets the time per target; the five surface and mesh format
 # readers (fuzz_obj, fuzz_gmsh, fuzz_vtk, fuzz_vtu, fuzz_medit) run FEMTO_FUZZ_FORMAT_SECONDS
-# each (default 20).
+# each (default 15).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${FEMTO_FUZZ_SECONDS:-30}
-format_seconds=${FEMTO_FUZZ_FORMAT_SECONDS:-20}
+seconds=${FEMTO_FUZZ_SECONDS:-20}
+format_seconds=${FEMTO_FUZZ_FORMAT_SECONDS:-15}
 if ! command -v clang >/dev/null; then
   echo "check-fuzz: clang not found (scripts/install-deps.sh installs it)" >&2
   exit 1
@@ -70,8 +70,8 @@ for target in build-fuzz/fuzz/fuzz_*; do
 done
 stated=$(sed -n 's/.*the fuzzers (\([0-9]*\) targets \([0-9]*\) s each.*/\1 \2/p' README.md | head -n 1)
 stated_short=$(sed -n 's/.*the \([0-9]*\) surface and mesh format readers \([0-9]*\) s each.*/\1 \2/p' README.md | head -n 1)
-if [ "$stated" != "$long ${FEMTO_FUZZ_SECONDS:-30}" ] || [ "$stated_short" != "$short ${FEMTO_FUZZ_FORMAT_SECONDS:-20}" ]; then
-  echo "check-fuzz: ran $long targets for ${FEMTO_FUZZ_SECONDS:-30} s and $short for ${FEMTO_FUZZ_FORMAT_SECONDS:-20} s; README.md says '${stated:-?}' and '${stated_short:-?}' (update it)" >&2
+if [ "$stated" != "$long ${FEMTO_FUZZ_SECONDS:-20}" ] || [ "$stated_short" != "$short ${FEMTO_FUZZ_FORMAT_SECONDS:-15}" ]; then
+  echo "check-fuzz: ran $long targets for ${FEMTO_FUZZ_SECONDS:-20} s and $short for ${FEMTO_FUZZ_FORMAT_SECONDS:-15} s; README.md says '${stated:-?}' and '${stated_short:-?}' (update it)" >&2
   [ -z "${FEMTO_FUZZ_SECONDS:-}${FEMTO_FUZZ_FORMAT_SECONDS:-}" ] && exit 1
 fi
 echo "check-fuzz: all fuzzers clean"

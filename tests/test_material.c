@@ -338,8 +338,8 @@ TEST(stvk_is_the_seeds_formula)
 
 // The volume floor holds a flattening tet back harder the flatter it gets: its push along
 // cof F, psi'(J), grows in magnitude as J falls (like 1/J down to FM_STVK_FLOOR_JC, then
-// linearly), and is continuous there; at J = 0 it is 9 kappa J0 (the quadratic floor before it
-// gave kappa J0, too weak for a box crushed to 12% of its height explicit).
+// linearly), and is continuous there; at J = 0 it is kappa J0 (2 J0 / Jc - 1) (the quadratic
+// floor before it gave kappa J0, too weak for a box crushed to 12% of its height explicit).
 TEST(stvk_volume_floor_grows_as_a_tet_flattens)
 {
 	fmMaterial m = fmMakeMaterialLame(fm_stvk, 20000, 5000);
@@ -347,19 +347,21 @@ TEST(stvk_volume_floor_grows_as_a_tet_flattens)
 	double last = 0.0, f[3];
 	for (double J = 0.499; J > -0.5; J -= 0.001)
 	{
-		CHECK(fmStvkFloor_Of(&m, J, f));
+		CHECK(fmMaterial_StvkFloor(&m, J, f));
 		CHECK(f[1] < last);
 		CHECK(f[2] > 0.0);
 		last = f[1];
 	}
-	CHECK(fmStvkFloor_Of(&m, 0.0, f));
-	CHECK_REL(f[1], -9.0 * kappa * FM_STVK_FLOOR_J, 1e-12, 0.0);
+	CHECK(fmMaterial_StvkFloor(&m, 0.0, f));
+	const double j0 = FM_STVK_FLOOR_J;
+	CHECK_REL(f[1], -kappa * j0 * (2.0 * j0 / FM_STVK_FLOOR_JC - 1.0), 1e-12, 0.0);
+	CHECK(f[1] < -2.0 * kappa * j0);
 	double below[3], above[3];
-	fmStvkFloor_Of(&m, FM_STVK_FLOOR_JC * (1.0 - 1e-9), below);
-	fmStvkFloor_Of(&m, FM_STVK_FLOOR_JC * (1.0 + 1e-9), above);
+	fmMaterial_StvkFloor(&m, FM_STVK_FLOOR_JC * (1.0 - 1e-9), below);
+	fmMaterial_StvkFloor(&m, FM_STVK_FLOOR_JC * (1.0 + 1e-9), above);
 	for (int k = 0; k < 3; ++k)
 		CHECK_REL(below[k], above[k], 1e-6, 0.0);
-	CHECK(!fmStvkFloor_Of(&m, FM_STVK_FLOOR_J, f) && f[0] == 0.0 && f[1] == 0.0);
+	CHECK(!fmMaterial_StvkFloor(&m, FM_STVK_FLOOR_J, f) && f[0] == 0.0 && f[1] == 0.0);
 }
 
 TEST(corotated_is_fixed_corotated)

@@ -69,10 +69,10 @@ typedef struct fmBody
 	int targetCapacity;
 	struct fmTarget* targets;
 	struct fmGrab* grab;
-	// Let go of a grab and still stretched: the stiffening proxy (stability.h) at the grab,
-	// which the body must relax to before an explicit world gives up adaptive substeps; 0 when
-	// none (grab.h).
-	double grabRelaxProxy;
+	// Let go of a grab and still stretched or moving: the stiffening proxy (stability.h) at the
+	// grab, which the body must relax to, and the kinetic energy it must settle below (J), before
+	// an explicit world gives up adaptive substeps; 0 when none (grab.h).
+	double grabRelaxProxy, grabRelaxKinetic;
 
 	// Loads and prescribed displacements (loads.h), NULL until the first is added.
 	struct fmLoadSet* loads;

@@ -18,6 +18,7 @@ typedef struct fmGrab
 	double damping;   // N s/m, the whole grab's
 	double maxForce;  // N, the whole grab's bound
 	double proxy;     // the body's stiffening proxy (stability.h) at the grab
+	double settled;   // J: the kinetic energy the body is settled below once let go
 } fmGrab;
 
 // Place the grabbed body's targets where the grab's target is at @p fraction of the frame (in
@@ -32,6 +33,8 @@ void fmGrab_Free(fmBody* body);
 
 // Whether an explicit world must take adaptive substeps for the body: it is grabbed, or was and
 // is still stretched beyond 1.1 times its stiffening proxy at the grab (a stretched body let go
-// snaps back, faster than the scene's fixed substep may follow). Forgets a let-go body that
-// has relaxed.
+// snaps back, faster than the scene's fixed substep may follow), or still moves with more
+// kinetic energy than twice its own at the grab plus that of a 1 cm fall (a body lifted or
+// flung by a grab lands harder than the scene's fixed substep may hold). Forgets a let-go body
+// that has relaxed and settled.
 bool fmGrab_NeedsAdaptiveSteps(fmBody* body);

@@ -185,7 +185,7 @@ static fmMat3 fmGreenStrain(const fmMat3* F)
 	return G;
 }
 
-bool fmStvkFloor_Of(const fmMaterial* m, double J, double out[3])
+bool fmMaterial_StvkFloor(const fmMaterial* m, double J, double out[3])
 {
 	out[0] = out[1] = out[2] = 0.0;
 	if (!(J < FM_STVK_FLOOR_J))
@@ -207,7 +207,7 @@ static double fmStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, doubl
 {
 	fmMat3 C = fmCofactor(F);
 	double J = F->m[0] * C.m[0] + F->m[1] * C.m[1] + F->m[2] * C.m[2], f[3];
-	if (!fmStvkFloor_Of(m, J, f))
+	if (!fmMaterial_StvkFloor(m, J, f))
 		return 0.0;
 	for (int k = 0; P != NULL && k < 9; ++k)
 		P->m[k] += f[1] * C.m[k];

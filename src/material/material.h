@@ -15,7 +15,7 @@
 // is pushed back out: Irving et al. 2004's recovery), as Neo-Hookean's ln J does below its clamp.
 // Above the floor StVK is the seeds' own, bit for bit.
 #define FM_STVK_FLOOR_J 0.5
-#define FM_STVK_FLOOR_JC 0.1
+#define FM_STVK_FLOOR_JC 0.3
 #define FM_STVK_FLOOR_STIFFNESS 4.0
 
 // Energy density psi(F) (J/m^3). Every pointer output may be NULL to skip it:
@@ -35,4 +35,4 @@ void fmProjectPSD9(double* A);
 
 // StVK's volume floor as a function of J (above): its energy density, first and second
 // derivatives in J into @p out (all zero at and above FM_STVK_FLOOR_J); false there.
-bool fmStvkFloor_Of(const fmMaterial* material, double J, double out[3]);
+bool fmMaterial_StvkFloor(const fmMaterial* material, double J, double out[3]);

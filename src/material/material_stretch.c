@@ -140,7 +140,7 @@ static void fmStvkFloorStretch(const fmMaterial* m, const double s[3], bool hess
                                fmStretchDerivs* d)
 {
 	double f[3];
-	if (!fmStvkFloor_Of(m, s[0] * s[1] * s[2], f))
+	if (!fmMaterial_StvkFloor(m, s[0] * s[1] * s[2], f))
 		return;
 	const double others[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]}; // J / s_i
 	d->psi += f[0];
