@@ -5,8 +5,8 @@
 #include "material/material.h"
 #include "material/material_invariant.h"
 #include "material/material_stretch.h"
-#include "support.h"
 #include "math/svd3.h"
+#include "support.h"
 #include "test.h"
 
 #include <string.h>

@@ -55,12 +55,12 @@ typedef struct fmBody
 	double friction;    // against other bodies, or -1 for the world's
 	bool selfCollision; // surface against its own non-adjacent surface (contact_pair.c)
 	// Sleeping (island.c)
-	bool canSleep;      // fmBodyDef.enableSleep
-	bool asleep;        // not stepped until woken
-	bool wakeRequested; // touched while asleep: wakes with its island at the end of the frame
-	double sleepTimer;  // s the body has been slower than the sleep speed
-	int island;         // while asleep: the island's id (the slot of its first body)
-	fmFilter filter;    // collision filtering
+	bool canSleep;        // fmBodyDef.enableSleep
+	bool asleep;          // not stepped until woken
+	bool wakeRequested;   // touched while asleep: wakes with its island at the end of the frame
+	double sleepTimer;    // s the body has been slower than the sleep speed
+	int island;           // while asleep: the island's id (the slot of its first body)
+	fmFilter filter;      // collision filtering
 	double explicitLimit; // estimated largest stable explicit step (s), see world.c
 
 	// Kinematic targets (targets.h): vertices pulled toward caller-given positions, set by the
@@ -78,11 +78,11 @@ typedef struct fmBody
 	struct fmLoadSet* loads;
 
 	// Each stage's scratch, typed, made and freed by the stage
-	fmBodyContact contact;                 // the contact stage's (contact_body.h)
-	struct fmImplicitCache* solverCache;   // the implicit solve's (solver_cache.h), or NULL
-	fmAttachment drawCache;  // fmWorld_Draw's buffers (draw.c's fmDrawCache), or none
+	fmBodyContact contact;               // the contact stage's (contact_body.h)
+	struct fmImplicitCache* solverCache; // the implicit solve's (solver_cache.h), or NULL
+	fmAttachment drawCache;              // fmWorld_Draw's buffers (draw.c's fmDrawCache), or none
 	fmAttachment renderMesh; // fmBody_SetRenderMesh's embedded surface (render_mesh.h), or none
-	size_t memoryEstimate;           // fmEstimateBodyMemory() at creation, counted against the budget
+	size_t memoryEstimate;   // fmEstimateBodyMemory() at creation, counted against the budget
 } fmBody;
 
 // Whether a body slot holds a live body (a retired or never used slot does not).
