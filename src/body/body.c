@@ -736,6 +736,17 @@ int fmBodyCountInvertedAt(const fmBody* b, const double* x)
 	return inverted;
 }
 
+double fmBodyKineticEnergy(const fmBody* b)
+{
+	double sum = 0.0;
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+	{
+		fmVec3 v = fmLoad(b->state.v, i);
+		sum += 0.5 * b->mesh.mass[i] * fmDot(v, v);
+	}
+	return sum;
+}
+
 int fmBodyCountInverted(const fmBody* b)
 {
 	return fmBodyCountInvertedAt(b, b->state.x);

@@ -100,6 +100,9 @@ void fmBodyRelease(fmBody* body);
 // Tets with det F <= 0 at the current positions.
 int fmBodyCountInverted(const fmBody* body);
 
+// The body's kinetic energy (J), summed vertex by vertex in order.
+double fmBodyKineticEnergy(const fmBody* body);
+
 // Tets with det F <= 0 at positions @p x (3 per vertex, the body's order).
 int fmBodyCountInvertedAt(const fmBody* body, const double* x);
 

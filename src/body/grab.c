@@ -70,18 +70,6 @@ void fmGrab_Advance(fmBody* b, double fraction)
 	}
 }
 
-// The body's kinetic energy (J).
-static double fmKinetic(const fmBody* b)
-{
-	double sum = 0.0;
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
-	{
-		fmVec3 v = fmLoad(b->state.v, i);
-		sum += 0.5 * b->mesh.mass[i] * fmDot(v, v);
-	}
-	return sum;
-}
-
 bool fmGrab_NeedsAdaptiveSteps(fmBody* b)
 {
 	if (b->grab != NULL)
@@ -89,7 +77,7 @@ bool fmGrab_NeedsAdaptiveSteps(fmBody* b)
 	if (b->grabRelaxProxy <= 0.0)
 		return false;
 	if (fmStiffeningProxy(&b->mesh, b->state.x) > 1.1 * b->grabRelaxProxy ||
-	    !(fmKinetic(b) <= b->grabRelaxKinetic))
+	    !(fmBodyKineticEnergy(b) <= b->grabRelaxKinetic))
 		return true;
 	b->grabRelaxProxy = 0.0;
 	return false;
@@ -226,7 +214,7 @@ static fmResult fmBodyGrabIn(fmBody* b, fmWorld* w, fmVec3 point, const fmGrabDe
 	fmGrabStrength(g, def, mass, w->def.gravity);
 	double proxy = fmStiffeningProxy(&b->mesh, b->state.x);
 	g->proxy = b->grabRelaxProxy > 0.0 ? fmMin(b->grabRelaxProxy, proxy) : proxy;
-	double settled = 2.0 * fmKinetic(b) + 0.01 * mass * fmLength(w->def.gravity);
+	double settled = 2.0 * fmBodyKineticEnergy(b) + 0.01 * mass * fmLength(w->def.gravity);
 	g->settled = b->grabRelaxProxy > 0.0 ? fmMin(b->grabRelaxKinetic, settled) : settled;
 	g->anchor = g->from = g->goal = point;
 	bool made = fmMakeGrab(b, weight, fmPatchShares(b, point, radius, weight), g);

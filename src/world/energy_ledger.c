@@ -18,7 +18,7 @@
 double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain, int* inverted,
                     const fmEnergyPass* pass)
 {
-	double kinetic = 0.0, shadow = 0.0, elastic;
+	double shadow = 0.0, elastic;
 	if (inverted != NULL)
 		*inverted = -1;
 	if (shadowStep > 0.0)
@@ -41,11 +41,7 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 	}
 	else
 		elastic = fmSolverCache_Energy(&b->mesh, b->solverCache, b->state.x, pass->tasks, pass->arena);
-	for (int i = 0; i < b->mesh.vertexCount; ++i)
-	{
-		fmVec3 v = fmLoad(b->state.v, i);
-		kinetic += 0.5 * b->mesh.mass[i] * fmDot(v, v);
-	}
+	double kinetic = fmBodyKineticEnergy(b);
 	if (plain)
 		*plain = kinetic + elastic;
 	return kinetic + elastic + 0.5 * shadowStep * shadow;
