@@ -81,9 +81,9 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 	{
 		const int* n = b->mesh.tets + 4 * t;
 		fmVec3 X0 = fmLoad(b->mesh.x0, n[0]);
-		fmMat3 Dm =
-		    fmMat3FromColumns(fmSub(fmLoad(b->mesh.x0, n[1]), X0), fmSub(fmLoad(b->mesh.x0, n[2]), X0),
-		                      fmSub(fmLoad(b->mesh.x0, n[3]), X0));
+		fmMat3 Dm = fmMat3FromColumns(fmSub(fmLoad(b->mesh.x0, n[1]), X0),
+		                              fmSub(fmLoad(b->mesh.x0, n[2]), X0),
+		                              fmSub(fmLoad(b->mesh.x0, n[3]), X0));
 		double volume = fmDet(&Dm) / 6.0;
 		if (!(volume > 0.0) || !fmInverse(&Dm, &b->mesh.DmInv[t]))
 			return fmDiagError(diag, fm_errDegenerate, "", 0, 0,
@@ -117,7 +117,8 @@ static fmResult fmBodyPrecomputeWith(fmBody* b, const fmBodyDef* def, const fmTe
 	// Density times a tiny volume can underflow to a zero mass (an infinite inverse), a huge
 	// one overflow: the integrators divide by these.
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
-		if (b->state.pinned[i] != FM_PIN_ALL && !(isfinite(b->state.invMass[i]) && b->state.invMass[i] > 0.0))
+		if (b->state.pinned[i] != FM_PIN_ALL &&
+		    !(isfinite(b->state.invMass[i]) && b->state.invMass[i] > 0.0))
 			return fmDiagError(diag, fm_errRange, "", 0, 0,
 			                   "node %d gets mass %g kg: expected a finite mass > 0 (density %g "
 			                   "kg/m^3 times its tets' volume, or the particle mass)",
@@ -164,7 +165,8 @@ static bool fmBodyReorder(fmBody* b)
 {
 	const int n = b->mesh.vertexCount, m = b->mesh.tetCount;
 	double* userX = FM_ALLOC_ARRAY(double, 3 * (size_t)n);
-	bool ok = userX != NULL && fmReorder_Compute(b->mesh.x0, n, b->mesh.tets, m, b->userTet, b->userVertex);
+	bool ok = userX != NULL &&
+	          fmReorder_Compute(b->mesh.x0, n, b->mesh.tets, m, b->userTet, b->userVertex);
 	if (ok)
 	{
 		memcpy(userX, b->mesh.x0, sizeof(double) * 3 * (size_t)n);
@@ -208,7 +210,8 @@ static bool fmBodyAssignRegions(fmBody* b, const fmBodyDef* def)
 	if (b->mesh.materials == NULL || b->mesh.tetMaterial == NULL)
 		return false;
 	b->mesh.materials[0] = def->material;
-	memcpy(b->mesh.materials + 1, def->regionMaterials, sizeof(fmMaterial) * (size_t)def->regionCount);
+	memcpy(b->mesh.materials + 1, def->regionMaterials,
+	       sizeof(fmMaterial) * (size_t)def->regionCount);
 	const fmTetMesh* mesh = def->mesh;
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
@@ -265,8 +268,9 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		memcpy(b->xGood, b->mesh.x0, n3);
 		r = fmBodyPrecompute(b, def, &mesh, diag);
 	}
-	if (r == fm_ok && (fmTetMesh_ExtractSurface(&mesh, &b->mesh.surface, &b->mesh.triangleCount) != fm_ok ||
-	                   !fmBodyUserSurface(b)))
+	if (r == fm_ok &&
+	    (fmTetMesh_ExtractSurface(&mesh, &b->mesh.surface, &b->mesh.triangleCount) != fm_ok ||
+	     !fmBodyUserSurface(b)))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory extracting the surface");
 	if (r == fm_ok)
 		for (int i = 0; i < b->mesh.vertexCount; ++i)
@@ -602,7 +606,8 @@ static void fmBodySetPinnedAxesIn(fmBodyId bodyId, int vertex, unsigned axes)
 		return;
 	vertex = b->internalVertex[vertex];
 	b->state.pinned[vertex] = (uint8_t)(axes & FM_PIN_ALL);
-	b->state.invMass[vertex] = b->state.pinned[vertex] == FM_PIN_ALL ? 0.0 : 1.0 / b->mesh.mass[vertex];
+	b->state.invMass[vertex] =
+	    b->state.pinned[vertex] == FM_PIN_ALL ? 0.0 : 1.0 / b->mesh.mass[vertex];
 	fmZeroPinnedAxes(&b->state, vertex, b->state.v + 3 * vertex);
 }
 

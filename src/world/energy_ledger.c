@@ -4,8 +4,8 @@
 #include "solver/solver_cache.h"
 
 #include "body/body.h"
-#include "fem/forces.h"
 #include "body/loads.h"
+#include "fem/forces.h"
 #include "fem/tet_blocks.h"
 
 #include <math.h>
@@ -28,8 +28,8 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		if (f == NULL)
 			return NAN;
 		const fmTetBlocks* blocks = fmTetBlocks_Used(&b->mesh, pass->simd);
-		elastic = blocks ? fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, NULL, f, pass->simd, pass->tasks,
-		                                         true, inverted, NULL)
+		elastic = blocks ? fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, NULL, f, pass->simd,
+		                                         pass->tasks, true, inverted, NULL)
 		                 : fmAddElasticForcesOn(&b->mesh, b->state.x, f, pass->tasks, pass->arena);
 		fmLoads_AddForces(b, b->state.x, f); // the loads' part of the shadow energy, as gravity's
 		for (int i = 0; i < b->mesh.vertexCount; ++i)
@@ -40,7 +40,8 @@ double fmBodyEnergy(fmBody* b, fmVec3 gravity, double shadowStep, double* plain,
 		fmArena_Release(pass->arena, mark);
 	}
 	else
-		elastic = fmSolverCache_Energy(&b->mesh, b->solverCache, b->state.x, pass->tasks, pass->arena);
+		elastic =
+		    fmSolverCache_Energy(&b->mesh, b->solverCache, b->state.x, pass->tasks, pass->arena);
 	double kinetic = fmBodyKineticEnergy(b);
 	if (plain)
 		*plain = kinetic + elastic;
@@ -64,7 +65,8 @@ static double fmLedgerFloor(const fmBody* b, fmVec3 gravity)
 	double volume = 0.0;
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 		volume += b->mesh.restVolume[t];
-	return 1e-3 * b->mesh.totalMass * fmLength(gravity) * b->mesh.restSize + 1e-6 * b->mesh.material.mu * volume;
+	return 1e-3 * b->mesh.totalMass * fmLength(gravity) * b->mesh.restSize +
+	       1e-6 * b->mesh.material.mu * volume;
 }
 
 static void fmLedgerAddWork(fmEnergyLedger* ledger, double work)
