@@ -2712,7 +2712,7 @@ static void crushSubstep(int substep, double time, void* context)
 TEST(barrier_box_crushed_to_12_percent_keeps_every_tet)
 {
 	const fmMaterialModel models[2] = {fm_neoHookean, fm_stvk};
-	// The explicit runs (14,000 audited substeps each) only outside the sanitizers.
+	// The explicit runs (7,000 to 15,000 audited substeps each) only outside the sanitizers.
 	const int runs = fmTestCount(4, 2);
 	for (int run = 0; run < runs; ++run)
 	{
