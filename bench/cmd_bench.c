@@ -8,6 +8,7 @@
 #include "bandwidth.h"
 #include "contact.h"
 #include "meshes.h"
+#include "motion.h"
 #include "options.h"
 #include "peers.h"
 #include "plot.h"
@@ -167,7 +168,10 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          FM_TOLERANCE_ACCURATE,
 	                          run->options->simd,
 	                          run->options->deterministic,
-	                          fm_solverNewton};
+	                          fm_solverNewton,
+	                          false,
+	                          0.0,
+	                          false};
 	if (!cliBenchExplicit(mesh, &settings, run->options->repeats, &row.nsPerTetStep))
 	{
 		printf("%-10s %9d %-11s %7d %12s\n", mesh->label, mesh->tets, name, workers, "failed");
@@ -176,6 +180,7 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	}
 	double bound = run->bandwidth[w] > 0.0 ? 1e9 * CLI_BYTES_PER_TET_STEP / run->bandwidth[w] : 0;
 	row.boundNs = bound;
+	row.scene = "steps";
 	printf("%-10s %9d %-11s %7d %12.1f %10.2f %7.1f%%\n", mesh->label, mesh->tets, name, workers,
 	       row.nsPerTetStep, bound, bound > 0.0 ? 100.0 * bound / row.nsPerTetStep : 0.0);
 	fflush(stdout);
@@ -210,13 +215,17 @@ static void cliBenchImplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	static const char* const integrators[2] = {"implicit game", "implicit 1e-6"};
 	const char* name = fmMaterialModelName(model);
 	cliBenchResult row = cliBenchResult_Make(mesh, integrators[t], name, workers);
+	row.scene = "rest";
 	cliBenchWorld settings = {fm_implicit,
 	                          model,
 	                          workers,
 	                          tolerances[t],
 	                          run->options->simd,
 	                          run->options->deterministic,
-	                          run->options->solver};
+	                          run->options->solver,
+	                          false,
+	                          0.0,
+	                          false};
 	if (!cliBenchImplicit(mesh, &settings, run->options->repeats, &row))
 	{
 		printf("%-10s %9d %-11s %-9s %7d %11s\n", mesh->label, mesh->tets, name, names[t], workers,
@@ -351,6 +360,8 @@ int cliBench(int argc, char** argv)
 			cliBenchImplicitRows(&run);
 		if ((o.families & (1u << cli_benchContact)) != 0)
 			cliBenchContactRows(&o, &run.report, run.folder, &run.code);
+		if ((o.families & (1u << cli_benchMotion)) != 0)
+			cliBenchMotionRows(&o, &meshes, &run.report, &run.code);
 		cliBenchPeerRows(&run, peer);
 		cliBenchPlot(&run);
 	}

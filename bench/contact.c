@@ -288,6 +288,9 @@ static bool cliContactRow(const cliContactCase* c, const cliScene* scene, int te
 	row.contactShare = t.contactShare;
 	row.broadShare = t.broadShare;
 	row.narrowShare = t.narrowShare;
+	row.scene = "contact";
+	row.p95 = t.p95;
+	row.worst = t.worst;
 	if (!cliBenchReport_Add(report, &row))
 		*code = cli_exitInput;
 	return true;

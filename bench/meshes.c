@@ -9,7 +9,7 @@
 #include <string.h>
 
 static const char* const cliBenchFamilyNames[cli_benchFamilyCount] = {"house", "box", "beam",
-                                                                      "contact"};
+                                                                      "contact", "motion"};
 
 // The sizes, each with the box's cells: about 1k, 10k, 100k and 1M tets.
 static const struct
@@ -49,7 +49,7 @@ bool cliBenchParseFamilies(const char* text, unsigned* mask)
 		{
 			cliUsageError("bench",
 			              "--meshes: unknown mesh family '%.*s' in '%s' (expected a "
-			              "comma-separated list of house, box, beam, contact)",
+			              "comma-separated list of house, box, beam, contact, motion)",
 			              (int)length, p, text);
 			return false;
 		}
@@ -128,8 +128,8 @@ bool cliBenchMeshSet_Make(unsigned mask, int maxTets, const char* folder, cliBen
 	             cliBenchCanMakeBeams(folder, tetgen, sizeof tetgen);
 	if ((mask & (1u << cli_benchHouse)) != 0 && CLI_HOUSE_TETS <= maxTets)
 	{
-		cliBenchMesh house = {"house2", cli_benchHouse, CLI_HOUSE_TETS, CLI_HOUSE_TETS, {0}, "",
-		                      ""};
+		cliBenchMesh house = {"house2", cli_benchHouse, CLI_HOUSE_TETS, CLI_HOUSE_TETS, {0}, 0.0,
+		                      "",     ""};
 		if (!cliBenchMeshSet_Add(set, &house))
 			return false;
 	}
@@ -169,6 +169,8 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 	scene.worldDef.simd = settings->simd;
 	scene.worldDef.crossPlatformDeterminism = settings->deterministic;
 	scene.worldDef.implicitSolver = settings->solver;
+	scene.worldDef.autoSubstep = settings->autoSubstep;
+	scene.worldDef.floor.enabled = !settings->noFloor;
 	cliBodySpec* body = &scene.bodies[0];
 	body->def.material = cliBenchMesh_Material(mesh, settings->model);
 	if (mesh->family != cli_benchHouse)
@@ -180,11 +182,15 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 	}
 	if (mesh->family == cli_benchBox)
 	{
-		// A 1 m cube.
+		// A 1 m cube, or a bar of cubic cells.
 		body->meshSource = cli_meshBox;
 		memcpy(body->boxCells, mesh->cells, sizeof body->boxCells);
-		body->boxMin = fmMakeVec3(-0.5, -3.0, -0.5);
-		body->boxMax = fmMakeVec3(0.5, -2.0, 0.5);
+		double cell = mesh->length / mesh->cells[0];
+		fmVec3 size = mesh->length > 0.0 ? fmMakeVec3(mesh->length, cell * mesh->cells[1],
+		                                              cell * mesh->cells[2])
+		                                 : fmMakeVec3(1.0, 1.0, 1.0);
+		body->boxMin = fmMakeVec3(-0.5 * size.x, -3.0 + settings->lift, -0.5 * size.z);
+		body->boxMax = fmMakeVec3(0.5 * size.x, -3.0 + settings->lift + size.y, 0.5 * size.z);
 	}
 	else if (mesh->family == cli_benchBeam)
 	{
@@ -192,7 +198,7 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 		body->meshSource = cli_meshFile;
 		snprintf(body->nodePath, sizeof body->nodePath, "%s", mesh->nodePath);
 		snprintf(body->elePath, sizeof body->elePath, "%s", mesh->elePath);
-		body->transform.translate = fmMakeVec3(0.0, -3.0, 0.0);
+		body->transform.translate = fmMakeVec3(0.0, -3.0 + settings->lift, 0.0);
 	}
 	bool ok = cliSimulation_Create(&scene, cli_stepCheckOff, sim);
 	cliScene_Free(&scene);

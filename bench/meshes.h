@@ -16,6 +16,9 @@ typedef enum cliBenchFamily
 	/// the contact scenes: ten houses piled, a 100k box on a mesh ground (contact.h); no mesh of
 	/// the set, rows of their own
 	cli_benchContact,
+	/// the scenes in motion (motion.h): a drop, a clamped swing, a drag and the seeds' jump on
+	/// the house and on bars of the boxes' sizes; rows of their own
+	cli_benchMotion,
 	cli_benchFamilyCount
 } cliBenchFamily;
 
@@ -30,6 +33,7 @@ typedef struct cliBenchMesh
 	int nominal;                 ///< the size it is chosen by (--max-tets): 1389, 1000, 10000, ...
 	int tets;                    ///< the actual tet count
 	int cells[3];                ///< cli_benchBox: cells along x, y, z
+	double length; ///< cli_benchBox: m along x, cells cubic (0: a 1 m cube of cells[] cells)
 	char nodePath[CLI_MAX_PATH]; ///< cli_benchBeam: tetgen's .node
 	char elePath[CLI_MAX_PATH];  ///< cli_benchBeam: tetgen's .ele
 } cliBenchMesh;
@@ -72,9 +76,13 @@ typedef struct cliBenchWorld
 	fmSimdLevel simd;        ///< --simd (default fm_simdAuto)
 	bool deterministic;      ///< --deterministic: fmWorldDef.crossPlatformDeterminism
 	fmImplicitSolver solver; ///< --implicit-solver
+	bool autoSubstep;        ///< explicit: substeps from the stability limit
+	double lift;             ///< m the body starts above its resting place (boxes and beams)
+	bool noFloor;            ///< no floor at all
 } cliBenchWorld;
 
 /// A world with the mesh as its one body resting on (or, the house, falling to) the stick floor
-/// at y = -3: the house as the demo (1 kg a vertex), boxes and beams at 1000 kg/m^3.
+/// at y = -3 (@p settings->lift above it): the house as the demo (1 kg a vertex), boxes and beams
+/// at 1000 kg/m^3.
 bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
                         cliSimulation* sim);

@@ -154,7 +154,7 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	          cliJoinPath(ele, sizeof ele, folder, "peer.ele") &&
 	          cliBenchMesh_World(mesh,
 	                             &(cliBenchWorld){fm_implicit, fm_neoHookean, 1, FM_TOLERANCE_GAME,
-	                                              fm_simdAuto, false, fm_solverNewton},
+	                                              fm_simdAuto, false, fm_solverNewton, false, 0.0, false},
 	                             &sim);
 	if (ok)
 	{
@@ -185,6 +185,7 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	cliBenchResult row = cliBenchResult_Make(
 	    mesh, result.blewUp ? "bullet implicit (blew up)" : "bullet implicit", model, 1);
 	row.msPerFrame = result.msPerFrame;
+	row.scene = "rest";
 	return cliBenchReport_Add(report, &row);
 }
 

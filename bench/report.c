@@ -21,6 +21,8 @@ cliBenchResult cliBenchResult_Make(const cliBenchMesh* mesh, const char* integra
 	row.workers = workers;
 	row.nsPerTetStep = row.msPerFrame = row.newtonPerFrame = row.cgPerFrame = row.boundNs = NAN;
 	row.contacts = row.contactShare = row.broadShare = row.narrowShare = NAN;
+	row.scene = "";
+	row.p95 = row.worst = row.newtonWorst = row.cgWorst = row.accuracy = NAN;
 	return row;
 }
 
@@ -74,6 +76,12 @@ bool cliBenchReport_Add(cliBenchReport* report, const cliBenchResult* row)
 		cliBenchCsvNumber(report->csv, row->contactShare, 4);
 		cliBenchCsvNumber(report->csv, row->broadShare, 4);
 		cliBenchCsvNumber(report->csv, row->narrowShare, 4);
+		fprintf(report->csv, ",%s", row->scene);
+		cliBenchCsvNumber(report->csv, row->p95, 3);
+		cliBenchCsvNumber(report->csv, row->worst, 3);
+		cliBenchCsvNumber(report->csv, row->newtonWorst, 0);
+		cliBenchCsvNumber(report->csv, row->cgWorst, 0);
+		cliBenchCsvNumber(report->csv, row->accuracy, 5);
 		fputc('\n', report->csv);
 	}
 	return true;

@@ -10,7 +10,7 @@
 #define CLI_BENCH_CSV_HEADER                                                                       \
 	"mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,"            \
 	"cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,"                 \
-	"narrow_phase_share"
+	"narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy"
 
 /// One case; NAN in a number that does not apply (written as an empty field).
 typedef struct cliBenchResult
@@ -30,6 +30,12 @@ typedef struct cliBenchResult
 	double contactShare;   ///< contact rows: of the step time, the contact stage (0 to 1)
 	double broadShare;     ///< contact rows: its broad phase
 	double narrowShare;    ///< contact rows: its narrow phase
+	const char* scene;     ///< "steps", "rest", "contact", or the motion scene ("all": pooled)
+	double p95;            ///< ms, the 95th percentile frame (contact and motion rows)
+	double worst;          ///< ms, the slowest frame (contact and motion rows)
+	double newtonWorst;    ///< motion rows, implicit: Newton iterations of the slowest frame
+	double cgWorst;        ///< motion rows, implicit: CG iterations of the slowest frame
+	double accuracy;       ///< motion rows, implicit game: distance from the 1e-6 path / size
 } cliBenchResult;
 
 /// A result with every number NAN.
