@@ -315,9 +315,9 @@ static cliBenchWorld cliMotionSettings(const cliBenchOptions* o, const cliBenchM
 
 // A row: @p count frames' times (sorted here), their Newton and CG counts (@p newton, @p cg;
 // explicit: the substeps, and zeros), the accuracy (NAN: none). Printed and added to the report.
-static bool cliMotionRow(const cliBenchMesh* mesh, const cliBenchWorld* settings,
-                         const char* scene, double* ms, const int* newton, const int* cg,
-                         int count, double accuracy, cliBenchReport* report)
+static bool cliMotionRow(const cliBenchMesh* mesh, const cliBenchWorld* settings, const char* scene,
+                         double* ms, const int* newton, const int* cg, int count, double accuracy,
+                         cliBenchReport* report)
 {
 	bool implicit = settings->integrator == fm_implicit;
 	// The slowest frame's counts, found before the times are sorted.
@@ -330,9 +330,9 @@ static bool cliMotionRow(const cliBenchMesh* mesh, const cliBenchWorld* settings
 		newtonSum += newton[f];
 		cgSum += cg[f];
 	}
-	cliBenchResult row = cliBenchResult_Make(mesh, implicit ? "implicit game" : "explicit",
-	                                         fmMaterialModelName(settings->model),
-	                                         settings->workers);
+	cliBenchResult row =
+	    cliBenchResult_Make(mesh, implicit ? "implicit game" : "explicit",
+	                        fmMaterialModelName(settings->model), settings->workers);
 	row.scene = scene;
 	if (implicit)
 	{
@@ -351,9 +351,9 @@ static bool cliMotionRow(const cliBenchMesh* mesh, const cliBenchWorld* settings
 		snprintf(counts, sizeof counts, "(%.1f substeps a frame)", newtonSum / count);
 	if (!isnan(accuracy))
 		snprintf(far, sizeof far, "%.3f%%", 100.0 * accuracy);
-	printf("%-6s %-9s %7d %-10s %-13s %7d %8.3f %8.3f %8.3f %6.2f %-27s %9s\n", scene,
-	       mesh->label, mesh->tets, row.model, row.integrator, row.workers, row.msPerFrame,
-	       row.p95, row.worst, row.worst / row.msPerFrame, counts, far);
+	printf("%-6s %-9s %7d %-10s %-13s %7d %8.3f %8.3f %8.3f %6.2f %-27s %9s\n", scene, mesh->label,
+	       mesh->tets, row.model, row.integrator, row.workers, row.msPerFrame, row.p95, row.worst,
+	       row.worst / row.msPerFrame, counts, far);
 	fflush(stdout);
 	return cliBenchReport_Add(report, &row);
 }
@@ -431,8 +431,7 @@ static bool cliMotionCaseRows(const cliBenchOptions* o, const cliBenchMesh* mesh
 		{
 			printf("%-6s %-9s %7d %-10s %-13s %7d refused: %s\n", cliMotionSceneNames[s],
 			       mesh->label, mesh->tets, fmMaterialModelName(settings.model),
-			       c->integrator == fm_implicit ? "implicit game" : "explicit", c->workers,
-			       t->why);
+			       c->integrator == fm_implicit ? "implicit game" : "explicit", c->workers, t->why);
 			*code = cli_exitInput;
 			continue;
 		}
@@ -489,14 +488,15 @@ void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
 	int most = o->quick ? CLI_MOTION_QUICK_MAX_TETS : CLI_MOTION_MAX_TETS;
 	most = o->maxTets < most ? o->maxTets : most;
 	printf("in motion: %d frames of 1/60 s a scene (drop, swing, drag; the house also jumps), "
-	       "each frame its fastest of %d interleaved repeats (the first frame, the world's setup, not counted); explicit with autoSubstep, "
+	       "each frame its fastest of %d interleaved repeats (the first frame, the world's setup, "
+	       "not counted); explicit with autoSubstep, "
 	       "implicit at the game tolerance; accuracy: the game path's largest distance from the "
 	       "1e-6 path (centre of mass or tip, until their contact events differ), of the body's "
 	       "size\n",
 	       CLI_MOTION_FRAMES, o->repeats);
-	printf("%-6s %-9s %7s %-10s %-13s %7s %8s %8s %8s %6s %6s %7s %5s %6s %9s\n", "scene",
-	       "mesh", "tets", "model", "integrator", "workers", "median", "p95", "worst", "w/med",
-	       "Newton", "CG", "N@w", "CG@w", "accuracy");
+	printf("%-6s %-9s %7s %-10s %-13s %7s %8s %8s %8s %6s %6s %7s %5s %6s %9s\n", "scene", "mesh",
+	       "tets", "model", "integrator", "workers", "median", "p95", "worst", "w/med", "Newton",
+	       "CG", "N@w", "CG@w", "accuracy");
 	if (cliMotionWants(o, cli_benchHouse) && 1389 <= most)
 	{
 		cliBenchMesh house = {"house2", cli_benchHouse, 1389, 1389, {0}, 0.0, "", ""};

@@ -645,7 +645,7 @@ void fmBarrierScratch_Free(fmBarrierScratch* s)
 	FM_FREE_ARRAY(s->ownUpper, fmVec3, s->ownCapacity);
 	for (int kind = 0; kind < 3; ++kind)
 		fmSpatialHash_Free(&s->otherHash[kind]);
-	FM_FREE_ARRAY(s->meets, bool, s->meetsCapacity);
+	FM_FREE_ARRAY(s->meets, int, s->meetsCapacity);
 	FM_FREE_ARRAY(s->sides, uint32_t, s->sidesCapacity);
 	fmSpatialHash_Free(&s->ownHash);
 	fmHashQuery_Free(&s->query);

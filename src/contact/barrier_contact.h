@@ -95,7 +95,8 @@ typedef struct fmBarrierScratch
 	fmVec3 othersLower[3][FM_BARRIER_NEAR_BOXES], othersUpper[3][FM_BARRIER_NEAR_BOXES];
 	int othersBoxes[3];
 	fmSpatialHash otherHash[3];
-	bool* meets; // per body slot: its surface is within reach
+	int* meets; // the slots of the bodies whose surfaces are within reach, ascending
+	int meetCount;
 	int meetsCapacity;
 	uint32_t* sides; // per vertex of the solved body: the sides of the others' boxes it lies past
 	int sidesCapacity;

@@ -148,21 +148,18 @@ static bool fmPrimitivePast(const fmBarrierScratch* s, const fmBody* b, const fm
 
 // The other bodies' primitives of one kind whose boxes (grown by dHat) meet [lo, hi], after the
 // scratch's others, hashed, with the box around each body's ones.
-static bool fmGatherKind(fmBarrierContact* bc, int kind, const bool* meets, fmVec3 lo, fmVec3 hi)
+static bool fmGatherKind(fmBarrierContact* bc, int kind, fmVec3 lo, fmVec3 hi)
 {
 	const fmWorld* w = bc->world;
 	fmBarrierScratch* s = bc->scratch;
 	const int start = s->otherCount;
 	s->kindStart[kind] = start;
-	for (int o = 0; o < w->bodyCapacity; ++o)
+	for (int m = 0; m < s->meetCount; ++m)
 	{
+		const int o = s->meets[m];
 		const fmBody* other = &w->bodies[o];
-		if (!meets[o] || !fmNoteSides(s, other, other->state.x, bc->dHat, &lo, &hi, 1))
-		{
-			if (meets[o])
-				return false;
-			continue;
-		}
+		if (!fmNoteSides(s, other, other->state.x, bc->dHat, &lo, &hi, 1))
+			return false;
 		for (int k = 0; k < fmPrimitiveCount(other, kind); ++k)
 		{
 			fmBarrierPrimitive p = {o, k, kind};
@@ -204,13 +201,24 @@ bool fmBarrierPairs_GatherOthers(fmBarrierContact* bc, fmVec3 lo, fmVec3 hi)
 {
 	const fmWorld* w = bc->world;
 	fmBarrierScratch* s = bc->scratch;
-	if (!fmGrowArray((void**)&s->meets, &s->meetsCapacity, 0, w->bodyCapacity, sizeof(bool)))
+	if (!fmGrowArray((void**)&s->meets, &s->meetsCapacity, 0, w->bodyCapacity, sizeof(int)))
 		return false;
-	for (int o = 0; o < w->bodyCapacity; ++o)
-		s->meets[o] = fmMayMeet(bc, o, lo, hi);
+	// The schedule's list of the bodies the gather can meet (schedule.h), else every body.
+	const fmSchedule* schedule = &w->schedule;
+	const fmBodySweep* near = &schedule->gather;
+	const bool listed = schedule->gatherKnown;
+	const int count =
+	    listed ? near->listStart[bc->slot + 1] - near->listStart[bc->slot] : w->bodyCapacity;
+	s->meetCount = 0;
+	for (int n = 0; n < count; ++n)
+	{
+		int o = listed ? near->list[near->listStart[bc->slot] + n] : n;
+		if (fmMayMeet(bc, o, lo, hi))
+			s->meets[s->meetCount++] = o;
+	}
 	s->otherCount = 0;
 	for (int kind = 0; kind < 3; ++kind)
-		if (!fmGatherKind(bc, kind, s->meets, lo, hi))
+		if (!fmGatherKind(bc, kind, lo, hi))
 			return false;
 	s->kindStart[3] = s->otherCount;
 	return true;

@@ -69,6 +69,8 @@ fmResult fmContactDef_Validate(const fmContactDef* def, fmDiagnostic* diag)
 
 double fmContact_Thickness(const fmWorld* w)
 {
+	if (w->stepKnown)
+		return w->stepThickness;
 	if (w->def.contact.thickness > 0.0)
 		return w->def.contact.thickness;
 	double smallest = INFINITY;
@@ -97,6 +99,8 @@ bool fmContact_HasColliders(const fmWorld* w)
 // Whether surfaces of bodies can meet: two or more bodies, or one that collides with itself.
 bool fmContact_BodiesMeet(const fmWorld* w)
 {
+	if (w->stepKnown)
+		return w->stepBodiesMeet;
 	if (!w->def.contact.bodies)
 		return false;
 	if (fmLiveBodies(w) >= 2)

@@ -15,14 +15,14 @@
 #include "world/world.h"
 
 // The thickness contact keeps (m): fmContactDef.thickness, or 1% of the smallest body's
-// bounding-box diagonal.
+// bounding-box diagonal. Within a step, the value its start found (world.h: stepKnown).
 double fmContact_Thickness(const fmWorld* world);
 
 // Whether the world has a collider in use.
 bool fmContact_HasColliders(const fmWorld* world);
 
 // Whether surfaces of bodies can meet: two or more bodies with contact between bodies on, or
-// one that collides with itself.
+// one that collides with itself. Within a step, what its start found.
 bool fmContact_BodiesMeet(const fmWorld* world);
 
 // Whether the world has anything for the contact stage to do (colliders, or body-body contact

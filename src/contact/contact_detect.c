@@ -39,26 +39,78 @@ bool fmContactDetect_NearOtherBody(const fmWorld* w, const fmContactState* s, in
 	return false;
 }
 
-// Each body's neighbours (fmContactState.neighbour), and whether it has any (bodyNear). False
-// when memory is short.
-static bool fmFindNeighbours(const fmWorld* w, fmContactState* s)
+// Whether body @p k is a neighbour of body @p slot (their boxes meeting): live, itself only when
+// it collides with itself, and with filters that meet.
+static bool fmIsNeighbour(const fmWorld* w, int slot, int k)
+{
+	const fmBody* b = &w->bodies[slot];
+	const fmBody* o = &w->bodies[k];
+	return fmBody_IsLive(o) && (k != slot || b->selfCollision) &&
+	       fmFiltersMeet(b->filter, o->filter);
+}
+
+// Append neighbour @p k to the list being made; false when memory is short.
+static bool fmAddNeighbour(fmContactState* s, int* count, int k)
+{
+	if (!fmGrowArray((void**)&s->neighbour, &s->neighbourCapacity, *count, *count + 1, sizeof(int)))
+		return false;
+	s->neighbour[(*count)++] = k;
+	return true;
+}
+
+// Each body's neighbours by testing every pair: for boxes a sweep cannot order (a body gone
+// non-finite, whose box meets everything).
+static bool fmFindNeighboursAll(const fmWorld* w, fmContactState* s)
 {
 	int count = 0;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
-		const fmBody* b = &w->bodies[slot];
 		s->neighbourStart[slot] = count;
-		for (int k = 0; fmBody_IsLive(b) && k < w->bodyCapacity; ++k)
-		{
-			const fmBody* o = &w->bodies[k];
-			if (!fmBody_IsLive(o) || (k == slot && !b->selfCollision) ||
-			    !fmFiltersMeet(b->filter, o->filter) ||
-			    !fmBoxMeetsBody(s, k, s->bodyLower[slot], s->bodyUpper[slot]))
-				continue;
-			if (!fmGrowArray((void**)&s->neighbour, &s->neighbourCapacity, count, count + 1,
-			                 sizeof(int)))
+		for (int k = 0; fmBody_IsLive(&w->bodies[slot]) && k < w->bodyCapacity; ++k)
+			if (fmIsNeighbour(w, slot, k) &&
+			    fmBoxMeetsBody(s, k, s->bodyLower[slot], s->bodyUpper[slot]) &&
+			    !fmAddNeighbour(s, &count, k))
 				return false;
-			s->neighbour[count++] = k;
+		s->bodyNear[slot] = count > s->neighbourStart[slot];
+	}
+	s->neighbourStart[w->bodyCapacity] = count;
+	return true;
+}
+
+// Each body's neighbours (fmContactState.neighbour), and whether it has any (bodyNear): the
+// pairs of boxes that meet by a sweep (body_sweep.h), then each body's list in slot order, its
+// own slot among them when it collides with itself. The same lists as testing every pair.
+// False when memory is short.
+static bool fmFindNeighbours(const fmWorld* w, fmContactState* s)
+{
+	int live = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		if (!fmBody_IsLive(&w->bodies[slot]))
+			continue;
+		if (!fmBodySweep_Sweepable(s->bodyLower[slot], s->bodyUpper[slot]))
+			return fmFindNeighboursAll(w, s);
+		s->live[live++] = slot;
+	}
+	fmBodySweep* sweep = &s->sweep;
+	if (!fmBodySweep_Pairs(sweep, s->live, live, s->bodyLower, s->bodyUpper) ||
+	    !fmBodySweep_Lists(sweep, w->bodyCapacity))
+		return false;
+	int count = 0;
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		s->neighbourStart[slot] = count;
+		bool self = fmBody_IsLive(&w->bodies[slot]) && w->bodies[slot].selfCollision &&
+		            fmBoxMeetsBody(s, slot, s->bodyLower[slot], s->bodyUpper[slot]);
+		for (int n = sweep->listStart[slot]; n <= sweep->listStart[slot + 1]; ++n)
+		{
+			// The own slot goes where slot order puts it, before the first higher one.
+			int k = n < sweep->listStart[slot + 1] ? sweep->list[n] : w->bodyCapacity;
+			if (self && k > slot && !fmAddNeighbour(s, &count, slot))
+				return false;
+			self = self && k < slot;
+			if (k < w->bodyCapacity && fmIsNeighbour(w, slot, k) && !fmAddNeighbour(s, &count, k))
+				return false;
 		}
 		s->bodyNear[slot] = count > s->neighbourStart[slot];
 	}

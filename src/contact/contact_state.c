@@ -41,6 +41,8 @@ void fmContactState_Free(fmContactState* s)
 	FM_FREE_ARRAY(s->bodySpeed, double, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->neighbourStart, int, s->bodyBoxCapacity + 1);
 	FM_FREE_ARRAY(s->neighbour, int, s->neighbourCapacity);
+	fmBodySweep_Free(&s->sweep);
+	FM_FREE_ARRAY(s->live, int, s->bodyBoxCapacity);
 	FM_FREE_ARRAY(s->pairContacts, fmPairContact, s->pairContactCapacity);
 	FM_FREE_ARRAY(s->edgeContacts, fmEdgeContact, s->edgeContactCapacity);
 	FM_FREE_ARRAY(s->points, fmContactPoint, s->pointCapacity);
@@ -63,19 +65,22 @@ bool fmContactState_ReserveBodyBoxes(const fmWorld* w, fmContactState* s)
 	FM_FREE_ARRAY(s->bodyNear, bool, old);
 	FM_FREE_ARRAY(s->bodySpeed, double, old);
 	FM_FREE_ARRAY(s->neighbourStart, int, old + 1);
+	FM_FREE_ARRAY(s->live, int, old);
 	s->bodyLower = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
 	s->bodyUpper = FM_ALLOC_ARRAY(fmVec3, w->bodyCapacity);
 	s->bodyNear = FM_ALLOC_ARRAY(bool, w->bodyCapacity);
 	s->bodySpeed = FM_ALLOC_ARRAY(double, w->bodyCapacity);
 	s->neighbourStart = FM_ALLOC_ARRAY(int, w->bodyCapacity + 1);
+	s->live = FM_ALLOC_ARRAY(int, w->bodyCapacity);
 	s->bodyBoxCapacity = w->bodyCapacity;
-	if (s->bodyLower && s->bodyUpper && s->bodyNear && s->bodySpeed && s->neighbourStart)
+	if (s->bodyLower && s->bodyUpper && s->bodyNear && s->bodySpeed && s->neighbourStart && s->live)
 		return true;
 	FM_FREE_ARRAY(s->bodyLower, fmVec3, w->bodyCapacity);
 	FM_FREE_ARRAY(s->bodyUpper, fmVec3, w->bodyCapacity);
 	FM_FREE_ARRAY(s->bodyNear, bool, w->bodyCapacity);
 	FM_FREE_ARRAY(s->bodySpeed, double, w->bodyCapacity);
 	FM_FREE_ARRAY(s->neighbourStart, int, w->bodyCapacity + 1);
+	FM_FREE_ARRAY(s->live, int, w->bodyCapacity);
 	s->bodyBoxCapacity = 0;
 	return false;
 }

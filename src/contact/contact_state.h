@@ -9,6 +9,7 @@
 #pragma once
 
 #include "contact/barrier_contact.h"
+#include "contact/body_sweep.h"
 #include "contact/broad_phase.h"
 #include "contact/embedded.h"
 #include "world/world.h"
@@ -108,6 +109,8 @@ typedef struct fmContactState
 	int* neighbourStart; // bodyBoxCapacity + 1
 	int* neighbour;
 	int neighbourCapacity;
+	fmBodySweep sweep; // the pairs of body boxes that overlap (body_sweep.h)
+	int* live;         // bodyBoxCapacity: the live slots, ascending (the sweep's input)
 	int triangleCount; // the triangles in the hash (those of bodies near another)
 	fmPairContact* pairContacts;
 	int pairContactCount;

@@ -25,6 +25,10 @@ void fmSchedule_Free(fmSchedule* s)
 	FM_FREE_ARRAY(s->sorted, fmScheduleKey, n);
 	FM_FREE_ARRAY(s->stamp, int, n);
 	FM_FREE_ARRAY(s->pairs, int, s->pairCapacity);
+	FM_FREE_ARRAY(s->gatherLo, fmVec3, n);
+	FM_FREE_ARRAY(s->gatherHi, fmVec3, n);
+	FM_FREE_ARRAY(s->live, int, n);
+	fmBodySweep_Free(&s->gather);
 	memset(s, 0, sizeof *s);
 }
 
@@ -44,9 +48,12 @@ static bool fmScheduleReserve(fmSchedule* s, int slots)
 	s->nearHi = FM_ALLOC_ARRAY(fmVec3, n);
 	s->sorted = FM_ALLOC_ARRAY(fmScheduleKey, n);
 	s->stamp = FM_ALLOC_ARRAY(int, n);
+	s->gatherLo = FM_ALLOC_ARRAY(fmVec3, n);
+	s->gatherHi = FM_ALLOC_ARRAY(fmVec3, n);
+	s->live = FM_ALLOC_ARRAY(int, n);
 	s->capacity = slots;
 	if (s->order && s->groupStart && s->colour && s->stepLo && s->stepHi && s->nearLo &&
-	    s->nearHi && s->sorted && s->stamp)
+	    s->nearHi && s->sorted && s->stamp && s->gatherLo && s->gatherHi && s->live)
 		return true;
 	fmSchedule_Free(s);
 	return false;
@@ -201,10 +208,41 @@ static void fmGroups(fmSchedule* s, const fmWorld* w, int colours)
 	s->groupCount = colours;
 }
 
+// The gather lists (schedule.h): each live body's box of the substep, a stepping one's near box
+// (its step box and its surface's box: every surface box it notes in the substep lies in it),
+// any other's surface box, grown by the gap as the gather grows the surfaces it tests; the pairs
+// that meet by a sweep. A body whose box a sweep cannot order (non-finite, or a step box without
+// bounds: moving loads) leaves the gathers to test every body.
+static bool fmGatherLists(fmSchedule* s, const fmWorld* w)
+{
+	double gap = fmContact_Thickness(w);
+	fmVec3 g = fmMakeVec3(gap, gap, gap);
+	int live = 0;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		const fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b))
+			continue;
+		fmVec3 lo = s->colour[i] >= 0 ? s->nearLo[i] : b->contact.surfaceLower;
+		fmVec3 hi = s->colour[i] >= 0 ? s->nearHi[i] : b->contact.surfaceUpper;
+		s->gatherLo[i] = fmSub(lo, g);
+		s->gatherHi[i] = fmAdd(hi, g);
+		if (!fmBodySweep_Sweepable(s->gatherLo[i], s->gatherHi[i]))
+			return true;
+		s->live[live++] = i;
+	}
+	if (!fmBodySweep_Pairs(&s->gather, s->live, live, s->gatherLo, s->gatherHi) ||
+	    !fmBodySweep_Lists(&s->gather, w->bodyCapacity))
+		return false;
+	s->gatherKnown = true;
+	return true;
+}
+
 bool fmSchedule_Build(fmSchedule* s, const fmWorld* w, double inertia, bool barrier)
 {
 	if (!fmScheduleReserve(s, w->bodyCapacity > 0 ? w->bodyCapacity : 1))
 		return false;
+	s->gatherKnown = false;
 	int count = fmSteppingSlots(s, w);
 	if (!barrier || count < 2)
 	{
@@ -219,5 +257,5 @@ bool fmSchedule_Build(fmSchedule* s, const fmWorld* w, double inertia, bool barr
 	if (!fmFindPairs(s, w, count))
 		return false;
 	fmGroups(s, w, fmColour(s, w));
-	return true;
+	return fmGatherLists(s, w);
 }

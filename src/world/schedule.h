@@ -7,6 +7,8 @@
 // every other substep has one group of all its bodies, which never read each other's state.
 #pragma once
 
+#include "contact/body_sweep.h"
+
 #include <femto/fm_math.h>
 
 #include <stdbool.h>
@@ -36,6 +38,15 @@ typedef struct fmSchedule
 	int* pairs;            // the pairs of slots that may meet, two entries each
 	int pairCount, pairCapacity;
 	int* stamp;   // per group: the last slot a neighbour of which took it
+	// With the barrier (gatherKnown): per stepping slot, the live bodies whose surfaces its
+	// barrier's gather (fmBarrierPairs_GatherOthers) can meet in the substep, a superset found by
+	// a sweep over each live body's box of the substep (gatherLo, gatherHi: a stepping body's
+	// near box, any other's surface box, grown by the gap), in gather.list.
+	bool gatherKnown;
+	fmBodySweep gather;
+	fmVec3* gatherLo;
+	fmVec3* gatherHi;
+	int* live;    // the live slots, ascending
 	int capacity; // slots the per-slot arrays hold
 } fmSchedule;
 

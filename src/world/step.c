@@ -813,7 +813,12 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	fmFpEnv env = fmFpEnv_Enter(w->def.crossPlatformDeterminism);
 	double start = fmSeconds();
 	memset(&w->profile, 0, sizeof w->profile);
+	w->stepKnown = false;
+	w->stepThickness = fmContact_Thickness(w);
+	w->stepBodiesMeet = fmContact_BodiesMeet(w);
+	w->stepKnown = true;
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
+	w->stepKnown = false;
 	w->profile.step = 1e3 * (fmSeconds() - start);
 	w->profile.narrowPhase = fmMax(0.0, w->profile.contact - w->profile.broadPhase);
 	fmFpEnv_Leave(&env);

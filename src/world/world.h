@@ -51,6 +51,11 @@ typedef struct fmWorld
 	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
 	double contactStep;                  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
+	// Within fmWorld_Step (stepKnown): what no stage of a step changes and every body's step
+	// asks, each an O(bodies) loop (fmContact_Thickness, fmContact_BodiesMeet).
+	bool stepKnown;
+	double stepThickness;
+	bool stepBodiesMeet;
 	float* drawPoints;   // fmWorld_Draw's buffer: a contact's point, then its line
 	                     // (FM_DRAW_CONTACT_FLOATS)
 	int drawPointCapacity;
