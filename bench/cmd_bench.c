@@ -13,6 +13,7 @@
 #include "peers.h"
 #include "plot.h"
 #include "report.h"
+#include "startup.h"
 #include "tools.h"
 
 #include <math.h>
@@ -171,7 +172,8 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          fm_solverNewton,
 	                          false,
 	                          0.0,
-	                          false};
+	                          false,
+	                          0};
 	if (!cliBenchExplicit(mesh, &settings, run->options->repeats, &row.nsPerTetStep))
 	{
 		printf("%-10s %9d %-11s %7d %12s\n", mesh->label, mesh->tets, name, workers, "failed");
@@ -225,7 +227,8 @@ static void cliBenchImplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          run->options->solver,
 	                          false,
 	                          0.0,
-	                          false};
+	                          false,
+	                          0};
 	if (!cliBenchImplicit(mesh, &settings, run->options->repeats, &row))
 	{
 		printf("%-10s %9d %-11s %-9s %7d %11s\n", mesh->label, mesh->tets, name, names[t], workers,
@@ -361,7 +364,13 @@ int cliBench(int argc, char** argv)
 		if ((o.families & (1u << cli_benchContact)) != 0)
 			cliBenchContactRows(&o, &run.report, run.folder, &run.code);
 		if ((o.families & (1u << cli_benchMotion)) != 0)
+		{
 			cliBenchMotionRows(&o, &meshes, &run.report, &run.code);
+			if (o.implicitFrames)
+				cliBenchPropsRows(&o, &run.report, &run.code);
+		}
+		if ((o.families & (1u << cli_benchStartup)) != 0 && o.implicitFrames)
+			cliBenchStartupRows(&o, run.folder, &run.report, &run.code);
 		cliBenchPeerRows(&run, peer);
 		cliBenchPlot(&run);
 	}

@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char* const cliBenchFamilyNames[cli_benchFamilyCount] = {"house", "box", "beam",
-                                                                      "contact", "motion"};
+static const char* const cliBenchFamilyNames[cli_benchFamilyCount] = {
+    "house", "box", "beam", "contact", "motion", "startup"};
 
 // The sizes, each with the box's cells: about 1k, 10k, 100k and 1M tets.
 static const struct
@@ -49,7 +49,7 @@ bool cliBenchParseFamilies(const char* text, unsigned* mask)
 		{
 			cliUsageError("bench",
 			              "--meshes: unknown mesh family '%.*s' in '%s' (expected a "
-			              "comma-separated list of house, box, beam, contact, motion)",
+			              "comma-separated list of house, box, beam, contact, motion, startup)",
 			              (int)length, p, text);
 			return false;
 		}
@@ -171,6 +171,8 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 	scene.worldDef.implicitSolver = settings->solver;
 	scene.worldDef.autoSubstep = settings->autoSubstep;
 	scene.worldDef.floor.enabled = !settings->noFloor;
+	if (settings->newtonIterations > 0)
+		scene.worldDef.newtonIterations = settings->newtonIterations;
 	cliBodySpec* body = &scene.bodies[0];
 	body->def.material = cliBenchMesh_Material(mesh, settings->model);
 	if (mesh->family != cli_benchHouse)

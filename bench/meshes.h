@@ -19,6 +19,8 @@ typedef enum cliBenchFamily
 	/// the scenes in motion (motion.h): a drop, a clamped swing, a drag and the seeds' jump on
 	/// the house and on bars of the boxes' sizes; rows of their own
 	cli_benchMotion,
+	/// the start-up rows (startup.h): a TetGen file to a first implicit step
+	cli_benchStartup,
 	cli_benchFamilyCount
 } cliBenchFamily;
 
@@ -79,6 +81,7 @@ typedef struct cliBenchWorld
 	bool autoSubstep;        ///< explicit: substeps from the stability limit
 	double lift;             ///< m the body starts above its resting place (boxes and beams)
 	bool noFloor;            ///< no floor at all
+	int newtonIterations;    ///< implicit: a step's most (0: the default)
 } cliBenchWorld;
 
 /// A world with the mesh as its one body resting on (or, the house, falling to) the stick floor

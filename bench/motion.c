@@ -36,6 +36,10 @@ static const struct
 
 #define CLI_MOTION_PI 3.14159265358979323846
 
+// The 1e-6 path's Newton iterations a step at most: the reference converges where 20 stop short
+// (residuals of 2e-6 in the 10k bar's drag).
+#define CLI_MOTION_REFERENCE_NEWTON 200
+
 typedef enum cliMotionScene
 {
 	cli_motionDrop,
@@ -309,7 +313,8 @@ static cliBenchWorld cliMotionSettings(const cliBenchOptions* o, const cliBenchM
 	                   c->integrator == fm_explicit,
 	                   scene == cli_motionDrop && mesh->family != cli_benchHouse ? CLI_MOTION_DROP
 	                                                                             : 0.0,
-	                   scene == cli_motionSwing};
+	                   scene == cli_motionSwing,
+	                   c->tolerance < FM_TOLERANCE_GAME ? CLI_MOTION_REFERENCE_NEWTON : 0};
 	return s;
 }
 
@@ -518,4 +523,124 @@ void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
 	for (int m = 0; m < meshes->count && cliMotionWants(o, cli_benchBeam); ++m)
 		if (meshes->meshes[m].family == cli_benchBeam && meshes->meshes[m].nominal <= most)
 			cliMotionBodyRows(o, &meshes->meshes[m], report, code);
+}
+
+// ---- many small bodies --------------------------------------------------------------------------
+
+// A prop: a box of 2 x 3 x 4 cells (144 tets), 0.3 x 0.45 x 0.6 m, dropped this high (m) onto
+// the Coulomb floor, props this far apart (m) on a square grid.
+#define CLI_PROP_DROP 0.5
+#define CLI_PROP_SPACING 1.0
+
+// A world of @p count props (implicit, the game tolerance, @p workers), or the null id.
+static fmWorldId cliPropsWorld(const cliBenchOptions* o, int count, int workers)
+{
+	fmWorldDef def = fmDefaultWorldDef();
+	def.integrator = fm_implicit;
+	def.tolerance = FM_TOLERANCE_GAME;
+	def.workerCount = workers;
+	def.simd = o->simd;
+	def.crossPlatformDeterminism = o->deterministic;
+	def.implicitSolver = o->solver;
+	def.maxBodies = count;
+	def.floor.height = 0.0;
+	def.floor.friction = fm_floorCoulomb;
+	def.floor.frictionCoefficient = 0.5;
+	fmWorldId world = fmCreateWorld(&def);
+	int side = (int)ceil(sqrt((double)count));
+	for (int i = 0; i < count && fmWorld_IsValid(world); ++i)
+	{
+		double x = CLI_PROP_SPACING * (i % side), z = CLI_PROP_SPACING * (i / side);
+		fmTetMesh mesh;
+		fmBodyDef body = fmDefaultBodyDef();
+		body.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
+		body.massMode = fm_massFromDensity;
+		body.density = 1000.0;
+		body.mesh = &mesh;
+		fmBodyId id;
+		bool ok = fmMakeBoxMesh(2, 3, 4, fmMakeVec3(x, CLI_PROP_DROP, z),
+		                        fmMakeVec3(x + 0.3, CLI_PROP_DROP + 0.45, z + 0.6), &mesh) == fm_ok;
+		ok = ok && fmCreateBody(world, &body, &id, NULL) == fm_ok;
+		fmFreeTetMesh(&mesh);
+		if (!ok)
+		{
+			fmDestroyWorld(world);
+			return (fmWorldId){0, 0};
+		}
+	}
+	return world;
+}
+
+// Step a world of @p count props for CLI_MOTION_FRAMES frames, keeping each frame's fastest
+// time in @p ms (the first run fills it). False when a frame is refused or the world cannot be
+// made (said why).
+static bool cliPropsRun(const cliBenchOptions* o, int count, int workers, bool first, double* ms)
+{
+	fmWorldId world = cliPropsWorld(o, count, workers);
+	if (!fmWorld_IsValid(world))
+	{
+		cliError("bench: props: cannot make a world of %d props", count);
+		return false;
+	}
+	bool ok = true;
+	for (int f = 0; ok && f < CLI_MOTION_FRAMES; ++f)
+	{
+		double start = cliNow();
+		ok = fmWorld_Step(world, 1.0 / 60.0, 1) == fm_ok;
+		double t = 1e3 * (cliNow() - start);
+		ms[f] = first ? t : fmin(ms[f], t);
+		if (!ok)
+			printf("props %d: frame %d refused: %s\n", count, f,
+			       fmWorld_GetLastError(world)->message);
+	}
+	fmDestroyWorld(world);
+	return ok;
+}
+
+void cliBenchPropsRows(const cliBenchOptions* o, cliBenchReport* report, int* code)
+{
+	const int count = o->quick ? CLI_PROPS_QUICK : CLI_PROPS;
+	printf("many small bodies: %d props of 144 tets dropped %.1f m onto the floor, %.0f m apart, "
+	       "implicit at the game tolerance; each frame its fastest of %d interleaved repeats (the "
+	       "first frame not counted), beside one prop alone times %d (the sum of the same bodies "
+	       "stepped alone)\n",
+	       count, CLI_PROP_DROP, CLI_PROP_SPACING, o->repeats, count);
+	cliBenchMesh mesh;
+	memset(&mesh, 0, sizeof mesh);
+	mesh.family = cli_benchBox;
+	snprintf(mesh.label, sizeof mesh.label, "props %d", count);
+	mesh.tets = 144 * count;
+	size_t frames = CLI_MOTION_FRAMES;
+	double* ms[4] = {calloc(frames, sizeof(double)), calloc(frames, sizeof(double)),
+	                 calloc(frames, sizeof(double)), calloc(frames, sizeof(double))};
+	const int workers[2] = {1, o->workers};
+	const int cases = o->workers > 1 ? 2 : 1;
+	bool ok = ms[0] && ms[1] && ms[2] && ms[3];
+	// [2 w]: the props on that many workers; [2 w + 1]: one prop alone, scaled by the count.
+	for (int r = 0; ok && r < o->repeats; ++r)
+		for (int w = 0; ok && w < cases; ++w)
+			ok = cliPropsRun(o, count, workers[w], r == 0, ms[2 * w]) &&
+			     cliPropsRun(o, 1, workers[w], r == 0, ms[2 * w + 1]);
+	for (int w = 0; ok && w < cases; ++w)
+	{
+		double alone[3], props[3];
+		for (size_t f = 0; f < frames; ++f)
+			ms[2 * w + 1][f] *= count;
+		cliMotionPercentiles(ms[2 * w + 1] + 1, (int)frames - 1, &alone[0], &alone[1], &alone[2]);
+		cliMotionPercentiles(ms[2 * w] + 1, (int)frames - 1, &props[0], &props[1], &props[2]);
+		printf("props %-5d %7d implicit game %2d workers: median %.2f ms, 95th percentile %.2f, "
+		       "worst %.2f; alone (x %d) %.2f, %.2f, %.2f; ratio %.2f (median), %.2f (95th)\n",
+		       count, mesh.tets, workers[w], props[0], props[1], props[2], count, alone[0],
+		       alone[1], alone[2], props[0] / alone[0], props[1] / alone[1]);
+		cliBenchResult row = cliBenchResult_Make(&mesh, "implicit game", "neohookean", workers[w]);
+		row.scene = "props";
+		row.msPerFrame = props[0];
+		row.p95 = props[1];
+		row.worst = props[2];
+		ok = cliBenchReport_Add(report, &row);
+	}
+	if (!ok)
+		*code = cli_exitInput;
+	for (int k = 0; k < 4; ++k)
+		free(ms[k]);
 }

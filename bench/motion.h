@@ -29,3 +29,12 @@
 /// a row fails (a frame refused: the reason is printed).
 void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
                         cliBenchReport* report, int* code);
+
+/// The props of the many-small-bodies row (--quick: CLI_PROPS_QUICK).
+#define CLI_PROPS 1000
+#define CLI_PROPS_QUICK 100
+
+/// Time CLI_PROPS props of 144 tets dropped onto the floor (implicit, the game tolerance, on 1
+/// and on the run's workers) beside one prop alone times their count, print the rows with the
+/// ratio and add them to @p report (scene "props"). Sets *code to cli_exitInput on a failure.
+void cliBenchPropsRows(const cliBenchOptions* o, cliBenchReport* report, int* code);

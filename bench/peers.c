@@ -154,7 +154,8 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	          cliJoinPath(ele, sizeof ele, folder, "peer.ele") &&
 	          cliBenchMesh_World(mesh,
 	                             &(cliBenchWorld){fm_implicit, fm_neoHookean, 1, FM_TOLERANCE_GAME,
-	                                              fm_simdAuto, false, fm_solverNewton, false, 0.0, false},
+	                                              fm_simdAuto, false, fm_solverNewton, false, 0.0,
+	                                              false, 0},
 	                             &sim);
 	if (ok)
 	{

@@ -23,6 +23,7 @@ cliBenchResult cliBenchResult_Make(const cliBenchMesh* mesh, const char* integra
 	row.contacts = row.contactShare = row.broadShare = row.narrowShare = NAN;
 	row.scene = "";
 	row.p95 = row.worst = row.newtonWorst = row.cgWorst = row.accuracy = NAN;
+	row.loadMs = row.createMs = row.firstStepMs = NAN;
 	return row;
 }
 
@@ -82,6 +83,9 @@ bool cliBenchReport_Add(cliBenchReport* report, const cliBenchResult* row)
 		cliBenchCsvNumber(report->csv, row->newtonWorst, 0);
 		cliBenchCsvNumber(report->csv, row->cgWorst, 0);
 		cliBenchCsvNumber(report->csv, row->accuracy, 5);
+		cliBenchCsvNumber(report->csv, row->loadMs, 2);
+		cliBenchCsvNumber(report->csv, row->createMs, 2);
+		cliBenchCsvNumber(report->csv, row->firstStepMs, 2);
 		fputc('\n', report->csv);
 	}
 	return true;

@@ -10,7 +10,8 @@
 #define CLI_BENCH_CSV_HEADER                                                                       \
 	"mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,"            \
 	"cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,"                 \
-	"narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy"
+	"narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy,"                     \
+	"load_ms,create_ms,first_step_ms"
 
 /// One case; NAN in a number that does not apply (written as an empty field).
 typedef struct cliBenchResult
@@ -36,6 +37,9 @@ typedef struct cliBenchResult
 	double newtonWorst;    ///< motion rows, implicit: Newton iterations of the slowest frame
 	double cgWorst;        ///< motion rows, implicit: CG iterations of the slowest frame
 	double accuracy;       ///< motion rows, implicit game: distance from the 1e-6 path / size
+	double loadMs;         ///< start-up rows: reading the mesh file
+	double createMs;       ///< start-up rows: creating the world and the body
+	double firstStepMs;    ///< start-up rows: the first step
 } cliBenchResult;
 
 /// A result with every number NAN.

@@ -357,12 +357,12 @@ femto_cli_test(static_beam ARGS "static|${FEMTO_CLI_DATA}/static_beam.json|--exp
   FILES "${FEMTO_CLI_WORK}/beam.node")
 
 # --- bench ---------------------------------------------------------------------------------------
-femto_cli_test(bench_explicit ARGS "bench|--quick|--explicit|--max-tets|1500|--repeats|1|--workers|2|--csv|${FEMTO_CLI_WORK}/bench.csv" CODE 0
+femto_cli_test(bench_explicit ARGS "bench|--quick|--meshes|house,box,beam|--explicit|--max-tets|1500|--repeats|1|--workers|2|--csv|${FEMTO_CLI_WORK}/bench.csv" CODE 0
   REGEX "compute scaling \\(independent work in registers, 2 threads against 1\\): [0-9.]+x.*memory bandwidth \\(triad\\): [0-9.]+ GB/s on 1 thread, [0-9.]+ GB/s on 2.*house2 +1389 stvk +1 +[0-9.]+ +[0-9.]+ +[0-9.]+%.*house2 +1389 stvk +2 .*box 1k +1080 neohookean +2 "
   REJECT "failed|box 10k"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,,steps,,,,,\n")
-femto_cli_test(bench_implicit ARGS "bench|--quick|--implicit|--max-tets|1100|--repeats|1" CODE 0
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy,load_ms,create_ms,first_step_ms\nhouse2,1389,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,,steps,,,,,,,,\n")
+femto_cli_test(bench_implicit ARGS "bench|--quick|--meshes|house,box,beam|--implicit|--max-tets|1100|--repeats|1" CODE 0
   REGEX "box 1k +1080 neohookean +game +[0-9.]+ +[0-9.]+ +[0-9.]+.*box 1k +1080 neohookean +1e-6 .*box 1k +1080 corotated" REJECT "failed|house2")
 
 # --- simulation health (issue 8) ------------------------------------------------------------------
@@ -422,14 +422,14 @@ femto_cli_test(scene_colliders_over_budget
 # The house alone, one repetition: exactly the issue's header and one well-formed row per case
 # (2 explicit models on 1 and 2 workers, 2 implicit models to 2 tolerances). No timing checked.
 set(FEMTO_BENCH_NUMBER "[0-9]+\\.[0-9]+")
-set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER},,,,,steps,,,,,\n")
-set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,rest,,,,,\n")
+set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER},,,,,steps,,,,,,,,\n")
+set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,rest,,,,,,,,\n")
 femto_cli_test(bench_csv_rows
   ARGS "bench|--meshes|house|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_house.csv"
   CODE 0 REJECT "failed"
   NO_FILES "${FEMTO_CLI_WORK}/bench_house.png"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_house.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy,load_ms,create_ms,first_step_ms\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
 # --simd and --deterministic reach every row; a bad level is a usage error.
 femto_cli_test(bench_simd_off ARGS "bench|--quick|--meshes|house|--explicit|--repeats|1|--workers|1|--no-plot|--simd|off|--deterministic"
   CODE 0 REGEX "house2 +1389 stvk +1 +[0-9.]+" REJECT "failed")
@@ -455,23 +455,32 @@ femto_cli_test(bench_contact
   REGEX "stack 3 stvk +4167 implicit game +1 +[0-9.]+ .*pile / apart [0-9.]+ \\(median\\).*stack 3 neo +4167 implicit game +1 .*houses 3 +4167 explicit auto +1 +[0-9.]+ +[0-9]+ +[0-9.]+% +[0-9.]+% +[0-9.]+% +[0-9]+/[0-9]+.*houses 3 +4167 implicit game +1 +[0-9.]+ +[0-9]+ .*pile / apart [0-9.]+ \\(median\\)"
   REJECT "failed|ground 100k|memory bandwidth|house2"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_contact.csv"
-  CHECK_FILE_REGEX "\nstack 3 stvk,4167,implicit game,stvk,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,\nstack 3 neo,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,\nhouses 3,4167,explicit auto,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,\n$")
+  CHECK_FILE_REGEX "\nstack 3 stvk,4167,implicit game,stvk,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,\nstack 3 neo,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,\nhouses 3,4167,explicit auto,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,\nhouses 3,4167,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,[01]\\.[0-9]+,contact,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,\n$")
 set_tests_properties(cli_bench_contact PROPERTIES TIMEOUT 200)
-# The scenes in motion (--meshes motion), quick: the house and the 1k bar dropped, swung from a
-# clamp, dragged, the house jumping, each explicit and implicit on 1 and 2 workers; a row per
-# scene and one pooling them ("all"), implicit ones with their Newton and CG counts, those of
-# the slowest frame and the distance from the 1e-6 path; no frame refused. No timing checked.
-set(FEMTO_BENCH_MOTION_ROW "${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,all,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},[0-9]+,[0-9]+,${FEMTO_BENCH_NUMBER}\n")
+# The scenes in motion on the house (--meshes motion,house: its resting rows too), quick: it is
+# dropped, swung from a clamp, dragged and made to jump, each explicit and implicit on 1 and 2
+# workers; a row per scene and one pooling them ("all"), implicit ones with their Newton and CG
+# counts, those of the slowest frame and the distance from the 1e-6 path; no frame refused; then
+# 100 props dropped on the floor beside one alone. No timing checked.
+set(FEMTO_BENCH_MOTION_ROW "${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,all,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},[0-9]+,[0-9]+,${FEMTO_BENCH_NUMBER},,,\n")
 femto_cli_test(bench_motion
-  ARGS "bench|--quick|--meshes|motion|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_motion.csv"
+  ARGS "bench|--quick|--meshes|motion,house|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_motion.csv"
   CODE 0
-  REGEX "in motion: 120 frames.*drop +house2 +1389 stvk +explicit +1 +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\([0-9.]+ substeps a frame\\).*jump +house2 +1389 stvk +implicit game +1 .*all +house2 +1389 stvk +implicit game +2 +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9]+ +[0-9]+ +[0-9.]+%.*swing +bar 1k +1080 neohookean +implicit game +1 .*all +bar 1k +1080 neohookean +implicit game +2 "
-  REJECT "failed|refused|jump +bar|memory bandwidth"
+  REGEX "in motion: 120 frames.*drop +house2 +1389 stvk +explicit +1 +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ \\([0-9.]+ substeps a frame\\).*jump +house2 +1389 stvk +implicit game +1 .*all +house2 +1389 stvk +implicit game +2 +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9]+ +[0-9]+ +[0-9.]+%.*many small bodies: 100 props.*props 100 +14400 implicit game +1 workers: median [0-9.]+ ms, 95th percentile [0-9.]+, worst [0-9.]+; alone \\(x 100\\) [0-9.]+, [0-9.]+, [0-9.]+; ratio [0-9.]+ \\(median\\), [0-9.]+ \\(95th\\).*props 100 +14400 implicit game +2 workers"
+  REJECT "failed|refused|bar 1k"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_motion.csv"
-  CHECK_FILE_REGEX "\nhouse2,1389,implicit game,stvk,2,,${FEMTO_BENCH_MOTION_ROW}.*\nbar 1k,1080,explicit,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,,,,,all,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,\n")
+  CHECK_FILE_REGEX "\nhouse2,1389,explicit,stvk,1,,${FEMTO_BENCH_NUMBER},,,,,,,,all,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,\n.*\nhouse2,1389,implicit game,stvk,2,,${FEMTO_BENCH_MOTION_ROW}")
 set_tests_properties(cli_bench_motion PROPERTIES TIMEOUT 300)
+# Start-up, quick: a 10k box's TetGen files read, the body made, its first and second steps.
+femto_cli_test(bench_startup
+  ARGS "bench|--quick|--meshes|startup|--repeats|1|--workers|1|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_startup.csv"
+  CODE 0
+  REGEX "start-up: a TetGen file to a body's first implicit step.*box 10k +10368 +1 +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+"
+  REJECT "failed|box 100k"
+  CHECK_FILE "${FEMTO_CLI_WORK}/bench_startup.csv"
+  CHECK_FILE_REGEX "\nbox 10k,10368,implicit game,neohookean,1,,${FEMTO_BENCH_NUMBER},,,,,,,,startup,,,,,,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER}\n$")
 femto_cli_test(bench_unknown_family ARGS "bench|--meshes|house,tree" CODE 2
-  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam, contact, motion\\)")
+  REGEX "--meshes: unknown mesh family 'tree' in 'house,tree' \\(expected a comma-separated list of house, box, beam, contact, motion, startup\\)")
 femto_cli_test(bench_empty_family ARGS "bench|--meshes|house,,box" CODE 2 REGEX "unknown mesh family ''")
 femto_cli_test(bench_plot_and_no_plot ARGS "bench|--plot|x.png|--no-plot" CODE 2 REGEX "--plot or --no-plot, not both")
 femto_cli_test(bench_peers_and_no_peers ARGS "bench|--peers|--no-peers" CODE 2 REGEX "or --no-peers, not both")
@@ -491,7 +500,7 @@ if(FEMTO_TETGEN)
     CODE 0 REGEX "meshing beam 1k with tetgen \\.\\.\\. [0-9]+ tets.*beam 1k +[0-9]+ stvk +1 +[0-9.]+${FEMTO_BENCH_PLOTTED}"
     REJECT "failed"
     CHECK_FILE "${FEMTO_CLI_WORK}/bench_beam.csv"
-    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,,steps,,,,,\n")
+    CHECK_FILE_REGEX "\nbeam 1k,[0-9]+,explicit,stvk,1,[0-9.]+,,,,[0-9.]+,,,,,steps,,,,,,,,\n")
 else()
   femto_missing_tool_test(cli_bench_beam "tetgen is not installed (scripts/install-deps.sh): femto bench's beams are not run")
 endif()
