@@ -128,8 +128,8 @@ bool cliBenchMeshSet_Make(unsigned mask, int maxTets, const char* folder, cliBen
 	             cliBenchCanMakeBeams(folder, tetgen, sizeof tetgen);
 	if ((mask & (1u << cli_benchHouse)) != 0 && CLI_HOUSE_TETS <= maxTets)
 	{
-		cliBenchMesh house = {"house2", cli_benchHouse, CLI_HOUSE_TETS, CLI_HOUSE_TETS, {0}, 0.0,
-		                      "",     ""};
+		cliBenchMesh house = {
+		    "house2", cli_benchHouse, CLI_HOUSE_TETS, CLI_HOUSE_TETS, {0}, 0.0, "", ""};
 		if (!cliBenchMeshSet_Add(set, &house))
 			return false;
 	}
@@ -188,9 +188,9 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 		body->meshSource = cli_meshBox;
 		memcpy(body->boxCells, mesh->cells, sizeof body->boxCells);
 		double cell = mesh->length / mesh->cells[0];
-		fmVec3 size = mesh->length > 0.0 ? fmMakeVec3(mesh->length, cell * mesh->cells[1],
-		                                              cell * mesh->cells[2])
-		                                 : fmMakeVec3(1.0, 1.0, 1.0);
+		fmVec3 size = mesh->length > 0.0
+		                  ? fmMakeVec3(mesh->length, cell * mesh->cells[1], cell * mesh->cells[2])
+		                  : fmMakeVec3(1.0, 1.0, 1.0);
 		body->boxMin = fmMakeVec3(-0.5 * size.x, -3.0 + settings->lift, -0.5 * size.z);
 		body->boxMax = fmMakeVec3(0.5 * size.x, -3.0 + settings->lift + size.y, 0.5 * size.z);
 	}

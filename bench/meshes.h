@@ -30,11 +30,11 @@ typedef enum cliBenchFamily
 /// One benchmark mesh.
 typedef struct cliBenchMesh
 {
-	char label[16];              ///< "house2", "box 10k", "beam 10k"
-	cliBenchFamily family;       ///< which kind
-	int nominal;                 ///< the size it is chosen by (--max-tets): 1389, 1000, 10000, ...
-	int tets;                    ///< the actual tet count
-	int cells[3];                ///< cli_benchBox: cells along x, y, z
+	char label[16];        ///< "house2", "box 10k", "beam 10k"
+	cliBenchFamily family; ///< which kind
+	int nominal;           ///< the size it is chosen by (--max-tets): 1389, 1000, 10000, ...
+	int tets;              ///< the actual tet count
+	int cells[3];          ///< cli_benchBox: cells along x, y, z
 	double length; ///< cli_benchBox: m along x, cells cubic (0: a 1 m cube of cells[] cells)
 	char nodePath[CLI_MAX_PATH]; ///< cli_benchBeam: tetgen's .node
 	char elePath[CLI_MAX_PATH];  ///< cli_benchBeam: tetgen's .ele

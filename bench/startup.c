@@ -118,8 +118,8 @@ static bool cliStartupRow(const cliBenchOptions* o, const char* folder, int box,
 		                         fmin(best.first, t.first), fmin(best.second, t.second)};
 	}
 	double total = best.load + best.create + best.first;
-	printf("%-9s %8d %7d %10.1f %10.1f %11.1f %10.1f %11.1f\n", mesh.label, mesh.tets,
-	       o->workers, best.load, best.create, best.first, total, best.second);
+	printf("%-9s %8d %7d %10.1f %10.1f %11.1f %10.1f %11.1f\n", mesh.label, mesh.tets, o->workers,
+	       best.load, best.create, best.first, total, best.second);
 	fflush(stdout);
 	cliBenchResult row = cliBenchResult_Make(&mesh, "implicit game", "neohookean", o->workers);
 	row.scene = "startup";
