@@ -60,8 +60,13 @@ double fmExplicitStepLimit(const fmElasticMesh* mesh, const fmBodyState* state, 
 
 double fmStiffeningProxy(const fmElasticMesh* mesh, const double* x)
 {
+	return fmStiffeningProxyRange(mesh, x, 0, mesh->tetCount);
+}
+
+double fmStiffeningProxyRange(const fmElasticMesh* mesh, const double* x, int start, int end)
+{
 	double proxy = 1.0;
-	for (int t = 0; t < mesh->tetCount; ++t)
+	for (int t = start; t < end; ++t)
 	{
 		fmMat3 F = fmTetDeformation(mesh, x, t);
 		double J = fmDet(&F), I1 = 0.0;

@@ -18,3 +18,7 @@ double fmExplicitStepLimit(const fmElasticMesh* mesh, const fmBodyState* state, 
 // 2 J / |F|^2). INFINITY when a tet is inverted or degenerate. The adaptive explicit substeps
 // re-evaluate the limit when it moves.
 double fmStiffeningProxy(const fmElasticMesh* mesh, const double* x);
+
+// The same over tets [@p start, @p end): the proxy is their largest, so ranges taken on any
+// workers in any order give the same value.
+double fmStiffeningProxyRange(const fmElasticMesh* mesh, const double* x, int start, int end);
