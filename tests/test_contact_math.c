@@ -2,7 +2,9 @@
 // derivatives against finite differences and its limits; the squared distances of every type
 // against the exact minimum over the primitives found another way; their gradients and Hessians
 // against finite differences; additive CCD against dense sampling (never a contact before the
-// time it returns) and against analytic impacts (not too early either).
+// time it returns) and against analytic impacts (not too early either); the sweep over body boxes
+// against testing every pair.
+#include "contact/body_sweep.h"
 #include "core/det_math.h"
 #include "math/barrier.h"
 #include "math/ccd.h"
@@ -332,4 +334,76 @@ TEST(flat_triangles_have_a_finite_distance)
 	                    fmMakeVec3(1, 0, 0), w);
 	CHECK(isfinite(w[0]) && isfinite(w[1]) && isfinite(w[2]));
 	CHECK_NEAR(w[0] + w[1] + w[2], 1.0, 1e-15);
+}
+
+// ---- the sweep over body boxes -----------------------------------------------------------------
+
+// Whether two closed boxes overlap (touching counts), tested directly.
+static bool boxesOverlap(fmVec3 al, fmVec3 ah, fmVec3 bl, fmVec3 bh)
+{
+	return al.x <= bh.x && bl.x <= ah.x && al.y <= bh.y && bl.y <= ah.y && al.z <= bh.z &&
+	       bl.z <= ah.z;
+}
+
+// The sweep finds every pair of overlapping boxes, each once, and lists them per slot in slot
+// order, against testing every pair: boxes of every size, some touching exactly (snapped to a
+// coarse grid), some empty (a body without a surface), slots with gaps (dead bodies).
+TEST(body_sweep_pairs_every_overlapping_box_once)
+{
+	enum
+	{
+		slots = 300
+	};
+	static fmVec3 lower[slots], upper[slots];
+	static int live[slots];
+	static unsigned char expected[slots][slots];
+	uint64_t state = 0x9e3779b97f4a7c15ull;
+	fmBodySweep sweep;
+	memset(&sweep, 0, sizeof sweep);
+	for (int round = 0; round < 20; ++round)
+	{
+		int count = 0;
+		for (int s = 0; s < slots; ++s)
+		{
+			fmVec3 c = randomPoint(&state, 10.0);
+			double size = round % 2 ? uniform(&state, 0.0, 3.0) : floor(uniform(&state, 0.0, 4.0));
+			c = round % 2 ? c : fmMakeVec3(floor(c.x), floor(c.y), floor(c.z));
+			lower[s] = c;
+			upper[s] = fmAdd(c, fmMakeVec3(size, size * 0.5, size));
+			if (uniform(&state, 0.0, 1.0) < 0.05) // empty
+			{
+				lower[s] = fmMakeVec3(INFINITY, INFINITY, INFINITY);
+				upper[s] = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
+			}
+			CHECK(fmBodySweep_Sweepable(lower[s], upper[s]));
+			if (uniform(&state, 0.0, 1.0) < 0.9)
+				live[count++] = s;
+		}
+		memset(expected, 0, sizeof expected);
+		for (int i = 0; i < count; ++i)
+			for (int j = i + 1; j < count; ++j)
+				if (boxesOverlap(lower[live[i]], upper[live[i]], lower[live[j]], upper[live[j]]))
+					expected[live[i]][live[j]] = expected[live[j]][live[i]] = 1;
+		CHECK(fmBodySweep_Pairs(&sweep, live, count, lower, upper));
+		CHECK(fmBodySweep_Lists(&sweep, slots));
+		int pairs = 0;
+		for (int s = 0; s < slots; ++s)
+			for (int t = 0; t < slots; ++t)
+				pairs += expected[s][t];
+		CHECK(2 * sweep.pairCount == pairs);
+		for (int s = 0; s < slots; ++s)
+		{
+			int n = 0;
+			for (int t = 0; t < slots; ++t)
+				if (expected[s][t])
+				{
+					int k = sweep.listStart[s] + n++;
+					CHECK(k < sweep.listStart[s + 1] && sweep.list[k] == t);
+				}
+			CHECK(sweep.listStart[s] + n == sweep.listStart[s + 1]);
+		}
+	}
+	CHECK(!fmBodySweep_Sweepable(fmMakeVec3(NAN, 0, 0), fmMakeVec3(1, 1, 1)));
+	CHECK(!fmBodySweep_Sweepable(fmMakeVec3(-INFINITY, 0, 0), fmMakeVec3(1, 1, 1)));
+	fmBodySweep_Free(&sweep);
 }
