@@ -175,12 +175,13 @@ static double derivativeError(const fmDistanceStencil* st, const fmVec3 x[4])
 		((double*)&up[i / 3])[i % 3] += h;
 		((double*)&down[i / 3])[i % 3] -= h;
 		double gu[12], gd[12];
-		double fu = fmDistance_Squared(st, up, gu, NULL), fd = fmDistance_Squared(st, down, gd, NULL);
+		double fu = fmDistance_Squared(st, up, gu, NULL),
+		       fd = fmDistance_Squared(st, down, gd, NULL);
 		worst = fmMax(worst, fabs((fu - fd) / (2.0 * h) - g[i]) / fmMax(scale, 1e-3));
 		for (int j = 0; j < 12; ++j)
 		{
-			worst = fmMax(worst, fabs((gu[j] - gd[j]) / (2.0 * h) - H[12 * i + j]) /
-			                         fmMax(scale, 1e-3));
+			worst = fmMax(worst,
+			              fabs((gu[j] - gd[j]) / (2.0 * h) - H[12 * i + j]) / fmMax(scale, 1e-3));
 			worst = fmMax(worst, fabs(H[12 * i + j] - H[12 * j + i]) / fmMax(scale, 1e-3));
 		}
 	}
@@ -250,7 +251,8 @@ static bool crossesAlong(bool edgeEdge, const fmVec3 x[4], const fmVec3 dx[4], d
 		fmVec3 at[4];
 		for (int i = 0; i < 4; ++i)
 			at[i] = fmMulAdd(x[i], t * k / samples, dx[i]);
-		double volume = fmDot(fmCross(fmSub(at[1], at[0]), fmSub(at[3], at[2])), fmSub(at[2], at[0]));
+		double volume =
+		    fmDot(fmCross(fmSub(at[1], at[0]), fmSub(at[3], at[2])), fmSub(at[2], at[0]));
 		if (!edgeEdge)
 			volume = fmDot(fmCross(fmSub(at[2], at[1]), fmSub(at[3], at[1])), fmSub(at[0], at[1]));
 		fmDistanceStencil st =
