@@ -507,7 +507,8 @@ void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
 		cliBenchMesh house = {"house2", cli_benchHouse, 1389, 1389, {0}, 0.0, "", ""};
 		cliMotionBodyRows(o, &house, report, code);
 	}
-	for (int k = 0; k < CLI_MOTION_BAR_COUNT && cliMotionWants(o, cli_benchBox); ++k)
+	// --quick: the house alone.
+	for (int k = 0; k < CLI_MOTION_BAR_COUNT && cliMotionWants(o, cli_benchBox) && !o->quick; ++k)
 	{
 		cliBenchMesh bar;
 		memset(&bar, 0, sizeof bar);

@@ -19,7 +19,7 @@
 /// The largest body timed in motion (tets): implicit frames beyond it take seconds.
 #define CLI_MOTION_MAX_TETS 200000
 
-/// The largest body a --quick run times in motion.
+/// The largest body a --quick run times in motion (the house; no bars).
 #define CLI_MOTION_QUICK_MAX_TETS 1500
 
 /// Time the scenes in motion on the run's house, bars and beams (@p meshes: the beams made for
