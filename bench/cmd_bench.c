@@ -1,6 +1,7 @@
 // `femto bench`: how long explicit steps and implicit frames take on the house, on generated
 // boxes and on TetGen beams of about 1k, 10k, 100k and 1M tets, against the machine's memory
-// bandwidth measured in the same run; optionally a plot (plot.h) and Bullet side by side
+// bandwidth measured in the same run; contact piles (contact.h), frames in motion and many small
+// bodies (motion.h), start-up (startup.h); optionally a plot (plot.h) and Bullet side by side
 // (peers.h). Medians of several repetitions.
 #include "commands.h"
 #include "scene.h"
@@ -34,14 +35,19 @@ const char* const cliBenchHelp =
     "deformable world runs on the same meshes up to 10k tets.\n"
     "\n"
     "options:\n"
-    "  --quick            stop at 10k tets, 3 repetitions (a few seconds)\n"
+    "  --quick            stop at 10k tets, 3 repetitions (motion: the house; 100 props)\n"
     "  --max-tets N       skip meshes of more than N tets (beams count by their nominal size)\n"
-    "  --meshes LIST      the mesh families, comma-separated: house, box, beam, contact\n"
-    "                     (default all; contact: three houses stacked, StVK and Neo-Hookean,\n"
-    "                     implicit; ten houses piled on the floor, explicit and implicit; each\n"
-    "                     with the same houses apart and the ratio; a 100k box on a mesh\n"
-    "                     ground: ms per frame (median, 95th percentile, worst), contacts, the\n"
-    "                     share of the step in the broad and narrow phases)\n"
+    "  --meshes LIST      the families, comma-separated: house, box, beam, contact, motion,\n"
+    "                     startup (default all; contact: three houses stacked, StVK and\n"
+    "                     Neo-Hookean, implicit; ten houses piled on the floor, explicit and\n"
+    "                     implicit; each with the same houses apart and the ratio; a 100k box\n"
+    "                     on a mesh ground: ms per frame (median, 95th percentile, worst),\n"
+    "                     contacts, the share of the step in the broad and narrow phases;\n"
+    "                     motion: a drop, a clamped swing, a drag and the seeds' jump on the\n"
+    "                     house and on bars of 1k, 10k and 100k tets, each frame its fastest\n"
+    "                     of the interleaved repeats: median, 95th percentile, worst, Newton\n"
+    "                     and CG, the distance from the 1e-6 path; then 1,000 props beside one\n"
+    "                     alone; startup: a TetGen file to a first implicit step, by stage)\n"
     "  --explicit         only the explicit benchmark\n"
     "  --implicit         only the implicit benchmark (default: explicit, then implicit;\n"
     "                     implicit stops at 100k tets)\n"
@@ -52,9 +58,12 @@ const char* const cliBenchHelp =
     "  --csv FILE         also write the results as CSV, one row per case:\n"
     "                     mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,\n"
     "                     newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,\n"
-    "                     contact_share,broad_phase_share,narrow_phase_share\n"
-    "  --plot FILE.png    plot explicit StVK ns per tet-step against tets with gnuplot (when\n"
-    "                     on PATH); default with --csv: the CSV's name with .png\n"
+    "                     contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,\n"
+    "                     worst_ms,newton_worst,cg_worst,accuracy,load_ms,create_ms,\n"
+    "                     first_step_ms\n"
+    "  --plot FILE.png    plot explicit StVK ns per tet-step against tets, and the frames in\n"
+    "                     motion, with gnuplot (when on PATH); default with --csv: the CSV's\n"
+    "                     name with .png\n"
     "  --no-plot          no plot\n"
     "  --peers            require the Bullet peer rows (an error when there is no peer)\n"
     "  --no-peers         no peer rows (default: when femto-bench-bullet was built)\n"
@@ -322,9 +331,11 @@ static void cliBenchPlot(cliBenchRun* run)
 			return;
 		}
 	}
-	snprintf(title, sizeof title,
-	         "femto bench: explicit StVK; triad %.1f GB/s on 1 thread, %.1f GB/s on %d",
-	         run->bandwidth[0] / 1e9, run->bandwidth[1] / 1e9, o->workers);
+	if (run->bandwidth[0] > 0.0)
+		snprintf(title, sizeof title, "femto bench; triad %.1f GB/s on 1 thread, %.1f GB/s on %d",
+		         run->bandwidth[0] / 1e9, run->bandwidth[1] / 1e9, o->workers);
+	else
+		snprintf(title, sizeof title, "femto bench");
 	if (cliBenchPlot_Write(&run->report, path, run->folder, title) == cli_plotFailed)
 		run->code = cli_exitInput;
 }

@@ -86,14 +86,25 @@ static bool cliPlotBoundBlock(FILE* script, const cliBenchReport* report, int wo
 	return true;
 }
 
-static void cliPlotHeader(FILE* script, const char* output, const char* title)
+static void cliPlotHeader(FILE* script, const char* output, const char* title, bool panels)
 {
-	fprintf(script, "set terminal pngcairo size 900,600 noenhanced font ',10'\nset output ");
+	fprintf(script, "set terminal pngcairo size %d,600 noenhanced font ',10'\nset output ",
+	        panels ? 1500 : 900);
 	cliPlotQuoted(script, output);
-	fprintf(script, "\nset title ");
-	cliPlotQuoted(script, title);
-	fprintf(script, "\nset logscale xy\nset grid xtics ytics mxtics mytics\n"
-	                "set xlabel 'tets'\nset ylabel 'ns per tet-step (explicit StVK)'\n"
+	fprintf(script, "\n");
+	if (panels)
+	{
+		fprintf(script, "set multiplot layout 1,2 title ");
+		cliPlotQuoted(script, title);
+		fprintf(script, "\n");
+	}
+	else
+	{
+		fprintf(script, "set title ");
+		cliPlotQuoted(script, title);
+		fprintf(script, "\n");
+	}
+	fprintf(script, "set logscale xy\nset grid xtics ytics mxtics mytics\nset xlabel 'tets'\n"
 	                "set key outside right top\nset format x '%%.0f'\n");
 }
 
@@ -105,15 +116,14 @@ static void cliPlotClause(char* plot, size_t size, const char* clause)
 	         clause);
 }
 
-// The script: data blocks, then one plot command over them. False when nothing is plotted.
-static bool cliPlotScript(FILE* script, const cliBenchReport* report, const char* output,
-                          const char* title)
+// The explicit panel: data blocks, then one plot command over them. False when nothing is
+// plotted (nothing written but the blocks).
+static bool cliPlotExplicit(FILE* script, const cliBenchReport* report)
 {
 	static const int families[2] = {cli_benchBox, cli_benchBeam};
 	int workers[16];
 	int counts = cliPlotWorkerCounts(report, workers, 16);
 	char plot[8192] = "plot", clause[256];
-	cliPlotHeader(script, output, title);
 	for (int w = 0; w < counts; ++w)
 	{
 		const char* plural = workers[w] == 1 ? "" : "s";
@@ -137,7 +147,95 @@ static bool cliPlotScript(FILE* script, const cliBenchReport* report, const char
 	}
 	if (strcmp(plot, "plot") == 0)
 		return false;
-	fprintf(script, "%s\n", plot);
+	fprintf(script, "set ylabel 'ns per tet-step (explicit StVK)'\n%s\n", plot);
+	return true;
+}
+
+// Whether @p row pools a body's frames in motion ("all") with @p integrator on @p workers.
+static bool cliPlotMotionRow(const cliBenchResult* row, const char* integrator, int workers)
+{
+	return strcmp(row->scene, "all") == 0 && strcmp(row->integrator, integrator) == 0 &&
+	       row->workers == workers && !isnan(row->p95);
+}
+
+// The panel in motion: each body's frames in motion (every scene), the 95th percentile solid
+// and the median dashed, one colour per integrator and worker count. False when no row is.
+static bool cliPlotMotion(FILE* script, const cliBenchReport* report)
+{
+	static const char* const integrators[2] = {"explicit", "implicit game"};
+	int workers[16];
+	int counts = 0;
+	for (int i = 0; i < report->count && counts < 16; ++i)
+	{
+		const cliBenchResult* row = &report->rows[i];
+		bool seen = strcmp(row->scene, "all") != 0;
+		for (int k = 0; k < counts; ++k)
+			seen = seen || workers[k] == row->workers;
+		if (!seen)
+			workers[counts++] = row->workers;
+	}
+	char plot[8192] = "plot", clause[256];
+	for (int k = 0; k < 2; ++k)
+		for (int w = 0; w < counts; ++w)
+		{
+			int block = 100 + 2 * k * 16 + w, points = 0;
+			for (int i = 0; i < report->count; ++i)
+				points += cliPlotMotionRow(&report->rows[i], integrators[k], workers[w]);
+			if (points == 0)
+				continue;
+			fprintf(script, "$m%d << EOD\n", block);
+			for (int i = 0; i < report->count; ++i)
+				if (cliPlotMotionRow(&report->rows[i], integrators[k], workers[w]))
+					fprintf(script, "%d %.6g %.6g\n", report->rows[i].tets, report->rows[i].p95,
+					        report->rows[i].msPerFrame);
+			fprintf(script, "EOD\n");
+			const char* plural = workers[w] == 1 ? "" : "s";
+			int colour = 1 + k * counts + w;
+			snprintf(clause, sizeof clause,
+			         "$m%d using 1:2 with linespoints lw 2 pt 7 lc %d title '%s, %d worker%s, "
+			         "95th percentile'",
+			         block, colour, integrators[k], workers[w], plural);
+			cliPlotClause(plot, sizeof plot, clause);
+			snprintf(clause, sizeof clause,
+			         "$m%d using 1:3 with linespoints dt 2 lw 1 pt 6 lc %d title 'median'", block,
+			         colour);
+			cliPlotClause(plot, sizeof plot, clause);
+		}
+	if (strcmp(plot, "plot") == 0)
+		return false;
+	fprintf(script, "set ylabel 'ms a 1/60 s frame in motion (every scene)'\n%s\n", plot);
+	return true;
+}
+
+// Whether the report has rows for the explicit panel, and for the panel in motion.
+static void cliPlotPanels(const cliBenchReport* report, bool* explicitRows, bool* motionRows)
+{
+	*explicitRows = *motionRows = false;
+	for (int i = 0; i < report->count; ++i)
+	{
+		const cliBenchResult* row = &report->rows[i];
+		*explicitRows = *explicitRows || (cliPlotRow(row, cli_benchBox, row->workers) ||
+		                                  cliPlotRow(row, cli_benchBeam, row->workers));
+		*motionRows = *motionRows || (strcmp(row->scene, "all") == 0 && !isnan(row->p95));
+	}
+}
+
+// The script: the explicit panel and the panel in motion, side by side when both have rows.
+// False when nothing is plotted.
+static bool cliPlotScript(FILE* script, const cliBenchReport* report, const char* output,
+                          const char* title)
+{
+	bool explicitRows, motionRows;
+	cliPlotPanels(report, &explicitRows, &motionRows);
+	if (!explicitRows && !motionRows)
+		return false;
+	cliPlotHeader(script, output, title, explicitRows && motionRows);
+	if (explicitRows)
+		cliPlotExplicit(script, report);
+	if (motionRows)
+		cliPlotMotion(script, report);
+	if (explicitRows && motionRows)
+		fprintf(script, "unset multiplot\n");
 	return true;
 }
 
@@ -212,7 +310,10 @@ cliBenchPlotResult cliBenchPlot_Write(const cliBenchReport* report, const char* 
 	if (written <= 0)
 	{
 		if (written == 0)
-			printf("plot: skipped: no explicit StVK box or beam rows to plot; no %s\n", png);
+			printf(
+			    "plot: skipped: no explicit StVK box or beam rows and no rows in motion to plot; "
+			    "no %s\n",
+			    png);
 		return written == 0 ? cli_plotSkipped : cli_plotFailed;
 	}
 	if (!cliPlotRun(gnuplot, script, log))

@@ -6,15 +6,17 @@
 #include "test.h"
 
 #include "body/body.h"
-#include "solver/kernels/bsr_kernel.h"
+#include "core/det_math.h"
+#include "core/simd.h"
 #include "fem/forces.h"
+#include "fem/stability.h"
+#include "fem/tet_blocks.h"
 #include "material/material.h"
 #include "material/material_invariant.h"
 #include "material/material_neohookean.h"
 #include "material/material_stretch.h"
-#include "core/simd.h"
 #include "math/svd3.h"
-#include "fem/tet_blocks.h"
+#include "solver/kernels/bsr_kernel.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -832,6 +834,45 @@ TEST(inverted_tets_are_flagged_as_one_tet_at_a_time)
 	CHECK(inverted > 0 && inverted < b->mesh.tetCount);
 	CHECK_INT(fmBodyCountInverted(b), inverted);
 	free(flags);
+	fmDestroyWorld(world);
+}
+
+// The stiffening proxy of autoSubstep (fmStiffeningProxy, eight tets at a time on the CPU's
+// vectors) against its formula one tet at a time, bit for bit, on a box deformed from gently to
+// hard and on one shaken inside out (INFINITY), over every range of its tets from a tet on.
+TEST(the_stiffening_proxy_is_the_one_tet_at_a_time_value_bit_for_bit)
+{
+	fmWorldId world;
+	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
+	fmTestSeed(37);
+	const double amplitudes[4] = {0.0, 0.01, 0.1, 0.25};
+	for (int a = 0; a < 4; ++a)
+	{
+		deform(b, amplitudes[a] < 0.2 ? amplitudes[a] : 0.0);
+		for (int k = 0; a == 3 && k < 3 * b->mesh.vertexCount; ++k)
+			b->state.x[k] += fmTestRandom(-0.25, 0.25);
+		int differ = 0;
+		for (int first = 0; first < b->mesh.tetCount; first += 5)
+		{
+			double expected = 1.0;
+			for (int t = first; t < b->mesh.tetCount; ++t)
+			{
+				fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
+				double J = fmDet(&F), I1 = 0.0;
+				for (int k = 0; k < 9; ++k)
+					I1 += F.m[k] * F.m[k];
+				double p = !(J > 0.0) ? INFINITY : fmMax(I1, I1 * I1 / (4.0 * J * J));
+				expected = fmMax(expected, p);
+			}
+			double got = fmStiffeningProxyRange(&b->mesh, b->state.x, first, b->mesh.tetCount);
+			differ += memcmp(&got, &expected, sizeof got) != 0;
+			if (first == 0)
+				printf("  amplitude %.2f: proxy %.17g\n", amplitudes[a], got);
+		}
+		CHECK_INT(differ, 0);
+		double whole = fmStiffeningProxy(&b->mesh, b->state.x);
+		CHECK(a == 3 ? isinf(whole) : isfinite(whole) && whole >= 1.0);
+	}
 	fmDestroyWorld(world);
 }
 

@@ -32,6 +32,7 @@ typedef struct fmPassKernels
 	fmForceBatchKernelFcn* corotated;
 	fmForceBatchFillFcn* fill;
 	fmInvertedKernelFcn* inverted;
+	fmProxyKernelFcn* proxy;
 } fmPassKernels;
 
 static fmPassKernels fmPassKernelsOfCpu(void)
@@ -40,22 +41,22 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmPassKernels){fmTetKernel_Polar_avx512, fmTetKernel_NeoHookean_avx512,
+		return (fmPassKernels){fmTetKernel_Polar_avx512,     fmTetKernel_NeoHookean_avx512,
 		                       fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512,
-		                       fmTetKernel_Inverted_avx512};
+		                       fmTetKernel_Inverted_avx512,  fmTetKernel_Proxy_avx512};
 	case fm_simdAvx2:
-		return (fmPassKernels){fmTetKernel_Polar_avx2, fmTetKernel_NeoHookean_avx2,
+		return (fmPassKernels){fmTetKernel_Polar_avx2,     fmTetKernel_NeoHookean_avx2,
 		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2,
-		                       fmTetKernel_Inverted_avx2};
+		                       fmTetKernel_Inverted_avx2,  fmTetKernel_Proxy_avx2};
 #endif
 	case fm_simdScalar:
-		return (fmPassKernels){fmTetKernel_Polar_scalar, fmTetKernel_NeoHookean_scalar,
+		return (fmPassKernels){fmTetKernel_Polar_scalar,     fmTetKernel_NeoHookean_scalar,
 		                       fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar,
-		                       fmTetKernel_Inverted_scalar};
+		                       fmTetKernel_Inverted_scalar,  fmTetKernel_Proxy_scalar};
 	default:
-		return (fmPassKernels){fmTetKernel_Polar_baseline, fmTetKernel_NeoHookean_baseline,
+		return (fmPassKernels){fmTetKernel_Polar_baseline,     fmTetKernel_NeoHookean_baseline,
 		                       fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline,
-		                       fmTetKernel_Inverted_baseline};
+		                       fmTetKernel_Inverted_baseline,  fmTetKernel_Proxy_baseline};
 	}
 }
 
@@ -196,6 +197,20 @@ void fmInvertedTets(const fmElasticMesh* mesh, const double* x, int first, int e
 		fmFillForceBatch(mesh, x, start, count, &kernels, &batch);
 		kernels.inverted(&batch, count, inverted + (start - first));
 	}
+}
+
+double fmStiffeningProxyTets(const fmElasticMesh* mesh, const double* x, int first, int end)
+{
+	fmPassKernels kernels = fmPassKernelsOfCpu();
+	fmForceBatch batch;
+	double largest = 1.0;
+	for (int start = first; start < end; start += FM_FORCE_LANES)
+	{
+		int count = end - start < FM_FORCE_LANES ? end - start : FM_FORCE_LANES;
+		fmFillForceBatch(mesh, x, start, count, &kernels, &batch);
+		kernels.proxy(&batch, count, &largest);
+	}
+	return largest;
 }
 
 // P and psi of tet @p t at x one tet at a time (a lane a batched kernel left to the scalar path).

@@ -10,6 +10,10 @@
 void fmInvertedTets(const fmElasticMesh* mesh, const double* x, int first, int end,
                     unsigned char* inverted);
 
+// fmStiffeningProxy (stability.h) of tets [first, end) at positions x, eight tets at a time on
+// the CPU's vectors: the same value, bit for bit (F and det as fmInvertedTets).
+double fmStiffeningProxyTets(const fmElasticMesh* mesh, const double* x, int first, int end);
+
 // Add elastic forces at positions x into f (3 * vertexCount); returns the elastic energy (J).
 // Dispatches on body->forceModel.
 double fmAddElasticForces(const fmElasticMesh* mesh, const double* x, double* f);

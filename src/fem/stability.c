@@ -65,6 +65,8 @@ double fmStiffeningProxy(const fmElasticMesh* mesh, const double* x)
 
 double fmStiffeningProxyRange(const fmElasticMesh* mesh, const double* x, int start, int end)
 {
+	if (mesh->forceModel != fm_massSpring)
+		return fmStiffeningProxyTets(mesh, x, start, end);
 	double proxy = 1.0;
 	for (int t = start; t < end; ++t)
 	{

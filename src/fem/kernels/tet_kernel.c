@@ -29,6 +29,8 @@
 #endif
 #include "fem/kernels/tet_kernel.h"
 
+#include "core/det_math.h"
+
 #include "material/material.h"
 #include "material/material_invariant.h"
 #include "math/svd3.h"
@@ -889,6 +891,21 @@ void FM_KERNEL_NAME(fmTetKernel_Inverted)(const fmForceBatch* b, int count, unsi
 	fmPolarCofactor(F, C, J);
 	for (int l = 0; l < count; ++l)
 		inverted[l] = !(J[l] > 0.0);
+}
+
+void FM_KERNEL_NAME(fmTetKernel_Proxy)(const fmForceBatch* b, int count, double* largest)
+{
+	double F[9][FM_PL], C[9][FM_PL], J[FM_PL];
+	fmLaneDeformation(b, F);
+	fmPolarCofactor(F, C, J);
+	for (int l = 0; l < count; ++l)
+	{
+		double I1 = 0.0;
+		for (int q = 0; q < 9; ++q)
+			I1 += F[q][l] * F[q][l];
+		double p = !(J[l] > 0.0) ? INFINITY : fmMax(I1, I1 * I1 / (4.0 * J[l] * J[l]));
+		*largest = fmMax(*largest, p);
+	}
 }
 
 // fmCorotated_Stress (material_stretch.c) lane by lane: D = F - R, J = det F (by the first row of

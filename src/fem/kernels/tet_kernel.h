@@ -171,6 +171,18 @@ fmInvertedKernelFcn fmTetKernel_Inverted_avx2;
 fmInvertedKernelFcn fmTetKernel_Inverted_avx512;
 #endif
 
+// fmTetKernel_Proxy_<variant>: *largest = the largest of itself and, over lanes l < count,
+// max(|F|^2, |F|^4 / (4 J^2)) (INFINITY where !(J > 0)), F = Ds Dm^-1 and J as
+// fmTetKernel_Inverted's: fmStiffeningProxy's values, bit for bit.
+typedef void fmProxyKernelFcn(const fmForceBatch* batch, int count, double* largest);
+
+fmProxyKernelFcn fmTetKernel_Proxy_scalar;
+fmProxyKernelFcn fmTetKernel_Proxy_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmProxyKernelFcn fmTetKernel_Proxy_avx2;
+fmProxyKernelFcn fmTetKernel_Proxy_avx512;
+#endif
+
 fmForceBatchKernelFcn fmTetKernel_Corotated_scalar;
 fmForceBatchKernelFcn fmTetKernel_Corotated_baseline;
 #if defined(__x86_64__) || defined(_M_X64)
