@@ -63,7 +63,8 @@ static double* batchedForcesCounting(const fmBody* b, fmSimdLevel level, int wor
 	def.workerCount = workers;
 	fmTaskSystem tasks;
 	fmTaskSystem_Init(&tasks, &def);
-	*energy = fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, NULL, f, level, &tasks, true, inverted, NULL);
+	*energy = fmTetBlocks_AddForces(blocks, &b->mesh, b->state.x, NULL, f, level, &tasks, true,
+	                                inverted, NULL);
 	fmTaskSystem_Shutdown(&tasks);
 	fmTetBlocks_Destroy(blocks);
 	return f;
@@ -188,7 +189,8 @@ TEST(batched_forces_follow_the_reference_through_compression_and_inversion)
 		if (b == NULL)
 			return;
 		for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
-			b->state.x[k] = scales[s] * b->mesh.x0[k] + (k % 3 == 1 ? 0.01 * b->mesh.x0[k - 1] : 0.0);
+			b->state.x[k] =
+			    scales[s] * b->mesh.x0[k] + (k % 3 == 1 ? 0.01 * b->mesh.x0[k - 1] : 0.0);
 		double energyErr, err = relativeError(failures_, b, &energyErr, false);
 		// 1e-7 above the clamp, 2.4e-6 far below it. Isochoric Neo-Hookean at F = 0.5 I (J =
 		// 0.125, below the clamp) is the exception: its stress's terms nearly cancel there (mu g F
@@ -312,8 +314,8 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 			FAIL_AT("vertex %d: %d tets in its blocks, %d around it", i, tets,
 			        b->mesh.vertexTetStart[i + 1] - b->mesh.vertexTetStart[i]);
 	}
-	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->mesh.tetCount, tb->blockCount,
-	       tb->entryCount, (double)tb->entryCount / b->mesh.tetCount);
+	printf("  %d tets in %d blocks, %d block vertices (%.2f a tet)\n", b->mesh.tetCount,
+	       tb->blockCount, tb->entryCount, (double)tb->entryCount / b->mesh.tetCount);
 	free(holds), free(seen);
 	fmTetBlocks_Destroy(tb);
 	fmDestroyWorld(world);
@@ -796,8 +798,8 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 					{
 						double edge = b->state.x[3 * n[k + 1] + i] - b->state.x[3 * n[0] + i];
 						same = same && memcmp(&batch.Ds[3 * i + k][l], &edge, sizeof edge) == 0 &&
-						       memcmp(&batch.dmInv[3 * i + k][l], &b->mesh.DmInv[first + l].m[3 * i + k],
-						              sizeof(double)) == 0;
+						       memcmp(&batch.dmInv[3 * i + k][l],
+						              &b->mesh.DmInv[first + l].m[3 * i + k], sizeof(double)) == 0;
 					}
 				if (!same && ++differ <= 5)
 					FAIL_AT("variant %d, tet %d: not its edges or rest data", v, first + l);
@@ -898,7 +900,8 @@ TEST(the_energy_pass_counts_the_inverted_tets_exactly)
 		{
 			// Node 3 onto the plane of the other three (a point of it in rounding).
 			const int* n = b->mesh.tets + 4 * t;
-			fmVec3 x0 = fmLoad(b->state.x, n[0]), x1 = fmLoad(b->state.x, n[1]), x2 = fmLoad(b->state.x, n[2]);
+			fmVec3 x0 = fmLoad(b->state.x, n[0]), x1 = fmLoad(b->state.x, n[1]),
+			       x2 = fmLoad(b->state.x, n[2]);
 			fmVec3 p = fmAdd(x0, fmAdd(fmScale(0.3, fmSub(x1, x0)), fmScale(0.4, fmSub(x2, x0))));
 			fmStore(b->state.x, n[3], p);
 		}

@@ -8,9 +8,9 @@
 #include "fem/force_fvm.h"
 #include "fem/force_spring.h"
 
+#include "fem/kernels/tet_kernel.h"
 #include "material/material.h"
 #include "material/material_stretch.h"
-#include "fem/kernels/tet_kernel.h"
 
 #include <string.h>
 
@@ -171,7 +171,8 @@ FM_FORCES_INLINE void fmAddTetForces(const fmElasticMesh* mesh, int t, const fmM
 
 // The same forces into tet @p t's 12 entries of @p forces; node 0 keeps minus the sum
 // (a - b == a + -b: the same bits once gathered).
-FM_FORCES_INLINE void fmStoreTetForces(const fmElasticMesh* mesh, int t, const fmMat3* P, double* forces)
+FM_FORCES_INLINE void fmStoreTetForces(const fmElasticMesh* mesh, int t, const fmMat3* P,
+                                       double* forces)
 {
 	double V0 = mesh->restVolume[t];
 	fmMat3 H = fmMatMulT(P, &mesh->DmInv[t]);
@@ -359,7 +360,8 @@ void fmTetForces(const fmElasticMesh* mesh, const double* x, int first, int end,
 	}
 }
 
-void fmGatherTetForces(const fmElasticMesh* mesh, const double* forces, int first, int end, double* f)
+void fmGatherTetForces(const fmElasticMesh* mesh, const double* forces, int first, int end,
+                       double* f)
 {
 	for (int i = first; i < end; ++i)
 	{

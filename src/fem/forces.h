@@ -2,8 +2,8 @@
 #pragma once
 
 #include "core/arena.h"
-#include "fem/elastic_mesh.h"
 #include "core/parallel.h"
+#include "fem/elastic_mesh.h"
 
 // inverted[t - first] = !(det F > 0) for tets [first, end) at positions x (F and det with the
 // bits of fmTetDeformation and fmDet), eight tets at a time on the CPU's vectors.
@@ -26,7 +26,8 @@ void fmTetForces(const fmElasticMesh* mesh, const double* x, int first, int end,
                  double* energies);
 
 // f[i] += the forces of fmTetForces() on vertex i, in tet order, for vertices [first, end).
-void fmGatherTetForces(const fmElasticMesh* mesh, const double* forces, int first, int end, double* f);
+void fmGatherTetForces(const fmElasticMesh* mesh, const double* forces, int first, int end,
+                       double* f);
 
 // fmAddElasticForces() on the world's workers (FEM: per-tet forces, a gather per vertex in tet
 // order, the energies summed in tet order: the same bits), buffers from @p arena; serial for
