@@ -199,14 +199,23 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 		run->code = cli_exitInput;
 }
 
-static void cliBenchExplicitRows(cliBenchRun* run)
+// The machine's triad bandwidth on 1 and N threads, measured and printed once a run.
+static void cliBenchBandwidth(cliBenchRun* run)
 {
-	static const fmMaterialModel models[2] = {fm_stvk, fm_neoHookean};
 	const cliBenchOptions* o = run->options;
+	if (run->bandwidth[0] > 0.0)
+		return;
 	cliTriadBandwidths(o->workers, &run->bandwidth[0], &run->bandwidth[1]);
 	printf("memory bandwidth (triad): %.1f GB/s on 1 thread, %.1f GB/s on %d (ratio %.2f)\n",
 	       run->bandwidth[0] / 1e9, run->bandwidth[1] / 1e9, o->workers,
 	       run->bandwidth[0] > 0.0 ? run->bandwidth[1] / run->bandwidth[0] : 0.0);
+}
+
+static void cliBenchExplicitRows(cliBenchRun* run)
+{
+	static const fmMaterialModel models[2] = {fm_stvk, fm_neoHookean};
+	const cliBenchOptions* o = run->options;
+	cliBenchBandwidth(run);
 	printf("explicit steps (FEM, symplectic Euler), median of %d; bound = %.0f bytes a tet-step "
 	       "at the triad bandwidth of that many threads\n",
 	       o->repeats, CLI_BYTES_PER_TET_STEP);
@@ -364,10 +373,15 @@ int cliBench(int argc, char** argv)
 	else
 	{
 		run.meshes = &meshes;
-		if (o.workers > 1 && meshes.count > 0)
+		// The machine's lines for the rows that time frames on its workers (the bodies, the
+		// frames in motion), in the same run.
+		bool machine = meshes.count > 0 || (o.families & (1u << cli_benchMotion)) != 0;
+		if (o.workers > 1 && machine)
 			printf("compute scaling (independent work in registers, %d threads against 1): "
 			       "%.2fx; the reference for the workers' speed-ups below\n",
 			       o.workers, cliComputeScaling(o.workers));
+		if (machine && !(o.explicitSteps && meshes.count > 0))
+			cliBenchBandwidth(&run);
 		if (o.explicitSteps && meshes.count > 0)
 			cliBenchExplicitRows(&run);
 		if (o.implicitFrames && meshes.count > 0)
