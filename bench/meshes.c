@@ -206,3 +206,28 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 	cliScene_Free(&scene);
 	return ok;
 }
+
+fmWorldDef cliBenchFloorWorldDef(const cliBenchOptions* o, int workers)
+{
+	fmWorldDef def = fmDefaultWorldDef();
+	def.integrator = fm_implicit;
+	def.tolerance = FM_TOLERANCE_GAME;
+	def.workerCount = workers;
+	def.simd = o->simd;
+	def.crossPlatformDeterminism = o->deterministic;
+	def.implicitSolver = o->solver;
+	def.floor.height = 0.0;
+	def.floor.friction = fm_floorCoulomb;
+	def.floor.frictionCoefficient = 0.5;
+	return def;
+}
+
+fmBodyDef cliBenchBoxBodyDef(const fmTetMesh* mesh)
+{
+	fmBodyDef body = fmDefaultBodyDef();
+	body.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
+	body.massMode = fm_massFromDensity;
+	body.density = 1000.0;
+	body.mesh = mesh;
+	return body;
+}

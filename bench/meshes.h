@@ -2,6 +2,7 @@
 // tets and TetGen beams of the same sizes, and the world each one is timed in.
 #pragma once
 
+#include "options.h"
 #include "scene.h"
 
 /// The floor of every bench world (y, m): the house's stick floor.
@@ -83,6 +84,15 @@ typedef struct cliBenchWorld
 	bool noFloor;            ///< no floor at all
 	int newtonIterations;    ///< implicit: a step's most (0: the default)
 } cliBenchWorld;
+
+/// The world def of the bench's Coulomb-floor scenes (the props, the start-up): implicit at the
+/// game tolerance on @p workers, the run's instruction set, determinism and solver, a floor at
+/// y = 0 with friction 0.5.
+fmWorldDef cliBenchFloorWorldDef(const cliBenchOptions* options, int workers);
+
+/// The body def of those scenes' boxes: Neo-Hookean at E = 1 MPa, nu = 0.3, 1000 kg/m^3, of
+/// @p mesh.
+fmBodyDef cliBenchBoxBodyDef(const fmTetMesh* mesh);
 
 /// A world with the mesh as its one body resting on (or, the house, falling to) the stick floor
 /// at y = -3 (@p settings->lift above it): the house as the demo (1 kg a vertex), boxes and beams

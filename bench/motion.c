@@ -536,28 +536,15 @@ void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
 // A world of @p count props (implicit, the game tolerance, @p workers), or the null id.
 static fmWorldId cliPropsWorld(const cliBenchOptions* o, int count, int workers)
 {
-	fmWorldDef def = fmDefaultWorldDef();
-	def.integrator = fm_implicit;
-	def.tolerance = FM_TOLERANCE_GAME;
-	def.workerCount = workers;
-	def.simd = o->simd;
-	def.crossPlatformDeterminism = o->deterministic;
-	def.implicitSolver = o->solver;
+	fmWorldDef def = cliBenchFloorWorldDef(o, workers);
 	def.maxBodies = count;
-	def.floor.height = 0.0;
-	def.floor.friction = fm_floorCoulomb;
-	def.floor.frictionCoefficient = 0.5;
 	fmWorldId world = fmCreateWorld(&def);
 	int side = (int)ceil(sqrt((double)count));
 	for (int i = 0; i < count && fmWorld_IsValid(world); ++i)
 	{
 		double x = CLI_PROP_SPACING * (i % side), z = CLI_PROP_SPACING * (i / side);
 		fmTetMesh mesh;
-		fmBodyDef body = fmDefaultBodyDef();
-		body.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
-		body.massMode = fm_massFromDensity;
-		body.density = 1000.0;
-		body.mesh = &mesh;
+		fmBodyDef body = cliBenchBoxBodyDef(&mesh);
 		fmBodyId id;
 		bool ok = fmMakeBoxMesh(2, 3, 4, fmMakeVec3(x, CLI_PROP_DROP, z),
 		                        fmMakeVec3(x + 0.3, CLI_PROP_DROP + 0.45, z + 0.6), &mesh) == fm_ok;

@@ -61,22 +61,9 @@ static bool cliStartupOnce(const cliBenchOptions* o, const char* node, const cha
 	}
 	t->load = 1e3 * (cliNow() - start);
 	start = cliNow();
-	fmWorldDef def = fmDefaultWorldDef();
-	def.integrator = fm_implicit;
-	def.tolerance = FM_TOLERANCE_GAME;
-	def.workerCount = o->workers;
-	def.simd = o->simd;
-	def.crossPlatformDeterminism = o->deterministic;
-	def.implicitSolver = o->solver;
-	def.floor.height = 0.0;
-	def.floor.friction = fm_floorCoulomb;
-	def.floor.frictionCoefficient = 0.5;
+	fmWorldDef def = cliBenchFloorWorldDef(o, o->workers);
 	fmWorldId world = fmCreateWorld(&def);
-	fmBodyDef body = fmDefaultBodyDef();
-	body.material = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
-	body.massMode = fm_massFromDensity;
-	body.density = 1000.0;
-	body.mesh = &mesh;
+	fmBodyDef body = cliBenchBoxBodyDef(&mesh);
 	fmBodyId id;
 	bool ok = fmWorld_IsValid(world) && fmCreateBody(world, &body, &id, &diag) == fm_ok;
 	fmFreeTetMesh(&mesh);

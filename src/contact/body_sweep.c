@@ -14,7 +14,7 @@ bool fmBodySweep_Sweepable(fmVec3 lower, fmVec3 upper)
 	                 isfinite(upper.x) && isfinite(upper.y) && isfinite(upper.z));
 }
 
-static int fmCompareKeys(const void* pa, const void* pb)
+int fmSweepKey_Compare(const void* pa, const void* pb)
 {
 	const fmSweepKey* a = pa;
 	const fmSweepKey* b = pb;
@@ -51,7 +51,7 @@ bool fmBodySweep_Pairs(fmBodySweep* s, const int* slots, int count, const fmVec3
 	for (int k = 0; k < count; ++k)
 		if (lower[slots[k]].x <= upper[slots[k]].x) // (an empty box meets nothing)
 			s->keys[n++] = (fmSweepKey){lower[slots[k]].x, slots[k]};
-	qsort(s->keys, (size_t)n, sizeof *s->keys, fmCompareKeys);
+	qsort(s->keys, (size_t)n, sizeof *s->keys, fmSweepKey_Compare);
 	for (int i = 0; i < n; ++i)
 	{
 		int a = s->keys[i].slot;

@@ -15,6 +15,9 @@ typedef struct fmSweepKey
 	int slot;
 } fmSweepKey;
 
+// Orders sweep keys by x, then slot (qsort's comparison).
+int fmSweepKey_Compare(const void* a, const void* b);
+
 // The sweep's buffers, zeroed to start; grown to the scene, then reused.
 typedef struct fmBodySweep
 {

@@ -22,7 +22,7 @@ void fmSchedule_Free(fmSchedule* s)
 	FM_FREE_ARRAY(s->stepHi, fmVec3, n);
 	FM_FREE_ARRAY(s->nearLo, fmVec3, n);
 	FM_FREE_ARRAY(s->nearHi, fmVec3, n);
-	FM_FREE_ARRAY(s->sorted, fmScheduleKey, n);
+	FM_FREE_ARRAY(s->sorted, fmSweepKey, n);
 	FM_FREE_ARRAY(s->stamp, int, n);
 	FM_FREE_ARRAY(s->pairs, int, s->pairCapacity);
 	FM_FREE_ARRAY(s->gatherLo, fmVec3, n);
@@ -46,7 +46,7 @@ static bool fmScheduleReserve(fmSchedule* s, int slots)
 	s->stepHi = FM_ALLOC_ARRAY(fmVec3, n);
 	s->nearLo = FM_ALLOC_ARRAY(fmVec3, n);
 	s->nearHi = FM_ALLOC_ARRAY(fmVec3, n);
-	s->sorted = FM_ALLOC_ARRAY(fmScheduleKey, n);
+	s->sorted = FM_ALLOC_ARRAY(fmSweepKey, n);
 	s->stamp = FM_ALLOC_ARRAY(int, n);
 	s->gatherLo = FM_ALLOC_ARRAY(fmVec3, n);
 	s->gatherHi = FM_ALLOC_ARRAY(fmVec3, n);
@@ -116,16 +116,6 @@ static bool fmStepsMeet(const fmSchedule* s, const fmWorld* w, int a, int b)
 	                   fmAdd(A->contact.surfaceUpper, g));
 }
 
-// By the low x of the near box, then by slot (a total order: the same sort on every machine).
-static int fmCompareKeys(const void* pa, const void* pb)
-{
-	const fmScheduleKey* a = pa;
-	const fmScheduleKey* b = pb;
-	if (a->x != b->x)
-		return a->x < b->x ? -1 : 1;
-	return (a->slot > b->slot) - (a->slot < b->slot);
-}
-
 static bool fmAddPair(fmSchedule* s, int a, int b)
 {
 	if (s->pairCount + 2 > s->pairCapacity &&
@@ -140,7 +130,7 @@ static bool fmAddPair(fmSchedule* s, int a, int b)
 // The pairs of stepping bodies that may meet: sweep and prune along x over the near boxes.
 static bool fmFindPairs(fmSchedule* s, const fmWorld* w, int count)
 {
-	qsort(s->sorted, (size_t)count, sizeof *s->sorted, fmCompareKeys);
+	qsort(s->sorted, (size_t)count, sizeof *s->sorted, fmSweepKey_Compare);
 	s->pairCount = 0;
 	for (int k = 0; k < count; ++k)
 	{

@@ -15,13 +15,6 @@
 
 struct fmWorld;
 
-// A stepping body's slot and the low x of its near box (the sweep's order).
-typedef struct fmScheduleKey
-{
-	double x;
-	int slot;
-} fmScheduleKey;
-
 // What a substep's schedule holds: the stepping bodies' slots, group after group (each group in
 // slot order), group g being order[groupStart[g], groupStart[g + 1]).
 typedef struct fmSchedule
@@ -34,10 +27,10 @@ typedef struct fmSchedule
 	fmVec3* stepHi;
 	fmVec3* nearLo; // per body slot: that box and its surface's grown by the gap
 	fmVec3* nearHi;
-	fmScheduleKey* sorted; // the stepping slots (by the low x of their near boxes for the sweep)
-	int* pairs;            // the pairs of slots that may meet, two entries each
+	fmSweepKey* sorted; // the stepping slots (by the low x of their near boxes for the sweep)
+	int* pairs;         // the pairs of slots that may meet, two entries each
 	int pairCount, pairCapacity;
-	int* stamp;   // per group: the last slot a neighbour of which took it
+	int* stamp; // per group: the last slot a neighbour of which took it
 	// With the barrier (gatherKnown): per stepping slot, the live bodies whose surfaces its
 	// barrier's gather (fmBarrierPairs_GatherOthers) can meet in the substep, a superset found by
 	// a sweep over each live body's box of the substep (gatherLo, gatherHi: a stepping body's
