@@ -86,14 +86,17 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   name=$(basename "$source" .c)
   posix=()
   case "$source" in cli/*) name=cli_$name posix=(-D_POSIX_C_SOURCE=200809L) ;; esac
-  # The mesh readers and checks, the glue, the contact audit (once a body is made), the body
-  # definitions' checks and the snapshots run once a load or a call, not once a step; the world's
-  # and bodies' settings, the frame's orchestration, the islands, the core's diagnostics and the
-  # debug draw run once a frame or substep, never per element: -Os (the .wasm line; for some
-  # files, e.g. query.c, schedule.c, grab.c, -Os gives more code, so they stay -O2).
+  # The mesh readers and checks, the contact audit and the snapshots run once a load or a call,
+  # not once a step: -Oz. The glue, the world's and bodies' settings, the frame's orchestration,
+  # the islands, the core's diagnostics, the debug draw, the contact stage's orchestration, its
+  # buffers, bookkeeping and mid phase (body_sweep, contact_detect) and the stability limit run
+  # once a frame, substep or body, never per element: -Os (the .wasm line: 511.6 KiB of 512 on
+  # 2026-12-06; for some files, e.g. query.c, schedule.c, grab.c, static.c, -Os gives more code,
+  # so they stay -O2).
   case "$name" in
-    mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot | world | \
-      island | body | body_def | step | core | draw | femto_web) level=-Os ;;
+    mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot) level=-Oz ;;
+    world | island | body | body_def | step | core | draw | body_sweep | contact_detect | \
+      contact_state | stability | contact | contact_ledger | femto_web) level=-Os ;;
     cli_*) level=-Oz ;;
     *) level=-O2 ;;
   esac

@@ -58,29 +58,11 @@ static bool fmAddNeighbour(fmContactState* s, int* count, int k)
 	return true;
 }
 
-// Each body's neighbours by testing every pair: for boxes a sweep cannot order (a body gone
-// non-finite, whose box meets everything).
-static bool fmFindNeighboursAll(const fmWorld* w, fmContactState* s)
-{
-	int count = 0;
-	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-	{
-		s->neighbourStart[slot] = count;
-		for (int k = 0; fmBody_IsLive(&w->bodies[slot]) && k < w->bodyCapacity; ++k)
-			if (fmIsNeighbour(w, slot, k) &&
-			    fmBoxMeetsBody(s, k, s->bodyLower[slot], s->bodyUpper[slot]) &&
-			    !fmAddNeighbour(s, &count, k))
-				return false;
-		s->bodyNear[slot] = count > s->neighbourStart[slot];
-	}
-	s->neighbourStart[w->bodyCapacity] = count;
-	return true;
-}
-
 // Each body's neighbours (fmContactState.neighbour), and whether it has any (bodyNear): the
 // pairs of boxes that meet by a sweep (body_sweep.h), then each body's list in slot order, its
-// own slot among them when it collides with itself. The same lists as testing every pair.
-// False when memory is short.
+// own slot among them when it collides with itself. The same lists as testing every pair, but
+// that a body gone non-finite (the frame's checks refuse it) has none and is no one's. False
+// when memory is short.
 static bool fmFindNeighbours(const fmWorld* w, fmContactState* s)
 {
 	int live = 0;
@@ -89,7 +71,10 @@ static bool fmFindNeighbours(const fmWorld* w, fmContactState* s)
 		if (!fmBody_IsLive(&w->bodies[slot]))
 			continue;
 		if (!fmBodySweep_Sweepable(s->bodyLower[slot], s->bodyUpper[slot]))
-			return fmFindNeighboursAll(w, s);
+		{
+			s->bodyLower[slot] = fmMakeVec3(INFINITY, INFINITY, INFINITY); // (empty: meets none)
+			s->bodyUpper[slot] = fmMakeVec3(-INFINITY, -INFINITY, -INFINITY);
+		}
 		s->live[live++] = slot;
 	}
 	fmBodySweep* sweep = &s->sweep;

@@ -23,6 +23,14 @@ static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
 }
 
+// The batched stiffening proxy; none in the browser (the .wasm line: stability.c takes the proxy
+// one tet at a time there).
+#if defined(__EMSCRIPTEN__)
+#define FM_PROXY_KERNEL(kernel) NULL
+#else
+#define FM_PROXY_KERNEL(kernel) kernel
+#endif
+
 // The batched double-precision kernels of the force passes, of the CPU's instruction set (every
 // variant gives the same bits).
 typedef struct fmPassKernels
@@ -43,20 +51,20 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 	case fm_simdAvx512:
 		return (fmPassKernels){fmTetKernel_Polar_avx512,     fmTetKernel_NeoHookean_avx512,
 		                       fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512,
-		                       fmTetKernel_Inverted_avx512,  fmTetKernel_Proxy_avx512};
+		                       fmTetKernel_Inverted_avx512,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx512)};
 	case fm_simdAvx2:
 		return (fmPassKernels){fmTetKernel_Polar_avx2,     fmTetKernel_NeoHookean_avx2,
 		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2,
-		                       fmTetKernel_Inverted_avx2,  fmTetKernel_Proxy_avx2};
+		                       fmTetKernel_Inverted_avx2,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx2)};
 #endif
 	case fm_simdScalar:
 		return (fmPassKernels){fmTetKernel_Polar_scalar,     fmTetKernel_NeoHookean_scalar,
 		                       fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar,
-		                       fmTetKernel_Inverted_scalar,  fmTetKernel_Proxy_scalar};
+		                       fmTetKernel_Inverted_scalar,  FM_PROXY_KERNEL(fmTetKernel_Proxy_scalar)};
 	default:
 		return (fmPassKernels){fmTetKernel_Polar_baseline,     fmTetKernel_NeoHookean_baseline,
 		                       fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline,
-		                       fmTetKernel_Inverted_baseline,  fmTetKernel_Proxy_baseline};
+		                       fmTetKernel_Inverted_baseline,  FM_PROXY_KERNEL(fmTetKernel_Proxy_baseline)};
 	}
 }
 

@@ -65,8 +65,10 @@ double fmStiffeningProxy(const fmElasticMesh* mesh, const double* x)
 
 double fmStiffeningProxyRange(const fmElasticMesh* mesh, const double* x, int start, int end)
 {
+#if !defined(__EMSCRIPTEN__) // (no batched proxy in the browser's .wasm: forces.c)
 	if (mesh->forceModel != fm_massSpring)
 		return fmStiffeningProxyTets(mesh, x, start, end);
+#endif
 	double proxy = 1.0;
 	for (int t = start; t < end; ++t)
 	{

@@ -893,6 +893,7 @@ void FM_KERNEL_NAME(fmTetKernel_Inverted)(const fmForceBatch* b, int count, unsi
 		inverted[l] = !(J[l] > 0.0);
 }
 
+#if !defined(__EMSCRIPTEN__) // (the .wasm line: the browser takes the proxy one tet at a time)
 void FM_KERNEL_NAME(fmTetKernel_Proxy)(const fmForceBatch* b, int count, double* largest)
 {
 	double F[9][FM_PL], C[9][FM_PL], J[FM_PL];
@@ -907,6 +908,7 @@ void FM_KERNEL_NAME(fmTetKernel_Proxy)(const fmForceBatch* b, int count, double*
 		*largest = fmMax(*largest, p);
 	}
 }
+#endif
 
 // fmCorotated_Stress (material_stretch.c) lane by lane: D = F - R, J = det F (by the first row of
 // cof F, the same bits as fmDet), P = 2 mu D + lambda (J - 1) cof F, psi = mu D : D +
