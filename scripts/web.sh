@@ -91,7 +91,7 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   # the islands, the core's diagnostics, the debug draw, the contact stage's orchestration, its
   # buffers, bookkeeping and mid phase (body_sweep, contact_detect) and the stability limit run
   # once a frame, substep or body, never per element: -Os (the .wasm line: 511.6 KiB of 512 on
-  # 2026-12-06; for some files, e.g. query.c, schedule.c, grab.c, static.c, -Os gives more code,
+  # 2026-12-06; for some files, e.g. query.c, schedule.c, grab.c, -Os gives more code,
   # so they stay -O2).
   case "$name" in
     mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot) level=-Oz ;;
