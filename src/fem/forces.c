@@ -49,22 +49,25 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmPassKernels){fmTetKernel_Polar_avx512,     fmTetKernel_NeoHookean_avx512,
-		                       fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512,
-		                       fmTetKernel_Inverted_avx512,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx512)};
+		return (fmPassKernels){
+		    fmTetKernel_Polar_avx512,     fmTetKernel_NeoHookean_avx512,
+		    fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512,
+		    fmTetKernel_Inverted_avx512,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx512)};
 	case fm_simdAvx2:
 		return (fmPassKernels){fmTetKernel_Polar_avx2,     fmTetKernel_NeoHookean_avx2,
 		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2,
 		                       fmTetKernel_Inverted_avx2,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx2)};
 #endif
 	case fm_simdScalar:
-		return (fmPassKernels){fmTetKernel_Polar_scalar,     fmTetKernel_NeoHookean_scalar,
-		                       fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar,
-		                       fmTetKernel_Inverted_scalar,  FM_PROXY_KERNEL(fmTetKernel_Proxy_scalar)};
+		return (fmPassKernels){
+		    fmTetKernel_Polar_scalar,     fmTetKernel_NeoHookean_scalar,
+		    fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar,
+		    fmTetKernel_Inverted_scalar,  FM_PROXY_KERNEL(fmTetKernel_Proxy_scalar)};
 	default:
-		return (fmPassKernels){fmTetKernel_Polar_baseline,     fmTetKernel_NeoHookean_baseline,
-		                       fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline,
-		                       fmTetKernel_Inverted_baseline,  FM_PROXY_KERNEL(fmTetKernel_Proxy_baseline)};
+		return (fmPassKernels){
+		    fmTetKernel_Polar_baseline,     fmTetKernel_NeoHookean_baseline,
+		    fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline,
+		    fmTetKernel_Inverted_baseline,  FM_PROXY_KERNEL(fmTetKernel_Proxy_baseline)};
 	}
 }
 

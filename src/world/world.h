@@ -22,7 +22,7 @@ typedef struct fmWorld
 	bool inUse;
 	fmWorldDef def;
 	int bodyCapacity;
-	fmBody* bodies; // bodyCapacity slots (fmBody_IsLive)
+	fmBody* bodies;         // bodyCapacity slots (fmBody_IsLive)
 	fmFrameWork* frameWork; // bodyCapacity: the work the stages booked in the frame being stepped
 	// 1 inside fmWorld_Step: a second step (another thread's, or from the substep callback) is
 	// refused by the atomic exchange that sets it, before it touches anything.
@@ -30,7 +30,7 @@ typedef struct fmWorld
 	fmStepStats stats;
 	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
-	bool warnedStep;               // the explicit step-size warning was given
+	bool warnedStep; // the explicit step-size warning was given
 	// The frame's fastest kinematic collider for its size, when one moves more than its
 	// thickness in a substep near a body (-1: none): the warning and the failure advice name it.
 	int fastCollider;
@@ -42,9 +42,9 @@ typedef struct fmWorld
 	// Workers 1 to workerCount - 1's step temporaries while bodies step at once (worker 0 takes
 	// arena), reserved for the largest body stepped that way (FM_BODY_PARALLEL_MAX_VERTICES).
 	fmArena* workerArenas;
-	fmSchedule schedule;           // the substep's groups of bodies (schedule.h)
-	fmTaskSystem tasks;            // how the stages run in parallel
-	fmSimdLevel simd; // the element kernels' instruction set: def.simd resolved on this CPU
+	fmSchedule schedule; // the substep's groups of bodies (schedule.h)
+	fmTaskSystem tasks;  // how the stages run in parallel
+	fmSimdLevel simd;    // the element kernels' instruction set: def.simd resolved on this CPU
 	struct fmCollider* colliders; // colliderCapacity slots (collider.h)
 	fmCollider floorCollider;     // def.floor as a plane collider: its id, reports and queries
 	int colliderCapacity;         // grows by doubling up to FM_MAX_COLLIDERS
@@ -56,13 +56,13 @@ typedef struct fmWorld
 	bool stepKnown;
 	double stepThickness;
 	bool stepBodiesMeet;
-	float* drawPoints;   // fmWorld_Draw's buffer: a contact's point, then its line
-	                     // (FM_DRAW_CONTACT_FLOATS)
+	float* drawPoints; // fmWorld_Draw's buffer: a contact's point, then its line
+	                   // (FM_DRAW_CONTACT_FLOATS)
 	int drawPointCapacity;
-	fmAttachment drawShape; // fmWorld_Draw's collider triangles (draw_shapes.h's fmShapeBuffer)
-	fmSleepEvent* sleepEvents;       // since the start of the last step (island.c)
-	int* islandParent;               // island.c's union-find (bodyCapacity), made at need
-	double* islandLeast;             // per island root: its bodies' least sleep timer
+	fmAttachment drawShape;    // fmWorld_Draw's collider triangles (draw_shapes.h's fmShapeBuffer)
+	fmSleepEvent* sleepEvents; // since the start of the last step (island.c)
+	int* islandParent;         // island.c's union-find (bodyCapacity), made at need
+	double* islandLeast;       // per island root: its bodies' least sleep timer
 	int islandCapacity;
 	int sleepEventCount;
 	int sleepEventCapacity;
