@@ -52,6 +52,8 @@ const char* const cliBenchHelp =
     "  --implicit         only the implicit benchmark (default: explicit, then implicit;\n"
     "                     implicit stops at 100k tets)\n"
     "  --repeats R        repetitions per measurement (default 5, --quick 3)\n"
+    "  --frames F         frames of 1/60 s each motion scene and the props run (default\n"
+    "                     120; the first, the world's setup, is not counted)\n"
     "  --workers N        the most workers to time (default: the cores available); every\n"
     "                     explicit row and the implicit game-tolerance rows run on 1 and on N\n"
     "                     workers\n"

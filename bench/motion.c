@@ -388,7 +388,7 @@ static void cliMotionBody_Free(cliMotionBody* b)
 static bool cliMotionTime(const cliBenchOptions* o, const cliBenchMesh* mesh,
                           const cliMotionCase* cases, cliMotionBody* b)
 {
-	if (!cliMotionTrack_Make(&b->scratch, CLI_MOTION_FRAMES))
+	if (!cliMotionTrack_Make(&b->scratch, o->frames))
 		return false;
 	for (int r = 0; r < o->repeats; ++r)
 		for (int s = 0; s < b->scenes; ++s)
@@ -397,8 +397,8 @@ static bool cliMotionTime(const cliBenchOptions* o, const cliBenchMesh* mesh,
 				cliBenchWorld settings = cliMotionSettings(o, mesh, &cases[c], s);
 				cliMotionTrack* best = &b->best[c][s];
 				cliMotionTrack* t = r == 0 ? best : &b->scratch;
-				if ((r == 0 && !cliMotionTrack_Make(best, CLI_MOTION_FRAMES)) ||
-				    !cliMotionRunScene(mesh, &settings, s, CLI_MOTION_FRAMES, t))
+				if ((r == 0 && !cliMotionTrack_Make(best, o->frames)) ||
+				    !cliMotionRunScene(mesh, &settings, s, o->frames, t))
 					return false;
 				for (int f = 0; r > 0 && f < t->frames && f < best->frames; ++f)
 					best->ms[f] = fmin(best->ms[f], t->ms[f]);
@@ -409,8 +409,8 @@ static bool cliMotionTime(const cliBenchOptions* o, const cliBenchMesh* mesh,
 	for (int s = 0; s < b->scenes; ++s)
 	{
 		cliBenchWorld settings = cliMotionSettings(o, mesh, &accurate, s);
-		if (!cliMotionTrack_Make(&b->exact[s], CLI_MOTION_FRAMES) ||
-		    !cliMotionRunScene(mesh, &settings, s, CLI_MOTION_FRAMES, &b->exact[s]))
+		if (!cliMotionTrack_Make(&b->exact[s], o->frames) ||
+		    !cliMotionRunScene(mesh, &settings, s, o->frames, &b->exact[s]))
 			return false;
 	}
 	return true;
@@ -421,7 +421,7 @@ static bool cliMotionCaseRows(const cliBenchOptions* o, const cliBenchMesh* mesh
                               const cliMotionCase* c, cliMotionBody* b, int k,
                               cliBenchReport* report, int* code)
 {
-	size_t total = (size_t)b->scenes * CLI_MOTION_FRAMES;
+	size_t total = (size_t)b->scenes * o->frames;
 	double* ms = malloc(total * sizeof *ms);
 	int* newton = malloc(total * sizeof *newton);
 	int* cg = malloc(total * sizeof *cg);
@@ -432,7 +432,7 @@ static bool cliMotionCaseRows(const cliBenchOptions* o, const cliBenchMesh* mesh
 	for (int s = 0; ok && s < b->scenes; ++s)
 	{
 		cliMotionTrack* t = &b->best[k][s];
-		if (t->frames < CLI_MOTION_FRAMES)
+		if (t->frames < o->frames)
 		{
 			printf("%-6s %-9s %7d %-10s %-13s %7d refused: %s\n", cliMotionSceneNames[s],
 			       mesh->label, mesh->tets, fmMaterialModelName(settings.model),
@@ -445,7 +445,7 @@ static bool cliMotionCaseRows(const cliBenchOptions* o, const cliBenchMesh* mesh
 			far = cliMotionAccuracy(t, &b->exact[s], t->size);
 		accuracy = isnan(accuracy) ? far : fmax(accuracy, far);
 		// Frame 0 is the world's first step, its setup with it: start-up, not motion.
-		const int timed = CLI_MOTION_FRAMES - 1;
+		const int timed = o->frames - 1;
 		memcpy(ms + pooled, t->ms + 1, (size_t)timed * sizeof *ms);
 		memcpy(newton + pooled, t->newton + 1, (size_t)timed * sizeof *newton);
 		memcpy(cg + pooled, t->cg + 1, (size_t)timed * sizeof *cg);
@@ -498,7 +498,7 @@ void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
 	       "implicit at the game tolerance; accuracy: the game path's largest distance from the "
 	       "1e-6 path (centre of mass or tip, until their contact events differ), of the body's "
 	       "size\n",
-	       CLI_MOTION_FRAMES, o->repeats);
+	       o->frames, o->repeats);
 	printf("%-6s %-9s %7s %-10s %-13s %7s %8s %8s %8s %6s %6s %7s %5s %6s %9s\n", "scene", "mesh",
 	       "tets", "model", "integrator", "workers", "median", "p95", "worst", "w/med", "Newton",
 	       "CG", "N@w", "CG@w", "accuracy");
@@ -521,7 +521,7 @@ void cliBenchMotionRows(const cliBenchOptions* o, const cliBenchMeshSet* meshes,
 		if (bar.nominal <= most)
 			cliMotionBodyRows(o, &bar, report, code);
 	}
-	for (int m = 0; m < meshes->count && cliMotionWants(o, cli_benchBeam); ++m)
+	for (int m = 0; m < meshes->count && cliMotionWants(o, cli_benchBeam) && !o->quick; ++m)
 		if (meshes->meshes[m].family == cli_benchBeam && meshes->meshes[m].nominal <= most)
 			cliMotionBodyRows(o, &meshes->meshes[m], report, code);
 }
@@ -559,7 +559,7 @@ static fmWorldId cliPropsWorld(const cliBenchOptions* o, int count, int workers)
 	return world;
 }
 
-// Step a world of @p count props for CLI_MOTION_FRAMES frames, keeping each frame's fastest
+// Step a world of @p count props for o->frames frames, keeping each frame's fastest
 // time in @p ms (the first run fills it). False when a frame is refused or the world cannot be
 // made (said why).
 static bool cliPropsRun(const cliBenchOptions* o, int count, int workers, bool first, double* ms)
@@ -571,7 +571,7 @@ static bool cliPropsRun(const cliBenchOptions* o, int count, int workers, bool f
 		return false;
 	}
 	bool ok = true;
-	for (int f = 0; ok && f < CLI_MOTION_FRAMES; ++f)
+	for (int f = 0; ok && f < o->frames; ++f)
 	{
 		double start = cliNow();
 		ok = fmWorld_Step(world, 1.0 / 60.0, 1) == fm_ok;
@@ -598,7 +598,7 @@ void cliBenchPropsRows(const cliBenchOptions* o, cliBenchReport* report, int* co
 	mesh.family = cli_benchBox;
 	snprintf(mesh.label, sizeof mesh.label, "props %d", count);
 	mesh.tets = 144 * count;
-	size_t frames = CLI_MOTION_FRAMES;
+	size_t frames = o->frames;
 	double* ms[4] = {calloc(frames, sizeof(double)), calloc(frames, sizeof(double)),
 	                 calloc(frames, sizeof(double)), calloc(frames, sizeof(double))};
 	const int workers[2] = {1, o->workers};

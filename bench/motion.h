@@ -13,7 +13,7 @@
 #include "options.h"
 #include "report.h"
 
-/// Frames each scene runs (2 s of 1/60 s frames).
+/// Frames each scene runs unless --frames says (2 s of 1/60 s frames).
 #define CLI_MOTION_FRAMES 120
 
 /// The largest body timed in motion (tets): implicit frames beyond it take seconds.

@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "meshes.h"
+#include "motion.h"
 
 #include <limits.h>
 #include <stdio.h>
@@ -64,6 +65,8 @@ static bool cliBenchValueOption(int argc, char** argv, int* i, cliBenchOptions* 
 		return cliBenchIntOption(argc, argv, i, 1, INT_MAX, &o->maxTets, code);
 	if (strcmp(arg, "--repeats") == 0)
 		return cliBenchIntOption(argc, argv, i, 1, 1000, &o->repeats, code);
+	if (strcmp(arg, "--frames") == 0)
+		return cliBenchIntOption(argc, argv, i, 2, 100000, &o->frames, code);
 	if (strcmp(arg, "--workers") == 0)
 		return cliBenchIntOption(argc, argv, i, 1, FM_MAX_WORKERS, &o->workers, code);
 	if (strcmp(arg, "--implicit-solver") == 0)
@@ -132,6 +135,8 @@ static int cliBenchFinishOptions(cliBenchOptions* o, bool onlyExplicit, bool onl
 		o->repeats = o->quick ? 3 : 5;
 	if (o->workers == 0)
 		o->workers = cliCoresAvailable();
+	if (o->frames == 0)
+		o->frames = CLI_MOTION_FRAMES;
 	return -1;
 }
 

@@ -22,6 +22,7 @@ typedef struct cliBenchOptions
 	bool explicitSteps;      ///< time explicit steps (not --implicit)
 	bool implicitFrames;     ///< time implicit frames (not --explicit)
 	int repeats;             ///< --repeats (default 5, --quick 3)
+	int frames;              ///< --frames: each motion scene's and the props' (default 120)
 	int workers;             ///< --workers (default: the cores available)
 	const char* csvPath;     ///< --csv, or NULL
 	const char* plotPath;    ///< --plot, or NULL
