@@ -619,6 +619,48 @@ TEST(analytic_projection_matches_numerical_projection)
 		}
 }
 
+// The Newton matrix's StVK tangent without an SVD (fmMaterial_StvkClampedHessian): the exact
+// dP/dF where the second Piola-Kirchhoff stress S is positive definite (tension); where it is
+// not, the exact dP/dF plus s I (x) I with s the magnitude of S's smallest eigenvalue (the
+// stress shifted just enough to be PSD: the shift is tight), and PSD. Declined for another
+// model, lambda < 0 and below the volume floor's J.
+TEST(stvk_clamped_hessian_is_exact_in_tension_and_psd_under_compression)
+{
+	fmMaterial m = fmMakeMaterialLame(fm_stvk, 20000, 5000);
+	int tension = 0, compression = 0;
+	for (int trial = 0; trial < 400; ++trial)
+	{
+		fmMat3 F =
+		    withStretches(fmTestRandom(0.8, 1.3), fmTestRandom(0.8, 1.3), fmTestRandom(0.8, 1.3));
+		double A[81], B[81];
+		fmMaterial_Evaluate(&m, &F, NULL, A);
+		CHECK(fmMaterial_StvkClampedHessian(&m, &F, B));
+		fmMat3 C = fmMatTMul(&F, &F), S, Q;
+		double trG = 0.5 * (C.m[0] + C.m[4] + C.m[8] - 3.0);
+		for (int e = 0; e < 9; ++e)
+			S.m[e] =
+			    m.mu * (C.m[e] - (e % 4 == 0 ? 1.0 : 0.0)) + (e % 4 == 0 ? m.lambda * trG : 0.0);
+		fmVec3 w;
+		fmSymEigen3(&S, &w, &Q);
+		double shift = w.z < 0.0 ? -w.z : 0.0, scale = maxAbs(A, 81);
+		tension += shift == 0.0;
+		compression += shift > 0.0;
+		for (int a = 0; a < 9; ++a)
+			for (int b = 0; b < 9; ++b)
+				CHECK_NEAR(B[9 * a + b] - A[9 * a + b], a == b ? shift : 0.0, 1e-9 * scale);
+		CHECK(choleskyOk(B, 1e-9 * scale));
+	}
+	CHECK(tension > 20 && compression > 20);
+	double B[81];
+	fmMat3 F = withStretches(0.5, 1.05, 0.9); // J = 0.4725: the volume floor's
+	CHECK(!fmMaterial_StvkClampedHessian(&m, &F, B));
+	fmMaterial nh = fmMakeMaterialLame(fm_neoHookean, 20000, 5000);
+	fmMaterial auxetic = fmMakeMaterialLame(fm_stvk, -1000, 5000);
+	F = withStretches(1.1, 1.0, 0.95);
+	CHECK(!fmMaterial_StvkClampedHessian(&nh, &F, B));
+	CHECK(!fmMaterial_StvkClampedHessian(&auxetic, &F, B));
+}
+
 // ---- parameters, validation, names -------------------------------------------------------------
 
 TEST(make_material_round_trips_youngs_modulus_and_poisson_ratio)

@@ -259,6 +259,75 @@ static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, d
 	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr + fmStvkFloor(m, F, P, dPdF);
 }
 
+// A lower bound on the smallest eigenvalue of the symmetric 3x3 @p S: Newton's method on its
+// characteristic polynomial p(x) = det(S - x I) from Gershgorin's bound, below every root, where
+// p is positive, decreasing and convex (p'' = 2 tr S - 6 x > 0 below the eigenvalues' mean): each
+// iterate stays below the smallest eigenvalue and climbs to it.
+#define FM_EIGEN_BOUND_STEPS 32
+static double fmSmallestEigenBound3(const fmMat3* S)
+{
+	const double* s = S->m;
+	double lo = fmMin(s[0] - fabs(s[1]) - fabs(s[2]),
+	                  fmMin(s[4] - fabs(s[1]) - fabs(s[5]), s[8] - fabs(s[2]) - fabs(s[5])));
+	// p(x) = -x^3 + c2 x^2 - c1 x + c0.
+	double c2 = s[0] + s[4] + s[8];
+	double c1 = s[0] * s[4] + s[0] * s[8] + s[4] * s[8] - s[1] * s[1] - s[2] * s[2] - s[5] * s[5];
+	double c0 = fmDet(S);
+	for (int k = 0; k < FM_EIGEN_BOUND_STEPS; ++k)
+	{
+		double p = ((-lo + c2) * lo - c1) * lo + c0;
+		double slope = (-3.0 * lo + 2.0 * c2) * lo - c1;
+		if (!(p > 0.0) || !(slope < 0.0))
+			break;
+		double next = lo - p / slope;
+		if (!(next > lo))
+			break;
+		lo = next;
+	}
+	return lo;
+}
+
+// S shifted to be positive semi-definite: S - min(0, lower bound of its smallest eigenvalue) I.
+static fmMat3 fmPositivePart3(const fmMat3* S)
+{
+	const double* s = S->m;
+	if (s[0] > 0.0 && s[0] * s[4] - s[1] * s[3] > 0.0 && fmDet(S) > 0.0)
+		return *S;
+	double shift = fmMin(fmSmallestEigenBound3(S), 0.0);
+	fmMat3 out = *S;
+	for (int i = 0; i < 3; ++i)
+		out.m[4 * i] -= shift;
+	return out;
+}
+
+bool fmMaterial_StvkClampedHessian(const fmMaterial* m, const fmMat3* F, double* dPdF)
+{
+	if (m->model != fm_stvk || !(m->lambda >= 0.0) || !(fmDet(F) >= FM_STVK_FLOOR_J))
+		return false;
+	fmMat3 G = fmGreenStrain(F);
+	double tr = fmTrace(&G);
+	fmMat3 S = fmMatScale(2.0 * m->mu, &G);
+	for (int i = 0; i < 3; ++i)
+		S.m[4 * i] += m->lambda * tr;
+	fmMat3 Sp = fmPositivePart3(&S);
+	fmMat3 B = fmMatMulT(F, F);
+	const double* f = F->m;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			for (int k = 0; k < 3; ++k)
+				for (int l = 0; l < 3; ++l)
+				{
+					double v = m->mu * f[3 * i + l] * f[3 * k + j] +
+					           m->lambda * f[3 * i + j] * f[3 * k + l];
+					if (i == k)
+						v += Sp.m[3 * l + j];
+					if (j == l)
+						v += m->mu * B.m[3 * i + k];
+					dPdF[9 * (3 * i + j) + (3 * k + l)] = v;
+				}
+	return true;
+}
+
 double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF)
 {
 	switch (material->model)

@@ -29,6 +29,15 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F, fmMat3* P,
                                     double* dPdF);
 
+// StVK's dP/dF made positive semi-definite without an SVD, for the Newton matrix: the exact
+// dP/dF is the stress term dF -> dF S plus a part that is PSD for lambda >= 0
+// (dF : H dF = lambda tr(A)^2 + 2 mu |sym A|^2, A = F^T dF); with S (the second Piola-Kirchhoff
+// stress) replaced by its positive part the sum is PSD. Where S is PSD this is the exact dP/dF
+// (fmMaterial_EvaluateProjected's matrix up to round-off); under compression it keeps more of
+// the curvature than it needs to be PSD, never less than zero. False (dPdF untouched) where it
+// does not apply: not StVK, lambda < 0, or det F below the volume floor's FM_STVK_FLOOR_J.
+bool fmMaterial_StvkClampedHessian(const fmMaterial* material, const fmMat3* F, double* dPdF);
+
 // Project a symmetric 9x9 matrix onto the positive semi-definite cone (clamp negative eigenvalues
 // to zero) in place.
 void fmProjectPSD9(double* A);
