@@ -90,13 +90,16 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   # not once a step: -Oz. The glue, the world's and bodies' settings, the frame's orchestration,
   # the islands, the core's diagnostics, the debug draw, the contact stage's orchestration, its
   # buffers, bookkeeping and mid phase (body_sweep, contact_detect) and the stability limit run
-  # once a frame, substep or body, never per element: -Os (the .wasm line: 511.6 KiB of 512 on
-  # 2026-12-06; for some files, e.g. query.c, schedule.c, grab.c, -Os gives more code,
-  # so they stay -O2).
+  # once a frame, substep or body, never per element, and the solvers and loads the page's
+  # scenes do not run per element (multigrid, static solves, VBD, loads, the collider broad
+  # phase, targets): -Os (the .wasm line: 522,512 bytes of 524,288 on 2026-12-06; for some files,
+  # e.g. query.c, schedule.c, grab.c, render_mesh.c, contact_events.c, embedded.c, -Os gives
+  # more code, so they stay -O2).
   case "$name" in
     mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot) level=-Oz ;;
     world | island | body | body_def | step | core | draw | body_sweep | contact_detect | \
-      contact_state | stability | contact | contact_ledger | femto_web) level=-Os ;;
+      contact_state | stability | contact | contact_ledger | femto_web | multigrid | static | \
+      vbd | loads | broad_phase | targets) level=-Os ;;
     cli_*) level=-Oz ;;
     *) level=-O2 ;;
   esac

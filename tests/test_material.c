@@ -620,18 +620,20 @@ TEST(analytic_projection_matches_numerical_projection)
 }
 
 // The Newton matrix's StVK tangent without an SVD (fmMaterial_StvkClampedHessian): the exact
-// dP/dF where the second Piola-Kirchhoff stress S is positive definite (tension); where it is
-// not, the exact dP/dF plus s I (x) I with s the magnitude of S's smallest eigenvalue (the
-// stress shifted just enough to be PSD: the shift is tight), and PSD. Declined for another
-// model, lambda < 0 and below the volume floor's J.
+// dP/dF with the second Piola-Kirchhoff stress S replaced by its positive part S+ (the
+// difference I (x) (S+ - S), S+ from an independent eigen-decomposition), so the exact tangent
+// where S is positive definite (tension), and PSD. Declined for another model, lambda < 0 and
+// below the volume floor's J.
 TEST(stvk_clamped_hessian_is_exact_in_tension_and_psd_under_compression)
 {
 	fmMaterial m = fmMakeMaterialLame(fm_stvk, 20000, 5000);
 	int tension = 0, compression = 0;
 	for (int trial = 0; trial < 400; ++trial)
 	{
-		fmMat3 F =
-		    withStretches(fmTestRandom(0.8, 1.3), fmTestRandom(0.8, 1.3), fmTestRandom(0.8, 1.3));
+		// Every mix of stretch and compression above the floor's J = 0.5, and some stresses
+		// with a repeated eigenvalue (two stretches alike).
+		double a = fmTestRandom(0.8, 1.3), b = fmTestRandom(0.8, 1.3);
+		fmMat3 F = withStretches(a, trial % 4 == 0 ? a : b, fmTestRandom(0.8, 1.3));
 		double A[81], B[81];
 		fmMaterial_Evaluate(&m, &F, NULL, A);
 		CHECK(fmMaterial_StvkClampedHessian(&m, &F, B));
@@ -642,12 +644,27 @@ TEST(stvk_clamped_hessian_is_exact_in_tension_and_psd_under_compression)
 			    m.mu * (C.m[e] - (e % 4 == 0 ? 1.0 : 0.0)) + (e % 4 == 0 ? m.lambda * trG : 0.0);
 		fmVec3 w;
 		fmSymEigen3(&S, &w, &Q);
-		double shift = w.z < 0.0 ? -w.z : 0.0, scale = maxAbs(A, 81);
-		tension += shift == 0.0;
-		compression += shift > 0.0;
-		for (int a = 0; a < 9; ++a)
-			for (int b = 0; b < 9; ++b)
-				CHECK_NEAR(B[9 * a + b] - A[9 * a + b], a == b ? shift : 0.0, 1e-9 * scale);
+		const double wp[3] = {fmax(w.x, 0.0), fmax(w.y, 0.0), fmax(w.z, 0.0)};
+		fmMat3 gap; // S+ - S
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j)
+			{
+				double v = -S.m[3 * i + j];
+				for (int k = 0; k < 3; ++k)
+					v += Q.m[3 * i + k] * wp[k] * Q.m[3 * j + k];
+				gap.m[3 * i + j] = v;
+			}
+		tension += w.z > 0.0;
+		compression += w.z < 0.0;
+		double scale = maxAbs(A, 81);
+		for (int i = 0; i < 3; ++i)
+			for (int j = 0; j < 3; ++j)
+				for (int k = 0; k < 3; ++k)
+					for (int l = 0; l < 3; ++l)
+					{
+						int r = 9 * (3 * i + j) + (3 * k + l);
+						CHECK_NEAR(B[r] - A[r], i == k ? gap.m[3 * l + j] : 0.0, 1e-9 * scale);
+					}
 		CHECK(choleskyOk(B, 1e-9 * scale));
 	}
 	CHECK(tension > 20 && compression > 20);
@@ -659,6 +676,57 @@ TEST(stvk_clamped_hessian_is_exact_in_tension_and_psd_under_compression)
 	F = withStretches(1.1, 1.0, 0.95);
 	CHECK(!fmMaterial_StvkClampedHessian(&nh, &F, B));
 	CHECK(!fmMaterial_StvkClampedHessian(&auxetic, &F, B));
+}
+
+// The Newton matrix's Neo-Hookean tangent without an SVD (fmMaterial_NeoHookeanClampedHessian):
+// the exact dP/dF plus (1 - theta) c |skew(F^-1 dF)|^2 with c = mu - lambda ln J and
+// theta = min(1, mu s_min^2 / c) (s_min from an independent eigen-decomposition of F^T F), so
+// the exact tangent where theta = 1 (at rest, in tension), and PSD. Declined for another
+// model, where c < 0 and below the log's clamp.
+TEST(neohookean_clamped_hessian_is_exact_at_rest_and_psd_under_compression)
+{
+	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	int exact = 0, clamped = 0;
+	for (int trial = 0; trial < 400; ++trial)
+	{
+		fmMat3 F = trial == 0 ? fmTestRandomRotation()
+		                      : withStretches(fmTestRandom(0.7, 1.3), fmTestRandom(0.7, 1.3),
+		                                      fmTestRandom(0.7, 1.3));
+		double A[81], B[81], J = fmDet(&F), c = m.mu - m.lambda * log(J);
+		fmMaterial_Evaluate(&m, &F, NULL, A);
+		CHECK(fmMaterial_NeoHookeanClampedHessian(&m, &F, B) == (c >= 0.0));
+		if (c < 0.0)
+			continue;
+		fmMat3 C = fmMatTMul(&F, &F), Q, G = fmCofactor(&F);
+		fmVec3 w;
+		fmSymEigen3(&C, &w, &Q);
+		double theta = fmin(1.0, m.mu * w.z / c), k = 0.5 * (1.0 - theta) * c;
+		exact += theta == 1.0;
+		clamped += theta < 1.0;
+		for (int e = 0; e < 9; ++e)
+			G.m[e] /= J; // F^-T
+		double scale = maxAbs(A, 81);
+		for (int a = 0; a < 3; ++a)
+			for (int b = 0; b < 3; ++b)
+				for (int cc = 0; cc < 3; ++cc)
+					for (int d = 0; d < 3; ++d)
+					{
+						// k (|F^-1 dF|^2 - tr((F^-1 dF)^2)) in dF's coordinates.
+						double extra = -k * G.m[3 * a + d] * G.m[3 * cc + b];
+						for (int e = 0; b == d && e < 3; ++e)
+							extra += k * G.m[3 * a + e] * G.m[3 * cc + e];
+						int r = 9 * (3 * a + b) + (3 * cc + d);
+						CHECK_NEAR(B[r] - A[r], extra, 1e-9 * scale);
+					}
+		CHECK(choleskyOk(B, 1e-9 * scale));
+	}
+	CHECK(exact > 20 && clamped > 20);
+	double B[81];
+	fmMat3 F = withStretches(0.5, 0.6, 0.5); // J = 0.15: below the log's clamp
+	CHECK(!fmMaterial_NeoHookeanClampedHessian(&m, &F, B));
+	fmMaterial stvk = fmMakeMaterial(fm_stvk, 1e5, 0.3);
+	F = withStretches(1.1, 1.0, 0.95);
+	CHECK(!fmMaterial_NeoHookeanClampedHessian(&stvk, &F, B));
 }
 
 // ---- parameters, validation, names -------------------------------------------------------------

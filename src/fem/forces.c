@@ -416,7 +416,8 @@ double fmElasticEnergy(const fmElasticMesh* mesh, const double* x)
 static void fmTetStressDerivative(const fmElasticMesh* mesh, int t, const fmMat3* F, double* dPdF,
                                   int project)
 {
-	if (project && fmMaterial_StvkClampedHessian(fmTetMaterial(mesh, t), F, dPdF))
+	if (project && (fmMaterial_StvkClampedHessian(fmTetMaterial(mesh, t), F, dPdF) ||
+	                fmMaterial_NeoHookeanClampedHessian(fmTetMaterial(mesh, t), F, dPdF)))
 		return;
 	if (project)
 		fmMaterial_EvaluateProjected(fmTetMaterial(mesh, t), F, NULL, dPdF);

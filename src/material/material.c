@@ -229,33 +229,47 @@ static double fmStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, doubl
 	return f[0];
 }
 
+// StVK's second Piola-Kirchhoff stress at Green strain @p G: 2 mu G + lambda tr(G) I.
+static fmMat3 fmStvkStress(const fmMaterial* m, const fmMat3* G)
+{
+	double tr = fmTrace(G);
+	fmMat3 S = fmMatScale(2.0 * m->mu, G);
+	for (int i = 0; i < 3; ++i)
+		S.m[4 * i] += m->lambda * tr;
+	return S;
+}
+
+// StVK's dP/dF at F with the stress term taken from @p S: dF -> dF S plus
+// mu (F F^T dF + F dF^T F) + lambda F (F : dF). The exact tangent with S the second
+// Piola-Kirchhoff stress.
+static void fmStvkTangent(const fmMaterial* m, const fmMat3* F, const fmMat3* S, double* dPdF)
+{
+	fmMat3 B = fmMatMulT(F, F);
+	const double* f = F->m;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			for (int k = 0; k < 3; ++k)
+				for (int l = 0; l < 3; ++l)
+				{
+					double v = m->mu * f[3 * i + l] * f[3 * k + j] +
+					           m->lambda * f[3 * i + j] * f[3 * k + l];
+					if (i == k)
+						v += S->m[3 * l + j];
+					if (j == l)
+						v += m->mu * B.m[3 * i + k];
+					dPdF[9 * (3 * i + j) + (3 * k + l)] = v;
+				}
+}
+
 static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
 {
 	fmMat3 G = fmGreenStrain(F);
 	double tr = fmTrace(&G);
-	fmMat3 S = fmMatScale(2.0 * m->mu, &G);
-	for (int i = 0; i < 3; ++i)
-		S.m[4 * i] += m->lambda * tr;
+	fmMat3 S = fmStvkStress(m, &G);
 	if (P)
 		*P = fmMatMul(F, &S);
 	if (dPdF)
-	{
-		fmMat3 B = fmMatMulT(F, F);
-		const double* f = F->m;
-		for (int i = 0; i < 3; ++i)
-			for (int j = 0; j < 3; ++j)
-				for (int k = 0; k < 3; ++k)
-					for (int l = 0; l < 3; ++l)
-					{
-						double v = m->mu * f[3 * i + l] * f[3 * k + j] +
-						           m->lambda * f[3 * i + j] * f[3 * k + l];
-						if (i == k)
-							v += S.m[3 * l + j];
-						if (j == l)
-							v += m->mu * B.m[3 * i + k];
-						dPdF[9 * (3 * i + j) + (3 * k + l)] = v;
-					}
-	}
+		fmStvkTangent(m, F, &S, dPdF);
 	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr + fmStvkFloor(m, F, P, dPdF);
 }
 
@@ -287,16 +301,71 @@ static double fmSmallestEigenBound3(const fmMat3* S)
 	return lo;
 }
 
-// S shifted to be positive semi-definite: S - min(0, lower bound of its smallest eigenvalue) I.
+// A unit eigenvector of the symmetric 3x3 @p S for its eigenvalue @p e: the largest row of
+// adj(S - e I), whose rows are the cross products of two rows of S - e I (each orthogonal to
+// the eigenvector). False where that row is not clearly above round-off (e repeated, or the
+// other two eigenvalues within 1e-9 of each other relative to their distance from e).
+static bool fmEigenvector3(const fmMat3* S, double e, fmVec3* v)
+{
+	const fmVec3 r0 = fmMakeVec3(S->m[0] - e, S->m[1], S->m[2]);
+	const fmVec3 r1 = fmMakeVec3(S->m[3], S->m[4] - e, S->m[5]);
+	const fmVec3 r2 = fmMakeVec3(S->m[6], S->m[7], S->m[8] - e);
+	const fmVec3 c[3] = {fmCross(r1, r2), fmCross(r2, r0), fmCross(r0, r1)};
+	double best = 0.0, rows = fmDot(r0, r0) + fmDot(r1, r1) + fmDot(r2, r2);
+	int k = 0;
+	for (int i = 0; i < 3; ++i)
+		if (fmDot(c[i], c[i]) > best)
+		{
+			best = fmDot(c[i], c[i]);
+			k = i;
+		}
+	if (!(best > 1e-18 * rows * rows))
+		return false;
+	*v = fmScale(1.0 / sqrt(best), c[k]);
+	return true;
+}
+
+// @p S plus w v v^T.
+static fmMat3 fmAddDyad3(const fmMat3* S, double w, fmVec3 v)
+{
+	const double a[3] = {v.x, v.y, v.z};
+	fmMat3 out = *S;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			out.m[3 * i + j] += w * a[i] * a[j];
+	return out;
+}
+
+// The positive part of the symmetric 3x3 @p S (its negative eigenvalues set to zero): S itself
+// when positive definite (Sylvester's criterion); else from its smallest eigenvalue (the bound
+// above, exact to round-off), the other two as the roots of what remains of the characteristic
+// polynomial, and the eigenvector of the one eigenvalue that is removed (one negative) or kept
+// (one positive). Where that eigenvector is not defined to round-off, S shifted by its smallest
+// eigenvalue instead: positive semi-definite either way.
 static fmMat3 fmPositivePart3(const fmMat3* S)
 {
 	const double* s = S->m;
 	if (s[0] > 0.0 && s[0] * s[4] - s[1] * s[3] > 0.0 && fmDet(S) > 0.0)
 		return *S;
-	double shift = fmMin(fmSmallestEigenBound3(S), 0.0);
+	double lo = fmSmallestEigenBound3(S);
+	if (lo >= 0.0)
+		return *S;
+	// The other two eigenvalues: x^2 - T x + D with T = tr S - lo, D = c1 - lo T.
+	double c1 = s[0] * s[4] + s[0] * s[8] + s[4] * s[8] - s[1] * s[1] - s[2] * s[2] - s[5] * s[5];
+	double T = s[0] + s[4] + s[8] - lo, D = c1 - lo * T;
+	double high = 0.5 * (T + sqrt(fmMax(T * T - 4.0 * D, 0.0)));
+	double middle = T - high;
+	fmVec3 v;
+	if (middle >= 0.0 && fmEigenvector3(S, lo, &v))
+		return fmAddDyad3(S, -lo, v);
+	fmMat3 zero = fmZero3();
+	if (middle < 0.0 && high <= 0.0)
+		return zero;
+	if (middle < 0.0 && fmEigenvector3(S, high, &v))
+		return fmAddDyad3(&zero, high, v);
 	fmMat3 out = *S;
 	for (int i = 0; i < 3; ++i)
-		out.m[4 * i] -= shift;
+		out.m[4 * i] -= lo;
 	return out;
 }
 
@@ -305,25 +374,41 @@ bool fmMaterial_StvkClampedHessian(const fmMaterial* m, const fmMat3* F, double*
 	if (m->model != fm_stvk || !(m->lambda >= 0.0) || !(fmDet(F) >= FM_STVK_FLOOR_J))
 		return false;
 	fmMat3 G = fmGreenStrain(F);
-	double tr = fmTrace(&G);
-	fmMat3 S = fmMatScale(2.0 * m->mu, &G);
-	for (int i = 0; i < 3; ++i)
-		S.m[4 * i] += m->lambda * tr;
+	fmMat3 S = fmStvkStress(m, &G);
 	fmMat3 Sp = fmPositivePart3(&S);
-	fmMat3 B = fmMatMulT(F, F);
-	const double* f = F->m;
-	for (int i = 0; i < 3; ++i)
-		for (int j = 0; j < 3; ++j)
-			for (int k = 0; k < 3; ++k)
-				for (int l = 0; l < 3; ++l)
+	fmStvkTangent(m, F, &Sp, dPdF);
+	return true;
+}
+
+bool fmMaterial_NeoHookeanClampedHessian(const fmMaterial* m, const fmMat3* F, double* dPdF)
+{
+	double J = fmDet(F);
+	if (m->model != fm_neoHookean || !(m->lambda >= 0.0) || !(J >= FM_LOG_J_CLAMP))
+		return false;
+	double c = m->mu - m->lambda * fmMathLog(J);
+	if (!(c >= 0.0))
+		return false;
+	fmMat3 C = fmMatTMul(F, F);
+	double smallest = fmMax(fmSmallestEigenBound3(&C), 0.0); // <= s_min^2
+	double theta = m->mu * smallest >= c ? 1.0 : m->mu * smallest / c;
+	// G = F^-T = cof F / J; the form is mu |dF|^2 + lambda (G : dF)^2 + t (dF : G dF^T G)
+	// + k |F^-1 dF|^2 with t = c - k, k = (1 - theta) c / 2 (|skew A|^2 = (|A|^2 - tr AA) / 2).
+	fmMat3 G = fmCofactor(F);
+	for (int e = 0; e < 9; ++e)
+		G.m[e] /= J;
+	fmMat3 W = fmMatMulT(&G, &G); // F^-T F^-1
+	const double k = 0.5 * (1.0 - theta) * c, t = c - k;
+	const double* g = G.m;
+	for (int a = 0; a < 3; ++a)
+		for (int b = 0; b < 3; ++b)
+			for (int cc = 0; cc < 3; ++cc)
+				for (int d = 0; d < 3; ++d)
 				{
-					double v = m->mu * f[3 * i + l] * f[3 * k + j] +
-					           m->lambda * f[3 * i + j] * f[3 * k + l];
-					if (i == k)
-						v += Sp.m[3 * l + j];
-					if (j == l)
-						v += m->mu * B.m[3 * i + k];
-					dPdF[9 * (3 * i + j) + (3 * k + l)] = v;
+					double v =
+					    m->lambda * g[3 * a + b] * g[3 * cc + d] + t * g[3 * a + d] * g[3 * cc + b];
+					if (b == d)
+						v += k * W.m[3 * a + cc] + (a == cc ? m->mu : 0.0);
+					dPdF[9 * (3 * a + b) + (3 * cc + d)] = v;
 				}
 	return true;
 }

@@ -32,11 +32,22 @@ double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F,
 // StVK's dP/dF made positive semi-definite without an SVD, for the Newton matrix: the exact
 // dP/dF is the stress term dF -> dF S plus a part that is PSD for lambda >= 0
 // (dF : H dF = lambda tr(A)^2 + 2 mu |sym A|^2, A = F^T dF); with S (the second Piola-Kirchhoff
-// stress) replaced by its positive part the sum is PSD. Where S is PSD this is the exact dP/dF
-// (fmMaterial_EvaluateProjected's matrix up to round-off); under compression it keeps more of
-// the curvature than it needs to be PSD, never less than zero. False (dPdF untouched) where it
-// does not apply: not StVK, lambda < 0, or det F below the volume floor's FM_STVK_FLOOR_J.
+// stress) replaced by its positive part the sum is PSD. Where S is positive definite this is the
+// exact dP/dF (fmMaterial_EvaluateProjected's matrix up to round-off); under compression it may
+// keep curvature the nearest PSD matrix would drop. False (dPdF untouched) where it does not
+// apply: not StVK, lambda < 0, or det F below the volume floor's FM_STVK_FLOOR_J.
 bool fmMaterial_StvkClampedHessian(const fmMaterial* material, const fmMat3* F, double* dPdF);
+
+// Neo-Hookean's dP/dF made positive semi-definite without an SVD, for the Newton matrix. With
+// A = F^-1 dF and c = mu - lambda ln J the exact tangent's quadratic form is
+// mu |dF|^2 + lambda tr(A)^2 + c |sym A|^2 - c |skew A|^2, indefinite only through the last term;
+// since |skew A| <= |dF| / s_min (s_min the smallest singular value of F), keeping
+// theta = min(1, mu s_min^2 / c) of that term makes the form PSD (s_min^2 from a lower bound on
+// the smallest eigenvalue of F^T F). theta = 1, the exact tangent, wherever
+// mu s_min^2 >= c (at rest and in tension); under compression the rotations keep up to
+// mu (1 - s_min^2) of stiffness the nearest PSD matrix would drop. False (dPdF untouched) where it
+// does not apply: not Neo-Hookean, lambda < 0, c < 0, or J below FM_LOG_J_CLAMP.
+bool fmMaterial_NeoHookeanClampedHessian(const fmMaterial* material, const fmMat3* F, double* dPdF);
 
 // Project a symmetric 9x9 matrix onto the positive semi-definite cone (clamp negative eigenvalues
 // to zero) in place.
