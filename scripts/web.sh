@@ -92,14 +92,16 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   # buffers, bookkeeping and mid phase (body_sweep, contact_detect) and the stability limit run
   # once a frame, substep or body, never per element, and the solvers and loads the page's
   # scenes do not run per element (multigrid, static solves, VBD, loads, the collider broad
-  # phase, targets): -Os (the .wasm line: 522,512 bytes of 524,288 on 2026-12-06; for some files,
+  # phase, targets) and the SVD-frame projection (material_stretch: since the tangents without
+  # an SVD, only corotated and Mooney-Rivlin implicit bodies use it per element): -Os (the .wasm
+  # line: 520,859 bytes of 524,288 on 2026-12-06; for some files,
   # e.g. query.c, schedule.c, grab.c, render_mesh.c, contact_events.c, embedded.c, -Os gives
   # more code, so they stay -O2).
   case "$name" in
     mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot) level=-Oz ;;
     world | island | body | body_def | step | core | draw | body_sweep | contact_detect | \
       contact_state | stability | contact | contact_ledger | femto_web | multigrid | static | \
-      vbd | loads | broad_phase | targets) level=-Os ;;
+      vbd | loads | broad_phase | targets | material_stretch) level=-Os ;;
     cli_*) level=-Oz ;;
     *) level=-O2 ;;
   esac

@@ -2,6 +2,7 @@
 // Hessian against finite differences of the forces.
 #include "body/body.h"
 #include "fem/forces.h"
+#include "material/material.h"
 #include "support.h"
 #include "test.h"
 
@@ -216,6 +217,68 @@ TEST(hessian_matches_force_differences)
 		free(dx), free(kdx), free(xp), free(xm), free(fp), free(fm), free(kdx2);
 		fmDestroyWorld(world);
 	}
+}
+
+// The Newton matrix's tet blocks for StVK and Neo-Hookean come straight from the clamped
+// tangents' terms (fmTetHessian with project = 1): the same 12x12 as the clamped 9x9 tangent
+// contracted with the shape gradients, on boxes strained and squashed at random.
+TEST(tet_blocks_from_the_clamped_terms_match_the_contracted_tangent)
+{
+	const fmMaterialModel models[2] = {fm_stvk, fm_neoHookean};
+	for (int mi = 0; mi < 2; ++mi)
+		for (int pass = 0; pass < 2; ++pass)
+		{
+			fmWorldId world;
+			fmBodyId id = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1),
+			                            fmMakeMaterial(models[mi], 1e5, 0.3), fm_fem);
+			if (!fmBody_IsValid(id))
+			{
+				CHECK(0);
+				return;
+			}
+			fmTestPerturb(id, pass == 0 ? 0.05 : 0.15);
+			const fmBody* b = fmGetBody(id);
+			int taken = 0;
+			for (int t = 0; t < b->mesh.tetCount; ++t)
+			{
+				fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
+				double dPdF[81], K[144];
+				const fmMaterial* m = &b->mesh.material;
+				bool clamped = models[mi] == fm_stvk
+				                   ? fmMaterial_StvkClampedHessian(m, &F, dPdF)
+				                   : fmMaterial_NeoHookeanClampedHessian(m, &F, dPdF);
+				if (!clamped)
+					continue;
+				++taken;
+				fmTetHessian(&b->mesh, b->state.x, t, K, 1);
+				const fmMat3* D = &b->mesh.DmInv[t];
+				double g[4][3];
+				for (int a = 1; a < 4; ++a)
+					for (int j = 0; j < 3; ++j)
+						g[a][j] = D->m[3 * (a - 1) + j];
+				for (int j = 0; j < 3; ++j)
+					g[0][j] = -(g[1][j] + g[2][j] + g[3][j]);
+				double Kref[144], scale = 0.0;
+				for (int r = 0; r < 12; ++r)
+					for (int c = 0; c < 12; ++c)
+					{
+						int a = r / 3, i = r % 3, bb = c / 3, k = c % 3;
+						double v = 0.0;
+						for (int j = 0; j < 3; ++j)
+							for (int l = 0; l < 3; ++l)
+								v += g[a][j] * g[bb][l] * dPdF[9 * (3 * i + j) + (3 * k + l)];
+						Kref[12 * r + c] = b->mesh.restVolume[t] * v;
+						scale = fmax(scale, fabs(Kref[12 * r + c]));
+					}
+				for (int e = 0; e < 144; ++e)
+					CHECK_NEAR(K[e], Kref[e], 1e-10 * scale);
+			}
+			printf("  %s, perturbed %.2f: %d of %d tets from the terms\n",
+			       fmMaterialModelName(models[mi]), pass == 0 ? 0.05 : 0.15, taken,
+			       b->mesh.tetCount);
+			CHECK(taken > b->mesh.tetCount / 2);
+			fmDestroyWorld(world);
+		}
 }
 
 // The seeds' explicit formula, written out as in the Unity code, gives the same forces.

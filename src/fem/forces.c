@@ -461,9 +461,61 @@ static void fmContractTetHessian(const double* dPdF, const fmMat3* DmInv, double
 		}
 }
 
+// Stores the 3x3 block (a, b) of a tet's stiffness and its mirror (b, a).
+static void fmStoreTetBlock(double* K, int a, int b, const double block[9])
+{
+	for (int i = 0; i < 3; ++i)
+		for (int k = 0; k < 3; ++k)
+		{
+			K[12 * (3 * a + i) + (3 * b + k)] = block[3 * i + k];
+			K[12 * (3 * b + k) + (3 * a + i)] = block[3 * i + k];
+		}
+}
+
+// A tet's projected stiffness straight from the clamped tangents' terms (material.h), block by
+// block from the shape gradients g_a, without the 9x9 dP/dF: StVK, with f_a = F g_a,
+// K_ab = V0 ((g_a . S+ g_b) I + mu (g_a . g_b) F F^T + mu f_b f_a^T + lambda f_a f_b^T);
+// Neo-Hookean, with h_a = G g_a, K_ab = V0 (mu (g_a . g_b) I + k (g_a . g_b) G G^T +
+// t h_b h_a^T + lambda h_a h_b^T). False where the tangents decline.
+static bool fmTetBlocksClamped(const fmElasticMesh* mesh, int t, const fmMat3* F, double* K)
+{
+	const fmMaterial* m = fmTetMaterial(mesh, t);
+	fmMat3 Sp, W;
+	fmNeoHookeanTerms nh;
+	const bool stvk = fmMaterial_StvkClampedTerms(m, F, &Sp);
+	if (!stvk && !fmMaterial_NeoHookeanClampedTerms(m, F, &nh))
+		return false;
+	// StVK: M = F (the f_a), W = F F^T, the identity's weight g_a . S+ g_b; Neo-Hookean: M = G,
+	// W = G G^T (weight k), the identity's weight mu (g_a . g_b).
+	const fmMat3* M = stvk ? F : &nh.G;
+	W = fmMatMulT(M, M);
+	const double V0 = mesh->restVolume[t];
+	const double wW = stvk ? m->mu : nh.k, wSwap = stvk ? m->mu : nh.t;
+	fmVec3 g[4], f[4];
+	fmShapeGradients(&mesh->DmInv[t], g);
+	for (int a = 0; a < 4; ++a)
+		f[a] = fmMatVec(M, g[a]);
+	for (int a = 0; a < 4; ++a)
+		for (int b = a; b < 4; ++b)
+		{
+			double gg = fmDot(g[a], g[b]);
+			double eye = stvk ? fmDot(g[a], fmMatVec(&Sp, g[b])) : m->mu * gg;
+			const double fa[3] = {f[a].x, f[a].y, f[a].z}, fb[3] = {f[b].x, f[b].y, f[b].z};
+			double block[9];
+			for (int i = 0; i < 3; ++i)
+				for (int k = 0; k < 3; ++k)
+					block[3 * i + k] = V0 * ((i == k ? eye : 0.0) + wW * gg * W.m[3 * i + k] +
+					                         wSwap * fb[i] * fa[k] + m->lambda * fa[i] * fb[k]);
+			fmStoreTetBlock(K, a, b, block);
+		}
+	return true;
+}
+
 void fmTetHessian(const fmElasticMesh* mesh, const double* x, int t, double* K, int project)
 {
 	fmMat3 F = fmTetDeformation(mesh, x, t);
+	if (project && fmTetBlocksClamped(mesh, t, &F, K))
+		return;
 	double dPdF[81];
 	fmTetStressDerivative(mesh, t, &F, dPdF, project);
 	// K_(a c),(b d) = V0 sum_jl dP_cj/dF_dl g_a[j] g_b[l]; the projected dP/dF gives a PSD K

@@ -369,18 +369,27 @@ static fmMat3 fmPositivePart3(const fmMat3* S)
 	return out;
 }
 
-bool fmMaterial_StvkClampedHessian(const fmMaterial* m, const fmMat3* F, double* dPdF)
+bool fmMaterial_StvkClampedTerms(const fmMaterial* m, const fmMat3* F, fmMat3* Sp)
 {
 	if (m->model != fm_stvk || !(m->lambda >= 0.0) || !(fmDet(F) >= FM_STVK_FLOOR_J))
 		return false;
 	fmMat3 G = fmGreenStrain(F);
 	fmMat3 S = fmStvkStress(m, &G);
-	fmMat3 Sp = fmPositivePart3(&S);
+	*Sp = fmPositivePart3(&S);
+	return true;
+}
+
+bool fmMaterial_StvkClampedHessian(const fmMaterial* m, const fmMat3* F, double* dPdF)
+{
+	fmMat3 Sp;
+	if (!fmMaterial_StvkClampedTerms(m, F, &Sp))
+		return false;
 	fmStvkTangent(m, F, &Sp, dPdF);
 	return true;
 }
 
-bool fmMaterial_NeoHookeanClampedHessian(const fmMaterial* m, const fmMat3* F, double* dPdF)
+bool fmMaterial_NeoHookeanClampedTerms(const fmMaterial* m, const fmMat3* F,
+                                       fmNeoHookeanTerms* terms)
 {
 	double J = fmDet(F);
 	if (m->model != fm_neoHookean || !(m->lambda >= 0.0) || !(J >= FM_LOG_J_CLAMP))
@@ -391,23 +400,31 @@ bool fmMaterial_NeoHookeanClampedHessian(const fmMaterial* m, const fmMat3* F, d
 	fmMat3 C = fmMatTMul(F, F);
 	double smallest = fmMax(fmSmallestEigenBound3(&C), 0.0); // <= s_min^2
 	double theta = m->mu * smallest >= c ? 1.0 : m->mu * smallest / c;
-	// G = F^-T = cof F / J; the form is mu |dF|^2 + lambda (G : dF)^2 + t (dF : G dF^T G)
-	// + k |F^-1 dF|^2 with t = c - k, k = (1 - theta) c / 2 (|skew A|^2 = (|A|^2 - tr AA) / 2).
-	fmMat3 G = fmCofactor(F);
+	// |skew A|^2 = (|A|^2 - tr AA) / 2.
+	terms->G = fmCofactor(F);
 	for (int e = 0; e < 9; ++e)
-		G.m[e] /= J;
-	fmMat3 W = fmMatMulT(&G, &G); // F^-T F^-1
-	const double k = 0.5 * (1.0 - theta) * c, t = c - k;
-	const double* g = G.m;
+		terms->G.m[e] /= J;
+	terms->k = 0.5 * (1.0 - theta) * c;
+	terms->t = c - terms->k;
+	return true;
+}
+
+bool fmMaterial_NeoHookeanClampedHessian(const fmMaterial* m, const fmMat3* F, double* dPdF)
+{
+	fmNeoHookeanTerms terms;
+	if (!fmMaterial_NeoHookeanClampedTerms(m, F, &terms))
+		return false;
+	fmMat3 W = fmMatMulT(&terms.G, &terms.G); // F^-T F^-1
+	const double* g = terms.G.m;
 	for (int a = 0; a < 3; ++a)
 		for (int b = 0; b < 3; ++b)
 			for (int cc = 0; cc < 3; ++cc)
 				for (int d = 0; d < 3; ++d)
 				{
-					double v =
-					    m->lambda * g[3 * a + b] * g[3 * cc + d] + t * g[3 * a + d] * g[3 * cc + b];
+					double v = m->lambda * g[3 * a + b] * g[3 * cc + d] +
+					           terms.t * g[3 * a + d] * g[3 * cc + b];
 					if (b == d)
-						v += k * W.m[3 * a + cc] + (a == cc ? m->mu : 0.0);
+						v += terms.k * W.m[3 * a + cc] + (a == cc ? m->mu : 0.0);
 					dPdF[9 * (3 * a + b) + (3 * cc + d)] = v;
 				}
 	return true;

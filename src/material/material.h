@@ -49,6 +49,24 @@ bool fmMaterial_StvkClampedHessian(const fmMaterial* material, const fmMat3* F, 
 // does not apply: not Neo-Hookean, lambda < 0, c < 0, or J below FM_LOG_J_CLAMP.
 bool fmMaterial_NeoHookeanClampedHessian(const fmMaterial* material, const fmMat3* F, double* dPdF);
 
+// The terms of the two tangents above, for a tet's stiffness straight from its shape gradients
+// (forces.c): StVK's stress's positive part S+ (the tangent is dF -> dF S+ +
+// mu (F F^T dF + F dF^T F) + lambda F (F : dF)); Neo-Hookean's G = F^-T and the weights t, k of
+// its tangent mu dF + lambda G (G : dF) + t G dF^T G + k G G^T dF. False where the tangents
+// decline.
+bool fmMaterial_StvkClampedTerms(const fmMaterial* material, const fmMat3* F, fmMat3* Sp);
+
+/// Neo-Hookean's clamped tangent's terms (fmMaterial_NeoHookeanClampedTerms).
+typedef struct fmNeoHookeanTerms
+{
+	fmMat3 G; ///< F^-T
+	double t; ///< the weight of dF -> G dF^T G: c - k
+	double k; ///< the weight of dF -> G G^T dF: (1 - theta) c / 2
+} fmNeoHookeanTerms;
+
+bool fmMaterial_NeoHookeanClampedTerms(const fmMaterial* material, const fmMat3* F,
+                                       fmNeoHookeanTerms* terms);
+
 // Project a symmetric 9x9 matrix onto the positive semi-definite cone (clamp negative eigenvalues
 // to zero) in place.
 void fmProjectPSD9(double* A);
