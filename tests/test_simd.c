@@ -283,7 +283,7 @@ TEST(every_vertex_gathers_each_of_its_blocks_once_in_block_order)
 			for (int l = 0; l < tb->laneCount[j]; ++l, ++lanes)
 				for (int a = 0; a < 4; ++a)
 				{
-					int e = tb->blockVertexStart[k] + tb->batches[j].nodes[a][l];
+					int e = tb->blockVertexStart[k] + tb->batches[j].row[a][l] / 4;
 					if (e >= tb->blockVertexStart[k + 1])
 						FAIL_AT("block %d: node %d of lane %d out of its list", k, a, l);
 					else

@@ -150,8 +150,12 @@ void fmFloor_RespondRange(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, in
 	if (start >= end) // (an engine's job system may hand out an empty range: nothing to list)
 		return;
 	int count = 0;
+	// fmFloor_Takes with the arrays in locals (the responses move only the vertex they take).
+	const uint8_t* pinned = b->state.pinned;
+	const double* x = b->state.x;
+	const double height = floor->height;
 	for (int i = start; i < end; ++i)
-		if (fmFloor_Takes(b, i, floor->height))
+		if (!(pinned[i] & FM_PIN_Y) && !(x[3 * i + 1] >= height))
 		{
 			taken->vertex[start + count] = i;
 			fmRespondVertex(floor, gravity, b, i, dt, taken->responses + start + count);

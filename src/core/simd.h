@@ -250,8 +250,8 @@ static inline void fmV_Store(float* p, fmFloatV v)
 
 // ---- the edge gather ----------------------------------------------------------------------------
 // fmV_GatherEdges: the edge matrices Du = [u1 - u0, u2 - u0, u3 - u0] of lanes [o, o + FM_VLANES)
-// of a batch, du[3 i + k] = (float)(u[4 n_{k+1} + i] - u[4 n_0 + i]) with n_a = nodes[a][lane]
-// and u the displacements of the batch's vertices, 4 doubles each (the fourth unused). The
+// of a batch, du[3 i + k] = (float)(u[r_{k+1} + i] - u[r_0 + i]) with r_a = rows[a][lane] and u
+// the displacements of the batch's vertices, 4 doubles each (the fourth unused). The
 // difference is taken in double and rounded once to float on every variant, so every variant
 // gives the same bits. On x86 each lane's edges are three vector subtractions of its vertices'
 // 4-double rows and three conversions, and the lanes' rows are then transposed in registers;
@@ -264,15 +264,15 @@ static inline void fmV_Store(float* p, fmFloatV v)
 
 #if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
 // Edge k of lanes [o, o + 8) as rows x, y, z of 8 floats.
-static inline void fmGatherEdge8(const double* u, const uint16_t (*nodes)[FM_LANES], int o, int k,
+static inline void fmGatherEdge8(const double* u, const uint16_t (*rows)[FM_LANES], int o, int k,
                                  __m256 row[3])
 {
 	__m128 e[8];
 	for (int l = 0; l < 8; ++l)
 	{
-		const double* u0 = u + 4 * (size_t)nodes[0][o + l];
-		__m256d d = _mm256_sub_pd(_mm256_loadu_pd(u + 4 * (size_t)nodes[k + 1][o + l]),
-		                          _mm256_loadu_pd(u0));
+		const double* u0 = u + (size_t)rows[0][o + l];
+		__m256d d =
+		    _mm256_sub_pd(_mm256_loadu_pd(u + (size_t)rows[k + 1][o + l]), _mm256_loadu_pd(u0));
 		e[l] = _mm256_cvtpd_ps(d);
 	}
 	// Lanes l and l + 4 side by side, then a 4x4 transpose in each half.
@@ -289,67 +289,67 @@ static inline void fmGatherEdge8(const double* u, const uint16_t (*nodes)[FM_LAN
 
 #if defined(FM_SIMD_SCALAR) || !(defined(__GNUC__) || defined(__clang__)) ||                       \
     !(defined(__x86_64__) || defined(_M_X64))
-static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*rows)[FM_LANES], int o,
                                    fmFloatV du[9])
 {
-	float rows[9][FM_VLANES];
+	float lanes[9][FM_VLANES];
 	for (int l = 0; l < FM_VLANES; ++l)
 	{
-		const double* u0 = u + 4 * (size_t)nodes[0][o + l];
+		const double* u0 = u + (size_t)rows[0][o + l];
 		for (int k = 0; k < 3; ++k)
 		{
-			const double* uk = u + 4 * (size_t)nodes[k + 1][o + l];
+			const double* uk = u + (size_t)rows[k + 1][o + l];
 			for (int i = 0; i < 3; ++i)
-				rows[3 * i + k][l] = (float)(uk[i] - u0[i]);
+				lanes[3 * i + k][l] = (float)(uk[i] - u0[i]);
 		}
 	}
 	for (int k = 0; k < 9; ++k)
-		du[k] = fmV_Load(rows[k]);
+		du[k] = fmV_Load(lanes[k]);
 }
 #elif defined(__AVX512F__)
-static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*rows)[FM_LANES], int o,
                                    fmFloatV du[9])
 {
 	for (int k = 0; k < 3; ++k)
 	{
 		__m256 lo[3], hi[3];
-		fmGatherEdge8(u, nodes, o, k, lo);
-		fmGatherEdge8(u, nodes, o + 8, k, hi);
+		fmGatherEdge8(u, rows, o, k, lo);
+		fmGatherEdge8(u, rows, o + 8, k, hi);
 		for (int i = 0; i < 3; ++i)
 			du[3 * i + k] = (fmFloatV)_mm512_insertf64x4(
 			    _mm512_castpd256_pd512(_mm256_castps_pd(lo[i])), _mm256_castps_pd(hi[i]), 1);
 	}
 }
 #elif defined(__AVX__)
-static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*rows)[FM_LANES], int o,
                                    fmFloatV du[9])
 {
 	for (int k = 0; k < 3; ++k)
 	{
 		__m256 row[3];
-		fmGatherEdge8(u, nodes, o, k, row);
+		fmGatherEdge8(u, rows, o, k, row);
 		for (int i = 0; i < 3; ++i)
 			du[3 * i + k] = (fmFloatV)row[i];
 	}
 }
 #else
 // Lane l's edge k as (x, y, z, unused) in float.
-static inline __m128 fmEdge4(const double* u, const uint16_t (*nodes)[FM_LANES], int k, int l)
+static inline __m128 fmEdge4(const double* u, const uint16_t (*rows)[FM_LANES], int k, int l)
 {
-	__m128d x0 = _mm_loadu_pd(u + 4 * (size_t)nodes[0][l]),
-	        z0 = _mm_loadu_pd(u + 4 * (size_t)nodes[0][l] + 2);
-	__m128d xk = _mm_loadu_pd(u + 4 * (size_t)nodes[k + 1][l]);
-	__m128d zk = _mm_loadu_pd(u + 4 * (size_t)nodes[k + 1][l] + 2);
+	__m128d x0 = _mm_loadu_pd(u + (size_t)rows[0][l]),
+	        z0 = _mm_loadu_pd(u + (size_t)rows[0][l] + 2);
+	__m128d xk = _mm_loadu_pd(u + (size_t)rows[k + 1][l]);
+	__m128d zk = _mm_loadu_pd(u + (size_t)rows[k + 1][l] + 2);
 	return _mm_movelh_ps(_mm_cvtpd_ps(_mm_sub_pd(xk, x0)), _mm_cvtpd_ps(_mm_sub_pd(zk, z0)));
 }
 
-static inline void fmV_GatherEdges(const double* u, const uint16_t (*nodes)[FM_LANES], int o,
+static inline void fmV_GatherEdges(const double* u, const uint16_t (*rows)[FM_LANES], int o,
                                    fmFloatV du[9])
 {
 	for (int k = 0; k < 3; ++k)
 	{
-		__m128 e0 = fmEdge4(u, nodes, k, o), e1 = fmEdge4(u, nodes, k, o + 1);
-		__m128 e2 = fmEdge4(u, nodes, k, o + 2), e3 = fmEdge4(u, nodes, k, o + 3);
+		__m128 e0 = fmEdge4(u, rows, k, o), e1 = fmEdge4(u, rows, k, o + 1);
+		__m128 e2 = fmEdge4(u, rows, k, o + 2), e3 = fmEdge4(u, rows, k, o + 3);
 		_MM_TRANSPOSE4_PS(e0, e1, e2, e3);
 		du[k] = (fmFloatV)e0, du[3 + k] = (fmFloatV)e1, du[6 + k] = (fmFloatV)e2;
 	}
@@ -410,6 +410,14 @@ static inline void fmWeightedSumPair(const double* v, const int* offsets, const 
 	const double* weightsB = weights + countA;
 	__m256d a = _mm256_setzero_pd(), b = _mm256_setzero_pd();
 	int both = countA < countB ? countA : countB, e = 0;
+	for (; e + 1 < both; e += 2) // (two entries an iteration: half the loop's own instructions)
+		for (int k = e; k < e + 2; ++k)
+		{
+			a = _mm256_add_pd(a, _mm256_mul_pd(_mm256_set1_pd(weights[k]),
+			                                   _mm256_maskload_pd(v + offsets[k], xyz)));
+			b = _mm256_add_pd(b, _mm256_mul_pd(_mm256_set1_pd(weightsB[k]),
+			                                   _mm256_maskload_pd(v + offsetsB[k], xyz)));
+		}
 	for (; e < both; ++e)
 	{
 		a = _mm256_add_pd(
@@ -442,6 +450,13 @@ static inline void fmSumEntriesPair(const float* forces, const uint16_t* offsets
 	const uint16_t* offsetsB = offsets + countA;
 	__m256d a = _mm256_setzero_pd(), b = _mm256_setzero_pd();
 	int both = countA < countB ? countA : countB, e = 0;
+	for (; e + 1 < both; e += 2) // (two entries an iteration: half the loop's own instructions)
+	{
+		a = _mm256_add_pd(a, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e])));
+		b = _mm256_add_pd(b, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsetsB[e])));
+		a = _mm256_add_pd(a, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e + 1])));
+		b = _mm256_add_pd(b, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsetsB[e + 1])));
+	}
 	for (; e < both; ++e)
 	{
 		a = _mm256_add_pd(a, _mm256_cvtps_pd(_mm_loadu_ps(forces + offsets[e])));

@@ -65,14 +65,18 @@ typedef struct fmBlockVertices
 	int* cursor; // 4 FM_BLOCK_BATCHES FM_LANES: counts, then fill positions of incidences
 } fmBlockVertices;
 
-static uint16_t fmLocalVertex(fmBlockVertices* bv, int v)
+// A block has at most 4 vertices a tet: their rows (4 doubles each) fit fmTetBatch.row.
+_Static_assert(4 * 4 * FM_BLOCK_BATCHES * FM_LANES <= 65536, "a block's rows must fit uint16_t");
+
+// Where vertex @p v's row starts in the block being packed (4 times its number there).
+static uint16_t fmLocalRow(fmBlockVertices* bv, int v)
 {
 	if (bv->local[v] < 0)
 	{
 		bv->local[v] = bv->count;
 		bv->verts[bv->count++] = v;
 	}
-	return (uint16_t)bv->local[v];
+	return (uint16_t)(4 * bv->local[v]);
 }
 
 // Pack tets [first, end) into one batch; unused lanes repeat the first tet, weightless.
@@ -82,7 +86,7 @@ static void fmPackBatch(const fmElasticMesh* mesh, int first, int end, fmBlockVe
 	{
 		int t = first + l < end ? first + l : first;
 		for (int a = 0; a < 4; ++a)
-			batch->nodes[a][l] = fmLocalVertex(bv, mesh->tets[4 * t + a]);
+			batch->row[a][l] = fmLocalRow(bv, mesh->tets[4 * t + a]);
 		for (int k = 0; k < 9; ++k)
 			batch->dmInv[k][l] = (float)mesh->DmInv[t].m[k];
 		batch->volume[l] = first + l < end ? (float)mesh->restVolume[t] : 0.0f;
@@ -164,7 +168,7 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 	for (int j = first; j < end; ++j)
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			for (int a = 0; a < 4; ++a)
-				cursor[tb->batches[j].nodes[a][l]] += 1;
+				cursor[tb->batches[j].row[a][l] / 4] += 1;
 	int at = tb->incidenceStart[base];
 	for (int i = 0; i < count; ++i)
 	{
@@ -176,7 +180,7 @@ static void fmBuildIncidences(fmTetBlocks* tb, int first, int end, int base, int
 	for (int j = first; j < end; ++j)
 		for (int l = 0; l < tb->laneCount[j]; ++l)
 			for (int a = 0; a < 4; ++a)
-				tb->incidences[cursor[tb->batches[j].nodes[a][l]]++] =
+				tb->incidences[cursor[tb->batches[j].row[a][l] / 4]++] =
 				    (uint16_t)((j - first) * FM_BATCH_FLOATS + 4 * (FM_LANES * a + l));
 }
 
@@ -382,7 +386,7 @@ static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l
 	for (int i = 0; i < 3; ++i)
 		for (int k = 0; k < 3; ++k)
 		{
-			Du.m[3 * i + k] = u[4 * batch->nodes[k + 1][l] + i] - u[4 * batch->nodes[0][l] + i];
+			Du.m[3 * i + k] = u[batch->row[k + 1][l] + i] - u[batch->row[0][l] + i];
 			DmInv.m[3 * i + k] = (double)batch->dmInv[3 * i + k][l];
 		}
 	fmMat3 F = fmMatMul(&Du, &DmInv), P;
@@ -454,22 +458,31 @@ static void fmForceBlocksTask(int start, int end, int worker, void* context)
 		fmForceBlock(p, k, worker);
 }
 
-// f (or m g) += the blocks' sums for vertices [start, end), each vertex's in block order.
+// f (or m g) += the blocks' sums for vertices [start, end), each vertex's in block order (summed
+// in registers, then stored: the same additions in the same order).
 static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 {
-	(void)worker;
 	const fmForcePass* p = context;
 	const fmTetBlocks* tb = p->blocks;
+	const double* restrict sums = tb->blockSums;
+	const int* restrict entries = tb->vertexEntries;
+	const int* restrict entryStart = tb->vertexEntryStart;
+	const double* restrict mass = p->mesh->mass;
+	double* restrict f = p->f;
+	const fmVec3 g = p->gravity != NULL ? *p->gravity : fmMakeVec3(0.0, 0.0, 0.0);
 	for (int i = start; i < end; ++i)
 	{
-		double* fi = p->f + 3 * i;
+		double fx, fy, fz;
 		if (p->gravity != NULL)
-			fmStore(p->f, i, fmScale(p->mesh->mass[i], *p->gravity));
-		for (int e = tb->vertexEntryStart[i]; e < tb->vertexEntryStart[i + 1]; ++e)
+			fx = mass[i] * g.x, fy = mass[i] * g.y, fz = mass[i] * g.z;
+		else
+			fx = f[3 * i], fy = f[3 * i + 1], fz = f[3 * i + 2];
+		for (int e = entryStart[i]; e < entryStart[i + 1]; ++e)
 		{
-			const double* sum = tb->blockSums + 3 * (size_t)tb->vertexEntries[e];
-			fi[0] += sum[0], fi[1] += sum[1], fi[2] += sum[2];
+			const double* sum = sums + 3 * (size_t)entries[e];
+			fx += sum[0], fy += sum[1], fz += sum[2];
 		}
+		f[3 * i] = fx, f[3 * i + 1] = fy, f[3 * i + 2] = fz;
 	}
 	if (p->then != NULL)
 		p->then->task(start, end, worker, p->then->context);

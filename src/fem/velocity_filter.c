@@ -50,17 +50,24 @@ static void fmGatherSumsTask(int start, int end, int worker, void* context)
 
 static void fmBlendTask(int start, int end, int worker, void* context)
 {
-	fmSmoothTask* c = context;
-	const fmElasticMesh* mesh = c->mesh;
-	fmBodyState* state = c->state;
+	const fmSmoothTask* c = context;
+	const double* restrict weight = c->mesh->smoothWeight;
+	const double* restrict sum = c->sum;
+	const uint8_t* restrict pinned = c->state->pinned;
+	double* restrict v = c->state->v;
+	const double keep = 1.0 - c->blend, blend = c->blend;
 	for (int i = start; i < end; ++i)
 	{
-		if (state->pinned[i] == FM_PIN_ALL)
+		if (pinned[i] == FM_PIN_ALL)
 			continue;
-		fmVec3 average = fmScale(mesh->smoothWeight[i], fmLoad(c->sum, i));
-		fmStore(state->v, i,
-		        fmAdd(fmScale(1.0 - c->blend, fmLoad(state->v, i)), fmScale(c->blend, average)));
-		fmZeroPinnedAxes(state, i, state->v + 3 * i);
+		const double w = weight[i];
+		double* vi = v + 3 * i;
+		const double* si = sum + 3 * i;
+		const double x = keep * vi[0] + blend * (w * si[0]), y = keep * vi[1] + blend * (w * si[1]),
+		             z = keep * vi[2] + blend * (w * si[2]);
+		vi[0] = x, vi[1] = y, vi[2] = z;
+		if (pinned[i] != 0u)
+			fmZeroPinnedAxes(c->state, i, v + 3 * i);
 	}
 	if (c->then != NULL)
 		c->then->task(start, end, worker, c->then->context);

@@ -85,22 +85,37 @@ static void fmGravityTask(int start, int end, int worker, void* context)
 }
 
 // Stage 2 for vertices [start, end): v += dt f / m, then the seeds' damping factor (one pass:
-// the same bits as the velocity filter's own); pinned vertices stay at rest.
+// the same bits as the velocity filter's own; a factor of 1 leaves v as it is); pinned vertices
+// stay at rest. (Local restrict pointers: a store to v cannot change what the loop reads.)
 static void fmVelocitiesTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
-	fmExplicitTask* c = context;
-	fmBody* b = c->body;
+	const fmExplicitTask* c = context;
+	const fmBody* b = c->body;
+	double* restrict v = b->state.v;
+	const double* restrict f = b->state.f;
+	const double* restrict invMass = b->state.invMass;
+	const uint8_t* restrict pinned = b->state.pinned;
+	const double dt = c->dt, d = c->damping;
 	for (int i = start; i < end; ++i)
 	{
-		double* vi = b->state.v + 3 * i;
-		if (b->state.pinned[i] != FM_PIN_ALL)
+		double* vi = v + 3 * i;
+		const double* fi = f + 3 * i;
+		if (pinned[i] == 0u)
 		{
-			fmStore(b->state.v, i, fmMulAdd(fmLoad(b->state.v, i), c->dt * b->state.invMass[i], fmLoad(b->state.f, i)));
+			const double s = dt * invMass[i];
+			const double x = (vi[0] + s * fi[0]) * d, y = (vi[1] + s * fi[1]) * d,
+			             z = (vi[2] + s * fi[2]) * d;
+			vi[0] = x, vi[1] = y, vi[2] = z;
+			continue;
+		}
+		if (pinned[i] != FM_PIN_ALL)
+		{
+			const double s = dt * invMass[i];
+			vi[0] += s * fi[0], vi[1] += s * fi[1], vi[2] += s * fi[2];
 			fmZeroPinnedAxes(&b->state, i, vi); // rollers: free only along their open axes
 		}
-		if (b->damping < 1.0)
-			vi[0] *= c->damping, vi[1] *= c->damping, vi[2] *= c->damping;
+		vi[0] *= d, vi[1] *= d, vi[2] *= d;
 	}
 }
 
@@ -109,12 +124,21 @@ static void fmVelocitiesTask(int start, int end, int worker, void* context)
 static void fmPositionsTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
-	fmExplicitTask* c = context;
+	const fmExplicitTask* c = context;
 	fmBody* b = c->body;
+	double* restrict x = b->state.x;
+	const double* restrict v = b->state.v;
+	const uint8_t* restrict pinned = b->state.pinned;
+	const double dt = c->dt;
 	for (int i = start; i < end; ++i)
 	{
-		if (b->state.pinned[i] != FM_PIN_ALL)
-			fmStore(b->state.x, i, fmMulAdd(fmLoad(b->state.x, i), c->dt, fmLoad(b->state.v, i)));
+		double* xi = x + 3 * i;
+		const double* vi = v + 3 * i;
+		if (pinned[i] != FM_PIN_ALL)
+		{
+			const double px = xi[0] + dt * vi[0], py = xi[1] + dt * vi[1], pz = xi[2] + dt * vi[2];
+			xi[0] = px, xi[1] = py, xi[2] = pz;
+		}
 	}
 	if (c->floorTaken != NULL)
 		fmFloor_RespondRange(c->floor, c->gravity, b, start, end, c->dt, c->floorTaken);

@@ -559,7 +559,7 @@ FM_INLINE bool fmKernelVector(const fmTetBatch* batch, const double* u, int o,
                               fmTetBatchForces* out, float* laneEnergy)
 {
 	fmMat3V Du;
-	fmV_GatherEdges(u, batch->nodes, o, Du.m);
+	fmV_GatherEdges(u, batch->row, o, Du.m);
 	fmMat3V DmInv = fmMat3V_Load(&batch->dmInv[0][o]);
 	fmMat3V H = fmMat3V_Mul(&Du, &DmInv);
 	fmFloatV mu = fmV_Set(material->mu), lambda = fmV_Set(material->lambda);

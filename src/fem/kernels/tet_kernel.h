@@ -15,9 +15,11 @@
 // One batch of FM_LANES tets, structure of arrays, as the kernel streams it (768 bytes).
 typedef struct fmTetBatch
 {
-	uint16_t nodes[4][FM_LANES]; // the block's own vertex numbers; unused lanes repeat lane 0's
-	float dmInv[9][FM_LANES];    // Dm^-1, row-major
-	float volume[FM_LANES];      // V0 (m^3); 0 in unused lanes, which then give zero forces
+	// Node a of lane l: 4 n, n its vertex's number in the block (where the vertex's 4 doubles
+	// start in the block's rows); unused lanes repeat lane 0's.
+	uint16_t row[4][FM_LANES];
+	float dmInv[9][FM_LANES]; // Dm^-1, row-major
+	float volume[FM_LANES];   // V0 (m^3); 0 in unused lanes, which then give zero forces
 } fmTetBatch;
 
 // A batch's output: the elastic force on node a (0..3) of lane l at force[a][l] as (x, y, z, 0)
