@@ -1916,6 +1916,86 @@ TEST(bodies_set_overlapping_are_refused)
 	setOverlappingIsRefused(failures_, fm_explicit);
 }
 
+// Whether a 1 m / 3 box around (x + 0.5, 0.5, 0.5) can be made in @p world (made, it is destroyed
+// again).
+static bool boxCanBeMade(fmWorldId world, double x, const fmBodyDef* def)
+{
+	fmTetMesh mesh;
+	if (fmMakeBoxMesh(2, 2, 2, fmMakeVec3(x + 0.33, 0.33, 0.33), fmMakeVec3(x + 0.67, 0.67, 0.67),
+	                  &mesh) != fm_ok)
+		return false;
+	fmBodyDef bdef = *def;
+	bdef.mesh = &mesh;
+	fmBodyId body;
+	fmResult r = fmCreateBody(world, &bdef, &body, NULL);
+	fmFreeTetMesh(&mesh);
+	if (r == fm_ok)
+		fmDestroyBody(body);
+	return r == fm_ok;
+}
+
+// @p body's positions moved by @p dx along x, through fmBody_SetPositions.
+static void shiftBody(fmBodyId body, double dx)
+{
+	int n = fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	if (x == NULL || fmBody_CopyPositions(body, x, n) != fm_ok)
+	{
+		free(x);
+		return;
+	}
+	for (int i = 0; i < n; ++i)
+		x[3 * i] += dx;
+	fmBody_SetPositions(body, x);
+	free(x);
+}
+
+// The audit at creation caches each body's box while no vertex moves (a thousand props made one
+// after another cost the boxes of those before, not their vertices): every call that moves
+// vertices (a step, fmBody_SetPositions, fmWorld_RestoreSnapshot) leaves the cache stale, so a
+// new body is refused where a body is now and made where it was.
+TEST(creation_audits_bodies_where_they_are_now)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.gravity = fmMakeVec3(0, 0, 0);
+	wdef.floor.enabled = false;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = softDef(1e5);
+	fmBodyId a = addBox(failures_, world, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &def);
+	CHECK(!boxCanBeMade(world, 0.0, &def)); // (A's box cached)
+	CHECK(boxCanBeMade(world, 2.0, &def));
+	// Stepped: A slides 2 m along x in 2 s.
+	int n = fmBody_GetVertexCount(a);
+	double* v = calloc(3 * (size_t)n, sizeof *v);
+	for (int i = 0; v != NULL && i < n; ++i)
+		v[3 * i] = 1.0;
+	fmBody_SetVelocities(a, v);
+	free(v);
+	for (int frame = 0; frame < 120; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 4), fm_ok);
+	CHECK(!boxCanBeMade(world, 2.0, &def));
+	CHECK(boxCanBeMade(world, 0.0, &def));
+	// Stopped, and set back by hand.
+	double* rest = calloc(3 * (size_t)n, sizeof *rest);
+	if (rest != NULL)
+		fmBody_SetVelocities(a, rest);
+	free(rest);
+	shiftBody(a, -2.0);
+	CHECK(!boxCanBeMade(world, 0.0, &def));
+	CHECK(boxCanBeMade(world, 2.0, &def));
+	// Saved there, moved again, restored.
+	size_t size = fmWorld_GetSnapshotSize(world);
+	void* snapshot = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size, NULL), fm_ok);
+	shiftBody(a, 2.0);
+	CHECK(!boxCanBeMade(world, 2.0, &def));
+	CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_ok);
+	CHECK(!boxCanBeMade(world, 0.0, &def));
+	CHECK(boxCanBeMade(world, 2.0, &def));
+	free(snapshot);
+	fmDestroyWorld(world);
+}
+
 // A body made overlapping another it collides with is refused with the reason (a crossing edge
 // or a vertex inside, and which body); one wholly inside another too (no edge crosses: its
 // vertices are inside). Made touching, with filters that do not meet, or in a world without

@@ -360,7 +360,7 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 	b->generation += 1;
 	r = fmBodyInit(b, def, diag);
 	b->slot = slot;
-	if (r == fm_ok && !fmWorldReserveArena(world))
+	if (r == fm_ok && !fmWorldReserveArenaFor(world, b))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                "out of memory for the step buffers of a body of %d vertices",
 		                b->mesh.vertexCount);
@@ -546,6 +546,7 @@ void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		fmStore(b->state.x, i, fmLoad(positions, b->userVertex[i]));
 	b->positionsSet = true;
+	fmWorld_MovedVertices(fmGetWorldOfBody(bodyId));
 }
 
 void fmBody_SetVelocities(fmBodyId bodyId, const double* velocities)

@@ -34,6 +34,10 @@ typedef struct fmBody
 	double energyGood; // kinetic + elastic energy of the good state (runaway check)
 	bool energyStale;  // energyGood must be recomputed (new body, new material)
 	bool positionsSet; // fmBody_SetPositions since the last frame: audited against the others
+	// The box of its vertices as audit.c found it while the world's verticesEpoch was boxEpoch
+	// (0: never; the world's epoch starts at 1).
+	fmVec3 boxLower, boxUpper;
+	uint64_t boxEpoch;
 	// What the body's last substep produced, merged into the world's statistics and errors in
 	// body order after every body has stepped (world.c), so that no step writes shared state.
 	fmResult stepResult;

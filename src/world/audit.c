@@ -519,16 +519,12 @@ static void fmAuditPairs(fmAuditRun* run)
 	}
 }
 
-// Whether every live body's positions are finite (a non-finite one has no surface to audit).
-static bool fmAuditFinite(const fmWorld* w)
+// Whether body @p b's positions are finite (a non-finite body has no surface to audit).
+static bool fmAuditFinite(const fmBody* b)
 {
-	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-	{
-		const fmBody* b = &w->bodies[slot];
-		for (int k = 0; fmBody_IsLive(b) && k < 3 * b->mesh.vertexCount; ++k)
-			if (!isfinite(b->state.x[k]))
-				return false;
-	}
+	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
+		if (!isfinite(b->state.x[k]))
+			return false;
 	return true;
 }
 
@@ -545,12 +541,29 @@ static void fmAuditVertexBox(const fmBody* b, fmVec3* lo, fmVec3* hi)
 	}
 }
 
+// fmAuditVertexBox, found once while no vertex moves (the world's verticesEpoch). Builds with
+// assertions check every cached box against its vertices.
+static void fmAuditCachedBox(const fmWorld* w, fmBody* b, fmVec3* lo, fmVec3* hi)
+{
+	if (b->boxEpoch != w->verticesEpoch)
+	{
+		fmAuditVertexBox(b, &b->boxLower, &b->boxUpper);
+		b->boxEpoch = w->verticesEpoch;
+	}
+#ifndef NDEBUG
+	fmVec3 l, h;
+	fmAuditVertexBox(b, &l, &h);
+	FM_ASSERT(memcmp(&l, &b->boxLower, sizeof l) == 0 && memcmp(&h, &b->boxUpper, sizeof h) == 0);
+#endif
+	*lo = b->boxLower, *hi = b->boxUpper;
+}
+
 // Whether the audit takes the body in @p slot: every live body, or with a focus the focus and
 // the bodies whose boxes meet its box and whose filters meet its filters (a new body among
-// thousands costs the few near it, not all of them).
-static bool fmAuditTakes(const fmWorld* w, int focus, const fmVec3 focusBox[2], int slot)
+// thousands costs the few near it, not all of them: their boxes are cached).
+static bool fmAuditTakes(fmWorld* w, int focus, const fmVec3 focusBox[2], int slot)
 {
-	const fmBody* b = &w->bodies[slot];
+	fmBody* b = &w->bodies[slot];
 	if (!fmBody_IsLive(b))
 		return false;
 	if (focus < 0 || slot == focus)
@@ -558,32 +571,38 @@ static bool fmAuditTakes(const fmWorld* w, int focus, const fmVec3 focusBox[2], 
 	if (!fmFiltersMeet(w->bodies[focus].filter, b->filter))
 		return false;
 	fmVec3 blo, bhi;
-	fmAuditVertexBox(b, &blo, &bhi);
+	fmAuditCachedBox(w, b, &blo, &bhi);
 	return fmAuditBoxesMeet(focusBox[0], focusBox[1], blo, bhi);
 }
 
 static fmResult fmAuditIn(fmWorld* w, fmContactAudit* audit, int focus, int* tetsInside,
                           fmAuditFinding* firstTetInside)
 {
-	if (!fmAuditFinite(w))
-		return fm_errNumerical;
 	fmAuditRun run = {w, NULL, 0, 0, audit, focus, 0, audit->firstInside};
 	fmVec3 focusBox[2] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
 	if (focus >= 0)
-		fmAuditVertexBox(&w->bodies[focus], &focusBox[0], &focusBox[1]);
+		fmAuditCachedBox(w, &w->bodies[focus], &focusBox[0], &focusBox[1]);
+	int* taken = FM_ALLOC_ARRAY(int, w->bodyCapacity);
+	if (taken == NULL && w->bodyCapacity > 0)
+		return fm_errOutOfMemory;
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
-		run.count += fmAuditTakes(w, focus, focusBox, slot);
-	run.bodies = FM_ALLOC_ZERO(fmAuditBody, run.count);
-	bool ok = run.bodies != NULL || run.count == 0;
-	for (int slot = 0, k = 0; ok && slot < w->bodyCapacity; ++slot)
+		if (fmAuditTakes(w, focus, focusBox, slot))
+			taken[run.count++] = slot;
+	bool finite = true;
+	for (int k = 0; k < run.count && finite; ++k)
+		finite = fmAuditFinite(&w->bodies[taken[k]]);
+	run.bodies = finite ? FM_ALLOC_ZERO(fmAuditBody, run.count) : NULL;
+	bool ok = finite && (run.bodies != NULL || run.count == 0);
+	for (int k = 0; ok && k < run.count; ++k)
 	{
-		if (!fmAuditTakes(w, focus, focusBox, slot))
-			continue;
-		fmAuditBody* ab = &run.bodies[k++];
-		ab->body = &w->bodies[slot];
-		ab->slot = slot;
+		fmAuditBody* ab = &run.bodies[k];
+		ab->body = &w->bodies[taken[k]];
+		ab->slot = taken[k];
 		ok = fmAuditSurface(ab) && fmAuditGrid(ab);
 	}
+	FM_FREE_ARRAY(taken, int, w->bodyCapacity);
+	if (!finite)
+		return fm_errNumerical;
 	audit->bodies = run.count;
 	if (ok)
 		fmAuditPairs(&run);

@@ -935,6 +935,7 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	s.used = bodiesAt;
 	if (r == fm_ok)
 		r = fmBodiesPass(w, &s, 1);
+	fmWorld_MovedVertices(w);
 	if (r != fm_ok)
 		return r;
 	fmMoveWorldSettings(&(fmStream){NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false}, false, w);

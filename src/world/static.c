@@ -296,6 +296,8 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	fmWorld* world = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(world != NULL && world->def.crossPlatformDeterminism);
 	fmResult result = fmBodySolveStaticIn(bodyId, tolerance, maxIterations, residual, diag);
+	if (world != NULL)
+		fmWorld_MovedVertices(world);
 	fmFpEnv_Leave(&env);
 	return result;
 }

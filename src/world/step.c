@@ -852,7 +852,9 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	w->stepThickness = fmContact_Thickness(w);
 	w->stepBodiesMeet = fmContact_BodiesMeet(w);
 	w->stepKnown = true;
+	fmWorld_MovedVertices(w); // (the user may have moved vertices through the step's pointers)
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
+	fmWorld_MovedVertices(w);
 	w->stepKnown = false;
 	w->profile.step = 1e3 * (fmSeconds() - start);
 	w->profile.narrowPhase = fmMax(0.0, w->profile.contact - w->profile.broadPhase);

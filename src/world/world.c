@@ -229,6 +229,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->generation = generation;
 		w->inUse = true;
 		w->fastCollider = -1;
+		w->verticesEpoch = 1;
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
 		w->solverOptions = fmDefaultSolverOptions();
@@ -463,26 +464,46 @@ static bool fmWorldReserveWorkerArenas(fmWorld* w, size_t vertices)
 	return true;
 }
 
+// w->reserved grown to cover body @p b.
+static void fmWorldCover(fmWorld* w, const fmBody* b)
+{
+	fmArenaSizes* r = &w->reserved;
+	size_t n = (size_t)b->mesh.vertexCount;
+	r->vertices = fmMaxSize(r->vertices, n);
+	r->tets = fmMaxSize(r->tets, (size_t)b->mesh.tetCount);
+	if (n < FM_BODY_PARALLEL_MAX_VERTICES)
+		r->small = fmMaxSize(r->small, n);
+}
+
+// The arenas reserved for the bodies w->reserved covers.
+static bool fmWorldReserveCovered(fmWorld* w)
+{
+	const fmArenaSizes* r = &w->reserved;
+	bool parallel = w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL;
+	return fmArena_Reserve(&w->arena, fmStepBytes(w, r->vertices, r->tets, parallel)) &&
+	       fmWorldReserveWorkerArenas(w, r->small);
+}
+
 bool fmWorldReserveArena(fmWorld* w)
 {
-	size_t vertices = 0, tets = 0, small = 0;
+	memset(&w->reserved, 0, sizeof w->reserved);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
-		{
-			size_t n = (size_t)w->bodies[i].mesh.vertexCount;
-			vertices = fmMaxSize(vertices, n);
-			tets = fmMaxSize(tets, (size_t)w->bodies[i].mesh.tetCount);
-			if (n < FM_BODY_PARALLEL_MAX_VERTICES)
-				small = fmMaxSize(small, n);
-		}
-	bool parallel = w->tasks.workerCount > 1 || w->tasks.enqueueTask != NULL;
-	return fmArena_Reserve(&w->arena, fmStepBytes(w, vertices, tets, parallel)) &&
-	       fmWorldReserveWorkerArenas(w, small);
+			fmWorldCover(w, &w->bodies[i]);
+	return fmWorldReserveCovered(w);
+}
+
+bool fmWorldReserveArenaFor(fmWorld* w, const fmBody* b)
+{
+	fmWorldCover(w, b);
+	return fmWorldReserveCovered(w);
 }
 
 double fmWorldBodyStepLimit(fmWorld* w, const fmBody* b)
 {
-	return w != NULL && fmWorldReserveArena(w) ? fmExplicitStepLimit(&b->mesh, &b->state, &w->arena) : 0.0;
+	return w != NULL && fmWorldReserveArenaFor(w, b)
+	           ? fmExplicitStepLimit(&b->mesh, &b->state, &w->arena)
+	           : 0.0;
 }
 
 // The explicit stability limit of the world at the bodies' current deformation (s); 0 for an

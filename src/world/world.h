@@ -16,6 +16,13 @@
 // ends (6).
 #define FM_DRAW_CONTACT_FLOATS 9
 
+// The largest bodies a world's arenas hold a step's buffers for (vertices, tets; small: the
+// largest body that steps beside others, below FM_BODY_PARALLEL_MAX_VERTICES).
+typedef struct fmArenaSizes
+{
+	size_t vertices, tets, small;
+} fmArenaSizes;
+
 typedef struct fmWorld
 {
 	uint32_t generation; // of the world in the slot; UINT32_MAX retires the slot
@@ -56,8 +63,13 @@ typedef struct fmWorld
 	bool stepKnown;
 	double stepThickness;
 	bool stepBodiesMeet;
-	float* drawPoints; // fmWorld_Draw's buffer: a contact's point, then its line
-	                   // (FM_DRAW_CONTACT_FLOATS)
+	// Moved on by every call that may move a body's vertices (fmWorld_MovedVertices): a body's
+	// box that audit.c cached under the same value still holds (creating a thousand props audits
+	// each against the boxes of those before it, not their vertices).
+	uint64_t verticesEpoch;
+	fmArenaSizes reserved; // the bodies the arenas were last reserved for
+	float* drawPoints;     // fmWorld_Draw's buffer: a contact's point, then its line
+	                       // (FM_DRAW_CONTACT_FLOATS)
 	int drawPointCapacity;
 	fmAttachment drawShape;    // fmWorld_Draw's collider triangles (draw_shapes.h's fmShapeBuffer)
 	fmSleepEvent* sleepEvents; // since the start of the last step (island.c)
@@ -82,6 +94,12 @@ fmColliderId fmWorldColliderId(const fmWorld* world, int slot);
 
 // The collider in slot @p slot (FM_FLOOR_SLOT: the floor's), live or not.
 fmCollider* fmWorldCollider(fmWorld* world, int slot);
+
+// A body's vertices may have moved: every box cached under the old epoch is stale.
+static inline void fmWorld_MovedVertices(fmWorld* world)
+{
+	world->verticesEpoch += 1;
+}
 
 // Set the floor's collider from def.floor (at creation and by fmWorld_SetFloor), keeping the
 // force it reports.
@@ -108,6 +126,10 @@ size_t fmWorldMemoryInUse(const fmWorld* world);
 // workers' arenas for the largest body that steps beside others; false when memory is short.
 // Allocates only when a larger body arrived.
 bool fmWorldReserveArena(fmWorld* world);
+
+// fmWorldReserveArena for the bodies the last reservation covered and body @p body (a new one):
+// no pass over the bodies (arenas never shrink, so what a destroyed body left is kept anyway).
+bool fmWorldReserveArenaFor(fmWorld* world, const fmBody* body);
 
 // The smallest explicit stability limit (s) of the world's live bodies at their current
 // deformation (each body's explicitLimit updated), INFINITY without bodies.
