@@ -84,6 +84,11 @@ double fmInversion_StepLimit(const fmElasticMesh* mesh, const double* x, const d
 		if (!(p.d > 0.0))
 			continue; // flat or inverted already: not this filter's to keep
 		p.d -= keep * p.d;
+		// On [0, 1] the cubic is at least d - (|a| + |b| + |c|): with a margin far above its
+		// evaluation's rounding, it has no root there (a short step against the tet's size, the
+		// usual case: the same limit without the search).
+		if (p.d > 1.000001 * (fabs(p.a) + fabs(p.b) + fabs(p.c)))
+			continue;
 		limit = fmMin(limit, fmFirstRoot(&p));
 	}
 	return limit;
