@@ -38,18 +38,26 @@ fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmTetKernels){fmTetKernel_Forces_avx512, fmTetKernel_SumForces_avx512,
-		                      fmTetKernel_WeightedSums_avx512};
+		return (fmTetKernels){fmTetKernel_Forces_avx512,       fmTetKernel_SumForces_avx512,
+		                      fmTetKernel_WeightedSums_avx512, fmTetKernel_GatherSums_avx512,
+		                      fmTetKernel_Velocities_avx512,   fmTetKernel_Blend_avx512,
+		                      fmTetKernel_Positions_avx512};
 	case fm_simdAvx2:
-		return (fmTetKernels){fmTetKernel_Forces_avx2, fmTetKernel_SumForces_avx2,
-		                      fmTetKernel_WeightedSums_avx2};
+		return (fmTetKernels){fmTetKernel_Forces_avx2,       fmTetKernel_SumForces_avx2,
+		                      fmTetKernel_WeightedSums_avx2, fmTetKernel_GatherSums_avx2,
+		                      fmTetKernel_Velocities_avx2,   fmTetKernel_Blend_avx2,
+		                      fmTetKernel_Positions_avx2};
 #endif
 	case fm_simdScalar:
-		return (fmTetKernels){fmTetKernel_Forces_scalar, fmTetKernel_SumForces_scalar,
-		                      fmTetKernel_WeightedSums_scalar};
+		return (fmTetKernels){fmTetKernel_Forces_scalar,       fmTetKernel_SumForces_scalar,
+		                      fmTetKernel_WeightedSums_scalar, fmTetKernel_GatherSums_scalar,
+		                      fmTetKernel_Velocities_scalar,   fmTetKernel_Blend_scalar,
+		                      fmTetKernel_Positions_scalar};
 	default:
-		return (fmTetKernels){fmTetKernel_Forces_baseline, fmTetKernel_SumForces_baseline,
-		                      fmTetKernel_WeightedSums_baseline};
+		return (fmTetKernels){fmTetKernel_Forces_baseline,       fmTetKernel_SumForces_baseline,
+		                      fmTetKernel_WeightedSums_baseline, fmTetKernel_GatherSums_baseline,
+		                      fmTetKernel_Velocities_baseline,   fmTetKernel_Blend_baseline,
+		                      fmTetKernel_Positions_baseline};
 	}
 }
 
@@ -80,7 +88,8 @@ static uint16_t fmLocalRow(fmBlockVertices* bv, int v)
 }
 
 // Pack tets [first, end) into one batch; unused lanes repeat the first tet, weightless.
-static void fmPackBatch(const fmElasticMesh* mesh, int first, int end, fmBlockVertices* bv, fmTetBatch* batch)
+static void fmPackBatch(const fmElasticMesh* mesh, int first, int end, fmBlockVertices* bv,
+                        fmTetBatch* batch)
 {
 	for (int l = 0; l < FM_LANES; ++l)
 	{
@@ -114,7 +123,7 @@ uint64_t fmTetBlocks_Bytes(uint64_t tetCount, uint64_t vertexCount)
 	// vertex graph: at most 16 entries per tet (about 3 on a tet mesh), an int and a double
 	// each, and a start per vertex.
 	return batches * (sizeof(fmTetBatch) + 1) + 2 * (blocks + 1) * sizeof(int) +
-	       blocks * sizeof(double) + 12 * tetCount * (sizeof(int) + sizeof(double)) +
+	       (blocks + 1) * sizeof(double) + 12 * tetCount * (sizeof(int) + sizeof(double)) +
 	       4 * tetCount * sizeof(uint16_t) + 16 * tetCount * (sizeof(int) + sizeof(double)) +
 	       2 * (vertexCount + 1) * sizeof(int) +
 	       fmScratchBytes((int)(vertexCount < blockVertices ? vertexCount : blockVertices)) +
@@ -132,7 +141,7 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 	FM_FREE_ARRAY(tb->blockInverted, int, tb->blockCount);
 	FM_FREE_ARRAY(tb->blockVertexStart, int, tb->blockCount + 1);
 	FM_FREE_ARRAY(tb->blockVertices, int, 4 * (size_t)tb->tetCount);
-	FM_FREE_ARRAY(tb->blockSums, double, 3 * (size_t)tb->entryCount);
+	FM_FREE_ARRAY(tb->blockSums, double, 3 * (size_t)tb->entryCount + 1);
 	FM_FREE_ARRAY(tb->vertexEntryStart, int, (size_t)tb->vertexCount + 1);
 	FM_FREE_ARRAY(tb->vertexEntries, int, (size_t)tb->entryCount);
 	FM_FREE_ARRAY(tb->incidenceStart, int, 4 * (size_t)tb->tetCount + 1);
@@ -145,7 +154,8 @@ void fmTetBlocks_Destroy(fmTetBlocks* tb)
 }
 
 // Pack block @p k (tets k * perBlock ...) at batch @p batch; returns the next batch.
-static int fmPackBlock(fmTetBlocks* tb, const fmElasticMesh* mesh, int k, int batch, fmBlockVertices* bv)
+static int fmPackBlock(fmTetBlocks* tb, const fmElasticMesh* mesh, int k, int batch,
+                       fmBlockVertices* bv)
 {
 	const int perBlock = FM_BLOCK_BATCHES * FM_LANES;
 	int first = k * perBlock,
@@ -215,7 +225,7 @@ static bool fmBuildVertexEntries(fmTetBlocks* tb, int vertexCount)
 	tb->vertexCount = vertexCount;
 	tb->vertexEntryStart = FM_ALLOC_ZERO(int, (size_t)vertexCount + 1);
 	tb->vertexEntries = FM_ALLOC_ARRAY(int, (size_t)tb->entryCount);
-	tb->blockSums = FM_ALLOC_ARRAY(double, 3 * (size_t)tb->entryCount);
+	tb->blockSums = FM_ALLOC_ZERO(double, 3 * (size_t)tb->entryCount + 1);
 	if (tb->vertexEntryStart == NULL || tb->vertexEntries == NULL || tb->blockSums == NULL)
 		return false;
 	for (int e = 0; e < tb->entryCount; ++e)
@@ -464,26 +474,26 @@ static void fmAddBlockSumsTask(int start, int end, int worker, void* context)
 {
 	const fmForcePass* p = context;
 	const fmTetBlocks* tb = p->blocks;
-	const double* restrict sums = tb->blockSums;
-	const int* restrict entries = tb->vertexEntries;
-	const int* restrict entryStart = tb->vertexEntryStart;
-	const double* restrict mass = p->mesh->mass;
-	double* restrict f = p->f;
-	const fmVec3 g = p->gravity != NULL ? *p->gravity : fmMakeVec3(0.0, 0.0, 0.0);
-	for (int i = start; i < end; ++i)
+	if (p->gravity != NULL)
 	{
-		double fx, fy, fz;
-		if (p->gravity != NULL)
-			fx = mass[i] * g.x, fy = mass[i] * g.y, fz = mass[i] * g.z;
-		else
-			fx = f[3 * i], fy = f[3 * i + 1], fz = f[3 * i + 2];
-		for (int e = entryStart[i]; e < entryStart[i + 1]; ++e)
-		{
-			const double* sum = sums + 3 * (size_t)entries[e];
-			fx += sum[0], fy += sum[1], fz += sum[2];
-		}
-		f[3 * i] = fx, f[3 * i + 1] = fy, f[3 * i + 2] = fz;
+		const fmBlockGather gather = {tb->blockSums,
+		                              tb->vertexEntries,
+		                              tb->vertexEntryStart,
+		                              p->mesh->mass,
+		                              {p->gravity->x, p->gravity->y, p->gravity->z},
+		                              p->f};
+		p->kernels.gatherSums(&gather, start, end);
 	}
+	else
+		for (int i = start; i < end; ++i)
+		{
+			double* fi = p->f + 3 * i;
+			for (int e = tb->vertexEntryStart[i]; e < tb->vertexEntryStart[i + 1]; ++e)
+			{
+				const double* sum = tb->blockSums + 3 * (size_t)tb->vertexEntries[e];
+				fi[0] += sum[0], fi[1] += sum[1], fi[2] += sum[2];
+			}
+		}
 	if (p->then != NULL)
 		p->then->task(start, end, worker, p->then->context);
 }

@@ -7,8 +7,8 @@
 // (docs/decisions.md, "Blocks, not colours").
 #pragma once
 
-#include "fem/elastic_mesh.h"
 #include "core/parallel.h"
+#include "fem/elastic_mesh.h"
 #include "fem/kernels/tet_kernel.h"
 
 // Tets of a block: 32 batches (about 150 vertices, a few KiB of positions and forces in cache).
@@ -36,7 +36,7 @@ typedef struct fmTetBlocks
 	int entryCount;        // entries of blockVertices used
 	int* incidenceStart;   // one per entry of blockVertices, and one more
 	uint16_t* incidences;  // 4 per tet
-	double* blockSums;     // 3 per entry: the force of the entry's block on its vertex
+	double* blockSums;     // 3 per entry (and one more): the entry's block's force on its vertex
 	// Vertex i's entries of blockVertices, in block order: vertexEntries[vertexEntryStart[i] ..
 	// vertexEntryStart[i + 1]).
 	int* vertexEntryStart; // vertexCount + 1
@@ -90,6 +90,10 @@ typedef struct fmTetKernels
 	fmTetKernelFcn* forces;
 	fmTetSumFcn* sums;
 	fmTetWeightedSumFcn* weightedSums; // the smoothing's
+	fmTetGatherFcn* gatherSums;        // each vertex's blocks' sums, with m g
+	fmVertexKernelFcn* velocities;     // the explicit step's vertex updates
+	fmVertexKernelFcn* blend;
+	fmVertexKernelFcn* positions;
 } fmTetKernels;
 
 // The kernel variants of an instruction set fmSimd_Resolve returned (not fm_simdOff).

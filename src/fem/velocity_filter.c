@@ -26,6 +26,8 @@ typedef struct fmSmoothTask
 	double blend;
 	double* sum;            // 3 per vertex
 	const fmThenTask* then; // after the blend of each range, or NULL
+	fmVertexUpdate update;  // the blend's arrays and weights (fmTetKernel_Blend)
+	fmVertexKernelFcn* blendKernel;
 } fmSmoothTask;
 
 static fmVec3 fmTetVelocitySum(const fmElasticMesh* mesh, const double* v, int t)
@@ -51,30 +53,14 @@ static void fmGatherSumsTask(int start, int end, int worker, void* context)
 static void fmBlendTask(int start, int end, int worker, void* context)
 {
 	const fmSmoothTask* c = context;
-	const double* restrict weight = c->mesh->smoothWeight;
-	const double* restrict sum = c->sum;
-	const uint8_t* restrict pinned = c->state->pinned;
-	double* restrict v = c->state->v;
-	const double keep = 1.0 - c->blend, blend = c->blend;
-	for (int i = start; i < end; ++i)
-	{
-		if (pinned[i] == FM_PIN_ALL)
-			continue;
-		const double w = weight[i];
-		double* vi = v + 3 * i;
-		const double* si = sum + 3 * i;
-		const double x = keep * vi[0] + blend * (w * si[0]), y = keep * vi[1] + blend * (w * si[1]),
-		             z = keep * vi[2] + blend * (w * si[2]);
-		vi[0] = x, vi[1] = y, vi[2] = z;
-		if (pinned[i] != 0u)
-			fmZeroPinnedAxes(c->state, i, v + 3 * i);
-	}
+	c->blendKernel(&c->update, start, end);
 	if (c->then != NULL)
 		c->then->task(start, end, worker, c->then->context);
 }
 
-static bool fmSmoothVelocities(const fmElasticMesh* mesh, fmBodyState* state, double blend, fmArena* arena, fmSimdLevel level,
-                               const fmTaskSystem* tasks, const fmThenTask* then)
+static bool fmSmoothVelocities(const fmElasticMesh* mesh, fmBodyState* state, double blend,
+                               fmArena* arena, fmSimdLevel level, const fmTaskSystem* tasks,
+                               const fmThenTask* then)
 {
 	size_t mark = fmArena_Mark(arena);
 	// The blocks' sums and the gather write every vertex's sum; the scatter adds to zeros.
@@ -82,15 +68,26 @@ static bool fmSmoothVelocities(const fmElasticMesh* mesh, fmBodyState* state, do
 	              (tasks != NULL && (tasks->workerCount > 1 || tasks->enqueueTask != NULL) &&
 	               mesh->vertexCount >= 2 * FM_PARALLEL_MIN_VERTICES);
 	size_t count = 3 * (size_t)mesh->vertexCount;
-	fmSmoothTask context = {
-	    mesh, state, blend, gather ? fmArena_DoublesUninit(arena, count) : fmArena_Doubles(arena, count),
-	    then};
+	fmSmoothTask context = {.mesh = mesh,
+	                        .state = state,
+	                        .blend = blend,
+	                        .sum = gather ? fmArena_DoublesUninit(arena, count)
+	                                      : fmArena_Doubles(arena, count),
+	                        .then = then};
 	if (context.sum == NULL)
 		return false;
+	context.update = (fmVertexUpdate){.v = state->v,
+	                                  .weight = mesh->smoothWeight,
+	                                  .sum = context.sum,
+	                                  .pinned = state->pinned,
+	                                  .keep = 1.0 - blend,
+	                                  .blend = blend};
+	context.blendKernel = fmTetBlocks_Kernels(level).blend;
 	if (mesh->tetBlocks != NULL) // the explicit kernels' blocks, where the body has them
 		fmTetBlocks_SmoothingSums(mesh->tetBlocks, state->v, context.sum, level, tasks);
 	else if (gather)
-		fmParallelFor(tasks, mesh->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask, &context);
+		fmParallelFor(tasks, mesh->vertexCount, FM_PARALLEL_MIN_VERTICES, fmGatherSumsTask,
+		              &context);
 	else
 		for (int t = 0; t < mesh->tetCount; ++t)
 		{
@@ -129,8 +126,8 @@ bool fmVelocityFilter_Smooth(const fmElasticMesh* mesh, fmBodyState* state, doub
                              const fmTaskSystem* tasks, const fmThenTask* then)
 {
 	return smoothing > 0.0 &&
-	       fmSmoothVelocities(mesh, state, 1.0 - fmMathPow(1.0 - smoothing, seedSteps),
-	                          arena, level, tasks, then);
+	       fmSmoothVelocities(mesh, state, 1.0 - fmMathPow(1.0 - smoothing, seedSteps), arena,
+	                          level, tasks, then);
 }
 
 void fmFilterVelocities(const fmElasticMesh* mesh, fmBodyState* state, double damping,

@@ -2,14 +2,14 @@
 // Laplacian velocity smoothing (GAMES103 HW3 1.1 and 1.4), then the floor.
 #include "world/explicit.h"
 
-#include "contact/floor.h"
-#include "core/det_math.h"
-#include "fem/force_spring.h"
-#include "fem/forces.h"
 #include "body/loads.h"
 #include "body/targets.h"
-#include "fem/tet_blocks.h"
+#include "contact/floor.h"
+#include "core/det_math.h"
 #include "core/timer.h"
+#include "fem/force_spring.h"
+#include "fem/forces.h"
+#include "fem/tet_blocks.h"
 #include "fem/velocity_filter.h"
 
 #include <string.h>
@@ -72,6 +72,9 @@ typedef struct fmExplicitTask
 	// their position update on each range.
 	const fmFloorDef* floor;
 	fmFloorTaken* floorTaken;
+	fmVertexUpdate update;         // the body's arrays for the vertex kernels
+	fmVertexKernelFcn* velocities; // of the world's instruction set
+	fmVertexKernelFcn* positions;
 } fmExplicitTask;
 
 // Stage 1 for vertices [start, end): f = m g.
@@ -86,37 +89,12 @@ static void fmGravityTask(int start, int end, int worker, void* context)
 
 // Stage 2 for vertices [start, end): v += dt f / m, then the seeds' damping factor (one pass:
 // the same bits as the velocity filter's own; a factor of 1 leaves v as it is); pinned vertices
-// stay at rest. (Local restrict pointers: a store to v cannot change what the loop reads.)
+// stay at rest (fmTetKernel_Velocities).
 static void fmVelocitiesTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
 	const fmExplicitTask* c = context;
-	const fmBody* b = c->body;
-	double* restrict v = b->state.v;
-	const double* restrict f = b->state.f;
-	const double* restrict invMass = b->state.invMass;
-	const uint8_t* restrict pinned = b->state.pinned;
-	const double dt = c->dt, d = c->damping;
-	for (int i = start; i < end; ++i)
-	{
-		double* vi = v + 3 * i;
-		const double* fi = f + 3 * i;
-		if (pinned[i] == 0u)
-		{
-			const double s = dt * invMass[i];
-			const double x = (vi[0] + s * fi[0]) * d, y = (vi[1] + s * fi[1]) * d,
-			             z = (vi[2] + s * fi[2]) * d;
-			vi[0] = x, vi[1] = y, vi[2] = z;
-			continue;
-		}
-		if (pinned[i] != FM_PIN_ALL)
-		{
-			const double s = dt * invMass[i];
-			vi[0] += s * fi[0], vi[1] += s * fi[1], vi[2] += s * fi[2];
-			fmZeroPinnedAxes(&b->state, i, vi); // rollers: free only along their open axes
-		}
-		vi[0] *= d, vi[1] *= d, vi[2] *= d;
-	}
+	c->velocities(&c->update, start, end);
 }
 
 // Stage 4 for vertices [start, end): x += dt v, then the floor's response to each vertex it
@@ -124,24 +102,10 @@ static void fmVelocitiesTask(int start, int end, int worker, void* context)
 static void fmPositionsTask(int start, int end, int worker, void* context)
 {
 	(void)worker;
-	const fmExplicitTask* c = context;
-	fmBody* b = c->body;
-	double* restrict x = b->state.x;
-	const double* restrict v = b->state.v;
-	const uint8_t* restrict pinned = b->state.pinned;
-	const double dt = c->dt;
-	for (int i = start; i < end; ++i)
-	{
-		double* xi = x + 3 * i;
-		const double* vi = v + 3 * i;
-		if (pinned[i] != FM_PIN_ALL)
-		{
-			const double px = xi[0] + dt * vi[0], py = xi[1] + dt * vi[1], pz = xi[2] + dt * vi[2];
-			xi[0] = px, xi[1] = py, xi[2] = pz;
-		}
-	}
+	fmExplicitTask* c = context;
+	c->positions(&c->update, start, end);
 	if (c->floorTaken != NULL)
-		fmFloor_RespondRange(c->floor, c->gravity, b, start, end, c->dt, c->floorTaken);
+		fmFloor_RespondRange(c->floor, c->gravity, c->body, start, end, c->dt, c->floorTaken);
 }
 
 // f = m g + the elastic forces: the batched float kernels where they apply and are accurate
@@ -182,10 +146,21 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmArena* arena = ctx->arena;
 	const int n = b->mesh.vertexCount;
 	const fmTaskSystem* tasks = ctx->tasks;
+	const fmTetKernels kernels = fmTetBlocks_Kernels(world->simd);
+	const double damping = fmVelocityFilter_DampingFactor(b->damping, dt / FM_SEED_STEP);
 	fmExplicitTask context = {.body = b,
 	                          .dt = dt,
 	                          .gravity = world->def.gravity,
-	                          .damping = fmVelocityFilter_DampingFactor(b->damping, dt / FM_SEED_STEP)};
+	                          .damping = damping,
+	                          .update = {.x = b->state.x,
+	                                     .v = b->state.v,
+	                                     .f = b->state.f,
+	                                     .invMass = b->state.invMass,
+	                                     .pinned = b->state.pinned,
+	                                     .dt = dt,
+	                                     .damping = damping},
+	                          .velocities = kernels.velocities,
+	                          .positions = kernels.positions};
 	const size_t mark = fmArena_Mark(arena);
 	fmFloorTaken floorTaken;
 	if (fmFloor_Applies(&world->def.floor, b) && fmFloorTaken_Make(&floorTaken, arena, n))
@@ -219,9 +194,9 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmVelocitiesTask, &context);
 
 	// 3. The seeds' Laplacian smoothing against high-frequency oscillation.
-	bool placed =
-	    fmVelocityFilter_Smooth(&b->mesh, &b->state, b->smoothing, dt / FM_SEED_STEP, arena, world->simd, tasks, plain ? &positions : NULL) &&
-	    plain;
+	bool placed = fmVelocityFilter_Smooth(&b->mesh, &b->state, b->smoothing, dt / FM_SEED_STEP,
+	                                      arena, world->simd, tasks, plain ? &positions : NULL) &&
+	              plain;
 	fmStepContext_AddContactWork(ctx, b->slot, fmTargetWork(b, dt));
 	// The loads' work over the coming position update x += dt v: exact for constant loads.
 	fmStepContext_AddLoadWork(ctx, b->slot, fmLoads_Work(b, b->state.v, dt));
@@ -230,8 +205,8 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	if (!placed)
 		fmParallelFor(tasks, n, FM_PARALLEL_MIN_VERTICES, fmPositionsTask, &context);
 	double floorWork;
-	int floorContacts =
-	    fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt, context.floorTaken, &floorWork);
+	int floorContacts = fmFloor_ApplyExplicit(&world->def.floor, world->def.gravity, b, dt,
+	                                          context.floorTaken, &floorWork);
 	fmStepContext_AddContactWork(ctx, b->slot, floorWork);
 	fmArena_Release(arena, mark);
 	b->stepStage[0] = forced - start;
