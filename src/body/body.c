@@ -350,7 +350,7 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 		return r;
 	// A slot whose generation would wrap is retired: its old ids must never come back.
 	int slot = -1;
-	for (int i = 0; i < world->bodyCapacity && slot < 0; ++i)
+	for (int i = world->freeSlotHint; i < world->bodyCapacity && slot < 0; ++i)
 		if (!fmBody_IsLive(&world->bodies[i]) && world->bodies[i].generation != UINT32_MAX)
 			slot = i;
 	if (slot < 0)
@@ -374,6 +374,8 @@ static fmResult fmCreateBodyIn(fmWorldId worldId, const fmBodyDef* def, fmBodyId
 		return r;
 	}
 	b->memoryEstimate = estimate;
+	world->bodyMemory += estimate; // (within the budget: fmCheckBudget)
+	world->freeSlotHint = slot + 1;
 	if (bodyId)
 	{
 		bodyId->index1 = slot + 1;
@@ -407,8 +409,12 @@ void fmDestroyBody(fmBodyId bodyId)
 {
 	fmBody* b = fmBodyOrAssert(bodyId);
 	fmIsland_WakeBody(bodyId); // what rested on it must fall
-	if (b)
-		fmBodyRelease(b);
+	if (b == NULL)
+		return;
+	fmWorld* world = fmGetWorldOfBody(bodyId);
+	world->bodyMemory -= b->memoryEstimate;
+	world->freeSlotHint = b->slot < world->freeSlotHint ? b->slot : world->freeSlotHint;
+	fmBodyRelease(b);
 }
 
 bool fmBody_IsValid(fmBodyId bodyId)

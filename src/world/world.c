@@ -123,10 +123,7 @@ static size_t fmAddBytes(size_t a, size_t b)
 
 size_t fmWorldMemoryInUse(const fmWorld* world)
 {
-	size_t used = fmWorldTableBytes(world->bodyCapacity);
-	for (int i = 0; i < world->bodyCapacity; ++i)
-		if (fmBody_IsLive(&world->bodies[i]))
-			used = fmAddBytes(used, world->bodies[i].memoryEstimate);
+	size_t used = fmAddBytes(fmWorldTableBytes(world->bodyCapacity), world->bodyMemory);
 	used = fmAddBytes(used, sizeof(fmCollider) * (size_t)world->colliderCapacity);
 	for (int k = 0; k < world->colliderCapacity; ++k)
 		if (world->colliders[k].inUse && world->colliders[k].mesh != NULL)

@@ -68,6 +68,8 @@ typedef struct fmWorld
 	// each against the boxes of those before it, not their vertices).
 	uint64_t verticesEpoch;
 	fmArenaSizes reserved; // the bodies the arenas were last reserved for
+	size_t bodyMemory;     // the live bodies' memoryEstimate, summed (the memory budget's)
+	int freeSlotHint;      // no body slot below it is free
 	float* drawPoints;     // fmWorld_Draw's buffer: a contact's point, then its line
 	                       // (FM_DRAW_CONTACT_FLOATS)
 	int drawPointCapacity;
