@@ -126,7 +126,26 @@ static inline fmFloatV fmI_ToFloat(fmIntV a)
 {
 	return __builtin_convertvector(a, fmFloatV);
 }
-// Whether any lane of the mask is set.
+// Whether any lane of the mask is set (on x86 one test of the whole vector).
+#if defined(__AVX512F__)
+#include <immintrin.h>
+static inline bool fmI_Any(fmIntV mask)
+{
+	return _mm512_test_epi32_mask((__m512i)mask, (__m512i)mask) != 0;
+}
+#elif defined(__AVX__)
+#include <immintrin.h>
+static inline bool fmI_Any(fmIntV mask)
+{
+	return !_mm256_testz_si256((__m256i)mask, (__m256i)mask);
+}
+#elif defined(__SSE2__)
+#include <emmintrin.h>
+static inline bool fmI_Any(fmIntV mask)
+{
+	return _mm_movemask_epi8((__m128i)mask) != 0;
+}
+#else
 static inline bool fmI_Any(fmIntV mask)
 {
 	int32_t any = 0;
@@ -134,6 +153,7 @@ static inline bool fmI_Any(fmIntV mask)
 		any |= mask[l];
 	return any != 0;
 }
+#endif
 
 #else
 

@@ -38,26 +38,26 @@ fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmTetKernels){fmTetKernel_Forces_avx512,       fmTetKernel_SumForces_avx512,
-		                      fmTetKernel_WeightedSums_avx512, fmTetKernel_GatherSums_avx512,
-		                      fmTetKernel_Velocities_avx512,   fmTetKernel_Blend_avx512,
-		                      fmTetKernel_Positions_avx512};
+		return (fmTetKernels){fmTetKernel_Forces_avx512,        fmTetKernel_SumForces_avx512,
+		                      fmTetKernel_WeightedSums_avx512,  fmTetKernel_GatherSums_avx512,
+		                      fmTetKernel_Displacements_avx512, fmTetKernel_Velocities_avx512,
+		                      fmTetKernel_Blend_avx512,         fmTetKernel_Positions_avx512};
 	case fm_simdAvx2:
-		return (fmTetKernels){fmTetKernel_Forces_avx2,       fmTetKernel_SumForces_avx2,
-		                      fmTetKernel_WeightedSums_avx2, fmTetKernel_GatherSums_avx2,
-		                      fmTetKernel_Velocities_avx2,   fmTetKernel_Blend_avx2,
-		                      fmTetKernel_Positions_avx2};
+		return (fmTetKernels){fmTetKernel_Forces_avx2,        fmTetKernel_SumForces_avx2,
+		                      fmTetKernel_WeightedSums_avx2,  fmTetKernel_GatherSums_avx2,
+		                      fmTetKernel_Displacements_avx2, fmTetKernel_Velocities_avx2,
+		                      fmTetKernel_Blend_avx2,         fmTetKernel_Positions_avx2};
 #endif
 	case fm_simdScalar:
-		return (fmTetKernels){fmTetKernel_Forces_scalar,       fmTetKernel_SumForces_scalar,
-		                      fmTetKernel_WeightedSums_scalar, fmTetKernel_GatherSums_scalar,
-		                      fmTetKernel_Velocities_scalar,   fmTetKernel_Blend_scalar,
-		                      fmTetKernel_Positions_scalar};
+		return (fmTetKernels){fmTetKernel_Forces_scalar,        fmTetKernel_SumForces_scalar,
+		                      fmTetKernel_WeightedSums_scalar,  fmTetKernel_GatherSums_scalar,
+		                      fmTetKernel_Displacements_scalar, fmTetKernel_Velocities_scalar,
+		                      fmTetKernel_Blend_scalar,         fmTetKernel_Positions_scalar};
 	default:
-		return (fmTetKernels){fmTetKernel_Forces_baseline,       fmTetKernel_SumForces_baseline,
-		                      fmTetKernel_WeightedSums_baseline, fmTetKernel_GatherSums_baseline,
-		                      fmTetKernel_Velocities_baseline,   fmTetKernel_Blend_baseline,
-		                      fmTetKernel_Positions_baseline};
+		return (fmTetKernels){fmTetKernel_Forces_baseline,        fmTetKernel_SumForces_baseline,
+		                      fmTetKernel_WeightedSums_baseline,  fmTetKernel_GatherSums_baseline,
+		                      fmTetKernel_Displacements_baseline, fmTetKernel_Velocities_baseline,
+		                      fmTetKernel_Blend_baseline,         fmTetKernel_Positions_baseline};
 	}
 }
 
@@ -375,18 +375,6 @@ static double* fmScratch(const fmTetBlocks* tb, int worker, fmTetBatchForces** f
 	return (double*)base;
 }
 
-// u[4 i + c] = x[3 v + c] - X[3 v + c] for the block's vertices v = verts[i] (u[4 i + 3] = 0).
-static void fmGatherDisplacements(const int* verts, int count, const double* x, const double* X,
-                                  double* u)
-{
-	for (int i = 0; i < count; ++i)
-	{
-		for (int c = 0; c < 3; ++c)
-			u[4 * i + c] = x[3 * verts[i] + c] - X[3 * verts[i] + c];
-		u[4 * i + 3] = 0.0;
-	}
-}
-
 // Lane @p l of a batch by the double-precision reference: F = I + Du Dm^-1 from the block's
 // displacements @p u, the material's P, and the forces -V0 P Dm^-T into the batch's output.
 static void fmReferenceLane(const fmForcePass* p, const fmTetBatch* batch, int l, const double* u,
@@ -430,7 +418,7 @@ static void fmForceBlock(const fmForcePass* p, int k, int worker)
 	const int* verts = tb->blockVertices + base;
 	fmTetBatchForces* out;
 	double* u = fmScratch(tb, worker, &out);
-	fmGatherDisplacements(verts, count, p->x, p->mesh->x0, u);
+	p->kernels.displacements(verts, count, p->x, p->mesh->x0, u);
 	double energy = 0.0;
 	int inverted = 0;
 	float laneEnergy[FM_LANES];

@@ -89,9 +89,10 @@ typedef struct fmTetKernels
 {
 	fmTetKernelFcn* forces;
 	fmTetSumFcn* sums;
-	fmTetWeightedSumFcn* weightedSums; // the smoothing's
-	fmTetGatherFcn* gatherSums;        // each vertex's blocks' sums, with m g
-	fmVertexKernelFcn* velocities;     // the explicit step's vertex updates
+	fmTetWeightedSumFcn* weightedSums;   // the smoothing's
+	fmTetGatherFcn* gatherSums;          // each vertex's blocks' sums, with m g
+	fmTetDisplacementFcn* displacements; // a block's rows of x - X
+	fmVertexKernelFcn* velocities;       // the explicit step's vertex updates
 	fmVertexKernelFcn* blend;
 	fmVertexKernelFcn* positions;
 } fmTetKernels;

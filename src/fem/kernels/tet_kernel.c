@@ -676,6 +676,35 @@ void FM_KERNEL_NAME(fmTetKernel_WeightedSums)(const double* v, const int* offset
 		              sums + 3 * i);
 }
 
+// ---- a block's displacements
+// ----------------------------------------------------------------------
+
+#if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))
+void FM_KERNEL_NAME(fmTetKernel_Displacements)(const int* verts, int count, const double* x,
+                                               const double* X, double* u)
+{
+	// The masked loads read x, y and z only and give the fourth lane 0.
+	const __m256i xyz = _mm256_set_epi64x(0, -1, -1, -1);
+	for (int i = 0; i < count; ++i)
+	{
+		const size_t v = 3 * (size_t)verts[i];
+		_mm256_storeu_pd(u + 4 * (size_t)i, _mm256_sub_pd(_mm256_maskload_pd(x + v, xyz),
+		                                                  _mm256_maskload_pd(X + v, xyz)));
+	}
+}
+#else
+void FM_KERNEL_NAME(fmTetKernel_Displacements)(const int* verts, int count, const double* x,
+                                               const double* X, double* u)
+{
+	for (int i = 0; i < count; ++i)
+	{
+		for (int c = 0; c < 3; ++c)
+			u[4 * i + c] = x[3 * verts[i] + c] - X[3 * verts[i] + c];
+		u[4 * i + 3] = 0.0;
+	}
+}
+#endif
+
 // ---- each vertex's blocks' sums ---------------------------------------------------------------
 
 #if defined(__AVX__) && !defined(FM_SIMD_SCALAR) && (defined(__GNUC__) || defined(__clang__))

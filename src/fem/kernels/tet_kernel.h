@@ -93,6 +93,18 @@ fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx2;
 fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx512;
 #endif
 
+// fmTetKernel_Displacements_<variant>: u[4 i + c] = x[3 v + c] - X[3 v + c] for the @p count
+// vertices v = verts[i] of a block, c = 0, 1, 2, and u[4 i + 3] = 0 (the rows the force kernel
+// loads), in double on every variant.
+typedef void fmTetDisplacementFcn(const int* verts, int count, const double* x, const double* X,
+                                  double* u);
+fmTetDisplacementFcn fmTetKernel_Displacements_scalar;
+fmTetDisplacementFcn fmTetKernel_Displacements_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmTetDisplacementFcn fmTetKernel_Displacements_avx2;
+fmTetDisplacementFcn fmTetKernel_Displacements_avx512;
+#endif
+
 // fmTetKernel_GatherSums_<variant>: for vertices i in [start, end), f[3 i + c] = mass[i] g[c]
 // plus the block sums sums[3 e + c] of its entries e = entries[entryStart[i] ..
 // entryStart[i + 1]), in that order (the same bits on every variant). @p sums holds one double
