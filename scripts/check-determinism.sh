@@ -134,7 +134,7 @@ build() {
       avx2) flags+=(-mavx2) ;;
       avx512) flags+=(-mavx512f) ;;
     esac
-    for kernel in fem/kernels/tet_kernel solver/kernels/bsr_kernel; do
+    for kernel in fem/kernels/tet_kernel fem/kernels/vertex_kernel solver/kernels/bsr_kernel; do
       name=$(basename "$kernel")
       compile "src/$kernel.c" "$dir/${name}_$variant.o" "${flags[@]}"
       objects+=("$dir/${name}_$variant.o")

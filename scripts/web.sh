@@ -119,7 +119,7 @@ done
 for variant in simd plain; do
   flags=(-msimd128)
   [ "$variant" = plain ] && flags=(-DFM_SIMD_SCALAR)
-  for kernel in fem/kernels/tet_kernel solver/kernels/bsr_kernel; do
+  for kernel in fem/kernels/tet_kernel fem/kernels/vertex_kernel solver/kernels/bsr_kernel; do
     name=$(basename "$kernel")
     compile "src/$kernel.c" "$obj/${name}_baseline_$variant.o" -O3 -Wno-psabi \
       -fno-math-errno "${flags[@]}" -DFM_KERNEL_VARIANT=baseline
@@ -130,7 +130,7 @@ done
 for job in "${jobs[@]}"; do wait "$job"; done
 simd_objects=("${objects[@]}")
 plain_objects=("${objects[@]}")
-for kernel in tet_kernel bsr_kernel; do
+for kernel in tet_kernel vertex_kernel bsr_kernel; do
   simd_objects+=("$obj/${kernel}_baseline_simd.o" "$obj/${kernel}_scalar_simd.o")
   plain_objects+=("$obj/${kernel}_baseline_plain.o" "$obj/${kernel}_scalar_plain.o")
 done

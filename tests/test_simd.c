@@ -265,7 +265,7 @@ TEST(every_instruction_set_and_worker_count_gives_the_same_bits)
 }
 
 // The explicit step's per-vertex stages (the blocks' sums with gravity, velocities, the
-// smoothing's blend, positions: fmTetKernel_GatherSums, _Velocities, _Blend, _Positions) at
+// smoothing's blend, positions: fmVertexKernel_GatherSums, _Velocities, _Blend, _Positions) at
 // every instruction set: the same bits as the scalar variant, with pinned vertices and rollers
 // among the vertices the vectors take four at a time (a group with one takes the general path).
 // A pinned vertex stays where it is, a roller's pinned axes keep their coordinates.

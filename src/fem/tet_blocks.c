@@ -38,26 +38,27 @@ fmTetKernels fmTetBlocks_Kernels(fmSimdLevel level)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmTetKernels){fmTetKernel_Forces_avx512,        fmTetKernel_SumForces_avx512,
-		                      fmTetKernel_WeightedSums_avx512,  fmTetKernel_GatherSums_avx512,
-		                      fmTetKernel_Displacements_avx512, fmTetKernel_Velocities_avx512,
-		                      fmTetKernel_Blend_avx512,         fmTetKernel_Positions_avx512};
+		return (fmTetKernels){fmTetKernel_Forces_avx512,           fmTetKernel_SumForces_avx512,
+		                      fmTetKernel_WeightedSums_avx512,     fmVertexKernel_GatherSums_avx512,
+		                      fmVertexKernel_Displacements_avx512, fmVertexKernel_Velocities_avx512,
+		                      fmVertexKernel_Blend_avx512,         fmVertexKernel_Positions_avx512};
 	case fm_simdAvx2:
-		return (fmTetKernels){fmTetKernel_Forces_avx2,        fmTetKernel_SumForces_avx2,
-		                      fmTetKernel_WeightedSums_avx2,  fmTetKernel_GatherSums_avx2,
-		                      fmTetKernel_Displacements_avx2, fmTetKernel_Velocities_avx2,
-		                      fmTetKernel_Blend_avx2,         fmTetKernel_Positions_avx2};
+		return (fmTetKernels){fmTetKernel_Forces_avx2,           fmTetKernel_SumForces_avx2,
+		                      fmTetKernel_WeightedSums_avx2,     fmVertexKernel_GatherSums_avx2,
+		                      fmVertexKernel_Displacements_avx2, fmVertexKernel_Velocities_avx2,
+		                      fmVertexKernel_Blend_avx2,         fmVertexKernel_Positions_avx2};
 #endif
 	case fm_simdScalar:
-		return (fmTetKernels){fmTetKernel_Forces_scalar,        fmTetKernel_SumForces_scalar,
-		                      fmTetKernel_WeightedSums_scalar,  fmTetKernel_GatherSums_scalar,
-		                      fmTetKernel_Displacements_scalar, fmTetKernel_Velocities_scalar,
-		                      fmTetKernel_Blend_scalar,         fmTetKernel_Positions_scalar};
+		return (fmTetKernels){fmTetKernel_Forces_scalar,           fmTetKernel_SumForces_scalar,
+		                      fmTetKernel_WeightedSums_scalar,     fmVertexKernel_GatherSums_scalar,
+		                      fmVertexKernel_Displacements_scalar, fmVertexKernel_Velocities_scalar,
+		                      fmVertexKernel_Blend_scalar,         fmVertexKernel_Positions_scalar};
 	default:
-		return (fmTetKernels){fmTetKernel_Forces_baseline,        fmTetKernel_SumForces_baseline,
-		                      fmTetKernel_WeightedSums_baseline,  fmTetKernel_GatherSums_baseline,
-		                      fmTetKernel_Displacements_baseline, fmTetKernel_Velocities_baseline,
-		                      fmTetKernel_Blend_baseline,         fmTetKernel_Positions_baseline};
+		return (fmTetKernels){
+		    fmTetKernel_Forces_baseline,           fmTetKernel_SumForces_baseline,
+		    fmTetKernel_WeightedSums_baseline,     fmVertexKernel_GatherSums_baseline,
+		    fmVertexKernel_Displacements_baseline, fmVertexKernel_Velocities_baseline,
+		    fmVertexKernel_Blend_baseline,         fmVertexKernel_Positions_baseline};
 	}
 }
 

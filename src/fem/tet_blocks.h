@@ -10,6 +10,7 @@
 #include "core/parallel.h"
 #include "fem/elastic_mesh.h"
 #include "fem/kernels/tet_kernel.h"
+#include "fem/kernels/vertex_kernel.h"
 
 // Tets of a block: 32 batches (about 150 vertices, a few KiB of positions and forces in cache).
 #define FM_BLOCK_BATCHES 32

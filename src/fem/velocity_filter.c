@@ -26,7 +26,7 @@ typedef struct fmSmoothTask
 	double blend;
 	double* sum;            // 3 per vertex
 	const fmThenTask* then; // after the blend of each range, or NULL
-	fmVertexUpdate update;  // the blend's arrays and weights (fmTetKernel_Blend)
+	fmVertexUpdate update;  // the blend's arrays and weights (fmVertexKernel_Blend)
 	fmVertexKernelFcn* blendKernel;
 } fmSmoothTask;
 

@@ -89,7 +89,7 @@ static void fmGravityTask(int start, int end, int worker, void* context)
 
 // Stage 2 for vertices [start, end): v += dt f / m, then the seeds' damping factor (one pass:
 // the same bits as the velocity filter's own; a factor of 1 leaves v as it is); pinned vertices
-// stay at rest (fmTetKernel_Velocities).
+// stay at rest (fmVertexKernel_Velocities).
 static void fmVelocitiesTask(int start, int end, int worker, void* context)
 {
 	(void)worker;

@@ -1,6 +1,5 @@
 // Batched element kernels: the explicit FEM step's forces, FM_LANES tets at once in float on the
-// lane wrapper of simd.h, with its blocks' per-vertex force sums and smoothing sums and its
-// per-vertex stages (the blocks' sums with gravity, velocities, the blend, positions); and the
+// lane wrapper of simd.h, with its blocks' per-vertex force sums and smoothing sums; and the
 // implicit passes' polar rotations of corotated tets, Neo-Hookean and corotated forces and the
 // inverted-tet flags, FM_POLAR_LANES at once in double. tet_kernel.c is compiled once per
 // instruction set (CMakeLists.txt); each compilation defines the functions with its own suffix,
@@ -91,72 +90,6 @@ fmTetWeightedSumFcn fmTetKernel_WeightedSums_baseline;
 #if defined(__x86_64__) || defined(_M_X64)
 fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx2;
 fmTetWeightedSumFcn fmTetKernel_WeightedSums_avx512;
-#endif
-
-// fmTetKernel_Displacements_<variant>: u[4 i + c] = x[3 v + c] - X[3 v + c] for the @p count
-// vertices v = verts[i] of a block, c = 0, 1, 2, and u[4 i + 3] = 0 (the rows the force kernel
-// loads), in double on every variant.
-typedef void fmTetDisplacementFcn(const int* verts, int count, const double* x, const double* X,
-                                  double* u);
-fmTetDisplacementFcn fmTetKernel_Displacements_scalar;
-fmTetDisplacementFcn fmTetKernel_Displacements_baseline;
-#if defined(__x86_64__) || defined(_M_X64)
-fmTetDisplacementFcn fmTetKernel_Displacements_avx2;
-fmTetDisplacementFcn fmTetKernel_Displacements_avx512;
-#endif
-
-// fmTetKernel_GatherSums_<variant>: for vertices i in [start, end), f[3 i + c] = mass[i] g[c]
-// plus the block sums sums[3 e + c] of its entries e = entries[entryStart[i] ..
-// entryStart[i + 1]), in that order (the same bits on every variant). @p sums holds one double
-// beyond its last entry (a vector's fourth lane reads it and drops it).
-typedef struct fmBlockGather
-{
-	const double* sums;
-	const int* entries;
-	const int* entryStart;
-	const double* mass;
-	double g[3];
-	double* f;
-} fmBlockGather;
-typedef void fmTetGatherFcn(const fmBlockGather* gather, int start, int end);
-fmTetGatherFcn fmTetKernel_GatherSums_scalar;
-fmTetGatherFcn fmTetKernel_GatherSums_baseline;
-#if defined(__x86_64__) || defined(_M_X64)
-fmTetGatherFcn fmTetKernel_GatherSums_avx2;
-fmTetGatherFcn fmTetKernel_GatherSums_avx512;
-#endif
-
-// ---- the explicit step's vertex updates --------------------------------------------------------
-// One substep's per-vertex stages on vertices [start, end) (3 doubles a vertex), each with the
-// same operations in the same order on every variant: the same bits (four vertices at a time
-// where the vector unit allows; a vertex with pins takes the general path).
-typedef struct fmVertexUpdate
-{
-	double* x;             // positions (m)
-	double* v;             // velocities (m/s)
-	const double* f;       // forces (N)
-	const double* invMass; // 1/kg
-	const double* weight;  // the smoothing's weight of each vertex's sum
-	const double* sum;     // the smoothing's sums (3 a vertex)
-	const uint8_t* pinned; // fmBodyState.pinned
-	double dt;             // s
-	double damping;        // the step's damping factor (1: none)
-	double keep, blend;    // the smoothing: v = keep v + blend weight sum
-} fmVertexUpdate;
-
-// fmTetKernel_Velocities_<variant>: v = (v + (dt invMass) f) damping; a pinned vertex keeps its
-// velocity (times the factor), a roller's pinned axes go to zero before the factor.
-// fmTetKernel_Blend_<variant>: v = keep v + blend (weight sum) but for pinned vertices; a roller's
-// pinned axes to zero. fmTetKernel_Positions_<variant>: x += dt v but for pinned vertices.
-typedef void fmVertexKernelFcn(const fmVertexUpdate* update, int start, int end);
-fmVertexKernelFcn fmTetKernel_Velocities_scalar, fmTetKernel_Blend_scalar,
-    fmTetKernel_Positions_scalar;
-fmVertexKernelFcn fmTetKernel_Velocities_baseline, fmTetKernel_Blend_baseline,
-    fmTetKernel_Positions_baseline;
-#if defined(__x86_64__) || defined(_M_X64)
-fmVertexKernelFcn fmTetKernel_Velocities_avx2, fmTetKernel_Blend_avx2, fmTetKernel_Positions_avx2;
-fmVertexKernelFcn fmTetKernel_Velocities_avx512, fmTetKernel_Blend_avx512,
-    fmTetKernel_Positions_avx512;
 #endif
 
 // ---- batched polar rotations (the implicit solver's corotated tets) ----------------------------
