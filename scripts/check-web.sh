@@ -102,7 +102,7 @@ for source in src/*/*.c; do
   library+=("build-web/obj/$(basename "$source" .c).o")
 done
 for variant in simd plain; do
-  kernels=(build-web/obj/{tet,bsr}_kernel_{baseline,scalar}_"$variant".o)
+  kernels=(build-web/obj/{tet,vertex,bsr}_kernel_{baseline,scalar}_"$variant".o)
   emcc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude -Isrc -Itests \
     -DFEMTO_MESH_DIR="\"$PWD/data\"" tests/main.c tests/support.c tests/test_simd.c \
     "${library[@]}" "${kernels[@]}" -sENVIRONMENT=node -sNODERAWFS=1 -sSINGLE_FILE=1 \
@@ -120,7 +120,7 @@ done
 # frames, a tenth of them flicks at 20 to 30 m/s; every frame must pass the health checks and
 # leave no tet inverted. Counts a CI run affords (the native Release suite runs 1,000, 300,
 # 1,000 and 1,000): FEMTO_DRAGS reaches the program's getenv through web/test/test_env.js.
-kernels=(build-web/obj/{tet,bsr}_kernel_{baseline,scalar}_simd.o)
+kernels=(build-web/obj/{tet,vertex,bsr}_kernel_{baseline,scalar}_simd.o)
 emcc -std=c11 -O2 -ffp-contract=off -Wall -Wextra -Werror -Iinclude -Isrc -Itests \
   -DFEMTO_MESH_DIR="\"$PWD/data\"" tests/main.c tests/support.c tests/test_drags.c \
   "${library[@]}" "${kernels[@]}" -sENVIRONMENT=node -sNODERAWFS=1 -sSINGLE_FILE=1 \
