@@ -67,7 +67,6 @@ typedef struct fmExplicitTask
 	fmBody* body;
 	double dt;
 	fmVec3 gravity;
-	double damping; // the step's damping factor, 1 for none
 	// With a floor that holds the body: its responses to the vertices it takes, made after
 	// their position update on each range.
 	const fmFloorDef* floor;
@@ -151,7 +150,6 @@ fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmExplicitTask context = {.body = b,
 	                          .dt = dt,
 	                          .gravity = world->def.gravity,
-	                          .damping = damping,
 	                          .update = {.x = b->state.x,
 	                                     .v = b->state.v,
 	                                     .f = b->state.f,
