@@ -1,0 +1,112 @@
+"""Tetrahedral meshes: read from TetGen, Gmsh, VTK, VTU or Medit files, made as boxes, or given
+as arrays; written back to any of those."""
+import os
+
+import numpy as np
+
+from ._defs import vec3
+from ._errors import check
+from ._femto import ffi, lib
+
+
+class TetMesh:
+    """A tetrahedral mesh owned by the C library (freed with the object).
+
+    ``vertices`` (n, 3) float64 and ``tets`` (m, 4) int32 are copies (zero-based).
+    """
+
+    def __init__(self):
+        self._c = ffi.gc(ffi.new("fmTetMesh*"), lib.fmFreeTetMesh)
+
+    @classmethod
+    def load(cls, path, ele_path=None):
+        """Read a mesh: a TetGen .node (its .ele beside it, or ele_path), .msh, .vtk, .vtu,
+        .mesh. Raises FemtoError naming the file, line and what was expected."""
+        mesh, diag = cls(), ffi.new("fmDiagnostic*")
+        path = os.fspath(path)
+        if path.endswith(".node") or ele_path is not None:
+            ele = os.fspath(ele_path) if ele_path is not None else path[:-5] + ".ele"
+            check(lib.fmLoadTetGen(path.encode(), ele.encode(), mesh._c, diag), diag)
+        else:
+            check(lib.fmLoadMesh(path.encode(), mesh._c, diag), diag)
+        return mesh
+
+    @classmethod
+    def box(cls, counts, lower, upper):
+        """A box [lower, upper] of counts = (nx, ny, nz) cubes, 6 tets each."""
+        nx, ny, nz = (int(c) for c in counts)
+        mesh = cls()
+        code = lib.fmMakeBoxMesh(nx, ny, nz, vec3(lower, "lower"), vec3(upper, "upper"),
+                                 mesh._c)
+        check(code, what="box %s from %s to %s" % ((nx, ny, nz), tuple(lower), tuple(upper)))
+        return mesh
+
+    @classmethod
+    def from_arrays(cls, vertices, tets):
+        """A mesh of vertices (n, 3) and tets (m, 4, zero-based), checked as a file would be."""
+        v = np.ascontiguousarray(vertices, dtype=np.float64)
+        t = np.ascontiguousarray(tets, dtype=np.int64)
+        if v.ndim != 2 or v.shape[1] != 3 or t.ndim != 2 or t.shape[1] != 4:
+            raise ValueError("expected vertices (n, 3) and tets (m, 4), got %s and %s"
+                             % (v.shape, t.shape))
+        node = ["%d 3 0 0" % len(v)] + ["%d %.17g %.17g %.17g" % (i, *p) for i, p in enumerate(v)]
+        ele = ["%d 4 0" % len(t)] + ["%d %d %d %d %d" % (i, *e) for i, e in enumerate(t)]
+        node_text, ele_text = ("\n".join(node) + "\n").encode(), ("\n".join(ele) + "\n").encode()
+        mesh, diag = cls(), ffi.new("fmDiagnostic*")
+        check(lib.fmLoadTetGenFromMemory(node_text, len(node_text), b"vertices", ele_text,
+                                         len(ele_text), b"tets", mesh._c, diag), diag)
+        return mesh
+
+    @property
+    def vertex_count(self):
+        return self._c.nodeCount
+
+    @property
+    def tet_count(self):
+        return self._c.tetCount
+
+    @property
+    def vertices(self):
+        """(n, 3) float64 copy of the rest positions."""
+        n = self._c.nodeCount
+        return np.frombuffer(ffi.buffer(self._c.positions, 24 * n), np.float64).reshape(n, 3).copy()
+
+    @property
+    def tets(self):
+        """(m, 4) int32 copy of the tets' vertices, zero-based."""
+        m = self._c.tetCount
+        raw = np.frombuffer(ffi.buffer(self._c.tets, 16 * m), np.int32).reshape(m, 4)
+        return raw - np.int32(self._c.firstIndex)
+
+    def transform(self, scale=1.0, center=False, swap_yz=False, translate=(0.0, 0.0, 0.0)):
+        """Scale, centre, swap y and z, then translate the rest shape (as scenes do)."""
+        t = ffi.new("fmMeshTransform*", lib.fmDefaultMeshTransform())
+        t.scale, t.center, t.swapYZ = float(scale), bool(center), bool(swap_yz)
+        t.translate = vec3(translate, "translate")
+        lib.fmTetMesh_Transform(self._c, t)
+        return self
+
+    def info(self):
+        """Counts, volumes, dihedral angles and quality (fmMeshInfo) as a dict."""
+        from ._defs import as_struct_dict
+        info = ffi.new("fmMeshInfo*")
+        check(lib.fmTetMesh_GetInfo(self._c, info), what="mesh info")
+        return as_struct_dict(info[0])
+
+    def write(self, path, positions=None):
+        """Write the mesh (the format from the extension; TetGen writes .node and .ele),
+        optionally with deformed positions (n, 3)."""
+        diag = ffi.new("fmDiagnostic*")
+        p = ffi.NULL
+        if positions is not None:
+            pos = np.ascontiguousarray(positions, dtype=np.float64)
+            if pos.shape != (self.vertex_count, 3):
+                raise ValueError("positions: expected (%d, 3), got %s"
+                                 % (self.vertex_count, pos.shape))
+            p = ffi.from_buffer("double[]", pos)
+        check(lib.fmWriteMesh(os.fspath(path).encode(), self._c, p, diag), diag)
+
+    def __repr__(self):
+        return "TetMesh(%d vertices, %d tets)" % (self.vertex_count, self.tet_count)
+
+
