@@ -55,17 +55,19 @@ def fill(struct, values, struct_type):
     """Set struct's fields (a cdata struct) from a dict of snake_case names; nested structs
     take dicts; fmVec3 fields take 3 numbers; enum fields take their names."""
     fields = dict(ffi.typeof(struct).fields)
+    struct_type = struct_type.replace("struct ", "")
     for key, value in values.items():
         field = camel(key)
         if field not in fields or field == "internalValue":
             known = ", ".join(sorted(_snake(f) for f in fields if f != "internalValue"))
             raise TypeError("%s has no field %r (known: %s)" % (struct_type, key, known))
         kind = fields[field].type
-        if kind.kind == "struct" and kind.cname == "fmVec3":
+        if kind.kind == "struct" and kind.cname.endswith("fmVec3"):
             setattr(struct, field, vec3(value, key))
         elif kind.kind == "struct":
-            fill(getattr(struct, field), value if isinstance(value, dict) else vars(value),
-                 kind.cname)
+            if not isinstance(value, dict):
+                raise TypeError("%s: expected a dict of %s's fields" % (key, kind.cname))
+            fill(getattr(struct, field), value, kind.cname)
         elif kind.kind == "enum":
             setattr(struct, field, _enum_value(field, struct_type, value))
         elif kind.kind == "primitive":
@@ -93,7 +95,7 @@ def as_struct_dict(struct):
     out = {}
     for name, field in ffi.typeof(struct).fields:
         value = getattr(struct, name)
-        if field.type.kind == "struct" and field.type.cname == "fmVec3":
+        if field.type.kind == "struct" and field.type.cname.endswith("fmVec3"):
             value = tuple3(value)
         elif field.type.kind == "struct":
             value = as_struct_dict(value)

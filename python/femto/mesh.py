@@ -75,8 +75,7 @@ class TetMesh:
     def tets(self):
         """(m, 4) int32 copy of the tets' vertices, zero-based."""
         m = self._c.tetCount
-        raw = np.frombuffer(ffi.buffer(self._c.tets, 16 * m), np.int32).reshape(m, 4)
-        return raw - np.int32(self._c.firstIndex)
+        return np.frombuffer(ffi.buffer(self._c.tets, 16 * m), np.int32).reshape(m, 4).copy()
 
     def transform(self, scale=1.0, center=False, swap_yz=False, translate=(0.0, 0.0, 0.0)):
         """Scale, centre, swap y and z, then translate the rest shape (as scenes do)."""

@@ -309,8 +309,9 @@ def _floats(pointer, count):
 
 def _draw(world, world_id, flags):
     out = {"triangles": [], "lines": [], "points": [], "planes": []}
+    kinds = {name: field.type for name, field in ffi.typeof("fmDebugDraw").fields}
 
-    @ffi.callback("void(const fmDrawTriangles*, void*)")
+    @ffi.callback(kinds["drawTriangles"])
     def triangles(t, context):
         n, m = t.vertexCount, t.triangleCount
         out["triangles"].append({
@@ -323,15 +324,15 @@ def _draw(world, world_id, flags):
             np.frombuffer(ffi.buffer(t.vertices, 4 * n), np.int32).copy(),
             "color": t.color})
 
-    @ffi.callback("void(const float*, int, fmHexColor, void*)")
+    @ffi.callback(kinds["drawLines"])
     def lines(points, count, color, context):
         out["lines"].append((_floats(points, 6 * count).reshape(count, 2, 3), color))
 
-    @ffi.callback("void(const float*, int, float, fmHexColor, void*)")
+    @ffi.callback(kinds["drawPoints"])
     def points(p, count, size, color, context):
         out["points"].append((_floats(p, 3 * count).reshape(count, 3), color))
 
-    @ffi.callback("void(fmVec3, fmVec3, fmHexColor, void*)")
+    @ffi.callback(kinds["drawPlane"])
     def plane(point, normal, color, context):
         out["planes"].append((tuple3(point), tuple3(normal), color))
 

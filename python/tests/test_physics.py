@@ -1,0 +1,123 @@
+"""Physics through the bindings: analytic free fall, momentum, a body at rest on the floor,
+a ray's hit, the grab, and bit-for-bit agreement with the `femto` tool."""
+import subprocess
+
+import numpy as np
+import pytest
+
+import femto
+
+
+def box(n=3, lower=(-0.1, 0.0, -0.1), upper=(0.1, 0.2, 0.1)):
+    return femto.TetMesh.box((n, n, n), lower, upper)
+
+
+def test_free_fall_follows_symplectic_euler_exactly():
+    # No floor, no damping, no smoothing: an undeformed body's every vertex takes
+    # v_k = k h g, x_N = x_0 + h^2 g N (N + 1) / 2 (symplectic Euler, the seeds' integrator).
+    world = femto.World(gravity=(0.0, -9.8, 0.0), floor=False)
+    body = world.add_body(box(), damping=1.0, smoothing=0.0)
+    x0 = body.positions()
+    h, substeps, frames = 0.002, 5, 12
+    for _ in range(frames):
+        world.step(h * substeps, substeps)
+    n = substeps * frames
+    drop = h * h * 9.8 * n * (n + 1) / 2
+    x = body.positions()
+    assert np.allclose(x[:, 1], x0[:, 1] - drop, rtol=0, atol=1e-12)
+    assert np.allclose(x[:, [0, 2]], x0[:, [0, 2]], rtol=0, atol=1e-12)
+    assert np.allclose(body.velocities()[:, 1], -9.8 * h * n, rtol=0, atol=1e-12)
+
+
+def test_a_spinning_body_in_zero_gravity_keeps_its_momentum():
+    world = femto.World(gravity=(0.0, 0.0, 0.0), floor=False)
+    body = world.add_body(box(), femto.Material("neohookean", youngs_modulus=2e4,
+                                                poisson_ratio=0.3),
+                          mass_mode="density", density=500.0, damping=1.0, smoothing=0.0)
+    x = body.positions()
+    centre = x.mean(axis=0)
+    omega = np.array([0.0, 3.0, 1.0])
+    body.set_velocities(np.cross(omega, x - centre) + [0.5, 0.0, 0.0])
+    m = body.masses
+    p0 = (m[:, None] * body.velocities()).sum(axis=0)
+    for _ in range(30):
+        world.step(1 / 60, 20)
+    p = (m[:, None] * body.velocities()).sum(axis=0)
+    # Internal forces cancel pairwise: what is left is round-off over 600 substeps (the
+    # momentum is 2 kg m/s; a force without its reaction would move it by order 1).
+    assert np.allclose(p, p0, rtol=0, atol=1e-9)
+    assert body.stats["inverted_tets"] == 0
+
+
+def test_a_box_at_rest_on_the_floor_puts_its_weight_on_it():
+    world = femto.World(integrator="implicit", floor={"height": 0.0, "friction": "coulomb"})
+    body = world.add_body(box(), femto.Material("neohookean", youngs_modulus=1e5,
+                                                poisson_ratio=0.3),
+                          mass_mode="density", density=1000.0)
+    for _ in range(120):
+        world.step(1 / 60, 1)
+    weight = body.masses.sum() * 9.8
+    force, torque = world.floor_collider.contact_force()
+    assert force[1] == pytest.approx(-weight, rel=1e-3)
+    assert np.abs(body.velocities()).max() < 1e-3
+    contacts = world.contacts()
+    assert len(contacts) == 16  # the box's bottom: a 4 x 4 grid of vertices
+    assert np.all(contacts["body"] == body.slot)
+    assert np.allclose(contacts["normal"], [0.0, 1.0, 0.0])
+    assert contacts["impulse"].sum() == pytest.approx(weight / 60, rel=1e-3)
+
+
+def test_a_ray_hits_the_top_of_a_box_where_geometry_says():
+    world = femto.World(gravity=(0.0, 0.0, 0.0), floor=False)
+    body = world.add_body(box(n=2, lower=(-1.0, -1.0, -1.0), upper=(1.0, 1.0, 1.0)))
+    hit = world.cast_ray((0.25, 5.0, -0.5), (0.0, -10.0, 0.0))
+    assert hit["body"] is body
+    assert hit["fraction"] == pytest.approx(0.4, abs=1e-12)
+    assert np.allclose(hit["point"], (0.25, 1.0, -0.5), atol=1e-12)
+    assert np.allclose(hit["normal"], (0.0, 1.0, 0.0), atol=1e-12)
+    assert world.cast_ray((5.0, 5.0, 5.0), (0.0, 1.0, 0.0)) is None
+    near = world.overlap_sphere((0.0, 1.5, 0.0), 0.6)
+    assert len(near) == 1 and near[0]["distance"] == pytest.approx(0.5, abs=1e-12)
+
+
+def test_the_grab_lifts_the_house_and_lets_go():
+    scene = femto.Scene.house()
+    house = scene.bodies[0]
+    scene.step(40)
+    top = house.positions()[:, 1].max()
+    hit = scene.world.grab_ray((0.0, 10.0, 0.0), (0.0, -20.0, 0.0))
+    assert hit is not None and hit["body"] is house
+    point, target = house.grab_state
+    house.move_grab((point[0], point[1] + 1.0, point[2]))
+    scene.step(30)
+    assert house.positions()[:, 1].max() > top + 0.5
+    house.release_grab()
+    assert house.grab_state is None
+    scene.step(30)
+    assert house.stats["inverted_tets"] == 0
+
+
+def test_the_house_steps_as_the_tool_steps_it_bit_for_bit(tmp_path, femto_cli):
+    node = tmp_path / "end.node"
+    subprocess.run([femto_cli, "run", "--frames", "25", "--quiet", "--export-node", str(node)],
+                   check=True, capture_output=True)
+    tool = np.loadtxt(node, comments="#", skiprows=1)[:, 1:4]
+    scene = femto.Scene.house()
+    scene.step(25)
+    ours = scene.bodies[0].positions()
+    assert ours.shape == tool.shape
+    assert np.array_equal(ours, tool)
+
+
+def test_a_snapshot_brings_the_same_bits_back():
+    scene = femto.Scene.house()
+    scene.step(20)
+    saved = scene.world.save_snapshot()
+    scene.step(20)
+    first = scene.bodies[0].positions()
+    scene.world.restore_snapshot(saved)
+    scene.step(20)
+    assert np.array_equal(scene.bodies[0].positions(), first)
+    with pytest.raises(femto.FemtoError) as error:
+        scene.world.restore_snapshot(saved[: len(saved) // 2])
+    assert error.value.name != "fm_ok"
