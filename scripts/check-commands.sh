@@ -116,6 +116,7 @@ run_here() { # the command as written, in the scratch folder, femto from build/c
     { tail -n 30 "$work/logs/last.log" >&2; fail "'$current' exited with $?"; }
 }
 expect_file() { compgen -G "$here/$1" >/dev/null || fail "'$current' did not write $1"; }
+expect_file_in_copy() { compgen -G "$copy/$1" >/dev/null || fail "'$current' did not write $1 (in the copy)"; }
 
 run_view() { # an interactive viewer: a scripted drag, jump and slider under a virtual display
   need xvfb-run || return 0
@@ -239,6 +240,14 @@ declare -A how=(
   ["femto run scenes/two_houses.json --audit"]="run_here"
   ["femto run --seconds 4 --gif house.gif"]="run_here; expect_file house.gif"
   ["femto view scenes/drop.json"]=run_view
+  # README.md's Python section and docs/python.md: in the copy, after its Release build line
+  # (the tests compare with the copy's build/cli/femto)
+  ["python3 -m venv --system-site-packages .venv && .venv/bin/pip install --no-build-isolation ./python"]=run_in_copy
+  [".venv/bin/python -m pytest python/tests"]=run_in_copy
+  [".venv/bin/python python/examples/bouncy_house.py"]=run_in_copy
+  [".venv/bin/python python/examples/material_sweep.py"]=run_in_copy
+  [".venv/bin/python python/examples/gmsh_energy.py"]="run_in_copy; expect_file_in_copy energy.png"
+  [".venv/bin/python python/bench/overhead.py"]=run_in_copy
   # docs/cli.md
   ["femto run scenes/house.json --seconds 10 --out out/house --obj"]="run_here; expect_file out/house/house.pvd"
   ["femto mesh bunny.stl bunny.node --max-volume 1e-6"]="run_tool tetgen && expect_file bunny.ele"
