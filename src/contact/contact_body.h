@@ -16,9 +16,11 @@ struct fmFloorHit;
 // doubles): the contact normal (0-2), the Coulomb limit mu lambda (3; N, 0: none), the surface's
 // velocity (4-6), 1 for a stick contact (7), the stretch of the static friction's spring at the
 // end of the step that found it (8-10, m, at most the slip width): the next step's slip starts
-// from it, so a contact that holds is anchored where it first held and does not creep; and the
-// stiffest the spring may be over the inertia term m / h^2 (11).
-#define FM_FRICTION_STRIDE 12
+// from it, so a contact that holds is anchored where it first held and does not creep; the
+// stiffest the spring may be over the inertia term m / h^2 (11); and the slot of the collider
+// that found it plus one (12; FM_FLOOR_SLOT + 1 for the floor): the solve's friction impulse goes
+// to that collider's reaction (contact_collider.h).
+#define FM_FRICTION_STRIDE 13
 
 // Bodies a body can be known to overlap at once (barrier_contact.h).
 #define FM_OVERLAP_SLOTS 4

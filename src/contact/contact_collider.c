@@ -7,6 +7,8 @@
 #include "contact/penalty.h"
 #include "core/core.h"
 #include "core/det_math.h"
+#include "world/island.h"
+#include "world/world.h"
 
 #include <math.h>
 
@@ -15,7 +17,7 @@
 // velocity and the stretch this step's friction ended with; a stick contact wins over friction,
 // else the strongest of the step.
 static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surface, bool stick,
-                           double h)
+                           double h, int slot)
 {
 	double* next = b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * i;
 	bool held = next[7] != 0.0;
@@ -28,6 +30,7 @@ static void fmKeepFriction(fmBody* b, int i, fmVec3 n, double limit, fmVec3 surf
 	next[7] = stick ? 1.0 : 0.0;
 	next[8] = stretch.x, next[9] = stretch.y, next[10] = stretch.z;
 	next[11] = FM_PENALTY_KAPPA;
+	next[12] = slot + 1;
 }
 
 // A stick collider's response (infinite friction, as the seeds' floor): the relative velocity
@@ -116,7 +119,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 		                         inSolve ? 0.0 : pushed);
 	double mu = c->def.stick ? 1.0 : c->def.friction;
 	if (pushed > 0.0)
-		fmKeepFriction(b, i, n, mu * b->mesh.mass[i] * pushed / h, vc, c->def.stick, h);
+		fmKeepFriction(b, i, n, mu * b->mesh.mass[i] * pushed / h, vc, c->def.stick, h, k);
 	if (!fmContactState_LogVertex(s, b, slot, i))
 		return false;
 	// A creeping slip that friction or the stick takes back leaves the position too, except
@@ -131,10 +134,10 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	fmStore(b->state.v, i, fmAdd(vc, relative));
 	fmContactResponse_KeepPins(b, i, before);
 	// The collider's reaction: the velocity change here, and the implicit penalty's push
-	// during the step.
+	// during the step (the solve's friction went to its collider before:
+	// fmContactCollider_BookSolveFriction).
 	fmVec3 impulse = fmMulAdd(fmScale(b->mesh.mass[i], fmSub(fmLoad(b->state.v, i), v)),
 	                          b->mesh.mass[i] * pushed, n);
-	impulse = fmMulAdd(impulse, h, solved);
 	c->impulse = fmSub(c->impulse, impulse);
 	c->angularImpulse = fmSub(c->angularImpulse, fmCross(fmSub(x, c->position), impulse));
 	fmContactPoint* p = fmContactState_NewPoint(s);
@@ -214,6 +217,31 @@ static void fmFindColliderRange(int start, int end, int worker, void* context)
 			t->finds[p].hit = false;
 		else
 			fmFindVertexVsCollider(t->w, t->b, i, t->c, t->dHat, &t->finds[p]);
+	}
+}
+
+void fmContactCollider_BookSolveFriction(fmWorld* w, double h)
+{
+	for (int slot = 0; slot < w->bodyCapacity; ++slot)
+	{
+		const fmBody* b = &w->bodies[slot];
+		if (!fmIsland_Stepping(b) || b->contact.friction == NULL)
+			continue;
+		for (int p = 0; p < b->contact.surfaceVertexCount; ++p)
+		{
+			int i = b->contact.surfaceVertex[p];
+			int k = (int)b->contact.friction[(size_t)FM_FRICTION_STRIDE * i + 12] - 1;
+			if (k < 0 || (k != FM_FLOOR_SLOT && (k >= w->colliderCapacity || !w->colliders[k].inUse)))
+				continue;
+			fmVec3 impulse =
+			    fmScale(h, fmContactFriction_Force(b, i, b->state.x, b->contact.start, h));
+			if (fmDot(impulse, impulse) == 0.0)
+				continue;
+			fmCollider* c = fmWorldCollider(w, k);
+			c->impulse = fmSub(c->impulse, impulse);
+			c->angularImpulse =
+			    fmSub(c->angularImpulse, fmCross(fmSub(fmLoad(b->state.x, i), c->position), impulse));
+		}
 	}
 }
 

@@ -14,3 +14,12 @@
 // filter meets its own, in body, collider and vertex order; @p thickness (the one between
 // bodies) only bounds what an implicit creep takes back. False when memory is short.
 bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness);
+
+// The friction the implicit solve gave each vertex with a friction record (lagged from the last
+// step: penalty.h), in the substep of @p h seconds, as an impulse on the collider or the floor
+// that wrote the record, whether or not the vertex still touches it: the solve's friction is
+// part of the vertex's momentum change, so the reaction fmCollider_GetContactForce reports must
+// hold all of it (Newton's third law, which a rigid-body engine coupled through it relies on).
+// In body and vertex order, on one thread; after the solve, before the contact stage moves
+// anything.
+void fmContactCollider_BookSolveFriction(fmWorld* w, double h);

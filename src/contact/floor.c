@@ -15,6 +15,7 @@
 
 #include "contact/collider.h"
 #include "contact/penalty.h"
+#include "world/world.h"
 #include "core/core.h"
 
 #include <math.h>
@@ -235,6 +236,7 @@ static void fmKeepFloorFriction(const fmFloorDef* floor, fmBody* b, int i, doubl
 	next[3] = limit;
 	next[8] = stretch.x, next[9] = stretch.y, next[10] = stretch.z;
 	next[11] = FM_FRICTION_STIFFNESS;
+	next[12] = FM_FLOOR_SLOT + 1;
 }
 
 // Floor response on velocities after the solve, for vertices resting on the floor. The solve

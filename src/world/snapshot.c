@@ -33,7 +33,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 8u
+#define FM_SNAPSHOT_VERSION 9u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
@@ -752,9 +752,12 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 		double f[FM_FRICTION_STRIDE];
 		fmGet(s, &vertex, sizeof vertex);
 		fmGet(s, f, sizeof f);
-		// Finite, a limit (saved where > 0) and a stiffness cap > 0 (fmSlipWidth divides by it).
+		// Finite, a limit (saved where > 0), a stiffness cap > 0 (fmSlipWidth divides by it) and
+		// a collider slot + 1 that is a whole number in range (the booking skips a slot not in
+		// use).
 		if (s->overflow || vertex <= last || vertex >= b->mesh.vertexCount ||
-		    !fmAllFinite(f, FM_FRICTION_STRIDE) || !(f[3] > 0.0) || !(f[11] > 0.0))
+		    !fmAllFinite(f, FM_FRICTION_STRIDE) || !(f[3] > 0.0) || !(f[11] > 0.0) ||
+		    !(f[12] >= 0.0 && f[12] <= FM_FLOOR_SLOT + 1 && (double)(int)f[12] == f[12]))
 			return fm_errParameter;
 		last = vertex;
 	}

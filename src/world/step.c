@@ -7,6 +7,7 @@
 #include "body/loads.h"
 #include "contact/barrier_contact.h"
 #include "contact/contact.h"
+#include "contact/contact_collider.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
 #include "core/det_math.h"
@@ -506,8 +507,11 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		                   "out of memory for the bodies' schedule");
 	for (int g = 0; g < w->schedule.groupCount; ++g)
 		fmStepGroup(w, ctx, g, barrier);
-	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order.
+	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order;
+	// first the colliders' and the floor's reaction to the solve's friction.
 	double contactStart = fmSeconds();
+	if (w->def.integrator == fm_implicit && (contact || fmContact_FloorFriction(w)))
+		fmContactCollider_BookSolveFriction(w, h);
 	bool contactOk =
 	    (!contact || fmContact_Substep(w, ctx)) && fmContactEvents_ReportFloor(w, contact);
 	w->profile.contact += 1e3 * (fmSeconds() - contactStart);
