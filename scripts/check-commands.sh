@@ -248,6 +248,7 @@ declare -A how=(
   [".venv/bin/python python/examples/material_sweep.py"]=run_in_copy
   [".venv/bin/python python/examples/gmsh_energy.py"]="run_in_copy; expect_file_in_copy energy.png"
   [".venv/bin/python python/bench/overhead.py"]=run_in_copy
+  [".venv/bin/python python/sweep/drop_sweep.py --quick"]=run_in_copy
   # docs/cli.md
   ["femto run scenes/house.json --seconds 10 --out out/house --obj"]="run_here; expect_file out/house/house.pvd"
   ["femto mesh bunny.stl bunny.node --max-volume 1e-6"]="run_tool tetgen && expect_file bunny.ele"

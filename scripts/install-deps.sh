@@ -12,7 +12,8 @@
 #     and against musl), emscripten, nodejs with node-ws (a WebSocket client for Node.js older
 #     than 22) and chromium (the browser build and its page), abigail-tools (abidw and abidiff:
 #     the public ABI against abi/libfemto.abi), and the Python package's build and tests
-#     (python3-venv, -dev, -numpy, -cffi, -setuptools, -wheel, -pytest, -matplotlib: python/).
+#     (python3-venv, -dev, -numpy, -cffi, -setuptools, -wheel, -pytest, -matplotlib, -dask,
+#     -distributed: python/).
 # Failing to install a test tool is a warning, or an error under CI=true (the suite would fail on
 # it anyway, later and less clearly). FEMTO_BENCH_DEPS=0 leaves the test tools out (a quick
 # library-and-CLI build; scripts/demo.sh needs none of them).
@@ -23,7 +24,7 @@ packages=(build-essential cmake pkg-config libcjson-dev zlib1g-dev clang libclan
 optional=(tetgen gmsh python3-meshio gnuplot-nox libbullet-dev calculix-ccx qemu-user
   gcc-aarch64-linux-gnu libc6-dev-arm64-cross musl-tools emscripten node-ws chromium abigail-tools
   python3-venv python3-dev python3-numpy python3-cffi python3-setuptools python3-wheel
-  python3-pytest python3-matplotlib)
+  python3-pytest python3-matplotlib python3-dask python3-distributed)
 command -v node >/dev/null || optional+=(nodejs)
 [ "${FEMTO_BENCH_DEPS:-1}" = 0 ] && optional=()
 missing=()
