@@ -34,19 +34,19 @@ static double massOf(fmBodyId body)
 // m g dt.
 typedef void fmMoveFcn(fmColliderId collider, int frame);
 
-static double worstResidual(int* failures_, fmWorldId world, fmColliderId collider,
-                            fmMoveFcn* move, fmVec3 push)
+static double worstResidual(int* failures_, fmWorldId world, fmColliderId collider, fmMoveFcn* move,
+                            fmVec3 push)
 {
 	fmTetMesh mesh;
-	CHECK_INT(fmMakeBoxMesh(3, 3, 3, fmMakeVec3(0.45, 1.06, -0.15), fmMakeVec3(0.75, 1.36, 0.15),
-	                        &mesh),
-	          fm_ok);
+	CHECK_INT(
+	    fmMakeBoxMesh(3, 3, 3, fmMakeVec3(0.45, 1.06, -0.15), fmMakeVec3(0.75, 1.36, 0.15), &mesh),
+	    fm_ok);
 	fmBodyDef def = fmDefaultBodyDef();
 	def.mesh = &mesh;
 	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
 	def.massMode = fm_massFromDensity;
 	def.density = 500.0;
-	def.damping = 1.0;   // both are off: they are not momentum-free
+	def.damping = 1.0; // both are off: they are not momentum-free
 	def.smoothing = 0.0;
 	fmBodyId body;
 	CHECK_INT(fmCreateBody(world, &def, &body, NULL), fm_ok);

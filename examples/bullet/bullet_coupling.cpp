@@ -30,8 +30,14 @@ constexpr double kGravity = 9.8;
 // the house): docs/embedding.md, "Two-way coupling with a rigid-body engine".
 constexpr int kExchanges = 2;
 
-fmVec3 ToFemto(const btVector3& v) { return fmMakeVec3(v.x(), v.y(), v.z()); }
-btVector3 ToBullet(fmVec3 v) { return btVector3(btScalar(v.x), btScalar(v.y), btScalar(v.z)); }
+fmVec3 ToFemto(const btVector3& v)
+{
+	return fmMakeVec3(v.x(), v.y(), v.z());
+}
+btVector3 ToBullet(fmVec3 v)
+{
+	return btVector3(btScalar(v.x), btScalar(v.y), btScalar(v.z));
+}
 
 // A rotation as femto takes it (axis times angle, rad) from Bullet's quaternion, in double and
 // by atan2: btQuaternion::getAngle's acos of a float w near 1 resolves angles only to about
@@ -58,10 +64,10 @@ struct Link
 // The coupling loop: owns the Bullet world; femto's world is the caller's.
 class Coupling
 {
-public:
+  public:
 	Coupling(fmWorldId world, btVector3 gravity)
-		: world_(world), dispatcher_(&configuration_),
-		  bullet_(&dispatcher_, &broadphase_, &solver_, &configuration_)
+	    : world_(world), dispatcher_(&configuration_),
+	      bullet_(&dispatcher_, &broadphase_, &solver_, &configuration_)
 	{
 		bullet_.setGravity(gravity);
 	}
@@ -144,7 +150,7 @@ public:
 		return fm_ok;
 	}
 
-private:
+  private:
 	// The collider goes where the rigid body is and moves with its velocities through femto's
 	// step (femto moves a kinematic collider at each substep's start).
 	static void PushPose(const Link& link)
@@ -254,8 +260,8 @@ int Cushion()
 	fmTetMesh mesh;
 	fmMakeBoxMesh(6, 2, 6, fmMakeVec3(-0.5, 0.0, -0.5), fmMakeVec3(0.5, 0.3, 0.5), &mesh);
 	SoftBody cushion;
-	bool made = MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 5e4, 0.3), 200.0,
-	                         false, &cushion);
+	bool made =
+	    MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 5e4, 0.3), 200.0, false, &cushion);
 	fmFreeTetMesh(&mesh);
 	if (!made)
 		return 1;
@@ -290,15 +296,17 @@ int Cushion()
 		for (int i = 0; i < n; ++i)
 			if (std::fabs(x[3 * size_t(i)]) < 0.2 && std::fabs(x[3 * size_t(i) + 2]) < 0.2)
 				top = std::max(top, x[3 * size_t(i) + 1]);
-		std::printf("cushion: the box (%.0f kg) rests on the cushion (its top under the box %.2f mm "
-		            "down, the gap %.2f mm); the cushion pushes %.4f N up (m g = %.4f N), off by at "
-		            "most %.4f%% over the last second; the box moves at %.2e m/s\n",
-		            boxMass, 1e3 * (0.3 - top), 1e3 * (bottom - top), box->force.y,
-		            boxMass * kGravity, 100 * worst, speed);
+		std::printf(
+		    "cushion: the box (%.0f kg) rests on the cushion (its top under the box %.2f mm "
+		    "down, the gap %.2f mm); the cushion pushes %.4f N up (m g = %.4f N), off by at "
+		    "most %.4f%% over the last second; the box moves at %.2e m/s\n",
+		    boxMass, 1e3 * (0.3 - top), 1e3 * (bottom - top), box->force.y, boxMass * kGravity,
+		    100 * worst, speed);
 		bool ok = Check(worst < 0.01, "the force is within 1% of m g over the last second");
 		ok = Check(speed < 1e-3, "the box's speed at rest is below 1 mm/s") && ok;
 		ok = Check(bottom > top && bottom - top < reach,
-		           "the box rests on the cushion, within the contact's reach") && ok;
+		           "the box rests on the cushion, within the contact's reach") &&
+		     ok;
 		ok = Check(top < 0.3, "the cushion is squashed under it") && ok;
 		status = ok ? 0 : 1;
 	}
@@ -343,8 +351,8 @@ int Seesaw()
 	place.translate = fmMakeVec3(arm, plankTop + 0.01 - info.boundsMin.y, 0.0);
 	fmTetMesh_Transform(&mesh, &place);
 	SoftBody house;
-	bool made = MakeSoftBody(world, &mesh, fmMakeMaterialLame(fm_stvk, 1e5, 2.5e4), 100.0, true,
-	                         &house);
+	bool made =
+	    MakeSoftBody(world, &mesh, fmMakeMaterialLame(fm_stvk, 1e5, 2.5e4), 100.0, true, &house);
 	fmFreeTetMesh(&mesh);
 	if (!made)
 		return 1;
@@ -361,13 +369,14 @@ int Seesaw()
 		if (plank == nullptr)
 			return 1;
 		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
-			*plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
+		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
 		double worstLaw = 0.0;
 		fmVec3 g = fmMakeVec3(0.0, -kGravity, 0.0);
 		for (int frame = 0; frame < 600; ++frame)
 		{
 			fmVec3 before = Momentum(house);
-			auto spring = [&] {
+			auto spring = [&]
+			{
 				double tilt = TiltOf(plank->rigid);
 				double spin = plank->rigid->getAngularVelocity().z();
 				plank->rigid->applyTorque(btVector3(0, 0, btScalar(-k * tilt - c * spin)));
@@ -396,17 +405,23 @@ int Seesaw()
 			theta -= f / df;
 		}
 		double tilt = TiltOf(plank->rigid);
-		std::printf("seesaw: the house (%.2f kg, implicit) tipped the plank to %.3f degrees; the "
-		            "rigid lever's static solve says %.3f degrees (off by %.2f%%); Newton's third law "
-		            "across the engines held to %.2e of m g dt in every frame\n",
-		            house.mass, tilt * 180 / M_PI, theta * 180 / M_PI,
-		            100 * std::fabs(tilt / theta - 1), worstLaw);
+		std::printf(
+		    "seesaw: the house (%.2f kg, implicit) tipped the plank to %.3f degrees; the "
+		    "rigid lever's static solve says %.3f degrees (off by %.2f%%); Newton's third law "
+		    "across the engines held to %.2e of m g dt in every frame\n",
+		    house.mass, tilt * 180 / M_PI, theta * 180 / M_PI, 100 * std::fabs(tilt / theta - 1),
+		    worstLaw);
 		// Implicit: the momentum balance holds to the solve's tolerance (1e-6 relative).
 		bool ok = Check(worstLaw < 1e-5, "the house's momentum change minus gravity's impulse is "
 		                                 "minus the plank's impulse, every frame");
-		ok = Check(std::fabs(tilt / theta - 1) < 0.03, "the tilt is within 3% of the static solve") && ok;
-		ok = Check(std::fabs(plank->rigid->getAngularVelocity().z()) < 1e-3, "the plank is at rest") && ok;
-		ok = Check(fmBody_GetStats(house.id).invertedTets == 0, "no tet of the house inverted") && ok;
+		ok = Check(std::fabs(tilt / theta - 1) < 0.03,
+		           "the tilt is within 3% of the static solve") &&
+		     ok;
+		ok = Check(std::fabs(plank->rigid->getAngularVelocity().z()) < 1e-3,
+		           "the plank is at rest") &&
+		     ok;
+		ok = Check(fmBody_GetStats(house.id).invertedTets == 0, "no tet of the house inverted") &&
+		     ok;
 		status = ok ? 0 : 1;
 	}
 	fmDestroyWorld(world);
@@ -424,8 +439,8 @@ int Ball()
 	fmTetMesh mesh;
 	fmMakeBoxMesh(6, 2, 6, fmMakeVec3(-0.5, -0.1, -0.5), fmMakeVec3(0.5, 0.1, 0.5), &mesh);
 	SoftBody pad;
-	bool made = MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 1e5, 0.3), 300.0, true,
-	                         &pad);
+	bool made =
+	    MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 1e5, 0.3), 300.0, true, &pad);
 	fmFreeTetMesh(&mesh);
 	if (!made)
 		return 1;
@@ -444,7 +459,8 @@ int Ball()
 		ball->rigid->setLinearVelocity(btVector3(0, btScalar(-speed), 0));
 		int substeps = ExplicitSubsteps(world);
 		auto total = [&] {
-			return fmAdd(Momentum(pad), fmScale(ballMass, ToFemto(ball->rigid->getLinearVelocity())));
+			return fmAdd(Momentum(pad),
+			             fmScale(ballMass, ToFemto(ball->rigid->getLinearVelocity())));
 		};
 		fmVec3 p0 = total();
 		double worst = 0.0, peak = 0.0;
@@ -460,13 +476,15 @@ int Ball()
 		}
 		double ballVy = ball->rigid->getLinearVelocity().y();
 		double padVy = Momentum(pad).y / pad.mass;
-		std::printf("ball: the ball (%.0f kg at %.1f m/s, %d explicit substeps a frame) left at %+.4f "
-		            "m/s, the pad (%.1f kg) at %+.4f m/s; peak contact force %.1f N; the pair's "
-		            "momentum stayed within %.2e of the ball's first momentum in every frame\n",
-		            ballMass, speed, substeps, ballVy, pad.mass, padVy, peak, worst);
+		std::printf(
+		    "ball: the ball (%.0f kg at %.1f m/s, %d explicit substeps a frame) left at %+.4f "
+		    "m/s, the pad (%.1f kg) at %+.4f m/s; peak contact force %.1f N; the pair's "
+		    "momentum stayed within %.2e of the ball's first momentum in every frame\n",
+		    ballMass, speed, substeps, ballVy, pad.mass, padVy, peak, worst);
 		// Debian's Bullet is single precision: the ball's momentum is a float's (6e-8).
 		bool ok = Check(worst < 1e-6, "the pair's total momentum is conserved frame by frame");
-		ok = Check(ballVy > 0.0 && padVy < 0.0, "the ball bounced back and pushed the pad on") && ok;
+		ok =
+		    Check(ballVy > 0.0 && padVy < 0.0, "the ball bounced back and pushed the pad on") && ok;
 		ok = Check(fmBody_GetStats(pad.id).invertedTets == 0, "no tet of the pad inverted") && ok;
 		status = ok ? 0 : 1;
 	}

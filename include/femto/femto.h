@@ -60,6 +60,20 @@ FM_API bool fmWorld_IsValid(fmWorldId worldId);
 /// its last error included.
 FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount);
 
+/// The game loop's step (fmFixedStep): adds @p elapsed seconds of real time to the clock and
+/// steps the world as many whole frames of clock->frameTime (in clock->substeps substeps) as the
+/// accumulated time holds, at most clock->maxFrames (the rest of the time is dropped); then
+/// clock->alpha is the part of a frame left over. Before each frame it keeps every body's
+/// positions, for fmBody_CopyInterpolatedPositionsFloat and
+/// fmBody_CopyInterpolatedRenderPositionsFloat (3 doubles a vertex, once per body).
+/// @p framesStepped (may be NULL) gets the frames stepped. fm_errParameter (the last error says
+/// why; nothing stepped) for a clock not from fmDefaultFixedStep(), a member out of its range,
+/// or @p elapsed negative, not finite or above 1e6 s; fm_errOutOfMemory when the positions
+/// cannot be kept; a failed fmWorld_Step's result (that frame's time is spent: the clock does not
+/// retry it).
+FM_API fmResult fmWorld_Advance(fmWorldId worldId, fmFixedStep* clock, double elapsed,
+                                int* framesStepped);
+
 /// The diagnostic of the last failed step (for a stale id: one that says so, never NULL).
 FM_API const fmDiagnostic* fmWorld_GetLastError(fmWorldId worldId);
 
@@ -185,6 +199,15 @@ FM_API fmResult fmBody_CopyVelocities(fmBodyId bodyId, double* velocities, int v
 
 /// fmBody_CopyVelocities() into floats, each rounded to nearest.
 FM_API fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, int vertexCapacity);
+
+/// Positions for the picture between the last two frames fmWorld_Advance stepped: @p alpha 0
+/// gives the positions at the start of the last frame, 1 at its end (now), between them the
+/// straight line (pass fmFixedStep.alpha). Before the first advance, or after the caller moved
+/// the body (fmBody_SetPositions, fmWorld_RestoreSnapshot, fmBody_SolveStatic), the positions
+/// now. fm_errParameter for @p alpha outside [0, 1] or a NULL buffer, and as
+/// fmBody_CopyPositionsFloat otherwise.
+FM_API fmResult fmBody_CopyInterpolatedPositionsFloat(fmBodyId bodyId, double alpha,
+                                                      float* positions, int vertexCapacity);
 
 /// Overwrite positions (3 * vertexCount); e.g. for dragging or restoring a state. Non-finite
 /// values are taken: the next fmWorld_Step() reports them (fm_errNumerical) and restores the
@@ -399,6 +422,14 @@ FM_API fmResult fmBody_CopyRenderPositions(fmBodyId bodyId, double* positions, d
 /// rounded to nearest.
 FM_API fmResult fmBody_CopyRenderPositionsFloat(fmBodyId bodyId, float* positions, float* normals,
                                                 int vertexCapacity);
+
+/// The render mesh between the last two frames fmWorld_Advance stepped (@p alpha as in
+/// fmBody_CopyInterpolatedPositionsFloat): the render mesh of the interpolated positions, its
+/// normals from them. Errors as fmBody_CopyRenderPositionsFloat, and fm_errParameter for
+/// @p alpha outside [0, 1].
+FM_API fmResult fmBody_CopyInterpolatedRenderPositionsFloat(fmBodyId bodyId, double alpha,
+                                                            float* positions, float* normals,
+                                                            int vertexCapacity);
 
 /// Nodal force: add @p force (N, on each vertex, not shared out) to every vertex within the
 /// box [min, max] (inclusive, at its current position). Returns how many vertices it caught (0:

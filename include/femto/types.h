@@ -563,6 +563,26 @@ typedef struct fmGrabDef
 /// least 9.81 m/s^2).
 FM_API fmGrabDef fmDefaultGrabDef(void);
 
+/// A fixed-step clock for a game loop (docs/embedding.md, "A game loop"): the game adds the real
+/// time that passed each rendered frame (fmWorld_Advance), the world steps whole frames of
+/// frameTime, and what is left over is where the picture stands between the last two frames
+/// (alpha), for the interpolated copies (fmBody_CopyInterpolatedPositionsFloat).
+typedef struct fmFixedStep
+{
+	double frameTime;   ///< s, one frame of the world, in [FM_MIN_SUBSTEP, FM_MAX_SUBSTEP] (1/60)
+	int substeps;       ///< substeps of each frame, in [1, FM_MAX_SUBSTEPS] (1)
+	int maxFrames;      ///< most frames one fmWorld_Advance steps, in [1, 1000] (4): the real
+	                    ///< time beyond them is dropped, so a machine too slow for real time
+	                    ///< slows the game down instead of falling further behind each frame
+	double accumulator; ///< s of real time not stepped yet, in [0, frameTime) after an advance
+	double alpha;       ///< accumulator / frameTime, in [0, 1): the render's interpolation factor
+	int internalValue;  ///< set by fmDefaultFixedStep; fmWorld_Advance checks it
+} fmFixedStep;
+
+/// The default clock: 60 frames a second of one substep each, at most 4 a call, nothing
+/// accumulated.
+FM_API fmFixedStep fmDefaultFixedStep(void);
+
 /// Health of a body after a step.
 typedef struct fmBodyStats
 {

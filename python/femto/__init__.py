@@ -16,10 +16,10 @@ from ._femto import ffi as _ffi, lib as _lib
 from .material import Material
 from .mesh import TetMesh
 from .scene import Scene
-from .world import CONTACT_DTYPE, DRAW_FLAGS, Body, Collider, World
+from .world import CONTACT_DTYPE, DRAW_FLAGS, Body, Collider, FixedStep, World
 
 __all__ = ["FemtoError", "Material", "TetMesh", "Scene", "World", "Body", "Collider",
-           "CONTACT_DTYPE", "DRAW_FLAGS", "version", "allocated_bytes"]
+           "FixedStep", "CONTACT_DTYPE", "DRAW_FLAGS", "version", "allocated_bytes"]
 
 
 def version():

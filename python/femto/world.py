@@ -104,6 +104,15 @@ class World:
         self._check(lib.fmWorld_Step(self._live(), finite(time_step, "time_step"),
                                      int(substeps)))
 
+    def advance(self, clock, elapsed):
+        """The game loop's fixed step: add elapsed seconds of real time to clock (a FixedStep)
+        and step the whole frames it holds (at most clock.max_frames); returns how many. Then
+        clock.alpha is where the picture stands between the last two frames."""
+        frames = ffi.new("int*")
+        code = lib.fmWorld_Advance(self._live(), clock._c, finite(elapsed, "elapsed"), frames)
+        self._check(code)
+        return frames[0]
+
     @property
     def stats(self):
         """The last step's statistics (fmStepStats) as a dict."""
@@ -402,6 +411,18 @@ class Body:
         return self._copy_rows(lib.fmBody_CopyVelocities, lib.fmBody_CopyVelocitiesFloat, out,
                                "velocities")
 
+    def interpolated_positions(self, alpha, out=None):
+        """Positions alpha of the way through the last frame World.advance stepped (float32,
+        (n, 3), in out when given): for drawing between frames."""
+        n = self.vertex_count
+        out = out if out is not None else np.empty((n, 3), np.float32)
+        out = out_rows(out, n, "positions")
+        if out.dtype != np.float32:
+            raise TypeError("positions: expected float32 (what a vertex buffer holds)")
+        self.world._check(lib.fmBody_CopyInterpolatedPositionsFloat(
+            self._id, finite(alpha, "alpha"), ffi.from_buffer("float[]", out), n))
+        return out
+
     def set_positions(self, positions):
         """Overwrite every vertex's position ((n, 3) finite numbers)."""
         a = float_rows(positions, self.vertex_count, "positions")
@@ -574,6 +595,23 @@ class Body:
         check(lib.fmBody_SolveStatic(self._live(), finite(tolerance, "tolerance"),
                                      int(max_iterations), residual, diag), diag)
         return residual[0]
+
+
+class FixedStep:
+    """A game loop's clock (fmFixedStep): frame_time (s), substeps, max_frames; after each
+    World.advance, accumulator (s) and alpha (in [0, 1))."""
+
+    def __init__(self, frame_time=1.0 / 60.0, substeps=1, max_frames=4):
+        self._c = ffi.new("fmFixedStep*", lib.fmDefaultFixedStep())
+        self._c.frameTime = float(frame_time)
+        self._c.substeps = int(substeps)
+        self._c.maxFrames = int(max_frames)
+
+    frame_time = property(lambda self: self._c.frameTime)
+    substeps = property(lambda self: self._c.substeps)
+    max_frames = property(lambda self: self._c.maxFrames)
+    accumulator = property(lambda self: self._c.accumulator)
+    alpha = property(lambda self: self._c.alpha)
 
 
 class Collider:

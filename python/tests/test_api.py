@@ -130,3 +130,19 @@ def test_render_meshes_follow_the_body():
     world.step(0.03, 10)
     moved = body.render_positions(normals=np.empty((3, 3)))
     assert np.all(moved[:, 1] < v[:, 1] - 1e-3)
+
+
+def test_the_game_loop_steps_whole_frames_and_interpolates():
+    world, body = small_world()
+    clock = femto.FixedStep(frame_time=1 / 60, substeps=4)
+    frames = sum(world.advance(clock, dt) for dt in [0.01, 0.02, 0.005, 0.0] * 10)
+    assert frames == 21 and clock.alpha == pytest.approx((0.35 - 21 / 60) * 60, abs=1e-9)
+    before = body.positions().copy()
+    assert world.advance(clock, 1 / 60) == 1
+    now = body.positions()
+    half = body.interpolated_positions(0.5)
+    assert half.dtype == np.float32
+    assert np.allclose(half, (before + now) / 2, atol=1e-6)
+    assert np.array_equal(body.interpolated_positions(1.0), now.astype(np.float32))
+    with pytest.raises(femto.FemtoError):
+        world.advance(clock, -1.0)

@@ -39,6 +39,7 @@ void fmBodyRelease(fmBody* b)
 	fmBodyState_Free(&b->state, vertexCount);
 	FM_FREE_ARRAY(b->xGood, double, 3 * n);
 	FM_FREE_ARRAY(b->vGood, double, 3 * n);
+	FM_FREE_ARRAY(b->previousX, double, 3 * n);
 	FM_FREE_ARRAY(b->userVertex, int, n);
 	FM_FREE_ARRAY(b->internalVertex, int, n);
 	FM_FREE_ARRAY(b->userTet, int, m);
@@ -504,6 +505,33 @@ fmResult fmBody_CopyPositionsFloat(fmBodyId bodyId, float* positions, int vertex
 	return fmCopyState(bodyId, false, NULL, positions, vertexCapacity, "fmBody_CopyPositionsFloat");
 }
 
+fmResult fmBody_CopyInterpolatedPositionsFloat(fmBodyId bodyId, double alpha, float* positions,
+                                               int vertexCapacity)
+{
+	fmBody* b;
+	const char* what = "fmBody_CopyInterpolatedPositionsFloat";
+	fmResult r = fmCheckCopyOut(bodyId, positions, vertexCapacity, what, &b);
+	if (r != fm_ok)
+		return r;
+	if (!(alpha >= 0.0 && alpha <= 1.0))
+		return fmDiagError(&fmGetWorldOfBody(bodyId)->lastError, fm_errParameter, "", 0, 0,
+		                   "%s: alpha %g is outside [0, 1] (fmFixedStep.alpha)", what, alpha);
+	if (!b->previousValid || alpha == 1.0) // now, bit for bit
+	{
+		fmCopyOutFloat(b, b->state.x, positions);
+		return fm_ok;
+	}
+	fmFpEnv env = fmFpEnv_Enter(fmDetMath_Enabled());
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		for (int k = 0; k < 3; ++k)
+		{
+			double from = b->previousX[3 * i + k], to = b->state.x[3 * i + k];
+			positions[3 * b->userVertex[i] + k] = (float)(from + alpha * (to - from));
+		}
+	fmFpEnv_Leave(&env);
+	return fm_ok;
+}
+
 fmResult fmBody_CopyVelocities(fmBodyId bodyId, double* velocities, int vertexCapacity)
 {
 	return fmCopyState(bodyId, true, velocities, NULL, vertexCapacity, "fmBody_CopyVelocities");
@@ -552,6 +580,7 @@ void fmBody_SetPositions(fmBodyId bodyId, const double* positions)
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		fmStore(b->state.x, i, fmLoad(positions, b->userVertex[i]));
 	b->positionsSet = true;
+	b->previousValid = false; // a teleport: nothing to interpolate from
 	fmWorld_MovedVertices(fmGetWorldOfBody(bodyId));
 }
 

@@ -34,6 +34,11 @@ typedef struct fmBody
 	double energyGood; // kinetic + elastic energy of the good state (runaway check)
 	bool energyStale;  // energyGood must be recomputed (new body, new material)
 	bool positionsSet; // fmBody_SetPositions since the last frame: audited against the others
+	// Positions (the body's order) at the start of the last frame fmWorld_Advance stepped, for
+	// the interpolated copies (world/step.c); NULL before the first advance. Not valid
+	// after the caller moved the vertices (set positions, a restored snapshot, a static solve).
+	double* previousX;
+	bool previousValid;
 	// The box of its vertices as audit.c found it while the world's verticesEpoch was boxEpoch
 	// (0: never; the world's epoch starts at 1).
 	fmVec3 boxLower, boxUpper;

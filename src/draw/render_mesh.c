@@ -637,7 +637,20 @@ const int* fmBody_GetRenderTriangles(fmBodyId bodyId, int* triangleCount)
 // Deform the render mesh with the body's current positions into its scratch arrays: positions
 // from the bindings, normals as the normalised sum of the cross products of the triangles
 // around each vertex (twice their areas: area-weighted), in triangle order (deterministic).
-static void fmRenderMesh_Update(const fmBody* b, fmRenderMesh* m, bool normals)
+// A tet node's position: now, or (@p previous not NULL) @p alpha of the way from @p previous.
+static fmVec3 fmNodeAt(const fmBody* b, const double* previous, double alpha, int node)
+{
+	fmVec3 now = fmLoad(b->state.x, node);
+	if (previous == NULL)
+		return now;
+	fmVec3 from = fmLoad(previous, node);
+	return fmMulAdd(from, alpha, fmSub(now, from));
+}
+
+// The render mesh of the body's positions now, or (@p previous not NULL) of the positions
+// @p alpha of the way from @p previous to now; with @p normals, its smooth normals.
+static void fmRenderMesh_Update(const fmBody* b, fmRenderMesh* m, bool normals,
+                                const double* previous, double alpha)
 {
 	for (int i = 0; i < m->vertexCount; ++i)
 	{
@@ -645,7 +658,7 @@ static void fmRenderMesh_Update(const fmBody* b, fmRenderMesh* m, bool normals)
 		const double* w = m->weight + 4 * i;
 		fmVec3 x = fmMakeVec3(0, 0, 0);
 		for (int k = 0; k < 4; ++k)
-			x = fmMulAdd(x, w[k], fmLoad(b->state.x, tet[k]));
+			x = fmMulAdd(x, w[k], fmNodeAt(b, previous, alpha, tet[k]));
 		fmStore(m->positions, i, x);
 	}
 	if (!normals)
@@ -671,7 +684,7 @@ static void fmRenderMesh_Update(const fmBody* b, fmRenderMesh* m, bool normals)
 // Check a render copy-out, deform, then copy into doubles or floats.
 static fmResult fmCopyRender(fmBodyId bodyId, double* positions, double* normals,
                              float* positionsFloat, float* normalsFloat, int vertexCapacity,
-                             const char* what)
+                             double alpha, const char* what)
 {
 	fmBody* b = fmGetBody(bodyId);
 	fmWorld* world = fmGetWorldOfBody(bodyId);
@@ -694,9 +707,14 @@ static fmResult fmCopyRender(fmBodyId bodyId, double* positions, double* normals
 		                   "%s: a buffer of %d vertices is too small for the render mesh's %d "
 		                   "(fmBody_GetRenderVertexCount; 3 values a vertex)",
 		                   what, vertexCapacity, m->vertexCount);
+	if (!(alpha >= 0.0 && alpha <= 1.0))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "%s: alpha %g is outside [0, 1] (fmFixedStep.alpha)", what, alpha);
 	fmFpEnv env = fmFpEnv_Enter(fmDetMath_Enabled());
 	bool wantNormals = normals != NULL || normalsFloat != NULL;
-	fmRenderMesh_Update(b, m, wantNormals);
+	// alpha 1 (the copies of now) reads the positions as they are, bit for bit.
+	const double* previous = alpha < 1.0 && b->previousValid ? b->previousX : NULL;
+	fmRenderMesh_Update(b, m, wantNormals, previous, alpha);
 	size_t values = 3 * (size_t)m->vertexCount;
 	if (positions != NULL)
 		memcpy(positions, m->positions, sizeof(double) * values);
@@ -713,13 +731,21 @@ static fmResult fmCopyRender(fmBodyId bodyId, double* positions, double* normals
 fmResult fmBody_CopyRenderPositions(fmBodyId bodyId, double* positions, double* normals,
                                     int vertexCapacity)
 {
-	return fmCopyRender(bodyId, positions, normals, NULL, NULL, vertexCapacity,
+	return fmCopyRender(bodyId, positions, normals, NULL, NULL, vertexCapacity, 1.0,
 	                    "fmBody_CopyRenderPositions");
 }
 
 fmResult fmBody_CopyRenderPositionsFloat(fmBodyId bodyId, float* positions, float* normals,
                                          int vertexCapacity)
 {
-	return fmCopyRender(bodyId, NULL, NULL, positions, normals, vertexCapacity,
+	return fmCopyRender(bodyId, NULL, NULL, positions, normals, vertexCapacity, 1.0,
 	                    "fmBody_CopyRenderPositionsFloat");
+}
+
+fmResult fmBody_CopyInterpolatedRenderPositionsFloat(fmBodyId bodyId, double alpha,
+                                                     float* positions, float* normals,
+                                                     int vertexCapacity)
+{
+	return fmCopyRender(bodyId, NULL, NULL, positions, normals, vertexCapacity, alpha,
+	                    "fmBody_CopyInterpolatedRenderPositionsFloat");
 }

@@ -296,6 +296,9 @@ fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations
 	fmWorld* world = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(world != NULL && world->def.crossPlatformDeterminism);
 	fmResult result = fmBodySolveStaticIn(bodyId, tolerance, maxIterations, residual, diag);
+	fmBody* b = fmGetBody(bodyId);
+	if (b != NULL)
+		b->previousValid = false; // moved to its equilibrium: nothing to interpolate from
 	if (world != NULL)
 		fmWorld_MovedVertices(world);
 	fmFpEnv_Leave(&env);

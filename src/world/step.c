@@ -866,3 +866,97 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	atomic_store(&w->stepping, 0);
 	return r;
 }
+
+// ---- the game loop's fixed step ----------------------------------------------------------------
+// fmWorld_Advance: real time accumulated, whole frames stepped, the rest the render's
+// interpolation factor; each body's positions kept before each frame for the interpolated
+// copies (body.c, draw/render_mesh.c). As Box2D's samples and Glenn Fiedler's "Fix Your
+// Timestep!" write it around a world; here once, with the spiral of death bounded.
+
+#define FM_MAX_ADVANCE_FRAMES 1000
+#define FM_MAX_ADVANCE_SECONDS 1e6
+
+fmFixedStep fmDefaultFixedStep(void)
+{
+	fmFixedStep clock;
+	memset(&clock, 0, sizeof clock);
+	clock.frameTime = 1.0 / 60.0;
+	clock.substeps = 1;
+	clock.maxFrames = 4;
+	clock.internalValue = FM_DEF_MAGIC;
+	return clock;
+}
+
+// What is wrong with @p clock or @p elapsed, or NULL.
+static const char* fmClockProblem(const fmFixedStep* clock, double elapsed)
+{
+	if (clock == NULL || clock->internalValue != FM_DEF_MAGIC)
+		return "the clock was not made by fmDefaultFixedStep()";
+	if (!(clock->frameTime >= FM_MIN_SUBSTEP && clock->frameTime <= FM_MAX_SUBSTEP))
+		return "frameTime is outside [FM_MIN_SUBSTEP, FM_MAX_SUBSTEP] s";
+	if (clock->substeps < 1 || clock->substeps > FM_MAX_SUBSTEPS)
+		return "substeps is outside [1, FM_MAX_SUBSTEPS]";
+	if (clock->maxFrames < 1 || clock->maxFrames > FM_MAX_ADVANCE_FRAMES)
+		return "maxFrames is outside [1, 1000]";
+	if (!(clock->accumulator >= 0.0 && clock->accumulator < clock->frameTime))
+		return "accumulator is outside [0, frameTime)";
+	if (!(elapsed >= 0.0 && elapsed <= FM_MAX_ADVANCE_SECONDS))
+		return "elapsed is negative, not finite or above 1e6 s";
+	return NULL;
+}
+
+// Every live body's positions now, for the interpolated copies. False when memory is short.
+static bool fmKeepPrevious(fmWorld* w)
+{
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b))
+			continue;
+		size_t values = 3 * (size_t)b->mesh.vertexCount;
+		if (b->previousX == NULL && (b->previousX = FM_ALLOC_ARRAY(double, values)) == NULL)
+			return false;
+		memcpy(b->previousX, b->state.x, sizeof(double) * values);
+		b->previousValid = true;
+	}
+	return true;
+}
+
+fmResult fmWorld_Advance(fmWorldId worldId, fmFixedStep* clock, double elapsed, int* framesStepped)
+{
+	if (framesStepped != NULL)
+		*framesStepped = 0;
+	fmWorld* w = fmGetWorld(worldId);
+	if (w == NULL)
+		return fm_errInvalidId;
+	const char* problem = fmClockProblem(clock, elapsed);
+	if (problem != NULL)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "fmWorld_Advance: %s",
+		                   problem);
+	clock->accumulator += elapsed;
+	int frames = 0;
+	fmResult result = fm_ok;
+	while (clock->accumulator >= clock->frameTime && frames < clock->maxFrames)
+	{
+		if (!fmKeepPrevious(w))
+		{
+			result = fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                     "fmWorld_Advance: out of memory for the bodies' positions");
+			break;
+		}
+		clock->accumulator -= clock->frameTime;
+		++frames;
+		result = fmWorld_Step(worldId, clock->frameTime, clock->substeps);
+		if (result != fm_ok)
+			break;
+	}
+	// Beyond maxFrames the time is dropped: what is left is less than a frame.
+	if (clock->accumulator >= clock->frameTime)
+		clock->accumulator -= clock->frameTime * floor(clock->accumulator / clock->frameTime);
+	if (!(clock->accumulator < clock->frameTime)) // round-off at the edge
+		clock->accumulator = 0.0;
+	clock->alpha = clock->accumulator / clock->frameTime;
+	if (framesStepped != NULL)
+		*framesStepped = frames;
+	return result;
+}
