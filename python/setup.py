@@ -14,6 +14,17 @@ import sys
 from setuptools import setup
 from setuptools.command.build_ext import build_ext
 
+# What the build needs, said before pip's own error (which names none of it).
+for module, package in (("cffi", "python3-cffi"), ("wheel", "python3-wheel")):
+    try:
+        __import__(module)
+    except ImportError:
+        sys.exit("femto: building the package needs %s (Debian: %s), which %s does not see. "
+                 "Make the venv from Debian's Python, which has it: /usr/bin/python3 -m venv "
+                 "--system-site-packages .venv (another python3 first on PATH, such as pyenv's, "
+                 "has neither Debian's packages nor a registry to fetch them from)."
+                 % (module, package, sys.executable))
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, ".."))
 sys.path.insert(0, HERE)

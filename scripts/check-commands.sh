@@ -242,7 +242,7 @@ declare -A how=(
   ["femto view scenes/drop.json"]=run_view
   # README.md's Python section and docs/python.md: in the copy, after its Release build line
   # (the tests compare with the copy's build/cli/femto)
-  ["python3 -m venv --system-site-packages .venv && .venv/bin/pip install --no-build-isolation ./python"]=run_in_copy
+  ["/usr/bin/python3 -m venv --system-site-packages .venv && .venv/bin/pip install --no-build-isolation ./python"]=run_in_copy
   [".venv/bin/python -m pytest python/tests"]=run_in_copy
   [".venv/bin/python python/examples/bouncy_house.py"]=run_in_copy
   [".venv/bin/python python/examples/material_sweep.py"]=run_in_copy
