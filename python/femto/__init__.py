@@ -22,12 +22,12 @@ __all__ = ["FemtoError", "Material", "TetMesh", "Scene", "World", "Body", "Colli
            "FixedStep", "CONTACT_DTYPE", "DRAW_FLAGS", "version", "allocated_bytes"]
 
 
-def version():
+def version() -> tuple:
     """libfemto's version as (major, minor, patch)."""
     v = _lib.fmGetVersion()
     return (v.major, v.minor, v.patch)
 
 
-def allocated_bytes():
+def allocated_bytes() -> int:
     """Bytes libfemto holds now (its allocator's count)."""
     return _lib.fmGetAllocatedBytes()

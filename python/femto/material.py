@@ -1,4 +1,7 @@
 """Materials: a constitutive model with Young's modulus and Poisson ratio, or Lame constants."""
+from __future__ import annotations
+
+from typing import Optional, Union
 from ._errors import check
 from ._femto import ffi, lib
 
@@ -23,8 +26,9 @@ class Material:
     mooneyrivlin (with ``c01``), neohookean-isochoric (the names ``femto run`` takes).
     """
 
-    def __init__(self, model="stvk", youngs_modulus=None, poisson_ratio=None, lam=None,
-                 mu=None, c01=0.0):
+    def __init__(self, model: Union[str, int] = "stvk", youngs_modulus: Optional[float] = None,
+                 poisson_ratio: Optional[float] = None, lam: Optional[float] = None,
+                 mu: Optional[float] = None, c01: float = 0.0) -> None:
         by_young = youngs_modulus is not None or poisson_ratio is not None
         by_lame = lam is not None or mu is not None
         if by_young == by_lame:
@@ -44,17 +48,17 @@ class Material:
         check(lib.fmMaterial_Validate(self._c, diag), diag)
 
     @property
-    def model(self):
+    def model(self) -> str:
         """The model's name."""
         return ffi.string(lib.fmMaterialModelName(self._c.model)).decode()
 
     @property
-    def lam(self):
+    def lam(self) -> float:
         """First Lame constant (Pa)."""
         return getattr(self._c, "lambda")
 
     @property
-    def mu(self):
+    def mu(self) -> float:
         """Shear modulus (Pa)."""
         return self._c.mu
 

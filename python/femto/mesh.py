@@ -1,5 +1,8 @@
 """Tetrahedral meshes: read from TetGen, Gmsh, VTK, VTU or Medit files, made as boxes, or given
 as arrays; written back to any of those."""
+from __future__ import annotations
+
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
 import os
 
 import numpy as np
@@ -15,11 +18,11 @@ class TetMesh:
     ``vertices`` (n, 3) float64 and ``tets`` (m, 4) int32 are copies (zero-based).
     """
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._c = ffi.gc(ffi.new("fmTetMesh*"), lib.fmFreeTetMesh)
 
     @classmethod
-    def load(cls, path, ele_path=None):
+    def load(cls, path: Union[str, os.PathLike], ele_path: Optional[Union[str, os.PathLike]] = None) -> "TetMesh":
         """Read a mesh: a TetGen .node (its .ele beside it, or ele_path), .msh, .vtk, .vtu,
         .mesh. Raises FemtoError naming the file, line and what was expected."""
         mesh, diag = cls(), ffi.new("fmDiagnostic*")
@@ -32,7 +35,8 @@ class TetMesh:
         return mesh
 
     @classmethod
-    def box(cls, counts, lower, upper):
+    def box(cls, counts: Tuple[int, int, int], lower: Sequence[float],
+            upper: Sequence[float]) -> "TetMesh":
         """A box [lower, upper] of counts = (nx, ny, nz) cubes, 6 tets each."""
         nx, ny, nz = (int(c) for c in counts)
         mesh = cls()
@@ -42,7 +46,7 @@ class TetMesh:
         return mesh
 
     @classmethod
-    def from_arrays(cls, vertices, tets):
+    def from_arrays(cls, vertices: Any, tets: Any) -> "TetMesh":
         """A mesh of vertices (n, 3) and tets (m, 4, zero-based), checked as a file would be."""
         v = np.ascontiguousarray(vertices, dtype=np.float64)
         t = np.ascontiguousarray(tets, dtype=np.int64)
@@ -58,26 +62,27 @@ class TetMesh:
         return mesh
 
     @property
-    def vertex_count(self):
+    def vertex_count(self) -> int:
         return self._c.nodeCount
 
     @property
-    def tet_count(self):
+    def tet_count(self) -> int:
         return self._c.tetCount
 
     @property
-    def vertices(self):
+    def vertices(self) -> np.ndarray:
         """(n, 3) float64 copy of the rest positions."""
         n = self._c.nodeCount
         return np.frombuffer(ffi.buffer(self._c.positions, 24 * n), np.float64).reshape(n, 3).copy()
 
     @property
-    def tets(self):
+    def tets(self) -> np.ndarray:
         """(m, 4) int32 copy of the tets' vertices, zero-based."""
         m = self._c.tetCount
         return np.frombuffer(ffi.buffer(self._c.tets, 16 * m), np.int32).reshape(m, 4).copy()
 
-    def transform(self, scale=1.0, center=False, swap_yz=False, translate=(0.0, 0.0, 0.0)):
+    def transform(self, scale: float = 1.0, center: bool = False, swap_yz: bool = False,
+                  translate: Sequence[float] = (0.0, 0.0, 0.0)) -> "TetMesh":
         """Scale, centre, swap y and z, then translate the rest shape (as scenes do)."""
         t = ffi.new("fmMeshTransform*", lib.fmDefaultMeshTransform())
         t.scale, t.center, t.swapYZ = float(scale), bool(center), bool(swap_yz)
@@ -85,14 +90,14 @@ class TetMesh:
         lib.fmTetMesh_Transform(self._c, t)
         return self
 
-    def info(self):
+    def info(self) -> Dict[str, Any]:
         """Counts, volumes, dihedral angles and quality (fmMeshInfo) as a dict."""
         from ._defs import as_struct_dict
         info = ffi.new("fmMeshInfo*")
         check(lib.fmTetMesh_GetInfo(self._c, info), what="mesh info")
         return as_struct_dict(info[0])
 
-    def write(self, path, positions=None):
+    def write(self, path: Union[str, os.PathLike], positions: Optional[Any] = None) -> None:
         """Write the mesh (the format from the extension; TetGen writes .node and .ele),
         optionally with deformed positions (n, 3)."""
         diag = ffi.new("fmDiagnostic*")

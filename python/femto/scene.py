@@ -1,4 +1,7 @@
 """Scenes: JSON scene files read by the same parser as `femto run`, stepped frame by frame."""
+from __future__ import annotations
+
+from typing import Union
 import os
 
 from ._errors import FemtoError
@@ -22,7 +25,7 @@ class Scene:
                           for i in range(lib.fpy_scene_collider_count(handle))]
 
     @classmethod
-    def load(cls, path):
+    def load(cls, path: Union[str, os.PathLike]) -> "Scene":
         """Read and make a scene; a bad file raises FemtoError with every message the tool
         gives (file, line, what was expected)."""
         path = os.fspath(path)
@@ -35,7 +38,7 @@ class Scene:
         return cls._make(path.encode(), text)
 
     @classmethod
-    def house(cls):
+    def house(cls) -> "Scene":
         """The built-in bouncy house (`femto run` with no scene)."""
         return cls._make(ffi.NULL, b"")
 
@@ -50,35 +53,35 @@ class Scene:
         return cls(ffi.gc(handle[0], lib.fpy_scene_free))
 
     @property
-    def dt(self):
+    def dt(self) -> float:
         """Seconds of one substep."""
         return lib.fpy_scene_dt(self._handle)
 
     @property
-    def substeps(self):
+    def substeps(self) -> int:
         return lib.fpy_scene_substeps(self._handle)
 
     @property
-    def frame_time(self):
+    def frame_time(self) -> float:
         return self.dt * self.substeps
 
     @property
-    def frames(self):
+    def frames(self) -> int:
         """The scene's frame count (0 when it gives none)."""
         return lib.fpy_scene_frames(self._handle)
 
     @property
-    def description(self):
+    def description(self) -> str:
         return ffi.string(lib.fpy_scene_description(self._handle)).decode(errors="replace")
 
-    def step(self, frames=1):
+    def step(self, frames: int = 1) -> None:
         """Advance frames frames; a failed step raises FemtoError with the world's advice."""
         for _ in range(int(frames)):
             code = lib.fpy_scene_step(self._handle)
             if code != lib.fm_ok:
                 raise self.world.last_error(code)
 
-    def close(self):
+    def close(self) -> None:
         """Destroy the scene's world (the bodies and colliders go with it)."""
         if self._handle is not None:
             ffi.release(self._handle)

@@ -1,4 +1,7 @@
 """Worlds, bodies and colliders: femto's C API with numpy arrays and exceptions."""
+from __future__ import annotations
+
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -8,6 +11,9 @@ from ._errors import FemtoError, check, error_from_diagnostic, invalid_id
 from ._femto import ffi, lib
 from .material import Material
 from .mesh import TetMesh
+
+Vec3 = Sequence[float]  # any 3 numbers: a tuple, a list, a numpy array
+ArrayLike = Any  # what numpy.asarray takes
 
 DRAW_FLAGS = {
     "surfaces": lib.fm_drawSurfaces, "stress": lib.fm_drawStress,
@@ -38,7 +44,7 @@ class World:
     Destroyed by ``close()``, ``with``, or when collected.
     """
 
-    def __init__(self, **fields):
+    def __init__(self, **fields: Any) -> None:
         d = ffi.new("fmWorldDef*", lib.fmDefaultWorldDef())
         if "floor" in fields and fields["floor"] in (None, False):
             fields["floor"] = {"enabled": False}
@@ -63,7 +69,7 @@ class World:
         world._id, world._owned, world._bodies = world_id, False, {}
         return world
 
-    def close(self):
+    def close(self) -> None:
         """Destroy the world and everything in it (a second close does nothing)."""
         if getattr(self, "_owned", False) and lib.fmWorld_IsValid(self._id):
             lib.fmDestroyWorld(self._id)
@@ -79,7 +85,7 @@ class World:
         self.close()
 
     @property
-    def valid(self):
+    def valid(self) -> bool:
         return bool(lib.fmWorld_IsValid(self._id))
 
     def _live(self):
@@ -87,7 +93,7 @@ class World:
             raise invalid_id("the world")
         return self._id
 
-    def last_error(self, code):
+    def last_error(self, code: int) -> FemtoError:
         """The world's last error as a FemtoError (for a failed code)."""
         diag = lib.fmWorld_GetLastError(self._live())
         return error_from_diagnostic(code, diag)
@@ -97,14 +103,14 @@ class World:
             raise self.last_error(code)
 
     # -- stepping ---------------------------------------------------------------------------
-    def step(self, time_step, substeps=1):
+    def step(self, time_step: float, substeps: int = 1) -> None:
         """Advance time_step seconds (a frame) in substeps equal substeps. A step that goes
         numerically bad or does not converge (when that is an error) raises FemtoError with
         the world's advice."""
         self._check(lib.fmWorld_Step(self._live(), finite(time_step, "time_step"),
                                      int(substeps)))
 
-    def advance(self, clock, elapsed):
+    def advance(self, clock: "FixedStep", elapsed: float) -> int:
         """The game loop's fixed step: add elapsed seconds of real time to clock (a FixedStep)
         and step the whole frames it holds (at most clock.max_frames); returns how many. Then
         clock.alpha is where the picture stands between the last two frames."""
@@ -114,35 +120,35 @@ class World:
         return frames[0]
 
     @property
-    def stats(self):
+    def stats(self) -> Dict[str, Any]:
         """The last step's statistics (fmStepStats) as a dict."""
         return _defs.as_struct_dict(lib.fmWorld_GetStepStats(self._live()))
 
     @property
-    def profile(self):
+    def profile(self) -> Dict[str, float]:
         """The last step's times in milliseconds (fmProfile) as a dict."""
         return _defs.as_struct_dict(lib.fmWorld_GetProfile(self._live()))
 
-    def estimate_explicit_step(self):
+    def estimate_explicit_step(self) -> float:
         """The largest stable explicit substep (s) the world's bodies allow."""
         return lib.fmWorld_EstimateExplicitStep(self._live())
 
     # -- settings ---------------------------------------------------------------------------
-    def set_gravity(self, gravity):
+    def set_gravity(self, gravity: Vec3) -> None:
         self._check(lib.fmWorld_SetGravity(self._live(), vec3(gravity, "gravity")))
 
-    def set_floor(self, **fields):
+    def set_floor(self, **fields: Any) -> None:
         """Replace the floor: fmFloorDef's fields (enabled, height, friction, ...)."""
         d = ffi.new("fmFloorDef*", lib.fmDefaultFloorDef())
         fill(d[0], fields, "fmFloorDef")
         self._check(lib.fmWorld_SetFloor(self._live(), d))
 
-    def set_integrator(self, integrator):
+    def set_integrator(self, integrator: Union[str, int]) -> None:
         lib.fmWorld_SetIntegrator(self._live(), _defs.ENUMS["integrator"][integrator]
                                   if isinstance(integrator, str) else int(integrator))
 
     # -- snapshots --------------------------------------------------------------------------
-    def save_snapshot(self):
+    def save_snapshot(self) -> bytes:
         """The whole state as bytes (restore_snapshot takes it back; same build and world)."""
         size = lib.fmWorld_GetSnapshotSize(self._live())
         buffer = ffi.new("char[]", size)
@@ -150,13 +156,15 @@ class World:
         self._check(lib.fmWorld_SaveSnapshot(self._id, buffer, size, written))
         return ffi.buffer(buffer, written[0])[:]
 
-    def restore_snapshot(self, data):
+    def restore_snapshot(self, data: bytes) -> None:
         """Put the world back to a saved state; a corrupted or foreign snapshot raises."""
         data = bytes(data)
         self._check(lib.fmWorld_RestoreSnapshot(self._live(), data, len(data)))
 
     # -- bodies and colliders ---------------------------------------------------------------
-    def add_body(self, mesh, material=None, region_materials=None, region_ids=None, **fields):
+    def add_body(self, mesh: TetMesh, material: Optional[Material] = None,
+                 region_materials: Optional[Sequence[Material]] = None,
+                 region_ids: Optional[Sequence[int]] = None, **fields: Any) -> "Body":
         """A soft body of mesh (a TetMesh, copied). Keywords are fmBodyDef's fields in
         snake_case (density, particle_mass, mass_mode, damping, smoothing, friction,
         self_collision, ...); material is a Material (default: the seeds' StVK)."""
@@ -188,11 +196,11 @@ class World:
             body = self._bodies[key] = Body(self, body_id)
         return body
 
-    def body_from_id(self, body_id):
+    def body_from_id(self, body_id: Any) -> Optional["Body"]:
         """The Body of an fmBodyId (from a contact, a ray hit or an event); None for the null id."""
         return None if body_id.index1 == 0 else self._body(body_id)
 
-    def add_collider(self, shape, **fields):
+    def add_collider(self, shape: str, **fields: Any) -> "Collider":
         """A kinematic collider: shape "plane", "sphere", "box", "capsule" or "mesh" and
         fmColliderDef's fields (center, radius, half_extents, rotation, a, b, normal, offset,
         friction, restitution, stick, velocity, angular_velocity). A mesh takes vertices (n, 3)
@@ -217,13 +225,13 @@ class World:
         return Collider(self, collider_id[0])
 
     @property
-    def floor_collider(self):
+    def floor_collider(self) -> Optional["Collider"]:
         """The floor as a Collider (its contact force), or None without a floor."""
         c = lib.fmWorld_GetFloorCollider(self._live())
         return None if c.index1 == 0 else Collider(self, c)
 
     # -- queries ----------------------------------------------------------------------------
-    def contacts(self):
+    def contacts(self) -> np.ndarray:
         """The last substep's contacts as a numpy structured array (CONTACT_DTYPE): body and
         other_body are body slots (Body.slot), collider the collider's (0: none)."""
         count = lib.fmWorld_GetContacts(self._live(), ffi.NULL, 0)
@@ -236,7 +244,7 @@ class World:
                       tuple3(c.point), tuple3(c.normal), c.depth, c.impulse)
         return out
 
-    def contact_events(self):
+    def contact_events(self) -> List[Dict[str, Any]]:
         """Pairs that began or stopped touching in the last step: a list of dicts."""
         count = lib.fmWorld_GetContactEvents(self._live(), ffi.NULL, 0)
         events = ffi.new("fmContactEvent[]", max(count, 1))
@@ -246,7 +254,7 @@ class World:
                  "collider": None if e.collider.index1 == 0 else Collider(self, e.collider)}
                 for e in events[0:count]]
 
-    def sleep_events(self):
+    def sleep_events(self) -> List[Tuple["Body", bool]]:
         """Bodies that fell asleep or woke in the last step: a list of (Body, asleep)."""
         count = lib.fmWorld_GetSleepEvents(self._live(), ffi.NULL, 0)
         events = ffi.new("fmSleepEvent[]", max(count, 1))
@@ -259,7 +267,8 @@ class World:
                 "triangle": hit.triangle, "vertex": hit.vertex, "point": tuple3(hit.point),
                 "normal": tuple3(hit.normal), "fraction": hit.fraction}
 
-    def cast_ray(self, origin, translation, filter=None):
+    def cast_ray(self, origin: Vec3, translation: Vec3,
+                 filter: Optional[Tuple[int, int]] = None) -> Optional[Dict[str, Any]]:
         """The first body or collider along origin + t translation, t in [0, 1]: a dict
         (body, collider, triangle, vertex, point, normal, fraction) or None."""
         hit = ffi.new("fmRayHit*")
@@ -268,7 +277,9 @@ class World:
             return None
         return self._hit(hit)
 
-    def grab_ray(self, origin, translation, filter=None, **grab):
+    def grab_ray(self, origin: Vec3, translation: Vec3,
+                 filter: Optional[Tuple[int, int]] = None,
+                 **grab: float) -> Optional[Dict[str, Any]]:
         """Cast a ray and grab the body it hits where it hits (a mouse pick): the hit or None.
         Keywords are fmGrabDef's (radius, stiffness, damping_ratio, max_force)."""
         d = ffi.new("fmGrabDef*", lib.fmDefaultGrabDef())
@@ -279,7 +290,8 @@ class World:
             return None
         return self._hit(hit)
 
-    def overlap_sphere(self, center, radius, filter=None):
+    def overlap_sphere(self, center: Vec3, radius: float,
+                       filter: Optional[Tuple[int, int]] = None) -> List[Dict[str, Any]]:
         """Bodies and colliders a sphere touches: a list of dicts (body, collider, vertex,
         point, distance)."""
         c, r = vec3(center, "center"), finite(radius, "radius")
@@ -291,7 +303,7 @@ class World:
                  "vertex": o.vertex, "point": tuple3(o.point), "distance": o.distance}
                 for o in found[0:count]]
 
-    def audit_contact(self):
+    def audit_contact(self) -> Dict[str, Any]:
         """Crossings, vertices inside other bodies and inverted tets now (fmContactAudit)."""
         audit = ffi.new("fmContactAudit*")
         self._check(lib.fmWorld_AuditContact(self._live(), audit))
@@ -301,7 +313,7 @@ class World:
             out[_defs._snake(name)] = getattr(audit, name)
         return out
 
-    def draw(self, flags="all"):
+    def draw(self, flags: Union[str, int, Sequence[str]] = "all") -> Dict[str, list]:
         """The debug draw's arrays (fmWorld_Draw): a dict with "triangles" (a list of dicts of
         numpy arrays: positions, normals, colors or None, indices, vertices, color, body),
         "lines" and "points" (lists of (array, color)) and "planes" ((point, normal, color))."""
@@ -363,12 +375,12 @@ class Body:
         self._id = body_id
 
     @property
-    def slot(self):
+    def slot(self) -> int:
         """The body's slot number (what contacts() reports)."""
         return self._id.index1
 
     @property
-    def valid(self):
+    def valid(self) -> bool:
         return bool(lib.fmBody_IsValid(self._id))
 
     def _live(self):
@@ -376,7 +388,7 @@ class Body:
             raise invalid_id("the body")
         return self._id
 
-    def destroy(self):
+    def destroy(self) -> None:
         """Remove the body from its world."""
         lib.fmDestroyBody(self._live())
 
@@ -387,11 +399,11 @@ class Body:
                                                          self.tet_count)
 
     @property
-    def vertex_count(self):
+    def vertex_count(self) -> int:
         return lib.fmBody_GetVertexCount(self._live())
 
     @property
-    def tet_count(self):
+    def tet_count(self) -> int:
         return lib.fmBody_GetTetCount(self._live())
 
     def _copy_rows(self, double_fn, float_fn, out, what):
@@ -401,17 +413,18 @@ class Body:
         self.world._check(fn(self._id, ffi.from_buffer(kind, out), n))
         return out
 
-    def positions(self, out=None):
+    def positions(self, out: Optional[np.ndarray] = None) -> np.ndarray:
         """The vertices' positions (n, 3), in out when given."""
         return self._copy_rows(lib.fmBody_CopyPositions, lib.fmBody_CopyPositionsFloat, out,
                                "positions")
 
-    def velocities(self, out=None):
+    def velocities(self, out: Optional[np.ndarray] = None) -> np.ndarray:
         """The vertices' velocities (n, 3), in out when given."""
         return self._copy_rows(lib.fmBody_CopyVelocities, lib.fmBody_CopyVelocitiesFloat, out,
                                "velocities")
 
-    def interpolated_positions(self, alpha, out=None):
+    def interpolated_positions(self, alpha: float,
+                               out: Optional[np.ndarray] = None) -> np.ndarray:
         """Positions alpha of the way through the last frame World.advance stepped (float32,
         (n, 3), in out when given): for drawing between frames."""
         n = self.vertex_count
@@ -423,42 +436,42 @@ class Body:
             self._id, finite(alpha, "alpha"), ffi.from_buffer("float[]", out), n))
         return out
 
-    def set_positions(self, positions):
+    def set_positions(self, positions: ArrayLike) -> None:
         """Overwrite every vertex's position ((n, 3) finite numbers)."""
         a = float_rows(positions, self.vertex_count, "positions")
         lib.fmBody_SetPositions(self._id, ffi.from_buffer("double[]", a))
 
-    def set_velocities(self, velocities):
+    def set_velocities(self, velocities: ArrayLike) -> None:
         """Overwrite every vertex's velocity ((n, 3) finite numbers)."""
         a = float_rows(velocities, self.vertex_count, "velocities")
         lib.fmBody_SetVelocities(self._id, ffi.from_buffer("double[]", a))
 
     @property
-    def masses(self):
+    def masses(self) -> np.ndarray:
         """Each vertex's lumped mass (kg), a copy."""
         n = self.vertex_count
         return np.frombuffer(ffi.buffer(lib.fmBody_GetMasses(self._live()), 8 * n),
                              np.float64).copy()
 
     @property
-    def tets(self):
+    def tets(self) -> np.ndarray:
         """(m, 4) int32: the tets' vertices (zero-based)."""
         m = self.tet_count
         return np.frombuffer(ffi.buffer(lib.fmBody_GetTets(self._live()), 16 * m),
                              np.int32).reshape(m, 4).copy()
 
     @property
-    def surface(self):
+    def surface(self) -> np.ndarray:
         """(k, 3) int32: the boundary triangles, counter-clockwise seen from outside."""
         count = ffi.new("int*")
         p = lib.fmBody_GetSurface(self._live(), count)
         return np.frombuffer(ffi.buffer(p, 12 * count[0]), np.int32).reshape(-1, 3).copy()
 
-    def apply_impulse(self, delta_velocity):
+    def apply_impulse(self, delta_velocity: Vec3) -> None:
         """Add delta_velocity (m/s) to every vertex (the seeds' space bar)."""
         lib.fmBody_ApplyImpulse(self._live(), vec3(delta_velocity, "delta_velocity"))
 
-    def apply_vertex_impulse(self, vertex, delta_velocity):
+    def apply_vertex_impulse(self, vertex: int, delta_velocity: Vec3) -> None:
         self._vertex(vertex)
         lib.fmBody_ApplyVertexImpulse(self._id, int(vertex),
                                       vec3(delta_velocity, "delta_velocity"))
@@ -468,28 +481,28 @@ class Body:
         if not 0 <= int(vertex) < n:
             raise IndexError("vertex %d: expected 0 to %d" % (vertex, n - 1))
 
-    def pin_box(self, lower, upper, axes=7):
+    def pin_box(self, lower: Vec3, upper: Vec3, axes: int = 7) -> int:
         """Pin the vertices inside [lower, upper] on axes (bits x=1, y=2, z=4); how many."""
         return lib.fmBody_PinBoxAxes(self._live(), vec3(lower, "lower"), vec3(upper, "upper"),
                                      int(axes))
 
-    def set_pinned(self, vertex, pinned=True):
+    def set_pinned(self, vertex: int, pinned: bool = True) -> None:
         self._vertex(vertex)
         lib.fmBody_SetPinned(self._id, int(vertex), bool(pinned))
 
-    def is_pinned(self, vertex):
+    def is_pinned(self, vertex: int) -> bool:
         self._vertex(vertex)
         return bool(lib.fmBody_IsPinned(self._id, int(vertex)))
 
     @property
-    def awake(self):
+    def awake(self) -> bool:
         return bool(lib.fmBody_IsAwake(self._live()))
 
     @awake.setter
-    def awake(self, value):
+    def awake(self, value: bool) -> None:
         lib.fmBody_SetAwake(self._live(), bool(value))
 
-    def set_targets(self, vertices, positions, stiffness):
+    def set_targets(self, vertices: ArrayLike, positions: ArrayLike, stiffness: float) -> None:
         """Pull vertices toward positions ((k, 3)) with springs of stiffness (N/m) over the next
         step; an empty set clears them."""
         v = np.ascontiguousarray(vertices, dtype=np.int32).reshape(-1)
@@ -498,28 +511,28 @@ class Body:
             self._live(), ffi.cast("const int*", ffi.from_buffer(v)),
             ffi.cast("const fmVec3*", ffi.from_buffer(p)), len(v), finite(stiffness, "stiffness")))
 
-    def grab(self, point, **grab):
+    def grab(self, point: Vec3, **grab: float) -> None:
         """Grab the body at point (a mouse drag); keywords are fmGrabDef's fields."""
         d = ffi.new("fmGrabDef*", lib.fmDefaultGrabDef())
         fill(d[0], grab, "fmGrabDef")
         self.world._check(lib.fmBody_Grab(self._live(), vec3(point, "point"), d))
 
-    def move_grab(self, target):
+    def move_grab(self, target: Vec3) -> None:
         """Move the grab's target; the patch follows over the next step."""
         self.world._check(lib.fmBody_MoveGrab(self._live(), vec3(target, "target")))
 
-    def release_grab(self):
+    def release_grab(self) -> None:
         lib.fmBody_ReleaseGrab(self._live())
 
     @property
-    def grab_state(self):
+    def grab_state(self) -> Optional[Tuple[Tuple[float, float, float], Tuple[float, float, float]]]:
         """(point, target) while grabbed, else None."""
         point, target = ffi.new("fmVec3*"), ffi.new("fmVec3*")
         if not lib.fmBody_GetGrab(self._live(), point, target):
             return None
         return tuple3(point[0]), tuple3(target[0])
 
-    def set_render_mesh(self, vertices, triangles):
+    def set_render_mesh(self, vertices: ArrayLike, triangles: ArrayLike) -> None:
         """Skin a triangle mesh (vertices (n, 3) at rest, triangles (m, 3)) to the body."""
         v = float_rows(vertices, len(vertices), "vertices")
         t = np.ascontiguousarray(triangles, dtype=np.int32)
@@ -530,18 +543,19 @@ class Body:
                                        ffi.cast("const int*", ffi.from_buffer(t)), len(t), diag),
               diag)
 
-    def clear_render_mesh(self):
+    def clear_render_mesh(self) -> None:
         lib.fmBody_ClearRenderMesh(self._live())
 
     @property
-    def render_triangles(self):
+    def render_triangles(self) -> np.ndarray:
         count = ffi.new("int*")
         p = lib.fmBody_GetRenderTriangles(self._live(), count)
         if p == ffi.NULL:
             return np.zeros((0, 3), np.int32)
         return np.frombuffer(ffi.buffer(p, 12 * count[0]), np.int32).reshape(-1, 3).copy()
 
-    def render_positions(self, out=None, normals=None):
+    def render_positions(self, out: Optional[np.ndarray] = None,
+                         normals: Optional[np.ndarray] = None) -> np.ndarray:
         """The render mesh's deformed positions (and normals into normals when given)."""
         n = lib.fmBody_GetRenderVertexCount(self._live())
         if n <= 0:
@@ -559,20 +573,21 @@ class Body:
         self.world._check(fn(self._id, ffi.from_buffer(kind, out), nrm, n))
         return out
 
-    def add_nodal_force(self, lower, upper, force):
+    def add_nodal_force(self, lower: Vec3, upper: Vec3, force: Vec3) -> int:
         """A force (N) shared by the vertices in [lower, upper]; how many took it."""
         return lib.fmBody_AddNodalForce(self._live(), vec3(lower, "lower"),
                                         vec3(upper, "upper"), vec3(force, "force"))
 
-    def add_pressure(self, lower, upper, pressure, follower=False):
+    def add_pressure(self, lower: Vec3, upper: Vec3, pressure: float,
+                     follower: bool = False) -> int:
         """A pressure (Pa) on the surface triangles in [lower, upper]; how many took it."""
         return lib.fmBody_AddPressure(self._live(), vec3(lower, "lower"), vec3(upper, "upper"),
                                       finite(pressure, "pressure"), bool(follower))
 
-    def clear_loads(self):
+    def clear_loads(self) -> None:
         lib.fmBody_ClearLoads(self._live())
 
-    def elastic_forces(self, out=None):
+    def elastic_forces(self, out: Optional[np.ndarray] = None) -> Tuple[float, np.ndarray]:
         """(energy, forces): the elastic energy (J) and each vertex's elastic force (n, 3)."""
         out = out_rows(out, self.vertex_count, "forces")
         if out.dtype != np.float64:
@@ -581,15 +596,15 @@ class Body:
         return energy, out
 
     @property
-    def stats(self):
+    def stats(self) -> Dict[str, Any]:
         """Energies, centre of mass, lowest y, inverted tets (fmBodyStats) as a dict."""
         return _defs.as_struct_dict(lib.fmBody_GetStats(self._live()))
 
-    def set_material(self, material):
+    def set_material(self, material: Material) -> None:
         diag = ffi.new("fmDiagnostic*")
         check(lib.fmBody_SetMaterial(self._live(), material._c, diag), diag)
 
-    def solve_static(self, tolerance=1e-8, max_iterations=100):
+    def solve_static(self, tolerance: float = 1e-8, max_iterations: int = 100) -> float:
         """Solve for equilibrium under the loads and pins; returns the residual reached."""
         residual, diag = ffi.new("double*"), ffi.new("fmDiagnostic*")
         check(lib.fmBody_SolveStatic(self._live(), finite(tolerance, "tolerance"),
@@ -601,7 +616,8 @@ class FixedStep:
     """A game loop's clock (fmFixedStep): frame_time (s), substeps, max_frames; after each
     World.advance, accumulator (s) and alpha (in [0, 1))."""
 
-    def __init__(self, frame_time=1.0 / 60.0, substeps=1, max_frames=4):
+    def __init__(self, frame_time: float = 1.0 / 60.0, substeps: int = 1,
+                 max_frames: int = 4) -> None:
         self._c = ffi.new("fmFixedStep*", lib.fmDefaultFixedStep())
         self._c.frameTime = float(frame_time)
         self._c.substeps = int(substeps)
@@ -622,11 +638,11 @@ class Collider:
         self._id = collider_id
 
     @property
-    def slot(self):
+    def slot(self) -> int:
         return self._id.index1
 
     @property
-    def valid(self):
+    def valid(self) -> bool:
         return bool(lib.fmCollider_IsValid(self._id))
 
     def _live(self):
@@ -634,23 +650,23 @@ class Collider:
             raise invalid_id("the collider")
         return self._id
 
-    def destroy(self):
+    def destroy(self) -> None:
         lib.fmDestroyCollider(self._live())
 
-    def set_transform(self, position, rotation=(0.0, 0.0, 0.0)):
+    def set_transform(self, position: Vec3, rotation: Vec3 = (0.0, 0.0, 0.0)) -> None:
         """Place the collider (rotation as axis-angle, rad) for the next step."""
         lib.fmCollider_SetTransform(self._live(), vec3(position, "position"),
                                     vec3(rotation, "rotation"))
 
-    def set_velocity(self, velocity, angular_velocity=(0.0, 0.0, 0.0)):
+    def set_velocity(self, velocity: Vec3, angular_velocity: Vec3 = (0.0, 0.0, 0.0)) -> None:
         lib.fmCollider_SetVelocity(self._live(), vec3(velocity, "velocity"),
                                    vec3(angular_velocity, "angular_velocity"))
 
     @property
-    def position(self):
+    def position(self) -> Tuple[float, float, float]:
         return tuple3(lib.fmCollider_GetPosition(self._live()))
 
-    def contact_force(self):
+    def contact_force(self) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]:
         """(force, torque): what the soft bodies pushed on it, averaged over the last step."""
         force, torque = ffi.new("fmVec3*"), ffi.new("fmVec3*")
         lib.fmCollider_GetContactForce(self._live(), force, torque)
