@@ -50,8 +50,8 @@ typedef struct fpyScene
 } fpyScene;
 
 /* cliSimulation_Create writes its reasons on standard error: they are caught there for the
-   exception (the descriptor is borrowed for the call; the GIL is held, so no Python thread
-   writes in between). */
+   exception (descriptor 2 is borrowed for the call; cffi releases the GIL around C calls, so
+   femto.Scene holds a lock over the load: no two loads borrow it at once). */
 static bool fpyCreateCaught(fpyScene* s, char* messages, size_t capacity)
 {
 	FILE* caught = tmpfile();

@@ -1,8 +1,8 @@
 // The game loop's fixed step (src/world/step.c): fmWorld_Advance steps whole frames of the
 // accumulated real time and no more than maxFrames, the same bits as the frames stepped by hand;
 // the interpolated copies lie on the straight line between the last two frames (positions and
-// render meshes); a teleport or a restored snapshot leaves nothing to interpolate from; bad
-// clocks are refused.
+// render meshes); a teleport, a restored snapshot or a frame stepped without the clock leaves
+// nothing to interpolate from; bad clocks are refused.
 #include "support.h"
 #include "test.h"
 
@@ -118,6 +118,21 @@ TEST(interpolated_copies_lie_between_the_last_two_frames)
 	CHECK_INT(fmBody_CopyInterpolatedPositionsFloat(body, 0.0, got, n), fm_ok);
 	for (int i = 0; i < 3 * n; ++i)
 		CHECK_NEAR(got[i], user[i], 1e-6);
+	// A restored snapshot, and a frame stepped without the clock: the positions now.
+	size_t size = fmWorld_GetSnapshotSize(world);
+	void* saved = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(world, saved, size, NULL), fm_ok);
+	CHECK_INT(fmWorld_Advance(world, &clock, 1.0 / 60.0, &frames), fm_ok);
+	CHECK_INT(fmWorld_RestoreSnapshot(world, saved, size), fm_ok);
+	CHECK_INT(fmBody_CopyInterpolatedPositionsFloat(body, 0.0, got, n), fm_ok);
+	CHECK_INT(fmBody_CopyPositionsFloat(body, now, n), fm_ok);
+	CHECK(memcmp(got, now, sizeof(float) * 3 * (size_t)n) == 0);
+	CHECK_INT(fmWorld_Advance(world, &clock, 1.0 / 60.0, &frames), fm_ok);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	CHECK_INT(fmBody_CopyInterpolatedPositionsFloat(body, 0.0, got, n), fm_ok);
+	CHECK_INT(fmBody_CopyPositionsFloat(body, now, n), fm_ok);
+	CHECK(memcmp(got, now, sizeof(float) * 3 * (size_t)n) == 0);
+	free(saved);
 	// Out of range, refused.
 	CHECK_INT(fmBody_CopyInterpolatedPositionsFloat(body, 1.5, got, n), fm_errParameter);
 	CHECK_INT(fmBody_CopyInterpolatedRenderPositionsFloat(body, -0.1, r0, NULL, 3),
@@ -144,6 +159,10 @@ TEST(bad_clocks_are_refused)
 	CHECK_INT(fmWorld_Advance(world, &bad, 0.1, NULL), fm_errParameter);
 	bad = clock;
 	bad.maxFrames = 0;
+	CHECK_INT(fmWorld_Advance(world, &bad, 0.1, NULL), fm_errParameter);
+	bad = clock;
+	bad.substeps = 1 << 16; // substeps of 0.25 ms: fine; of 2.5e-13 s below, refused
+	bad.frameTime = 1e-8;
 	CHECK_INT(fmWorld_Advance(world, &bad, 0.1, NULL), fm_errParameter);
 	bad = clock;
 	bad.accumulator = 1.0;

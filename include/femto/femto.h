@@ -68,9 +68,9 @@ FM_API fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCoun
 /// fmBody_CopyInterpolatedRenderPositionsFloat (3 doubles a vertex, once per body).
 /// @p framesStepped (may be NULL) gets the frames stepped. fm_errParameter (the last error says
 /// why; nothing stepped) for a clock not from fmDefaultFixedStep(), a member out of its range,
-/// or @p elapsed negative, not finite or above 1e6 s; fm_errOutOfMemory when the positions
-/// cannot be kept; a failed fmWorld_Step's result (that frame's time is spent: the clock does not
-/// retry it).
+/// or @p elapsed negative, not finite or above 1e6 s; fm_errBusy while the world is in a step;
+/// fm_errOutOfMemory when the positions cannot be kept; a failed fmWorld_Step's result (that
+/// frame's time is spent: the clock does not retry it).
 FM_API fmResult fmWorld_Advance(fmWorldId worldId, fmFixedStep* clock, double elapsed,
                                 int* framesStepped);
 
@@ -202,9 +202,9 @@ FM_API fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, i
 
 /// Positions for the picture between the last two frames fmWorld_Advance stepped: @p alpha 0
 /// gives the positions at the start of the last frame, 1 at its end (now), between them the
-/// straight line (pass fmFixedStep.alpha). Before the first advance, or after the caller moved
-/// the body (fmBody_SetPositions, fmWorld_RestoreSnapshot, fmBody_SolveStatic), the positions
-/// now. fm_errParameter for @p alpha outside [0, 1] or a NULL buffer, and as
+/// straight line (pass fmFixedStep.alpha). Before the first advance, after the caller moved
+/// the body (fmBody_SetPositions, fmWorld_RestoreSnapshot, fmBody_SolveStatic) or after a frame
+/// stepped by fmWorld_Step itself, the positions now. fm_errParameter for @p alpha outside [0, 1] or a NULL buffer, and as
 /// fmBody_CopyPositionsFloat otherwise.
 FM_API fmResult fmBody_CopyInterpolatedPositionsFloat(fmBodyId bodyId, double alpha,
                                                       float* positions, int vertexCapacity);

@@ -130,3 +130,14 @@ def finite(value, what):
     if not math.isfinite(value):
         raise ValueError("%s: expected a finite number, got %r" % (what, value))
     return value
+
+
+def int_array(values, what):
+    """values as a C-contiguous int32 array: integers only (a float array is a TypeError, not
+    truncated), each within int32."""
+    a = np.asarray(values)
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise TypeError("%s: expected integers, got %s" % (what, a.dtype))
+    if a.size and (a.min() < np.iinfo(np.int32).min or a.max() > np.iinfo(np.int32).max):
+        raise ValueError("%s: an index beyond 32 bits" % what)
+    return np.ascontiguousarray(a, dtype=np.int32)

@@ -3,12 +3,15 @@ from __future__ import annotations
 
 from typing import Union
 import os
+import threading
 
 from ._errors import FemtoError
 from ._femto import ffi, lib
 from .world import Collider, World
 
 _MESSAGES = 8192
+# A scene's load borrows standard error to catch the tool's messages: one load at a time.
+_LOAD_LOCK = threading.Lock()
 
 
 class Scene:
@@ -46,20 +49,27 @@ class Scene:
     def _make(cls, name, text):
         handle = ffi.new("fpyScene**")
         messages = ffi.new("char[]", _MESSAGES)
-        if not lib.fpy_scene_load(name, text, len(text), handle, messages, _MESSAGES):
+        with _LOAD_LOCK:
+            made = lib.fpy_scene_load(name, text, len(text), handle, messages, _MESSAGES)
+        if not made:
             said = ffi.string(messages).decode(errors="replace").strip()
             where = name.decode() if name != ffi.NULL else "builtin:house"
             raise FemtoError(lib.fm_errParameter, said or "the scene could not be made", where)
         return cls(ffi.gc(handle[0], lib.fpy_scene_free))
 
+    def _live(self):
+        if self._handle is None:
+            raise FemtoError(lib.fm_errInvalidId, "the scene is closed")
+        return self._handle
+
     @property
     def dt(self) -> float:
         """Seconds of one substep."""
-        return lib.fpy_scene_dt(self._handle)
+        return lib.fpy_scene_dt(self._live())
 
     @property
     def substeps(self) -> int:
-        return lib.fpy_scene_substeps(self._handle)
+        return lib.fpy_scene_substeps(self._live())
 
     @property
     def frame_time(self) -> float:
@@ -68,16 +78,16 @@ class Scene:
     @property
     def frames(self) -> int:
         """The scene's frame count (0 when it gives none)."""
-        return lib.fpy_scene_frames(self._handle)
+        return lib.fpy_scene_frames(self._live())
 
     @property
     def description(self) -> str:
-        return ffi.string(lib.fpy_scene_description(self._handle)).decode(errors="replace")
+        return ffi.string(lib.fpy_scene_description(self._live())).decode(errors="replace")
 
     def step(self, frames: int = 1) -> None:
         """Advance frames frames; a failed step raises FemtoError with the world's advice."""
         for _ in range(int(frames)):
-            code = lib.fpy_scene_step(self._handle)
+            code = lib.fpy_scene_step(self._live())
             if code != lib.fm_ok:
                 raise self.world.last_error(code)
 

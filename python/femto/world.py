@@ -178,6 +178,8 @@ class World:
                 raise TypeError("material: expected a femto.Material")
             d.material = material._c[0]
         if region_materials is not None or region_ids is not None:
+            if region_materials is None or region_ids is None:
+                raise TypeError("region_materials and region_ids go together")
             materials = ffi.new("fmMaterial[]", [m._c[0] for m in region_materials])
             ids = ffi.new("int[]", [int(i) for i in region_ids])
             if len(materials) != len(ids):
@@ -211,7 +213,7 @@ class World:
         keep = []
         if vertices is not None:
             v = np.ascontiguousarray(vertices, dtype=np.float64)
-            t = np.ascontiguousarray(triangles, dtype=np.int32)
+            t = _defs.int_array(triangles, "triangles")
             if v.ndim != 2 or v.shape[1] != 3 or t.ndim != 2 or t.shape[1] != 3:
                 raise ValueError("vertices (n, 3) and triangles (m, 3) expected")
             keep += [v, t]
@@ -391,6 +393,7 @@ class Body:
     def destroy(self) -> None:
         """Remove the body from its world."""
         lib.fmDestroyBody(self._live())
+        self.world._bodies.pop((self._id.index1, self._id.generation), None)
 
     def __repr__(self):
         if not self.valid:
@@ -505,7 +508,7 @@ class Body:
     def set_targets(self, vertices: ArrayLike, positions: ArrayLike, stiffness: float) -> None:
         """Pull vertices toward positions ((k, 3)) with springs of stiffness (N/m) over the next
         step; an empty set clears them."""
-        v = np.ascontiguousarray(vertices, dtype=np.int32).reshape(-1)
+        v = _defs.int_array(vertices, "vertices").reshape(-1)
         p = float_rows(positions, len(v), "positions")
         self.world._check(lib.fmBody_SetTargets(
             self._live(), ffi.cast("const int*", ffi.from_buffer(v)),
@@ -535,7 +538,7 @@ class Body:
     def set_render_mesh(self, vertices: ArrayLike, triangles: ArrayLike) -> None:
         """Skin a triangle mesh (vertices (n, 3) at rest, triangles (m, 3)) to the body."""
         v = float_rows(vertices, len(vertices), "vertices")
-        t = np.ascontiguousarray(triangles, dtype=np.int32)
+        t = _defs.int_array(triangles, "triangles")
         if t.ndim != 2 or t.shape[1] != 3:
             raise ValueError("triangles: expected shape (m, 3), got %s" % (t.shape,))
         diag = ffi.new("fmDiagnostic*")

@@ -87,7 +87,7 @@ def main(argv=None):
                         "cluster on this machine)")
     parser.add_argument("--workers", type=int, default=2, help="local cluster: worker processes")
     parser.add_argument("--csv", help="write the results here")
-    parser.add_argument("--quick", action="store_true", help="a 12-run subset of the 200")
+    parser.add_argument("--quick", action="store_true", help="a 24-run subset of the 200")
     args = parser.parse_args(argv)
     from dask.distributed import Client, LocalCluster
 

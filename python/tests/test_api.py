@@ -135,8 +135,8 @@ def test_render_meshes_follow_the_body():
 def test_the_game_loop_steps_whole_frames_and_interpolates():
     world, body = small_world()
     clock = femto.FixedStep(frame_time=1 / 60, substeps=4)
-    frames = sum(world.advance(clock, dt) for dt in [0.01, 0.02, 0.005, 0.0] * 10)
-    assert frames == 21 and clock.alpha == pytest.approx((0.35 - 21 / 60) * 60, abs=1e-9)
+    frames = sum(world.advance(clock, dt) for dt in [0.01, 0.02, 0.006, 0.0] * 10)  # 0.36 s
+    assert frames == 21 and clock.alpha == pytest.approx((0.36 - 21 / 60) * 60, abs=1e-9)
     before = body.positions().copy()
     assert world.advance(clock, 1 / 60) == 1
     now = body.positions()
@@ -146,3 +146,16 @@ def test_the_game_loop_steps_whole_frames_and_interpolates():
     assert np.array_equal(body.interpolated_positions(1.0), now.astype(np.float32))
     with pytest.raises(femto.FemtoError):
         world.advance(clock, -1.0)
+
+
+def test_wrong_index_types_are_refused_not_truncated():
+    world, body = small_world()
+    with pytest.raises(TypeError, match="integers"):
+        body.set_targets([0.5], [[0.0, 0.0, 0.0]], 100.0)
+    with pytest.raises(TypeError, match="go together"):
+        world.add_body(femto.TetMesh.box((1, 1, 1), (0, 0, 0), (1, 1, 1)),
+                       region_materials=[femto.Material("stvk", lam=1e4, mu=1e4)])
+    scene = femto.Scene.house()
+    scene.close()
+    with pytest.raises(femto.FemtoError):
+        scene.step()

@@ -120,4 +120,4 @@ def test_a_snapshot_brings_the_same_bits_back():
     assert np.array_equal(scene.bodies[0].positions(), first)
     with pytest.raises(femto.FemtoError) as error:
         scene.world.restore_snapshot(saved[: len(saved) // 2])
-    assert error.value.name != "fm_ok"
+    assert error.value.name == "fm_errParameter" and "snapshot" in error.value.message

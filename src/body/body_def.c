@@ -229,9 +229,10 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		edges = n * (n - 1) / 2;
 	bool springs = def && def->forceModel == fm_massSpring;
 
-	// The body: 6 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface, and the
-	// two vectors of 3n doubles it may need in the world's step arena.
-	uint64_t body = 8 * fmArrayBytes(3 * n, d) + 3 * fmArrayBytes(n, d) + fmArrayBytes(n, 1) +
+	// The body: 6 vectors of 3n doubles, 3 of n doubles, pins, tets, rest data, surface, the
+	// two vectors of 3n doubles it may need in the world's step arena, and the previous
+	// positions fmWorld_Advance keeps.
+	uint64_t body = 9 * fmArrayBytes(3 * n, d) + 3 * fmArrayBytes(n, d) + fmArrayBytes(n, 1) +
 	                2 * fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(n + 1, sizeof(int)) +
 	                fmArrayBytes(m, sizeof(fmMat3)) + fmArrayBytes(m, d) +
 	                fmArrayBytes(3 * surface, sizeof(int)) + 64;

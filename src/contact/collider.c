@@ -1,6 +1,7 @@
 // Rigid colliders (collider.h): exact signed distances of the four shapes, a segment cast by
 // sphere tracing on them (exact distances make every step safe), kinematic motion.
 #include "contact/collider.h"
+#include "contact/contact_collider.h"
 
 #include "core/core.h"
 #include "core/det_math.h"
@@ -404,6 +405,8 @@ void fmDestroyCollider(fmColliderId colliderId)
 		return;
 	if (c == &w->floorCollider)
 		w->def.floor.enabled = false;
+	fmContactCollider_ForgetFriction(w, c == &w->floorCollider ? FM_FLOOR_SLOT
+	                                                           : (int)(c - w->colliders));
 	fmCollider_Release(c);
 }
 

@@ -11,6 +11,7 @@
 #include "world/world.h"
 
 #include <math.h>
+#include <string.h>
 
 // Friction for vertex i's next implicit step (penalty.h): the contact normal, the Coulomb
 // limit mu lambda (N; a stick collider's: lambda, with next[7] = 1, no limit), the surface's
@@ -220,6 +221,24 @@ static void fmFindColliderRange(int start, int end, int worker, void* context)
 	}
 }
 
+void fmContactCollider_ForgetFriction(fmWorld* w, int slot)
+{
+	for (int b = 0; b < w->bodyCapacity; ++b)
+	{
+		fmBodyContact* c = &w->bodies[b].contact;
+		int n = w->bodies[b].mesh.vertexCount;
+		for (int i = 0; fmBody_IsLive(&w->bodies[b]) && i < n; ++i)
+		{
+			double* records[2] = {c->friction, c->frictionNext};
+			for (int k = 0; k < 2; ++k)
+				if (records[k] != NULL &&
+				    records[k][(size_t)FM_FRICTION_STRIDE * i + 12] == slot + 1)
+					memset(records[k] + (size_t)FM_FRICTION_STRIDE * i, 0,
+					       FM_FRICTION_STRIDE * sizeof(double));
+		}
+	}
+}
+
 void fmContactCollider_BookSolveFriction(fmWorld* w, double h)
 {
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
@@ -231,7 +250,8 @@ void fmContactCollider_BookSolveFriction(fmWorld* w, double h)
 		{
 			int i = b->contact.surfaceVertex[p];
 			int k = (int)b->contact.friction[(size_t)FM_FRICTION_STRIDE * i + 12] - 1;
-			if (k < 0 || (k != FM_FLOOR_SLOT && (k >= w->colliderCapacity || !w->colliders[k].inUse)))
+			if (k < 0 ||
+			    (k != FM_FLOOR_SLOT && (k >= w->colliderCapacity || !w->colliders[k].inUse)))
 				continue;
 			fmVec3 impulse =
 			    fmScale(h, fmContactFriction_Force(b, i, b->state.x, b->contact.start, h));
@@ -239,8 +259,8 @@ void fmContactCollider_BookSolveFriction(fmWorld* w, double h)
 				continue;
 			fmCollider* c = fmWorldCollider(w, k);
 			c->impulse = fmSub(c->impulse, impulse);
-			c->angularImpulse =
-			    fmSub(c->angularImpulse, fmCross(fmSub(fmLoad(b->state.x, i), c->position), impulse));
+			c->angularImpulse = fmSub(c->angularImpulse,
+			                          fmCross(fmSub(fmLoad(b->state.x, i), c->position), impulse));
 		}
 	}
 }

@@ -23,3 +23,7 @@ bool fmContactCollider_Collide(fmWorld* w, fmContactState* s, double thickness);
 // In body and vertex order, on one thread; after the solve, before the contact stage moves
 // anything.
 void fmContactCollider_BookSolveFriction(fmWorld* w, double h);
+
+// Drop the friction records collider @p slot wrote (FM_FLOOR_SLOT: the floor's): it is gone,
+// and a collider made later in its slot must neither feel nor give that friction.
+void fmContactCollider_ForgetFriction(fmWorld* w, int slot);

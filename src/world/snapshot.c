@@ -939,8 +939,8 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	if (r == fm_ok)
 		r = fmBodiesPass(w, &s, 1);
 	fmWorld_MovedVertices(w);
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		w->bodies[i].previousValid = false; // nothing to interpolate from
+	for (int i = 0; r == fm_ok && i < w->bodyCapacity; ++i)
+		w->bodies[i].previousValid = false; // restored: nothing to interpolate from
 	if (r != fm_ok)
 		return r;
 	fmMoveWorldSettings(&(fmStream){NULL, buffer, size, FM_SNAPSHOT_HEADER_BYTES, false}, false, w);

@@ -857,6 +857,8 @@ fmResult fmWorld_Step(fmWorldId worldId, double timeStep, int subStepCount)
 	w->stepBodiesMeet = fmContact_BodiesMeet(w);
 	w->stepKnown = true;
 	fmWorld_MovedVertices(w); // (the user may have moved vertices through the step's pointers)
+	for (int i = 0; !w->advancing && i < w->bodyCapacity; ++i)
+		w->bodies[i].previousValid = false; // a frame not from fmWorld_Advance: no last two
 	fmResult r = fmWorldStep(w, timeStep, subStepCount);
 	fmWorld_MovedVertices(w);
 	w->stepKnown = false;
@@ -896,6 +898,8 @@ static const char* fmClockProblem(const fmFixedStep* clock, double elapsed)
 		return "frameTime is outside [FM_MIN_SUBSTEP, FM_MAX_SUBSTEP] s";
 	if (clock->substeps < 1 || clock->substeps > FM_MAX_SUBSTEPS)
 		return "substeps is outside [1, FM_MAX_SUBSTEPS]";
+	if (!(clock->frameTime / clock->substeps >= FM_MIN_SUBSTEP))
+		return "frameTime / substeps is below FM_MIN_SUBSTEP s";
 	if (clock->maxFrames < 1 || clock->maxFrames > FM_MAX_ADVANCE_FRAMES)
 		return "maxFrames is outside [1, 1000]";
 	if (!(clock->accumulator >= 0.0 && clock->accumulator < clock->frameTime))
@@ -929,6 +933,8 @@ fmResult fmWorld_Advance(fmWorldId worldId, fmFixedStep* clock, double elapsed, 
 	fmWorld* w = fmGetWorld(worldId);
 	if (w == NULL)
 		return fm_errInvalidId;
+	if (atomic_load(&w->stepping) != 0) // in a step: its positions are not to be read
+		return fm_errBusy;
 	const char* problem = fmClockProblem(clock, elapsed);
 	if (problem != NULL)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "fmWorld_Advance: %s",
@@ -944,11 +950,13 @@ fmResult fmWorld_Advance(fmWorldId worldId, fmFixedStep* clock, double elapsed, 
 			                     "fmWorld_Advance: out of memory for the bodies' positions");
 			break;
 		}
-		clock->accumulator -= clock->frameTime;
-		++frames;
+		clock->accumulator -= clock->frameTime; // spent even when the step fails: not retried
+		w->advancing = true;
 		result = fmWorld_Step(worldId, clock->frameTime, clock->substeps);
+		w->advancing = false;
 		if (result != fm_ok)
 			break;
+		++frames;
 	}
 	// Beyond maxFrames the time is dropped: what is left is less than a frame.
 	if (clock->accumulator >= clock->frameTime)

@@ -34,6 +34,7 @@ typedef struct fmWorld
 	// 1 inside fmWorld_Step: a second step (another thread's, or from the substep callback) is
 	// refused by the atomic exchange that sets it, before it touches anything.
 	atomic_int stepping;
+	bool advancing; // fmWorld_Advance is stepping: its frames keep the bodies' previous positions
 	fmStepStats stats;
 	fmProfile profile; // the last step's stage times (ms)
 	fmDiagnostic lastError;
