@@ -204,8 +204,8 @@ FM_API fmResult fmBody_CopyVelocitiesFloat(fmBodyId bodyId, float* velocities, i
 /// gives the positions at the start of the last frame, 1 at its end (now), between them the
 /// straight line (pass fmFixedStep.alpha). Before the first advance, after the caller moved
 /// the body (fmBody_SetPositions, fmWorld_RestoreSnapshot, fmBody_SolveStatic) or after a frame
-/// stepped by fmWorld_Step itself, the positions now. fm_errParameter for @p alpha outside [0, 1] or a NULL buffer, and as
-/// fmBody_CopyPositionsFloat otherwise.
+/// stepped by fmWorld_Step itself, the positions now. fm_errParameter for @p alpha outside [0, 1]
+/// or a NULL buffer, and as fmBody_CopyPositionsFloat otherwise.
 FM_API fmResult fmBody_CopyInterpolatedPositionsFloat(fmBodyId bodyId, double alpha,
                                                       float* positions, int vertexCapacity);
 

@@ -15,8 +15,8 @@
 
 #include "contact/collider.h"
 #include "contact/penalty.h"
-#include "world/world.h"
 #include "core/core.h"
+#include "world/world.h"
 
 #include <math.h>
 #include <stdlib.h>
