@@ -381,6 +381,40 @@ FM_API bool fmBody_GetGrab(fmBodyId bodyId, fmVec3* point, fmVec3* target);
 FM_API bool fmWorld_GrabRay(fmWorldId worldId, fmVec3 origin, fmVec3 translation, fmFilter filter,
                             const fmGrabDef* def, fmRayHit* hit);
 
+/// Glue @p count vertices (user numbering) to a collider, a game's rigid body seen by femto: each
+/// is held by a spring and dashpot (@p def; NULL: fmDefaultAttachDef()) to the point of the
+/// collider's frame where the vertex is now, which then moves with the collider
+/// (fmCollider_SetTransform, fmCollider_SetVelocity: placed each substep where the collider's
+/// motion leaves it). What the body pulls on the collider through them is part of its force and
+/// torque (fmCollider_GetContactForce), so an engine's rigid body carries the body and feels
+/// it. Both integrators and static solves; the glue's work is in the body's energy ledger; kept
+/// in snapshots; dropped with the collider. A body hung on a moving collider does not sleep.
+/// fm_errParameter (the last error says why) for a vertex out of range, a collider not live in
+/// the body's world, a def not from fmDefaultAttachDef() or out of range; fm_errLimit beyond
+/// FM_MAX_ANCHORS_PER_VERTEX attachments per vertex of the body. docs/contact.md, "Attachments".
+FM_API fmResult fmBody_AttachToCollider(fmBodyId bodyId, const int* vertices, int count,
+                                        fmColliderId colliderId, const fmAttachDef* def);
+
+/// Weld @p count vertices of the body to vertices of another body of its world (or of itself: a
+/// seam), vertices[k] to otherVertices[k] (each in its body's user numbering): both ends are
+/// pulled, each by a spring and dashpot (@p def; NULL: the default, from the lighter body's
+/// weight), to the same point every substep, the two vertices' midpoint (implicit: of their
+/// free flights), so each body's own solve brings its vertex there and the two ends' forces are
+/// equal and opposite at rest: welded bodies carry each other's weight exactly, and keep their
+/// momentum to round-off (explicit) or the solve's tolerance (implicit). Welded bodies do not
+/// collide with each other (as a game engine's jointed bodies), sleep and wake together, are
+/// kept in snapshots, and lose the weld when either is destroyed. Errors as
+/// fmBody_AttachToCollider's (the same vertex at both ends of a seam is fm_errParameter).
+FM_API fmResult fmBody_Weld(fmBodyId bodyId, const int* vertices, fmBodyId otherId,
+                            const int* otherVertices, int count, const fmAttachDef* def);
+
+/// The body's attachments: glued vertices and weld ends (a weld between two bodies counts once
+/// on each). 0 for a stale id.
+FM_API int fmBody_GetAttachmentCount(fmBodyId bodyId);
+
+/// Remove the body's glue and its welds, at both ends.
+FM_API void fmBody_ClearAttachments(fmBodyId bodyId);
+
 /// Give the body a render mesh: a triangle surface of any resolution (an artist's mesh) that
 /// follows the body's deformation. @p vertices (3 per vertex, m) are in the frame of the mesh the
 /// body was created from, at rest; each is bound once to the tet that contains it at rest, or,

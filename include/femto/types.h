@@ -563,6 +563,29 @@ typedef struct fmGrabDef
 /// least 9.81 m/s^2).
 FM_API fmGrabDef fmDefaultGrabDef(void);
 
+/// How attached vertices hold on (fmBody_AttachToCollider, fmBody_Weld): each by a zero-length
+/// spring and dashpot, bounded like a grab's. Start from fmDefaultAttachDef(); a stiffness of 0
+/// picks the default that scales with the body.
+typedef struct fmAttachDef
+{
+	/// N/m on each vertex (default 0: the body's weight over 1 mm shared by the call's vertices,
+	/// so a body hung by them sags about 1 mm; a weld takes the lighter body's weight)
+	double stiffness;
+	/// the dashpot against each vertex's share of the body's mass, 1 critical (default 1), on the
+	/// vertex's velocity relative to its anchor's
+	double dampingRatio;
+	/// N, the bound on each vertex's force (default 0: none); beyond it the vertex slides
+	/// away from its anchor pulled by this force, as a grab's
+	double maxForce;
+	int internalValue; ///< set by fmDefaultAttachDef; attach calls check it
+} fmAttachDef;
+
+/// The default attachment: the body's weight over 1 mm, critically damped, unbounded.
+FM_API fmAttachDef fmDefaultAttachDef(void);
+
+/// Attachments a body holds at most, per vertex of the body (glue and weld ends together).
+#define FM_MAX_ANCHORS_PER_VERTEX 8
+
 /// A fixed-step clock for a game loop (docs/embedding.md, "A game loop"): the game adds the real
 /// time that passed each rendered frame (fmWorld_Advance), the world steps whole frames of
 /// frameTime, and what is left over is where the picture stands between the last two frames

@@ -5,6 +5,7 @@
 #include "body/body_def.h"
 #include "body/grab.h"
 #include "body/loads.h"
+#include "body/anchors.h"
 #include "body/targets.h"
 #include "contact/floor.h"
 #include "contact/penalty.h"
@@ -51,6 +52,7 @@ void fmBodyRelease(fmBody* b)
 	fmBodyContact_Free(&b->contact, vertexCount, tetCount);
 	fmGrab_Free(b);
 	fmTargets_Free(b);
+	fmAnchors_Free(b);
 	fmLoads_Free(b->loads);
 	fmSolverCache_Free(b->solverCache);
 	fmTetBlocks_Destroy(b->mesh.tetBlocks);

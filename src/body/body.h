@@ -78,6 +78,12 @@ typedef struct fmBody
 	int targetCapacity;
 	struct fmTarget* targets;
 	struct fmGrab* grab;
+	// Attachments (anchors.h): glue to colliders and weld ends, each with its spring, a target
+	// placed every substep (anchorTargets, after the targets above in every sum).
+	int anchorCount;
+	int anchorCapacity;
+	struct fmAnchor* anchors;
+	struct fmTarget* anchorTargets;
 	// Let go of a grab and still stretched or moving: the stiffening proxy (stability.h) at the
 	// grab, which the body must relax to, and the kinetic energy it must settle below (J), before
 	// an explicit world gives up adaptive substeps; 0 when none (grab.h).

@@ -15,7 +15,7 @@
 // its stiffness (returned).
 static double fmTargetSpring(const fmTargetStep* s, int t, const double* x, double d[3])
 {
-	const fmTarget* target = &s->body->targets[t];
+	const fmTarget* target = fmTargets_At(s->body, t);
 	const double* xi = x + 3 * target->vertex;
 	double k = target->stiffness;
 	if (s->xStart == NULL || target->damping <= 0.0)
@@ -55,7 +55,7 @@ void fmTargets_Force(const fmTargetStep* s, int t, const double* x, double force
 {
 	double d[3], slope;
 	double k = fmTargetSpring(s, t, x, d);
-	fmHuber(d, k, s->body->targets[t].maxForce, &slope);
+	fmHuber(d, k, fmTargets_At(s->body, t)->maxForce, &slope);
 	for (int e = 0; e < 3; ++e)
 		force[e] = -slope * d[e];
 }
@@ -63,12 +63,12 @@ void fmTargets_Force(const fmTargetStep* s, int t, const double* x, double force
 static double fmTargetsEnergy(const fmTargetStep* s, const double* x, double* gradient)
 {
 	double energy = 0.0;
-	for (int t = 0; t < s->body->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(s->body); ++t)
 	{
 		double d[3], slope;
 		double k = fmTargetSpring(s, t, x, d);
-		energy += fmHuber(d, k, s->body->targets[t].maxForce, &slope);
-		int i = s->body->targets[t].vertex;
+		energy += fmHuber(d, k, fmTargets_At(s->body, t)->maxForce, &slope);
+		int i = fmTargets_At(s->body, t)->vertex;
 		for (int e = 0; gradient != NULL && e < 3; ++e)
 			gradient[3 * i + e] += slope * d[e];
 	}
@@ -80,7 +80,7 @@ static void fmTargetBlock(const fmTargetStep* s, int t, const double* x, double 
 {
 	double d[3], slope;
 	double k = fmTargetSpring(s, t, x, d);
-	fmHuber(d, k, s->body->targets[t].maxForce, &slope);
+	fmHuber(d, k, fmTargets_At(s->body, t)->maxForce, &slope);
 	bool bounded = slope < k;
 	double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 	for (int a = 0; a < 3; ++a)
@@ -91,13 +91,12 @@ static void fmTargetBlock(const fmTargetStep* s, int t, const double* x, double 
 double fmTargets_ImplicitWork(const fmTargetStep* s, const double* x)
 {
 	double work = 0.0;
-	for (int t = 0; t < s->body->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(s->body); ++t)
 	{
-		double f[3];
-		fmTargets_Force(s, t, x, f);
-		int i = s->body->targets[t].vertex;
+		fmTarget* target = fmTargets_At(s->body, t);
+		fmTargets_Force(s, t, x, target->applied);
 		for (int e = 0; e < 3; ++e)
-			work += f[e] * (x[3 * i + e] - s->xStart[3 * i + e]);
+			work += target->applied[e] * (x[3 * target->vertex + e] - s->xStart[3 * target->vertex + e]);
 	}
 	return work;
 }
@@ -227,11 +226,11 @@ static void fmTargetsTermHessian(const void* context, const double* x, const fmB
                                  double* values)
 {
 	const fmTargetStep* s = context;
-	for (int t = 0; t < s->body->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(s->body); ++t)
 	{
 		double block[9];
 		fmTargetBlock(s, t, x, block);
-		int i = s->body->targets[t].vertex;
+		int i = fmTargets_At(s->body, t)->vertex;
 		double* into =
 		    values +
 		    9 * (size_t)(pattern != NULL && pattern->diagonal != NULL ? pattern->diagonal[i] : i);
@@ -243,11 +242,11 @@ static void fmTargetsTermHessian(const void* context, const double* x, const fmB
 static void fmTargetsTermProduct(const void* context, const double* x, const double* dx, double* y)
 {
 	const fmTargetStep* s = context;
-	for (int t = 0; t < s->body->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(s->body); ++t)
 	{
 		double block[9];
 		fmTargetBlock(s, t, x, block);
-		int i = s->body->targets[t].vertex;
+		int i = fmTargets_At(s->body, t)->vertex;
 		for (int a = 0; a < 3; ++a)
 			for (int c = 0; c < 3; ++c)
 				y[3 * i + a] += block[3 * a + c] * dx[3 * i + c];

@@ -17,8 +17,20 @@ typedef struct fmTarget
 	double stiffness;   // N/m
 	double damping;     // N s/m, against the vertex's velocity relative to the position's
 	double maxForce;    // N, the bound on the target's force (INFINITY: none)
-	double applied[3];  // N, explicit: the force of the last substep (for its work)
+	double applied[3];  // N, the force of the last substep (its work, an attachment's reaction)
 } fmTarget;
+
+// The body's springs: its targets, then its attachments' (anchors.h), as every sum takes them.
+static inline int fmTargets_Count(const fmBody* body)
+{
+	return body->targetCount + body->anchorCount;
+}
+
+// Spring @p t of fmTargets_Count.
+static inline fmTarget* fmTargets_At(const fmBody* body, int t)
+{
+	return t < body->targetCount ? &body->targets[t] : &body->anchorTargets[t - body->targetCount];
+}
 
 // Room for @p count targets on the body (grows, never shrinks); false without memory.
 bool fmTargets_Reserve(fmBody* body, int count);
@@ -43,7 +55,7 @@ void fmTargets_Force(const fmTargetStep* step, int t, const double* x, double fo
 fmNewtonTerm fmTargets_Term(const fmTargetStep* step);
 
 // Implicit: the springs' work over a step from the step's start to @p x, with the forces at the
-// end (backward Euler's).
+// end (backward Euler's), each spring's force kept in its `applied` (the attachments' reactions).
 double fmTargets_ImplicitWork(const fmTargetStep* step, const double* x);
 
 // Explicit: the force of target @p t on its vertex at @p x, @p v (the body's arrays) with its

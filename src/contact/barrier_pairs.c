@@ -2,6 +2,7 @@
 // point or a segment, the pairs within dHat.
 #include "contact/barrier_pairs.h"
 
+#include "body/anchors.h"
 #include "contact/contact.h"
 #include "core/det_math.h"
 #include "math/distance.h"
@@ -99,6 +100,7 @@ static bool fmMayMeet(const fmBarrierContact* bc, int o, fmVec3 lo, fmVec3 hi)
 	const fmBody* other = &w->bodies[o];
 	return o != bc->slot && fmBody_IsLive(other) &&
 	       fmFiltersMeet(w->bodies[bc->slot].filter, other->filter) &&
+	       !fmAnchors_Welded(&w->bodies[bc->slot], other) &&
 	       !fmBarrierContact_Overlapping(w, bc->slot, o) && other->contact.surfaceEdge != NULL &&
 	       other->contact.start != NULL && fmSurfaceMeets(other, bc->dHat, lo, hi);
 }

@@ -1,6 +1,7 @@
 // Body-body detection (contact_detect.h).
 #include "contact/contact_detect.h"
 
+#include "body/anchors.h"
 #include "contact/contact_edge.h"
 #include "contact/contact_pair.h"
 #include "core/core.h"
@@ -46,7 +47,7 @@ static bool fmIsNeighbour(const fmWorld* w, int slot, int k)
 	const fmBody* b = &w->bodies[slot];
 	const fmBody* o = &w->bodies[k];
 	return fmBody_IsLive(o) && (k != slot || b->selfCollision) &&
-	       fmFiltersMeet(b->filter, o->filter);
+	       fmFiltersMeet(b->filter, o->filter) && !fmAnchors_Welded(b, o);
 }
 
 // Append neighbour @p k to the list being made; false when memory is short.

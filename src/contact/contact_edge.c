@@ -1,6 +1,7 @@
 // Edge against edge between bodies (contact_edge.h).
 #include "contact/contact_edge.h"
 
+#include "body/anchors.h"
 #include "contact/contact.h"
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
@@ -148,7 +149,8 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		const fmBody* o = &w->bodies[other];
 		fmVec3 ilo = s->lower[found], ihi = s->upper[found];
 		if (other < slot || (other == slot && !b->selfCollision) ||
-		    !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) || hi.x < ilo.x ||
+		    !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) ||
+		    fmAnchors_Welded(b, o) || hi.x < ilo.x ||
 		    lo.x > ihi.x || hi.y < ilo.y || lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)
 			continue;
 		wf->failed = !fmEdgeAgainstTriangle(s, wf, b, slot, e, side, o, other,

@@ -2,6 +2,7 @@
 #include "contact/contact_pair.h"
 #include "contact/barrier_contact.h"
 
+#include "body/anchors.h"
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
 #include "contact/penalty.h"
@@ -58,7 +59,8 @@ static bool fmNearestOnTriangle(const fmBody* o, const int* tri, fmVec3 p, doubl
 static bool fmMayContain(const fmWorld* w, int slot, int other)
 {
 	const fmBody *b = &w->bodies[slot], *o = &w->bodies[other];
-	return other != slot && fmFiltersMeet(b->filter, o->filter) && !(b->asleep && o->asleep);
+	return other != slot && fmFiltersMeet(b->filter, o->filter) && !(b->asleep && o->asleep) &&
+	       !fmAnchors_Welded(b, o);
 }
 
 // The surface triangle of body slot @p other nearest to point @p p, from the broad phase's
@@ -138,7 +140,7 @@ static double fmCandidateScore(const fmWorld* w, const fmContactState* s, int sl
 		return INFINITY; // the triangle's grown box is out of the vertex's reach
 	const fmBody* o = &w->bodies[other];
 	if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
-	    (b->asleep && o->asleep))
+	    (b->asleep && o->asleep) || fmAnchors_Welded(b, o))
 		return INFINITY;
 	const int* tri = fmContactDetect_Triangle(o, s->triangleIndex[item]);
 	if (other == slot && !fmSelfCandidate(b, i, tri, thickness))

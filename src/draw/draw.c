@@ -346,23 +346,25 @@ static void fmDrawPins(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw)
 		draw->drawPoints(c->points, count, FM_DRAW_POINT_SIZE, FM_COLOR_PINS, draw->context);
 }
 
-// Targets: their positions as points, and a line from each to its vertex.
+// Targets and attachments: their positions as points, and a line from each to its vertex.
 static bool fmDrawTargets(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw)
 {
-	if (b->targetCount == 0)
+	int n = fmTargets_Count(b);
+	if (n == 0)
 		return true;
-	if (!fmReserveLines(c, b->targetCount))
+	if (!fmReserveLines(c, n))
 		return false;
-	for (int t = 0; t < b->targetCount; ++t)
-		fmPutLine(c->lines + 6 * t, b->targets[t].position, b->state.x + 3 * b->targets[t].vertex);
+	for (int t = 0; t < n; ++t)
+		fmPutLine(c->lines + 6 * t, fmTargets_At(b, t)->position,
+		          b->state.x + 3 * fmTargets_At(b, t)->vertex);
 	if (draw->drawLines)
-		draw->drawLines(c->lines, b->targetCount, FM_COLOR_TARGETS, draw->context);
+		draw->drawLines(c->lines, n, FM_COLOR_TARGETS, draw->context);
 	if (draw->drawPoints)
 	{
-		for (int t = 0; t < b->targetCount && t < b->mesh.vertexCount; ++t)
+		int count = n < b->mesh.vertexCount ? n : b->mesh.vertexCount;
+		for (int t = 0; t < count; ++t)
 			for (int e = 0; e < 3; ++e)
-				c->points[3 * t + e] = (float)b->targets[t].position[e];
-		int count = b->targetCount < b->mesh.vertexCount ? b->targetCount : b->mesh.vertexCount;
+				c->points[3 * t + e] = (float)fmTargets_At(b, t)->position[e];
 		draw->drawPoints(c->points, count, FM_DRAW_POINT_SIZE, FM_COLOR_TARGETS, draw->context);
 	}
 	return true;

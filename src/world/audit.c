@@ -22,6 +22,7 @@
 #include "contact/collider.h"
 #include "core/det_math.h"
 
+#include "body/anchors.h"
 #include "core/core.h"
 #include "core/fp_env.h"
 #include "math/geometry.h"
@@ -568,7 +569,8 @@ static bool fmAuditTakes(fmWorld* w, int focus, const fmVec3 focusBox[2], int sl
 		return false;
 	if (focus < 0 || slot == focus)
 		return true;
-	if (!fmFiltersMeet(w->bodies[focus].filter, b->filter))
+	if (!fmFiltersMeet(w->bodies[focus].filter, b->filter) ||
+	    fmAnchors_Welded(&w->bodies[focus], b))
 		return false;
 	fmVec3 blo, bhi;
 	fmAuditCachedBox(w, b, &blo, &bhi);

@@ -39,9 +39,9 @@ static void fmAddRayleighForces(fmBody* b, fmArena* arena)
 // forces for any target), each force kept for the target's work.
 static void fmAddTargetForces(fmBody* b, double dt, double frameTime, double* f)
 {
-	for (int t = 0; t < b->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(b); ++t)
 	{
-		fmTarget* target = &b->targets[t];
+		fmTarget* target = fmTargets_At(b, t);
 		double m = b->mesh.mass[target->vertex];
 		fmTargets_ExplicitForce(target, b->state.x, b->state.v,
 		                        (target->damping > 0.0 ? 0.25 : 1.0) * m / (dt * dt), 0.25 * m / dt,
@@ -55,9 +55,9 @@ static void fmAddTargetForces(fmBody* b, double dt, double frameTime, double* f)
 static double fmTargetWork(const fmBody* b, double dt)
 {
 	double work = 0.0;
-	for (int t = 0; t < b->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(b); ++t)
 		for (int e = 0; e < 3; ++e)
-			work += b->targets[t].applied[e] * dt * b->state.v[3 * b->targets[t].vertex + e];
+			work += fmTargets_At(b, t)->applied[e] * dt * b->state.v[3 * fmTargets_At(b, t)->vertex + e];
 	return work;
 }
 
@@ -136,7 +136,7 @@ static bool fmGravityAndElasticForces(const fmWorld* world, const fmTaskSystem* 
 static bool fmPlainStep(const fmBody* b)
 {
 	return b->mesh.forceModel != fm_massSpring && b->rayleighMass <= 0.0 &&
-	       b->rayleighStiffness <= 0.0 && b->targetCount == 0 && !fmLoads_Active(b);
+	       b->rayleighStiffness <= 0.0 && fmTargets_Count(b) == 0 && !fmLoads_Active(b);
 }
 
 fmResult fmExplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* b)

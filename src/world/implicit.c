@@ -51,12 +51,12 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 	// The kinematic targets' pull is an external force too.
 	double pull = 0.0;
 	const fmTargetStep* targets = pb->targets.context;
-	for (int t = 0; t < b->targetCount; ++t)
+	for (int t = 0; t < fmTargets_Count(b); ++t)
 	{
 		double f[3];
 		fmTargets_Force(targets, t, b->state.x, f);
 		for (int e = 0; e < 3; ++e)
-			pull += fmIsDofPinned(&b->state, 3 * b->targets[t].vertex + e) ? 0.0 : f[e] * f[e];
+			pull += fmIsDofPinned(&b->state, 3 * fmTargets_At(b, t)->vertex + e) ? 0.0 : f[e] * f[e];
 	}
 	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull) + fmLoads_FrozenNorm(b);
 }
@@ -305,7 +305,7 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmBarrierFreeStart(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
-	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && b->targetCount == 0 &&
+	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && fmTargets_Count(b) == 0 &&
 	                 !fmLoads_Active(b) && pb.barrier.energy == NULL
 	             ? fmVbd_Solve(&b->mesh, &b->state, c, &pb)
 	             : fmNewton_Solve(&b->mesh, &b->state, c, &pb);

@@ -3,6 +3,7 @@
 #include "world/island.h"
 #include "core/det_math.h"
 
+#include "body/anchors.h"
 #include "body/body.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
@@ -20,21 +21,34 @@ static int fmFindRoot(int* parent, int k)
 	return k;
 }
 
-// Join the bodies of every body-body pair of the last frame; parent has bodyCapacity slots.
+// Join bodies @p a and @p b (the lower slot is the root).
+static void fmJoin(int* parent, int a, int b)
+{
+	int ra = fmFindRoot(parent, a), rb = fmFindRoot(parent, b);
+	if (ra != rb)
+		parent[ra < rb ? rb : ra] = ra < rb ? ra : rb;
+}
+
+// Join the bodies of every body-body pair of the last frame and of every weld; parent has
+// bodyCapacity slots.
 static void fmJoinPairs(const fmWorld* w, int* parent)
 {
 	for (int k = 0; k < w->bodyCapacity; ++k)
 		parent[k] = k;
+	for (int k = 0; k < w->bodyCapacity; ++k)
+		for (int a = 0; fmBody_IsLive(&w->bodies[k]) && a < w->bodies[k].anchorCount; ++a)
+		{
+			int o = fmAnchors_Partner(w, &w->bodies[k], a);
+			if (o >= 0)
+				fmJoin(parent, k, o);
+		}
 	const uint64_t* pairs;
 	int count = fmContactEvents_FramePairs(w, &pairs);
 	for (int p = 0; p < count; ++p)
 	{
 		int a = (int)(pairs[p] >> 32), b = (int)(uint32_t)pairs[p];
-		if (b & (int)0x80000000u)
-			continue; // a collider: not part of an island
-		int ra = fmFindRoot(parent, a), rb = fmFindRoot(parent, b);
-		if (ra != rb)
-			parent[ra < rb ? rb : ra] = ra < rb ? ra : rb; // the lower slot is the root
+		if (!(b & (int)0x80000000u)) // a collider is not part of an island
+			fmJoin(parent, a, b);
 	}
 }
 
@@ -185,7 +199,7 @@ bool fmIsland_EndFrame(fmWorld* w, const fmStepContext* ctx)
 		if (!fmIsland_Stepping(b))
 			continue;
 		bool still = b->canSleep && b->targetCount == 0 && fmFastest(b) < def->sleepSpeed &&
-		             !fmTouchesMovingCollider(w, k);
+		             !fmTouchesMovingCollider(w, k) && !fmAnchors_OnMovingCollider(w, b);
 		b->sleepTimer = still ? b->sleepTimer + frameTime : 0.0;
 		int root = fmFindRoot(parent, k);
 		least[root] = fmMin(least[root], b->sleepTimer);

@@ -7,6 +7,7 @@
 #include "fem/forces.h"
 #include "core/fp_env.h"
 #include "body/loads.h"
+#include "body/anchors.h"
 #include "body/targets.h"
 #include "solver/newton.h"
 #include "world/world.h"
@@ -140,7 +141,9 @@ static fmResult fmStaticCheck(const fmBody* b, const fmWorld* world, double tole
 	int pins = 0;
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		pins += b->state.pinned[i] != 0; // rollers count: a well-posed set of them holds the body
-	if (pins == 0 && (fmLength(world->def.gravity) > 0.0 || fmLoads_Active(b)))
+	// Three springs to targets or attachments hold a body as well (no rigid motion is free).
+	if (pins == 0 && fmTargets_Count(b) < 3 &&
+	    (fmLength(world->def.gravity) > 0.0 || fmLoads_Active(b)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "the body has no pinned vertex, so under gravity or loads it has no "
 		                   "equilibrium (it would fall or drift forever): pin something "
@@ -270,6 +273,7 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	memcpy(equilibrium, b->state.x, sizeof(double) * (size_t)n3);
 	fmLoads_BeginStatic(b);
 	memcpy(c->xPred, b->state.x, sizeof(double) * (size_t)n3);
+	fmAnchors_PlaceStatic(world, b);
 	const fmTargetStep targets = {b, NULL, 0.0, 0.0}; // the springs alone
 	fmNewtonProblem pb = fmStaticProblem(b, c, world, tolerance, maxIterations, scratch, &targets);
 	fmVec3 gravity = world->def.gravity;

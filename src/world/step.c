@@ -3,6 +3,7 @@
 // and the restore of the last good state (docs/architecture.md, "A frame").
 #include "world/world.h"
 
+#include "body/anchors.h"
 #include "body/grab.h"
 #include "body/loads.h"
 #include "contact/barrier_contact.h"
@@ -493,10 +494,11 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		               "leaves (at least one a step); their residuals are reported");
 	}
 	// Stage a: every body steps on its own (the stage threads will share), grabbed ones pulled
-	// to where their grab's target is at the substep's end.
+	// to where their grab's target is at the substep's end, attachments placed first.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
 			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
+	fmAnchors_Place(w, h, ctx->frameTime);
 	bool contact = fmContact_Active(w);
 	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w, h))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -510,6 +512,7 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order;
 	// first the colliders' and the floor's reaction to the solve's friction.
 	double contactStart = fmSeconds();
+	fmAnchors_BookReactions(w, h);
 	if (w->def.integrator == fm_implicit && (contact || fmContact_FloorFriction(w)))
 		fmContactCollider_BookSolveFriction(w, h);
 	bool contactOk =
@@ -810,6 +813,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 
 	// Stage 2: open the ledgers.
 	fmContact_BeginFrame(w);
+	fmAnchors_Wake(w);
 	ctx.shadowStep = w->def.integrator == fm_explicit ? ctx.substep : 0.0;
 	w->sleepEventCount = 0;
 	fmOpenLedgers(w, &ctx);

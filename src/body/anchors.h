@@ -1,0 +1,67 @@
+// Attachments (anchors.c): a body's vertices glued to a collider (a game's rigid body on the
+// other side) or welded to another body's vertices, and fmBody_AttachToCollider, fmBody_Weld.
+// Each anchor is a bounded spring and dashpot (a target, targets.h) that every substep places
+// before the bodies step:
+// - glued to a collider: at the point of the collider's frame where the vertex was when glued,
+//   where the collider's motion leaves it at the step's end (implicit) or where it is at the
+//   start (explicit: its forces act there); the spring's force, reversed, goes into the
+//   collider's impulse (fmCollider_GetContactForce), so a rigid engine feels the body it carries;
+// - welded: both ends at one point, the two vertices' midpoint, moving at their mean velocity:
+//   implicit, the midpoint of their free flights (x + h v, read before any body steps), so each
+//   body's solve pulls its vertex there and the pair meets however stiff the weld; explicit,
+//   their midpoint now. The two ends' forces, k (midpoint - x), are equal and opposite at rest
+//   and throughout an explicit step, so the pair carries its weight exactly and keeps its
+//   momentum (docs/contact.md, "Attachments").
+// Anchors whose collider or partner body is gone are dropped at the next substep.
+#pragma once
+
+#include "body/body.h"
+
+#include <stdint.h>
+
+struct fmWorld;
+
+typedef struct fmAnchor
+{
+	int collider;        // glued: the collider's slot; welded: -1
+	int body;            // welded: the partner's slot
+	uint32_t generation; // of the collider or the partner in its slot
+	int otherVertex;     // welded: the partner's vertex (its own numbering)
+	fmVec3 local;        // glued: the point in the collider's frame (m)
+	fmVec3 lever;        // glued: the point minus the collider's centre at the substep's end
+} fmAnchor;
+
+// Whether body @p b is welded to body @p o (another body): welded bodies do not collide with
+// each other, as a game engine's jointed bodies (docs/contact.md, "Attachments").
+static inline bool fmAnchors_Welded(const fmBody* b, const fmBody* o)
+{
+	for (int a = 0; a < b->anchorCount; ++a)
+		if (b->anchors[a].collider < 0 && b->anchors[a].body == o->slot &&
+		    b->anchors[a].generation == o->generation && o != b)
+			return true;
+	return false;
+}
+
+// Place every live body's anchors for a substep of @p h in a frame of @p frameTime (before any
+// body steps: welds read their partners' start), dropping those whose source is gone.
+void fmAnchors_Place(struct fmWorld* world, double h, double frameTime);
+
+// Place one body's anchors for a static solve: glued ones where their colliders are, welded ones
+// at the midpoint of the two vertices now.
+void fmAnchors_PlaceStatic(struct fmWorld* world, fmBody* body);
+
+// After every body stepped a substep of @p h: the glued anchors' forces, reversed, go into their
+// colliders' impulses, in body order.
+void fmAnchors_BookReactions(struct fmWorld* world, double h);
+
+// Whether @p body hangs on a collider that moves (it cannot sleep).
+bool fmAnchors_OnMovingCollider(const struct fmWorld* world, const fmBody* body);
+
+// The slot of anchor @p a's live weld partner, or -1 (glued, or the partner gone).
+int fmAnchors_Partner(const struct fmWorld* world, const fmBody* body, int a);
+
+// Wake the sleeping bodies that hang on a moving collider or are welded to an awake body.
+void fmAnchors_Wake(struct fmWorld* world);
+
+// Release the anchors' memory.
+void fmAnchors_Free(fmBody* body);

@@ -1,0 +1,275 @@
+
+
+// Attachments (docs/contact.md, "Attachments"): a soft body glued to a collider hangs from it
+// with the collider carrying its weight (force and torque), follows it when it moves, and
+// what the collider reports is exactly what the body received (Newton's third law across the
+// glue); welded bodies move as one, carry each other's weight, and keep their total momentum;
+// the glue and welds go with their collider or body, sleep with their islands, survive
+// snapshots, and bad calls are refused with a located message.
+#include "support.h"
+#include "test.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+// The body's momentum (kg m/s) and mass (kg).
+static fmVec3 momentumOf(fmBodyId body)
+{
+	const double* v = fmTestVelocities(body);
+	const double* m = fmBody_GetMasses(body);
+	fmVec3 p = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		p = fmMulAdd(p, m[i], fmLoad(v, i));
+	return p;
+}
+
+static double massOf(fmBodyId body)
+{
+	const double* m = fmBody_GetMasses(body);
+	double total = 0.0;
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		total += m[i];
+	return total;
+}
+
+// The body's centre of mass (m).
+static fmVec3 centreOf(fmBodyId body)
+{
+	const double* x = fmTestPositions(body);
+	const double* m = fmBody_GetMasses(body);
+	fmVec3 c = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		c = fmMulAdd(c, m[i], fmLoad(x, i));
+	return fmScale(1.0 / massOf(body), c);
+}
+
+// A 0.3 m Neo-Hookean box (3 cubes a side, 1e5 Pa, 500 kg/m^3: 13.5 kg) from @p lo, with the
+// velocity damping factor @p damping (1: none, momentum-free).
+static fmBodyId makeDampedBox(int* failures_, fmWorldId world, fmVec3 lo, double damping)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(3, 3, 3, lo, fmAdd(lo, fmMakeVec3(0.3, 0.3, 0.3)), &mesh), fm_ok);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	def.massMode = fm_massFromDensity;
+	def.density = 500.0;
+	def.damping = damping;
+	def.smoothing = 0.0; // off: it is not momentum-free
+	fmBodyId body = {0};
+	CHECK_INT(fmCreateBody(world, &def, &body, NULL), fm_ok);
+	fmFreeTetMesh(&mesh);
+	return body;
+}
+
+static fmBodyId makeBox(int* failures_, fmWorldId world, fmVec3 lo)
+{
+	return makeDampedBox(failures_, world, lo, 1.0);
+}
+
+// The body's vertices (user numbering) with coordinate @p axis within 1e-9 of @p value; their
+// count in @p count (at most 64).
+static int facing(fmBodyId body, int axis, double value, int* vertices)
+{
+	const double* x = fmTestPositions(body);
+	int count = 0;
+	for (int i = 0; i < fmBody_GetVertexCount(body) && count < 64; ++i)
+		if (fabs(x[3 * i + axis] - value) < 1e-9)
+			vertices[count++] = i;
+	return count;
+}
+
+static fmWorldId makeWorld(bool implicit, fmVec3 gravity)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = implicit ? fm_implicit : fm_explicit;
+	wdef.autoSubstep = !implicit;
+	wdef.tolerance = FM_TOLERANCE_ACCURATE;
+	wdef.floor.enabled = false;
+	wdef.gravity = gravity;
+	wdef.contact.enableSleep = false;
+	return fmCreateWorld(&wdef);
+}
+
+// A plank (a box collider, 1.2 m long) at height 1 m, turned by @p angle about z.
+static fmColliderId makePlank(int* failures_, fmWorldId world)
+{
+	fmColliderDef plank = fmDefaultColliderDef();
+	plank.shape = fm_shapeBox;
+	plank.center = fmMakeVec3(0.0, 1.0, 0.0);
+	plank.halfExtents = fmMakeVec3(0.6, 0.05, 0.3);
+	fmColliderId id = {0};
+	CHECK_INT(fmCreateCollider(world, &plank, &id, NULL), fm_ok);
+	return id;
+}
+
+// A box glued by its top face under a plank, its centre 0.3 m along the plank from the plank's
+// centre: once it hangs still, the plank carries its weight and the torque of that weight.
+TEST(glued_box_hangs_from_a_plank_which_carries_its_weight)
+{
+	for (int implicit = 1; implicit >= 0; --implicit)
+	{
+		fmWorldId world = makeWorld(implicit, fmMakeVec3(0.0, -9.8, 0.0));
+		fmColliderId plank = makePlank(failures_, world);
+		fmBodyId box = makeBox(failures_, world, fmMakeVec3(0.15, 0.65, -0.15));
+		int top[64], n = facing(box, 1, 0.95, top);
+		CHECK_INT(n, 16);
+		CHECK_INT(fmBody_AttachToCollider(box, top, n, plank, NULL), fm_ok);
+		CHECK_INT(fmBody_GetAttachmentCount(box), 16);
+		double weight = 9.8 * massOf(box);
+		for (int frame = 0; frame < 180; ++frame)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, implicit ? 1 : 8), fm_ok);
+		fmVec3 force, torque;
+		fmCollider_GetContactForce(plank, &force, &torque);
+		fmVec3 lever = fmSub(centreOf(box), fmCollider_GetPosition(plank));
+		fmVec3 expected = fmCross(lever, fmMakeVec3(0.0, -weight, 0.0));
+		printf("  %s: the plank carries %.5f of the weight, torque %.5f of the lever's (%.3f m), "
+		       "the box sags %.2f mm\n",
+		       implicit ? "implicit" : "explicit", -force.y / weight, torque.z / expected.z,
+		       lever.x, 1e3 * (0.95 - fmTestPositions(box)[3 * top[0] + 1]));
+		CHECK_NEAR(force.y, -weight, 1e-3 * weight);
+		CHECK_NEAR(force.x, 0.0, 1e-3 * weight);
+		CHECK_NEAR(torque.z, expected.z, 1e-3 * fabs(expected.z));
+		CHECK(fmLength(momentumOf(box)) < 1e-3 * massOf(box)); // it hangs still
+		fmDestroyWorld(world);
+	}
+}
+
+// The plank swings and slides with the box glued under it: every frame the box's momentum change
+// less gravity's impulse is minus the plank's force times the frame (Newton's third law across
+// the glue), and the glued vertices stay by their points of the plank.
+TEST(glue_obeys_the_third_law_on_a_moving_collider)
+{
+	for (int implicit = 1; implicit >= 0; --implicit)
+	{
+		fmWorldId world = makeWorld(implicit, fmMakeVec3(0.0, -9.8, 0.0));
+		fmColliderId plank = makePlank(failures_, world);
+		fmBodyId box = makeBox(failures_, world, fmMakeVec3(0.15, 0.65, -0.15));
+		int top[64], n = facing(box, 1, 0.95, top);
+		fmAttachDef def = fmDefaultAttachDef();
+		def.dampingRatio = 0.5;
+		CHECK_INT(fmBody_AttachToCollider(box, top, n, plank, &def), fm_ok);
+		const double h = 1.0 / 60.0, weight = 9.8 * massOf(box);
+		double worst = 0.0, farthest = 0.0, angle = 0.0;
+		for (int frame = 0; frame < 120; ++frame)
+		{
+			double t = frame * h, spin = 2.0 * cos(4.0 * t);
+			angle += spin * h; // the collider turns at the frame's spin over the frame
+			fmCollider_SetVelocity(plank, fmMakeVec3(0.5 * sin(3.0 * t), 0.0, 0.0),
+			                       fmMakeVec3(0.0, 0.0, spin));
+			fmVec3 before = momentumOf(box);
+			CHECK_INT(fmWorld_Step(world, h, implicit ? 1 : 8), fm_ok);
+			fmVec3 force;
+			fmCollider_GetContactForce(plank, &force, NULL);
+			fmVec3 gained = fmSub(momentumOf(box), before);
+			fmVec3 residual = fmMulAdd(fmAdd(gained, fmMakeVec3(0.0, weight * h, 0.0)), h, force);
+			worst = fmax(worst, fmLength(residual) / (weight * h));
+			// The glued vertices by the plank's underside (y = -0.05 in its frame), turned with it.
+			fmVec3 c = fmCollider_GetPosition(plank);
+			for (int k = 0; k < n; ++k)
+			{
+				fmVec3 x = fmLoad(fmTestPositions(box), top[k]);
+				fmVec3 down = fmMakeVec3(sin(angle), -cos(angle), 0.0); // the plank's -y
+				farthest = fmax(farthest, fabs(fmDot(fmSub(x, c), down) - 0.05));
+			}
+		}
+		printf("  %s: the third law's residual at most %.2e of m g dt; the glued vertices at most "
+		       "%.2f mm off the plank's underside\n",
+		       implicit ? "implicit" : "explicit", worst, 1e3 * farthest);
+		CHECK(worst < (implicit ? 2e-5 : 1e-8));
+		CHECK(farthest < 0.01);
+		fmDestroyWorld(world);
+	}
+}
+
+// A box glued to a kinematic collider moving at 1 m/s in zero gravity is carried along: its
+// centre's velocity reaches the collider's.
+TEST(glued_box_is_carried_by_its_collider)
+{
+	fmWorldId world = makeWorld(true, fmMakeVec3(0.0, 0.0, 0.0));
+	fmColliderId plank = makePlank(failures_, world);
+	fmBodyId box = makeBox(failures_, world, fmMakeVec3(-0.15, 0.65, -0.15));
+	int top[64], n = facing(box, 1, 0.95, top);
+	CHECK_INT(fmBody_AttachToCollider(box, top, n, plank, NULL), fm_ok);
+	fmCollider_SetVelocity(plank, fmMakeVec3(1.0, 0.0, 0.0), fmMakeVec3(0.0, 0.0, 0.0));
+	for (int frame = 0; frame < 60; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	fmVec3 v = fmScale(1.0 / massOf(box), momentumOf(box));
+	fmVec3 moved = fmSub(centreOf(box), fmMakeVec3(0.0, 0.8, 0.0));
+	printf("  after 1 s: the box's velocity (%.4f, %.4f) m/s, moved %.4f m (the plank 1 m)\n", v.x,
+	       v.y, moved.x);
+	CHECK_NEAR(v.x, 1.0, 0.01);
+	CHECK_NEAR(moved.x, 1.0, 0.01);
+	fmDestroyWorld(world);
+}
+
+// Two boxes side by side, welded across the face they share: hung from the plank by the first
+// one's top alone, the plank carries both weights (the second hangs on the weld); in zero
+// gravity, one kicked, the pair keeps its total momentum and moves as one.
+TEST(welded_boxes_carry_each_other)
+{
+	for (int implicit = 1; implicit >= 0; --implicit)
+	{
+		fmWorldId world = makeWorld(implicit, fmMakeVec3(0.0, -9.8, 0.0));
+		fmColliderId plank = makePlank(failures_, world);
+		// Damped, so that the pair settles within the test's 4 s.
+		fmBodyId a = makeDampedBox(failures_, world, fmMakeVec3(-0.3, 0.6, -0.15), 0.98);
+		fmBodyId b = makeDampedBox(failures_, world, fmMakeVec3(0.0, 0.6, -0.15), 0.98);
+		int top[64], n = facing(a, 1, 0.9, top), left[64], right[64];
+		int m = facing(a, 0, 0.0, right);
+		CHECK_INT(facing(b, 0, 0.0, left), m);
+		CHECK_INT(fmBody_AttachToCollider(a, top, n, plank, NULL), fm_ok);
+		// The shared face's vertices pair up in the same order: the meshes are alike.
+		CHECK_INT(fmBody_Weld(a, right, b, left, m, NULL), fm_ok);
+		CHECK_INT(fmBody_GetAttachmentCount(b), m);
+		double weight = 9.8 * (massOf(a) + massOf(b));
+		for (int frame = 0; frame < 240; ++frame)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, implicit ? 1 : 8), fm_ok);
+		fmVec3 force;
+		fmCollider_GetContactForce(plank, &force, NULL);
+		double gap = 0.0;
+		for (int k = 0; k < m; ++k)
+			gap = fmax(gap, fmLength(fmSub(fmLoad(fmTestPositions(a), right[k]),
+			                                 fmLoad(fmTestPositions(b), left[k]))));
+		printf("  %s: the plank carries %.5f of both weights; the weld opens %.2f mm\n",
+		       implicit ? "implicit" : "explicit", -force.y / weight, 1e3 * gap);
+		CHECK_NEAR(force.y, -weight, 2e-3 * weight);
+		CHECK(gap < 0.01); // the default weld: the lighter body's weight over about 1 mm
+		fmDestroyWorld(world);
+	}
+}
+
+// Two boxes welded side by side, the first kicked up and sideways in zero gravity: the pair
+// spins and flies off as one, keeping the kick's momentum.
+TEST(welded_pair_keeps_its_momentum)
+{
+	for (int implicit = 1; implicit >= 0; --implicit)
+	{
+		fmWorldId world = makeWorld(implicit, fmMakeVec3(0.0, 0.0, 0.0));
+		fmBodyId a = makeBox(failures_, world, fmMakeVec3(-0.3, 0.65, -0.15));
+		fmBodyId b = makeBox(failures_, world, fmMakeVec3(0.0, 0.65, -0.15));
+		int left[64], right[64], m = facing(a, 0, 0.0, right);
+		CHECK_INT(facing(b, 0, 0.0, left), m);
+		CHECK_INT(fmBody_Weld(a, right, b, left, m, NULL), fm_ok);
+		fmBody_ApplyImpulse(a, fmMakeVec3(0.0, 2.0, 1.0));
+		fmVec3 start = fmAdd(momentumOf(a), momentumOf(b));
+		double worst = 0.0, gap = 0.0;
+		for (int frame = 0; frame < 120; ++frame)
+		{
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, implicit ? 1 : 8), fm_ok);
+			fmVec3 p = fmAdd(momentumOf(a), momentumOf(b));
+			worst = fmax(worst, fmLength(fmSub(p, start)) / fmLength(start));
+			for (int k = 0; k < m; ++k)
+				gap = fmax(gap, fmLength(fmSub(fmLoad(fmTestPositions(a), right[k]),
+				                                 fmLoad(fmTestPositions(b), left[k]))));
+		}
+		printf("  %s: total momentum within %.2e of the kick's; the weld opens at most %.2f mm\n",
+		       implicit ? "implicit" : "explicit", worst, 1e3 * gap);
+		// Explicit: the two ends' forces are equal and opposite (round-off); implicit: the ends
+		// meet at the mass-weighted mean of their free flights, within the solve's tolerance.
+		CHECK(worst < (implicit ? 1e-4 : 1e-6));
+		CHECK(gap < 0.01);
+		fmDestroyWorld(world);
+	}
+}
