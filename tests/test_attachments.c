@@ -9,6 +9,10 @@
 #include "support.h"
 #include "test.h"
 
+#include "body/anchors.h"
+#include "body/body.h"
+#include "world/snapshot.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -272,4 +276,150 @@ TEST(welded_pair_keeps_its_momentum)
 		CHECK(gap < 0.01);
 		fmDestroyWorld(world);
 	}
+}
+
+// A snapshot taken while a glued box swings under a turning plank, restored after more frames:
+// the run from it repeats bit for bit, its attachments with it; a world that lost them gets
+// them back.
+TEST(attachments_are_kept_in_snapshots)
+{
+	fmWorldId world = makeWorld(true, fmMakeVec3(0.0, -9.8, 0.0));
+	fmColliderId plank = makePlank(failures_, world);
+	fmBodyId a = makeBox(failures_, world, fmMakeVec3(-0.3, 0.6, -0.15));
+	fmBodyId b = makeBox(failures_, world, fmMakeVec3(0.0, 0.6, -0.15));
+	int top[64], n = facing(a, 1, 0.9, top), left[64], right[64], m = facing(a, 0, 0.0, right);
+	CHECK_INT(facing(b, 0, 0.0, left), m);
+	CHECK_INT(fmBody_AttachToCollider(a, top, n, plank, NULL), fm_ok);
+	CHECK_INT(fmBody_Weld(a, right, b, left, m, NULL), fm_ok);
+	fmCollider_SetVelocity(plank, fmMakeVec3(0.0, 0.0, 0.0), fmMakeVec3(0.0, 0.0, 0.5));
+	for (int frame = 0; frame < 20; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	size_t size = fmWorld_GetSnapshotSize(world);
+	unsigned char* snapshot = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size, NULL), fm_ok);
+	int count = 3 * fmBody_GetVertexCount(b);
+	double* first = malloc(sizeof(double) * (size_t)count);
+	for (int frame = 0; frame < 20; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	memcpy(first, fmTestPositions(b), sizeof(double) * (size_t)count);
+	fmBody_ClearAttachments(a);
+	CHECK_INT(fmBody_GetAttachmentCount(a), 0);
+	CHECK_INT(fmBody_GetAttachmentCount(b), 0); // the weld went at both ends
+	CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_ok);
+	CHECK_INT(fmBody_GetAttachmentCount(a), n + m);
+	CHECK_INT(fmBody_GetAttachmentCount(b), m);
+	for (int frame = 0; frame < 20; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	CHECK(memcmp(first, fmTestPositions(b), sizeof(double) * (size_t)count) == 0);
+	// A record naming a vertex beyond the body is refused, the world untouched.
+	fmAnchorRecord bad = fmAnchors_Record(fmGetBody(a), 0);
+	size_t at = 0;
+	for (size_t k = 0; k + sizeof bad <= size && at == 0; ++k)
+		if (memcmp(snapshot + k, &bad, sizeof bad) == 0)
+			at = k;
+	CHECK(at > 0);
+	bad.vertex = 1000;
+	memcpy(snapshot + at, &bad, sizeof bad);
+	fmSnapshot_Seal(snapshot, size); // a valid checksum: the record itself is refused
+	CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "attachments");
+	CHECK(memcmp(first, fmTestPositions(b), sizeof(double) * (size_t)count) == 0);
+	free(first);
+	free(snapshot);
+	fmDestroyWorld(world);
+}
+
+// The glue goes with its collider and a weld with its partner; a body glued to a still collider
+// sleeps, one glued to a moving collider does not, and welded bodies sleep together.
+TEST(attachments_follow_their_colliders_and_bodies)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.enabled = false;
+	wdef.contact.enableSleep = true;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmColliderId plank = makePlank(failures_, world);
+	fmBodyId a = makeDampedBox(failures_, world, fmMakeVec3(-0.3, 0.6, -0.15), 0.95);
+	fmBodyId b = makeDampedBox(failures_, world, fmMakeVec3(0.0, 0.6, -0.15), 0.95);
+	int top[64], n = facing(a, 1, 0.9, top), left[64], right[64], m = facing(a, 0, 0.0, right);
+	CHECK_INT(facing(b, 0, 0.0, left), m);
+	CHECK_INT(fmBody_AttachToCollider(a, top, n, plank, NULL), fm_ok);
+	CHECK_INT(fmBody_Weld(a, right, b, left, m, NULL), fm_ok);
+	int frame = 0;
+	for (; frame < 600 && (fmBody_IsAwake(a) || fmBody_IsAwake(b)); ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	printf("  the welded pair hanging from a still plank fell asleep after %d frames\n", frame);
+	CHECK(!fmBody_IsAwake(a) && !fmBody_IsAwake(b));
+	// The plank starts to move: both wake, and stay awake while it moves.
+	fmCollider_SetVelocity(plank, fmMakeVec3(0.1, 0.0, 0.0), fmMakeVec3(0.0, 0.0, 0.0));
+	for (frame = 0; frame < 120; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	CHECK(fmBody_IsAwake(a) && fmBody_IsAwake(b));
+	CHECK(centreOf(b).x > 0.15 + 0.1); // carried 0.2 m by the plank, through the weld
+	// The plank destroyed: the glue goes, the pair falls; the second box destroyed: the weld goes.
+	fmDestroyCollider(plank);
+	double y = centreOf(a).y;
+	for (frame = 0; frame < 30; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	CHECK_INT(fmBody_GetAttachmentCount(a), m);
+	CHECK(centreOf(a).y < y - 0.05); // falling (slowed by the boxes' velocity damping)
+	fmDestroyBody(b);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	CHECK_INT(fmBody_GetAttachmentCount(a), 0);
+	fmDestroyWorld(world);
+}
+
+// A call refused with @p expected and the world's last error holding @p message.
+static void refused(int* failures_, fmWorldId world, fmResult result, fmResult expected,
+                    const char* message)
+{
+	CHECK_INT(result, expected);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, message);
+}
+
+// Bad calls are refused with the world's last error naming the call and what was expected, the
+// bodies' attachments unchanged.
+TEST(bad_attachments_are_refused)
+{
+	fmWorldId world = makeWorld(true, fmMakeVec3(0.0, -9.8, 0.0));
+	fmWorldId other = makeWorld(true, fmMakeVec3(0.0, -9.8, 0.0));
+	fmColliderId plank = makePlank(failures_, world);
+	fmColliderId elsewhere = makePlank(failures_, other);
+	fmBodyId a = makeBox(failures_, world, fmMakeVec3(-0.3, 0.6, -0.15));
+	fmBodyId b = makeBox(failures_, world, fmMakeVec3(0.0, 0.6, -0.15));
+	fmBodyId c = makeBox(failures_, other, fmMakeVec3(0.0, 0.6, -0.15));
+	int good[2] = {0, 1}, wrong[2] = {0, 64}, same[2] = {3, 1};
+	fmAttachDef def = fmDefaultAttachDef();
+	refused(failures_, world, fmBody_AttachToCollider(a, wrong, 2, plank, NULL), fm_errParameter,
+	        "fmBody_AttachToCollider: entry 1 (vertex 64): expected a vertex index in [0, "
+	        "vertexCount)");
+	refused(failures_, world, fmBody_AttachToCollider(a, good, 2, elsewhere, NULL),
+	        fm_errParameter, "expected a live collider of the body's world");
+	refused(failures_, world, fmBody_AttachToCollider(a, good, 0, plank, NULL), fm_errParameter,
+	        "expected count >= 1");
+	def.stiffness = NAN;
+	refused(failures_, world, fmBody_AttachToCollider(a, good, 2, plank, &def), fm_errParameter,
+	        "a finite stiffness");
+	def = fmDefaultAttachDef();
+	def.internalValue = 0;
+	refused(failures_, world, fmBody_Weld(a, good, b, good, 2, &def), fm_errParameter,
+	        "fmDefaultAttachDef()");
+	refused(failures_, world, fmBody_Weld(a, good, c, good, 2, NULL), fm_errParameter,
+	        "two bodies of one world");
+	refused(failures_, world, fmBody_Weld(a, same, a, good, 2, NULL), fm_errParameter,
+	        "entry 1 (vertex 1): expected two different vertices");
+	refused(failures_, world, fmBody_Weld(a, good, b, wrong, 2, NULL), fm_errParameter,
+	        "fmBody_Weld (the other body): entry 1 (vertex 64)");
+	CHECK_INT(fmBody_GetAttachmentCount(a), 0);
+	CHECK_INT(fmBody_GetAttachmentCount(b), 0);
+	int* many = malloc(sizeof(int) * 512);
+	for (int k = 0; k < 512; ++k)
+		many[k] = k % 64;
+	CHECK_INT(fmBody_AttachToCollider(a, many, 500, plank, NULL), fm_ok);
+	refused(failures_, world, fmBody_AttachToCollider(a, many, 100, plank, NULL), fm_errLimit,
+	        "at most FM_MAX_ANCHORS_PER_VERTEX");
+	CHECK_INT(fmBody_GetAttachmentCount(a), 500);
+	free(many);
+	fmDestroyWorld(other);
+	fmDestroyWorld(world);
 }

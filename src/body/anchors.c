@@ -37,8 +37,7 @@ void fmAnchors_Free(fmBody* b)
 	b->anchorCount = 0;
 }
 
-// Room for @p count anchors, those held kept; false without memory.
-static bool fmAnchorsReserve(fmBody* b, int count)
+bool fmAnchors_Reserve(fmBody* b, int count)
 {
 	if (count <= b->anchorCapacity)
 		return true;
@@ -291,7 +290,7 @@ static fmResult fmAttachIn(fmBody* b, fmWorld* w, const int* vertices, int count
 	const fmCollider* c = fmColliderOfWorld(w, colliderId, &slot);
 	if (c == NULL)
 		return fmRefuse(w, fm_errParameter, call, "a live collider of the body's world", -1, NULL);
-	if (!fmAnchorsReserve(b, b->anchorCount + count))
+	if (!fmAnchors_Reserve(b, b->anchorCount + count))
 		return fmRefuse(w, fm_errOutOfMemory, call, "memory for the attachments", -1, NULL);
 	fmTarget spring = fmAnchorSpring(w, def, b->mesh.totalMass, count);
 	fmMat3 inverse = fmTranspose(&c->rotation);
@@ -346,8 +345,8 @@ static fmResult fmWeldIn(fmBody* b, fmBody* o, fmWorld* w, const int* vertices,
 		if (vertices[k] == others[k])
 			return fmRefuse(w, fm_errParameter, call, "two different vertices of the body", k,
 			                vertices);
-	if (!fmAnchorsReserve(b, b->anchorCount + count + (o == b ? count : 0)) ||
-	    !fmAnchorsReserve(o, o->anchorCount + count))
+	if (!fmAnchors_Reserve(b, b->anchorCount + count + (o == b ? count : 0)) ||
+	    !fmAnchors_Reserve(o, o->anchorCount + count))
 		return fmRefuse(w, fm_errOutOfMemory, call, "memory for the welds", -1, NULL);
 	double mass = fmMin(b->mesh.totalMass, o->mesh.totalMass);
 	fmTarget spring = fmAnchorSpring(w, def, mass, count);
@@ -435,4 +434,58 @@ void fmBody_ClearAttachments(fmBodyId bodyId)
 	}
 	b->anchorCount = 0;
 	fmIsland_WakeBody(bodyId);
+}
+
+// ---- snapshots --------------------------------------------------------------------------------
+
+fmAnchorRecord fmAnchors_Record(const fmBody* b, int a)
+{
+	const fmAnchor* anchor = &b->anchors[a];
+	const fmTarget* t = &b->anchorTargets[a];
+	fmAnchorRecord r;
+	memset(&r, 0, sizeof r);
+	r.vertex = t->vertex;
+	r.collider = anchor->collider;
+	r.body = anchor->body;
+	r.otherVertex = anchor->otherVertex;
+	r.generation = anchor->generation;
+	fmStore(r.local, 0, anchor->local);
+	r.stiffness = t->stiffness;
+	r.damping = t->damping;
+	r.maxForce = t->maxForce;
+	return r;
+}
+
+const char* fmAnchors_RecordProblem(const struct fmWorld* w, const fmBody* b,
+                                    const fmAnchorRecord* r)
+{
+	if (r->vertex < 0 || r->vertex >= b->mesh.vertexCount || r->zero != 0)
+		return "a vertex of the body";
+	if (r->collider >= 0 && r->collider >= w->colliderCapacity && r->collider != FM_FLOOR_SLOT)
+		return "a collider slot of the world";
+	if (r->collider < -1 || (r->collider == -1 && (r->body < 0 || r->body >= w->bodyCapacity)))
+		return "a body slot of the world";
+	const fmBody* o = r->collider == -1 ? &w->bodies[r->body] : NULL;
+	if (o != NULL && fmBody_IsLive(o) && o->generation == r->generation &&
+	    (r->otherVertex < 0 || r->otherVertex >= o->mesh.vertexCount))
+		return "a vertex of the welded body";
+	bool finite = fabs(r->local[0]) <= FM_MAX_COORDINATE && fabs(r->local[1]) <= FM_MAX_COORDINATE &&
+	              fabs(r->local[2]) <= FM_MAX_COORDINATE;
+	if (!finite || !(r->stiffness >= 0.0 && isfinite(r->stiffness)) ||
+	    !(r->damping >= 0.0 && isfinite(r->damping)) || !(r->maxForce > 0.0))
+		return "a finite point and spring";
+	return NULL;
+}
+
+void fmAnchors_Restore(fmBody* b, int a, const fmAnchorRecord* r)
+{
+	b->anchors[a] = (fmAnchor){.collider = r->collider,
+	                           .body = r->body,
+	                           .generation = r->generation,
+	                           .otherVertex = r->otherVertex,
+	                           .local = fmLoad(r->local, 0)};
+	b->anchorTargets[a] = (fmTarget){.vertex = r->vertex,
+	                                 .stiffness = r->stiffness,
+	                                 .damping = r->damping,
+	                                 .maxForce = r->maxForce};
 }

@@ -63,5 +63,30 @@ int fmAnchors_Partner(const struct fmWorld* world, const fmBody* body, int a);
 // Wake the sleeping bodies that hang on a moving collider or are welded to an awake body.
 void fmAnchors_Wake(struct fmWorld* world);
 
+// An anchor as a snapshot keeps it (plain values, no padding): the placement a substep makes is
+// rebuilt from it.
+typedef struct fmAnchorRecord
+{
+	int32_t vertex, collider, body, otherVertex; // the body's vertex; as fmAnchor's
+	uint32_t generation;
+	int32_t zero; // 0
+	double local[3];
+	double stiffness, damping, maxForce; // N/m, N s/m, N (INFINITY: none)
+} fmAnchorRecord;
+
+// Anchor @p a of @p body as a record.
+fmAnchorRecord fmAnchors_Record(const fmBody* body, int a);
+
+// What is wrong with @p record as an anchor of @p body in @p world, or NULL: a vertex, collider
+// slot, partner slot or partner vertex out of range, a point or spring not finite.
+const char* fmAnchors_RecordProblem(const struct fmWorld* world, const fmBody* body,
+                                    const fmAnchorRecord* record);
+
+// Room for @p count anchors, those held kept; false without memory.
+bool fmAnchors_Reserve(fmBody* body, int count);
+
+// Set @p body's anchor @p a from a checked record (room reserved; the caller sets the count).
+void fmAnchors_Restore(fmBody* body, int a, const fmAnchorRecord* record);
+
 // Release the anchors' memory.
 void fmAnchors_Free(fmBody* body);

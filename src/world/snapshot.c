@@ -12,8 +12,8 @@
 // velocity (fmCollider_SetVelocity) and last force and torque; every body's sleep state (asleep, a
 // wake asked for, its sleep timer and island) and the implicit collider friction found in the last
 // step, which the next step's solve uses (body->contact.frictionNext, saved for the vertices that
-// have some, with the static spring's stretch since version 6); and the pairs that touched in the
-// last frame (the next frame's begin and end events and islands come from them). Per-step
+// have some, with the static spring's stretch since version 6), and its attachments (glue and
+// weld ends, since version 10); and the pairs that touched in the last frame (the next frame's begin and end events and islands come from them). Per-step
 // temporaries (the solver's vectors, the damping matrix, the arena, the contact stage's buffers,
 // its contact list and events) are rebuilt by every step and are not. Bodies are matched by slot,
 // generation and counts, colliders by slot, generation, shape and (meshes) vertex and triangle
@@ -21,6 +21,7 @@
 // (created or destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
 #include "world/snapshot.h"
 
+#include "body/anchors.h"
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
@@ -33,7 +34,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 9u
+#define FM_SNAPSHOT_VERSION 10u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
@@ -467,6 +468,13 @@ static void fmPutBodyContact(fmStream* s, const fmWorld* w, const fmBody* b)
 	for (int k = 0; k < b->contact.stretchCount; ++k)
 		if (fmStretchNamesLive(w, &b->contact.stretch[k]))
 			fmPutStretch(s, &b->contact.stretch[k]);
+	int32_t anchors = b->anchorCount;
+	fmPut(s, &anchors, sizeof anchors);
+	for (int a = 0; a < anchors; ++a)
+	{
+		fmAnchorRecord record = fmAnchors_Record(b, a);
+		fmPut(s, &record, sizeof record);
+	}
 }
 
 // The contact section: the substep the contact stage last worked on, every live collider (key
@@ -732,6 +740,25 @@ static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
 	return fm_ok;
 }
 
+// Check body @p b's attachments at the stream's position (a count, then each record) and step
+// over them, reserving room for them (keeping what the body holds).
+static fmResult fmCheckAnchors(const fmWorld* w, fmStream* s, fmBody* b)
+{
+	int32_t count = -1;
+	fmGet(s, &count, sizeof count);
+	if (s->overflow || count < 0 || count > FM_MAX_ANCHORS_PER_VERTEX * b->mesh.vertexCount ||
+	    (size_t)count > (s->size - s->used) / sizeof(fmAnchorRecord))
+		return fm_errParameter;
+	for (int32_t a = 0; a < count; ++a)
+	{
+		fmAnchorRecord record;
+		fmGet(s, &record, sizeof record);
+		if (s->overflow || fmAnchors_RecordProblem(w, b, &record) != NULL)
+			return fm_errParameter;
+	}
+	return fmAnchors_Reserve(b, count) ? fm_ok : fm_errOutOfMemory;
+}
+
 // Check body @p b's contact record at the stream's position and step over it: flags, an island
 // that is a body slot, friction vertices ascending within the body. A body that gets friction
 // and has no array for it yet gets a zeroed one (what a missing array means to the step).
@@ -774,6 +801,9 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 			return fm_errParameter;
 		previous = record;
 	}
+	fmResult anchors = fmCheckAnchors(w, s, b);
+	if (anchors != fm_ok)
+		return anchors;
 	if (count > 0 && b->contact.frictionNext == NULL)
 		b->contact.frictionNext =
 		    FM_ALLOC_ZERO(double, (size_t)FM_FRICTION_STRIDE * b->mesh.vertexCount);
@@ -795,6 +825,8 @@ static void fmSkipBodyContact(fmStream* s)
 	fmSkip(s, (size_t)count * FM_FRICTION_RECORD_BYTES);
 	fmGet(s, &count, sizeof count);
 	fmSkip(s, (size_t)count * FM_STRETCH_RECORD_BYTES);
+	fmGet(s, &count, sizeof count);
+	fmSkip(s, (size_t)count * sizeof(fmAnchorRecord));
 }
 
 // Restore body @p b's contact record (checked) from the stream's position.
@@ -824,6 +856,15 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 	for (int32_t k = 0; k < stretches; ++k)
 		(void)fmGetStretch(s, &b->contact.stretch[k]);
 	b->contact.stretchCount = stretches;
+	int32_t anchors = 0;
+	fmGet(s, &anchors, sizeof anchors);
+	for (int32_t a = 0; a < anchors; ++a)
+	{
+		fmAnchorRecord record;
+		fmGet(s, &record, sizeof record);
+		fmAnchors_Restore(b, a, &record);
+	}
+	b->anchorCount = anchors;
 }
 
 // Check the last frame's pairs at the stream's position: a count that fits, keys ascending, each
@@ -867,11 +908,11 @@ static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 		    fmBody_IsLive(&w->bodies[i]) ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
 		if (body == fm_errOutOfMemory)
 			r = fmDiagError(&w->lastError, body, "", 0, 0,
-			                "out of memory restoring body %d's collider friction", i);
+			                "out of memory restoring body %d's collider friction or attachments", i);
 		else if (body != fm_ok)
 			r = fmDiagError(&w->lastError, body, "", 0, 0,
 			                "the snapshot's contact state of the body in slot %d (sleep, island, "
-			                "collider friction) is truncated or invalid: not restored",
+			                "collider friction, attachments) is truncated or invalid: not restored",
 			                i);
 	}
 	if (r == fm_ok && fmCheckPairs(w, s) < 0)
