@@ -114,17 +114,17 @@ static void fmPlaceGlued(fmAnchor* a, fmTarget* t, const fmCollider* c, double h
 	fmStore(t->motion, 0, fmScale(frameTime, v));
 }
 
-// A welded end at the midpoint of the two vertices @p ahead seconds of their velocities from
-// where they are (the implicit step's free flights; 0: now), moving at their mean velocity.
-static void fmPlaceWelded(const fmBody* b, fmTarget* t, const fmBody* o, int j, double ahead,
-                          double frameTime)
+// A welded end at the midpoint of the two vertices @p ahead seconds on (the implicit step's
+// predicted ends x + h v + h^2 a; 0: where they are now), moving at their mean velocity then.
+static void fmPlaceWelded(const fmBody* b, const fmAnchor* a, fmTarget* t, const fmBody* o,
+                          double ahead, double frameTime)
 {
-	int i = t->vertex;
-	fmVec3 vi = fmLoad(b->state.v, i), vj = fmLoad(o->state.v, j);
-	fmVec3 pi = fmMulAdd(fmLoad(b->state.x, i), ahead, vi);
-	fmVec3 pj = fmMulAdd(fmLoad(o->state.x, j), ahead, vj);
-	fmStore(t->position, 0, fmScale(0.5, fmAdd(pi, pj)));
-	fmStore(t->motion, 0, fmScale(0.5 * frameTime, fmAdd(vi, vj)));
+	fmVec3 v = fmMulAdd(fmAdd(fmLoad(b->state.v, t->vertex), fmLoad(o->state.v, a->otherVertex)),
+	                    2.0 * ahead, a->acceleration);
+	fmVec3 p = fmMulAdd(fmAdd(fmLoad(b->state.x, t->vertex), fmLoad(o->state.x, a->otherVertex)),
+	                    ahead, v);
+	fmStore(t->position, 0, fmScale(0.5, p));
+	fmStore(t->motion, 0, fmScale(0.5 * frameTime, v));
 }
 
 // Place @p b's anchors @p ahead seconds on (the implicit step's end; 0: now, the explicit
@@ -139,17 +139,32 @@ static void fmPlaceBody(struct fmWorld* w, fmBody* b, double ahead, double frame
 		if (c != NULL)
 			fmPlaceGlued(anchor, &b->anchorTargets[a], c, ahead, frameTime);
 		else
-			fmPlaceWelded(b, &b->anchorTargets[a], &w->bodies[anchor->body], anchor->otherVertex,
-			              ahead, frameTime);
+			fmPlaceWelded(b, anchor, &b->anchorTargets[a], &w->bodies[anchor->body], ahead,
+			              frameTime);
 	}
+}
+
+// The body's momentum (kg m/s).
+static fmVec3 fmMomentum(const fmBody* b)
+{
+	fmVec3 p = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int i = 0; i < b->mesh.vertexCount; ++i)
+		p = fmMulAdd(p, b->mesh.mass[i], fmLoad(b->state.v, i));
+	return p;
 }
 
 void fmAnchors_Place(struct fmWorld* w, double h, double frameTime)
 {
 	bool implicit = w->def.integrator == fm_implicit;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmBody_IsLive(&w->bodies[i]) && w->bodies[i].anchorCount > 0)
-			fmPlaceBody(w, &w->bodies[i], implicit ? h : 0.0, frameTime);
+	{
+		fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b) || b->anchorCount == 0)
+			continue;
+		fmPlaceBody(w, b, implicit ? h : 0.0, frameTime);
+		if (implicit)
+			b->weldMomentum = fmMomentum(b);
+	}
 }
 
 void fmAnchors_PlaceStatic(struct fmWorld* w, fmBody* b)
@@ -157,22 +172,61 @@ void fmAnchors_PlaceStatic(struct fmWorld* w, fmBody* b)
 	fmPlaceBody(w, b, 0.0, 0.0);
 }
 
-void fmAnchors_BookReactions(struct fmWorld* w, double h)
+// Glued anchor @p a of @p b: its force, reversed, into collider @p c's impulse over @p h.
+static void fmBookReaction(const fmBody* b, int a, fmCollider* c, double h)
 {
+	fmVec3 impulse = fmScale(-h, fmLoad(b->anchorTargets[a].applied, 0));
+	c->impulse = fmAdd(c->impulse, impulse);
+	c->angularImpulse = fmAdd(c->angularImpulse, fmCross(b->anchors[a].lever, impulse));
+}
+
+// The acceleration of @p b over the substep of @p h it stepped from everything but its welds:
+// its momentum's change less the welds' impulses, over its mass.
+static void fmNoteAcceleration(const struct fmWorld* w, fmBody* b, double h)
+{
+	fmVec3 change = fmSub(fmMomentum(b), b->weldMomentum);
+	for (int a = 0; a < b->anchorCount; ++a)
+		if (fmAnchors_Partner(w, b, a) >= 0)
+			change = fmMulAdd(change, -h, fmLoad(b->anchorTargets[a].applied, 0));
+	b->weldAcceleration = fmScale(1.0 / (h * b->mesh.totalMass), change);
+}
+
+// The pair's acceleration, from the two bodies' (mass-weighted), for each welded anchor of @p b.
+static void fmShareAcceleration(const struct fmWorld* w, fmBody* b)
+{
+	for (int a = 0; a < b->anchorCount; ++a)
+	{
+		int o = fmAnchors_Partner(w, b, a);
+		if (o < 0)
+			continue;
+		const fmBody* other = &w->bodies[o];
+		double mb = b->mesh.totalMass, mo = other->mesh.totalMass;
+		b->anchors[a].acceleration = fmScale(
+		    1.0 / (mb + mo), fmAdd(fmScale(mb, b->weldAcceleration),
+		                           fmScale(mo, other->weldAcceleration)));
+	}
+}
+
+void fmAnchors_AfterSubstep(struct fmWorld* w, double h)
+{
+	bool implicit = w->def.integrator == fm_implicit;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
-		const fmBody* b = &w->bodies[i];
+		fmBody* b = &w->bodies[i];
+		bool welded = false;
 		for (int a = 0; fmIsland_Stepping(b) && a < b->anchorCount; ++a)
 		{
 			fmCollider* c = fmAnchorCollider(w, &b->anchors[a]);
-			if (c == NULL)
-				continue;
-			fmVec3 impulse = fmScale(-h, fmLoad(b->anchorTargets[a].applied, 0));
-			c->impulse = fmAdd(c->impulse, impulse);
-			c->angularImpulse =
-			    fmAdd(c->angularImpulse, fmCross(b->anchors[a].lever, impulse));
+			if (c != NULL)
+				fmBookReaction(b, a, c, h);
+			welded = welded || c == NULL;
 		}
+		if (implicit && welded)
+			fmNoteAcceleration(w, b, h);
 	}
+	for (int i = 0; implicit && i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]) && w->bodies[i].anchorCount > 0)
+			fmShareAcceleration(w, &w->bodies[i]);
 }
 
 // Whether collider @p c moves by its velocities.
@@ -311,9 +365,10 @@ static fmResult fmAttachIn(fmBody* b, fmWorld* w, const int* vertices, int count
 	return fm_ok;
 }
 
-// Weld ends on @p b's vertices to @p o's (both validated, room reserved), with @p spring.
+// Weld ends on @p b's vertices to @p o's (both validated, room reserved), with @p spring; until
+// the pair has stepped, it is predicted to fly freely under @p gravity (as a step's first guess).
 static void fmAddWeldEnds(fmBody* b, const int* vertices, const fmBody* o, const int* others,
-                          int count, fmTarget spring)
+                          int count, fmTarget spring, fmVec3 gravity)
 {
 	for (int k = 0; k < count; ++k)
 	{
@@ -321,7 +376,8 @@ static void fmAddWeldEnds(fmBody* b, const int* vertices, const fmBody* o, const
 		b->anchors[b->anchorCount] = (fmAnchor){.collider = -1,
 		                                        .body = o->slot,
 		                                        .generation = o->generation,
-		                                        .otherVertex = o->internalVertex[others[k]]};
+		                                        .otherVertex = o->internalVertex[others[k]],
+		                                        .acceleration = gravity};
 		fmTarget* t = &b->anchorTargets[b->anchorCount++];
 		*t = spring;
 		t->vertex = i;
@@ -350,8 +406,8 @@ static fmResult fmWeldIn(fmBody* b, fmBody* o, fmWorld* w, const int* vertices,
 		return fmRefuse(w, fm_errOutOfMemory, call, "memory for the welds", -1, NULL);
 	double mass = fmMin(b->mesh.totalMass, o->mesh.totalMass);
 	fmTarget spring = fmAnchorSpring(w, def, mass, count);
-	fmAddWeldEnds(b, vertices, o, others, count, spring);
-	fmAddWeldEnds(o, others, b, vertices, count, spring);
+	fmAddWeldEnds(b, vertices, o, others, count, spring, w->def.gravity);
+	fmAddWeldEnds(o, others, b, vertices, count, spring, w->def.gravity);
 	return fm_ok;
 }
 
@@ -453,6 +509,7 @@ fmAnchorRecord fmAnchors_Record(const fmBody* b, int a)
 	r.stiffness = t->stiffness;
 	r.damping = t->damping;
 	r.maxForce = t->maxForce;
+	fmStore(r.acceleration, 0, anchor->acceleration);
 	return r;
 }
 
@@ -471,6 +528,8 @@ const char* fmAnchors_RecordProblem(const struct fmWorld* w, const fmBody* b,
 		return "a vertex of the welded body";
 	bool finite = fabs(r->local[0]) <= FM_MAX_COORDINATE && fabs(r->local[1]) <= FM_MAX_COORDINATE &&
 	              fabs(r->local[2]) <= FM_MAX_COORDINATE;
+	for (int e = 0; e < 3; ++e)
+		finite = finite && fabs(r->acceleration[e]) <= FM_MAX_COORDINATE;
 	if (!finite || !(r->stiffness >= 0.0 && isfinite(r->stiffness)) ||
 	    !(r->damping >= 0.0 && isfinite(r->damping)) || !(r->maxForce > 0.0))
 		return "a finite point and spring";
@@ -483,7 +542,8 @@ void fmAnchors_Restore(fmBody* b, int a, const fmAnchorRecord* r)
 	                           .body = r->body,
 	                           .generation = r->generation,
 	                           .otherVertex = r->otherVertex,
-	                           .local = fmLoad(r->local, 0)};
+	                           .local = fmLoad(r->local, 0),
+	                           .acceleration = fmLoad(r->acceleration, 0)};
 	b->anchorTargets[a] = (fmTarget){.vertex = r->vertex,
 	                                 .stiffness = r->stiffness,
 	                                 .damping = r->damping,

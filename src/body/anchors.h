@@ -7,11 +7,14 @@
 //   start (explicit: its forces act there); the spring's force, reversed, goes into the
 //   collider's impulse (fmCollider_GetContactForce), so a rigid engine feels the body it carries;
 // - welded: both ends at one point, the two vertices' midpoint, moving at their mean velocity:
-//   implicit, the midpoint of their free flights (x + h v, read before any body steps), so each
-//   body's solve pulls its vertex there and the pair meets however stiff the weld; explicit,
-//   their midpoint now. The two ends' forces, k (midpoint - x), are equal and opposite at rest
-//   and throughout an explicit step, so the pair carries its weight exactly and keeps its
-//   momentum (docs/contact.md, "Attachments").
+//   implicit, the midpoint of their predicted ends x + h v + h^2 a, a the pair's acceleration
+//   over the last substep from everything but welds (measured from the two bodies' momenta, so
+//   the prediction never feeds back through the weld's stiffness), so each body's solve pulls
+//   its vertex there and the pair meets however stiff the weld; explicit, their midpoint now.
+//   The two ends' forces, k (midpoint - x), are equal and opposite throughout an explicit step
+//   and, implicit, whenever the prediction holds (at rest, in free fall, pushed or carried as
+//   one), so the pair carries its weight and keeps its momentum (docs/contact.md,
+//   "Attachments").
 // Anchors whose collider or partner body is gone are dropped at the next substep.
 #pragma once
 
@@ -29,6 +32,9 @@ typedef struct fmAnchor
 	int otherVertex;     // welded: the partner's vertex (its own numbering)
 	fmVec3 local;        // glued: the point in the collider's frame (m)
 	fmVec3 lever;        // glued: the point minus the collider's centre at the substep's end
+	// Welded, implicit: the pair's acceleration over the last substep from everything but welds
+	// (the two bodies' external forces over their masses), which the next predicted ends take.
+	fmVec3 acceleration;
 } fmAnchor;
 
 // Whether body @p b is welded to body @p o (another body): welded bodies do not collide with
@@ -51,8 +57,8 @@ void fmAnchors_Place(struct fmWorld* world, double h, double frameTime);
 void fmAnchors_PlaceStatic(struct fmWorld* world, fmBody* body);
 
 // After every body stepped a substep of @p h: the glued anchors' forces, reversed, go into their
-// colliders' impulses, in body order.
-void fmAnchors_BookReactions(struct fmWorld* world, double h);
+// colliders' impulses, in body order; the welded ones note their vertices' accelerations.
+void fmAnchors_AfterSubstep(struct fmWorld* world, double h);
 
 // Whether @p body hangs on a collider that moves (it cannot sleep).
 bool fmAnchors_OnMovingCollider(const struct fmWorld* world, const fmBody* body);
@@ -72,6 +78,7 @@ typedef struct fmAnchorRecord
 	int32_t zero; // 0
 	double local[3];
 	double stiffness, damping, maxForce; // N/m, N s/m, N (INFINITY: none)
+	double acceleration[3];              // m/s^2, as fmAnchor's
 } fmAnchorRecord;
 
 // Anchor @p a of @p body as a record.

@@ -84,6 +84,9 @@ typedef struct fmBody
 	int anchorCapacity;
 	struct fmAnchor* anchors;
 	struct fmTarget* anchorTargets;
+	// Welded, implicit: the body's momentum when its anchors were placed, and its acceleration
+	// over the last substep from everything but its welds (anchors.c).
+	fmVec3 weldMomentum, weldAcceleration;
 	// Let go of a grab and still stretched or moving: the stiffening proxy (stability.h) at the
 	// grab, which the body must relax to, and the kinetic energy it must settle below (J), before
 	// an explicit world gives up adaptive substeps; 0 when none (grab.h).

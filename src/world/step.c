@@ -512,7 +512,7 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order;
 	// first the colliders' and the floor's reaction to the solve's friction.
 	double contactStart = fmSeconds();
-	fmAnchors_BookReactions(w, h);
+	fmAnchors_AfterSubstep(w, h);
 	if (w->def.integrator == fm_implicit && (contact || fmContact_FloorFriction(w)))
 		fmContactCollider_BookSolveFriction(w, h);
 	bool contactOk =
