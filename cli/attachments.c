@@ -3,12 +3,16 @@
 #include "attachments.h"
 
 #include "cli.h"
+#include "welds.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static int cliCountInBox(const fmTetMesh* mesh, const cliAttachment* a, cliAttached* out, int body)
+// The vertices of @p mesh in attachment @p a's box, into @p out (may be NULL) as kinematic
+// attachments of @p body, or into @p vertices (may be NULL) as vertex indices; their count.
+static int cliCountInBox(const fmTetMesh* mesh, const cliAttachment* a, cliAttached* out, int body,
+                         int* vertices)
 {
 	int count = 0;
 	fmVec3 centre = fmScale(0.5, fmAdd(a->min, a->max));
@@ -18,6 +22,8 @@ static int cliCountInBox(const fmTetMesh* mesh, const cliAttachment* a, cliAttac
 		if (p.x < a->min.x || p.x > a->max.x || p.y < a->min.y || p.y > a->max.y ||
 		    p.z < a->min.z || p.z > a->max.z)
 			continue;
+		if (vertices != NULL)
+			vertices[count] = i;
 		if (out != NULL)
 		{
 			cliAttached* t = &out[count];
@@ -34,24 +40,65 @@ static int cliCountInBox(const fmTetMesh* mesh, const cliAttachment* a, cliAttac
 	return count;
 }
 
-bool cliAttachments_Create(const cliScene* scene, cliSimulation* sim)
+// Glue the vertices in attachment @p k of body @p b to its collider.
+static bool cliGlue(const cliScene* scene, cliSimulation* sim, int b, int k)
 {
-	int total = 0;
+	const cliAttachment* a = &scene->bodies[b].attachments[k];
+	if (a->collider >= sim->colliderCount)
+	{
+		cliError("%s: bodies[%d].attachments[%d].collider: %d, but the scene has %d colliders",
+		         scene->name, b, k, a->collider, sim->colliderCount);
+		return false;
+	}
+	int* vertices = malloc(sizeof(int) * (size_t)sim->meshes[b].nodeCount);
+	if (vertices == NULL)
+	{
+		cliError("%s: out of memory for the attachments", scene->name);
+		return false;
+	}
+	int count = cliCountInBox(&sim->meshes[b], a, NULL, b, vertices);
+	fmAttachDef def = fmDefaultAttachDef();
+	def.stiffness = a->stiffness;
+	def.dampingRatio = a->dampingRatio;
+	bool ok = fmBody_AttachToCollider(sim->bodies[b], vertices, count, sim->colliders[a->collider],
+	                                  &def) == fm_ok;
+	free(vertices);
+	if (!ok)
+		cliError("%s: bodies[%d].attachments[%d]: %s", scene->name, b, k,
+		         fmWorld_GetLastError(sim->world)->message);
+	return ok;
+}
+
+// Count the kinematic attachments' vertices (into @p total) and glue the others; false with a
+// message when a box catches no vertex or a glue is refused.
+static bool cliCountAndGlue(const cliScene* scene, cliSimulation* sim, int* total)
+{
+	*total = 0;
 	for (int b = 0; b < scene->bodyCount; ++b)
 		for (int k = 0; k < scene->bodies[b].attachmentCount; ++k)
 		{
-			int count = cliCountInBox(&sim->meshes[b], &scene->bodies[b].attachments[k], NULL, b);
+			const cliAttachment* a = &scene->bodies[b].attachments[k];
+			int count = cliCountInBox(&sim->meshes[b], a, NULL, b, NULL);
 			if (count == 0)
 			{
-				const cliAttachment* a = &scene->bodies[b].attachments[k];
 				cliError("%s: bodies[%d].attachments[%d]: box [%g %g %g]..[%g %g %g] catches no "
 				         "vertex (scene coordinates, after the transform)",
 				         scene->name, b, k, a->min.x, a->min.y, a->min.z, a->max.x, a->max.y,
 				         a->max.z);
 				return false;
 			}
-			total += count;
+			if (a->collider >= 0 && !cliGlue(scene, sim, b, k))
+				return false;
+			*total += a->collider >= 0 ? 0 : count;
 		}
+	return true;
+}
+
+bool cliAttachments_Create(const cliScene* scene, cliSimulation* sim)
+{
+	int total = 0;
+	if (!cliCountAndGlue(scene, sim, &total) || !cliWelds_Create(scene, sim))
+		return false;
 	if (total == 0)
 		return true;
 	sim->attached = calloc((size_t)total, sizeof *sim->attached);
@@ -62,8 +109,10 @@ bool cliAttachments_Create(const cliScene* scene, cliSimulation* sim)
 	}
 	for (int b = 0; b < scene->bodyCount; ++b)
 		for (int k = 0; k < scene->bodies[b].attachmentCount; ++k)
-			sim->attachedCount += cliCountInBox(&sim->meshes[b], &scene->bodies[b].attachments[k],
-			                                    sim->attached + sim->attachedCount, b);
+			if (scene->bodies[b].attachments[k].collider < 0)
+				sim->attachedCount +=
+				    cliCountInBox(&sim->meshes[b], &scene->bodies[b].attachments[k],
+				                  sim->attached + sim->attachedCount, b, NULL);
 	return cliAttachments_Update(sim, 0.0);
 }
 

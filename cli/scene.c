@@ -572,6 +572,7 @@ void cliScene_Free(cliScene* scene)
 		free(scene->bodies[i].loads);
 		free(scene->bodies[i].pressures);
 		free(scene->bodies[i].attachments);
+		free(scene->bodies[i].welds);
 		free(scene->bodies[i].regionMaterials);
 		free(scene->bodies[i].regionIds);
 	}

@@ -37,17 +37,30 @@ typedef struct cliLoadBox
 /// game-sized body's weight; the explicit integrator caps it at m / h^2 (fmBody_SetTargets).
 #define CLI_ATTACHMENT_STIFFNESS 1e5
 
-/// A kinematic attachment ("attachments" on a body): the vertices in the box (at creation) are
-/// pulled by kinematic targets (fmBody_SetTargets) along a rigid motion: their rest positions
-/// turned by angular_velocity * t about the box's centre and moved by velocity * t.
+/// An attachment ("attachments" on a body): the vertices in the box (at creation) are pulled by
+/// kinematic targets (fmBody_SetTargets) along a rigid motion: their rest positions turned by
+/// angular_velocity * t about the box's centre and moved by velocity * t; or, with a collider,
+/// glued to it (fmBody_AttachToCollider).
 typedef struct cliAttachment
 {
 	fmVec3 min;             ///< m
 	fmVec3 max;             ///< m
 	fmVec3 velocity;        ///< m/s
 	fmVec3 angularVelocity; ///< rad/s, about the box's centre
-	double stiffness;       ///< N/m on each vertex
+	double stiffness;       ///< N/m on each vertex (glue: 0 for the library's default)
+	int collider;           ///< the scene's collider the vertices are glued to, or -1
+	double dampingRatio;    ///< glue: fmAttachDef.dampingRatio
 } cliAttachment;
+
+/// A weld ("welds" on a body, fmBody_Weld): every vertex of the body within `distance` of a
+/// vertex of the other body is welded to the nearest such vertex.
+typedef struct cliWeld
+{
+	int body;            ///< the scene's other body
+	double distance;     ///< m
+	double stiffness;    ///< N/m on each end (0: the library's default)
+	double dampingRatio; ///< fmAttachDef.dampingRatio
+} cliWeld;
 
 /// A pressure box ("pressure" on a body): every surface triangle with its vertices in the box.
 typedef struct cliPressureBox
@@ -77,6 +90,8 @@ typedef struct cliBodySpec
 	int pressureCount;
 	cliAttachment* attachments; ///< malloc'd, attachmentCount ("attachments")
 	int attachmentCount;
+	cliWeld* welds; ///< malloc'd, weldCount ("welds")
+	int weldCount;
 	fmMaterial* regionMaterials; ///< malloc'd, def.regionCount ("regions"), def points at them
 	int* regionIds;              ///< malloc'd, def.regionCount
 	fmVec3 initialVelocity;      ///< m/s

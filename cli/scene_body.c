@@ -311,7 +311,7 @@ static bool cliParseRegions(const cliJson* j, const cliJsonNode* body, const cha
 // ---- pins, loads, pressures and attachments: lists of boxes read by cliGetEntries ------------
 
 // A body's keys for loads and per-region materials (docs/scene-format.md, docs/loads.md).
-#define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions", "attachments"
+#define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions", "attachments", "welds"
 
 // "axes": a string of the letters x, y, z, each at most once (e.g. "y", "xz").
 static bool cliGetAxes(const cliJson* j, const cliJsonNode* box, const char* boxPath, unsigned* axes)
@@ -435,17 +435,39 @@ static bool cliReadPressure(const cliJson* j, const cliJsonNode* entry, const ch
 	return true;
 }
 
+// An attachment's "collider", "damping_ratio" and "stiffness" (a collider's glue takes the
+// library's default stiffness unless given; a kinematic attachment CLI_ATTACHMENT_STIFFNESS).
+static bool cliReadGlue(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
+                        cliAttachment* a)
+{
+	const cliRange ratio = {0.0, 1e6, false, false};
+	bool glued = false;
+	a->collider = -1;
+	a->dampingRatio = 1.0;
+	if (!cliGetInt(j, entry, entryPath, "collider", 0, FM_MAX_COLLIDERS - 1, &a->collider,
+	               &glued) ||
+	    !cliGetNumber(j, entry, entryPath, "damping_ratio", ratio, &a->dampingRatio, NULL))
+		return false;
+	a->stiffness = glued ? 0.0 : CLI_ATTACHMENT_STIFFNESS;
+	if (!cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, &a->stiffness, NULL))
+		return false;
+	bool moving = fmLength(a->velocity) > 0.0 || fmLength(a->angularVelocity) > 0.0;
+	if (glued && moving)
+		return cliJsonFail(j, entryPath, NULL,
+		                   "an attachment glued to a collider moves with it: give \"collider\" "
+		                   "or \"velocity\"/\"angular_velocity\", not both");
+	return true;
+}
+
 // "attachments": [{"min": [..], "max": [..], "velocity": [..], "angular_velocity": [..],
-// "stiffness": N/m}]: kinematic attachments (cliAttachment).
+// "stiffness": N/m, "collider": index, "damping_ratio": r}]: attachments (cliAttachment).
 static bool cliReadAttachment(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
                               void* out)
 {
 	cliAttachment* a = out;
-	a->stiffness = CLI_ATTACHMENT_STIFFNESS;
 	if (!cliGetBox(j, entry, entryPath, &a->min, &a->max) ||
 	    !cliGetVec3(j, entry, entryPath, "velocity", &a->velocity, NULL) ||
-	    !cliGetVec3(j, entry, entryPath, "angular_velocity", &a->angularVelocity, NULL) ||
-	    !cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, &a->stiffness, NULL))
+	    !cliGetVec3(j, entry, entryPath, "angular_velocity", &a->angularVelocity, NULL))
 		return false;
 	const double v[6] = {a->velocity.x,        a->velocity.y,        a->velocity.z,
 	                     a->angularVelocity.x, a->angularVelocity.y, a->angularVelocity.z};
@@ -453,14 +475,35 @@ static bool cliReadAttachment(const cliJson* j, const cliJsonNode* entry, const 
 		if (!(fabs(v[k]) <= 1e6))
 			return cliJsonFail(j, entryPath, NULL,
 			                   "velocity and angular_velocity must be within 1e6 (m/s, rad/s)");
+	return cliReadGlue(j, entry, entryPath, a);
+}
+
+// "welds": [{"body": index, "distance": m, "stiffness": N/m, "damping_ratio": r}] (cliWeld).
+static bool cliReadWeld(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
+                        void* out)
+{
+	cliWeld* weld = out;
+	const cliRange distance = {0.0, 1.0, true, false}, ratio = {0.0, 1e6, false, false};
+	bool hasBody = false;
+	weld->distance = 1e-6;
+	weld->dampingRatio = 1.0;
+	if (!cliGetInt(j, entry, entryPath, "body", 0, INT_MAX - 1, &weld->body, &hasBody) ||
+	    !cliGetNumber(j, entry, entryPath, "distance", distance, &weld->distance, NULL) ||
+	    !cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, &weld->stiffness, NULL) ||
+	    !cliGetNumber(j, entry, entryPath, "damping_ratio", ratio, &weld->dampingRatio, NULL))
+		return false;
+	if (!hasBody)
+		return cliJsonFail(j, entryPath, NULL,
+		                   "a weld needs \"body\": the index of the body it joins");
 	return true;
 }
 
 static const char* const cliPinKeys[] = {"min", "max", "axes", "displacement", "time", NULL};
 static const char* const cliLoadKeys[] = {"min", "max", "force", NULL};
 static const char* const cliPressureKeys[] = {"min", "max", "pressure", "follower", NULL};
-static const char* const cliAttachmentKeys[] = {"min",       "max", "velocity", "angular_velocity",
-                                                "stiffness", NULL};
+static const char* const cliAttachmentKeys[] = {
+    "min", "max", "velocity", "angular_velocity", "stiffness", "collider", "damping_ratio", NULL};
+static const char* const cliWeldKeys[] = {"body", "distance", "stiffness", "damping_ratio", NULL};
 static const cliEntryList cliPinList = {"pin", "{\"min\": [x,y,z], \"max\": [x,y,z]}", cliPinKeys,
                                         sizeof(cliPinBox), cliReadPin};
 static const cliEntryList cliLoadList = {
@@ -474,23 +517,27 @@ static const cliEntryList cliAttachmentList = {
     "{\"min\": [x,y,z], \"max\": [x,y,z], \"velocity\": [vx,vy,vz], \"angular_velocity\": "
     "[wx,wy,wz]}",
     cliAttachmentKeys, sizeof(cliAttachment), cliReadAttachment};
+static const cliEntryList cliWeldList = {"welds", "{\"body\": index, \"distance\": m}",
+                                         cliWeldKeys, sizeof(cliWeld), cliReadWeld};
 
 // A body's lists in the order they are checked, "regions" among them; what was read is kept in
 // @p spec on failure too, for cliScene_Free.
 static bool cliParseBodyLists(const cliJson* j, const cliJsonNode* body, const char* path,
                               cliBodySpec* spec)
 {
-	void *pins = NULL, *loads = NULL, *pressures = NULL, *attachments = NULL;
+	void *pins = NULL, *loads = NULL, *pressures = NULL, *attachments = NULL, *welds = NULL;
 	bool ok =
 	    cliGetEntries(j, body, path, &cliPinList, &pins, &spec->pinCount) &&
 	    cliGetEntries(j, body, path, &cliLoadList, &loads, &spec->loadCount) &&
 	    cliGetEntries(j, body, path, &cliPressureList, &pressures, &spec->pressureCount) &&
 	    cliParseRegions(j, body, path, spec) &&
-	    cliGetEntries(j, body, path, &cliAttachmentList, &attachments, &spec->attachmentCount);
+	    cliGetEntries(j, body, path, &cliAttachmentList, &attachments, &spec->attachmentCount) &&
+	    cliGetEntries(j, body, path, &cliWeldList, &welds, &spec->weldCount);
 	spec->pins = pins;
 	spec->loads = loads;
 	spec->pressures = pressures;
 	spec->attachments = attachments;
+	spec->welds = welds;
 	return ok;
 }
 

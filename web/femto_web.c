@@ -261,8 +261,10 @@ static const char* fwUnshown(const cliScene* scene)
 		const cliBodySpec* spec = &scene->bodies[b];
 		if (spec->meshSource == cli_meshFile)
 			return "mesh files (only \"builtin:house2\" and \"box:nx,ny,nz\")";
-		if (spec->pinCount + spec->loadCount + spec->pressureCount + spec->attachmentCount > 0)
-			return "pins, loads, pressures and attachments";
+		if (spec->pinCount + spec->loadCount + spec->pressureCount + spec->attachmentCount +
+		        spec->weldCount >
+		    0)
+			return "pins, loads, pressures, attachments and welds";
 		if (spec->renderMeshPath[0] != 0)
 			return "render meshes";
 	}
