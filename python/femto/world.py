@@ -514,6 +514,38 @@ class Body:
             self._live(), ffi.cast("const int*", ffi.from_buffer(v)),
             ffi.cast("const fmVec3*", ffi.from_buffer(p)), len(v), finite(stiffness, "stiffness")))
 
+    def attach_to_collider(self, vertices: ArrayLike, collider: "Collider", **attach: float) -> None:
+        """Glue vertices to a collider (two-way: the glue's pull is part of the collider's
+        contact force); keywords are fmAttachDef's (stiffness, damping_ratio, max_force)."""
+        v = _defs.int_array(vertices, "vertices").reshape(-1)
+        d = ffi.new("fmAttachDef*", lib.fmDefaultAttachDef())
+        fill(d[0], attach, "fmAttachDef")
+        self.world._check(lib.fmBody_AttachToCollider(
+            self._live(), ffi.cast("const int*", ffi.from_buffer(v)), len(v), collider._live(), d))
+
+    def weld(self, vertices: ArrayLike, other: "Body", other_vertices: ArrayLike,
+             **attach: float) -> None:
+        """Weld vertices[k] of this body to other_vertices[k] of other (or of this body: a
+        seam); keywords are fmAttachDef's."""
+        v = _defs.int_array(vertices, "vertices").reshape(-1)
+        o = _defs.int_array(other_vertices, "other_vertices").reshape(-1)
+        if len(o) != len(v):
+            raise ValueError(f"vertices and other_vertices differ in length ({len(v)}, {len(o)})")
+        d = ffi.new("fmAttachDef*", lib.fmDefaultAttachDef())
+        fill(d[0], attach, "fmAttachDef")
+        self.world._check(lib.fmBody_Weld(
+            self._live(), ffi.cast("const int*", ffi.from_buffer(v)), other._live(),
+            ffi.cast("const int*", ffi.from_buffer(o)), len(v), d))
+
+    @property
+    def attachment_count(self) -> int:
+        """Glued vertices and weld ends of the body."""
+        return int(lib.fmBody_GetAttachmentCount(self._live()))
+
+    def clear_attachments(self) -> None:
+        """Remove the body's glue and welds (both ends)."""
+        lib.fmBody_ClearAttachments(self._live())
+
     def grab(self, point: Vec3, **grab: float) -> None:
         """Grab the body at point (a mouse drag); keywords are fmGrabDef's fields."""
         d = ffi.new("fmGrabDef*", lib.fmDefaultGrabDef())

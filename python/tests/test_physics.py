@@ -121,3 +121,29 @@ def test_a_snapshot_brings_the_same_bits_back():
     with pytest.raises(femto.FemtoError) as error:
         scene.world.restore_snapshot(saved[: len(saved) // 2])
     assert error.value.name == "fm_errParameter" and "snapshot" in error.value.message
+
+
+def test_a_glued_box_and_its_welded_neighbour_hang_from_a_plank():
+    # A box glued by its top face under a plank carries a second box welded to its side: the
+    # plank carries both weights (the glue's pull is the collider's force), and a bad weld is
+    # refused with the library's message.
+    world = femto.World(integrator="implicit", floor=False)
+    plank = world.add_collider("box", center=(0.0, 0.5, 0.0), half_extents=(0.6, 0.05, 0.3))
+    a = world.add_body(box(lower=(-0.2, 0.2, -0.1), upper=(0.0, 0.4, 0.1)), damping=0.98)
+    b = world.add_body(box(lower=(0.0, 0.2, -0.1), upper=(0.2, 0.4, 0.1)), damping=0.98)
+    xa, xb = a.positions(), b.positions()
+    top = np.flatnonzero(np.isclose(xa[:, 1], 0.4))
+    right = np.flatnonzero(np.isclose(xa[:, 0], 0.0))
+    left = np.array([np.flatnonzero(np.all(np.isclose(xb, xa[i]), axis=1))[0] for i in right])
+    a.attach_to_collider(top, plank)
+    a.weld(right, b, left)
+    assert a.attachment_count == len(top) + len(right) and b.attachment_count == len(right)
+    for _ in range(180):
+        world.step(1 / 60, 1)
+    weight = (a.masses.sum() + b.masses.sum()) * 9.8
+    force, _ = plank.contact_force()
+    assert force[1] == pytest.approx(-weight, rel=1e-3)
+    with pytest.raises(femto.FemtoError, match="entry 0 \\(vertex 1000\\)"):
+        a.weld([1000], b, [0])
+    a.clear_attachments()
+    assert a.attachment_count == 0 and b.attachment_count == 0
