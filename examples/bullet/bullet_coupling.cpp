@@ -321,6 +321,21 @@ double TiltOf(const btRigidBody* plank)
 	return 2.0 * std::atan2(double(q.z()), double(q.w()));
 }
 
+// The tilt (rad, negative: clockwise) at which a torsion spring of @p k (N m/rad) carries a
+// weight @p weight (N) whose centre is @p r along a rigid lever and @p h above its axis: k theta
+// = m g (r cos theta - h sin theta) by Newton's method from zero.
+double StaticTilt(double k, double weight, double r, double h)
+{
+	double theta = 0.0;
+	for (int i = 0; i < 50; ++i)
+	{
+		double f = k * theta + weight * (r * std::cos(theta) - h * std::sin(theta));
+		double df = k - weight * (r * std::sin(theta) + h * std::cos(theta));
+		theta -= f / df;
+	}
+	return theta;
+}
+
 // A 3 m, 20 kg plank hinged at its centre, 1 m up, on a torsion spring; the seeds' house mesh,
 // 1 m tall and 55 kg (StVK, stiffer than the seeds' to stand at this size), dropped 1 cm onto
 // its right arm. It tips the plank until the spring carries it; the plank's wood has Coulomb
@@ -397,13 +412,7 @@ int Seesaw()
 		// The static solve: the rigid lever with the house's centre of mass where it was placed
 		// (r along the plank, h above its axis) balances k theta = m g (r cos theta - h sin
 		// theta) with theta the (negative) tilt; Newton's method from zero.
-		double r = com0.x, h = com0.y - 1.0, weight = house.mass * kGravity, theta = 0.0;
-		for (int i = 0; i < 50; ++i)
-		{
-			double f = k * theta + weight * (r * std::cos(theta) - h * std::sin(theta));
-			double df = k - weight * (r * std::sin(theta) + h * std::cos(theta));
-			theta -= f / df;
-		}
+		double theta = StaticTilt(k, house.mass * kGravity, com0.x, com0.y - 1.0);
 		double tilt = TiltOf(plank->rigid);
 		std::printf(
 		    "seesaw: the house (%.2f kg, implicit) tipped the plank to %.3f degrees; the "
@@ -427,6 +436,99 @@ int Seesaw()
 	fmDestroyWorld(world);
 	return status;
 }
+
+// The seesaw of Seesaw() with a 0.4 m foam cushion (8.6 kg) glued under its right arm
+// (fmBody_AttachToCollider: two-way, the glue's pull is the plank's force): let go level, the
+// plank swings down and settles where the spring carries the hanging cushion, which stays glued.
+int Glued()
+{
+	fmWorldDef wd = fmDefaultWorldDef();
+	wd.floor.enabled = false;
+	wd.integrator = fm_implicit;
+	wd.tolerance = FM_TOLERANCE_ACCURATE;
+	fmWorldId world = fmCreateWorld(&wd);
+	const double arm = 1.0, underside = 0.95;
+	fmTetMesh mesh;
+	SoftBody cushion;
+	if (fmMakeBoxMesh(4, 4, 4, fmMakeVec3(arm - 0.2, underside - 0.4, -0.2),
+	                  fmMakeVec3(arm + 0.2, underside, 0.2), &mesh) != fm_ok)
+		return 1;
+	bool made = MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 2e5, 0.3), 135.0, true,
+	                         &cushion);
+	fmFreeTetMesh(&mesh);
+	if (!made)
+		return 1;
+	const double k = 600.0, c = 60.0; // the spring (N m/rad), a light damper (N m s/rad)
+	fmVec3 com0 = fmBody_GetStats(cushion.id).centerOfMass;
+	int status = 1;
+	{
+		Coupling coupling(world, btVector3(0, btScalar(-kGravity), 0));
+		btVector3 half(1.5f, 0.05f, 0.3f);
+		Link* plank = coupling.AddRigid(std::make_unique<btBoxShape>(half), 20.0,
+		                                btVector3(0, 1.0f, 0), BoxCollider(half, false));
+		if (plank == nullptr)
+			return 1;
+		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
+		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
+		// The cushion's top face, glued where it touches the plank's underside.
+		std::vector<double> x(3 * size_t(fmBody_GetVertexCount(cushion.id)));
+		fmBody_CopyPositions(cushion.id, x.data(), fmBody_GetVertexCount(cushion.id));
+		std::vector<int> top;
+		for (int i = 0; i < fmBody_GetVertexCount(cushion.id); ++i)
+			if (std::fabs(x[3 * size_t(i) + 1] - underside) < 1e-9)
+				top.push_back(i);
+		if (fmBody_AttachToCollider(cushion.id, top.data(), int(top.size()), plank->collider,
+		                            nullptr) != fm_ok)
+			return 1;
+		double worstLaw = 0.0, lowest = 0.0;
+		fmVec3 g = fmMakeVec3(0.0, -kGravity, 0.0);
+		for (int frame = 0; frame < 600; ++frame)
+		{
+			fmVec3 before = Momentum(cushion);
+			auto spring = [&]
+			{
+				double tilt = TiltOf(plank->rigid);
+				double spin = plank->rigid->getAngularVelocity().z();
+				plank->rigid->applyTorque(btVector3(0, 0, btScalar(-k * tilt - c * spin)));
+			};
+			if (coupling.Frame(kExchanges, 1, spring) != fm_ok)
+			{
+				std::printf("  FAILED: femto's step in frame %d: %s\n", frame,
+				            fmWorld_GetLastError(world)->message);
+				return 1;
+			}
+			fmVec3 gained = fmSub(Momentum(cushion), before);
+			fmVec3 residual = fmAdd(fmSub(gained, fmScale(cushion.mass * kFrame, g)),
+			                        fmScale(kFrame, plank->force));
+			worstLaw =
+			    std::max(worstLaw, fmLength(residual) / (cushion.mass * kGravity * kFrame));
+			lowest = std::min(lowest, TiltOf(plank->rigid));
+		}
+		double theta = StaticTilt(k, cushion.mass * kGravity, com0.x, com0.y - 1.0);
+		double tilt = TiltOf(plank->rigid);
+		std::printf("glued: the cushion (%.2f kg, implicit) swung the plank down to %.3f degrees "
+		            "and it settled at %.3f; the rigid lever's static solve says %.3f degrees "
+		            "(off by %.2f%%); Newton's third law across the engines held to %.2e of m g "
+		            "dt in every frame\n",
+		            cushion.mass, lowest * 180 / M_PI, tilt * 180 / M_PI, theta * 180 / M_PI,
+		            100 * std::fabs(tilt / theta - 1), worstLaw);
+		bool ok = Check(worstLaw < 1e-5, "the cushion's momentum change minus gravity's impulse "
+		                                 "is minus the plank's impulse, every frame");
+		ok = Check(lowest < 1.3 * theta, "the plank swung past its rest tilt (the glue held the "
+		                                 "cushion through the swing)") &&
+		     ok;
+		ok = Check(std::fabs(tilt / theta - 1) < 0.03,
+		           "the tilt is within 3% of the static solve") &&
+		     ok;
+		ok = Check(std::fabs(plank->rigid->getAngularVelocity().z()) < 1e-3,
+		           "the plank is at rest") &&
+		     ok;
+		status = ok ? 0 : 1;
+	}
+	fmDestroyWorld(world);
+	return status;
+}
+
 
 // A 5 kg rigid ball at 3 m/s into a free 60 kg soft pad, no gravity: the pair's momentum
 // stays what it was, frame by frame, and the ball comes back.
@@ -503,6 +605,8 @@ int main(int argc, char** argv)
 		return Seesaw();
 	if (std::strcmp(scene, "ball") == 0)
 		return Ball();
-	std::fprintf(stderr, "usage: bullet_coupling cushion|seesaw|ball\n");
+	if (std::strcmp(scene, "glued") == 0)
+		return Glued();
+	std::fprintf(stderr, "usage: bullet_coupling cushion|seesaw|ball|glued\n");
 	return 2;
 }
