@@ -294,6 +294,39 @@ static void fuzzGrab(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	(void)fmBody_GetGrab(body, fmFuzzPick(r, 2) ? &at : NULL, fmFuzzPick(r, 2) ? &target : NULL);
 }
 
+// Attachments with fuzzed vertices and defs (sometimes not from fmDefaultAttachDef()): glue to
+// the floor's collider (the null id without a floor), a seam on the body, or clearing them.
+static void fuzzAttach(fmFuzzReader* r, fmWorldId world, fmBodyId body, int n)
+{
+	int vertices[4], others[4], count = fmFuzzPick(r, 6) - 1;
+	for (int k = 0; k < 4; ++k)
+	{
+		vertices[k] = fmFuzzPick(r, n + 3) - 1;
+		others[k] = fmFuzzPick(r, n + 3) - 1;
+	}
+	fmAttachDef def = fmDefaultAttachDef();
+	def.stiffness = fmFuzzDouble(r, -1.0, 1e6);
+	def.dampingRatio = fmFuzzDouble(r, -0.5, 3.0);
+	def.maxForce = fmFuzzDouble(r, -1.0, 1e3);
+	if (fmFuzzPick(r, 16) == 0)
+		fmFuzzBytes(r, &def, sizeof def);
+	const fmAttachDef* d = fmFuzzPick(r, 4) ? &def : NULL;
+	switch (fmFuzzPick(r, 3))
+	{
+	case 0:
+		fmBody_AttachToCollider(body, fmFuzzPick(r, 8) ? vertices : NULL, count,
+		                        fmWorld_GetFloorCollider(world), d);
+		break;
+	case 1:
+		fmBody_Weld(body, vertices, body, fmFuzzPick(r, 8) ? others : NULL, count, d);
+		break;
+	default:
+		fmBody_ClearAttachments(body);
+		break;
+	}
+	(void)fmBody_GetAttachmentCount(body);
+}
+
 // Public calls with fuzzed arguments on a live (or stale) body.
 static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
@@ -303,7 +336,7 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	for (int c = 0; c < calls; ++c)
 	{
 		int vertex = fmFuzzPick(r, n + 3) - 1;
-		switch (fmFuzzPick(r, 19))
+		switch (fmFuzzPick(r, 20))
 		{
 		case 0:
 			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
@@ -381,6 +414,9 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			break;
 		case 17:
 			fuzzSecondBody(r, world);
+			break;
+		case 18:
+			fuzzAttach(r, world, body, n);
 			break;
 		default:
 		{
