@@ -517,8 +517,8 @@ static const cliEntryList cliAttachmentList = {
     "{\"min\": [x,y,z], \"max\": [x,y,z], \"velocity\": [vx,vy,vz], \"angular_velocity\": "
     "[wx,wy,wz]}",
     cliAttachmentKeys, sizeof(cliAttachment), cliReadAttachment};
-static const cliEntryList cliWeldList = {"welds", "{\"body\": index, \"distance\": m}",
-                                         cliWeldKeys, sizeof(cliWeld), cliReadWeld};
+static const cliEntryList cliWeldList = {"welds", "{\"body\": index, \"distance\": m}", cliWeldKeys,
+                                         sizeof(cliWeld), cliReadWeld};
 
 // A body's lists in the order they are checked, "regions" among them; what was read is kept in
 // @p spec on failure too, for cliScene_Free.

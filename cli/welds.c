@@ -104,8 +104,7 @@ static bool cliWeldBodies(const cliScene* scene, cliSimulation* sim, int b, int 
 		cliError("%s: bodies[%d].welds[%d]: no vertex of the body is within %g m of a vertex of "
 		         "body %d (scene coordinates, after the transforms): raise \"distance\"",
 		         scene->name, b, k, w->distance, w->body);
-	else if (fmBody_Weld(sim->bodies[b], mine, sim->bodies[w->body], theirs, count, &def) !=
-	         fm_ok)
+	else if (fmBody_Weld(sim->bodies[b], mine, sim->bodies[w->body], theirs, count, &def) != fm_ok)
 		cliError("%s: bodies[%d].welds[%d]: %s", scene->name, b, k,
 		         fmWorld_GetLastError(sim->world)->message);
 	else

@@ -235,7 +235,7 @@ TEST(welded_boxes_carry_each_other)
 		double gap = 0.0;
 		for (int k = 0; k < m; ++k)
 			gap = fmax(gap, fmLength(fmSub(fmLoad(fmTestPositions(a), right[k]),
-			                                 fmLoad(fmTestPositions(b), left[k]))));
+			                               fmLoad(fmTestPositions(b), left[k]))));
 		printf("  %s: the plank carries %.5f of both weights; the weld opens %.2f mm\n",
 		       implicit ? "implicit" : "explicit", -force.y / weight, 1e3 * gap);
 		CHECK_NEAR(force.y, -weight, 2e-3 * weight);
@@ -266,7 +266,7 @@ TEST(welded_pair_keeps_its_momentum)
 			worst = fmax(worst, fmLength(fmSub(p, start)) / fmLength(start));
 			for (int k = 0; k < m; ++k)
 				gap = fmax(gap, fmLength(fmSub(fmLoad(fmTestPositions(a), right[k]),
-				                                 fmLoad(fmTestPositions(b), left[k]))));
+				                               fmLoad(fmTestPositions(b), left[k]))));
 		}
 		printf("  %s: total momentum within %.2e of the kick's; the weld opens at most %.2f mm\n",
 		       implicit ? "implicit" : "explicit", worst, 1e3 * gap);
@@ -299,7 +299,7 @@ TEST(welded_pair_falls_freely)
 			steps += fmWorld_GetStepStats(world).steps;
 			for (int k = 0; k < m; ++k)
 				gap = fmax(gap, fmLength(fmSub(fmLoad(fmTestPositions(a), right[k]),
-				                                 fmLoad(fmTestPositions(b), left[k]))));
+				                               fmLoad(fmTestPositions(b), left[k]))));
 		}
 		// Both integrators' positions take the new velocity: g h^2 k (k + 1) / 2 after k equal
 		// steps (the explicit substeps are autoSubstep's, nearly equal).
@@ -431,8 +431,8 @@ TEST(bad_attachments_are_refused)
 	refused(failures_, world, fmBody_AttachToCollider(a, wrong, 2, plank, NULL), fm_errParameter,
 	        "fmBody_AttachToCollider: entry 1 (vertex 64): expected a vertex index in [0, "
 	        "vertexCount)");
-	refused(failures_, world, fmBody_AttachToCollider(a, good, 2, elsewhere, NULL),
-	        fm_errParameter, "expected a live collider of the body's world");
+	refused(failures_, world, fmBody_AttachToCollider(a, good, 2, elsewhere, NULL), fm_errParameter,
+	        "expected a live collider of the body's world");
 	refused(failures_, world, fmBody_AttachToCollider(a, good, 0, plank, NULL), fm_errParameter,
 	        "expected count >= 1");
 	def.stiffness = NAN;

@@ -453,8 +453,8 @@ int Glued()
 	if (fmMakeBoxMesh(4, 4, 4, fmMakeVec3(arm - 0.2, underside - 0.4, -0.2),
 	                  fmMakeVec3(arm + 0.2, underside, 0.2), &mesh) != fm_ok)
 		return 1;
-	bool made = MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 2e5, 0.3), 135.0, true,
-	                         &cushion);
+	bool made =
+	    MakeSoftBody(world, &mesh, fmMakeMaterial(fm_neoHookean, 2e5, 0.3), 135.0, true, &cushion);
 	fmFreeTetMesh(&mesh);
 	if (!made)
 		return 1;
@@ -500,8 +500,7 @@ int Glued()
 			fmVec3 gained = fmSub(Momentum(cushion), before);
 			fmVec3 residual = fmAdd(fmSub(gained, fmScale(cushion.mass * kFrame, g)),
 			                        fmScale(kFrame, plank->force));
-			worstLaw =
-			    std::max(worstLaw, fmLength(residual) / (cushion.mass * kGravity * kFrame));
+			worstLaw = std::max(worstLaw, fmLength(residual) / (cushion.mass * kGravity * kFrame));
 			lowest = std::min(lowest, TiltOf(plank->rigid));
 		}
 		double theta = StaticTilt(k, cushion.mass * kGravity, com0.x, com0.y - 1.0);
@@ -528,7 +527,6 @@ int Glued()
 	fmDestroyWorld(world);
 	return status;
 }
-
 
 // A 5 kg rigid ball at 3 m/s into a free 60 kg soft pad, no gravity: the pair's momentum
 // stays what it was, frame by frame, and the ball comes back.

@@ -128,11 +128,11 @@ FM_API size_t fmWorld_GetSnapshotSize(fmWorldId worldId);
 /// the world's settings, and the contact state the next step reads: every collider's pose,
 /// velocity and angular velocity (and last contact force and torque), every body's sleep state
 /// (asleep, sleep timer, island), its attachments (glue and welds) and the implicit collider
-/// friction found in the last step, and the pairs that touched in the last frame. Not saved: a mesh collider's triangles (they cannot
-/// change), targets and loads (the caller's input), the last step's results (contacts, events,
-/// statistics). fm_errLimit when the buffer is smaller than fmWorld_GetSnapshotSize(); @p written
-/// (may be NULL) gets the bytes used. The snapshot is for this process: user energy functions are
-/// saved as pointers.
+/// friction found in the last step, and the pairs that touched in the last frame. Not saved: a mesh
+/// collider's triangles (they cannot change), targets and loads (the caller's input), the last
+/// step's results (contacts, events, statistics). fm_errLimit when the buffer is smaller than
+/// fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the bytes used. The snapshot is for
+/// this process: user energy functions are saved as pointers.
 FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size, size_t* written);
 
 /// Restore a snapshot saved from this world with the same bodies and colliders: the world then

@@ -97,8 +97,7 @@ static void fmDropStale(struct fmWorld* w, fmBody* b)
 }
 
 // A glued anchor where collider @p c leaves it after @p h more seconds of its motion.
-static void fmPlaceGlued(fmAnchor* a, fmTarget* t, const fmCollider* c, double h,
-                         double frameTime)
+static void fmPlaceGlued(fmAnchor* a, fmTarget* t, const fmCollider* c, double h, double frameTime)
 {
 	fmMat3 rotation = c->rotation;
 	if (fmDot(c->def.angularVelocity, c->def.angularVelocity) > 0.0)
@@ -201,9 +200,9 @@ static void fmShareAcceleration(const struct fmWorld* w, fmBody* b)
 			continue;
 		const fmBody* other = &w->bodies[o];
 		double mb = b->mesh.totalMass, mo = other->mesh.totalMass;
-		b->anchors[a].acceleration = fmScale(
-		    1.0 / (mb + mo), fmAdd(fmScale(mb, b->weldAcceleration),
-		                           fmScale(mo, other->weldAcceleration)));
+		b->anchors[a].acceleration =
+		    fmScale(1.0 / (mb + mo),
+		            fmAdd(fmScale(mb, b->weldAcceleration), fmScale(mo, other->weldAcceleration)));
 	}
 }
 
@@ -325,8 +324,8 @@ static fmCollider* fmColliderOfWorld(fmWorld* w, fmColliderId id, int* slot)
 {
 	fmWorldId world = fmWorldIdOf(w);
 	*slot = id.index1 - 1;
-	if (id.world0 != world.index1 - 1 || id.worldGeneration != world.generation ||
-	    id.index1 < 1 || (id.index1 > w->colliderCapacity && *slot != FM_FLOOR_SLOT))
+	if (id.world0 != world.index1 - 1 || id.worldGeneration != world.generation || id.index1 < 1 ||
+	    (id.index1 > w->colliderCapacity && *slot != FM_FLOOR_SLOT))
 		return NULL;
 	fmCollider* c = fmWorldCollider(w, *slot);
 	return c->inUse && c->generation == id.generation ? c : NULL;
@@ -385,8 +384,8 @@ static void fmAddWeldEnds(fmBody* b, const int* vertices, const fmBody* o, const
 	}
 }
 
-static fmResult fmWeldIn(fmBody* b, fmBody* o, fmWorld* w, const int* vertices,
-                         const int* others, int count, const fmAttachDef* def)
+static fmResult fmWeldIn(fmBody* b, fmBody* o, fmWorld* w, const int* vertices, const int* others,
+                         int count, const fmAttachDef* def)
 {
 	const char* call = "fmBody_Weld";
 	int at;
@@ -526,8 +525,8 @@ const char* fmAnchors_RecordProblem(const struct fmWorld* w, const fmBody* b,
 	if (o != NULL && fmBody_IsLive(o) && o->generation == r->generation &&
 	    (r->otherVertex < 0 || r->otherVertex >= o->mesh.vertexCount))
 		return "a vertex of the welded body";
-	bool finite = fabs(r->local[0]) <= FM_MAX_COORDINATE && fabs(r->local[1]) <= FM_MAX_COORDINATE &&
-	              fabs(r->local[2]) <= FM_MAX_COORDINATE;
+	bool finite = fabs(r->local[0]) <= FM_MAX_COORDINATE &&
+	              fabs(r->local[1]) <= FM_MAX_COORDINATE && fabs(r->local[2]) <= FM_MAX_COORDINATE;
 	for (int e = 0; e < 3; ++e)
 		finite = finite && fabs(r->acceleration[e]) <= FM_MAX_COORDINATE;
 	if (!finite || !(r->stiffness >= 0.0 && isfinite(r->stiffness)) ||

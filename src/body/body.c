@@ -2,10 +2,10 @@
 // definition's defaults, checks and memory estimate are body_def.c's.
 #include "body/body.h"
 
+#include "body/anchors.h"
 #include "body/body_def.h"
 #include "body/grab.h"
 #include "body/loads.h"
-#include "body/anchors.h"
 #include "body/targets.h"
 #include "contact/floor.h"
 #include "contact/penalty.h"

@@ -96,7 +96,8 @@ double fmTargets_ImplicitWork(const fmTargetStep* s, const double* x)
 		fmTarget* target = fmTargets_At(s->body, t);
 		fmTargets_Force(s, t, x, target->applied);
 		for (int e = 0; e < 3; ++e)
-			work += target->applied[e] * (x[3 * target->vertex + e] - s->xStart[3 * target->vertex + e]);
+			work += target->applied[e] *
+			        (x[3 * target->vertex + e] - s->xStart[3 * target->vertex + e]);
 	}
 	return work;
 }

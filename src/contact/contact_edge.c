@@ -150,8 +150,8 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		fmVec3 ilo = s->lower[found], ihi = s->upper[found];
 		if (other < slot || (other == slot && !b->selfCollision) ||
 		    !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) ||
-		    fmAnchors_Welded(b, o) || hi.x < ilo.x ||
-		    lo.x > ihi.x || hi.y < ilo.y || lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)
+		    fmAnchors_Welded(b, o) || hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y ||
+		    lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)
 			continue;
 		wf->failed = !fmEdgeAgainstTriangle(s, wf, b, slot, e, side, o, other,
 		                                    fmContactDetect_Triangle(o, s->triangleIndex[found]),

@@ -57,7 +57,8 @@ static double fmTargetWork(const fmBody* b, double dt)
 	double work = 0.0;
 	for (int t = 0; t < fmTargets_Count(b); ++t)
 		for (int e = 0; e < 3; ++e)
-			work += fmTargets_At(b, t)->applied[e] * dt * b->state.v[3 * fmTargets_At(b, t)->vertex + e];
+			work += fmTargets_At(b, t)->applied[e] * dt *
+			        b->state.v[3 * fmTargets_At(b, t)->vertex + e];
 	return work;
 }
 

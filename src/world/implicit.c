@@ -56,7 +56,8 @@ static double fmStepForceScale(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 		double f[3];
 		fmTargets_Force(targets, t, b->state.x, f);
 		for (int e = 0; e < 3; ++e)
-			pull += fmIsDofPinned(&b->state, 3 * fmTargets_At(b, t)->vertex + e) ? 0.0 : f[e] * f[e];
+			pull +=
+			    fmIsDofPinned(&b->state, 3 * fmTargets_At(b, t)->vertex + e) ? 0.0 : f[e] * f[e];
 	}
 	return sqrt(weight) + sqrt(inertia) + sqrt(elastic) + sqrt(pull) + fmLoads_FrozenNorm(b);
 }
@@ -305,8 +306,8 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmBarrierFreeStart(b, c, &pb);
 
 	// 2. Newton on the incremental potential.
-	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping && fmTargets_Count(b) == 0 &&
-	                 !fmLoads_Active(b) && pb.barrier.energy == NULL
+	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping &&
+	                 fmTargets_Count(b) == 0 && !fmLoads_Active(b) && pb.barrier.energy == NULL
 	             ? fmVbd_Solve(&b->mesh, &b->state, c, &pb)
 	             : fmNewton_Solve(&b->mesh, &b->state, c, &pb);
 	double solved = fmSeconds();

@@ -13,12 +13,13 @@
 // wake asked for, its sleep timer and island) and the implicit collider friction found in the last
 // step, which the next step's solve uses (body->contact.frictionNext, saved for the vertices that
 // have some, with the static spring's stretch since version 6), and its attachments (glue and
-// weld ends, since version 10); and the pairs that touched in the last frame (the next frame's begin and end events and islands come from them). Per-step
-// temporaries (the solver's vectors, the damping matrix, the arena, the contact stage's buffers,
-// its contact list and events) are rebuilt by every step and are not. Bodies are matched by slot,
-// generation and counts, colliders by slot, generation, shape and (meshes) vertex and triangle
-// counts: a snapshot restores into the world it was taken from, with the same bodies and colliders
-// (created or destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
+// weld ends, since version 10); and the pairs that touched in the last frame (the next frame's
+// begin and end events and islands come from them). Per-step temporaries (the solver's vectors, the
+// damping matrix, the arena, the contact stage's buffers, its contact list and events) are rebuilt
+// by every step and are not. Bodies are matched by slot, generation and counts, colliders by slot,
+// generation, shape and (meshes) vertex and triangle counts: a snapshot restores into the world it
+// was taken from, with the same bodies and colliders (created or destroyed ones make it refuse,
+// untouched). A mesh collider's triangles are not saved.
 #include "world/snapshot.h"
 
 #include "body/anchors.h"
@@ -908,7 +909,8 @@ static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 		    fmBody_IsLive(&w->bodies[i]) ? fmCheckBodyContact(w, s, &w->bodies[i]) : fm_ok;
 		if (body == fm_errOutOfMemory)
 			r = fmDiagError(&w->lastError, body, "", 0, 0,
-			                "out of memory restoring body %d's collider friction or attachments", i);
+			                "out of memory restoring body %d's collider friction or attachments",
+			                i);
 		else if (body != fm_ok)
 			r = fmDiagError(&w->lastError, body, "", 0, 0,
 			                "the snapshot's contact state of the body in slot %d (sleep, island, "

@@ -2,13 +2,13 @@
 // The same Newton minimiser as the implicit step without the inertia term; when Newton stalls
 // (line search fails, or the iteration budget runs out) the load is ramped: gravity is applied
 // in fractions that are halved until each one converges from the last equilibrium.
+#include "body/anchors.h"
+#include "body/loads.h"
+#include "body/targets.h"
 #include "core/core.h"
 #include "core/det_math.h"
-#include "fem/forces.h"
 #include "core/fp_env.h"
-#include "body/loads.h"
-#include "body/anchors.h"
-#include "body/targets.h"
+#include "fem/forces.h"
 #include "solver/newton.h"
 #include "world/world.h"
 
