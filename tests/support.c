@@ -201,3 +201,22 @@ int fmTestRecordAssertsEnd(void)
 	fmSetAssertFcn(s_previousAssert);
 	return s_asserts;
 }
+
+fmVec3 fmTestMomentum(fmBodyId body)
+{
+	const double* v = fmTestVelocities(body);
+	const double* m = fmBody_GetMasses(body);
+	fmVec3 p = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		p = fmMulAdd(p, m[i], fmLoad(v, i));
+	return p;
+}
+
+double fmTestMass(fmBodyId body)
+{
+	const double* m = fmBody_GetMasses(body);
+	double total = 0.0;
+	for (int i = 0; i < fmBody_GetVertexCount(body); ++i)
+		total += m[i];
+	return total;
+}

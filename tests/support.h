@@ -31,6 +31,10 @@ void fmTestCheckForcesAreMinusGradient(int* failures_, fmBodyId body, int stride
 const double* fmTestPositions(fmBodyId body);
 const double* fmTestVelocities(fmBodyId body);
 
+// The body's momentum (kg m/s) and mass (kg), summed vertex by vertex.
+fmVec3 fmTestMomentum(fmBodyId body);
+double fmTestMass(fmBodyId body);
+
 // Move every vertex by uniform noise in [-amplitude, amplitude) per coordinate.
 void fmTestPerturb(fmBodyId body, double amplitude);
 

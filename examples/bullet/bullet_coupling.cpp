@@ -83,6 +83,8 @@ class Coupling
 	Coupling(const Coupling&) = delete;
 	Coupling& operator=(const Coupling&) = delete;
 
+	fmWorldId World() const { return world_; }
+
 	// A rigid body of @p shape and @p mass at @p position, with @p def (its shape's fields set
 	// by the caller, centre and rotation left at rest) as its collider in femto.
 	Link* AddRigid(std::unique_ptr<btCollisionShape> shape, double mass, btVector3 position,
@@ -336,6 +338,42 @@ double StaticTilt(double k, double weight, double r, double h)
 	return theta;
 }
 
+// The seesaw's frames: @p frames exchanges with Bullet, the plank held by a torsion spring of
+// @p k (N m/rad) and damper @p c (N m s/rad) about its hinge; @p worstLaw gets the worst frame's
+// third-law residual across the engines (the body's momentum change less gravity's impulse,
+// plus the plank's impulse, over m g dt), @p lowest the lowest tilt. False when a step fails.
+bool SwingSeesaw(Coupling& coupling, Link* plank, const SoftBody& body, double k, double c,
+                 int frames, double* worstLaw, double* lowest)
+{
+	fmVec3 g = fmMakeVec3(0.0, -kGravity, 0.0);
+	*worstLaw = 0.0;
+	*lowest = 0.0;
+	for (int frame = 0; frame < frames; ++frame)
+	{
+		fmVec3 before = Momentum(body);
+		auto spring = [&]
+		{
+			double tilt = TiltOf(plank->rigid);
+			double spin = plank->rigid->getAngularVelocity().z();
+			plank->rigid->applyTorque(btVector3(0, 0, btScalar(-k * tilt - c * spin)));
+		};
+		if (coupling.Frame(kExchanges, 1, spring) != fm_ok)
+		{
+			std::printf("  FAILED: femto's step in frame %d: %s\n", frame,
+			            fmWorld_GetLastError(coupling.World())->message);
+			return false;
+		}
+		// Newton's third law across the engines: what the body gained beyond gravity's impulse
+		// is minus what was handed to Bullet's plank.
+		fmVec3 gained = fmSub(Momentum(body), before);
+		fmVec3 residual = fmAdd(fmSub(gained, fmScale(body.mass * kFrame, g)),
+		                        fmScale(kFrame, plank->force));
+		*worstLaw = std::max(*worstLaw, fmLength(residual) / (body.mass * kGravity * kFrame));
+		*lowest = std::min(*lowest, TiltOf(plank->rigid));
+	}
+	return true;
+}
+
 // A 3 m, 20 kg plank hinged at its centre, 1 m up, on a torsion spring; the seeds' house mesh,
 // 1 m tall and 55 kg (StVK, stiffer than the seeds' to stand at this size), dropped 1 cm onto
 // its right arm. It tips the plank until the spring carries it; the plank's wood has Coulomb
@@ -385,30 +423,9 @@ int Seesaw()
 			return 1;
 		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
 		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
-		double worstLaw = 0.0;
-		fmVec3 g = fmMakeVec3(0.0, -kGravity, 0.0);
-		for (int frame = 0; frame < 600; ++frame)
-		{
-			fmVec3 before = Momentum(house);
-			auto spring = [&]
-			{
-				double tilt = TiltOf(plank->rigid);
-				double spin = plank->rigid->getAngularVelocity().z();
-				plank->rigid->applyTorque(btVector3(0, 0, btScalar(-k * tilt - c * spin)));
-			};
-			if (coupling.Frame(kExchanges, 1, spring) != fm_ok)
-			{
-				std::printf("  FAILED: femto's step in frame %d: %s\n", frame,
-				            fmWorld_GetLastError(world)->message);
-				return 1;
-			}
-			// Newton's third law across the engines: what the house gained beyond gravity's
-			// impulse is minus what was handed to Bullet's plank.
-			fmVec3 gained = fmSub(Momentum(house), before);
-			fmVec3 residual = fmAdd(fmSub(gained, fmScale(house.mass * kFrame, g)),
-			                        fmScale(kFrame, plank->force));
-			worstLaw = std::max(worstLaw, fmLength(residual) / (house.mass * kGravity * kFrame));
-		}
+		double worstLaw, lowest;
+		if (!SwingSeesaw(coupling, plank, house, k, c, 600, &worstLaw, &lowest))
+			return 1;
 		// The static solve: the rigid lever with the house's centre of mass where it was placed
 		// (r along the plank, h above its axis) balances k theta = m g (r cos theta - h sin
 		// theta) with theta the (negative) tilt; Newton's method from zero.
@@ -480,29 +497,9 @@ int Glued()
 		if (fmBody_AttachToCollider(cushion.id, top.data(), int(top.size()), plank->collider,
 		                            nullptr) != fm_ok)
 			return 1;
-		double worstLaw = 0.0, lowest = 0.0;
-		fmVec3 g = fmMakeVec3(0.0, -kGravity, 0.0);
-		for (int frame = 0; frame < 600; ++frame)
-		{
-			fmVec3 before = Momentum(cushion);
-			auto spring = [&]
-			{
-				double tilt = TiltOf(plank->rigid);
-				double spin = plank->rigid->getAngularVelocity().z();
-				plank->rigid->applyTorque(btVector3(0, 0, btScalar(-k * tilt - c * spin)));
-			};
-			if (coupling.Frame(kExchanges, 1, spring) != fm_ok)
-			{
-				std::printf("  FAILED: femto's step in frame %d: %s\n", frame,
-				            fmWorld_GetLastError(world)->message);
-				return 1;
-			}
-			fmVec3 gained = fmSub(Momentum(cushion), before);
-			fmVec3 residual = fmAdd(fmSub(gained, fmScale(cushion.mass * kFrame, g)),
-			                        fmScale(kFrame, plank->force));
-			worstLaw = std::max(worstLaw, fmLength(residual) / (cushion.mass * kGravity * kFrame));
-			lowest = std::min(lowest, TiltOf(plank->rigid));
-		}
+		double worstLaw, lowest;
+		if (!SwingSeesaw(coupling, plank, cushion, k, c, 600, &worstLaw, &lowest))
+			return 1;
 		double theta = StaticTilt(k, cushion.mass * kGravity, com0.x, com0.y - 1.0);
 		double tilt = TiltOf(plank->rigid);
 		std::printf("glued: the cushion (%.2f kg, implicit) swung the plank down to %.3f degrees "
