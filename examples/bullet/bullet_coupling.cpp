@@ -366,8 +366,8 @@ bool SwingSeesaw(Coupling& coupling, Link* plank, const SoftBody& body, double k
 		// Newton's third law across the engines: what the body gained beyond gravity's impulse
 		// is minus what was handed to Bullet's plank.
 		fmVec3 gained = fmSub(Momentum(body), before);
-		fmVec3 residual = fmAdd(fmSub(gained, fmScale(body.mass * kFrame, g)),
-		                        fmScale(kFrame, plank->force));
+		fmVec3 residual =
+		    fmAdd(fmSub(gained, fmScale(body.mass * kFrame, g)), fmScale(kFrame, plank->force));
 		*worstLaw = std::max(*worstLaw, fmLength(residual) / (body.mass * kGravity * kFrame));
 		*lowest = std::min(*lowest, TiltOf(plank->rigid));
 	}
