@@ -441,3 +441,36 @@ TEST(bad_attachments_are_refused)
 	fmDestroyWorld(other);
 	fmDestroyWorld(world);
 }
+
+// The glued and welded pair under a turning plank, stepped on one worker and on two (the two
+// boxes then step at once): the same bits.
+TEST(attachments_give_the_same_bits_for_any_worker_count)
+{
+	double* result[2] = {NULL, NULL};
+	int count = 0;
+	for (int workers = 1; workers <= 2; ++workers)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		wdef.floor.enabled = false;
+		wdef.workerCount = workers;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmColliderId plank = makePlank(failures_, world);
+		fmBodyId a = makeBox(failures_, world, fmMakeVec3(-0.3, 0.6, -0.15));
+		fmBodyId b = makeBox(failures_, world, fmMakeVec3(0.0, 0.6, -0.15));
+		int top[64], n = facing(a, 1, 0.9, top), left[64], right[64], m = facing(a, 0, 0.0, right);
+		CHECK_INT(facing(b, 0, 0.0, left), m);
+		CHECK_INT(fmBody_AttachToCollider(a, top, n, plank, NULL), fm_ok);
+		CHECK_INT(fmBody_Weld(a, right, b, left, m, NULL), fm_ok);
+		fmCollider_SetVelocity(plank, fmMakeVec3(0.0, 0.0, 0.0), fmMakeVec3(0.0, 0.0, 1.0));
+		for (int frame = 0; frame < 30; ++frame)
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+		count = 3 * fmBody_GetVertexCount(b);
+		result[workers - 1] = malloc(sizeof(double) * (size_t)count);
+		memcpy(result[workers - 1], fmTestPositions(b), sizeof(double) * (size_t)count);
+		fmDestroyWorld(world);
+	}
+	CHECK(memcmp(result[0], result[1], sizeof(double) * (size_t)count) == 0);
+	free(result[0]);
+	free(result[1]);
+}
