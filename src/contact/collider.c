@@ -2,6 +2,7 @@
 // sphere tracing on them (exact distances make every step safe), kinematic motion.
 #include "contact/collider.h"
 #include "contact/contact_collider.h"
+#include "contact/mesh_motion.h"
 
 #include "core/core.h"
 #include "core/det_math.h"
@@ -197,7 +198,10 @@ bool fmCollider_CastSegment(const fmCollider* c, fmVec3 p0, fmVec3 p1, double ma
 
 fmVec3 fmCollider_VelocityAt(const fmCollider* c, fmVec3 p)
 {
-	return fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
+	fmVec3 v = fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
+	if (c->mesh != NULL && c->mesh->motion != NULL && c->mesh->motion->rate > 0.0)
+		v = fmAdd(v, fmMatVec(&c->rotation, fmMeshMotion_VelocityAt(c->mesh, fmToLocal(c, p))));
+	return v;
 }
 
 // ---- the public collider calls -----------------------------------------------------------------
@@ -437,7 +441,7 @@ bool fmCollider_Bounds(const fmCollider* c, fmVec3* lo, fmVec3* hi)
 	{
 		fmVec3 a = c->def.halfExtents, b = fmScale(-1.0, a);
 		if (c->def.shape == fm_shapeMesh)
-			fmMeshShape_Bounds(c->mesh, &b, &a);
+			fmMeshMotion_Bounds(c->mesh, &b, &a); // where it is and where it goes
 		fmVec3 mid = fmScale(0.5, fmAdd(a, b)), h = fmScale(0.5, fmSub(a, b));
 		const double* m = c->rotation.m;
 		center = fmAdd(center, fmMatVec(&c->rotation, mid));
@@ -467,7 +471,10 @@ double fmCollider_Thickness(const fmCollider* c)
 	{
 		fmVec3 lo, hi;
 		fmMeshShape_Bounds(c->mesh, &lo, &hi);
-		return fmMin(hi.x - lo.x, fmMin(hi.y - lo.y, hi.z - lo.z));
+		double now = fmMin(hi.x - lo.x, fmMin(hi.y - lo.y, hi.z - lo.z));
+		const fmMeshMotion* a = c->mesh->motion;
+		fmVec3 d = a != NULL && a->pending ? fmSub(a->hi, a->lo) : fmMakeVec3(now, now, now);
+		return fmMin(now, fmMin(d.x, fmMin(d.y, d.z))); // thinnest now or at the target
 	}
 	default:
 		return INFINITY;
@@ -478,7 +485,8 @@ double fmCollider_SweepSpeed(const fmCollider* c)
 {
 	fmVec3 lo, hi;
 	double radius = fmCollider_Bounds(c, &lo, &hi) ? 0.5 * fmLength(fmSub(hi, lo)) : 0.0;
-	return fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius;
+	double morph = c->mesh != NULL && c->mesh->motion != NULL ? c->mesh->motion->speed : 0.0;
+	return fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius + morph;
 }
 
 bool fmCollider_IsValid(fmColliderId colliderId)
@@ -509,6 +517,35 @@ void fmCollider_SetVelocity(fmColliderId colliderId, fmVec3 velocity, fmVec3 ang
 		return;
 	c->def.velocity = velocity;
 	c->def.angularVelocity = angularVelocity;
+}
+
+fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* vertices,
+                                    int vertexCount)
+{
+	fmWorld* w = NULL;
+	fmCollider* c = fmGetCollider(colliderId, &w);
+	FM_ASSERT(c != NULL);
+	if (c == NULL)
+		return fm_errInvalidId;
+	const char* problem = c->mesh == NULL    ? "a mesh collider (fm_shapeMesh)"
+	                      : vertices == NULL ? "a vertices array"
+	                                         : fmMeshMotion_Problem(c->mesh, vertices, vertexCount);
+	if (problem != NULL)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "fmCollider_SetMeshVertices: expected %s (the mesh is unchanged)",
+		                   problem);
+	size_t need = c->mesh->motion == NULL ? fmMeshMotion_Bytes(c->mesh) : 0;
+	size_t used = fmWorldMemoryInUse(w), budget = w->def.memoryBudget;
+	if (used > budget || need > budget - used)
+		return fmDiagError(&w->lastError, fm_errLimit, "", 0, 0,
+		                   "a moving mesh collider needs %zu more bytes than the memory budget "
+		                   "(fmWorldDef.memoryBudget) leaves",
+		                   need - (used > budget ? 0 : budget - used));
+	if (!fmMeshMotion_Reserve(c->mesh))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for a moving mesh collider");
+	fmMeshMotion_SetTarget(c->mesh, vertices);
+	return fm_ok;
 }
 
 fmVec3 fmCollider_GetPosition(fmColliderId colliderId)
