@@ -128,8 +128,9 @@ FM_API size_t fmWorld_GetSnapshotSize(fmWorldId worldId);
 /// the world's settings, and the contact state the next step reads: every collider's pose,
 /// velocity and angular velocity (and last contact force and torque), every body's sleep state
 /// (asleep, sleep timer, island) and the implicit collider friction found in the last step, and
-/// the pairs that touched in the last frame. Not saved: a mesh collider's triangles (they cannot
-/// change), targets and loads (the caller's input), the last
+/// the pairs that touched in the last frame. A mesh collider's vertices set by
+/// fmCollider_SetMeshVertices are saved (those it has now and a target not yet reached); not
+/// saved: its triangles (they cannot change), targets and loads (the caller's input), the last
 /// step's results (contacts, events, statistics). fm_errLimit when the buffer is smaller than
 /// fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the bytes used. The snapshot is for
 /// this process: user energy functions are saved as pointers.

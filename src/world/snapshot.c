@@ -18,12 +18,15 @@
 // its contact list and events) are rebuilt by every step and are not. Bodies are matched by slot,
 // generation and counts, colliders by slot, generation, shape and (meshes) vertex and triangle
 // counts: a snapshot restores into the world it was taken from, with the same bodies and colliders
-// (created or destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved.
+// (created or destroyed ones make it refuse, untouched). A mesh collider's triangles are not saved;
+// its vertices moved by fmCollider_SetMeshVertices are (version 10: those it has now and a target
+// the next frame moves it to, fmGetMeshMotion).
 #include "world/snapshot.h"
 
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
+#include "contact/mesh_motion.h"
 #include "core/checksum.h"
 #include "core/core.h"
 #include "world/world.h"
@@ -33,7 +36,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 9u
+#define FM_SNAPSHOT_VERSION 10u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
@@ -482,6 +485,12 @@ static void fmPutContact(fmStream* s, fmWorld* w)
 		fmColliderKey key = fmColliderKeyOf(&w->colliders[k], k);
 		fmPut(s, &key, sizeof key);
 		fmMoveColliderState(s, true, &w->colliders[k]);
+		const fmMeshShape* m = w->colliders[k].mesh;
+		uint8_t flags = m != NULL ? (uint8_t)fmMeshMotion_Flags(m) : 0;
+		if (m != NULL) // its moved vertices (version 10): fmGetMeshMotion
+			fmPut(s, &flags, 1);
+		for (int a = 0; a < 2 && (flags >> a & 1); ++a)
+			fmPut(s, a == 0 ? m->vertices : m->motion->to, sizeof(fmVec3) * (size_t)m->vertexCount);
 	}
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
@@ -684,6 +693,24 @@ static void fmSkip(fmStream* s, size_t bytes)
 		s->used += bytes;
 }
 
+// A mesh collider's record after its state: a flags byte (fmMeshMotion_Flags), its vertices now
+// when moved, its target when pending. Steps over it, pointing @p at to the two arrays (NULL when
+// absent); returns the flags, or -1 when truncated or invalid.
+static int fmGetMeshMotion(fmStream* s, const fmMeshShape* m, const void* at[2])
+{
+	uint8_t flags = 0;
+	fmGet(s, &flags, 1);
+	for (int a = 0; a < 2; ++a)
+	{
+		at[a] = (flags >> a & 1) && !s->overflow ? s->in + s->used : NULL;
+		if (at[a] != NULL)
+			fmSkip(s, sizeof(fmVec3) * (size_t)m->vertexCount);
+		if (at[a] != NULL && !s->overflow && fmMeshMotion_Problem(m, at[a], m->vertexCount))
+			return -1;
+	}
+	return s->overflow || flags == 2 || flags > 3 ? -1 : flags;
+}
+
 static const char* fmShapeName(int32_t shape)
 {
 	static const char* const names[] = {"plane", "sphere", "box", "capsule", "mesh"};
@@ -723,11 +750,16 @@ static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
 		if (!s->overflow && memcmp(&key, &expected, sizeof key) != 0)
 			return fmColliderMismatch(w, &key, &expected);
 		fmMoveColliderState(s, false, &copy);
-		if (s->overflow || !fmColliderStateValid(&copy))
+		const void* at[2];
+		int flags = copy.mesh != NULL ? fmGetMeshMotion(s, copy.mesh, at) : 0;
+		if (s->overflow || !fmColliderStateValid(&copy) || flags < 0)
 			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 			                   "the snapshot's collider in slot %d is truncated or has a "
-			                   "non-finite pose or velocity: not restored",
+			                   "non-finite pose, velocity or mesh vertex: not restored",
 			                   k);
+		if ((flags & 1) && !fmMeshMotion_Reserve(copy.mesh)) // (changes no step)
+			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory restoring the moving mesh collider in slot %d", k);
 	}
 	return fm_ok;
 }
@@ -881,13 +913,32 @@ static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 	return r;
 }
 
+// Step over the (checked) collider records, restoring them when @p apply.
+static void fmColliderRecords(fmStream* s, fmWorld* w, bool apply)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		fmCollider* c = &w->colliders[k];
+		if (!c->inUse)
+			continue;
+		fmSkip(s, sizeof(fmColliderKey));
+		if (apply)
+			fmMoveColliderState(s, false, c);
+		else
+			fmSkip(s, FM_COLLIDER_RECORD_BYTES - sizeof(fmColliderKey));
+		const void* at[2];
+		int flags = c->mesh != NULL ? fmGetMeshMotion(s, c->mesh, at) : 0;
+		if (apply && c->mesh != NULL)
+			fmMeshMotion_Restore(c->mesh, flags, at[0], at[1]);
+	}
+}
+
 // Restore the contact section (checked) at @p at: the pairs first (the only part that may need
 // memory: out of memory leaves the world as it was), then the colliders and the bodies.
 static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size_t at)
 {
-	int colliders = fmLiveColliders(w);
 	fmStream s = {NULL, buffer, size, at + sizeof w->contactStep, false};
-	fmSkip(&s, (size_t)colliders * FM_COLLIDER_RECORD_BYTES);
+	fmColliderRecords(&s, w, false);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
 			fmSkipBodyContact(&s);
@@ -898,13 +949,7 @@ static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size
 		                   "out of memory restoring the contact pairs");
 	s.used = at;
 	fmGet(&s, &w->contactStep, sizeof w->contactStep);
-	for (int k = 0; k < w->colliderCapacity; ++k)
-	{
-		if (!w->colliders[k].inUse)
-			continue;
-		fmSkip(&s, sizeof(fmColliderKey));
-		fmMoveColliderState(&s, false, &w->colliders[k]);
-	}
+	fmColliderRecords(&s, w, true);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
 			fmApplyBodyContact(&s, &w->bodies[i]);
