@@ -475,3 +475,48 @@ TEST(bad_mesh_vertices_are_refused)
 	CHECK(memcmp(m->vertices, vertices, sizeof vertices) == 0);
 	fmDestroyWorld(world);
 }
+
+// A cube asleep on the ground (implicit) is woken by the ground's vertices rising under it (once
+// the ground reaches it through the barrier's gap, within 10 frames), and slower than the sleep
+// speed (0.02 m/s against 0.05) they keep it awake: over 1.5 s it rides 3 cm up with the ground,
+// no vertex more than 1 mm below it.
+TEST(slow_moving_mesh_wakes_and_keeps_awake)
+{
+	fmWorldDef def = fmDefaultWorldDef();
+	def.integrator = fm_implicit;
+	def.floor.enabled = false;
+	def.contact.enableSleep = true;
+	fmWorldId world = fmCreateWorld(&def);
+	fmVec3 vertices[GROUND_VERTICES];
+	int triangles[3 * GROUND_TRIANGLES];
+	groundMesh(vertices, triangles);
+	fmColliderId ground =
+	    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+	fmBodyId cube = makeCube(world, 0.0);
+	for (int f = 0; f < 90; ++f)
+		CHECK_INT(fmWorld_Step(world, frame, 2), fm_ok);
+	bool slept = !fmBody_IsAwake(cube);
+	const double speed = 0.02;
+	double height = 0.0, deepest = 0.0;
+	int asleep = 0, woke = -1;
+	for (int f = 0; f < 90; ++f)
+	{
+		height += speed * frame;
+		for (int i = 0; i < GROUND_VERTICES; ++i)
+			vertices[i].y = height;
+		CHECK_INT(fmCollider_SetMeshVertices(ground, vertices, GROUND_VERTICES), fm_ok);
+		CHECK_INT(fmWorld_Step(world, frame, 2), fm_ok);
+		if (woke < 0 && fmBody_IsAwake(cube))
+			woke = f;
+		asleep += woke >= 0 && !fmBody_IsAwake(cube);
+		deepest = fmin(deepest, lowestAbove(cube, height));
+	}
+	printf("  asleep before: %s; woken in frame %d of the rise; frames asleep after: %d; deepest "
+	       "vertex %.2e m below the ground\n",
+	       slept ? "yes" : "no", woke, asleep, -deepest);
+	CHECK(slept);
+	CHECK(woke >= 0 && woke <= 10);
+	CHECK_INT(asleep, 0);
+	CHECK(deepest > -1e-3);
+	fmDestroyWorld(world);
+}

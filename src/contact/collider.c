@@ -196,6 +196,14 @@ bool fmCollider_CastSegment(const fmCollider* c, fmVec3 p0, fmVec3 p1, double ma
 	return false;
 }
 
+bool fmCollider_IsMoving(const fmCollider* c)
+{
+	const fmColliderDef* d = &c->def;
+	return fmDot(d->velocity, d->velocity) > 0.0 ||
+	       fmDot(d->angularVelocity, d->angularVelocity) > 0.0 ||
+	       (c->mesh != NULL && c->mesh->motion != NULL && c->mesh->motion->moving);
+}
+
 fmVec3 fmCollider_VelocityAt(const fmCollider* c, fmVec3 p)
 {
 	fmVec3 v = fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));

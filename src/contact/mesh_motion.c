@@ -139,10 +139,12 @@ void fmMeshMotion_BeginFrame(fmWorld* w, double rate)
 {
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
-		fmMeshShape* m = fmMovingMesh(w, k);
-		if (m == NULL)
+		fmMeshShape* m = w->colliders[k].inUse ? w->colliders[k].mesh : NULL;
+		fmMeshMotion* a = m != NULL ? m->motion : NULL;
+		if (a != NULL)
+			a->moving = a->pending;
+		if (a == NULL || !a->pending)
 			continue;
-		fmMeshMotion* a = m->motion;
 		a->rate = rate;
 		double far = 0.0;
 		for (int i = 0; i < m->vertexCount; ++i)
@@ -198,5 +200,6 @@ void fmMeshMotion_Restore(fmMeshShape* m, int flags, const void* vertices, const
 		fmPointsBox(a->to, m->vertexCount, &a->lo, &a->hi);
 	}
 	a->rate = a->speed = 0.0;
+	a->moving = false;
 	fmMeshShape_Reshape(m, a->edgeSlots);
 }

@@ -18,6 +18,7 @@ typedef struct fmMeshMotion
 	fmVec3* rest;   // as created
 	int* edgeSlots; // fmMeshShape_SortEdges's order, kept for every reshape
 	bool pending;   // `to` set for the next frame
+	bool moving;    // the frame in progress (between frames: the last one) moves the vertices
 	double rate;    // 1 / the frame's length (1/s) while the frame moves the vertices, else 0
 	double speed;   // the fastest vertex's speed (m/s) in the frame, else 0
 	fmVec3 lo, hi;  // the box of `to` while pending
