@@ -291,8 +291,9 @@ FM_API void fmCollider_SetVelocity(fmColliderId colliderId, fmVec3 velocity,
 /// to the collider's own at its surface (the nearest triangle's blend) for friction and pushing;
 /// a mesh not set again stops after it. fm_errParameter (the reason in fmWorld_GetLastError, the
 /// mesh unchanged) for a collider that is not a mesh, NULL, another count, or vertices not finite
-/// or beyond FM_MAX_COORDINATE; fm_errLimit or fm_errOutOfMemory for the first call's copies
-/// (three of the vertices). Saved in snapshots. docs/contact.md, "Moving mesh colliders".
+/// or beyond FM_MAX_COORDINATE; fm_errBusy in a step (its substep callback); fm_errLimit or
+/// fm_errOutOfMemory for the first call's copies (three of the vertices). Saved in snapshots;
+/// docs/contact.md, "Moving mesh colliders".
 FM_API fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* vertices,
                                            int vertexCount);
 

@@ -535,6 +535,8 @@ fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* verti
 	FM_ASSERT(c != NULL);
 	if (c == NULL)
 		return fm_errInvalidId;
+	if (atomic_load(&w->stepping) != 0) // (from the substep callback) the frame's path is fixed
+		return fm_errBusy;
 	const char* problem = c->mesh == NULL    ? "a mesh collider (fm_shapeMesh)"
 	                      : vertices == NULL ? "a vertices array"
 	                                         : fmMeshMotion_Problem(c->mesh, vertices, vertexCount);
