@@ -208,7 +208,7 @@ fmVec3 fmCollider_VelocityAt(const fmCollider* c, fmVec3 p)
 {
 	fmVec3 v = fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
 	if (c->mesh != NULL && c->mesh->motion != NULL && c->mesh->motion->rate > 0.0)
-		v = fmAdd(v, fmMatVec(&c->rotation, fmMeshMotion_VelocityAt(c->mesh, fmToLocal(c, p))));
+		v = fmAdd(v, fmMeshMotion_VelocityAt(c, p));
 	return v;
 }
 
@@ -378,8 +378,7 @@ fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def, fmCollide
 	return fm_ok;
 }
 
-// The collider an id names (its world in @p world when given), or NULL when stale.
-static fmCollider* fmGetCollider(fmColliderId id, fmWorld** world)
+fmCollider* fmGetCollider(fmColliderId id, fmWorld** world)
 {
 	fmWorldId worldId = {id.world0 + 1, id.worldGeneration};
 	fmWorld* w = id.index1 > 0 ? fmGetWorld(worldId) : NULL;
@@ -449,7 +448,7 @@ bool fmCollider_Bounds(const fmCollider* c, fmVec3* lo, fmVec3* hi)
 	{
 		fmVec3 a = c->def.halfExtents, b = fmScale(-1.0, a);
 		if (c->def.shape == fm_shapeMesh)
-			fmMeshMotion_Bounds(c->mesh, &b, &a); // where it is and where it goes
+			fmMeshShape_Bounds(c->mesh, &b, &a);
 		fmVec3 mid = fmScale(0.5, fmAdd(a, b)), h = fmScale(0.5, fmSub(a, b));
 		const double* m = c->rotation.m;
 		center = fmAdd(center, fmMatVec(&c->rotation, mid));
@@ -479,10 +478,7 @@ double fmCollider_Thickness(const fmCollider* c)
 	{
 		fmVec3 lo, hi;
 		fmMeshShape_Bounds(c->mesh, &lo, &hi);
-		double now = fmMin(hi.x - lo.x, fmMin(hi.y - lo.y, hi.z - lo.z));
-		const fmMeshMotion* a = c->mesh->motion;
-		fmVec3 d = a != NULL && a->pending ? fmSub(a->hi, a->lo) : fmMakeVec3(now, now, now);
-		return fmMin(now, fmMin(d.x, fmMin(d.y, d.z))); // thinnest now or at the target
+		return fmMin(hi.x - lo.x, fmMin(hi.y - lo.y, hi.z - lo.z));
 	}
 	default:
 		return INFINITY;
@@ -493,7 +489,8 @@ double fmCollider_SweepSpeed(const fmCollider* c)
 {
 	fmVec3 lo, hi;
 	double radius = fmCollider_Bounds(c, &lo, &hi) ? 0.5 * fmLength(fmSub(hi, lo)) : 0.0;
-	double morph = c->mesh != NULL && c->mesh->motion != NULL ? c->mesh->motion->speed : 0.0;
+	const fmMeshMotion* a = c->mesh != NULL ? c->mesh->motion : NULL;
+	double morph = a != NULL ? a->far * a->rate : 0.0; // the fastest vertex in a moving frame
 	return fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius + morph;
 }
 
@@ -525,37 +522,6 @@ void fmCollider_SetVelocity(fmColliderId colliderId, fmVec3 velocity, fmVec3 ang
 		return;
 	c->def.velocity = velocity;
 	c->def.angularVelocity = angularVelocity;
-}
-
-fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* vertices,
-                                    int vertexCount)
-{
-	fmWorld* w = NULL;
-	fmCollider* c = fmGetCollider(colliderId, &w);
-	FM_ASSERT(c != NULL);
-	if (c == NULL)
-		return fm_errInvalidId;
-	if (atomic_load(&w->stepping) != 0) // (from the substep callback) the frame's path is fixed
-		return fm_errBusy;
-	const char* problem = c->mesh == NULL    ? "a mesh collider (fm_shapeMesh)"
-	                      : vertices == NULL ? "a vertices array"
-	                                         : fmMeshMotion_Problem(c->mesh, vertices, vertexCount);
-	if (problem != NULL)
-		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
-		                   "fmCollider_SetMeshVertices: expected %s (the mesh is unchanged)",
-		                   problem);
-	size_t need = c->mesh->motion == NULL ? fmMeshMotion_Bytes(c->mesh) : 0;
-	size_t used = fmWorldMemoryInUse(w), budget = w->def.memoryBudget;
-	if (used > budget || need > budget - used)
-		return fmDiagError(&w->lastError, fm_errLimit, "", 0, 0,
-		                   "a moving mesh collider needs %zu more bytes than the memory budget "
-		                   "(fmWorldDef.memoryBudget) leaves",
-		                   need - (used > budget ? 0 : budget - used));
-	if (!fmMeshMotion_Reserve(c->mesh))
-		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
-		                   "out of memory for a moving mesh collider");
-	fmMeshMotion_SetTarget(c->mesh, vertices);
-	return fm_ok;
 }
 
 fmVec3 fmCollider_GetPosition(fmColliderId colliderId)

@@ -71,115 +71,121 @@ const char* fmMeshMotion_Problem(const fmMeshShape* m, const void* bytes, int co
 	return NULL;
 }
 
-// The box of @p count points.
-static void fmPointsBox(const fmVec3* p, int count, fmVec3* lo, fmVec3* hi)
+// A target set in `to`: pending, and its farthest vertex's path.
+static void fmMeshMotion_Aim(fmMeshMotion* a, int count)
 {
-	*lo = *hi = p[0];
-	for (int i = 1; i < count; ++i)
-	{
-		*lo = fmMakeVec3(fmMin(lo->x, p[i].x), fmMin(lo->y, p[i].y), fmMin(lo->z, p[i].z));
-		*hi = fmMakeVec3(fmMax(hi->x, p[i].x), fmMax(hi->y, p[i].y), fmMax(hi->z, p[i].z));
-	}
+	a->far = 0.0;
+	for (int i = 0; i < count; ++i)
+		a->far = fmMax(a->far, fmLength(fmSub(a->to[i], a->from[i])));
+	a->pending = true;
 }
 
 void fmMeshMotion_SetTarget(fmMeshShape* m, const fmVec3* vertices)
 {
 	fmMeshMotion* a = m->motion;
 	memcpy(a->to, vertices, sizeof(fmVec3) * (size_t)m->vertexCount);
-	fmPointsBox(a->to, m->vertexCount, &a->lo, &a->hi);
-	a->pending = true;
+	fmMeshMotion_Aim(a, m->vertexCount);
 }
 
-fmVec3 fmMeshMotion_VelocityAt(const fmMeshShape* m, fmVec3 p)
+fmVec3 fmMeshMotion_VelocityAt(const fmCollider* c, fmVec3 p)
 {
+	const fmMeshShape* m = c->mesh;
 	const fmMeshMotion* a = m->motion;
 	fmVec3 v = fmMakeVec3(0.0, 0.0, 0.0);
 	if (a == NULL || !(a->rate > 0.0))
 		return v;
+	fmMat3 back = fmTranspose(&c->rotation); // into the mesh's frame
 	int t;
 	double w[3];
-	fmMeshShape_Nearest(m, p, &t, w);
+	fmMeshShape_Nearest(m, fmMatVec(&back, fmSub(p, c->position)), &t, w);
 	for (int k = 0; k < 3; ++k)
 	{
 		int i = m->triangles[3 * t + k];
 		v = fmMulAdd(v, w[k] * a->rate, fmSub(a->to[i], a->from[i]));
 	}
-	return v;
+	return fmMatVec(&c->rotation, v);
 }
 
-void fmMeshMotion_Bounds(const fmMeshShape* m, fmVec3* lo, fmVec3* hi)
+fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* vertices,
+                                    int vertexCount)
 {
-	fmMeshShape_Bounds(m, lo, hi);
-	const fmMeshMotion* a = m->motion;
-	if (a == NULL || !a->pending)
-		return;
-	*lo = fmMakeVec3(fmMin(lo->x, a->lo.x), fmMin(lo->y, a->lo.y), fmMin(lo->z, a->lo.z));
-	*hi = fmMakeVec3(fmMax(hi->x, a->hi.x), fmMax(hi->y, a->hi.y), fmMax(hi->z, a->hi.z));
+	fmWorld* w = NULL;
+	fmCollider* c = fmGetCollider(colliderId, &w);
+	FM_ASSERT(c != NULL);
+	if (c == NULL)
+		return fm_errInvalidId;
+	if (atomic_load(&w->stepping) != 0) // (from the substep callback) the frame's path is fixed
+		return fm_errBusy;
+	const char* problem = c->mesh == NULL    ? "a mesh collider (fm_shapeMesh)"
+	                      : vertices == NULL ? "a vertices array"
+	                                         : fmMeshMotion_Problem(c->mesh, vertices, vertexCount);
+	if (problem != NULL)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+		                   "fmCollider_SetMeshVertices: expected %s (the mesh is unchanged)",
+		                   problem);
+	size_t need = c->mesh->motion == NULL ? fmMeshMotion_Bytes(c->mesh) : 0;
+	size_t used = fmWorldMemoryInUse(w), budget = w->def.memoryBudget;
+	if (used > budget || need > budget - used)
+		return fmDiagError(&w->lastError, fm_errLimit, "", 0, 0,
+		                   "a moving mesh collider needs %zu more bytes than the memory budget "
+		                   "(fmWorldDef.memoryBudget) leaves",
+		                   need - (used > budget ? 0 : budget - used));
+	if (!fmMeshMotion_Reserve(c->mesh))
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory for a moving mesh collider");
+	fmMeshMotion_SetTarget(c->mesh, vertices);
+	return fm_ok;
 }
 
-// Place the vertices @p fraction of the way from `from` to `to` and reshape.
-static void fmPlace(fmMeshShape* m, double fraction)
+// The motion of collider slot @p k's mesh, or NULL.
+static fmMeshMotion* fmMotionOf(fmWorld* w, int k)
 {
-	const fmMeshMotion* a = m->motion;
-	double f = fmMax(0.0, fmMin(1.0, fraction));
-	for (int i = 0; i < m->vertexCount; ++i)
-		m->vertices[i] = f == 1.0 ? a->to[i] : fmMulAdd(a->from[i], f, fmSub(a->to[i], a->from[i]));
-	fmMeshShape_Reshape(m, a->edgeSlots);
-}
-
-// The mesh of collider slot @p k whose vertices the frame moves, or NULL.
-static fmMeshShape* fmMovingMesh(fmWorld* w, int k)
-{
-	fmCollider* c = &w->colliders[k];
-	fmMeshShape* m = c->inUse ? c->mesh : NULL;
-	return m != NULL && m->motion != NULL && m->motion->pending ? m : NULL;
+	const fmCollider* c = &w->colliders[k];
+	return c->inUse && c->mesh != NULL ? c->mesh->motion : NULL;
 }
 
 void fmMeshMotion_BeginFrame(fmWorld* w, double rate)
 {
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
-		fmMeshShape* m = w->colliders[k].inUse ? w->colliders[k].mesh : NULL;
-		fmMeshMotion* a = m != NULL ? m->motion : NULL;
-		if (a != NULL)
-			a->moving = a->pending;
-		if (a == NULL || !a->pending)
+		fmMeshMotion* a = fmMotionOf(w, k);
+		if (a == NULL)
 			continue;
-		a->rate = rate;
-		double far = 0.0;
-		for (int i = 0; i < m->vertexCount; ++i)
-			far = fmMax(far, fmLength(fmSub(a->to[i], a->from[i])));
-		a->speed = far * a->rate;
+		a->moving = a->pending;
+		a->rate = a->pending ? rate : 0.0;
 	}
 }
 
 void fmMeshMotion_Substep(fmWorld* w, double fraction)
 {
+	double f = fmMax(0.0, fmMin(1.0, fraction));
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
-		fmMeshShape* m = fmMovingMesh(w, k);
-		if (m != NULL)
-			fmPlace(m, fraction);
+		fmMeshMotion* a = fmMotionOf(w, k);
+		if (a == NULL || !a->pending)
+			continue;
+		fmMeshShape* m = w->colliders[k].mesh;
+		for (int i = 0; i < m->vertexCount; ++i)
+			m->vertices[i] =
+			    f == 1.0 ? a->to[i] : fmMulAdd(a->from[i], f, fmSub(a->to[i], a->from[i]));
+		fmMeshShape_Reshape(m, a->edgeSlots);
 	}
 }
 
 void fmMeshMotion_EndFrame(fmWorld* w, bool stepped)
 {
+	fmMeshMotion_Substep(w, stepped ? 1.0 : 0.0);
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
-		fmMeshShape* m = fmMovingMesh(w, k);
-		if (m == NULL)
+		fmMeshMotion* a = fmMotionOf(w, k);
+		if (a == NULL || !a->pending)
 			continue;
-		fmMeshMotion* a = m->motion;
-		fmPlace(m, stepped ? 1.0 : 0.0);
-		a->rate = a->speed = 0.0;
-		if (!stepped)
-			continue;
-		memcpy(a->from, a->to, sizeof(fmVec3) * (size_t)m->vertexCount);
-		a->pending = false;
+		a->rate = 0.0;
+		if (stepped)
+			memcpy(a->from, a->to, sizeof(fmVec3) * (size_t)w->colliders[k].mesh->vertexCount);
+		a->pending = !stepped;
 	}
 }
-
 int fmMeshMotion_Flags(const fmMeshShape* m)
 {
 	return m->motion == NULL ? 0 : m->motion->pending ? 3 : 1;
@@ -193,13 +199,13 @@ void fmMeshMotion_Restore(fmMeshShape* m, int flags, const void* vertices, const
 	size_t bytes = sizeof(fmVec3) * (size_t)m->vertexCount;
 	memcpy(a->from, (flags & 1) ? vertices : (const void*)a->rest, bytes);
 	memcpy(m->vertices, a->from, bytes);
-	a->pending = (flags & 2) != 0;
-	if (a->pending)
+	a->pending = false;
+	if (flags & 2)
 	{
 		memcpy(a->to, target, bytes);
-		fmPointsBox(a->to, m->vertexCount, &a->lo, &a->hi);
+		fmMeshMotion_Aim(a, m->vertexCount);
 	}
-	a->rate = a->speed = 0.0;
+	a->rate = 0.0;
 	a->moving = false;
 	fmMeshShape_Reshape(m, a->edgeSlots);
 }

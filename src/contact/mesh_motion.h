@@ -10,6 +10,7 @@
 #include <stddef.h>
 
 typedef struct fmWorld fmWorld;
+typedef struct fmCollider fmCollider;
 
 typedef struct fmMeshMotion
 {
@@ -20,8 +21,7 @@ typedef struct fmMeshMotion
 	bool pending;   // `to` set for the next frame
 	bool moving;    // the frame in progress (between frames: the last one) moves the vertices
 	double rate;    // 1 / the frame's length (1/s) while the frame moves the vertices, else 0
-	double speed;   // the fastest vertex's speed (m/s) in the frame, else 0
-	fmVec3 lo, hi;  // the box of `to` while pending
+	double far;     // m, the longest path of a vertex from `from` to `to` while pending
 } fmMeshMotion;
 
 // Bytes the motion of a shape keeps once set up (counted in the shape's `bytes`).
@@ -39,14 +39,12 @@ const char* fmMeshMotion_Problem(const fmMeshShape* shape, const void* bytes, in
 // The vertices (checked, motion reserved) the shape reaches at the end of the next frame.
 void fmMeshMotion_SetTarget(fmMeshShape* shape, const fmVec3* vertices);
 
-// The velocity (m/s, mesh frame) of the surface point nearest @p p (mesh frame) from the
-// vertices' motion: the blend of its triangle's vertex velocities; zero outside a moving frame.
-fmVec3 fmMeshMotion_VelocityAt(const fmMeshShape* shape, fmVec3 p);
+// The velocity (m/s) that the vertices' motion gives mesh collider @p c's surface point nearest
+// @p p: the blend of its triangle's vertex velocities, turned by the collider's rotation; zero
+// outside a moving frame.
+fmVec3 fmMeshMotion_VelocityAt(const fmCollider* collider, fmVec3 p);
 
-// The box (mesh frame) of the shape now and, while a target is pending, of the target.
-void fmMeshMotion_Bounds(const fmMeshShape* shape, fmVec3* lo, fmVec3* hi);
-
-// Start a frame whose length is 1 / @p rate seconds: the rate and speed of every pending mesh.
+// Start a frame whose length is 1 / @p rate seconds: the rate of every pending mesh.
 void fmMeshMotion_BeginFrame(fmWorld* world, double rate);
 
 // Place every moving mesh @p fraction of the way through the frame (its substep's end).
