@@ -208,7 +208,7 @@ fmVec3 fmCollider_VelocityAt(const fmCollider* c, fmVec3 p)
 {
 	fmVec3 v = fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
 	if (c->mesh != NULL && c->mesh->motion != NULL && c->mesh->motion->rate > 0.0)
-		v = fmAdd(v, fmMeshMotion_VelocityAt(c, p));
+		v = fmAdd(v, c->mesh->motion->velocityAt(c, p));
 	return v;
 }
 

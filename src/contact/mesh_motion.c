@@ -31,8 +31,12 @@ void fmMeshMotion_Release(fmMeshShape* m)
 	m->bytes -= fmMeshMotion_Bytes(m);
 }
 
-bool fmMeshMotion_Reserve(fmMeshShape* m)
+static const fmMeshMotionStages fmStages = {fmMeshMotion_BeginFrame, fmMeshMotion_Substep,
+                                            fmMeshMotion_EndFrame};
+
+bool fmMeshMotion_Reserve(fmWorld* w, fmMeshShape* m)
 {
+	w->meshMotion = &fmStages;
 	if (m->motion != NULL)
 		return true;
 	fmMeshMotion* a = FM_ALLOC_ZERO(fmMeshMotion, 1);
@@ -53,6 +57,7 @@ bool fmMeshMotion_Reserve(fmMeshShape* m)
 	}
 	memcpy(a->from, m->vertices, sizeof(fmVec3) * (size_t)v);
 	memcpy(a->rest, m->vertices, sizeof(fmVec3) * (size_t)v);
+	a->velocityAt = fmMeshMotion_VelocityAt;
 	return true;
 }
 
@@ -130,7 +135,7 @@ fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* verti
 		                   "a moving mesh collider needs %zu more bytes than the memory budget "
 		                   "(fmWorldDef.memoryBudget) leaves",
 		                   need - (used > budget ? 0 : budget - used));
-	if (!fmMeshMotion_Reserve(c->mesh))
+	if (!fmMeshMotion_Reserve(w, c->mesh))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for a moving mesh collider");
 	fmMeshMotion_SetTarget(c->mesh, vertices);

@@ -12,6 +12,15 @@
 typedef struct fmWorld fmWorld;
 typedef struct fmCollider fmCollider;
 
+// The frame's stages of moving meshes. A world calls them through fmWorld.meshMotion, which
+// fmMeshMotion_Reserve sets: a program that never moves a mesh (the web page) links none of them.
+typedef struct fmMeshMotionStages
+{
+	void (*beginFrame)(fmWorld* world, double rate);
+	void (*substep)(fmWorld* world, double fraction);
+	void (*endFrame)(fmWorld* world, bool stepped);
+} fmMeshMotionStages;
+
 typedef struct fmMeshMotion
 {
 	fmVec3* from;   // the vertices at the frame's start (between frames: the vertices now)
@@ -22,13 +31,16 @@ typedef struct fmMeshMotion
 	bool moving;    // the frame in progress (between frames: the last one) moves the vertices
 	double rate;    // 1 / the frame's length (1/s) while the frame moves the vertices, else 0
 	double far;     // m, the longest path of a vertex from `from` to `to` while pending
+	// fmMeshMotion_VelocityAt, called through here for the stages' reason
+	fmVec3 (*velocityAt)(const fmCollider* collider, fmVec3 p);
 } fmMeshMotion;
 
 // Bytes the motion of a shape keeps once set up (counted in the shape's `bytes`).
 size_t fmMeshMotion_Bytes(const fmMeshShape* shape);
 
-// Set up @p shape's motion (nothing when it has one). False when memory is short.
-bool fmMeshMotion_Reserve(fmMeshShape* shape);
+// Set up @p shape's motion (nothing when it has one) and @p world's stages. False when memory is
+// short.
+bool fmMeshMotion_Reserve(fmWorld* world, fmMeshShape* shape);
 
 // Release the shape's motion (none is fine).
 void fmMeshMotion_Release(fmMeshShape* shape);
@@ -44,7 +56,8 @@ void fmMeshMotion_SetTarget(fmMeshShape* shape, const fmVec3* vertices);
 // outside a moving frame.
 fmVec3 fmMeshMotion_VelocityAt(const fmCollider* collider, fmVec3 p);
 
-// Start a frame whose length is 1 / @p rate seconds: the rate of every pending mesh.
+// The stages (fmMeshMotionStages). Start a frame whose length is 1 / @p rate seconds: the rate of
+// every pending mesh.
 void fmMeshMotion_BeginFrame(fmWorld* world, double rate);
 
 // Place every moving mesh @p fraction of the way through the frame (its substep's end).

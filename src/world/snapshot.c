@@ -757,7 +757,7 @@ static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
 			                   "the snapshot's collider in slot %d is truncated or has a "
 			                   "non-finite pose, velocity or mesh vertex: not restored",
 			                   k);
-		if ((flags & 1) && !fmMeshMotion_Reserve(copy.mesh)) // (changes no step)
+		if ((flags & 1) && !fmMeshMotion_Reserve(w, copy.mesh)) // (changes no step)
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "out of memory restoring the moving mesh collider in slot %d", k);
 	}

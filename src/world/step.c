@@ -498,7 +498,8 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
 			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
-	fmMeshMotion_Substep(w, (ctx->elapsed + h) / ctx->frameTime); // moving meshes, likewise
+	if (w->meshMotion != NULL) // moving meshes, likewise
+		w->meshMotion->substep(w, (ctx->elapsed + h) / ctx->frameTime);
 	bool contact = fmContact_Active(w);
 	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w, h))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -816,7 +817,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	w->sleepEventCount = 0;
 	fmOpenLedgers(w, &ctx);
 	fmWarnExplicitStep(w, &ctx);
-	fmMeshMotion_BeginFrame(w, 1.0 / timeStep);
+	if (w->meshMotion != NULL)
+		w->meshMotion->beginFrame(w, 1.0 / timeStep);
 	fmWarnFastColliders(w, &ctx);
 
 	// Stage 3: substeps, every body advanced by the chosen integrator.
@@ -824,7 +826,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	             : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);
 	if (r != fm_ok)
 	{
-		fmMeshMotion_EndFrame(w, false);
+		if (w->meshMotion != NULL)
+			w->meshMotion->endFrame(w, false);
 		fmRestoreAll(w);
 		return r;
 	}
@@ -833,7 +836,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	// fails), then the frame's contact events and islands.
 	double checking = fmSeconds();
 	bool closed = fmCloseLedgers(w, &ctx) == fm_ok;
-	fmMeshMotion_EndFrame(w, closed);
+	if (w->meshMotion != NULL)
+		w->meshMotion->endFrame(w, closed);
 	if (!closed)
 		return fm_errNumerical;
 	const fmContactPoint* points;
