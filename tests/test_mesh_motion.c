@@ -9,6 +9,7 @@
 #include "contact/collider.h"
 #include "contact/contact.h"
 #include "contact/mesh_motion.h"
+#include "world/snapshot.h"
 #include "world/world.h"
 
 #include <math.h>
@@ -524,5 +525,83 @@ TEST(slow_moving_mesh_wakes_and_keeps_awake)
 	CHECK(woke >= 0 && woke <= 10);
 	CHECK_INT(asleep, 0);
 	CHECK(deepest > -1e-3);
+	fmDestroyWorld(world);
+}
+
+// Fuzz-like: a ground whose vertices jump by up to 2 cm at random every frame, folding its
+// triangles over, collapsing to a point for a frame and coming back, under a cube, implicit and
+// explicit: every frame steps (or is refused and restored), the cube's positions stay finite,
+// and a snapshot of the folded ground restores (the sanitizer builds run it for memory errors).
+TEST(random_vertex_jumps_keep_the_state_finite)
+{
+	for (int k = 0; k < 2; ++k)
+	{
+		fmIntegrator integrator = k == 0 ? fm_implicit : fm_explicit;
+		fmWorldId world = groundWorld(integrator);
+		fmVec3 rest[GROUND_VERTICES], vertices[GROUND_VERTICES];
+		int triangles[3 * GROUND_TRIANGLES];
+		groundMesh(rest, triangles);
+		fmColliderId ground =
+		    makeMesh(world, rest, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+		fmBodyId cube = makeCube(world, 0.01);
+		int n3 = 3 * fmBody_GetVertexCount(cube), refused = 0, finite = 1;
+		for (int f = 0; f < 40; ++f)
+		{
+			for (int i = 0; i < GROUND_VERTICES; ++i)
+				vertices[i] = f == 20 ? fmMakeVec3(0.0, 0.0, 0.0)
+				                      : fmAdd(rest[i], fmMakeVec3(fmTestRandom(-0.02, 0.02),
+				                                                  fmTestRandom(-0.02, 0.02),
+				                                                  fmTestRandom(-0.02, 0.02)));
+			CHECK_INT(fmCollider_SetMeshVertices(ground, vertices, GROUND_VERTICES), fm_ok);
+			refused += fmWorld_Step(world, frame, substepsOf(integrator)) != fm_ok;
+			const double* x = fmTestPositions(cube);
+			for (int i = 0; i < n3; ++i)
+				finite = finite && isfinite(x[i]);
+		}
+		size_t size = fmWorld_GetSnapshotSize(world);
+		void* snapshot = malloc(size);
+		CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size, NULL), fm_ok);
+		CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_ok);
+		printf("  %s: %d of 40 frames refused, positions finite: %s\n",
+		       integrator == fm_implicit ? "implicit" : "explicit", refused, finite ? "yes" : "NO");
+		CHECK(finite);
+		free(snapshot);
+		fmDestroyWorld(world);
+	}
+}
+
+// A snapshot whose saved mesh vertex is NaN or beyond FM_MAX_COORDINATE (resealed, so that the
+// checksum passes) is refused with fm_errParameter naming the collider, the mesh unchanged.
+TEST(snapshot_with_bad_mesh_vertices_is_refused)
+{
+	fmWorldId world = groundWorld(fm_implicit);
+	fmVec3 vertices[GROUND_VERTICES];
+	int triangles[3 * GROUND_TRIANGLES];
+	groundMesh(vertices, triangles);
+	fmColliderId ground =
+	    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+	makeCube(world, 0.01);
+	for (int i = 0; i < GROUND_VERTICES; ++i)
+		vertices[i].y = 0.01 * i;
+	CHECK_INT(fmCollider_SetMeshVertices(ground, vertices, GROUND_VERTICES), fm_ok);
+	CHECK_INT(fmWorld_Step(world, frame, 2), fm_ok);
+	const fmMeshShape* m = colliderOf(world, ground)->mesh;
+	size_t size = fmWorld_GetSnapshotSize(world);
+	unsigned char* snapshot = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(world, snapshot, size, NULL), fm_ok);
+	unsigned char* at = NULL; // the saved vertices
+	for (size_t i = 0; at == NULL && i + sizeof vertices <= size; ++i)
+		at = memcmp(snapshot + i, m->vertices, sizeof vertices) == 0 ? snapshot + i : NULL;
+	CHECK(at != NULL);
+	const double bad[2] = {NAN, 2e9};
+	for (int k = 0; at != NULL && k < 2; ++k)
+	{
+		memcpy(at + sizeof(fmVec3) * 7 + sizeof(double), &bad[k], sizeof(double));
+		fmSnapshot_Seal(snapshot, size);
+		CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, size), fm_errParameter);
+		CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "mesh vertex");
+		CHECK(memcmp(m->vertices, vertices, sizeof vertices) == 0);
+	}
+	free(snapshot);
 	fmDestroyWorld(world);
 }
