@@ -77,7 +77,7 @@ const char* fmMeshMotion_Problem(const fmMeshShape* m, const void* bytes, int co
 }
 
 // A target set in `to`: pending, and its farthest vertex's path.
-static void fmMeshMotion_Aim(fmMeshMotion* a, int count)
+static void fmAim(fmMeshMotion* a, int count)
 {
 	a->far = 0.0;
 	for (int i = 0; i < count; ++i)
@@ -89,7 +89,7 @@ void fmMeshMotion_SetTarget(fmMeshShape* m, const fmVec3* vertices)
 {
 	fmMeshMotion* a = m->motion;
 	memcpy(a->to, vertices, sizeof(fmVec3) * (size_t)m->vertexCount);
-	fmMeshMotion_Aim(a, m->vertexCount);
+	fmAim(a, m->vertexCount);
 }
 
 fmVec3 fmMeshMotion_VelocityAt(const fmCollider* c, fmVec3 p)
@@ -191,6 +191,7 @@ void fmMeshMotion_EndFrame(fmWorld* w, bool stepped)
 		a->pending = !stepped;
 	}
 }
+
 int fmMeshMotion_Flags(const fmMeshShape* m)
 {
 	return m->motion == NULL ? 0 : m->motion->pending ? 3 : 1;
@@ -208,7 +209,7 @@ void fmMeshMotion_Restore(fmMeshShape* m, int flags, const void* vertices, const
 	if (flags & 2)
 	{
 		memcpy(a->to, target, bytes);
-		fmMeshMotion_Aim(a, m->vertexCount);
+		fmAim(a, m->vertexCount);
 	}
 	a->rate = 0.0;
 	a->moving = false;

@@ -31,7 +31,7 @@ typedef struct fmMeshMotion
 	bool moving;    // the frame in progress (between frames: the last one) moves the vertices
 	double rate;    // 1 / the frame's length (1/s) while the frame moves the vertices, else 0
 	double far;     // m, the longest path of a vertex from `from` to `to` while pending
-	// fmMeshMotion_VelocityAt, called through here for the stages' reason
+	// fmMeshMotion_VelocityAt, called through here as the stages are (fmMeshMotionStages)
 	fmVec3 (*velocityAt)(const fmCollider* collider, fmVec3 p);
 } fmMeshMotion;
 
