@@ -128,11 +128,12 @@ FM_API size_t fmWorld_GetSnapshotSize(fmWorldId worldId);
 /// the world's settings, and the contact state the next step reads: every collider's pose,
 /// velocity and angular velocity (and last contact force and torque), every body's sleep state
 /// (asleep, sleep timer, island), its attachments (glue and welds) and the implicit collider
-/// friction found in the last step, and the pairs that touched in the last frame. Not saved: a mesh
-/// collider's triangles (they cannot change), targets and loads (the caller's input), the last
-/// step's results (contacts, events, statistics). fm_errLimit when the buffer is smaller than
-/// fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the bytes used. The snapshot is for
-/// this process: user energy functions are saved as pointers.
+/// friction found in the last step, and the pairs that touched in the last frame. A mesh
+/// collider's vertices set by fmCollider_SetMeshVertices are saved (those it has now and a
+/// target not yet reached); not saved: its triangles (they cannot change), targets and loads
+/// (the caller's input), the last step's results (contacts, events, statistics). fm_errLimit
+/// when the buffer is smaller than fmWorld_GetSnapshotSize(); @p written (may be NULL) gets the
+/// bytes used. The snapshot is for this process: user energy functions are saved as pointers.
 FM_API fmResult fmWorld_SaveSnapshot(fmWorldId worldId, void* buffer, size_t size, size_t* written);
 
 /// Restore a snapshot saved from this world with the same bodies and colliders: the world then
@@ -282,6 +283,19 @@ FM_API void fmCollider_SetTransform(fmColliderId colliderId, fmVec3 position, fm
 /// makes it kinematic: it moves by them every step.
 FM_API void fmCollider_SetVelocity(fmColliderId colliderId, fmVec3 velocity,
                                    fmVec3 angularVelocity);
+
+/// Move a mesh collider's vertices: @p vertices (m, in the mesh's own frame, @p vertexCount of
+/// them, as many as at creation; the triangles stay) are reached at the end of the next
+/// fmWorld_Step, along straight lines over its substeps (as fmBody_MoveGrab's target). Over that
+/// step their velocity, (new - old) / the step's length turned by the collider's rotation, adds
+/// to the collider's own at its surface (the nearest triangle's blend) for friction and pushing;
+/// a mesh not set again stops after it. fm_errParameter (the reason in fmWorld_GetLastError, the
+/// mesh unchanged) for a collider that is not a mesh, NULL, another count, or vertices not finite
+/// or beyond FM_MAX_COORDINATE; fm_errBusy in a step (its substep callback); fm_errLimit or
+/// fm_errOutOfMemory for the first call's copies (three of the vertices). Saved in snapshots;
+/// docs/contact.md, "Moving mesh colliders".
+FM_API fmResult fmCollider_SetMeshVertices(fmColliderId colliderId, const fmVec3* vertices,
+                                           int vertexCount);
 
 /// The collider's centre now (it moves when kinematic).
 FM_API fmVec3 fmCollider_GetPosition(fmColliderId colliderId);

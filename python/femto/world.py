@@ -697,6 +697,15 @@ class Collider:
         lib.fmCollider_SetVelocity(self._live(), vec3(velocity, "velocity"),
                                    vec3(angular_velocity, "angular_velocity"))
 
+    def set_mesh_vertices(self, vertices: ArrayLike) -> None:
+        """A mesh collider's new vertices ((n, 3), m, in its own frame, as many as at creation),
+        reached at the end of the next step; their velocity over it pushes and drags the bodies
+        (docs/contact.md, "Moving mesh colliders")."""
+        v = np.ascontiguousarray(vertices, dtype=np.float64)
+        v = float_rows(v, len(v) if v.ndim == 2 else -1, "vertices")
+        self.world._check(lib.fmCollider_SetMeshVertices(
+            self._live(), ffi.cast("const fmVec3*", ffi.from_buffer(v)), len(v)))
+
     @property
     def position(self) -> Tuple[float, float, float]:
         return tuple3(lib.fmCollider_GetPosition(self._live()))

@@ -147,3 +147,28 @@ def test_a_glued_box_and_its_welded_neighbour_hang_from_a_plank():
         a.weld([1000], b, [0])
     a.clear_attachments()
     assert a.attachment_count == 0 and b.attachment_count == 0
+
+
+def test_a_mesh_ground_raised_by_its_vertices_lifts_a_box():
+    # A two-triangle ground raised at 0.5 m/s through set_mesh_vertices: the box resting on it
+    # rides up at the ground's speed, no vertex below it; a wrong count is refused, unchanged.
+    world = femto.World(integrator="implicit", floor=False)
+    ground = np.array([[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]])
+    mesh = world.add_collider("mesh", vertices=ground, triangles=[[0, 2, 1], [0, 3, 2]])
+    body = world.add_body(box(), femto.Material("neohookean", youngs_modulus=1e5,
+                                                poisson_ratio=0.3),
+                          mass_mode="density", density=1000.0)
+    for _ in range(30):
+        world.step(1 / 60, 2)
+    with pytest.raises(femto.FemtoError) as refused:
+        mesh.set_mesh_vertices(ground[:3])
+    assert refused.value.name == "fm_errParameter"
+    height, speeds = 0.0, []
+    for frame in range(60):
+        height += 0.5 / 60
+        mesh.set_mesh_vertices(ground + [0.0, height, 0.0])
+        world.step(1 / 60, 2)
+        assert body.positions()[:, 1].min() > height - 1e-3
+        if frame >= 30:
+            speeds.append(body.velocities()[:, 1].mean())
+    assert np.mean(speeds) == pytest.approx(0.5, rel=0.03)

@@ -2,6 +2,7 @@
 // sphere tracing on them (exact distances make every step safe), kinematic motion.
 #include "contact/collider.h"
 #include "contact/contact_collider.h"
+#include "contact/mesh_motion.h"
 
 #include "core/core.h"
 #include "core/det_math.h"
@@ -195,9 +196,20 @@ bool fmCollider_CastSegment(const fmCollider* c, fmVec3 p0, fmVec3 p1, double ma
 	return false;
 }
 
+bool fmCollider_IsMoving(const fmCollider* c)
+{
+	const fmColliderDef* d = &c->def;
+	return fmDot(d->velocity, d->velocity) > 0.0 ||
+	       fmDot(d->angularVelocity, d->angularVelocity) > 0.0 ||
+	       (c->mesh != NULL && c->mesh->motion != NULL && c->mesh->motion->moving);
+}
+
 fmVec3 fmCollider_VelocityAt(const fmCollider* c, fmVec3 p)
 {
-	return fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
+	fmVec3 v = fmAdd(c->def.velocity, fmCross(c->def.angularVelocity, fmSub(p, c->position)));
+	if (c->mesh != NULL && c->mesh->motion != NULL && c->mesh->motion->rate > 0.0)
+		v = fmAdd(v, c->mesh->motion->velocityAt(c, p));
+	return v;
 }
 
 // ---- the public collider calls -----------------------------------------------------------------
@@ -366,8 +378,7 @@ fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def, fmCollide
 	return fm_ok;
 }
 
-// The collider an id names (its world in @p world when given), or NULL when stale.
-static fmCollider* fmGetCollider(fmColliderId id, fmWorld** world)
+fmCollider* fmGetCollider(fmColliderId id, fmWorld** world)
 {
 	fmWorldId worldId = {id.world0 + 1, id.worldGeneration};
 	fmWorld* w = id.index1 > 0 ? fmGetWorld(worldId) : NULL;
@@ -478,7 +489,9 @@ double fmCollider_SweepSpeed(const fmCollider* c)
 {
 	fmVec3 lo, hi;
 	double radius = fmCollider_Bounds(c, &lo, &hi) ? 0.5 * fmLength(fmSub(hi, lo)) : 0.0;
-	return fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius;
+	const fmMeshMotion* a = c->mesh != NULL ? c->mesh->motion : NULL;
+	double morph = a != NULL ? a->far * a->rate : 0.0; // the fastest vertex in a moving frame
+	return fmLength(c->def.velocity) + fmLength(c->def.angularVelocity) * radius + morph;
 }
 
 bool fmCollider_IsValid(fmColliderId colliderId)

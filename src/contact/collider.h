@@ -10,6 +10,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+typedef struct fmWorld fmWorld;
+
 typedef struct fmCollider
 {
 	uint32_t generation; // of the collider in the slot
@@ -54,9 +56,15 @@ double fmCollider_Distance(const fmCollider* collider, fmVec3 p, fmVec3* normal)
 bool fmCollider_CastSegment(const fmCollider* collider, fmVec3 p0, fmVec3 p1, double margin,
                             double* fraction, fmVec3* normal);
 
+// Whether the collider moves in the frame in progress (between frames: the last one): a
+// velocity, an angular velocity, or a mesh's vertices (fmCollider_SetMeshVertices).
+bool fmCollider_IsMoving(const fmCollider* collider);
+
 // The velocity (m/s) of the collider's material at @p p.
 fmVec3 fmCollider_VelocityAt(const fmCollider* collider, fmVec3 p);
 
+// The collider an id names (its world in @p world when given), or NULL when stale.
+fmCollider* fmGetCollider(fmColliderId id, fmWorld** world);
 
 // Whether two filters collide: each one's category is in the other's mask.
 bool fmFiltersMeet(fmFilter a, fmFilter b);

@@ -182,13 +182,11 @@ static bool fmColliderNear(const fmCollider* c, fmVec3 lo, fmVec3 hi)
 	         hi.z < clo.z);
 }
 
-// A sleeping body is not moved by colliders; one that moves (kinematic) into it wakes it at
-// the end of the frame (island.h).
+// A sleeping body is not moved by colliders; one that moves (kinematic or a moving mesh) into
+// it wakes it at the end of the frame (island.h).
 static void fmWakeIfPushed(fmBody* b, const fmCollider* c)
 {
-	const fmColliderDef* d = &c->def;
-	if (fmDot(d->velocity, d->velocity) == 0.0 &&
-	    fmDot(d->angularVelocity, d->angularVelocity) == 0.0)
+	if (!fmCollider_IsMoving(c))
 		return;
 	for (int p = 0; p < b->contact.surfaceVertexCount && !b->wakeRequested; ++p)
 	{

@@ -1,6 +1,7 @@
 // Triangle-mesh colliders (mesh_collider.h): a median-split bounding-volume hierarchy, a
 // best-first closest-point query signed by pseudo-normals, and an exact segment cast.
 #include "contact/mesh_collider.h"
+#include "contact/mesh_motion.h"
 
 #include "core/core.h"
 #include "core/det_math.h"
@@ -70,10 +71,37 @@ static fmVec3 fmUnitOrZero(fmVec3 v)
 	return length > 0.0 ? fmScale(1.0 / length, v) : fmMakeVec3(0.0, 0.0, 0.0);
 }
 
-// Face, edge and vertex pseudo-normals. False when memory is short.
-static bool fmPrepareNormals(fmMeshShape* m)
+static uint64_t fmEdgeKeyOf(const fmMeshShape* m, int slot)
+{
+	uint32_t p = (uint32_t)m->triangles[slot];
+	uint32_t q = (uint32_t)m->triangles[slot - slot % 3 + (slot % 3 + 1) % 3];
+	return p < q ? ((uint64_t)p << 32 | q) : ((uint64_t)q << 32 | p);
+}
+
+bool fmMeshShape_SortEdges(const fmMeshShape* m, int* slots)
+{
+	int n = 3 * m->triangleCount;
+	fmEdgeKey* edges = FM_ALLOC_ARRAY(fmEdgeKey, n);
+	if (edges == NULL)
+		return false;
+	for (int e = 0; e < n; ++e)
+	{
+		edges[e].key = fmEdgeKeyOf(m, e);
+		edges[e].slot = e;
+	}
+	qsort(edges, (size_t)n, sizeof *edges, fmCompareEdges);
+	for (int e = 0; e < n; ++e)
+		slots[e] = edges[e].slot;
+	FM_FREE_ARRAY(edges, fmEdgeKey, n);
+	return true;
+}
+
+// Face, edge and vertex pseudo-normals; the slots of one edge are adjacent in @p edgeSlots
+// (fmMeshShape_SortEdges), their faces summed in that order.
+static void fmPrepareNormals(fmMeshShape* m, const int* edgeSlots)
 {
 	int n = m->triangleCount;
+	memset(m->vertexNormal, 0, sizeof(fmVec3) * (size_t)m->vertexCount);
 	for (int t = 0; t < n; ++t)
 	{
 		fmVec3 a = fmCorner(m, t, 0), b = fmCorner(m, t, 1), c = fmCorner(m, t, 2);
@@ -89,28 +117,49 @@ static bool fmPrepareNormals(fmMeshShape* m)
 	}
 	for (int v = 0; v < m->vertexCount; ++v)
 		m->vertexNormal[v] = fmUnitOrZero(m->vertexNormal[v]);
-	fmEdgeKey* edges = FM_ALLOC_ARRAY(fmEdgeKey, 3 * (size_t)n);
-	if (edges == NULL)
-		return false;
-	for (int e = 0; e < 3 * n; ++e)
-	{
-		int t = e / 3, k = e % 3;
-		uint32_t p = (uint32_t)m->triangles[3 * t + k];
-		uint32_t q = (uint32_t)m->triangles[3 * t + (k + 1) % 3];
-		edges[e].key = p < q ? ((uint64_t)p << 32 | q) : ((uint64_t)q << 32 | p);
-		edges[e].slot = e;
-	}
-	qsort(edges, 3 * (size_t)n, sizeof *edges, fmCompareEdges);
 	for (int first = 0, last; first < 3 * n; first = last)
 	{
+		uint64_t key = fmEdgeKeyOf(m, edgeSlots[first]);
 		fmVec3 sum = fmMakeVec3(0.0, 0.0, 0.0);
-		for (last = first; last < 3 * n && edges[last].key == edges[first].key; ++last)
-			sum = fmAdd(sum, m->faceNormal[edges[last].slot / 3]);
+		for (last = first; last < 3 * n && fmEdgeKeyOf(m, edgeSlots[last]) == key; ++last)
+			sum = fmAdd(sum, m->faceNormal[edgeSlots[last] / 3]);
 		for (int e = first; e < last; ++e)
-			m->edgeNormal[edges[e].slot] = fmUnitOrZero(sum);
+			m->edgeNormal[edgeSlots[e]] = fmUnitOrZero(sum);
 	}
-	FM_FREE_ARRAY(edges, fmEdgeKey, 3 * (size_t)n);
-	return true;
+}
+
+// The box of triangle @p t grown to hold [*lo, *hi].
+static void fmGrowBox(const fmMeshShape* m, int t, fmVec3* lo, fmVec3* hi)
+{
+	for (int k = 0; k < 3; ++k)
+	{
+		fmVec3 p = fmCorner(m, t, k);
+		*lo = fmMakeVec3(fmMin(lo->x, p.x), fmMin(lo->y, p.y), fmMin(lo->z, p.z));
+		*hi = fmMakeVec3(fmMax(hi->x, p.x), fmMax(hi->y, p.y), fmMax(hi->z, p.z));
+	}
+}
+
+void fmMeshShape_Reshape(fmMeshShape* m, const int* edgeSlots)
+{
+	fmPrepareNormals(m, edgeSlots);
+	// Children come after their parents (fmBuildNode): backwards, every box is refitted after
+	// its children's.
+	for (int i = m->nodeCount - 1; i >= 0; --i)
+	{
+		fmMeshNode* node = &m->nodes[i];
+		if (node->left >= 0)
+		{
+			const fmMeshNode *l = &m->nodes[node->left], *r = l + 1;
+			node->lo = fmMakeVec3(fmMin(l->lo.x, r->lo.x), fmMin(l->lo.y, r->lo.y),
+			                      fmMin(l->lo.z, r->lo.z));
+			node->hi = fmMakeVec3(fmMax(l->hi.x, r->hi.x), fmMax(l->hi.y, r->hi.y),
+			                      fmMax(l->hi.z, r->hi.z));
+			continue;
+		}
+		node->lo = node->hi = fmCorner(m, m->order[node->first], 0);
+		for (int k = node->first; k < node->first + node->count; ++k)
+			fmGrowBox(m, m->order[k], &node->lo, &node->hi);
+	}
 }
 
 typedef struct fmCentroidKey
@@ -141,14 +190,9 @@ static void fmBuildNode(fmMeshShape* m, fmCentroidKey* keys, int index, int firs
 	fmVec3 clo = fmMakeVec3(INFINITY, INFINITY, INFINITY), chi = fmScale(-1.0, clo);
 	for (int i = first; i < first + count; ++i)
 	{
-		fmVec3 c = fmMakeVec3(0.0, 0.0, 0.0);
-		for (int k = 0; k < 3; ++k)
-		{
-			fmVec3 p = fmCorner(m, m->order[i], k);
-			lo = fmMakeVec3(fmMin(lo.x, p.x), fmMin(lo.y, p.y), fmMin(lo.z, p.z));
-			hi = fmMakeVec3(fmMax(hi.x, p.x), fmMax(hi.y, p.y), fmMax(hi.z, p.z));
-			c = fmAdd(c, p);
-		}
+		int t = m->order[i];
+		fmGrowBox(m, t, &lo, &hi);
+		fmVec3 c = fmAdd(fmAdd(fmCorner(m, t, 0), fmCorner(m, t, 1)), fmCorner(m, t, 2));
 		clo = fmMakeVec3(fmMin(clo.x, c.x), fmMin(clo.y, c.y), fmMin(clo.z, c.z));
 		chi = fmMakeVec3(fmMax(chi.x, c.x), fmMax(chi.y, c.y), fmMax(chi.z, c.z));
 	}
@@ -203,22 +247,26 @@ fmMeshShape* fmMeshShape_Create(const fmColliderDef* def)
 	m->edgeNormal = FM_ALLOC_ARRAY(fmVec3, 3 * (size_t)t);
 	m->nodes = FM_ALLOC_ARRAY(fmMeshNode, 2 * (size_t)t);
 	fmCentroidKey* keys = FM_ALLOC_ARRAY(fmCentroidKey, t);
+	int* edgeSlots = FM_ALLOC_ARRAY(int, 3 * (size_t)t);
 	bool ok = m->vertices && m->vertexNormal && m->triangles && m->order && m->faceNormal &&
-	          m->edgeNormal && m->nodes && keys;
+	          m->edgeNormal && m->nodes && keys && edgeSlots;
 	if (ok)
 	{
 		memcpy(m->vertices, def->vertices, sizeof(fmVec3) * (size_t)v);
 		memcpy(m->triangles, def->triangles, sizeof(int) * 3 * (size_t)t);
 		for (int i = 0; i < t; ++i)
 			m->order[i] = i;
-		ok = fmPrepareNormals(m);
+		ok = fmMeshShape_SortEdges(m, edgeSlots);
 	}
+	if (ok)
+		fmPrepareNormals(m, edgeSlots);
 	if (ok)
 	{
 		m->nodeCount = 1;
 		fmBuildNode(m, keys, 0, 0, t);
 	}
 	FM_FREE_ARRAY(keys, fmCentroidKey, t);
+	FM_FREE_ARRAY(edgeSlots, int, 3 * (size_t)t);
 	if (!ok)
 	{
 		fmMeshShape_Destroy(m);
@@ -232,6 +280,7 @@ void fmMeshShape_Destroy(fmMeshShape* m)
 	if (m == NULL)
 		return;
 	int v = m->vertexCount, t = m->triangleCount;
+	fmMeshMotion_Release(m);
 	FM_FREE_ARRAY(m->vertices, fmVec3, v);
 	FM_FREE_ARRAY(m->vertexNormal, fmVec3, v);
 	FM_FREE_ARRAY(m->triangles, int, 3 * (size_t)t);
@@ -275,10 +324,13 @@ static fmVec3 fmFeatureNormal(const fmMeshShape* m, int t, const double w[3])
 	return m->vertexNormal[m->triangles[3 * t + corner]];
 }
 
-double fmMeshShape_Distance(const fmMeshShape* m, fmVec3 p, fmVec3* normal)
+double fmMeshShape_Nearest(const fmMeshShape* m, fmVec3 p, int* triangle, double weights[3])
 {
-	double best = INFINITY, bestW[3] = {1.0, 0.0, 0.0};
-	int bestTriangle = 0, stack[FM_MESH_STACK], depth = 0;
+	double best = INFINITY;
+	int stack[FM_MESH_STACK], depth = 0;
+	*triangle = 0;
+	weights[0] = 1.0;
+	weights[1] = weights[2] = 0.0;
 	stack[depth++] = 0;
 	while (depth > 0)
 	{
@@ -299,8 +351,8 @@ double fmMeshShape_Distance(const fmMeshShape* m, fmVec3 p, fmVec3* normal)
 				if (d2 < best)
 				{
 					best = d2;
-					bestTriangle = t;
-					memcpy(bestW, w, sizeof w);
+					*triangle = t;
+					memcpy(weights, w, sizeof w);
 				}
 			}
 			continue;
@@ -312,7 +364,14 @@ double fmMeshShape_Distance(const fmMeshShape* m, fmVec3 p, fmVec3* normal)
 		stack[depth++] = leftFirst ? node->left + 1 : node->left;
 		stack[depth++] = leftFirst ? node->left : node->left + 1;
 	}
-	int t = bestTriangle;
+	return best;
+}
+
+double fmMeshShape_Distance(const fmMeshShape* m, fmVec3 p, fmVec3* normal)
+{
+	int t;
+	double bestW[3];
+	double best = fmMeshShape_Nearest(m, p, &t, bestW);
 	fmVec3 q =
 	    fmAdd(fmAdd(fmScale(bestW[0], fmCorner(m, t, 0)), fmScale(bestW[1], fmCorner(m, t, 1))),
 	          fmScale(bestW[2], fmCorner(m, t, 2)));

@@ -29,7 +29,8 @@ typedef struct fmMeshShape
 	int* order;           // triangles in leaf order
 	fmMeshNode* nodes;
 	int nodeCount;
-	size_t bytes; // what all the above take
+	struct fmMeshMotion* motion; // the vertices' motion, NULL until first set (mesh_motion.h)
+	size_t bytes;                // what all the above take
 } fmMeshShape;
 
 // Bytes a shape of @p vertexCount vertices and @p triangleCount triangles keeps (its `bytes`):
@@ -45,6 +46,10 @@ void fmMeshShape_Destroy(fmMeshShape* shape);
 // What is wrong with a def's mesh arrays, or NULL.
 const char* fmMeshShape_Problem(const fmColliderDef* def);
 
+// The triangle of the surface point nearest @p p (mesh frame) and that point's barycentric
+// weights; returns the squared distance.
+double fmMeshShape_Nearest(const fmMeshShape* shape, fmVec3 p, int* triangle, double weights[3]);
+
 // Signed distance from @p p (mesh frame) to the surface, and the outward unit normal there.
 double fmMeshShape_Distance(const fmMeshShape* shape, fmVec3 p, fmVec3* normal);
 
@@ -52,6 +57,14 @@ double fmMeshShape_Distance(const fmMeshShape* shape, fmVec3 p, fmVec3* normal);
 // front, as a fraction in [0, 1], and that triangle's normal. False when there is none.
 bool fmMeshShape_CastSegment(const fmMeshShape* shape, fmVec3 p0, fmVec3 p1, double* fraction,
                              fmVec3* normal);
+
+// The triangles' edge slots (3 * triangle + edge, edge k from corner k to corner k + 1) in an
+// order that puts the slots of one edge next to each other. False when memory is short.
+bool fmMeshShape_SortEdges(const fmMeshShape* shape, int* slots);
+
+// Bring the pseudo-normals and the hierarchy's boxes to the vertices now (moved in place, the
+// triangles unchanged): O(triangles), @p edgeSlots from fmMeshShape_SortEdges.
+void fmMeshShape_Reshape(fmMeshShape* shape, const int* edgeSlots);
 
 // The box (mesh frame) of the whole mesh.
 void fmMeshShape_Bounds(const fmMeshShape* shape, fmVec3* lo, fmVec3* hi);

@@ -169,9 +169,7 @@ static bool fmTouchesMovingCollider(fmWorld* w, int slot)
 		int a = (int)(pairs[p] >> 32), b = (int)(uint32_t)pairs[p];
 		if (a != slot || !(b & (int)0x80000000u))
 			continue;
-		const fmColliderDef* d = &fmWorldCollider(w, b & 0x7fffffff)->def;
-		if (fmDot(d->velocity, d->velocity) > 0.0 ||
-		    fmDot(d->angularVelocity, d->angularVelocity) > 0.0)
+		if (fmCollider_IsMoving(fmWorldCollider(w, b & 0x7fffffff)))
 			return true;
 	}
 	return false;

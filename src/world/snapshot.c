@@ -14,18 +14,22 @@
 // step, which the next step's solve uses (body->contact.frictionNext, saved for the vertices that
 // have some, with the static spring's stretch since version 6), and its attachments (glue and
 // weld ends, since version 10); and the pairs that touched in the last frame (the next frame's
-// begin and end events and islands come from them). Per-step temporaries (the solver's vectors, the
-// damping matrix, the arena, the contact stage's buffers, its contact list and events) are rebuilt
-// by every step and are not. Bodies are matched by slot, generation and counts, colliders by slot,
-// generation, shape and (meshes) vertex and triangle counts: a snapshot restores into the world it
-// was taken from, with the same bodies and colliders (created or destroyed ones make it refuse,
-// untouched). A mesh collider's triangles are not saved.
+// begin and end events and islands come from them). Per-step temporaries (the solver's vectors,
+// the damping matrix, the arena, the contact stage's buffers, its contact list and events) are
+// rebuilt by every step and are not. Bodies are matched by slot, generation and counts, colliders
+// by slot, generation, shape and (meshes) vertex and triangle counts: a snapshot restores into
+// the world it was taken from, with the same bodies and colliders (created or destroyed ones make
+// it refuse, untouched). A mesh collider's triangles are not saved; its vertices moved by
+// fmCollider_SetMeshVertices are (version 10: those it has now and a target the next frame moves
+// it to, fmGetMeshMotion).
 #include "world/snapshot.h"
+#include "world/snapshot_stream.h"
 
 #include "body/anchors.h"
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
+#include "contact/mesh_motion.h"
 #include "core/checksum.h"
 #include "core/core.h"
 #include "world/world.h"
@@ -45,84 +49,28 @@
 #define FM_SNAPSHOT_LENGTH_AT (4 * sizeof(uint32_t))
 #define FM_SNAPSHOT_SUM_AT (6 * sizeof(uint32_t))
 
-// A cursor over the buffer: writing with data == NULL only counts.
-typedef struct fmStream
-{
-	unsigned char* out;      // writing; NULL to count
-	const unsigned char* in; // reading
-	size_t size;
-	size_t used;
-	bool overflow;
-} fmStream;
-
-static void fmPut(fmStream* s, const void* data, size_t bytes)
-{
-	if (bytes == 0) // an empty array may be a NULL pointer
-		return;
-	if (s->out != NULL && !s->overflow && bytes <= s->size - s->used)
-		memcpy(s->out + s->used, data, bytes);
-	else if (s->out != NULL)
-		s->overflow = true;
-	s->used += bytes;
-}
-
-static void fmGet(fmStream* s, void* data, size_t bytes)
-{
-	if (bytes == 0)
-		return;
-	if (s->overflow || bytes > s->size - s->used)
-	{
-		s->overflow = true;
-		memset(data, 0, bytes);
-		return;
-	}
-	memcpy(data, s->in + s->used, bytes);
-	s->used += bytes;
-}
-
-// One value or array through the stream in either direction.
-static void fmMove(fmStream* s, bool save, void* data, size_t bytes)
-{
-	if (save)
-		fmPut(s, data, bytes);
-	else
-		fmGet(s, data, bytes);
-}
-
-static void fmMoveBool(fmStream* s, bool save, bool* value)
-{
-	uint8_t byte = *value ? 1 : 0;
-	fmMove(s, save, &byte, 1);
-	*value = byte != 0;
-}
-
-static void fmMoveDouble(fmStream* s, bool save, double* value)
-{
-	fmMove(s, save, value, sizeof *value);
-}
-
 static void fmMoveLedger(fmStream* s, bool save, fmEnergyLedger* l)
 {
-	fmMoveBool(s, save, &l->started);
+	fmStream_MoveBool(s, save, &l->started);
 	double* fields[] = {&l->initialEnergy, &l->work,         &l->workIn,
 	                    &l->floor,         &l->gravityStart, &l->frameGravityWork,
 	                    &l->measureStep,   &l->plainGood,    &l->framePlain};
 	for (size_t k = 0; k < sizeof fields / sizeof fields[0]; ++k)
-		fmMoveDouble(s, save, fields[k]);
+		fmStream_MoveDouble(s, save, fields[k]);
 }
 
 static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 {
 	int32_t model = (int32_t)m->model;
-	fmMove(s, save, &model, sizeof model);
+	fmStream_Move(s, save, &model, sizeof model);
 	m->model = (fmMaterialModel)model;
-	fmMoveDouble(s, save, &m->lambda);
-	fmMoveDouble(s, save, &m->mu);
-	fmMoveDouble(s, save, &m->c01);
+	fmStream_MoveDouble(s, save, &m->lambda);
+	fmStream_MoveDouble(s, save, &m->mu);
+	fmStream_MoveDouble(s, save, &m->c01);
 	// User energies: function and parameter pointers, valid within the process that saved them.
-	fmMove(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
-	fmMove(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
-	fmMove(s, save, &m->userParams, sizeof m->userParams);
+	fmStream_Move(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
+	fmStream_Move(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
+	fmStream_Move(s, save, &m->userParams, sizeof m->userParams);
 }
 
 // The implicit solver's state carried from step to step: a flags byte (bit 0: a kept matrix
@@ -138,8 +86,8 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 	uint8_t flags = (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) |
 	                          (c != NULL && c->coasted ? 2u : 0u) | (base ? 4u : 0u));
 	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
-	fmMove(s, save, &flags, 1);
-	fmMove(s, save, &recheck, 1);
+	fmStream_Move(s, save, &flags, 1);
+	fmStream_Move(s, save, &recheck, 1);
 	bool warm = (flags & 2u) || recheck > 0;
 	if (!save && warm && (c = fmSolverCache_Get(&b->solverCache, &b->mesh)) == NULL)
 		return false;
@@ -159,22 +107,22 @@ static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
 	if (!save && (c = fmSolverCache_Get(&b->solverCache, &b->mesh)) == NULL)
 		return false;
 	int64_t blocks = c->pattern.blocks;
-	fmMove(s, save, &blocks, sizeof blocks);
+	fmStream_Move(s, save, &blocks, sizeof blocks);
 	if (blocks != c->pattern.blocks)
 		return false;
 	c->hessianValid = true;
-	fmMoveDouble(s, save, &c->hessianInertia);
-	fmMoveDouble(s, save, &c->hessianMassDamping);
-	fmMoveBool(s, save, &c->hessianDamping);
-	fmMoveBool(s, save, &c->hessianExact);
-	fmMove(s, save, c->hessian, sizeof(double) * 9 * (size_t)blocks);
+	fmStream_MoveDouble(s, save, &c->hessianInertia);
+	fmStream_MoveDouble(s, save, &c->hessianMassDamping);
+	fmStream_MoveBool(s, save, &c->hessianDamping);
+	fmStream_MoveBool(s, save, &c->hessianExact);
+	fmStream_Move(s, save, c->hessian, sizeof(double) * 9 * (size_t)blocks);
 	if (!save)
 		c->hessianVersion += 1; // the multigrid's levels are set up again from it
 	if (!(flags & 4u))
 		return true;
 	if (!save && fmSolverCache_Base(c) == NULL)
 		return false;
-	fmMove(s, save, c->hessianBase, sizeof(double) * 9 * (size_t)blocks);
+	fmStream_Move(s, save, c->hessianBase, sizeof(double) * 9 * (size_t)blocks);
 	c->hessianBaseValid = true;
 	return true;
 }
@@ -204,16 +152,16 @@ static fmBodyKey fmKeyOf(const fmBody* b, int slot)
 static void fmMoveBodyState(fmStream* s, bool save, fmBody* b)
 {
 	size_t n3 = 3 * (size_t)b->mesh.vertexCount, n = (size_t)b->mesh.vertexCount;
-	fmMove(s, save, b->state.x, sizeof(double) * n3);
-	fmMove(s, save, b->state.v, sizeof(double) * n3);
-	fmMove(s, save, b->xGood, sizeof(double) * n3);
-	fmMove(s, save, b->vGood, sizeof(double) * n3);
-	fmMove(s, save, b->state.pinned, n);
-	fmMove(s, save, b->mesh.springK, sizeof(double) * (size_t)b->mesh.edgeCount);
+	fmStream_Move(s, save, b->state.x, sizeof(double) * n3);
+	fmStream_Move(s, save, b->state.v, sizeof(double) * n3);
+	fmStream_Move(s, save, b->xGood, sizeof(double) * n3);
+	fmStream_Move(s, save, b->vGood, sizeof(double) * n3);
+	fmStream_Move(s, save, b->state.pinned, n);
+	fmStream_Move(s, save, b->mesh.springK, sizeof(double) * (size_t)b->mesh.edgeCount);
 	fmMoveMaterial(s, save, &b->mesh.material);
-	fmMoveDouble(s, save, &b->energyGood);
-	fmMoveBool(s, save, &b->energyStale);
-	fmMoveDouble(s, save, &b->explicitLimit);
+	fmStream_MoveDouble(s, save, &b->energyGood);
+	fmStream_MoveBool(s, save, &b->energyStale);
+	fmStream_MoveDouble(s, save, &b->explicitLimit);
 	fmMoveLedger(s, save, &b->ledger);
 }
 
@@ -245,12 +193,12 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 	fmMoveBodyState(&count, true, b);
 	fmStream s = {NULL, buffer, size, offset + count.used, false};
 	uint8_t present = 0;
-	fmGet(&s, &present, 1);
+	fmStream_Get(&s, &present, 1);
 	s.used += 1; // the first guess's recheck countdown
 	if (present & 1u)
 	{
 		int64_t blocks = 0;
-		fmGet(&s, &blocks, sizeof blocks);
+		fmStream_Get(&s, &blocks, sizeof blocks);
 		fmImplicitCache* c =
 		    fmSolverCache_Get(&b->solverCache, &b->mesh); // the same mesh gives the same pattern
 		if (c == NULL || blocks != c->pattern.blocks)
@@ -270,32 +218,32 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 static void fmMoveWorldSettings(fmStream* s, bool save, fmWorld* w)
 {
 	fmWorldDef* d = &w->def;
-	fmMove(s, save, &d->gravity, sizeof d->gravity);
-	fmMoveBool(s, save, &d->floor.enabled);
-	fmMoveDouble(s, save, &d->floor.height);
+	fmStream_Move(s, save, &d->gravity, sizeof d->gravity);
+	fmStream_MoveBool(s, save, &d->floor.enabled);
+	fmStream_MoveDouble(s, save, &d->floor.height);
 	int32_t ints[6] = {(int32_t)d->floor.friction,
 	                   (int32_t)d->integrator,
 	                   d->newtonIterations,
 	                   d->cgIterations,
 	                   (int32_t)w->solverOptions.product,
 	                   (int32_t)w->solverOptions.preconditioner};
-	fmMove(s, save, ints, sizeof ints);
+	fmStream_Move(s, save, ints, sizeof ints);
 	d->floor.friction = (fmFloorFriction)ints[0];
 	d->integrator = (fmIntegrator)ints[1];
 	d->newtonIterations = ints[2];
 	d->cgIterations = ints[3];
 	w->solverOptions.product = (fmProductMode)ints[4];
 	w->solverOptions.preconditioner = (fmPreconditioner)ints[5];
-	fmMoveDouble(s, save, &d->floor.frictionCoefficient);
-	fmMoveDouble(s, save, &d->floor.restitution);
-	fmMoveDouble(s, save, &d->floor.maxDepenetrationSpeed);
-	fmMove(s, save, &d->floor.filter, sizeof d->floor.filter);
-	fmMove(s, save, &w->floorCollider.force, sizeof w->floorCollider.force);
-	fmMove(s, save, &w->floorCollider.torque, sizeof w->floorCollider.torque);
-	fmMoveDouble(s, save, &d->tolerance);
-	fmMoveBool(s, save, &d->notConvergedIsError);
-	fmMoveBool(s, save, &d->autoSubstep);
-	fmMoveBool(s, save, &w->warnedStep);
+	fmStream_MoveDouble(s, save, &d->floor.frictionCoefficient);
+	fmStream_MoveDouble(s, save, &d->floor.restitution);
+	fmStream_MoveDouble(s, save, &d->floor.maxDepenetrationSpeed);
+	fmStream_Move(s, save, &d->floor.filter, sizeof d->floor.filter);
+	fmStream_Move(s, save, &w->floorCollider.force, sizeof w->floorCollider.force);
+	fmStream_Move(s, save, &w->floorCollider.torque, sizeof w->floorCollider.torque);
+	fmStream_MoveDouble(s, save, &d->tolerance);
+	fmStream_MoveBool(s, save, &d->notConvergedIsError);
+	fmStream_MoveBool(s, save, &d->autoSubstep);
+	fmStream_MoveBool(s, save, &w->warnedStep);
 }
 
 // ---- contact state (format version 3) ----------------------------------------------------------
@@ -330,12 +278,12 @@ static int fmLiveColliders(const fmWorld* w)
 // and the force and torque of the last step (fmCollider_GetContactForce).
 static void fmMoveColliderState(fmStream* s, bool save, fmCollider* c)
 {
-	fmMove(s, save, &c->position, sizeof c->position);
-	fmMove(s, save, &c->rotation, sizeof c->rotation);
-	fmMove(s, save, &c->def.velocity, sizeof c->def.velocity);
-	fmMove(s, save, &c->def.angularVelocity, sizeof c->def.angularVelocity);
-	fmMove(s, save, &c->force, sizeof c->force);
-	fmMove(s, save, &c->torque, sizeof c->torque);
+	fmStream_Move(s, save, &c->position, sizeof c->position);
+	fmStream_Move(s, save, &c->rotation, sizeof c->rotation);
+	fmStream_Move(s, save, &c->def.velocity, sizeof c->def.velocity);
+	fmStream_Move(s, save, &c->def.angularVelocity, sizeof c->def.angularVelocity);
+	fmStream_Move(s, save, &c->force, sizeof c->force);
+	fmStream_Move(s, save, &c->torque, sizeof c->torque);
 }
 
 #define FM_COLLIDER_RECORD_BYTES (sizeof(fmColliderKey) + 5 * sizeof(fmVec3) + sizeof(fmMat3))
@@ -376,14 +324,14 @@ static void fmPutStretch(fmStream* s, const fmBarrierStretch* r)
 	for (int k = 0; k < 4; ++k)
 	{
 		int32_t body = r->stencil.body[k], vertex = r->stencil.vertex[k];
-		fmPut(s, &body, sizeof body);
-		fmPut(s, &vertex, sizeof vertex);
+		fmStream_Put(s, &body, sizeof body);
+		fmStream_Put(s, &vertex, sizeof vertex);
 	}
 	uint8_t edgeEdge = r->stencil.edgeEdge ? 1u : 0u;
-	fmPut(s, &edgeEdge, 1);
-	fmPut(s, r->w, 4 * sizeof(double));
-	fmPut(s, &r->relative, 3 * sizeof(double));
-	fmPut(s, &r->stretch, 3 * sizeof(double));
+	fmStream_Put(s, &edgeEdge, 1);
+	fmStream_Put(s, r->w, 4 * sizeof(double));
+	fmStream_Put(s, &r->relative, 3 * sizeof(double));
+	fmStream_Put(s, &r->stretch, 3 * sizeof(double));
 }
 
 // Read a stretch record into @p r; returns its kind byte (0 or 1 when valid).
@@ -392,17 +340,17 @@ static uint8_t fmGetStretch(fmStream* s, fmBarrierStretch* r)
 	for (int k = 0; k < 4; ++k)
 	{
 		int32_t body = -1, vertex = -1;
-		fmGet(s, &body, sizeof body);
-		fmGet(s, &vertex, sizeof vertex);
+		fmStream_Get(s, &body, sizeof body);
+		fmStream_Get(s, &vertex, sizeof vertex);
 		r->stencil.body[k] = body;
 		r->stencil.vertex[k] = vertex;
 	}
 	uint8_t edgeEdge = 0;
-	fmGet(s, &edgeEdge, 1);
+	fmStream_Get(s, &edgeEdge, 1);
 	r->stencil.edgeEdge = edgeEdge != 0;
-	fmGet(s, r->w, 4 * sizeof(double));
-	fmGet(s, &r->relative, 3 * sizeof(double));
-	fmGet(s, &r->stretch, 3 * sizeof(double));
+	fmStream_Get(s, r->w, 4 * sizeof(double));
+	fmStream_Get(s, &r->relative, 3 * sizeof(double));
+	fmStream_Get(s, &r->stretch, 3 * sizeof(double));
 	return edgeEdge;
 }
 
@@ -448,33 +396,33 @@ static void fmPutBodyContact(fmStream* s, const fmWorld* w, const fmBody* b)
 {
 	uint8_t flags = (uint8_t)((b->asleep ? 1u : 0u) | (b->wakeRequested ? 2u : 0u));
 	int32_t island = b->island, count = 0;
-	fmPut(s, &flags, 1);
-	fmPut(s, &b->sleepTimer, sizeof b->sleepTimer);
-	fmPut(s, &island, sizeof island);
+	fmStream_Put(s, &flags, 1);
+	fmStream_Put(s, &b->sleepTimer, sizeof b->sleepTimer);
+	fmStream_Put(s, &island, sizeof island);
 	for (int i = 0; i < b->mesh.vertexCount; ++i)
 		count += fmFrictionFound(b, i) != NULL;
-	fmPut(s, &count, sizeof count);
+	fmStream_Put(s, &count, sizeof count);
 	for (int32_t i = 0; i < b->mesh.vertexCount; ++i)
 	{
 		const double* f = fmFrictionFound(b, i);
 		if (f == NULL)
 			continue;
-		fmPut(s, &i, sizeof i);
-		fmPut(s, f, FM_FRICTION_STRIDE * sizeof(double));
+		fmStream_Put(s, &i, sizeof i);
+		fmStream_Put(s, f, FM_FRICTION_STRIDE * sizeof(double));
 	}
 	int32_t stretches = 0;
 	for (int k = 0; k < b->contact.stretchCount; ++k)
 		stretches += fmStretchNamesLive(w, &b->contact.stretch[k]);
-	fmPut(s, &stretches, sizeof stretches);
+	fmStream_Put(s, &stretches, sizeof stretches);
 	for (int k = 0; k < b->contact.stretchCount; ++k)
 		if (fmStretchNamesLive(w, &b->contact.stretch[k]))
 			fmPutStretch(s, &b->contact.stretch[k]);
 	int32_t anchors = b->anchorCount;
-	fmPut(s, &anchors, sizeof anchors);
+	fmStream_Put(s, &anchors, sizeof anchors);
 	for (int a = 0; a < anchors; ++a)
 	{
 		fmAnchorRecord record = fmAnchors_Record(b, a);
-		fmPut(s, &record, sizeof record);
+		fmStream_Put(s, &record, sizeof record);
 	}
 }
 
@@ -483,22 +431,28 @@ static void fmPutBodyContact(fmStream* s, const fmWorld* w, const fmBody* b)
 // keys of fmContactEvents_FramePairs).
 static void fmPutContact(fmStream* s, fmWorld* w)
 {
-	fmPut(s, &w->contactStep, sizeof w->contactStep);
+	fmStream_Put(s, &w->contactStep, sizeof w->contactStep);
 	for (int k = 0; k < w->colliderCapacity; ++k)
 	{
 		if (!w->colliders[k].inUse)
 			continue;
 		fmColliderKey key = fmColliderKeyOf(&w->colliders[k], k);
-		fmPut(s, &key, sizeof key);
+		fmStream_Put(s, &key, sizeof key);
 		fmMoveColliderState(s, true, &w->colliders[k]);
+		const fmMeshShape* m = w->colliders[k].mesh;
+		uint8_t flags = m != NULL ? (uint8_t)fmMeshMotion_Flags(m) : 0;
+		if (m != NULL) // its moved vertices (version 10): fmGetMeshMotion
+			fmStream_Put(s, &flags, 1);
+		for (int a = 0; a < 2 && (flags >> a & 1); ++a)
+			fmStream_Put(s, a == 0 ? m->vertices : m->motion->to, sizeof(fmVec3) * (size_t)m->vertexCount);
 	}
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
 			fmPutBodyContact(s, w, &w->bodies[i]);
 	const uint64_t* pairs;
 	int32_t count = fmContactEvents_FramePairs(w, &pairs);
-	fmPut(s, &count, sizeof count);
-	fmPut(s, pairs, sizeof(uint64_t) * (size_t)count);
+	fmStream_Put(s, &count, sizeof count);
+	fmStream_Put(s, pairs, sizeof(uint64_t) * (size_t)count);
 }
 
 // Write the snapshot (or count it, when @p s->out is NULL).
@@ -508,7 +462,7 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 	    FM_SNAPSHOT_MAGIC, FM_SNAPSHOT_VERSION, 0, (uint32_t)fmLiveColliders(w), 0, 0, 0, 0};
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		header[2] += fmBody_IsLive(&w->bodies[i]);
-	fmPut(s, header, sizeof header);
+	fmStream_Put(s, header, sizeof header);
 	fmMoveWorldSettings(s, true, w);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
@@ -516,7 +470,7 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 		if (!fmBody_IsLive(b))
 			continue;
 		fmBodyKey key = fmKeyOf(b, i);
-		fmPut(s, &key, sizeof key);
+		fmStream_Put(s, &key, sizeof key);
 		fmMoveBody(s, true, b);
 	}
 	fmPutContact(s, w);
@@ -596,7 +550,7 @@ static fmResult fmCheckSnapshot(fmWorld* w, const void* buffer, size_t size)
 {
 	fmStream s = {NULL, buffer, size, 0, false};
 	uint32_t header[FM_SNAPSHOT_HEADER_WORDS];
-	fmGet(&s, header, sizeof header);
+	fmStream_Get(&s, header, sizeof header);
 	if (s.overflow || header[0] != FM_SNAPSHOT_MAGIC || header[1] != FM_SNAPSHOT_VERSION)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 		                   "not a femto snapshot of version %u", FM_SNAPSHOT_VERSION);
@@ -652,7 +606,7 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 		if (!fmBody_IsLive(b))
 			continue;
 		fmBodyKey key, expected = fmKeyOf(b, i);
-		fmGet(s, &key, sizeof key);
+		fmStream_Get(s, &key, sizeof key);
 		if (s->overflow || memcmp(&key, &expected, sizeof key) != 0)
 			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 			                   "the snapshot's body in slot %d does not match the world's "
@@ -684,13 +638,22 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 	return fm_ok;
 }
 
-// Step over @p bytes, or mark the stream overflowed when they are not there.
-static void fmSkip(fmStream* s, size_t bytes)
+// A mesh collider's record after its state: a flags byte (fmMeshMotion_Flags), its vertices now
+// when moved, its target when pending. Steps over it, pointing @p at to the two arrays (NULL when
+// absent); returns the flags, or -1 when truncated or invalid.
+static int fmGetMeshMotion(fmStream* s, const fmMeshShape* m, const void* at[2])
 {
-	if (s->overflow || bytes > s->size - s->used)
-		s->overflow = true;
-	else
-		s->used += bytes;
+	uint8_t flags = 0;
+	fmStream_Get(s, &flags, 1);
+	for (int a = 0; a < 2; ++a)
+	{
+		at[a] = (flags >> a & 1) && !s->overflow ? s->in + s->used : NULL;
+		if (at[a] != NULL)
+			fmStream_Skip(s, sizeof(fmVec3) * (size_t)m->vertexCount);
+		if (at[a] != NULL && !s->overflow && fmMeshMotion_Problem(m, at[a], m->vertexCount))
+			return -1;
+	}
+	return s->overflow || flags == 2 || flags > 3 ? -1 : flags;
 }
 
 static const char* fmShapeName(int32_t shape)
@@ -728,15 +691,20 @@ static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
 		if (!copy.inUse)
 			continue;
 		fmColliderKey key, expected = fmColliderKeyOf(&copy, k);
-		fmGet(s, &key, sizeof key);
+		fmStream_Get(s, &key, sizeof key);
 		if (!s->overflow && memcmp(&key, &expected, sizeof key) != 0)
 			return fmColliderMismatch(w, &key, &expected);
 		fmMoveColliderState(s, false, &copy);
-		if (s->overflow || !fmColliderStateValid(&copy))
+		const void* at[2];
+		int flags = copy.mesh != NULL ? fmGetMeshMotion(s, copy.mesh, at) : 0;
+		if (s->overflow || !fmColliderStateValid(&copy) || flags < 0)
 			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 			                   "the snapshot's collider in slot %d is truncated or has a "
-			                   "non-finite pose or velocity: not restored",
+			                   "non-finite pose, velocity or mesh vertex: not restored",
 			                   k);
+		if ((flags & 1) && !fmMeshMotion_Reserve(w, copy.mesh)) // (changes no step)
+			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory restoring the moving mesh collider in slot %d", k);
 	}
 	return fm_ok;
 }
@@ -746,14 +714,14 @@ static fmResult fmCheckColliders(fmWorld* w, fmStream* s)
 static fmResult fmCheckAnchors(const fmWorld* w, fmStream* s, fmBody* b)
 {
 	int32_t count = -1;
-	fmGet(s, &count, sizeof count);
+	fmStream_Get(s, &count, sizeof count);
 	if (s->overflow || count < 0 || count > FM_MAX_ANCHORS_PER_VERTEX * b->mesh.vertexCount ||
 	    (size_t)count > (s->size - s->used) / sizeof(fmAnchorRecord))
 		return fm_errParameter;
 	for (int32_t a = 0; a < count; ++a)
 	{
 		fmAnchorRecord record;
-		fmGet(s, &record, sizeof record);
+		fmStream_Get(s, &record, sizeof record);
 		if (s->overflow || fmAnchors_RecordProblem(w, b, &record) != NULL)
 			return fm_errParameter;
 	}
@@ -767,10 +735,10 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 {
 	uint8_t flags = 0;
 	int32_t island = 0, count = 0, last = -1;
-	fmGet(s, &flags, 1);
-	fmSkip(s, sizeof(double)); // the sleep timer
-	fmGet(s, &island, sizeof island);
-	fmGet(s, &count, sizeof count);
+	fmStream_Get(s, &flags, 1);
+	fmStream_Skip(s, sizeof(double)); // the sleep timer
+	fmStream_Get(s, &island, sizeof island);
+	fmStream_Get(s, &count, sizeof count);
 	if (s->overflow || flags > 3u || island < 0 || island >= w->bodyCapacity || count < 0 ||
 	    count > b->mesh.vertexCount || (size_t)count * FM_FRICTION_RECORD_BYTES > s->size - s->used)
 		return fm_errParameter;
@@ -778,8 +746,8 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 	{
 		int32_t vertex = -1;
 		double f[FM_FRICTION_STRIDE];
-		fmGet(s, &vertex, sizeof vertex);
-		fmGet(s, f, sizeof f);
+		fmStream_Get(s, &vertex, sizeof vertex);
+		fmStream_Get(s, f, sizeof f);
 		// Finite, a limit (saved where > 0), a stiffness cap > 0 (fmSlipWidth divides by it) and
 		// a collider slot + 1 that is a whole number in range (the booking skips a slot not in
 		// use).
@@ -790,7 +758,7 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 		last = vertex;
 	}
 	int32_t stretches = -1;
-	fmGet(s, &stretches, sizeof stretches);
+	fmStream_Get(s, &stretches, sizeof stretches);
 	if (s->overflow || stretches < 0 ||
 	    (size_t)stretches > (s->size - s->used) / FM_STRETCH_RECORD_BYTES)
 		return fm_errParameter;
@@ -821,13 +789,13 @@ static fmResult fmCheckBodyContact(const fmWorld* w, fmStream* s, fmBody* b)
 static void fmSkipBodyContact(fmStream* s)
 {
 	int32_t count = 0;
-	fmSkip(s, 1 + sizeof(double) + sizeof(int32_t));
-	fmGet(s, &count, sizeof count);
-	fmSkip(s, (size_t)count * FM_FRICTION_RECORD_BYTES);
-	fmGet(s, &count, sizeof count);
-	fmSkip(s, (size_t)count * FM_STRETCH_RECORD_BYTES);
-	fmGet(s, &count, sizeof count);
-	fmSkip(s, (size_t)count * sizeof(fmAnchorRecord));
+	fmStream_Skip(s, 1 + sizeof(double) + sizeof(int32_t));
+	fmStream_Get(s, &count, sizeof count);
+	fmStream_Skip(s, (size_t)count * FM_FRICTION_RECORD_BYTES);
+	fmStream_Get(s, &count, sizeof count);
+	fmStream_Skip(s, (size_t)count * FM_STRETCH_RECORD_BYTES);
+	fmStream_Get(s, &count, sizeof count);
+	fmStream_Skip(s, (size_t)count * sizeof(fmAnchorRecord));
 }
 
 // Restore body @p b's contact record (checked) from the stream's position.
@@ -835,10 +803,10 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 {
 	uint8_t flags = 0;
 	int32_t island = 0, count = 0;
-	fmGet(s, &flags, 1);
-	fmGet(s, &b->sleepTimer, sizeof b->sleepTimer);
-	fmGet(s, &island, sizeof island);
-	fmGet(s, &count, sizeof count);
+	fmStream_Get(s, &flags, 1);
+	fmStream_Get(s, &b->sleepTimer, sizeof b->sleepTimer);
+	fmStream_Get(s, &island, sizeof island);
+	fmStream_Get(s, &count, sizeof count);
 	b->asleep = (flags & 1u) != 0;
 	b->wakeRequested = (flags & 2u) != 0;
 	b->island = island;
@@ -848,21 +816,21 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 	for (int32_t k = 0; k < count; ++k)
 	{
 		int32_t vertex = 0;
-		fmGet(s, &vertex, sizeof vertex);
-		fmGet(s, b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * vertex,
+		fmStream_Get(s, &vertex, sizeof vertex);
+		fmStream_Get(s, b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * vertex,
 		      FM_FRICTION_STRIDE * sizeof(double));
 	}
 	int32_t stretches = 0;
-	fmGet(s, &stretches, sizeof stretches);
+	fmStream_Get(s, &stretches, sizeof stretches);
 	for (int32_t k = 0; k < stretches; ++k)
 		(void)fmGetStretch(s, &b->contact.stretch[k]);
 	b->contact.stretchCount = stretches;
 	int32_t anchors = 0;
-	fmGet(s, &anchors, sizeof anchors);
+	fmStream_Get(s, &anchors, sizeof anchors);
 	for (int32_t a = 0; a < anchors; ++a)
 	{
 		fmAnchorRecord record;
-		fmGet(s, &record, sizeof record);
+		fmStream_Get(s, &record, sizeof record);
 		fmAnchors_Restore(b, a, &record);
 	}
 	b->anchorCount = anchors;
@@ -874,14 +842,14 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 static int32_t fmCheckPairs(const fmWorld* w, fmStream* s)
 {
 	int32_t count = -1;
-	fmGet(s, &count, sizeof count);
+	fmStream_Get(s, &count, sizeof count);
 	if (s->overflow || count < 0 || (size_t)count > (s->size - s->used) / sizeof(uint64_t))
 		return -1;
 	uint64_t last = 0;
 	for (int32_t k = 0; k < count; ++k)
 	{
 		uint64_t key = 0;
-		fmGet(s, &key, sizeof key);
+		fmStream_Get(s, &key, sizeof key);
 		uint32_t a = (uint32_t)(key >> 32), b = (uint32_t)key;
 		uint32_t collider = b & 0x7fffffffu;
 		bool other = (b & 0x80000000u) ? collider < (uint32_t)w->colliderCapacity ||
@@ -898,7 +866,7 @@ static int32_t fmCheckPairs(const fmWorld* w, fmStream* s)
 static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 {
 	double step = 0.0;
-	fmGet(s, &step, sizeof step);
+	fmStream_Get(s, &step, sizeof step);
 	if (s->overflow || !(step >= 0.0 && step <= FM_MAX_SUBSTEP))
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 		                   "the snapshot's contact section is truncated or invalid: not restored");
@@ -924,30 +892,43 @@ static fmResult fmCheckContact(fmWorld* w, fmStream* s)
 	return r;
 }
 
+// Step over the (checked) collider records, restoring them when @p apply.
+static void fmColliderRecords(fmStream* s, fmWorld* w, bool apply)
+{
+	for (int k = 0; k < w->colliderCapacity; ++k)
+	{
+		fmCollider* c = &w->colliders[k];
+		if (!c->inUse)
+			continue;
+		fmStream_Skip(s, sizeof(fmColliderKey));
+		if (apply)
+			fmMoveColliderState(s, false, c);
+		else
+			fmStream_Skip(s, FM_COLLIDER_RECORD_BYTES - sizeof(fmColliderKey));
+		const void* at[2];
+		int flags = c->mesh != NULL ? fmGetMeshMotion(s, c->mesh, at) : 0;
+		if (apply && c->mesh != NULL)
+			fmMeshMotion_Restore(c->mesh, flags, at[0], at[1]);
+	}
+}
+
 // Restore the contact section (checked) at @p at: the pairs first (the only part that may need
 // memory: out of memory leaves the world as it was), then the colliders and the bodies.
 static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size_t at)
 {
-	int colliders = fmLiveColliders(w);
 	fmStream s = {NULL, buffer, size, at + sizeof w->contactStep, false};
-	fmSkip(&s, (size_t)colliders * FM_COLLIDER_RECORD_BYTES);
+	fmColliderRecords(&s, w, false);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
 			fmSkipBodyContact(&s);
 	int32_t count = 0;
-	fmGet(&s, &count, sizeof count);
+	fmStream_Get(&s, &count, sizeof count);
 	if (!fmContactEvents_SetFramePairs(w, (const unsigned char*)buffer + s.used, count))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory restoring the contact pairs");
 	s.used = at;
-	fmGet(&s, &w->contactStep, sizeof w->contactStep);
-	for (int k = 0; k < w->colliderCapacity; ++k)
-	{
-		if (!w->colliders[k].inUse)
-			continue;
-		fmSkip(&s, sizeof(fmColliderKey));
-		fmMoveColliderState(&s, false, &w->colliders[k]);
-	}
+	fmStream_Get(&s, &w->contactStep, sizeof w->contactStep);
+	fmColliderRecords(&s, w, true);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
 			fmApplyBodyContact(&s, &w->bodies[i]);

@@ -10,6 +10,7 @@
 #include "contact/contact.h"
 #include "contact/contact_collider.h"
 #include "contact/contact_events.h"
+#include "contact/mesh_motion.h"
 #include "core/core.h"
 #include "core/det_math.h"
 #include "core/fp_env.h"
@@ -498,6 +499,8 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
 			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
+	if (w->meshMotion != NULL) // moving meshes, likewise
+		w->meshMotion->substep(w, (ctx->elapsed + h) / ctx->frameTime);
 	fmAnchors_Place(w, h, ctx->frameTime);
 	bool contact = fmContact_Active(w);
 	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w, h))
@@ -818,6 +821,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	w->sleepEventCount = 0;
 	fmOpenLedgers(w, &ctx);
 	fmWarnExplicitStep(w, &ctx);
+	if (w->meshMotion != NULL)
+		w->meshMotion->beginFrame(w, 1.0 / timeStep);
 	fmWarnFastColliders(w, &ctx);
 
 	// Stage 3: substeps, every body advanced by the chosen integrator.
@@ -825,13 +830,19 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	             : fmFixedSubsteps(w, &ctx, ctx.substep, subStepCount);
 	if (r != fm_ok)
 	{
+		if (w->meshMotion != NULL)
+			w->meshMotion->endFrame(w, false);
 		fmRestoreAll(w);
 		return r;
 	}
 
-	// Stage 4: check and close the ledgers, then the frame's contact events and islands.
+	// Stage 4: check and close the ledgers (moving meshes back with the bodies when that
+	// fails), then the frame's contact events and islands.
 	double checking = fmSeconds();
-	if (fmCloseLedgers(w, &ctx) != fm_ok)
+	bool closed = fmCloseLedgers(w, &ctx) == fm_ok;
+	if (w->meshMotion != NULL)
+		w->meshMotion->endFrame(w, closed);
+	if (!closed)
 		return fm_errNumerical;
 	const fmContactPoint* points;
 	w->stats.contacts = fmContactEvents_Points(w, &points);

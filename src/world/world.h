@@ -57,6 +57,8 @@ typedef struct fmWorld
 	fmCollider floorCollider;     // def.floor as a plane collider: its id, reports and queries
 	int colliderCapacity;         // grows by doubling up to FM_MAX_COLLIDERS
 	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
+	// Moving meshes' frame stages, set when one is first moved (mesh_motion.h); NULL before.
+	const struct fmMeshMotionStages* meshMotion;
 	double contactStep;                  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
 	// Within fmWorld_Step (stepKnown): what no stage of a step changes and every body's step
