@@ -435,27 +435,32 @@ static bool cliReadPressure(const cliJson* j, const cliJsonNode* entry, const ch
 	return true;
 }
 
-// An attachment's "collider", "damping_ratio" and "stiffness" (a collider's glue takes the
-// library's default stiffness unless given; a kinematic attachment CLI_ATTACHMENT_STIFFNESS).
+// An entry's spring: "stiffness" (N/m, kept when absent) and "damping_ratio" (default 1).
+static bool cliGetSpring(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
+                         double* stiffness, double* ratio)
+{
+	const cliRange ratios = {0.0, 1e6, false, false};
+	*ratio = 1.0;
+	return cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, stiffness, NULL) &&
+	       cliGetNumber(j, entry, entryPath, "damping_ratio", ratios, ratio, NULL);
+}
+
+// An attachment's "collider" and spring (glue takes the library's default stiffness unless
+// given; a kinematic attachment CLI_ATTACHMENT_STIFFNESS).
 static bool cliReadGlue(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
                         cliAttachment* a)
 {
-	const cliRange ratio = {0.0, 1e6, false, false};
 	bool glued = false;
 	a->collider = -1;
-	a->dampingRatio = 1.0;
 	if (!cliGetInt(j, entry, entryPath, "collider", 0, FM_MAX_COLLIDERS - 1, &a->collider,
-	               &glued) ||
-	    !cliGetNumber(j, entry, entryPath, "damping_ratio", ratio, &a->dampingRatio, NULL))
+	               &glued))
 		return false;
 	a->stiffness = glued ? 0.0 : CLI_ATTACHMENT_STIFFNESS;
-	if (!cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, &a->stiffness, NULL))
+	if (!cliGetSpring(j, entry, entryPath, &a->stiffness, &a->dampingRatio))
 		return false;
-	bool moving = fmLength(a->velocity) > 0.0 || fmLength(a->angularVelocity) > 0.0;
-	if (glued && moving)
+	if (glued && (fmLength(a->velocity) > 0.0 || fmLength(a->angularVelocity) > 0.0))
 		return cliJsonFail(j, entryPath, NULL,
-		                   "an attachment glued to a collider moves with it: give \"collider\" "
-		                   "or \"velocity\"/\"angular_velocity\", not both");
+		                   "glued to a collider, it moves with it: no velocity of its own");
 	return true;
 }
 
@@ -483,19 +488,14 @@ static bool cliReadWeld(const cliJson* j, const cliJsonNode* entry, const char* 
                         void* out)
 {
 	cliWeld* weld = out;
-	const cliRange distance = {0.0, 1.0, true, false}, ratio = {0.0, 1e6, false, false};
+	const cliRange distance = {0.0, 1.0, true, false};
 	bool hasBody = false;
 	weld->distance = 1e-6;
-	weld->dampingRatio = 1.0;
 	if (!cliGetInt(j, entry, entryPath, "body", 0, INT_MAX - 1, &weld->body, &hasBody) ||
 	    !cliGetNumber(j, entry, entryPath, "distance", distance, &weld->distance, NULL) ||
-	    !cliGetNumber(j, entry, entryPath, "stiffness", cliPositive, &weld->stiffness, NULL) ||
-	    !cliGetNumber(j, entry, entryPath, "damping_ratio", ratio, &weld->dampingRatio, NULL))
+	    !cliGetSpring(j, entry, entryPath, &weld->stiffness, &weld->dampingRatio))
 		return false;
-	if (!hasBody)
-		return cliJsonFail(j, entryPath, NULL,
-		                   "a weld needs \"body\": the index of the body it joins");
-	return true;
+	return hasBody || cliJsonFail(j, entryPath, NULL, "a weld needs \"body\"");
 }
 
 static const char* const cliPinKeys[] = {"min", "max", "axes", "displacement", "time", NULL};

@@ -73,7 +73,17 @@ static fmCollider* fmAnchorCollider(struct fmWorld* w, const fmAnchor* a)
 	return c->inUse && c->generation == a->generation ? c : NULL;
 }
 
-int fmAnchors_Partner(const struct fmWorld* w, const fmBody* b, int a)
+bool fmAnchors_WeldedTo(const fmBody* b, const fmBody* o)
+{
+	for (int a = 0; a < b->anchorCount; ++a)
+		if (b->anchors[a].collider < 0 && b->anchors[a].body == o->slot &&
+		    b->anchors[a].generation == o->generation && o != b)
+			return true;
+	return false;
+}
+
+// The slot of anchor @p a's live weld partner, or -1 (glued, or the partner gone).
+static int fmAnchorPartner(const struct fmWorld* w, const fmBody* b, int a)
 {
 	const fmAnchor* anchor = &b->anchors[a];
 	if (anchor->collider >= 0)
@@ -88,7 +98,7 @@ static void fmDropStale(struct fmWorld* w, fmBody* b)
 	int kept = 0;
 	for (int a = 0; a < b->anchorCount; ++a)
 	{
-		if (fmAnchorCollider(w, &b->anchors[a]) == NULL && fmAnchors_Partner(w, b, a) < 0)
+		if (fmAnchorCollider(w, &b->anchors[a]) == NULL && fmAnchorPartner(w, b, a) < 0)
 			continue;
 		b->anchors[kept] = b->anchors[a];
 		b->anchorTargets[kept++] = b->anchorTargets[a];
@@ -152,7 +162,7 @@ static fmVec3 fmMomentum(const fmBody* b)
 	return p;
 }
 
-void fmAnchors_Place(struct fmWorld* w, double h, double frameTime)
+static void fmAnchorsPlace(struct fmWorld* w, double h, double frameTime)
 {
 	bool implicit = w->def.integrator == fm_implicit;
 	for (int i = 0; i < w->bodyCapacity; ++i)
@@ -185,7 +195,7 @@ static void fmNoteAcceleration(const struct fmWorld* w, fmBody* b, double h)
 {
 	fmVec3 change = fmSub(fmMomentum(b), b->weldMomentum);
 	for (int a = 0; a < b->anchorCount; ++a)
-		if (fmAnchors_Partner(w, b, a) >= 0)
+		if (fmAnchorPartner(w, b, a) >= 0)
 			change = fmMulAdd(change, -h, fmLoad(b->anchorTargets[a].applied, 0));
 	b->weldAcceleration = fmScale(1.0 / (h * b->mesh.totalMass), change);
 }
@@ -195,7 +205,7 @@ static void fmShareAcceleration(const struct fmWorld* w, fmBody* b)
 {
 	for (int a = 0; a < b->anchorCount; ++a)
 	{
-		int o = fmAnchors_Partner(w, b, a);
+		int o = fmAnchorPartner(w, b, a);
 		if (o < 0)
 			continue;
 		const fmBody* other = &w->bodies[o];
@@ -206,7 +216,7 @@ static void fmShareAcceleration(const struct fmWorld* w, fmBody* b)
 	}
 }
 
-void fmAnchors_AfterSubstep(struct fmWorld* w, double h)
+static void fmAnchorsAfterSubstep(struct fmWorld* w, double h)
 {
 	bool implicit = w->def.integrator == fm_implicit;
 	for (int i = 0; i < w->bodyCapacity; ++i)
@@ -235,7 +245,8 @@ static bool fmColliderMoves(const fmCollider* c)
 	       fmDot(c->def.angularVelocity, c->def.angularVelocity) > 0.0;
 }
 
-bool fmAnchors_OnMovingCollider(const struct fmWorld* w, const fmBody* b)
+// Whether @p b hangs on a collider that moves.
+static bool fmOnMovingCollider(const struct fmWorld* w, const fmBody* b)
 {
 	for (int a = 0; a < b->anchorCount; ++a)
 	{
@@ -246,22 +257,30 @@ bool fmAnchors_OnMovingCollider(const struct fmWorld* w, const fmBody* b)
 	return false;
 }
 
-void fmAnchors_Wake(struct fmWorld* w)
+static void fmAnchorsWake(struct fmWorld* w)
 {
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
 		if (!fmBody_IsLive(b) || !b->asleep)
 			continue;
-		bool wake = fmAnchors_OnMovingCollider(w, b);
+		bool wake = fmOnMovingCollider(w, b);
 		for (int a = 0; !wake && a < b->anchorCount; ++a)
 		{
-			int o = fmAnchors_Partner(w, b, a);
+			int o = fmAnchorPartner(w, b, a);
 			wake = o >= 0 && !w->bodies[o].asleep;
 		}
 		if (wake)
 			fmIsland_Wake(w, i);
 	}
+}
+
+static const fmAnchorStages fmStages = {fmAnchorsPlace, fmAnchorsAfterSubstep, fmAnchorsWake,
+                                         fmOnMovingCollider, fmAnchorPartner};
+
+void fmAnchors_Enable(struct fmWorld* w)
+{
+	w->anchorStages = &fmStages;
 }
 
 // ---- the public calls ------------------------------------------------------------------------
@@ -430,7 +449,10 @@ fmResult fmBody_AttachToCollider(fmBodyId bodyId, const int* vertices, int count
 	fmResult r = fmAttachIn(b, w, vertices, count, colliderId, def);
 	fmFpEnv_Leave(&env);
 	if (r == fm_ok)
+	{
+		fmAnchors_Enable(w);
 		fmIsland_WakeBody(bodyId);
+	}
 	return r;
 }
 
@@ -448,6 +470,7 @@ fmResult fmBody_Weld(fmBodyId bodyId, const int* vertices, fmBodyId otherId, con
 	fmFpEnv_Leave(&env);
 	if (r == fm_ok)
 	{
+		fmAnchors_Enable(w);
 		fmIsland_WakeBody(bodyId);
 		fmIsland_WakeBody(otherId);
 	}
@@ -483,7 +506,7 @@ void fmBody_ClearAttachments(fmBodyId bodyId)
 		return;
 	for (int a = 0; a < b->anchorCount; ++a)
 	{
-		int o = fmAnchors_Partner(w, b, a);
+		int o = fmAnchorPartner(w, b, a);
 		if (o >= 0 && o != b->slot)
 			fmDropWeldsTo(&w->bodies[o], b->slot);
 	}

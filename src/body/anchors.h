@@ -39,35 +39,36 @@ typedef struct fmAnchor
 
 // Whether body @p b is welded to body @p o (another body): welded bodies do not collide with
 // each other, as a game engine's jointed bodies (docs/contact.md, "Attachments").
+bool fmAnchors_WeldedTo(const fmBody* b, const fmBody* o);
 static inline bool fmAnchors_Welded(const fmBody* b, const fmBody* o)
 {
-	for (int a = 0; a < b->anchorCount; ++a)
-		if (b->anchors[a].collider < 0 && b->anchors[a].body == o->slot &&
-		    b->anchors[a].generation == o->generation && o != b)
-			return true;
-	return false;
+	return b->anchorCount > 0 && fmAnchors_WeldedTo(b, o);
 }
 
-// Place every live body's anchors for a substep of @p h in a frame of @p frameTime (before any
-// body steps: welds read their partners' start), dropping those whose source is gone.
-void fmAnchors_Place(struct fmWorld* world, double h, double frameTime);
+// The attachments' stages the world's frame calls, through fmWorld.anchorStages (set by
+// fmAnchors_Enable): a program that never attaches links none of them (the page's .wasm).
+typedef struct fmAnchorStages
+{
+	// Place every live body's anchors for a substep of h in a frame of frameTime (before any
+	// body steps: welds read their partners' start), dropping those whose source is gone.
+	void (*place)(struct fmWorld* world, double h, double frameTime);
+	// After every body stepped a substep of h: the glued anchors' forces, reversed, go into
+	// their colliders' impulses, in body order; the welded ones note their pair's acceleration.
+	void (*afterSubstep)(struct fmWorld* world, double h);
+	// Wake the sleeping bodies that hang on a moving collider or are welded to an awake body.
+	void (*wake)(struct fmWorld* world);
+	// Whether the body hangs on a collider that moves (it cannot sleep).
+	bool (*onMovingCollider)(const struct fmWorld* world, const fmBody* body);
+	// The slot of anchor a's live weld partner, or -1 (glued, or the partner gone).
+	int (*partner)(const struct fmWorld* world, const fmBody* body, int a);
+} fmAnchorStages;
+
+// Set the world's attachment stages (the first attachment, or a snapshot that holds some).
+void fmAnchors_Enable(struct fmWorld* world);
 
 // Place one body's anchors for a static solve: glued ones where their colliders are, welded ones
 // at the midpoint of the two vertices now.
 void fmAnchors_PlaceStatic(struct fmWorld* world, fmBody* body);
-
-// After every body stepped a substep of @p h: the glued anchors' forces, reversed, go into their
-// colliders' impulses, in body order; the welded ones note their vertices' accelerations.
-void fmAnchors_AfterSubstep(struct fmWorld* world, double h);
-
-// Whether @p body hangs on a collider that moves (it cannot sleep).
-bool fmAnchors_OnMovingCollider(const struct fmWorld* world, const fmBody* body);
-
-// The slot of anchor @p a's live weld partner, or -1 (glued, or the partner gone).
-int fmAnchors_Partner(const struct fmWorld* world, const fmBody* body, int a);
-
-// Wake the sleeping bodies that hang on a moving collider or are welded to an awake body.
-void fmAnchors_Wake(struct fmWorld* world);
 
 // An anchor as a snapshot keeps it (plain values, no padding): the placement a substep makes is
 // rebuilt from it.

@@ -35,10 +35,10 @@ static void fmJoinPairs(const fmWorld* w, int* parent)
 {
 	for (int k = 0; k < w->bodyCapacity; ++k)
 		parent[k] = k;
-	for (int k = 0; k < w->bodyCapacity; ++k)
+	for (int k = 0; w->anchorStages != NULL && k < w->bodyCapacity; ++k)
 		for (int a = 0; fmBody_IsLive(&w->bodies[k]) && a < w->bodies[k].anchorCount; ++a)
 		{
-			int o = fmAnchors_Partner(w, &w->bodies[k], a);
+			int o = w->anchorStages->partner(w, &w->bodies[k], a);
 			if (o >= 0)
 				fmJoin(parent, k, o);
 		}
@@ -197,7 +197,8 @@ bool fmIsland_EndFrame(fmWorld* w, const fmStepContext* ctx)
 		if (!fmIsland_Stepping(b))
 			continue;
 		bool still = b->canSleep && b->targetCount == 0 && fmFastest(b) < def->sleepSpeed &&
-		             !fmTouchesMovingCollider(w, k) && !fmAnchors_OnMovingCollider(w, b);
+		             !fmTouchesMovingCollider(w, k) &&
+		             !(w->anchorStages != NULL && w->anchorStages->onMovingCollider(w, b));
 		b->sleepTimer = still ? b->sleepTimer + frameTime : 0.0;
 		int root = fmFindRoot(parent, k);
 		least[root] = fmMin(least[root], b->sleepTimer);

@@ -931,7 +931,11 @@ static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size
 	fmColliderRecords(&s, w, true);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
+		{
 			fmApplyBodyContact(&s, &w->bodies[i]);
+			if (w->bodies[i].anchorCount > 0)
+				fmAnchors_Enable(w);
+		}
 	return fm_ok;
 }
 

@@ -501,7 +501,8 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
 	if (w->meshMotion != NULL) // moving meshes, likewise
 		w->meshMotion->substep(w, (ctx->elapsed + h) / ctx->frameTime);
-	fmAnchors_Place(w, h, ctx->frameTime);
+	if (w->anchorStages != NULL)
+		w->anchorStages->place(w, h, ctx->frameTime);
 	bool contact = fmContact_Active(w);
 	if ((contact || fmContact_FloorFriction(w)) && !fmContact_BeginSubstep(w, h))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
@@ -515,7 +516,8 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 	// Stage b: contact between the bodies and with the colliders (contact.c), in a fixed order;
 	// first the colliders' and the floor's reaction to the solve's friction.
 	double contactStart = fmSeconds();
-	fmAnchors_AfterSubstep(w, h);
+	if (w->anchorStages != NULL)
+		w->anchorStages->afterSubstep(w, h);
 	if (w->def.integrator == fm_implicit && (contact || fmContact_FloorFriction(w)))
 		fmContactCollider_BookSolveFriction(w, h);
 	bool contactOk =
@@ -816,7 +818,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 
 	// Stage 2: open the ledgers.
 	fmContact_BeginFrame(w);
-	fmAnchors_Wake(w);
+	if (w->anchorStages != NULL)
+		w->anchorStages->wake(w);
 	ctx.shadowStep = w->def.integrator == fm_explicit ? ctx.substep : 0.0;
 	w->sleepEventCount = 0;
 	fmOpenLedgers(w, &ctx);

@@ -59,6 +59,8 @@ typedef struct fmWorld
 	struct fmContactState* contactState; // the contact stage's buffers (contact_state.h)
 	// Moving meshes' frame stages, set when one is first moved (mesh_motion.h); NULL before.
 	const struct fmMeshMotionStages* meshMotion;
+	// Attachments' substep stages, set when the first is made (anchors.h); NULL before.
+	const struct fmAnchorStages* anchorStages;
 	double contactStep;                  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
 	// Within fmWorld_Step (stepKnown): what no stage of a step changes and every body's step
