@@ -699,7 +699,7 @@ femto_cli_test(glue_hang ARGS "run|${FEMTO_CLI_DATA}/glue_hang.json" CODE 0
 femto_cli_test(paddle_scene ARGS "run|${PROJECT_SOURCE_DIR}/scenes/paddle.json|--frames|60" CODE 0
   REGEX "colliders\\[0\\] +box: force" REJECT "warning")
 femto_cli_test(bad_glue_moving ARGS "run|${FEMTO_CLI_DATA}/bad_glue_moving.json|--quiet" CODE 1
-  REGEX "bad_glue_moving\\.json:7:[0-9]+: bodies\\[0\\]\\.attachments\\[0\\]: an attachment glued to a collider moves with it")
+  REGEX "bad_glue_moving\\.json:7:[0-9]+: bodies\\[0\\]\\.attachments\\[0\\]: glued to a collider, it moves with it: no velocity of its own")
 femto_cli_test(bad_glue_collider ARGS "run|${FEMTO_CLI_DATA}/bad_glue_collider.json|--quiet" CODE 1
   REGEX "bodies\\[0\\]\\.attachments\\[0\\]\\.collider: 3, but the scene has 1 colliders")
 femto_cli_test(bad_weld_body ARGS "run|${FEMTO_CLI_DATA}/bad_weld_body.json|--quiet" CODE 1
