@@ -71,6 +71,14 @@ static fmColliderId makeMesh(fmWorldId world, const fmVec3* vertices, int vertex
 	return id;
 }
 
+// The ground of groundMesh as a mesh collider of @p world; its vertices (at rest) in @p vertices.
+static fmColliderId makeGround(fmWorldId world, fmVec3 vertices[GROUND_VERTICES], bool stick)
+{
+	int triangles[3 * GROUND_TRIANGLES];
+	groundMesh(vertices, triangles);
+	return makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, stick);
+}
+
 static fmCollider* colliderOf(fmWorldId world, fmColliderId id)
 {
 	return &fmGetWorld(world)->colliders[id.index1 - 1];
@@ -141,10 +149,7 @@ TEST(raised_ground_lifts_a_resting_cube)
 	{
 		fmWorldId world = groundWorld(integrators[k]);
 		fmVec3 vertices[GROUND_VERTICES];
-		int triangles[3 * GROUND_TRIANGLES];
-		groundMesh(vertices, triangles);
-		fmColliderId ground =
-		    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+		fmColliderId ground = makeGround(world, vertices, false);
 		fmBodyId cube = makeCube(world, 0.0);
 		const double speed = 0.5;
 		double height = 0.0, deepest = 0.0, riding = 0.0, worstRide = 0.0;
@@ -190,10 +195,7 @@ TEST(sliding_ground_carries_a_resting_cube)
 		bool stick = k % 2 == 0;
 		fmWorldId world = groundWorld(integrator);
 		fmVec3 vertices[GROUND_VERTICES];
-		int triangles[3 * GROUND_TRIANGLES];
-		groundMesh(vertices, triangles);
-		fmColliderId ground =
-		    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, stick);
+		fmColliderId ground = makeGround(world, vertices, stick);
 		colliderOf(world, ground)->def.friction = 1.0;
 		fmBodyId cube = makeCube(world, 0.0);
 		const double speed = 0.3;
@@ -392,10 +394,7 @@ TEST(snapshot_mid_motion_continues_bit_identically)
 		int substeps = substepsOf(integrator);
 		fmWorldId world = groundWorld(integrator);
 		fmVec3 rest[GROUND_VERTICES], next[GROUND_VERTICES];
-		int triangles[3 * GROUND_TRIANGLES];
-		groundMesh(rest, triangles);
-		fmColliderId ground =
-		    makeMesh(world, rest, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+		fmColliderId ground = makeGround(world, rest, false);
 		const fmMeshShape* m = colliderOf(world, ground)->mesh;
 		fmBodyId cube = makeCube(world, 0.06);
 		int n3 = 3 * fmBody_GetVertexCount(cube);
@@ -452,10 +451,7 @@ TEST(bad_mesh_vertices_are_refused)
 {
 	fmWorldId world = groundWorld(fm_implicit);
 	fmVec3 vertices[GROUND_VERTICES];
-	int triangles[3 * GROUND_TRIANGLES];
-	groundMesh(vertices, triangles);
-	fmColliderId ground =
-	    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+	fmColliderId ground = makeGround(world, vertices, false);
 	fmColliderDef sphere = fmDefaultColliderDef();
 	sphere.shape = fm_shapeSphere;
 	fmColliderId ball;
@@ -495,10 +491,7 @@ TEST(slow_moving_mesh_wakes_and_keeps_awake)
 	def.contact.enableSleep = true;
 	fmWorldId world = fmCreateWorld(&def);
 	fmVec3 vertices[GROUND_VERTICES];
-	int triangles[3 * GROUND_TRIANGLES];
-	groundMesh(vertices, triangles);
-	fmColliderId ground =
-	    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+	fmColliderId ground = makeGround(world, vertices, false);
 	fmBodyId cube = makeCube(world, 0.0);
 	for (int f = 0; f < 90; ++f)
 		CHECK_INT(fmWorld_Step(world, frame, 2), fm_ok);
@@ -539,10 +532,7 @@ TEST(random_vertex_jumps_keep_the_state_finite)
 		fmIntegrator integrator = k == 0 ? fm_implicit : fm_explicit;
 		fmWorldId world = groundWorld(integrator);
 		fmVec3 rest[GROUND_VERTICES], vertices[GROUND_VERTICES];
-		int triangles[3 * GROUND_TRIANGLES];
-		groundMesh(rest, triangles);
-		fmColliderId ground =
-		    makeMesh(world, rest, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+		fmColliderId ground = makeGround(world, rest, false);
 		fmBodyId cube = makeCube(world, 0.01);
 		int n3 = 3 * fmBody_GetVertexCount(cube), refused = 0, finite = 1;
 		for (int f = 0; f < 40; ++f)
@@ -576,10 +566,7 @@ TEST(snapshot_with_bad_mesh_vertices_is_refused)
 {
 	fmWorldId world = groundWorld(fm_implicit);
 	fmVec3 vertices[GROUND_VERTICES];
-	int triangles[3 * GROUND_TRIANGLES];
-	groundMesh(vertices, triangles);
-	fmColliderId ground =
-	    makeMesh(world, vertices, GROUND_VERTICES, triangles, GROUND_TRIANGLES, false);
+	fmColliderId ground = makeGround(world, vertices, false);
 	makeCube(world, 0.01);
 	for (int i = 0; i < GROUND_VERTICES; ++i)
 		vertices[i].y = 0.01 * i;

@@ -338,6 +338,21 @@ double StaticTilt(double k, double weight, double r, double h)
 	return theta;
 }
 
+// The seesaw's plank: 3 m x 0.1 m x 0.6 m, 20 kg, hinged at its centre 1 m up about z, its
+// wood's Coulomb friction @p friction. nullptr when femto refuses its collider.
+Link* AddSeesawPlank(Coupling& coupling, double friction)
+{
+	btVector3 half(1.5f, 0.05f, 0.3f);
+	fmColliderDef wood = BoxCollider(half, false);
+	wood.friction = friction;
+	Link* plank = coupling.AddRigid(std::make_unique<btBoxShape>(half), 20.0,
+	                                btVector3(0, 1.0f, 0), wood);
+	if (plank != nullptr)
+		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
+		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
+	return plank;
+}
+
 // The seesaw's frames: @p frames exchanges with Bullet, the plank held by a torsion spring of
 // @p k (N m/rad) and damper @p c (N m s/rad) about its hinge; @p worstLaw gets the worst frame's
 // third-law residual across the engines (the body's momentum change less gravity's impulse,
@@ -414,15 +429,9 @@ int Seesaw()
 	int status = 1;
 	{
 		Coupling coupling(world, btVector3(0, btScalar(-kGravity), 0));
-		btVector3 half(1.5f, 0.05f, 0.3f);
-		fmColliderDef wood = BoxCollider(half, false);
-		wood.friction = 0.8;
-		Link* plank = coupling.AddRigid(std::make_unique<btBoxShape>(half), 20.0,
-		                                btVector3(0, 1.0f, 0), wood);
+		Link* plank = AddSeesawPlank(coupling, 0.8);
 		if (plank == nullptr)
 			return 1;
-		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
-		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
 		double worstLaw, lowest;
 		if (!SwingSeesaw(coupling, plank, house, k, c, 600, &worstLaw, &lowest))
 			return 1;
@@ -480,13 +489,9 @@ int Glued()
 	int status = 1;
 	{
 		Coupling coupling(world, btVector3(0, btScalar(-kGravity), 0));
-		btVector3 half(1.5f, 0.05f, 0.3f);
-		Link* plank = coupling.AddRigid(std::make_unique<btBoxShape>(half), 20.0,
-		                                btVector3(0, 1.0f, 0), BoxCollider(half, false));
+		Link* plank = AddSeesawPlank(coupling, 0.5);
 		if (plank == nullptr)
 			return 1;
-		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
-		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));
 		// The cushion's top face, glued where it touches the plank's underside.
 		std::vector<double> x(3 * size_t(fmBody_GetVertexCount(cushion.id)));
 		fmBody_CopyPositions(cushion.id, x.data(), fmBody_GetVertexCount(cushion.id));

@@ -137,10 +137,11 @@ static void fmPlaceWelded(const fmBody* b, const fmAnchor* a, fmTarget* t, const
 }
 
 // Place @p b's anchors @p ahead seconds on (the implicit step's end; 0: now, the explicit
-// step's forces act at the substep's start).
-static void fmPlaceBody(struct fmWorld* w, fmBody* b, double ahead, double frameTime)
+// step's forces act at the substep's start); true when one of them is welded.
+static bool fmPlaceBody(struct fmWorld* w, fmBody* b, double ahead, double frameTime)
 {
 	fmDropStale(w, b);
+	bool welded = false;
 	for (int a = 0; a < b->anchorCount; ++a)
 	{
 		fmAnchor* anchor = &b->anchors[a];
@@ -150,7 +151,9 @@ static void fmPlaceBody(struct fmWorld* w, fmBody* b, double ahead, double frame
 		else
 			fmPlaceWelded(b, anchor, &b->anchorTargets[a], &w->bodies[anchor->body], ahead,
 			              frameTime);
+		welded = welded || c == NULL;
 	}
+	return welded;
 }
 
 // The body's momentum (kg m/s).
@@ -170,15 +173,15 @@ static void fmAnchorsPlace(struct fmWorld* w, double h, double frameTime)
 		fmBody* b = &w->bodies[i];
 		if (!fmBody_IsLive(b) || b->anchorCount == 0)
 			continue;
-		fmPlaceBody(w, b, implicit ? h : 0.0, frameTime);
-		if (implicit)
+		// Welded, implicit: the momentum the pair's acceleration is measured from.
+		if (fmPlaceBody(w, b, implicit ? h : 0.0, frameTime) && implicit)
 			b->weldMomentum = fmMomentum(b);
 	}
 }
 
 void fmAnchors_PlaceStatic(struct fmWorld* w, fmBody* b)
 {
-	fmPlaceBody(w, b, 0.0, 0.0);
+	(void)fmPlaceBody(w, b, 0.0, 0.0);
 }
 
 // Glued anchor @p a of @p b: its force, reversed, into collider @p c's impulse over @p h.
@@ -238,20 +241,13 @@ static void fmAnchorsAfterSubstep(struct fmWorld* w, double h)
 			fmShareAcceleration(w, &w->bodies[i]);
 }
 
-// Whether collider @p c moves by its velocities.
-static bool fmColliderMoves(const fmCollider* c)
-{
-	return fmDot(c->def.velocity, c->def.velocity) > 0.0 ||
-	       fmDot(c->def.angularVelocity, c->def.angularVelocity) > 0.0;
-}
-
 // Whether @p b hangs on a collider that moves.
 static bool fmOnMovingCollider(const struct fmWorld* w, const fmBody* b)
 {
 	for (int a = 0; a < b->anchorCount; ++a)
 	{
 		const fmCollider* c = fmAnchorCollider((struct fmWorld*)w, &b->anchors[a]);
-		if (c != NULL && fmColliderMoves(c))
+		if (c != NULL && fmCollider_IsMoving(c))
 			return true;
 	}
 	return false;
@@ -276,7 +272,7 @@ static void fmAnchorsWake(struct fmWorld* w)
 }
 
 static const fmAnchorStages fmStages = {fmAnchorsPlace, fmAnchorsAfterSubstep, fmAnchorsWake,
-                                         fmOnMovingCollider, fmAnchorPartner};
+                                        fmOnMovingCollider, fmAnchorPartner};
 
 void fmAnchors_Enable(struct fmWorld* w)
 {
@@ -338,16 +334,13 @@ static fmTarget fmAnchorSpring(const fmWorld* w, const fmAttachDef* def, double 
 	                  .maxForce = d.maxForce > 0.0 ? d.maxForce : INFINITY};
 }
 
-// The collider @p id names in world @p w (its slot in @p slot), or NULL.
+// The live collider @p id names in world @p w (its slot in @p slot), or NULL.
 static fmCollider* fmColliderOfWorld(fmWorld* w, fmColliderId id, int* slot)
 {
-	fmWorldId world = fmWorldIdOf(w);
+	fmWorld* of = NULL;
+	fmCollider* c = fmGetCollider(id, &of);
 	*slot = id.index1 - 1;
-	if (id.world0 != world.index1 - 1 || id.worldGeneration != world.generation || id.index1 < 1 ||
-	    (id.index1 > w->colliderCapacity && *slot != FM_FLOOR_SLOT))
-		return NULL;
-	fmCollider* c = fmWorldCollider(w, *slot);
-	return c->inUse && c->generation == id.generation ? c : NULL;
+	return of == w ? c : NULL;
 }
 
 static fmResult fmAttachIn(fmBody* b, fmWorld* w, const int* vertices, int count,

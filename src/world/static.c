@@ -145,9 +145,10 @@ static fmResult fmStaticCheck(const fmBody* b, const fmWorld* world, double tole
 	if (pins == 0 && fmTargets_Count(b) < 3 &&
 	    (fmLength(world->def.gravity) > 0.0 || fmLoads_Active(b)))
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
-		                   "the body has no pinned vertex, so under gravity or loads it has no "
-		                   "equilibrium (it would fall or drift forever): pin something "
-		                   "(fmBody_PinBox, fmBody_PinBoxAxes) first");
+		                   "the body has no pinned vertex and fewer than three targets or "
+		                   "attachments, so under gravity or loads it has no equilibrium (it would "
+		                   "fall or drift forever): pin something (fmBody_PinBox, "
+		                   "fmBody_PinBoxAxes) or attach it first");
 	return fm_ok;
 }
 

@@ -494,12 +494,12 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		fmBudgetHit(w, "the implicit steps' Newton iterations were cut to what maxNewtonPerFrame "
 		               "leaves (at least one a step); their residuals are reported");
 	}
-	// Stage a: every body steps on its own (the stage threads will share), grabbed ones pulled
-	// to where their grab's target is at the substep's end, attachments placed first.
+	// Stage a: every body steps on its own (the stage threads will share). First the grabs'
+	// targets, the moving meshes and the attachments go where the substep's end puts them.
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
 			fmGrab_Advance(&w->bodies[i], (ctx->elapsed + h) / ctx->frameTime);
-	if (w->meshMotion != NULL) // moving meshes, likewise
+	if (w->meshMotion != NULL)
 		w->meshMotion->substep(w, (ctx->elapsed + h) / ctx->frameTime);
 	if (w->anchorStages != NULL)
 		w->anchorStages->place(w, h, ctx->frameTime);
