@@ -452,8 +452,7 @@ static bool cliReadGlue(const cliJson* j, const cliJsonNode* entry, const char* 
 {
 	bool glued = false;
 	a->collider = -1;
-	if (!cliGetInt(j, entry, entryPath, "collider", 0, FM_MAX_COLLIDERS - 1, &a->collider,
-	               &glued))
+	if (!cliGetInt(j, entry, entryPath, "collider", 0, FM_MAX_COLLIDERS - 1, &a->collider, &glued))
 		return false;
 	a->stiffness = glued ? 0.0 : CLI_ATTACHMENT_STIFFNESS;
 	if (!cliGetSpring(j, entry, entryPath, &a->stiffness, &a->dampingRatio))

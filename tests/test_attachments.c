@@ -70,8 +70,8 @@ static int facing(fmBodyId body, int axis, double value, int* vertices)
 typedef struct WeldedPair
 {
 	fmBodyId a, b;
-	int top[64], glued;                // a's top face, glued to the plank (0 without one)
-	int right[64], left[64], welded;   // a's right face, welded to b's left
+	int top[64], glued;              // a's top face, glued to the plank (0 without one)
+	int right[64], left[64], welded; // a's right face, welded to b's left
 } WeldedPair;
 
 static WeldedPair makePair(int* failures_, fmWorldId world, double y, double damping,

@@ -345,8 +345,8 @@ Link* AddSeesawPlank(Coupling& coupling, double friction)
 	btVector3 half(1.5f, 0.05f, 0.3f);
 	fmColliderDef wood = BoxCollider(half, false);
 	wood.friction = friction;
-	Link* plank = coupling.AddRigid(std::make_unique<btBoxShape>(half), 20.0,
-	                                btVector3(0, 1.0f, 0), wood);
+	Link* plank =
+	    coupling.AddRigid(std::make_unique<btBoxShape>(half), 20.0, btVector3(0, 1.0f, 0), wood);
 	if (plank != nullptr)
 		coupling.AddConstraint(std::make_unique<btHingeConstraint>(
 		    *plank->rigid, btVector3(0, 0, 0), btVector3(0, 0, 1)));

@@ -444,7 +444,8 @@ static void fmPutContact(fmStream* s, fmWorld* w)
 		if (m != NULL) // its moved vertices (version 10): fmGetMeshMotion
 			fmStream_Put(s, &flags, 1);
 		for (int a = 0; a < 2 && (flags >> a & 1); ++a)
-			fmStream_Put(s, a == 0 ? m->vertices : m->motion->to, sizeof(fmVec3) * (size_t)m->vertexCount);
+			fmStream_Put(s, a == 0 ? m->vertices : m->motion->to,
+			             sizeof(fmVec3) * (size_t)m->vertexCount);
 	}
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmBody_IsLive(&w->bodies[i]))
@@ -818,7 +819,7 @@ static void fmApplyBodyContact(fmStream* s, fmBody* b)
 		int32_t vertex = 0;
 		fmStream_Get(s, &vertex, sizeof vertex);
 		fmStream_Get(s, b->contact.frictionNext + (size_t)FM_FRICTION_STRIDE * vertex,
-		      FM_FRICTION_STRIDE * sizeof(double));
+		             FM_FRICTION_STRIDE * sizeof(double));
 	}
 	int32_t stretches = 0;
 	fmStream_Get(s, &stretches, sizeof stretches);
