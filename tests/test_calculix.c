@@ -12,6 +12,10 @@
 //                           strain and the second Piola-Kirchhoff stress): fm_stvk
 //   isochoric Neo-Hookean   *HYPERELASTIC, NEO HOOKE under NLGEOM, C10 = mu/2, D1 = 2/kappa:
 //                           fm_neoHookeanIsochoric
+//   orthotropic             *ELASTIC, TYPE=ENGINEERING CONSTANTS (small deformation):
+//                           fm_orthotropicLinear; *ELASTIC, TYPE=ORTHO under NLGEOM (the
+//                           stiffness on Green's strain): fm_orthotropicStvk; both with an
+//                           *ORIENTATION turned against the mesh, femto's fibre and sheet
 //
 // Tolerance: ccx prints displacements with 7 significant digits (E13.6), so a printed value is
 // within 5e-7 of itself of CalculiX's answer; both solvers converge far below that: femto to a
@@ -25,6 +29,7 @@
 // Without ccx the test reports itself skipped (exit 77), and fails under CI=true (test.h).
 // Measured: docs/loads.md ("CalculiX references").
 #define _POSIX_C_SOURCE 200809L // mkdtemp
+#include "material/material_aniso.h"
 #include "support.h"
 #include "test.h"
 
@@ -41,8 +46,16 @@ typedef enum CcxLoad
 typedef struct CcxMaterial
 {
 	fmMaterialModel model;
-	double youngs, poisson, density; // Pa, -, kg/m^3
+	double youngs, poisson, density; // Pa, -, kg/m^3 (youngs, poisson: isotropic models)
+	// The orthotropic models: the constants, and whether the deck gives them as CalculiX's
+	// stiffness table (TYPE=ORTHO, inverted here) rather than the engineering constants.
+	fmOrthotropy ortho;
+	bool table;
 } CcxMaterial;
+
+// The orthotropic cases' axes, turned against the mesh's: fibre, then sheet (CalculiX's
+// *ORIENTATION, SYSTEM=RECTANGULAR: a point on local x, a point in the local xy plane).
+static const fmVec3 s_fibre = {1.0, 0.5, 0.2}, s_sheet = {-0.3, 1.0, 0.4};
 
 typedef struct CcxMesh
 {
@@ -66,17 +79,83 @@ typedef struct CcxCase
 
 static const CcxCase s_cases[] = {
     // The issue's cube: clamped at y = 0, its top moved down 1 cm.
-    {"linear, cube, top moved", &s_cube, {fm_linear, 1e6, 0.3, 1e3}, ccx_move, {0, -0.01, 0}},
+    {"linear, cube, top moved",
+     &s_cube,
+     {fm_linear, 1e6, 0.3, 1e3, {{0}, {0}, {0}}, false},
+     ccx_move,
+     {0, -0.01, 0}},
     // Stretched 10% and sheared 5%: StVK stiffens in tension (in large compression it has
     // several equilibria with inverted tets, which two solvers need not pick alike: loads.md).
-    {"StVK, cube, top moved", &s_cube, {fm_stvk, 1e6, 0.3, 1e3}, ccx_move, {0.05, 0.1, 0}},
+    {"StVK, cube, top moved",
+     &s_cube,
+     {fm_stvk, 1e6, 0.3, 1e3, {{0}, {0}, {0}}, false},
+     ccx_move,
+     {0.05, 0.1, 0}},
     // Compressed 25% and sheared 20%.
-    {"isochoric NH, cube, top moved", &s_cube, {ISO_NH, 1e6, 0.3, 1e3}, ccx_move, {0.2, -0.25, 0}},
+    {"isochoric NH, cube, top moved",
+     &s_cube,
+     {ISO_NH, 1e6, 0.3, 1e3, {{0}, {0}, {0}}, false},
+     ccx_move,
+     {0.2, -0.25, 0}},
     // Pushed sideways and down by nodal forces on the top face, nearly incompressible.
-    {"isochoric NH, cube, top pushed", &s_cube, {ISO_NH, 1e6, 0.45, 1e3}, ccx_push, {2e3, -1e3, 0}},
+    {"isochoric NH, cube, top pushed",
+     &s_cube,
+     {ISO_NH, 1e6, 0.45, 1e3, {{0}, {0}, {0}}, false},
+     ccx_push,
+     {2e3, -1e3, 0}},
     // The bouncy house standing on its base under its own weight.
-    {"isochoric NH, house, weight", &s_house, {ISO_NH, 1e5, 0.3, 100}, ccx_weight, {0, 0, -9.8}},
+    {"isochoric NH, house, weight",
+     &s_house,
+     {ISO_NH, 1e5, 0.3, 100, {{0}, {0}, {0}}, false},
+     ccx_weight,
+     {0, 0, -9.8}},
+    // Issue 34: orthotropic (a wood-like 10:1 contrast) with turned axes, pushed sideways and
+    // down (small deformation); then stretched 10% and sheared 5% under NLGEOM, the stiffness
+    // given as CalculiX's table.
+    {"orthotropic linear, cube, pushed",
+     &s_cube,
+     {fm_orthotropicLinear, 0, 0, 1e3, {{1e7, 1e6, 5e5}, {0.35, 0.4, 0.3}, {8e5, 6e5, 2e5}}, false},
+     ccx_push,
+     {2e2, -1e2, 0}},
+    {"orthotropic StVK, cube, top moved",
+     &s_cube,
+     {fm_orthotropicStvk, 0, 0, 1e3, {{1e7, 1e6, 5e5}, {0.35, 0.4, 0.3}, {8e5, 6e5, 2e5}}, true},
+     ccx_move,
+     {0.05, 0.1, 0}},
 };
+
+// The material femto solves a case with.
+static fmMaterial caseMaterial(const CcxMaterial* cm)
+{
+	if (cm->model != fm_orthotropicLinear && cm->model != fm_orthotropicStvk)
+		return fmMakeMaterial(cm->model, cm->youngs, cm->poisson);
+	fmMaterial m = fmMakeOrthotropicMaterial(cm->model, cm->ortho);
+	m.fibre = s_fibre;
+	m.sheet = s_sheet;
+	return m;
+}
+
+// CalculiX's D1111, D1122, D2222, D1133, D2233, D3333, D1212, D1313, D2323 of @p o: the normal
+// block is the inverse of the compliance's (Cramer's rule here, independent of femto's), the
+// shears are G (sigma_12 = 2 D1212 eps_12).
+static void orthoTable(const fmOrthotropy* o, double d[9])
+{
+	double s[3][3] = {{1 / o->E[0], -o->nu[0] / o->E[0], -o->nu[1] / o->E[0]},
+	                  {-o->nu[0] / o->E[0], 1 / o->E[1], -o->nu[2] / o->E[1]},
+	                  {-o->nu[1] / o->E[0], -o->nu[2] / o->E[1], 1 / o->E[2]}};
+	double c[3][3];
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+		{
+			int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+			c[j][i] = s[i1][j1] * s[i2][j2] - s[i1][j2] * s[i2][j1]; // adjugate
+		}
+	double det = s[0][0] * c[0][0] + s[0][1] * c[1][0] + s[0][2] * c[2][0];
+	const double table[9] = {c[0][0] / det, c[0][1] / det, c[1][1] / det,
+	                         c[0][2] / det, c[1][2] / det, c[2][2] / det,
+	                         o->G[0],       o->G[1],       o->G[2]};
+	memcpy(d, table, sizeof table);
+}
 
 // A number as CalculiX reads it: at most 20 characters (a longer field is cut, silently:
 // "2.400000000000000e-06" reads as 2.4), 14 significant digits when 17 do not fit.
@@ -148,21 +227,46 @@ static bool writeDeck(const char* path, const CcxCase* k, fmTetMesh* m)
 				fprintf(f, "%d\n", i + 1);
 	}
 	const CcxMaterial* cm = &k->material;
-	fmMaterial mat = fmMakeMaterial(cm->model, cm->youngs, cm->poisson);
+	fmMaterial mat = caseMaterial(cm);
 	fprintf(f, "*MATERIAL, NAME=M\n");
+	bool ortho = cm->model == fm_orthotropicLinear || cm->model == fm_orthotropicStvk;
 	if (cm->model == fm_neoHookeanIsochoric)
 		fprintf(f, "*HYPERELASTIC, NEO HOOKE\n%s, %s\n", ccxNumber(a, mat.mu / 2.0),
 		        ccxNumber(b, 2.0 / (mat.lambda + 2.0 / 3.0 * mat.mu)));
+	else if (ortho)
+	{
+		double d[9];
+		const fmOrthotropy* o = &cm->ortho;
+		if (cm->table)
+			orthoTable(o, d);
+		else
+			for (int e = 0; e < 3; ++e)
+			{
+				d[e] = o->E[e];
+				d[3 + e] = o->nu[e];
+				d[6 + e] = o->G[e];
+			}
+		fprintf(f, "*ELASTIC, TYPE=%s\n", cm->table ? "ORTHO" : "ENGINEERING CONSTANTS");
+		for (int e = 0; e < 9; ++e) // eight to a line, then the ninth and the temperature
+			fprintf(f, "%s%s", ccxNumber(a, d[e]), e == 7 ? "\n" : e == 8 ? ", 0.\n" : ", ");
+	}
 	else
 		fprintf(f, "*ELASTIC\n%s, %s\n", ccxNumber(a, cm->youngs), ccxNumber(b, cm->poisson));
-	fprintf(f, "*DENSITY\n%s\n*SOLID SECTION, ELSET=EALL, MATERIAL=M\n", ccxNumber(a, cm->density));
+	fprintf(f, "*DENSITY\n%s\n", ccxNumber(a, cm->density));
+	if (ortho)
+		fprintf(f,
+		        "*ORIENTATION, NAME=AXES, SYSTEM=RECTANGULAR\n%g, %g, %g, %g, %g, %g\n"
+		        "*SOLID SECTION, ELSET=EALL, MATERIAL=M, ORIENTATION=AXES\n",
+		        s_fibre.x, s_fibre.y, s_fibre.z, s_sheet.x, s_sheet.y, s_sheet.z);
+	else
+		fprintf(f, "*SOLID SECTION, ELSET=EALL, MATERIAL=M\n");
 	// Field controls (R_n, C_n, q0, qu, R_P, eps, C_eps, R_l) 1e-12 instead of CalculiX's
 	// 0.005, 0.01, ...: Newton runs until round-off.
 	fprintf(f,
 	        "*STEP%s, INC=1000\n*STATIC\n0.25, 1.0, 1e-6, 0.25\n"
 	        "*CONTROLS, PARAMETERS=FIELD\n1e-12, 1e-12, , , 1e-12, 1e-12, 1e-12, 1e-12\n"
 	        "*BOUNDARY\nBASE, 1, 3, 0.\n",
-	        cm->model == fm_linear ? "" : ", NLGEOM");
+	        cm->model == fm_linear || cm->model == fm_orthotropicLinear ? "" : ", NLGEOM");
 	const double v[3] = {k->vector.x, k->vector.y, k->vector.z};
 	for (int e = 0; e < 3; ++e)
 	{
@@ -225,7 +329,7 @@ static bool readDisplacements(const char* path, int nodeCount, double* u)
 // femto's answer on @p mesh: the body at equilibrium, displacements into @p u. Returns false
 // (and fails) when the solve does not converge.
 static bool solveFemto(int* failures_, const CcxCase* k, const fmTetMesh* mesh, fmMaterial mat,
-                       double* u)
+                       double tolerance, double* u)
 {
 	fmWorldDef wdef = fmTestFreeWorldDef();
 	if (k->load == ccx_weight)
@@ -260,7 +364,7 @@ static bool solveFemto(int* failures_, const CcxCase* k, const fmTetMesh* mesh, 
 		CHECK_INT(fmBody_AddNodalForce(body, lo, hi, k->vector), top);
 	CHECK(base > 0);
 	double residual = 1.0;
-	fmResult r = fmBody_SolveStatic(body, 1e-12, 100, &residual, &diag);
+	fmResult r = fmBody_SolveStatic(body, tolerance, 100, &residual, &diag);
 	CHECK_INT(r, fm_ok);
 	if (r != fm_ok)
 		printf("  %s\n", diag.message);
@@ -317,15 +421,23 @@ static void runCase(int* failures_, const char* dir, int index)
 		        "%s/case%d.log",
 		        k->name, status, dir, index);
 	const CcxMaterial* cm = &k->material;
-	fmMaterial mat = fmMakeMaterial(cm->model, cm->youngs, cm->poisson);
-	if (read && solveFemto(failures_, k, &mesh, mat, femto))
+	fmMaterial mat = caseMaterial(cm);
+	if (read && solveFemto(failures_, k, &mesh, mat, 1e-12, femto))
 	{
 		double difference, largest;
 		double worst = compare((int)n3, femto, ccx, &difference, &largest);
-		// The control: the shear modulus 1e-4 too large must fail the same comparison.
+		// The control: the shear modulus (the orthotropic ones: all three) 1e-4 too large must
+		// fail the same comparison.
 		fmMaterial wrong = fmMakeMaterialLame(cm->model, mat.lambda, mat.mu * (1.0 + 1e-4));
+		if (fmMaterialModel_IsOrthotropic(cm->model))
+		{
+			wrong = mat;
+			for (int e = 0; e < 3; ++e)
+				wrong.orthotropy.G[e] *= 1.0 + 1e-4;
+		}
 		double controlDifference = 0.0, ignored, control = 0.0;
-		if (solveFemto(failures_, k, &mesh, wrong, femto))
+		// (to 1e-11: its answer is further off than the solve's error by 1e4 or more)
+		if (solveFemto(failures_, k, &mesh, wrong, 1e-11, femto))
 			control = compare((int)n3, femto, ccx, &controlDifference, &ignored);
 		printf("  %-31s max |u| %.4g m, femto - ccx %.2e m (%.1e of max |u|), %.2f of the "
 		       "allowance; mu + 1e-4: %.2e m, %.0f of it\n",

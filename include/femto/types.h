@@ -78,6 +78,17 @@ typedef enum fmMaterialModel
 	/// psi = C10 (J^-2/3 I1 - 3) + (J - 1)^2 / D1, C10 = mu/2, D1 = 2/kappa,
 	/// kappa = lambda + 2/3 mu (docs/materials.md); defined for inverted tets
 	fm_neoHookeanIsochoric,
+	/// orthotropic small-strain elasticity in the material's axes (fmMaterial.orthotropy, fibre,
+	/// sheet): sigma = C eps, C from nine engineering constants (CalculiX's *ELASTIC,
+	/// TYPE=ENGINEERING CONSTANTS); transversely isotropic as a special case
+	fm_orthotropicLinear,
+	/// the same stiffness on Green's strain, S = C E in the material's axes: large rotations
+	/// (CalculiX's orthotropic elasticity under NLGEOM), with StVK's volume floor
+	fm_orthotropicStvk,
+	/// Neo-Hookean (lambda, mu) reinforced along the fibre a:
+	/// psi_NH + fibreStiffness / 8 (I4 - 1)^2, I4 = |F a|^2 (in tension and compression); at
+	/// small strain the modulus along the fibre is E + fibreStiffness
+	fm_fibreNeoHookean,
 	fm_materialModelCount
 } fmMaterialModel;
 
@@ -92,7 +103,19 @@ typedef void fmStretchEnergyFcn(const double s[3], const void* params, double* p
 typedef void fmInvariantEnergyFcn(const double v[3], const void* params, double* psi,
                                   double dpsi[3], double* d2psi);
 
-/// An isotropic hyperelastic material. Make one with fmMakeMaterial() or fmMakeMaterialLame().
+/// Orthotropic elastic constants in the material's axes 1 (the fibre), 2 (the sheet) and 3
+/// (fibre x sheet), as CalculiX's and Abaqus's engineering constants: nu[k] is the strain across
+/// over the strain along when pulled along the first axis of the pair (nu12 = -eps2/eps1).
+/// Valid when every modulus is positive and the compliance is positive definite.
+typedef struct fmOrthotropy
+{
+	double E[3];  ///< Young's moduli E1, E2, E3 along axes 1, 2, 3 (Pa)
+	double nu[3]; ///< Poisson ratios nu12, nu13, nu23
+	double G[3];  ///< shear moduli G12, G13, G23 (Pa)
+} fmOrthotropy;
+
+/// A material. Make one with fmMakeMaterial(), fmMakeMaterialLame() or
+/// fmMakeOrthotropicMaterial(); the anisotropic models read their axes from fibre and sheet.
 typedef struct fmMaterial
 {
 	fmMaterialModel model; ///< constitutive model
@@ -102,6 +125,14 @@ typedef struct fmMaterial
 	fmStretchEnergyFcn* stretchEnergy;     ///< for fm_stretchEnergy
 	fmInvariantEnergyFcn* invariantEnergy; ///< for fm_invariantEnergy
 	const void* userParams;                ///< passed to the user energy
+	fmOrthotropy orthotropy; ///< for fm_orthotropicLinear and fm_orthotropicStvk
+	double fibreStiffness;   ///< for fm_fibreNeoHookean: Pa, >= 0
+	/// material axis 1 of the anisotropic models in the body's rest frame (any length but 0;
+	/// all zero: x); a body's per-tet fibres (fmBodyDef.tetFibres) replace it
+	fmVec3 fibre;
+	/// material axis 2, made orthogonal to the fibre (all zero, or along the fibre: y, or z when
+	/// the fibre is along y); axis 3 is fibre x sheet
+	fmVec3 sheet;
 } fmMaterial;
 
 /// A material from Young's modulus @p youngsModulus (Pa, > 0) and Poisson ratio
@@ -111,6 +142,17 @@ FM_API fmMaterial fmMakeMaterial(fmMaterialModel model, double youngsModulus, do
 
 /// A material from the Lame constants directly (the seeds give lambda = 20000, mu = 5000).
 FM_API fmMaterial fmMakeMaterialLame(fmMaterialModel model, double lambda, double mu);
+
+/// An orthotropic material (fm_orthotropicLinear or fm_orthotropicStvk) with axes x, y, z (set
+/// fibre and sheet to turn them); lambda and mu get the Voigt average of its stiffness (the
+/// scale femto's tolerances use).
+FM_API fmMaterial fmMakeOrthotropicMaterial(fmMaterialModel model, fmOrthotropy constants);
+
+/// The orthotropic constants of a transversely isotropic solid whose axis of symmetry is the
+/// fibre: E1 = @p eAlong, E2 = E3 = @p eAcross, nu12 = nu13 = @p nuAlong, nu23 = @p nuAcross,
+/// G12 = G13 = @p gAlong, G23 = eAcross / (2 (1 + nuAcross)).
+FM_API fmOrthotropy fmTransverselyIsotropic(double eAlong, double eAcross, double nuAlong,
+                                            double nuAcross, double gAlong);
 
 /// lambda / mu above which a material is nearly incompressible (a Poisson ratio above 0.49):
 /// accepted with a warning (fmMaterial_Validate), since linear tets lock under it.
@@ -452,6 +494,10 @@ typedef struct fmBodyDef
 	const fmMaterial* regionMaterials;
 	const int* regionIds; ///< regionCount region numbers
 	int regionCount;
+	/// Per-tet fibre directions (tet count entries, the mesh's numbering; copied), or NULL: the
+	/// first material axis of every tet whose material is anisotropic, in place of the
+	/// material's fibre (docs/materials.md, "Anisotropy"). Each must be finite and non-zero.
+	const fmVec3* tetFibres;
 	int internalValue; ///< set by fmDefaultBodyDef; create calls check it
 } fmBodyDef;
 

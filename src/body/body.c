@@ -202,9 +202,18 @@ static bool fmBodyUserSurface(fmBody* b)
 // The body takes only positions and tets from the (validated) def mesh: no copy of the mesh,
 // its attributes or markers is made, and the caller's mesh is not modified.
 // Per-region materials: each tet's material from its region (the mesh's first tet attribute,
-// read through the body's tet order), the default material for regions not listed.
+// read through the body's tet order), the default material for regions not listed; per-tet
+// fibres in the body's tet order.
 static bool fmBodyAssignRegions(fmBody* b, const fmBodyDef* def)
 {
+	if (def->tetFibres != NULL)
+	{
+		b->mesh.fibres = FM_ALLOC_ARRAY(fmVec3, b->mesh.tetCount);
+		if (b->mesh.fibres == NULL)
+			return false;
+		for (int t = 0; t < b->mesh.tetCount; ++t)
+			b->mesh.fibres[t] = def->tetFibres[b->userTet[t]];
+	}
 	if (def->regionCount <= 0)
 		return true;
 	b->mesh.materialCount = def->regionCount + 1;
@@ -215,6 +224,8 @@ static bool fmBodyAssignRegions(fmBody* b, const fmBodyDef* def)
 	b->mesh.materials[0] = def->material;
 	memcpy(b->mesh.materials + 1, def->regionMaterials,
 	       sizeof(fmMaterial) * (size_t)def->regionCount);
+	for (int k = 0; k < b->mesh.materialCount; ++k)
+		fmMaterial_SetScale(&b->mesh.materials[k]);
 	const fmTetMesh* mesh = def->mesh;
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
@@ -256,6 +267,7 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 	{
 		b->firstIndex = mesh.firstIndex;
 		b->mesh.material = def->material;
+		fmMaterial_SetScale(&b->mesh.material);
 		b->mesh.forceModel = def->forceModel;
 		b->damping = def->damping;
 		b->smoothing = def->smoothing;
@@ -719,6 +731,10 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 	fmResult r = fmMaterial_Validate(material, diag);
 	if (r != fm_ok)
 		return r;
+	if (b->mesh.forceModel == fm_massSpring && fmMaterialModel_IsAnisotropic(material->model))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "anisotropic materials need the fem or fvm force model: this body's "
+		                   "springs carry one stiffness each");
 	if (b->mesh.tetMaterial != NULL)
 	{
 		// Per-region materials give way to the one material for every tet; springs, whose
@@ -740,6 +756,7 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 			b->mesh.springK[e] *= ratio;
 	}
 	b->mesh.material = *material;
+	fmMaterial_SetScale(&b->mesh.material);
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
 	return fm_ok;

@@ -4,6 +4,7 @@
 
 #include "core/core.h"
 #include "material/material.h"
+#include "material/material_aniso.h"
 #include "solver/multigrid.h"
 #include "fem/tet_blocks.h"
 
@@ -148,6 +149,30 @@ static fmResult fmValidateRegions(const fmBodyDef* def, fmDiagnostic* diag)
 	return fm_ok;
 }
 
+// Anisotropic materials: a force model that reads the stress (springs on the tet edges carry one
+// stiffness each), and per-tet fibres finite and non-zero.
+static fmResult fmValidateAnisotropy(const fmBodyDef* def, fmDiagnostic* diag)
+{
+	bool anisotropic = fmMaterialModel_IsAnisotropic(def->material.model);
+	for (int k = 0; k < def->regionCount; ++k)
+		anisotropic = anisotropic || fmMaterialModel_IsAnisotropic(def->regionMaterials[k].model);
+	if (anisotropic && def->forceModel == fm_massSpring)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "anisotropic materials need the fem or fvm force model: mass-spring's "
+		                   "springs on the tet edges carry one stiffness each");
+	for (int t = 0; def->tetFibres != NULL && t < def->mesh->tetCount; ++t)
+	{
+		fmVec3 a = def->tetFibres[t];
+		double n2 = fmDot(a, a);
+		if (!(n2 > 0.0 && isfinite(n2)))
+			return fmDiagError(diag, fm_errParameter, "", 0, 0,
+			                   "tetFibres[%d] = (%g, %g, %g) must be finite and non-zero (a "
+			                   "direction: its length does not matter)",
+			                   t, a.x, a.y, a.z);
+	}
+	return fm_ok;
+}
+
 fmResult fmBodyDef_Check(const fmBodyDef* def, fmDiagnostic* diag)
 {
 	if (def == NULL || def->internalValue != FM_DEF_MAGIC)
@@ -199,7 +224,8 @@ fmResult fmBodyDef_Check(const fmBodyDef* def, fmDiagnostic* diag)
 		                   "friction must be finite and >= 0, or -1 for the world's contact "
 		                   "friction, got %g",
 		                   def->friction);
-	return fmValidateRegions(def, diag);
+	r = fmValidateRegions(def, diag);
+	return r == fm_ok ? fmValidateAnisotropy(def, diag) : r;
 }
 
 // ---- memory estimate ---------------------------------------------------------------------------
@@ -243,6 +269,8 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(2 * edges, sizeof(int)) + 2 * fmArrayBytes(edges, d);
 	if (def && def->forceModel == fm_fvm)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
+	if (def && def->tetFibres != NULL) // per-tet fibres
+		body += fmArrayBytes(m, sizeof(fmVec3));
 	if (def && def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS) // per-region materials
 		body += fmArrayBytes(m, sizeof(uint16_t)) +
 		        fmArrayBytes((uint64_t)def->regionCount + 1, sizeof(fmMaterial));

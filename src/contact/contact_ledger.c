@@ -36,7 +36,7 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 		int t = tets[k];
 		fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t), P;
 		double V0 = b->mesh.restVolume[t];
-		*energy += V0 * fmMaterial_Evaluate(fmTetMaterial(&b->mesh, t), &F, &P, NULL);
+		*energy += V0 * fmTetEvaluate(&b->mesh, t, &F, &P, NULL, false);
 		fmMat3 H = fmMatMulT(&P, &b->mesh.DmInv[t]);
 		fmVec3 sum = {0.0, 0.0, 0.0};
 		for (int a = 1; a < 4; ++a)

@@ -203,7 +203,7 @@ static void fmDrawStrainColors(const fmBody* b, fmDrawCache* c)
 		{
 			int t = b->mesh.vertexTets[k] / 4;
 			fmMat3 F = fmTetDeformation(&b->mesh, b->state.x, t);
-			double psi = fmMaterial_Evaluate(fmTetMaterial(&b->mesh, t), &F, NULL, NULL);
+			double psi = fmTetEvaluate(&b->mesh, t, &F, NULL, NULL, false);
 			sum += E > 0.0 && psi > 0.0 ? sqrt(2.0 * psi / E) : 0.0;
 		}
 		double strain = count > 0 ? sum / count : 0.0;

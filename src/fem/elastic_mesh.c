@@ -15,9 +15,10 @@ fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
 bool fmElasticMesh_IsLinear(const fmElasticMesh* mesh)
 {
 	for (int k = 0; k < mesh->materialCount; ++k)
-		if (mesh->materials[k].model != fm_linear)
+		if (mesh->materials[k].model != fm_linear &&
+		    mesh->materials[k].model != fm_orthotropicLinear)
 			return false;
-	return mesh->material.model == fm_linear;
+	return mesh->material.model == fm_linear || mesh->material.model == fm_orthotropicLinear;
 }
 
 bool fmElasticMesh_Allocate(fmElasticMesh* mesh, int vertexCount, int tetCount)
@@ -55,6 +56,7 @@ void fmElasticMesh_Free(fmElasticMesh* mesh)
 	fmFree(mesh->surface);
 	FM_FREE_ARRAY(mesh->materials, fmMaterial, mesh->materialCount);
 	FM_FREE_ARRAY(mesh->tetMaterial, uint16_t, m);
+	FM_FREE_ARRAY(mesh->fibres, fmVec3, m);
 }
 
 bool fmBodyState_Allocate(fmBodyState* state, int vertexCount)

@@ -11,6 +11,9 @@
 
 #include <femto/femto.h>
 
+#include "material/material.h"
+#include "material/material_aniso.h"
+
 #include <stdint.h>
 
 struct fmTetBlocks;
@@ -58,6 +61,9 @@ typedef struct fmElasticMesh
 	fmMaterial* materials; // materialCount: [0] is `material`, then the regions'
 	int materialCount;
 	uint16_t* tetMaterial; // tetCount, in the body's tet order
+	// Per-tet fibres (fmBodyDef.tetFibres, the body's tet order), the first axis of an
+	// anisotropic tet's material; NULL: each material's own fibre.
+	fmVec3* fibres;
 	fmForceModel forceModel;
 
 	double totalMass; // kg
@@ -103,6 +109,21 @@ static inline void fmZeroPinnedAxes(const fmBodyState* state, int vertex, double
 static inline const fmMaterial* fmTetMaterial(const fmElasticMesh* mesh, int t)
 {
 	return mesh->tetMaterial != NULL ? &mesh->materials[mesh->tetMaterial[t]] : &mesh->material;
+}
+
+// psi of tet @p t's material at @p F, with P and dP/dF when not NULL (@p project: dP/dF positive
+// semi-definite, for the Newton matrix); an anisotropic tet reads its own fibre when the mesh has
+// them.
+static inline double fmTetEvaluate(const fmElasticMesh* mesh, int t, const fmMat3* F, fmMat3* P,
+                                   double* dPdF, bool project)
+{
+	const fmMaterial* m = fmTetMaterial(mesh, t);
+	if (mesh->fibres != NULL && fmMaterialModel_IsAnisotropic(m->model))
+	{
+		fmMat3 R = fmMaterial_Axes(m, &mesh->fibres[t]);
+		return fmAniso_Evaluate(m, &R, F, P, dPdF, project);
+	}
+	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF) : fmMaterial_Evaluate(m, F, P, dPdF);
 }
 
 // Deformation gradient of tet t at positions x: F = Ds Dm^-1.

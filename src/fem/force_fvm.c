@@ -56,7 +56,7 @@ double fmAddFvmForces(const fmElasticMesh* mesh, const double* x, double* f)
 	{
 		fmMat3 F = fmTetDeformation(mesh, x, t);
 		fmMat3 P;
-		energy += mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, &P, NULL);
+		energy += mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
 		const int* n = mesh->tets + 4 * t;
 		for (int a = 0; a < 4; ++a)
 		{

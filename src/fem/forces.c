@@ -151,7 +151,7 @@ static void fmTetStresses(const fmElasticMesh* mesh, const double* x, int first,
 			psi[j] = fmCorotated_Stress(m, &F[j], &R, &P[j]);
 		}
 		else
-			psi[j] = fmMaterial_Evaluate(m, &F[j], &P[j], NULL);
+			psi[j] = fmTetEvaluate(mesh, first + j, &F[j], &P[j], NULL, false);
 	}
 }
 
@@ -229,7 +229,7 @@ double fmStiffeningProxyTets(const fmElasticMesh* mesh, const double* x, int fir
 static double fmScalarStress(const fmElasticMesh* mesh, const double* x, int t, fmMat3* P)
 {
 	fmMat3 F = fmTetDeformation(mesh, x, t);
-	return fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, P, NULL);
+	return fmTetEvaluate(mesh, t, &F, P, NULL, false);
 }
 
 // f += the forces of a body of one material, a batch at a time through @p kernel; returns the
@@ -280,7 +280,7 @@ static double fmAddFemForces(const fmElasticMesh* mesh, const double* x, double*
 		{
 			fmMat3 F = fmTetDeformation(mesh, x, t), P;
 			energy +=
-			    mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, &P, NULL);
+			    mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
 			fmAddTetForces(mesh, t, &P, f);
 		}
 		return energy;
@@ -352,7 +352,7 @@ void fmTetForces(const fmElasticMesh* mesh, const double* x, int first, int end,
 		{
 			fmMat3 F = fmTetDeformation(mesh, x, t), P;
 			energies[t] =
-			    mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, &P, NULL);
+			    mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
 			fmStoreTetForces(mesh, t, &P, forces);
 		}
 		return;
@@ -406,7 +406,7 @@ double fmElasticEnergy(const fmElasticMesh* mesh, const double* x)
 	for (int t = 0; t < mesh->tetCount; ++t)
 	{
 		fmMat3 F = fmTetDeformation(mesh, x, t);
-		energy += mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(mesh, t), &F, NULL, NULL);
+		energy += mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, NULL, NULL, false);
 	}
 	return energy;
 }
@@ -420,9 +420,9 @@ static void fmTetStressDerivative(const fmElasticMesh* mesh, int t, const fmMat3
 	                fmMaterial_NeoHookeanClampedHessian(fmTetMaterial(mesh, t), F, dPdF)))
 		return;
 	if (project)
-		fmMaterial_EvaluateProjected(fmTetMaterial(mesh, t), F, NULL, dPdF);
+		fmTetEvaluate(mesh, t, F, NULL, dPdF, true);
 	else
-		fmMaterial_Evaluate(fmTetMaterial(mesh, t), F, NULL, dPdF);
+		fmTetEvaluate(mesh, t, F, NULL, dPdF, false);
 }
 
 // K = V0 B^T (dP/dF) B with B the map from node displacements to dF (dF_ij = sum_a u_ai g_a[j]),
@@ -612,7 +612,7 @@ static void fmTetEnergiesTask(int start, int end, int worker, void* context)
 	{
 		fmMat3 F = fmTetDeformation(c->mesh, c->x, t);
 		c->tetEnergies[t] =
-		    c->mesh->restVolume[t] * fmMaterial_Evaluate(fmTetMaterial(c->mesh, t), &F, NULL, NULL);
+		    c->mesh->restVolume[t] * fmTetEvaluate(c->mesh, t, &F, NULL, NULL, false);
 	}
 }
 

@@ -5,6 +5,7 @@
 #include "core/det_math.h"
 
 #include "core/core.h"
+#include "material/material_aniso.h"
 #include "material/material_invariant.h"
 #include "material/material_neohookean.h"
 #include "material/material_stretch.h"
@@ -33,18 +34,28 @@ fmMaterial fmMakeMaterial(fmMaterialModel model, double youngsModulus, double po
 	return fmMakeMaterialLame(model, lambda, mu);
 }
 
-fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
+fmMaterial fmMakeOrthotropicMaterial(fmMaterialModel model, fmOrthotropy constants)
 {
-	const fmMaterial* m = material;
-	if (m == NULL)
-		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "material is NULL");
-	if ((int)m->model < 0 || m->model >= fm_materialModelCount)
-		return fmDiagError(
-		    diag, fm_errParameter, NULL, 0, 0,
-		    "material model %d is unknown; use one of fm_linear .. fm_neoHookeanIsochoric "
-		    "(\"linear\", \"corotated\", \"stvk\", \"neohookean\", \"mooney-rivlin\", "
-		    "\"stretch-energy\", \"invariant-energy\", \"neohookean-isochoric\")",
-		    (int)m->model);
+	fmMaterial m = fmMakeMaterialLame(model, 0.0, 0.0);
+	m.orthotropy = constants;
+	fmMaterial_SetScale(&m);
+	m.c01 = 0.0;
+	return m;
+}
+
+fmOrthotropy fmTransverselyIsotropic(double eAlong, double eAcross, double nuAlong,
+                                     double nuAcross, double gAlong)
+{
+	fmOrthotropy o = {{eAlong, eAcross, eAcross},
+	                  {nuAlong, nuAlong, nuAcross},
+	                  {gAlong, gAlong, eAcross / (2.0 * (1.0 + nuAcross))}};
+	return o;
+}
+
+// The isotropic constants' checks (lambda, mu, c01); the orthotropic models' scale comes from
+// their own constants (fmMaterial_SetScale) and is not checked here.
+static fmResult fmValidateLame(const fmMaterial* m, fmDiagnostic* diag)
+{
 	if (!isfinite(m->lambda) || !isfinite(m->mu) || !isfinite(m->c01))
 		return fmDiagError(
 		    diag, fm_errParameter, NULL, 0, 0,
@@ -87,6 +98,25 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 	return fm_ok;
 }
 
+fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
+{
+	const fmMaterial* m = material;
+	if (m == NULL)
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "material is NULL");
+	if ((int)m->model < 0 || m->model >= fm_materialModelCount)
+		return fmDiagError(
+		    diag, fm_errParameter, NULL, 0, 0,
+		    "material model %d is unknown; use one of fm_linear .. fm_fibreNeoHookean "
+		    "(\"linear\", \"corotated\", \"stvk\", \"neohookean\", \"mooney-rivlin\", "
+		    "\"stretch-energy\", \"invariant-energy\", \"neohookean-isochoric\", "
+		    "\"orthotropic-linear\", \"orthotropic-stvk\", \"fibre-neohookean\")",
+		    (int)m->model);
+	char why[400];
+	if (fmMaterialModel_IsAnisotropic(m->model) && !fmAniso_Validate(m, why, sizeof why))
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "%s", why);
+	return fmMaterialModel_IsOrthotropic(m->model) ? fm_ok : fmValidateLame(m, diag);
+}
+
 static const char* const s_modelNames[fm_materialModelCount] = {
     "linear",
     "corotated",
@@ -96,6 +126,9 @@ static const char* const s_modelNames[fm_materialModelCount] = {
     "stretch-energy",
     "invariant-energy",
     "neohookean-isochoric",
+    "orthotropic-linear",
+    "orthotropic-stvk",
+    "fibre-neohookean",
 };
 
 const char* fmMaterialModelName(fmMaterialModel model)
@@ -201,9 +234,7 @@ bool fmMaterial_StvkFloor(const fmMaterial* m, double J, double out[3])
 	return true;
 }
 
-// StVK's volume floor (material.h) added to @p P and @p dPdF where det F is below it; returns its
-// energy density (0 above it).
-static double fmStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
+double fmMaterial_AddStvkFloor(const fmMaterial* m, const fmMat3* F, fmMat3* P, double* dPdF)
 {
 	fmMat3 C = fmCofactor(F);
 	double J = F->m[0] * C.m[0] + F->m[1] * C.m[1] + F->m[2] * C.m[2], f[3];
@@ -270,7 +301,7 @@ static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, d
 		*P = fmMatMul(F, &S);
 	if (dPdF)
 		fmStvkTangent(m, F, &S, dPdF);
-	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr + fmStvkFloor(m, F, P, dPdF);
+	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr + fmMaterial_AddStvkFloor(m, F, P, dPdF);
 }
 
 // A lower bound on the smallest eigenvalue of the symmetric 3x3 @p S: Newton's method on its
@@ -453,6 +484,13 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 	case fm_invariantEnergy:
 	case fm_neoHookeanIsochoric:
 		return fmInvariantModel_Evaluate(material, F, P, dPdF);
+	case fm_orthotropicLinear:
+	case fm_orthotropicStvk:
+	case fm_fibreNeoHookean:
+	{
+		fmMat3 R = fmMaterial_Axes(material, NULL);
+		return fmAniso_Evaluate(material, &R, F, P, dPdF, false);
+	}
 	default:
 		FM_ASSERT(0 && "unknown material model (validate materials before use)");
 		if (P)
@@ -478,6 +516,13 @@ double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F,
 	case fm_mooneyRivlin:
 	case fm_stretchEnergy:
 		return fmStretchModel_Evaluate(material, F, P, dPdF, true);
+	case fm_orthotropicLinear:
+	case fm_orthotropicStvk:
+	case fm_fibreNeoHookean:
+	{
+		fmMat3 R = fmMaterial_Axes(material, NULL);
+		return fmAniso_Evaluate(material, &R, F, P, dPdF, true);
+	}
 	default:
 	{
 		double psi = fmMaterial_Evaluate(material, F, P, dPdF);

@@ -71,6 +71,11 @@ bool fmMaterial_NeoHookeanClampedTerms(const fmMaterial* material, const fmMat3*
 // to zero) in place.
 void fmProjectPSD9(double* A);
 
+// StVK's volume floor (above) added to @p P and @p dPdF (each may be NULL) where det F is below
+// it; returns its energy density (0 above it).
+double fmMaterial_AddStvkFloor(const fmMaterial* material, const fmMat3* F, fmMat3* P,
+                               double* dPdF);
+
 // StVK's volume floor as a function of J (above): its energy density, first and second
 // derivatives in J into @p out (all zero at and above FM_STVK_FLOOR_J); false there.
 bool fmMaterial_StvkFloor(const fmMaterial* material, double J, double out[3]);

@@ -146,7 +146,11 @@ static bool fmForcesMemoizable(const fmElasticMesh* mesh)
 
 static bool fmSameMaterial(const fmMaterial* a, const fmMaterial* b)
 {
-	return a->model == b->model && a->lambda == b->lambda && a->mu == b->mu && a->c01 == b->c01;
+	return a->model == b->model && a->lambda == b->lambda && a->mu == b->mu && a->c01 == b->c01 &&
+	       memcmp(&a->orthotropy, &b->orthotropy, sizeof a->orthotropy) == 0 &&
+	       a->fibreStiffness == b->fibreStiffness &&
+	       memcmp(&a->fibre, &b->fibre, sizeof a->fibre) == 0 &&
+	       memcmp(&a->sheet, &b->sheet, sizeof a->sheet) == 0;
 }
 
 bool fmSolverCache_HasForcesAt(const fmElasticMesh* mesh, const fmImplicitCache* c, const double* x)

@@ -80,7 +80,7 @@ static void fmVbdVertexSystem(const fmElasticMesh* mesh, fmBodyState* state, con
 		int t = mesh->vertexTets[e] / 4, a = mesh->vertexTets[e] % 4;
 		fmMat3 F = fmTetDeformation(mesh, state->x, t), P;
 		double dPdF[81];
-		fmMaterial_EvaluateProjected(fmTetMaterial(mesh, t), &F, &P, dPdF);
+		fmTetEvaluate(mesh, t, &F, &P, dPdF, true);
 		const fmMat3* D = &mesh->DmInv[t];
 		double ga[3];
 		for (int j = 0; j < 3; ++j) // g_a: row a - 1 of Dm^-1, g_0 = minus their sum

@@ -39,7 +39,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 10u
+#define FM_SNAPSHOT_VERSION 11u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
@@ -67,6 +67,14 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 	fmStream_MoveDouble(s, save, &m->lambda);
 	fmStream_MoveDouble(s, save, &m->mu);
 	fmStream_MoveDouble(s, save, &m->c01);
+	double* anisotropy[] = {m->orthotropy.E,    m->orthotropy.E + 1,  m->orthotropy.E + 2,
+	                        m->orthotropy.nu,   m->orthotropy.nu + 1, m->orthotropy.nu + 2,
+	                        m->orthotropy.G,    m->orthotropy.G + 1,  m->orthotropy.G + 2,
+	                        &m->fibreStiffness, &m->fibre.x,          &m->fibre.y,
+	                        &m->fibre.z,        &m->sheet.x,          &m->sheet.y,
+	                        &m->sheet.z};
+	for (size_t k = 0; k < sizeof anisotropy / sizeof anisotropy[0]; ++k)
+		fmStream_MoveDouble(s, save, anisotropy[k]);
 	// User energies: function and parameter pointers, valid within the process that saved them.
 	fmStream_Move(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
 	fmStream_Move(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
