@@ -163,6 +163,15 @@ static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
 	fuzzFixBool(&def.selfCollision);
 	fuzzFixBool(&def.enableSleep);
 	def.mesh = fmFuzzPick(r, 8) == 0 ? NULL : mesh;
+	// Per-tet fibres: NULL, or fuzzed directions (some zero) for every tet the mesh may have.
+	static fmVec3 fibres[fuzz_maxTets];
+	def.tetFibres = NULL;
+	if (fmFuzzPick(r, 4) == 0)
+	{
+		for (int t = 0; t < fuzz_maxTets; ++t)
+			fibres[t] = fmFuzzPick(r, 16) == 0 ? fmMakeVec3(0, 0, 0) : fmFuzzVec3(r, -1.0, 1.0);
+		def.tetFibres = fibres;
+	}
 	fmMaterial material = fuzzMaterial(r);
 	if (fmFuzzPick(r, 2))
 		def.material = material;

@@ -104,7 +104,8 @@ bool fmAniso_Validate(const fmMaterial* m, char* why, size_t size)
 			         k == 0 ? "fibre" : "sheet");
 			return false;
 		}
-	if (m->model == fm_fibreNeoHookean && !(m->fibreStiffness >= 0.0 && isfinite(m->fibreStiffness)))
+	if (m->model == fm_fibreNeoHookean &&
+	    !(m->fibreStiffness >= 0.0 && isfinite(m->fibreStiffness)))
 	{
 		snprintf(why, size,
 		         "fibreStiffness = %g Pa must be finite and >= 0 (it adds to Young's modulus "
