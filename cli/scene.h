@@ -72,6 +72,23 @@ typedef struct cliPressureBox
 } cliPressureBox;
 
 /// One body of a scene, before it exists in a world.
+/// A body's "fibres" (docs/scene-format.md): per-tet fibre directions for its anisotropic
+/// materials, from three of the mesh's tet attributes or turning around an axis.
+typedef enum cliFibreSource
+{
+	cli_fibresNone,       ///< each material's own fibre
+	cli_fibresAttributes, ///< tet attributes [attribute, attribute + 3)
+	cli_fibresAround,     ///< axis x (centroid - point): circumferential about the line
+} cliFibreSource;
+
+typedef struct cliFibres
+{
+	cliFibreSource source;
+	int attribute; ///< cli_fibresAttributes: the first of the three
+	fmVec3 axis;   ///< cli_fibresAround: the line's direction
+	fmVec3 point;  ///< cli_fibresAround: a point on it (scene coordinates)
+} cliFibres;
+
 typedef struct cliBodySpec
 {
 	cliMeshSource meshSource;
@@ -94,6 +111,7 @@ typedef struct cliBodySpec
 	int weldCount;
 	fmMaterial* regionMaterials; ///< malloc'd, def.regionCount ("regions"), def points at them
 	int* regionIds;              ///< malloc'd, def.regionCount
+	cliFibres fibres;            ///< "fibres"
 	fmVec3 initialVelocity;      ///< m/s
 	/// "render_mesh": the resolved OBJ path, empty without one; placed by @p transform
 	char renderMeshPath[CLI_MAX_PATH];

@@ -12,6 +12,193 @@
 // Largest generated box, cells per axis (6 tets a cell; 400^3 cells is already 384M tets).
 #define CLI_MAX_BOX_CELLS 1000
 
+// ---- anisotropy ------------------------------------------------------------------------------
+
+static bool cliIsOrthotropic(fmMaterialModel model)
+{
+	return model == fm_orthotropicLinear || model == fm_orthotropicStvk;
+}
+
+// "orthotropy": {"E": [E1, E2, E3], "nu": [nu12, nu13, nu23], "G": [G12, G13, G23]}.
+static bool cliParseOrthotropy(const cliJson* j, const cliJsonNode* object, const char* path,
+                               fmOrthotropy* o)
+{
+	static const char* const keys[] = {"E", "nu", "G", NULL};
+	fmVec3 E, nu, G;
+	if (!cliCheckKeys(j, object, path, keys) ||
+	    !cliRequireKeys(j, object, path, keys, "the nine engineering constants") ||
+	    !cliGetVec3In(j, object, path, "E", cliPositive, "Young's moduli > 0 (Pa)", &E) ||
+	    !cliGetVec3In(j, object, path, "nu", cliAnyFinite, "Poisson ratios", &nu) ||
+	    !cliGetVec3In(j, object, path, "G", cliPositive, "shear moduli > 0 (Pa)", &G))
+		return false;
+	const fmOrthotropy read = {{E.x, E.y, E.z}, {nu.x, nu.y, nu.z}, {G.x, G.y, G.z}};
+	*o = read;
+	return true;
+}
+
+// "transversely_isotropic": {"E_along", "E_across", "nu_along", "nu_across", "G_along"}.
+static bool cliParseTransverse(const cliJson* j, const cliJsonNode* object, const char* path,
+                               fmOrthotropy* o)
+{
+	static const char* const keys[] = {"E_along",   "E_across", "nu_along",
+	                                   "nu_across", "G_along",  NULL};
+	const cliRange poisson = {-1.0, 1.0, true, true};
+	double v[5];
+	if (!cliCheckKeys(j, object, path, keys) ||
+	    !cliRequireKeys(j, object, path, keys, "a transversely isotropic solid's five constants"))
+		return false;
+	for (int k = 0; k < 5; ++k)
+		if (!cliGetNumber(j, object, path, keys[k], k == 2 || k == 3 ? poisson : cliPositive,
+		                  &v[k], NULL))
+			return false;
+	*o = fmTransverselyIsotropic(v[0], v[1], v[2], v[3], v[4]);
+	return true;
+}
+
+// The anisotropic models' keys of a material object (docs/materials.md, "Anisotropy"):
+// "orthotropy" or "transversely_isotropic" for the orthotropic models (in place of
+// youngs_modulus and poisson_ratio: @p isotropicGiven), "fibre_stiffness" for
+// fibre-neohookean, "fibre" and "sheet" (the axes) for all three.
+static bool cliParseAnisotropy(const cliJson* j, const cliJsonNode* object, const char* path,
+                               bool isotropicGiven, fmMaterial* m)
+{
+	const cliJsonNode *ortho = NULL, *transverse = NULL;
+	if (!cliGetObject(j, object, path, "orthotropy", &ortho) ||
+	    !cliGetObject(j, object, path, "transversely_isotropic", &transverse))
+		return false;
+	bool orthotropic = cliIsOrthotropic(m->model);
+	bool anisotropic = orthotropic || m->model == fm_fibreNeoHookean;
+	if (orthotropic && ortho == NULL && transverse == NULL)
+		return cliJsonFail(j, path, NULL,
+		                   "model %s needs \"orthotropy\": {\"E\": [E1, E2, E3], \"nu\": [nu12, "
+		                   "nu13, nu23], \"G\": [G12, G13, G23]} or \"transversely_isotropic\": "
+		                   "{\"E_along\", \"E_across\", \"nu_along\", \"nu_across\", \"G_along\"}",
+		                   fmMaterialModelName(m->model));
+	if (ortho != NULL && transverse != NULL)
+		return cliJsonFail(j, path, NULL, "give orthotropy or transversely_isotropic, not both");
+	if (orthotropic && isotropicGiven)
+		return cliJsonFail(j, path, NULL,
+		                   "model %s takes its constants from orthotropy (or "
+		                   "transversely_isotropic), not youngs_modulus, poisson_ratio, lambda, mu",
+		                   fmMaterialModelName(m->model));
+	static const char* const only[4] = {"orthotropy", "transversely_isotropic", "fibre_stiffness",
+	                                    NULL};
+	for (int k = 0; k < 3; ++k)
+		if (cliJsonTree_Member(object, only[k]) != NULL &&
+		    (k < 2 ? !orthotropic : m->model != fm_fibreNeoHookean))
+		{
+			char keyPath[300];
+			cliJoinKey(keyPath, sizeof keyPath, path, only[k]);
+			return cliJsonFail(j, keyPath, NULL, "only goes with \"model\": %s",
+			                   k < 2 ? "\"orthotropic-linear\" or \"orthotropic-stvk\""
+			                         : "\"fibre-neohookean\"");
+		}
+	char sub[300];
+	fmOrthotropy o;
+	if (ortho != NULL)
+	{
+		cliJoinKey(sub, sizeof sub, path, "orthotropy");
+		if (!cliParseOrthotropy(j, ortho, sub, &o))
+			return false;
+	}
+	if (transverse != NULL)
+	{
+		cliJoinKey(sub, sizeof sub, path, "transversely_isotropic");
+		if (!cliParseTransverse(j, transverse, sub, &o))
+			return false;
+	}
+	if (orthotropic)
+		*m = fmMakeOrthotropicMaterial(m->model, o);
+	bool hasFibre = false, hasSheet = false;
+	if (!cliGetNumber(j, object, path, "fibre_stiffness", cliNonNegative, &m->fibreStiffness,
+	                  NULL) ||
+	    !cliGetVec3(j, object, path, "fibre", &m->fibre, &hasFibre) ||
+	    !cliGetVec3(j, object, path, "sheet", &m->sheet, &hasSheet))
+		return false;
+	if ((hasFibre || hasSheet) && !anisotropic)
+		return cliJsonFail(j, path, NULL,
+		                   "fibre and sheet (material axes) only go with the anisotropic models "
+		                   "(\"orthotropic-linear\", \"orthotropic-stvk\", \"fibre-neohookean\")");
+	return true;
+}
+
+// "fibres": {"attributes": k} (tet attributes k, k + 1, k + 2: a direction each tet) or
+// {"around": [x, y, z], "through": [x, y, z]} (circumferential about that line).
+static bool cliParseFibres(const cliJson* j, const cliJsonNode* body, const char* parent,
+                           cliFibres* fibres)
+{
+	static const char* const keys[] = {"attributes", "around", "through", NULL};
+	const cliJsonNode* object = NULL;
+	if (!cliGetObject(j, body, parent, "fibres", &object))
+		return false;
+	if (object == NULL)
+		return true;
+	char path[300];
+	cliJoinKey(path, sizeof path, parent, "fibres");
+	bool hasAttributes = false, hasAround = false;
+	if (!cliCheckKeys(j, object, path, keys) ||
+	    !cliGetInt(j, object, path, "attributes", 0, 1000000, &fibres->attribute,
+	               &hasAttributes) ||
+	    !cliGetVec3(j, object, path, "around", &fibres->axis, &hasAround) ||
+	    !cliGetVec3(j, object, path, "through", &fibres->point, NULL))
+		return false;
+	if (hasAttributes == hasAround)
+		return cliJsonFail(j, path, NULL,
+		                   "expected {\"attributes\": k} (the mesh's tet attributes k, k+1, k+2) "
+		                   "or {\"around\": [x, y, z], \"through\": [x, y, z]}");
+	if (hasAround && !(fmLength(fibres->axis) > 0.0))
+		return cliJsonFail(j, path, NULL, "\"around\" must be a direction, not [0, 0, 0]");
+	if (cliJsonTree_Member(object, "through") != NULL && !hasAround)
+		return cliJsonFail(j, path, NULL, "\"through\" goes with \"around\"");
+	fibres->source = hasAround ? cli_fibresAround : cli_fibresAttributes;
+	return true;
+}
+
+fmVec3* cliBodyFibres(const cliBodySpec* spec, const fmTetMesh* mesh, char* problem, size_t size)
+{
+	problem[0] = 0;
+	const cliFibres* rule = &spec->fibres;
+	if (rule->source == cli_fibresNone)
+		return NULL;
+	int k = rule->attribute, count = mesh->tetAttributeCount;
+	if (rule->source == cli_fibresAttributes && (mesh->tetAttributes == NULL || k + 3 > count))
+	{
+		snprintf(problem, size,
+		         "fibres.attributes %d needs tet attributes %d to %d; the mesh has %d per tet", k,
+		         k, k + 2, count);
+		return NULL;
+	}
+	fmVec3* fibres = malloc(sizeof(fmVec3) * (size_t)(mesh->tetCount > 0 ? mesh->tetCount : 1));
+	if (fibres == NULL)
+	{
+		snprintf(problem, size, "out of memory for %d fibres", mesh->tetCount);
+		return NULL;
+	}
+	for (int t = 0; t < mesh->tetCount; ++t)
+	{
+		if (rule->source == cli_fibresAttributes)
+		{
+			const double* a = mesh->tetAttributes + (size_t)t * (size_t)count + (size_t)k;
+			// The placement's y-z swap turns directions as it turns positions.
+			fibres[t] = spec->transform.swapYZ ? fmMakeVec3(a[0], a[2], a[1])
+			                                   : fmMakeVec3(a[0], a[1], a[2]);
+			continue;
+		}
+		fmVec3 c = {0, 0, 0};
+		for (int n = 0; n < 4; ++n)
+		{
+			int node = mesh->tets[4 * t + n] - mesh->firstIndex;
+			c = fmAdd(c, fmScale(0.25, fmMakeVec3(mesh->positions[3 * node],
+			                                      mesh->positions[3 * node + 1],
+			                                      mesh->positions[3 * node + 2])));
+		}
+		fmVec3 hoop = fmCross(rule->axis, fmSub(c, rule->point));
+		// A tet on the line itself has no circumference: its fibre runs along the line.
+		fibres[t] = fmLength(hoop) > 1e-12 * fmLength(rule->axis) ? hoop : rule->axis;
+	}
+	return fibres;
+}
+
 // ---- mesh, placement, material --------------------------------------------------------------
 
 // "box:nx,ny,nz" -> cell counts. On failure @p problem says what was wrong.
@@ -133,9 +320,10 @@ bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* 
 static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const char* parent,
                              cliBodySpec* spec)
 {
-	static const char* const keys[] = {"model", "youngs_modulus", "poisson_ratio", "lambda",
-	                                   "mu",    "mooney_c01",     "density",       "particle_mass",
-	                                   NULL};
+	static const char* const keys[] = {
+	    "model",      "youngs_modulus", "poisson_ratio",          "lambda",          "mu",
+	    "mooney_c01", "density",        "particle_mass",          "orthotropy",      "fibre",
+	    "sheet",      "fibre_stiffness", "transversely_isotropic", NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
 	const cliJsonNode* material = NULL;
@@ -155,8 +343,9 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 		char modelPath[256];
 		cliJoinKey(modelPath, sizeof modelPath, path, "model");
 		return cliJsonFail(j, modelPath, cliJsonTree_Member(material, "model"),
-		                   "expected \"linear\", \"corotated\", \"stvk\", \"neohookean\" or "
-		                   "\"mooney-rivlin\"");
+		                   "expected \"linear\", \"corotated\", \"stvk\", \"neohookean\", "
+		                   "\"mooney-rivlin\", \"neohookean-isochoric\", \"orthotropic-linear\", "
+		                   "\"orthotropic-stvk\" or \"fibre-neohookean\"");
 	}
 
 	double youngs = 0, poisson = 0, lambda = 0, mu = 0;
@@ -190,6 +379,8 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 	if (hasC01 && model != fm_mooneyRivlin)
 		return cliJsonFail(j, path, NULL,
 		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
+	if (!cliParseAnisotropy(j, material, path, engineering || lame, &spec->def.material))
+		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	if (fmMaterial_Validate(&spec->def.material, &diag) != fm_ok)
@@ -213,12 +404,15 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 // ---- regions --------------------------------------------------------------------------------
 
 // One region's material: the body's material changed by the keys given ("model", and
-// "youngs_modulus" + "poisson_ratio" or "lambda" + "mu", "mooney_c01"), validated.
+// "youngs_modulus" + "poisson_ratio" or "lambda" + "mu", "mooney_c01", the anisotropic models'
+// keys), validated.
 static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, const char* path,
                                    const fmMaterial* base, fmMaterial* out)
 {
 	static const char* const keys[] = {
-	    "model", "youngs_modulus", "poisson_ratio", "lambda", "mu", "mooney_c01", NULL};
+	    "model",      "youngs_modulus", "poisson_ratio",   "lambda",
+	    "mu",         "mooney_c01",     "orthotropy",      "transversely_isotropic",
+	    "fibre",      "sheet",          "fibre_stiffness", NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
@@ -251,7 +445,8 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 		return cliJsonFail(j, path, NULL,
 		                   "youngs_modulus and poisson_ratio (or lambda and mu) go together");
 	*out = hasE ? fmMakeMaterial(model, youngs, poisson) : fmMakeMaterialLame(model, lambda, mu);
-	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01))
+	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01) ||
+	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, out))
 		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
@@ -575,6 +770,7 @@ static void cliBodyDefaults(cliBodySpec* spec)
 	spec->def.massMode = fm_massFromDensity;
 	spec->initialVelocity = fmMakeVec3(0, 0, 0);
 	spec->renderMeshPath[0] = 0;
+	memset(&spec->fibres, 0, sizeof spec->fibres);
 }
 
 // A body's "render_mesh": an OBJ surface (relative to the scene's folder) that follows the body,
@@ -603,7 +799,7 @@ bool cliParseBody(const cliJson* j, const cliJsonNode* body, int index, cliBodyS
 	    "mesh",        "box_min",          "box_max",          "transform", "material",
 	    "force_model", "damping",          "smoothing",        "rayleigh",  "spring_damping",
 	    "pin",         "initial_velocity", "self_collision",   "friction",  "sleep",
-	    "filter",      "render_mesh",      CLI_BODY_LOAD_KEYS, NULL};
+	    "filter",      "render_mesh",      "fibres",           CLI_BODY_LOAD_KEYS, NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);
@@ -613,7 +809,7 @@ bool cliParseBody(const cliJson* j, const cliJsonNode* body, int index, cliBodyS
 	if (!cliCheckKeys(j, body, path, keys) || !cliParseMesh(j, body, path, spec) ||
 	    !cliParseRenderMesh(j, body, path, spec) ||
 	    !cliParseTransform(j, body, path, &spec->transform) ||
-	    !cliParseMaterial(j, body, path, spec))
+	    !cliParseMaterial(j, body, path, spec) || !cliParseFibres(j, body, path, &spec->fibres))
 		return false;
 
 	const char* forceModel = NULL;

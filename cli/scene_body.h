@@ -16,3 +16,8 @@ bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* 
 /// The "filter" of @p object (a body, a collider or the floor): {"category": bits, "mask":
 /// bits} (fmFilter; absent keys keep the defaults).
 bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent, fmFilter* filter);
+
+/// The per-tet fibres of @p spec's "fibres" on its loaded, placed @p mesh (fmBodyDef.tetFibres):
+/// malloc'd (the caller frees it), or NULL with @p problem empty when the body has none, or NULL
+/// with the reason in @p problem (the mesh lacks the attributes, out of memory).
+fmVec3* cliBodyFibres(const cliBodySpec* spec, const fmTetMesh* mesh, char* problem, size_t size);

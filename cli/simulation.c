@@ -1,6 +1,7 @@
 // Turning a scene into a femto world: meshes loaded and placed, bodies created, pins and
 // initial velocities applied, and the explicit step checked against its stability estimate.
 #include "scene.h"
+#include "scene_body.h"
 
 #include "attachments.h"
 
@@ -188,9 +189,18 @@ static bool cliCreateBody(const cliScene* scene, int index, cliSimulation* sim)
 		return false;
 	fmBodyDef def = spec->def;
 	def.mesh = mesh;
+	char problem[256];
+	def.tetFibres = cliBodyFibres(spec, mesh, problem, sizeof problem);
+	if (problem[0] != 0)
+	{
+		fprintf(stderr, "%s: bodies[%d].%s\n", scene->name, index, problem);
+		return false;
+	}
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
-	if (fmCreateBody(sim->world, &def, &sim->bodies[index], &diag) != fm_ok)
+	fmResult made = fmCreateBody(sim->world, &def, &sim->bodies[index], &diag);
+	free((void*)def.tetFibres);
+	if (made != fm_ok)
 	{
 		char prefix[CLI_MAX_PATH + 32];
 		snprintf(prefix, sizeof prefix, "%s: bodies[%d]", scene->name, index);

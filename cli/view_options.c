@@ -24,6 +24,7 @@ static const struct
     {"floor", fm_drawFloor},
     {"contacts", fm_drawContacts},
     {"colliders", fm_drawColliders},
+    {"fibres", fm_drawFibres},
     {"all", fm_drawAll},
     {"none", 0},
 };

@@ -737,3 +737,33 @@ femto_cli_test(run_audit_overlap ARGS "run|${FEMTO_CLI_DATA}/audit_overlap.json|
 femto_cli_test(run_audit_clean ARGS "run|${FEMTO_CLI_DATA}/attachment_lift.json|--audit" CODE 0
   REGEX "contact audit +30 substeps: at worst 0 crossings, 0 self crossings, 0 vertices inside \\(deepest 0 m\\), 0 inverted tets"
   REJECT "with findings")
+
+# --- anisotropic materials (docs/materials.md, "Anisotropy"; issue 34) ----------------------------
+# The grain sample: two planks of one transversely isotropic material, grain along and across,
+# at rest; the one loaded across its grain (E 2 MPa against 20) sags about seven times as far
+# (large deflection stiffens it below the small-strain ten).
+femto_cli_test(grain_static ARGS "static|${PROJECT_SOURCE_DIR}/scenes/grain.json" CODE 0
+  REGEX "body 0 [^\n]*converged\n[^\n]*lowest y -0\\.071[0-9]* m[^\n]*\nbody 1 [^\n]*converged\n[^\n]*lowest y -0\\.53[0-9]* m")
+femto_cli_test(grain_run ARGS "run|${PROJECT_SOURCE_DIR}/scenes/grain.json|--frames|30" CODE 0
+  REGEX "implicit solves +every step converged")
+# Per-tet fibres from the mesh's tet attributes (fibre_cube.ele: three per tet), and a rule
+# (hoops around a vertical line); the attributes all along y give the same rest shape as the
+# material's own fibre along y, to the printed digit.
+femto_cli_test(fibres_attributes ARGS "static|${FEMTO_CLI_DATA}/fibres_attributes.json" CODE 0
+  REGEX "converged\n[^\n]*lowest y -0\\.05217[0-9]* m, inverted tets 0")
+femto_cli_test(fibres_attributes_y ARGS "static|${FEMTO_CLI_DATA}/fibres_attributes_y.json" CODE 0
+  REGEX "elastic energy 21\\.8293 J, lowest y -0\\.0111682 m, inverted tets 0")
+femto_cli_test(fibres_material_y ARGS "static|${FEMTO_CLI_DATA}/fibres_material_y.json" CODE 0
+  REGEX "elastic energy 21\\.8293 J, lowest y -0\\.0111682 m, inverted tets 0")
+femto_cli_test(fibres_around ARGS "static|${FEMTO_CLI_DATA}/fibres_around.json" CODE 0
+  REGEX "converged\n[^\n]*inverted tets 0")
+femto_cli_test(bad_orthotropy_missing ARGS "run|${FEMTO_CLI_DATA}/bad_orthotropy_missing.json" CODE 1
+  REGEX "bad_orthotropy_missing\\.json:4:[0-9]+: bodies\\[0\\]\\.material: model orthotropic-linear needs \"orthotropy\"")
+femto_cli_test(bad_orthotropy_unstable ARGS "run|${FEMTO_CLI_DATA}/bad_orthotropy_unstable.json" CODE 1
+  REGEX "bad_orthotropy_unstable\\.json:4:[0-9]+: bodies\\[0\\]\\.material: orthotropic constants .* are not a stable material: the compliance must be positive definite")
+femto_cli_test(bad_fibre_stiffness_model ARGS "run|${FEMTO_CLI_DATA}/bad_fibre_stiffness_model.json" CODE 1
+  REGEX "bad_fibre_stiffness_model\\.json:5:[0-9]+: bodies\\[0\\]\\.material\\.fibre_stiffness: only goes with \"model\": \"fibre-neohookean\"")
+femto_cli_test(bad_fibres_attributes ARGS "run|${FEMTO_CLI_DATA}/bad_fibres_attributes.json" CODE 1
+  REGEX "bad_fibres_attributes\\.json: bodies\\[0\\]\\.fibres\\.attributes 0 needs tet attributes 0 to 2; the mesh has 0 per tet")
+femto_cli_test(bad_fibres_rule ARGS "run|${FEMTO_CLI_DATA}/bad_fibres_rule.json" CODE 1
+  REGEX "bad_fibres_rule\\.json:5:[0-9]+: bodies\\[0\\]\\.fibres: expected \\{\"attributes\": k\\}")

@@ -33,8 +33,8 @@ static const char* const fvViewHelp =
     "  --camera-distance D, --camera-yaw DEG, --camera-pitch DEG, --camera-target X,Y,Z\n"
     "                     the orbit camera (default: the bodies and the floor framed)\n"
     "  --draw LIST        debug views: surfaces,stress,tets,inverted,pins,targets,floor,\n"
-    "                     contacts, colliders, all or none (default surfaces,floor,pins,\n"
-    "                     targets,colliders)\n"
+    "                     contacts, colliders, fibres, all or none (default surfaces,\n"
+    "                     floor,pins,targets,colliders)\n"
     "  --scenes DIR       the scenes the panel lists (default: the scene's folder, else\n"
     "                     femto's scenes/)\n"
     "  --script FILE      play a script of input (docs/viewer.md, \"Scripts\")\n"
@@ -395,6 +395,8 @@ static bool fvWriteReport(const fvView* v, const char* path)
 	        "profile_frames %d\n",
 	        p->integrator == fm_implicit ? "implicit" : "explicit", p->substeps, p->dt,
 	        app->session.overBudgetFrames, app->panelRight, app->session.historyCount);
+	fprintf(out, "material %s youngs %.6g poisson %.6g\nstatus %s\n",
+	        fmMaterialModelName(p->model), p->youngs, p->poisson, app->session.status);
 	const fvCamera* c = &app->camera;
 	fprintf(out, "camera %.4g %.4g %.4g %.4g %.4g %.4g\n", c->target[0], c->target[1], c->target[2],
 	        c->distance, c->yaw, c->pitch);

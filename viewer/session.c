@@ -19,15 +19,45 @@ static void fvFromLame(double lambda, double mu, double* youngs, double* poisson
 	*poisson = lambda / (2.0 * (lambda + mu));
 }
 
+static bool fvIsAnisotropic(fmMaterialModel model)
+{
+	return model == fm_orthotropicLinear || model == fm_orthotropicStvk ||
+	       model == fm_fibreNeoHookean;
+}
+
+// Body @p b's material under the sliders: an isotropic model from Young's modulus and Poisson's
+// ratio; while the sliders keep a scene's anisotropic model, each body's own scene material with
+// every modulus scaled by the Young's slider over its start, its ratios and axes kept.
+static fmMaterial fvSliderMaterial(const fvSession* s, int b)
+{
+	const fvParams* p = &s->params;
+	if (!fvIsAnisotropic(p->model))
+		return fmMakeMaterial(p->model, p->youngs, p->poisson);
+	fmMaterial m = s->scene.bodies[b].def.material;
+	double k = p->youngs / p->startYoungs;
+	for (int e = 0; e < 3; ++e)
+	{
+		m.orthotropy.E[e] *= k;
+		m.orthotropy.G[e] *= k;
+	}
+	m.lambda *= k;
+	m.mu *= k;
+	m.c01 *= k;
+	m.fibreStiffness *= k;
+	return m;
+}
+
 // The sliders start at the scene's first body and world.
 static void fvInitParams(fvSession* s)
 {
 	const fmBodyDef* def = &s->scene.bodies[0].def;
 	fvParams* p = &s->params;
 	p->model = def->material.model;
-	if (p->model >= fm_stretchEnergy)
+	if (p->model >= fm_stretchEnergy && !fvIsAnisotropic(p->model))
 		p->model = fm_neoHookean;
 	fvFromLame(def->material.lambda, def->material.mu, &p->youngs, &p->poisson);
+	p->startYoungs = p->youngs;
+	p->startPoisson = p->poisson;
 	p->perParticle = def->massMode == fm_massPerParticle;
 	p->mass = p->perParticle ? def->particleMass : def->density;
 	p->damping = def->damping;
@@ -72,7 +102,7 @@ static fmBodyDef fvBodyDef(const fvSession* s, int b)
 {
 	fmBodyDef def = s->scene.bodies[b].def;
 	def.mesh = &s->sim.meshes[b];
-	def.material = fmMakeMaterial(s->params.model, s->params.youngs, s->params.poisson);
+	def.material = fvSliderMaterial(s, b);
 	def.massMode = s->params.perParticle ? fm_massPerParticle : fm_massFromDensity;
 	if (s->params.perParticle)
 		def.particleMass = s->params.mass;
@@ -184,9 +214,17 @@ bool fvSession_ApplyMaterial(fvSession* s)
 {
 	if (!fvSession_IsLive(s))
 		return false;
-	fmMaterial material = fmMakeMaterial(s->params.model, s->params.youngs, s->params.poisson);
+	if (fvIsAnisotropic(s->params.model) && s->params.poisson != s->params.startPoisson)
+	{
+		snprintf(s->status, sizeof s->status,
+		         "the Poisson slider sets isotropic materials: %s takes its ratios from the "
+		         "scene (press m for an isotropic model)",
+		         fmMaterialModelName(s->params.model));
+		return false;
+	}
 	for (int b = 0; b < s->sim.bodyCount; ++b)
 	{
+		fmMaterial material = fvSliderMaterial(s, b);
 		fmDiagnostic diag;
 		memset(&diag, 0, sizeof diag);
 		if (fmBody_SetMaterial(s->sim.bodies[b], &material, &diag) != fm_ok)

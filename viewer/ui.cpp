@@ -169,7 +169,7 @@ void showViews(fvUiModel& m)
 	             {"tets", fm_drawTetEdges},      {"inverted", fm_drawInvertedTets},
 	             {"pins", fm_drawPins},          {"targets", fm_drawTargets},
 	             {"floor", fm_drawFloor},        {"contacts", fm_drawContacts},
-	             {"colliders", fm_drawColliders}};
+	             {"colliders", fm_drawColliders}, {"fibres", fm_drawFibres}};
 	for (size_t i = 0; i < sizeof views / sizeof views[0]; ++i)
 	{
 		if (i % 4 != 0)

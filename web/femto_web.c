@@ -12,6 +12,7 @@
 #define _POSIX_C_SOURCE 200809L // fmemopen
 
 #include "scene.h"
+#include "scene_body.h"
 
 #include <femto/femto.h>
 
@@ -95,6 +96,7 @@ typedef struct fwApp
 	fmTetMesh meshes[FW_MAX_BODIES];
 	float* floatPositions[FW_MAX_BODIES];
 	double* doublePositions[FW_MAX_BODIES];
+	fmVec3* fibres[FW_MAX_BODIES]; // the scene's per-tet fibres ("fibres"), or NULL
 	fmTetMesh userMesh; // the last dropped mesh (kept for reloading its scene)
 	// sliders
 	fmMaterial material; // the first body's, shown by the sliders
@@ -156,6 +158,7 @@ static fmBodyDef fwBodyDef(const fwApp* app, int b)
 {
 	fmBodyDef def = app->scene.bodies[b].def;
 	def.mesh = (fmTetMesh*)&app->meshes[b];
+	def.tetFibres = app->fibres[b];
 	if (app->materialSet)
 		def.material = app->material;
 	def.damping = app->damping;
@@ -171,6 +174,8 @@ static void fwFreeScene(void)
 		fmFreeTetMesh(&s_app.meshes[b]);
 		free(s_app.floatPositions[b]);
 		free(s_app.doublePositions[b]);
+		free(s_app.fibres[b]);
+		s_app.fibres[b] = NULL;
 	}
 	memset(s_app.bodies, 0, sizeof s_app.bodies);
 	memset(s_app.meshes, 0, sizeof s_app.meshes);
@@ -192,7 +197,16 @@ static fmResult fwCreateBody(int b)
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	fmResult r = fwMakeMesh(b, &s_app.meshes[b], &diag);
-	s_app.bodyCount = b + 1; // the mesh is freed with the scene from here on
+	s_app.bodyCount = b + 1; // the mesh and fibres are freed with the scene from here on
+	char problem[256] = "";
+	if (r == fm_ok)
+		s_app.fibres[b] = cliBodyFibres(&s_app.scene.bodies[b], &s_app.meshes[b], problem,
+		                                sizeof problem);
+	if (problem[0] != 0)
+	{
+		r = fm_errParameter;
+		snprintf(diag.message, sizeof diag.message, "%s", problem);
+	}
 	fmBodyDef def = fwBodyDef(&s_app, b);
 	if (r == fm_ok)
 		r = fmCreateBody(s_app.world, &def, &s_app.bodies[b], &diag);

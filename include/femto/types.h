@@ -741,7 +741,10 @@ typedef enum fmDrawFlags
 	fm_drawFloor = 1u << 6,        ///< the floor plane
 	fm_drawContacts = 1u << 7,     ///< the last substep's contacts, the floor's too
 	fm_drawColliders = 1u << 8,    ///< colliders: triangles (planes through drawPlane)
-	fm_drawAll = 0x1ffu,           ///< everything above
+	/// the fibres of anisotropic tets: a line through each one's centre along its deformed
+	/// fibre F a, half the tet's size times the fibre's stretch
+	fm_drawFibres = 1u << 9,
+	fm_drawAll = 0x3ffu, ///< everything above
 } fmDrawFlags;
 
 /// One body's surface for fmDebugDraw.drawTriangles: the surface vertices only (compacted),

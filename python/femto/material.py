@@ -1,7 +1,7 @@
 """Materials: a constitutive model with Young's modulus and Poisson ratio, or Lame constants."""
 from __future__ import annotations
 
-from typing import Optional, Union
+from typing import Optional, Sequence, Union
 from ._errors import check
 from ._femto import ffi, lib
 
@@ -23,12 +23,16 @@ class Material:
 
     ``Material("neohookean", youngs_modulus=1e5, poisson_ratio=0.3)`` or
     ``Material("stvk", lam=20000, mu=5000)``; models: linear, corotated, stvk, neohookean,
-    mooneyrivlin (with ``c01``), neohookean-isochoric (the names ``femto run`` takes).
+    mooneyrivlin (with ``c01``), neohookean-isochoric, fibre-neohookean (with
+    ``fibre_stiffness`` and ``fibre``), and through ``Material.orthotropic`` orthotropic-linear
+    and orthotropic-stvk (the names ``femto run`` takes).
     """
 
     def __init__(self, model: Union[str, int] = "stvk", youngs_modulus: Optional[float] = None,
                  poisson_ratio: Optional[float] = None, lam: Optional[float] = None,
-                 mu: Optional[float] = None, c01: float = 0.0) -> None:
+                 mu: Optional[float] = None, c01: float = 0.0, fibre_stiffness: float = 0.0,
+                 fibre: Optional[Sequence[float]] = None,
+                 sheet: Optional[Sequence[float]] = None) -> None:
         by_young = youngs_modulus is not None or poisson_ratio is not None
         by_lame = lam is not None or mu is not None
         if by_young == by_lame:
@@ -44,6 +48,34 @@ class Material:
             made = lib.fmMakeMaterialLame(kind, float(lam), float(mu))
         self._c = ffi.new("fmMaterial*", made)
         self._c.c01 = float(c01)
+        self._c.fibreStiffness = float(fibre_stiffness)
+        self._finish(fibre, sheet)
+
+    @classmethod
+    def orthotropic(cls, model: str = "orthotropic-linear", E: Sequence[float] = (1e6, 1e6, 1e6),
+                    nu: Sequence[float] = (0.3, 0.3, 0.3),
+                    G: Sequence[float] = (3.8e5, 3.8e5, 3.8e5),
+                    fibre: Optional[Sequence[float]] = None,
+                    sheet: Optional[Sequence[float]] = None) -> "Material":
+        """An orthotropic material (fmMakeOrthotropicMaterial): ``model`` orthotropic-linear or
+        orthotropic-stvk, Young's moduli ``E`` = (E1, E2, E3), Poisson ratios ``nu`` = (nu12,
+        nu13, nu23), shear moduli ``G`` = (G12, G13, G23) in Pa, axis 1 along ``fibre`` and axis 2
+        toward ``sheet`` (default x and y; docs/materials.md, "Anisotropy")."""
+        constants = ffi.new("fmOrthotropy*")
+        for k in range(3):
+            constants.E[k] = float(E[k])
+            constants.nu[k] = float(nu[k])
+            constants.G[k] = float(G[k])
+        self = cls.__new__(cls)
+        self._c = ffi.new("fmMaterial*", lib.fmMakeOrthotropicMaterial(_model(model), constants[0]))
+        self._finish(fibre, sheet)
+        return self
+
+    def _finish(self, fibre, sheet) -> None:
+        for name, value in (("fibre", fibre), ("sheet", sheet)):
+            if value is not None:
+                x, y, z = (float(v) for v in value)
+                setattr(self._c, name, (x, y, z))
         diag = ffi.new("fmDiagnostic*")
         check(lib.fmMaterial_Validate(self._c, diag), diag)
 

@@ -172,3 +172,34 @@ def test_a_mesh_ground_raised_by_its_vertices_lifts_a_box():
         if frame >= 30:
             speeds.append(body.velocities()[:, 1].mean())
     assert np.mean(speeds) == pytest.approx(0.5, rel=0.03)
+
+
+def hanging_sag(material):
+    # A 0.2 x 0.4 x 0.2 m bar hanging from its top face under its weight, at rest: the lowest
+    # vertex's drop (m).
+    world = femto.World(gravity=(0.0, -9.8, 0.0), floor=False, integrator="implicit")
+    mesh = femto.TetMesh.box((2, 4, 2), (0.0, 0.0, 0.0), (0.2, 0.4, 0.2))
+    body = world.add_body(mesh, material, mass_mode="density", density=1000.0)
+    assert body.pin_box((-1.0, 0.399, -1.0), (1.0, 1.0, 1.0)) > 0
+    body.solve_static(1e-10)
+    return -body.positions()[:, 1].min()
+
+
+def test_an_orthotropic_bar_hangs_by_its_grain():
+    # Orthotropic constants of one isotropic solid hang exactly as that solid; a grain along the
+    # bar (E 5x across) stretches it less than a grain across it.
+    E, nu = 1e5, 0.3
+    iso = hanging_sag(femto.Material("linear", youngs_modulus=E, poisson_ratio=nu))
+    same = hanging_sag(femto.Material.orthotropic("orthotropic-linear", E=(E, E, E),
+                                                  nu=(nu, nu, nu), G=(E / 2.6,) * 3,
+                                                  fibre=(0.3, 0.4, 0.5)))
+    assert same == pytest.approx(iso, rel=1e-9)
+    grain = dict(E=(5 * E, E, E), nu=(0.3, 0.3, 0.3), G=(E / 2.6,) * 3)
+    along = hanging_sag(femto.Material.orthotropic("orthotropic-linear", fibre=(0, 1, 0), **grain))
+    across = hanging_sag(femto.Material.orthotropic("orthotropic-linear", fibre=(1, 0, 0), **grain))
+    assert along < 0.4 * across
+    with pytest.raises(femto.FemtoError, match="positive definite"):
+        femto.Material.orthotropic(E=(1e6, 1e5, 1e5), nu=(5.0, 0.3, 0.3))
+    fibre = femto.Material("fibre-neohookean", youngs_modulus=E, poisson_ratio=nu,
+                           fibre_stiffness=4 * E, fibre=(0, 1, 0))
+    assert hanging_sag(fibre) < 0.4 * iso

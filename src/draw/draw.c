@@ -29,6 +29,7 @@
 #define FM_COLOR_CONTACTS 0xffd000u
 #define FM_COLOR_FLOOR 0x9a9a9au
 #define FM_COLOR_COLLIDERS 0x8c9aa8u
+#define FM_COLOR_FIBRES 0x40c0ffu
 
 // A contact's line: at most this fraction of the largest body's size (the strongest contact's).
 #define FM_DRAW_CONTACT_LINE 0.08
@@ -331,6 +332,36 @@ static bool fmDrawInverted(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 	return true;
 }
 
+// The deformed fibre F a of every anisotropic tet: a line through its centre, half its size
+// (the cube root of its rest volume) long at rest, stretching with the fibre.
+static bool fmDrawFibres(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw)
+{
+	const fmElasticMesh* m = &b->mesh;
+	if (!fmReserveLines(c, m->tetCount))
+		return false;
+	int count = 0;
+	for (int t = 0; t < m->tetCount; ++t)
+	{
+		const fmMaterial* material = fmTetMaterial(m, t);
+		if (!fmMaterialModel_IsAnisotropic(material->model))
+			continue;
+		fmMat3 R = fmMaterial_Axes(material, m->fibres != NULL ? &m->fibres[t] : NULL);
+		fmMat3 F = fmTetDeformation(m, b->state.x, t);
+		fmVec3 half = fmScale(0.25 * fmMathPow(m->restVolume[t], 1.0 / 3.0),
+		                      fmMatVec(&F, fmMakeVec3(R.m[0], R.m[3], R.m[6])));
+		fmVec3 centre = {0, 0, 0};
+		for (int a = 0; a < 4; ++a)
+			centre = fmAdd(centre, fmScale(0.25, fmLoad(b->state.x, m->tets[4 * t + a])));
+		double ends[6];
+		fmStore(ends, 0, fmSub(centre, half));
+		fmStore(ends, 1, fmAdd(centre, half));
+		fmPutLine(c->lines + 6 * count++, ends, ends + 3);
+	}
+	if (count > 0)
+		draw->drawLines(c->lines, count, FM_COLOR_FIBRES, draw->context);
+	return true;
+}
+
 // Points at the pinned vertices.
 static void fmDrawPins(const fmBody* b, fmDrawCache* c, const fmDebugDraw* draw)
 {
@@ -400,6 +431,8 @@ static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 		ok = fmDrawTetEdges(b, c, draw);
 	if (ok && (flags & fm_drawInvertedTets) && draw->drawLines)
 		ok = fmDrawInverted(b, c, draw);
+	if (ok && (flags & fm_drawFibres) && draw->drawLines)
+		ok = fmDrawFibres(b, c, draw);
 	if ((flags & fm_drawPins) && draw->drawPoints)
 		fmDrawPins(b, c, draw);
 	if (ok && (flags & fm_drawTargets))

@@ -487,10 +487,7 @@ double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* 
 	case fm_orthotropicLinear:
 	case fm_orthotropicStvk:
 	case fm_fibreNeoHookean:
-	{
-		fmMat3 R = fmMaterial_Axes(material, NULL);
-		return fmAniso_Evaluate(material, &R, F, P, dPdF, false);
-	}
+		return fmAniso_EvaluateOwn(material, F, P, dPdF, false);
 	default:
 		FM_ASSERT(0 && "unknown material model (validate materials before use)");
 		if (P)
@@ -519,10 +516,7 @@ double fmMaterial_EvaluateProjected(const fmMaterial* material, const fmMat3* F,
 	case fm_orthotropicLinear:
 	case fm_orthotropicStvk:
 	case fm_fibreNeoHookean:
-	{
-		fmMat3 R = fmMaterial_Axes(material, NULL);
-		return fmAniso_Evaluate(material, &R, F, P, dPdF, true);
-	}
+		return fmAniso_EvaluateOwn(material, F, P, dPdF, true);
 	default:
 	{
 		double psi = fmMaterial_Evaluate(material, F, P, dPdF);

@@ -23,34 +23,50 @@
 #include <stdio.h>
 #include <string.h>
 
-// @p v made unit length, or @p fallback when it has no direction.
-static fmVec3 fmUnitOr(fmVec3 v, fmVec3 fallback)
+// @p v made unit length; false (v unchanged) when it has no direction.
+static bool fmUnit(double v[3])
 {
-	double n = sqrt(fmDot(v, v));
-	return n > 0.0 && isfinite(n) ? fmScale(1.0 / n, v) : fallback;
+	double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+	if (!(n > 0.0 && isfinite(n)))
+		return false;
+	for (int k = 0; k < 3; ++k)
+		v[k] /= n;
+	return true;
 }
 
 // @p v less its part along the unit vector @p a, made unit length; false when nothing is left.
-static bool fmOrthogonalUnit(fmVec3 v, fmVec3 a, fmVec3* out)
+static bool fmOrthogonalUnit(double v[3], const double a[3])
 {
-	fmVec3 w = fmMulAdd(v, -fmDot(v, a), a);
-	double n = sqrt(fmDot(w, w)), scale = sqrt(fmDot(v, v));
-	if (!(n > 1e-9 * scale))
-		return false;
-	*out = fmScale(1.0 / n, w);
-	return true;
+	double scale = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+	double along = v[0] * a[0] + v[1] * a[1] + v[2] * a[2];
+	for (int k = 0; k < 3; ++k)
+		v[k] -= along * a[k];
+	double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+	return n > 1e-9 * scale && fmUnit(v);
 }
 
 fmMat3 fmMaterial_Axes(const fmMaterial* material, const fmVec3* fibre)
 {
-	fmVec3 a = fmUnitOr(fibre != NULL ? *fibre : material->fibre, fmMakeVec3(1.0, 0.0, 0.0));
-	fmVec3 b;
-	if (!fmOrthogonalUnit(material->sheet, a, &b))
+	const fmVec3* f = fibre != NULL ? fibre : &material->fibre;
+	double a[3] = {f->x, f->y, f->z},
+	       b[3] = {material->sheet.x, material->sheet.y, material->sheet.z};
+	if (!fmUnit(a))
+		a[0] = 1.0, a[1] = a[2] = 0.0;
+	if (!fmOrthogonalUnit(b, a))
 	{
-		fmVec3 hint = fabs(a.y) > 0.9 ? fmMakeVec3(0.0, 0.0, 1.0) : fmMakeVec3(0.0, 1.0, 0.0);
-		fmOrthogonalUnit(hint, a, &b);
+		bool alongY = fabs(a[1]) > 0.9;
+		b[0] = 0.0, b[1] = alongY ? 0.0 : 1.0, b[2] = alongY ? 1.0 : 0.0;
+		fmOrthogonalUnit(b, a);
 	}
-	return fmMat3FromColumns(a, b, fmCross(a, b));
+	fmMat3 R;
+	for (int i = 0; i < 3; ++i)
+	{
+		int j = (i + 1) % 3, k = (i + 2) % 3;
+		R.m[3 * i] = a[i];
+		R.m[3 * i + 1] = b[i];
+		R.m[3 * i + 2] = a[j] * b[k] - a[k] * b[j];
+	}
+	return R;
 }
 
 // The compliance's normal block of @p o (the file's comment).
@@ -162,17 +178,28 @@ static fmMat3 fmSym(const fmMat3* a)
 	return s;
 }
 
-// R A R^T and R^T A R.
-static fmMat3 fmRotateOut(const fmMat3* R, const fmMat3* A)
+// op(A) op(B), op transposing where asked: one loop for every product here (the page's .wasm
+// keeps one copy of it rather than ten unrolled ones).
+static fmMat3 fmProduct(const fmMat3* A, bool transposeA, const fmMat3* B, bool transposeB)
 {
-	fmMat3 RA = fmMatMul(R, A);
-	return fmMatMulT(&RA, R);
+	fmMat3 C;
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+		{
+			double sum = 0.0;
+			for (int k = 0; k < 3; ++k)
+				sum += A->m[transposeA ? 3 * k + i : 3 * i + k] *
+				       B->m[transposeB ? 3 * j + k : 3 * k + j];
+			C.m[3 * i + j] = sum;
+		}
+	return C;
 }
 
-static fmMat3 fmRotateIn(const fmMat3* R, const fmMat3* A)
+// R A R^T (@p in false) or R^T A R (@p in true).
+static fmMat3 fmTurn(const fmMat3* R, const fmMat3* A, bool in)
 {
-	fmMat3 RtA = fmMatTMul(R, A);
-	return fmMatMul(&RtA, R);
+	fmMat3 RA = fmProduct(R, in, A, false);
+	return fmProduct(&RA, false, R, !in);
 }
 
 // The orthotropic models in the axes: psi, P' at F' (Fp), and the directional derivative
@@ -187,11 +214,11 @@ typedef struct fmOrthoPoint
 
 static double fmOrthoStress(fmOrthoPoint* q, fmMat3* Pp)
 {
-	fmMat3 e = q->green ? fmMatTMul(&q->Fp, &q->Fp) : fmSym(&q->Fp);
+	fmMat3 e = q->green ? fmProduct(&q->Fp, true, &q->Fp, false) : fmSym(&q->Fp);
 	for (int k = 0; k < 9; ++k)
 		e.m[k] = (q->green ? 0.5 : 1.0) * (e.m[k] - (k % 4 == 0 ? 1.0 : 0.0));
 	q->S = fmOrthotropicStress(q->n, q->o, &e);
-	*Pp = q->green ? fmMatMul(&q->Fp, &q->S) : q->S;
+	*Pp = q->green ? fmProduct(&q->Fp, false, &q->S, false) : q->S;
 	return 0.5 * fmDDot(&e, &q->S);
 }
 
@@ -202,10 +229,12 @@ static fmMat3 fmOrthoDirection(const fmOrthoPoint* q, const fmMat3* dFp)
 		fmMat3 de = fmSym(dFp);
 		return fmOrthotropicStress(q->n, q->o, &de);
 	}
-	fmMat3 FtdF = fmMatTMul(&q->Fp, dFp), de = fmSym(&FtdF);
-	fmMat3 dS = fmOrthotropicStress(q->n, q->o, &de), a = fmMatMul(dFp, &q->S);
-	fmMat3 b = fmMatMul(&q->Fp, &dS);
-	return fmMatMulAdd(&a, 1.0, &b);
+	fmMat3 FtdF = fmProduct(&q->Fp, true, dFp, false), de = fmSym(&FtdF);
+	fmMat3 dS = fmOrthotropicStress(q->n, q->o, &de), a = fmProduct(dFp, false, &q->S, false);
+	fmMat3 b = fmProduct(&q->Fp, false, &dS, false);
+	for (int k = 0; k < 9; ++k)
+		a.m[k] += b.m[k];
+	return a;
 }
 
 static double fmOrtho_Evaluate(const fmMaterial* m, const fmMat3* R, const fmMat3* F, fmMat3* P,
@@ -214,13 +243,13 @@ static double fmOrtho_Evaluate(const fmMaterial* m, const fmMat3* R, const fmMat
 	fmOrthoPoint q;
 	q.o = &m->orthotropy;
 	q.green = m->model == fm_orthotropicStvk;
-	q.Fp = fmRotateIn(R, F);
+	q.Fp = fmTurn(R, F, true);
 	if (!fmOrthotropy_NormalStiffness(q.o, q.n))
 		memset(q.n, 0, sizeof q.n); // (validated materials never get here)
 	fmMat3 Pp;
 	double psi = fmOrthoStress(&q, &Pp);
 	if (P)
-		*P = fmRotateOut(R, &Pp);
+		*P = fmTurn(R, &Pp, false);
 	for (int kl = 0; dPdF != NULL && kl < 9; ++kl)
 	{
 		// dF = e_k e_l^T in the world is R^T e_k e_l^T R in the axes: rows k and l of R.
@@ -229,7 +258,7 @@ static double fmOrtho_Evaluate(const fmMaterial* m, const fmMat3* R, const fmMat
 		for (int a = 0; a < 3; ++a)
 			for (int b = 0; b < 3; ++b)
 				dFp.m[3 * a + b] = R->m[3 * k + a] * R->m[3 * l + b];
-		fmMat3 dPp = fmOrthoDirection(&q, &dFp), dP = fmRotateOut(R, &dPp);
+		fmMat3 dPp = fmOrthoDirection(&q, &dFp), dP = fmTurn(R, &dPp, false);
 		for (int ij = 0; ij < 9; ++ij)
 			dPdF[9 * ij + kl] = dP.m[ij];
 	}
@@ -275,6 +304,13 @@ static double fmFibre_Evaluate(const fmMaterial* m, const fmMat3* R, const fmMat
 	if (dPdF != NULL && project)
 		fmProjectPSD9(dPdF);
 	return psi + 0.125 * k * stretch * stretch;
+}
+
+double fmAniso_EvaluateOwn(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
+                           bool project)
+{
+	fmMat3 R = fmMaterial_Axes(material, NULL);
+	return fmAniso_Evaluate(material, &R, F, P, dPdF, project);
 }
 
 double fmAniso_Evaluate(const fmMaterial* material, const fmMat3* R, const fmMat3* F, fmMat3* P,

@@ -29,6 +29,10 @@ fmMat3 fmMaterial_Axes(const fmMaterial* material, const fmVec3* fibre);
 double fmAniso_Evaluate(const fmMaterial* material, const fmMat3* R, const fmMat3* F, fmMat3* P,
                         double* dPdF, bool project);
 
+// fmAniso_Evaluate with the material's own axes (fmMaterial_Axes(material, NULL)).
+double fmAniso_EvaluateOwn(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF,
+                           bool project);
+
 // The orthotropic stiffness of @p o in the axes (Voigt order 11, 22, 33): the normal block
 // @p normal (3x3, row-major, the inverse of the compliance's) and the shear moduli are o->G.
 // False (normal untouched) when the constants are not a positive-definite material.

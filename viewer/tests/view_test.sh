@@ -65,6 +65,14 @@ awk 'BEGIN { split("materials integrators contact colliders loads render", t, " 
      /^scene / && $NF ~ /\.json$/ { r = ($2 in rank) ? rank[$2] : 0; if (r == 0 || r < last) bad = bad " " $NF; last = r }
      END { if (bad != "") { print "view_test: scenes without a topic or out of their group:" bad; exit 1 } }' \
   "$work/panel.report"
+# An anisotropic scene keeps its material under the sliders (scenes/grain.json, viewer/tests/
+# grain.txt): the Young's slider scales its constants, the model stays orthotropic-stvk, and the
+# Poisson slider is refused with the reason (and goes back).
+xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view "$scripts/../../scenes/grain.json" \
+  --size 320x240 --no-ui --script "$scripts/grain.txt" --frames 5 --report "$work/grain.report"
+grep -q "^material orthotropic-stvk youngs 1e+07 poisson " "$work/grain.report" &&
+  grep -q "^status the Poisson slider sets isotropic materials" "$work/grain.report" ||
+  { echo "view_test: the grain scene's sliders:"; cat "$work/grain.report"; exit 1; }
 # A scene's "camera" preset places the camera when it loads (scenes/cantilever.json: target
 # [1, -0.1, 0.1], distance 3, yaw 15, pitch 10).
 xvfb-run -a -s "-screen 0 1024x768x24" "$femto" view "$scripts/../../scenes/cantilever.json" \
