@@ -287,6 +287,50 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 	}
 }
 
+// Issue 34's laws against Neo-Hookean on the run's first mesh (the house by default): an
+// explicit tet-step and an implicit frame at rest (game tolerance), 1 worker, each with its
+// ratio to Neo-Hookean's.
+static void cliBenchLawRows(cliBenchRun* run)
+{
+	static const fmMaterialModel laws[4] = {fm_neoHookean, fm_orthotropicLinear,
+	                                        fm_orthotropicStvk, fm_fibreNeoHookean};
+	const cliBenchOptions* o = run->options;
+	const cliBenchMesh* mesh = &run->meshes->meshes[0];
+	printf("material laws on %s (%d tets), 1 worker, median of %d: the cost against "
+	       "Neo-Hookean's\n",
+	       mesh->label, mesh->tets, o->repeats);
+	printf("%-20s %12s %8s %11s %8s\n", "model", "ns/tet/step", "ratio", "ms/frame", "ratio");
+	double explicitNs[4] = {0}, implicitMs[4] = {0};
+	for (int k = 0; k < 4; ++k)
+	{
+		const char* name = fmMaterialModelName(laws[k]);
+		cliBenchWorld settings = {fm_explicit, laws[k], 1, FM_TOLERANCE_GAME, o->simd,
+		                          o->deterministic, o->solver, false, 0.0, false, 0};
+		cliBenchResult step = cliBenchResult_Make(mesh, "explicit", name, 1);
+		cliBenchResult frame = cliBenchResult_Make(mesh, "implicit game", name, 1);
+		step.scene = frame.scene = "laws";
+		bool ok = !o->explicitSteps || cliBenchExplicit(mesh, &settings, o->repeats,
+		                                                &step.nsPerTetStep);
+		settings.integrator = fm_implicit;
+		ok = ok && (!o->implicitFrames || cliBenchImplicit(mesh, &settings, o->repeats, &frame));
+		if (!ok)
+		{
+			printf("%-20s %12s\n", name, "failed");
+			run->code = cli_exitInput;
+			continue;
+		}
+		explicitNs[k] = step.nsPerTetStep;
+		implicitMs[k] = frame.msPerFrame;
+		printf("%-20s %12.1f %7.2fx %11.3f %7.2fx\n", name, explicitNs[k],
+		       explicitNs[0] > 0.0 ? explicitNs[k] / explicitNs[0] : 0.0, implicitMs[k],
+		       implicitMs[0] > 0.0 ? implicitMs[k] / implicitMs[0] : 0.0);
+		fflush(stdout);
+		if ((o->explicitSteps && !cliBenchReport_Add(&run->report, &step)) ||
+		    (o->implicitFrames && !cliBenchReport_Add(&run->report, &frame)))
+			run->code = cli_exitInput;
+	}
+}
+
 // Where the Bullet peer is, before anything is timed: "" when there is none (said why unless
 // --no-peers); false when --peers or --bullet asked for one that is not there.
 static bool cliBenchFindPeer(const cliBenchOptions* o, char* program, size_t size)
@@ -388,6 +432,8 @@ int cliBench(int argc, char** argv)
 			cliBenchExplicitRows(&run);
 		if (o.implicitFrames && meshes.count > 0)
 			cliBenchImplicitRows(&run);
+		if (meshes.count > 0)
+			cliBenchLawRows(&run);
 		if ((o.families & (1u << cli_benchContact)) != 0)
 			cliBenchContactRows(&o, &run.report, run.folder, &run.code);
 		if ((o.families & (1u << cli_benchMotion)) != 0)

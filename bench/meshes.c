@@ -152,8 +152,16 @@ void cliBenchMeshSet_Free(cliBenchMeshSet* set)
 
 fmMaterial cliBenchMesh_Material(const cliBenchMesh* mesh, fmMaterialModel model)
 {
-	return mesh->family == cli_benchHouse ? fmMakeMaterialLame(model, 20000.0, 5000.0)
-	                                      : fmMakeMaterial(model, 1e6, 0.3);
+	fmMaterial m = mesh->family == cli_benchHouse ? fmMakeMaterialLame(model, 20000.0, 5000.0)
+	                                              : fmMakeMaterial(model, 1e6, 0.3);
+	// The anisotropic laws (the bench's "laws" rows): the same Young's modulus across a grain
+	// three times stiffer along (1, 1, 0).
+	double E = m.mu * (3.0 * m.lambda + 2.0 * m.mu) / (m.lambda + m.mu);
+	if (model == fm_orthotropicLinear || model == fm_orthotropicStvk)
+		m = fmMakeOrthotropicMaterial(model, fmTransverselyIsotropic(3.0 * E, E, 0.3, 0.3, m.mu));
+	m.fibreStiffness = model == fm_fibreNeoHookean ? 2.0 * E : 0.0;
+	m.fibre = fmMakeVec3(1.0, 1.0, 0.0);
+	return m;
 }
 
 bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings, cliSimulation* sim)

@@ -317,6 +317,24 @@ bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* 
 	       cliGetVec3(j, transform, path, "translate", &out->translate, NULL);
 }
 
+// A material's "density" or "particle_mass" (one of them), which set the body's mass mode.
+static bool cliParseMass(const cliJson* j, const cliJsonNode* material, const char* path,
+                         cliBodySpec* spec)
+{
+	bool hasDensity = false, hasParticleMass = false;
+	if (!cliGetNumber(j, material, path, "density", cliPositive, &spec->def.density, &hasDensity) ||
+	    !cliGetNumber(j, material, path, "particle_mass", cliPositive, &spec->def.particleMass,
+	                  &hasParticleMass))
+		return false;
+	if (hasDensity && hasParticleMass)
+		return cliJsonFail(j, path, NULL, "give density or particle_mass, not both");
+	if (hasDensity)
+		spec->def.massMode = fm_massFromDensity;
+	if (hasParticleMass)
+		spec->def.massMode = fm_massPerParticle;
+	return true;
+}
+
 static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const char* parent,
                              cliBodySpec* spec)
 {
@@ -387,18 +405,7 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 		return cliJsonFail(j, path, NULL, "%s",
 		                   diag.message[0] ? diag.message : "invalid material");
 
-	bool hasDensity = false, hasParticleMass = false;
-	if (!cliGetNumber(j, material, path, "density", cliPositive, &spec->def.density, &hasDensity) ||
-	    !cliGetNumber(j, material, path, "particle_mass", cliPositive, &spec->def.particleMass,
-	                  &hasParticleMass))
-		return false;
-	if (hasDensity && hasParticleMass)
-		return cliJsonFail(j, path, NULL, "give density or particle_mass, not both");
-	if (hasDensity)
-		spec->def.massMode = fm_massFromDensity;
-	if (hasParticleMass)
-		spec->def.massMode = fm_massPerParticle;
-	return true;
+	return cliParseMass(j, material, path, spec);
 }
 
 // ---- regions --------------------------------------------------------------------------------
