@@ -292,8 +292,8 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 // ratio to Neo-Hookean's.
 static void cliBenchLawRows(cliBenchRun* run)
 {
-	static const fmMaterialModel laws[4] = {fm_neoHookean, fm_orthotropicLinear,
-	                                        fm_orthotropicStvk, fm_fibreNeoHookean};
+	static const fmMaterialModel laws[4] = {fm_neoHookean, fm_orthotropicLinear, fm_orthotropicStvk,
+	                                        fm_fibreNeoHookean};
 	const cliBenchOptions* o = run->options;
 	const cliBenchMesh* mesh = &run->meshes->meshes[0];
 	printf("material laws on %s (%d tets), 1 worker, median of %d: the cost against "
@@ -304,13 +304,14 @@ static void cliBenchLawRows(cliBenchRun* run)
 	for (int k = 0; k < 4; ++k)
 	{
 		const char* name = fmMaterialModelName(laws[k]);
-		cliBenchWorld settings = {fm_explicit, laws[k], 1, FM_TOLERANCE_GAME, o->simd,
-		                          o->deterministic, o->solver, false, 0.0, false, 0};
+		cliBenchWorld settings = {
+		    fm_explicit, laws[k], 1, FM_TOLERANCE_GAME, o->simd, o->deterministic, o->solver, false,
+		    0.0,         false,   0};
 		cliBenchResult step = cliBenchResult_Make(mesh, "explicit", name, 1);
 		cliBenchResult frame = cliBenchResult_Make(mesh, "implicit game", name, 1);
 		step.scene = frame.scene = "laws";
-		bool ok = !o->explicitSteps || cliBenchExplicit(mesh, &settings, o->repeats,
-		                                                &step.nsPerTetStep);
+		bool ok =
+		    !o->explicitSteps || cliBenchExplicit(mesh, &settings, o->repeats, &step.nsPerTetStep);
 		settings.integrator = fm_implicit;
 		ok = ok && (!o->implicitFrames || cliBenchImplicit(mesh, &settings, o->repeats, &frame));
 		if (!ok)

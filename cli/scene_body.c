@@ -48,8 +48,8 @@ static bool cliParseTransverse(const cliJson* j, const cliJsonNode* object, cons
 	    !cliRequireKeys(j, object, path, keys, "a transversely isotropic solid's five constants"))
 		return false;
 	for (int k = 0; k < 5; ++k)
-		if (!cliGetNumber(j, object, path, keys[k], k == 2 || k == 3 ? poisson : cliPositive,
-		                  &v[k], NULL))
+		if (!cliGetNumber(j, object, path, keys[k], k == 2 || k == 3 ? poisson : cliPositive, &v[k],
+		                  NULL))
 			return false;
 	*o = fmTransverselyIsotropic(v[0], v[1], v[2], v[3], v[4]);
 	return true;
@@ -137,8 +137,7 @@ static bool cliParseFibres(const cliJson* j, const cliJsonNode* body, const char
 	cliJoinKey(path, sizeof path, parent, "fibres");
 	bool hasAttributes = false, hasAround = false;
 	if (!cliCheckKeys(j, object, path, keys) ||
-	    !cliGetInt(j, object, path, "attributes", 0, 1000000, &fibres->attribute,
-	               &hasAttributes) ||
+	    !cliGetInt(j, object, path, "attributes", 0, 1000000, &fibres->attribute, &hasAttributes) ||
 	    !cliGetVec3(j, object, path, "around", &fibres->axis, &hasAround) ||
 	    !cliGetVec3(j, object, path, "through", &fibres->point, NULL))
 		return false;
@@ -339,8 +338,8 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
                              cliBodySpec* spec)
 {
 	static const char* const keys[] = {
-	    "model",      "youngs_modulus", "poisson_ratio",          "lambda",          "mu",
-	    "mooney_c01", "density",        "particle_mass",          "orthotropy",      "fibre",
+	    "model",      "youngs_modulus",  "poisson_ratio",          "lambda",     "mu",
+	    "mooney_c01", "density",         "particle_mass",          "orthotropy", "fibre",
 	    "sheet",      "fibre_stiffness", "transversely_isotropic", NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
@@ -417,9 +416,9 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
                                    const fmMaterial* base, fmMaterial* out)
 {
 	static const char* const keys[] = {
-	    "model",      "youngs_modulus", "poisson_ratio",   "lambda",
-	    "mu",         "mooney_c01",     "orthotropy",      "transversely_isotropic",
-	    "fibre",      "sheet",          "fibre_stiffness", NULL};
+	    "model", "youngs_modulus", "poisson_ratio",   "lambda",
+	    "mu",    "mooney_c01",     "orthotropy",      "transversely_isotropic",
+	    "fibre", "sheet",          "fibre_stiffness", NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
@@ -803,10 +802,10 @@ static bool cliParseRenderMesh(const cliJson* j, const cliJsonNode* body, const 
 bool cliParseBody(const cliJson* j, const cliJsonNode* body, int index, cliBodySpec* spec)
 {
 	static const char* const keys[] = {
-	    "mesh",        "box_min",          "box_max",          "transform", "material",
-	    "force_model", "damping",          "smoothing",        "rayleigh",  "spring_damping",
-	    "pin",         "initial_velocity", "self_collision",   "friction",  "sleep",
-	    "filter",      "render_mesh",      "fibres",           CLI_BODY_LOAD_KEYS, NULL};
+	    "mesh",        "box_min",          "box_max",        "transform",        "material",
+	    "force_model", "damping",          "smoothing",      "rayleigh",         "spring_damping",
+	    "pin",         "initial_velocity", "self_collision", "friction",         "sleep",
+	    "filter",      "render_mesh",      "fibres",         CLI_BODY_LOAD_KEYS, NULL};
 	static const char* const rayleighKeys[] = {"mass", "stiffness", NULL};
 	char path[64];
 	snprintf(path, sizeof path, "bodies[%d]", index);

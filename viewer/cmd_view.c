@@ -395,8 +395,8 @@ static bool fvWriteReport(const fvView* v, const char* path)
 	        "profile_frames %d\n",
 	        p->integrator == fm_implicit ? "implicit" : "explicit", p->substeps, p->dt,
 	        app->session.overBudgetFrames, app->panelRight, app->session.historyCount);
-	fprintf(out, "material %s youngs %.6g poisson %.6g\nstatus %s\n",
-	        fmMaterialModelName(p->model), p->youngs, p->poisson, app->session.status);
+	fprintf(out, "material %s youngs %.6g poisson %.6g\nstatus %s\n", fmMaterialModelName(p->model),
+	        p->youngs, p->poisson, app->session.status);
 	const fvCamera* c = &app->camera;
 	fprintf(out, "camera %.4g %.4g %.4g %.4g %.4g %.4g\n", c->target[0], c->target[1], c->target[2],
 	        c->distance, c->yaw, c->pitch);

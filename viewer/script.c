@@ -16,9 +16,9 @@
 const char* const fvScriptKeys[] = {"space", "p", "s", "n", "r", "i", "m", "f", NULL};
 static const char* const fvSliders[] = {"youngs", "poisson",  "mass", "damping",
                                         "dt",     "substeps", NULL};
-static const char* const fvToggles[] = {"surfaces", "stress",    "tets",   "inverted",
-                                        "pins",     "targets",   "floor",  "contacts",
-                                        "colliders", "fibres",   NULL};
+static const char* const fvToggles[] = {"surfaces",  "stress",  "tets",  "inverted",
+                                        "pins",      "targets", "floor", "contacts",
+                                        "colliders", "fibres",  NULL};
 
 // The words of one line (at most 16), split on blanks; the line is modified.
 static int fvSplit(char* line, char* words[16])

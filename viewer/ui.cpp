@@ -165,10 +165,10 @@ void showViews(fvUiModel& m)
 	{
 		const char* name;
 		unsigned flag;
-	} views[] = {{"surfaces", fm_drawSurfaces},  {"stress", fm_drawStress},
-	             {"tets", fm_drawTetEdges},      {"inverted", fm_drawInvertedTets},
-	             {"pins", fm_drawPins},          {"targets", fm_drawTargets},
-	             {"floor", fm_drawFloor},        {"contacts", fm_drawContacts},
+	} views[] = {{"surfaces", fm_drawSurfaces},   {"stress", fm_drawStress},
+	             {"tets", fm_drawTetEdges},       {"inverted", fm_drawInvertedTets},
+	             {"pins", fm_drawPins},           {"targets", fm_drawTargets},
+	             {"floor", fm_drawFloor},         {"contacts", fm_drawContacts},
 	             {"colliders", fm_drawColliders}, {"fibres", fm_drawFibres}};
 	for (size_t i = 0; i < sizeof views / sizeof views[0]; ++i)
 	{

@@ -200,8 +200,8 @@ static fmResult fwCreateBody(int b)
 	s_app.bodyCount = b + 1; // the mesh and fibres are freed with the scene from here on
 	char problem[256] = "";
 	if (r == fm_ok)
-		s_app.fibres[b] = cliBodyFibres(&s_app.scene.bodies[b], &s_app.meshes[b], problem,
-		                                sizeof problem);
+		s_app.fibres[b] =
+		    cliBodyFibres(&s_app.scene.bodies[b], &s_app.meshes[b], problem, sizeof problem);
 	if (problem[0] != 0)
 	{
 		r = fm_errParameter;

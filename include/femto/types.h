@@ -125,8 +125,8 @@ typedef struct fmMaterial
 	fmStretchEnergyFcn* stretchEnergy;     ///< for fm_stretchEnergy
 	fmInvariantEnergyFcn* invariantEnergy; ///< for fm_invariantEnergy
 	const void* userParams;                ///< passed to the user energy
-	fmOrthotropy orthotropy; ///< for fm_orthotropicLinear and fm_orthotropicStvk
-	double fibreStiffness;   ///< for fm_fibreNeoHookean: Pa, >= 0
+	fmOrthotropy orthotropy;               ///< for fm_orthotropicLinear and fm_orthotropicStvk
+	double fibreStiffness;                 ///< for fm_fibreNeoHookean: Pa, >= 0
 	/// material axis 1 of the anisotropic models in the body's rest frame (any length but 0;
 	/// all zero: x); a body's per-tet fibres (fmBodyDef.tetFibres) replace it
 	fmVec3 fibre;

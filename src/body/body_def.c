@@ -3,10 +3,10 @@
 #include "body/body_def.h"
 
 #include "core/core.h"
+#include "fem/tet_blocks.h"
 #include "material/material.h"
 #include "material/material_aniso.h"
 #include "solver/multigrid.h"
-#include "fem/tet_blocks.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -123,7 +123,8 @@ static inline double fmTetEvaluate(const fmElasticMesh* mesh, int t, const fmMat
 		fmMat3 R = fmMaterial_Axes(m, &mesh->fibres[t]);
 		return fmAniso_Evaluate(m, &R, F, P, dPdF, project);
 	}
-	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF) : fmMaterial_Evaluate(m, F, P, dPdF);
+	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF)
+	               : fmMaterial_Evaluate(m, F, P, dPdF);
 }
 
 // Deformation gradient of tet t at positions x: F = Ds Dm^-1.

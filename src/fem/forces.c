@@ -279,8 +279,7 @@ static double fmAddFemForces(const fmElasticMesh* mesh, const double* x, double*
 		for (int t = 0; t < mesh->tetCount; ++t)
 		{
 			fmMat3 F = fmTetDeformation(mesh, x, t), P;
-			energy +=
-			    mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
+			energy += mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
 			fmAddTetForces(mesh, t, &P, f);
 		}
 		return energy;
@@ -351,8 +350,7 @@ void fmTetForces(const fmElasticMesh* mesh, const double* x, int first, int end,
 		for (int t = first; t < end; ++t)
 		{
 			fmMat3 F = fmTetDeformation(mesh, x, t), P;
-			energies[t] =
-			    mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
+			energies[t] = mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, &P, NULL, false);
 			fmStoreTetForces(mesh, t, &P, forces);
 		}
 		return;

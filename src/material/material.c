@@ -43,8 +43,8 @@ fmMaterial fmMakeOrthotropicMaterial(fmMaterialModel model, fmOrthotropy constan
 	return m;
 }
 
-fmOrthotropy fmTransverselyIsotropic(double eAlong, double eAcross, double nuAlong,
-                                     double nuAcross, double gAlong)
+fmOrthotropy fmTransverselyIsotropic(double eAlong, double eAcross, double nuAlong, double nuAcross,
+                                     double gAlong)
 {
 	fmOrthotropy o = {{eAlong, eAcross, eAcross},
 	                  {nuAlong, nuAlong, nuAcross},
@@ -301,7 +301,8 @@ static double fmStvk_Evaluate(const fmMaterial* m, const fmMat3* F, fmMat3* P, d
 		*P = fmMatMul(F, &S);
 	if (dPdF)
 		fmStvkTangent(m, F, &S, dPdF);
-	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr + fmMaterial_AddStvkFloor(m, F, P, dPdF);
+	return m->mu * fmDDot(&G, &G) + 0.5 * m->lambda * tr * tr +
+	       fmMaterial_AddStvkFloor(m, F, P, dPdF);
 }
 
 // A lower bound on the smallest eigenvalue of the symmetric 3x3 @p S: Newton's method on its

@@ -67,12 +67,11 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 	fmStream_MoveDouble(s, save, &m->lambda);
 	fmStream_MoveDouble(s, save, &m->mu);
 	fmStream_MoveDouble(s, save, &m->c01);
-	double* anisotropy[] = {m->orthotropy.E,    m->orthotropy.E + 1,  m->orthotropy.E + 2,
-	                        m->orthotropy.nu,   m->orthotropy.nu + 1, m->orthotropy.nu + 2,
-	                        m->orthotropy.G,    m->orthotropy.G + 1,  m->orthotropy.G + 2,
-	                        &m->fibreStiffness, &m->fibre.x,          &m->fibre.y,
-	                        &m->fibre.z,        &m->sheet.x,          &m->sheet.y,
-	                        &m->sheet.z};
+	double* anisotropy[] = {
+	    m->orthotropy.E,      m->orthotropy.E + 1,  m->orthotropy.E + 2, m->orthotropy.nu,
+	    m->orthotropy.nu + 1, m->orthotropy.nu + 2, m->orthotropy.G,     m->orthotropy.G + 1,
+	    m->orthotropy.G + 2,  &m->fibreStiffness,   &m->fibre.x,         &m->fibre.y,
+	    &m->fibre.z,          &m->sheet.x,          &m->sheet.y,         &m->sheet.z};
 	for (size_t k = 0; k < sizeof anisotropy / sizeof anisotropy[0]; ++k)
 		fmStream_MoveDouble(s, save, anisotropy[k]);
 	// User energies: function and parameter pointers, valid within the process that saved them.
