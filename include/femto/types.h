@@ -114,6 +114,24 @@ typedef struct fmOrthotropy
 	double G[3];  ///< shear moduli G12, G13, G23 (Pa)
 } fmOrthotropy;
 
+/// Von Mises plasticity on top of a material's elastic law (docs/materials.md, "Plasticity"):
+/// multiplicative, F = Fe Fp, each tet's plastic part updated by a return map on the
+/// logarithmic strain of Fe after every step. All zero (the default): elastic.
+typedef struct fmPlasticity
+{
+	double yieldStress; ///< Pa, the uniaxial (von Mises) yield stress sigma_y; 0 = elastic
+	/// Pa, >= 0: linear isotropic hardening, the yield stress grows by this times the
+	/// equivalent plastic strain
+	double hardening;
+	/// 1/s, >= 0: 0 returns the stress to the yield surface at once (rate-independent); > 0
+	/// relaxes the overstress at this rate (viscoplastic creep: slow loads bend, quick ones
+	/// bounce)
+	double creepRate;
+	/// >= 0: the equivalent plastic strain a tet may gather before it hardens into an elastic
+	/// one (a cap on how far a body can be bent for good); 0 = no cap
+	double maxPlasticStrain;
+} fmPlasticity;
+
 /// A material. Make one with fmMakeMaterial(), fmMakeMaterialLame() or
 /// fmMakeOrthotropicMaterial(); the anisotropic models read their axes from fibre and sheet.
 typedef struct fmMaterial
@@ -133,6 +151,9 @@ typedef struct fmMaterial
 	/// material axis 2, made orthogonal to the fibre (all zero, or along the fibre: y, or z when
 	/// the fibre is along y); axis 3 is fibre x sheet
 	fmVec3 sheet;
+	/// von Mises plasticity (stvk, corotated, neohookean, mooney-rivlin, neohookean-isochoric;
+	/// the fem force model); all zero: elastic
+	fmPlasticity plasticity;
 } fmMaterial;
 
 /// A material from Young's modulus @p youngsModulus (Pa, > 0) and Poisson ratio
@@ -667,6 +688,11 @@ typedef struct fmBodyStats
 	/// elastic energy never exceeds its initial value plus this work (docs/robustness.md).
 	double work;
 	double initialEnergy; ///< J, kinetic plus elastic energy when the body was created
+	/// J, the plastic work since creation: the stress times the plastic flow, summed over the
+	/// tets (dissipated, and stored in hardening); work = kinetic + elastic + plasticWork + what
+	/// damping took, to the steps' order (the return map's own loss shrinks with the step)
+	double plasticWork;
+	double plasticStrain; ///< the largest equivalent plastic strain of any tet
 } fmBodyStats;
 
 /// One finding of fmWorld_AuditContact(): the first of its kind, in body slot order.

@@ -6,6 +6,7 @@
 #include "body/body_def.h"
 #include "body/grab.h"
 #include "body/loads.h"
+#include "body/plasticity.h"
 #include "body/targets.h"
 #include "contact/floor.h"
 #include "contact/penalty.h"
@@ -16,6 +17,7 @@
 #include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "fem/tet_blocks.h"
+#include "material/material_plastic.h"
 #include "mesh/mesh_internal.h"
 #include "mesh/reorder.h"
 #include "solver/solver_cache.h"
@@ -296,6 +298,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building springs");
 	if (r == fm_ok && b->mesh.forceModel == fm_fvm && fmBuildFvmNormals(&b->mesh) != 0)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
+	if (r == fm_ok && !fmPlasticity_Prepare(b))
+		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
 	if (r == fm_ok)
 		b->energyStale = true;
 	return r;
@@ -735,6 +739,11 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "anisotropic materials need the fem or fvm force model: this body's "
 		                   "springs carry one stiffness each");
+	if (b->mesh.forceModel != fm_fem && fmPlasticity_Flows(material))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "plasticity needs the fem force model (a tet's plastic part lives in "
+		                   "its rest data), not %s",
+		                   fmForceModelName(b->mesh.forceModel));
 	if (b->mesh.tetMaterial != NULL)
 	{
 		// Per-region materials give way to the one material for every tet; springs, whose
@@ -757,6 +766,8 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 	}
 	b->mesh.material = *material;
 	fmMaterial_SetScale(&b->mesh.material);
+	if (!fmPlasticity_Prepare(b)) // (no flow yet: nothing to undo but the material)
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
 	return fm_ok;
@@ -869,6 +880,8 @@ static fmBodyStats fmBodyGetStatsIn(fmBodyId bodyId)
 	s.invertedTets = fmBodyCountInverted(b);
 	s.work = b->ledger.work;
 	s.initialEnergy = b->ledger.initialEnergy;
+	s.plasticWork = b->plasticWork;
+	s.plasticStrain = fmPlasticity_LargestStrain(b);
 	return s;
 }
 

@@ -56,6 +56,7 @@ typedef struct fmBody
 	double stepStage[2];     // s, the last substep's two stages (explicit: forces, then
 	                         // integration; implicit: the solve, then velocities and floor)
 	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)
+	double plasticWork;      // J, the plastic work of the flow since creation (plasticity.h)
 
 	double damping;
 	double smoothing;

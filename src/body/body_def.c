@@ -6,6 +6,7 @@
 #include "fem/tet_blocks.h"
 #include "material/material.h"
 #include "material/material_aniso.h"
+#include "material/material_plastic.h"
 #include "solver/multigrid.h"
 
 #include <math.h>
@@ -149,13 +150,22 @@ static fmResult fmValidateRegions(const fmBodyDef* def, fmDiagnostic* diag)
 	return fm_ok;
 }
 
-// Anisotropic materials: a force model that reads the stress (springs on the tet edges carry one
-// stiffness each), and per-tet fibres finite and non-zero.
+// Anisotropic and plastic materials: a force model that reads the stress (springs on the tet
+// edges carry one stiffness each; plasticity: the fem model, whose rest data holds the plastic
+// part), and per-tet fibres finite and non-zero.
 static fmResult fmValidateAnisotropy(const fmBodyDef* def, fmDiagnostic* diag)
 {
 	bool anisotropic = fmMaterialModel_IsAnisotropic(def->material.model);
 	for (int k = 0; k < def->regionCount; ++k)
 		anisotropic = anisotropic || fmMaterialModel_IsAnisotropic(def->regionMaterials[k].model);
+	bool plastic = fmPlasticity_Flows(&def->material);
+	for (int k = 0; k < def->regionCount; ++k)
+		plastic = plastic || fmPlasticity_Flows(&def->regionMaterials[k]);
+	if (plastic && def->forceModel != fm_fem)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "plasticity needs the fem force model (a tet's plastic part lives in "
+		                   "its rest data), not %s",
+		                   fmForceModelName(def->forceModel));
 	if (anisotropic && def->forceModel == fm_massSpring)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "anisotropic materials need the fem or fvm force model: mass-spring's "
@@ -271,6 +281,8 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
 	if (def && def->tetFibres != NULL) // per-tet fibres
 		body += fmArrayBytes(m, sizeof(fmVec3));
+	if (def && def->material.plasticity.yieldStress > 0.0) // plastic strains, rest before flow
+		body += fmArrayBytes(m, sizeof(double)) + fmArrayBytes(m, sizeof(fmMat3));
 	if (def && def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS) // per-region materials
 		body += fmArrayBytes(m, sizeof(uint16_t)) +
 		        fmArrayBytes((uint64_t)def->regionCount + 1, sizeof(fmMaterial));

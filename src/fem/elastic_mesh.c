@@ -57,6 +57,8 @@ void fmElasticMesh_Free(fmElasticMesh* mesh)
 	FM_FREE_ARRAY(mesh->materials, fmMaterial, mesh->materialCount);
 	FM_FREE_ARRAY(mesh->tetMaterial, uint16_t, m);
 	FM_FREE_ARRAY(mesh->fibres, fmVec3, m);
+	FM_FREE_ARRAY(mesh->plasticStrain, double, m);
+	FM_FREE_ARRAY(mesh->restDmInv, fmMat3, m);
 }
 
 bool fmBodyState_Allocate(fmBodyState* state, int vertexCount)

@@ -64,6 +64,10 @@ typedef struct fmElasticMesh
 	// Per-tet fibres (fmBodyDef.tetFibres, the body's tet order), the first axis of an
 	// anisotropic tet's material; NULL: each material's own fibre.
 	fmVec3* fibres;
+	// Per-tet equivalent plastic strain (body/plasticity.h), NULL while no material flows; a
+	// flowing tet's plastic part is in its DmInv.
+	double* plasticStrain;
+	fmMat3* restDmInv; // with plasticStrain: DmInv before any flow (a restored elastic state's)
 	fmForceModel forceModel;
 
 	double totalMass; // kg

@@ -8,6 +8,7 @@
 #include "material/material_aniso.h"
 #include "material/material_invariant.h"
 #include "material/material_neohookean.h"
+#include "material/material_plastic.h"
 #include "material/material_stretch.h"
 #include "math/svd3.h"
 
@@ -113,6 +114,8 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 		    (int)m->model);
 	char why[400];
 	if (fmMaterialModel_IsAnisotropic(m->model) && !fmAniso_Validate(m, why, sizeof why))
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "%s", why);
+	if (!fmPlasticity_Validate(m, why, sizeof why))
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "%s", why);
 	return fmMaterialModel_IsOrthotropic(m->model) ? fm_ok : fmValidateLame(m, diag);
 }

@@ -171,6 +171,14 @@ void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* c, con
 	c->forcesMaterial = mesh->material;
 }
 
+void fmSolverCache_RestMoved(fmImplicitCache* c)
+{
+	c->forcesValid = false;
+	c->spare.valid = false;
+	c->hessianValid = false;
+	c->hessianBaseValid = false;
+}
+
 void fmSolverCache_SwapForces(fmImplicitCache* c)
 {
 	fmForcesMemo last = {c->forces, c->forcesX, c->forcesEnergy, c->forcesMaterial, c->forcesValid};

@@ -95,6 +95,9 @@ void fmSolverCache_NoteForces(const fmElasticMesh* mesh, fmImplicitCache* cache,
 // back without evaluating again).
 void fmSolverCache_SwapForces(fmImplicitCache* cache);
 
+// The body's rest data moved (plastic flow): its kept forces and Newton matrix are stale.
+void fmSolverCache_RestMoved(fmImplicitCache* cache);
+
 // Make cache->forces the elastic forces at @p x (computed unless they are already), on the
 // workers of @p tasks (NULL: serially) with temporaries from @p arena.
 void fmSolverCache_ForcesAtPositions(const fmElasticMesh* mesh, fmImplicitCache* cache,

@@ -26,6 +26,7 @@
 #include "world/snapshot_stream.h"
 
 #include "body/anchors.h"
+#include "body/plasticity.h"
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
@@ -74,6 +75,10 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 	    &m->fibre.z,          &m->sheet.x,          &m->sheet.y,         &m->sheet.z};
 	for (size_t k = 0; k < sizeof anisotropy / sizeof anisotropy[0]; ++k)
 		fmStream_MoveDouble(s, save, anisotropy[k]);
+	fmPlasticity* p = &m->plasticity;
+	double* plasticity[] = {&p->yieldStress, &p->hardening, &p->creepRate, &p->maxPlasticStrain};
+	for (size_t k = 0; k < 4; ++k)
+		fmStream_MoveDouble(s, save, plasticity[k]);
 	// User energies: function and parameter pointers, valid within the process that saved them.
 	fmStream_Move(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
 	fmStream_Move(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
@@ -172,10 +177,30 @@ static void fmMoveBodyState(fmStream* s, bool save, fmBody* b)
 	fmMoveLedger(s, save, &b->ledger);
 }
 
+// The plastic state (version 11): the plastic work, a byte saying whether the body has per-tet
+// plastic state, and then its rest data (each tet's Dm^-1 Fp^-1) and plastic strains. Restoring
+// "none" into a body that has flowed since gives it back its rest data from before any flow.
+static bool fmMovePlastic(fmStream* s, bool save, fmBody* b)
+{
+	fmStream_MoveDouble(s, save, &b->plasticWork);
+	uint8_t plastic = b->mesh.plasticStrain != NULL ? 1u : 0u;
+	fmStream_Move(s, save, &plastic, 1);
+	size_t m = (size_t)b->mesh.tetCount;
+	if (!save && plastic == 0u)
+		fmPlasticity_Unflowed(b);
+	if (plastic == 0u)
+		return true;
+	if (!save && !fmPlasticity_Allocate(b))
+		return false;
+	fmStream_Move(s, save, b->mesh.DmInv, sizeof(fmMat3) * m);
+	fmStream_Move(s, save, b->mesh.plasticStrain, sizeof(double) * m);
+	return true;
+}
+
 static bool fmMoveBody(fmStream* s, bool save, fmBody* b)
 {
 	fmMoveBodyState(s, save, b);
-	return fmMoveSolverMatrix(s, save, b);
+	return fmMovePlastic(s, save, b) && fmMoveSolverMatrix(s, save, b);
 }
 
 // The material saved in body @p b's record at @p offset is one fmMaterial_Validate accepts (a
@@ -198,7 +223,17 @@ static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size
 		return SIZE_MAX;
 	fmStream count = {NULL, NULL, 0, 0, false};
 	fmMoveBodyState(&count, true, b);
-	fmStream s = {NULL, buffer, size, offset + count.used, false};
+	fmStream s = {NULL, buffer, size, offset + count.used + sizeof(double), false};
+	uint8_t plastic = 0;
+	fmStream_Get(&s, &plastic, 1);
+	if (plastic > 1u)
+		return SIZE_MAX;
+	if (plastic == 1u)
+	{
+		s.used += (sizeof(fmMat3) + sizeof(double)) * (size_t)b->mesh.tetCount;
+		if (!fmPlasticity_Allocate(b)) // its memory taken before anything is restored
+			return SIZE_MAX;
+	}
 	uint8_t present = 0;
 	fmStream_Get(&s, &present, 1);
 	s.used += 1; // the first guess's recheck countdown

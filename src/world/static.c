@@ -4,6 +4,7 @@
 // in fractions that are halved until each one converges from the last equilibrium.
 #include "body/anchors.h"
 #include "body/loads.h"
+#include "body/plasticity.h"
 #include "body/targets.h"
 #include "core/core.h"
 #include "core/det_math.h"
@@ -294,13 +295,46 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	return fmStaticReport(r, done, tolerance, iterations, diag);
 }
 
+// A plastic body's equilibrium: solved, its tets flowed where the equilibrium's strains put
+// them (rate-independent), solved again, until no tet flows by more than
+// FM_PLASTIC_STATIC_FLOW of its yield strain (the flow and the balance agree: the fixed point of
+// the return map and the solve), at most FM_PLASTIC_STATIC_ROUNDS rounds.
+#define FM_PLASTIC_STATIC_FLOW 1e-4
+#define FM_PLASTIC_STATIC_ROUNDS 400
+
+static fmResult fmBodySolvePlastic(fmBodyId bodyId, double tolerance, int maxIterations,
+                                   double* residual, fmDiagnostic* diag)
+{
+	fmResult result = fmBodySolveStaticIn(bodyId, tolerance, maxIterations, residual, diag);
+	fmBody* b = fmGetBody(bodyId);
+	if (b == NULL || b->mesh.plasticStrain == NULL)
+		return result;
+	double flow = INFINITY;
+	int round = 0;
+	for (; result == fm_ok && round < FM_PLASTIC_STATIC_ROUNDS; ++round)
+	{
+		flow = fmPlasticity_Flow(b, 0.0);
+		if (flow <= FM_PLASTIC_STATIC_FLOW)
+			break;
+		result = fmBodySolveStaticIn(bodyId, tolerance, maxIterations, residual, diag);
+	}
+	if (result == fm_ok && flow > FM_PLASTIC_STATIC_FLOW)
+		return fmDiagError(diag, fm_errNotConverged, "", 0, 0,
+		                   "static solve of a plastic body: after %d rounds of flow and balance "
+		                   "the tets still flow by %.3g of their yield strain a round (the "
+		                   "state is kept). Take the load in smaller increments (solve at a "
+		                   "part of it first) or give the material some hardening",
+		                   round, flow);
+	return result;
+}
+
 fmResult fmBody_SolveStatic(fmBodyId bodyId, double tolerance, int maxIterations, double* residual,
                             fmDiagnostic* diag)
 {
 	// In femto's floating-point environment (fp_env.h), as every call that computes.
 	fmWorld* world = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(world != NULL && world->def.crossPlatformDeterminism);
-	fmResult result = fmBodySolveStaticIn(bodyId, tolerance, maxIterations, residual, diag);
+	fmResult result = fmBodySolvePlastic(bodyId, tolerance, maxIterations, residual, diag);
 	fmBody* b = fmGetBody(bodyId);
 	if (b != NULL)
 		b->previousValid = false; // moved to its equilibrium: nothing to interpolate from

@@ -6,6 +6,7 @@
 #include "body/anchors.h"
 #include "body/grab.h"
 #include "body/loads.h"
+#include "body/plasticity.h"
 #include "contact/barrier_contact.h"
 #include "contact/contact.h"
 #include "contact/contact_collider.h"
@@ -535,6 +536,10 @@ static fmResult fmSubstep(fmWorld* w, fmStepContext* ctx, double h)
 		if (r != fm_ok)
 			return r;
 	}
+	// Stage d: plastic flow, each plastic body's tets in order (body/plasticity.h).
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]) && w->bodies[i].mesh.plasticStrain != NULL)
+			fmPlasticity_Flow(&w->bodies[i], h);
 	w->stats.steps += 1;
 	ctx->elapsed += h;
 	if (w->def.substepCallback != NULL)

@@ -1,0 +1,26 @@
+// Plasticity's law (docs/materials.md, "Plasticity"): von Mises flow with linear isotropic
+// hardening and optional creep on the logarithmic strain of a tet's elastic part, and the
+// checks of its parameters. The bodies' per-tet state and its update: body/plasticity.h.
+#pragma once
+
+#include <femto/types.h>
+
+#include <stddef.h>
+
+// Whether material @p m flows (a yield stress > 0).
+static inline bool fmPlasticity_Flows(const fmMaterial* m)
+{
+	return m->plasticity.yieldStress > 0.0;
+}
+
+// Check a material's plasticity: false with the reason in @p why.
+bool fmPlasticity_Validate(const fmMaterial* m, char* why, size_t size);
+
+// The return map of one tet of material @p m: the trial elastic part @p Fe, the step @p h (s;
+// 0 or infinite: rate-independent whatever the creep rate), the tet's equivalent plastic strain
+// @p alpha (updated). The returned elastic part into @p out, the same volume; false (nothing
+// written) when it does not flow: inside the yield surface, at its cap, or det Fe <= 0.
+// @p stress (may be NULL) gets the returned state's von Mises stress (Pa, Kirchhoff): times
+// the flow, the plastic work a unit of rest volume took (backward Euler).
+bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double h, double* alpha,
+                         fmMat3* out, double* stress);
