@@ -198,6 +198,40 @@ fmVec3* cliBodyFibres(const cliBodySpec* spec, const fmTetMesh* mesh, char* prob
 	return fibres;
 }
 
+// "plasticity": {"yield_stress": Pa or "yield_strain": (times Young's modulus), "hardening": Pa,
+// "creep_rate": 1/s, "max_plastic_strain"} (fmPlasticity; docs/materials.md, "Plasticity").
+static bool cliParsePlasticity(const cliJson* j, const cliJsonNode* object, const char* parent,
+                               fmMaterial* m)
+{
+	static const char* const keys[] = {"yield_stress", "yield_strain", "hardening", "creep_rate",
+	                                   "max_plastic_strain", NULL};
+	const cliJsonNode* plastic = NULL;
+	if (!cliGetObject(j, object, parent, "plasticity", &plastic))
+		return false;
+	if (plastic == NULL)
+		return true;
+	char path[300];
+	cliJoinKey(path, sizeof path, parent, "plasticity");
+	fmPlasticity* p = &m->plasticity;
+	bool hasStress = false, hasStrain = false;
+	double strain = 0.0;
+	if (!cliCheckKeys(j, plastic, path, keys) ||
+	    !cliGetNumber(j, plastic, path, "yield_stress", cliPositive, &p->yieldStress, &hasStress) ||
+	    !cliGetNumber(j, plastic, path, "yield_strain", cliPositive, &strain, &hasStrain) ||
+	    !cliGetNumber(j, plastic, path, "hardening", cliNonNegative, &p->hardening, NULL) ||
+	    !cliGetNumber(j, plastic, path, "creep_rate", cliNonNegative, &p->creepRate, NULL) ||
+	    !cliGetNumber(j, plastic, path, "max_plastic_strain", cliNonNegative,
+	                  &p->maxPlasticStrain, NULL))
+		return false;
+	if (hasStress == hasStrain)
+		return cliJsonFail(j, path, NULL,
+		                   "give yield_stress (Pa) or yield_strain (times Young's modulus), one "
+		                   "of them");
+	if (hasStrain) // E = mu (3 lambda + 2 mu) / (lambda + mu)
+		p->yieldStress = strain * m->mu * (3.0 * m->lambda + 2.0 * m->mu) / (m->lambda + m->mu);
+	return true;
+}
+
 // ---- mesh, placement, material --------------------------------------------------------------
 
 // "box:nx,ny,nz" -> cell counts. On failure @p problem says what was wrong.
@@ -340,7 +374,7 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 	static const char* const keys[] = {
 	    "model",      "youngs_modulus",  "poisson_ratio",          "lambda",     "mu",
 	    "mooney_c01", "density",         "particle_mass",          "orthotropy", "fibre",
-	    "sheet",      "fibre_stiffness", "transversely_isotropic", NULL};
+	    "sheet",      "fibre_stiffness", "transversely_isotropic", "plasticity", NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
 	const cliJsonNode* material = NULL;
@@ -396,7 +430,8 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 	if (hasC01 && model != fm_mooneyRivlin)
 		return cliJsonFail(j, path, NULL,
 		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
-	if (!cliParseAnisotropy(j, material, path, engineering || lame, &spec->def.material))
+	if (!cliParseAnisotropy(j, material, path, engineering || lame, &spec->def.material) ||
+	    !cliParsePlasticity(j, material, path, &spec->def.material))
 		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
@@ -418,7 +453,7 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 	static const char* const keys[] = {
 	    "model", "youngs_modulus", "poisson_ratio",   "lambda",
 	    "mu",    "mooney_c01",     "orthotropy",      "transversely_isotropic",
-	    "fibre", "sheet",          "fibre_stiffness", NULL};
+	    "fibre", "sheet",          "fibre_stiffness", "plasticity", NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
@@ -452,7 +487,8 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 		                   "youngs_modulus and poisson_ratio (or lambda and mu) go together");
 	*out = hasE ? fmMakeMaterial(model, youngs, poisson) : fmMakeMaterialLame(model, lambda, mu);
 	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01) ||
-	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, out))
+	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, out) ||
+	    !cliParsePlasticity(j, object, path, out))
 		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);

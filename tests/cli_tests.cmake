@@ -425,12 +425,19 @@ femto_cli_test(scene_colliders_over_budget
 set(FEMTO_BENCH_NUMBER "[0-9]+\\.[0-9]+")
 set(FEMTO_BENCH_EXPLICIT_ROW ",${FEMTO_BENCH_NUMBER},,,,${FEMTO_BENCH_NUMBER},,,,,steps,,,,,,,,\n")
 set(FEMTO_BENCH_IMPLICIT_ROW ",,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,rest,,,,,,,,\n")
+# Issue 34's material laws against Neo-Hookean, an explicit and an implicit row each.
+set(FEMTO_BENCH_LAW_EXPLICIT ",1,${FEMTO_BENCH_NUMBER},,,,,,,,,laws,,,,,,,,\n")
+set(FEMTO_BENCH_LAW_IMPLICIT ",1,,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,laws,,,,,,,,\n")
+set(FEMTO_BENCH_LAW_ROWS "")
+foreach(law neohookean orthotropic-linear orthotropic-stvk fibre-neohookean)
+  string(APPEND FEMTO_BENCH_LAW_ROWS "house2,1389,explicit,${law}${FEMTO_BENCH_LAW_EXPLICIT}house2,1389,implicit game,${law}${FEMTO_BENCH_LAW_IMPLICIT}")
+endforeach()
 femto_cli_test(bench_csv_rows
   ARGS "bench|--meshes|house|--repeats|1|--workers|2|--no-peers|--no-plot|--csv|${FEMTO_CLI_WORK}/bench_house.csv"
   CODE 0 REJECT "failed"
   NO_FILES "${FEMTO_CLI_WORK}/bench_house.png"
   CHECK_FILE "${FEMTO_CLI_WORK}/bench_house.csv"
-  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy,load_ms,create_ms,first_step_ms\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}$")
+  CHECK_FILE_REGEX "^mesh,tets,integrator,model,workers,ns_per_tet_step,ms_per_frame,newton_per_frame,cg_per_frame,bound_ns_per_tet_step,contacts,contact_share,broad_phase_share,narrow_phase_share,scene,p95_ms,worst_ms,newton_worst,cg_worst,accuracy,load_ms,create_ms,first_step_ms\nhouse2,1389,explicit,stvk,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,stvk,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,1${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,explicit,neohookean,2${FEMTO_BENCH_EXPLICIT_ROW}house2,1389,implicit game,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,neohookean,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,neohookean,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit game,corotated,2${FEMTO_BENCH_IMPLICIT_ROW}house2,1389,implicit 1e-6,corotated,1${FEMTO_BENCH_IMPLICIT_ROW}${FEMTO_BENCH_LAW_ROWS}$")
 # --simd and --deterministic reach every row; a bad level is a usage error.
 femto_cli_test(bench_simd_off ARGS "bench|--quick|--meshes|house|--explicit|--repeats|1|--workers|1|--no-plot|--simd|off|--deterministic"
   CODE 0 REGEX "house2 +1389 stvk +1 +[0-9.]+" REJECT "failed")

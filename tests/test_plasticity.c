@@ -50,7 +50,7 @@ TEST(return_map_is_the_von_mises_law)
 		fmMat3 D = {{exp(e + v), 0, 0, 0, exp(-e / 2 + v), 0, 0, 0, exp(-e / 2 + v)}};
 		fmMat3 T = fmMatMul(&R1, &D), F = fmMatMul(&T, &R2), out;
 		double q = vonMises(&m, &F), yield = 2e3 + 1e5 * alpha0, stress = 0.0;
-		bool flowed = fmPlasticity_Return(&m, &F, 0.0, &alpha, &out, &stress);
+		bool flowed = fmPlasticity_Return(&m, &F, 1.0, &alpha, &out, &stress);
 		CHECK(flowed == (q > yield));
 		if (!flowed)
 		{
@@ -74,15 +74,17 @@ TEST(return_map_is_the_von_mises_law)
 	// Creep: a step of h at rate c takes c h / (1 + c h) of the flow; the cap stops it.
 	fmMat3 F = turnedStretches(1.01, 1.0 / sqrt(1.01), 1.0 / sqrt(1.01)), out;
 	double full = 0.0, creep = 0.0, capped = 0.0;
-	fmPlasticity_Return(&m, &F, 0.0, &full, &out, NULL);
+	fmPlasticity_Return(&m, &F, 1.0, &full, &out, NULL);
 	m.plasticity.creepRate = 10.0;
-	fmPlasticity_Return(&m, &F, 0.01, &creep, &out, NULL);
+	CHECK_NEAR(fmPlasticity_Share(&m, 0.01), 0.1 / 1.1, 1e-15);
+	CHECK(fmPlasticity_Share(&m, 0.0) == 1.0 && fmPlasticity_Share(&m, INFINITY) == 1.0);
+	fmPlasticity_Return(&m, &F, fmPlasticity_Share(&m, 0.01), &creep, &out, NULL);
 	CHECK_NEAR(creep, full * 0.1 / 1.1, 1e-14);
 	m.plasticity.creepRate = 0.0;
 	m.plasticity.maxPlasticStrain = 0.5 * full;
-	fmPlasticity_Return(&m, &F, 0.0, &capped, &out, NULL);
+	fmPlasticity_Return(&m, &F, 1.0, &capped, &out, NULL);
 	CHECK_NEAR(capped, 0.5 * full, 1e-15);
-	CHECK(!fmPlasticity_Return(&m, &F, 0.0, &capped, &out, NULL)); // at its cap: elastic
+	CHECK(!fmPlasticity_Return(&m, &F, 1.0, &capped, &out, NULL)); // at its cap: elastic
 	// Validation names the parameter.
 	fmDiagnostic diag;
 	m.plasticity.hardening = -1.0;

@@ -71,7 +71,8 @@ double fmPlasticity_Flow(fmBody* b, double h)
 			continue;
 		fmMat3 F = fmTetDeformation(m, b->state.x, t), Fe;
 		double alpha = m->plasticStrain[t], stress = 0.0;
-		if (!fmPlasticity_Return(material, &F, h, &alpha, &Fe, &stress))
+		if (!fmPlasticity_Return(material, &F, fmPlasticity_Share(material, h), &alpha, &Fe,
+		                         &stress))
 			continue;
 		// Dm^-1 Fp^-1 with the new Fp: Dm^-1 F^-1 Fe, so that Ds Dm^-1 is Fe.
 		fmMat3 Finv, K;

@@ -82,7 +82,13 @@ static fmMat3 fmReturned(const fmMat3* U, const fmMat3* V, double mean, const do
 // own stress (Hencky's 3 mu + H as the slope: each one gains two or more digits).
 #define FM_PLASTIC_RETURN_ITERATIONS 6
 
-bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double h, double* alpha,
+double fmPlasticity_Share(const fmMaterial* m, double seconds)
+{
+	double c = m->plasticity.creepRate;
+	return c > 0.0 && seconds > 0.0 && isfinite(seconds) ? c * seconds / (1.0 + c * seconds) : 1.0;
+}
+
+bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, double* alpha,
                          fmMat3* out, double* stress)
 {
 	const fmPlasticity* p = &m->plasticity;
@@ -124,10 +130,8 @@ bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double h, double
 			break;
 		flow += miss / slope;
 	}
-	// Creep takes c h / (1 + c h) of it (Perzyna's overstress, implicit in h); the cap stops it.
-	double take = 1.0;
-	if (p->creepRate > 0.0 && h > 0.0 && isfinite(h))
-		take = p->creepRate * h / (1.0 + p->creepRate * h);
+	// Creep takes its share of it; the cap stops it.
+	double take = share;
 	if (p->maxPlasticStrain > 0.0 && take * flow > p->maxPlasticStrain - *alpha)
 		take = (p->maxPlasticStrain - *alpha) / flow;
 	if (take < 1.0)

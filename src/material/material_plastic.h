@@ -16,11 +16,16 @@ static inline bool fmPlasticity_Flows(const fmMaterial* m)
 // Check a material's plasticity: false with the reason in @p why.
 bool fmPlasticity_Validate(const fmMaterial* m, char* why, size_t size);
 
-// The return map of one tet of material @p m: the trial elastic part @p Fe, the step @p h (s;
-// 0 or infinite: rate-independent whatever the creep rate), the tet's equivalent plastic strain
-// @p alpha (updated). The returned elastic part into @p out, the same volume; false (nothing
+// The share of the rate-independent flow material @p m takes over a step of @p seconds: 1
+// without creep or for 0 or infinite seconds (statics), else Perzyna's c t / (1 + c t) (the
+// overstress relaxing at the creep rate c, implicit in t).
+double fmPlasticity_Share(const fmMaterial* m, double seconds);
+
+// The return map of one tet of material @p m: the trial elastic part @p Fe, the share of the
+// rate-independent flow to take @p share (fmPlasticity_Share), the tet's equivalent plastic
+// strain @p alpha (updated). The returned elastic part into @p out, the same volume; false (nothing
 // written) when it does not flow: inside the yield surface, at its cap, or det Fe <= 0.
 // @p stress (may be NULL) gets the returned state's von Mises stress (Pa, Kirchhoff): times
 // the flow, the plastic work a unit of rest volume took (backward Euler).
-bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double h, double* alpha,
+bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, double* alpha,
                          fmMat3* out, double* stress);

@@ -23,10 +23,10 @@
 // fmCollider_SetMeshVertices are (version 10: those it has now and a target the next frame moves
 // it to, fmGetMeshMotion).
 #include "world/snapshot.h"
+#include "world/snapshot_body.h"
 #include "world/snapshot_stream.h"
 
 #include "body/anchors.h"
-#include "body/plasticity.h"
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
@@ -50,212 +50,6 @@
 #define FM_SNAPSHOT_LENGTH_AT (4 * sizeof(uint32_t))
 #define FM_SNAPSHOT_SUM_AT (6 * sizeof(uint32_t))
 
-static void fmMoveLedger(fmStream* s, bool save, fmEnergyLedger* l)
-{
-	fmStream_MoveBool(s, save, &l->started);
-	double* fields[] = {&l->initialEnergy, &l->work,         &l->workIn,
-	                    &l->floor,         &l->gravityStart, &l->frameGravityWork,
-	                    &l->measureStep,   &l->plainGood,    &l->framePlain};
-	for (size_t k = 0; k < sizeof fields / sizeof fields[0]; ++k)
-		fmStream_MoveDouble(s, save, fields[k]);
-}
-
-static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
-{
-	int32_t model = (int32_t)m->model;
-	fmStream_Move(s, save, &model, sizeof model);
-	m->model = (fmMaterialModel)model;
-	fmStream_MoveDouble(s, save, &m->lambda);
-	fmStream_MoveDouble(s, save, &m->mu);
-	fmStream_MoveDouble(s, save, &m->c01);
-	double* anisotropy[] = {
-	    m->orthotropy.E,      m->orthotropy.E + 1,  m->orthotropy.E + 2, m->orthotropy.nu,
-	    m->orthotropy.nu + 1, m->orthotropy.nu + 2, m->orthotropy.G,     m->orthotropy.G + 1,
-	    m->orthotropy.G + 2,  &m->fibreStiffness,   &m->fibre.x,         &m->fibre.y,
-	    &m->fibre.z,          &m->sheet.x,          &m->sheet.y,         &m->sheet.z};
-	for (size_t k = 0; k < sizeof anisotropy / sizeof anisotropy[0]; ++k)
-		fmStream_MoveDouble(s, save, anisotropy[k]);
-	fmPlasticity* p = &m->plasticity;
-	double* plasticity[] = {&p->yieldStress, &p->hardening, &p->creepRate, &p->maxPlasticStrain};
-	for (size_t k = 0; k < 4; ++k)
-		fmStream_MoveDouble(s, save, plasticity[k]);
-	// User energies: function and parameter pointers, valid within the process that saved them.
-	fmStream_Move(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
-	fmStream_Move(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
-	fmStream_Move(s, save, &m->userParams, sizeof m->userParams);
-}
-
-// The implicit solver's state carried from step to step: a flags byte (bit 0: a kept matrix
-// follows, bit 1: the last step started from x + h v, the guess the next one tries first, bit 2:
-// the kept matrix's base without its contact terms follows it), the steps before the other guess
-// is tried again (a byte), then the kept matrix's terms and values, then the base's values. A cache
-// that does not exist (no implicit step yet) is saved as none of these; restoring "no matrix" into
-// a body that has one marks it stale, which is what the saved body would have done.
-static bool fmMoveSolverMatrix(fmStream* s, bool save, fmBody* b)
-{
-	fmImplicitCache* c = b->solverCache;
-	bool base = c != NULL && c->hessianValid && c->hessianBaseValid;
-	uint8_t flags = (uint8_t)((c != NULL && c->hessianValid ? 1u : 0u) |
-	                          (c != NULL && c->coasted ? 2u : 0u) | (base ? 4u : 0u));
-	uint8_t recheck = (uint8_t)(c != NULL ? c->guessRecheck : 0);
-	fmStream_Move(s, save, &flags, 1);
-	fmStream_Move(s, save, &recheck, 1);
-	bool warm = (flags & 2u) || recheck > 0;
-	if (!save && warm && (c = fmSolverCache_Get(&b->solverCache, &b->mesh)) == NULL)
-		return false;
-	if (!save && c != NULL)
-	{
-		c->coasted = (flags & 2u) != 0;
-		c->guessRecheck = recheck;
-	}
-	if (!save && c != NULL)
-		c->hessianBaseValid = false;
-	if (!(flags & 1u))
-	{
-		if (!save && c != NULL)
-			c->hessianValid = false;
-		return true;
-	}
-	if (!save && (c = fmSolverCache_Get(&b->solverCache, &b->mesh)) == NULL)
-		return false;
-	int64_t blocks = c->pattern.blocks;
-	fmStream_Move(s, save, &blocks, sizeof blocks);
-	if (blocks != c->pattern.blocks)
-		return false;
-	c->hessianValid = true;
-	fmStream_MoveDouble(s, save, &c->hessianInertia);
-	fmStream_MoveDouble(s, save, &c->hessianMassDamping);
-	fmStream_MoveBool(s, save, &c->hessianDamping);
-	fmStream_MoveBool(s, save, &c->hessianExact);
-	fmStream_Move(s, save, c->hessian, sizeof(double) * 9 * (size_t)blocks);
-	if (!save)
-		c->hessianVersion += 1; // the multigrid's levels are set up again from it
-	if (!(flags & 4u))
-		return true;
-	if (!save && fmSolverCache_Base(c) == NULL)
-		return false;
-	fmStream_Move(s, save, c->hessianBase, sizeof(double) * 9 * (size_t)blocks);
-	c->hessianBaseValid = true;
-	return true;
-}
-
-// A body's identity in the snapshot: slot, generation and sizes.
-typedef struct fmBodyKey
-{
-	int32_t slot;
-	uint32_t generation;
-	int32_t vertexCount;
-	int32_t tetCount;
-	int32_t edgeCount;
-	int32_t forceModel;
-} fmBodyKey;
-
-static fmBodyKey fmKeyOf(const fmBody* b, int slot)
-{
-	fmBodyKey key = {slot,
-	                 b->generation,
-	                 b->mesh.vertexCount,
-	                 b->mesh.tetCount,
-	                 b->mesh.edgeCount,
-	                 (int32_t)b->mesh.forceModel};
-	return key;
-}
-
-static void fmMoveBodyState(fmStream* s, bool save, fmBody* b)
-{
-	size_t n3 = 3 * (size_t)b->mesh.vertexCount, n = (size_t)b->mesh.vertexCount;
-	fmStream_Move(s, save, b->state.x, sizeof(double) * n3);
-	fmStream_Move(s, save, b->state.v, sizeof(double) * n3);
-	fmStream_Move(s, save, b->xGood, sizeof(double) * n3);
-	fmStream_Move(s, save, b->vGood, sizeof(double) * n3);
-	fmStream_Move(s, save, b->state.pinned, n);
-	fmStream_Move(s, save, b->mesh.springK, sizeof(double) * (size_t)b->mesh.edgeCount);
-	fmMoveMaterial(s, save, &b->mesh.material);
-	fmStream_MoveDouble(s, save, &b->energyGood);
-	fmStream_MoveBool(s, save, &b->energyStale);
-	fmStream_MoveDouble(s, save, &b->explicitLimit);
-	fmMoveLedger(s, save, &b->ledger);
-}
-
-// The plastic state (version 11): the plastic work, a byte saying whether the body has per-tet
-// plastic state, and then its rest data (each tet's Dm^-1 Fp^-1) and plastic strains. Restoring
-// "none" into a body that has flowed since gives it back its rest data from before any flow.
-static bool fmMovePlastic(fmStream* s, bool save, fmBody* b)
-{
-	fmStream_MoveDouble(s, save, &b->plasticWork);
-	uint8_t plastic = b->mesh.plasticStrain != NULL ? 1u : 0u;
-	fmStream_Move(s, save, &plastic, 1);
-	size_t m = (size_t)b->mesh.tetCount;
-	if (!save && plastic == 0u)
-		fmPlasticity_Unflowed(b);
-	if (plastic == 0u)
-		return true;
-	if (!save && !fmPlasticity_Allocate(b))
-		return false;
-	fmStream_Move(s, save, b->mesh.DmInv, sizeof(fmMat3) * m);
-	fmStream_Move(s, save, b->mesh.plasticStrain, sizeof(double) * m);
-	return true;
-}
-
-static bool fmMoveBody(fmStream* s, bool save, fmBody* b)
-{
-	fmMoveBodyState(s, save, b);
-	return fmMovePlastic(s, save, b) && fmMoveSolverMatrix(s, save, b);
-}
-
-// The material saved in body @p b's record at @p offset is one fmMaterial_Validate accepts (a
-// corrupted model number would index past the model table).
-static bool fmRecordMaterialValid(const fmBody* b, const void* buffer, size_t size, size_t offset)
-{
-	size_t n = (size_t)b->mesh.vertexCount;
-	size_t at = offset + sizeof(double) * (12 * n + (size_t)b->mesh.edgeCount) + n;
-	fmStream s = {NULL, buffer, size, at, false};
-	fmMaterial material = b->mesh.material;
-	fmMoveMaterial(&s, false, &material);
-	return !s.overflow && fmMaterial_Validate(&material, NULL) == fm_ok;
-}
-
-// Bytes of body @p b's record at @p offset of the buffer (after its key), or SIZE_MAX when the
-// record does not fit @p b (another matrix size), the buffer, or holds an invalid material.
-static size_t fmBodyRecordBytes(fmBody* b, const void* buffer, size_t size, size_t offset)
-{
-	if (!fmRecordMaterialValid(b, buffer, size, offset))
-		return SIZE_MAX;
-	fmStream count = {NULL, NULL, 0, 0, false};
-	fmMoveBodyState(&count, true, b);
-	fmStream s = {NULL, buffer, size, offset + count.used + sizeof(double), false};
-	uint8_t plastic = 0;
-	fmStream_Get(&s, &plastic, 1);
-	if (plastic > 1u)
-		return SIZE_MAX;
-	if (plastic == 1u)
-	{
-		s.used += (sizeof(fmMat3) + sizeof(double)) * (size_t)b->mesh.tetCount;
-		if (!fmPlasticity_Allocate(b)) // its memory taken before anything is restored
-			return SIZE_MAX;
-	}
-	uint8_t present = 0;
-	fmStream_Get(&s, &present, 1);
-	s.used += 1; // the first guess's recheck countdown
-	if (present & 1u)
-	{
-		int64_t blocks = 0;
-		fmStream_Get(&s, &blocks, sizeof blocks);
-		fmImplicitCache* c =
-		    fmSolverCache_Get(&b->solverCache, &b->mesh); // the same mesh gives the same pattern
-		if (c == NULL || blocks != c->pattern.blocks)
-			return SIZE_MAX;
-		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;
-		// The base's memory is taken here, before anything is restored.
-		if ((present & 4u) && fmSolverCache_Base(c) == NULL)
-			return SIZE_MAX;
-		if (present & 4u)
-			s.used += sizeof(double) * 9 * (size_t)blocks;
-	}
-	else if (present & 4u)
-		return SIZE_MAX; // a base without its matrix
-	return s.overflow || s.used > size ? SIZE_MAX : s.used - offset;
-}
 
 static void fmMoveWorldSettings(fmStream* s, bool save, fmWorld* w)
 {
@@ -512,9 +306,9 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 		fmBody* b = &w->bodies[i];
 		if (!fmBody_IsLive(b))
 			continue;
-		fmBodyKey key = fmKeyOf(b, i);
+		fmBodyKey key = fmSnapshotBody_Key(b, i);
 		fmStream_Put(s, &key, sizeof key);
-		fmMoveBody(s, true, b);
+		fmSnapshotBody_Move(s, true, b);
 	}
 	fmPutContact(s, w);
 	if (s->out != NULL && !s->overflow)
@@ -648,7 +442,7 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 		fmBody* b = &w->bodies[i];
 		if (!fmBody_IsLive(b))
 			continue;
-		fmBodyKey key, expected = fmKeyOf(b, i);
+		fmBodyKey key, expected = fmSnapshotBody_Key(b, i);
 		fmStream_Get(s, &key, sizeof key);
 		if (s->overflow || memcmp(&key, &expected, sizeof key) != 0)
 			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
@@ -657,7 +451,7 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 			                   i);
 		if (pass == 0)
 		{
-			size_t bytes = fmBodyRecordBytes(b, s->in, s->size, s->used);
+			size_t bytes = fmSnapshotBody_RecordBytes(b, s->in, s->size, s->used);
 			if (bytes == SIZE_MAX)
 				return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 				                   "the snapshot's body in slot %d is truncated or has "
@@ -666,7 +460,7 @@ static fmResult fmBodiesPass(fmWorld* w, fmStream* s, int pass)
 			s->used += bytes;
 			continue;
 		}
-		if (!fmMoveBody(s, false, b))
+		if (!fmSnapshotBody_Move(s, false, b))
 			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 			                   "out of memory restoring body %d's solver matrix", i);
 		for (int k = 0; k < b->mesh.vertexCount; ++k) // pins are axis masks; inverse masses follow
