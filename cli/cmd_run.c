@@ -699,6 +699,13 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	printf("kinetic energy   %.6g J\n", totals.kinetic);
 	printf("elastic energy   %.6g J\n", totals.elastic);
 	printf("inverted tets    %d\n", totals.inverted);
+	for (int b = 0; b < sim->bodyCount; ++b)
+	{
+		fmBodyStats s = fmBody_GetStats(sim->bodies[b]);
+		if (s.plasticWork > 0.0)
+			printf("bodies[%d]        plastic work %.6g J, largest plastic strain %.6g\n", b,
+			       s.plasticWork, s.plasticStrain);
+	}
 	if (scene->worldDef.integrator == fm_implicit && solves->unconvergedSteps == 0)
 		printf("implicit solves  every step converged (tolerance %g)\n", scene->worldDef.tolerance);
 	else if (scene->worldDef.integrator == fm_implicit)
