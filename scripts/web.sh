@@ -99,16 +99,18 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   # anisotropic materials, material_aniso -Oz (no page scene uses them), the link's -Os below,
   # and the Newton iterations' orchestration, the energy ledger, the snapshots' stream and
   # checksum, the friction anchors and penalty contacts (per contact or iteration, never per
-  # element) -Os: 521,421 bytes, the page's frames unchanged in Node.js; for some files,
+  # element) -Os: 521,421 bytes, the page's frames unchanged in Node.js; then the plasticity
+  # (material_plastic -Oz, the body's flow -Os: no page scene is plastic) and the snapshots' body
+  # record (-Oz) with emmalloc below: 517,480; for some files,
   # e.g. query.c, schedule.c, grab.c, render_mesh.c, contact_events.c, embedded.c, -Os gives
   # more code, so they stay -O2).
   case "$name" in
     mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot | \
-      body_def | world | material_aniso) level=-Oz ;;
+      body_def | world | material_aniso | material_plastic | snapshot_body) level=-Oz ;;
     island | body | step | core | draw | body_sweep | contact_detect | \
       contact_state | stability | contact | contact_ledger | femto_web | multigrid | static | \
       vbd | loads | broad_phase | targets | material_stretch | implicit | explicit | newton | \
-      energy_ledger | snapshot_stream | checksum | friction_anchor | penalty) level=-Os ;;
+      energy_ledger | snapshot_stream | checksum | friction_anchor | penalty | plasticity) level=-Os ;;
     cli_*) level=-Oz ;;
     *) level=-O2 ;;
   esac
@@ -148,10 +150,15 @@ done
 # with issue 34's anisotropic materials in (520,290 against 530,850 bytes), the page's first
 # two scenes' frames in Node.js the same within the host's noise (best of three runs' medians,
 # -O2 then -Os: 0.585, 0.568 ms explicit, 7.4, 7.7 ms implicit); -Oz saves 4.6 KB more but
-# measured 5-15% slower frames.
+# measured 5-15% slower frames. emmalloc for malloc (-sMALLOC=emmalloc): about 8 KB smaller than
+# dlmalloc with issue 34's plasticity in (517,480 against 525,443 bytes); femto allocates nothing
+# in a frame at rest (the house, 60 frames, both integrators), and the page's first two scenes'
+# frames in Node.js, best of six interleaved runs, dlmalloc then emmalloc: explicit 0.539, 0.538
+# and 0.477, 0.489 ms, implicit 6.91, 7.17 and 3.43, 3.73 ms (0-9%, within the host's spread of
+# 0.54-0.95 ms a run).
 exports=$(grep -o 'FW_EXPORT [^(]*(' web/femto_web.c | grep -o 'fw_[a-z_]*' | sed 's/^/_/' |
   sort -u | paste -sd, -)
-link=(-Os --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1
+link=(-Os --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1 -sMALLOC=emmalloc
       -sDISABLE_EXCEPTION_CATCHING=1 -sEXPORTED_FUNCTIONS="$exports"
       -sEXPORTED_RUNTIME_METHODS=UTF8ToString,HEAPU8,HEAP32,HEAPF32,HEAPF64)
 web=(-sEXPORT_ES6=1 -sENVIRONMENT=web -sEXPORT_NAME=createFemto)

@@ -17,6 +17,7 @@
 #include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "fem/tet_blocks.h"
+#include "material/material_aniso.h"
 #include "material/material_plastic.h"
 #include "mesh/mesh_internal.h"
 #include "mesh/reorder.h"

@@ -13,6 +13,7 @@
 #include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "material/material.h"
+#include "material/material_aniso.h"
 #include "world/world.h"
 
 #include <math.h>

@@ -2,6 +2,8 @@
 #include "fem/elastic_mesh.h"
 
 #include "core/core.h"
+#include "material/material.h"
+#include "material/material_aniso.h"
 
 fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
 {
@@ -10,6 +12,18 @@ fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
 	fmMat3 Ds = fmMat3FromColumns(fmSub(fmLoad(x, n[1]), x0), fmSub(fmLoad(x, n[2]), x0),
 	                              fmSub(fmLoad(x, n[3]), x0));
 	return fmMatMul(&Ds, &mesh->DmInv[t]);
+}
+
+double fmTetEvaluate(const fmElasticMesh* mesh, int t, const fmMat3* F, fmMat3* P, double* dPdF,
+                     bool project)
+{
+	const fmMaterial* m = fmTetMaterial(mesh, t);
+	if (mesh->fibres != NULL && fmMaterialModel_IsAnisotropic(m->model))
+	{
+		fmMat3 R = fmMaterial_Axes(m, &mesh->fibres[t]);
+		return fmAniso_Evaluate(m, &R, F, P, dPdF, project);
+	}
+	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF) : fmMaterial_Evaluate(m, F, P, dPdF);
 }
 
 bool fmElasticMesh_IsLinear(const fmElasticMesh* mesh)

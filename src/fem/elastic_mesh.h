@@ -11,8 +11,6 @@
 
 #include <femto/femto.h>
 
-#include "material/material.h"
-#include "material/material_aniso.h"
 
 #include <stdint.h>
 
@@ -118,18 +116,8 @@ static inline const fmMaterial* fmTetMaterial(const fmElasticMesh* mesh, int t)
 // psi of tet @p t's material at @p F, with P and dP/dF when not NULL (@p project: dP/dF positive
 // semi-definite, for the Newton matrix); an anisotropic tet reads its own fibre when the mesh has
 // them.
-static inline double fmTetEvaluate(const fmElasticMesh* mesh, int t, const fmMat3* F, fmMat3* P,
-                                   double* dPdF, bool project)
-{
-	const fmMaterial* m = fmTetMaterial(mesh, t);
-	if (mesh->fibres != NULL && fmMaterialModel_IsAnisotropic(m->model))
-	{
-		fmMat3 R = fmMaterial_Axes(m, &mesh->fibres[t]);
-		return fmAniso_Evaluate(m, &R, F, P, dPdF, project);
-	}
-	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF)
-	               : fmMaterial_Evaluate(m, F, P, dPdF);
-}
+double fmTetEvaluate(const fmElasticMesh* mesh, int t, const fmMat3* F, fmMat3* P, double* dPdF,
+                     bool project);
 
 // Deformation gradient of tet t at positions x: F = Ds Dm^-1.
 fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t);

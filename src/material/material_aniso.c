@@ -132,17 +132,19 @@ bool fmAniso_Validate(const fmMaterial* m, char* why, size_t size)
 	if (!fmMaterialModel_IsOrthotropic(m->model))
 		return true;
 	const fmOrthotropy* o = &m->orthotropy;
-	for (int k = 0; k < 3; ++k)
-		if (!(o->E[k] > 0.0 && isfinite(o->E[k]) && o->G[k] > 0.0 && isfinite(o->G[k]) &&
-		      isfinite(o->nu[k])))
+	static const char* const names[9] = {"E1",   "E2",  "E3",  "nu12", "nu13",
+	                                     "nu23", "G12", "G13", "G23"};
+	const double* constants[3] = {o->E, o->nu, o->G};
+	for (int k = 0; k < 9; ++k)
+	{
+		double v = constants[k / 3][k % 3];
+		if (!isfinite(v) || (k / 3 != 1 && !(v > 0.0)))
 		{
-			snprintf(why, size,
-			         "orthotropic constants must be finite with E1, E2, E3, G12, G13, G23 > 0 "
-			         "(got E = %g, %g, %g Pa, nu = %g, %g, %g, G = %g, %g, %g Pa)",
-			         o->E[0], o->E[1], o->E[2], o->nu[0], o->nu[1], o->nu[2], o->G[0], o->G[1],
-			         o->G[2]);
+			snprintf(why, size, "orthotropy %s = %g must be finite%s", names[k], v,
+			         k / 3 != 1 ? " and > 0 (Pa)" : "");
 			return false;
 		}
+	}
 	double n[9];
 	if (!fmOrthotropy_NormalStiffness(o, n))
 	{
