@@ -25,6 +25,7 @@ static const struct
     {"contacts", fm_drawContacts},
     {"colliders", fm_drawColliders},
     {"fibres", fm_drawFibres},
+    {"plastic", fm_drawPlastic},
     {"all", fm_drawAll},
     {"none", 0},
 };

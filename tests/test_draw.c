@@ -249,6 +249,51 @@ TEST(strain_colours_follow_the_energy_density)
 	fmDestroyWorld(world);
 }
 
+// Plastic strain colours: a bar stretched past yield on rollers (uniform plastic strain alpha)
+// is drawn in the ramp's colour of alpha at every vertex; an elastic body in its zero colour.
+TEST(plastic_colours_follow_the_plastic_strain)
+{
+	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
+	m.plasticity.yieldStress = 1e3;
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), m, fm_fem);
+	if (!fmBody_IsValid(body))
+		return;
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawPlastic);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	float rest[3];
+	fmStrainColor(0.0, rest);
+	CHECK(seen.colors != NULL && seen.colors[0] == rest[0] && seen.colors[2] == rest[2]);
+	int n = fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(x, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
+	for (int i = 0; i < n; ++i)
+	{
+		unsigned axes = 0;
+		for (int k = 0; k < 3; ++k)
+			axes |= x[3 * i + k] < 1e-9 ? 1u << k : 0u;
+		if (x[3 * i] > 1.0 - 1e-9)
+			axes |= 1u, x[3 * i] = 1.05;
+		fmBody_SetPinnedAxes(body, i, axes);
+	}
+	fmBody_SetPositions(body, x);
+	CHECK_INT(fmBody_SolveStatic(body, 1e-10, 50, NULL, NULL), fm_ok);
+	double alpha = fmBody_GetStats(body).plasticStrain;
+	CHECK(alpha > 0.03);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	float expected[3];
+	fmStrainColor(alpha / FM_DRAW_FULL_STRAIN, expected);
+	bool all = seen.colors != NULL;
+	for (int v = 0; all && v < seen.vertexCount; ++v)
+		for (int c = 0; c < 3; ++c)
+			all = all && fabsf(seen.colors[3 * v + c] - expected[c]) < 1e-4f;
+	CHECK(all);
+	free(x);
+	freeSeen(&seen);
+	fmDestroyWorld(world);
+}
+
 // The first draw makes a body's buffers; later draws reuse them.
 TEST(second_draw_allocates_nothing)
 {

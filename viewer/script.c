@@ -18,7 +18,7 @@ static const char* const fvSliders[] = {"youngs", "poisson",  "mass", "damping",
                                         "dt",     "substeps", NULL};
 static const char* const fvToggles[] = {"surfaces",  "stress",  "tets",  "inverted",
                                         "pins",      "targets", "floor", "contacts",
-                                        "colliders", "fibres",  NULL};
+                                        "colliders", "fibres",  "plastic", NULL};
 
 // The words of one line (at most 16), split on blanks; the line is modified.
 static int fvSplit(char* line, char* words[16])
@@ -105,7 +105,8 @@ static const char* fvParseAction(char** w, int n, fvAction* a)
 		snprintf(a->name, sizeof a->name, "%s", w[3]);
 		return fvOneOf(w[3], fvToggles) ? NULL
 		                                : "expected a view: surfaces, stress, tets, inverted, "
-		                                  "pins, targets, floor, contacts, colliders, fibres";
+		                                  "pins, targets, floor, contacts, colliders, fibres, "
+		                                  "plastic";
 	}
 	if (strcmp(verb, "scene") == 0)
 	{

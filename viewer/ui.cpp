@@ -169,14 +169,15 @@ void showViews(fvUiModel& m)
 	             {"tets", fm_drawTetEdges},       {"inverted", fm_drawInvertedTets},
 	             {"pins", fm_drawPins},           {"targets", fm_drawTargets},
 	             {"floor", fm_drawFloor},         {"contacts", fm_drawContacts},
-	             {"colliders", fm_drawColliders}, {"fibres", fm_drawFibres}};
+	             {"colliders", fm_drawColliders}, {"fibres", fm_drawFibres},
+	             {"plastic", fm_drawPlastic}};
 	for (size_t i = 0; i < sizeof views / sizeof views[0]; ++i)
 	{
 		if (i % 4 != 0)
 			ImGui::SameLine();
 		ImGui::CheckboxFlags(views[i].name, &m.drawFlags, views[i].flag);
 	}
-	if (m.drawFlags & fm_drawStress)
+	if (m.drawFlags & (fm_drawStress | fm_drawPlastic))
 		showStrainLegend();
 }
 } // namespace

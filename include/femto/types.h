@@ -770,7 +770,10 @@ typedef enum fmDrawFlags
 	/// the fibres of anisotropic tets: a line through each one's centre along its deformed
 	/// fibre F a, half the tet's size times the fibre's stretch
 	fm_drawFibres = 1u << 9,
-	fm_drawAll = 0x3ffu, ///< everything above
+	/// surfaces coloured by plastic strain (the mean equivalent plastic strain of the tets
+	/// around each vertex, the strain ramp's colours; fm_drawStress wins when both are set)
+	fm_drawPlastic = 1u << 10,
+	fm_drawAll = 0x7ffu, ///< everything above
 } fmDrawFlags;
 
 /// One body's surface for fmDebugDraw.drawTriangles: the surface vertices only (compacted),

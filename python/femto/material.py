@@ -1,7 +1,7 @@
 """Materials: a constitutive model with Young's modulus and Poisson ratio, or Lame constants."""
 from __future__ import annotations
 
-from typing import Optional, Sequence, Union
+from typing import Dict, Optional, Sequence, Union
 from ._errors import check
 from ._femto import ffi, lib
 
@@ -18,6 +18,11 @@ def _model(name):
     return model[0]
 
 
+# Python's names of fmPlasticity's fields (docs/materials.md, "Plasticity").
+_PLASTICITY = {"yield_stress": "yieldStress", "hardening": "hardening",
+               "creep_rate": "creepRate", "max_plastic_strain": "maxPlasticStrain"}
+
+
 class Material:
     """An elastic material (fmMaterial), checked when made.
 
@@ -25,14 +30,17 @@ class Material:
     ``Material("stvk", lam=20000, mu=5000)``; models: linear, corotated, stvk, neohookean,
     mooneyrivlin (with ``c01``), neohookean-isochoric, fibre-neohookean (with
     ``fibre_stiffness`` and ``fibre``), and through ``Material.orthotropic`` orthotropic-linear
-    and orthotropic-stvk (the names ``femto run`` takes).
+    and orthotropic-stvk (the names ``femto run`` takes). ``plasticity={"yield_stress": Pa,
+    "hardening": Pa, "creep_rate": 1/s, "max_plastic_strain": ...}`` makes an isotropic
+    large-strain model flow (von Mises; the body's ``stats()`` gives ``plastic_work``).
     """
 
     def __init__(self, model: Union[str, int] = "stvk", youngs_modulus: Optional[float] = None,
                  poisson_ratio: Optional[float] = None, lam: Optional[float] = None,
                  mu: Optional[float] = None, c01: float = 0.0, fibre_stiffness: float = 0.0,
                  fibre: Optional[Sequence[float]] = None,
-                 sheet: Optional[Sequence[float]] = None) -> None:
+                 sheet: Optional[Sequence[float]] = None,
+                 plasticity: Optional[Dict[str, float]] = None) -> None:
         by_young = youngs_modulus is not None or poisson_ratio is not None
         by_lame = lam is not None or mu is not None
         if by_young == by_lame:
@@ -49,6 +57,12 @@ class Material:
         self._c = ffi.new("fmMaterial*", made)
         self._c.c01 = float(c01)
         self._c.fibreStiffness = float(fibre_stiffness)
+        for key, value in (plasticity or {}).items():
+            field = _PLASTICITY.get(key)
+            if field is None:
+                raise TypeError("plasticity: unknown key %r (expected one of %s)"
+                                % (key, ", ".join(sorted(_PLASTICITY))))
+            setattr(self._c.plasticity, field, float(value))
         self._finish(fibre, sheet)
 
     @classmethod

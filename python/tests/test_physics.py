@@ -203,3 +203,28 @@ def test_an_orthotropic_bar_hangs_by_its_grain():
     fibre = femto.Material("fibre-neohookean", youngs_modulus=E, poisson_ratio=nu,
                            fibre_stiffness=4 * E, fibre=(0, 1, 0))
     assert hanging_sag(fibre) < 0.4 * iso
+
+
+def test_a_plastic_box_dropped_on_a_sphere_keeps_its_dent():
+    # The same box dropped on a sphere: elastic, it flows nothing; with a yield stress it
+    # does plastic work and keeps a plastic strain.
+    def drop(material):
+        world = femto.World(gravity=(0.0, -9.8, 0.0), floor=False, integrator="implicit")
+        world.add_collider(shape="sphere", center=(0.0, -0.3, 0.0), radius=0.25)
+        body = world.add_body(box(4, (-0.3, 0.0, -0.3), (0.3, 0.1, 0.3)), material,
+                              mass_mode="density", density=1000.0)
+        for _ in range(60):
+            world.step(1.0 / 60.0, 1)
+        return body.stats
+
+    elastic = drop(femto.Material("neohookean", youngs_modulus=2e5, poisson_ratio=0.3))
+    plastic = drop(femto.Material("neohookean", youngs_modulus=2e5, poisson_ratio=0.3,
+                                  plasticity={"yield_stress": 1e3, "hardening": 1e4}))
+    assert elastic["plastic_work"] == 0.0 and elastic["plastic_strain"] == 0.0
+    assert plastic["plastic_work"] > 0.0 and plastic["plastic_strain"] > 0.005
+    with pytest.raises(TypeError, match="unknown key"):
+        femto.Material("neohookean", youngs_modulus=2e5, poisson_ratio=0.3,
+                       plasticity={"yield": 1e3})
+    with pytest.raises(femto.FemtoError, match="plasticity"):
+        femto.Material("linear", youngs_modulus=2e5, poisson_ratio=0.3,
+                       plasticity={"yield_stress": 1e3})

@@ -213,12 +213,29 @@ static void fmDrawStrainColors(const fmBody* b, fmDrawCache* c)
 	}
 }
 
+// Plastic strain colours: each drawn vertex gets the mean equivalent plastic strain of the tets
+// around it (0 for a body that has none) on the same ramp.
+static void fmDrawPlasticColors(const fmBody* b, fmDrawCache* c)
+{
+	for (int v = 0; v < c->vertexCount; ++v)
+	{
+		int i = c->vertex[v], count = b->mesh.vertexTetStart[i + 1] - b->mesh.vertexTetStart[i];
+		double sum = 0.0;
+		for (int k = b->mesh.vertexTetStart[i];
+		     b->mesh.plasticStrain != NULL && k < b->mesh.vertexTetStart[i + 1]; ++k)
+			sum += b->mesh.plasticStrain[b->mesh.vertexTets[k] / 4];
+		fmStrainColor(count > 0 ? sum / count / FM_DRAW_FULL_STRAIN : 0.0, c->colors + 3 * v);
+	}
+}
+
 static void fmDrawSurface(fmBody* b, fmBodyId id, fmDrawCache* c, const fmDebugDraw* draw)
 {
 	fmDrawGeometry(b, c);
-	bool stress = (draw->flags & fm_drawStress) != 0;
-	if (stress)
+	bool stress = (draw->flags & (fm_drawStress | fm_drawPlastic)) != 0;
+	if (draw->flags & fm_drawStress)
 		fmDrawStrainColors(b, c);
+	else if (stress)
+		fmDrawPlasticColors(b, c);
 	fmDrawTriangles batch;
 	memset(&batch, 0, sizeof batch);
 	batch.body = id;
@@ -425,7 +442,7 @@ static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 	if (c == NULL)
 		return false;
 	unsigned flags = draw->flags;
-	if ((flags & (fm_drawSurfaces | fm_drawStress)) && draw->drawTriangles)
+	if ((flags & (fm_drawSurfaces | fm_drawStress | fm_drawPlastic)) && draw->drawTriangles)
 		fmDrawSurface(b, id, c, draw);
 	bool ok = true;
 	if ((flags & fm_drawTetEdges) && draw->drawLines)
