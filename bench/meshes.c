@@ -183,6 +183,13 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 		scene.worldDef.newtonIterations = settings->newtonIterations;
 	cliBodySpec* body = &scene.bodies[0];
 	body->def.material = cliBenchMesh_Material(mesh, settings->model);
+	if (settings->yieldStrain > 0.0) // E = mu (3 lambda + 2 mu) / (lambda + mu)
+	{
+		const fmMaterial* m = &body->def.material;
+		double E = m->mu * (3.0 * m->lambda + 2.0 * m->mu) / (m->lambda + m->mu);
+		body->def.material.plasticity.yieldStress = settings->yieldStrain * E;
+		body->def.material.plasticity.hardening = 0.1 * E;
+	}
 	if (mesh->family != cli_benchHouse)
 	{
 		// Resting on the floor, density-based masses so refinement keeps the physics.

@@ -83,6 +83,7 @@ typedef struct cliBenchWorld
 	double lift;             ///< m the body starts above its resting place (boxes and beams)
 	bool noFloor;            ///< no floor at all
 	int newtonIterations;    ///< implicit: a step's most (0: the default)
+	double yieldStrain;      ///< > 0: the material flows (von Mises, yield stress this times E)
 } cliBenchWorld;
 
 /// The world def of the bench's Coulomb-floor scenes (the props, the start-up): implicit at the

@@ -314,7 +314,8 @@ static cliBenchWorld cliMotionSettings(const cliBenchOptions* o, const cliBenchM
 	                   scene == cli_motionDrop && mesh->family != cli_benchHouse ? CLI_MOTION_DROP
 	                                                                             : 0.0,
 	                   scene == cli_motionSwing,
-	                   c->tolerance < FM_TOLERANCE_GAME ? CLI_MOTION_REFERENCE_NEWTON : 0};
+	                   c->tolerance < FM_TOLERANCE_GAME ? CLI_MOTION_REFERENCE_NEWTON : 0,
+	                   0.0};
 	return s;
 }
 

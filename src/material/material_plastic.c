@@ -94,6 +94,13 @@ bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, do
 	const fmPlasticity* p = &m->plasticity;
 	if (!(p->yieldStress > 0.0) || (p->maxPlasticStrain > 0.0 && *alpha >= p->maxPlasticStrain))
 		return false;
+	// The yield test reads the material's own Kirchhoff stress (every law's is Hencky's 2 mu d
+	// at a metal's elastic strains; at larger ones, a soft body hardened far, they part); a tet
+	// inside its yield surface costs that one stress, no SVD.
+	const double H = p->hardening, yield = p->yieldStress + H * *alpha;
+	const double qm = fmVonMises(m, Fe);
+	if (!(qm > yield) || !(fmDet(Fe) > 0.0))
+		return false;
 	fmMat3 U, V;
 	fmVec3 sv;
 	fmSvd3(Fe, &U, &sv, &V);
@@ -108,12 +115,8 @@ bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, do
 		d[k] = e[k] - mean;
 		norm2 += d[k] * d[k];
 	}
-	// The yield test reads the material's own Kirchhoff stress (every law's is Hencky's 2 mu d
-	// at a metal's elastic strains; at larger ones, a soft body hardened far, they part).
-	const double mu = m->mu, H = p->hardening, slope = 3.0 * mu + H;
-	const double q = 3.0 * mu * sqrt(2.0 / 3.0 * norm2), qm = fmVonMises(m, Fe);
-	const double yield = p->yieldStress + H * *alpha;
-	if (!(qm > yield) || !(q > 0.0))
+	const double mu = m->mu, slope = 3.0 * mu + H, q = 3.0 * mu * sqrt(2.0 / 3.0 * norm2);
+	if (!(q > 0.0))
 		return false;
 	// The rate-independent flow: the log strain's deviator shrinks by 3 mu flow of Hencky's q
 	// (the flow direction, radial), the flow chosen so that the returned state's stress is
