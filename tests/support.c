@@ -134,6 +134,29 @@ void fmTestPerturb(fmBodyId body, double amplitude)
 	free(x);
 }
 
+void fmTestBarOnRollers(fmBodyId body, const double* rest, double length, double stretch,
+                        bool hold)
+{
+	int n = fmBody_GetVertexCount(body);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	fmBody_CopyPositions(body, x, n);
+	for (int i = 0; i < n; ++i)
+	{
+		unsigned axes = 0;
+		for (int k = 0; k < 3; ++k)
+			if (rest[3 * i + k] < 1e-9)
+				axes |= 1u << k;
+		if (hold && rest[3 * i] > length - 1e-9)
+		{
+			axes |= 1u;
+			x[3 * i] = length * stretch;
+		}
+		fmBody_SetPinnedAxes(body, i, axes);
+	}
+	fmBody_SetPositions(body, x);
+	free(x);
+}
+
 // A read-back buffer of the test support, grown as needed (kept until exit).
 typedef struct fmTestBuffer
 {

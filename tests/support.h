@@ -38,6 +38,12 @@ double fmTestMass(fmBodyId body);
 // Move every vertex by uniform noise in [-amplitude, amplitude) per coordinate.
 void fmTestPerturb(fmBodyId body, double amplitude);
 
+// A bar [0, length] along x on rollers: every vertex whose rest coordinate @p rest (3 a vertex)
+// is 0 on an axis is held on that axis; with @p hold, the end x = length is held on a roller at
+// x = length * stretch too (its vertices moved there). The other vertices keep their positions.
+void fmTestBarOnRollers(fmBodyId body, const double* rest, double length, double stretch,
+                        bool hold);
+
 // Asserts are compiled in (debug builds, or FEMTO_ENABLE_ASSERT): argument errors reach the hook.
 #if !defined(NDEBUG) || defined(FEMTO_ENABLE_ASSERT)
 #define FM_TEST_ASSERTS_ON 1

@@ -460,29 +460,32 @@ static void runCase(int* failures_, const char* dir, int index)
 	fmFreeTetMesh(&mesh);
 }
 
-TEST(static_solutions_match_calculix)
+// A scratch folder for ccx's files in @p dir (64 bytes); false (the test skipped or failed with
+// the reason) without ccx or a folder.
+static bool ccxScratch(int* failures_, const char* what, char dir[64])
 {
 	if (!fmTestHaveProgram("ccx"))
 	{
-		TEST_SKIP("ccx is not installed (scripts/install-deps.sh installs Debian's calculix-ccx): "
-		          "femto's static solutions are not compared with CalculiX's");
-		return;
+		char reason[256];
+		snprintf(reason, sizeof reason,
+		         "ccx is not installed (scripts/install-deps.sh installs Debian's calculix-ccx): "
+		         "%s not compared with CalculiX's",
+		         what);
+		TEST_SKIP(reason);
+		return false;
 	}
-	char dir[64];
-	snprintf(dir, sizeof dir, "/tmp/femto_ccx_XXXXXX");
+	snprintf(dir, 64, "/tmp/femto_ccx_XXXXXX");
 	if (mkdtemp(dir) == NULL)
 	{
 		FAIL_AT("cannot make a scratch folder %s", dir);
-		return;
+		return false;
 	}
-	int before = *failures_;
-	for (int c = 0; c < (int)(sizeof s_cases / sizeof s_cases[0]); ++c)
-	{
-		int failures = 0;
-		runCase(&failures, dir, c);
-		*failures_ += failures;
-	}
-	// The decks and logs are kept when something failed, to read.
+	return true;
+}
+
+// The folder removed when the test passed, kept (and named) to read when it failed.
+static void ccxCleanUp(int* failures_, int before, const char* dir)
+{
 	if (*failures_ == before)
 	{
 		char command[128];
@@ -491,6 +494,21 @@ TEST(static_solutions_match_calculix)
 	}
 	else
 		printf("  the decks, ccx's logs and output are in %s\n", dir);
+}
+
+TEST(static_solutions_match_calculix)
+{
+	char dir[64];
+	if (!ccxScratch(failures_, "femto's static solutions are", dir))
+		return;
+	int before = *failures_;
+	for (int c = 0; c < (int)(sizeof s_cases / sizeof s_cases[0]); ++c)
+	{
+		int failures = 0;
+		runCase(&failures, dir, c);
+		*failures_ += failures;
+	}
+	ccxCleanUp(failures_, before, dir); // kept when something failed, to read
 }
 
 // Issue 34's plastic beam: a steel-like cantilever (E = 200 GPa, nu = 0.3, yield stress 200 MPa:
@@ -577,19 +595,10 @@ static bool solvePlasticBeam(int* failures_, const fmTetMesh* mesh, fmMaterial m
 
 TEST(plastic_beam_matches_calculix)
 {
-	if (!fmTestHaveProgram("ccx"))
-	{
-		TEST_SKIP("ccx is not installed (scripts/install-deps.sh installs Debian's calculix-ccx): "
-		          "femto's plastic beam is not compared with CalculiX's");
-		return;
-	}
 	char dir[64];
-	snprintf(dir, sizeof dir, "/tmp/femto_ccx_XXXXXX");
-	if (mkdtemp(dir) == NULL)
-	{
-		FAIL_AT("cannot make a scratch folder %s", dir);
+	if (!ccxScratch(failures_, "femto's plastic beam is", dir))
 		return;
-	}
+	int before = *failures_;
 	fmTetMesh mesh;
 	CHECK_INT(fmMakeBoxMesh(12, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1.2, 0.1, 0.1), &mesh), fm_ok);
 	fmMaterial mat = fmMakeMaterial(fm_neoHookeanIsochoric, 2e11, 0.3);
@@ -628,13 +637,7 @@ TEST(plastic_beam_matches_calculix)
 		CHECK(worst <= 0.01 * tip);
 		CHECK(worstFree <= 0.01 * tipFree);
 	}
-	if (*failures_ == 0)
-	{
-		snprintf(command, sizeof command, "rm -rf '%s'", dir);
-		CHECK_INT(system(command), 0);
-	}
-	else
-		printf("  the deck, ccx's log and output are in %s\n", dir);
+	ccxCleanUp(failures_, before, dir);
 	free(ccx);
 	fmFreeTetMesh(&mesh);
 }

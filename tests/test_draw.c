@@ -212,6 +212,16 @@ TEST(targets_are_drawn)
 // e = ((1 + s)^2 - 1) / 2, and the energy density psi = 3 mu e^2 + 9 lambda e^2 / 2 in every
 // tet: every vertex gets the colour of the equivalent strain sqrt(2 psi / E) / 0.2; at rest,
 // the ramp's start.
+// Whether every vertex of the last batch has colour @p expected, within @p tolerance.
+static bool allColoursAre(const fmSeen* seen, const float expected[3], float tolerance)
+{
+	bool all = seen->colors != NULL;
+	for (int v = 0; all && v < seen->vertexCount; ++v)
+		for (int c = 0; c < 3; ++c)
+			all = all && fabsf(seen->colors[3 * v + c] - expected[c]) <= tolerance;
+	return all;
+}
+
 TEST(strain_colours_follow_the_energy_density)
 {
 	const double E = 1e5, nu = 0.3, s = 0.05;
@@ -238,11 +248,7 @@ TEST(strain_colours_follow_the_energy_density)
 	double psi = 3.0 * mu * e * e + 4.5 * lambda * e * e;
 	float expected[3];
 	fmStrainColor(sqrt(2.0 * psi / E) / 0.2, expected);
-	bool all = seen.colors != NULL;
-	for (int v = 0; all && v < seen.vertexCount; ++v)
-		for (int c = 0; c < 3; ++c)
-			all = all && fabsf(seen.colors[3 * v + c] - expected[c]) < 1e-5f;
-	CHECK(all);
+	CHECK(allColoursAre(&seen, expected, 1e-5f));
 	CHECK(fabsf(expected[0] - rest[0]) > 0.1f || fabsf(expected[1] - rest[1]) > 0.1f);
 	free(x);
 	freeSeen(&seen);
@@ -262,34 +268,21 @@ TEST(plastic_colours_follow_the_plastic_strain)
 	fmSeen seen;
 	fmDebugDraw draw = drawInto(&seen, fm_drawPlastic);
 	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
-	float rest[3];
-	fmStrainColor(0.0, rest);
-	CHECK(seen.colors != NULL && seen.colors[0] == rest[0] && seen.colors[2] == rest[2]);
+	float zero[3];
+	fmStrainColor(0.0, zero);
+	CHECK(allColoursAre(&seen, zero, 0.0f));
 	int n = fmBody_GetVertexCount(body);
-	double* x = malloc(sizeof(double) * 3 * (size_t)n);
-	memcpy(x, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
-	for (int i = 0; i < n; ++i)
-	{
-		unsigned axes = 0;
-		for (int k = 0; k < 3; ++k)
-			axes |= x[3 * i + k] < 1e-9 ? 1u << k : 0u;
-		if (x[3 * i] > 1.0 - 1e-9)
-			axes |= 1u, x[3 * i] = 1.05;
-		fmBody_SetPinnedAxes(body, i, axes);
-	}
-	fmBody_SetPositions(body, x);
+	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(rest, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
+	fmTestBarOnRollers(body, rest, 1.0, 1.05, true);
 	CHECK_INT(fmBody_SolveStatic(body, 1e-10, 50, NULL, NULL), fm_ok);
 	double alpha = fmBody_GetStats(body).plasticStrain;
 	CHECK(alpha > 0.03);
 	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
 	float expected[3];
 	fmStrainColor(alpha / FM_DRAW_FULL_STRAIN, expected);
-	bool all = seen.colors != NULL;
-	for (int v = 0; all && v < seen.vertexCount; ++v)
-		for (int c = 0; c < 3; ++c)
-			all = all && fabsf(seen.colors[3 * v + c] - expected[c]) < 1e-4f;
-	CHECK(all);
-	free(x);
+	CHECK(allColoursAre(&seen, expected, 1e-4f));
+	free(rest);
 	freeSeen(&seen);
 	fmDestroyWorld(world);
 }

@@ -102,22 +102,7 @@ static double solveBar(int* failures_, fmBodyId body, const double* rest, double
                        bool hold)
 {
 	int n = fmBody_GetVertexCount(body);
-	double* x = malloc(sizeof(double) * 3 * (size_t)n);
-	memcpy(x, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
-	for (int i = 0; i < n; ++i)
-	{
-		unsigned axes = 0;
-		for (int k = 0; k < 3; ++k)
-			if (rest[3 * i + k] < 1e-9)
-				axes |= 1u << k;
-		if (rest[3 * i] > 2.0 - 1e-9 && hold)
-		{
-			axes |= 1u;
-			x[3 * i] = 2.0 * stretch;
-		}
-		fmBody_SetPinnedAxes(body, i, axes);
-	}
-	fmBody_SetPositions(body, x);
+	fmTestBarOnRollers(body, rest, 2.0, stretch, hold);
 	double residual = 1.0;
 	fmDiagnostic diag;
 	fmResult r = fmBody_SolveStatic(body, 1e-10, 50, &residual, &diag);
@@ -129,7 +114,6 @@ static double solveBar(int* failures_, fmBodyId body, const double* rest, double
 	for (int i = 0; i < n; ++i)
 		if (rest[3 * i] > 2.0 - 1e-9)
 			end = p[3 * i];
-	free(x);
 	return end;
 }
 
