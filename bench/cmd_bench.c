@@ -308,9 +308,12 @@ static void cliBenchLawRows(cliBenchRun* run)
 	for (int k = 0; k < 5; ++k)
 	{
 		const char* name = k == 1 ? "neohookean-plastic" : fmMaterialModelName(laws[k]);
-		cliBenchWorld settings = {fm_explicit, laws[k],  1, FM_TOLERANCE_GAME, o->simd,
-		                          o->deterministic, o->solver, false, 0.0, false, 0,
-		                          k == 1 ? 0.01 : 0.0};
+		cliBenchWorld settings = {fm_explicit, laws[k],
+		                          1,           FM_TOLERANCE_GAME,
+		                          o->simd,     o->deterministic,
+		                          o->solver,   false,
+		                          0.0,         false,
+		                          0,           k == 1 ? 0.01 : 0.0};
 		cliBenchResult step = cliBenchResult_Make(mesh, "explicit", name, 1);
 		cliBenchResult frame = cliBenchResult_Make(mesh, "implicit game", name, 1);
 		step.scene = frame.scene = "laws";

@@ -203,8 +203,8 @@ fmVec3* cliBodyFibres(const cliBodySpec* spec, const fmTetMesh* mesh, char* prob
 static bool cliParsePlasticity(const cliJson* j, const cliJsonNode* object, const char* parent,
                                fmMaterial* m)
 {
-	static const char* const keys[] = {"yield_stress", "yield_strain", "hardening", "creep_rate",
-	                                   "max_plastic_strain", NULL};
+	static const char* const keys[] = {"yield_stress", "yield_strain",       "hardening",
+	                                   "creep_rate",   "max_plastic_strain", NULL};
 	const cliJsonNode* plastic = NULL;
 	if (!cliGetObject(j, object, parent, "plasticity", &plastic))
 		return false;
@@ -220,8 +220,8 @@ static bool cliParsePlasticity(const cliJson* j, const cliJsonNode* object, cons
 	    !cliGetNumber(j, plastic, path, "yield_strain", cliPositive, &strain, &hasStrain) ||
 	    !cliGetNumber(j, plastic, path, "hardening", cliNonNegative, &p->hardening, NULL) ||
 	    !cliGetNumber(j, plastic, path, "creep_rate", cliNonNegative, &p->creepRate, NULL) ||
-	    !cliGetNumber(j, plastic, path, "max_plastic_strain", cliNonNegative,
-	                  &p->maxPlasticStrain, NULL))
+	    !cliGetNumber(j, plastic, path, "max_plastic_strain", cliNonNegative, &p->maxPlasticStrain,
+	                  NULL))
 		return false;
 	if (hasStress == hasStrain)
 		return cliJsonFail(j, path, NULL,
@@ -453,7 +453,8 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 	static const char* const keys[] = {
 	    "model", "youngs_modulus", "poisson_ratio",   "lambda",
 	    "mu",    "mooney_c01",     "orthotropy",      "transversely_isotropic",
-	    "fibre", "sheet",          "fibre_stiffness", "plasticity", NULL};
+	    "fibre", "sheet",          "fibre_stiffness", "plasticity",
+	    NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "

@@ -134,8 +134,7 @@ void fmTestPerturb(fmBodyId body, double amplitude)
 	free(x);
 }
 
-void fmTestBarOnRollers(fmBodyId body, const double* rest, double length, double stretch,
-                        bool hold)
+void fmTestBarOnRollers(fmBodyId body, const double* rest, double length, double stretch, bool hold)
 {
 	int n = fmBody_GetVertexCount(body);
 	double* x = malloc(sizeof(double) * 3 * (size_t)n);

@@ -520,9 +520,9 @@ TEST(static_solutions_match_calculix)
 // isochoric form to second order in the elastic strain: fm_neoHookeanIsochoric), the load
 // ramped up in one step and down in a second; femto: the same mesh and nodal forces, in 20
 // increments with a static solve each (to 1e-6, 1e4 times below the comparison: steel's
-// stiffness leaves its energy's round-off near 1e-8), then removed and solved. Both the loaded and the let-go
-// shapes must agree within 1% of CalculiX's largest displacement at every node (measured: 0.26%
-// loaded, 0.56% let go).
+// stiffness leaves its energy's round-off near 1e-8), then removed and solved. Both the loaded and
+// the let-go shapes must agree within 1% of CalculiX's largest displacement at every node
+// (measured: 0.26% loaded, 0.56% let go).
 static const double s_beamForce = -1.5e4; // N on each tip node
 
 static bool writePlasticDeck(const char* path, fmTetMesh* m, const fmMaterial* mat)
@@ -600,7 +600,8 @@ TEST(plastic_beam_matches_calculix)
 		return;
 	int before = *failures_;
 	fmTetMesh mesh;
-	CHECK_INT(fmMakeBoxMesh(12, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1.2, 0.1, 0.1), &mesh), fm_ok);
+	CHECK_INT(fmMakeBoxMesh(12, 2, 2, fmMakeVec3(0, 0, 0), fmMakeVec3(1.2, 0.1, 0.1), &mesh),
+	          fm_ok);
 	fmMaterial mat = fmMakeMaterial(fm_neoHookeanIsochoric, 2e11, 0.3);
 	mat.plasticity.yieldStress = 2e8;
 	mat.plasticity.hardening = 2e9;

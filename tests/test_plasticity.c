@@ -98,8 +98,7 @@ TEST(return_map_is_the_von_mises_law)
 
 // A 2 x 1 x 1 bar on rollers at x = 0, y = 0, z = 0; its end x = 2 held on a roller at
 // 2 stretch (when @p hold) or free. Solved to equilibrium; returns the end's x.
-static double solveBar(int* failures_, fmBodyId body, const double* rest, double stretch,
-                       bool hold)
+static double solveBar(int* failures_, fmBodyId body, const double* rest, double stretch, bool hold)
 {
 	int n = fmBody_GetVertexCount(body);
 	fmTestBarOnRollers(body, rest, 2.0, stretch, hold);
@@ -141,8 +140,8 @@ TEST(a_bar_stretched_past_yield_keeps_the_analytic_permanent_set)
 		fmBodyStats s = fmBody_GetStats(body);
 		printf("  %-10s: permanent set %.7f (analytic %.7f), plastic strain %.7f, plastic work "
 		       "%.5g J (analytic %.5g)\n",
-		       fmMaterialModelName(m.model), log(end / 2.0), alpha, s.plasticStrain,
-		       s.plasticWork, 2.0 * (sy * alpha + 0.5 * H * alpha * alpha));
+		       fmMaterialModelName(m.model), log(end / 2.0), alpha, s.plasticStrain, s.plasticWork,
+		       2.0 * (sy * alpha + 0.5 * H * alpha * alpha));
 		// The elastic law is Hencky's only to first order in the elastic strain (1e-3 here).
 		CHECK_REL(log(end / 2.0), alpha, 2e-3, 0.0);
 		CHECK_REL(s.plasticStrain, alpha, 2e-3, 0.0);
@@ -192,8 +191,8 @@ TEST(a_plastic_beam_swinging_down_closes_its_energy_balance)
 	{
 		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
 		s = fmBody_GetStats(body);
-		double balance = s.work - (s.kineticEnergy + s.elasticEnergy + s.plasticWork -
-		                           s.initialEnergy);
+		double balance =
+		    s.work - (s.kineticEnergy + s.elasticEnergy + s.plasticWork - s.initialEnergy);
 		worst = fmax(worst, fabs(balance));
 	}
 	worst /= s.work; // the imbalance of every frame against the whole swing's work

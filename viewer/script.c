@@ -16,8 +16,8 @@
 const char* const fvScriptKeys[] = {"space", "p", "s", "n", "r", "i", "m", "f", NULL};
 static const char* const fvSliders[] = {"youngs", "poisson",  "mass", "damping",
                                         "dt",     "substeps", NULL};
-static const char* const fvToggles[] = {"surfaces",  "stress",  "tets",  "inverted",
-                                        "pins",      "targets", "floor", "contacts",
+static const char* const fvToggles[] = {"surfaces",  "stress",  "tets",    "inverted",
+                                        "pins",      "targets", "floor",   "contacts",
                                         "colliders", "fibres",  "plastic", NULL};
 
 // The words of one line (at most 16), split on blanks; the line is modified.

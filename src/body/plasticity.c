@@ -80,8 +80,8 @@ double fmPlasticity_Flow(fmBody* b, double h)
 			continue;
 		K = fmMatMul(&Finv, &Fe);
 		// The stress along the flow, by the trapezoid: exact for linear hardening.
-		double start = material->plasticity.yieldStress +
-		               material->plasticity.hardening * m->plasticStrain[t];
+		double start =
+		    material->plasticity.yieldStress + material->plasticity.hardening * m->plasticStrain[t];
 		work += m->restVolume[t] * 0.5 * (start + stress) * (alpha - m->plasticStrain[t]);
 		m->DmInv[t] = fmMatMul(&m->DmInv[t], &K);
 		double yieldStrain = material->plasticity.yieldStress / (3.0 * material->mu);

@@ -23,7 +23,8 @@ double fmTetEvaluate(const fmElasticMesh* mesh, int t, const fmMat3* F, fmMat3* 
 		fmMat3 R = fmMaterial_Axes(m, &mesh->fibres[t]);
 		return fmAniso_Evaluate(m, &R, F, P, dPdF, project);
 	}
-	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF) : fmMaterial_Evaluate(m, F, P, dPdF);
+	return project ? fmMaterial_EvaluateProjected(m, F, P, dPdF)
+	               : fmMaterial_Evaluate(m, F, P, dPdF);
 }
 
 bool fmElasticMesh_IsLinear(const fmElasticMesh* mesh)

@@ -11,7 +11,6 @@
 
 #include <femto/femto.h>
 
-
 #include <stdint.h>
 
 struct fmTetBlocks;

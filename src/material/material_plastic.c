@@ -1,13 +1,12 @@
-// Plasticity's law (material_plastic.h). The return map is the classical one of J2 flow on the logarithmic
-// strain (Simo, "Algorithms for static and dynamic multiplicative plasticity", CMAME 1992;
-// de Souza Neto, Peric and Owen, "Computational Methods for Plasticity", ch. 14): with
-// Fe = U diag(s) V^T, e = ln s, its deviator d = e - tr(e)/3 and the Kirchhoff stress's
-// equivalent q = 3 mu |d| sqrt(2/3) (Hencky's law, 2 mu d), a tet yields where
-// q > sigma_y + H alpha; the flow dgamma = (q - sigma_y - H alpha) / (3 mu + H) (scaled by
-// c h / (1 + c h) with a creep rate c: Perzyna's overstress, implicit in h) brings q down by
-// 3 mu dgamma along d, alpha up by dgamma; the volume part of e stays. For any elastic law of
-// femto's isotropic ones this is the same map (their stresses agree with Hencky's at the
-// elastic strains a metal reaches; docs/materials.md).
+// Plasticity's law (material_plastic.h). The return map is the classical one of J2 flow on the
+// logarithmic strain (Simo, "Algorithms for static and dynamic multiplicative plasticity", CMAME
+// 1992; de Souza Neto, Peric and Owen, "Computational Methods for Plasticity", ch. 14): with Fe = U
+// diag(s) V^T, e = ln s, its deviator d = e - tr(e)/3 and the Kirchhoff stress's equivalent q = 3
+// mu |d| sqrt(2/3) (Hencky's law, 2 mu d), a tet yields where q > sigma_y + H alpha; the flow
+// dgamma = (q - sigma_y - H alpha) / (3 mu + H) (scaled by c h / (1 + c h) with a creep rate c:
+// Perzyna's overstress, implicit in h) brings q down by 3 mu dgamma along d, alpha up by dgamma;
+// the volume part of e stays. For any elastic law of femto's isotropic ones this is the same map
+// (their stresses agree with Hencky's at the elastic strains a metal reaches; docs/materials.md).
 #include "material/material_plastic.h"
 
 #include "core/det_math.h"

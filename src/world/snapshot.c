@@ -50,7 +50,6 @@
 #define FM_SNAPSHOT_LENGTH_AT (4 * sizeof(uint32_t))
 #define FM_SNAPSHOT_SUM_AT (6 * sizeof(uint32_t))
 
-
 static void fmMoveWorldSettings(fmStream* s, bool save, fmWorld* w)
 {
 	fmWorldDef* d = &w->def;
