@@ -99,6 +99,9 @@ static fmResult cliStaticSolve(const cliScene* scene, cliSimulation* sim, int b,
 	       o->tolerance, seconds, result == fm_ok ? "converged" : fmResultName(result));
 	printf("                 elastic energy %.6g J, lowest y %.6g m, inverted tets %d\n",
 	       stats.elasticEnergy, stats.lowestY, stats.invertedTets);
+	if (stats.plasticWork > 0.0)
+		printf("                 plastic work %.6g J, largest plastic strain %.6g\n",
+		       stats.plasticWork, stats.plasticStrain);
 	if (result != fm_ok)
 	{
 		char prefix[CLI_MAX_PATH + 32];

@@ -57,10 +57,11 @@ static bool cliParseTransverse(const cliJson* j, const cliJsonNode* object, cons
 
 // The anisotropic models' keys of a material object (docs/materials.md, "Anisotropy"):
 // "orthotropy" or "transversely_isotropic" for the orthotropic models (in place of
-// youngs_modulus and poisson_ratio: @p isotropicGiven), "fibre_stiffness" for
-// fibre-neohookean, "fibre" and "sheet" (the axes) for all three.
+// youngs_modulus and poisson_ratio: @p isotropicGiven; a region's material may keep the constants
+// @p m already has: @p inherited), "fibre_stiffness" for fibre-neohookean, "fibre" and "sheet"
+// (the axes) for all three.
 static bool cliParseAnisotropy(const cliJson* j, const cliJsonNode* object, const char* path,
-                               bool isotropicGiven, fmMaterial* m)
+                               bool isotropicGiven, bool inherited, fmMaterial* m)
 {
 	const cliJsonNode *ortho = NULL, *transverse = NULL;
 	if (!cliGetObject(j, object, path, "orthotropy", &ortho) ||
@@ -68,7 +69,7 @@ static bool cliParseAnisotropy(const cliJson* j, const cliJsonNode* object, cons
 		return false;
 	bool orthotropic = cliIsOrthotropic(m->model);
 	bool anisotropic = orthotropic || m->model == fm_fibreNeoHookean;
-	if (orthotropic && ortho == NULL && transverse == NULL)
+	if (orthotropic && ortho == NULL && transverse == NULL && !inherited)
 		return cliJsonFail(j, path, NULL,
 		                   "model %s needs \"orthotropy\": {\"E\": [E1, E2, E3], \"nu\": [nu12, "
 		                   "nu13, nu23], \"G\": [G12, G13, G23]} or \"transversely_isotropic\": "
@@ -107,8 +108,12 @@ static bool cliParseAnisotropy(const cliJson* j, const cliJsonNode* object, cons
 		if (!cliParseTransverse(j, transverse, sub, &o))
 			return false;
 	}
-	if (orthotropic)
+	if (orthotropic && (ortho != NULL || transverse != NULL))
+	{
+		fmVec3 fibre = m->fibre, sheet = m->sheet;
 		*m = fmMakeOrthotropicMaterial(m->model, o);
+		m->fibre = fibre, m->sheet = sheet;
+	}
 	bool hasFibre = false, hasSheet = false;
 	if (!cliGetNumber(j, object, path, "fibre_stiffness", cliNonNegative, &m->fibreStiffness,
 	                  NULL) ||
@@ -430,7 +435,7 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 	if (hasC01 && model != fm_mooneyRivlin)
 		return cliJsonFail(j, path, NULL,
 		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
-	if (!cliParseAnisotropy(j, material, path, engineering || lame, &spec->def.material) ||
+	if (!cliParseAnisotropy(j, material, path, engineering || lame, false, &spec->def.material) ||
 	    !cliParsePlasticity(j, material, path, &spec->def.material))
 		return false;
 	fmDiagnostic diag;
@@ -486,9 +491,27 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 	if (hasE != hasNu || hasLambda != hasMu)
 		return cliJsonFail(j, path, NULL,
 		                   "youngs_modulus and poisson_ratio (or lambda and mu) go together");
-	*out = hasE ? fmMakeMaterial(model, youngs, poisson) : fmMakeMaterialLame(model, lambda, mu);
+	// The body's material with what the region changes: its plasticity, axes and constants
+	// stay unless given, those of another model's do not carry over.
+	fmMaterial made =
+	    hasE ? fmMakeMaterial(model, youngs, poisson) : fmMakeMaterialLame(model, lambda, mu);
+	*out = *base;
+	out->model = model;
+	out->lambda = made.lambda;
+	out->mu = made.mu;
+	if (model != base->model)
+	{
+		out->c01 = made.c01;
+		out->fibreStiffness = 0.0;
+		memset(&out->orthotropy, 0, sizeof out->orthotropy);
+		bool flows = model == fm_stvk || model == fm_corotated || model == fm_neoHookean ||
+		             model == fm_mooneyRivlin || model == fm_neoHookeanIsochoric;
+		if (!flows) // (a model plasticity does not go with leaves it)
+			memset(&out->plasticity, 0, sizeof out->plasticity);
+	}
+	bool inherited = model == base->model;
 	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01) ||
-	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, out) ||
+	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, inherited, out) ||
 	    !cliParsePlasticity(j, object, path, out))
 		return false;
 	fmDiagnostic diag;

@@ -163,6 +163,9 @@ static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
 	fuzzFixBool(&def.selfCollision);
 	fuzzFixBool(&def.enableSleep);
 	def.mesh = fmFuzzPick(r, 8) == 0 ? NULL : mesh;
+	// Pointers are the caller's to make valid: the region arrays NULL (their count stays fuzzed).
+	def.regionMaterials = NULL;
+	def.regionIds = NULL;
 	// Per-tet fibres: NULL, or fuzzed directions (some zero) for every tet the mesh may have.
 	static fmVec3 fibres[fuzz_maxTets];
 	def.tetFibres = NULL;

@@ -263,6 +263,7 @@ TEST(plastic_colours_follow_the_plastic_strain)
 	m.plasticity.yieldStress = 1e3;
 	fmWorldId world;
 	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), m, fm_fem);
+	CHECK(fmBody_IsValid(body));
 	if (!fmBody_IsValid(body))
 		return;
 	fmSeen seen;

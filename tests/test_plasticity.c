@@ -49,8 +49,8 @@ TEST(return_map_is_the_von_mises_law)
 		fmMat3 R1 = fmTestRandomRotation(), R2 = fmTestRandomRotation();
 		fmMat3 D = {{exp(e + v), 0, 0, 0, exp(-e / 2 + v), 0, 0, 0, exp(-e / 2 + v)}};
 		fmMat3 T = fmMatMul(&R1, &D), F = fmMatMul(&T, &R2), out;
-		double q = vonMises(&m, &F), yield = 2e3 + 1e5 * alpha0, stress = 0.0;
-		bool flowed = fmPlasticity_Return(&m, &F, 1.0, &alpha, &out, &stress);
+		double q = vonMises(&m, &F), yield = 2e3 + 1e5 * alpha0, stress[2] = {0.0, 0.0};
+		bool flowed = fmPlasticity_Return(&m, &F, 1.0, &alpha, &out, stress);
 		CHECK(flowed == (q > yield));
 		if (!flowed)
 		{
@@ -59,7 +59,8 @@ TEST(return_map_is_the_von_mises_law)
 		}
 		// On the hardened yield surface of the material's own stress, to round-off.
 		CHECK_REL(vonMises(&m, &out), 2e3 + 1e5 * alpha, 1e-9, 0.0);
-		CHECK_REL(stress, 2e3 + 1e5 * alpha, 1e-9, 0.0);
+		CHECK_REL(stress[1], 2e3 + 1e5 * alpha, 1e-9, 0.0);
+		CHECK_REL(stress[0], q, 1e-12, 0.0);
 		// Hencky's flow, (q - yield) / (3 mu + H), to the two laws' difference at 1% strain.
 		CHECK_REL(alpha - alpha0, (q - yield) / (3.0 * mu + 1e5), 0.05, 0.0);
 		// Radial: the log strain's deviator keeps its direction and the volume stays.
@@ -155,19 +156,21 @@ TEST(a_bar_stretched_past_yield_keeps_the_analytic_permanent_set)
 
 // A 1 m x 0.1 m x 0.1 m beam clamped at x = 0, held straight and let go under gravity in an
 // explicit world without damping: it swings down and bends for good at its root.
-static fmWorldId swingingBeam(fmBodyId* body, double yieldStress)
+static fmWorldId swingingBeam(fmBodyId* body, double yieldStress, double creepRate,
+                              bool autoSubstep)
 {
 	fmTetMesh mesh;
 	fmMakeBoxMesh(10, 1, 1, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 0.1, 0.1), &mesh);
 	fmWorldDef wdef = fmDefaultWorldDef();
 	wdef.floor.enabled = false;
-	wdef.autoSubstep = true;
+	wdef.autoSubstep = autoSubstep;
 	fmWorldId world = fmCreateWorld(&wdef);
 	fmBodyDef bdef = fmDefaultBodyDef();
 	bdef.mesh = &mesh;
 	bdef.material = fmMakeMaterial(fm_neoHookean, 5e5, 0.3);
 	bdef.material.plasticity.yieldStress = yieldStress;
-	bdef.material.plasticity.hardening = 5e4;
+	bdef.material.plasticity.hardening = yieldStress > 0.0 ? 5e4 : 0.0;
+	bdef.material.plasticity.creepRate = creepRate;
 	bdef.massMode = fm_massFromDensity;
 	bdef.density = 1000.0;
 	bdef.damping = 1.0;
@@ -182,26 +185,58 @@ TEST(a_plastic_beam_swinging_down_closes_its_energy_balance)
 {
 	// Gravity's work = kinetic + elastic + plastic work, every frame within 0.5% of the swing's
 	// work (explicit, no damping, the steps' own error is what is left: with fixed steps 0.022,
-	// 0.009, 0.006 J of 72 J at 100, 400, 1600 substeps a frame); the beam ends bent.
-	fmBodyId body;
-	fmWorldId world = swingingBeam(&body, 2e3);
-	double worst = 0.0;
-	fmBodyStats s = fmBody_GetStats(body);
-	for (int frame = 0; frame < 60; ++frame)
+	// 0.009, 0.006 J of 72 J at 100, 400, 1600 substeps a frame); rate-independent and creeping
+	// (20 per second); the beam ends bent.
+	const double creep[2] = {0.0, 20.0};
+	for (int c = 0; c < 2; ++c)
 	{
-		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
-		s = fmBody_GetStats(body);
-		double balance =
-		    s.work - (s.kineticEnergy + s.elasticEnergy + s.plasticWork - s.initialEnergy);
-		worst = fmax(worst, fabs(balance));
+		fmBodyId body;
+		fmWorldId world = swingingBeam(&body, 2e3, creep[c], true);
+		double worst = 0.0;
+		fmBodyStats s = fmBody_GetStats(body);
+		for (int frame = 0; frame < 60; ++frame)
+		{
+			CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+			s = fmBody_GetStats(body);
+			double balance =
+			    s.work - (s.kineticEnergy + s.elasticEnergy + s.plasticWork - s.initialEnergy);
+			worst = fmax(worst, fabs(balance));
+		}
+		worst /= s.work; // the imbalance of every frame against the whole swing's work
+		printf("  creep %g/s, 1 s: work %.5g J, kinetic %.4g, elastic %.4g, plastic %.4g J; "
+		       "largest imbalance %.2g of the work; largest plastic strain %.4f, tip %.4f m\n",
+		       creep[c], s.work, s.kineticEnergy, s.elasticEnergy, s.plasticWork, worst,
+		       s.plasticStrain, s.lowestY);
+		CHECK(s.plasticWork > 0.05 * s.work); // it bent for good
+		CHECK(worst < 5e-3);
+		fmDestroyWorld(world);
 	}
-	worst /= s.work; // the imbalance of every frame against the whole swing's work
-	printf("  1 s: work %.5g J, kinetic %.4g, elastic %.4g, plastic %.4g J; largest imbalance "
-	       "%.2g of the work; largest plastic strain %.4f, tip %.4f m\n",
-	       s.work, s.kineticEnergy, s.elasticEnergy, s.plasticWork, worst, s.plasticStrain,
-	       s.lowestY);
-	CHECK(s.plasticWork > 0.05 * s.work); // it bent for good
-	CHECK(worst < 5e-3);
+}
+
+TEST(a_refused_frame_undoes_its_flow)
+{
+	// A frame that fails (explicit substeps 40 times the stability limit of a stiffened body: it
+	// explodes) goes back to its start: positions, and the plastic state its substeps flowed.
+	fmBodyId body;
+	fmWorldId world = swingingBeam(&body, 2e3, 0.0, false);
+	for (int frame = 0; frame < 10; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 400), fm_ok);
+	fmBodyStats before = fmBody_GetStats(body);
+	CHECK(before.plasticWork > 0.0);
+	// A thousand times stiffer (the same yield strain), stepped at 40 times its stability limit.
+	fmMaterial stiff = fmMakeMaterial(fm_neoHookean, 5e8, 0.3);
+	stiff.plasticity.yieldStress = 2e6;
+	stiff.plasticity.hardening = 5e7;
+	CHECK_INT(fmBody_SetMaterial(body, &stiff, NULL), fm_ok);
+	before = fmBody_GetStats(body);
+	double limit = fmWorld_EstimateExplicitStep(world);
+	CHECK(40.0 * limit < 1.0 / 60.0);
+	CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, (int)ceil(1.0 / 60.0 / (40.0 * limit))),
+	          fm_errNumerical);
+	fmBodyStats after = fmBody_GetStats(body);
+	CHECK(after.plasticWork == before.plasticWork);
+	CHECK(after.plasticStrain == before.plasticStrain);
+	CHECK_REL(after.elasticEnergy, before.elasticEnergy, 1e-12, 0.0);
 	fmDestroyWorld(world);
 }
 
@@ -210,7 +245,7 @@ TEST(snapshots_keep_the_bent_state)
 	// Saved mid-swing, stepped on, restored, stepped on again: the same bits (positions, plastic
 	// strain, plastic work); a snapshot taken before any flow brings the straight rest back.
 	fmBodyId body;
-	fmWorldId world = swingingBeam(&body, 2e3);
+	fmWorldId world = swingingBeam(&body, 2e3, 0.0, true);
 	size_t beforeSize = fmWorld_GetSnapshotSize(world), written = 0;
 	void* before = malloc(beforeSize);
 	CHECK_INT(fmWorld_SaveSnapshot(world, before, beforeSize, &written), fm_ok);
@@ -240,5 +275,28 @@ TEST(snapshots_keep_the_bent_state)
 	free(first);
 	free(before);
 	free(middle);
+	fmDestroyWorld(world);
+}
+
+TEST(a_snapshot_from_before_a_body_was_plastic_restores_its_rest_shape)
+{
+	// Saved elastic, made plastic (fmBody_SetMaterial), bent, restored: the body has no plastic
+	// strain, no plastic work and its rest shape (zero elastic energy at rest).
+	fmBodyId body;
+	fmWorldId world = swingingBeam(&body, 0.0, 0.0, true);
+	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
+	void* elastic = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(world, elastic, size, &written), fm_ok);
+	fmMaterial m = fmMakeMaterial(fm_neoHookean, 5e5, 0.3);
+	m.plasticity.yieldStress = 2e3;
+	CHECK_INT(fmBody_SetMaterial(body, &m, NULL), fm_ok);
+	for (int frame = 0; frame < 20; ++frame)
+		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
+	CHECK(fmBody_GetStats(body).plasticStrain > 0.0);
+	CHECK_INT(fmWorld_RestoreSnapshot(world, elastic, written), fm_ok);
+	fmBodyStats s = fmBody_GetStats(body);
+	CHECK(s.plasticStrain == 0.0 && s.plasticWork == 0.0);
+	CHECK_NEAR(s.elasticEnergy, 0.0, 1e-12);
+	free(elastic);
 	fmDestroyWorld(world);
 }

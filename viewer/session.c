@@ -1,6 +1,8 @@
 // The simulation of `femto view` (session.h).
 #include "session.h"
 
+#include "scene_body.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,14 +28,22 @@ static bool fvIsAnisotropic(fmMaterialModel model)
 }
 
 // Body @p b's material under the sliders: an isotropic model from Young's modulus and Poisson's
-// ratio; while the sliders keep a scene's anisotropic model, each body's own scene material with
-// every modulus scaled by the Young's slider over its start, its ratios and axes kept.
+// ratio (with the scene's plasticity); while the sliders keep a scene's anisotropic model, each
+// body's own scene material with every modulus scaled by the Young's slider over its start, its
+// ratios and axes kept.
 static fmMaterial fvSliderMaterial(const fvSession* s, int b)
 {
 	const fvParams* p = &s->params;
+	const fmMaterial* scene = &s->scene.bodies[b].def.material;
 	if (!fvIsAnisotropic(p->model))
-		return fmMakeMaterial(p->model, p->youngs, p->poisson);
-	fmMaterial m = s->scene.bodies[b].def.material;
+	{
+		// The scene's plasticity stays with the models it goes with (not linear).
+		fmMaterial m = fmMakeMaterial(p->model, p->youngs, p->poisson);
+		if (p->model != fm_linear)
+			m.plasticity = scene->plasticity;
+		return m;
+	}
+	fmMaterial m = *scene;
 	double k = p->youngs / p->startYoungs;
 	for (int e = 0; e < 3; ++e)
 	{
@@ -246,9 +256,14 @@ static bool fvRecreateBody(fvSession* s, int b)
 	double* x = cliCopyState(old, false);
 	double* v = cliCopyState(old, true);
 	fmBodyDef def = fvBodyDef(s, b);
+	char problem[256];
+	fmVec3* fibres = cliBodyFibres(&s->scene.bodies[b], def.mesh, problem, sizeof problem);
+	def.tetFibres = fibres; // the scene's "fibres" (its mesh was loaded before: no problem left)
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
-	bool ok = x != NULL && v != NULL && fmCreateBody(s->sim.world, &def, &made, &diag) == fm_ok;
+	bool ok = x != NULL && v != NULL && problem[0] == 0 &&
+	          fmCreateBody(s->sim.world, &def, &made, &diag) == fm_ok;
+	free(fibres);
 	if (ok)
 	{
 		fmDestroyBody(old);

@@ -745,6 +745,8 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 		                   "plasticity needs the fem force model (a tet's plastic part lives in "
 		                   "its rest data), not %s",
 		                   fmForceModelName(b->mesh.forceModel));
+	if (fmPlasticity_Flows(material) && !fmPlasticity_Allocate(b)) // before anything changes
+		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
 	if (b->mesh.tetMaterial != NULL)
 	{
 		// Per-region materials give way to the one material for every tet; springs, whose
@@ -767,8 +769,6 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 	}
 	b->mesh.material = *material;
 	fmMaterial_SetScale(&b->mesh.material);
-	if (!fmPlasticity_Prepare(b)) // (no flow yet: nothing to undo but the material)
-		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
 	return fm_ok;

@@ -57,6 +57,8 @@ typedef struct fmBody
 	                         // integration; implicit: the solve, then velocities and floor)
 	fmEnergyLedger ledger;   // work done on the body: the runaway bound (energy_ledger.h)
 	double plasticWork;      // J, the plastic work of the flow since creation (plasticity.h)
+	double plasticWorkGood;  // the same at the start of the frame being stepped
+	bool plasticKept;        // the frame being stepped kept the plastic state to go back to
 
 	double damping;
 	double smoothing;

@@ -281,8 +281,12 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
 	if (def && def->tetFibres != NULL) // per-tet fibres
 		body += fmArrayBytes(m, sizeof(fmVec3));
-	if (def && def->material.plasticity.yieldStress > 0.0) // plastic strains, rest before flow
-		body += fmArrayBytes(m, sizeof(double)) + fmArrayBytes(m, sizeof(fmMat3));
+	bool plastic = def && def->material.plasticity.yieldStress > 0.0;
+	for (int k = 0;
+	     def && def->regionMaterials != NULL && k < def->regionCount && k < FM_MAX_REGIONS; ++k)
+		plastic = plastic || def->regionMaterials[k].plasticity.yieldStress > 0.0;
+	if (plastic) // plastic strains (now and kept), rest data (before flow and kept)
+		body += 2 * fmArrayBytes(m, sizeof(double)) + 2 * fmArrayBytes(m, sizeof(fmMat3));
 	if (def && def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS) // per-region materials
 		body += fmArrayBytes(m, sizeof(uint16_t)) +
 		        fmArrayBytes((uint64_t)def->regionCount + 1, sizeof(fmMaterial));

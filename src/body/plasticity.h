@@ -13,6 +13,20 @@ struct fmBody;
 // before any flow) when it has none; false when out of memory.
 bool fmPlasticity_Allocate(struct fmBody* b);
 
+// Free body @p b's plastic state (it has not flowed, or goes back to its rest shape).
+void fmPlasticity_Free(struct fmBody* b);
+
+// Keep body @p b's plastic state at the start of a frame it steps, to go back to
+// (fmPlasticity_RestoreGood) when the frame is refused; nothing without plastic state.
+void fmPlasticity_KeepGood(struct fmBody* b);
+
+// A refused frame: body @p b's rest data, plastic strains and plastic work as they were kept at
+// its start (nothing when none was kept this frame).
+void fmPlasticity_RestoreGood(struct fmBody* b);
+
+// Whether one of body @p b's materials flows.
+bool fmPlasticity_AnyFlows(const struct fmBody* b);
+
 // fmPlasticity_Allocate when one of body @p b's materials flows; false when out of memory.
 bool fmPlasticity_Prepare(struct fmBody* b);
 

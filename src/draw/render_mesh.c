@@ -198,10 +198,12 @@ static fmResult fmTetGrid_Build(fmTetGrid* g, const fmBody* b)
 
 // ---- binding a vertex ---------------------------------------------------------------------
 
-// Barycentric coordinates of @p p in rest tet @p t: (w1, w2, w3) = Dm^-1 (p - X0).
+// Barycentric coordinates of @p p in rest tet @p t: (w1, w2, w3) = Dm^-1 (p - X0), with the rest
+// positions' own Dm^-1 (a plastic body's DmInv also holds its plastic part).
 static void fmBarycentric(const fmBody* b, int t, fmVec3 p, double w[4])
 {
-	fmVec3 r = fmMatVec(&b->mesh.DmInv[t], fmSub(p, fmLoad(b->mesh.x0, b->mesh.tets[4 * t])));
+	const fmMat3* DmInv = b->mesh.restDmInv != NULL ? &b->mesh.restDmInv[t] : &b->mesh.DmInv[t];
+	fmVec3 r = fmMatVec(DmInv, fmSub(p, fmLoad(b->mesh.x0, b->mesh.tets[4 * t])));
 	w[1] = r.x;
 	w[2] = r.y;
 	w[3] = r.z;

@@ -74,6 +74,8 @@ void fmElasticMesh_Free(fmElasticMesh* mesh)
 	FM_FREE_ARRAY(mesh->fibres, fmVec3, m);
 	FM_FREE_ARRAY(mesh->plasticStrain, double, m);
 	FM_FREE_ARRAY(mesh->restDmInv, fmMat3, m);
+	FM_FREE_ARRAY(mesh->goodDmInv, fmMat3, m);
+	FM_FREE_ARRAY(mesh->goodStrain, double, m);
 }
 
 bool fmBodyState_Allocate(fmBodyState* state, int vertexCount)

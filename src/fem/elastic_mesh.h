@@ -65,6 +65,8 @@ typedef struct fmElasticMesh
 	// flowing tet's plastic part is in its DmInv.
 	double* plasticStrain;
 	fmMat3* restDmInv; // with plasticStrain: DmInv before any flow (a restored elastic state's)
+	fmMat3* goodDmInv; // with plasticStrain: DmInv at the start of the frame being stepped
+	double* goodStrain; // and the plastic strains (a refused frame goes back to them)
 	fmForceModel forceModel;
 
 	double totalMass; // kg

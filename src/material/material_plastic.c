@@ -88,7 +88,7 @@ double fmPlasticity_Share(const fmMaterial* m, double seconds)
 }
 
 bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, double* alpha,
-                         fmMat3* out, double* stress)
+                         fmMat3* out, double stress[2])
 {
 	const fmPlasticity* p = &m->plasticity;
 	if (!(p->yieldStress > 0.0) || (p->maxPlasticStrain > 0.0 && *alpha >= p->maxPlasticStrain))
@@ -122,14 +122,14 @@ bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, do
 	// yield + H flow.
 	double flow = (qm - yield) / slope, returned = qm;
 	fmMat3 Fr = *Fe;
-	for (int it = 0; it < FM_PLASTIC_RETURN_ITERATIONS; ++it)
+	for (int it = 0; it <= FM_PLASTIC_RETURN_ITERATIONS; ++it)
 	{
 		flow = fmMin(fmMax(flow, 0.0), q / (3.0 * mu));
 		Fr = fmReturned(&U, &V, mean, d, 1.0 - 3.0 * mu * flow / q);
 		returned = fmVonMises(m, &Fr);
 		double miss = returned - (yield + H * flow);
-		if (!(fabs(miss) > 1e-12 * yield))
-			break;
+		if (!(fabs(miss) > 1e-12 * yield) || it == FM_PLASTIC_RETURN_ITERATIONS)
+			break; // (the last one keeps the flow its state was made with)
 		flow += miss / slope;
 	}
 	// Creep takes its share of it; the cap stops it.
@@ -145,6 +145,9 @@ bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, do
 	*out = Fr;
 	*alpha += flow;
 	if (stress != NULL)
-		*stress = returned;
+	{
+		stress[0] = qm;
+		stress[1] = returned;
+	}
 	return true;
 }

@@ -25,7 +25,7 @@ double fmPlasticity_Share(const fmMaterial* m, double seconds);
 // rate-independent flow to take @p share (fmPlasticity_Share), the tet's equivalent plastic
 // strain @p alpha (updated). The returned elastic part into @p out, the same volume; false (nothing
 // written) when it does not flow: inside the yield surface, at its cap, or det Fe <= 0.
-// @p stress (may be NULL) gets the returned state's von Mises stress (Pa, Kirchhoff): times
-// the flow, the plastic work a unit of rest volume took (backward Euler).
+// @p stress (may be NULL) gets the von Mises stresses (Pa, Kirchhoff) of the trial state
+// (stress[0]) and of the returned one (stress[1]).
 bool fmPlasticity_Return(const fmMaterial* m, const fmMat3* Fe, double share, double* alpha,
-                         fmMat3* out, double* stress);
+                         fmMat3* out, double stress[2]);

@@ -3,6 +3,8 @@
 
 #include "body/plasticity.h"
 #include "material/material.h"
+#include "material/material_aniso.h"
+#include "material/material_plastic.h"
 #include "solver/solver_cache.h"
 
 #include <string.h>
@@ -133,7 +135,11 @@ static bool fmMovePlastic(fmStream* s, bool save, fmBody* b)
 	fmStream_Move(s, save, &plastic, 1);
 	size_t m = (size_t)b->mesh.tetCount;
 	if (!save && plastic == 0u)
+	{
 		fmPlasticity_Unflowed(b);
+		if (!fmPlasticity_AnyFlows(b)) // (then the explicit float blocks apply again)
+			fmPlasticity_Free(b);
+	}
 	if (plastic == 0u)
 		return true;
 	if (!save && !fmPlasticity_Allocate(b))
@@ -155,10 +161,17 @@ static bool fmRecordMaterialValid(const fmBody* b, const void* buffer, size_t si
 {
 	size_t n = (size_t)b->mesh.vertexCount;
 	size_t at = offset + sizeof(double) * (12 * n + (size_t)b->mesh.edgeCount) + n;
+	if (offset > size || at > size)
+		return false;
 	fmStream s = {NULL, buffer, size, at, false};
 	fmMaterial material = b->mesh.material;
 	fmMoveMaterial(&s, false, &material);
-	return !s.overflow && fmMaterial_Validate(&material, NULL) == fm_ok;
+	// What the body itself allows (fmBody_SetMaterial's checks): plasticity with the fem force
+	// model, anisotropy with a stress (not springs).
+	fmForceModel model = b->mesh.forceModel;
+	bool fits = (model == fm_fem || !fmPlasticity_Flows(&material)) &&
+	            (model != fm_massSpring || !fmMaterialModel_IsAnisotropic(material.model));
+	return !s.overflow && fits && fmMaterial_Validate(&material, NULL) == fm_ok;
 }
 
 // Bytes of body @p b's record at @p offset of the buffer (after its key), or SIZE_MAX when the
@@ -169,20 +182,23 @@ size_t fmSnapshotBody_RecordBytes(fmBody* b, const void* buffer, size_t size, si
 		return SIZE_MAX;
 	fmStream count = {NULL, NULL, 0, 0, false};
 	fmMoveBodyState(&count, true, b);
-	fmStream s = {NULL, buffer, size, offset + count.used + sizeof(double), false};
+	if (offset > size || count.used > size - offset)
+		return SIZE_MAX;
+	fmStream s = {NULL, buffer, size, offset + count.used, false};
+	fmStream_Skip(&s, sizeof(double)); // the plastic work
 	uint8_t plastic = 0;
 	fmStream_Get(&s, &plastic, 1);
 	if (plastic > 1u)
 		return SIZE_MAX;
 	if (plastic == 1u)
 	{
-		s.used += (sizeof(fmMat3) + sizeof(double)) * (size_t)b->mesh.tetCount;
+		fmStream_Skip(&s, (sizeof(fmMat3) + sizeof(double)) * (size_t)b->mesh.tetCount);
 		if (!fmPlasticity_Allocate(b)) // its memory taken before anything is restored
 			return SIZE_MAX;
 	}
 	uint8_t present = 0;
 	fmStream_Get(&s, &present, 1);
-	s.used += 1; // the first guess's recheck countdown
+	fmStream_Skip(&s, 1); // the first guess's recheck countdown
 	if (present & 1u)
 	{
 		int64_t blocks = 0;
@@ -191,12 +207,12 @@ size_t fmSnapshotBody_RecordBytes(fmBody* b, const void* buffer, size_t size, si
 		    fmSolverCache_Get(&b->solverCache, &b->mesh); // the same mesh gives the same pattern
 		if (c == NULL || blocks != c->pattern.blocks)
 			return SIZE_MAX;
-		s.used += 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks;
+		fmStream_Skip(&s, 2 * sizeof(double) + 2 + sizeof(double) * 9 * (size_t)blocks);
 		// The base's memory is taken here, before anything is restored.
 		if ((present & 4u) && fmSolverCache_Base(c) == NULL)
 			return SIZE_MAX;
 		if (present & 4u)
-			s.used += sizeof(double) * 9 * (size_t)blocks;
+			fmStream_Skip(&s, sizeof(double) * 9 * (size_t)blocks);
 	}
 	else if (present & 4u)
 		return SIZE_MAX; // a base without its matrix

@@ -175,6 +175,7 @@ static void fmRestoreAll(fmWorld* w)
 		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
 		memcpy(b->state.x, b->xGood, bytes);
 		memcpy(b->state.v, b->vGood, bytes);
+		fmPlasticity_RestoreGood(b); // the frame's plastic flow undone
 		b->energyStale = true; // energyGood may belong to a state the caller had set
 	}
 }
@@ -651,7 +652,10 @@ static void fmOpenLedgers(fmWorld* w, const fmStepContext* ctx)
 	fmEnergyPass pass = fmWorldEnergyPass(w);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (fmIsland_Stepping(&w->bodies[i]))
+		{
 			fmLedger_BeginFrame(&w->bodies[i], w->def.gravity, ctx->shadowStep, &pass);
+			fmPlasticity_KeepGood(&w->bodies[i]);
+		}
 }
 
 // Health checks against the ledgers: a failure restores every body. Only when every body passed
@@ -670,6 +674,7 @@ static fmResult fmCloseLedgers(fmWorld* w, const fmStepContext* ctx)
 		if (!fmIsland_Stepping(b))
 			continue;
 		fmLedger_Commit(b, &ctx->work[i], ctx->shadowStep);
+		b->plasticKept = false;
 		size_t bytes = sizeof(double) * 3 * (size_t)b->mesh.vertexCount;
 		memcpy(b->xGood, b->state.x, bytes);
 		memcpy(b->vGood, b->state.v, bytes);
