@@ -272,7 +272,8 @@ static bool cliParseBoxSpec(const char* spec, int cells[3], char* problem, size_
 	return true;
 }
 
-static bool cliParseMesh(const cliJson* j, const cliJsonNode* body, const char* parent, cliBodySpec* spec)
+static bool cliParseMesh(const cliJson* j, const cliJsonNode* body, const char* parent,
+                         cliBodySpec* spec)
 {
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "mesh");
@@ -575,7 +576,8 @@ static bool cliParseRegions(const cliJson* j, const cliJsonNode* body, const cha
 #define CLI_BODY_LOAD_KEYS "loads", "pressure", "regions", "attachments", "welds"
 
 // "axes": a string of the letters x, y, z, each at most once (e.g. "y", "xz").
-static bool cliGetAxes(const cliJson* j, const cliJsonNode* box, const char* boxPath, unsigned* axes)
+static bool cliGetAxes(const cliJson* j, const cliJsonNode* box, const char* boxPath,
+                       unsigned* axes)
 {
 	const cliJsonNode* item = cliJsonTree_Member(box, "axes");
 	if (item == NULL)
@@ -665,7 +667,8 @@ static bool cliGetBox(const cliJson* j, const cliJsonNode* entry, const char* pa
 }
 
 // "loads": [{"min": [..], "max": [..], "force": [fx, fy, fz]}] (N on each vertex in the box).
-static bool cliReadLoad(const cliJson* j, const cliJsonNode* entry, const char* entryPath, void* out)
+static bool cliReadLoad(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
+                        void* out)
 {
 	cliLoadBox* load = out;
 	bool hasForce = false;
@@ -679,7 +682,8 @@ static bool cliReadLoad(const cliJson* j, const cliJsonNode* entry, const char* 
 }
 
 // "pressure": [{"min": [..], "max": [..], "pressure": Pa, "follower": true}].
-static bool cliReadPressure(const cliJson* j, const cliJsonNode* entry, const char* entryPath, void* out)
+static bool cliReadPressure(const cliJson* j, const cliJsonNode* entry, const char* entryPath,
+                            void* out)
 {
 	cliPressureBox* load = out;
 	load->follower = true;
@@ -804,7 +808,8 @@ static bool cliParseBodyLists(const cliJson* j, const cliJsonNode* body, const c
 // ---- contact and the body --------------------------------------------------------------------
 
 // "filter": {"category": bits, "mask": bits} (fmFilter; absent keys keep the defaults).
-bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent, fmFilter* filter)
+bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent,
+                    fmFilter* filter)
 {
 	static const char* const keys[] = {"category", "mask", NULL};
 	const cliJsonNode* item = NULL;

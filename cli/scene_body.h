@@ -15,7 +15,8 @@ bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* 
 
 /// The "filter" of @p object (a body, a collider or the floor): {"category": bits, "mask":
 /// bits} (fmFilter; absent keys keep the defaults).
-bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent, fmFilter* filter);
+bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent,
+                    fmFilter* filter);
 
 /// The per-tet fibres of @p spec's "fibres" on its loaded, placed @p mesh (fmBodyDef.tetFibres):
 /// malloc'd (the caller frees it), or NULL with @p problem empty when the body has none, or NULL

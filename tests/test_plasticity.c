@@ -240,20 +240,26 @@ TEST(a_refused_frame_undoes_its_flow)
 	fmDestroyWorld(world);
 }
 
+// World @p world saved into a new buffer (the caller frees it), its size into @p size.
+static void* saveWorld(int* failures_, fmWorldId world, size_t* size)
+{
+	size_t capacity = fmWorld_GetSnapshotSize(world);
+	void* buffer = malloc(capacity);
+	CHECK_INT(fmWorld_SaveSnapshot(world, buffer, capacity, size), fm_ok);
+	return buffer;
+}
+
 TEST(snapshots_keep_the_bent_state)
 {
 	// Saved mid-swing, stepped on, restored, stepped on again: the same bits (positions, plastic
 	// strain, plastic work); a snapshot taken before any flow brings the straight rest back.
 	fmBodyId body;
 	fmWorldId world = swingingBeam(&body, 2e3, 0.0, true);
-	size_t beforeSize = fmWorld_GetSnapshotSize(world), written = 0;
-	void* before = malloc(beforeSize);
-	CHECK_INT(fmWorld_SaveSnapshot(world, before, beforeSize, &written), fm_ok);
+	size_t beforeSize = 0, size = 0;
+	void* before = saveWorld(failures_, world, &beforeSize);
 	for (int frame = 0; frame < 20; ++frame)
 		fmWorld_Step(world, 1.0 / 60.0, 1);
-	size_t size = fmWorld_GetSnapshotSize(world);
-	void* middle = malloc(size);
-	CHECK_INT(fmWorld_SaveSnapshot(world, middle, size, &written), fm_ok);
+	void* middle = saveWorld(failures_, world, &size);
 	for (int frame = 0; frame < 20; ++frame)
 		fmWorld_Step(world, 1.0 / 60.0, 1);
 	int n = fmBody_GetVertexCount(body);
@@ -284,9 +290,8 @@ TEST(a_snapshot_from_before_a_body_was_plastic_restores_its_rest_shape)
 	// strain, no plastic work and its rest shape (zero elastic energy at rest).
 	fmBodyId body;
 	fmWorldId world = swingingBeam(&body, 0.0, 0.0, true);
-	size_t size = fmWorld_GetSnapshotSize(world), written = 0;
-	void* elastic = malloc(size);
-	CHECK_INT(fmWorld_SaveSnapshot(world, elastic, size, &written), fm_ok);
+	size_t written = 0;
+	void* elastic = saveWorld(failures_, world, &written);
 	fmMaterial m = fmMakeMaterial(fm_neoHookean, 5e5, 0.3);
 	m.plasticity.yieldStress = 2e3;
 	CHECK_INT(fmBody_SetMaterial(body, &m, NULL), fm_ok);

@@ -15,15 +15,15 @@ typedef struct fvParams
 	/// linear ... Mooney-Rivlin (the user-energy models are not offered), or the scene's
 	/// anisotropic model, whose constants the Young's slider scales
 	fmMaterialModel model;
-	double youngs;         ///< Pa (an anisotropic model's: its Voigt average's)
-	double poisson;        ///< in (-1, 0.5)
-	double startYoungs;    ///< youngs when the scene loaded: an anisotropic model's scale 1
-	double startPoisson;   ///< poisson when the scene loaded
-	bool perParticle;      ///< masses per vertex (the seeds) or from a density
-	double mass;           ///< kg per vertex (perParticle) or kg/m^3
-	double damping;        ///< velocity factor per 3 ms, in (0, 1]
-	double dt;             ///< s, one substep
-	int substeps;          ///< substeps a frame
+	double youngs;       ///< Pa (an anisotropic model's: its Voigt average's)
+	double poisson;      ///< in (-1, 0.5)
+	double startYoungs;  ///< youngs when the scene loaded: an anisotropic model's scale 1
+	double startPoisson; ///< poisson when the scene loaded
+	bool perParticle;    ///< masses per vertex (the seeds) or from a density
+	double mass;         ///< kg per vertex (perParticle) or kg/m^3
+	double damping;      ///< velocity factor per 3 ms, in (0, 1]
+	double dt;           ///< s, one substep
+	int substeps;        ///< substeps a frame
 	fmIntegrator integrator;
 } fvParams;
 

@@ -97,7 +97,7 @@ typedef struct fwApp
 	float* floatPositions[FW_MAX_BODIES];
 	double* doublePositions[FW_MAX_BODIES];
 	fmVec3* fibres[FW_MAX_BODIES]; // the scene's per-tet fibres ("fibres"), or NULL
-	fmTetMesh userMesh; // the last dropped mesh (kept for reloading its scene)
+	fmTetMesh userMesh;            // the last dropped mesh (kept for reloading its scene)
 	// sliders
 	fmMaterial material; // the first body's, shown by the sliders
 	bool materialSet;    // the sliders set material for every body (else each keeps the scene's)

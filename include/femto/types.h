@@ -699,7 +699,7 @@ typedef struct fmBodyStats
 typedef struct fmAuditFinding
 {
 	fmBodyId body;      ///< the edge's, vertex's or tet's body; the null id when none was found
-	fmBodyId otherBody; ///< the body crossed or entered (itself for a self crossing); null for a tet
+	fmBodyId otherBody; ///< the body crossed or entered (itself for a self crossing); tet: null
 	int vertex[2];      ///< crossing: the edge's vertices; inside: the vertex, -1 (user numbering)
 	int index;          ///< crossing: the other's surface triangle (fmBody_GetSurface order);
 	                    ///< inverted: the tet (user numbering); inside: -1

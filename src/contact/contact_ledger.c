@@ -120,7 +120,7 @@ static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* ene
 }
 
 bool fmContactLedger_AddStageWork(fmWorld* w, fmContactState* s, const fmStepContext* ctx,
-                              double shadowWeight, int slot)
+                                  double shadowWeight, int slot)
 {
 	fmBody* b = &w->bodies[slot];
 	if (b->asleep)

@@ -321,7 +321,8 @@ static bool fmDrawTetEdges(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 	if (!fmDrawCacheEdges(b, c) || !fmReserveLines(c, c->edgeCount))
 		return false;
 	for (int k = 0; k < c->edgeCount; ++k)
-		fmPutLine(c->lines + 6 * k, b->state.x + 3 * c->edges[2 * k], b->state.x + 3 * c->edges[2 * k + 1]);
+		fmPutLine(c->lines + 6 * k, b->state.x + 3 * c->edges[2 * k],
+		          b->state.x + 3 * c->edges[2 * k + 1]);
 	draw->drawLines(c->lines, c->edgeCount, FM_COLOR_EDGES, draw->context);
 	return true;
 }
@@ -342,7 +343,8 @@ static bool fmDrawInverted(const fmBody* b, fmDrawCache* c, const fmDebugDraw* d
 		if (fmDet(&F) > 0.0)
 			continue;
 		for (int e = 0; e < 6; ++e)
-			fmPutLine(c->lines + 6 * (count + e), b->state.x + 3 * b->mesh.tets[4 * t + corner[e][0]],
+			fmPutLine(c->lines + 6 * (count + e),
+			          b->state.x + 3 * b->mesh.tets[4 * t + corner[e][0]],
 			          b->state.x + 3 * b->mesh.tets[4 * t + corner[e][1]]);
 		count += 6;
 	}

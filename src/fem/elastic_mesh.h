@@ -64,8 +64,8 @@ typedef struct fmElasticMesh
 	// Per-tet equivalent plastic strain (body/plasticity.h), NULL while no material flows; a
 	// flowing tet's plastic part is in its DmInv.
 	double* plasticStrain;
-	fmMat3* restDmInv; // with plasticStrain: DmInv before any flow (a restored elastic state's)
-	fmMat3* goodDmInv; // with plasticStrain: DmInv at the start of the frame being stepped
+	fmMat3* restDmInv;  // with plasticStrain: DmInv before any flow (a restored elastic state's)
+	fmMat3* goodDmInv;  // with plasticStrain: DmInv at the start of the frame being stepped
 	double* goodStrain; // and the plastic strains (a refused frame goes back to them)
 	fmForceModel forceModel;
 

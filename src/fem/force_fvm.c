@@ -10,7 +10,6 @@
 // users choose it for, and because it is what generalises to non-simplex cells.
 #include "fem/force_fvm.h"
 
-
 #include "core/core.h"
 #include "material/material.h"
 

@@ -62,8 +62,9 @@ static int fmVbdColour(const fmElasticMesh* mesh, int* order, int* start, int ca
 }
 
 // The gradient g (3) and projected Hessian H (9) of the potential in vertex i's position.
-static void fmVbdVertexSystem(const fmElasticMesh* mesh, fmBodyState* state, const fmImplicitCache* c, const fmNewtonProblem* pb,
-                              int i, double g[3], double H[9])
+static void fmVbdVertexSystem(const fmElasticMesh* mesh, fmBodyState* state,
+                              const fmImplicitCache* c, const fmNewtonProblem* pb, int i,
+                              double g[3], double H[9])
 {
 	const double m = mesh->mass[i], w = pb->inertia + pb->massDamping;
 	const double grav[3] = {pb->gravity.x, pb->gravity.y, pb->gravity.z};
@@ -124,7 +125,8 @@ static fmVec3 fmVbdOnFloor(const fmBodyState* state, const fmNewtonProblem* pb, 
 
 // Move vertex i by its 3x3 Newton step, its pinned axes held, the floor as a bound on y (a
 // vertex the floor stops keeps its tangential place with stick friction).
-static void fmVbdMoveVertex(const fmElasticMesh* mesh, fmBodyState* state, const fmImplicitCache* c, const fmNewtonProblem* pb, int i)
+static void fmVbdMoveVertex(const fmElasticMesh* mesh, fmBodyState* state, const fmImplicitCache* c,
+                            const fmNewtonProblem* pb, int i)
 {
 	double g[3], H[9];
 	fmVbdVertexSystem(mesh, state, c, pb, i, g, H);
@@ -164,7 +166,8 @@ static void fmVbdColourRange(int start, int end, int worker, void* context)
 			fmVbdMoveVertex(t->mesh, t->state, t->cache, t->problem, t->vertices[k]);
 }
 
-fmNewtonResult fmVbd_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c, const fmNewtonProblem* pb)
+fmNewtonResult fmVbd_Solve(const fmElasticMesh* mesh, fmBodyState* state, fmImplicitCache* c,
+                           const fmNewtonProblem* pb)
 {
 	fmNewtonResult result;
 	memset(&result, 0, sizeof result);

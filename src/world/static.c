@@ -260,7 +260,8 @@ static fmResult fmBodySolveStaticIn(fmBodyId bodyId, double tolerance, int maxIt
 	fmResult checked = fmStaticCheck(b, world, tolerance, maxIterations, diag);
 	if (checked != fm_ok)
 		return checked;
-	fmImplicitCache* c = fmWorldReserveArena(world) ? fmSolverCache_Get(&b->solverCache, &b->mesh) : NULL;
+	fmImplicitCache* c =
+	    fmWorldReserveArena(world) ? fmSolverCache_Get(&b->solverCache, &b->mesh) : NULL;
 	if (c == NULL)
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the static solver");

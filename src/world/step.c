@@ -176,7 +176,7 @@ static void fmRestoreAll(fmWorld* w)
 		memcpy(b->state.x, b->xGood, bytes);
 		memcpy(b->state.v, b->vGood, bytes);
 		fmPlasticity_RestoreGood(b); // the frame's plastic flow undone
-		b->energyStale = true; // energyGood may belong to a state the caller had set
+		b->energyStale = true;       // energyGood may belong to a state the caller had set
 	}
 }
 

@@ -61,7 +61,7 @@ typedef struct fmWorld
 	const struct fmMeshMotionStages* meshMotion;
 	// Attachments' substep stages, set when the first is made (anchors.h); NULL before.
 	const struct fmAnchorStages* anchorStages;
-	double contactStep;                  // s, the substep the contact stage is working on
+	double contactStep;  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
 	// Within fmWorld_Step (stepKnown): what no stage of a step changes and every body's step
 	// asks, each an O(bodies) loop (fmContact_Thickness, fmContact_BodiesMeet).
