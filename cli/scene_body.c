@@ -380,7 +380,8 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 	static const char* const keys[] = {
 	    "model",      "youngs_modulus",  "poisson_ratio",          "lambda",     "mu",
 	    "mooney_c01", "density",         "particle_mass",          "orthotropy", "fibre",
-	    "sheet",      "fibre_stiffness", "transversely_isotropic", "plasticity", NULL};
+	    "sheet",      "fibre_stiffness", "transversely_isotropic", "plasticity", "nodal_pressure",
+	    NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
 	const cliJsonNode* material = NULL;
@@ -437,7 +438,8 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 		return cliJsonFail(j, path, NULL,
 		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
 	if (!cliParseAnisotropy(j, material, path, engineering || lame, false, &spec->def.material) ||
-	    !cliParsePlasticity(j, material, path, &spec->def.material))
+	    !cliParsePlasticity(j, material, path, &spec->def.material) ||
+	    !cliGetBool(j, material, path, "nodal_pressure", &spec->def.material.nodalPressure))
 		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
@@ -460,7 +462,7 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 	    "model", "youngs_modulus", "poisson_ratio",   "lambda",
 	    "mu",    "mooney_c01",     "orthotropy",      "transversely_isotropic",
 	    "fibre", "sheet",          "fibre_stiffness", "plasticity",
-	    NULL};
+	    "nodal_pressure", NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
@@ -513,7 +515,8 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 	bool inherited = model == base->model;
 	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01) ||
 	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, inherited, out) ||
-	    !cliParsePlasticity(j, object, path, out))
+	    !cliParsePlasticity(j, object, path, out) ||
+	    !cliGetBool(j, object, path, "nodal_pressure", &out->nodalPressure))
 		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);

@@ -37,10 +37,14 @@ static fmMaterial fvSliderMaterial(const fvSession* s, int b)
 	const fmMaterial* scene = &s->scene.bodies[b].def.material;
 	if (!fvIsAnisotropic(p->model))
 	{
-		// The scene's plasticity stays with the models it goes with (not linear).
+		// The scene's plasticity stays with the models it goes with (not linear), its nodal
+		// pressure with the models whose volume term it can move (fmMaterial_Validate says).
 		fmMaterial m = fmMakeMaterial(p->model, p->youngs, p->poisson);
 		if (p->model != fm_linear)
 			m.plasticity = scene->plasticity;
+		m.nodalPressure = scene->nodalPressure;
+		if (m.nodalPressure && fmMaterial_Validate(&m, NULL) != fm_ok)
+			m.nodalPressure = false;
 		return m;
 	}
 	fmMaterial m = *scene;

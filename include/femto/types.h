@@ -154,6 +154,11 @@ typedef struct fmMaterial
 	/// von Mises plasticity (stvk, corotated, neohookean, mooney-rivlin, neohookean-isochoric;
 	/// the fem force model); all zero: elastic
 	fmPlasticity plasticity;
+	/// the volume term on vertex patches instead of per tet (Bonet and Burton's averaged nodal
+	/// pressure tet): no volumetric locking at a Poisson ratio near 0.5. For linear, neohookean,
+	/// mooney-rivlin and neohookean-isochoric, whose volume term is a function of J alone; the
+	/// fem force model (docs/materials.md, "Nearly incompressible bodies")
+	bool nodalPressure;
 } fmMaterial;
 
 /// A material from Young's modulus @p youngsModulus (Pa, > 0) and Poisson ratio

@@ -33,6 +33,9 @@ class Material:
     and orthotropic-stvk (the names ``femto run`` takes). ``plasticity={"yield_stress": Pa,
     "hardening": Pa, "creep_rate": 1/s, "max_plastic_strain": ...}`` makes an isotropic
     large-strain model flow (von Mises; the body's ``stats()`` gives ``plastic_work``).
+    ``nodal_pressure=True`` puts the volume term on vertex patches (linear, neohookean,
+    mooneyrivlin, neohookean-isochoric): no locking near a Poisson ratio of 0.5
+    (docs/materials.md, "Nearly incompressible bodies").
     """
 
     def __init__(self, model: Union[str, int] = "stvk", youngs_modulus: Optional[float] = None,
@@ -40,7 +43,8 @@ class Material:
                  mu: Optional[float] = None, c01: float = 0.0, fibre_stiffness: float = 0.0,
                  fibre: Optional[Sequence[float]] = None,
                  sheet: Optional[Sequence[float]] = None,
-                 plasticity: Optional[Dict[str, float]] = None) -> None:
+                 plasticity: Optional[Dict[str, float]] = None,
+                 nodal_pressure: bool = False) -> None:
         by_young = youngs_modulus is not None or poisson_ratio is not None
         by_lame = lam is not None or mu is not None
         if by_young == by_lame:
@@ -63,6 +67,7 @@ class Material:
                 raise TypeError("plasticity: unknown key %r (expected one of %s)"
                                 % (key, ", ".join(sorted(_PLASTICITY))))
             setattr(self._c.plasticity, field, float(value))
+        self._c.nodalPressure = bool(nodal_pressure)
         self._finish(fibre, sheet)
 
     @classmethod

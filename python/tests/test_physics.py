@@ -228,3 +228,23 @@ def test_a_plastic_box_dropped_on_a_sphere_keeps_its_dent():
     with pytest.raises(femto.FemtoError, match="plasticity"):
         femto.Material("linear", youngs_modulus=2e5, poisson_ratio=0.3,
                        plasticity={"yield_stress": 1e3})
+
+
+def test_a_nearly_incompressible_cantilever_does_not_lock_with_the_nodal_pressure():
+    # A 1 x 0.2 x 0.2 m linear cantilever at nu = 0.499 bent by its weight (8 cells across, as
+    # tests/test_calculix.c, whose CalculiX reference is 0.0358 m): per-tet tets lock (a fifth
+    # of it), the nodal pressure gets within 6%.
+    def tip(nodal):
+        world = femto.World(gravity=(0.0, -9.81, 0.0), floor=False, integrator="implicit")
+        mesh = femto.TetMesh.box((40, 8, 8), (0.0, 0.0, 0.0), (1.0, 0.2, 0.2))
+        material = femto.Material("linear", youngs_modulus=1e7, poisson_ratio=0.499,
+                                  nodal_pressure=nodal)
+        body = world.add_body(mesh, material, mass_mode="density", density=1000.0)
+        assert body.pin_box((-1.0, -1.0, -1.0), (1e-9, 1.0, 1.0)) > 0
+        body.solve_static(1e-7)
+        return -body.positions()[:, 1].min()
+
+    assert tip(False) < 0.3 * 0.0358
+    assert abs(tip(True) - 0.0358) < 0.07 * 0.0358
+    with pytest.raises(femto.FemtoError, match="nodalPressure"):
+        femto.Material("stvk", youngs_modulus=2e5, poisson_ratio=0.49, nodal_pressure=True)

@@ -16,6 +16,7 @@
 #include "fem/force_fvm.h"
 #include "fem/force_spring.h"
 #include "fem/forces.h"
+#include "fem/nodal_pressure.h"
 #include "fem/tet_blocks.h"
 #include "material/material_aniso.h"
 #include "material/material_plastic.h"
@@ -301,6 +302,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory building FVM normals");
 	if (r == fm_ok && !fmPlasticity_Prepare(b))
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
+	if (r == fm_ok)
+		r = fmNodalPressure_Prepare(&b->mesh, diag);
 	if (r == fm_ok)
 		b->energyStale = true;
 	return r;
@@ -745,8 +748,14 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 		                   "plasticity needs the fem force model (a tet's plastic part lives in "
 		                   "its rest data), not %s",
 		                   fmForceModelName(b->mesh.forceModel));
+	if (b->mesh.forceModel != fm_fem && material->nodalPressure)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "nodalPressure needs the fem force model, not %s",
+		                   fmForceModelName(b->mesh.forceModel));
 	if (fmPlasticity_Flows(material) && !fmPlasticity_Allocate(b)) // before anything changes
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
+	bool wasNodal = fmNodalPressure_On(&b->mesh);
+	fmNodalPressure_Free(&b->mesh); // (sized by the materials it was made from)
 	if (b->mesh.tetMaterial != NULL)
 	{
 		// Per-region materials give way to the one material for every tet; springs, whose
@@ -769,9 +778,17 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 	}
 	b->mesh.material = *material;
 	fmMaterial_SetScale(&b->mesh.material);
+	// One material now: its patches cannot fail on laws, only on memory (then the body is left
+	// with the material's per-tet volume term, and says so).
+	r = fmNodalPressure_Prepare(&b->mesh, diag);
+	if (wasNodal != fmNodalPressure_On(&b->mesh)) // the Newton matrix's pattern changes
+	{
+		fmSolverCache_Free(b->solverCache);
+		b->solverCache = NULL;
+	}
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
-	return fm_ok;
+	return r;
 }
 
 static double fmBodyComputeElasticForcesIn(fmBodyId bodyId, double* forces)

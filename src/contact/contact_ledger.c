@@ -2,6 +2,7 @@
 #include "contact/contact_ledger.h"
 
 #include "core/core.h"
+#include "fem/nodal_pressure.h"
 #include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "material/material.h"
@@ -49,7 +50,7 @@ static void fmTetsEnergy(const fmBody* b, const int* tets, int count, double* en
 	}
 }
 
-// The same over a whole spring body.
+// The same over a whole body (springs, or the nodal pressure's patches).
 static bool fmSpringEnergyPower(fmContactState* s, const fmBody* b, double* energy, double* power)
 {
 	int n3 = 3 * b->mesh.vertexCount;
@@ -91,13 +92,13 @@ static int fmTetsAroundLogged(fmWorld* w, fmContactState* s, int slot)
 }
 
 // How the stage changed body @p slot's elastic energy (J) and its power sum v . f (W): over
-// the tets around its logged vertices (a spring body: over the whole body), after minus
-// before.
+// the tets around its logged vertices (a spring body, or one whose volume term lives on vertex
+// patches reaching past those tets: over the whole body), after minus before.
 static bool fmElasticChange(fmWorld* w, fmContactState* s, int slot, double* energy, double* power)
 {
 	fmBody* b = &w->bodies[slot];
 	double e1 = 0.0, p1 = 0.0, e0 = 0.0, p0 = 0.0;
-	if (b->mesh.forceModel == fm_massSpring)
+	if (b->mesh.forceModel == fm_massSpring || fmNodalPressure_On(&b->mesh))
 	{
 		bool ok = fmSpringEnergyPower(s, b, &e1, &p1);
 		fmSwapLoggedStates(w, s, slot);

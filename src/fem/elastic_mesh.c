@@ -3,6 +3,7 @@
 
 #include "core/core.h"
 #include "material/material.h"
+#include "fem/nodal_pressure.h"
 #include "material/material_aniso.h"
 
 fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)
@@ -76,6 +77,7 @@ void fmElasticMesh_Free(fmElasticMesh* mesh)
 	FM_FREE_ARRAY(mesh->restDmInv, fmMat3, m);
 	FM_FREE_ARRAY(mesh->goodDmInv, fmMat3, m);
 	FM_FREE_ARRAY(mesh->goodStrain, double, m);
+	fmNodalPressure_Free(mesh);
 }
 
 bool fmBodyState_Allocate(fmBodyState* state, int vertexCount)

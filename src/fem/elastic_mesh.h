@@ -67,6 +67,14 @@ typedef struct fmElasticMesh
 	fmMat3* restDmInv;  // with plasticStrain: DmInv before any flow (a restored elastic state's)
 	fmMat3* goodDmInv;  // with plasticStrain: DmInv at the start of the frame being stepped
 	double* goodStrain; // and the plastic strains (a refused frame goes back to them)
+	// The averaged nodal pressure (fem/nodal_pressure.h), NULL while no material has
+	// nodalPressure: each material as its tets evaluate it (a nodal one without its volume
+	// term; index as `materials`, [0] alone for a body of one material), and per vertex the rest
+	// volume and the bulk-weighted rest volume of its patch (a quarter of each such tet around it).
+	fmMaterial* tetParts;
+	double* patchVolume; // m^3, 0 for a vertex without a nodal tet
+	double* patchBulk;   // Pa m^3: sum of V_e kappa_e / 4
+	int nodalLaw;        // fmNodalLaw (nodal_pressure.h) of the nodal materials
 	fmForceModel forceModel;
 
 	double totalMass; // kg
@@ -108,10 +116,19 @@ static inline void fmZeroPinnedAxes(const fmBodyState* state, int vertex, double
 			v[k] = 0.0;
 }
 
-// The material of tet @p t.
-static inline const fmMaterial* fmTetMaterial(const fmElasticMesh* mesh, int t)
+// The material of tet @p t as given (fmBodyDef, fmBody_SetMaterial).
+static inline const fmMaterial* fmTetUserMaterial(const fmElasticMesh* mesh, int t)
 {
 	return mesh->tetMaterial != NULL ? &mesh->materials[mesh->tetMaterial[t]] : &mesh->material;
+}
+
+// The material tet @p t's energy evaluates: the user's, less its volume term where that lives on
+// vertex patches (fmMaterial.nodalPressure).
+static inline const fmMaterial* fmTetMaterial(const fmElasticMesh* mesh, int t)
+{
+	if (mesh->tetParts != NULL)
+		return &mesh->tetParts[mesh->tetMaterial != NULL ? mesh->tetMaterial[t] : 0];
+	return fmTetUserMaterial(mesh, t);
 }
 
 // psi of tet @p t's material at @p F, with P and dP/dF when not NULL (@p project: dP/dF positive

@@ -7,6 +7,7 @@
 
 #include "fem/force_fvm.h"
 #include "fem/force_spring.h"
+#include "fem/nodal_pressure.h"
 
 #include "fem/kernels/tet_kernel.h"
 #include "material/material.h"
@@ -14,8 +15,7 @@
 
 #include <string.h>
 
-// Gradients of the linear shape functions: dF_ij / dx_{a,i} = g[a][j].
-static void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
+void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 {
 	for (int a = 1; a < 4; ++a)
 		g[a] =
@@ -85,7 +85,7 @@ static fmPolarKernelFcn* fmPolarKernel(const fmElasticMesh* mesh)
 static fmForceBatchKernelFcn* fmForceBatchKernel(const fmElasticMesh* mesh, fmPassKernels* kernels)
 {
 	*kernels = fmPassKernelsOfCpu();
-	if (mesh->tetMaterial != NULL)
+	if (mesh->tetMaterial != NULL || fmNodalPressure_On(mesh))
 		return NULL;
 	if (mesh->material.model == fm_neoHookean)
 		return kernels->neoHookean;
@@ -390,7 +390,10 @@ double fmAddElasticForces(const fmElasticMesh* mesh, const double* x, double* f)
 	case fm_massSpring:
 		return fmAddSpringForces(mesh, x, f);
 	default:
-		return fmAddFemForces(mesh, x, f);
+	{
+		double energy = fmAddFemForces(mesh, x, f); // then the patches' (in this order)
+		return fmNodalPressure_On(mesh) ? energy + fmNodalPressure_AddForces(mesh, x, f) : energy;
+	}
 	}
 }
 
@@ -406,7 +409,7 @@ double fmElasticEnergy(const fmElasticMesh* mesh, const double* x)
 		fmMat3 F = fmTetDeformation(mesh, x, t);
 		energy += mesh->restVolume[t] * fmTetEvaluate(mesh, t, &F, NULL, NULL, false);
 	}
-	return energy;
+	return energy + (fmNodalPressure_On(mesh) ? fmNodalPressure_AddForces(mesh, x, NULL) : 0.0);
 }
 
 // dP/dF of the body's material at F, projected to PSD when asked (in the SVD frame where the
@@ -427,7 +430,7 @@ static void fmTetStressDerivative(const fmElasticMesh* mesh, int t, const fmMat3
 // contracted in two passes: T_a = (dP/dF) g_a over the second index of the stress (3 nodes),
 // then K_ab = T_a^T g_b for the upper blocks a <= b (mirrored), node 0 by the balance
 // g_0 = -(g_1 + g_2 + g_3): about 5x fewer operations than the direct quadruple sum.
-static void fmContractTetHessian(const double* dPdF, const fmMat3* DmInv, double V0, double* K)
+void fmContractTetHessian(const double* dPdF, const fmMat3* DmInv, double V0, double* K)
 {
 	// T[a][c][d][l] = sum_j dP_cj/dF_dl g_a[j], a = 1..3, g_a = row a - 1 of Dm^-1.
 	double T[4][27];
@@ -582,6 +585,8 @@ void fmAddHessianProduct(const fmElasticMesh* mesh, const double* x, const doubl
 			fmStore(out, n[a], fmAdd(fmLoad(out, n[a]), y));
 		}
 	}
+	if (fmNodalPressure_On(mesh))
+		fmNodalPressure_AddProduct(mesh, x, dx, out, project);
 }
 
 // ---- on the world's workers --------------------------------------------------------------------
@@ -658,6 +663,8 @@ double fmAddElasticForcesOn(const fmElasticMesh* mesh, const double* x, double* 
 		fmParallelFor(tasks, mesh->vertexCount, vertexRange > 1 ? vertexRange : 1, fmGatherTask,
 		              &c);
 		energy = fmSumInOrder(c.tetEnergies, mesh->tetCount);
+		if (fmNodalPressure_On(mesh)) // (serial: the same bits as fmAddElasticForces)
+			energy += fmNodalPressure_AddForces(mesh, x, f);
 	}
 	fmArena_Release(arena, mark);
 	return energy;
@@ -677,6 +684,8 @@ double fmElasticEnergyOn(const fmElasticMesh* mesh, const double* x, const fmTas
 	{
 		fmParallelFor(tasks, mesh->tetCount, FM_PARALLEL_MIN_RANGE, fmTetEnergiesTask, &c);
 		energy = fmSumInOrder(c.tetEnergies, mesh->tetCount);
+		if (fmNodalPressure_On(mesh))
+			energy += fmNodalPressure_AddForces(mesh, x, NULL);
 	}
 	fmArena_Release(arena, mark);
 	return energy;

@@ -50,3 +50,9 @@ void fmAddHessianProduct(const fmElasticMesh* mesh, const double* x, const doubl
 // Element stiffness matrix of tet t (12x12 row-major, node-major xyz; d^2 E / dx dx), projected
 // to PSD if @p project.
 void fmTetHessian(const fmElasticMesh* mesh, const double* x, int t, double* K, int project);
+
+// Gradients of the linear shape functions: dF_ij / dx_{a,i} = g[a][j].
+void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4]);
+
+// K = V0 B^T (dP/dF) B, the 12x12 stiffness of a tet whose stress tangent is @p dPdF (9x9).
+void fmContractTetHessian(const double* dPdF, const fmMat3* DmInv, double V0, double* K);

@@ -16,7 +16,7 @@ bool fmTetBlocks_Applies(const fmElasticMesh* mesh, fmSimdLevel level)
 	// (A plastic body's Dm^-1 is not its rest positions' inverse: the kernels' F = I + Du Dm^-1,
 	// exact at small strain, needs it to be.)
 	return level != fm_simdOff && mesh->forceModel == fm_fem && mesh->tetMaterial == NULL &&
-	       mesh->plasticStrain == NULL &&
+	       mesh->plasticStrain == NULL && mesh->tetParts == NULL &&
 	       (m == fm_linear || m == fm_stvk || m == fm_neoHookean || m == fm_mooneyRivlin ||
 	        m == fm_neoHookeanIsochoric || m == fm_corotated);
 }

@@ -88,15 +88,31 @@ static fmResult fmValidateLame(const fmMaterial* m, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
 		                   "model invariant-energy needs material.invariantEnergy, a function of "
 		                   "(I1, I2, J) (docs/materials.md has an example)");
+	if (m->nodalPressure && !fmMaterialModel_SplitsVolume(m->model))
+		return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
+		                   "nodalPressure needs a model whose volume term is a function of J "
+		                   "alone (linear, neohookean, mooney-rivlin, neohookean-isochoric), "
+		                   "not %s",
+		                   fmMaterialModelName(m->model));
 	// Nearly incompressible (Poisson's ratio above 0.49): accepted, with a warning; linear tets
-	// lock and implicit solves may diverge (refused then, with this cause named).
+	// lock (unless the volume term is on vertex patches) and implicit solves may diverge
+	// (refused then, with this cause named).
 	if (m->lambda > FM_NEARLY_INCOMPRESSIBLE * m->mu)
 		fmDiagWarn(diag, NULL, 0,
 		           "lambda / mu = %.3g (a Poisson ratio of %.7g) makes the material nearly "
-		           "incompressible: linear tets lock under it and implicit solves may diverge; "
-		           "0.49 or less is safe",
-		           m->lambda / m->mu, m->lambda / (2.0 * (m->lambda + m->mu)));
+		           "incompressible: %s; 0.49 or less is safe",
+		           m->lambda / m->mu, m->lambda / (2.0 * (m->lambda + m->mu)),
+		           m->nodalPressure ? "explicit steps shrink with it and implicit solves may "
+		                              "diverge"
+		                            : "linear tets lock under it (set nodalPressure) and "
+		                              "implicit solves may diverge");
 	return fm_ok;
+}
+
+bool fmMaterialModel_SplitsVolume(fmMaterialModel model)
+{
+	return model == fm_linear || model == fm_neoHookean || model == fm_mooneyRivlin ||
+	       model == fm_neoHookeanIsochoric;
 }
 
 fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)

@@ -18,6 +18,10 @@
 #define FM_STVK_FLOOR_JC 0.3
 #define FM_STVK_FLOOR_STIFFNESS 4.0
 
+// Whether the model's energy is a part without lambda plus a volume term in J alone
+// (fmMaterial.nodalPressure moves that term onto vertex patches, fem/nodal_pressure.h).
+bool fmMaterialModel_SplitsVolume(fmMaterialModel model);
+
 // Energy density psi(F) (J/m^3). Every pointer output may be NULL to skip it:
 // P = d psi / dF (Pa), dPdF (Pa). Returns psi.
 double fmMaterial_Evaluate(const fmMaterial* material, const fmMat3* F, fmMat3* P, double* dPdF);

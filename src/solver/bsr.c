@@ -113,6 +113,54 @@ bool fmBsr_Build(fmBsrMatrix* m, int n, const int* tets, int tetCount)
 	return ok;
 }
 
+bool fmBsr_Square(fmBsrMatrix* m)
+{
+	// Row i of the square: the columns of the rows that row i reaches, sorted and unique.
+	int widest = 0;
+	for (int i = 0; i < m->rows; ++i)
+		if (m->rowStart[i + 1] - m->rowStart[i] > widest)
+			widest = m->rowStart[i + 1] - m->rowStart[i];
+	size_t scratchCount = (size_t)widest * (size_t)widest;
+	int* scratch = FM_ALLOC_ARRAY(int, scratchCount);
+	int* rowStart = FM_ALLOC_ZERO(int, (size_t)m->rows + 1);
+	bool ok = scratch != NULL && rowStart != NULL;
+	int* columns = NULL;
+	for (int pass = 0; ok && pass < 2; ++pass)
+	{
+		for (int i = 0; i < m->rows; ++i)
+		{
+			int count = 0;
+			for (int k = m->rowStart[i]; k < m->rowStart[i + 1]; ++k)
+			{
+				int j = m->columns[k];
+				for (int q = m->rowStart[j]; q < m->rowStart[j + 1]; ++q)
+					scratch[count++] = m->columns[q];
+			}
+			count = fmSortUnique(scratch, count);
+			if (columns)
+				memcpy(columns + rowStart[i], scratch, sizeof(int) * (size_t)count);
+			else
+				rowStart[i + 1] = rowStart[i] + count;
+		}
+		if (pass == 0)
+			ok = (columns = FM_ALLOC_ARRAY(int, rowStart[m->rows])) != NULL;
+	}
+	FM_FREE_ARRAY(scratch, int, scratchCount);
+	if (!ok)
+	{
+		FM_FREE_ARRAY(rowStart, int, (size_t)m->rows + 1);
+		return false;
+	}
+	FM_FREE_ARRAY(m->rowStart, int, (size_t)m->rows + 1);
+	FM_FREE_ARRAY(m->columns, int, m->blocks);
+	m->rowStart = rowStart;
+	m->columns = columns;
+	m->blocks = rowStart[m->rows];
+	for (int i = 0; i < m->rows; ++i)
+		m->diagonal[i] = fmBsr_Find(m, i, i);
+	return true;
+}
+
 int fmBsr_Find(const fmBsrMatrix* m, int row, int column)
 {
 	int lo = m->rowStart[row], hi = m->rowStart[row + 1] - 1;

@@ -26,6 +26,11 @@ int fmSortUnique(int* list, int count);
 // memory is short (the matrix is left freed).
 bool fmBsr_Build(fmBsrMatrix* matrix, int vertexCount, const int* tets, int tetCount);
 
+// Replace the pattern by its square's: vertex pairs within two tets of each other (a vertex
+// patch's pairs, the nodal pressure's, fem/nodal_pressure.h). False without memory (the pattern
+// unchanged).
+bool fmBsr_Square(fmBsrMatrix* matrix);
+
 // Release the pattern. Safe on a zeroed matrix.
 void fmBsr_Free(fmBsrMatrix* matrix);
 

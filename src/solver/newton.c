@@ -9,6 +9,7 @@
 #include "fem/force_spring.h"
 #include "fem/forces.h"
 #include "fem/inversion.h"
+#include "fem/nodal_pressure.h"
 
 #include <float.h>
 #include <math.h>
@@ -279,6 +280,8 @@ static void fmDiagonalBlocksMatrixFree(const fmElasticMesh* mesh, fmBodyState* s
 					blocks[9 * (size_t)mesh->tets[4 * t + p] + r] +=
 					    K[12 * (3 * p + r / 3) + (3 * p + r % 3)];
 		}
+		if (fmNodalPressure_On(mesh))
+			fmNodalPressure_AddDiagonal(mesh, state->x, blocks, pb->exactHessian ? 0 : 1);
 	}
 	for (int i = 0; i < mesh->vertexCount; ++i)
 	{

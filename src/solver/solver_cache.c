@@ -6,6 +6,7 @@
 #include "core/core.h"
 #include "fem/force_spring.h"
 #include "fem/forces.h"
+#include "fem/nodal_pressure.h"
 
 #include <math.h>
 
@@ -83,6 +84,8 @@ fmImplicitCache* fmSolverCache_Get(fmImplicitCache** slot, const fmElasticMesh* 
 		c->volume += mesh->restVolume[t];
 	size_t n3 = 3 * (size_t)mesh->vertexCount;
 	bool ok = fmBsr_Build(&c->pattern, mesh->vertexCount, mesh->tets, mesh->tetCount);
+	if (ok && fmNodalPressure_On(mesh)) // a patch couples every pair of its vertices
+		ok = fmBsr_Square(&c->pattern);
 	if (!ok)
 		c->pattern.blocks = 0;
 	c->tetSlot = FM_ALLOC_ARRAY(int, 16 * (size_t)c->tetCount);
@@ -277,6 +280,24 @@ static void fmAddSpringStiffness(const fmElasticMesh* mesh, const fmImplicitCach
 	}
 }
 
+typedef struct fmNodalAssembly
+{
+	const fmBsrMatrix* pattern;
+	double scale;
+	double* values;
+} fmNodalAssembly;
+
+// A block of the nodal pressure's Hessian into its slot of the square pattern.
+static void fmAddNodalBlock(void* context, int row, int column, const double block[9])
+{
+	fmNodalAssembly* a = context;
+	int slot = fmBsr_Find(a->pattern, row, column);
+	FM_ASSERT(slot >= 0); // the pattern is the tet graph's square (fmSolverCache_Get)
+	double* to = a->values + 9 * (size_t)slot;
+	for (int r = 0; r < 9; ++r)
+		to[r] += a->scale * block[r];
+}
+
 // values += scale * (PSD-projected) elastic Hessian at x, element by element in a fixed order:
 // by block rows on the world's workers (the same bits for any number of them).
 void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache* c,
@@ -290,6 +311,11 @@ void fmSolverCache_AddStiffness(const fmElasticMesh* mesh, const fmImplicitCache
 	}
 	fmStiffnessTask task = {mesh, c, x, scale, project, values};
 	fmParallelFor(tasks, mesh->vertexCount, FM_STIFFNESS_MIN_ROWS, fmStiffnessRowsTask, &task);
+	if (fmNodalPressure_On(mesh)) // then the patches' terms, serially (the same bits)
+	{
+		fmNodalAssembly assembly = {&c->pattern, scale, values};
+		fmNodalPressure_VisitHessian(mesh, x, project, fmAddNodalBlock, &assembly);
+	}
 }
 
 // Spring damping as a matrix: each spring resists the rate of change of its length with

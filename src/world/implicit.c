@@ -20,6 +20,7 @@
 #include "fem/velocity_filter.h"
 #include "solver/newton.h"
 #include "solver/vbd.h"
+#include "fem/nodal_pressure.h"
 
 #include <math.h>
 #include <string.h>
@@ -307,7 +308,8 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 
 	// 2. Newton on the incremental potential.
 	*solve = world->def.implicitSolver == fm_solverVbd && !pb.useDamping &&
-	                 fmTargets_Count(b) == 0 && !fmLoads_Active(b) && pb.barrier.energy == NULL
+	                 fmTargets_Count(b) == 0 && !fmLoads_Active(b) && pb.barrier.energy == NULL &&
+	                 !fmNodalPressure_On(&b->mesh) // (a patch couples more than a vertex's tets)
 	             ? fmVbd_Solve(&b->mesh, &b->state, c, &pb)
 	             : fmNewton_Solve(&b->mesh, &b->state, c, &pb);
 	double solved = fmSeconds();

@@ -40,7 +40,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 11u
+#define FM_SNAPSHOT_VERSION 12u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these

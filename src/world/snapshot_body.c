@@ -38,6 +38,7 @@ static void fmMoveMaterial(fmStream* s, bool save, fmMaterial* m)
 	double* plasticity[] = {&p->yieldStress, &p->hardening, &p->creepRate, &p->maxPlasticStrain};
 	for (size_t k = 0; k < 4; ++k)
 		fmStream_MoveDouble(s, save, plasticity[k]);
+	fmStream_MoveBool(s, save, &m->nodalPressure); // (version 12)
 	// User energies: function and parameter pointers, valid within the process that saved them.
 	fmStream_Move(s, save, &m->stretchEnergy, sizeof m->stretchEnergy);
 	fmStream_Move(s, save, &m->invariantEnergy, sizeof m->invariantEnergy);
@@ -167,10 +168,12 @@ static bool fmRecordMaterialValid(const fmBody* b, const void* buffer, size_t si
 	fmMaterial material = b->mesh.material;
 	fmMoveMaterial(&s, false, &material);
 	// What the body itself allows (fmBody_SetMaterial's checks): plasticity with the fem force
-	// model, anisotropy with a stress (not springs).
+	// model, anisotropy with a stress (not springs); and the body's own volume term (per tet or
+	// on patches: the Newton matrix's pattern, which the record's kept matrix has, differs).
 	fmForceModel model = b->mesh.forceModel;
 	bool fits = (model == fm_fem || !fmPlasticity_Flows(&material)) &&
-	            (model != fm_massSpring || !fmMaterialModel_IsAnisotropic(material.model));
+	            (model != fm_massSpring || !fmMaterialModel_IsAnisotropic(material.model)) &&
+	            material.nodalPressure == b->mesh.material.nodalPressure;
 	return !s.overflow && fits && fmMaterial_Validate(&material, NULL) == fm_ok;
 }
 
