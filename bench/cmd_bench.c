@@ -185,7 +185,8 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          0.0,
 	                          false,
 	                          0,
-	                          0.0};
+	                          0.0,
+	                          false};
 	if (!cliBenchExplicit(mesh, &settings, run->options->repeats, &row.nsPerTetStep))
 	{
 		printf("%-10s %9d %-11s %7d %12s\n", mesh->label, mesh->tets, name, workers, "failed");
@@ -250,7 +251,8 @@ static void cliBenchImplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          0.0,
 	                          false,
 	                          0,
-	                          0.0};
+	                          0.0,
+	                          false};
 	if (!cliBenchImplicit(mesh, &settings, run->options->repeats, &row))
 	{
 		printf("%-10s %9d %-11s %-9s %7d %11s\n", mesh->label, mesh->tets, name, names[t], workers,
@@ -292,28 +294,34 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 // Issue 34's laws against Neo-Hookean on the run's first mesh (the house by default): an
 // explicit tet-step and an implicit frame at rest (game tolerance), 1 worker, each with its
 // ratio to Neo-Hookean's; the plastic row (yield strain 1%) pays its yield test every substep
-// (and its flow where the drop yields).
+// (and its flow where the drop yields); the nodal row, the volume term on vertex patches (the
+// double-precision force path and the square Newton pattern).
 static void cliBenchLawRows(cliBenchRun* run)
 {
-	// Neo-Hookean twice: elastic, then plastic at a yield strain of 1%.
-	static const fmMaterialModel laws[5] = {fm_neoHookean, fm_neoHookean, fm_orthotropicLinear,
-	                                        fm_orthotropicStvk, fm_fibreNeoHookean};
+	// Neo-Hookean three times: elastic, plastic at a yield strain of 1%, with the nodal pressure.
+	enum { lawCount = 6 };
+	static const fmMaterialModel laws[lawCount] = {fm_neoHookean,      fm_neoHookean,
+	                                               fm_orthotropicLinear, fm_orthotropicStvk,
+	                                               fm_fibreNeoHookean, fm_neoHookean};
+	static const char* const names[lawCount] = {NULL, "neohookean-plastic", NULL, NULL, NULL,
+	                                            "neohookean-nodal"};
 	const cliBenchOptions* o = run->options;
 	const cliBenchMesh* mesh = &run->meshes->meshes[0];
 	printf("material laws on %s (%d tets), 1 worker, median of %d: the cost against "
 	       "Neo-Hookean's\n",
 	       mesh->label, mesh->tets, o->repeats);
 	printf("%-20s %12s %8s %11s %8s\n", "model", "ns/tet/step", "ratio", "ms/frame", "ratio");
-	double explicitNs[5] = {0}, implicitMs[5] = {0};
-	for (int k = 0; k < 5; ++k)
+	double explicitNs[lawCount] = {0}, implicitMs[lawCount] = {0};
+	for (int k = 0; k < lawCount; ++k)
 	{
-		const char* name = k == 1 ? "neohookean-plastic" : fmMaterialModelName(laws[k]);
+		const char* name = names[k] != NULL ? names[k] : fmMaterialModelName(laws[k]);
 		cliBenchWorld settings = {fm_explicit, laws[k],
 		                          1,           FM_TOLERANCE_GAME,
 		                          o->simd,     o->deterministic,
 		                          o->solver,   false,
 		                          0.0,         false,
-		                          0,           k == 1 ? 0.01 : 0.0};
+		                          0,           k == 1 ? 0.01 : 0.0,
+		                          k == 5};
 		cliBenchResult step = cliBenchResult_Make(mesh, "explicit", name, 1);
 		cliBenchResult frame = cliBenchResult_Make(mesh, "implicit game", name, 1);
 		step.scene = frame.scene = "laws";

@@ -84,6 +84,7 @@ typedef struct cliBenchWorld
 	bool noFloor;            ///< no floor at all
 	int newtonIterations;    ///< implicit: a step's most (0: the default)
 	double yieldStrain;      ///< > 0: the material flows (von Mises, yield stress this times E)
+	bool nodalPressure;      ///< the volume term on vertex patches (fmMaterial.nodalPressure)
 } cliBenchWorld;
 
 /// The world def of the bench's Coulomb-floor scenes (the props, the start-up): implicit at the

@@ -315,7 +315,8 @@ static cliBenchWorld cliMotionSettings(const cliBenchOptions* o, const cliBenchM
 	                                                                             : 0.0,
 	                   scene == cli_motionSwing,
 	                   c->tolerance < FM_TOLERANCE_GAME ? CLI_MOTION_REFERENCE_NEWTON : 0,
-	                   0.0};
+	                   0.0,
+	                   false};
 	return s;
 }
 

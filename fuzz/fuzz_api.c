@@ -115,6 +115,7 @@ static fmMaterial fuzzMaterial(fmFuzzReader* r)
 	material.stretchEnergy = (energies & 1) ? fmFuzzStretchEnergy : NULL;
 	material.invariantEnergy = (energies & 2) ? fmFuzzInvariantEnergy : NULL;
 	material.userParams = NULL;
+	fuzzFixBool(&material.nodalPressure);
 	return material;
 }
 

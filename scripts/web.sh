@@ -101,12 +101,13 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   # checksum, the friction anchors and penalty contacts (per contact or iteration, never per
   # element) -Os: 521,421 bytes, the page's frames unchanged in Node.js; then the plasticity
   # (material_plastic -Oz, the body's flow -Os: no page scene is plastic) and the snapshots' body
-  # record (-Oz) with emmalloc below: 517,480; for some files,
+  # record (-Oz) with emmalloc below: 517,480; the nodal pressure -Oz (no page scene uses it);
+  # for some files,
   # e.g. query.c, schedule.c, grab.c, render_mesh.c, contact_events.c, embedded.c, -Os gives
   # more code, so they stay -O2).
   case "$name" in
     mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot | \
-      body_def | world | material_aniso | material_plastic | snapshot_body) level=-Oz ;;
+      body_def | world | material_aniso | material_plastic | snapshot_body | nodal_pressure) level=-Oz ;;
     island | body | step | core | draw | body_sweep | contact_detect | \
       contact_state | stability | contact | contact_ledger | femto_web | multigrid | static | \
       vbd | loads | broad_phase | targets | material_stretch | implicit | explicit | newton | \
