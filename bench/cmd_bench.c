@@ -299,12 +299,15 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 static void cliBenchLawRows(cliBenchRun* run)
 {
 	// Neo-Hookean three times: elastic, plastic at a yield strain of 1%, with the nodal pressure.
-	enum { lawCount = 6 };
-	static const fmMaterialModel laws[lawCount] = {fm_neoHookean,      fm_neoHookean,
+	enum
+	{
+		lawCount = 6
+	};
+	static const fmMaterialModel laws[lawCount] = {fm_neoHookean,        fm_neoHookean,
 	                                               fm_orthotropicLinear, fm_orthotropicStvk,
-	                                               fm_fibreNeoHookean, fm_neoHookean};
-	static const char* const names[lawCount] = {NULL, "neohookean-plastic", NULL, NULL, NULL,
-	                                            "neohookean-nodal"};
+	                                               fm_fibreNeoHookean,   fm_neoHookean};
+	static const char* const names[lawCount] = {NULL, "neohookean-plastic", NULL, NULL,
+	                                            NULL, "neohookean-nodal"};
 	const cliBenchOptions* o = run->options;
 	const cliBenchMesh* mesh = &run->meshes->meshes[0];
 	printf("material laws on %s (%d tets), 1 worker, median of %d: the cost against "

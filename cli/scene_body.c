@@ -459,10 +459,9 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
                                    const fmMaterial* base, fmMaterial* out)
 {
 	static const char* const keys[] = {
-	    "model", "youngs_modulus", "poisson_ratio",   "lambda",
-	    "mu",    "mooney_c01",     "orthotropy",      "transversely_isotropic",
-	    "fibre", "sheet",          "fibre_stiffness", "plasticity",
-	    "nodal_pressure", NULL};
+	    "model",           "youngs_modulus", "poisson_ratio",          "lambda", "mu",
+	    "mooney_c01",      "orthotropy",     "transversely_isotropic", "fibre",  "sheet",
+	    "fibre_stiffness", "plasticity",     "nodal_pressure",         NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "

@@ -702,7 +702,8 @@ static bool writeHexBeamDeck(const char* path)
 	fprintf(f, "*NSET, NSET=TIP\n%d\n", hexNode(2 * BEAM_NX, BEAM_NY, BEAM_NY));
 	fprintf(f, "*MATERIAL, NAME=M\n*ELASTIC\n%.17g, %.17g\n*DENSITY\n%.17g\n", s_beamE, s_beamNu,
 	        s_beamDensity);
-	fprintf(f, "*SOLID SECTION, ELSET=EALL, MATERIAL=M\n*STEP\n*STATIC\n*BOUNDARY\nBASE, 1, 3, 0.\n");
+	fprintf(f,
+	        "*SOLID SECTION, ELSET=EALL, MATERIAL=M\n*STEP\n*STATIC\n*BOUNDARY\nBASE, 1, 3, 0.\n");
 	fprintf(f, "*DLOAD\nEALL, GRAV, %.17g, 0., -1., 0.\n*NODE PRINT, NSET=TIP\nU\n*END STEP\n",
 	        s_beamG);
 	return fclose(f) == 0;
@@ -765,8 +766,9 @@ static double femtoTipDeflection(int* failures_, int n, bool nodal)
 	CHECK_INT(r, fm_ok);
 	if (r != fm_ok)
 		printf("  %d cells across: %s\n", n, diag.message);
-	double uy = tip >= 0 && r == fm_ok ? fmTestPositions(body)[3 * tip + 1] - mesh.positions[3 * tip + 1]
-	                                   : NAN;
+	double uy = tip >= 0 && r == fm_ok
+	                ? fmTestPositions(body)[3 * tip + 1] - mesh.positions[3 * tip + 1]
+	                : NAN;
 	fmDestroyWorld(world);
 	fmFreeTetMesh(&mesh);
 	return uy;

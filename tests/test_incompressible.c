@@ -31,8 +31,8 @@ static fmMaterial nodalMaterial(fmMaterialModel model, double nu)
 // A 2x3x2 box of the law, perturbed by 5% of its size (squeezed and stretched tets).
 static fmBodyId perturbedBox(fmWorldId* world, fmMaterialModel model)
 {
-	fmBodyId id = fmTestMakeBox(world, 2, 3, 2, fmMakeVec3(1, 1.5, 1),
-	                            nodalMaterial(model, 0.45), fm_fem);
+	fmBodyId id =
+	    fmTestMakeBox(world, 2, 3, 2, fmMakeVec3(1, 1.5, 1), nodalMaterial(model, 0.45), fm_fem);
 	if (fmBody_IsValid(id))
 		fmTestPerturb(id, 0.05);
 	return id;
@@ -175,7 +175,8 @@ TEST(nodal_pressure_passes_the_patch_test)
 			fmStore(ba->state.x, i, p);
 			fmStore(bb->state.x, i, p);
 		}
-		double *fa = calloc(3 * (size_t)n, sizeof(double)), *fb = calloc(3 * (size_t)n, sizeof(double));
+		double *fa = calloc(3 * (size_t)n, sizeof(double)),
+		       *fb = calloc(3 * (size_t)n, sizeof(double));
 		double ea = fmAddElasticForces(&ba->mesh, ba->state.x, fa);
 		double eb = fmAddElasticForces(&bb->mesh, bb->state.x, fb);
 		CHECK_NEAR(ea, eb, 1e-12 * fabs(eb));
@@ -207,8 +208,8 @@ TEST(nodal_pressure_refuses_what_it_cannot_split)
 	CHECK_INT(fmMaterial_Validate(&m, &diag), fm_errParameter);
 	CHECK(strstr(diag.message, "nodalPressure") != NULL && strstr(diag.message, "stvk") != NULL);
 	fmWorldId world;
-	fmBodyId id = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), nodalMaterial(fm_neoHookean, 0.45),
-	                            fm_fvm);
+	fmBodyId id = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1),
+	                            nodalMaterial(fm_neoHookean, 0.45), fm_fvm);
 	CHECK(!fmBody_IsValid(id));
 	fmDestroyWorld(world);
 }

@@ -2,9 +2,9 @@
 #include "contact/contact_ledger.h"
 
 #include "core/core.h"
-#include "fem/nodal_pressure.h"
 #include "fem/force_spring.h"
 #include "fem/forces.h"
+#include "fem/nodal_pressure.h"
 #include "material/material.h"
 
 #include <string.h>

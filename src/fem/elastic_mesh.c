@@ -2,8 +2,8 @@
 #include "fem/elastic_mesh.h"
 
 #include "core/core.h"
-#include "material/material.h"
 #include "fem/nodal_pressure.h"
+#include "material/material.h"
 #include "material/material_aniso.h"
 
 fmMat3 fmTetDeformation(const fmElasticMesh* mesh, const double* x, int t)

@@ -197,8 +197,7 @@ double fmNodalPressure_TetMean(const fmElasticMesh* mesh, const double* pressure
 	return 0.25 * (pressure[n[0]] + pressure[n[1]] + pressure[n[2]] + pressure[n[3]]);
 }
 
-void fmNodalPressure_TetGradients(const fmElasticMesh* mesh, const double* x, int t,
-                                  fmVec3 grad[4])
+void fmNodalPressure_TetGradients(const fmElasticMesh* mesh, const double* x, int t, fmVec3 grad[4])
 {
 	fmMat3 F = fmTetDeformation(mesh, x, t), dJ;
 	fmLawJ(mesh->nodalLaw, &F, &dJ);
@@ -247,7 +246,8 @@ static void fmPressureCurvature(const fmMat3* F, double p, double* H)
 					if (j == l)
 						continue;
 					double sj = (l - j + 3) % 3 == 1 ? 1.0 : -1.0;
-					H[9 * (3 * i + j) + (3 * k + l)] = p * si * sj * F->m[3 * (3 - i - k) + (3 - j - l)];
+					H[9 * (3 * i + j) + (3 * k + l)] =
+					    p * si * sj * F->m[3 * (3 - i - k) + (3 - j - l)];
 				}
 		}
 }
@@ -272,7 +272,7 @@ int fmNodalPressure_MaxPatch(const fmElasticMesh* mesh)
 {
 	int most = 0;
 	for (int a = 0; a < mesh->vertexCount; ++a)
-		{
+	{
 		int around = mesh->vertexTetStart[a + 1] - mesh->vertexTetStart[a];
 		most = around > most ? around : most;
 	}
@@ -362,8 +362,8 @@ static void fmVisitTetTerms(const fmElasticMesh* mesh, const double* x, const do
 	{
 		if (!fmNodalPressure_TetIsNodal(mesh, t))
 			continue;
-		fmNodalPressure_TetHessian(mesh, x, t, fmNodalPressure_TetMean(mesh, pressure, t),
-		                           project, K);
+		fmNodalPressure_TetHessian(mesh, x, t, fmNodalPressure_TetMean(mesh, pressure, t), project,
+		                           K);
 		for (int a = 0; a < 4; ++a)
 			for (int b = 0; b < 4; ++b)
 			{

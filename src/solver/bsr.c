@@ -2,9 +2,9 @@
 // the instruction set the CPU runs (bsr_kernel.h).
 #include "solver/bsr.h"
 
-#include "solver/kernels/bsr_kernel.h"
 #include "core/core.h"
 #include "core/simd.h"
+#include "solver/kernels/bsr_kernel.h"
 
 #include <math.h>
 #include <string.h>

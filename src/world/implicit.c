@@ -17,10 +17,10 @@
 #include "core/timer.h"
 #include "fem/forces.h"
 #include "fem/inversion.h"
+#include "fem/nodal_pressure.h"
 #include "fem/velocity_filter.h"
 #include "solver/newton.h"
 #include "solver/vbd.h"
-#include "fem/nodal_pressure.h"
 
 #include <math.h>
 #include <string.h>
@@ -77,9 +77,11 @@ static bool fmPrepareDamping(fmBody* b, fmImplicitCache* c, double h, const fmTa
 		return false;
 	memset(c->damping, 0, sizeof(double) * values);
 	if (b->rayleighStiffness > 0.0)
-		fmSolverCache_AddStiffness(&b->mesh, c, c->xStart, b->rayleighStiffness / h, 1, c->damping, tasks);
+		fmSolverCache_AddStiffness(&b->mesh, c, c->xStart, b->rayleighStiffness / h, 1, c->damping,
+		                           tasks);
 	if (springs)
-		fmSolverCache_AddSpringDamping(&b->mesh, b->state.invMass, c, c->xStart, 1.0 / h, c->damping);
+		fmSolverCache_AddSpringDamping(&b->mesh, b->state.invMass, c, c->xStart, 1.0 / h,
+		                               c->damping);
 	return true;
 }
 
@@ -249,7 +251,7 @@ static void fmBarrierFreeStart(fmBody* b, fmImplicitCache* c, const fmNewtonProb
 
 // The work the step's targets, loads and contact penalty did, booked with the ledger.
 static void fmImplicitAddWork(const fmStepContext* ctx, fmBody* b, fmImplicitCache* c,
-                               const fmNewtonProblem* pb)
+                              const fmNewtonProblem* pb)
 {
 	fmStepContext_AddContactWork(ctx, b->slot,
 	                             fmTargets_ImplicitWork(pb->targets.context, b->state.x));
@@ -287,7 +289,8 @@ fmResult fmImplicitStep(const fmWorld* world, const fmStepContext* ctx, fmBody* 
 	fmLoads_Freeze(b, b->state.x, 1.0);
 	memcpy(c->xStart, b->state.x, sizeof(double) * (size_t)n3);
 	for (int k = 0; k < n3; ++k)
-		c->xPred[k] = fmIsDofPinned(&b->state, k) ? b->state.x[k] : b->state.x[k] + h * b->state.v[k];
+		c->xPred[k] =
+		    fmIsDofPinned(&b->state, k) ? b->state.x[k] : b->state.x[k] + h * b->state.v[k];
 	fmContactPenalty penalty;
 	fmBarrierContact barrier;
 	fmTargetStep targets;
