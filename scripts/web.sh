@@ -46,7 +46,7 @@ mkdir -p "$obj" "$dist" "$out/node"
 # -ffast-math. -O2: measured 2.5 to 7 times faster than -Os (the house 0.5 against 1.3 ms a
 # frame, its Mooney-Rivlin twin 1.2 against 8.6 ms) for 25 KiB more; the kernels -O3 as natively.
 warnings=(-Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wvla)
-cflags=(-std=c11 -Iinclude -Isrc -Icli -ffp-contract=off "${warnings[@]}")
+cflags=(-std=c11 -flto -Iinclude -Isrc -Icli -ffp-contract=off "${warnings[@]}")
 
 # The files the page fetches and gives the glue (fw_set_file), at their repository paths under
 # web/dist/: the menu's scenes, the scenes/*.json files that web/femto_web.c's FW_SCENES lists,
@@ -156,10 +156,16 @@ done
 # in a frame at rest (the house, 60 frames, both integrators), and the page's first two scenes'
 # frames in Node.js, best of six interleaved runs, dlmalloc then emmalloc: explicit 0.539, 0.538
 # and 0.477, 0.489 ms, implicit 6.91, 7.17 and 3.43, 3.73 ms (0-9%, within the host's spread of
-# 0.54-0.95 ms a run).
+# 0.54-0.95 ms a run). Link-time optimisation (-flto, compile and link: the objects are LLVM
+# bitcode, each function keeps its file's level, the link optimises across files and drops
+# what the page cannot reach): 504,152 bytes against 526,341 with issue 34's nodal pressure in
+# (which took the plain build past 512 KiB), the page's house explicit and implicit in Node.js,
+# medians of 120 and 60 frames, three interleaved runs each, without then with: explicit 0.614,
+# 0.787, 0.972 and 0.607, 0.809, 0.535 ms, implicit 2.67, 3.29, 3.29 and 3.13, 3.69, 2.54 ms
+# (within the host's spread); check-web's comparisons still ask for native's bits.
 exports=$(grep -o 'FW_EXPORT [^(]*(' web/femto_web.c | grep -o 'fw_[a-z_]*' | sed 's/^/_/' |
   sort -u | paste -sd, -)
-link=(-Os --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1 -sMALLOC=emmalloc
+link=(-Os -flto --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1 -sMALLOC=emmalloc
       -sDISABLE_EXCEPTION_CATCHING=1 -sEXPORTED_FUNCTIONS="$exports"
       -sEXPORTED_RUNTIME_METHODS=UTF8ToString,HEAPU8,HEAP32,HEAPF32,HEAPF64)
 web=(-sEXPORT_ES6=1 -sENVIRONMENT=web -sEXPORT_NAME=createFemto)

@@ -307,46 +307,6 @@ int fmNodalPressure_Patch(const fmElasticMesh* mesh, const double* x, int a, int
 	return count;
 }
 
-bool fmNodalPressure_AddRowSums(const fmElasticMesh* mesh, const double* x, double* rowSum)
-{
-	size_t n = (size_t)mesh->vertexCount, most = (size_t)fmNodalPressure_MaxPatch(mesh);
-	double* pressure = FM_ALLOC_ARRAY(double, n);
-	double* curvature = FM_ALLOC_ARRAY(double, n);
-	int* vertices = FM_ALLOC_ARRAY(int, most);
-	fmVec3* grads = FM_ALLOC_ARRAY(fmVec3, most);
-	bool ok = pressure && curvature && vertices && grads;
-	if (ok)
-		fmNodalPressure_State(mesh, x, pressure, curvature);
-	// c_a s_a s_a^T: row (b, i) sums to c_a |s_ab[i]| sum_c |s_ac|_1
-	for (int a = 0; ok && a < mesh->vertexCount; ++a)
-	{
-		int count = fmNodalPressure_Patch(mesh, x, a, vertices, grads);
-		double total = 0.0;
-		for (int c = 0; c < count; ++c)
-			total += fabs(grads[c].x) + fabs(grads[c].y) + fabs(grads[c].z);
-		for (int b = 0; b < count; ++b)
-		{
-			const double s[3] = {grads[b].x, grads[b].y, grads[b].z};
-			for (int i = 0; i < 3; ++i)
-				rowSum[3 * vertices[b] + i] += fabs(curvature[a]) * fabs(s[i]) * total;
-		}
-	}
-	for (int t = 0; ok && t < mesh->tetCount; ++t)
-	{
-		if (!fmNodalPressure_TetIsNodal(mesh, t))
-			continue;
-		double K[144];
-		fmNodalPressure_TetHessian(mesh, x, t, fmNodalPressure_TetMean(mesh, pressure, t), 0, K);
-		for (int r = 0; r < 12; ++r)
-			for (int c = 0; c < 12; ++c)
-				rowSum[3 * mesh->tets[4 * t + r / 3] + r % 3] += fabs(K[12 * r + c]);
-	}
-	FM_FREE_ARRAY(pressure, double, n);
-	FM_FREE_ARRAY(curvature, double, n);
-	FM_FREE_ARRAY(vertices, int, most);
-	FM_FREE_ARRAY(grads, fmVec3, most);
-	return ok;
-}
 
 // The tet terms' blocks: V_e p_e d2J_e/dx2 at each tet's mean pressure.
 static void fmVisitTetTerms(const fmElasticMesh* mesh, const double* x, const double* pressure,
@@ -443,4 +403,18 @@ bool fmNodalPressure_AddDiagonal(const fmElasticMesh* mesh, const double* x, dou
                                  int project)
 {
 	return fmNodalPressure_VisitHessian(mesh, x, project, fmAddDiagonalBlock, blocks);
+}
+
+static void fmAddBlockRowSums(void* context, int row, int column, const double block[9])
+{
+	(void)column;
+	double* rowSum = context;
+	for (int r = 0; r < 9; ++r)
+		rowSum[3 * row + r / 3] += fabs(block[r]);
+}
+
+bool fmNodalPressure_AddRowSums(const fmElasticMesh* mesh, const double* x, double* rowSum)
+{
+	// Each visited block's absolute row sums: at least those of the blocks summed.
+	return fmNodalPressure_VisitHessian(mesh, x, 0, fmAddBlockRowSums, rowSum);
 }
