@@ -50,7 +50,8 @@
 	X("thrown cube", drop)                                                                         \
 	X("two houses (implicit)", two_houses)                                                         \
 	X("house, StVK", house_stvk)                                                                   \
-	X("house, implicit (Neo-Hookean)", house_implicit)
+	X("house, implicit (Neo-Hookean)", house_implicit)                                             \
+	X("rubber house (nu = 0.4999)", rubber)
 
 // One entry of the menu: its title and its file.
 typedef struct fwSceneFile
