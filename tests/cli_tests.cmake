@@ -780,6 +780,12 @@ femto_cli_test(bad_fibres_rule ARGS "run|${FEMTO_CLI_DATA}/bad_fibres_rule.json"
 # does not flow; located errors for its keys.
 femto_cli_test(dent_run ARGS "run|${PROJECT_SOURCE_DIR}/scenes/dent.json" CODE 0
   REGEX "bodies\\[1\\] +plastic work [0-9.]+ J, largest plastic strain 0\\.[1-9][0-9]*" REJECT "bodies\\[0\\] +plastic")
+# The rubber house (nu = 0.4999, the nodal pressure) lands at one implicit step a frame, no tet
+# inverted; the nodal pressure on a model without a J-only volume term is refused where it is.
+femto_cli_test(rubber_run ARGS "run|${PROJECT_SOURCE_DIR}/scenes/rubber.json|--frames|40" CODE 0
+  REGEX "lowest y reached -3 m.*inverted tets +0")
+femto_cli_test(bad_nodal_pressure ARGS "run|${FEMTO_CLI_DATA}/bad_nodal_pressure.json" CODE 1
+  REGEX "bad_nodal_pressure\\.json:4:[0-9]+: bodies\\[0\\]\\.material: nodalPressure needs a model whose volume term is a function of J alone .*not stvk")
 femto_cli_test(bad_plasticity_yield ARGS "run|${FEMTO_CLI_DATA}/bad_plasticity_yield.json" CODE 1
   REGEX "bad_plasticity_yield\\.json:5:[0-9]+: bodies\\[0\\]\\.material\\.plasticity: give yield_stress \\(Pa\\) or yield_strain")
 femto_cli_test(bad_plasticity_model ARGS "run|${FEMTO_CLI_DATA}/bad_plasticity_model.json" CODE 1
