@@ -163,6 +163,7 @@ static fmBodyDef fuzzBodyDef(fmFuzzReader* r, const fmTetMesh* mesh)
 		def.internalValue = defaults.internalValue;
 	fuzzFixBool(&def.selfCollision);
 	fuzzFixBool(&def.enableSleep);
+	fuzzFixBool(&def.material.nodalPressure);
 	def.mesh = fmFuzzPick(r, 8) == 0 ? NULL : mesh;
 	// Pointers are the caller's to make valid: the region arrays NULL (their count stays fuzzed).
 	def.regionMaterials = NULL;
