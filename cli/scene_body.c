@@ -450,6 +450,14 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 	return cliParseMass(j, material, path, spec);
 }
 
+fmMaterial cliKeepNodalPressure(fmMaterial material, bool nodalPressure)
+{
+	fmMaterial probe = fmMakeMaterialLame(material.model, 1.0, 1.0);
+	probe.nodalPressure = true;
+	material.nodalPressure = nodalPressure && fmMaterial_Validate(&probe, NULL) == fm_ok;
+	return material;
+}
+
 // ---- regions --------------------------------------------------------------------------------
 
 // One region's material: the body's material changed by the keys given ("model", and
@@ -510,6 +518,8 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 		             model == fm_mooneyRivlin || model == fm_neoHookeanIsochoric;
 		if (!flows) // (a model plasticity does not go with leaves it)
 			memset(&out->plasticity, 0, sizeof out->plasticity);
+		// and a model the nodal pressure does not go with leaves it (unless the region asks)
+		*out = cliKeepNodalPressure(*out, out->nodalPressure);
 	}
 	bool inherited = model == base->model;
 	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01) ||

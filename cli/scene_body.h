@@ -18,6 +18,11 @@ bool cliParseTransform(const cliJson* j, const cliJsonNode* object, const char* 
 bool cliParseFilter(const cliJson* j, const cliJsonNode* object, const char* parent,
                     fmFilter* filter);
 
+/// @p material with its nodal pressure kept where its model takes one (fmMaterial_Validate's
+/// rule, asked of a tame material of that model so that nothing is logged), else dropped: the
+/// scene's flag carried to a material the viewer's or page's sliders or a region make.
+fmMaterial cliKeepNodalPressure(fmMaterial material, bool nodalPressure);
+
 /// The per-tet fibres of @p spec's "fibres" on its loaded, placed @p mesh (fmBodyDef.tetFibres):
 /// malloc'd (the caller frees it), or NULL with @p problem empty when the body has none, or NULL
 /// with the reason in @p problem (the mesh lacks the attributes, out of memory).

@@ -792,5 +792,8 @@ femto_cli_test(bad_plasticity_model ARGS "run|${FEMTO_CLI_DATA}/bad_plasticity_m
   REGEX "bad_plasticity_model\\.json:4:[0-9]+: bodies\\[0\\]\\.material: plasticity goes with the isotropic large-strain models .*not linear")
 # A region's material starts from the body's: a region that changes only the stiffness keeps the
 # body's plasticity (the bar flows: its plastic work printed), a linear one leaves it.
+# A region whose model the nodal pressure does not go with (StVK) leaves it, as plasticity.
+femto_cli_test(regions_nodal ARGS "static|${FEMTO_CLI_DATA}/regions_nodal.json" CODE 0
+  REGEX "converged\n[^\n]*inverted tets 0")
 femto_cli_test(regions_plastic ARGS "static|${FEMTO_CLI_DATA}/regions_plastic.json" CODE 0
   REGEX "converged\n[^\n]*\n +plastic work [0-9.]+ J, largest plastic strain 0\\.0[0-9]+")

@@ -10,6 +10,7 @@
 #include "fem/forces.h"
 #include "fem/nodal_pressure.h"
 #include "material/material.h"
+#include "solver/bsr.h"
 #include "solver/solver_cache.h"
 #include "support.h"
 #include "test.h"
@@ -96,7 +97,16 @@ TEST(nodal_derivatives_match_finite_differences)
 	}
 }
 
-// The Newton matrix assembled on the square pattern gives the matrix-free product.
+// The diagonal blocks of every visited block, summed (the reference for the fast diagonal).
+static void sumDiagonal(void* context, int row, int column, const double block[9])
+{
+	double* blocks = context;
+	for (int r = 0; row == column && r < 9; ++r)
+		blocks[9 * (size_t)row + r] += block[r];
+}
+
+// The Newton matrix assembled on the square pattern gives the matrix-free product, and the
+// matrix-free path's diagonal (each patch's rank-one term at once) the visited blocks' diagonal.
 TEST(nodal_assembled_matrix_gives_the_product)
 {
 	fmWorldId world;
@@ -131,6 +141,14 @@ TEST(nodal_assembled_matrix_gives_the_product)
 			worst = fmax(worst, fabs(y[k] - z[k]));
 		}
 		CHECK(worst <= 1e-12 * scale);
+		size_t n9 = 9 * (size_t)mesh->vertexCount;
+		double *fast = calloc(n9, sizeof(double)), *slow = calloc(n9, sizeof(double));
+		CHECK(fmNodalPressure_AddDiagonal(mesh, body->state.x, fast, project));
+		CHECK(fmNodalPressure_VisitHessian(mesh, body->state.x, project, sumDiagonal, slow));
+		for (size_t k = 0; k < n9; ++k)
+			CHECK_NEAR(fast[k], slow[k], 1e-12 * scale);
+		free(fast);
+		free(slow);
 	}
 	free(values);
 	free(dx);
@@ -329,8 +347,9 @@ TEST(nodal_bodies_are_bit_identical_for_any_worker_count)
 }
 
 // A snapshot of a nodal body restores its frames to the bit (its kept Newton matrix on the
-// square pattern included), and is refused by a body whose volume term is per tet (the record's
-// matrix has the other pattern).
+// square pattern included), also after the body took another nodal material (the tets' parts
+// and the patches' bulk are the restored material's), and is refused by a body whose volume
+// term is per tet (the record's matrix has the other pattern).
 TEST(nodal_snapshots_restore_to_the_bit)
 {
 	fmWorldDef wdef = fmDefaultWorldDef();
@@ -354,6 +373,9 @@ TEST(nodal_snapshots_restore_to_the_bit)
 	for (int f = 0; f < 5; ++f)
 		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
 	memcpy(first, fmTestPositions(body), sizeof(double) * (size_t)n3);
+	fmMaterial other = fmMakeMaterial(fm_linear, 3e6, 0.3);
+	other.nodalPressure = true;
+	CHECK_INT(fmBody_SetMaterial(body, &other, NULL), fm_ok);
 	CHECK_INT(fmWorld_RestoreSnapshot(world, snapshot, written), fm_ok);
 	for (int f = 0; f < 5; ++f)
 		CHECK_INT(fmWorld_Step(world, 1.0 / 60.0, 1), fm_ok);
@@ -366,4 +388,45 @@ TEST(nodal_snapshots_restore_to_the_bit)
 	free(snapshot);
 	fmFreeTetMesh(&mesh);
 	fmDestroyWorld(world);
+}
+
+// A nodal body at rest with nothing pulling is in balance: the static solve's round-off floor
+// counts the material's whole stiffness, its volume term included.
+TEST(nodal_static_solve_at_rest_converges)
+{
+	fmWorldId world;
+	fmWorldDef wdef = fmTestFreeWorldDef();
+	fmBodyDef bdef = fmDefaultBodyDef();
+	bdef.material = nodalMaterial(fm_neoHookean, 0.4999);
+	fmBodyId id = fmTestMakeHouse(&world, &wdef, &bdef); // (its rest forces' round-off: 1e-16)
+	CHECK(fmBody_IsValid(id));
+	if (!fmBody_IsValid(id))
+		return;
+	for (int i = 0; i < fmBody_GetVertexCount(id); ++i)
+		fmBody_SetPinned(id, i, fmTestPositions(id)[3 * i + 1] < -1.9);
+	double residual = 1.0;
+	fmDiagnostic diag;
+	CHECK_INT(fmBody_SolveStatic(id, 1e-8, 20, &residual, &diag), fm_ok);
+	CHECK(residual <= 1e-8);
+	fmDestroyWorld(world);
+}
+
+// The memory estimate counts the square pattern's blocks (and the patches), so a budget holds.
+TEST(nodal_memory_estimate_counts_the_square_pattern)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(8, 8, 8, fmMakeVec3(0, 0, 0), fmMakeVec3(1, 1, 1), &mesh), fm_ok);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = nodalMaterial(fm_neoHookean, 0.45);
+	size_t nodal = fmEstimateBodyMemory(&def);
+	def.material.nodalPressure = false;
+	size_t perTet = fmEstimateBodyMemory(&def);
+	fmBsrMatrix square;
+	CHECK(fmBsr_Build(&square, mesh.nodeCount, mesh.tets, mesh.tetCount));
+	CHECK(fmBsr_Square(&square));
+	CHECK(nodal > perTet);
+	CHECK(nodal >= 9 * sizeof(double) * (size_t)square.blocks);
+	fmBsr_Free(&square);
+	fmFreeTetMesh(&mesh);
 }

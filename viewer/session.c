@@ -38,14 +38,11 @@ static fmMaterial fvSliderMaterial(const fvSession* s, int b)
 	if (!fvIsAnisotropic(p->model))
 	{
 		// The scene's plasticity stays with the models it goes with (not linear), its nodal
-		// pressure with the models whose volume term it can move (fmMaterial_Validate says).
+		// pressure with the models whose volume term it can move.
 		fmMaterial m = fmMakeMaterial(p->model, p->youngs, p->poisson);
 		if (p->model != fm_linear)
 			m.plasticity = scene->plasticity;
-		m.nodalPressure = scene->nodalPressure;
-		if (m.nodalPressure && fmMaterial_Validate(&m, NULL) != fm_ok)
-			m.nodalPressure = false;
-		return m;
+		return cliKeepNodalPressure(m, scene->nodalPressure);
 	}
 	fmMaterial m = *scene;
 	double k = p->youngs / p->startYoungs;

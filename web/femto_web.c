@@ -763,6 +763,8 @@ FW_EXPORT int fw_set_material(int model, double youngs, double poisson)
 		return fm_errParameter;
 	}
 	fmMaterial material = fmMakeMaterial((fmMaterialModel)model, youngs, poisson);
+	// The scene's nodal pressure stays with the models that take it (as the viewer's sliders).
+	material = cliKeepNodalPressure(material, s_app.scene.bodies[0].def.material.nodalPressure);
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);
 	fmResult r = fmMaterial_Validate(&material, &diag);

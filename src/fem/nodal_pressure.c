@@ -56,27 +56,39 @@ void fmNodalPressure_Free(fmElasticMesh* mesh)
 	mesh->patchVolume = mesh->patchBulk = NULL;
 }
 
-// The patches' rest volumes and bulk-weighted volumes from the tets whose part is nodal.
-static void fmFillPatches(const fmElasticMesh* mesh, const double* bulk, double* volume,
-                          double* weighted)
+// The tet parts, the law and the patches (zeroed, then summed over the nodal tets) from the
+// materials as they are now, into the mesh's arrays (allocated, the flags' pattern unchanged).
+static void fmFillNodal(fmElasticMesh* mesh)
 {
+	int count;
+	const fmMaterial* user = fmUserMaterials(mesh, &count);
+	for (int k = 0; k < count; ++k)
+	{
+		double bulk;
+		mesh->tetParts[k] = user[k];
+		if (user[k].nodalPressure)
+			mesh->nodalLaw = (int)fmNodalSplit(&mesh->tetParts[k], &bulk);
+	}
+	memset(mesh->patchVolume, 0, sizeof(double) * (size_t)mesh->vertexCount);
+	memset(mesh->patchBulk, 0, sizeof(double) * (size_t)mesh->vertexCount);
 	for (int t = 0; t < mesh->tetCount; ++t)
 	{
-		int k = mesh->tetMaterial != NULL ? mesh->tetMaterial[t] : 0;
-		if (!mesh->tetParts[k].nodalPressure)
+		fmMaterial part = *fmTetUserMaterial(mesh, t);
+		double bulk, quarter = 0.25 * mesh->restVolume[t];
+		if (!part.nodalPressure)
 			continue;
-		double quarter = 0.25 * mesh->restVolume[t];
+		fmNodalSplit(&part, &bulk);
 		for (int a = 0; a < 4; ++a)
 		{
-			volume[mesh->tets[4 * t + a]] += quarter;
-			weighted[mesh->tets[4 * t + a]] += quarter * bulk[k];
+			mesh->patchVolume[mesh->tets[4 * t + a]] += quarter;
+			mesh->patchBulk[mesh->tets[4 * t + a]] += quarter * bulk;
 		}
 	}
 }
 
 fmResult fmNodalPressure_Prepare(fmElasticMesh* mesh, fmDiagnostic* diag)
 {
-	int count, law = -1;
+	int count, law = -1, first = -1;
 	const fmMaterial* user = fmUserMaterials(mesh, &count);
 	for (int k = 0; k < count; ++k)
 	{
@@ -90,8 +102,10 @@ fmResult fmNodalPressure_Prepare(fmElasticMesh* mesh, fmDiagnostic* diag)
 			                   "nodalPressure: the body's nodal materials share their vertices' "
 			                   "volume term, so they need one volume law (%s and %s differ: "
 			                   "linear, the log of J, or (J - 1)^2)",
-			                   fmMaterialModelName(user[0].model), fmMaterialModelName(part.model));
+			                   fmMaterialModelName(user[first].model),
+			                   fmMaterialModelName(part.model));
 		law = own;
+		first = first < 0 ? k : first;
 	}
 	fmNodalPressure_Free(mesh);
 	if (law < 0)
@@ -101,28 +115,23 @@ fmResult fmNodalPressure_Prepare(fmElasticMesh* mesh, fmDiagnostic* diag)
 		                   "nodalPressure needs the fem force model, not %s",
 		                   fmForceModelName(mesh->forceModel));
 	size_t n = (size_t)mesh->vertexCount;
-	fmMaterial* parts = FM_ALLOC_ARRAY(fmMaterial, count);
-	double* bulk = FM_ALLOC_ZERO(double, count);
-	mesh->patchVolume = FM_ALLOC_ZERO(double, n);
-	mesh->patchBulk = FM_ALLOC_ZERO(double, n);
-	mesh->tetParts = parts;
-	if (parts == NULL || bulk == NULL || mesh->patchVolume == NULL || mesh->patchBulk == NULL)
+	mesh->tetParts = FM_ALLOC_ARRAY(fmMaterial, count);
+	mesh->patchVolume = FM_ALLOC_ARRAY(double, n);
+	mesh->patchBulk = FM_ALLOC_ARRAY(double, n);
+	if (mesh->tetParts == NULL || mesh->patchVolume == NULL || mesh->patchBulk == NULL)
 	{
-		FM_FREE_ARRAY(bulk, double, count);
 		fmNodalPressure_Free(mesh);
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the nodal pressure's patches");
 	}
-	for (int k = 0; k < count; ++k)
-	{
-		parts[k] = user[k];
-		if (parts[k].nodalPressure)
-			fmNodalSplit(&parts[k], &bulk[k]);
-	}
-	mesh->nodalLaw = law;
-	fmFillPatches(mesh, bulk, mesh->patchVolume, mesh->patchBulk);
-	FM_FREE_ARRAY(bulk, double, count);
+	fmFillNodal(mesh);
 	return fm_ok;
+}
+
+void fmNodalPressure_Refresh(fmElasticMesh* mesh)
+{
+	if (fmNodalPressure_On(mesh))
+		fmFillNodal(mesh);
 }
 
 bool fmNodalPressure_TetIsNodal(const fmElasticMesh* mesh, int t)
@@ -307,7 +316,6 @@ int fmNodalPressure_Patch(const fmElasticMesh* mesh, const double* x, int a, int
 	return count;
 }
 
-
 // The tet terms' blocks: V_e p_e d2J_e/dx2 at each tet's mean pressure.
 static void fmVisitTetTerms(const fmElasticMesh* mesh, const double* x, const double* pressure,
                             int project, fmNodalBlockFcn* visit, void* context)
@@ -334,8 +342,14 @@ static void fmVisitTetTerms(const fmElasticMesh* mesh, const double* x, const do
 	}
 }
 
-bool fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, int project,
-                                  fmNodalBlockFcn* visit, void* context)
+// A patch's rank-one term c s s^T at once: its vertices and their gradients.
+typedef void fmNodalPatchFcn(void* context, double c, int count, const int* vertices,
+                             const fmVec3* grads);
+
+// The Hessian's blocks to @p visit, each patch's term to @p patch instead when it is not NULL
+// (a product or a diagonal: O(patch) instead of O(patch^2)).
+static bool fmVisitHessian(const fmElasticMesh* mesh, const double* x, int project,
+                           fmNodalBlockFcn* visit, fmNodalPatchFcn* patch, void* context)
 {
 	size_t n = (size_t)mesh->vertexCount, most = (size_t)fmNodalPressure_MaxPatch(mesh);
 	double* pressure = FM_ALLOC_ARRAY(double, n);
@@ -349,6 +363,11 @@ bool fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, in
 	{
 		double c = project ? fmMax(curvature[a], 0.0) : curvature[a];
 		int count = c != 0.0 ? fmNodalPressure_Patch(mesh, x, a, vertices, grads) : 0;
+		if (patch != NULL)
+		{
+			patch(context, c, count, vertices, grads);
+			continue;
+		}
 		for (int b = 0; b < count; ++b)
 			for (int d = 0; d < count; ++d)
 			{
@@ -369,6 +388,12 @@ bool fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, in
 	return ok;
 }
 
+bool fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, int project,
+                                  fmNodalBlockFcn* visit, void* context)
+{
+	return fmVisitHessian(mesh, x, project, visit, NULL, context);
+}
+
 typedef struct fmNodalProduct
 {
 	const double* dx;
@@ -385,11 +410,23 @@ static void fmAddBlockProduct(void* context, int row, int column, const double b
 	fmStore(p->out, row, fmAdd(fmLoad(p->out, row), y));
 }
 
+// c s (s . dx) added to out.
+static void fmAddPatchProduct(void* context, double c, int count, const int* vertices,
+                              const fmVec3* grads)
+{
+	fmNodalProduct* p = context;
+	double dot = 0.0;
+	for (int b = 0; b < count; ++b)
+		dot += fmDot(grads[b], fmLoad(p->dx, vertices[b]));
+	for (int b = 0; b < count; ++b)
+		fmStore(p->out, vertices[b], fmMulAdd(fmLoad(p->out, vertices[b]), c * dot, grads[b]));
+}
+
 bool fmNodalPressure_AddProduct(const fmElasticMesh* mesh, const double* x, const double* dx,
                                 double* out, int project)
 {
 	fmNodalProduct p = {dx, out};
-	return fmNodalPressure_VisitHessian(mesh, x, project, fmAddBlockProduct, &p);
+	return fmVisitHessian(mesh, x, project, fmAddBlockProduct, fmAddPatchProduct, &p);
 }
 
 static void fmAddDiagonalBlock(void* context, int row, int column, const double block[9])
@@ -399,10 +436,23 @@ static void fmAddDiagonalBlock(void* context, int row, int column, const double 
 		blocks[9 * (size_t)row + r] += block[r];
 }
 
+// c s_b s_b^T added to each vertex's diagonal block.
+static void fmAddPatchDiagonal(void* context, double c, int count, const int* vertices,
+                               const fmVec3* grads)
+{
+	double* blocks = context;
+	for (int b = 0; b < count; ++b)
+	{
+		const double s[3] = {grads[b].x, grads[b].y, grads[b].z};
+		for (int r = 0; r < 9; ++r)
+			blocks[9 * (size_t)vertices[b] + r] += c * s[r / 3] * s[r % 3];
+	}
+}
+
 bool fmNodalPressure_AddDiagonal(const fmElasticMesh* mesh, const double* x, double* blocks,
                                  int project)
 {
-	return fmNodalPressure_VisitHessian(mesh, x, project, fmAddDiagonalBlock, blocks);
+	return fmVisitHessian(mesh, x, project, fmAddDiagonalBlock, fmAddPatchDiagonal, blocks);
 }
 
 static void fmAddBlockRowSums(void* context, int row, int column, const double block[9])

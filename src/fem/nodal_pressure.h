@@ -27,6 +27,10 @@ typedef enum fmNodalLaw
 // when the nodal materials' volume laws differ, fm_errOutOfMemory without memory.
 fmResult fmNodalPressure_Prepare(fmElasticMesh* mesh, fmDiagnostic* diag);
 
+// The nodal data made again from the materials as they are now, in place: after a material
+// changed with its nodalPressure flag kept (a snapshot's restore). Nothing without nodal data.
+void fmNodalPressure_Refresh(fmElasticMesh* mesh);
+
 // Free the mesh's nodal data (none: nothing).
 void fmNodalPressure_Free(fmElasticMesh* mesh);
 

@@ -2,6 +2,7 @@
 #include "world/snapshot_body.h"
 
 #include "body/plasticity.h"
+#include "fem/nodal_pressure.h"
 #include "material/material.h"
 #include "material/material_aniso.h"
 #include "material/material_plastic.h"
@@ -153,6 +154,8 @@ static bool fmMovePlastic(fmStream* s, bool save, fmBody* b)
 bool fmSnapshotBody_Move(fmStream* s, bool save, fmBody* b)
 {
 	fmMoveBodyState(s, save, b);
+	if (!save) // the tets' parts and the patches' bulk of the material restored (same flag)
+		fmNodalPressure_Refresh(&b->mesh);
 	return fmMovePlastic(s, save, b) && fmMoveSolverMatrix(s, save, b);
 }
 

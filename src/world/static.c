@@ -41,7 +41,7 @@ static double fmStaticForceRoundOff(const fmBody* b)
 	double stiffness = 0.0, lo[3], hi[3];
 	for (int t = 0; t < b->mesh.tetCount; ++t)
 	{
-		const fmMaterial* m = fmTetMaterial(&b->mesh, t);
+		const fmMaterial* m = fmTetUserMaterial(&b->mesh, t); // (its volume term wherever it is)
 		stiffness += (m->mu + fabs(m->lambda)) * b->mesh.restVolume[t];
 	}
 	for (int e = 0; e < 3; ++e)
