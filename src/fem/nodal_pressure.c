@@ -239,41 +239,13 @@ double fmNodalPressure_AddForces(const fmElasticMesh* mesh, const double* x, dou
 	return energy;
 }
 
-// p d2J/dF2 (9x9, row 3 i + j, column 3 k + l): d2J/dF_ij dF_kl = e_ikm e_jln F_mn.
-static void fmPressureCurvature(const fmMat3* F, double p, double* H)
-{
-	memset(H, 0, 81 * sizeof(double));
-	for (int i = 0; i < 3; ++i)
-		for (int k = 0; k < 3; ++k)
-		{
-			if (i == k)
-				continue;
-			double si = (k - i + 3) % 3 == 1 ? 1.0 : -1.0;
-			for (int j = 0; j < 3; ++j)
-				for (int l = 0; l < 3; ++l)
-				{
-					if (j == l)
-						continue;
-					double sj = (l - j + 3) % 3 == 1 ? 1.0 : -1.0;
-					H[9 * (3 * i + j) + (3 * k + l)] =
-					    p * si * sj * F->m[3 * (3 - i - k) + (3 - j - l)];
-				}
-		}
-}
-
 void fmNodalPressure_TetHessian(const fmElasticMesh* mesh, const double* x, int t, double p,
-                                int project, double* K)
+                                double* K)
 {
-	if (mesh->nodalLaw == fm_nodalLinear)
-	{
-		memset(K, 0, 144 * sizeof(double)); // J is linear in x
-		return;
-	}
 	fmMat3 F = fmTetDeformation(mesh, x, t);
-	double H[81];
-	fmPressureCurvature(&F, p, H);
-	if (project)
-		fmProjectPSD9(H);
+	double H[81] = {0.0};
+	const double weights[3] = {0.0, 0.0, p}; // p d2J/dF2
+	fmAddInvariantCurvature(&F, 0.0, weights, H);
 	fmContractTetHessian(H, &mesh->DmInv[t], mesh->restVolume[t], K);
 }
 
@@ -330,8 +302,7 @@ static void fmVisitTetTerms(const fmElasticMesh* mesh, const double* x, const do
 	{
 		if (!fmNodalPressure_TetIsNodal(mesh, t))
 			continue;
-		fmNodalPressure_TetHessian(mesh, x, t, fmNodalPressure_TetMean(mesh, pressure, t), project,
-		                           K);
+		fmNodalPressure_TetHessian(mesh, x, t, fmNodalPressure_TetMean(mesh, pressure, t), K);
 		for (int a = 0; a < 4; ++a)
 			for (int b = 0; b < 4; ++b)
 			{

@@ -56,10 +56,11 @@ double fmNodalPressure_AddForces(const fmElasticMesh* mesh, const double* x, dou
 void fmNodalPressure_TetGradients(const fmElasticMesh* mesh, const double* x, int t,
                                   fmVec3 grad[4]);
 
-// The tet's 12x12 term V_t p d2J_t/dx2 at pressure @p p (its nodes' mean), PSD-projected when
-// @p project, into @p K (row-major, node-major: 3 a + i).
+// The tet's 12x12 term V_t p d2J_t/dx2 at pressure @p p (its nodes' mean), exact (the projected
+// Hessian leaves it out; zero for the linear law, whose J is linear in x, and not asked for),
+// into @p K (row-major, node-major: 3 a + i).
 void fmNodalPressure_TetHessian(const fmElasticMesh* mesh, const double* x, int t, double p,
-                                int project, double* K);
+                                double* K);
 
 // The pressure @p pressure's mean over tet @p t's nodes.
 double fmNodalPressure_TetMean(const fmElasticMesh* mesh, const double* pressure, int t);

@@ -17,8 +17,7 @@ static double fmPermutationSign(int a, int b)
 	return (b - a + 3) % 3 == 1 ? 1.0 : -1.0;
 }
 
-// d2v/dF2 for the three invariants, added with weights w[0..2] to dPdF.
-static void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3], double* dPdF)
+void fmAddInvariantCurvature(const fmMat3* F, double I1, const double w[3], double* dPdF)
 {
 	const double* f = F->m;
 	fmMat3 C = fmMatTMul(F, F), B = fmMatMulT(F, F);
