@@ -60,8 +60,18 @@ for file in $(sed -n 's/^#define FW_HOUSE_[A-Z]* "\(data\/[^"]*\)"$/\1/p' web/fe
   cp "$file" "$dist/data/"
 done
 
+# newest FILE... prints the most recently modified file (a loop, no pipe: under pipefail a
+# reader that leaves early would end the script with SIGPIPE).
+newest() {
+  local best=$1 file
+  for file in "$@"; do
+    if [ "$file" -nt "$best" ]; then best=$file; fi
+  done
+  echo "$best"
+}
+
 # Each object is rebuilt when its source or any header is newer (a tiny make).
-newest_header=$(ls -t include/femto/*.h src/*/*.h src/*/*/*.h cli/*.h | head -n 1)
+newest_header=$(newest include/femto/*.h src/*/*.h src/*/*/*.h cli/*.h)
 jobs=()
 compile() { # source object flags...
   local source=$1 object=$2
@@ -169,13 +179,28 @@ link=(-Os -flto --no-entry -sMODULARIZE=1 -sFILESYSTEM=0 -sALLOW_MEMORY_GROWTH=1
       -sDISABLE_EXCEPTION_CATCHING=1 -sEXPORTED_FUNCTIONS="$exports"
       -sEXPORTED_RUNTIME_METHODS=UTF8ToString,HEAPU8,HEAP32,HEAPF32,HEAPF64)
 web=(-sEXPORT_ES6=1 -sENVIRONMENT=web -sEXPORT_NAME=createFemto)
-emcc "${simd_objects[@]}" "${link[@]}" "${web[@]}" -o "$dist/femto_wasm.js"
-emcc "${plain_objects[@]}" "${link[@]}" "${web[@]}" -o "$dist/femto_wasm_nosimd.js"
 # The same objects for Node.js (a CommonJS module) for the comparison test (web/test/). One file,
 # the .wasm inside: emscripten 3.1.6's glue would fetch() a .wasm path under Node 18 and later.
 node=(-sENVIRONMENT=node -sEXPORT_NAME=createFemto -sSINGLE_FILE=1)
-emcc "${simd_objects[@]}" "${link[@]}" "${node[@]}" -o "$out/node/femto_wasm.js"
-emcc "${plain_objects[@]}" "${link[@]}" "${node[@]}" -o "$out/node/femto_wasm_nosimd.js"
+# The links (each optimises the whole page: some 14 s) run unless every output is newer than
+# every object and this script: the tiny make's last step.
+linked=("$dist/femto_wasm.js" "$dist/femto_wasm.wasm" "$dist/femto_wasm_nosimd.js"
+        "$dist/femto_wasm_nosimd.wasm" "$out/node/femto_wasm.js" "$out/node/femto_wasm_nosimd.js")
+newest_object=$(newest "${simd_objects[@]}" "${plain_objects[@]}")
+stale=false
+for file in "${linked[@]}"; do
+  if [ ! -f "$file" ] || [ "$newest_object" -nt "$file" ] || [ "$0" -nt "$file" ]; then
+    stale=true
+  fi
+done
+if $stale; then
+  emcc "${simd_objects[@]}" "${link[@]}" "${web[@]}" -o "$dist/femto_wasm.js"
+  emcc "${plain_objects[@]}" "${link[@]}" "${web[@]}" -o "$dist/femto_wasm_nosimd.js"
+  emcc "${simd_objects[@]}" "${link[@]}" "${node[@]}" -o "$out/node/femto_wasm.js"
+  emcc "${plain_objects[@]}" "${link[@]}" "${node[@]}" -o "$out/node/femto_wasm_nosimd.js"
+else
+  echo "web.sh: the modules are newer than every object: not linked again"
+fi
 
 for wasm in "$dist/femto_wasm.wasm" "$dist/femto_wasm_nosimd.wasm"; do
   size=$(stat -c %s "$wasm")
