@@ -524,6 +524,25 @@ FM_API int fmBody_PrescribeDisplacement(fmBodyId bodyId, fmVec3 min, fmVec3 max,
 /// Energies, lowest point, inverted tets.
 FM_API fmBodyStats fmBody_GetStats(fmBodyId bodyId);
 
+/// Tear the body where its material's fracture criterion holds at the current positions
+/// (fmMaterial.fracture; fmWorld_Step does this after every frame): faces whose tensile
+/// traction reaches the strength break, vertices whose tets no longer hold together are split
+/// (the copies numbered after the others: the vertex count grows). Returns the faces broken,
+/// 0 when none, or -1 with fmWorld_GetLastError set (out of memory; the body is unchanged).
+FM_API int fmBody_Fracture(fmBodyId bodyId);
+
+/// The fracture criterion at the current positions: fills @p tetDamage (tet count entries,
+/// user numbering, or NULL) with each tet's largest traction over strength on its unbroken
+/// shared faces (1 breaks) and returns the largest; 0 for a body that cannot break.
+FM_API double fmBody_ComputeDamage(fmBodyId bodyId, double* tetDamage);
+
+/// The pieces the body is torn into (1 for a whole body); fills @p tetPiece (tet count
+/// entries, user numbering, or NULL) with each tet's piece, numbered by their first tet.
+FM_API int fmBody_GetPieces(fmBodyId bodyId, int* tetPiece);
+
+/// Faces broken since the body was created (each shared face once).
+FM_API int fmBody_GetBrokenFaceCount(fmBodyId bodyId);
+
 /// Change the material (validated; the rest shape is kept).
 FM_API fmResult fmBody_SetMaterial(fmBodyId bodyId, const fmMaterial* material, fmDiagnostic* diag);
 

@@ -132,6 +132,24 @@ typedef struct fmPlasticity
 	double maxPlasticStrain;
 } fmPlasticity;
 
+/// Fracture along tet faces (docs/materials.md, "Fracture"): after each frame a face shared by
+/// two tets breaks when the tensile traction across it, n . sigma n with sigma the two tets'
+/// Cauchy stress averaged over `length`, reaches `strength` (Rankine's maximum normal stress
+/// on the mesh's faces); a vertex whose tets no longer hold together across unbroken faces is
+/// split in two, its mass shared by tet volume. The fem force model. All zero: unbreakable.
+typedef struct fmFracture
+{
+	double strength; ///< Pa, >= 0: the tensile strength sigma_t; 0 = never breaks
+	/// m, >= 0: the stress a face reads is averaged over the tets whose centres lie within this
+	/// distance of each side's (at rest): the theory of critical distances' L = (K_Ic /
+	/// sigma_t)^2 / pi, which makes the tearing load independent of the mesh once the mesh
+	/// resolves it; 0: the two tets of the face alone
+	double length;
+	/// m^3, >= 0: a tear that would cut off a piece smaller waits until it cuts a bigger one
+	/// (no slivers); 0: eight times the body's mean tet volume. The body's material sets it
+	double minVolume;
+} fmFracture;
+
 /// A material. Make one with fmMakeMaterial(), fmMakeMaterialLame() or
 /// fmMakeOrthotropicMaterial(); the anisotropic models read their axes from fibre and sheet.
 typedef struct fmMaterial
@@ -159,6 +177,8 @@ typedef struct fmMaterial
 	/// mooney-rivlin and neohookean-isochoric, whose volume term is a function of J alone; the
 	/// fem force model (docs/materials.md, "Nearly incompressible bodies")
 	bool nodalPressure;
+	/// tearing along tet faces (the fem force model); all zero: unbreakable
+	fmFracture fracture;
 } fmMaterial;
 
 /// A material from Young's modulus @p youngsModulus (Pa, > 0) and Poisson ratio

@@ -4,6 +4,7 @@
 
 #include "body/anchors.h"
 #include "body/body_def.h"
+#include "body/fracture.h"
 #include "body/grab.h"
 #include "body/loads.h"
 #include "body/plasticity.h"
@@ -58,6 +59,7 @@ void fmBodyRelease(fmBody* b)
 	fmTargets_Free(b);
 	fmAnchors_Free(b);
 	fmLoads_Free(b->loads);
+	fmFracture_Free(b);
 	fmSolverCache_Free(b->solverCache);
 	fmTetBlocks_Destroy(b->mesh.tetBlocks);
 	fmElasticMesh_Free(&b->mesh);
@@ -304,6 +306,8 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		r = fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for plastic state");
 	if (r == fm_ok)
 		r = fmNodalPressure_Prepare(&b->mesh, diag);
+	if (r == fm_ok)
+		r = fmFracture_Prepare(b, diag);
 	if (r == fm_ok)
 		b->energyStale = true;
 	return r;
@@ -748,6 +752,10 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 		                   "plasticity needs the fem force model (a tet's plastic part lives in "
 		                   "its rest data), not %s",
 		                   fmForceModelName(b->mesh.forceModel));
+	if (b->mesh.forceModel != fm_fem && fmFracture_Tears(material))
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "fracture needs the fem force model, not %s",
+		                   fmForceModelName(b->mesh.forceModel));
 	if (b->mesh.forceModel != fm_fem && material->nodalPressure)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "nodalPressure needs the fem force model, not %s",
@@ -786,6 +794,8 @@ static fmResult fmBodySetMaterialIn(fmBodyId bodyId, const fmMaterial* material,
 		fmSolverCache_Free(b->solverCache);
 		b->solverCache = NULL;
 	}
+	if (r == fm_ok)
+		r = fmFracture_Prepare(b, diag); // (the averages follow the fracture lengths)
 	b->explicitLimit = fmWorldBodyStepLimit(fmGetWorldOfBody(bodyId), b);
 	b->energyStale = true;
 	return r;

@@ -97,6 +97,9 @@ typedef struct fmBody
 
 	// Loads and prescribed displacements (loads.h), NULL until the first is added.
 	struct fmLoadSet* loads;
+	// Fracture (fracture.h): the broken faces and what the tears were made from; NULL while no
+	// material of the body tears.
+	struct fmCracks* cracks;
 
 	// Each stage's scratch, typed, made and freed by the stage
 	fmBodyContact contact;               // the contact stage's (contact_body.h)

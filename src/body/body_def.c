@@ -166,6 +166,14 @@ static fmResult fmValidateAnisotropy(const fmBodyDef* def, fmDiagnostic* diag)
 		                   "plasticity needs the fem force model (a tet's plastic part lives in "
 		                   "its rest data), not %s",
 		                   fmForceModelName(def->forceModel));
+	bool tears = def->material.fracture.strength > 0.0;
+	for (int k = 0; k < def->regionCount; ++k)
+		tears = tears || def->regionMaterials[k].fracture.strength > 0.0;
+	if (tears && def->forceModel != fm_fem)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "fracture needs the fem force model (it reads each tet's stress and "
+		                   "splits vertices), not %s",
+		                   fmForceModelName(def->forceModel));
 	if (anisotropic && def->forceModel == fm_massSpring)
 		return fmDiagError(diag, fm_errParameter, "", 0, 0,
 		                   "anisotropic materials need the fem or fvm force model: mass-spring's "

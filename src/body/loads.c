@@ -6,9 +6,9 @@
 #include "solver/solver_cache.h"
 
 #include "core/core.h"
-#include "world/energy_ledger.h"
-#include "fem/forces.h"
 #include "core/fp_env.h"
+#include "fem/forces.h"
+#include "world/energy_ledger.h"
 #include "world/island.h"
 #include "world/world.h"
 
@@ -29,6 +29,47 @@ void fmLoads_Free(fmLoadSet* s)
 	FM_FREE_ARRAY(s->prescribed, fmPrescribed, s->prescribedCapacity);
 	FM_FREE_ARRAY(s->shadowForces, double, 2 * n3);
 	FM_FREE_ARRAY(s, fmLoadSet, 1);
+}
+
+// A per-vertex array of @p stride doubles (each stride's thirds a 3n block) for @p count
+// vertices: a vertex whose source is itself keeps its values, a copy gets none.
+static double* fmRenumbered(const double* old, int oldCount, int count, const int* from, int blocks)
+{
+	double* out = FM_ALLOC_ZERO(double, 3 * (size_t)blocks * (size_t)count);
+	for (int k = 0; out != NULL && old != NULL && k < blocks; ++k)
+		for (int i = 0; i < count; ++i)
+			if (from[i] == i && i < oldCount)
+				memcpy(out + 3 * ((size_t)k * count + i), old + 3 * ((size_t)k * oldCount + i),
+				       3 * sizeof(double));
+	return out;
+}
+
+bool fmLoads_Renumber(fmBody* b, int count, const int* from)
+{
+	fmLoadSet* s = b->loads;
+	if (s == NULL)
+		return true;
+	int n = s->vertexCount;
+	double* fixed = s->fixed != NULL ? fmRenumbered(s->fixed, n, count, from, 1) : NULL;
+	double* frozen = fmRenumbered(s->frozen, n, count, from, 1);
+	double* shadow =
+	    s->shadowForces != NULL ? fmRenumbered(s->shadowForces, n, count, from, 2) : NULL;
+	if ((s->fixed != NULL && fixed == NULL) || frozen == NULL ||
+	    (s->shadowForces != NULL && shadow == NULL))
+	{
+		FM_FREE_ARRAY(fixed, double, 3 * (size_t)count);
+		FM_FREE_ARRAY(frozen, double, 3 * (size_t)count);
+		FM_FREE_ARRAY(shadow, double, 6 * (size_t)count);
+		return false;
+	}
+	FM_FREE_ARRAY(s->fixed, double, 3 * (size_t)n);
+	FM_FREE_ARRAY(s->frozen, double, 3 * (size_t)n);
+	FM_FREE_ARRAY(s->shadowForces, double, 6 * (size_t)n);
+	s->fixed = fixed;
+	s->frozen = frozen;
+	s->shadowForces = shadow;
+	s->vertexCount = count;
+	return true;
 }
 
 // The body's load set with its frozen vector, made on first use; NULL when memory is short.

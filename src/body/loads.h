@@ -49,6 +49,11 @@ typedef struct fmLoadSet
 // Free a body's load set (NULL is fine).
 void fmLoads_Free(fmLoadSet* loads);
 
+// The load arrays for @p count vertices after a tear (fracture.h): a vertex whose source
+// @p from[i] is itself keeps its loads, a copy starts with none; false when out of memory
+// (unchanged).
+bool fmLoads_Renumber(fmBody* body, int count, const int* from);
+
 // Whether the body carries a force load (nodal or pressure).
 bool fmLoads_Active(const fmBody* body);
 

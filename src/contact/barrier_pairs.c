@@ -3,6 +3,7 @@
 #include "contact/barrier_pairs.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "contact/contact.h"
 #include "core/det_math.h"
 #include "math/distance.h"
@@ -310,10 +311,13 @@ static bool fmMakeStencil(const fmWorld* w, const fmBarrierPrimitive* a,
 }
 
 // A self pair counts only when its primitives are further than dHat apart at rest (pairs of a
-// body's own rest shape closer than that are its shape, not a contact).
+// body's own rest shape closer than that are its shape, not a contact), or lie on two pieces a
+// tear made (fracture.h).
 static bool fmApartAtRest(const fmBarrierContact* bc, const fmBarrierStencil* st)
 {
 	const fmBody* b = &bc->world->bodies[bc->slot];
+	if (fmFracture_AcrossPieces(b, st->vertex, st->edgeEdge ? 2 : 1, 4))
+		return true;
 	fmVec3 p[4];
 	for (int k = 0; k < 4; ++k)
 		p[k] = fmLoad(b->mesh.x0, st->vertex[k]);

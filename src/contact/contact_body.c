@@ -12,7 +12,8 @@ void fmBodyContact_Free(fmBodyContact* c, int vertexCount, int tetCount)
 {
 	size_t n = (size_t)vertexCount, m = (size_t)tetCount;
 	FM_FREE_ARRAY(c->surfaceVertex, int, c->surfaceVertexCount);
-	FM_FREE_ARRAY(c->surfaceEdge, int, 2 * (size_t)(c->surfaceEdgeCount > 0 ? c->surfaceEdgeCount : 1));
+	FM_FREE_ARRAY(c->surfaceEdge, int,
+	              2 * (size_t)(c->surfaceEdgeCount > 0 ? c->surfaceEdgeCount : 1));
 	FM_FREE_ARRAY(c->start, double, 3 * n);
 	FM_FREE_ARRAY(c->mark, int, n);
 	FM_FREE_ARRAY(c->embeddedHolder, int, n);

@@ -2,6 +2,7 @@
 #include "contact/contact_edge.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "contact/contact.h"
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
@@ -40,12 +41,15 @@ fmVec3 fmContactEdge_Point(const double* x, const int e[2], double s)
 
 // Whether edges @p e and @p f of one body may touch each other (self-collision): each pair once,
 // and only when they share no vertex and were apart in the rest shape by more than twice the
-// thickness (as a vertex and its own triangles, contact_pair.c).
+// thickness (as a vertex and its own triangles, contact_pair.c), or lie on two pieces a tear made.
 static bool fmSelfEdges(const fmBody* b, const int e[2], const int f[2], double thickness)
 {
 	if (e[0] > f[0] || (e[0] == f[0] && e[1] >= f[1]) || e[0] == f[1] || e[1] == f[0] ||
 	    e[1] == f[1])
 		return false;
+	const int stencil[4] = {e[0], e[1], f[0], f[1]};
+	if (fmFracture_AcrossPieces(b, stencil, 2, 4))
+		return true;
 	fmVec3 p = fmLoad(b->mesh.x0, e[0]), q = fmLoad(b->mesh.x0, e[1]);
 	fmVec3 r = fmLoad(b->mesh.x0, f[0]), t = fmLoad(b->mesh.x0, f[1]);
 	double sa, tb;

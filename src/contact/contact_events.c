@@ -2,9 +2,9 @@
 #include "contact/contact_events.h"
 
 #include "contact/contact_state.h"
+#include "contact/floor.h"
 #include "core/core.h"
 #include "core/det_math.h"
-#include "contact/floor.h"
 #include "world/island.h"
 
 #include <stdlib.h>
@@ -53,7 +53,8 @@ bool fmContactEvents_ReportFloor(fmWorld* w, bool listed)
 		if (!fmGrowArray((void**)&s->points, &s->pointCapacity, s->pointCount,
 		                 s->pointCount + b->contact.floorHitCount, sizeof(fmContactPoint)))
 			return false;
-		memset(s->points + s->pointCount, 0, (size_t)b->contact.floorHitCount * sizeof(fmContactPoint));
+		memset(s->points + s->pointCount, 0,
+		       (size_t)b->contact.floorHitCount * sizeof(fmContactPoint));
 		const fmBodyId id = fmWorldBodyId(w, slot);
 		for (int k = 0; k < b->contact.floorHitCount; ++k)
 		{

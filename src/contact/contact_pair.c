@@ -3,6 +3,7 @@
 #include "contact/barrier_contact.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "contact/contact_detect.h"
 #include "contact/contact_response.h"
 #include "contact/penalty.h"
@@ -25,11 +26,15 @@ static bool fmInFrontAtStart(const fmBody* b, int i, const int* tri, fmVec3 n, d
 
 // Self-collision: vertex i of body b may touch its own surface triangle @p tri only when the
 // two were apart in the rest shape by more than twice the thickness (so a vertex never touches
-// the triangles around it, however coarse or sharp the surface).
+// the triangles around it, however coarse or sharp the surface), or lie on two pieces a tear made
+// (fracture.h).
 static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thickness)
 {
 	if (tri[0] == i || tri[1] == i || tri[2] == i)
 		return false;
+	const int stencil[4] = {i, tri[0], tri[1], tri[2]};
+	if (fmFracture_AcrossPieces(b, stencil, 1, 4))
+		return true;
 	fmVec3 p = fmLoad(b->mesh.x0, i), a = fmLoad(b->mesh.x0, tri[0]),
 	       bb = fmLoad(b->mesh.x0, tri[1]), c = fmLoad(b->mesh.x0, tri[2]);
 	double w[3];

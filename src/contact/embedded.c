@@ -98,8 +98,8 @@ static bool fmInsideTet(const fmBody* b, int t, fmVec3 p)
 	return l1 > 0.0 && l2 > 0.0 && l3 > 0.0 && l1 + l2 + l3 < 1.0;
 }
 
-int fmTetHash_Container(const fmTetHash* th, const fmWorld* w, fmHashQuery* query, int slot, fmVec3 p,
-                     fmContainerTest* accepts)
+int fmTetHash_Container(const fmTetHash* th, const fmWorld* w, fmHashQuery* query, int slot,
+                        fmVec3 p, fmContainerTest* accepts)
 {
 	int count = fmSpatialHash_Query(&th->hash, query, p, p);
 	if (count < 0)

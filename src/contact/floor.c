@@ -31,8 +31,8 @@ bool fmFloor_Applies(const fmFloorDef* floor, const fmBody* b)
 static bool fmAddHit(fmBody* b, int i, double depth, fmVec3 impulse)
 {
 	if (b->contact.floorHitCount == b->contact.floorHitCapacity &&
-	    !fmGrowArray((void**)&b->contact.floorHits, &b->contact.floorHitCapacity, b->contact.floorHitCount,
-	                 b->contact.floorHitCount + 1, sizeof(fmFloorHit)))
+	    !fmGrowArray((void**)&b->contact.floorHits, &b->contact.floorHitCapacity,
+	                 b->contact.floorHitCount, b->contact.floorHitCount + 1, sizeof(fmFloorHit)))
 		return false;
 	fmFloorHit hit = {i, depth, impulse};
 	b->contact.floorHits[b->contact.floorHitCount++] = hit;
@@ -43,7 +43,8 @@ static bool fmAddHit(fmBody* b, int i, double depth, fmVec3 impulse)
 static fmVec3 fmImpulseSince(const fmBody* b, int i, const double before[3])
 {
 	const double* v = b->state.v + 3 * i;
-	return fmScale(b->mesh.mass[i], fmMakeVec3(v[0] - before[0], v[1] - before[1], v[2] - before[2]));
+	return fmScale(b->mesh.mass[i],
+	               fmMakeVec3(v[0] - before[0], v[1] - before[1], v[2] - before[2]));
 }
 
 // ---- explicit ---------------------------------------------------------------------------------
@@ -184,7 +185,8 @@ int fmFloor_ApplyExplicit(const fmFloorDef* floor, fmVec3 gravity, fmBody* b, do
 	int contacts = 0;
 	double work = 0.0;
 	bool listed = true;
-	for (int start = 0; taken != NULL && start < b->mesh.vertexCount; start = taken->rangeEnd[start])
+	for (int start = 0; taken != NULL && start < b->mesh.vertexCount;
+	     start = taken->rangeEnd[start])
 		for (int k = start; k < start + taken->count[start]; ++k, ++contacts)
 			listed = fmCollectResponse(b, taken->vertex[k], taken->responses + k, &work) && listed;
 	for (int i = 0; taken == NULL && i < b->mesh.vertexCount; ++i)
@@ -276,10 +278,9 @@ int fmFloor_ImplicitVelocities(const fmFloorDef* floor, fmBody* b, const fmImpli
 		else
 		{
 			double vt = sqrt(v[0] * v[0] + v[2] * v[2]);
-			double keep =
-			    vt > 0.0
-			        ? fmMax(0.0, 1.0 - floor->frictionCoefficient * impulse / (b->mesh.mass[i] * vt))
-			        : 0.0;
+			double keep = vt > 0.0 ? fmMax(0.0, 1.0 - floor->frictionCoefficient * impulse /
+			                                              (b->mesh.mass[i] * vt))
+			                       : 0.0;
 			v[0] *= keep;
 			v[2] *= keep;
 		}

@@ -351,8 +351,9 @@ double fmContactPenalty_Energy(const fmContactPenalty* p, const fmBody* b, const
 {
 	fmEnergyVisit e = {0.0, gradient};
 	fmPenaltyPairs(p, b, x, fmVisitEnergy, &e);
-	return p != NULL && b->contact.surfaceVertex != NULL ? e.energy + fmFrictionEnergy(p, b, x, gradient)
-	                                             : e.energy;
+	return p != NULL && b->contact.surfaceVertex != NULL
+	           ? e.energy + fmFrictionEnergy(p, b, x, gradient)
+	           : e.energy;
 }
 
 typedef struct fmHessianVisit

@@ -12,6 +12,7 @@
 #include "material/material_stretch.h"
 #include "math/svd3.h"
 
+#include <math.h>
 #include <string.h>
 
 fmMaterial fmMakeMaterialLame(fmMaterialModel model, double lambda, double mu)
@@ -133,6 +134,17 @@ fmResult fmMaterial_Validate(const fmMaterial* material, fmDiagnostic* diag)
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "%s", why);
 	if (!fmPlasticity_Validate(m, why, sizeof why))
 		return fmDiagError(diag, fm_errParameter, NULL, 0, 0, "%s", why);
+	const fmFracture* f = &m->fracture;
+	const double tear[3] = {f->strength, f->length, f->minVolume};
+	static const char* const tearNames[3] = {"strength", "length", "minVolume"};
+	for (int k = 0; k < 3; ++k)
+		if (!(tear[k] >= 0.0 && isfinite(tear[k])))
+			return fmDiagError(diag, fm_errParameter, NULL, 0, 0,
+			                   "fracture.%s = %g must be finite and >= 0 (%s)", tearNames[k],
+			                   tear[k],
+			                   k == 0   ? "Pa; 0: unbreakable"
+			                   : k == 1 ? "m"
+			                            : "m^3");
 	return fmMaterialModel_IsOrthotropic(m->model) ? fm_ok : fmValidateLame(m, diag);
 }
 

@@ -23,6 +23,7 @@
 #include "core/det_math.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "core/core.h"
 #include "core/fp_env.h"
 #include "math/geometry.h"
@@ -229,10 +230,12 @@ static void fmAuditShape(fmAuditBody* ab)
 	{
 		fmVec3 lo, hi;
 		fmAuditTriangleBox(ab, t, &lo, &hi);
-		ab->lo = t == 0 ? lo : fmMakeVec3(fmMin(ab->lo.x, lo.x), fmMin(ab->lo.y, lo.y),
-		                                   fmMin(ab->lo.z, lo.z));
-		ab->hi = t == 0 ? hi : fmMakeVec3(fmMax(ab->hi.x, hi.x), fmMax(ab->hi.y, hi.y),
-		                                   fmMax(ab->hi.z, hi.z));
+		ab->lo = t == 0 ? lo
+		                : fmMakeVec3(fmMin(ab->lo.x, lo.x), fmMin(ab->lo.y, lo.y),
+		                             fmMin(ab->lo.z, lo.z));
+		ab->hi = t == 0 ? hi
+		                : fmMakeVec3(fmMax(ab->hi.x, hi.x), fmMax(ab->hi.y, hi.y),
+		                             fmMax(ab->hi.z, hi.z));
 		mean += fmMax(hi.x - lo.x, fmMax(hi.y - lo.y, hi.z - lo.z));
 	}
 	fmVec3 e = fmSub(ab->hi, ab->lo);
@@ -314,7 +317,7 @@ typedef struct fmAuditRun
 	int count;
 	int query; // the stamp of the current query
 	fmContactAudit* out;
-	int focus; // a slot: only the pairs with that body whose filters meet, no tets; -1: all
+	int focus;      // a slot: only the pairs with that body whose filters meet, no tets; -1: all
 	int tetsInside; // with a focus: tets of one body of a pair whose centroid is inside the other
 	fmAuditFinding firstTetInside;
 } fmAuditRun;
@@ -322,8 +325,8 @@ typedef struct fmAuditRun
 // Whether the boxes [alo, ahi] and [blo, bhi] overlap (closed).
 static bool fmAuditBoxesMeet(fmVec3 alo, fmVec3 ahi, fmVec3 blo, fmVec3 bhi)
 {
-	return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y &&
-	       alo.z <= bhi.z && blo.z <= ahi.z;
+	return alo.x <= bhi.x && blo.x <= ahi.x && alo.y <= bhi.y && blo.y <= ahi.y && alo.z <= bhi.z &&
+	       blo.z <= ahi.z;
 }
 
 static void fmAuditFind(fmAuditFinding* f, const fmAuditRun* run, const fmAuditBody* a,
@@ -341,6 +344,16 @@ static void fmAuditFind(fmAuditFinding* f, const fmAuditRun* run, const fmAuditB
 
 // Edge @p e of body @p a against the triangles of body @p b (itself: those sharing no vertex
 // with the edge).
+// Whether a body's own triangle @p tri holds vertex u or v, or a copy of one a tear made (the
+// two sides of a crack start on each other).
+static bool fmAuditShares(const fmCracks* c, const int* tri, int u, int v)
+{
+	for (int k = 0; k < 3; ++k)
+		if (fmFracture_Siblings(c, tri[k], u) || fmFracture_Siblings(c, tri[k], v))
+			return true;
+	return false;
+}
+
 static void fmAuditEdge(fmAuditRun* run, const fmAuditBody* a, fmAuditBody* b, int e)
 {
 	const double* xa = a->body->state.x;
@@ -367,8 +380,7 @@ static void fmAuditEdge(fmAuditRun* run, const fmAuditBody* a, fmAuditBody* b, i
 					if (b->stamp[t] == stamp)
 						continue;
 					b->stamp[t] = stamp;
-					if (self && (tri[0] == u || tri[1] == u || tri[2] == u || tri[0] == v ||
-					             tri[1] == v || tri[2] == v))
+					if (self && fmAuditShares(a->body->cracks, tri, u, v))
 						continue;
 					if (!fmAuditCrosses(p, q, xb, tri))
 						continue;

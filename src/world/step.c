@@ -4,6 +4,7 @@
 #include "world/world.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "body/grab.h"
 #include "body/loads.h"
 #include "body/plasticity.h"
@@ -857,6 +858,12 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 		w->meshMotion->endFrame(w, closed);
 	if (!closed)
 		return fm_errNumerical;
+	// Stage 5: tears, on the state the checks passed (fracture.h): the next frame starts from
+	// the torn bodies.
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]) && w->bodies[i].cracks != NULL &&
+		    fmFracture_Tear(w, &w->bodies[i], &w->lastError) < 0)
+			return fm_errOutOfMemory;
 	const fmContactPoint* points;
 	w->stats.contacts = fmContactEvents_Points(w, &points);
 	if (!fmContactEvents_EndFrame(w, 1.0 / ctx.frameTime) || !fmIsland_EndFrame(w, &ctx))
