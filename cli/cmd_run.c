@@ -700,6 +700,11 @@ static void cliPrintSummary(const cliScene* scene, const cliSimulation* sim, int
 	printf("elastic energy   %.6g J\n", totals.elastic);
 	printf("inverted tets    %d\n", totals.inverted);
 	for (int b = 0; b < sim->bodyCount; ++b)
+		if (fmBody_GetBrokenFaceCount(sim->bodies[b]) > 0)
+			printf("bodies[%d] torn   %d faces broken, %d pieces, %d vertices\n", b,
+			       fmBody_GetBrokenFaceCount(sim->bodies[b]),
+			       fmBody_GetPieces(sim->bodies[b], NULL), fmBody_GetVertexCount(sim->bodies[b]));
+	for (int b = 0; b < sim->bodyCount; ++b)
 	{
 		fmBodyStats s = fmBody_GetStats(sim->bodies[b]);
 		if (s.plasticWork > 0.0)

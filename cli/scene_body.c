@@ -205,6 +205,30 @@ fmVec3* cliBodyFibres(const cliBodySpec* spec, const fmTetMesh* mesh, char* prob
 
 // "plasticity": {"yield_stress": Pa or "yield_strain": (times Young's modulus), "hardening": Pa,
 // "creep_rate": 1/s, "max_plastic_strain"} (fmPlasticity; docs/materials.md, "Plasticity").
+// "fracture": {"strength": Pa, "length": m, "min_volume": m^3} (fmFracture).
+static bool cliParseFracture(const cliJson* j, const cliJsonNode* object, const char* parent,
+                             fmMaterial* m)
+{
+	static const char* const keys[] = {"strength", "length", "min_volume", NULL};
+	const cliJsonNode* fracture = NULL;
+	if (!cliGetObject(j, object, parent, "fracture", &fracture))
+		return false;
+	if (fracture == NULL)
+		return true;
+	char path[300];
+	cliJoinKey(path, sizeof path, parent, "fracture");
+	fmFracture* f = &m->fracture;
+	bool hasStrength = false;
+	if (!cliCheckKeys(j, fracture, path, keys) ||
+	    !cliGetNumber(j, fracture, path, "strength", cliPositive, &f->strength, &hasStrength) ||
+	    !cliGetNumber(j, fracture, path, "length", cliNonNegative, &f->length, NULL) ||
+	    !cliGetNumber(j, fracture, path, "min_volume", cliNonNegative, &f->minVolume, NULL))
+		return false;
+	if (!hasStrength)
+		return cliJsonFail(j, path, NULL, "expected \"strength\" (Pa): the tensile strength");
+	return true;
+}
+
 static bool cliParsePlasticity(const cliJson* j, const cliJsonNode* object, const char* parent,
                                fmMaterial* m)
 {
@@ -377,11 +401,23 @@ static bool cliParseMass(const cliJson* j, const cliJsonNode* material, const ch
 static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const char* parent,
                              cliBodySpec* spec)
 {
-	static const char* const keys[] = {
-	    "model",      "youngs_modulus",  "poisson_ratio",          "lambda",     "mu",
-	    "mooney_c01", "density",         "particle_mass",          "orthotropy", "fibre",
-	    "sheet",      "fibre_stiffness", "transversely_isotropic", "plasticity", "nodal_pressure",
-	    NULL};
+	static const char* const keys[] = {"model",
+	                                   "youngs_modulus",
+	                                   "poisson_ratio",
+	                                   "lambda",
+	                                   "mu",
+	                                   "mooney_c01",
+	                                   "density",
+	                                   "particle_mass",
+	                                   "orthotropy",
+	                                   "fibre",
+	                                   "sheet",
+	                                   "fibre_stiffness",
+	                                   "transversely_isotropic",
+	                                   "plasticity",
+	                                   "nodal_pressure",
+	                                   "fracture",
+	                                   NULL};
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, "material");
 	const cliJsonNode* material = NULL;
@@ -439,6 +475,7 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
 	if (!cliParseAnisotropy(j, material, path, engineering || lame, false, &spec->def.material) ||
 	    !cliParsePlasticity(j, material, path, &spec->def.material) ||
+	    !cliParseFracture(j, material, path, &spec->def.material) ||
 	    !cliGetBool(j, material, path, "nodal_pressure", &spec->def.material.nodalPressure))
 		return false;
 	fmDiagnostic diag;
@@ -467,9 +504,9 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
                                    const fmMaterial* base, fmMaterial* out)
 {
 	static const char* const keys[] = {
-	    "model",           "youngs_modulus", "poisson_ratio",          "lambda", "mu",
-	    "mooney_c01",      "orthotropy",     "transversely_isotropic", "fibre",  "sheet",
-	    "fibre_stiffness", "plasticity",     "nodal_pressure",         NULL};
+	    "model",           "youngs_modulus", "poisson_ratio",          "lambda",   "mu",
+	    "mooney_c01",      "orthotropy",     "transversely_isotropic", "fibre",    "sheet",
+	    "fibre_stiffness", "plasticity",     "nodal_pressure",         "fracture", NULL};
 	if (!cliJsonIs(object, cli_jsonObject))
 		return cliJsonFail(j, path, object,
 		                   "expected a material {\"model\": ..., \"youngs_modulus\": ..., "
@@ -524,7 +561,7 @@ static bool cliParseRegionMaterial(const cliJson* j, const cliJsonNode* object, 
 	bool inherited = model == base->model;
 	if (!cliGetNumber(j, object, path, "mooney_c01", cliNonNegative, &out->c01, &hasC01) ||
 	    !cliParseAnisotropy(j, object, path, hasE || hasLambda, inherited, out) ||
-	    !cliParsePlasticity(j, object, path, out) ||
+	    !cliParsePlasticity(j, object, path, out) || !cliParseFracture(j, object, path, out) ||
 	    !cliGetBool(j, object, path, "nodal_pressure", &out->nodalPressure))
 		return false;
 	fmDiagnostic diag;

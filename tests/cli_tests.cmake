@@ -786,6 +786,14 @@ femto_cli_test(rubber_run ARGS "run|${PROJECT_SOURCE_DIR}/scenes/rubber.json|--f
   REGEX "lowest y reached -3 m.*inverted tets +0")
 femto_cli_test(bad_nodal_pressure ARGS "run|${FEMTO_CLI_DATA}/bad_nodal_pressure.json" CODE 1
   REGEX "bad_nodal_pressure\\.json:4:[0-9]+: bodies\\[0\\]\\.material: nodalPressure needs a model whose volume term is a function of J alone .*not stvk")
+# Fracture (docs/materials.md, "Fracture"; issue 34): the house thrown onto an edge tears into
+# pieces (printed); a fracture without its strength, or on springs, is refused where it is.
+femto_cli_test(shatter_run ARGS "run|${PROJECT_SOURCE_DIR}/scenes/shatter.json|--frames|40" CODE 0
+  REGEX "bodies\\[0\\] torn +[0-9]+ faces broken, [2-9][0-9]* pieces")
+femto_cli_test(bad_fracture ARGS "run|${FEMTO_CLI_DATA}/bad_fracture.json" CODE 1
+  REGEX "bad_fracture\\.json:5:[0-9]+: bodies\\[0\\]\\.material\\.fracture: expected \"strength\" \\(Pa\\)")
+femto_cli_test(bad_fracture_model ARGS "run|${FEMTO_CLI_DATA}/bad_fracture_model.json" CODE 1
+  REGEX "fracture needs the fem force model .*not mass-spring")
 femto_cli_test(bad_plasticity_yield ARGS "run|${FEMTO_CLI_DATA}/bad_plasticity_yield.json" CODE 1
   REGEX "bad_plasticity_yield\\.json:5:[0-9]+: bodies\\[0\\]\\.material\\.plasticity: give yield_stress \\(Pa\\) or yield_strain")
 femto_cli_test(bad_plasticity_model ARGS "run|${FEMTO_CLI_DATA}/bad_plasticity_model.json" CODE 1

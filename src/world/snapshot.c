@@ -27,6 +27,7 @@
 #include "world/snapshot_stream.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
@@ -40,7 +41,7 @@
 #include <string.h>
 
 #define FM_SNAPSHOT_MAGIC 0x4E53464Du // "FMSN"
-#define FM_SNAPSHOT_VERSION 12u
+#define FM_SNAPSHOT_VERSION 13u
 
 // The header: magic, version, live bodies, live colliders, the snapshot's length in bytes (two
 // words, low first) and its checksum (two words: fmChecksum64 of the whole snapshot with these
@@ -300,6 +301,9 @@ static void fmWriteSnapshot(fmStream* s, fmWorld* w)
 		header[2] += fmBody_IsLive(&w->bodies[i]);
 	fmStream_Put(s, header, sizeof header);
 	fmMoveWorldSettings(s, true, w);
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]))
+			fmSnapshotBody_PutTopology(s, &w->bodies[i]);
 	for (int i = 0; i < w->bodyCapacity; ++i)
 	{
 		fmBody* b = &w->bodies[i];
@@ -775,6 +779,46 @@ static fmResult fmApplyContact(fmWorld* w, const void* buffer, size_t size, size
 	return fm_ok;
 }
 
+// Check every body's topology record (version 13) at the stream's position; @p differs: some
+// body must change its topology to take the snapshot.
+static fmResult fmCheckTopologies(fmWorld* w, fmStream* s, bool* differs)
+{
+	*differs = false;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		if (!fmBody_IsLive(&w->bodies[i]))
+			continue;
+		int check = fmSnapshotBody_CheckTopology(s, &w->bodies[i]);
+		if (check < 0)
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "the snapshot's torn topology of the body in slot %d is not one "
+			                   "it can take (another mesh, or corrupted): not restored",
+			                   i);
+		*differs = *differs || check == 1;
+	}
+	return fm_ok;
+}
+
+// Give the bodies the snapshot's topologies (checked), a copy of the world kept in @p backup
+// first (the rest of the restore may still refuse the snapshot: then the copy goes back).
+static fmResult fmApplyTopologies(fmWorld* w, fmWorldId worldId, fmStream* s, void** backup,
+                                  size_t* backupSize)
+{
+	*backupSize = fmWorld_GetSnapshotSize(worldId);
+	*backup = fmAlloc(*backupSize);
+	if (*backup == NULL || fmWorld_SaveSnapshot(worldId, *backup, *backupSize, NULL) != fm_ok)
+		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+		                   "out of memory keeping the world while its torn bodies change");
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmBody_IsLive(&w->bodies[i]) && !fmSnapshotBody_ApplyTopology(s, w, &w->bodies[i]))
+			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory giving body %d its torn topology", i);
+	return fm_ok;
+}
+
+static fmResult fmRestoreIn(fmWorldId worldId, const void* buffer, size_t size);
+static fmResult fmRestoreBodies(fmWorld* w, fmStream* s, const void* buffer, size_t size);
+
 fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t size)
 {
 	fmWorld* w = fmGetWorld(worldId);
@@ -783,7 +827,19 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 		return fm_errInvalidId;
 	if (buffer == NULL)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
+	return fmRestoreIn(worldId, buffer, size);
+}
+
+static fmResult fmRestoreIn(fmWorldId worldId, const void* buffer, size_t size)
+{
+	fmWorld* w = fmGetWorld(worldId);
+	FM_ASSERT(w != NULL && buffer != NULL);
+	if (w == NULL)
+		return fm_errInvalidId;
+	if (buffer == NULL)
+		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
 	// Everything is checked before anything is written: a mismatch leaves the world as it was.
+	// (Torn bodies change their topology first, the world kept to go back to.)
 	fmResult r = fmCheckSnapshot(w, buffer, size);
 	if (r == fm_ok)
 		size = (size_t)fmGetWide(buffer, FM_SNAPSHOT_LENGTH_AT); // checked: within the buffer
@@ -791,9 +847,36 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 	fmWorld settings;
 	if (r == fm_ok)
 		r = fmCheckSettings(w, &s, &settings); // applied last
-	size_t bodiesAt = s.used;
+	size_t topologyAt = s.used;
+	bool differs = false;
 	if (r == fm_ok)
-		r = fmBodiesPass(w, &s, 0);
+		r = fmCheckTopologies(w, &s, &differs);
+	void* backup = NULL;
+	size_t backupSize = 0;
+	if (r == fm_ok && differs)
+	{
+		fmStream t = {NULL, buffer, size, topologyAt, false};
+		r = fmApplyTopologies(w, worldId, &t, &backup, &backupSize);
+	}
+	if (r == fm_ok)
+		r = fmRestoreBodies(w, &s, buffer, size);
+	if (r != fm_ok && backup != NULL)
+	{
+		fmDiagnostic error = w->lastError;
+		fmRestoreIn(worldId, backup, backupSize); // (the world's own: it takes it)
+		w->lastError = error;
+	}
+	if (backup != NULL)
+		fmDealloc(backup, backupSize);
+	return r;
+}
+
+// The rest of a restore after the topologies: the bodies, the contact state, the settings.
+static fmResult fmRestoreBodies(fmWorld* w, fmStream* sp, const void* buffer, size_t size)
+{
+	fmStream s = *sp;
+	size_t bodiesAt = s.used;
+	fmResult r = fmBodiesPass(w, &s, 0);
 	size_t contactAt = s.used;
 	if (r == fm_ok)
 		r = fmCheckContact(w, &s);

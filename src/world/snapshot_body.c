@@ -1,7 +1,9 @@
 // A body's record in a snapshot (snapshot_body.h).
 #include "world/snapshot_body.h"
 
+#include "body/fracture.h"
 #include "body/plasticity.h"
+#include "core/core.h"
 #include "fem/nodal_pressure.h"
 #include "material/material.h"
 #include "material/material_aniso.h"
@@ -223,4 +225,96 @@ size_t fmSnapshotBody_RecordBytes(fmBody* b, const void* buffer, size_t size, si
 	else if (present & 4u)
 		return SIZE_MAX; // a base without its matrix
 	return s.overflow || s.used > size ? SIZE_MAX : s.used - offset;
+}
+
+// ---- the topology (fracture.h) -----------------------------------------------------------------
+
+static bool fmTorn(const fmBody* b)
+{
+	const fmCracks* c = b->cracks;
+	return c != NULL && (c->brokenCount > 0 || b->mesh.vertexCount > c->originalVertexCount);
+}
+
+void fmSnapshotBody_PutTopology(fmStream* s, const fmBody* b)
+{
+	uint8_t torn = fmTorn(b) ? 1u : 0u;
+	fmStream_Put(s, &torn, 1);
+	if (!torn)
+		return;
+	int32_t count = b->mesh.vertexCount;
+	size_t m = (size_t)b->mesh.tetCount;
+	fmStream_Put(s, &count, sizeof count);
+	fmStream_Put(s, b->mesh.tets, sizeof(int32_t) * 4 * m);
+	fmStream_Put(s, b->cracks->broken, 4 * m);
+}
+
+// Broken marks of 0 or 1, on shared faces, on both sides.
+static bool fmBrokenValid(const fmCracks* c, const uint8_t* broken, int tetCount)
+{
+	for (int f = 0; f < 4 * tetCount; ++f)
+		if (broken[f] > 1u || (broken[f] && (c->neighbour[f] < 0 || !broken[c->neighbour[f]])))
+			return false;
+	return true;
+}
+
+int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b)
+{
+	uint8_t torn = 2;
+	fmStream_Get(s, &torn, 1);
+	if (s->overflow || torn > 1u || (torn == 1u && b->cracks == NULL))
+		return -1;
+	if (torn == 0u)
+		return fmTorn(b) ? 1 : 0;
+	int32_t count = -1;
+	fmStream_Get(s, &count, sizeof count);
+	size_t m = (size_t)b->mesh.tetCount;
+	if (s->overflow || 4 * m * (sizeof(int32_t) + 1) > s->size - s->used)
+		return -1;
+	const uint8_t* broken = s->in + s->used + sizeof(int32_t) * 4 * m;
+	int* copy = FM_ALLOC_ARRAY(int, 4 * m);
+	if (copy == NULL)
+		return -1;
+	memcpy(copy, s->in + s->used, sizeof(int32_t) * 4 * m);
+	bool valid = fmFracture_TopologyProblem(b, copy, count) == NULL &&
+	             fmBrokenValid(b->cracks, broken, (int)m);
+	bool same = valid && count == b->mesh.vertexCount &&
+	            memcmp(copy, b->mesh.tets, sizeof(int) * 4 * m) == 0 &&
+	            memcmp(broken, b->cracks->broken, 4 * m) == 0;
+	FM_FREE_ARRAY(copy, int, 4 * m);
+	fmStream_Skip(s, 4 * m * (sizeof(int32_t) + 1));
+	return !valid ? -1 : same ? 0 : 1;
+}
+
+bool fmSnapshotBody_ApplyTopology(fmStream* s, struct fmWorld* w, fmBody* b)
+{
+	uint8_t torn = 0;
+	fmStream_Get(s, &torn, 1);
+	size_t m = (size_t)b->mesh.tetCount;
+	int32_t count = b->cracks != NULL ? b->cracks->originalVertexCount : 0;
+	if (torn == 0u && !fmTorn(b))
+		return true;
+	if (torn)
+		fmStream_Get(s, &count, sizeof count);
+	int* tets = FM_ALLOC_ARRAY(int, 4 * m);
+	int* from = FM_ALLOC_ARRAY(int, (size_t)count);
+	uint8_t* broken = FM_ALLOC_ZERO(uint8_t, 4 * m);
+	bool ok = tets != NULL && from != NULL && broken != NULL;
+	if (ok && torn)
+	{
+		fmStream_Get(s, tets, sizeof(int32_t) * 4 * m);
+		fmStream_Get(s, broken, 4 * m);
+	}
+	else if (ok)
+		memcpy(tets, b->cracks->originalTets, sizeof(int) * 4 * m);
+	for (size_t e = 0; ok && e < 4 * m; ++e) // (the record's state follows: any source does)
+		from[tets[e]] = b->cracks->originalTets[e];
+	for (int i = 0; ok && i < b->cracks->originalVertexCount; ++i)
+		from[i] = i;
+	ok = ok && fmFracture_SetTopology(w, b, tets, count, from);
+	if (ok)
+		fmFracture_SetBroken(b, broken);
+	FM_FREE_ARRAY(tets, int, 4 * m);
+	FM_FREE_ARRAY(from, int, (size_t)count);
+	FM_FREE_ARRAY(broken, uint8_t, 4 * m);
+	return ok;
 }

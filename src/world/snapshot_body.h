@@ -10,6 +10,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+struct fmWorld;
+
 // A body's identity in the snapshot: slot, generation and sizes.
 typedef struct fmBodyKey
 {
@@ -31,3 +33,17 @@ bool fmSnapshotBody_Move(fmStream* s, bool save, fmBody* b);
 // Bytes of body @p b's record at @p offset of the buffer (after its key), or SIZE_MAX when the
 // record does not fit @p b (another matrix size), the buffer, or holds an invalid material.
 size_t fmSnapshotBody_RecordBytes(fmBody* b, const void* buffer, size_t size, size_t offset);
+
+// A body's topology record (version 13), before the bodies' keys: a byte (0: whole, 1: torn),
+// then for a torn body its vertex count (int32), its tets' corners (4 int32 a tet, the body's
+// order) and its broken faces (4 bytes a tet). Restoring changes the body's topology first
+// (fracture.h), so that its key and record then match.
+void fmSnapshotBody_PutTopology(fmStream* s, const fmBody* b);
+
+// Check the topology record at the stream's position against body @p b (stepping over it):
+// 0 when it is the body's own, 1 when it is another the body can take, -1 when invalid.
+int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b);
+
+// Give body @p b the (checked) topology record at the stream's position; false when out of
+// memory.
+bool fmSnapshotBody_ApplyTopology(fmStream* s, struct fmWorld* w, fmBody* b);
