@@ -398,6 +398,22 @@ static bool cliParseMass(const cliJson* j, const cliJsonNode* material, const ch
 	return true;
 }
 
+// The body material's keys after its constants: "mooney_c01" (mooney-rivlin only), the
+// anisotropic models' keys, "plasticity", "fracture", "nodal_pressure".
+static bool cliParseMaterialExtras(const cliJson* j, const cliJsonNode* material, const char* path,
+                                   bool constants, fmMaterial* m)
+{
+	bool hasC01 = false;
+	if (!cliGetNumber(j, material, path, "mooney_c01", cliNonNegative, &m->c01, &hasC01))
+		return false;
+	if (hasC01 && m->model != fm_mooneyRivlin)
+		return cliJsonFail(j, path, NULL,
+		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
+	return cliParseAnisotropy(j, material, path, constants, false, m) &&
+	       cliParsePlasticity(j, material, path, m) && cliParseFracture(j, material, path, m) &&
+	       cliGetBool(j, material, path, "nodal_pressure", &m->nodalPressure);
+}
+
 static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const char* parent,
                              cliBodySpec* spec)
 {
@@ -466,17 +482,7 @@ static bool cliParseMaterial(const cliJson* j, const cliJsonNode* body, const ch
 		spec->def.material =
 		    fmMakeMaterialLame(model, spec->def.material.lambda, spec->def.material.mu);
 
-	bool hasC01 = false;
-	if (!cliGetNumber(j, material, path, "mooney_c01", cliNonNegative, &spec->def.material.c01,
-	                  &hasC01))
-		return false;
-	if (hasC01 && model != fm_mooneyRivlin)
-		return cliJsonFail(j, path, NULL,
-		                   "mooney_c01 only applies to \"model\": \"mooney-rivlin\"");
-	if (!cliParseAnisotropy(j, material, path, engineering || lame, false, &spec->def.material) ||
-	    !cliParsePlasticity(j, material, path, &spec->def.material) ||
-	    !cliParseFracture(j, material, path, &spec->def.material) ||
-	    !cliGetBool(j, material, path, "nodal_pressure", &spec->def.material.nodalPressure))
+	if (!cliParseMaterialExtras(j, material, path, engineering || lame, &spec->def.material))
 		return false;
 	fmDiagnostic diag;
 	memset(&diag, 0, sizeof diag);

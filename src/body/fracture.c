@@ -3,7 +3,7 @@
 #include "body/fracture.h"
 
 #include "body/body.h"
-#include "body/loads.h"
+#include "body/tear_topology.h"
 #include "core/core.h"
 #include "core/det_math.h"
 #include "core/fp_env.h"
@@ -639,7 +639,7 @@ int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 	if (broke > 0)
 	{
 		int count = fmSplitVertices(b, touched, tets, from, scratch, label);
-		if (!fmFracture_SetTopology(w, b, tets, count, from))
+		if (!fmTearTopology_Set(w, b, tets, count, from))
 			broke = -1;
 	}
 	if (broke < 0)
@@ -691,265 +691,13 @@ bool fmFracture_AcrossPieces(const fmBody* b, const int* v, int split, int count
 	return true;
 }
 
-// ---- the new topology --------------------------------------------------------------------------
-
-// The per-vertex arrays of a topology being made, before they replace the body's.
-typedef struct fmVertexArrays
+fmResult fmFracture_EndFrame(fmWorld* w)
 {
-	int count;
-	double *x0, *x, *v, *f, *xGood, *vGood, *mass, *smoothWeight, *invMass, *userMass;
-	uint8_t* pinned;
-	int *userVertex, *internalVertex, *origin, *tetStart;
-	int* surface; // fmTetMesh_ExtractSurface's (fmFree)
-	int triangleCount;
-	int* userSurface;
-} fmVertexArrays;
-
-static void fmVertexArrays_Free(fmVertexArrays* a)
-{
-	size_t n = (size_t)a->count;
-	double** doubles3[] = {&a->x0, &a->x, &a->v, &a->f, &a->xGood, &a->vGood};
-	for (size_t k = 0; k < sizeof doubles3 / sizeof doubles3[0]; ++k)
-		FM_FREE_ARRAY(*doubles3[k], double, 3 * n);
-	double** doubles[] = {&a->mass, &a->smoothWeight, &a->invMass, &a->userMass};
-	for (size_t k = 0; k < sizeof doubles / sizeof doubles[0]; ++k)
-		FM_FREE_ARRAY(*doubles[k], double, n);
-	int** ints[] = {&a->userVertex, &a->internalVertex, &a->origin};
-	for (size_t k = 0; k < sizeof ints / sizeof ints[0]; ++k)
-		FM_FREE_ARRAY(*ints[k], int, n);
-	FM_FREE_ARRAY(a->tetStart, int, n + 1);
-	FM_FREE_ARRAY(a->pinned, uint8_t, n);
-	fmFree(a->surface);
-	FM_FREE_ARRAY(a->userSurface, int, 3 * (size_t)a->triangleCount);
-	memset(a, 0, sizeof *a);
-}
-
-static bool fmVertexArrays_Allocate(fmVertexArrays* a, int count)
-{
-	size_t n = (size_t)count;
-	memset(a, 0, sizeof *a);
-	a->count = count;
-	a->x0 = FM_ALLOC_ARRAY(double, 3 * n);
-	a->x = FM_ALLOC_ARRAY(double, 3 * n);
-	a->v = FM_ALLOC_ARRAY(double, 3 * n);
-	a->f = FM_ALLOC_ZERO(double, 3 * n);
-	a->xGood = FM_ALLOC_ARRAY(double, 3 * n);
-	a->vGood = FM_ALLOC_ARRAY(double, 3 * n);
-	a->mass = FM_ALLOC_ZERO(double, n);
-	a->smoothWeight = FM_ALLOC_ARRAY(double, n);
-	a->invMass = FM_ALLOC_ARRAY(double, n);
-	a->userMass = FM_ALLOC_ARRAY(double, n);
-	a->pinned = FM_ALLOC_ARRAY(uint8_t, n);
-	a->userVertex = FM_ALLOC_ARRAY(int, n);
-	a->internalVertex = FM_ALLOC_ARRAY(int, n);
-	a->origin = FM_ALLOC_ARRAY(int, n);
-	a->tetStart = FM_ALLOC_ZERO(int, n + 1);
-	return a->x0 && a->x && a->v && a->f && a->xGood && a->vGood && a->mass && a->smoothWeight &&
-	       a->invMass && a->userMass && a->pinned && a->userVertex && a->internalVertex &&
-	       a->origin && a->tetStart;
-}
-
-// Positions, velocities, pins from each vertex's source; origins, numbering, the surface.
-static bool fmFillCarried(const fmBody* b, const int* tets, const int* from, fmVertexArrays* a)
-{
-	const fmCracks* c = b->cracks;
-	int n0 = c->originalVertexCount, m = b->mesh.tetCount;
-	for (int i = 0; i < a->count; ++i)
-	{
-		int s = from[i];
-		memcpy(a->x + 3 * i, b->state.x + 3 * s, 3 * sizeof(double));
-		memcpy(a->v + 3 * i, b->state.v + 3 * s, 3 * sizeof(double));
-		memcpy(a->xGood + 3 * i, b->xGood + 3 * s, 3 * sizeof(double));
-		memcpy(a->vGood + 3 * i, b->vGood + 3 * s, 3 * sizeof(double));
-		a->pinned[i] = b->state.pinned[s];
-		a->origin[i] = i < n0 ? i : -1;
-		a->userVertex[i] = i < n0 ? b->userVertex[i] : i;
-		a->internalVertex[a->userVertex[i]] = i;
-	}
-	for (int e = 0; e < 4 * m; ++e)
-	{
-		a->origin[tets[e]] = c->originalTets[e];
-		a->tetStart[tets[e]] += 1; // (counts for now)
-	}
-	for (int i = 0; i < a->count; ++i)
-		memcpy(a->x0 + 3 * i, b->mesh.x0 + 3 * a->origin[i], 3 * sizeof(double));
-	fmTetMesh view;
-	memset(&view, 0, sizeof view);
-	view.nodeCount = a->count;
-	view.positions = a->x0;
-	view.tetCount = m;
-	view.tets = (int*)tets;
-	if (fmTetMesh_ExtractSurface(&view, &a->surface, &a->triangleCount) != fm_ok)
-		return false;
-	size_t corners = 3 * (size_t)a->triangleCount;
-	a->userSurface = FM_ALLOC_ARRAY(int, corners > 0 ? corners : 1);
-	for (size_t k = 0; a->userSurface != NULL && k < corners; ++k)
-		a->userSurface[k] = a->userVertex[a->surface[k]];
-	return a->userSurface != NULL;
-}
-
-// Each vertex's mass: its original's times the vertex's share of the original's tet volume,
-// the original's own number taking what the copies leave (the sum is the original's).
-static void fmShareMasses(const fmBody* b, const int* tets, fmVertexArrays* a, double* whole)
-{
-	const fmCracks* c = b->cracks;
-	int n0 = c->originalVertexCount, m = b->mesh.tetCount;
-	memset(whole, 0, sizeof(double) * (size_t)n0);
-	for (int e = 0; e < 4 * m; ++e)
-	{
-		whole[c->originalTets[e]] += b->mesh.restVolume[e / 4];
-		a->mass[tets[e]] += b->mesh.restVolume[e / 4]; // (volumes for now)
-	}
-	for (int i = n0; i < a->count; ++i)
-		a->mass[i] = c->originalMass[a->origin[i]] * (a->mass[i] / whole[a->origin[i]]);
-	for (int i = 0; i < n0; ++i)
-		a->mass[i] = c->originalMass[i];
-	for (int i = n0; i < a->count; ++i)
-		a->mass[a->origin[i]] -= a->mass[i];
-	for (int i = 0; i < a->count; ++i)
-	{
-		a->invMass[i] = a->pinned[i] == FM_PIN_ALL ? 0.0 : 1.0 / a->mass[i];
-		a->userMass[a->userVertex[i]] = a->mass[i];
-		int around = a->tetStart[i];
-		a->smoothWeight[i] = around > 0 ? 1.0 / (4.0 * around) : 0.0;
-	}
-}
-
-// The arrays replace the body's (the old ones go to @p a, to be freed).
-static void fmSwapIn(fmBody* b, const int* tets, fmVertexArrays* a)
-{
-	int n = b->mesh.vertexCount;
-	fmVertexArrays old = {.count = n,
-	                      .x0 = b->mesh.x0,
-	                      .x = b->state.x,
-	                      .v = b->state.v,
-	                      .f = b->state.f,
-	                      .xGood = b->xGood,
-	                      .vGood = b->vGood,
-	                      .mass = b->mesh.mass,
-	                      .smoothWeight = b->mesh.smoothWeight,
-	                      .invMass = b->state.invMass,
-	                      .userMass = b->userMass,
-	                      .pinned = b->state.pinned,
-	                      .userVertex = b->userVertex,
-	                      .internalVertex = b->internalVertex,
-	                      .origin = b->cracks->origin,
-	                      .tetStart = b->mesh.vertexTetStart,
-	                      .surface = b->mesh.surface,
-	                      .triangleCount = b->mesh.triangleCount,
-	                      .userSurface = b->userSurface};
-	b->mesh.vertexCount = a->count;
-	b->mesh.x0 = a->x0;
-	b->state.x = a->x;
-	b->state.v = a->v;
-	b->state.f = a->f;
-	b->xGood = a->xGood;
-	b->vGood = a->vGood;
-	b->mesh.mass = a->mass;
-	b->mesh.smoothWeight = a->smoothWeight;
-	b->state.invMass = a->invMass;
-	b->userMass = a->userMass;
-	b->state.pinned = a->pinned;
-	b->userVertex = a->userVertex;
-	b->internalVertex = a->internalVertex;
-	b->cracks->origin = a->origin;
-	b->mesh.vertexTetStart = a->tetStart;
-	b->mesh.surface = a->surface;
-	b->mesh.triangleCount = a->triangleCount;
-	b->userSurface = a->userSurface;
-	*a = old;
-	memcpy(b->mesh.tets, tets, sizeof(int) * 4 * (size_t)b->mesh.tetCount);
-}
-
-// The tets around each vertex again (vertexTetStart holds the counts on entry): filled from the
-// back with the corners in descending order, each list ends up ascending.
-static void fmRebuildIncidence(fmElasticMesh* mesh)
-{
-	int total = 0;
-	for (int i = 0; i < mesh->vertexCount; ++i)
-	{
-		total += mesh->vertexTetStart[i];
-		mesh->vertexTetStart[i] = total; // (the end of i's list for now)
-	}
-	mesh->vertexTetStart[mesh->vertexCount] = total;
-	for (int e = 4 * mesh->tetCount - 1; e >= 0; --e)
-		mesh->vertexTets[--mesh->vertexTetStart[mesh->tets[e]]] = e;
-}
-
-// What the body keeps that a new topology makes stale: the stages' scratch, made again when next
-// needed.
-static void fmDropDerived(fmBody* b, int oldCount)
-{
-	fmBodyContact_Free(&b->contact, oldCount, b->mesh.tetCount);
-	fmSolverCache_Free(b->solverCache);
-	b->solverCache = NULL;
-	fmTetBlocks_Destroy(b->mesh.tetBlocks);
-	b->mesh.tetBlocks = NULL;
-	fmAttachment_Release(&b->drawCache);
-	FM_FREE_ARRAY(b->previousX, double, 3 * (size_t)oldCount);
-	b->previousX = NULL;
-	b->previousValid = false;
-	b->energyStale = true;
-}
-
-bool fmFracture_SetTopology(fmWorld* w, fmBody* b, const int* tets, int vertexCount,
-                            const int* from)
-{
-	int n = b->mesh.vertexCount;
-	fmVertexArrays a;
-	memset(&a, 0, sizeof a);
-	double* whole = FM_ALLOC_ARRAY(double, b->cracks->originalVertexCount);
-	bool ok = whole != NULL && fmVertexArrays_Allocate(&a, vertexCount) &&
-	          fmFillCarried(b, tets, from, &a) && fmLoads_Renumber(b, vertexCount, from);
-	if (ok)
-	{
-		fmShareMasses(b, tets, &a, whole);
-		fmSwapIn(b, tets, &a);
-		fmRebuildIncidence(&b->mesh);
-		for (int t = 0; t < b->mesh.tetCount; ++t)
-			for (int k = 0; k < 4; ++k)
-				b->userTets[4 * b->userTet[t] + k] = b->userVertex[b->mesh.tets[4 * t + k]];
-		b->mesh.totalMass = 0.0;
-		for (int i = 0; i < b->mesh.vertexCount; ++i)
-			b->mesh.totalMass += b->mesh.mass[i];
-		fmDropDerived(b, n);
-		fmNodalPressure_Free(&b->mesh);
-		ok = fmNodalPressure_Prepare(&b->mesh, NULL) == fm_ok && fmWorldReserveArenaFor(w, b);
-		b->explicitLimit = fmWorldBodyStepLimit(w, b);
-		b->selfCollision = true; // the pieces meet each other (contact_pair.c: across pieces)
-	}
-	fmVertexArrays_Free(&a);
-	FM_FREE_ARRAY(whole, double, b->cracks->originalVertexCount);
-	return ok;
-}
-
-const char* fmFracture_TopologyProblem(const fmBody* b, const int* tets, int vertexCount)
-{
-	const fmCracks* c = b->cracks;
-	int n0 = c->originalVertexCount, m = b->mesh.tetCount;
-	if (vertexCount < n0 || vertexCount > n0 + 4 * m)
-		return "a vertex count outside [the original count, that plus 4 per tet]";
-	int* origin = FM_ALLOC_ARRAY(int, vertexCount);
-	if (origin == NULL)
-		return "no memory to check it";
-	for (int i = 0; i < vertexCount; ++i)
-		origin[i] = i < n0 ? i : -1;
-	const char* problem = NULL;
-	for (int e = 0; e < 4 * m && problem == NULL; ++e)
-	{
-		int v = tets[e];
-		if (v < 0 || v >= vertexCount)
-			problem = "a corner out of range";
-		else if (origin[v] < 0)
-			origin[v] = c->originalTets[e];
-		else if (origin[v] != c->originalTets[e])
-			problem = "a vertex standing for two original vertices";
-	}
-	for (int i = n0; i < vertexCount && problem == NULL; ++i)
-		if (origin[i] < 0)
-			problem = "a copy no tet uses";
-	FM_FREE_ARRAY(origin, int, vertexCount);
-	return problem;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+		if (fmIsland_Stepping(&w->bodies[i]) && w->bodies[i].cracks != NULL &&
+		    fmFracture_Tear(w, &w->bodies[i], &w->lastError) < 0)
+			return fm_errOutOfMemory;
+	return fm_ok;
 }
 
 // ---- public calls ------------------------------------------------------------------------------

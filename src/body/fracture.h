@@ -58,16 +58,9 @@ double fmFracture_Damage(const struct fmBody* b, double* tetDamage, double* face
 // broken, or -1 when out of memory (@p diag says so; the body is unchanged).
 int fmFracture_Tear(struct fmWorld* w, struct fmBody* b, fmDiagnostic* diag);
 
-// Give body @p b the corners @p tets (4 per tet, body order) over @p vertexCount vertices,
-// each vertex i taking the state (position, velocity, pins) of vertex @p from[i] of the body as
-// it is; masses are shared again by tet volume. false when out of memory (body unchanged).
-bool fmFracture_SetTopology(struct fmWorld* w, struct fmBody* b, const int* tets, int vertexCount,
-                            const int* from);
-
-// What is wrong with @p tets over @p vertexCount vertices as a torn topology of body @p b, or
-// NULL: every corner a copy of the original corner, every vertex used, vertex i < the original
-// count the original i.
-const char* fmFracture_TopologyProblem(const struct fmBody* b, const int* tets, int vertexCount);
+// After a frame every stepping body's checks passed: each torn-capable body tears
+// (serially, in body order: deterministic for any worker count). Out of memory: the error.
+fmResult fmFracture_EndFrame(struct fmWorld* w);
 
 // The broken faces of body @p b as marked (both sides), and the pieces from them again.
 void fmFracture_SetBroken(struct fmBody* b, const uint8_t* broken);

@@ -3,6 +3,7 @@
 
 #include "body/fracture.h"
 #include "body/plasticity.h"
+#include "body/tear_topology.h"
 #include "core/core.h"
 #include "fem/nodal_pressure.h"
 #include "material/material.h"
@@ -275,8 +276,8 @@ int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b)
 	if (copy == NULL)
 		return -1;
 	memcpy(copy, s->in + s->used, sizeof(int32_t) * 4 * m);
-	bool valid = fmFracture_TopologyProblem(b, copy, count) == NULL &&
-	             fmBrokenValid(b->cracks, broken, (int)m);
+	bool valid =
+	    fmTearTopology_Problem(b, copy, count) == NULL && fmBrokenValid(b->cracks, broken, (int)m);
 	bool same = valid && count == b->mesh.vertexCount &&
 	            memcmp(copy, b->mesh.tets, sizeof(int) * 4 * m) == 0 &&
 	            memcmp(broken, b->cracks->broken, 4 * m) == 0;
@@ -310,7 +311,7 @@ bool fmSnapshotBody_ApplyTopology(fmStream* s, struct fmWorld* w, fmBody* b)
 		from[tets[e]] = b->cracks->originalTets[e];
 	for (int i = 0; ok && i < b->cracks->originalVertexCount; ++i)
 		from[i] = i;
-	ok = ok && fmFracture_SetTopology(w, b, tets, count, from);
+	ok = ok && fmTearTopology_Set(w, b, tets, count, from);
 	if (ok)
 		fmFracture_SetBroken(b, broken);
 	FM_FREE_ARRAY(tets, int, 4 * m);

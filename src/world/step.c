@@ -856,14 +856,8 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	bool closed = fmCloseLedgers(w, &ctx) == fm_ok;
 	if (w->meshMotion != NULL)
 		w->meshMotion->endFrame(w, closed);
-	if (!closed)
-		return fm_errNumerical;
-	// Stage 5: tears, on the state the checks passed (fracture.h): the next frame starts from
-	// the torn bodies.
-	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmIsland_Stepping(&w->bodies[i]) && w->bodies[i].cracks != NULL &&
-		    fmFracture_Tear(w, &w->bodies[i], &w->lastError) < 0)
-			return fm_errOutOfMemory;
+	if (!closed || fmFracture_EndFrame(w) != fm_ok) // then the tears, from the checked state
+		return closed ? fm_errOutOfMemory : fm_errNumerical;
 	const fmContactPoint* points;
 	w->stats.contacts = fmContactEvents_Points(w, &points);
 	if (!fmContactEvents_EndFrame(w, 1.0 / ctx.frameTime) || !fmIsland_EndFrame(w, &ctx))
