@@ -186,7 +186,8 @@ static void cliBenchExplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          false,
 	                          0,
 	                          0.0,
-	                          false};
+	                          false,
+	                          0.0};
 	if (!cliBenchExplicit(mesh, &settings, run->options->repeats, &row.nsPerTetStep))
 	{
 		printf("%-10s %9d %-11s %7d %12s\n", mesh->label, mesh->tets, name, workers, "failed");
@@ -252,7 +253,8 @@ static void cliBenchImplicitRow(cliBenchRun* run, const cliBenchMesh* mesh, fmMa
 	                          false,
 	                          0,
 	                          0.0,
-	                          false};
+	                          false,
+	                          0.0};
 	if (!cliBenchImplicit(mesh, &settings, run->options->repeats, &row))
 	{
 		printf("%-10s %9d %-11s %-9s %7d %11s\n", mesh->label, mesh->tets, name, names[t], workers,
@@ -295,19 +297,20 @@ static void cliBenchImplicitRows(cliBenchRun* run)
 // explicit tet-step and an implicit frame at rest (game tolerance), 1 worker, each with its
 // ratio to Neo-Hookean's; the plastic row (yield strain 1%) pays its yield test every substep
 // (and its flow where the drop yields); the nodal row, the volume term on vertex patches (the
-// double-precision force path and the square Newton pattern).
+// double-precision force path and the square Newton pattern); the fracture row, a strength that
+// never tears: the criterion each frame pays (every tet's stress, every shared face's traction).
 static void cliBenchLawRows(cliBenchRun* run)
 {
 	// Neo-Hookean three times: elastic, plastic at a yield strain of 1%, with the nodal pressure.
 	enum
 	{
-		lawCount = 6
+		lawCount = 7
 	};
-	static const fmMaterialModel laws[lawCount] = {fm_neoHookean,        fm_neoHookean,
-	                                               fm_orthotropicLinear, fm_orthotropicStvk,
-	                                               fm_fibreNeoHookean,   fm_neoHookean};
-	static const char* const names[lawCount] = {NULL, "neohookean-plastic", NULL, NULL,
-	                                            NULL, "neohookean-nodal"};
+	static const fmMaterialModel laws[lawCount] = {
+	    fm_neoHookean,      fm_neoHookean, fm_orthotropicLinear, fm_orthotropicStvk,
+	    fm_fibreNeoHookean, fm_neoHookean, fm_neoHookean};
+	static const char* const names[lawCount] = {
+	    NULL, "neohookean-plastic", NULL, NULL, NULL, "neohookean-nodal", "neohookean-fracture"};
 	const cliBenchOptions* o = run->options;
 	const cliBenchMesh* mesh = &run->meshes->meshes[0];
 	printf("material laws on %s (%d tets), 1 worker, median of %d: the cost against "
@@ -324,7 +327,7 @@ static void cliBenchLawRows(cliBenchRun* run)
 		                          o->solver,   false,
 		                          0.0,         false,
 		                          0,           k == 1 ? 0.01 : 0.0,
-		                          k == 5};
+		                          k == 5,      k == 6 ? 1e12 : 0.0};
 		cliBenchResult step = cliBenchResult_Make(mesh, "explicit", name, 1);
 		cliBenchResult frame = cliBenchResult_Make(mesh, "implicit game", name, 1);
 		step.scene = frame.scene = "laws";

@@ -184,6 +184,7 @@ bool cliBenchMesh_World(const cliBenchMesh* mesh, const cliBenchWorld* settings,
 	cliBodySpec* body = &scene.bodies[0];
 	body->def.material = cliBenchMesh_Material(mesh, settings->model);
 	body->def.material.nodalPressure = settings->nodalPressure;
+	body->def.material.fracture.strength = settings->fractureStrength;
 	if (settings->yieldStrain > 0.0) // E = mu (3 lambda + 2 mu) / (lambda + mu)
 	{
 		const fmMaterial* m = &body->def.material;

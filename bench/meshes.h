@@ -85,6 +85,7 @@ typedef struct cliBenchWorld
 	int newtonIterations;    ///< implicit: a step's most (0: the default)
 	double yieldStrain;      ///< > 0: the material flows (von Mises, yield stress this times E)
 	bool nodalPressure;      ///< the volume term on vertex patches (fmMaterial.nodalPressure)
+	double fractureStrength; ///< > 0: the body may tear (fmMaterial.fracture.strength, Pa)
 } cliBenchWorld;
 
 /// The world def of the bench's Coulomb-floor scenes (the props, the start-up): implicit at the

@@ -316,7 +316,8 @@ static cliBenchWorld cliMotionSettings(const cliBenchOptions* o, const cliBenchM
 	                   scene == cli_motionSwing,
 	                   c->tolerance < FM_TOLERANCE_GAME ? CLI_MOTION_REFERENCE_NEWTON : 0,
 	                   0.0,
-	                   false};
+	                   false,
+	                   0.0};
 	return s;
 }
 

@@ -155,7 +155,7 @@ static bool cliPeerMesh(const char* program, const cliBenchMesh* mesh, const cha
 	          cliBenchMesh_World(mesh,
 	                             &(cliBenchWorld){fm_implicit, fm_neoHookean, 1, FM_TOLERANCE_GAME,
 	                                              fm_simdAuto, false, fm_solverNewton, false, 0.0,
-	                                              false, 0, 0.0, false},
+	                                              false, 0, 0.0, false, 0.0},
 	                             &sim);
 	if (ok)
 	{

@@ -26,6 +26,7 @@ static const struct
     {"colliders", fm_drawColliders},
     {"fibres", fm_drawFibres},
     {"plastic", fm_drawPlastic},
+    {"damage", fm_drawDamage},
     {"all", fm_drawAll},
     {"none", 0},
 };

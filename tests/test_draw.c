@@ -288,6 +288,56 @@ TEST(plastic_colours_follow_the_plastic_strain)
 	fmDestroyWorld(world);
 }
 
+// Damage colours: a tearing box at rest is drawn in the ramp's zero colour; stretched on
+// rollers, every vertex in the colour of the largest damage (traction over strength,
+// fmBody_ComputeDamage) of the tets around it.
+TEST(damage_colours_follow_the_traction_over_strength)
+{
+	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
+	m.fracture.strength = 1e6; // (nothing tears: the colours are what is read)
+	fmWorldId world;
+	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), m, fm_fem);
+	CHECK(fmBody_IsValid(body));
+	if (!fmBody_IsValid(body))
+		return;
+	fmSeen seen;
+	fmDebugDraw draw = drawInto(&seen, fm_drawDamage);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	float zero[3];
+	fmStrainColor(0.0, zero);
+	CHECK(allColoursAre(&seen, zero, 0.0f));
+	int n = fmBody_GetVertexCount(body);
+	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(rest, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
+	fmTestBarOnRollers(body, rest, 1.0, 1.2, true);
+	CHECK_INT(fmBody_SolveStatic(body, 1e-10, 50, NULL, NULL), fm_ok);
+	int tets = fmBody_GetTetCount(body);
+	double* tetDamage = malloc(sizeof(double) * (size_t)tets);
+	double damage = fmBody_ComputeDamage(body, tetDamage);
+	CHECK(damage > 0.05 && damage < 1.0);
+	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
+	const int* corners = fmBody_GetTets(body);
+	int wrong = 0, atMost = 0;
+	for (int v = 0; v < seen.vertexCount; ++v)
+	{
+		double worst = 0.0;
+		for (int e = 0; e < 4 * tets; ++e)
+			if (corners[e] == seen.vertices[v])
+				worst = fmax(worst, tetDamage[e / 4]);
+		float expected[3];
+		fmStrainColor(worst, expected);
+		for (int c = 0; c < 3; ++c)
+			wrong += fabsf(seen.colors[3 * v + c] - expected[c]) > 1e-4f;
+		atMost += worst == damage;
+	}
+	CHECK_INT(wrong, 0);
+	CHECK(atMost > 0);
+	free(tetDamage);
+	free(rest);
+	freeSeen(&seen);
+	fmDestroyWorld(world);
+}
+
 // The first draw makes a body's buffers; later draws reuse them.
 TEST(second_draw_allocates_nothing)
 {

@@ -170,14 +170,14 @@ void showViews(fvUiModel& m)
 	             {"pins", fm_drawPins},           {"targets", fm_drawTargets},
 	             {"floor", fm_drawFloor},         {"contacts", fm_drawContacts},
 	             {"colliders", fm_drawColliders}, {"fibres", fm_drawFibres},
-	             {"plastic", fm_drawPlastic}};
+	             {"plastic", fm_drawPlastic},     {"damage", fm_drawDamage}};
 	for (size_t i = 0; i < sizeof views / sizeof views[0]; ++i)
 	{
 		if (i % 4 != 0)
 			ImGui::SameLine();
 		ImGui::CheckboxFlags(views[i].name, &m.drawFlags, views[i].flag);
 	}
-	if (m.drawFlags & (fm_drawStress | fm_drawPlastic))
+	if (m.drawFlags & (fm_drawStress | fm_drawPlastic | fm_drawDamage))
 		showStrainLegend();
 }
 } // namespace

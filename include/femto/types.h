@@ -798,7 +798,11 @@ typedef enum fmDrawFlags
 	/// surfaces coloured by plastic strain (the mean equivalent plastic strain of the tets
 	/// around each vertex, the strain ramp's colours; fm_drawStress wins when both are set)
 	fm_drawPlastic = 1u << 10,
-	fm_drawAll = 0x7ffu, ///< everything above
+	/// surfaces coloured by fracture damage (each vertex: the largest traction over strength of
+	/// the tets around it, fmBody_ComputeDamage; 1, the ramp's end, tears; fm_drawStress and
+	/// fm_drawPlastic win when set)
+	fm_drawDamage = 1u << 11,
+	fm_drawAll = 0xfffu, ///< everything above
 } fmDrawFlags;
 
 /// One body's surface for fmDebugDraw.drawTriangles: the surface vertices only (compacted),

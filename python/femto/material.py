@@ -21,6 +21,7 @@ def _model(name):
 # Python's names of fmPlasticity's fields (docs/materials.md, "Plasticity").
 _PLASTICITY = {"yield_stress": "yieldStress", "hardening": "hardening",
                "creep_rate": "creepRate", "max_plastic_strain": "maxPlasticStrain"}
+_FRACTURE = {"strength": "strength", "length": "length", "min_volume": "minVolume"}
 
 
 class Material:
@@ -35,7 +36,9 @@ class Material:
     large-strain model flow (von Mises; the body's ``stats()`` gives ``plastic_work``).
     ``nodal_pressure=True`` puts the volume term on vertex patches (linear, neohookean,
     mooneyrivlin, neohookean-isochoric): no locking near a Poisson ratio of 0.5
-    (docs/materials.md, "Nearly incompressible bodies").
+    (docs/materials.md, "Nearly incompressible bodies"). ``fracture={"strength": Pa,
+    "length": m, "min_volume": m^3}`` lets the body tear along its tet faces (the body's
+    ``fracture()``, ``damage()``, ``pieces()``; docs/materials.md, "Fracture").
     """
 
     def __init__(self, model: Union[str, int] = "stvk", youngs_modulus: Optional[float] = None,
@@ -44,7 +47,8 @@ class Material:
                  fibre: Optional[Sequence[float]] = None,
                  sheet: Optional[Sequence[float]] = None,
                  plasticity: Optional[Dict[str, float]] = None,
-                 nodal_pressure: bool = False) -> None:
+                 nodal_pressure: bool = False,
+                 fracture: Optional[Dict[str, float]] = None) -> None:
         by_young = youngs_modulus is not None or poisson_ratio is not None
         by_lame = lam is not None or mu is not None
         if by_young == by_lame:
@@ -68,6 +72,12 @@ class Material:
                                 % (key, ", ".join(sorted(_PLASTICITY))))
             setattr(self._c.plasticity, field, float(value))
         self._c.nodalPressure = bool(nodal_pressure)
+        for key, value in (fracture or {}).items():
+            field = _FRACTURE.get(key)
+            if field is None:
+                raise TypeError("fracture: unknown key %r (expected one of %s)"
+                                % (key, ", ".join(sorted(_FRACTURE))))
+            setattr(self._c.fracture, field, float(value))
         self._finish(fibre, sheet)
 
     @classmethod

@@ -409,6 +409,31 @@ class Body:
     def tet_count(self) -> int:
         return lib.fmBody_GetTetCount(self._live())
 
+    def fracture(self) -> int:
+        """Tear where the material's fracture criterion holds now (fmBody_Fracture; the world's
+        step does it after every frame): the faces broken. The vertex count grows."""
+        broken = lib.fmBody_Fracture(self._live())
+        if broken < 0:
+            self.world._check(lib.fm_errOutOfMemory)
+        return broken
+
+    def damage(self) -> np.ndarray:
+        """Each tet's largest traction over strength on its unbroken faces (1 tears)."""
+        out = np.zeros(self.tet_count)
+        lib.fmBody_ComputeDamage(self._live(), ffi.from_buffer("double[]", out))
+        return out
+
+    def pieces(self) -> np.ndarray:
+        """Each tet's piece (numbered by first appearance); a whole body is all zeros."""
+        out = np.zeros(self.tet_count, dtype=np.intc)
+        lib.fmBody_GetPieces(self._live(), ffi.from_buffer("int[]", out))
+        return out
+
+    @property
+    def broken_face_count(self) -> int:
+        """Faces broken since the body was made."""
+        return lib.fmBody_GetBrokenFaceCount(self._live())
+
     def _copy_rows(self, double_fn, float_fn, out, what):
         n = self.vertex_count
         out = out_rows(out, n, what)

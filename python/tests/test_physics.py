@@ -248,3 +248,35 @@ def test_a_nearly_incompressible_cantilever_does_not_lock_with_the_nodal_pressur
     assert abs(tip(True) - 0.0358) < 0.07 * 0.0358
     with pytest.raises(femto.FemtoError, match="nodalPressure"):
         femto.Material("stvk", youngs_modulus=2e5, poisson_ratio=0.49, nodal_pressure=True)
+
+
+def test_a_stretched_box_tears_keeping_its_mass_and_momentum():
+    # A 4 x 4 x 4 Neo-Hookean box stretched 1.6 times along y and moving, its strength just
+    # under the faces across y's traction: it tears into its four layers, mass and momentum kept.
+    world = femto.World(gravity=(0.0, 0.0, 0.0), floor=False)
+    material = femto.Material("neohookean", youngs_modulus=1e5, poisson_ratio=0.3,
+                              fracture={"strength": 1e3})
+    body = world.add_body(femto.TetMesh.box((4, 4, 4), (0.0, 0.0, 0.0), (0.2, 0.2, 0.2)),
+                          material, mass_mode="density", density=1000.0)
+    x = body.positions()
+    x[:, 1] *= 1.6
+    v = np.column_stack([1.0 + x[:, 1], -2.0 * x[:, 0], np.full(len(x), 0.5)])
+    body.set_positions(x)
+    body.set_velocities(v)
+    worst = body.damage().max()
+    assert worst > 1.0
+    body.set_material(femto.Material("neohookean", youngs_modulus=1e5, poisson_ratio=0.3,
+                                     fracture={"strength": 1e3 * worst / 1.05}))
+    mass = body.masses.sum()
+    momentum = body.masses @ body.velocities()
+    assert body.fracture() > 0
+    assert body.vertex_count > len(x)
+    assert len(set(body.pieces().tolist())) == 4
+    assert abs(body.masses.sum() - mass) <= 1e-12 * mass
+    assert np.allclose(body.masses @ body.velocities(), momentum, rtol=0, atol=1e-12 * mass)
+    with pytest.raises(TypeError, match="unknown key"):
+        femto.Material("neohookean", youngs_modulus=1e5, poisson_ratio=0.3,
+                       fracture={"toughness": 1.0})
+    with pytest.raises(femto.FemtoError, match="fracture.strength"):
+        femto.Material("neohookean", youngs_modulus=1e5, poisson_ratio=0.3,
+                       fracture={"strength": -1.0})

@@ -428,7 +428,7 @@ static double fmFaceTraction(const fmBody* b, const double* average, int t, int 
 	return fmDot(normal, sn);
 }
 
-double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio)
+double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio, double* scratch)
 {
 	const fmCracks* c = b->cracks;
 	int m = b->mesh.tetCount;
@@ -438,7 +438,7 @@ double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio)
 		memset(faceRatio, 0, sizeof(double) * 4 * (size_t)m);
 	if (c == NULL || c->nearStart == NULL || !fmAnyTears(b))
 		return 0.0;
-	double* stress = FM_ALLOC_ARRAY(double, 12 * (size_t)m);
+	double* stress = scratch != NULL ? scratch : FM_ALLOC_ARRAY(double, 12 * (size_t)m);
 	if (stress == NULL)
 		return NAN;
 	double* average = stress + 6 * (size_t)m;
@@ -462,7 +462,8 @@ double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio)
 		if (tetDamage != NULL)
 			tetDamage[f / 4] = fmMax(tetDamage[f / 4], ratio);
 	}
-	FM_FREE_ARRAY(stress, double, 12 * (size_t)m);
+	if (scratch == NULL)
+		FM_FREE_ARRAY(stress, double, 12 * (size_t)m);
 	return largest;
 }
 
@@ -617,7 +618,7 @@ int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 	int* label = FM_ALLOC_ARRAY(int, m);
 	int broke = -1;
 	if (ratio && fresh && scratch && volume && touched && tets && from && label &&
-	    !isnan(fmFracture_Damage(b, NULL, ratio)))
+	    !isnan(fmFracture_Damage(b, NULL, ratio, NULL)))
 	{
 		broke = 0;
 		for (size_t f = 0; f < faces; ++f)
@@ -738,7 +739,7 @@ double fmBody_ComputeDamage(fmBodyId bodyId, double* tetDamage)
 	fmWorld* w = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
 	double* damage = tetDamage != NULL ? FM_ALLOC_ARRAY(double, b->mesh.tetCount) : NULL;
-	double largest = fmFracture_Damage(b, damage, NULL);
+	double largest = fmFracture_Damage(b, damage, NULL, NULL);
 	if (damage != NULL)
 		fmToUserTets(b, damage, tetDamage);
 	else if (tetDamage != NULL) // (no room: NaN says so, as the largest does)

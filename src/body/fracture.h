@@ -50,8 +50,10 @@ void fmFracture_Free(struct fmBody* b);
 
 // Each tet's largest traction over strength on its unbroken shared faces at the current
 // positions (@p tetDamage: tetCount, the body's order, or NULL); returns the largest (0 when
-// the body cannot break). @p faceRatio (4 per tet, or NULL) gets each face's.
-double fmFracture_Damage(const struct fmBody* b, double* tetDamage, double* faceRatio);
+// the body cannot break; NaN when out of memory). @p faceRatio (4 per tet, or NULL) gets each
+// face's; @p scratch: 12 doubles a tet, or NULL to allocate them for the call.
+double fmFracture_Damage(const struct fmBody* b, double* tetDamage, double* faceRatio,
+                         double* scratch);
 
 // Break every face of body @p b the criterion holds on (none that would cut off a piece below
 // the minimum volume) and split the vertices that no longer hold together. Returns the faces

@@ -6,6 +6,7 @@
 
 #include "draw/draw_shapes.h"
 
+#include "body/fracture.h"
 #include "body/targets.h"
 #include "contact/contact_events.h"
 #include "core/core.h"
@@ -57,6 +58,8 @@ typedef struct fmDrawCache
 	int lineCapacity;
 	float* points;     // 3 per point, one per body vertex at most
 	int pointCapacity; // the body's vertices
+	int damageTets;    // tets of the damage scratch (made on the first damage draw of a torn body)
+	double* damage;    // 13 per tet: each tet's damage, then fmFracture_Damage's scratch
 } fmDrawCache;
 
 // Release a draw cache; NULL is fine.
@@ -72,6 +75,7 @@ static void fmDrawCache_Free(fmDrawCache* c)
 	FM_FREE_ARRAY(c->normals, float, 3 * n);
 	FM_FREE_ARRAY(c->colors, float, 3 * n);
 	FM_FREE_ARRAY(c->edges, int, 2 * (size_t)c->edgeCount);
+	FM_FREE_ARRAY(c->damage, double, 13 * (size_t)c->damageTets);
 	FM_FREE_ARRAY(c->lines, float, 6 * (size_t)c->lineCapacity);
 	FM_FREE_ARRAY(c->points, float, 3 * (size_t)c->pointCapacity);
 	FM_FREE_ARRAY(c, fmDrawCache, 1);
@@ -228,14 +232,38 @@ static void fmDrawPlasticColors(const fmBody* b, fmDrawCache* c)
 	}
 }
 
+// Damage colours: each drawn vertex gets the largest damage (traction over strength, 1 tears)
+// of the tets around it on the strain ramp (0 for a body that cannot tear).
+static void fmDrawDamageColors(const fmBody* b, fmDrawCache* c)
+{
+	int m = b->mesh.tetCount;
+	if (b->cracks != NULL && c->damage == NULL)
+	{
+		c->damage = FM_ALLOC_ARRAY(double, 13 * (size_t)m);
+		c->damageTets = c->damage != NULL ? m : 0;
+	}
+	bool known = b->cracks != NULL && c->damage != NULL &&
+	             !isnan(fmFracture_Damage(b, c->damage, NULL, c->damage + m));
+	for (int v = 0; v < c->vertexCount; ++v)
+	{
+		int i = c->vertex[v];
+		double worst = 0.0;
+		for (int k = b->mesh.vertexTetStart[i]; known && k < b->mesh.vertexTetStart[i + 1]; ++k)
+			worst = fmMax(worst, c->damage[b->mesh.vertexTets[k] / 4]);
+		fmStrainColor(fmMin(worst, 1.0), c->colors + 3 * v);
+	}
+}
+
 static void fmDrawSurface(fmBody* b, fmBodyId id, fmDrawCache* c, const fmDebugDraw* draw)
 {
 	fmDrawGeometry(b, c);
-	bool stress = (draw->flags & (fm_drawStress | fm_drawPlastic)) != 0;
+	bool stress = (draw->flags & (fm_drawStress | fm_drawPlastic | fm_drawDamage)) != 0;
 	if (draw->flags & fm_drawStress)
 		fmDrawStrainColors(b, c);
-	else if (stress)
+	else if (draw->flags & fm_drawPlastic)
 		fmDrawPlasticColors(b, c);
+	else if (stress)
+		fmDrawDamageColors(b, c);
 	fmDrawTriangles batch;
 	memset(&batch, 0, sizeof batch);
 	batch.body = id;
@@ -444,7 +472,8 @@ static bool fmDrawBody(fmBody* b, fmBodyId id, const fmDebugDraw* draw)
 	if (c == NULL)
 		return false;
 	unsigned flags = draw->flags;
-	if ((flags & (fm_drawSurfaces | fm_drawStress | fm_drawPlastic)) && draw->drawTriangles)
+	if ((flags & (fm_drawSurfaces | fm_drawStress | fm_drawPlastic | fm_drawDamage)) &&
+	    draw->drawTriangles)
 		fmDrawSurface(b, id, c, draw);
 	bool ok = true;
 	if ((flags & fm_drawTetEdges) && draw->drawLines)
