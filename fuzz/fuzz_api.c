@@ -11,6 +11,8 @@
 
 #include "world/snapshot.h"
 
+#include <stdlib.h>
+
 int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size);
 
 enum
@@ -342,6 +344,21 @@ static void fuzzAttach(fmFuzzReader* r, fmWorldId world, fmBodyId body, int n)
 }
 
 // Public calls with fuzzed arguments on a live (or stale) body.
+// Fracture's calls: tear, the damage and the pieces, into buffers of the body's tet count.
+static void fuzzTear(fmFuzzReader* r, fmBodyId body)
+{
+	int tets = fmBody_IsValid(body) ? fmBody_GetTetCount(body) : 0;
+	double* damage = tets > 0 ? malloc(sizeof(double) * (size_t)tets) : NULL;
+	int* pieces = tets > 0 ? malloc(sizeof(int) * (size_t)tets) : NULL;
+	if (fmFuzzPick(r, 2))
+		(void)fmBody_Fracture(body);
+	(void)fmBody_ComputeDamage(body, fmFuzzPick(r, 2) ? damage : NULL);
+	(void)fmBody_GetPieces(body, fmFuzzPick(r, 2) ? pieces : NULL);
+	(void)fmBody_GetBrokenFaceCount(body);
+	free(damage);
+	free(pieces);
+}
+
 static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 {
 	int n = fmBody_IsValid(body) ? fmBody_GetVertexCount(body) : 0;
@@ -349,8 +366,9 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 	int calls = fmFuzzPick(r, 12);
 	for (int c = 0; c < calls; ++c)
 	{
+		n = fmBody_IsValid(body) ? fmBody_GetVertexCount(body) : 0; // (a tear adds vertices)
 		int vertex = fmFuzzPick(r, n + 3) - 1;
-		switch (fmFuzzPick(r, 20))
+		switch (fmFuzzPick(r, 21))
 		{
 		case 0:
 			fmBody_ApplyVertexImpulse(body, vertex, fmFuzzVec3(r, -10.0, 10.0));
@@ -431,6 +449,9 @@ static void fuzzCalls(fmFuzzReader* r, fmWorldId world, fmBodyId body)
 			break;
 		case 18:
 			fuzzAttach(r, world, body, n);
+			break;
+		case 19:
+			fuzzTear(r, body);
 			break;
 		default:
 		{

@@ -333,3 +333,52 @@ TEST(snapshots_hold_the_torn_state)
 	fmDestroyWorld(world);
 	fmDestroyWorld(fresh);
 }
+
+// A body of particle masses (the seeds' 1 kg a vertex, which never came from volumes) shares a
+// split vertex's mass by its tets' count: each copy holds its tets' share of the original's
+// kilogram; the masses still sum to the vertex count.
+TEST(particle_masses_are_shared_by_tet_count)
+{
+	fmTetMesh mesh;
+	CHECK_INT(fmMakeBoxMesh(4, 4, 4, fmMakeVec3(0, 0, 0), fmMakeVec3(0.2, 0.2, 0.2), &mesh), fm_ok);
+	fmWorldDef wdef = fmTestFreeWorldDef();
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = fmDefaultBodyDef();
+	def.mesh = &mesh;
+	def.material = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	def.material.fracture.strength = 1e3;
+	fmBodyId id;
+	CHECK_INT(fmCreateBody(world, &def, &id, NULL), fm_ok);
+	int n = fmBody_GetVertexCount(id);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(x, fmTestPositions(id), sizeof(double) * 3 * (size_t)n);
+	for (int i = 0; i < n; ++i)
+		x[3 * i + 1] *= 1.6;
+	fmBody_SetPositions(id, x);
+	free(x);
+	fmMaterial m = def.material;
+	m.fracture.strength = 1e3 * fmBody_ComputeDamage(id, NULL) / 1.05;
+	CHECK_INT(fmBody_SetMaterial(id, &m, NULL), fm_ok);
+	CHECK(fmBody_Fracture(id) > 0);
+	int count = fmBody_GetVertexCount(id), tets = fmBody_GetTetCount(id);
+	CHECK(count > n);
+	CHECK_REL(fmTestMass(id), (double)n, 1e-13, 0.0);
+	// Each vertex's tets now, and its original's (the same corner of the same tet before).
+	int* around = calloc((size_t)count, sizeof(int));
+	int* whole = calloc((size_t)n, sizeof(int));
+	const int* corners = fmBody_GetTets(id);
+	for (int e = 0; e < 4 * tets; ++e)
+	{
+		around[corners[e]] += 1;
+		whole[mesh.tets[e]] += 1;
+	}
+	const double* mass = fmBody_GetMasses(id);
+	int wrong = 0;
+	for (int e = 0; e < 4 * tets; ++e)
+		wrong += fabs(mass[corners[e]] - (double)around[corners[e]] / whole[mesh.tets[e]]) > 1e-12;
+	CHECK_INT(wrong, 0);
+	free(around);
+	free(whole);
+	fmFreeTetMesh(&mesh);
+	fmDestroyWorld(world);
+}

@@ -284,6 +284,7 @@ static fmResult fmBodyInit(fmBody* b, const fmBodyDef* def, fmDiagnostic* diag)
 		b->filter = def->filter;
 		b->selfCollision = def->selfCollision;
 		b->canSleep = def->enableSleep;
+		b->massPerParticle = def->massMode == fm_massPerParticle;
 		size_t n3 = sizeof(double) * 3 * (size_t)mesh.nodeCount;
 		memcpy(b->state.x, b->mesh.x0, n3);
 		memcpy(b->xGood, b->mesh.x0, n3);

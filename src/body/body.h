@@ -100,6 +100,7 @@ typedef struct fmBody
 	// Fracture (fracture.h): the broken faces and what the tears were made from; NULL while no
 	// material of the body tears.
 	struct fmCracks* cracks;
+	bool massPerParticle; // fmBodyDef.massMode was fm_massPerParticle (a tear shares by tets)
 
 	// Each stage's scratch, typed, made and freed by the stage
 	fmBodyContact contact;               // the contact stage's (contact_body.h)

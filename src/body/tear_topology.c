@@ -107,8 +107,11 @@ static bool fmFillCarried(const fmBody* b, const int* tets, const int* from, fmV
 	return a->userSurface != NULL;
 }
 
-// Each vertex's mass: its original's times the vertex's share of the original's tet volume,
-// the original's own number taking what the copies leave (the sum is the original's).
+// Each vertex's mass: its original's times the vertex's share of the original's tets, by
+// volume (a mass from density: what the pieces' own lumping gives) or by count (a mass per
+// particle, which never came from volumes: a sliver's corner keeps a tet's share, not its tiny
+// volume's, and the explicit step limit with it), the original's own number taking what the
+// copies leave (the sum is the original's).
 static void fmShareMasses(const fmBody* b, const int* tets, fmVertexArrays* a, double* whole)
 {
 	const fmCracks* c = b->cracks;
@@ -116,8 +119,9 @@ static void fmShareMasses(const fmBody* b, const int* tets, fmVertexArrays* a, d
 	memset(whole, 0, sizeof(double) * (size_t)n0);
 	for (int e = 0; e < 4 * m; ++e)
 	{
-		whole[c->originalTets[e]] += b->mesh.restVolume[e / 4];
-		a->mass[tets[e]] += b->mesh.restVolume[e / 4]; // (volumes for now)
+		double weight = b->massPerParticle ? 1.0 : b->mesh.restVolume[e / 4];
+		whole[c->originalTets[e]] += weight;
+		a->mass[tets[e]] += weight; // (weights for now)
 	}
 	for (int i = n0; i < a->count; ++i)
 		a->mass[i] = c->originalMass[a->origin[i]] * (a->mass[i] / whole[a->origin[i]]);
