@@ -28,7 +28,7 @@ static bool fvIsAnisotropic(fmMaterialModel model)
 }
 
 // Body @p b's material under the sliders: an isotropic model from Young's modulus and Poisson's
-// ratio (with the scene's plasticity); while the sliders keep a scene's anisotropic model, each
+// ratio (with the scene's plasticity and fracture); while the sliders keep a scene's anisotropic model, each
 // body's own scene material with every modulus scaled by the Young's slider over its start, its
 // ratios and axes kept.
 static fmMaterial fvSliderMaterial(const fvSession* s, int b)
@@ -42,6 +42,7 @@ static fmMaterial fvSliderMaterial(const fvSession* s, int b)
 		fmMaterial m = fmMakeMaterial(p->model, p->youngs, p->poisson);
 		if (p->model != fm_linear)
 			m.plasticity = scene->plasticity;
+		m.fracture = scene->fracture; // (every model tears)
 		return cliKeepNodalPressure(m, scene->nodalPressure);
 	}
 	fmMaterial m = *scene;
