@@ -382,3 +382,27 @@ TEST(particle_masses_are_shared_by_tet_count)
 	fmFreeTetMesh(&mesh);
 	fmDestroyWorld(world);
 }
+
+// No slivers: the stretched box's tear cuts it into four layers of a quarter of its volume
+// each; a smallest piece of 0.3 of the box holds every face (nothing may come off), 0.2 lets the
+// four layers go.
+TEST(a_tear_never_cuts_off_a_piece_below_the_smallest_volume)
+{
+	const double volume = 0.2 * 0.2 * 0.2;
+	const double smallest[2] = {0.3 * volume, 0.2 * volume};
+	const int pieces[2] = {1, 4};
+	for (int k = 0; k < 2; ++k)
+	{
+		fmWorldId world;
+		fmBodyId id = stretchedBox(&world, 1e3);
+		fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+		m.fracture.strength = 1e3 * fmBody_ComputeDamage(id, NULL) / 1.05;
+		m.fracture.minVolume = smallest[k];
+		CHECK_INT(fmBody_SetMaterial(id, &m, NULL), fm_ok);
+		int before = fmBody_GetVertexCount(id);
+		int broken = fmBody_Fracture(id);
+		CHECK_INT(fmBody_GetPieces(id, NULL), pieces[k]);
+		CHECK(k == 0 ? broken == 0 && fmBody_GetVertexCount(id) == before : broken > 0);
+		fmDestroyWorld(world);
+	}
+}
