@@ -430,7 +430,7 @@ set(FEMTO_BENCH_LAW_EXPLICIT ",1,${FEMTO_BENCH_NUMBER},,,,,,,,,laws,,,,,,,,\n")
 set(FEMTO_BENCH_LAW_IMPLICIT ",1,,${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},${FEMTO_BENCH_NUMBER},,,,,,laws,,,,,,,,\n")
 set(FEMTO_BENCH_LAW_ROWS "")
 foreach(law neohookean neohookean-plastic orthotropic-linear orthotropic-stvk fibre-neohookean
-    neohookean-nodal)
+    neohookean-nodal neohookean-fracture)
   string(APPEND FEMTO_BENCH_LAW_ROWS "house2,1389,explicit,${law}${FEMTO_BENCH_LAW_EXPLICIT}house2,1389,implicit game,${law}${FEMTO_BENCH_LAW_IMPLICIT}")
 endforeach()
 femto_cli_test(bench_csv_rows
