@@ -406,3 +406,62 @@ TEST(a_tear_never_cuts_off_a_piece_below_the_smallest_volume)
 		fmDestroyWorld(world);
 	}
 }
+
+// A nodal material's volume term lives on its vertices; the criterion reads it back as the
+// tets' pressure: a box stretched the same in every direction (a uniform J, where the patches'
+// pressure is each tet's own) reads the per-tet body's damage, and tears as it does.
+TEST(the_criterion_reads_the_nodal_pressure)
+{
+	double damage[2];
+	int broken[2];
+	for (int nodal = 0; nodal < 2; ++nodal)
+	{
+		fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e5, 0.45);
+		m.nodalPressure = nodal == 1;
+		m.fracture.strength = 1e4;
+		fmWorldId world;
+		fmBodyId id = fmTestMakeBox(&world, 3, 3, 3, fmMakeVec3(0.3, 0.3, 0.3), m, fm_fem);
+		int n = fmBody_GetVertexCount(id);
+		double* x = malloc(sizeof(double) * 3 * (size_t)n);
+		memcpy(x, fmTestPositions(id), sizeof(double) * 3 * (size_t)n);
+		for (int k = 0; k < 3 * n; ++k)
+			x[k] *= 1.1;
+		fmBody_SetPositions(id, x);
+		free(x);
+		damage[nodal] = fmBody_ComputeDamage(id, NULL);
+		broken[nodal] = fmBody_Fracture(id);
+		fmDestroyWorld(world);
+	}
+	CHECK(damage[0] > 1.0);
+	CHECK_REL(damage[1], damage[0], 1e-9, 0.0);
+	CHECK_INT(broken[1], broken[0]);
+}
+
+// A snapshot of fewer vertices than the body has now is refused while something holds one of
+// the vertices it would lose (here a target on a copy), and the world stays as it was.
+TEST(a_less_torn_snapshot_is_refused_while_its_lost_vertices_are_held)
+{
+	fmWorldId world;
+	fmBodyId id = stretchedBox(&world, 1e3);
+	int whole = fmBody_GetVertexCount(id);
+	size_t size = fmWorld_GetSnapshotSize(world);
+	void* untorn = malloc(size);
+	CHECK_INT(fmWorld_SaveSnapshot(world, untorn, size, NULL), fm_ok);
+	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	m.fracture.strength = 1e3 * fmBody_ComputeDamage(id, NULL) / 1.05;
+	CHECK_INT(fmBody_SetMaterial(id, &m, NULL), fm_ok);
+	CHECK(fmBody_Fracture(id) > 0);
+	int torn = fmBody_GetVertexCount(id);
+	int copy = torn - 1;
+	fmVec3 at = fmMakeVec3(fmTestPositions(id)[3 * copy], fmTestPositions(id)[3 * copy + 1],
+	                       fmTestPositions(id)[3 * copy + 2]);
+	CHECK_INT(fmBody_SetTargets(id, &copy, &at, 1, 100.0), fm_ok);
+	CHECK_INT(fmWorld_RestoreSnapshot(world, untorn, size), fm_errParameter);
+	CHECK_STR_CONTAINS(fmWorld_GetLastError(world)->message, "held by a target");
+	CHECK_INT(fmBody_GetVertexCount(id), torn);
+	CHECK_INT(fmBody_SetTargets(id, NULL, NULL, 0, 0.0), fm_ok);
+	CHECK_INT(fmWorld_RestoreSnapshot(world, untorn, size), fm_ok);
+	CHECK_INT(fmBody_GetVertexCount(id), whole);
+	free(untorn);
+	fmDestroyWorld(world);
+}

@@ -13,6 +13,7 @@
 #include "world/island.h"
 #include "world/world.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +23,44 @@
 
 // Node slots of face k of a tet (the face opposite node k).
 static const int s_face[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+// ---- pieces ------------------------------------------------------------------------------------
+
+static int fmFindRoot(int* parent, int t)
+{
+	while (parent[t] != t)
+	{
+		parent[t] = parent[parent[t]];
+		t = parent[t];
+	}
+	return t;
+}
+
+static void fmUnite(int* parent, int a, int b)
+{
+	a = fmFindRoot(parent, a);
+	b = fmFindRoot(parent, b);
+	if (a != b) // the smaller tet roots: labels follow the body's tet order
+		parent[a > b ? a : b] = a > b ? b : a;
+}
+
+// Each tet's piece (tets joined by unbroken faces), numbered by their first tet; returns the
+// count. @p parent: tetCount scratch.
+static int fmLabelPieces(const fmCracks* c, int m, int* parent, int* piece)
+{
+	for (int t = 0; t < m; ++t)
+		parent[t] = t;
+	for (int f = 0; f < 4 * m; ++f)
+		if (c->neighbour[f] >= 0 && !c->broken[f])
+			fmUnite(parent, f / 4, c->neighbour[f] / 4);
+	int count = 0;
+	for (int t = 0; t < m; ++t)
+	{
+		int root = fmFindRoot(parent, t);
+		piece[t] = root == t ? count++ : piece[root];
+	}
+	return count;
+}
 
 // ---- preparation -------------------------------------------------------------------------------
 
@@ -68,12 +107,18 @@ static bool fmFindNeighbours(fmCracks* c, int tetCount)
 		c->neighbour[f] = -1;
 	}
 	qsort(keys, faces, sizeof *keys, fmCompareFaceKeys);
-	for (size_t f = 0; f + 1 < faces; ++f)
-		if (memcmp(keys[f].v, keys[f + 1].v, sizeof keys[f].v) == 0)
+	for (size_t f = 0; f < faces;)
+	{
+		size_t run = 1; // (a face of three or more tets, a non-manifold mesh, never breaks)
+		while (f + run < faces && memcmp(keys[f].v, keys[f + run].v, sizeof keys[f].v) == 0)
+			run += 1;
+		if (run == 2)
 		{
 			c->neighbour[keys[f].face] = keys[f + 1].face;
 			c->neighbour[keys[f + 1].face] = keys[f].face;
 		}
+		f += run;
+	}
 	FM_FREE_ARRAY(keys, fmFaceKey, faces);
 	return true;
 }
@@ -113,8 +158,11 @@ static int fmGatherNear(const fmBody* b, const fmCellTet* cells, int m, const fm
 		return 1;
 	}
 	int count = 0;
-	int64_t at[3] = {(int64_t)((centre[t].x - lo.x) / size), (int64_t)((centre[t].y - lo.y) / size),
-	                 (int64_t)((centre[t].z - lo.z) / size)};
+	double along[3] = {(centre[t].x - lo.x) / size, (centre[t].y - lo.y) / size,
+	                   (centre[t].z - lo.z) / size};
+	int64_t at[3]; // (clamped as the binning clamps)
+	for (int a = 0; a < 3; ++a)
+		at[a] = (int64_t)fmMin(along[a], (double)(dims[a] - 1));
 	for (int64_t dz = -1; dz <= 1; ++dz)
 		for (int64_t dy = -1; dy <= 1; ++dy)
 			for (int64_t dx = -1; dx <= 1; ++dx)
@@ -220,6 +268,14 @@ static fmResult fmFindNear(fmBody* b, fmCracks* c, fmDiagnostic* diag)
 			                b->userTet[t]);
 			break;
 		}
+		if (total + (size_t)count > (size_t)INT_MAX)
+		{
+			r = fmDiagError(diag, fm_errLimit, "", 0, 0,
+			                "fracture.length = %g m: the stress averages would take more than %d "
+			                "entries: shorten it",
+			                fmTetUserMaterial(&b->mesh, t)->fracture.length, INT_MAX);
+			break;
+		}
 		if (total + (size_t)count > capacity)
 		{
 			size_t grown = fmMax((double)(2 * capacity), (double)(total + (size_t)count + 64));
@@ -310,7 +366,12 @@ fmResult fmFracture_Prepare(fmBody* b, fmDiagnostic* diag)
 			for (int i = 0; i < n; ++i)
 				c->origin[i] = i;
 		}
-		if (!made || !fmFindNeighbours(c, m))
+		int* parent = made ? FM_ALLOC_ARRAY(int, m) : NULL;
+		made = parent != NULL && fmFindNeighbours(c, m);
+		if (made) // (a mesh of several parts is several pieces from the start)
+			c->pieceCount = fmLabelPieces(c, m, parent, c->piece);
+		FM_FREE_ARRAY(parent, int, parent != NULL ? m : 0);
+		if (!made)
 		{
 			fmFracture_Free(b);
 			return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0, "out of memory for fracture");
@@ -374,6 +435,29 @@ static void fmTetCauchy(const fmBody* b, int t, double s[6])
 	s[3] = 0.5 * (a[1] + a[3]) / J;
 	s[4] = 0.5 * (a[5] + a[7]) / J;
 	s[5] = 0.5 * (a[2] + a[6]) / J;
+}
+
+// The volume term a nodal material keeps on its vertices (fem/nodal_pressure.h) is a pressure:
+// each nodal tet's Cauchy stress gets its nodes' mean pressure on the diagonal (the tet's own
+// evaluation left the term out). False without memory.
+static bool fmAddNodalPressure(const fmBody* b, double* stress)
+{
+	const fmElasticMesh* mesh = &b->mesh;
+	double* pressure = FM_ALLOC_ARRAY(double, mesh->vertexCount);
+	if (pressure == NULL || isnan(fmNodalPressure_State(mesh, b->state.x, pressure, NULL)))
+	{
+		FM_FREE_ARRAY(pressure, double, pressure != NULL ? mesh->vertexCount : 0);
+		return false;
+	}
+	for (int t = 0; t < mesh->tetCount; ++t)
+		if (fmNodalPressure_TetIsNodal(mesh, t))
+		{
+			double p = fmNodalPressure_TetMean(mesh, pressure, t);
+			for (int k = 0; k < 3; ++k)
+				stress[6 * t + k] += p;
+		}
+	FM_FREE_ARRAY(pressure, double, mesh->vertexCount);
+	return true;
 }
 
 // The volume-weighted averages of the tets' stresses over each tet's near list (6 per tet).
@@ -441,12 +525,14 @@ double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio, 
 	double* stress = scratch != NULL ? scratch : FM_ALLOC_ARRAY(double, 12 * (size_t)m);
 	if (stress == NULL)
 		return NAN;
+	double largest = 0.0;
 	double* average = stress + 6 * (size_t)m;
 	for (int t = 0; t < m; ++t)
 		fmTetCauchy(b, t, stress + 6 * t);
+	if (fmNodalPressure_On(&b->mesh) && !fmAddNodalPressure(b, stress))
+		largest = NAN;
 	fmAverageStress(b, stress, average);
-	double largest = 0.0;
-	for (int f = 0; f < 4 * m; ++f)
+	for (int f = 0; isfinite(largest) && f < 4 * m; ++f)
 	{
 		int g = c->neighbour[f];
 		if (g < 0 || c->broken[f])
@@ -467,45 +553,7 @@ double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio, 
 	return largest;
 }
 
-// ---- pieces ------------------------------------------------------------------------------------
-
-static int fmFindRoot(int* parent, int t)
-{
-	while (parent[t] != t)
-	{
-		parent[t] = parent[parent[t]];
-		t = parent[t];
-	}
-	return t;
-}
-
-static void fmUnite(int* parent, int a, int b)
-{
-	a = fmFindRoot(parent, a);
-	b = fmFindRoot(parent, b);
-	if (a != b) // the smaller tet roots: labels follow the body's tet order
-		parent[a > b ? a : b] = a > b ? b : a;
-}
-
-// Each tet's piece (tets joined by unbroken faces), numbered by their first tet; returns the
-// count. @p parent: tetCount scratch.
-static int fmLabelPieces(const fmCracks* c, int m, int* parent, int* piece)
-{
-	for (int t = 0; t < m; ++t)
-		parent[t] = t;
-	for (int f = 0; f < 4 * m; ++f)
-		if (c->neighbour[f] >= 0 && !c->broken[f])
-			fmUnite(parent, f / 4, c->neighbour[f] / 4);
-	int count = 0;
-	for (int t = 0; t < m; ++t)
-	{
-		int root = fmFindRoot(parent, t);
-		piece[t] = root == t ? count++ : piece[root];
-	}
-	return count;
-}
-
-void fmFracture_SetBroken(fmBody* b, const uint8_t* broken)
+void fmFracture_SetBroken(fmBody* b, const uint8_t* broken, int* parent)
 {
 	fmCracks* c = b->cracks;
 	int m = b->mesh.tetCount;
@@ -513,10 +561,7 @@ void fmFracture_SetBroken(fmBody* b, const uint8_t* broken)
 	c->brokenCount = 0;
 	for (int f = 0; f < 4 * m; ++f)
 		c->brokenCount += c->broken[f] && c->neighbour[f] > f;
-	int* parent = FM_ALLOC_ARRAY(int, m);
-	if (parent != NULL) // (without room the labels stay as they were: a count, not the physics)
-		c->pieceCount = fmLabelPieces(c, m, parent, c->piece);
-	FM_FREE_ARRAY(parent, int, m);
+	c->pieceCount = fmLabelPieces(c, m, parent, c->piece);
 }
 
 // Unbreak this call's faces (@p fresh) around every piece smaller than the minimum; returns
@@ -651,7 +696,7 @@ int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 		fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
 		            "out of memory tearing a body of %d tets: it stays whole this frame", m);
 	}
-	else
+	else if (broke > 0)
 	{
 		c->brokenCount += broke;
 		c->pieceCount = fmLabelPieces(c, m, scratch, c->piece);
@@ -674,6 +719,11 @@ static int fmVertexPiece(const fmBody* b, int v)
 	                                             : -1;
 }
 
+bool fmFracture_MeetsItself(const fmBody* b)
+{
+	return b->selfCollision || (b->cracks != NULL && b->cracks->pieceCount > 1);
+}
+
 bool fmFracture_AcrossPieces(const fmBody* b, const int* v, int split, int count)
 {
 	const fmCracks* c = b->cracks;
@@ -692,13 +742,16 @@ bool fmFracture_AcrossPieces(const fmBody* b, const int* v, int split, int count
 	return true;
 }
 
-fmResult fmFracture_EndFrame(fmWorld* w)
+void fmFracture_EndFrame(fmWorld* w)
 {
 	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		fmDiagnostic diag;
+		memset(&diag, 0, sizeof diag);
 		if (fmIsland_Stepping(&w->bodies[i]) && w->bodies[i].cracks != NULL &&
-		    fmFracture_Tear(w, &w->bodies[i], &w->lastError) < 0)
-			return fm_errOutOfMemory;
-	return fm_ok;
+		    fmFracture_Tear(w, &w->bodies[i], &diag) < 0) // (the frame stands: a warning)
+			fmDiagWarn(&w->lastError, "", 0, "body %d: %s", i, diag.message);
+	}
 }
 
 // ---- public calls ------------------------------------------------------------------------------

@@ -61,11 +61,13 @@ double fmFracture_Damage(const struct fmBody* b, double* tetDamage, double* face
 int fmFracture_Tear(struct fmWorld* w, struct fmBody* b, fmDiagnostic* diag);
 
 // After a frame every stepping body's checks passed: each torn-capable body tears
-// (serially, in body order: deterministic for any worker count). Out of memory: the error.
-fmResult fmFracture_EndFrame(struct fmWorld* w);
+// (serially, in body order: deterministic for any worker count). A tear without memory leaves
+// its body whole for the frame and says so in a warning.
+void fmFracture_EndFrame(struct fmWorld* w);
 
-// The broken faces of body @p b as marked (both sides), and the pieces from them again.
-void fmFracture_SetBroken(struct fmBody* b, const uint8_t* broken);
+// The broken faces of body @p b as marked (both sides), and the pieces from them again
+// (@p parent: tetCount ints of scratch).
+void fmFracture_SetBroken(struct fmBody* b, const uint8_t* broken, int* parent);
 
 // Whether a self-contact pair of body @p b, vertices @p v[0 .. split) against v[split .. count),
 // joins two different pieces without a copy of one vertex on both sides: such a pair counts
@@ -78,3 +80,8 @@ static inline bool fmFracture_Siblings(const struct fmCracks* c, int u, int v)
 {
 	return u == v || (c != NULL && c->origin[u] == c->origin[v]);
 }
+
+// Whether body @p b's contact pairs its own surface: self-collision asked for
+// (fmBodyDef.selfCollision), or pieces (a tear's, or a mesh of several parts) that meet each
+// other whatever the body asked.
+bool fmFracture_MeetsItself(const struct fmBody* b);

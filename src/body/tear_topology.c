@@ -1,9 +1,11 @@
 // A torn body's topology (tear_topology.h).
 #include "body/tear_topology.h"
 
+#include "body/anchors.h"
 #include "body/body.h"
 #include "body/fracture.h"
 #include "body/loads.h"
+#include "body/targets.h"
 #include "core/core.h"
 #include "fem/nodal_pressure.h"
 #include "fem/tet_blocks.h"
@@ -223,9 +225,10 @@ bool fmTearTopology_Set(fmWorld* w, fmBody* b, const int* tets, int vertexCount,
 	double* whole = FM_ALLOC_ARRAY(double, b->cracks->originalVertexCount);
 	bool ok = whole != NULL && fmVertexArrays_Allocate(&a, vertexCount) &&
 	          fmFillCarried(b, tets, from, &a) && fmLoads_Renumber(b, vertexCount, from);
-	if (ok)
+	if (ok) // (nothing below fails but the nodal patches and the arena: those say so)
 	{
 		fmShareMasses(b, tets, &a, whole);
+		fmNodalPressure_Free(&b->mesh); // (sized by the vertex count it was made for)
 		fmSwapIn(b, tets, &a);
 		fmRebuildIncidence(&b->mesh);
 		for (int t = 0; t < b->mesh.tetCount; ++t)
@@ -235,41 +238,93 @@ bool fmTearTopology_Set(fmWorld* w, fmBody* b, const int* tets, int vertexCount,
 		for (int i = 0; i < b->mesh.vertexCount; ++i)
 			b->mesh.totalMass += b->mesh.mass[i];
 		fmDropDerived(b, n);
-		fmNodalPressure_Free(&b->mesh);
-		ok = fmNodalPressure_Prepare(&b->mesh, NULL) == fm_ok && fmWorldReserveArenaFor(w, b);
+		if (fmNodalPressure_Prepare(&b->mesh, NULL) != fm_ok)
+			fmDiagWarn(&w->lastError, "", 0,
+			           "out of memory for the nodal pressure of torn body %d: its tets keep "
+			           "their own volume terms",
+			           b->slot);
+		if (!fmWorldReserveArenaFor(w, b))
+			fmDiagWarn(&w->lastError, "", 0,
+			           "out of memory for the step buffers of torn body %d (%d vertices)", b->slot,
+			           vertexCount);
 		b->explicitLimit = fmWorldBodyStepLimit(w, b);
-		b->selfCollision = true; // the pieces meet each other (contact_pair.c: across pieces)
 	}
 	fmVertexArrays_Free(&a);
 	FM_FREE_ARRAY(whole, double, b->cracks->originalVertexCount);
 	return ok;
 }
 
+// Vertex i's original from the corners, checked (NULL, or what is wrong).
+static const char* fmOrigins(const fmCracks* c, const int* tets, int m, int vertexCount,
+                             int* origin)
+{
+	int n0 = c->originalVertexCount;
+	for (int i = 0; i < vertexCount; ++i)
+		origin[i] = i < n0 ? i : -1;
+	for (int e = 0; e < 4 * m; ++e)
+	{
+		int v = tets[e];
+		if (v < 0 || v >= vertexCount)
+			return "a corner out of range";
+		if (origin[v] < 0)
+			origin[v] = c->originalTets[e];
+		else if (origin[v] != c->originalTets[e])
+			return "a vertex standing for two original vertices";
+	}
+	for (int i = n0; i < vertexCount; ++i)
+		if (origin[i] < 0)
+			return "a copy no tet uses";
+	return NULL;
+}
+
 const char* fmTearTopology_Problem(const fmBody* b, const int* tets, int vertexCount)
 {
 	const fmCracks* c = b->cracks;
 	int n0 = c->originalVertexCount, m = b->mesh.tetCount;
-	if (vertexCount < n0 || vertexCount > n0 + 4 * m)
+	if (vertexCount < n0 || (int64_t)vertexCount > (int64_t)n0 + 4 * (int64_t)m)
 		return "a vertex count outside [the original count, that plus 4 per tet]";
 	int* origin = FM_ALLOC_ARRAY(int, vertexCount);
-	if (origin == NULL)
-		return "no memory to check it";
-	for (int i = 0; i < vertexCount; ++i)
-		origin[i] = i < n0 ? i : -1;
-	const char* problem = NULL;
-	for (int e = 0; e < 4 * m && problem == NULL; ++e)
+	uint8_t* used = FM_ALLOC_ZERO(uint8_t, 2 * (size_t)n0);
+	if (origin == NULL || used == NULL)
 	{
-		int v = tets[e];
-		if (v < 0 || v >= vertexCount)
-			problem = "a corner out of range";
-		else if (origin[v] < 0)
-			origin[v] = c->originalTets[e];
-		else if (origin[v] != c->originalTets[e])
-			problem = "a vertex standing for two original vertices";
+		FM_FREE_ARRAY(origin, int, origin != NULL ? vertexCount : 0);
+		FM_FREE_ARRAY(used, uint8_t, used != NULL ? 2 * (size_t)n0 : 0);
+		return FM_TEAR_NO_MEMORY;
 	}
-	for (int i = n0; i < vertexCount && problem == NULL; ++i)
-		if (origin[i] < 0)
-			problem = "a copy no tet uses";
+	const char* problem = fmOrigins(c, tets, m, vertexCount, origin);
+	// An original vertex with tets keeps its number on one of them (its mass stays finite).
+	for (int e = 0; problem == NULL && e < 4 * m; ++e)
+	{
+		used[c->originalTets[e]] = 1;
+		if (tets[e] < n0)
+			used[n0 + tets[e]] = 1;
+	}
+	for (int i = 0; problem == NULL && i < n0; ++i)
+		if (used[i] && !used[n0 + i])
+			problem = "an original vertex whose every tet went to its copies";
 	FM_FREE_ARRAY(origin, int, vertexCount);
+	FM_FREE_ARRAY(used, uint8_t, 2 * (size_t)n0);
 	return problem;
+}
+
+int fmTearTopology_HighestHeld(const fmWorld* w, const fmBody* b)
+{
+	int highest = -1;
+	for (int k = 0; k < b->targetCount; ++k)
+		highest = b->targets[k].vertex > highest ? b->targets[k].vertex : highest;
+	for (int k = 0; b->anchorTargets != NULL && k < b->anchorCount; ++k)
+		highest = b->anchorTargets[k].vertex > highest ? b->anchorTargets[k].vertex : highest;
+	const fmLoadSet* s = b->loads;
+	for (int k = 0; s != NULL && k < s->prescribedCount; ++k)
+		highest = s->prescribed[k].vertex > highest ? s->prescribed[k].vertex : highest;
+	for (int k = 0; s != NULL && k < 3 * s->followerCount; ++k)
+		highest = s->followerTriangle[k] > highest ? s->followerTriangle[k] : highest;
+	for (int i = 0; i < w->bodyCapacity; ++i) // other bodies welded to this one's vertices
+	{
+		const fmBody* o = &w->bodies[i];
+		for (int k = 0; fmBody_IsLive(o) && k < o->anchorCount; ++k)
+			if (o->anchors[k].collider < 0 && o->anchors[k].body == b->slot)
+				highest = o->anchors[k].otherVertex > highest ? o->anchors[k].otherVertex : highest;
+	}
+	return highest;
 }

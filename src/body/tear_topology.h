@@ -15,5 +15,13 @@ bool fmTearTopology_Set(struct fmWorld* w, struct fmBody* b, const int* tets, in
 
 // What is wrong with @p tets over @p vertexCount vertices as a torn topology of body @p b, or
 // NULL: every corner a copy of the original corner, every vertex used, vertex i < the original
-// count the original i.
+// count the original i and on a tet when it was; FM_TEAR_NO_MEMORY (this very string) when
+// there was no memory to check.
 const char* fmTearTopology_Problem(const struct fmBody* b, const int* tets, int vertexCount);
+
+#define FM_TEAR_NO_MEMORY "no memory to check it"
+
+// The highest vertex number of body @p b that something holds: its targets (a grab's too), its
+// attachments, its prescribed displacements and follower pressure, other bodies' welds to it;
+// -1 when none. A topology of fewer vertices would leave them past the end.
+int fmTearTopology_HighestHeld(const struct fmWorld* w, const struct fmBody* b);

@@ -1,6 +1,7 @@
 // Barrier contact inside the implicit solve (barrier_contact.h).
 #include "contact/barrier_contact.h"
 
+#include "body/fracture.h"
 #include "body/loads.h"
 #include "contact/barrier_pairs.h"
 #include "contact/collider.h"
@@ -554,7 +555,7 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot, co
 	bc->reach = fmStepReach(w, b, xStart, xPred, inertia, bc->dHat);
 	bc->slip = FM_FRICTION_SLIP_SPEED / sqrt(inertia);
 	bc->cell = fmMax(2.0 * fmMeanEdge(b), 2.0 * bc->dHat);
-	bc->self = b->selfCollision;
+	bc->self = fmFracture_MeetsItself(b);
 	bc->xStart = xStart;
 	bc->scratch = &state->barrier[worker];
 	bc->scratch->failed = false;

@@ -318,6 +318,8 @@ static bool fmApartAtRest(const fmBarrierContact* bc, const fmBarrierStencil* st
 	const fmBody* b = &bc->world->bodies[bc->slot];
 	if (fmFracture_AcrossPieces(b, st->vertex, st->edgeEdge ? 2 : 1, 4))
 		return true;
+	if (!b->selfCollision)
+		return false; // (a torn body meets only its other pieces)
 	fmVec3 p[4];
 	for (int k = 0; k < 4; ++k)
 		p[k] = fmLoad(b->mesh.x0, st->vertex[k]);

@@ -23,6 +23,7 @@
 #include "contact/contact.h"
 #include "core/det_math.h"
 
+#include "body/fracture.h"
 #include "contact/barrier_contact.h"
 #include "contact/collider.h"
 #include "contact/contact_collider.h"
@@ -106,7 +107,7 @@ bool fmContact_BodiesMeet(const fmWorld* w)
 	if (fmLiveBodies(w) >= 2)
 		return true;
 	for (int i = 0; i < w->bodyCapacity; ++i)
-		if (fmBody_IsLive(&w->bodies[i]) && w->bodies[i].selfCollision)
+		if (fmBody_IsLive(&w->bodies[i]) && fmFracture_MeetsItself(&w->bodies[i]))
 			return true;
 	return false;
 }

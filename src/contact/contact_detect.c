@@ -2,6 +2,7 @@
 #include "contact/contact_detect.h"
 
 #include "body/anchors.h"
+#include "body/fracture.h"
 #include "contact/contact_edge.h"
 #include "contact/contact_pair.h"
 #include "core/core.h"
@@ -46,7 +47,7 @@ static bool fmIsNeighbour(const fmWorld* w, int slot, int k)
 {
 	const fmBody* b = &w->bodies[slot];
 	const fmBody* o = &w->bodies[k];
-	return fmBody_IsLive(o) && (k != slot || b->selfCollision) &&
+	return fmBody_IsLive(o) && (k != slot || fmFracture_MeetsItself(b)) &&
 	       fmFiltersMeet(b->filter, o->filter) && !fmAnchors_Welded(b, o);
 }
 
@@ -86,7 +87,7 @@ static bool fmFindNeighbours(const fmWorld* w, fmContactState* s)
 	for (int slot = 0; slot < w->bodyCapacity; ++slot)
 	{
 		s->neighbourStart[slot] = count;
-		bool self = fmBody_IsLive(&w->bodies[slot]) && w->bodies[slot].selfCollision &&
+		bool self = fmBody_IsLive(&w->bodies[slot]) && fmFracture_MeetsItself(&w->bodies[slot]) &&
 		            fmBoxMeetsBody(s, slot, s->bodyLower[slot], s->bodyUpper[slot]);
 		for (int n = sweep->listStart[slot]; n <= sweep->listStart[slot + 1]; ++n)
 		{

@@ -50,6 +50,8 @@ static bool fmSelfEdges(const fmBody* b, const int e[2], const int f[2], double 
 	const int stencil[4] = {e[0], e[1], f[0], f[1]};
 	if (fmFracture_AcrossPieces(b, stencil, 2, 4))
 		return true;
+	if (!b->selfCollision)
+		return false; // (a torn body meets only its other pieces)
 	fmVec3 p = fmLoad(b->mesh.x0, e[0]), q = fmLoad(b->mesh.x0, e[1]);
 	fmVec3 r = fmLoad(b->mesh.x0, f[0]), t = fmLoad(b->mesh.x0, f[1]);
 	double sa, tb;
@@ -152,7 +154,7 @@ void fmContactEdge_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		int found = wf->query.items[c], other = s->triangleBody[found];
 		const fmBody* o = &w->bodies[other];
 		fmVec3 ilo = s->lower[found], ihi = s->upper[found];
-		if (other < slot || (other == slot && !b->selfCollision) ||
+		if (other < slot || (other == slot && !fmFracture_MeetsItself(b)) ||
 		    !fmFiltersMeet(b->filter, o->filter) || (b->asleep && o->asleep) ||
 		    fmAnchors_Welded(b, o) || hi.x < ilo.x || lo.x > ihi.x || hi.y < ilo.y ||
 		    lo.y > ihi.y || hi.z < ilo.z || lo.z > ihi.z)

@@ -35,6 +35,8 @@ static bool fmSelfCandidate(const fmBody* b, int i, const int* tri, double thick
 	const int stencil[4] = {i, tri[0], tri[1], tri[2]};
 	if (fmFracture_AcrossPieces(b, stencil, 1, 4))
 		return true;
+	if (!b->selfCollision)
+		return false; // (a torn body meets only its other pieces)
 	fmVec3 p = fmLoad(b->mesh.x0, i), a = fmLoad(b->mesh.x0, tri[0]),
 	       bb = fmLoad(b->mesh.x0, tri[1]), c = fmLoad(b->mesh.x0, tri[2]);
 	double w[3];
@@ -144,7 +146,7 @@ static double fmCandidateScore(const fmWorld* w, const fmContactState* s, int sl
 	    lo.z > thi.z)
 		return INFINITY; // the triangle's grown box is out of the vertex's reach
 	const fmBody* o = &w->bodies[other];
-	if ((other == slot && !b->selfCollision) || !fmFiltersMeet(b->filter, o->filter) ||
+	if ((other == slot && !fmFracture_MeetsItself(b)) || !fmFiltersMeet(b->filter, o->filter) ||
 	    (b->asleep && o->asleep) || fmAnchors_Welded(b, o))
 		return INFINITY;
 	const int* tri = fmContactDetect_Triangle(o, s->triangleIndex[item]);

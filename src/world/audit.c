@@ -519,7 +519,7 @@ static void fmAuditPairs(fmAuditRun* run)
 		{
 			fmAuditBody* b = &run->bodies[ib];
 			bool self = ia == ib;
-			if ((self && !a->body->selfCollision) ||
+			if ((self && !fmFracture_MeetsItself(a->body)) ||
 			    !fmAuditBoxesMeet(a->lo, a->hi, b->lo, b->hi) || !fmAuditLooksAt(run, a, b))
 				continue;
 			for (int e = 0; e < a->edgeCount; ++e)

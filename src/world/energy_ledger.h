@@ -8,8 +8,8 @@
 #pragma once
 
 #include "core/arena.h"
-#include "core/step_context.h"
 #include "core/parallel.h"
+#include "core/step_context.h"
 
 #include <femto/types.h>
 

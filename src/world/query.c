@@ -37,7 +37,8 @@ static void fmCastAtBody(const fmWorld* w, int slot, fmVec3 o, fmVec3 d, fmRayHi
 	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
 		const int* tri = b->mesh.surface + 3 * t;
-		fmVec3 a = fmLoad(b->state.x, tri[0]), bb = fmLoad(b->state.x, tri[1]), c = fmLoad(b->state.x, tri[2]);
+		fmVec3 a = fmLoad(b->state.x, tri[0]), bb = fmLoad(b->state.x, tri[1]),
+		       c = fmLoad(b->state.x, tri[2]);
 		double f = fmSegmentTriangle(o, d, a, bb, c);
 		if (!(f >= 0.0 && f < hit->fraction))
 			continue;
@@ -146,7 +147,8 @@ static bool fmOverlapBody(const fmWorld* w, int slot, fmVec3 center, double radi
 	for (int t = 0; t < b->mesh.triangleCount; ++t)
 	{
 		const int* tri = b->mesh.surface + 3 * t;
-		fmVec3 a = fmLoad(b->state.x, tri[0]), bb = fmLoad(b->state.x, tri[1]), c = fmLoad(b->state.x, tri[2]);
+		fmVec3 a = fmLoad(b->state.x, tri[0]), bb = fmLoad(b->state.x, tri[1]),
+		       c = fmLoad(b->state.x, tri[2]);
 		double wt[3];
 		fmClosestOnTriangle(center, a, bb, c, wt);
 		fmVec3 q = fmAdd(fmAdd(fmScale(wt[0], a), fmScale(wt[1], bb)), fmScale(wt[2], c));

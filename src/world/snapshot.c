@@ -28,6 +28,7 @@
 
 #include "body/anchors.h"
 #include "body/fracture.h"
+#include "body/tear_topology.h"
 #include "contact/collider.h"
 #include "contact/contact_events.h"
 #include "contact/friction_anchor.h"
@@ -788,12 +789,23 @@ static fmResult fmCheckTopologies(fmWorld* w, fmStream* s, bool* differs)
 	{
 		if (!fmBody_IsLive(&w->bodies[i]))
 			continue;
-		int check = fmSnapshotBody_CheckTopology(s, &w->bodies[i]);
+		int count = 0, check = fmSnapshotBody_CheckTopology(s, &w->bodies[i], &count);
+		if (check == -2)
+			return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
+			                   "out of memory checking the torn topology of body %d", i);
 		if (check < 0)
 			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
 			                   "the snapshot's torn topology of the body in slot %d is not one "
 			                   "it can take (another mesh, or corrupted): not restored",
 			                   i);
+		int held = fmTearTopology_HighestHeld(w, &w->bodies[i]);
+		if (check == 1 && held >= count)
+			return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0,
+			                   "the snapshot's body in slot %d has %d vertices (less torn than "
+			                   "now), but its vertex %d is held by a target, an attachment, a "
+			                   "prescribed displacement or a pressure: release them first; not "
+			                   "restored",
+			                   i, count, held);
 		*differs = *differs || check == 1;
 	}
 	return fm_ok;

@@ -258,10 +258,11 @@ static bool fmBrokenValid(const fmCracks* c, const uint8_t* broken, int tetCount
 	return true;
 }
 
-int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b)
+int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b, int* vertexCount)
 {
 	uint8_t torn = 2;
 	fmStream_Get(s, &torn, 1);
+	*vertexCount = b->cracks != NULL ? b->cracks->originalVertexCount : b->mesh.vertexCount;
 	if (s->overflow || torn > 1u || (torn == 1u && b->cracks == NULL))
 		return -1;
 	if (torn == 0u)
@@ -274,32 +275,56 @@ int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b)
 	const uint8_t* broken = s->in + s->used + sizeof(int32_t) * 4 * m;
 	int* copy = FM_ALLOC_ARRAY(int, 4 * m);
 	if (copy == NULL)
-		return -1;
+		return -2;
 	memcpy(copy, s->in + s->used, sizeof(int32_t) * 4 * m);
-	bool valid =
-	    fmTearTopology_Problem(b, copy, count) == NULL && fmBrokenValid(b->cracks, broken, (int)m);
+	const char* problem = fmTearTopology_Problem(b, copy, count);
+	bool valid = problem == NULL && fmBrokenValid(b->cracks, broken, (int)m);
 	bool same = valid && count == b->mesh.vertexCount &&
 	            memcmp(copy, b->mesh.tets, sizeof(int) * 4 * m) == 0 &&
 	            memcmp(broken, b->cracks->broken, 4 * m) == 0;
 	FM_FREE_ARRAY(copy, int, 4 * m);
 	fmStream_Skip(s, 4 * m * (sizeof(int32_t) + 1));
-	return !valid ? -1 : same ? 0 : 1;
+	*vertexCount = count;
+	return problem != NULL && strcmp(problem, FM_TEAR_NO_MEMORY) == 0 ? -2
+	       : !valid                                                   ? -1
+	       : same                                                     ? 0
+	                                                                  : 1;
+}
+
+// The record's vertex sources: a vertex the body has now with the same original keeps its own
+// state (and its loads), another takes its original's (the restore overwrites the state).
+static void fmTopologySources(const fmBody* b, const int* tets, int count, int* from)
+{
+	const fmCracks* c = b->cracks;
+	size_t m = (size_t)b->mesh.tetCount;
+	for (size_t e = 0; e < 4 * m; ++e)
+	{
+		int v = tets[e], o = c->originalTets[e];
+		from[v] = v < b->mesh.vertexCount && c->origin[v] == o ? v : o;
+	}
+	for (int i = 0; i < c->originalVertexCount && i < count; ++i)
+		from[i] = i;
 }
 
 bool fmSnapshotBody_ApplyTopology(fmStream* s, struct fmWorld* w, fmBody* b)
 {
+	fmStream probe = *s;
+	int count = 0;
+	if (fmSnapshotBody_CheckTopology(&probe, b, &count) == 0)
+	{
+		*s = probe; // (the body's own: unchanged)
+		return true;
+	}
 	uint8_t torn = 0;
 	fmStream_Get(s, &torn, 1);
 	size_t m = (size_t)b->mesh.tetCount;
-	int32_t count = b->cracks != NULL ? b->cracks->originalVertexCount : 0;
-	if (torn == 0u && !fmTorn(b))
-		return true;
 	if (torn)
-		fmStream_Get(s, &count, sizeof count);
+		fmStream_Skip(s, sizeof(int32_t));
 	int* tets = FM_ALLOC_ARRAY(int, 4 * m);
 	int* from = FM_ALLOC_ARRAY(int, (size_t)count);
+	int* parent = FM_ALLOC_ARRAY(int, m);
 	uint8_t* broken = FM_ALLOC_ZERO(uint8_t, 4 * m);
-	bool ok = tets != NULL && from != NULL && broken != NULL;
+	bool ok = tets != NULL && from != NULL && parent != NULL && broken != NULL;
 	if (ok && torn)
 	{
 		fmStream_Get(s, tets, sizeof(int32_t) * 4 * m);
@@ -307,15 +332,14 @@ bool fmSnapshotBody_ApplyTopology(fmStream* s, struct fmWorld* w, fmBody* b)
 	}
 	else if (ok)
 		memcpy(tets, b->cracks->originalTets, sizeof(int) * 4 * m);
-	for (size_t e = 0; ok && e < 4 * m; ++e) // (the record's state follows: any source does)
-		from[tets[e]] = b->cracks->originalTets[e];
-	for (int i = 0; ok && i < b->cracks->originalVertexCount; ++i)
-		from[i] = i;
+	if (ok)
+		fmTopologySources(b, tets, count, from);
 	ok = ok && fmTearTopology_Set(w, b, tets, count, from);
 	if (ok)
-		fmFracture_SetBroken(b, broken);
+		fmFracture_SetBroken(b, broken, parent);
 	FM_FREE_ARRAY(tets, int, 4 * m);
 	FM_FREE_ARRAY(from, int, (size_t)count);
+	FM_FREE_ARRAY(parent, int, m);
 	FM_FREE_ARRAY(broken, uint8_t, 4 * m);
 	return ok;
 }

@@ -41,8 +41,9 @@ size_t fmSnapshotBody_RecordBytes(fmBody* b, const void* buffer, size_t size, si
 void fmSnapshotBody_PutTopology(fmStream* s, const fmBody* b);
 
 // Check the topology record at the stream's position against body @p b (stepping over it):
-// 0 when it is the body's own, 1 when it is another the body can take, -1 when invalid.
-int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b);
+// 0 when it is the body's own, 1 when it is another the body can take, -1 when invalid, -2
+// without memory to check it; @p vertexCount gets the record's vertex count.
+int fmSnapshotBody_CheckTopology(fmStream* s, const fmBody* b, int* vertexCount);
 
 // Give body @p b the (checked) topology record at the stream's position; false when out of
 // memory.

@@ -856,8 +856,9 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	bool closed = fmCloseLedgers(w, &ctx) == fm_ok;
 	if (w->meshMotion != NULL)
 		w->meshMotion->endFrame(w, closed);
-	if (!closed || fmFracture_EndFrame(w) != fm_ok) // then the tears, from the checked state
-		return closed ? fm_errOutOfMemory : fm_errNumerical;
+	if (!closed)
+		return fm_errNumerical;
+	fmFracture_EndFrame(w); // the tears, from the checked state
 	const fmContactPoint* points;
 	w->stats.contacts = fmContactEvents_Points(w, &points);
 	if (!fmContactEvents_EndFrame(w, 1.0 / ctx.frameTime) || !fmIsland_EndFrame(w, &ctx))

@@ -7,15 +7,15 @@
 #include "contact/contact.h"
 #include "contact/contact_events.h"
 #include "contact/contact_state.h"
-#include "core/core.h"
-#include "world/explicit.h"
 #include "contact/floor.h"
-#include "fem/forces.h"
+#include "core/core.h"
 #include "core/fp_env.h"
-#include "world/implicit.h"
-#include "world/island.h"
 #include "core/simd.h"
 #include "core/timer.h"
+#include "fem/forces.h"
+#include "world/explicit.h"
+#include "world/implicit.h"
+#include "world/island.h"
 
 #include <math.h>
 #include <stdio.h>
