@@ -112,12 +112,15 @@ for source in src/*/*.c "${scene_sources[@]}" web/femto_web.c; do
   # element) -Os: 521,421 bytes, the page's frames unchanged in Node.js; then the plasticity
   # (material_plastic -Oz, the body's flow -Os: no page scene is plastic) and the snapshots' body
   # record (-Oz) with emmalloc below: 517,480; the nodal pressure -Oz (no page scene uses it);
+  # then fracture (fracture, tear_topology -Oz: no page scene tears): 519,382, against 524,130
+  # with them at -O2;
   # for some files,
   # e.g. query.c, schedule.c, grab.c, render_mesh.c, contact_events.c, embedded.c, -Os gives
   # more code, so they stay -O2).
   case "$name" in
     mesh | mesh_* | reorder | text_reader | scanner | surface_mesh | audit | snapshot | \
-      body_def | world | material_aniso | material_plastic | snapshot_body | nodal_pressure) level=-Oz ;;
+      body_def | world | material_aniso | material_plastic | snapshot_body | nodal_pressure | \
+      fracture | tear_topology) level=-Oz ;;
     island | body | step | core | draw | body_sweep | contact_detect | \
       contact_state | stability | contact | contact_ledger | femto_web | multigrid | static | \
       vbd | loads | broad_phase | targets | material_stretch | implicit | explicit | newton | \
