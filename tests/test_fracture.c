@@ -465,3 +465,57 @@ TEST(a_less_torn_snapshot_is_refused_while_its_lost_vertices_are_held)
 	free(untorn);
 	fmDestroyWorld(world);
 }
+
+// A render mesh is bound to tets, which a tear keeps: each render vertex follows its tet's
+// piece. The stretched box torn into its four layers, each layer moved by its own offset: a
+// render triangle inside each layer moves by that layer's offset.
+TEST(a_render_mesh_follows_the_pieces)
+{
+	fmWorldId world;
+	fmBodyId id = stretchedBox(&world, 1e3);
+	// one small triangle in the middle of each layer (the layers are 0.08 m high after the
+	// stretch; the rest shape's layers are 0.05 m)
+	double vertices[4 * 9];
+	int triangles[4 * 3];
+	for (int layer = 0; layer < 4; ++layer)
+	{
+		double y = 0.05 * layer + 0.025;
+		double corner[9] = {0.09, y, 0.09, 0.11, y, 0.09, 0.10, y, 0.11};
+		memcpy(vertices + 9 * layer, corner, sizeof corner);
+		for (int k = 0; k < 3; ++k)
+			triangles[3 * layer + k] = 3 * layer + k;
+	}
+	CHECK_INT(fmBody_SetRenderMesh(id, vertices, 12, triangles, 4, NULL), fm_ok);
+	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e5, 0.3);
+	m.fracture.strength = 1e3 * fmBody_ComputeDamage(id, NULL) / 1.05;
+	CHECK_INT(fmBody_SetMaterial(id, &m, NULL), fm_ok);
+	CHECK(fmBody_Fracture(id) > 0);
+	double before[36], after[36];
+	CHECK_INT(fmBody_CopyRenderPositions(id, before, NULL, 12), fm_ok);
+	int tets = fmBody_GetTetCount(id), n = fmBody_GetVertexCount(id);
+	int* piece = malloc(sizeof(int) * (size_t)tets);
+	CHECK_INT(fmBody_GetPieces(id, piece), 4);
+	double* x = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(x, fmTestPositions(id), sizeof(double) * 3 * (size_t)n);
+	const int* corners = fmBody_GetTets(id);
+	for (int e = 0; e < 4 * tets; ++e) // each vertex moved along x by its piece's number
+		x[3 * corners[e]] = fmTestPositions(id)[3 * corners[e]] + piece[e / 4];
+	fmBody_SetPositions(id, x);
+	CHECK_INT(fmBody_CopyRenderPositions(id, after, NULL, 12), fm_ok);
+	// The layers' pieces in order of height: the render triangles move by 0..3 in some order,
+	// each by a whole offset, no two alike.
+	int seen = 0;
+	for (int layer = 0; layer < 4; ++layer)
+	{
+		double shift = after[9 * layer] - before[9 * layer];
+		int offset = (int)lround(shift);
+		CHECK_NEAR(shift, (double)offset, 1e-9);
+		for (int k = 0; k < 3; ++k)
+			CHECK_NEAR(after[9 * layer + 3 * k] - before[9 * layer + 3 * k], shift, 1e-9);
+		seen |= 1 << offset;
+	}
+	CHECK_INT(seen, 15);
+	free(piece);
+	free(x);
+	fmDestroyWorld(world);
+}
