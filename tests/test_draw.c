@@ -255,6 +255,29 @@ TEST(strain_colours_follow_the_energy_density)
 	fmDestroyWorld(world);
 }
 
+// A 2 x 2 x 2 box of material @p m drawn with @p flag: every colour the ramp's zero at rest,
+// then stretched on rollers by @p stretch and solved (the caller draws again). Null on failure.
+static fmBodyId stretchedAndDrawn(int* failures_, fmMaterial m, unsigned flag, double stretch,
+                                  fmWorldId* world, fmSeen* seen, fmDebugDraw* draw)
+{
+	fmBodyId body = fmTestMakeBox(world, 2, 2, 2, fmMakeVec3(1, 1, 1), m, fm_fem);
+	CHECK(fmBody_IsValid(body));
+	if (!fmBody_IsValid(body))
+		return body;
+	*draw = drawInto(seen, flag);
+	CHECK_INT(fmWorld_Draw(*world, draw), fm_ok);
+	float zero[3];
+	fmStrainColor(0.0, zero);
+	CHECK(allColoursAre(seen, zero, 0.0f));
+	int n = fmBody_GetVertexCount(body);
+	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
+	memcpy(rest, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
+	fmTestBarOnRollers(body, rest, 1.0, stretch, true);
+	CHECK_INT(fmBody_SolveStatic(body, 1e-10, 50, NULL, NULL), fm_ok);
+	free(rest);
+	return body;
+}
+
 // Plastic strain colours: a bar stretched past yield on rollers (uniform plastic strain alpha)
 // is drawn in the ramp's colour of alpha at every vertex; an elastic body in its zero colour.
 TEST(plastic_colours_follow_the_plastic_strain)
@@ -262,28 +285,17 @@ TEST(plastic_colours_follow_the_plastic_strain)
 	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
 	m.plasticity.yieldStress = 1e3;
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), m, fm_fem);
-	CHECK(fmBody_IsValid(body));
+	fmSeen seen;
+	fmDebugDraw draw;
+	fmBodyId body = stretchedAndDrawn(failures_, m, fm_drawPlastic, 1.05, &world, &seen, &draw);
 	if (!fmBody_IsValid(body))
 		return;
-	fmSeen seen;
-	fmDebugDraw draw = drawInto(&seen, fm_drawPlastic);
-	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
-	float zero[3];
-	fmStrainColor(0.0, zero);
-	CHECK(allColoursAre(&seen, zero, 0.0f));
-	int n = fmBody_GetVertexCount(body);
-	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
-	memcpy(rest, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
-	fmTestBarOnRollers(body, rest, 1.0, 1.05, true);
-	CHECK_INT(fmBody_SolveStatic(body, 1e-10, 50, NULL, NULL), fm_ok);
 	double alpha = fmBody_GetStats(body).plasticStrain;
 	CHECK(alpha > 0.03);
 	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
 	float expected[3];
 	fmStrainColor(alpha / FM_DRAW_FULL_STRAIN, expected);
 	CHECK(allColoursAre(&seen, expected, 1e-4f));
-	free(rest);
 	freeSeen(&seen);
 	fmDestroyWorld(world);
 }
@@ -296,21 +308,11 @@ TEST(damage_colours_follow_the_traction_over_strength)
 	fmMaterial m = fmMakeMaterial(fm_neoHookean, 1e6, 0.3);
 	m.fracture.strength = 1e6; // (nothing tears: the colours are what is read)
 	fmWorldId world;
-	fmBodyId body = fmTestMakeBox(&world, 2, 2, 2, fmMakeVec3(1, 1, 1), m, fm_fem);
-	CHECK(fmBody_IsValid(body));
+	fmSeen seen;
+	fmDebugDraw draw;
+	fmBodyId body = stretchedAndDrawn(failures_, m, fm_drawDamage, 1.2, &world, &seen, &draw);
 	if (!fmBody_IsValid(body))
 		return;
-	fmSeen seen;
-	fmDebugDraw draw = drawInto(&seen, fm_drawDamage);
-	CHECK_INT(fmWorld_Draw(world, &draw), fm_ok);
-	float zero[3];
-	fmStrainColor(0.0, zero);
-	CHECK(allColoursAre(&seen, zero, 0.0f));
-	int n = fmBody_GetVertexCount(body);
-	double* rest = malloc(sizeof(double) * 3 * (size_t)n);
-	memcpy(rest, fmTestPositions(body), sizeof(double) * 3 * (size_t)n);
-	fmTestBarOnRollers(body, rest, 1.0, 1.2, true);
-	CHECK_INT(fmBody_SolveStatic(body, 1e-10, 50, NULL, NULL), fm_ok);
 	int tets = fmBody_GetTetCount(body);
 	double* tetDamage = malloc(sizeof(double) * (size_t)tets);
 	double damage = fmBody_ComputeDamage(body, tetDamage);
@@ -333,7 +335,6 @@ TEST(damage_colours_follow_the_traction_over_strength)
 	CHECK_INT(wrong, 0);
 	CHECK(atMost > 0);
 	free(tetDamage);
-	free(rest);
 	freeSeen(&seen);
 	fmDestroyWorld(world);
 }

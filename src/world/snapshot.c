@@ -828,7 +828,7 @@ static fmResult fmApplyTopologies(fmWorld* w, fmWorldId worldId, fmStream* s, vo
 	return fm_ok;
 }
 
-static fmResult fmRestoreIn(fmWorldId worldId, const void* buffer, size_t size);
+static fmResult fmRestoreIn(fmWorldId worldId, fmWorld* w, const void* buffer, size_t size);
 static fmResult fmRestoreBodies(fmWorld* w, fmStream* s, const void* buffer, size_t size);
 
 fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t size)
@@ -839,17 +839,11 @@ fmResult fmWorld_RestoreSnapshot(fmWorldId worldId, const void* buffer, size_t s
 		return fm_errInvalidId;
 	if (buffer == NULL)
 		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
-	return fmRestoreIn(worldId, buffer, size);
+	return fmRestoreIn(worldId, w, buffer, size);
 }
 
-static fmResult fmRestoreIn(fmWorldId worldId, const void* buffer, size_t size)
+static fmResult fmRestoreIn(fmWorldId worldId, fmWorld* w, const void* buffer, size_t size)
 {
-	fmWorld* w = fmGetWorld(worldId);
-	FM_ASSERT(w != NULL && buffer != NULL);
-	if (w == NULL)
-		return fm_errInvalidId;
-	if (buffer == NULL)
-		return fmDiagError(&w->lastError, fm_errParameter, "", 0, 0, "snapshot buffer is NULL");
 	// Everything is checked before anything is written: a mismatch leaves the world as it was.
 	// (Torn bodies change their topology first, the world kept to go back to.)
 	fmResult r = fmCheckSnapshot(w, buffer, size);
@@ -875,7 +869,7 @@ static fmResult fmRestoreIn(fmWorldId worldId, const void* buffer, size_t size)
 	if (r != fm_ok && backup != NULL)
 	{
 		fmDiagnostic error = w->lastError;
-		fmRestoreIn(worldId, backup, backupSize); // (the world's own: it takes it)
+		fmRestoreIn(worldId, w, backup, backupSize); // (the world's own: it takes it)
 		w->lastError = error;
 	}
 	if (backup != NULL)
