@@ -28,9 +28,9 @@ static bool fvIsAnisotropic(fmMaterialModel model)
 }
 
 // Body @p b's material under the sliders: an isotropic model from Young's modulus and Poisson's
-// ratio (with the scene's plasticity and fracture); while the sliders keep a scene's anisotropic model, each
-// body's own scene material with every modulus scaled by the Young's slider over its start, its
-// ratios and axes kept.
+// ratio (with the scene's plasticity and fracture); while the sliders keep a scene's anisotropic
+// model, each body's own scene material with every modulus scaled by the Young's slider over its
+// start, its ratios and axes kept.
 static fmMaterial fvSliderMaterial(const fvSession* s, int b)
 {
 	const fvParams* p = &s->params;

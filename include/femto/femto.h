@@ -263,8 +263,8 @@ FM_API fmResult fmCreateCollider(fmWorldId worldId, const fmColliderDef* def,
 FM_API void fmDestroyCollider(fmColliderId colliderId);
 
 /// The world floor's collider id (the null id while the world has no floor). The floor's
-/// response stays the seeds' (src/contact/floor.c), but it is reported as a collider: its contacts in
-/// fmWorld_GetContacts, its begin and end events, the force the bodies exert on it
+/// response stays the seeds' (src/contact/floor.c), but it is reported as a collider: its contacts
+/// in fmWorld_GetContacts, its begin and end events, the force the bodies exert on it
 /// (fmCollider_GetContactForce: a resting body's weight), and ray casts and overlap queries hit
 /// it. It is moved and changed only through fmWorld_SetFloor: fmCollider_SetTransform and
 /// fmCollider_SetVelocity on it assert and do nothing.
