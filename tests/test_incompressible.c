@@ -143,8 +143,8 @@ TEST(nodal_assembled_matrix_gives_the_product)
 		CHECK(worst <= 1e-12 * scale);
 		size_t n9 = 9 * (size_t)mesh->vertexCount;
 		double *fast = calloc(n9, sizeof(double)), *slow = calloc(n9, sizeof(double));
-		CHECK(fmNodalPressure_AddDiagonal(mesh, body->state.x, fast, project));
-		CHECK(fmNodalPressure_VisitHessian(mesh, body->state.x, project, sumDiagonal, slow));
+		fmNodalPressure_AddDiagonal(mesh, body->state.x, fast, project);
+		fmNodalPressure_VisitHessian(mesh, body->state.x, project, sumDiagonal, slow);
 		for (size_t k = 0; k < n9; ++k)
 			CHECK_NEAR(fast[k], slow[k], 1e-12 * scale);
 		free(fast);

@@ -412,7 +412,8 @@ TEST(pin_box_reports_what_it_caught)
 
 // No allocation per step after the first (the step arena, the solver cache): count the calls to
 // the allocator hook over frames 2..10 of explicit and implicit worlds, with Rayleigh damping
-// and springs so that every buffer a step can need is used.
+// and springs so that every buffer a step can need is used, and bodies that could tear (the
+// criterion's buffers; a nodal material's pressures) but are too strong to.
 static int s_allocations;
 static void* countingAlloc(size_t size, size_t alignment)
 {
@@ -430,12 +431,16 @@ TEST(steps_allocate_nothing_after_the_first)
 {
 	fmSetAllocator(countingAlloc, countingFree);
 	for (int integrator = 0; integrator < 2; ++integrator)
-		for (int model = 0; model < 3; ++model)
+		for (int model = 0; model < 5; ++model)
 		{
 			fmWorldDef wdef = fmDefaultWorldDef();
 			wdef.integrator = integrator ? fm_implicit : fm_explicit;
 			fmBodyDef bdef = fmDefaultBodyDef();
-			bdef.forceModel = (fmForceModel)model;
+			bdef.forceModel = model < 3 ? (fmForceModel)model : fm_fem;
+			bdef.material.fracture.strength = model >= 3 ? 1e12 : 0.0;
+			if (model == 4)
+				bdef.material.model = fm_neoHookean; // (StVK's volume term is not one of J's)
+			bdef.material.nodalPressure = model == 4;
 			bdef.rayleighMass = 0.5;
 			bdef.rayleighStiffness = 1e-4;
 			fmWorldId world;
@@ -448,9 +453,9 @@ TEST(steps_allocate_nothing_after_the_first)
 			for (int k = 0; k < 9; ++k)
 				CHECK_INT(fmWorld_Step(world, frame, substeps), fm_ok);
 			if (s_allocations != 0)
-				FAIL_AT("%s %s: %d allocations in 9 frames after the first",
-				        integrator ? "implicit" : "explicit", fmForceModelName((fmForceModel)model),
-				        s_allocations);
+				FAIL_AT("%s %s (model %d): %d allocations in 9 frames after the first",
+				        integrator ? "implicit" : "explicit", fmForceModelName(bdef.forceModel),
+				        model, s_allocations);
 			// Landed: the floor's contacts (reported as a collider's) grow their lists in the
 			// first frames on the floor, then nothing.
 			for (int k = 0; k < 80; ++k)
@@ -460,9 +465,10 @@ TEST(steps_allocate_nothing_after_the_first)
 				CHECK_INT(fmWorld_Step(world, frame, substeps), fm_ok);
 			CHECK(fmWorld_GetContacts(world, NULL, 0) > 0);
 			if (s_allocations != 0)
-				FAIL_AT("%s %s: %d allocations in 9 frames on the floor",
-				        integrator ? "implicit" : "explicit", fmForceModelName((fmForceModel)model),
-				        s_allocations);
+				FAIL_AT("%s %s (model %d): %d allocations in 9 frames on the floor",
+				        integrator ? "implicit" : "explicit", fmForceModelName(bdef.forceModel),
+				        model, s_allocations);
+			CHECK_INT(fmBody_GetBrokenFaceCount(body), 0);
 			fmDestroyWorld(world);
 		}
 	fmSetAllocator(NULL, NULL);

@@ -254,6 +254,58 @@ static uint64_t fmArrayBytes(uint64_t count, uint64_t size)
 	return count == 0 ? 0 : (count * size + 63) / 64 * 64;
 }
 
+static bool fmTears(const fmMaterial* m)
+{
+	return m->fracture.strength > 0.0;
+}
+
+static bool fmHasNodalPressure(const fmMaterial* m)
+{
+	return m->nodalPressure;
+}
+
+static bool fmYields(const fmMaterial* m)
+{
+	return m->plasticity.yieldStress > 0.0;
+}
+
+// Whether a material of @p def (the body's or a region's) has the property @p has.
+static bool fmDefAny(const fmBodyDef* def, bool (*has)(const fmMaterial*))
+{
+	bool any = def && has(&def->material);
+	for (int k = 0;
+	     def && def->regionMaterials != NULL && k < def->regionCount && k < FM_MAX_REGIONS; ++k)
+		any = any || has(&def->regionMaterials[k]);
+	return any;
+}
+
+// The bytes the materials' own state adds to a body of @p n vertices and @p m tets: plastic
+// strains, the nodal pressure's patches and scratch, the crack state.
+static uint64_t fmMaterialStateBytes(const fmBodyDef* def, uint64_t n, uint64_t m)
+{
+	const uint64_t d = sizeof(double);
+	uint64_t body = 0;
+	if (fmDefAny(def, fmYields)) // plastic strains (now and kept), rest data (before flow and kept)
+		body += 2 * fmArrayBytes(m, sizeof(double)) + 2 * fmArrayBytes(m, sizeof(fmMat3));
+	bool nodal = fmDefAny(def, fmHasNodalPressure);
+	if (nodal) // the tet parts, the patches' volumes and bulk
+		body += fmArrayBytes(def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS
+		                         ? (uint64_t)def->regionCount + 1
+		                         : 1,
+		                     sizeof(fmMaterial)) +
+		        2 * fmArrayBytes(n, d);
+	if (nodal) // the step's scratch: pressures, curvatures and one patch (about 64 vertices)
+		body += 2 * fmArrayBytes(n, d) + fmArrayBytes(64, sizeof(int)) +
+		        fmArrayBytes(64, sizeof(fmVec3));
+	if (fmDefAny(def,
+	             fmTears)) // the crack state (fracture.h); a length's averages counted at 2 a tet
+		body += fmArrayBytes(n, d) + fmArrayBytes(n, sizeof(int)) +
+		        2 * fmArrayBytes(4 * m, sizeof(int)) + fmArrayBytes(4 * m, 1) +
+		        fmArrayBytes(m, sizeof(int)) + fmArrayBytes(16 * m, d) +
+		        fmArrayBytes(m + 1, sizeof(int)) + fmArrayBytes(2 * m, sizeof(int));
+	return body;
+}
+
 // What a body allocates (body.c, force_spring.c, force_fvm.c) and what the implicit solver and
 // the static solver add at their first use (solver_cache.c fmSolverCache_Get, bsr.c fmBsr_Build):
 // counted for every body, since fmWorld_SetIntegrator() and fmBody_SolveStatic() may need them
@@ -289,22 +341,7 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 		body += fmArrayBytes(4 * m, sizeof(fmVec3));
 	if (def && def->tetFibres != NULL) // per-tet fibres
 		body += fmArrayBytes(m, sizeof(fmVec3));
-	bool plastic = def && def->material.plasticity.yieldStress > 0.0;
-	for (int k = 0;
-	     def && def->regionMaterials != NULL && k < def->regionCount && k < FM_MAX_REGIONS; ++k)
-		plastic = plastic || def->regionMaterials[k].plasticity.yieldStress > 0.0;
-	if (plastic) // plastic strains (now and kept), rest data (before flow and kept)
-		body += 2 * fmArrayBytes(m, sizeof(double)) + 2 * fmArrayBytes(m, sizeof(fmMat3));
-	bool nodal = def && def->material.nodalPressure;
-	for (int k = 0;
-	     def && def->regionMaterials != NULL && k < def->regionCount && k < FM_MAX_REGIONS; ++k)
-		nodal = nodal || def->regionMaterials[k].nodalPressure;
-	if (nodal) // the tet parts, the patches' volumes and bulk
-		body += fmArrayBytes(def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS
-		                         ? (uint64_t)def->regionCount + 1
-		                         : 1,
-		                     sizeof(fmMaterial)) +
-		        2 * fmArrayBytes(n, d);
+	body += fmMaterialStateBytes(def, n, m);
 	if (def && def->regionCount > 0 && def->regionCount <= FM_MAX_REGIONS) // per-region materials
 		body += fmArrayBytes(m, sizeof(uint16_t)) +
 		        fmArrayBytes((uint64_t)def->regionCount + 1, sizeof(fmMaterial));
@@ -315,7 +352,7 @@ fmBodyMemory fmBodyMemoryOf(int nodeCount, int tetCount, const fmBodyDef* def)
 	// of FM_MG_MIN_ROWS vertices or more the multigrid levels.
 	// The nodal pressure's pattern is the tet graph's square: 3.7 times its blocks on the house,
 	// 4.0 on a 16^3 box (fmBsr_Square), counted as 5.
-	uint64_t blocks = (n + 2 * edges) * (nodal ? 5 : 1);
+	uint64_t blocks = (n + 2 * edges) * (fmDefAny(def, fmHasNodalPressure) ? 5 : 1);
 	bool damping = def && (def->rayleighStiffness > 0.0 || (springs && def->springDamping > 0.0));
 	uint64_t solver =
 	    fmArrayBytes(16 * m, sizeof(int)) + (damping ? 2 : 1) * fmArrayBytes(9 * blocks, d) +

@@ -356,9 +356,10 @@ fmResult fmFracture_Prepare(fmBody* b, fmDiagnostic* diag)
 		c->neighbour = FM_ALLOC_ARRAY(int, 4 * (size_t)m);
 		c->broken = FM_ALLOC_ZERO(uint8_t, 4 * (size_t)m);
 		c->piece = FM_ALLOC_ZERO(int, m);
+		c->frame = FM_ALLOC_ARRAY(double, 16 * (size_t)m);
 		c->pieceCount = 1;
 		bool made = c->originalMass && c->originalTets && c->origin && c->neighbour && c->broken &&
-		            c->piece;
+		            c->piece && c->frame;
 		if (made)
 		{
 			memcpy(c->originalMass, b->mesh.mass, sizeof(double) * (size_t)n);
@@ -411,6 +412,7 @@ void fmFracture_Free(fmBody* b)
 		FM_FREE_ARRAY(c->near, int, c->nearStart[m]);
 	FM_FREE_ARRAY(c->nearStart, int, m + 1);
 	FM_FREE_ARRAY(c->piece, int, m);
+	FM_FREE_ARRAY(c->frame, double, 16 * m);
 	FM_FREE_ARRAY(c, fmCracks, 1);
 	b->cracks = NULL;
 }
@@ -439,25 +441,18 @@ static void fmTetCauchy(const fmBody* b, int t, double s[6])
 
 // The volume term a nodal material keeps on its vertices (fem/nodal_pressure.h) is a pressure:
 // each nodal tet's Cauchy stress gets its nodes' mean pressure on the diagonal (the tet's own
-// evaluation left the term out). False without memory.
-static bool fmAddNodalPressure(const fmBody* b, double* stress)
+// evaluation left the term out), read into the mesh's scratch (a pressure that is not finite
+// adds nothing, as an inverted tet's stress is zero).
+static void fmAddNodalPressure(const fmBody* b, double* stress)
 {
 	const fmElasticMesh* mesh = &b->mesh;
-	double* pressure = FM_ALLOC_ARRAY(double, mesh->vertexCount);
-	if (pressure == NULL || isnan(fmNodalPressure_State(mesh, b->state.x, pressure, NULL)))
-	{
-		FM_FREE_ARRAY(pressure, double, pressure != NULL ? mesh->vertexCount : 0);
-		return false;
-	}
+	fmNodalPressure_State(mesh, b->state.x, mesh->nodalPressure, NULL);
 	for (int t = 0; t < mesh->tetCount; ++t)
-		if (fmNodalPressure_TetIsNodal(mesh, t))
-		{
-			double p = fmNodalPressure_TetMean(mesh, pressure, t);
-			for (int k = 0; k < 3; ++k)
-				stress[6 * t + k] += p;
-		}
-	FM_FREE_ARRAY(pressure, double, mesh->vertexCount);
-	return true;
+	{
+		double p = fmNodalPressure_TetMean(mesh, mesh->nodalPressure, t);
+		for (int k = 0; k < 3 && fmNodalPressure_TetIsNodal(mesh, t) && isfinite(p); ++k)
+			stress[6 * t + k] += p;
+	}
 }
 
 // The volume-weighted averages of the tets' stresses over each tet's near list (6 per tet).
@@ -512,7 +507,7 @@ static double fmFaceTraction(const fmBody* b, const double* average, int t, int 
 	return fmDot(normal, sn);
 }
 
-double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio, double* scratch)
+double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio)
 {
 	const fmCracks* c = b->cracks;
 	int m = b->mesh.tetCount;
@@ -522,17 +517,14 @@ double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio, 
 		memset(faceRatio, 0, sizeof(double) * 4 * (size_t)m);
 	if (c == NULL || c->nearStart == NULL || !fmAnyTears(b))
 		return 0.0;
-	double* stress = scratch != NULL ? scratch : FM_ALLOC_ARRAY(double, 12 * (size_t)m);
-	if (stress == NULL)
-		return NAN;
-	double largest = 0.0;
+	double *stress = c->frame, largest = 0.0;
 	double* average = stress + 6 * (size_t)m;
 	for (int t = 0; t < m; ++t)
 		fmTetCauchy(b, t, stress + 6 * t);
-	if (fmNodalPressure_On(&b->mesh) && !fmAddNodalPressure(b, stress))
-		largest = NAN;
+	if (fmNodalPressure_On(&b->mesh))
+		fmAddNodalPressure(b, stress);
 	fmAverageStress(b, stress, average);
-	for (int f = 0; isfinite(largest) && f < 4 * m; ++f)
+	for (int f = 0; f < 4 * m; ++f)
 	{
 		int g = c->neighbour[f];
 		if (g < 0 || c->broken[f])
@@ -548,8 +540,6 @@ double fmFracture_Damage(const fmBody* b, double* tetDamage, double* faceRatio, 
 		if (tetDamage != NULL)
 			tetDamage[f / 4] = fmMax(tetDamage[f / 4], ratio);
 	}
-	if (scratch == NULL)
-		FM_FREE_ARRAY(stress, double, 12 * (size_t)m);
 	return largest;
 }
 
@@ -646,6 +636,34 @@ static int fmSplitVertices(const fmBody* b, const uint8_t* touched, int* tets, i
 	return next;
 }
 
+// Mark the faces this frame breaks (@p ratio: each face's traction over strength) in @p fresh
+// and in the crack state, none that would cut off a piece below the minimum; mark their
+// vertices in @p touched. Returns how many (each shared face once). @p scratch: 2 ints a tet;
+// @p volume: a double a tet.
+static int fmBreakFaces(const fmBody* b, fmCracks* c, const double* ratio, uint8_t* fresh,
+                        int* scratch, double* volume, uint8_t* touched)
+{
+	int m = b->mesh.tetCount;
+	size_t faces = 4 * (size_t)m;
+	for (size_t f = 0; f < faces; ++f)
+		if (ratio[f] >= 1.0 && c->neighbour[f] > (int)f)
+		{
+			fresh[f] = fresh[c->neighbour[f]] = 1;
+			c->broken[f] = c->broken[c->neighbour[f]] = 1;
+		}
+	while (fmKeepSlivers(b, c, fresh, scratch, scratch + m, volume))
+		;
+	int broke = 0;
+	for (size_t f = 0; f < faces; ++f)
+		if (fresh[f] && c->neighbour[f] > (int)f)
+		{
+			broke += 1;
+			for (int j = 0; j < 3; ++j)
+				touched[b->mesh.tets[4 * (f / 4) + (size_t)s_face[f % 4][j]]] = 1;
+		}
+	return broke;
+}
+
 int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 {
 	fmCracks* c = b->cracks;
@@ -653,7 +671,10 @@ int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 		return 0;
 	int n = b->mesh.vertexCount, m = b->mesh.tetCount;
 	size_t faces = 4 * (size_t)m;
-	double* ratio = FM_ALLOC_ARRAY(double, faces);
+	double* ratio = c->frame + 12 * (size_t)m;
+	double largest = fmFracture_Damage(b, NULL, ratio);
+	if (largest < 1.0)
+		return 0; // (nothing breaks: nothing allocated)
 	uint8_t* fresh = FM_ALLOC_ZERO(uint8_t, faces);
 	int* scratch = FM_ALLOC_ARRAY(int, 2 * (size_t)m);
 	double* volume = FM_ALLOC_ARRAY(double, m);
@@ -662,26 +683,8 @@ int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 	int* from = FM_ALLOC_ARRAY(int, n + faces); // (at most a vertex a corner)
 	int* label = FM_ALLOC_ARRAY(int, m);
 	int broke = -1;
-	if (ratio && fresh && scratch && volume && touched && tets && from && label &&
-	    !isnan(fmFracture_Damage(b, NULL, ratio, NULL)))
-	{
-		broke = 0;
-		for (size_t f = 0; f < faces; ++f)
-			if (ratio[f] >= 1.0 && c->neighbour[f] > (int)f)
-			{
-				fresh[f] = fresh[c->neighbour[f]] = 1;
-				c->broken[f] = c->broken[c->neighbour[f]] = 1;
-			}
-		while (fmKeepSlivers(b, c, fresh, scratch, scratch + m, volume))
-			;
-		for (size_t f = 0; f < faces; ++f)
-			if (fresh[f] && c->neighbour[f] > (int)f)
-			{
-				broke += 1;
-				for (int j = 0; j < 3; ++j)
-					touched[b->mesh.tets[4 * (f / 4) + (size_t)s_face[f % 4][j]]] = 1;
-			}
-	}
+	if (fresh && scratch && volume && touched && tets && from && label)
+		broke = fmBreakFaces(b, c, ratio, fresh, scratch, volume, touched);
 	if (broke > 0)
 	{
 		int count = fmSplitVertices(b, touched, tets, from, scratch, label);
@@ -701,7 +704,6 @@ int fmFracture_Tear(fmWorld* w, fmBody* b, fmDiagnostic* diag)
 		c->brokenCount += broke;
 		c->pieceCount = fmLabelPieces(c, m, scratch, c->piece);
 	}
-	FM_FREE_ARRAY(ratio, double, faces);
 	FM_FREE_ARRAY(fresh, uint8_t, faces);
 	FM_FREE_ARRAY(scratch, int, 2 * (size_t)m);
 	FM_FREE_ARRAY(volume, double, m);
@@ -792,7 +794,7 @@ double fmBody_ComputeDamage(fmBodyId bodyId, double* tetDamage)
 	fmWorld* w = fmGetWorldOfBody(bodyId);
 	fmFpEnv env = fmFpEnv_Enter(w != NULL && w->def.crossPlatformDeterminism);
 	double* damage = tetDamage != NULL ? FM_ALLOC_ARRAY(double, b->mesh.tetCount) : NULL;
-	double largest = fmFracture_Damage(b, damage, NULL, NULL);
+	double largest = fmFracture_Damage(b, damage, NULL);
 	if (damage != NULL)
 		fmToUserTets(b, damage, tetDamage);
 	else if (tetDamage != NULL) // (no room: NaN says so, as the largest does)

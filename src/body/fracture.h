@@ -29,6 +29,7 @@ typedef struct fmCracks
 	int* nearStart;          // tetCount + 1: the tets averaged into tet t's stress are
 	int* near;               // near[nearStart[t] .. nearStart[t + 1]) (itself included)
 	int* piece;              // tetCount: the piece of each tet (0 .. pieceCount - 1, body order)
+	double* frame;           // 16 per tet: a frame's criterion (stresses, averages, face ratios)
 	int pieceCount;
 	int brokenCount;  // faces broken (each shared face once)
 	double minVolume; // m^3, the smallest piece a tear may cut off
@@ -50,14 +51,14 @@ void fmFracture_Free(struct fmBody* b);
 
 // Each tet's largest traction over strength on its unbroken shared faces at the current
 // positions (@p tetDamage: tetCount, the body's order, or NULL); returns the largest (0 when
-// the body cannot break; NaN when out of memory). @p faceRatio (4 per tet, or NULL) gets each
-// face's; @p scratch: 12 doubles a tet, or NULL to allocate them for the call.
-double fmFracture_Damage(const struct fmBody* b, double* tetDamage, double* faceRatio,
-                         double* scratch);
+// the body cannot break). @p faceRatio (4 per tet, or NULL) gets each face's; @p faceRatio may
+// be the crack state's `frame + 12 tetCount` (the rest of `frame` is the call's scratch).
+double fmFracture_Damage(const struct fmBody* b, double* tetDamage, double* faceRatio);
 
 // Break every face of body @p b the criterion holds on (none that would cut off a piece below
 // the minimum volume) and split the vertices that no longer hold together. Returns the faces
-// broken, or -1 when out of memory (@p diag says so; the body is unchanged).
+// broken, or -1 when out of memory (@p diag says so; the body is unchanged). A frame that breaks
+// nothing allocates nothing (the crack state's buffers).
 int fmFracture_Tear(struct fmWorld* w, struct fmBody* b, fmDiagnostic* diag);
 
 // After a frame every stepping body's checks passed: each torn-capable body tears

@@ -59,7 +59,7 @@ typedef struct fmDrawCache
 	float* points;     // 3 per point, one per body vertex at most
 	int pointCapacity; // the body's vertices
 	int damageTets;    // tets of the damage scratch (made on the first damage draw of a torn body)
-	double* damage;    // 13 per tet: each tet's damage, then fmFracture_Damage's scratch
+	double* damage;    // each tet's damage
 } fmDrawCache;
 
 // Release a draw cache; NULL is fine.
@@ -75,7 +75,7 @@ static void fmDrawCache_Free(fmDrawCache* c)
 	FM_FREE_ARRAY(c->normals, float, 3 * n);
 	FM_FREE_ARRAY(c->colors, float, 3 * n);
 	FM_FREE_ARRAY(c->edges, int, 2 * (size_t)c->edgeCount);
-	FM_FREE_ARRAY(c->damage, double, 13 * (size_t)c->damageTets);
+	FM_FREE_ARRAY(c->damage, double, c->damageTets);
 	FM_FREE_ARRAY(c->lines, float, 6 * (size_t)c->lineCapacity);
 	FM_FREE_ARRAY(c->points, float, 3 * (size_t)c->pointCapacity);
 	FM_FREE_ARRAY(c, fmDrawCache, 1);
@@ -239,11 +239,12 @@ static void fmDrawDamageColors(const fmBody* b, fmDrawCache* c)
 	int m = b->mesh.tetCount;
 	if (b->cracks != NULL && c->damage == NULL)
 	{
-		c->damage = FM_ALLOC_ARRAY(double, 13 * (size_t)m);
+		c->damage = FM_ALLOC_ARRAY(double, m);
 		c->damageTets = c->damage != NULL ? m : 0;
 	}
-	bool known = b->cracks != NULL && c->damage != NULL &&
-	             !isnan(fmFracture_Damage(b, c->damage, NULL, c->damage + m));
+	bool known = b->cracks != NULL && c->damage != NULL;
+	if (known)
+		fmFracture_Damage(b, c->damage, NULL);
 	for (int v = 0; v < c->vertexCount; ++v)
 	{
 		int i = c->vertex[v];

@@ -75,6 +75,13 @@ typedef struct fmElasticMesh
 	double* patchVolume; // m^3, 0 for a vertex without a nodal tet
 	double* patchBulk;   // Pa m^3: sum of V_e kappa_e / 4
 	int nodalLaw;        // fmNodalLaw (nodal_pressure.h) of the nodal materials
+	// A step's scratch, made with the patches (no allocation per step): the patches' pressures
+	// and curvatures (vertexCount each), and one patch's vertices and gradients (patchMost).
+	double* nodalPressure;
+	double* nodalCurvature;
+	int* patchVertices;
+	fmVec3* patchGrads;
+	int patchMost;
 	fmForceModel forceModel;
 
 	double totalMass; // kg

@@ -52,8 +52,15 @@ void fmNodalPressure_Free(fmElasticMesh* mesh)
 	FM_FREE_ARRAY(mesh->tetParts, fmMaterial, count);
 	FM_FREE_ARRAY(mesh->patchVolume, double, mesh->vertexCount);
 	FM_FREE_ARRAY(mesh->patchBulk, double, mesh->vertexCount);
+	FM_FREE_ARRAY(mesh->nodalPressure, double, mesh->vertexCount);
+	FM_FREE_ARRAY(mesh->nodalCurvature, double, mesh->vertexCount);
+	FM_FREE_ARRAY(mesh->patchVertices, int, mesh->patchMost);
+	FM_FREE_ARRAY(mesh->patchGrads, fmVec3, mesh->patchMost);
 	mesh->tetParts = NULL;
-	mesh->patchVolume = mesh->patchBulk = NULL;
+	mesh->patchVolume = mesh->patchBulk = mesh->nodalPressure = mesh->nodalCurvature = NULL;
+	mesh->patchVertices = NULL;
+	mesh->patchGrads = NULL;
+	mesh->patchMost = 0;
 }
 
 // The tet parts, the law and the patches (zeroed, then summed over the nodal tets) from the
@@ -118,7 +125,14 @@ fmResult fmNodalPressure_Prepare(fmElasticMesh* mesh, fmDiagnostic* diag)
 	mesh->tetParts = FM_ALLOC_ARRAY(fmMaterial, count);
 	mesh->patchVolume = FM_ALLOC_ARRAY(double, n);
 	mesh->patchBulk = FM_ALLOC_ARRAY(double, n);
-	if (mesh->tetParts == NULL || mesh->patchVolume == NULL || mesh->patchBulk == NULL)
+	mesh->nodalPressure = FM_ALLOC_ARRAY(double, n);
+	mesh->nodalCurvature = FM_ALLOC_ARRAY(double, n);
+	mesh->patchMost = fmNodalPressure_MaxPatch(mesh);
+	mesh->patchVertices = FM_ALLOC_ARRAY(int, mesh->patchMost);
+	mesh->patchGrads = FM_ALLOC_ARRAY(fmVec3, mesh->patchMost);
+	if (mesh->tetParts == NULL || mesh->patchVolume == NULL || mesh->patchBulk == NULL ||
+	    mesh->nodalPressure == NULL || mesh->nodalCurvature == NULL ||
+	    (mesh->patchMost > 0 && (mesh->patchVertices == NULL || mesh->patchGrads == NULL)))
 	{
 		fmNodalPressure_Free(mesh);
 		return fmDiagError(diag, fm_errOutOfMemory, "", 0, 0,
@@ -218,9 +232,7 @@ void fmNodalPressure_TetGradients(const fmElasticMesh* mesh, const double* x, in
 
 double fmNodalPressure_AddForces(const fmElasticMesh* mesh, const double* x, double* f)
 {
-	double* pressure = FM_ALLOC_ARRAY(double, mesh->vertexCount);
-	if (pressure == NULL)
-		return NAN;
+	double* pressure = mesh->nodalPressure;
 	double energy = fmNodalPressure_State(mesh, x, pressure, NULL);
 	for (int t = 0; f != NULL && t < mesh->tetCount; ++t)
 	{
@@ -235,7 +247,6 @@ double fmNodalPressure_AddForces(const fmElasticMesh* mesh, const double* x, dou
 			fmStore(f, v, fmSub(fmLoad(f, v), fmScale(4.0 * p, grad[a])));
 		}
 	}
-	FM_FREE_ARRAY(pressure, double, mesh->vertexCount);
 	return energy;
 }
 
@@ -319,18 +330,15 @@ typedef void fmNodalPatchFcn(void* context, double c, int count, const int* vert
 
 // The Hessian's blocks to @p visit, each patch's term to @p patch instead when it is not NULL
 // (a product or a diagonal: O(patch) instead of O(patch^2)).
-static bool fmVisitHessian(const fmElasticMesh* mesh, const double* x, int project,
+static void fmVisitHessian(const fmElasticMesh* mesh, const double* x, int project,
                            fmNodalBlockFcn* visit, fmNodalPatchFcn* patch, void* context)
 {
-	size_t n = (size_t)mesh->vertexCount, most = (size_t)fmNodalPressure_MaxPatch(mesh);
-	double* pressure = FM_ALLOC_ARRAY(double, n);
-	double* curvature = FM_ALLOC_ARRAY(double, n);
-	int* vertices = FM_ALLOC_ARRAY(int, most);
-	fmVec3* grads = FM_ALLOC_ARRAY(fmVec3, most);
-	bool ok = pressure && curvature && vertices && grads;
-	if (ok)
-		fmNodalPressure_State(mesh, x, pressure, curvature);
-	for (int a = 0; ok && a < mesh->vertexCount; ++a)
+	double* pressure = mesh->nodalPressure;
+	double* curvature = mesh->nodalCurvature;
+	int* vertices = mesh->patchVertices;
+	fmVec3* grads = mesh->patchGrads;
+	fmNodalPressure_State(mesh, x, pressure, curvature);
+	for (int a = 0; a < mesh->vertexCount; ++a)
 	{
 		double c = project ? fmMax(curvature[a], 0.0) : curvature[a];
 		int count = c != 0.0 ? fmNodalPressure_Patch(mesh, x, a, vertices, grads) : 0;
@@ -350,19 +358,13 @@ static bool fmVisitHessian(const fmElasticMesh* mesh, const double* x, int proje
 				visit(context, vertices[b], vertices[d], block);
 			}
 	}
-	if (ok)
-		fmVisitTetTerms(mesh, x, pressure, project, visit, context);
-	FM_FREE_ARRAY(pressure, double, n);
-	FM_FREE_ARRAY(curvature, double, n);
-	FM_FREE_ARRAY(vertices, int, most);
-	FM_FREE_ARRAY(grads, fmVec3, most);
-	return ok;
+	fmVisitTetTerms(mesh, x, pressure, project, visit, context);
 }
 
-bool fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, int project,
+void fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, int project,
                                   fmNodalBlockFcn* visit, void* context)
 {
-	return fmVisitHessian(mesh, x, project, visit, NULL, context);
+	fmVisitHessian(mesh, x, project, visit, NULL, context);
 }
 
 typedef struct fmNodalProduct
@@ -393,11 +395,11 @@ static void fmAddPatchProduct(void* context, double c, int count, const int* ver
 		fmStore(p->out, vertices[b], fmMulAdd(fmLoad(p->out, vertices[b]), c * dot, grads[b]));
 }
 
-bool fmNodalPressure_AddProduct(const fmElasticMesh* mesh, const double* x, const double* dx,
+void fmNodalPressure_AddProduct(const fmElasticMesh* mesh, const double* x, const double* dx,
                                 double* out, int project)
 {
 	fmNodalProduct p = {dx, out};
-	return fmVisitHessian(mesh, x, project, fmAddBlockProduct, fmAddPatchProduct, &p);
+	fmVisitHessian(mesh, x, project, fmAddBlockProduct, fmAddPatchProduct, &p);
 }
 
 static void fmAddDiagonalBlock(void* context, int row, int column, const double block[9])
@@ -420,10 +422,10 @@ static void fmAddPatchDiagonal(void* context, double c, int count, const int* ve
 	}
 }
 
-bool fmNodalPressure_AddDiagonal(const fmElasticMesh* mesh, const double* x, double* blocks,
+void fmNodalPressure_AddDiagonal(const fmElasticMesh* mesh, const double* x, double* blocks,
                                  int project)
 {
-	return fmVisitHessian(mesh, x, project, fmAddDiagonalBlock, fmAddPatchDiagonal, blocks);
+	fmVisitHessian(mesh, x, project, fmAddDiagonalBlock, fmAddPatchDiagonal, blocks);
 }
 
 static void fmAddBlockRowSums(void* context, int row, int column, const double block[9])
@@ -434,8 +436,8 @@ static void fmAddBlockRowSums(void* context, int row, int column, const double b
 		rowSum[3 * row + r / 3] += fabs(block[r]);
 }
 
-bool fmNodalPressure_AddRowSums(const fmElasticMesh* mesh, const double* x, double* rowSum)
+void fmNodalPressure_AddRowSums(const fmElasticMesh* mesh, const double* x, double* rowSum)
 {
 	// Each visited block's absolute row sums: at least those of the blocks summed.
-	return fmNodalPressure_VisitHessian(mesh, x, 0, fmAddBlockRowSums, rowSum);
+	fmNodalPressure_VisitHessian(mesh, x, 0, fmAddBlockRowSums, rowSum);
 }

@@ -22,7 +22,8 @@ typedef enum fmNodalLaw
 	fm_nodalQuadratic, // neohookean-isochoric: kappa/2 (J - 1)^2
 } fmNodalLaw;
 
-// Make the mesh's nodal data from its materials (tetParts, patchVolume, patchBulk, nodalLaw),
+// Make the mesh's nodal data from its materials (tetParts, patchVolume, patchBulk, nodalLaw,
+// and the step's scratch: the calls below allocate nothing and run one at a time on a mesh),
 // or free it when no material has nodalPressure. Fails (mesh unchanged) with fm_errParameter
 // when the nodal materials' volume laws differ, fm_errOutOfMemory without memory.
 fmResult fmNodalPressure_Prepare(fmElasticMesh* mesh, fmDiagnostic* diag);
@@ -44,12 +45,12 @@ static inline bool fmNodalPressure_On(const fmElasticMesh* mesh)
 bool fmNodalPressure_TetIsNodal(const fmElasticMesh* mesh, int t);
 
 // The patches' state at @p x: the nodal pressures p (vertexCount) and, when @p curvature is not
-// NULL, c_a (vertexCount). Returns the nodal energy sum_a W_a U(J_a) (J); NaN without memory.
+// NULL, c_a (vertexCount). Returns the nodal energy sum_a W_a U(J_a) (J).
 double fmNodalPressure_State(const fmElasticMesh* mesh, const double* x, double* pressure,
                              double* curvature);
 
 // The nodal energy at @p x with its forces -dE/dx added to @p f (when not NULL): serial, in tet
-// order (the same bits for any worker count). Returns the energy (J); NaN without memory.
+// order (the same bits for any worker count). Returns the energy (J).
 double fmNodalPressure_AddForces(const fmElasticMesh* mesh, const double* x, double* f);
 
 // dS_a/dx_b's share from tet @p t at @p x: grad[b] = V_t / 4 dJ_t/dx_b for its four nodes b.
@@ -75,8 +76,8 @@ int fmNodalPressure_Patch(const fmElasticMesh* mesh, const double* x, int a, int
                           fmVec3* grads);
 
 // The absolute row sums of the nodal term's Hessian at @p x added to @p rowSum (3 per vertex),
-// for the explicit stability limit's Gershgorin bound. False without memory.
-bool fmNodalPressure_AddRowSums(const fmElasticMesh* mesh, const double* x, double* rowSum);
+// for the explicit stability limit's Gershgorin bound.
+void fmNodalPressure_AddRowSums(const fmElasticMesh* mesh, const double* x, double* rowSum);
 
 // A 3x3 block (row-major) of the nodal term's Hessian at (vertex @p row, vertex @p column).
 typedef void fmNodalBlockFcn(void* context, int row, int column, const double block[9]);
@@ -84,14 +85,14 @@ typedef void fmNodalBlockFcn(void* context, int row, int column, const double bl
 // Every block of the nodal term's Hessian at @p x (made PSD when @p project: the patches'
 // curvatures clamped at 0, the tets' pressure terms left out), handed to @p visit in
 // a fixed order (the patches by vertex, then the tets); a block pair may come several times and
-// is summed. False without memory (nothing visited).
-bool fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, int project,
+// is summed.
+void fmNodalPressure_VisitHessian(const fmElasticMesh* mesh, const double* x, int project,
                                   fmNodalBlockFcn* visit, void* context);
 
-// out += H dx, H the nodal term's Hessian (fmNodalPressure_VisitHessian). False without memory.
-bool fmNodalPressure_AddProduct(const fmElasticMesh* mesh, const double* x, const double* dx,
+// out += H dx, H the nodal term's Hessian (fmNodalPressure_VisitHessian).
+void fmNodalPressure_AddProduct(const fmElasticMesh* mesh, const double* x, const double* dx,
                                 double* out, int project);
 
-// Its diagonal blocks added to @p blocks (9 per vertex). False without memory.
-bool fmNodalPressure_AddDiagonal(const fmElasticMesh* mesh, const double* x, double* blocks,
+// Its diagonal blocks added to @p blocks (9 per vertex).
+void fmNodalPressure_AddDiagonal(const fmElasticMesh* mesh, const double* x, double* blocks,
                                  int project);
