@@ -572,7 +572,17 @@ bool fmBarrierContact_Begin(fmBarrierContact* bc, const fmWorld* w, int slot, co
 		bc->scratch = NULL;
 		return true;
 	}
-	bc->scratch->candidateCount = -1;
+	// The candidates cover the path to the inertial prediction (where the first guess and, in
+	// motion, the first iterations lie), not only the start: one gather a step, not two.
+	fmBarrierScratch* s = bc->scratch;
+	const int n3 = 3 * b->mesh.vertexCount;
+	s->candidateCount = -1;
+	if (!fmGrowArray((void**)&s->gradient, &s->gradientCapacity, 0, n3, sizeof(double)))
+		return false;
+	for (int k = 0; k < n3; ++k)
+		s->gradient[k] = xPred[k] - xStart[k]; // (the work's buffer, free here)
+	if (!fmBarrierPairs_Cover(bc, xStart, s->gradient))
+		return false;
 	bool ok = fmLagFriction(bc);
 	bc->touching = ok && bc->scratch->pairCount > 0;
 	return ok;
