@@ -2892,6 +2892,58 @@ TEST(explicit_folding_bar_never_crosses_itself)
 // speed (1 m/s by default) with every tet upright. (Before the sink: its inside half was pushed
 // to the surface in one step, 43 tets inside out and the box stuck flat on the collider; under
 // the penalty it was catapulted at 11 m/s.)
+// A barrier world looks for vertices caught inside another body only when something outside its
+// solves can have put them there (fmContact_BeginFrame). A prescribed displacement is such a
+// thing: it drives a small box into a larger one, is cleared, and the caught vertices must come
+// out (pushed at the depenetration speed) as they did when every frame looked. A frame that
+// skipped the search while the box moved, or after it stopped with vertices still inside, leaves
+// them inside for good (the barrier cannot undo a crossing).
+TEST(a_box_driven_into_another_comes_out_when_let_go)
+{
+	fmWorldDef wdef = fmDefaultWorldDef();
+	wdef.integrator = fm_implicit;
+	wdef.floor.height = 0.0;
+	wdef.floor.friction = fm_floorCoulomb;
+	fmWorldId world = fmCreateWorld(&wdef);
+	fmBodyDef def = softDef(1e5);
+	fmBodyId base =
+	    addBox(failures_, world, 4, fmMakeVec3(-0.2, 0.0, -0.2), fmMakeVec3(0.2, 0.4, 0.2), &def);
+	fmBodyId top =
+	    addBox(failures_, world, 2, fmMakeVec3(-0.1, 0.5, -0.1), fmMakeVec3(0.1, 0.7, 0.1), &def);
+	CHECK(fmBody_IsValid(base) && fmBody_IsValid(top));
+	// Every vertex of the small box, 0.25 m down over 0.25 s: its bottom 0.15 m into the base.
+	CHECK_INT(fmBody_PrescribeDisplacement(top, fmMakeVec3(-1.0, 0.45, -1.0),
+	                                       fmMakeVec3(1.0, 0.75, 1.0), 7,
+	                                       fmMakeVec3(0.0, -0.25, 0.0), 0.25),
+	          27);
+	int failed = 0, mostInside = 0;
+	fmContactAudit audit;
+	memset(&audit, 0, sizeof audit);
+	for (int f = 0; f < 20; ++f)
+	{
+		failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+		CHECK_INT(fmWorld_AuditContact(world, &audit), fm_ok);
+		mostInside = audit.verticesInside > mostInside ? audit.verticesInside : mostInside;
+	}
+	fmBody_ClearLoads(top);
+	for (int i = 0; i < fmBody_GetVertexCount(top); ++i)
+		fmBody_SetPinned(top, i, false);
+	int frames = 0;
+	for (; frames < 240 && (audit.verticesInside > 0 || audit.crossings > 0); ++frames)
+	{
+		failed += fmWorld_Step(world, 1.0 / 60.0, 1) != fm_ok;
+		CHECK_INT(fmWorld_AuditContact(world, &audit), fm_ok);
+	}
+	printf("  driven in: up to %d vertices inside; let go, out after %d frames (%d inside, %d "
+	       "crossings), %d refused frames\n",
+	       mostInside, frames, audit.verticesInside, audit.crossings, failed);
+	CHECK(mostInside > 0); // (the press did put vertices inside: the search had work)
+	CHECK_INT(audit.verticesInside, 0);
+	CHECK_INT(audit.crossings, 0);
+	CHECK_INT(failed, 0);
+	fmDestroyWorld(world);
+}
+
 TEST(body_made_inside_a_collider_comes_out_at_the_depenetration_speed)
 {
 	fmWorldDef wdef = fmDefaultWorldDef();

@@ -24,6 +24,7 @@
 #include "core/det_math.h"
 
 #include "body/fracture.h"
+#include "body/loads.h"
 #include "contact/barrier_contact.h"
 #include "contact/collider.h"
 #include "contact/contact_collider.h"
@@ -195,9 +196,49 @@ static bool fmBodyContactArrays(fmBody* b)
 	       b->contact.friction != NULL && b->contact.frictionNext != NULL;
 }
 
+// A fingerprint of every live body's positions with its slot and vertex count (FNV-1a on
+// 64-bit words, four lanes): a single changed word always changes it.
+static uint64_t fmPositionsPrint(const fmWorld* w)
+{
+	const uint64_t prime = 1099511628211ull;
+	uint64_t lane[4] = {1469598103934665603ull, 1, 2, 3};
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		const fmBody* b = &w->bodies[i];
+		if (!fmBody_IsLive(b))
+			continue;
+		lane[0] = (lane[0] ^ ((uint64_t)i << 32 | (uint32_t)b->mesh.vertexCount)) * prime;
+		const int n3 = 3 * b->mesh.vertexCount;
+		for (int k = 0; k < n3; ++k)
+		{
+			uint64_t bits;
+			memcpy(&bits, &b->state.x[k], sizeof bits);
+			lane[k & 3] = (lane[k & 3] ^ bits) * prime;
+		}
+		for (int j = 1; j < 4; ++j)
+			lane[0] = (lane[0] ^ lane[j]) * prime;
+	}
+	return lane[0];
+}
+
+// Whether a barrier world's frame must look for embedded vertices (fmContact_BeginFrame). A
+// prescribed displacement moving now keeps the next frame's search due too (it may move its
+// vertices in this frame's later substeps, after the search).
+static bool fmEmbeddedSearchDue(fmWorld* w)
+{
+	bool due = w->embeddedDue || fmPositionsPrint(w) != w->positionsPrint, moving = false;
+	for (int i = 0; i < w->bodyCapacity; ++i)
+	{
+		const fmBody* b = &w->bodies[i];
+		due = due || (fmBody_IsLive(b) && b->contact.overlapWith[0] != 0);
+		moving = moving || (fmBody_IsLive(b) && fmLoads_Moving(b));
+	}
+	w->embeddedDue = moving;
+	return due || moving;
+}
+
 void fmContact_BeginFrame(fmWorld* w)
 {
-	w->embeddedSearch = true;
 	for (int i = 0; i < w->bodyCapacity; ++i)
 		if (w->bodies[i].contact.embeddedHolder != NULL)
 		{
@@ -205,6 +246,7 @@ void fmContact_BeginFrame(fmWorld* w)
 			memset(w->bodies[i].contact.embeddedHolder, 0,
 			       sizeof(int) * (size_t)w->bodies[i].mesh.vertexCount);
 		}
+	w->embeddedSearch = !fmBarrierContact_Active(w) || fmEmbeddedSearchDue(w);
 	if (w->contactState != NULL)
 		w->contactState->pairCount = 0; // what a failed frame left
 
@@ -249,6 +291,11 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		{
 			const fmPairContact* found = &s->found[k];
 			fmContactPair_WakeSleeper(w, found);
+			// Behind the face it found, over its inside (crossing, or inside but within
+			// reach): the next frame looks for embedded vertices too, which the solves' moves
+			// may make deeper. (Behind an edge or a corner is not telling: a concave corner.)
+			w->embeddedDue = w->embeddedDue || (found->depth > thickness && found->w[0] > 0.0 &&
+			                                    found->w[1] > 0.0 && found->w[2] > 0.0);
 			if (found->embedded)
 				w->bodies[found->body].contact.embeddedHolder[found->vertex] = found->other + 1;
 			s->pairContacts[s->pairContactCount++] = *found;
@@ -369,7 +416,9 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 		if (w->colliders[k].inUse)
 			fmMoveCollider(&w->colliders[k], ctx->substep);
 	s->pointCount = 0;
+	s->colliderMoved = false;
 	bool ok = fmContactCollider_Collide(w, s, thickness);
+	w->embeddedSearch = w->embeddedSearch || s->colliderMoved; // (outside the barrier's CCD)
 	if (ok && fmContact_BodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
@@ -378,4 +427,11 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 		w->bodies[s->logged[k].body].contact.mark[s->logged[k].vertex] = 0;
 	s->loggedCount = 0;
 	return ok;
+}
+
+int fmContact_EndFrame(fmWorld* w)
+{
+	if (fmBarrierContact_Active(w))
+		w->positionsPrint = fmPositionsPrint(w);
+	return w->contactState != NULL ? w->contactState->pointCount : 0;
 }

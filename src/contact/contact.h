@@ -37,8 +37,17 @@ bool fmContact_FloorFriction(const fmWorld* world);
 
 // Start of a frame: collider impulses zeroed; the frame's first body-body detection will look
 // for vertices embedded in another body (embedded.h), to be pushed out by at most the floor's
-// depenetration speed in that substep and in the frame's later ones.
+// depenetration speed in that substep and in the frame's later ones. In a barrier world, whose
+// solves never put a vertex inside another body, only when something else can have: a new world
+// or integrator, positions moved since the last frame's end (set, restored, solved statically,
+// written through a pointer, torn), an overlap found in the last frame, moving prescribed
+// displacements (and, in the substep, a collider's push: fmContact_Substep).
 void fmContact_BeginFrame(fmWorld* world);
+
+// End of a frame that passed its checks: the positions' fingerprint the next frame's start
+// compares (a barrier world looks for embedded vertices only after something moved them outside
+// the solves). Returns the last substep's contacts.
+int fmContact_EndFrame(fmWorld* world);
 
 // Whether the implicit solves hold bodies off the colliders with a barrier and bound their
 // steps (penalty.h): an implicit world of the Newton solver. Its kinematic colliders move at

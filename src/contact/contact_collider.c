@@ -131,6 +131,7 @@ static bool fmVertexVsCollider(fmWorld* w, fmContactState* s, int slot, int i, i
 	                   : 0.0;
 	if (creep > 0.0)
 		x = fmMulAdd(x, creep, fmMulAdd(taken, -fmDot(taken, n), n));
+	s->colliderMoved = s->colliderMoved || x.x != before.x || x.y != before.y || x.z != before.z;
 	fmStore(b->state.x, i, x);
 	fmStore(b->state.v, i, fmAdd(vc, relative));
 	fmContactResponse_KeepPins(b, i, before);

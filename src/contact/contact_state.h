@@ -83,8 +83,9 @@ typedef struct fmEdgeContact
 typedef struct fmContactState
 {
 	fmSpatialHash hash;
-	fmTetHash tetHash; // the near bodies' tets: vertices embedded deeper than the reach
-	bool tetHashReady; // built for this detection (the frame's first)
+	fmTetHash tetHash;  // the near bodies' tets: vertices embedded deeper than the reach
+	bool tetHashReady;  // built for this detection (the frame's first)
+	bool colliderMoved; // the substep's collider stage moved a vertex (contact_collider.c)
 	int triangleCapacity;
 	fmVec3* lower; // per global triangle: its box
 	fmVec3* upper;

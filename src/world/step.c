@@ -859,8 +859,7 @@ static fmResult fmWorldStep(fmWorld* w, double timeStep, int subStepCount)
 	if (!closed)
 		return fm_errNumerical;
 	fmFracture_EndFrame(w); // the tears, from the checked state
-	const fmContactPoint* points;
-	w->stats.contacts = fmContactEvents_Points(w, &points);
+	w->stats.contacts = fmContact_EndFrame(w);
 	if (!fmContactEvents_EndFrame(w, 1.0 / ctx.frameTime) || !fmIsland_EndFrame(w, &ctx))
 		return fmDiagError(&w->lastError, fm_errOutOfMemory, "", 0, 0,
 		                   "out of memory for the contact or sleep events");

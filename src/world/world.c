@@ -227,6 +227,7 @@ fmWorldId fmCreateWorld(const fmWorldDef* def)
 		w->inUse = true;
 		w->fastCollider = -1;
 		w->verticesEpoch = 1;
+		w->embeddedDue = true;
 		w->def = *def;
 		w->bodyCapacity = def->maxBodies;
 		w->solverOptions = fmDefaultSolverOptions();
@@ -390,6 +391,7 @@ void fmWorld_SetIntegrator(fmWorldId worldId, fmIntegrator integrator)
 	{
 		w->def.integrator = integrator;
 		w->warnedStep = false;
+		w->embeddedDue = true; // (an explicit state may hold vertices inside other bodies)
 	}
 }
 

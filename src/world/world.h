@@ -63,6 +63,12 @@ typedef struct fmWorld
 	const struct fmAnchorStages* anchorStages;
 	double contactStep;  // s, the substep the contact stage is working on
 	bool embeddedSearch; // the frame's first body-body detection looks for embedded vertices
+	// Barrier worlds look for them only where something outside the solve can have put a vertex
+	// inside another body (fmContact_BeginFrame): embeddedDue (a new world, another
+	// integrator), positions that differ from the last frame's end (positionsPrint, its
+	// fingerprint), a known overlap, moving prescribed displacements, a collider's push.
+	bool embeddedDue;
+	uint64_t positionsPrint;
 	// Within fmWorld_Step (stepKnown): what no stage of a step changes and every body's step
 	// asks, each an O(bodies) loop (fmContact_Thickness, fmContact_BodiesMeet).
 	bool stepKnown;
