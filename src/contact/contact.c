@@ -418,7 +418,9 @@ bool fmContact_Substep(fmWorld* w, const fmStepContext* ctx)
 	s->pointCount = 0;
 	s->colliderMoved = false;
 	bool ok = fmContactCollider_Collide(w, s, thickness);
-	w->embeddedSearch = w->embeddedSearch || s->colliderMoved; // (outside the barrier's CCD)
+	// A barrier world's collider stage moved a vertex outside the solves' CCD: this substep's
+	// detection looks (explicit worlds look once a frame whatever moved).
+	w->embeddedSearch = w->embeddedSearch || (s->colliderMoved && fmBarrierContact_Active(w));
 	if (ok && fmContact_BodiesMeet(w))
 		ok = fmCollideBodies(w, s, thickness);
 	for (int slot = 0; ok && slot < w->bodyCapacity; ++slot)
