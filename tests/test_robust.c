@@ -468,7 +468,7 @@ static fmBodyDef allocationBody(int k, const char** name)
 TEST(steps_allocate_nothing_after_the_first)
 {
 	fmSetAllocator(countingAlloc, countingFree);
-	// (Under the sanitizers issue 34's laws step implicitly only: explicit, 64 s of ASan.)
+	// (Under the sanitizers issue 34's laws step implicitly only, in the air: 64 s of ASan else.)
 	for (int integrator = 0; integrator < 2; ++integrator)
 		for (int k = 0; k < fmTestCount(ALLOCATION_CASES, integrator ? ALLOCATION_CASES : 3); ++k)
 		{
@@ -491,7 +491,13 @@ TEST(steps_allocate_nothing_after_the_first)
 				FAIL_AT("%s %s: %d allocations in 9 frames after the first",
 				        integrator ? "implicit" : "explicit", name, s_allocations);
 			// Landed: the floor's contacts (reported as a collider's) grow their lists in the
-			// first frames on the floor, then nothing.
+			// first frames on the floor, then nothing. (Under the sanitizers issue 34's laws
+			// stop in the air.)
+			if (k >= 3 && fmTestCount(0, 1) == 1)
+			{
+				fmDestroyWorld(world);
+				continue;
+			}
 			for (int f = 0; f < 80; ++f)
 				CHECK_INT(fmWorld_Step(world, frame, substeps), fm_ok);
 			s_allocations = 0;
