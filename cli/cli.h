@@ -59,7 +59,12 @@ const char* cliOptionValue(const char* command, int argc, char** argv, int* inde
 /// Prints "path: reason" and returns NULL on failure.
 char* cliReadFile(const char* path, size_t* size);
 
-/// Whether the file @p path can be opened for reading.
+/// Why the file @p path cannot be read (strerror's text, or "not a regular file: ..." for a
+/// folder, a FIFO or a device, found without blocking on a FIFO); NULL when it is a regular file
+/// that opens for reading.
+const char* cliFileUnreadable(const char* path);
+
+/// Whether the file @p path is a regular file that opens for reading (cliFileUnreadable).
 bool cliFileReadable(const char* path);
 
 /// Create a directory and its parents (like mkdir -p). Prints "path: reason" on failure.

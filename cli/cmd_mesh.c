@@ -11,6 +11,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
+#include <signal.h>
 #include <spawn.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -127,6 +128,25 @@ static bool cliOnPath(const char* program)
 	return false;
 }
 
+// What a signal that ends femto mesh cleans up: the mesher running (killed: Gmsh ignores
+// SIGTERM) and the scratch folder's files, their paths made before any signal can come (the
+// handler only calls kill, unlink, rmdir, signal and raise: async-signal-safe).
+#define CLI_SCRATCH_NAMES 11
+static volatile sig_atomic_t cliMeshChild;
+static char cliScratchFiles[CLI_SCRATCH_NAMES][CLI_MAX_PATH + 32];
+static char cliScratchDir[CLI_MAX_PATH];
+
+static void cliMeshInterrupted(int sig)
+{
+	if (cliMeshChild > 0)
+		kill((pid_t)cliMeshChild, SIGKILL);
+	for (int i = 0; i < CLI_SCRATCH_NAMES; ++i)
+		unlink(cliScratchFiles[i]);
+	rmdir(cliScratchDir);
+	signal(sig, SIG_DFL);
+	raise(sig);
+}
+
 // Run @p argv (argv[0] found on the PATH) with its output in @p logPath. Prints why it failed.
 static bool cliRunProgram(char* const* argv, const char* logPath)
 {
@@ -142,6 +162,7 @@ static bool cliRunProgram(char* const* argv, const char* logPath)
 		cliError("cannot run %s: %s", argv[0], strerror(error));
 		return false;
 	}
+	cliMeshChild = pid;
 	int status = 0;
 	while (waitpid(pid, &status, 0) < 0)
 		if (errno != EINTR)
@@ -149,6 +170,7 @@ static bool cliRunProgram(char* const* argv, const char* logPath)
 			cliError("waiting for %s: %s", argv[0], strerror(errno));
 			return false;
 		}
+	cliMeshChild = 0;
 	if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
 		return true;
 	cliError("%s failed (%s %d); its output:", argv[0],
@@ -361,20 +383,61 @@ static const char* cliPickTool(const cliMeshOptions* o)
 	return NULL;
 }
 
-// Remove the scratch folder's files (only the names this command writes) and the folder.
-static void cliRemoveScratch(const char* dir)
+// The scratch folder's files (only the names this command writes), for cliRemoveScratch and a
+// signal, which then removes them too (SIGINT, SIGTERM, SIGHUP while the folder exists).
+static void cliNoteScratch(const char* dir)
 {
-	static const char* const names[] = {"surface.off",    "surface.stl",     "surface.geo",
-	                                    "surface.1.node", "surface.1.ele",   "surface.1.face",
-	                                    "surface.1.edge", "surface.1.smesh", "volume.msh",
-	                                    "tetgen.log",     "gmsh.log"};
-	for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i)
+	static const char* const names[CLI_SCRATCH_NAMES] = {
+	    "surface.off",   "surface.stl",    "surface.geo",    "surface.1.node",
+	    "surface.1.ele", "surface.1.face", "surface.1.edge", "surface.1.smesh",
+	    "volume.msh",    "tetgen.log",     "gmsh.log"};
+	for (int i = 0; i < CLI_SCRATCH_NAMES; ++i)
+		snprintf(cliScratchFiles[i], sizeof cliScratchFiles[i], "%s/%s", dir, names[i]);
+	snprintf(cliScratchDir, sizeof cliScratchDir, "%s", dir);
+	signal(SIGINT, cliMeshInterrupted);
+	signal(SIGTERM, cliMeshInterrupted);
+	signal(SIGHUP, cliMeshInterrupted);
+}
+
+// Remove the scratch folder's files and the folder; signals are femto's default again.
+static void cliRemoveScratch(void)
+{
+	signal(SIGINT, SIG_DFL);
+	signal(SIGTERM, SIG_DFL);
+	signal(SIGHUP, SIG_DFL);
+	for (int i = 0; i < CLI_SCRATCH_NAMES; ++i)
+		remove(cliScratchFiles[i]);
+	rmdir(cliScratchDir);
+}
+
+// The volume the closed surface encloses (the divergence theorem over its triangles), m^3.
+static double cliEnclosedVolume(const cliSurface* s)
+{
+	double six = 0.0;
+	for (int t = 0; t < s->triangleCount; ++t)
 	{
-		char path[CLI_SCRATCH_PATH];
-		snprintf(path, sizeof path, "%s/%s", dir, names[i]);
-		remove(path);
+		const double* a = s->x + 3 * (size_t)s->triangles[3 * t];
+		const double* b = s->x + 3 * (size_t)s->triangles[3 * t + 1];
+		const double* c = s->x + 3 * (size_t)s->triangles[3 * t + 2];
+		six += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+		       a[2] * (b[0] * c[1] - b[1] * c[0]);
 	}
-	rmdir(dir);
+	return fabs(six) / 6.0;
+}
+
+// Whether --max-volume asks for no more tets than a body may have (FM_MAX_TETS): a mesher told
+// to fill the surface with tets of 1e-300 m^3 would run until memory ends.
+static bool cliTetCountBounded(const cliMeshOptions* o, const cliSurface* s)
+{
+	double volume = cliEnclosedVolume(s);
+	if (!(o->maxVolume > 0.0) || volume / o->maxVolume <= (double)FM_MAX_TETS)
+		return true;
+	cliError("%s: --max-volume %g asks for at least %.3g tets (the surface encloses %.6g, in its "
+	         "units cubed): more than the %d a body may have (FM_MAX_TETS); give a volume of at "
+	         "least %.3g",
+	         o->in, o->maxVolume, volume / o->maxVolume, volume, FM_MAX_TETS,
+	         volume / (double)FM_MAX_TETS);
+	return false;
 }
 
 int cliMesh(int argc, char** argv)
@@ -389,7 +452,7 @@ int cliMesh(int argc, char** argv)
 		cliSurface_Free(&surface);
 		return cli_exitInput;
 	}
-	const char* tool = cliPickTool(&o);
+	const char* tool = cliTetCountBounded(&o, &surface) ? cliPickTool(&o) : NULL;
 	if (tool == NULL)
 	{
 		cliSurface_Free(&surface);
@@ -404,6 +467,7 @@ int cliMesh(int argc, char** argv)
 		cliSurface_Free(&surface);
 		return cli_exitInput;
 	}
+	cliNoteScratch(dir);
 	fmTetMesh mesh;
 	memset(&mesh, 0, sizeof mesh);
 	fmDiagnostic diag;
@@ -412,7 +476,7 @@ int cliMesh(int argc, char** argv)
 	bool ok = strcmp(tool, "tetgen") == 0 ? cliTetGen(&o, dir, &surface, &mesh, &diag)
 	                                      : cliGmsh(&o, dir, &surface, &mesh, &diag);
 	double seconds = cliNow() - start;
-	cliRemoveScratch(dir);
+	cliRemoveScratch();
 	memset(&diag, 0, sizeof diag);
 	if (ok && fmWriteMesh(o.out, &mesh, NULL, &diag) != fm_ok)
 	{

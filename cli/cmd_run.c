@@ -659,6 +659,10 @@ static void cliPrintAudit(const cliSimulation* sim, const cliSolveTotals* solves
 		       cliBodyIndex(sim, f->firstCrossing.body), f->firstCrossing.vertex[0],
 		       f->firstCrossing.vertex[1], cliBodyIndex(sim, f->firstCrossing.otherBody),
 		       f->firstCrossing.index);
+	if (f->firstSelfCrossing.body.index1 != 0)
+		printf(" bodies[%d] edge %d-%d crosses its own triangle %d;",
+		       cliBodyIndex(sim, f->firstSelfCrossing.body), f->firstSelfCrossing.vertex[0],
+		       f->firstSelfCrossing.vertex[1], f->firstSelfCrossing.index);
 	if (f->firstInside.body.index1 != 0)
 		printf(" bodies[%d] vertex %d inside bodies[%d] (%.4g m);",
 		       cliBodyIndex(sim, f->firstInside.body), f->firstInside.vertex[0],

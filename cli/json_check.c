@@ -305,9 +305,11 @@ bool cliResolveFile(const cliJson* j, const char* path, const cliJsonNode* item,
 	                             : snprintf(out, size, "%s%s", j->folder, text);
 	if (written < 0 || (size_t)written >= size)
 		return cliJsonFail(j, path, item, "path too long");
-	if (!cliFileReadable(out))
+	const char* why = cliFileUnreadable(out);
+	if (why != NULL)
 		return cliJsonFail(j, path, NULL,
-		                   "cannot open %s (\"%s\" is relative to the scene's folder)", out, text);
+		                   "cannot open %s: %s (\"%s\" is relative to the scene's folder)", out,
+		                   why, text);
 	return true;
 }
 

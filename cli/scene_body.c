@@ -354,9 +354,10 @@ static bool cliParseMesh(const cliJson* j, const cliJsonNode* body, const char* 
 	memcpy(spec->elePath, spec->nodePath, sizeof spec->elePath);
 	if (isNode)
 		memcpy(spec->elePath + strlen(spec->elePath) - 5, ".ele", 5);
-	if (isNode && !cliFileReadable(spec->elePath))
-		return cliJsonFail(j, path, NULL, "cannot open %s (the .ele beside the .node)",
-		                   spec->elePath);
+	const char* why = isNode ? cliFileUnreadable(spec->elePath) : NULL;
+	if (why != NULL)
+		return cliJsonFail(j, path, NULL, "cannot open %s: %s (the .ele beside the .node)",
+		                   spec->elePath, why);
 	return true;
 }
 

@@ -201,13 +201,22 @@ char* cliReadFile(const char* path, size_t* size)
 	return buffer;
 }
 
+const char* cliFileUnreadable(const char* path)
+{
+	// Opened without blocking, then asked what it is: opening a FIFO for reading otherwise
+	// waits for a writer that may never come.
+	int fd = open(path, O_RDONLY | O_NONBLOCK);
+	if (fd < 0)
+		return strerror(errno);
+	struct stat info;
+	bool regular = fstat(fd, &info) == 0 && S_ISREG(info.st_mode);
+	close(fd);
+	return regular ? NULL : "not a regular file: expected a file on disk";
+}
+
 bool cliFileReadable(const char* path)
 {
-	FILE* file = fopen(path, "rb");
-	if (file == NULL)
-		return false;
-	fclose(file);
-	return true;
+	return cliFileUnreadable(path) == NULL;
 }
 
 bool cliMakeDirectories(const char* path)

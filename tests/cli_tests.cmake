@@ -269,6 +269,17 @@ if(FEMTO_TRUNCATE)
     REGEX "huge.json: file is 68157440 bytes, more than the 64 MiB limit")
   set_tests_properties(cli_scene_huge PROPERTIES FIXTURES_REQUIRED cli_huge)
 endif()
+# A FIFO named in a scene is refused without waiting for a writer (opening it to read blocks).
+find_program(FEMTO_MKFIFO mkfifo)
+if(FEMTO_MKFIFO)
+  file(WRITE ${FEMTO_CLI_WORK}/fifo_scene.json "{\"bodies\": [{\"mesh\": \"fifo_mesh.msh\"}]}\n")
+  add_test(NAME cli_scene_fifo_setup COMMAND sh -c "rm -f fifo_mesh.msh && ${FEMTO_MKFIFO} fifo_mesh.msh"
+    WORKING_DIRECTORY ${FEMTO_CLI_WORK})
+  set_tests_properties(cli_scene_fifo_setup PROPERTIES FIXTURES_SETUP cli_fifo LABELS cli)
+  femto_cli_test(scene_fifo ARGS "run|${FEMTO_CLI_WORK}/fifo_scene.json" CODE 1
+    REGEX "fifo_scene.json:1:[0-9]+: bodies\\[0\\]\\.mesh: cannot open .*fifo_mesh\\.msh: not a regular file")
+  set_tests_properties(cli_scene_fifo PROPERTIES FIXTURES_REQUIRED cli_fifo TIMEOUT 10)
+endif()
 # With two bodies the same key occurs twice: the message still finds the second body's line.
 femto_cli_test(scene_second_body ARGS "run|${FEMTO_CLI_DATA}/second_body.json" CODE 1
   REGEX "second_body.json:13:36: bodies\\[1\\].pin\\[1\\].max: expected an array of 3 numbers")
@@ -590,7 +601,7 @@ foreach(case
     "bad_collider_friction|3:126: colliders\\[1\\]\\.friction: expected a number >= 0, got -1"
     "bad_plane_normal|3:36: colliders\\[0\\]\\.normal: expected a non-zero normal"
     "bad_collider_velocity|3:71: colliders\\[0\\]\\.angular_velocity: expected 3 numbers within 1e6"
-    "bad_mesh_path|3:35: colliders\\[0\\]\\.path: cannot open .*no_such_ramp\\.obj \\(\"no_such_ramp\\.obj\" is relative to the scene's folder\\)"
+    "bad_mesh_path|3:35: colliders\\[0\\]\\.path: cannot open .*no_such_ramp\\.obj: No such file or directory \\(\"no_such_ramp\\.obj\" is relative to the scene's folder\\)"
     "bad_mesh_obj| colliders\\[0\\]\\.path: .*bad_ramp\\.obj:6:7: vertex reference 4: expected 1 to 3"
     "bad_mesh_transform|3:73: colliders\\[0\\]\\.transform\\.scale: expected a number > 0, got 0"
     "bad_contact|3:31: contact\\.iterations: too large \\(at most 64\\), got 100"
@@ -643,6 +654,15 @@ femto_cli_test(mesh_crossing_surface
   CODE 1 REGEX "crossing_cubes.obj: the surface intersects itself: 13 pairs of triangles cross")
 femto_cli_test(mesh_huge_surface ARGS "mesh|${FEMTO_CLI_DATA}/huge_cube.obj|${FEMTO_CLI_WORK}/huge.node"
   CODE 1 REGEX "huge_cube.obj: vertex 1 has coordinate 1e\\+15: expected finite, \\|x\\| <= 1e\\+09 m")
+# A volume bound asking for more tets than a body may have is refused before a mesher runs (it
+# would run until memory ends): the unit cube at 1e-300 m^3 a tet, and just over FM_MAX_TETS.
+femto_cli_test(mesh_max_volume_bounded
+  ARGS "mesh|${PROJECT_SOURCE_DIR}/tests/data/surface/cube.obj|${FEMTO_CLI_WORK}/tiny_tets.node|--max-volume|1e-300"
+  CODE 1 REGEX "cube.obj: --max-volume 1e-300 asks for at least 1e\\+300 tets .*more than the 134217728 a body may have \\(FM_MAX_TETS\\); give a volume of at least 7.45e-09"
+  NO_FILES "${FEMTO_CLI_WORK}/tiny_tets.node")
+femto_cli_test(mesh_max_volume_just_over
+  ARGS "mesh|${PROJECT_SOURCE_DIR}/tests/data/surface/cube.obj|${FEMTO_CLI_WORK}/tiny_tets.node|--max-volume|7.4e-9"
+  CODE 1 REGEX "asks for at least 1.35e\\+08 tets")
 femto_cli_test(scene_substeps_word ARGS "run|${FEMTO_CLI_DATA}/bad_substeps.json" CODE 1
   REGEX "bad_substeps.json:1:[0-9]+: substeps: expected a whole number in \\[1, 100000\\] or \"auto\"")
 # Progress off a terminal (ctest captures stderr): a line of its own every --progress seconds,

@@ -30,6 +30,8 @@ void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 #else
 #define FM_PROXY_KERNEL(kernel) kernel
 #endif
+// Nor a batched StVK there (StVK takes the one-tet path).
+#define FM_STVK_KERNEL(kernel) FM_PROXY_KERNEL(kernel)
 
 // The batched double-precision kernels of the force passes, of the CPU's instruction set (every
 // variant gives the same bits).
@@ -41,6 +43,7 @@ typedef struct fmPassKernels
 	fmForceBatchFillFcn* fill;
 	fmInvertedKernelFcn* inverted;
 	fmProxyKernelFcn* proxy;
+	fmForceBatchKernelFcn* stvk;
 } fmPassKernels;
 
 static fmPassKernels fmPassKernelsOfCpu(void)
@@ -49,25 +52,38 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 	{
 #if defined(__x86_64__) || defined(_M_X64)
 	case fm_simdAvx512:
-		return (fmPassKernels){
-		    fmTetKernel_Polar_avx512,     fmTetKernel_NeoHookean_avx512,
-		    fmTetKernel_Corotated_avx512, fmTetKernel_FillForceBatch_avx512,
-		    fmTetKernel_Inverted_avx512,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx512)};
+		return (fmPassKernels){fmTetKernel_Polar_avx512,
+		                       fmTetKernel_NeoHookean_avx512,
+		                       fmTetKernel_Corotated_avx512,
+		                       fmTetKernel_FillForceBatch_avx512,
+		                       fmTetKernel_Inverted_avx512,
+		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_avx512),
+		                       FM_STVK_KERNEL(fmTetKernel_Stvk_avx512)};
 	case fm_simdAvx2:
-		return (fmPassKernels){fmTetKernel_Polar_avx2,     fmTetKernel_NeoHookean_avx2,
-		                       fmTetKernel_Corotated_avx2, fmTetKernel_FillForceBatch_avx2,
-		                       fmTetKernel_Inverted_avx2,  FM_PROXY_KERNEL(fmTetKernel_Proxy_avx2)};
+		return (fmPassKernels){fmTetKernel_Polar_avx2,
+		                       fmTetKernel_NeoHookean_avx2,
+		                       fmTetKernel_Corotated_avx2,
+		                       fmTetKernel_FillForceBatch_avx2,
+		                       fmTetKernel_Inverted_avx2,
+		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_avx2),
+		                       FM_STVK_KERNEL(fmTetKernel_Stvk_avx2)};
 #endif
 	case fm_simdScalar:
-		return (fmPassKernels){
-		    fmTetKernel_Polar_scalar,     fmTetKernel_NeoHookean_scalar,
-		    fmTetKernel_Corotated_scalar, fmTetKernel_FillForceBatch_scalar,
-		    fmTetKernel_Inverted_scalar,  FM_PROXY_KERNEL(fmTetKernel_Proxy_scalar)};
+		return (fmPassKernels){fmTetKernel_Polar_scalar,
+		                       fmTetKernel_NeoHookean_scalar,
+		                       fmTetKernel_Corotated_scalar,
+		                       fmTetKernel_FillForceBatch_scalar,
+		                       fmTetKernel_Inverted_scalar,
+		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_scalar),
+		                       FM_STVK_KERNEL(fmTetKernel_Stvk_scalar)};
 	default:
-		return (fmPassKernels){
-		    fmTetKernel_Polar_baseline,     fmTetKernel_NeoHookean_baseline,
-		    fmTetKernel_Corotated_baseline, fmTetKernel_FillForceBatch_baseline,
-		    fmTetKernel_Inverted_baseline,  FM_PROXY_KERNEL(fmTetKernel_Proxy_baseline)};
+		return (fmPassKernels){fmTetKernel_Polar_baseline,
+		                       fmTetKernel_NeoHookean_baseline,
+		                       fmTetKernel_Corotated_baseline,
+		                       fmTetKernel_FillForceBatch_baseline,
+		                       fmTetKernel_Inverted_baseline,
+		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_baseline),
+		                       FM_STVK_KERNEL(fmTetKernel_Stvk_baseline)};
 	}
 }
 
@@ -81,7 +97,7 @@ static fmPolarKernelFcn* fmPolarKernel(const fmElasticMesh* mesh)
 }
 
 // The batched force kernel of a body of one material (no per-tet materials) when its model has
-// one (Neo-Hookean, corotated); NULL otherwise. @p kernels gets the CPU's kernels.
+// one (StVK, Neo-Hookean, corotated); NULL otherwise. @p kernels gets the CPU's kernels.
 static fmForceBatchKernelFcn* fmForceBatchKernel(const fmElasticMesh* mesh, fmPassKernels* kernels)
 {
 	*kernels = fmPassKernelsOfCpu();
@@ -89,6 +105,8 @@ static fmForceBatchKernelFcn* fmForceBatchKernel(const fmElasticMesh* mesh, fmPa
 		return NULL;
 	if (mesh->material.model == fm_neoHookean)
 		return kernels->neoHookean;
+	if (mesh->material.model == fm_stvk)
+		return kernels->stvk;
 	return mesh->material.model == fm_corotated ? kernels->corotated : NULL;
 }
 

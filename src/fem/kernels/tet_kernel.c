@@ -884,6 +884,43 @@ void FM_KERNEL_NAME(fmTetKernel_NeoHookean)(fmForceBatch* b)
 	fmLaneNodalForces(b, P);
 }
 
+#if !defined(__EMSCRIPTEN__) // (the .wasm line: the browser takes StVK one tet at a time)
+// fmStvk_Evaluate (material.c) lane by lane: G = (F^T F - I) / 2 (fmGreenStrain's six sums),
+// S = 2 mu G + lambda tr(G) I, P = F S, psi = mu G : G + lambda tr(G)^2 / 2. A lane below the
+// volume floor's J (fmMaterial_StvkFloor) is not ok: the scalar path adds the floor there.
+void FM_KERNEL_NAME(fmTetKernel_Stvk)(fmForceBatch* b)
+{
+	double F[9][FM_PL], C[9][FM_PL], J[FM_PL], G[9][FM_PL], S[9][FM_PL], P[9][FM_PL], GG[FM_PL];
+	fmLaneDeformation(b, F);
+	fmPolarCofactor(F, C, J);
+	for (int i = 0; i < 3; ++i)
+		for (int j = i; j < 3; ++j)
+			for (int l = 0; l < FM_PL; ++l)
+			{
+				double sum =
+				    F[i][l] * F[j][l] + F[3 + i][l] * F[3 + j][l] + F[6 + i][l] * F[6 + j][l];
+				G[3 * i + j][l] = G[3 * j + i][l] = 0.5 * (i == j ? sum - 1.0 : sum);
+			}
+	fmPolarDots(G, G, GG);
+	for (int l = 0; l < FM_PL; ++l)
+	{
+		double tr = G[0][l] + G[4][l] + G[8][l];
+		for (int e = 0; e < 9; ++e)
+			S[e][l] = 2.0 * b->mu * G[e][l];
+		for (int i = 0; i < 3; ++i)
+			S[4 * i][l] = S[4 * i][l] + b->lambda * tr;
+		b->psi[l] = b->mu * GG[l] + 0.5 * b->lambda * tr * tr;
+		b->ok[l] = !(J[l] < FM_STVK_FLOOR_J);
+	}
+	for (int i = 0; i < 3; ++i)
+		for (int j = 0; j < 3; ++j)
+			for (int l = 0; l < FM_PL; ++l)
+				P[3 * i + j][l] = F[3 * i][l] * S[j][l] + F[3 * i + 1][l] * S[3 + j][l] +
+				                  F[3 * i + 2][l] * S[6 + j][l];
+	fmLaneNodalForces(b, P);
+}
+#endif
+
 void FM_KERNEL_NAME(fmTetKernel_Inverted)(const fmForceBatch* b, int count, unsigned char* inverted)
 {
 	double F[9][FM_PL], C[9][FM_PL], J[FM_PL];

@@ -123,7 +123,7 @@ fmPolarKernelFcn fmTetKernel_Polar_avx512;
 // Tets the force batch takes at once.
 #define FM_FORCE_LANES FM_POLAR_LANES
 
-// Up to FM_FORCE_LANES tets of a body of one Neo-Hookean or corotated material (entry k of lane l
+// Up to FM_FORCE_LANES tets of a body of one StVK, Neo-Hookean or corotated material (entry k of lane l
 // at [k][l]; unused lanes: zero Ds, zero volume) and their forces and energy densities.
 typedef struct fmForceBatch
 {
@@ -190,6 +190,14 @@ fmForceBatchKernelFcn fmTetKernel_Corotated_baseline;
 #if defined(__x86_64__) || defined(_M_X64)
 fmForceBatchKernelFcn fmTetKernel_Corotated_avx2;
 fmForceBatchKernelFcn fmTetKernel_Corotated_avx512;
+#endif
+// fmTetKernel_Stvk_<variant>: fmStvk_Evaluate's P and psi without the volume floor; lanes below
+// the floor's J (FM_STVK_FLOOR_J) are not ok (none in the browser's build: the .wasm line).
+fmForceBatchKernelFcn fmTetKernel_Stvk_scalar;
+fmForceBatchKernelFcn fmTetKernel_Stvk_baseline;
+#if defined(__x86_64__) || defined(_M_X64)
+fmForceBatchKernelFcn fmTetKernel_Stvk_avx2;
+fmForceBatchKernelFcn fmTetKernel_Stvk_avx512;
 #endif
 fmForceBatchKernelFcn fmTetKernel_NeoHookean_scalar;
 fmForceBatchKernelFcn fmTetKernel_NeoHookean_baseline;
