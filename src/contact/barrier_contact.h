@@ -36,6 +36,11 @@ struct fmWorld;
 // Fraction of dHat below which the barrier continues as a quadratic.
 #define FM_BARRIER_FLOOR 1e-3
 
+// Fraction of dHat below which a pair counts as touching: the step bound's CCD lets it move no
+// more than a tenth of its gap a step, so it could not slide or part (bodies made touching, gap
+// 0). The contact stage hands such a pair to its projection as if overlapping (contact.c).
+#define FM_BARRIER_TOUCHING 1e-6
+
 // Other bodies whose primitives near a solved body keep a box each, for a quick test before a
 // hash query.
 #define FM_BARRIER_NEAR_BOXES 8

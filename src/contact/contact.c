@@ -265,6 +265,37 @@ static bool fmMovesPair(const fmWorld* w, bool barrier, const fmPairContact* pc)
 	return !barrier || pc->embedded || fmBarrierContact_Overlapping(w, pc->body, pc->other);
 }
 
+// The distance from a pair contact's vertex to the nearest point of its triangle.
+static double fmPairDistance(const fmWorld* w, const fmPairContact* pc)
+{
+	const fmBody* o = &w->bodies[pc->other];
+	const int* tri = fmContactDetect_Triangle(o, pc->triangle);
+	fmVec3 q = fmMakeVec3(0.0, 0.0, 0.0);
+	for (int c = 0; c < 3; ++c)
+		q = fmMulAdd(q, pc->w[c], fmLoad(o->state.x, tri[c]));
+	return fmLength(fmSub(fmLoad(w->bodies[pc->body].state.x, pc->vertex), q));
+}
+
+// A vertex-triangle contact the detection found, into the stage's list: it wakes a sleeper,
+// and notes what the next frame's contact must look for.
+static void fmTakePairContact(fmWorld* w, fmContactState* s, const fmPairContact* found,
+                              double thickness)
+{
+	fmContactPair_WakeSleeper(w, found);
+	// Behind the face it found, over its inside (crossing, or inside but within reach): the next
+	// frame looks for embedded vertices too, which the solves' moves may make deeper. (Behind an
+	// edge or a corner is not telling: a concave corner.)
+	w->embeddedDue = w->embeddedDue || (found->depth > thickness && found->w[0] > 0.0 &&
+	                                    found->w[1] > 0.0 && found->w[2] > 0.0);
+	// Inside the other body, or touching it under the barrier (FM_BARRIER_TOUCHING): from the
+	// next frame the two bodies overlap, off the barrier, and the projection parts them to the
+	// thickness.
+	if (found->embedded ||
+	    (fmBarrierContact_Active(w) && fmPairDistance(w, found) <= FM_BARRIER_TOUCHING * thickness))
+		w->bodies[found->body].contact.embeddedHolder[found->vertex] = found->other + 1;
+	s->pairContacts[s->pairContactCount++] = *found;
+}
+
 // Body against body (step 3): the broad phase, the parallel detection of vertex-triangle
 // contacts (and, explicit, edge-edge ones), the projections in Gauss-Seidel passes, then the
 // velocity responses and the contact list, in item order. False when memory is short.
@@ -288,18 +319,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 		return false;
 	for (int k = 0; k < n; ++k)
 		if (s->hit[k])
-		{
-			const fmPairContact* found = &s->found[k];
-			fmContactPair_WakeSleeper(w, found);
-			// Behind the face it found, over its inside (crossing, or inside but within
-			// reach): the next frame looks for embedded vertices too, which the solves' moves
-			// may make deeper. (Behind an edge or a corner is not telling: a concave corner.)
-			w->embeddedDue = w->embeddedDue || (found->depth > thickness && found->w[0] > 0.0 &&
-			                                    found->w[1] > 0.0 && found->w[2] > 0.0);
-			if (found->embedded)
-				w->bodies[found->body].contact.embeddedHolder[found->vertex] = found->other + 1;
-			s->pairContacts[s->pairContactCount++] = *found;
-		}
+			fmTakePairContact(w, s, &s->found[k], thickness);
 	// Edge against edge, explicit substeps only: implicit steps hold edges apart inside the
 	// solve (frozen edge planes, fmContactPlanes_Predict) and do not project them again after
 	// it (docs/contact.md, Measurements).
@@ -310,7 +330,7 @@ static bool fmCollideBodies(fmWorld* w, fmContactState* s, double thickness)
 	// the contacts are listed, not moved, except a vertex already inside the other body (bodies
 	// made overlapping, or pushed in by pins, targets or the floor: what the barrier cannot
 	// undo), pushed out as before (barrier_contact.h).
-	bool barrier = fmBarrierContact_Active(w);
+	const bool barrier = fmBarrierContact_Active(w);
 	for (int pass = 0; pass < w->def.contact.iterations; ++pass)
 	{
 		for (int c = 0; c < s->pairContactCount; ++c)

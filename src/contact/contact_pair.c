@@ -257,10 +257,15 @@ bool fmContactPair_Find(const fmWorld* w, const fmContactState* s, fmWorkerFinds
 		// "Self-collision").
 		double closing = -fmDot(approach, found->normal);
 		double depen = fmContactResponse_DepenetrationStep(w);
-		found->reach = found->other == slot
-		                   ? fmMax(depen, fmMax(0.0, closing))
-		                   : fmContactResponse_Reach(thickness - found->depth + closing, closing,
-		                                             thickness, depen);
+		double before = thickness - found->depth + closing; // the distance at the step's start
+		// A pair that touched (FM_BARRIER_TOUCHING) between bodies off the barrier for it parts
+		// at the depenetration speed, so that the barrier can hold it again.
+		bool parting = found->other != slot && before >= 0.0 &&
+		               before <= FM_BARRIER_TOUCHING * thickness && fmBarrierContact_Active(w) &&
+		               fmBarrierContact_Overlapping(w, slot, found->other);
+		found->reach = found->other == slot ? fmMax(depen, fmMax(0.0, closing))
+		               : parting            ? fmMax(0.0, closing) + fmMin(thickness - before, depen)
+		                         : fmContactResponse_Reach(before, closing, thickness, depen);
 	}
 	return bestItem >= 0;
 }
