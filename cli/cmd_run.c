@@ -354,8 +354,9 @@ static int cliFrameCount(const cliRunOptions* o, const cliScene* scene)
 	}
 	else if (seconds == 0.0)
 		return o->frames;
-	// A tiny allowance so 10 s of 0.03 s frames is 334 frames, not 335 from rounding noise.
-	double frames = ceil(seconds / frameTime - 1e-9);
+	// A tiny allowance so 10 s of 0.03 s frames is 334 frames, not 335 from rounding noise; any
+	// time at all is at least a frame.
+	double frames = fmax(1.0, ceil(seconds / frameTime - 1e-9));
 	if (frames > CLI_MAX_FRAMES)
 	{
 		cliError("%s: %g s is too long: %.6g frames of %g s, more than the %d frame limit",

@@ -60,7 +60,9 @@ bool cliJsonFail(const cliJson* j, const char* path, const cliJsonNode* got, con
 	va_start(args, format);
 	vsnprintf(message, sizeof message, format, args);
 	va_end(args);
-	if (got != NULL)
+	if (got != NULL && got->kind == cli_jsonNumber && !isfinite(got->number))
+		snprintf(value, sizeof value, ", got a number beyond a double's range (1.8e308)");
+	else if (got != NULL)
 	{
 		char printed[64];
 		size_t length = cliJsonTree_Print(got, printed, sizeof printed);

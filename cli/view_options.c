@@ -152,7 +152,7 @@ static void cliParseValued(cliViewOptions* o, const char* command, const char* a
 			*code = cliUsageError(command,
 			                      "--draw: unknown '%s' (expected a comma-separated list of "
 			                      "surfaces, stress, tets, inverted, pins, targets, floor, "
-			                      "contacts, colliders, all, none)",
+			                      "contacts, colliders, fibres, plastic, damage, all, none)",
 			                      bad);
 	}
 }

@@ -269,6 +269,14 @@ if(FEMTO_TRUNCATE)
     REGEX "huge.json: file is 68157440 bytes, more than the 64 MiB limit")
   set_tests_properties(cli_scene_huge PROPERTIES FIXTURES_REQUIRED cli_huge)
 endif()
+# An outside audit's cases (2026-12-08): any time at all is a frame; a number past a double's
+# range is named so, not "null"; --draw lists every layer it knows.
+femto_cli_test(run_seconds_tiny ARGS "run|--seconds|1e-300|--quiet" CODE 0 REGEX "frames +1 ")
+file(WRITE ${FEMTO_CLI_WORK}/dt_overflow.json "{\"dt\": 1e400, \"bodies\": [{\"mesh\": \"box:1,1,1\"}]}\n")
+femto_cli_test(scene_dt_overflow ARGS "run|${FEMTO_CLI_WORK}/dt_overflow.json" CODE 1
+  REGEX "dt_overflow.json:1:2: dt: expected a number in \\(0, 10\\], got a number beyond a double's range")
+femto_cli_test(run_draw_unknown ARGS "run|--draw|wire" CODE 2
+  REGEX "--draw: unknown 'wire' \\(expected .*colliders, fibres, plastic, damage, all, none\\)")
 # A FIFO named in a scene is refused without waiting for a writer (opening it to read blocks).
 find_program(FEMTO_MKFIFO mkfifo)
 if(FEMTO_MKFIFO)

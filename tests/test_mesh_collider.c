@@ -294,6 +294,14 @@ TEST(bad_meshes_are_refused)
 	def.triangleCount = 0;
 	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
 	def.triangleCount = 1;
+	// Degenerate triangles only: corners on a line, then all at one point (a scale of 1e-300).
+	vertices[2] = fmMakeVec3(2, 0, 0);
+	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
+	CHECK(strstr(diag.message, "a triangle of some area") != NULL);
+	for (int k = 0; k < 3; ++k)
+		vertices[k] = fmMakeVec3(1e-300 * k, 0, 0);
+	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_errParameter);
+	vertices[1] = fmMakeVec3(1, 0, 0), vertices[2] = fmMakeVec3(0, 0, 1);
 	CHECK_INT(fmCreateCollider(world, &def, &id, &diag), fm_ok);
 	fmDestroyCollider(id);
 	CHECK(!fmCollider_IsValid(id));

@@ -287,11 +287,11 @@ static void fmTakePairContact(fmWorld* w, fmContactState* s, const fmPairContact
 	// edge or a corner is not telling: a concave corner.)
 	w->embeddedDue = w->embeddedDue || (found->depth > thickness && found->w[0] > 0.0 &&
 	                                    found->w[1] > 0.0 && found->w[2] > 0.0);
-	// Inside the other body, or touching it under the barrier (FM_BARRIER_TOUCHING): from the
-	// next frame the two bodies overlap, off the barrier, and the projection parts them to the
-	// thickness.
-	if (found->embedded ||
-	    (fmBarrierContact_Active(w) && fmPairDistance(w, found) <= FM_BARRIER_TOUCHING * thickness))
+	// Inside the other body, or touching another under the barrier (FM_BARRIER_TOUCHING): from
+	// the next frame the two bodies overlap, off the barrier, and the projection parts them.
+	bool touching = fmBarrierContact_Active(w) && found->other != found->body &&
+	                fmPairDistance(w, found) <= FM_BARRIER_TOUCHING * thickness;
+	if (found->embedded || touching)
 		w->bodies[found->body].contact.embeddedHolder[found->vertex] = found->other + 1;
 	s->pairContacts[s->pairContactCount++] = *found;
 }

@@ -34,7 +34,32 @@ const char* fmMeshShape_Problem(const fmColliderDef* d)
 	for (int k = 0; k < 3 * d->triangleCount; ++k)
 		if (d->triangles[k] < 0 || d->triangles[k] >= d->vertexCount)
 			return "mesh: triangle corners in [0, vertexCount)";
-	return NULL;
+	return fmMeshShape_HasArea(d) ? NULL
+	                              : "mesh: a triangle of some area (every one is degenerate: "
+	                                "its corners on a line or a point)";
+}
+
+bool fmMeshShape_HasArea(const fmColliderDef* d)
+{
+	fmVec3 lo = d->vertices[d->triangles[0]], hi = lo;
+	for (int k = 0; k < 3 * d->triangleCount; ++k)
+	{
+		lo = fmMinVec(lo, d->vertices[d->triangles[k]]);
+		hi = fmMaxVec(hi, d->vertices[d->triangles[k]]);
+	}
+	// Twice the area against the box's diagonal squared: round-off of corners on a line is
+	// about 1e-16 of it.
+	fmVec3 size = fmSub(hi, lo);
+	double tiny = 1e-12 * fmDot(size, size);
+	for (int t = 0; t < d->triangleCount; ++t)
+	{
+		const int* c = d->triangles + 3 * t;
+		fmVec3 n = fmCross(fmSub(d->vertices[c[1]], d->vertices[c[0]]),
+		                   fmSub(d->vertices[c[2]], d->vertices[c[0]]));
+		if (fmLength(n) > tiny)
+			return true;
+	}
+	return false;
 }
 
 // ---- preparation -------------------------------------------------------------------------------
