@@ -1996,6 +1996,39 @@ TEST(creation_audits_bodies_where_they_are_now)
 	fmDestroyWorld(world);
 }
 
+// A self-colliding body whose own surface crosses at rest (two tets overlapping in one mesh: an
+// outside audit's case, which then showed self crossings at every substep) is refused with the
+// first crossing; without self-collision the same mesh is a body like any other.
+TEST(a_body_crossing_itself_is_refused_with_self_collision)
+{
+	double x[24] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+	for (int k = 12; k < 24; ++k)
+		x[k] = x[k - 12] + 0.1;
+	int tets[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+	fmTetMesh mesh = {.nodeCount = 8, .positions = x, .tetCount = 2, .tets = tets};
+	for (int self = 1; self >= 0; --self)
+	{
+		fmWorldDef wdef = fmDefaultWorldDef();
+		wdef.integrator = fm_implicit;
+		fmWorldId world = fmCreateWorld(&wdef);
+		fmBodyDef def = softDef(1e5);
+		def.mesh = &mesh;
+		def.selfCollision = self != 0;
+		fmBodyId body;
+		fmDiagnostic diag;
+		fmResult r = fmCreateBody(world, &def, &body, &diag);
+		if (self)
+		{
+			printf("  %s\n", diag.message);
+			CHECK_INT(r, fm_errParameter);
+			CHECK(strstr(diag.message, "crosses itself at rest") != NULL);
+		}
+		else
+			CHECK_INT(r, fm_ok);
+		fmDestroyWorld(world);
+	}
+}
+
 // A body made overlapping another it collides with is refused with the reason (a crossing edge
 // or a vertex inside, and which body); one wholly inside another too (no edge crosses: its
 // vertices are inside). Made touching, with filters that do not meet, or in a world without

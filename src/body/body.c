@@ -338,8 +338,9 @@ static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t
 
 // ---- creation and ids --------------------------------------------------------------------------
 
-// A new body that would start crossing or inside another it collides with is refused: contact
-// holds bodies apart, it cannot separate surfaces that already cross (docs/contact.md).
+// A new body that would start crossing or inside another it collides with, or crossing itself
+// when it collides with itself, is refused: contact holds surfaces apart, it cannot separate
+// surfaces that already cross (docs/contact.md).
 static fmResult fmRefuseOverlap(fmWorld* w, int slot, fmDiagnostic* diag)
 {
 	fmAuditOverlap o;
@@ -348,6 +349,15 @@ static fmResult fmRefuseOverlap(fmWorld* w, int slot, fmDiagnostic* diag)
 		return fmDiagError(diag, r, "", 0, 0,
 		                   "cannot check that the new body starts apart from the others (%s)",
 		                   fmResultMessage(r));
+	if (o.selfCrossings > 0)
+		return fmDiagError(diag, fm_errParameter, "", 0, 0,
+		                   "the body's surface crosses itself at rest (%d surface edges cross "
+		                   "its own triangles; the first, edge %d-%d, crosses triangle %d): "
+		                   "self-collision holds a surface apart from itself, it cannot "
+		                   "separate one that already crosses; fix the mesh (overlapping tets?) "
+		                   "or turn selfCollision off",
+		                   o.selfCrossings, o.firstSelfCrossing.vertex[0],
+		                   o.firstSelfCrossing.vertex[1], o.firstSelfCrossing.index);
 	if (o.other < 0)
 		return fm_ok;
 	return fmDiagError(diag, fm_errParameter, "", 0, 0,

@@ -501,6 +501,8 @@ static bool fmAuditLooksAt(const fmAuditRun* run, const fmAuditBody* a, const fm
 {
 	if (run->focus < 0)
 		return true;
+	if (a == b)
+		return a->slot == run->focus; // the focus's own surface (when it meets itself)
 	fmFilter fa = a->body->filter, fb = b->body->filter;
 	return a != b && (a->slot == run->focus || b->slot == run->focus) &&
 	       (fa.categoryBits & fb.maskBits) != 0 && (fb.categoryBits & fa.maskBits) != 0;
@@ -650,6 +652,8 @@ fmResult fmAudit_Overlap(fmWorld* w, int slot, fmAuditOverlap* overlap)
 	fmResult r = fmAuditIn(w, &audit, slot, &overlap->tetsInside, &tet);
 	overlap->crossings = audit.crossings;
 	overlap->verticesInside = audit.verticesInside;
+	overlap->selfCrossings = audit.selfCrossings;
+	overlap->firstSelfCrossing = audit.firstSelfCrossing;
 	overlap->deepest = fmMax(audit.deepest, tet.depth);
 	if (r != fm_ok ||
 	    (audit.crossings == 0 && audit.verticesInside == 0 && overlap->tetsInside == 0))

@@ -14,8 +14,13 @@ typedef struct fmAuditOverlap
 	int tetsInside;     // tet centres inside the other body
 	int other;          // the slot of the first body overlapped, -1 for none
 	double deepest;     // m
+	// the body's surface edges crossing its own triangles (a body that meets itself:
+	// self-collision or torn pieces), and the first of them
+	int selfCrossings;
+	fmAuditFinding firstSelfCrossing;
 } fmAuditOverlap;
 
-// The overlap of the body in @p slot (other -1 and the counts 0 for none). fm_errOutOfMemory,
+// The overlap of the body in @p slot with the others (other -1 and the counts 0 for none), and
+// of its surface with itself when it meets itself. fm_errOutOfMemory,
 // fm_errNumerical for non-finite positions.
 fmResult fmAudit_Overlap(fmWorld* world, int slot, fmAuditOverlap* overlap);
