@@ -338,9 +338,8 @@ static fmResult fmCheckBudget(const fmWorld* world, const fmBodyDef* def, size_t
 
 // ---- creation and ids --------------------------------------------------------------------------
 
-// A new body that would start crossing or inside another it collides with, or crossing itself
-// when it collides with itself, is refused: contact holds surfaces apart, it cannot separate
-// surfaces that already cross (docs/contact.md).
+// A new body starting across or inside another it collides with, or across itself when it meets
+// itself, is refused: contact cannot separate surfaces that already cross (docs/contact.md).
 static fmResult fmRefuseOverlap(fmWorld* w, int slot, fmDiagnostic* diag)
 {
 	fmAuditOverlap o;
