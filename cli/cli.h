@@ -64,9 +64,6 @@ char* cliReadFile(const char* path, size_t* size);
 /// that opens for reading.
 const char* cliFileUnreadable(const char* path);
 
-/// Whether the file @p path is a regular file that opens for reading (cliFileUnreadable).
-bool cliFileReadable(const char* path);
-
 /// Create a directory and its parents (like mkdir -p). Prints "path: reason" on failure.
 bool cliMakeDirectories(const char* path);
 

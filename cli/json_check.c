@@ -46,7 +46,8 @@ static bool cliFindKeyLine(const cliJson* j, const char* path, int* line, int* c
 }
 
 // Print "file[:line:column]: path: message[, got VALUE]" to j->messages and return false.
-bool cliJsonFail(const cliJson* j, const char* path, const cliJsonNode* got, const char* format, ...)
+bool cliJsonFail(const cliJson* j, const char* path, const cliJsonNode* got, const char* format,
+                 ...)
 {
 	char where[CLI_MAX_PATH + 300], message[1024], value[80] = "";
 	int line = 0, column = 0;
@@ -146,7 +147,7 @@ bool cliCheckKeys(const cliJson* j, const cliJsonNode* object, const char* paren
 // The member @p key of @p object, NULL when absent (*present says which, when asked), and its
 // path in @p path when present: the start of every reader below.
 static const cliJsonNode* cliMember(const cliJsonNode* object, const char* parent, const char* key,
-                              bool* present, char* path, size_t size)
+                                    bool* present, char* path, size_t size)
 {
 	const cliJsonNode* item = cliJsonTree_Member(object, key);
 	if (present != NULL)
@@ -170,8 +171,8 @@ bool cliGetNumber(const cliJson* j, const cliJsonNode* object, const char* paren
 	return true;
 }
 
-bool cliGetInt(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key, int lo,
-               int hi, int* value, bool* present)
+bool cliGetInt(const cliJson* j, const cliJsonNode* object, const char* parent, const char* key,
+               int lo, int hi, int* value, bool* present)
 {
 	char path[256];
 	const cliJsonNode* item = cliMember(object, parent, key, present, path, sizeof path);
@@ -278,8 +279,7 @@ bool cliGetVec3In(const cliJson* j, const cliJsonNode* object, const char* paren
 		return true;
 	char path[256];
 	cliJoinKey(path, sizeof path, parent, key);
-	return cliJsonFail(j, path, cliJsonTree_Member(object, key), "expected %s",
-	                   expected);
+	return cliJsonFail(j, path, cliJsonTree_Member(object, key), "expected %s", expected);
 }
 
 // A 32-bit mask: an integer in [0, 2^32 - 1] (JSON numbers hold it exactly).
@@ -527,7 +527,8 @@ static cliJsonNode* cliParseJson(const cliJson* j)
 	return NULL;
 }
 
-cliJsonNode* cliJsonOpen(cliJson* j, const char* name, const char* text, size_t size, FILE* messages)
+cliJsonNode* cliJsonOpen(cliJson* j, const char* name, const char* text, size_t size,
+                         FILE* messages)
 {
 	memset(j, 0, sizeof *j);
 	j->file = name;

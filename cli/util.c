@@ -214,11 +214,6 @@ const char* cliFileUnreadable(const char* path)
 	return regular ? NULL : "not a regular file: expected a file on disk";
 }
 
-bool cliFileReadable(const char* path)
-{
-	return cliFileUnreadable(path) == NULL;
-}
-
 bool cliMakeDirectories(const char* path)
 {
 	char partial[CLI_MAX_PATH];

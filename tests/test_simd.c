@@ -483,6 +483,19 @@ TEST(smoothing_sums_are_the_seeds_tet_sums)
 	fmDestroyWorld(world);
 }
 
+// A kernel's variants as a list {scalar, baseline, avx2, avx512} (the last two on x86-64).
+#if defined(__x86_64__) || defined(_M_X64)
+#define KERNEL_VARIANTS(kernel)                                                                    \
+	{                                                                                              \
+		kernel##_scalar, kernel##_baseline, kernel##_avx2, kernel##_avx512                         \
+	}
+#else
+#define KERNEL_VARIANTS(kernel)                                                                    \
+	{                                                                                              \
+		kernel##_scalar, kernel##_baseline                                                         \
+	}
+#endif
+
 // Whether the CPU runs variant @p v of a kernel list {scalar, baseline, avx2, avx512}.
 static bool cpuRunsVariant(int v)
 {
@@ -496,14 +509,7 @@ static bool cpuRunsVariant(int v)
 // matrices side by side in one batch (each lane stops on its own).
 TEST(batched_polar_rotations_are_the_scalar_ones_bit_for_bit)
 {
-	fmPolarKernelFcn* kernels[] = {
-		fmTetKernel_Polar_scalar,
-		fmTetKernel_Polar_baseline,
-#if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_Polar_avx2,
-		fmTetKernel_Polar_avx512
-#endif
-	};
+	fmPolarKernelFcn* kernels[] = KERNEL_VARIANTS(fmTetKernel_Polar);
 	const int kernelCount = (int)(sizeof kernels / sizeof kernels[0]);
 	int compared = 0, refused = 0, differ = 0;
 	for (int round = 0; round < 200; ++round)
@@ -667,14 +673,7 @@ static int checkForceKernels(int* failures_, fmMaterialModel model,
 
 TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
 {
-	fmForceBatchKernelFcn* kernels[] = {
-		fmTetKernel_NeoHookean_scalar,
-		fmTetKernel_NeoHookean_baseline,
-#if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_NeoHookean_avx2,
-		fmTetKernel_NeoHookean_avx512
-#endif
-	};
+	fmForceBatchKernelFcn* kernels[] = KERNEL_VARIANTS(fmTetKernel_NeoHookean);
 	CHECK(checkForceKernels(failures_, fm_neoHookean, kernels,
 	                        (int)(sizeof kernels / sizeof kernels[0])) > 0);
 }
@@ -684,14 +683,7 @@ TEST(batched_neo_hookean_forces_are_the_scalar_ones_bit_for_bit)
 // scalar path.
 TEST(batched_corotated_forces_are_the_scalar_ones_bit_for_bit)
 {
-	fmForceBatchKernelFcn* kernels[] = {
-		fmTetKernel_Corotated_scalar,
-		fmTetKernel_Corotated_baseline,
-#if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_Corotated_avx2,
-		fmTetKernel_Corotated_avx512
-#endif
-	};
+	fmForceBatchKernelFcn* kernels[] = KERNEL_VARIANTS(fmTetKernel_Corotated);
 	CHECK(checkForceKernels(failures_, fm_corotated, kernels,
 	                        (int)(sizeof kernels / sizeof kernels[0])) > 0);
 }
@@ -701,14 +693,7 @@ TEST(batched_corotated_forces_are_the_scalar_ones_bit_for_bit)
 // the scalar path (every tet compressed below the floor's J or inverted, none else).
 TEST(batched_stvk_forces_are_the_scalar_ones_bit_for_bit)
 {
-	fmForceBatchKernelFcn* kernels[] = {
-		fmTetKernel_Stvk_scalar,
-		fmTetKernel_Stvk_baseline,
-#if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_Stvk_avx2,
-		fmTetKernel_Stvk_avx512
-#endif
-	};
+	fmForceBatchKernelFcn* kernels[] = KERNEL_VARIANTS(fmTetKernel_Stvk);
 	CHECK(checkForceKernels(failures_, fm_stvk, kernels,
 	                        (int)(sizeof kernels / sizeof kernels[0])) > 0);
 }
@@ -858,14 +843,7 @@ TEST(batched_neo_hookean_fill_gathers_each_tets_edges_and_rest_data)
 	fmBody* b = makeCube(failures_, &world, 3, fm_neoHookean);
 	for (int k = 0; k < 3 * b->mesh.vertexCount; ++k)
 		b->state.x[k] += fmTestRandom(-0.05, 0.05);
-	fmForceBatchFillFcn* fills[] = {
-		fmTetKernel_FillForceBatch_scalar,
-		fmTetKernel_FillForceBatch_baseline,
-#if defined(__x86_64__) || defined(_M_X64)
-		fmTetKernel_FillForceBatch_avx2,
-		fmTetKernel_FillForceBatch_avx512
-#endif
-	};
+	fmForceBatchFillFcn* fills[] = KERNEL_VARIANTS(fmTetKernel_FillForceBatch);
 	const int fillCount = (int)(sizeof fills / sizeof fills[0]);
 	int compared = 0, differ = 0;
 	for (int v = 0; v < fillCount; ++v)

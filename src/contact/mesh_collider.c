@@ -16,6 +16,30 @@
 // Depth of the traversal stacks: a median split halves every level, so 2^48 triangles fit.
 #define FM_MESH_STACK 64
 
+// Whether some triangle of a def whose corners are in range has an area above round-off: twice
+// its area over 1e-12 times the squared diagonal of the triangles' box.
+static bool fmMeshShape_HasArea(const fmColliderDef* d)
+{
+	fmVec3 lo = d->vertices[d->triangles[0]], hi = lo;
+	for (int k = 0; k < 3 * d->triangleCount; ++k)
+	{
+		lo = fmMinVec(lo, d->vertices[d->triangles[k]]);
+		hi = fmMaxVec(hi, d->vertices[d->triangles[k]]);
+	}
+	// (Corners on a line leave about 1e-16 of the squared diagonal in round-off.)
+	fmVec3 size = fmSub(hi, lo);
+	double tiny = 1e-12 * fmDot(size, size);
+	for (int t = 0; t < d->triangleCount; ++t)
+	{
+		const int* c = d->triangles + 3 * t;
+		fmVec3 n = fmCross(fmSub(d->vertices[c[1]], d->vertices[c[0]]),
+		                   fmSub(d->vertices[c[2]], d->vertices[c[0]]));
+		if (fmLength(n) > tiny)
+			return true;
+	}
+	return false;
+}
+
 const char* fmMeshShape_Problem(const fmColliderDef* d)
 {
 	if (d->vertices == NULL || d->triangles == NULL)
@@ -37,29 +61,6 @@ const char* fmMeshShape_Problem(const fmColliderDef* d)
 	return fmMeshShape_HasArea(d) ? NULL
 	                              : "mesh: a triangle of some area (every one is degenerate: "
 	                                "its corners on a line or a point)";
-}
-
-bool fmMeshShape_HasArea(const fmColliderDef* d)
-{
-	fmVec3 lo = d->vertices[d->triangles[0]], hi = lo;
-	for (int k = 0; k < 3 * d->triangleCount; ++k)
-	{
-		lo = fmMinVec(lo, d->vertices[d->triangles[k]]);
-		hi = fmMaxVec(hi, d->vertices[d->triangles[k]]);
-	}
-	// Twice the area against the box's diagonal squared: round-off of corners on a line is
-	// about 1e-16 of it.
-	fmVec3 size = fmSub(hi, lo);
-	double tiny = 1e-12 * fmDot(size, size);
-	for (int t = 0; t < d->triangleCount; ++t)
-	{
-		const int* c = d->triangles + 3 * t;
-		fmVec3 n = fmCross(fmSub(d->vertices[c[1]], d->vertices[c[0]]),
-		                   fmSub(d->vertices[c[2]], d->vertices[c[0]]));
-		if (fmLength(n) > tiny)
-			return true;
-	}
-	return false;
 }
 
 // ---- preparation -------------------------------------------------------------------------------

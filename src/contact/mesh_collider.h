@@ -44,13 +44,9 @@ fmMeshShape* fmMeshShape_Create(const fmColliderDef* def);
 void fmMeshShape_Destroy(fmMeshShape* shape);
 
 // What is wrong with a def's mesh arrays, or NULL: counts, finite coordinates within 1e9 m,
-// corners in range, and some triangle of non-zero area (fmMeshShape_HasArea).
+// corners in range, and some triangle of an area above round-off (a mesh of degenerate
+// triangles only has no surface to hold a body with: a body fell through it, or hung on it).
 const char* fmMeshShape_Problem(const fmColliderDef* def);
-
-// Whether some triangle of a def whose corners are in range has an area above round-off (twice
-// it over 1e-12 times the squared diagonal of the triangles' box): a mesh of degenerate
-// triangles only has no surface to hold a body with (a body fell through it, or hung on it).
-bool fmMeshShape_HasArea(const fmColliderDef* def);
 
 // The triangle of the surface point nearest @p p (mesh frame) and that point's barycentric
 // weights; returns the squared distance.

@@ -23,15 +23,13 @@ void fmShapeGradients(const fmMat3* DmInv, fmVec3 g[4])
 	g[0] = fmScale(-1.0, fmAdd(fmAdd(g[1], g[2]), g[3]));
 }
 
-// The batched stiffening proxy; none in the browser (the .wasm line: stability.c takes the proxy
-// one tet at a time there).
+// The batched stiffening proxy and StVK forces; none in the browser (the .wasm line: there
+// stability.c takes the proxy and the force passes StVK one tet at a time).
 #if defined(__EMSCRIPTEN__)
-#define FM_PROXY_KERNEL(kernel) NULL
+#define FM_NATIVE_KERNEL(kernel) NULL
 #else
-#define FM_PROXY_KERNEL(kernel) kernel
+#define FM_NATIVE_KERNEL(kernel) kernel
 #endif
-// Nor a batched StVK there (StVK takes the one-tet path).
-#define FM_STVK_KERNEL(kernel) FM_PROXY_KERNEL(kernel)
 
 // The batched double-precision kernels of the force passes, of the CPU's instruction set (every
 // variant gives the same bits).
@@ -57,16 +55,16 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 		                       fmTetKernel_Corotated_avx512,
 		                       fmTetKernel_FillForceBatch_avx512,
 		                       fmTetKernel_Inverted_avx512,
-		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_avx512),
-		                       FM_STVK_KERNEL(fmTetKernel_Stvk_avx512)};
+		                       FM_NATIVE_KERNEL(fmTetKernel_Proxy_avx512),
+		                       FM_NATIVE_KERNEL(fmTetKernel_Stvk_avx512)};
 	case fm_simdAvx2:
 		return (fmPassKernels){fmTetKernel_Polar_avx2,
 		                       fmTetKernel_NeoHookean_avx2,
 		                       fmTetKernel_Corotated_avx2,
 		                       fmTetKernel_FillForceBatch_avx2,
 		                       fmTetKernel_Inverted_avx2,
-		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_avx2),
-		                       FM_STVK_KERNEL(fmTetKernel_Stvk_avx2)};
+		                       FM_NATIVE_KERNEL(fmTetKernel_Proxy_avx2),
+		                       FM_NATIVE_KERNEL(fmTetKernel_Stvk_avx2)};
 #endif
 	case fm_simdScalar:
 		return (fmPassKernels){fmTetKernel_Polar_scalar,
@@ -74,16 +72,16 @@ static fmPassKernels fmPassKernelsOfCpu(void)
 		                       fmTetKernel_Corotated_scalar,
 		                       fmTetKernel_FillForceBatch_scalar,
 		                       fmTetKernel_Inverted_scalar,
-		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_scalar),
-		                       FM_STVK_KERNEL(fmTetKernel_Stvk_scalar)};
+		                       FM_NATIVE_KERNEL(fmTetKernel_Proxy_scalar),
+		                       FM_NATIVE_KERNEL(fmTetKernel_Stvk_scalar)};
 	default:
 		return (fmPassKernels){fmTetKernel_Polar_baseline,
 		                       fmTetKernel_NeoHookean_baseline,
 		                       fmTetKernel_Corotated_baseline,
 		                       fmTetKernel_FillForceBatch_baseline,
 		                       fmTetKernel_Inverted_baseline,
-		                       FM_PROXY_KERNEL(fmTetKernel_Proxy_baseline),
-		                       FM_STVK_KERNEL(fmTetKernel_Stvk_baseline)};
+		                       FM_NATIVE_KERNEL(fmTetKernel_Proxy_baseline),
+		                       FM_NATIVE_KERNEL(fmTetKernel_Stvk_baseline)};
 	}
 }
 

@@ -123,8 +123,8 @@ fmPolarKernelFcn fmTetKernel_Polar_avx512;
 // Tets the force batch takes at once.
 #define FM_FORCE_LANES FM_POLAR_LANES
 
-// Up to FM_FORCE_LANES tets of a body of one StVK, Neo-Hookean or corotated material (entry k of lane l
-// at [k][l]; unused lanes: zero Ds, zero volume) and their forces and energy densities.
+// Up to FM_FORCE_LANES tets of a body of one StVK, Neo-Hookean or corotated material (entry k of
+// lane l at [k][l]; unused lanes: zero Ds, zero volume) and their forces and energy densities.
 typedef struct fmForceBatch
 {
 	double Ds[9][FM_FORCE_LANES];    // in: [x1 - x0, x2 - x0, x3 - x0] (columns), row-major
